@@ -1,1 +1,20 @@
-//! placeholder
+//! fpc: the chained composite model (CCM) of fluidic prestressed composite
+//! fingers, and the analysis of soft grippers built from them.
+//!
+//! The element energy kernels are generated at build time from
+//! `energy-spec/ccm.spec` by the in-house symbolic crate; see [`kernels`].
+
+mod actuator;
+mod blocks;
+mod error;
+pub mod kernels;
+
+pub use actuator::{
+    Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
+    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
+};
+pub use blocks::{
+    distinct_elements, element_blocks, ElementBlocks, GasBlock, LinearBlock, Partition,
+    PrestressedBlock, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION,
+};
+pub use error::{InputError, Warning};

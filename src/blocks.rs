@@ -1,0 +1,282 @@
+//! The element partition and each element's integration blocks
+//! (MODEL.md sections 2.1 and 2.2).
+//!
+//! An element's strain energy and gas volume are sums of integrals over
+//! boxes: x over a sub-interval [x0, x1] of the element (local
+//! coordinate, 0 <= x0 < x1 <= L_i), z over [z0, z1], and a width in y
+//! that is a plain factor because nothing depends on y. A box with a
+//! NEGATIVE width is subtracted: that is how the channel (a void in the
+//! fluidic layer) and the ribs (solid inside the gas volume) enter.
+
+use crate::actuator::{Actuator, PlaneStress, Rib};
+use crate::error::{finite, positive, require, InputError};
+
+/// Shortest element allowed, as a fraction of the finger's length.
+pub const MIN_ELEMENT_FRACTION: f64 = 1e-3;
+
+/// Relative tolerance on the sum of custom element lengths.
+pub const LENGTH_SUM_TOLERANCE: f64 = 1e-9;
+
+/// Clipped blocks shorter than this fraction of the element are dropped.
+const MIN_BLOCK_FRACTION: f64 = 1e-12;
+
+/// How the finger's length is split into elements.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Partition {
+    lengths: Vec<f64>,
+    starts: Vec<f64>,
+}
+
+impl Partition {
+    /// `n` equal elements of length `lx / n`; `n` at most
+    /// 1 / [`MIN_ELEMENT_FRACTION`].
+    pub fn equal(lx: f64, n: usize) -> Result<Partition, InputError> {
+        positive("partition.lx", lx)?;
+        let max = (1.0 / MIN_ELEMENT_FRACTION).round();
+        require(
+            n >= 1 && n as f64 <= max,
+            "partition.n",
+            n as f64,
+            format!(
+                "must lie in [1, {max}] (each element at least {MIN_ELEMENT_FRACTION} lx long)"
+            ),
+        )?;
+        Ok(Partition::from_lengths(vec![lx / n as f64; n]))
+    }
+
+    /// Elements of the given lengths, in order from the root. Each must be
+    /// finite and at least [`MIN_ELEMENT_FRACTION`] `lx` long, and they must
+    /// add up to `lx` within [`LENGTH_SUM_TOLERANCE`] `lx`.
+    pub fn custom(lengths: Vec<f64>, lx: f64) -> Result<Partition, InputError> {
+        positive("partition.lx", lx)?;
+        if lengths.is_empty() {
+            return Err(InputError::Inconsistent {
+                field: "partition.lengths".into(),
+                rule: "needs at least one element".into(),
+            });
+        }
+        let min = MIN_ELEMENT_FRACTION * lx;
+        for (i, &l) in lengths.iter().enumerate() {
+            let field = format!("partition.lengths[{i}]");
+            positive(&field, l)?;
+            require(
+                l >= min,
+                &field,
+                l,
+                format!("must be at least {MIN_ELEMENT_FRACTION} lx = {min}"),
+            )?;
+        }
+        let sum: f64 = lengths.iter().sum();
+        finite("partition.lengths (sum)", sum)?;
+        if (sum - lx).abs() > LENGTH_SUM_TOLERANCE * lx {
+            return Err(InputError::Inconsistent {
+                field: "partition.lengths".into(),
+                rule: format!("the lengths add up to {sum}, not to lx = {lx}"),
+            });
+        }
+        Ok(Partition::from_lengths(lengths))
+    }
+
+    fn from_lengths(lengths: Vec<f64>) -> Partition {
+        let mut starts = Vec::with_capacity(lengths.len());
+        let mut s = 0.0;
+        for &l in &lengths {
+            starts.push(s);
+            s += l;
+        }
+        Partition { lengths, starts }
+    }
+
+    /// Undeformed element lengths L_i, root to tip.
+    pub fn lengths(&self) -> &[f64] {
+        &self.lengths
+    }
+
+    /// X_ref of each element's root: S_i = L_1 + ... + L_{i-1}.
+    pub fn starts(&self) -> &[f64] {
+        &self.starts
+    }
+
+    /// Number of elements N.
+    pub fn len(&self) -> usize {
+        self.lengths.len()
+    }
+
+    /// Always false: a partition has at least one element.
+    pub fn is_empty(&self) -> bool {
+        self.lengths.is_empty()
+    }
+}
+
+/// A box of linear material: energy
+/// `width * integral_{x0}^{x1} integral_{z0}^{z1} W dz dx` with
+/// W = 1/2 q11 eps_x^2 + q12 eps_x eps_y + 1/2 q22 eps_y^2.
+///
+/// A negative `width` subtracts the box (the channel, a void cut out of
+/// the whole fluidic layer).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearBlock {
+    pub x0: f64,
+    pub x1: f64,
+    pub z0: f64,
+    pub z1: f64,
+    pub width: f64,
+    pub q: PlaneStress,
+}
+
+/// A box of the prestressed layer: energy
+/// `width * integral integral [psi(eps0 + eps_x) + 1/2 q22 eps_y^2] dz dx`,
+/// psi(s) = p0/2 s^2 - p1/3 s^3 + p2/4 s^4 - p3/5 s^5.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrestressedBlock {
+    pub x0: f64,
+    pub x1: f64,
+    pub z0: f64,
+    pub z1: f64,
+    pub width: f64,
+    pub eps0: f64,
+    pub p: [f64; 4],
+    pub q22: f64,
+}
+
+/// A box of the gas volume: volume
+/// `width * integral integral (1 + eps_x)(1 + eps_y) dz dx`.
+///
+/// A negative `width` subtracts the box (a rib inside the channel).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GasBlock {
+    pub x0: f64,
+    pub x1: f64,
+    pub z0: f64,
+    pub z1: f64,
+    pub width: f64,
+}
+
+/// The blocks of one element. Two elements with equal `ElementBlocks`
+/// (compared exactly) have the same energy function.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ElementBlocks {
+    /// Undeformed length L_i.
+    pub length: f64,
+    /// CL, regular EMC, whole fluidic layer, then the channel (negative
+    /// width), then the ribs (fluidic material) if enabled.
+    pub linear: Vec<LinearBlock>,
+    /// The prestressed layer.
+    pub prestressed: Vec<PrestressedBlock>,
+    /// The channel (positive width), then the ribs (negative width) if
+    /// enabled. Empty where the element has no channel.
+    pub gas: Vec<GasBlock>,
+}
+
+/// Clips the global range [gx0, gx1] to the element [start, start + len]
+/// in local coordinates, or None if less than a negligible part remains.
+/// Where a box covers an end of the element the local bound is exactly 0
+/// or `len`, so elements with the same content give bit-identical blocks.
+fn clip(gx0: f64, gx1: f64, start: f64, len: f64) -> Option<(f64, f64)> {
+    let end = start + len;
+    let x0 = if gx0 <= start { 0.0 } else { gx0 - start };
+    let x1 = if gx1 >= end { len } else { gx1 - start };
+    (x1 - x0 > MIN_BLOCK_FRACTION * len).then_some((x0, x1))
+}
+
+/// The integration blocks of every element of `part`, root to tip.
+///
+/// `part` should be built for `act.geometry().lx`; the laminae cover each
+/// element whole, and the channel and ribs are clipped to it. `ribs`
+/// switches the rib terms (in both energy and gas volume) on or off.
+pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
+    let layers = act.linear_layers();
+    let fluidic_q = act.fluidic_q();
+    let (pz0, pz1) = act.pemc_z();
+    let (cz0, cz1) = act.channel_z();
+    let channel = act.channel();
+    let pemc = act.pemc();
+    let rib_list: &[Rib] = if ribs { act.ribs() } else { &[] };
+    let width = act.geometry().ly;
+
+    part.lengths()
+        .iter()
+        .zip(part.starts())
+        .map(|(&len, &start)| {
+            let mut linear: Vec<LinearBlock> = layers
+                .iter()
+                .map(|l| LinearBlock {
+                    x0: 0.0,
+                    x1: len,
+                    z0: l.z0,
+                    z1: l.z1,
+                    width,
+                    q: l.q,
+                })
+                .collect();
+            let mut gas = Vec::new();
+            if let Some((x0, x1)) = clip(0.0, channel.cx, start, len) {
+                linear.push(LinearBlock {
+                    x0,
+                    x1,
+                    z0: cz0,
+                    z1: cz1,
+                    width: -channel.cy,
+                    q: fluidic_q,
+                });
+                gas.push(GasBlock {
+                    x0,
+                    x1,
+                    z0: cz0,
+                    z1: cz1,
+                    width: channel.cy,
+                });
+            }
+            for rib in rib_list {
+                if let Some((x0, x1)) = clip(rib.x0, rib.x1, start, len) {
+                    linear.push(LinearBlock {
+                        x0,
+                        x1,
+                        z0: cz0,
+                        z1: cz1,
+                        width: rib.width,
+                        q: fluidic_q,
+                    });
+                    gas.push(GasBlock {
+                        x0,
+                        x1,
+                        z0: cz0,
+                        z1: cz1,
+                        width: -rib.width,
+                    });
+                }
+            }
+            let prestressed = vec![PrestressedBlock {
+                x0: 0.0,
+                x1: len,
+                z0: pz0,
+                z1: pz1,
+                width,
+                eps0: pemc.eps0,
+                p: pemc.law.p,
+                q22: pemc.q22(),
+            }];
+            ElementBlocks {
+                length: len,
+                linear,
+                prestressed,
+                gas,
+            }
+        })
+        .collect()
+}
+
+/// For each element, the index of the first element with identical
+/// blocks (itself if none before it matches). Elements that map to the
+/// same index have the same energy and, without tip loads, the same
+/// equilibrium, so they can be solved once.
+pub fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
+    let mut first = Vec::with_capacity(blocks.len());
+    for (i, b) in blocks.iter().enumerate() {
+        let j = (0..i)
+            .find(|&j| first[j] == j && blocks[j] == *b)
+            .unwrap_or(i);
+        first.push(j);
+    }
+    first
+}

@@ -1,0 +1,656 @@
+//! The actuator's defaults and validation rules, the partition, and the
+//! integration blocks, checked against values computed here by hand.
+
+use fpc::{
+    distinct_elements, element_blocks, Actuator, ActuatorParams, ElementBlocks, InputError,
+    Isotropic, Material, Orthotropic, Partition, Rib, RibLayout, Warning,
+};
+
+fn close(a: f64, b: f64, tol: f64) -> bool {
+    (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
+}
+
+/// Validation of the default parameters after `edit` must fail.
+fn rejected(edit: impl FnOnce(&mut ActuatorParams)) -> InputError {
+    let mut p = ActuatorParams::default();
+    edit(&mut p);
+    match Actuator::new(p) {
+        Ok(_) => panic!("accepted invalid input"),
+        Err(e) => e,
+    }
+}
+
+/// The error names `field`, and its message names the field and `value`.
+fn names(e: &InputError, field: &str, value: &str) {
+    let msg = e.to_string();
+    assert_eq!(e.field(), field, "{msg}");
+    assert!(msg.starts_with(&format!("{field} = {value}:")), "{msg}");
+    assert!(!msg.contains('\n'), "{msg}");
+}
+
+// ---------------------------------------------------------------- defaults
+
+#[test]
+fn default_ribs_follow_d5() {
+    let act = Actuator::default();
+    let ribs = act.ribs();
+    assert_eq!(
+        ribs[0],
+        Rib {
+            x0: 0.0,
+            x1: 105.0,
+            width: 2.0
+        }
+    );
+    let transverse = &ribs[1..];
+    assert_eq!(transverse.len(), 13);
+    for (i, r) in transverse.iter().enumerate() {
+        let centre = 8.0 * (i + 1) as f64;
+        assert_eq!(r.x0, centre - 1.0);
+        assert_eq!(r.x1, centre + 1.0);
+        assert_eq!(r.width, 12.0);
+    }
+    assert_eq!(
+        transverse[12].x1, 105.0,
+        "the last rib touches the channel's end"
+    );
+}
+
+#[test]
+fn default_stiffnesses_by_hand() {
+    let act = Actuator::default();
+    let [cl, emc, fl] = act.linear_layers();
+    let d = 1.0 - 0.43 * 0.43;
+    assert!(close(cl.q.q11, 305.0 / d, 1e-14));
+    assert!(close(cl.q.q22, 305.0 / d, 1e-14));
+    assert!(close(cl.q.q12, 0.43 * 305.0 / d, 1e-14));
+    assert_eq!((emc.q.q11, emc.q.q12, emc.q.q22), (1.5, 0.0, 250.0));
+    let d = 1.0 - 0.48 * 0.48;
+    assert!(close(fl.q.q11, 1.2 / d, 1e-14));
+    assert!(close(fl.q.q12, 0.48 * 1.2 / d, 1e-14));
+    assert_eq!(act.fluidic_q(), fl.q);
+    assert_eq!(act.pemc().q22(), 250.0);
+    assert_eq!(act.eps0(), 0.25);
+    assert!(act.warnings().is_empty());
+}
+
+#[test]
+fn orthotropic_with_poisson_coupling() {
+    let m = Orthotropic {
+        e1: 10.0,
+        e2: 5.0,
+        nu12: 0.3,
+    };
+    // nu21 = 0.3 * 5 / 10 = 0.15, D = 1 - 0.045.
+    let d = 0.955;
+    let q = m.q();
+    assert!(close(m.nu21(), 0.15, 1e-15));
+    assert!(close(q.q11, 10.0 / d, 1e-14));
+    assert!(close(q.q22, 5.0 / d, 1e-14));
+    assert!(close(q.q12, 1.5 / d, 1e-14));
+    // Reciprocity: Q12 = nu21 Q11 as well.
+    assert!(close(q.q12, m.nu21() * q.q11, 1e-14));
+}
+
+#[test]
+fn layers_stack_up_to_h() {
+    let act = Actuator::default();
+    let [cl, emc, fl] = act.linear_layers();
+    let (p0, p1) = act.pemc_z();
+    assert_eq!(p0, -4.1);
+    assert_eq!(p1, fl.z0);
+    assert_eq!(fl.z1, emc.z0);
+    assert_eq!(emc.z1, cl.z0);
+    assert_eq!(cl.z1, 4.1);
+    let thick = [cl.z1 - cl.z0, emc.z1 - emc.z0, fl.z1 - fl.z0, p1 - p0];
+    for (t, want) in thick.iter().zip([0.4, 1.9, 4.0, 1.9]) {
+        assert!(close(*t, want, 1e-14), "{t} != {want}");
+    }
+    assert!(close(thick.iter().sum::<f64>(), 8.2, 1e-14));
+}
+
+#[test]
+fn psi_law_stress_is_the_energy_derivative() {
+    let law = Actuator::default().pemc().law;
+    assert_eq!(law.p, [1.598, 2.306, 2.29, 0.698]);
+    let s = 0.3_f64;
+    let by_hand = 1.598 / 2.0 * s.powi(2) - 2.306 / 3.0 * s.powi(3) + 2.29 / 4.0 * s.powi(4)
+        - 0.698 / 5.0 * s.powi(5);
+    assert!(close(law.energy(s), by_hand, 1e-14));
+    for s in [-0.2, 0.0, 0.15, 0.4, 0.6] {
+        let h = 1e-6;
+        let fd = (law.energy(s + h) - law.energy(s - h)) / (2.0 * h);
+        assert!(close(law.stress(s), fd, 1e-8), "stress at {s}");
+        let fd = (law.stress(s + h) - law.stress(s - h)) / (2.0 * h);
+        assert!(close(law.tangent(s), fd, 1e-8), "tangent at {s}");
+    }
+    assert_eq!(law.tangent(0.0), 1.598);
+}
+
+#[test]
+fn paper_and_with_eps0() {
+    let a = Actuator::paper(0.4).unwrap();
+    assert_eq!(a.eps0(), 0.4);
+    let b = Actuator::default().with_eps0(0.4).unwrap();
+    assert_eq!(a, b);
+    names(
+        &Actuator::paper(f64::NAN).unwrap_err(),
+        "actuator.pemc.eps0",
+        "NaN",
+    );
+}
+
+// ------------------------------------------------------------ validation
+
+#[test]
+fn geometry_rules() {
+    let e = rejected(|p| p.geometry.h1 = -3.0);
+    names(&e, "actuator.geometry.h1", "-3");
+    assert_eq!(e.to_string(), "actuator.geometry.h1 = -3: must be positive");
+    assert!(matches!(e, InputError::NotPositive { .. }));
+
+    let e = rejected(|p| p.geometry.lx = f64::NAN);
+    names(&e, "actuator.geometry.lx", "NaN");
+    assert!(matches!(e, InputError::NotFinite { .. }));
+    names(
+        &rejected(|p| p.geometry.lx = -110.0),
+        "actuator.geometry.lx",
+        "-110",
+    );
+    names(
+        &rejected(|p| p.geometry.ly = 0.0),
+        "actuator.geometry.ly",
+        "0",
+    );
+    names(
+        &rejected(|p| p.geometry.lc = -1.0),
+        "actuator.geometry.lc",
+        "-1",
+    );
+    names(
+        &rejected(|p| p.geometry.lc = f64::INFINITY),
+        "actuator.geometry.lc",
+        "inf",
+    );
+    names(
+        &rejected(|p| p.geometry.h = 0.0),
+        "actuator.geometry.h",
+        "0",
+    );
+    names(
+        &rejected(|p| p.geometry.h2 = -1.0),
+        "actuator.geometry.h2",
+        "-1",
+    );
+    names(
+        &rejected(|p| p.geometry.h3 = 0.0),
+        "actuator.geometry.h3",
+        "0",
+    );
+}
+
+#[test]
+fn layer_stack_rules() {
+    // CL with no thickness: h1 = H/2.
+    let e = rejected(|p| p.geometry.h1 = 4.1);
+    names(&e, "actuator.geometry.h1", "4.1");
+    assert!(e.to_string().contains("H/2"));
+    // Regular EMC upside down.
+    let e = rejected(|p| p.geometry.h2 = 3.8);
+    names(&e, "actuator.geometry.h2", "3.8");
+    assert!(e.to_string().contains("h1 = 3.7"));
+    // PEMC with negative thickness.
+    let e = rejected(|p| p.geometry.h3 = 4.5);
+    names(&e, "actuator.geometry.h3", "4.5");
+    // A thinner laminate that still stacks up is fine.
+    let mut p = ActuatorParams::default();
+    p.geometry.h = 7.6;
+    assert!(Actuator::new(p).is_ok());
+}
+
+#[test]
+fn channel_rules() {
+    names(
+        &rejected(|p| p.channel.cx = 0.0),
+        "actuator.channel.cx",
+        "0",
+    );
+    let e = rejected(|p| p.channel.cx = 111.0);
+    names(&e, "actuator.channel.cx", "111");
+    assert!(e.to_string().contains("lx = 110"));
+    let e = rejected(|p| p.channel.cy = 31.75);
+    names(&e, "actuator.channel.cy", "31.75");
+    names(
+        &rejected(|p| p.channel.cy = -1.0),
+        "actuator.channel.cy",
+        "-1",
+    );
+    names(
+        &rejected(|p| p.channel.h3a = -0.1),
+        "actuator.channel.h3a",
+        "-0.1",
+    );
+    let e = rejected(|p| p.channel.h3a = 1.8);
+    names(&e, "actuator.channel.h3a", "1.8");
+    assert!(e.to_string().contains("fluidic layer"));
+    let e = rejected(|p| p.channel.h3b = 2.2);
+    names(&e, "actuator.channel.h3b", "2.2");
+    // A channel the whole length of the finger is allowed.
+    let mut p = ActuatorParams::default();
+    p.channel.cx = 110.0;
+    p.ribs = RibLayout::None;
+    assert!(Actuator::new(p).is_ok());
+}
+
+fn explicit(ribs: Vec<Rib>) -> impl FnOnce(&mut ActuatorParams) {
+    move |p| p.ribs = RibLayout::Explicit(ribs)
+}
+
+fn rib(x0: f64, x1: f64, width: f64) -> Rib {
+    Rib { x0, x1, width }
+}
+
+#[test]
+fn explicit_rib_rules() {
+    let ok = rib(10.0, 20.0, 5.0);
+    names(
+        &rejected(explicit(vec![ok, rib(-1.0, 2.0, 1.0)])),
+        "actuator.ribs[1].x0",
+        "-1",
+    );
+    names(
+        &rejected(explicit(vec![rib(5.0, 5.0, 1.0)])),
+        "actuator.ribs[0].x1",
+        "5",
+    );
+    let e = rejected(explicit(vec![rib(100.0, 106.0, 1.0)]));
+    names(&e, "actuator.ribs[0].x1", "106");
+    assert!(e.to_string().contains("cx = 105"));
+    names(
+        &rejected(explicit(vec![rib(1.0, 2.0, 0.0)])),
+        "actuator.ribs[0].width",
+        "0",
+    );
+    names(
+        &rejected(explicit(vec![rib(1.0, 2.0, 27.0)])),
+        "actuator.ribs[0].width",
+        "27",
+    );
+    names(
+        &rejected(explicit(vec![rib(f64::NAN, 2.0, 1.0)])),
+        "actuator.ribs[0].x0",
+        "NaN",
+    );
+}
+
+#[test]
+fn overlapping_ribs_must_fit_in_the_channel() {
+    let e = rejected(explicit(vec![rib(0.0, 10.0, 20.0), rib(5.0, 15.0, 10.0)]));
+    assert_eq!(e.field(), "actuator.ribs");
+    assert!(matches!(e, InputError::Inconsistent { .. }));
+    assert!(e.to_string().contains("cy = 26"), "{e}");
+    // Ribs that only touch do not overlap; side by side they may fill cy.
+    let p = ActuatorParams {
+        ribs: RibLayout::Explicit(vec![
+            rib(0.0, 5.0, 20.0),
+            rib(5.0, 10.0, 20.0),
+            rib(5.0, 10.0, 6.0),
+        ]),
+        ..Default::default()
+    };
+    assert_eq!(Actuator::new(p).unwrap().ribs().len(), 3);
+}
+
+#[test]
+fn paper_rib_rules() {
+    let layout = |w1, w2, t| move |p: &mut ActuatorParams| p.ribs = RibLayout::Paper { w1, w2, t };
+    names(&rejected(layout(0.0, 6.0, 2.0)), "actuator.ribs.w1", "0");
+    names(&rejected(layout(8.0, -6.0, 2.0)), "actuator.ribs.w2", "-6");
+    names(
+        &rejected(layout(8.0, 6.0, f64::NAN)),
+        "actuator.ribs.t",
+        "NaN",
+    );
+    // Longitudinal plus transverse wider than the channel.
+    let e = rejected(layout(8.0, 13.0, 2.0));
+    names(&e, "actuator.ribs.w2", "13");
+    assert!(e.to_string().contains("cy = 26"));
+    // Transverse ribs overlapping each other.
+    names(&rejected(layout(1.5, 6.0, 2.0)), "actuator.ribs.w1", "1.5");
+    // Too many ribs.
+    let e = rejected(layout(0.001, 6.0, 0.001));
+    names(&e, "actuator.ribs.w1", "0.001");
+    // A pitch too long for any transverse rib leaves the longitudinal one.
+    let p = ActuatorParams {
+        ribs: RibLayout::Paper {
+            w1: 200.0,
+            w2: 6.0,
+            t: 2.0,
+        },
+        ..Default::default()
+    };
+    assert_eq!(Actuator::new(p).unwrap().ribs().len(), 1);
+}
+
+#[test]
+fn material_rules() {
+    names(
+        &rejected(|p| p.cl = Isotropic { e: -1.0, nu: 0.3 }.into()),
+        "actuator.cl.e",
+        "-1",
+    );
+    let e = rejected(|p| p.cl = Isotropic { e: 305.0, nu: 0.5 }.into());
+    names(&e, "actuator.cl.nu", "0.5");
+    assert!(e.to_string().contains("[0, 0.5)"));
+    names(
+        &rejected(|p| p.fluidic = Isotropic { e: 1.2, nu: -0.1 }.into()),
+        "actuator.fluidic.nu",
+        "-0.1",
+    );
+    names(
+        &rejected(|p| {
+            p.fluidic = Isotropic {
+                e: 1.2,
+                nu: f64::NAN,
+            }
+            .into()
+        }),
+        "actuator.fluidic.nu",
+        "NaN",
+    );
+    names(
+        &rejected(|p| {
+            p.emc = Orthotropic {
+                e1: 0.0,
+                e2: 250.0,
+                nu12: 0.0,
+            }
+            .into()
+        }),
+        "actuator.emc.e1",
+        "0",
+    );
+    // nu21 = 0.1 * 250 / 1.5 = 16.7: 1 - nu12 nu21 < 0.
+    let e = rejected(|p| {
+        p.emc = Orthotropic {
+            e1: 1.5,
+            e2: 250.0,
+            nu12: 0.1,
+        }
+        .into()
+    });
+    names(&e, "actuator.emc.nu12", "0.1");
+    assert!(e.to_string().contains("1 - nu12 nu21"));
+    // Any material kind may go in any linear layer.
+    let p = ActuatorParams {
+        cl: Material::Orthotropic(Orthotropic {
+            e1: 305.0,
+            e2: 305.0,
+            nu12: 0.43,
+        }),
+        ..Default::default()
+    };
+    let a = Actuator::new(p).unwrap();
+    let b = Actuator::default();
+    let (qa, qb) = (a.linear_layers()[0].q, b.linear_layers()[0].q);
+    assert!(close(qa.q11, qb.q11, 1e-14) && close(qa.q12, qb.q12, 1e-14));
+}
+
+#[test]
+fn prestressed_rules() {
+    names(&rejected(|p| p.pemc.e2 = 0.0), "actuator.pemc.e2", "0");
+    names(
+        &rejected(|p| p.pemc.law.p[0] = 0.0),
+        "actuator.pemc.law.p[0]",
+        "0",
+    );
+    names(
+        &rejected(|p| p.pemc.law.p[2] = f64::INFINITY),
+        "actuator.pemc.law.p[2]",
+        "inf",
+    );
+    names(
+        &rejected(|p| p.pemc.eps0 = f64::NEG_INFINITY),
+        "actuator.pemc.eps0",
+        "-inf",
+    );
+}
+
+#[test]
+fn prestrain_warnings() {
+    for eps0 in [0.0, 0.15, 0.4, 0.6] {
+        assert!(
+            Actuator::paper(eps0).unwrap().warnings().is_empty(),
+            "{eps0}"
+        );
+    }
+    for eps0 in [-0.1, 0.7] {
+        let a = Actuator::paper(eps0).unwrap();
+        assert_eq!(a.warnings().len(), 1, "{eps0}");
+        assert!(matches!(a.warnings()[0], Warning::Eps0OutsideFit { .. }));
+        let msg = a.warnings()[0].to_string();
+        assert!(
+            msg.contains("actuator.pemc.eps0") && msg.contains(&eps0.to_string()),
+            "{msg}"
+        );
+    }
+    // A law whose tangent is negative at eps0: 1 - 2 * 10 * 0.25 = -4.
+    let mut p = ActuatorParams::default();
+    p.pemc.law.p = [1.0, 10.0, 0.0, 0.0];
+    let a = Actuator::new(p).unwrap();
+    assert_eq!(
+        a.warnings(),
+        [Warning::SofteningPrestressLaw {
+            eps0: 0.25,
+            tangent: -4.0
+        }]
+    );
+}
+
+// ------------------------------------------------------------- partition
+
+#[test]
+fn equal_partition() {
+    for n in [1, 3, 8, 1000] {
+        let part = Partition::equal(110.0, n).unwrap();
+        assert_eq!(part.len(), n);
+        assert!(close(part.lengths().iter().sum::<f64>(), 110.0, 1e-13));
+        let last = part.len() - 1;
+        assert!(close(
+            part.starts()[last] + part.lengths()[last],
+            110.0,
+            1e-13
+        ));
+        assert_eq!(part.starts()[0], 0.0);
+    }
+    names(&Partition::equal(110.0, 0).unwrap_err(), "partition.n", "0");
+    names(
+        &Partition::equal(110.0, 1001).unwrap_err(),
+        "partition.n",
+        "1001",
+    );
+    names(
+        &Partition::equal(-1.0, 8).unwrap_err(),
+        "partition.lx",
+        "-1",
+    );
+}
+
+#[test]
+fn custom_partition() {
+    let part = Partition::custom(vec![10.0, 40.0, 60.0], 110.0).unwrap();
+    assert_eq!(part.starts(), [0.0, 10.0, 50.0]);
+    assert_eq!(part.lengths(), [10.0, 40.0, 60.0]);
+
+    let e = Partition::custom(vec![], 110.0).unwrap_err();
+    assert_eq!(e.field(), "partition.lengths");
+    let e = Partition::custom(vec![10.0, 40.0, 50.0], 110.0).unwrap_err();
+    assert_eq!(e.field(), "partition.lengths");
+    assert!(e.to_string().contains("add up to 100"), "{e}");
+    names(
+        &Partition::custom(vec![120.0, -10.0], 110.0).unwrap_err(),
+        "partition.lengths[1]",
+        "-10",
+    );
+    names(
+        &Partition::custom(vec![f64::NAN, 110.0], 110.0).unwrap_err(),
+        "partition.lengths[0]",
+        "NaN",
+    );
+    let e = Partition::custom(vec![0.01, 109.99], 110.0).unwrap_err();
+    names(&e, "partition.lengths[0]", "0.01");
+    assert!(e.to_string().contains("at least"));
+    // Rounding within the tolerance is accepted.
+    assert!(Partition::custom(vec![110.0 / 3.0; 3], 110.0).is_ok());
+}
+
+// ---------------------------------------------------------------- blocks
+
+fn volume(x0: f64, x1: f64, z0: f64, z1: f64, w: f64) -> f64 {
+    (x1 - x0) * (z1 - z0) * w
+}
+
+fn assert_inside(blocks: &[ElementBlocks]) {
+    for b in blocks {
+        let l = b.length;
+        let boxes = b
+            .linear
+            .iter()
+            .map(|k| (k.x0, k.x1))
+            .chain(b.prestressed.iter().map(|k| (k.x0, k.x1)))
+            .chain(b.gas.iter().map(|k| (k.x0, k.x1)));
+        for (x0, x1) in boxes {
+            assert!(
+                0.0 <= x0 && x0 < x1 && x1 <= l,
+                "[{x0}, {x1}] outside [0, {l}]"
+            );
+        }
+    }
+}
+
+#[test]
+fn block_volumes_add_up() {
+    let act = Actuator::default();
+    let height = 0.8 + 1.2;
+    // D5 by hand: longitudinal 2 x 105, 13 transverse 2 x 12.
+    let rib_area = 2.0 * 105.0 + 13.0 * 2.0 * 12.0;
+    let rib_area_list: f64 = act.ribs().iter().map(|r| (r.x1 - r.x0) * r.width).sum();
+    assert!(close(rib_area, rib_area_list, 1e-14));
+    let channel_vol = 26.0 * 105.0 * height;
+    let fl_vol = 31.75 * 110.0 * (1.8 + 2.2);
+    let fl_q = act.fluidic_q();
+
+    for n in [1, 3, 8] {
+        let part = Partition::equal(110.0, n).unwrap();
+        for ribs in [true, false] {
+            let blocks = element_blocks(&act, &part, ribs);
+            assert_eq!(blocks.len(), n);
+            assert_inside(&blocks);
+            let rib_vol = if ribs { rib_area * height } else { 0.0 };
+
+            let gas: f64 = blocks
+                .iter()
+                .flat_map(|b| &b.gas)
+                .map(|g| volume(g.x0, g.x1, g.z0, g.z1, g.width))
+                .sum();
+            assert!(close(gas, channel_vol - rib_vol, 1e-12), "n = {n}: {gas}");
+
+            let fl: f64 = blocks
+                .iter()
+                .flat_map(|b| &b.linear)
+                .filter(|k| k.q == fl_q)
+                .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                .sum();
+            assert!(
+                close(fl, fl_vol - channel_vol + rib_vol, 1e-12),
+                "n = {n}: {fl}"
+            );
+
+            // The other laminae cover the whole finger.
+            for (q, thick) in [
+                (act.linear_layers()[0].q, 0.4),
+                (act.linear_layers()[1].q, 1.9),
+            ] {
+                let v: f64 = blocks
+                    .iter()
+                    .flat_map(|b| &b.linear)
+                    .filter(|k| k.q == q)
+                    .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                    .sum();
+                assert!(close(v, 31.75 * 110.0 * thick, 1e-12));
+            }
+            let pv: f64 = blocks
+                .iter()
+                .flat_map(|b| &b.prestressed)
+                .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                .sum();
+            assert!(close(pv, 31.75 * 110.0 * 1.9, 1e-12));
+            for b in &blocks {
+                for k in &b.prestressed {
+                    assert_eq!(
+                        (k.eps0, k.p, k.q22),
+                        (0.25, [1.598, 2.306, 2.29, 0.698], 250.0)
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn voids_have_negative_width() {
+    let act = Actuator::default();
+    let part = Partition::equal(110.0, 1).unwrap();
+    let b = &element_blocks(&act, &part, true)[0];
+    // Three laminae, the channel, 14 ribs.
+    assert_eq!(b.linear.len(), 3 + 1 + 14);
+    assert_eq!(b.linear[3].width, -26.0);
+    assert!(b.linear[4..].iter().all(|k| k.width > 0.0));
+    assert_eq!(b.gas.len(), 1 + 14);
+    assert_eq!(b.gas[0].width, 26.0);
+    assert!(b.gas[1..].iter().all(|g| g.width < 0.0));
+    assert_eq!((b.gas[0].z0, b.gas[0].z1), (-1.2, 0.8));
+}
+
+#[test]
+fn element_past_the_channel_has_no_gas() {
+    let act = Actuator::default();
+    let part = Partition::custom(vec![105.0, 5.0], 110.0).unwrap();
+    let blocks = element_blocks(&act, &part, true);
+    assert!(blocks[1].gas.is_empty());
+    assert_eq!(blocks[1].linear.len(), 3);
+    assert_eq!(blocks[0].gas.len(), 15);
+}
+
+#[test]
+fn equal_elements_are_found() {
+    let act = Actuator::default();
+    // Without ribs, elements 1..7 of 8 are whole channel; the last holds
+    // the channel's end.
+    let part = Partition::equal(110.0, 8).unwrap();
+    let blocks = element_blocks(&act, &part, false);
+    assert_eq!(distinct_elements(&blocks), [0, 0, 0, 0, 0, 0, 0, 7]);
+
+    // With ribs, elements [8k - 4, 8k + 4] each hold one centred
+    // transverse rib and are identical.
+    let mut lengths = vec![4.0];
+    lengths.extend([8.0; 12]);
+    lengths.push(10.0);
+    let part = Partition::custom(lengths, 110.0).unwrap();
+    let blocks = element_blocks(&act, &part, true);
+    let mut want = vec![0];
+    want.extend([1; 12]);
+    want.push(13);
+    assert_eq!(distinct_elements(&blocks), want);
+
+    // The general property on an irregular case.
+    let part = Partition::equal(110.0, 8).unwrap();
+    let blocks = element_blocks(&act, &part, true);
+    let map = distinct_elements(&blocks);
+    for (i, &j) in map.iter().enumerate() {
+        assert!(j <= i && map[j] == j && blocks[j] == blocks[i]);
+        for k in 0..j {
+            assert_ne!(blocks[k], blocks[i]);
+        }
+    }
+}
