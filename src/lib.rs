@@ -6,6 +6,7 @@
 
 mod actuator;
 mod blocks;
+mod element;
 mod error;
 pub mod kernels;
 
@@ -17,4 +18,5 @@ pub use blocks::{
     distinct_elements, element_blocks, ElementBlocks, GasBlock, LinearBlock, Partition,
     PrestressedBlock, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION,
 };
+pub use element::{Coeffs, Element, UpperHessian};
 pub use error::{InputError, Warning};

@@ -30,7 +30,7 @@ pub mod spec;
 pub use eval::Unbound;
 pub use expr::{Arena, ExprId, Func, Node, Show, Sym, SymError};
 pub use parse::ParseError;
-pub use poly::{mono_degree, Mono, Poly};
+pub use poly::{mono_degree, LinComb, Mono, Poly};
 pub use rational::{Overflow, Rational};
 
 use std::fmt;

@@ -396,59 +396,66 @@ impl Arena {
         }
     }
 
-    /// Expands `e` as a polynomial in the symbols selected by `is_var` only;
-    /// each monomial's coefficient is a DAG expression free of those symbols.
-    /// Products of coefficients are not distributed, so shared factors stay
-    /// shared.
+    /// Expands `e` as a polynomial in the symbols selected by `is_var` only.
+    ///
+    /// Each monomial's coefficient is a [`LinComb`]: rational multiples of
+    /// *bodies*, products of factors free of the variables. Products do not
+    /// distribute over a completed sum: when a sum is multiplied, each of its
+    /// multi-term coefficients is frozen into one opaque factor (an atom), so
+    /// `(a + (b + c) x)^2` keeps `(b + c)` whole and shared.
     pub fn expand_in(
         &mut self,
         e: ExprId,
         is_var: &dyn Fn(Sym) -> bool,
-    ) -> Result<BTreeMap<Mono, ExprId>, SymError> {
+    ) -> Result<BTreeMap<Mono, LinComb>, SymError> {
         let mut memo = HashMap::new();
-        let mut dep = HashMap::new();
-        self.expand_in_memo(e, is_var, &mut memo, &mut dep)
+        self.expand_in_memo(e, is_var, &mut memo)
     }
 
     fn expand_in_memo(
         &mut self,
         e: ExprId,
         is_var: &dyn Fn(Sym) -> bool,
-        memo: &mut HashMap<ExprId, BTreeMap<Mono, ExprId>>,
-        dep: &mut HashMap<ExprId, bool>,
-    ) -> Result<BTreeMap<Mono, ExprId>, SymError> {
+        memo: &mut HashMap<ExprId, BTreeMap<Mono, LinComb>>,
+    ) -> Result<BTreeMap<Mono, LinComb>, SymError> {
         if let Some(p) = memo.get(&e) {
             return Ok(p.clone());
         }
-        let depends = self.depends_on(e, is_var);
-        dep.insert(e, depends);
-        let out = if !depends {
-            BTreeMap::from([(Vec::new(), e)])
+        let out = if !self.depends_on(e, is_var) {
+            let (r, body) = self.split_coeff(e);
+            let mut lc = LinComb::default();
+            lc.push(body, r)?;
+            let mut m = BTreeMap::new();
+            if !lc.is_zero() {
+                m.insert(Vec::new(), lc);
+            }
+            m
         } else {
             match self.node(e).clone() {
-                Node::Sym(s) => BTreeMap::from([(vec![(s, 1)], self.int(1))]),
+                Node::Sym(s) => BTreeMap::from([(vec![(s, 1)], LinComb::one(self))]),
                 Node::Add(ts) => {
-                    let mut acc: BTreeMap<Mono, Vec<ExprId>> = BTreeMap::new();
+                    let mut acc = BTreeMap::new();
                     for t in ts {
-                        for (m, c) in self.expand_in_memo(t, is_var, memo, dep)? {
-                            acc.entry(m).or_default().push(c);
-                        }
+                        let pt = self.expand_in_memo(t, is_var, memo)?;
+                        map_add(&mut acc, pt)?;
                     }
-                    self.collect_sums(acc)?
+                    acc
                 }
                 Node::Mul(fs) => {
-                    let mut acc = BTreeMap::from([(Vec::new(), self.int(1))]);
+                    let mut acc = BTreeMap::from([(Vec::new(), LinComb::one(self))]);
                     for f in fs {
-                        let pf = self.expand_in_memo(f, is_var, memo, dep)?;
-                        acc = self.mul_expr_polys(&acc, &pf)?;
+                        let pf = self.expand_in_memo(f, is_var, memo)?;
+                        let pf = self.freeze(pf)?;
+                        acc = self.map_mul(&acc, &pf)?;
                     }
                     acc
                 }
                 Node::Pow(b, k) if k > 0 => {
-                    let pb = self.expand_in_memo(b, is_var, memo, dep)?;
-                    let mut acc = BTreeMap::from([(Vec::new(), self.int(1))]);
+                    let pb = self.expand_in_memo(b, is_var, memo)?;
+                    let pb = self.freeze(pb)?;
+                    let mut acc = BTreeMap::from([(Vec::new(), LinComb::one(self))]);
                     for _ in 0..k {
-                        acc = self.mul_expr_polys(&acc, &pb)?;
+                        acc = self.map_mul(&acc, &pb)?;
                     }
                     acc
                 }
@@ -464,34 +471,118 @@ impl Arena {
         Ok(out)
     }
 
-    fn collect_sums(
-        &mut self,
-        acc: BTreeMap<Mono, Vec<ExprId>>,
-    ) -> Result<BTreeMap<Mono, ExprId>, SymError> {
+    /// Turns every multi-term coefficient into a single opaque factor.
+    fn freeze(&mut self, m: BTreeMap<Mono, LinComb>) -> Result<BTreeMap<Mono, LinComb>, SymError> {
         let mut out = BTreeMap::new();
-        for (m, cs) in acc {
-            let c = self.add(&cs)?;
-            if self.as_num(c).is_some_and(|r| r.is_zero()) {
+        for (mono, lc) in m {
+            if lc.terms.len() <= 1 {
+                out.insert(mono, lc);
                 continue;
             }
-            out.insert(m, c);
+            let atom = lc.to_expr(self)?;
+            let (r, body) = self.split_coeff(atom);
+            let mut f = LinComb::default();
+            f.push(body, r)?;
+            out.insert(mono, f);
         }
         Ok(out)
     }
 
-    fn mul_expr_polys(
+    fn map_mul(
         &mut self,
-        a: &BTreeMap<Mono, ExprId>,
-        b: &BTreeMap<Mono, ExprId>,
-    ) -> Result<BTreeMap<Mono, ExprId>, SymError> {
-        let mut acc: BTreeMap<Mono, Vec<ExprId>> = BTreeMap::new();
-        for (ma, &ca) in a {
-            for (mb, &cb) in b {
-                let c = self.mul2(ca, cb)?;
-                acc.entry(mono_mul(ma, mb)?).or_default().push(c);
+        a: &BTreeMap<Mono, LinComb>,
+        b: &BTreeMap<Mono, LinComb>,
+    ) -> Result<BTreeMap<Mono, LinComb>, SymError> {
+        let mut acc: BTreeMap<Mono, LinComb> = BTreeMap::new();
+        for (ma, ca) in a {
+            for (mb, cb) in b {
+                let prod = ca.mul(cb, self)?;
+                let slot = acc.entry(mono_mul(ma, mb)?).or_default();
+                slot.add(&prod)?;
             }
         }
-        self.collect_sums(acc)
+        acc.retain(|_, lc| !lc.is_zero());
+        Ok(acc)
+    }
+}
+
+fn map_add(
+    acc: &mut BTreeMap<Mono, LinComb>,
+    other: BTreeMap<Mono, LinComb>,
+) -> Result<(), SymError> {
+    for (m, lc) in other {
+        acc.entry(m).or_default().add(&lc)?;
+    }
+    acc.retain(|_, lc| !lc.is_zero());
+    Ok(())
+}
+
+/// A rational linear combination of bodies (products of opaque factors),
+/// the coefficient type of [`Arena::expand_in`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LinComb {
+    /// (body, multiplier), sorted by body, no zero multipliers.
+    pub terms: Vec<(ExprId, Rational)>,
+}
+
+impl LinComb {
+    fn one(arena: &mut Arena) -> LinComb {
+        LinComb {
+            terms: vec![(arena.int(1), Rational::ONE)],
+        }
+    }
+
+    /// True when empty.
+    pub fn is_zero(&self) -> bool {
+        self.terms.is_empty()
+    }
+
+    fn push(&mut self, body: ExprId, r: Rational) -> Result<(), Overflow> {
+        match self.terms.binary_search_by_key(&body, |t| t.0) {
+            Ok(i) => {
+                let v = self.terms[i].1.add(r)?;
+                if v.is_zero() {
+                    self.terms.remove(i);
+                } else {
+                    self.terms[i].1 = v;
+                }
+            }
+            Err(i) => {
+                if !r.is_zero() {
+                    self.terms.insert(i, (body, r));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn add(&mut self, other: &LinComb) -> Result<(), Overflow> {
+        for &(b, r) in &other.terms {
+            self.push(b, r)?;
+        }
+        Ok(())
+    }
+
+    fn mul(&self, other: &LinComb, arena: &mut Arena) -> Result<LinComb, SymError> {
+        let mut out = LinComb::default();
+        for &(ba, ra) in &self.terms {
+            for &(bb, rb) in &other.terms {
+                let p = arena.mul2(ba, bb)?;
+                let (r, body) = arena.split_coeff(p);
+                out.push(body, r.mul(ra)?.mul(rb)?)?;
+            }
+        }
+        Ok(out)
+    }
+
+    /// The combination as one expression.
+    pub fn to_expr(&self, arena: &mut Arena) -> Result<ExprId, SymError> {
+        let mut ts = Vec::with_capacity(self.terms.len());
+        for &(b, r) in &self.terms {
+            let k = arena.num(r);
+            ts.push(arena.mul2(k, b)?);
+        }
+        arena.add(&ts)
     }
 }
 
@@ -538,7 +629,16 @@ mod tests {
         let e = a.parse("(b + c*x)^2").unwrap();
         let x = a.symbol("x");
         let m = a.expand_in(e, &|s| s == x).unwrap();
-        let shown: Vec<String> = m.values().map(|&c| a.show(c).to_string()).collect();
+        let mut shown = Vec::new();
+        for lc in m.values() {
+            let c = lc.to_expr(&mut a).unwrap();
+            shown.push(a.show(c).to_string());
+        }
         assert_eq!(shown, vec!["b^2", "2*b*c", "c^2"]);
+        // a completed sum stays one factor when squared
+        let e = a.parse("(1 + (b + c)*x)^2").unwrap();
+        let m = a.expand_in(e, &|s| s == x).unwrap();
+        let top = m.values().last().unwrap().to_expr(&mut a).unwrap();
+        assert_eq!(a.show(top).to_string(), "(b + c)^2");
     }
 }

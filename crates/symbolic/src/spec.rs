@@ -1,1 +1,355 @@
-//! spec
+//! The energy-spec language: a mechanician's description of what to
+//! integrate and differentiate, parsed into expressions.
+//!
+//! ```text
+//! # comments run to the end of the line
+//! unknowns a1, a3, b1, c2;               # the per-element unknowns, in order
+//! let u = a1*x + a3*x^3;                 # definitions, inlined where used
+//! let ex = d(u, x) + 1/2*d(w, x)^2;      # d(e, v[, n]) differentiates, at(e, v, value) substitutes
+//! integral linear(x0, x1, q11) = 1/2*q11*ex^2 over x in [x0, x1], z in [z0, z1];
+//! point end(L) { Xe = at(x + u, x, L); eta = atan2(..., ...); }
+//! ```
+//!
+//! An `integral` is a box integral of a polynomial density; its parameters
+//! are the runtime inputs (bounds, widths, material constants) and every
+//! other free symbol must be an unknown or an integration variable. A
+//! `point` kernel is a set of named outputs in the unknowns and its
+//! parameters. Errors give line, column and what was expected.
+
+use crate::expr::{Arena, ExprId, Sym};
+use crate::parse::{ParseError, Parser, Tok};
+
+/// A box integral to generate kernels for.
+#[derive(Debug, Clone)]
+pub struct IntegralDef {
+    /// Kernel name (a Rust identifier).
+    pub name: String,
+    /// Runtime parameters, in the order the moments function takes them.
+    pub params: Vec<Sym>,
+    /// The density.
+    pub integrand: ExprId,
+    /// Integration variables with their bounds (`v in [lo, hi]`).
+    pub ranges: Vec<(Sym, ExprId, ExprId)>,
+    /// Line of the statement.
+    pub line: usize,
+}
+
+/// Named outputs in the unknowns and some parameters.
+#[derive(Debug, Clone)]
+pub struct PointDef {
+    /// Kernel name.
+    pub name: String,
+    /// Runtime parameters.
+    pub params: Vec<Sym>,
+    /// Outputs in order.
+    pub outputs: Vec<(String, ExprId)>,
+    /// Line of the statement.
+    pub line: usize,
+}
+
+/// A parsed spec.
+#[derive(Debug, Clone)]
+pub struct Spec {
+    /// All expressions live here.
+    pub arena: Arena,
+    /// The unknowns, in kernel-argument order.
+    pub unknowns: Vec<Sym>,
+    /// Box integrals.
+    pub integrals: Vec<IntegralDef>,
+    /// Point kernels.
+    pub points: Vec<PointDef>,
+}
+
+const KEYWORDS: [&str; 6] = ["unknowns", "let", "integral", "point", "over", "in"];
+
+fn is_rust_ident(s: &str) -> bool {
+    let mut cs = s.chars();
+    cs.next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_')
+        && cs.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Parses a spec.
+pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
+    let mut arena = Arena::new();
+    let mut unknowns = Vec::new();
+    let mut integrals = Vec::new();
+    let mut points: Vec<PointDef> = Vec::new();
+    {
+        let mut p = Parser::new(src, &mut arena)?;
+        let mut names_used: Vec<String> = Vec::new();
+        loop {
+            let t = p.peek().clone();
+            match &t.tok {
+                Tok::Eof => break,
+                Tok::Ident(w) if w == "unknowns" => {
+                    p.next();
+                    if !unknowns.is_empty() {
+                        return Err(p.error_at(&t, "a single `unknowns` statement"));
+                    }
+                    let list = ident_list(&mut p, ';', "an unknown's name")?;
+                    for (name, tok) in list {
+                        let s = p.arena.symbol(&name);
+                        if unknowns.contains(&s) {
+                            return Err(p.error_at(&tok, "distinct unknowns"));
+                        }
+                        unknowns.push(s);
+                    }
+                }
+                Tok::Ident(w) if w == "let" => {
+                    p.next();
+                    let (name, tok) = definable_name(&mut p, "a name to define")?;
+                    if p.lets.contains_key(&name) {
+                        return Err(
+                            p.error_at(&tok, &format!("a new name (`{name}` is already defined)"))
+                        );
+                    }
+                    p.expect_punct('=')?;
+                    let e = p.expr()?;
+                    p.expect_punct(';')?;
+                    p.lets.insert(name, e);
+                }
+                Tok::Ident(w) if w == "integral" => {
+                    p.next();
+                    let (name, tok) = kernel_name(&mut p, &mut names_used)?;
+                    p.expect_punct('(')?;
+                    let params = param_list(&mut p)?;
+                    p.expect_punct('=')?;
+                    let integrand = p.expr()?;
+                    if !p.is_ident("over") {
+                        return Err(p.error("`over` and the integration ranges"));
+                    }
+                    p.next();
+                    let mut ranges = Vec::new();
+                    loop {
+                        let (v, vt) = definable_name(&mut p, "an integration variable")?;
+                        let vs = p.arena.symbol(&v);
+                        if ranges.iter().any(|(s, _, _)| *s == vs)
+                            || params.contains(&vs)
+                            || unknowns.contains(&vs)
+                        {
+                            return Err(p.error_at(&vt, "an integration variable that is not a parameter, an unknown or repeated"));
+                        }
+                        if !p.is_ident("in") {
+                            return Err(p.error("`in`"));
+                        }
+                        p.next();
+                        p.expect_punct('[')?;
+                        let lo = p.expr()?;
+                        p.expect_punct(',')?;
+                        let hi = p.expr()?;
+                        p.expect_punct(']')?;
+                        for b in [lo, hi] {
+                            for s in p.arena.free_symbols(b) {
+                                if !params.contains(&s) {
+                                    let n = p.arena.name(s).to_string();
+                                    return Err(p.error_at(
+                                        &vt,
+                                        &format!(
+                                            "bounds in the kernel's parameters (`{n}` is not one)"
+                                        ),
+                                    ));
+                                }
+                            }
+                        }
+                        ranges.push((vs, lo, hi));
+                        if p.is_punct(',') {
+                            p.next();
+                            continue;
+                        }
+                        p.expect_punct(';')?;
+                        break;
+                    }
+                    for s in p.arena.free_symbols(integrand) {
+                        let known = params.contains(&s)
+                            || unknowns.contains(&s)
+                            || ranges.iter().any(|(v, _, _)| *v == s);
+                        if !known {
+                            let n = p.arena.name(s).to_string();
+                            return Err(p.error_at(&tok, &format!(
+                                "every symbol of the density to be an unknown, a parameter or an integration variable (`{n}` is none)"
+                            )));
+                        }
+                    }
+                    integrals.push(IntegralDef {
+                        name,
+                        params,
+                        integrand,
+                        ranges,
+                        line: t.line,
+                    });
+                }
+                Tok::Ident(w) if w == "point" => {
+                    p.next();
+                    let (name, tok) = kernel_name(&mut p, &mut names_used)?;
+                    p.expect_punct('(')?;
+                    let params = param_list(&mut p)?;
+                    p.expect_punct('{')?;
+                    let mut outputs: Vec<(String, ExprId)> = Vec::new();
+                    while !p.is_punct('}') {
+                        let (o, ot) = definable_name(&mut p, "an output name or `}`")?;
+                        if outputs.iter().any(|(n, _)| *n == o) {
+                            return Err(p.error_at(&ot, "distinct output names"));
+                        }
+                        p.expect_punct('=')?;
+                        let e = p.expr()?;
+                        p.expect_punct(';')?;
+                        for s in p.arena.free_symbols(e) {
+                            if !params.contains(&s) && !unknowns.contains(&s) {
+                                let n = p.arena.name(s).to_string();
+                                return Err(p.error_at(
+                                    &ot,
+                                    &format!(
+                                        "outputs in the unknowns and parameters (`{n}` is neither)"
+                                    ),
+                                ));
+                            }
+                        }
+                        outputs.push((o, e));
+                    }
+                    p.next();
+                    if outputs.is_empty() {
+                        return Err(p.error_at(&tok, "at least one output"));
+                    }
+                    points.push(PointDef {
+                        name,
+                        params,
+                        outputs,
+                        line: t.line,
+                    });
+                }
+                _ => return Err(p.error("a statement (`unknowns`, `let`, `integral` or `point`)")),
+            }
+        }
+        if unknowns.is_empty() && (!integrals.is_empty() || !points.is_empty()) {
+            let t = p.peek().clone();
+            return Err(p.error_at(&t, "an `unknowns` statement before the end"));
+        }
+    }
+    Ok(Spec {
+        arena,
+        unknowns,
+        integrals,
+        points,
+    })
+}
+
+fn definable_name(
+    p: &mut Parser<'_>,
+    what: &str,
+) -> Result<(String, crate::parse::Token), ParseError> {
+    let (name, tok) = p.expect_ident(what)?;
+    if KEYWORDS.contains(&name.as_str())
+        || ["d", "at", "sin", "cos", "sqrt", "atan2"].contains(&name.as_str())
+    {
+        return Err(p.error_at(&tok, &format!("{what} (`{name}` is reserved)")));
+    }
+    if !is_rust_ident(&name) {
+        return Err(p.error_at(
+            &tok,
+            &format!("{what} made of ASCII letters, digits and `_`"),
+        ));
+    }
+    Ok((name, tok))
+}
+
+fn kernel_name(
+    p: &mut Parser<'_>,
+    used: &mut Vec<String>,
+) -> Result<(String, crate::parse::Token), ParseError> {
+    let (name, tok) = definable_name(p, "a kernel name")?;
+    if used.contains(&name) {
+        return Err(p.error_at(&tok, &format!("a new kernel name (`{name}` is taken)")));
+    }
+    used.push(name.clone());
+    Ok((name, tok))
+}
+
+fn ident_list(
+    p: &mut Parser<'_>,
+    end: char,
+    what: &str,
+) -> Result<Vec<(String, crate::parse::Token)>, ParseError> {
+    let mut out = vec![definable_name(p, what)?];
+    while p.is_punct(',') {
+        p.next();
+        out.push(definable_name(p, what)?);
+    }
+    p.expect_punct(end)?;
+    Ok(out)
+}
+
+fn param_list(p: &mut Parser<'_>) -> Result<Vec<Sym>, ParseError> {
+    if p.is_punct(')') {
+        p.next();
+        return Ok(Vec::new());
+    }
+    let list = ident_list(p, ')', "a parameter name")?;
+    let mut out = Vec::new();
+    for (name, tok) in list {
+        if p.lets.contains_key(&name) {
+            return Err(p.error_at(
+                &tok,
+                &format!("a parameter name that is not a `let` (`{name}` is one)"),
+            ));
+        }
+        let s = p.arena.symbol(&name);
+        if out.contains(&s) {
+            return Err(p.error_at(&tok, "distinct parameter names"));
+        }
+        out.push(s);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SMALL: &str = "
+        unknowns a, b;
+        let e = a + b*x;
+        integral spring(k, l) = 1/2*k*e^2 over x in [0, l];
+        point tip(l) { y = at(e, x, l); }
+    ";
+
+    #[test]
+    fn parses_statements() {
+        let s = parse_spec(SMALL).unwrap();
+        assert_eq!(s.unknowns.len(), 2);
+        assert_eq!(s.integrals[0].name, "spring");
+        assert_eq!(s.integrals[0].params.len(), 2);
+        assert_eq!(s.points[0].outputs[0].0, "y");
+        assert_eq!(
+            s.arena.show(s.points[0].outputs[0].1).to_string(),
+            "a + b*l"
+        );
+    }
+
+    fn err(src: &str) -> ParseError {
+        parse_spec(src).unwrap_err()
+    }
+
+    #[test]
+    fn errors_say_where_and_what() {
+        let e = err("unknowns a;\nintegral f(k) = k*a*q over x in [0, 1];");
+        assert_eq!(e.line, 2);
+        assert!(e.expected.contains("`q` is none"), "{e}");
+        let e = err("unknowns a;\nlet x = ;");
+        assert_eq!((e.line, e.col), (2, 9));
+        let e = err("unknowns a;\nintegral f(k) = a over x in [0, m];");
+        assert!(e.expected.contains("`m` is not one"), "{e}");
+        let e = err("unknowns a;\nintegral f(k) = a;");
+        assert!(e.expected.contains("`over`"), "{e}");
+        let e = err("bogus");
+        assert!(e.expected.contains("a statement"), "{e}");
+        let e = err("unknowns a;\nlet let = 1;");
+        assert!(e.expected.contains("reserved"), "{e}");
+        let e = err("unknowns a;\npoint p(l) { }");
+        assert!(e.expected.contains("at least one output"), "{e}");
+        let e = err(
+            "unknowns a;\nintegral f(k) = a over x in [0, k];\nintegral f(k) = a over x in [0, k];",
+        );
+        assert_eq!(e.line, 3);
+    }
+}
