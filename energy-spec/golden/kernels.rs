@@ -896,6 +896,36 @@ pub fn end_value(k: &[f64; 4], L: f64) -> [f64; 3] {
 - `[1]` Ze = `c2*L^2`
 - `[2]` eta = `atan2(2*c2*L, 1 + a1 + 3*a3*L^2)`*/
 ///
+///Values and gradients of each output.
+pub fn end_gradient(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = c2 * c2;
+    let tmp5 = tmp3 + 4.0 * tmp4 * tmp0;
+    (
+        [L + a1 * L + a3 * tmp1, c2 * tmp0, (2.0 * c2 * L).atan2(tmp2)],
+        [
+            [L, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, tmp0],
+            [
+                -(2.0 * c2 * L / tmp5),
+                -(6.0 * c2 * tmp1 / tmp5),
+                0.0,
+                2.0 * L * tmp2 / tmp5,
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `c2*L^2`
+- `[2]` eta = `atan2(2*c2*L, 1 + a1 + 3*a3*L^2)`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn end_hessian(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]; 3]) {
     let a1 = k[0];

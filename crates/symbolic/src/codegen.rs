@@ -664,6 +664,24 @@ fn point_kernel(
     for h in &hess {
         all.extend(h.iter().copied());
     }
+    let mut with_grads = values.clone();
+    for g in &grads {
+        with_grads.extend(g.iter().copied());
+    }
+    let (g_stmts, g_outs, b, a) = emit(&with_grads);
+    let fn_grad = ident(&format!("{name}_gradient"));
+    reports.push(FunctionReport {
+        function: fn_grad.to_string(),
+        ops_before_cse: b,
+        ops_after_cse: a,
+    });
+    let gv = &g_outs[..no];
+    let gg: Vec<TokenStream> = (0..no)
+        .map(|o| {
+            let row = &g_outs[no + o * n..no + (o + 1) * n];
+            quote! { [#(#row),*] }
+        })
+        .collect();
     let (h_stmts, h_outs, b, a) = emit(&all);
     reports.push(FunctionReport {
         function: fn_hess.to_string(),
@@ -690,6 +708,14 @@ fn point_kernel(
         pub fn #fn_value(k: &[f64; #nu], #(#params: f64),*) -> [f64; #nout] {
             #(#v_stmts)*
             [#(#v_outs),*]
+        }
+
+        #[doc = #head_doc]
+        #[doc = ""]
+        #[doc = "Values and gradients of each output."]
+        pub fn #fn_grad(k: &[f64; #nu], #(#params: f64),*) -> ([f64; #nout], [[f64; #nu]; #nout]) {
+            #(#g_stmts)*
+            ([#(#gv),*], [#(#gg),*])
         }
 
         #[doc = #head_doc]

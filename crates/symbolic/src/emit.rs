@@ -230,6 +230,15 @@ impl<'a> Emitter<'a> {
         p
     }
 
+    /// Makes sure `e` is available as a bound name (or an atom).
+    fn force_bind(&mut self, e: ExprId) {
+        let p = self.piece(e);
+        if p.prec != Prec::Atom {
+            let b = self.bind(p);
+            self.bound.insert(e, b);
+        }
+    }
+
     /// `base^n` for n >= 1 through the power cache.
     fn power(&mut self, base: ExprId, n: u32) -> Piece {
         if n == 1 {
@@ -370,6 +379,10 @@ impl<'a> Emitter<'a> {
             }
             match self.arena.node(f).clone() {
                 Node::Pow(b, k) if k < 0 && !self.bound.contains_key(&f) => {
+                    // a divisor shared by several terms is computed once
+                    if self.uses.get(&f).copied().unwrap_or(0) > 1 {
+                        self.force_bind(b);
+                    }
                     den.push(self.power(b, k.unsigned_abs()))
                 }
                 _ => num.push(self.piece(f)),
@@ -445,6 +458,16 @@ mod tests {
         let (code, ops) = emit_one("sin(x + y)*(x + y) + cos(x + y)");
         assert_eq!(code.matches("x + y").count(), 1, "{code}");
         assert_eq!(ops.func, 2);
+    }
+
+    #[test]
+    fn shared_divisors_are_computed_once() {
+        let (code, _) = emit_one("x/(1 + y^2) + z/(1 + y^2) + x*z/(1 + y^2)");
+        assert_eq!(
+            code.matches("1.0 +").count() + code.matches("+ 1.0").count(),
+            1,
+            "{code}"
+        );
     }
 
     #[test]
