@@ -106,3 +106,29 @@ impl fmt::Display for Warning {
         }
     }
 }
+
+/// A scene that could not be solved: the input was rejected, or Newton
+/// (with continuation where enabled) did not reach the tolerance.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// A rejected input value.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The solver stopped without meeting the residual tolerance.
+    #[error(
+        "solve failed{}: {reason} after {iterations} iterations (relative residual {relative_residual:.3e})",
+        element.map(|e| format!(" for element {e}")).unwrap_or_default()
+    )]
+    NotConverged {
+        /// Why Newton stopped.
+        reason: fpc_newton::Termination,
+        /// Iterations spent.
+        iterations: usize,
+        /// Last residual over the finger's stiffness scale.
+        relative_residual: f64,
+        /// The element whose decoupled solve failed, if any.
+        element: Option<usize>,
+        /// The last iterate's coefficients, one `[a1, a3, b1, c2]` per element.
+        last: Vec<[f64; 4]>,
+    },
+}

@@ -8,6 +8,8 @@ mod actuator;
 mod blocks;
 mod element;
 mod error;
+mod finger;
+mod fit;
 pub mod kernels;
 
 pub use actuator::{
@@ -19,4 +21,7 @@ pub use blocks::{
     PrestressedBlock, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION,
 };
 pub use element::{Coeffs, Element, UpperHessian};
-pub use error::{InputError, Warning};
+pub use error::{InputError, SolveError, Warning};
+pub use finger::{Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy};
+pub use fit::{fit_circle, Circle};
+pub use fpc_newton::Termination;

@@ -1,0 +1,926 @@
+//! The chained composite model of one finger (MODEL.md section 2).
+//!
+//! Unknowns are scaled per element, `y = (a1, a3 L^2, b1, c2 L)`, so every
+//! unknown is a dimensionless strain of order 0.01-0.1 and the Newton system
+//! is well conditioned (raw `a3` and `c2` differ by four orders of
+//! magnitude). The tip-load potential couples the elements through the
+//! chain kinematics; its gradient and Hessian are assembled exactly from the
+//! per-element end kernels:
+//!
+//! with `Fr_j = R(theta_j)^T F` (the load in element j's frame) and
+//! `Q_j = tip - p_j`,
+//!
+//! - `d(F.tip)/dK_j = Fr_j . De_j + (F . J Q_j) grad eta_j`
+//! - block `jj`: `Fr_j . D2e_j + (F . J Q_j) D2eta_j - (F . Q_j) grad eta_j grad eta_j^T`
+//! - block `jk`, `j < k`: `grad eta_j w_k^T`, `w_k = (J^T Fr_k) . De_k - (F . Q_k) grad eta_k`
+//!
+//! where `J` rotates by +90 degrees. Scenes without a tip load decouple:
+//! each distinct element is a 4x4 solve, done once for equal elements.
+
+use fpc_newton::{
+    min_eigenvalue, Energy, Gradient, Hessian, Newton, NewtonOptions, Report, Termination,
+};
+
+use crate::actuator::Actuator;
+use crate::blocks::{distinct_elements, element_blocks, Partition};
+use crate::element::{Coeffs, Element, UpperHessian};
+use crate::error::{finite, positive, InputError, SolveError};
+use crate::fit::fit_circle;
+use crate::kernels::upper_index;
+
+/// Pressure and tip loads of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Load {
+    /// Channel pressure (MPa; 1 kPa = 0.001 MPa).
+    pub pressure: f64,
+    /// Pressure factor `kappa = 1/(gamma - 1)` (2.5 by default; 1 is plain `P dV` work).
+    pub kappa: f64,
+    /// Tip force along the finger's X axis (N).
+    pub fx: f64,
+    /// Tip force along the finger's Z axis (N).
+    pub fz: f64,
+}
+
+impl Default for Load {
+    fn default() -> Load {
+        Load {
+            pressure: 0.0,
+            kappa: 2.5,
+            fx: 0.0,
+            fz: 0.0,
+        }
+    }
+}
+
+impl Load {
+    /// No pressure, no tip load.
+    pub fn unloaded() -> Load {
+        Load::default()
+    }
+
+    /// The same load with a pressure given in kPa.
+    pub fn with_pressure_kpa(mut self, kpa: f64) -> Load {
+        self.pressure = kpa * 1e-3;
+        self
+    }
+
+    /// The same load with a tip force (N, finger frame).
+    pub fn with_tip_force(mut self, fx: f64, fz: f64) -> Load {
+        self.fx = fx;
+        self.fz = fz;
+        self
+    }
+
+    /// True when a tip force acts.
+    pub fn has_tip_load(&self) -> bool {
+        self.fx != 0.0 || self.fz != 0.0
+    }
+
+    /// Checks that every value is finite and kappa positive.
+    pub fn validate(&self) -> Result<(), InputError> {
+        finite("load.pressure", self.pressure)?;
+        positive("load.kappa", self.kappa)?;
+        finite("load.fx", self.fx)?;
+        finite("load.fz", self.fz)?;
+        Ok(())
+    }
+
+    fn kp(&self) -> f64 {
+        self.kappa * self.pressure
+    }
+}
+
+/// How a scene is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// Decoupled element solves when there is no tip load, the coupled
+    /// system otherwise.
+    #[default]
+    Auto,
+    /// Always the coupled 4N system (for checks and benchmarks).
+    Coupled,
+}
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveOptions {
+    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
+    pub rtol: f64,
+    /// Newton iteration limit per solve.
+    pub max_iter: usize,
+    /// Decoupled or coupled path.
+    pub strategy: Strategy,
+    /// Sample the mid-plane and fit a circle (off for tip-only output).
+    pub shape: bool,
+    /// Mid-plane samples per element when `shape` is on.
+    pub samples_per_element: usize,
+    /// Fall back to load continuation when Newton fails from the guess.
+    pub continuation: bool,
+}
+
+impl Default for SolveOptions {
+    fn default() -> SolveOptions {
+        SolveOptions {
+            rtol: 1e-11,
+            max_iter: 60,
+            strategy: Strategy::Auto,
+            shape: true,
+            samples_per_element: 16,
+            continuation: true,
+        }
+    }
+}
+
+impl SolveOptions {
+    /// Tip-only output: no shape sampling, no circle fit.
+    pub fn tip_only(mut self) -> SolveOptions {
+        self.shape = false;
+        self
+    }
+
+    fn validate(&self) -> Result<(), InputError> {
+        positive("solve.rtol", self.rtol)?;
+        if self.max_iter == 0 {
+            return Err(InputError::OutOfRange {
+                field: "solve.max_iter".into(),
+                value: 0.0,
+                rule: "must be at least 1".into(),
+            });
+        }
+        if self.shape && self.samples_per_element == 0 {
+            return Err(InputError::OutOfRange {
+                field: "solve.samples_per_element".into(),
+                value: 0.0,
+                rule: "must be at least 1 when the shape is sampled".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How a solve went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveReport {
+    /// Why it stopped (always converged in a returned solution).
+    pub reason: Termination,
+    /// Newton iterations (summed over element solves and continuation steps).
+    pub iterations: usize,
+    /// `||grad Pi||_inf` in scaled units over the stiffness scale.
+    pub residual_norm: f64,
+    /// Kernel evaluations: energy, gradient and Hessian calls.
+    pub evaluations: usize,
+    /// True when the coupled system was solved (false: decoupled elements).
+    pub coupled: bool,
+    /// Continuation steps taken (0: Newton from the guess sufficed).
+    pub continuation_steps: usize,
+}
+
+/// An equilibrium of one finger.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// `[a1, a3, b1, c2]` per element.
+    pub coefficients: Vec<Coeffs>,
+    /// Tip position (X, Z) in the finger frame (mm).
+    pub tip: [f64; 2],
+    /// Angle of the tip tangent from the X axis (rad).
+    pub end_angle: f64,
+    /// Total potential energy `Pi` (N mm).
+    pub energy: f64,
+    /// Smallest eigenvalue of the scaled Hessian (positive: stable).
+    pub min_hessian_eig: f64,
+    /// Mid-plane samples from root to tip (empty for tip-only output).
+    pub points: Vec<[f64; 2]>,
+    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
+    pub radius: Option<f64>,
+    /// Solver report.
+    pub report: SolveReport,
+}
+
+/// A finger: elements with their moments, ready to solve.
+#[derive(Debug, Clone)]
+pub struct Finger {
+    elements: Vec<Element>,
+    distinct: Vec<usize>,
+    stiffness: f64,
+}
+
+#[inline]
+fn scales(l: f64) -> Coeffs {
+    [1.0, 1.0 / (l * l), 1.0, 1.0 / l]
+}
+
+impl Finger {
+    /// Builds the elements of `actuator` split by `partition` (ribs optional).
+    pub fn new(actuator: &Actuator, partition: &Partition, ribs: bool) -> Finger {
+        let blocks = element_blocks(actuator, partition, ribs);
+        let distinct = distinct_elements(&blocks);
+        let elements: Vec<Element> = blocks.iter().map(Element::from_blocks).collect();
+        // stiffness scale: the largest scaled Hessian diagonal of the
+        // unstrained strain energy (about E*A*L of the stiffest element)
+        let mut stiffness: f64 = 0.0;
+        for e in &elements {
+            let (_, _, h) = e.hessian(&[0.0; 4], 0.0);
+            let s = scales(e.length());
+            for i in 0..4 {
+                stiffness = stiffness.max((h[upper_index(i, i)] * s[i] * s[i]).abs());
+            }
+        }
+        Finger {
+            elements,
+            distinct,
+            stiffness: stiffness.max(f64::MIN_POSITIVE),
+        }
+    }
+
+    /// The default actuator at prestrain `eps0`, `n` equal elements, ribs on.
+    pub fn paper(eps0: f64, n: usize) -> Result<Finger, InputError> {
+        let act = Actuator::paper(eps0)?;
+        let part = Partition::equal(act.geometry().lx, n)?;
+        Ok(Finger::new(&act, &part, true))
+    }
+
+    /// Number of elements.
+    pub fn len(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// True for a finger without elements (never built by the constructors).
+    pub fn is_empty(&self) -> bool {
+        self.elements.is_empty()
+    }
+
+    /// The elements.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// Stiffness scale (N mm) that makes residuals relative.
+    pub fn stiffness_scale(&self) -> f64 {
+        self.stiffness
+    }
+
+    /// Total potential energy at raw coefficients.
+    pub fn energy(&self, load: &Load, k: &[Coeffs]) -> f64 {
+        let mut v: f64 = self
+            .elements
+            .iter()
+            .zip(k)
+            .map(|(e, k)| e.energy(k, load.kp()))
+            .sum();
+        if load.has_tip_load() {
+            let (tip, _) = self.tip(k);
+            v -= load.fx * tip[0] + load.fz * tip[1];
+        }
+        v
+    }
+
+    /// Tip position and end angle at raw coefficients.
+    pub fn tip(&self, k: &[Coeffs]) -> ([f64; 2], f64) {
+        let mut p = [0.0, 0.0];
+        let mut theta: f64 = 0.0;
+        for (e, k) in self.elements.iter().zip(k) {
+            let [xe, ze, eta] = e.end(k);
+            let (s, c) = theta.sin_cos();
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            theta += eta;
+        }
+        (p, theta)
+    }
+
+    /// Mid-plane samples from the root (included) to the tip.
+    pub fn shape(&self, k: &[Coeffs], per_element: usize) -> Vec<[f64; 2]> {
+        let mut pts = vec![[0.0, 0.0]];
+        let mut p = [0.0, 0.0];
+        let mut theta: f64 = 0.0;
+        for (e, k) in self.elements.iter().zip(k) {
+            let l = e.length();
+            let (s, c) = theta.sin_cos();
+            for j in 1..=per_element.max(1) {
+                let x = l * j as f64 / per_element.max(1) as f64;
+                let (xl, zl) = ((1.0 + k[0]) * x + k[1] * x * x * x, k[3] * x * x);
+                pts.push([p[0] + c * xl - s * zl, p[1] + s * xl + c * zl]);
+            }
+            let [xe, ze, eta] = e.end(k);
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            theta += eta;
+        }
+        pts
+    }
+
+    /// Total potential energy and its gradient with respect to the raw
+    /// coefficients (element by element, `[a1, a3, b1, c2]` each).
+    pub fn gradient(&self, load: &Load, k: &[Coeffs]) -> (f64, Vec<f64>) {
+        let mut chain = Chain::new(self);
+        chain.set_load(load);
+        let y = chain.scaled(k);
+        let mut g = vec![0.0; y.len()];
+        let v = chain.gradient(&y, &mut g);
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi /= chain.s[i / 4][i % 4];
+        }
+        (v, g)
+    }
+
+    /// Total potential energy, gradient and full Hessian (column-major,
+    /// `4N x 4N`) with respect to the raw coefficients.
+    pub fn hessian(&self, load: &Load, k: &[Coeffs]) -> (f64, Vec<f64>, Vec<f64>) {
+        let mut chain = Chain::new(self);
+        chain.set_load(load);
+        let y = chain.scaled(k);
+        let n = y.len();
+        let mut g = vec![0.0; n];
+        let mut h = vec![0.0; n * n];
+        let v = chain.hessian(&y, &mut g, &mut h);
+        for i in 0..n {
+            let si = chain.s[i / 4][i % 4];
+            g[i] /= si;
+            for j in 0..n {
+                h[i + n * j] /= si * chain.s[j / 4][j % 4];
+            }
+        }
+        (v, g, h)
+    }
+
+    /// Solves a scene from the straight finger (or, with a tip load, from
+    /// the unloaded equilibrium at the same pressure).
+    pub fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solution, SolveError> {
+        Solver::new(self).solve(load, None, opts)
+    }
+
+    /// Solves a scene from given coefficients.
+    pub fn solve_from(
+        &self,
+        load: &Load,
+        guess: &[Coeffs],
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        Solver::new(self).solve(load, Some(guess), opts)
+    }
+}
+
+/// A reusable solver workspace (no allocation per Newton iteration; reuse
+/// it across the points of a sweep).
+pub struct Solver<'a> {
+    finger: &'a Finger,
+    chain: Chain<'a>,
+    newton: Newton,
+    local: Newton,
+    y: Vec<f64>,
+}
+
+impl<'a> Solver<'a> {
+    /// A workspace for `finger`.
+    pub fn new(finger: &'a Finger) -> Solver<'a> {
+        let n = 4 * finger.len();
+        Solver {
+            finger,
+            chain: Chain::new(finger),
+            newton: Newton::new(n, NewtonOptions::default()),
+            local: Newton::new(4, NewtonOptions::default()),
+            y: vec![0.0; n],
+        }
+    }
+
+    /// The finger being solved.
+    pub fn finger(&self) -> &'a Finger {
+        self.finger
+    }
+
+    /// Solves a scene; `guess` are raw coefficients per element.
+    pub fn solve(
+        &mut self,
+        load: &Load,
+        guess: Option<&[Coeffs]>,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        load.validate()?;
+        opts.validate()?;
+        let f = self.finger;
+        if let Some(g) = guess {
+            if g.len() != f.len() {
+                return Err(InputError::OutOfRange {
+                    field: "guess".into(),
+                    value: g.len() as f64,
+                    rule: format!("must hold one coefficient set per element ({})", f.len()),
+                }
+                .into());
+            }
+            if g.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(InputError::NotFinite {
+                    field: "guess".into(),
+                    value: f64::NAN,
+                }
+                .into());
+            }
+        }
+        let gtol = opts.rtol * f.stiffness;
+        let nopts = NewtonOptions {
+            gtol,
+            max_iter: opts.max_iter,
+            ..NewtonOptions::default()
+        };
+        self.newton
+            .set_options(nopts)
+            .map_err(|e| InputError::OutOfRange {
+                field: "solve".into(),
+                value: gtol,
+                rule: e.to_string(),
+            })?;
+        self.local
+            .set_options(nopts)
+            .map_err(|e| InputError::OutOfRange {
+                field: "solve".into(),
+                value: gtol,
+                rule: e.to_string(),
+            })?;
+        let decoupled = !load.has_tip_load() && opts.strategy == Strategy::Auto;
+        let mut report = if decoupled {
+            self.solve_decoupled(load, guess)?
+        } else {
+            self.solve_coupled(load, guess, opts)?
+        };
+        report.residual_norm /= f.stiffness;
+        self.finish(load, opts, report, decoupled)
+    }
+
+    fn load_guess(&mut self, guess: Option<&[Coeffs]>) {
+        for (i, e) in self.finger.elements.iter().enumerate() {
+            let s = scales(e.length());
+            let k = guess.map_or([0.0; 4], |g| g[i]);
+            for j in 0..4 {
+                self.y[4 * i + j] = k[j] / s[j];
+            }
+        }
+    }
+
+    fn solve_decoupled(
+        &mut self,
+        load: &Load,
+        guess: Option<&[Coeffs]>,
+    ) -> Result<SolveReport, SolveError> {
+        self.load_guess(guess);
+        let f = self.finger;
+        let mut rep = SolveReport {
+            reason: Termination::Converged,
+            iterations: 0,
+            residual_norm: 0.0,
+            evaluations: 0,
+            coupled: false,
+            continuation_steps: 0,
+        };
+        for i in 0..f.len() {
+            let d = f.distinct[i];
+            if d != i {
+                let (a, b) = self.y.split_at_mut(4 * i);
+                b[..4].copy_from_slice(&a[4 * d..4 * d + 4]);
+                continue;
+            }
+            let mut p = Single {
+                element: &f.elements[i],
+                kp: load.kp(),
+                s: scales(f.elements[i].length()),
+            };
+            let y = &mut self.y[4 * i..4 * i + 4];
+            let r = self.local.minimize(&mut p, y);
+            rep.iterations += r.iterations;
+            rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+            rep.residual_norm = rep.residual_norm.max(r.residual_norm);
+            if !r.reason.is_converged() {
+                return Err(self.not_converged(&r, Some(i)));
+            }
+        }
+        Ok(rep)
+    }
+
+    fn solve_coupled(
+        &mut self,
+        load: &Load,
+        guess: Option<&[Coeffs]>,
+        opts: &SolveOptions,
+    ) -> Result<SolveReport, SolveError> {
+        let mut base = SolveReport {
+            reason: Termination::Converged,
+            iterations: 0,
+            residual_norm: 0.0,
+            evaluations: 0,
+            coupled: true,
+            continuation_steps: 0,
+        };
+        let start_load = Load {
+            fx: 0.0,
+            fz: 0.0,
+            ..*load
+        };
+        match guess {
+            Some(g) => self.load_guess(Some(g)),
+            None => {
+                // the unloaded equilibrium at the same pressure
+                let r = self.solve_decoupled(&start_load, None)?;
+                base.iterations += r.iterations;
+                base.evaluations += r.evaluations;
+            }
+        }
+        let start: Vec<f64> = self.y.clone();
+        self.chain.set_load(load);
+        let r = self.newton.minimize(&mut self.chain, &mut self.y);
+        base.iterations += r.iterations;
+        base.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+        base.residual_norm = r.residual_norm;
+        if r.reason.is_converged() {
+            return Ok(base);
+        }
+        if !opts.continuation || !load.has_tip_load() {
+            return Err(self.not_converged(&r, None));
+        }
+        // load continuation from the start point: F(t) = t F
+        self.y.copy_from_slice(&start);
+        let chain = &mut self.chain;
+        let newton = &mut self.newton;
+        let copts = fpc_newton::ContinuationOptions::default();
+        let cr = fpc_newton::continuation(0.0, 1.0, &mut self.y, &copts, |t, y| {
+            chain.set_load(&Load {
+                fx: t * load.fx,
+                fz: t * load.fz,
+                ..*load
+            });
+            newton.minimize(chain, y)
+        });
+        base.iterations += cr.newton_iterations;
+        base.continuation_steps = cr.steps;
+        base.residual_norm = cr.last.residual_norm;
+        if cr.complete && cr.last.reason.is_converged() {
+            self.chain.set_load(load);
+            Ok(base)
+        } else {
+            Err(self.not_converged(&cr.last, None))
+        }
+    }
+
+    fn coefficients(&self) -> Vec<Coeffs> {
+        self.finger
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let s = scales(e.length());
+                [
+                    self.y[4 * i] * s[0],
+                    self.y[4 * i + 1] * s[1],
+                    self.y[4 * i + 2] * s[2],
+                    self.y[4 * i + 3] * s[3],
+                ]
+            })
+            .collect()
+    }
+
+    fn not_converged(&self, r: &Report, element: Option<usize>) -> SolveError {
+        SolveError::NotConverged {
+            reason: r.reason,
+            iterations: r.iterations,
+            relative_residual: r.residual_norm / self.finger.stiffness,
+            element,
+            last: self.coefficients(),
+        }
+    }
+
+    fn finish(
+        &mut self,
+        load: &Load,
+        opts: &SolveOptions,
+        report: SolveReport,
+        decoupled: bool,
+    ) -> Result<Solution, SolveError> {
+        let f = self.finger;
+        let k = self.coefficients();
+        let (tip, end_angle) = f.tip(&k);
+        let energy = f.energy(load, &k);
+        // stability: eigenvalues of the scaled Hessian
+        let min_hessian_eig = if decoupled {
+            let mut m = f64::INFINITY;
+            for (i, e) in f.elements.iter().enumerate() {
+                if f.distinct[i] != i {
+                    continue;
+                }
+                let mut p = Single {
+                    element: e,
+                    kp: load.kp(),
+                    s: scales(e.length()),
+                };
+                let mut g = [0.0; 4];
+                let mut h = [0.0; 16];
+                p.hessian(&self.y[4 * i..4 * i + 4], &mut g, &mut h);
+                m = m.min(min_eigenvalue(4, &h));
+            }
+            m
+        } else {
+            let n = 4 * f.len();
+            let mut g = vec![0.0; n];
+            let mut h = vec![0.0; n * n];
+            self.chain.set_load(load);
+            self.chain.hessian(&self.y, &mut g, &mut h);
+            min_eigenvalue(n, &h)
+        } / f.stiffness;
+        let (points, radius) = if opts.shape {
+            let pts = f.shape(&k, opts.samples_per_element);
+            let r = fit_circle(&pts).map(|c| c.radius);
+            (pts, r)
+        } else {
+            (Vec::new(), None)
+        };
+        let values_finite =
+            tip.iter().all(|v| v.is_finite()) && energy.is_finite() && end_angle.is_finite();
+        if !values_finite {
+            return Err(SolveError::NotConverged {
+                reason: Termination::NonFinite,
+                iterations: report.iterations,
+                relative_residual: f64::INFINITY,
+                element: None,
+                last: k,
+            });
+        }
+        Ok(Solution {
+            coefficients: k,
+            tip,
+            end_angle,
+            energy,
+            min_hessian_eig,
+            points,
+            radius,
+            report,
+        })
+    }
+}
+
+/// One element in scaled unknowns (the decoupled scenes).
+struct Single<'a> {
+    element: &'a Element,
+    kp: f64,
+    s: Coeffs,
+}
+
+impl Single<'_> {
+    fn raw(&self, y: &[f64]) -> Coeffs {
+        [
+            y[0] * self.s[0],
+            y[1] * self.s[1],
+            y[2] * self.s[2],
+            y[3] * self.s[3],
+        ]
+    }
+}
+
+impl Energy for Single<'_> {
+    fn dim(&self) -> usize {
+        4
+    }
+    fn energy(&mut self, y: &[f64]) -> f64 {
+        self.element.energy(&self.raw(y), self.kp)
+    }
+}
+
+impl Gradient for Single<'_> {
+    fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
+        let (v, gk) = self.element.gradient(&self.raw(y), self.kp);
+        for i in 0..4 {
+            g[i] = gk[i] * self.s[i];
+        }
+        v
+    }
+}
+
+impl Hessian for Single<'_> {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        let (v, gk, hk) = self.element.hessian(&self.raw(y), self.kp);
+        for i in 0..4 {
+            g[i] = gk[i] * self.s[i];
+            for j in 0..4 {
+                h[i + 4 * j] = hk[upper_index(i, j)] * self.s[i] * self.s[j];
+            }
+        }
+        v
+    }
+}
+
+/// The coupled finger: all elements plus the tip-load chain.
+struct Chain<'a> {
+    finger: &'a Finger,
+    kp: f64,
+    f: [f64; 2],
+    k: Vec<Coeffs>,
+    s: Vec<Coeffs>,
+    ends: Vec<[f64; 3]>,
+    end_g: Vec<[Coeffs; 3]>,
+    end_h: Vec<[UpperHessian; 3]>,
+    theta: Vec<f64>,
+    q: Vec<[f64; 2]>,
+    w: Vec<Coeffs>,
+    tip: [f64; 2],
+}
+
+impl<'a> Chain<'a> {
+    fn new(finger: &'a Finger) -> Chain<'a> {
+        let n = finger.len();
+        Chain {
+            finger,
+            kp: 0.0,
+            f: [0.0, 0.0],
+            k: vec![[0.0; 4]; n],
+            s: finger.elements.iter().map(|e| scales(e.length())).collect(),
+            ends: vec![[0.0; 3]; n],
+            end_g: vec![[[0.0; 4]; 3]; n],
+            end_h: vec![[[0.0; 10]; 3]; n],
+            theta: vec![0.0; n],
+            q: vec![[0.0; 2]; n],
+            w: vec![[0.0; 4]; n],
+            tip: [0.0, 0.0],
+        }
+    }
+
+    fn set_load(&mut self, load: &Load) {
+        self.kp = load.kp();
+        self.f = [load.fx, load.fz];
+    }
+
+    fn loaded(&self) -> bool {
+        self.f[0] != 0.0 || self.f[1] != 0.0
+    }
+
+    fn scaled(&self, k: &[Coeffs]) -> Vec<f64> {
+        k.iter()
+            .zip(&self.s)
+            .flat_map(|(k, s)| (0..4).map(move |j| k[j] / s[j]))
+            .collect()
+    }
+
+    fn unscale(&mut self, y: &[f64]) {
+        for (i, (k, s)) in self.k.iter_mut().zip(&self.s).enumerate() {
+            for j in 0..4 {
+                k[j] = y[4 * i + j] * s[j];
+            }
+        }
+    }
+
+    /// Frames and the vectors from each element's end to the tip.
+    fn chain_geometry(&mut self) {
+        let n = self.k.len();
+        let mut theta: f64 = 0.0;
+        let mut p = [0.0, 0.0];
+        let mut ends_p = [0.0, 0.0];
+        for i in 0..n {
+            self.theta[i] = theta;
+            let [xe, ze, eta] = self.ends[i];
+            let (s, c) = theta.sin_cos();
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            self.q[i] = p; // p_i for now
+            theta += eta;
+            ends_p = p;
+        }
+        for i in 0..n {
+            self.q[i] = [ends_p[0] - self.q[i][0], ends_p[1] - self.q[i][1]];
+        }
+        self.tip = ends_p;
+    }
+}
+
+impl Energy for Chain<'_> {
+    fn dim(&self) -> usize {
+        4 * self.k.len()
+    }
+
+    fn energy(&mut self, y: &[f64]) -> f64 {
+        self.unscale(y);
+        let mut v = 0.0;
+        for (e, k) in self.finger.elements.iter().zip(&self.k) {
+            v += e.energy(k, self.kp);
+        }
+        if self.loaded() {
+            let (tip, _) = self.finger.tip(&self.k);
+            v -= self.f[0] * tip[0] + self.f[1] * tip[1];
+        }
+        v
+    }
+}
+
+impl Gradient for Chain<'_> {
+    fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
+        self.unscale(y);
+        let loaded = self.loaded();
+        let mut v = 0.0;
+        for (i, e) in self.finger.elements.iter().enumerate() {
+            let (vi, gi) = e.gradient(&self.k[i], self.kp);
+            v += vi;
+            g[4 * i..4 * i + 4].copy_from_slice(&gi);
+            if loaded {
+                let (ends, eg) = crate::kernels::end_gradient(&self.k[i], e.length());
+                self.ends[i] = ends;
+                self.end_g[i] = eg;
+            }
+        }
+        if loaded {
+            self.chain_geometry();
+            let [fx, fz] = self.f;
+            let n = self.k.len();
+            v -= fx * self.tip[0] + fz * self.tip[1];
+            for j in 0..n {
+                let (s, c) = self.theta[j].sin_cos();
+                let fr = [c * fx + s * fz, -s * fx + c * fz];
+                let qj = self.q[j];
+                let fjq = -fx * qj[1] + fz * qj[0];
+                let eg = &self.end_g[j];
+                for a in 0..4 {
+                    g[4 * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
+                }
+            }
+        }
+        for (i, s) in self.s.iter().enumerate() {
+            for j in 0..4 {
+                g[4 * i + j] *= s[j];
+            }
+        }
+        v
+    }
+}
+
+impl Hessian for Chain<'_> {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        self.unscale(y);
+        let n = self.k.len();
+        let dim = 4 * n;
+        let loaded = self.loaded();
+        h.iter_mut().for_each(|v| *v = 0.0);
+        let mut v = 0.0;
+        for (i, e) in self.finger.elements.iter().enumerate() {
+            let (vi, gi, hi) = e.hessian(&self.k[i], self.kp);
+            v += vi;
+            g[4 * i..4 * i + 4].copy_from_slice(&gi);
+            for a in 0..4 {
+                for b in 0..4 {
+                    h[(4 * i + a) + dim * (4 * i + b)] = hi[upper_index(a, b)];
+                }
+            }
+            if loaded {
+                let (ends, eg, eh) = e.end_hessian(&self.k[i]);
+                self.ends[i] = ends;
+                self.end_g[i] = eg;
+                self.end_h[i] = eh;
+            }
+        }
+        if loaded {
+            self.chain_geometry();
+            let [fx, fz] = self.f;
+            v -= fx * self.tip[0] + fz * self.tip[1];
+            for j in 0..n {
+                let (s, c) = self.theta[j].sin_cos();
+                let fr = [c * fx + s * fz, -s * fx + c * fz];
+                let qj = self.q[j];
+                let fjq = -fx * qj[1] + fz * qj[0]; // F . J Q_j
+                let fq = fx * qj[0] + fz * qj[1]; // F . Q_j
+                let eg = self.end_g[j];
+                let eh = self.end_h[j];
+                for a in 0..4 {
+                    g[4 * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
+                    for b in 0..4 {
+                        let ab = upper_index(a, b);
+                        let d2 = fr[0] * eh[0][ab] + fr[1] * eh[1][ab] + fjq * eh[2][ab]
+                            - fq * eg[2][a] * eg[2][b];
+                        h[(4 * j + a) + dim * (4 * j + b)] -= d2;
+                    }
+                }
+                // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, with J^T Fr = (Fr_z, -Fr_x)
+                for a in 0..4 {
+                    self.w[j][a] = fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a];
+                }
+            }
+            for j in 0..n {
+                let u = self.end_g[j][2];
+                for k in j + 1..n {
+                    let w = self.w[k];
+                    for a in 0..4 {
+                        for b in 0..4 {
+                            let val = u[a] * w[b];
+                            h[(4 * j + a) + dim * (4 * k + b)] -= val;
+                            h[(4 * k + b) + dim * (4 * j + a)] -= val;
+                        }
+                    }
+                }
+            }
+        }
+        // scale: g_y = s g_K, H_y = S H_K S
+        for i in 0..n {
+            for a in 0..4 {
+                g[4 * i + a] *= self.s[i][a];
+            }
+        }
+        for col in 0..dim {
+            let sc = self.s[col / 4][col % 4];
+            for row in 0..dim {
+                let sr = self.s[row / 4][row % 4];
+                h[row + dim * col] *= sr * sc;
+            }
+        }
+        v
+    }
+}

@@ -1,0 +1,158 @@
+//! Least-squares circle fit of planar points (the radius of curvature the
+//! paper reports, Sec. 6.2).
+//!
+//! An algebraic (Kasa) fit on centred data gives the start; a few
+//! Gauss-Newton steps on the geometric distances `|p - c| - r` refine it.
+//! Nearly collinear points have no meaningful circle: the fit returns `None`.
+
+/// A fitted circle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Circle {
+    /// Centre (X, Z).
+    pub center: [f64; 2],
+    /// Radius.
+    pub radius: f64,
+    /// Root-mean-square geometric residual.
+    pub rms: f64,
+}
+
+fn solve3(a: [[f64; 3]; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let m = nalgebra::Matrix3::from_fn(|i, j| a[i][j]);
+    let v = nalgebra::Vector3::from_column_slice(&b);
+    let x = m.lu().solve(&v)?;
+    x.iter().all(|t| t.is_finite()).then(|| [x[0], x[1], x[2]])
+}
+
+/// Fits a circle to at least three points. Returns `None` when the points
+/// are (numerically) collinear: the radius would exceed `1e6` times their extent.
+pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
+    if points.len() < 3
+        || points
+            .iter()
+            .any(|p| !p[0].is_finite() || !p[1].is_finite())
+    {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mx = points.iter().map(|p| p[0]).sum::<f64>() / n;
+    let mz = points.iter().map(|p| p[1]).sum::<f64>() / n;
+    let extent = points
+        .iter()
+        .map(|p| (p[0] - mx).hypot(p[1] - mz))
+        .fold(0.0f64, f64::max);
+    if extent == 0.0 {
+        return None;
+    }
+    // Kasa: minimise sum (u^2 + v^2 + D u + E v + F)^2 in centred, scaled coordinates
+    let s = 1.0 / extent;
+    let mut a = [[0.0; 3]; 3];
+    let mut b = [0.0; 3];
+    for p in points {
+        let (u, v) = ((p[0] - mx) * s, (p[1] - mz) * s);
+        let row = [u, v, 1.0];
+        let rhs = -(u * u + v * v);
+        for i in 0..3 {
+            for j in 0..3 {
+                a[i][j] += row[i] * row[j];
+            }
+            b[i] += row[i] * rhs;
+        }
+    }
+    let [d, e, f] = solve3(a, b)?;
+    let (mut cu, mut cv) = (-d / 2.0, -e / 2.0);
+    let r2 = cu * cu + cv * cv - f;
+    if !(r2 > 0.0) {
+        return None;
+    }
+    let mut r = r2.sqrt();
+    if r > 1e6 {
+        return None;
+    }
+    // geometric refinement
+    for _ in 0..20 {
+        let mut jtj = [[0.0; 3]; 3];
+        let mut jtr = [0.0; 3];
+        for p in points {
+            let (u, v) = ((p[0] - mx) * s, (p[1] - mz) * s);
+            let (du, dv) = (u - cu, v - cv);
+            let dist = du.hypot(dv);
+            if dist == 0.0 {
+                continue;
+            }
+            let res = dist - r;
+            let j = [-du / dist, -dv / dist, -1.0];
+            for i in 0..3 {
+                for k in 0..3 {
+                    jtj[i][k] += j[i] * j[k];
+                }
+                jtr[i] -= j[i] * res;
+            }
+        }
+        let Some(step) = solve3(jtj, jtr) else { break };
+        cu += step[0];
+        cv += step[1];
+        r += step[2];
+        if step.iter().map(|x| x.abs()).fold(0.0, f64::max) < 1e-14 * (1.0 + r) {
+            break;
+        }
+    }
+    if !(r.is_finite() && r > 0.0 && r <= 1e6) {
+        return None;
+    }
+    let rms = (points
+        .iter()
+        .map(|p| {
+            let (u, v) = ((p[0] - mx) * s, (p[1] - mz) * s);
+            ((u - cu).hypot(v - cv) - r).powi(2)
+        })
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    Some(Circle {
+        center: [cu / s + mx, cv / s + mz],
+        radius: r / s,
+        rms: rms / s,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn recovers_a_known_arc() {
+        let (cx, cz, r) = (3.0, -40.0, 40.0);
+        let pts: Vec<[f64; 2]> = (0..=30)
+            .map(|i| {
+                let t = -1.2 + 1.5 * i as f64 / 30.0;
+                [cx + r * t.cos(), cz + r * t.sin()]
+            })
+            .collect();
+        let c = fit_circle(&pts).unwrap();
+        assert!((c.radius - r).abs() < 1e-9 * r, "{c:?}");
+        assert!((c.center[0] - cx).abs() < 1e-8 && (c.center[1] - cz).abs() < 1e-8);
+        assert!(c.rms < 1e-9);
+    }
+
+    #[test]
+    fn noisy_arc_is_close_and_collinear_points_have_no_circle() {
+        let mut seed = 12345u64;
+        let mut noise = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1e-3
+        };
+        let pts: Vec<[f64; 2]> = (0..50)
+            .map(|i| {
+                let t = i as f64 / 49.0 * 2.0;
+                [25.0 * t.cos() + noise(), 25.0 * t.sin() + noise()]
+            })
+            .collect();
+        let c = fit_circle(&pts).unwrap();
+        assert!((c.radius - 25.0).abs() < 1e-3, "{c:?}");
+        let line: Vec<[f64; 2]> = (0..10).map(|i| [i as f64, 2.0 * i as f64]).collect();
+        assert!(fit_circle(&line).is_none());
+        assert!(fit_circle(&line[..2]).is_none());
+    }
+}
