@@ -3,6 +3,7 @@
 
 use clap::{Parser, Subcommand};
 
+mod finger;
 mod kernels;
 
 /// Fluidic prestressed composite fingers and grippers: the chained composite model.
@@ -15,6 +16,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Solve one finger of the default actuator (eps0, pressure, tip force).
+    Finger(finger::Args),
     /// Print the generated element kernels and their operation counts.
     Kernels(kernels::Args),
 }
@@ -22,10 +25,27 @@ enum Command {
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
     };
     if let Err(e) = result {
-        eprintln!("fpc: {e:#}");
-        std::process::exit(1);
+        eprintln!("fpc: error: {e:#}");
+        std::process::exit(exit_code(&e));
+    }
+}
+
+/// 2 for rejected input, 1 for anything else (a failed solve, I/O).
+fn exit_code(e: &anyhow::Error) -> i32 {
+    let input = e.chain().any(|c| {
+        c.downcast_ref::<fpc::InputError>().is_some()
+            || matches!(
+                c.downcast_ref::<fpc::SolveError>(),
+                Some(fpc::SolveError::Input(_))
+            )
+    });
+    if input {
+        2
+    } else {
+        1
     }
 }

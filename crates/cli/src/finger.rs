@@ -1,0 +1,135 @@
+//! `fpc finger`: solve one finger of the default actuator for a scene given by flags.
+
+use std::io::Write;
+
+use fpc::{Actuator, Finger, Load, Partition, Solution, SolveOptions};
+use serde_json::json;
+
+/// Flags of `fpc finger`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// Prestrain of the prestressed EMC layer.
+    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
+    eps0: f64,
+    /// Channel pressure in kPa.
+    #[arg(
+        long = "pressure-kpa",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    pressure_kpa: f64,
+    /// Tip force along the finger's X axis, in newtons.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    fx: f64,
+    /// Tip force along the finger's Z axis, in newtons.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    fz: f64,
+    /// Number of equal elements N.
+    #[arg(long, default_value_t = 8)]
+    elements: usize,
+    /// Leave out the ribs inside the channel.
+    #[arg(long = "no-ribs")]
+    no_ribs: bool,
+    /// Pressure factor kappa = 1/(gamma - 1).
+    #[arg(long, default_value_t = 2.5)]
+    kappa: f64,
+    /// Print one JSON object instead of a summary.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let act = Actuator::paper(args.eps0)?;
+    for w in act.warnings() {
+        eprintln!("fpc: warning: {w}");
+    }
+    let part = Partition::equal(act.geometry().lx, args.elements)?;
+    let finger = Finger::new(&act, &part, !args.no_ribs);
+    let load = Load {
+        kappa: args.kappa,
+        ..Load::unloaded()
+    }
+    .with_pressure_kpa(args.pressure_kpa)
+    .with_tip_force(args.fx, args.fz);
+    let sol = finger.solve(&load, &SolveOptions::default())?;
+    let mut out = std::io::stdout().lock();
+    if args.json {
+        writeln!(out, "{}", serde_json::to_string(&to_json(&sol))?)?;
+    } else {
+        summary(&mut out, args, &sol)?;
+    }
+    Ok(())
+}
+
+/// The JSON form of a solution (keys documented in the README).
+pub fn to_json(sol: &Solution) -> serde_json::Value {
+    json!({
+        "tip_mm": sol.tip,
+        "end_angle_rad": sol.end_angle,
+        "radius_mm": sol.radius,
+        "energy_nmm": sol.energy,
+        "min_hessian_eig": sol.min_hessian_eig,
+        "stable": sol.min_hessian_eig > 0.0,
+        "coefficients": sol.coefficients,
+        "points_mm": sol.points,
+        "report": {
+            "reason": sol.report.reason.to_string(),
+            "iterations": sol.report.iterations,
+            "residual_norm": sol.report.residual_norm,
+            "evaluations": sol.report.evaluations,
+            "coupled": sol.report.coupled,
+            "continuation_steps": sol.report.continuation_steps,
+        },
+    })
+}
+
+fn summary(out: &mut impl Write, args: &Args, sol: &Solution) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "finger: eps0 = {}, N = {}, ribs {}, P = {} kPa, tip force ({}, {}) N",
+        args.eps0,
+        args.elements,
+        if args.no_ribs { "off" } else { "on" },
+        args.pressure_kpa,
+        args.fx,
+        args.fz
+    )?;
+    writeln!(
+        out,
+        "tip            X = {:.4} mm, Z = {:.4} mm",
+        sol.tip[0], sol.tip[1]
+    )?;
+    writeln!(
+        out,
+        "end angle      {:.5} rad ({:.2} deg)",
+        sol.end_angle,
+        sol.end_angle.to_degrees()
+    )?;
+    match sol.radius {
+        Some(r) => writeln!(out, "radius (fit)   {r:.3} mm")?,
+        None => writeln!(out, "radius (fit)   none: the finger is straight")?,
+    }
+    writeln!(out, "energy         {:.6} N mm", sol.energy)?;
+    writeln!(
+        out,
+        "stability      smallest scaled Hessian eigenvalue {:.3e} ({})",
+        sol.min_hessian_eig,
+        if sol.min_hessian_eig > 0.0 {
+            "stable"
+        } else {
+            "NOT stable"
+        }
+    )?;
+    writeln!(
+        out,
+        "solver         {} iterations, relative residual {:.2e}, {}",
+        sol.report.iterations,
+        sol.report.residual_norm,
+        if sol.report.coupled {
+            "coupled system"
+        } else {
+            "decoupled elements"
+        }
+    )?;
+    Ok(())
+}
