@@ -3,6 +3,22 @@
 //!
 //! The element energy kernels are generated at build time from
 //! `energy-spec/ccm.spec` by the in-house symbolic crate; see [`kernels`].
+//!
+//! ```
+//! use fpc::{Finger, Load, SolveOptions};
+//!
+//! // the paper's actuator at prestrain 0.25, eight equal elements
+//! let finger = Finger::paper(0.25, 8)?;
+//! let unloaded = finger.solve(&Load::unloaded(), &SolveOptions::default())?;
+//! assert!(unloaded.tip[1] < 0.0); // curls towards the prestressed side
+//!
+//! // 50 kPa and a tip force (N, finger frame)
+//! let load = Load::unloaded().with_pressure_kpa(50.0).with_tip_force(0.5, 0.2);
+//! let loaded = finger.solve(&load, &SolveOptions::default())?;
+//! assert!(loaded.report.residual_norm <= 1e-10);
+//! assert!(loaded.min_hessian_eig > 0.0); // stable
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod actuator;
 mod blocks;
