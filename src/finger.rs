@@ -890,8 +890,8 @@ impl Hessian for Chain<'_> {
                     }
                 }
                 // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, with J^T Fr = (Fr_z, -Fr_x)
-                for a in 0..4 {
-                    self.w[j][a] = fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a];
+                for (a, w) in self.w[j].iter_mut().enumerate() {
+                    *w = fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a];
                 }
             }
             for j in 0..n {

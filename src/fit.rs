@@ -61,7 +61,7 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
     let [d, e, f] = solve3(a, b)?;
     let (mut cu, mut cv) = (-d / 2.0, -e / 2.0);
     let r2 = cu * cu + cv * cv - f;
-    if !(r2 > 0.0) {
+    if r2.is_nan() || r2 <= 0.0 {
         return None;
     }
     let mut r = r2.sqrt();
