@@ -1,1 +1,56 @@
-//! placeholder
+//! Generic dense Newton-type solvers for smooth minimisation and equation
+//! problems.
+//!
+//! This crate knows nothing about the physics it serves: it minimises an
+//! objective given through the [`Energy`] / [`Gradient`] / [`Hessian`]
+//! traits, and solves bordered systems (an equilibrium plus one scalar
+//! target equation with the load as an extra unknown) given through
+//! [`Bordered`]. It is built for many small, repeated, warm-started solves
+//! (dimensions of tens to a few hundred): a [`Newton`] workspace is
+//! allocated once and reused, iterations do not allocate, and small
+//! systems use an in-house dense Cholesky that beats general-purpose
+//! libraries at that size (faer takes over for larger ones, see
+//! [`LinearBackend`]).
+//!
+//! * [`Newton`] — Newton with a shifted Cholesky (descent even where the
+//!   Hessian is indefinite) and Armijo backtracking; also
+//!   [`Newton::solve_bordered`].
+//! * [`Bfgs`] — gradient-only quasi-Newton, an independent cross-check.
+//! * [`continuation()`] — adaptive parameter stepping with a secant predictor.
+//! * [`cholesky_in_place`], [`lu_in_place`], [`min_eigenvalue`] — the
+//!   dense kernels.
+//!
+//! Solvers report why they stopped as data ([`Report`], [`Termination`]);
+//! non-finite objective values are detected and never returned as
+//! iterates. Option values are validated ([`OptionsError`]) and never
+//! cause panics; mismatched dimensions are programmer errors and panic
+//! with a message naming the argument.
+
+#![warn(missing_docs)]
+
+mod bfgs;
+mod bordered;
+mod continuation;
+mod dense;
+mod newton;
+mod options;
+mod problem;
+mod report;
+#[cfg(target_arch = "x86_64")]
+mod simd;
+#[cfg(test)]
+mod tests;
+#[cfg(test)]
+mod testutil;
+
+pub use bfgs::Bfgs;
+pub use bordered::{Bordered, BorderedEval};
+pub use continuation::{continuation, ContinuationReport};
+pub use dense::{cholesky_in_place, cholesky_solve, lu_in_place, lu_solve, min_eigenvalue};
+pub use newton::Newton;
+pub use options::{
+    BfgsOptions, ContinuationOptions, LinearBackend, NewtonOptions, OptionsError,
+    AUTO_DENSE_MAX_DIM,
+};
+pub use problem::{Energy, Gradient, Hessian};
+pub use report::{Report, Termination};

@@ -1,0 +1,378 @@
+//! Newton's method with a shifted Cholesky and Armijo backtracking.
+
+use crate::bordered::BorderedWork;
+use crate::dense::{all_finite, cholesky_in_place, cholesky_solve, dot, norm_inf, FaerCholesky};
+use crate::options::{LinearBackend, NewtonOptions, OptionsError};
+use crate::problem::Hessian;
+use crate::report::{Report, Termination};
+
+/// Number of shifted factorisations tried before giving up with
+/// [`Termination::Singular`]. Shifts double per try from at least
+/// `1e-3 * scale`, so 64 tries reach beyond `1e16 * scale`.
+const MAX_SHIFT_TRIES: usize = 64;
+
+/// Energy differences below `ROUNDOFF_FACTOR * eps * |f|` are treated as
+/// round-off (see [`Newton::minimize`]).
+const ROUNDOFF_FACTOR: f64 = 1e3;
+
+/// Newton minimiser and its reusable workspace.
+///
+/// `Newton::new(n, ..)` allocates every buffer a solve of dimension `n`
+/// needs (Hessian, factor, gradient, direction, trial point, faer scratch);
+/// [`Newton::minimize`] then runs without heap allocation, so calling it
+/// repeatedly (e.g. along a continuation path) costs only arithmetic and
+/// objective evaluations. [`Newton::solve_bordered`] allocates its extra
+/// `(n+1)^2` workspace on its first call and reuses it afterwards.
+///
+/// # Algorithm (`minimize`)
+/// At the current iterate the full Hessian `H` is evaluated. The direction
+/// solves `(H + tau I) p = -g` with a Cholesky factorisation; `tau = 0` is
+/// tried first, and on failure (not positive definite, or `p` not a descent
+/// direction) `tau` starts at `1e-3 * s - min(0, min_i H_ii)` (with `s =
+/// max_i |H_ii|`, or 1 if that is 0), or at half the previous
+/// iteration's shift if that is larger, and is doubled until the
+/// factorisation succeeds. Thus indefinite Hessians still give descent
+/// directions, and near a non-degenerate minimum pure Newton steps (and
+/// quadratic convergence) are recovered. Backtracking then starts at the
+/// full step, evaluates only [`Energy::energy`](crate::Energy::energy) at
+/// trial points, and accepts the first step fraction `alpha` with
+/// `f(x + alpha p) <= f(x) + c1 alpha g^T p` (Armijo), safeguarded
+/// quadratic interpolation (`alpha` shrinks by 0.1..0.5 per trial; by 0.25
+/// after a non-finite trial value). The Hessian is evaluated only at
+/// accepted points.
+///
+/// Accepted steps therefore strictly decrease the energy, with one
+/// documented exception for the round-off regime close to a minimum, where
+/// the predicted decrease is below the resolution of `f`: if Armijo fails
+/// but `|f(x_t) - f(x)| <= 1e3 * eps * max(|f(x)|, |f(x_t)|)`, the trial is
+/// accepted when its gradient norm is at most half the current one (one
+/// extra [`Gradient::gradient`](crate::Gradient::gradient) call). An
+/// energy "increase" on such a step is at most that round-off bound.
+///
+/// # Stopping
+/// In this order, at each iterate: `||g||_inf <= gtol` → `Converged`;
+/// `iterations >= max_iter` → `MaxIterations`; no shift gives a usable
+/// factorisation → `Singular`; backtracking fails → `LineSearchFailed`
+/// (`NonFinite` if every trial value was non-finite); after an accepted
+/// step `s` with `||s||_inf <= xtol (1 + ||x||_inf)` and the gradient not
+/// yet within `gtol` → `StepTolerance`.
+///
+/// Non-finite values: a non-finite value or gradient at the start →
+/// `NonFinite` (x unchanged); from [`Hessian::hessian`] at an accepted
+/// point → `NonFinite` with `x` restored to the previous iterate;
+/// non-finite trial energies are backtracked from. The Hessian's entries
+/// are checked for finiteness only when the unshifted Cholesky fails (a
+/// NaN/inf entry in the lower triangle always makes it fail), then →
+/// `NonFinite` with `x` at the current iterate (finite energy and
+/// gradient). This keeps the finiteness scan of the `n^2` entries out of
+/// the common path; a Hessian that is never factorised (the iterate already
+/// converged) is not scanned. The upper triangle is never read.
+///
+/// A start that is exactly stationary (`g = 0`, e.g. a saddle by symmetry)
+/// is reported `Converged` at once; use [`min_eigenvalue`](crate::min_eigenvalue)
+/// on [`Newton::hessian`] to check stability.
+pub struct Newton {
+    n: usize,
+    opts: NewtonOptions,
+    valid: bool,
+    backend: LinearBackend,
+    g: Vec<f64>,
+    h: Vec<f64>,
+    l: Vec<f64>,
+    p: Vec<f64>,
+    xt: Vec<f64>,
+    gt: Vec<f64>,
+    xprev: Vec<f64>,
+    faer: FaerCholesky,
+    pub(crate) bordered: Option<BorderedWork>,
+}
+
+impl core::fmt::Debug for Newton {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Newton")
+            .field("n", &self.n)
+            .field("opts", &self.opts)
+            .field("backend", &self.backend)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Newton {
+    /// A solver for problems of dimension `n`, with all buffers allocated.
+    ///
+    /// Never panics: if `opts` is invalid (see [`NewtonOptions::validate`]),
+    /// every solve returns [`Termination::InvalidInput`] without evaluating
+    /// anything. Use [`Newton::try_new`] to get the error instead.
+    pub fn new(n: usize, opts: NewtonOptions) -> Newton {
+        let valid = opts.validate().is_ok();
+        let backend = opts.backend.resolve(n);
+        Newton {
+            n,
+            opts,
+            valid,
+            backend,
+            g: vec![0.0; n],
+            h: vec![0.0; n * n],
+            l: vec![0.0; n * n],
+            p: vec![0.0; n],
+            xt: vec![0.0; n],
+            gt: vec![0.0; n],
+            xprev: vec![0.0; n],
+            faer: FaerCholesky::new(if backend == LinearBackend::Faer { n } else { 0 }),
+            bordered: None,
+        }
+    }
+
+    /// Like [`Newton::new`], but rejects invalid options.
+    pub fn try_new(n: usize, opts: NewtonOptions) -> Result<Newton, OptionsError> {
+        opts.validate()?;
+        Ok(Newton::new(n, opts))
+    }
+
+    /// The dimension this workspace was built for.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// The options in use.
+    pub fn options(&self) -> &NewtonOptions {
+        &self.opts
+    }
+
+    /// Replaces the options (validated; on error the old ones stay).
+    pub fn set_options(&mut self, opts: NewtonOptions) -> Result<(), OptionsError> {
+        opts.validate()?;
+        let backend = opts.backend.resolve(self.n);
+        if backend == LinearBackend::Faer && self.backend != LinearBackend::Faer {
+            self.faer = FaerCholesky::new(self.n);
+        }
+        self.backend = backend;
+        self.opts = opts;
+        self.valid = true;
+        Ok(())
+    }
+
+    /// The concrete linear backend (`Dense` or `Faer`) used for this dimension.
+    pub fn backend(&self) -> LinearBackend {
+        self.backend
+    }
+
+    /// Gradient from the last Hessian evaluation of [`Newton::minimize`]
+    /// (at the returned `x` unless the solve ended `NonFinite`).
+    pub fn gradient(&self) -> &[f64] {
+        &self.g
+    }
+
+    /// Hessian (column-major `n * n`) from the last evaluation of
+    /// [`Newton::minimize`]; at the returned `x` unless the solve ended
+    /// `NonFinite`. Useful for a stability check with
+    /// [`min_eigenvalue`](crate::min_eigenvalue) (which returns NaN if the
+    /// objective put a non-finite entry into it).
+    pub fn hessian(&self) -> &[f64] {
+        &self.h
+    }
+
+    /// Minimises `p` starting from `x`; on return `x` holds the result (on
+    /// failure: the last accepted iterate, always finite if the start was).
+    /// See the type-level docs for the algorithm and stopping rules.
+    ///
+    /// # Panics
+    /// If `x.len()` or `p.dim()` differ from the dimension given to
+    /// [`Newton::new`] (programmer error).
+    pub fn minimize<P: Hessian + ?Sized>(&mut self, p: &mut P, x: &mut [f64]) -> Report {
+        let n = self.n;
+        assert_eq!(
+            x.len(),
+            n,
+            "Newton::minimize: x.len() must equal the dimension given to Newton::new"
+        );
+        assert_eq!(
+            p.dim(),
+            n,
+            "Newton::minimize: problem dim() must equal the dimension given to Newton::new"
+        );
+        if !self.valid {
+            return Report::empty(Termination::InvalidInput);
+        }
+        let o = self.opts;
+        let mut rep = Report::empty(Termination::Converged);
+
+        let mut f = p.hessian(x, &mut self.g, &mut self.h);
+        rep.hessian_evals += 1;
+        if !(f.is_finite() && all_finite(&self.g)) {
+            rep.reason = Termination::NonFinite;
+            return rep;
+        }
+        let mut gnorm = norm_inf(&self.g);
+        let mut last_tau = 0.0;
+
+        loop {
+            rep.energy = f;
+            rep.residual_norm = gnorm;
+            if gnorm <= o.gtol {
+                rep.reason = Termination::Converged;
+                break;
+            }
+            if rep.iterations >= o.max_iter {
+                rep.reason = Termination::MaxIterations;
+                break;
+            }
+            let tau = match self.direction(last_tau, &mut rep) {
+                Ok(tau) => tau,
+                Err(reason) => {
+                    rep.reason = reason;
+                    break;
+                }
+            };
+            rep.max_shift = rep.max_shift.max(tau);
+            last_tau = tau;
+            let gtp = dot(&self.g, &self.p);
+            let alpha = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
+                Ok(alpha) => alpha,
+                Err(reason) => {
+                    rep.reason = reason;
+                    break;
+                }
+            };
+            self.xprev.copy_from_slice(x);
+            x.copy_from_slice(&self.xt);
+            let fnew = p.hessian(x, &mut self.g, &mut self.h);
+            rep.hessian_evals += 1;
+            if !(fnew.is_finite() && all_finite(&self.g)) {
+                x.copy_from_slice(&self.xprev);
+                rep.reason = Termination::NonFinite;
+                break;
+            }
+            rep.iterations += 1;
+            rep.step_norm = alpha * norm_inf(&self.p);
+            f = fnew;
+            gnorm = norm_inf(&self.g);
+            if gnorm > o.gtol && rep.step_norm <= o.xtol * (1.0 + norm_inf(x)) {
+                rep.energy = f;
+                rep.residual_norm = gnorm;
+                rep.reason = Termination::StepTolerance;
+                break;
+            }
+        }
+        rep
+    }
+
+    /// Computes the (shifted) Newton direction into `self.p`; returns the
+    /// shift used, `Err(NonFinite)` if the Hessian holds a non-finite entry
+    /// (checked only once the unshifted factorisation has failed, so the
+    /// common positive definite case pays nothing), or `Err(Singular)` if no
+    /// shift produced a usable factorisation. `last_tau` (the previous
+    /// iteration's shift) seeds the escalation.
+    fn direction(&mut self, last_tau: f64, rep: &mut Report) -> Result<f64, Termination> {
+        let n = self.n;
+        let mut dmin = f64::INFINITY;
+        let mut dmax = 0.0f64;
+        for i in 0..n {
+            let d = self.h[i * (n + 1)];
+            dmin = dmin.min(d);
+            dmax = dmax.max(d.abs());
+        }
+        let scale = if dmax > 0.0 { dmax } else { 1.0 };
+        let beta = 1e-3 * scale;
+        // First nonzero shift: enough to make the diagonal positive, and
+        // not far below the shift the previous iteration needed.
+        let first = (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau);
+        let mut tau = 0.0;
+        for _ in 0..MAX_SHIFT_TRIES {
+            rep.factorizations += 1;
+            let ok = match self.backend {
+                LinearBackend::Faer => {
+                    self.l.copy_from_slice(&self.h);
+                    for i in 0..n {
+                        self.l[i * (n + 1)] += tau;
+                    }
+                    self.faer.factor(&mut self.l).is_ok()
+                }
+                _ => {
+                    for j in 0..n {
+                        let r = j * n + j..j * n + n;
+                        self.l[r.clone()].copy_from_slice(&self.h[r]);
+                        self.l[j * (n + 1)] += tau;
+                    }
+                    cholesky_in_place(n, &mut self.l).is_ok()
+                }
+            };
+            if ok {
+                for (pi, gi) in self.p.iter_mut().zip(&self.g) {
+                    *pi = -gi;
+                }
+                match self.backend {
+                    LinearBackend::Faer => self.faer.solve(&self.l, &mut self.p),
+                    _ => cholesky_solve(n, &self.l, &mut self.p),
+                }
+                if all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
+                    return Ok(tau);
+                }
+            }
+            if tau == 0.0 && !all_finite(&self.h) {
+                return Err(Termination::NonFinite);
+            }
+            tau = if tau == 0.0 { first } else { 2.0 * tau };
+        }
+        Err(Termination::Singular)
+    }
+
+    /// Backtracking Armijo search along `self.p`; leaves the accepted point
+    /// in `self.xt` and returns the step fraction.
+    fn line_search<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &[f64],
+        f: f64,
+        gtp: f64,
+        gnorm: f64,
+        rep: &mut Report,
+    ) -> Result<f64, Termination> {
+        let o = &self.opts;
+        let mut alpha = 1.0f64;
+        let mut any_finite = false;
+        loop {
+            for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
+                *xt = xi + alpha * pi;
+            }
+            let ft = p.energy(&self.xt);
+            rep.energy_evals += 1;
+            if ft.is_finite() {
+                any_finite = true;
+                if ft <= f + o.c1 * alpha * gtp {
+                    return Ok(alpha);
+                }
+                let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
+                if (ft - f).abs() <= noise {
+                    let fg = p.gradient(&self.xt, &mut self.gt);
+                    rep.gradient_evals += 1;
+                    if fg.is_finite() && all_finite(&self.gt) && norm_inf(&self.gt) <= 0.5 * gnorm {
+                        return Ok(alpha);
+                    }
+                }
+                // Minimiser of the quadratic through f, f'(0) = gtp, f(alpha) = ft.
+                let denom = 2.0 * (ft - f - gtp * alpha);
+                let aq = if denom > 0.0 {
+                    -gtp * alpha * alpha / denom
+                } else {
+                    0.5 * alpha
+                };
+                alpha = aq.clamp(0.1 * alpha, 0.5 * alpha);
+            } else {
+                alpha *= 0.25;
+            }
+            if alpha < o.min_step_fraction {
+                return Err(if any_finite {
+                    Termination::LineSearchFailed
+                } else {
+                    Termination::NonFinite
+                });
+            }
+        }
+    }
+
+    /// Workspace pieces for the bordered solver (crate-internal).
+    pub(crate) fn parts(&mut self) -> (usize, &NewtonOptions, bool, &mut Option<BorderedWork>) {
+        (self.n, &self.opts, self.valid, &mut self.bordered)
+    }
+}

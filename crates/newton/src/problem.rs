@@ -1,0 +1,51 @@
+//! The objective traits the solvers minimise.
+//!
+//! All vectors are `&[f64]` of length [`Energy::dim`]; Hessians are dense,
+//! column-major `n * n` with both triangles filled. An objective signals a
+//! point where it cannot be evaluated by returning a non-finite value (or
+//! writing one into `g`/`h`); the solvers detect this and report
+//! [`Termination::NonFinite`](crate::Termination::NonFinite) or backtrack,
+//! they never return a non-finite iterate.
+
+/// An objective: value only.
+pub trait Energy {
+    /// Number of unknowns `n`.
+    fn dim(&self) -> usize;
+    /// The objective value at `x` (`x.len() == dim()`).
+    fn energy(&mut self, x: &[f64]) -> f64;
+}
+
+/// Value and gradient.
+pub trait Gradient: Energy {
+    /// Writes the gradient at `x` into `g` (`g.len() == dim()`) and returns
+    /// the value.
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64;
+}
+
+/// Value, gradient and the full dense symmetric Hessian.
+pub trait Hessian: Gradient {
+    /// Writes the gradient into `g` and the Hessian, column-major `n * n`
+    /// with both triangles filled, into `h`; returns the value.
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64;
+}
+
+impl<P: Energy + ?Sized> Energy for &mut P {
+    fn dim(&self) -> usize {
+        (**self).dim()
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        (**self).energy(x)
+    }
+}
+
+impl<P: Gradient + ?Sized> Gradient for &mut P {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        (**self).gradient(x, g)
+    }
+}
+
+impl<P: Hessian + ?Sized> Hessian for &mut P {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        (**self).hessian(x, g, h)
+    }
+}
