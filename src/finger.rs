@@ -717,6 +717,7 @@ struct Chain<'a> {
     q: Vec<[f64; 2]>,
     w: Vec<Coeffs>,
     tip: [f64; 2],
+    force_chain: bool,
 }
 
 impl<'a> Chain<'a> {
@@ -735,6 +736,7 @@ impl<'a> Chain<'a> {
             q: vec![[0.0; 2]; n],
             w: vec![[0.0; 4]; n],
             tip: [0.0, 0.0],
+            force_chain: false,
         }
     }
 
@@ -743,8 +745,26 @@ impl<'a> Chain<'a> {
         self.f = [load.fx, load.fz];
     }
 
+    /// True when the chain geometry is needed (a tip load acts, or a
+    /// bordered solve needs the tip and its gradient).
     fn loaded(&self) -> bool {
-        self.f[0] != 0.0 || self.f[1] != 0.0
+        self.force_chain || self.f[0] != 0.0 || self.f[1] != 0.0
+    }
+
+    /// Scaled gradient of `w . tip` from the geometry of the last
+    /// gradient/Hessian evaluation.
+    fn tip_gradient_scaled(&self, w: [f64; 2], out: &mut [f64]) {
+        for j in 0..self.k.len() {
+            let (s, c) = self.theta[j].sin_cos();
+            let wr = [c * w[0] + s * w[1], -s * w[0] + c * w[1]];
+            let qj = self.q[j];
+            let wjq = -w[0] * qj[1] + w[1] * qj[0];
+            let eg = &self.end_g[j];
+            for a in 0..4 {
+                out[4 * j + a] =
+                    (wr[0] * eg[0][a] + wr[1] * eg[1][a] + wjq * eg[2][a]) * self.s[j][a];
+            }
+        }
     }
 
     fn scaled(&self, k: &[Coeffs]) -> Vec<f64> {
@@ -922,5 +942,146 @@ impl Hessian for Chain<'_> {
             }
         }
         v
+    }
+}
+
+/// A scene whose tip load depends on one unknown scalar `lambda`,
+/// `F = base + lambda * direction`, fixed by one target on the tip position:
+/// `weights . tip = target` at equilibrium (MODEL.md section 4: the unknown
+/// load joins the Newton system with the target as an extra equation).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TargetProblem {
+    /// Pressure, kappa and the fixed part of the tip load.
+    pub base: Load,
+    /// Tip-load change per unit `lambda` (N, finger frame).
+    pub direction: [f64; 2],
+    /// Weights of the tip coordinates (X, Z) in the target.
+    pub weights: [f64; 2],
+    /// Target value of `weights . tip` (mm).
+    pub target: f64,
+}
+
+impl TargetProblem {
+    /// The load at a given `lambda`.
+    pub fn load_at(&self, lambda: f64) -> Load {
+        Load {
+            fx: self.base.fx + lambda * self.direction[0],
+            fz: self.base.fz + lambda * self.direction[1],
+            ..self.base
+        }
+    }
+
+    fn validate(&self) -> Result<(), InputError> {
+        self.base.validate()?;
+        finite("target.direction[0]", self.direction[0])?;
+        finite("target.direction[1]", self.direction[1])?;
+        finite("target.weights[0]", self.weights[0])?;
+        finite("target.weights[1]", self.weights[1])?;
+        finite("target.value", self.target)?;
+        if self.direction == [0.0, 0.0] || self.weights == [0.0, 0.0] {
+            return Err(InputError::Inconsistent {
+                field: "target".into(),
+                rule: "the load direction and the target weights must not be zero".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+struct BorderedChain<'c, 'a> {
+    chain: &'c mut Chain<'a>,
+    problem: TargetProblem,
+    scratch: Vec<f64>,
+}
+
+impl fpc_newton::Bordered for BorderedChain<'_, '_> {
+    fn dim(&self) -> usize {
+        self.chain.dim()
+    }
+
+    fn eval(&mut self, y: &[f64], lambda: f64, out: &mut fpc_newton::BorderedEval) -> bool {
+        let load = self.problem.load_at(lambda);
+        self.chain.set_load(&load);
+        self.chain.force_chain = true;
+        let v = self.chain.hessian(y, &mut out.g, &mut out.h);
+        self.chain
+            .tip_gradient_scaled(self.problem.direction, &mut self.scratch);
+        for (gl, t) in out.g_lambda.iter_mut().zip(&self.scratch) {
+            *gl = -t;
+        }
+        self.chain
+            .tip_gradient_scaled(self.problem.weights, &mut out.c_x);
+        let w = self.problem.weights;
+        out.c = w[0] * self.chain.tip[0] + w[1] * self.chain.tip[1] - self.problem.target;
+        out.c_lambda = 0.0;
+        self.chain.force_chain = false;
+        v.is_finite() && out.is_finite()
+    }
+}
+
+impl Solver<'_> {
+    /// Solves a [`TargetProblem`] from `guess` (raw coefficients, ideally a
+    /// nearby equilibrium) and a starting `lambda`; returns the equilibrium
+    /// and the `lambda` that meets the target. `ctol_mm` bounds the target
+    /// residual.
+    pub fn solve_target(
+        &mut self,
+        problem: &TargetProblem,
+        guess: &[Coeffs],
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<(Solution, f64), SolveError> {
+        problem.validate()?;
+        opts.validate()?;
+        finite("target.lambda0", lambda0)?;
+        positive("target.ctol_mm", ctol_mm)?;
+        let f = self.finger;
+        if guess.len() != f.len() {
+            return Err(InputError::OutOfRange {
+                field: "guess".into(),
+                value: guess.len() as f64,
+                rule: format!("must hold one coefficient set per element ({})", f.len()),
+            }
+            .into());
+        }
+        self.load_guess(Some(guess));
+        let nopts = NewtonOptions {
+            gtol: opts.rtol * f.stiffness,
+            ctol: ctol_mm,
+            max_iter: opts.max_iter,
+            ..NewtonOptions::default()
+        };
+        self.newton
+            .set_options(nopts)
+            .map_err(|e| InputError::OutOfRange {
+                field: "solve".into(),
+                value: nopts.gtol,
+                rule: e.to_string(),
+            })?;
+        let mut lambda = lambda0;
+        let n = self.y.len();
+        let mut bc = BorderedChain {
+            chain: &mut self.chain,
+            problem: *problem,
+            scratch: vec![0.0; n],
+        };
+        let r = self
+            .newton
+            .solve_bordered(&mut bc, &mut self.y, &mut lambda);
+        if !r.reason.is_converged() || !lambda.is_finite() {
+            return Err(self.not_converged(&r, None));
+        }
+        let report = SolveReport {
+            reason: r.reason,
+            iterations: r.iterations,
+            residual_norm: r.residual_norm / f.stiffness,
+            evaluations: r.hessian_evals,
+            coupled: true,
+            continuation_steps: 0,
+        };
+        let load = problem.load_at(lambda);
+        let sol = self.finish(&load, opts, report, false)?;
+        Ok((sol, lambda))
     }
 }

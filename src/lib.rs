@@ -38,6 +38,8 @@ pub use blocks::{
 };
 pub use element::{Coeffs, Element, UpperHessian};
 pub use error::{InputError, SolveError, Warning};
-pub use finger::{Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy};
+pub use finger::{
+    Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem,
+};
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;

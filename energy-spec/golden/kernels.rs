@@ -41,31 +41,31 @@ pub fn linear_moments(
     let tmp1 = tmp0 * x1;
     let tmp2 = x0 * x0;
     let tmp3 = tmp2 * x0;
-    let mx2 = 0.3333333333333333 * (tmp1 - tmp3);
-    let my0 = width;
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let mom_y0 = width;
     let tmp4 = z1 * z1;
     let tmp5 = z0 * z0;
-    let mz1 = 0.5 * (tmp4 - tmp5);
-    let mz0 = -z0 + z1;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    let mom_z0 = -z0 + z1;
     let tmp6 = tmp0 * tmp0;
     let tmp7 = tmp6 * x1;
     let tmp8 = tmp2 * tmp2;
     let tmp9 = tmp8 * x0;
-    let mx4 = 0.2 * (tmp7 - tmp9);
-    let mx0 = -x0 + x1;
+    let mom_x4 = 0.2 * (tmp7 - tmp9);
+    let mom_x0 = -x0 + x1;
     let tmp10 = tmp4 * z1;
     let tmp11 = tmp5 * z0;
-    let mz2 = 0.3333333333333333 * (tmp10 - tmp11);
-    m[0] += 0.5 * q11 * my0 * mz0 * mx0;
-    m[1] += q12 * my0 * mz0 * mx0;
-    m[2] += -(2.0 * q11 * my0 * mx0 * mz1);
-    m[3] += q11 * my0 * mz0 * mx2;
-    m[4] += 0.5 * q22 * my0 * mz0 * mx0;
-    m[5] += -(2.0 * q12 * my0 * mx0 * mz1);
-    m[6] += q12 * my0 * mz0 * mx2;
-    m[7] += 2.0 * q11 * my0 * mx0 * mz2;
-    m[8] += -(2.0 * q11 * my0 * mz1 * mx2);
-    m[9] += 0.5 * q11 * my0 * mz0 * mx4;
+    let mom_z2 = 0.3333333333333333 * (tmp10 - tmp11);
+    m[0] += 0.5 * q11 * mom_y0 * mom_z0 * mom_x0;
+    m[1] += q12 * mom_y0 * mom_z0 * mom_x0;
+    m[2] += -(2.0 * q11 * mom_y0 * mom_x0 * mom_z1);
+    m[3] += q11 * mom_y0 * mom_z0 * mom_x2;
+    m[4] += 0.5 * q22 * mom_y0 * mom_z0 * mom_x0;
+    m[5] += -(2.0 * q12 * mom_y0 * mom_x0 * mom_z1);
+    m[6] += q12 * mom_y0 * mom_z0 * mom_x2;
+    m[7] += 2.0 * q11 * mom_y0 * mom_x0 * mom_z2;
+    m[8] += -(2.0 * q11 * mom_y0 * mom_z1 * mom_x2);
+    m[9] += 0.5 * q11 * mom_y0 * mom_z0 * mom_x4;
 }
 ///Kernel `linear`: the integral of `b1*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
@@ -257,155 +257,163 @@ pub fn prestressed_moments(
     let tmp1 = tmp0 * x1;
     let tmp2 = x0 * x0;
     let tmp3 = tmp2 * x0;
-    let mx2 = 0.3333333333333333 * (tmp1 - tmp3);
-    let my0 = width;
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let mom_y0 = width;
     let tmp4 = z1 * z1;
     let tmp5 = z0 * z0;
-    let mz1 = 0.5 * (tmp4 - tmp5);
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
     let tmp6 = tmp4 * z1;
     let tmp7 = tmp5 * z0;
-    let mz2 = 0.3333333333333333 * (tmp6 - tmp7);
+    let mom_z2 = 0.3333333333333333 * (tmp6 - tmp7);
     let tmp8 = tmp4 * tmp4;
     let tmp9 = tmp5 * tmp5;
-    let mz3 = 0.25 * (tmp8 - tmp9);
+    let mom_z3 = 0.25 * (tmp8 - tmp9);
     let tmp10 = tmp8 * z1;
     let tmp11 = tmp9 * z0;
-    let mz4 = 0.2 * (tmp10 - tmp11);
-    let mz0 = -z0 + z1;
+    let mom_z4 = 0.2 * (tmp10 - tmp11);
+    let mom_z0 = -z0 + z1;
     let tmp12 = tmp0 * tmp0;
     let tmp13 = tmp12 * x1;
     let tmp14 = tmp2 * tmp2;
     let tmp15 = tmp14 * x0;
-    let mx4 = 0.2 * (tmp13 - tmp15);
+    let mom_x4 = 0.2 * (tmp13 - tmp15);
     let tmp16 = tmp1 * tmp1;
     let tmp17 = tmp16 * x1;
     let tmp18 = tmp3 * tmp3;
     let tmp19 = tmp18 * x0;
-    let mx6 = 0.14285714285714285 * (tmp17 - tmp19);
+    let mom_x6 = 0.14285714285714285 * (tmp17 - tmp19);
     let tmp20 = tmp12 * tmp12;
     let tmp21 = tmp20 * x1;
     let tmp22 = tmp14 * tmp14;
     let tmp23 = tmp22 * x0;
-    let mx8 = 0.1111111111111111 * (tmp21 - tmp23);
+    let mom_x8 = 0.1111111111111111 * (tmp21 - tmp23);
     let tmp24 = tmp13 * tmp13;
     let tmp25 = tmp24 * x1;
     let tmp26 = tmp15 * tmp15;
     let tmp27 = tmp26 * x0;
-    let mx10 = 0.09090909090909091 * (tmp25 - tmp27);
-    let mx0 = -x0 + x1;
+    let mom_x10 = 0.09090909090909091 * (tmp25 - tmp27);
+    let mom_x0 = -x0 + x1;
     let tmp28 = tmp6 * tmp6;
     let tmp29 = tmp7 * tmp7;
-    let mz5 = 0.16666666666666666 * (tmp28 - tmp29);
+    let mom_z5 = 0.16666666666666666 * (tmp28 - tmp29);
     let tmp30 = eps0 * eps0;
     m[0]
         += tmp30
             * (eps0
                 * (eps0
-                    * (0.25 * p3 * my0 * mz0 * mx0 - 0.2 * p4 * eps0 * my0 * mz0 * mx0)
-                    - 0.3333333333333333 * p2 * my0 * mz0 * mx0)
-                + 0.5 * p1 * my0 * mz0 * mx0);
+                    * (0.25 * p3 * mom_y0 * mom_z0 * mom_x0
+                        - 0.2 * p4 * eps0 * mom_y0 * mom_z0 * mom_x0)
+                    - 0.3333333333333333 * p2 * mom_y0 * mom_z0 * mom_x0)
+                + 0.5 * p1 * mom_y0 * mom_z0 * mom_x0);
     m[1]
         += eps0
-            * (p1 * my0 * mz0 * mx0
+            * (p1 * mom_y0 * mom_z0 * mom_x0
                 + eps0
-                    * (-p2 * my0 * mz0 * mx0
-                        + eps0 * (p3 * my0 * mz0 * mx0 - p4 * eps0 * my0 * mz0 * mx0)));
+                    * (-p2 * mom_y0 * mom_z0 * mom_x0
+                        + eps0
+                            * (p3 * mom_y0 * mom_z0 * mom_x0
+                                - p4 * eps0 * mom_y0 * mom_z0 * mom_x0)));
     m[2]
         += eps0
             * (eps0
                 * (eps0
-                    * (-2.0 * p3 * my0 * mx0 * mz1 + 2.0 * p4 * eps0 * my0 * mx0 * mz1)
-                    + 2.0 * p2 * my0 * mx0 * mz1) - 2.0 * p1 * my0 * mx0 * mz1);
+                    * (-2.0 * p3 * mom_y0 * mom_x0 * mom_z1
+                        + 2.0 * p4 * eps0 * mom_y0 * mom_x0 * mom_z1)
+                    + 2.0 * p2 * mom_y0 * mom_x0 * mom_z1)
+                - 2.0 * p1 * mom_y0 * mom_x0 * mom_z1);
     m[3]
         += eps0
-            * (p1 * my0 * mz0 * mx2
+            * (p1 * mom_y0 * mom_z0 * mom_x2
                 + eps0
-                    * (eps0 * (p3 * my0 * mz0 * mx2 - p4 * eps0 * my0 * mz0 * mx2)
-                        - p2 * my0 * mz0 * mx2));
+                    * (eps0
+                        * (p3 * mom_y0 * mom_z0 * mom_x2
+                            - p4 * eps0 * mom_y0 * mom_z0 * mom_x2)
+                        - p2 * mom_y0 * mom_z0 * mom_x2));
     let tmp31 = -(p2);
     let tmp32 = 1.5 * p3;
     let tmp33 = -(2.0 * p4 * eps0);
     let tmp34 = 0.5 * p1 + eps0 * (tmp31 + eps0 * (tmp32 + tmp33));
-    m[4] += my0 * mz0 * mx0 * tmp34;
+    m[4] += mom_y0 * mom_z0 * mom_x0 * tmp34;
     let tmp35 = 4.0 * p2;
     let tmp36 = -(6.0 * p3);
     let tmp37 = 8.0 * p4 * eps0;
     let tmp38 = -2.0 * p1 + eps0 * (tmp35 + eps0 * (tmp36 + tmp37));
-    m[5] += my0 * mx0 * mz1 * tmp38;
+    m[5] += mom_y0 * mom_x0 * mom_z1 * tmp38;
     let tmp39 = 3.0 * p3;
     let tmp40 = -(4.0 * p4 * eps0);
-    m[6] += my0 * mz0 * mx2 * (p1 + eps0 * (-2.0 * p2 + eps0 * (tmp39 + tmp40)));
-    m[7] += 0.5 * q22 * my0 * mz0 * mx0;
+    m[6]
+        += mom_y0 * mom_z0 * mom_x2 * (p1 + eps0 * (-2.0 * p2 + eps0 * (tmp39 + tmp40)));
+    m[7] += 0.5 * q22 * mom_y0 * mom_z0 * mom_x0;
     let tmp41 = -(4.0 * p2);
     let tmp42 = 6.0 * p3;
     m[8]
-        += my0 * mx0 * mz2
+        += mom_y0 * mom_x0 * mom_z2
             * (2.0 * p1 + eps0 * (tmp41 + eps0 * (tmp42 - 8.0 * p4 * eps0)));
-    m[9] += my0 * mz1 * mx2 * tmp38;
-    m[10] += my0 * mz0 * tmp34 * mx4;
+    m[9] += mom_y0 * mom_z1 * mom_x2 * tmp38;
+    m[10] += mom_y0 * mom_z0 * tmp34 * mom_x4;
     let tmp43 = -0.3333333333333333 * p2 + eps0 * (p3 + tmp33);
-    m[11] += my0 * mz0 * mx0 * tmp43;
+    m[11] += mom_y0 * mom_z0 * mom_x0 * tmp43;
     let tmp44 = 2.0 * p2 + eps0 * (tmp36 + 12.0 * p4 * eps0);
-    m[12] += my0 * mx0 * mz1 * tmp44;
+    m[12] += mom_y0 * mom_x0 * mom_z1 * tmp44;
     let tmp45 = -(6.0 * p4 * eps0);
     let tmp46 = tmp31 + eps0 * (tmp39 + tmp45);
-    m[13] += my0 * mz0 * mx2 * tmp46;
+    m[13] += mom_y0 * mom_z0 * mom_x2 * tmp46;
     let tmp47 = 12.0 * p3;
     let tmp48 = -(24.0 * p4 * eps0);
     let tmp49 = tmp41 + eps0 * (tmp47 + tmp48);
-    m[14] += my0 * mx0 * mz2 * tmp49;
+    m[14] += mom_y0 * mom_x0 * mom_z2 * tmp49;
     let tmp50 = 24.0 * p4 * eps0;
-    m[15] += my0 * mz1 * mx2 * (tmp35 + eps0 * (-12.0 * p3 + tmp50));
-    m[16] += my0 * mz0 * mx4 * tmp46;
+    m[15] += mom_y0 * mom_z1 * mom_x2 * (tmp35 + eps0 * (-12.0 * p3 + tmp50));
+    m[16] += mom_y0 * mom_z0 * mom_x4 * tmp46;
     let tmp51 = -(8.0 * p3);
     m[17]
-        += my0 * mx0 * mz3
+        += mom_y0 * mom_x0 * mom_z3
             * (2.6666666666666665 * p2 + eps0 * (tmp51 + 16.0 * p4 * eps0));
-    m[18] += my0 * mx2 * mz2 * tmp49;
-    m[19] += my0 * mz1 * mx4 * tmp44;
-    m[20] += my0 * mz0 * tmp43 * mx6;
+    m[18] += mom_y0 * mom_x2 * mom_z2 * tmp49;
+    m[19] += mom_y0 * mom_z1 * mom_x4 * tmp44;
+    m[20] += mom_y0 * mom_z0 * tmp43 * mom_x6;
     let tmp52 = 0.25 * p3 - p4 * eps0;
-    m[21] += my0 * mz0 * mx0 * tmp52;
+    m[21] += mom_y0 * mom_z0 * mom_x0 * tmp52;
     let tmp53 = -2.0 * p3 + tmp37;
-    m[22] += my0 * mx0 * mz1 * tmp53;
+    m[22] += mom_y0 * mom_x0 * mom_z1 * tmp53;
     let tmp54 = p3 + tmp40;
-    m[23] += my0 * mz0 * mx2 * tmp54;
+    m[23] += mom_y0 * mom_z0 * mom_x2 * tmp54;
     let tmp55 = tmp42 + tmp48;
-    m[24] += my0 * mx0 * mz2 * tmp55;
+    m[24] += mom_y0 * mom_x0 * mom_z2 * tmp55;
     let tmp56 = tmp36 + tmp50;
-    m[25] += my0 * mz1 * mx2 * tmp56;
-    m[26] += my0 * mz0 * mx4 * (tmp32 + tmp45);
+    m[25] += mom_y0 * mom_z1 * mom_x2 * tmp56;
+    m[26] += mom_y0 * mom_z0 * mom_x4 * (tmp32 + tmp45);
     let tmp57 = tmp51 + 32.0 * p4 * eps0;
-    m[27] += my0 * mx0 * mz3 * tmp57;
-    m[28] += my0 * mx2 * mz2 * (tmp47 - 48.0 * p4 * eps0);
-    m[29] += my0 * mz1 * mx4 * tmp56;
-    m[30] += my0 * mz0 * mx6 * tmp54;
-    m[31] += my0 * mx0 * mz4 * (4.0 * p3 - 16.0 * p4 * eps0);
-    m[32] += my0 * mx2 * mz3 * tmp57;
-    m[33] += my0 * mz2 * mx4 * tmp55;
-    m[34] += my0 * mz1 * mx6 * tmp53;
-    m[35] += my0 * mz0 * tmp52 * mx8;
-    m[36] += -(0.2 * p4 * my0 * mz0 * mx0);
-    m[37] += 2.0 * p4 * my0 * mx0 * mz1;
-    m[38] += -(p4 * my0 * mz0 * mx2);
-    m[39] += -(8.0 * p4 * my0 * mx0 * mz2);
-    m[40] += 8.0 * p4 * my0 * mz1 * mx2;
-    m[41] += -(2.0 * p4 * my0 * mz0 * mx4);
-    m[42] += 16.0 * p4 * my0 * mx0 * mz3;
-    m[43] += -(24.0 * p4 * my0 * mx2 * mz2);
-    m[44] += 12.0 * p4 * my0 * mz1 * mx4;
-    m[45] += -(2.0 * p4 * my0 * mz0 * mx6);
-    m[46] += -(16.0 * p4 * my0 * mx0 * mz4);
-    m[47] += 32.0 * p4 * my0 * mx2 * mz3;
-    m[48] += -(24.0 * p4 * my0 * mz2 * mx4);
-    m[49] += 8.0 * p4 * my0 * mz1 * mx6;
-    m[50] += -(p4 * my0 * mz0 * mx8);
-    m[51] += 6.4 * p4 * my0 * mx0 * mz5;
-    m[52] += -(16.0 * p4 * my0 * mx2 * mz4);
-    m[53] += 16.0 * p4 * my0 * mx4 * mz3;
-    m[54] += -(8.0 * p4 * my0 * mz2 * mx6);
-    m[55] += 2.0 * p4 * my0 * mz1 * mx8;
-    m[56] += -(0.2 * p4 * my0 * mz0 * mx10);
+    m[27] += mom_y0 * mom_x0 * mom_z3 * tmp57;
+    m[28] += mom_y0 * mom_x2 * mom_z2 * (tmp47 - 48.0 * p4 * eps0);
+    m[29] += mom_y0 * mom_z1 * mom_x4 * tmp56;
+    m[30] += mom_y0 * mom_z0 * mom_x6 * tmp54;
+    m[31] += mom_y0 * mom_x0 * mom_z4 * (4.0 * p3 - 16.0 * p4 * eps0);
+    m[32] += mom_y0 * mom_x2 * mom_z3 * tmp57;
+    m[33] += mom_y0 * mom_z2 * mom_x4 * tmp55;
+    m[34] += mom_y0 * mom_z1 * mom_x6 * tmp53;
+    m[35] += mom_y0 * mom_z0 * tmp52 * mom_x8;
+    m[36] += -(0.2 * p4 * mom_y0 * mom_z0 * mom_x0);
+    m[37] += 2.0 * p4 * mom_y0 * mom_x0 * mom_z1;
+    m[38] += -(p4 * mom_y0 * mom_z0 * mom_x2);
+    m[39] += -(8.0 * p4 * mom_y0 * mom_x0 * mom_z2);
+    m[40] += 8.0 * p4 * mom_y0 * mom_z1 * mom_x2;
+    m[41] += -(2.0 * p4 * mom_y0 * mom_z0 * mom_x4);
+    m[42] += 16.0 * p4 * mom_y0 * mom_x0 * mom_z3;
+    m[43] += -(24.0 * p4 * mom_y0 * mom_x2 * mom_z2);
+    m[44] += 12.0 * p4 * mom_y0 * mom_z1 * mom_x4;
+    m[45] += -(2.0 * p4 * mom_y0 * mom_z0 * mom_x6);
+    m[46] += -(16.0 * p4 * mom_y0 * mom_x0 * mom_z4);
+    m[47] += 32.0 * p4 * mom_y0 * mom_x2 * mom_z3;
+    m[48] += -(24.0 * p4 * mom_y0 * mom_z2 * mom_x4);
+    m[49] += 8.0 * p4 * mom_y0 * mom_z1 * mom_x6;
+    m[50] += -(p4 * mom_y0 * mom_z0 * mom_x8);
+    m[51] += 6.4 * p4 * mom_y0 * mom_x0 * mom_z5;
+    m[52] += -(16.0 * p4 * mom_y0 * mom_x2 * mom_z4);
+    m[53] += 16.0 * p4 * mom_y0 * mom_x4 * mom_z3;
+    m[54] += -(8.0 * p4 * mom_y0 * mom_z2 * mom_x6);
+    m[55] += 2.0 * p4 * mom_y0 * mom_z1 * mom_x8;
+    m[56] += -(0.2 * p4 * mom_y0 * mom_z0 * mom_x10);
 }
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
@@ -793,20 +801,20 @@ pub fn gas_moments(
     z0: f64,
     z1: f64,
 ) {
-    let mx0 = -x0 + x1;
-    let my0 = width;
-    let mz0 = -z0 + z1;
+    let mom_x0 = -x0 + x1;
+    let mom_y0 = width;
+    let mom_z0 = -z0 + z1;
     let tmp0 = x1 * x1;
     let tmp1 = tmp0 * x1;
     let tmp2 = x0 * x0;
     let tmp3 = tmp2 * x0;
-    let mx2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
     let tmp4 = z1 * z1;
     let tmp5 = z0 * z0;
-    let mz1 = 0.5 * (tmp4 - tmp5);
-    m[0] += -(2.0 * mx0 * my0 * mz1);
-    m[1] += my0 * mz0 * mx2;
-    m[2] += mx0 * my0 * mz0;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    m[0] += -(2.0 * mom_x0 * mom_y0 * mom_z1);
+    m[1] += mom_y0 * mom_z0 * mom_x2;
+    m[2] += mom_x0 * mom_y0 * mom_z0;
 }
 ///Kernel `gas`: the integral of `(1 + a1 + 3*x^2*a3 + 2*x^2*c2^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///

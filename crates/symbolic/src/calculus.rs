@@ -61,7 +61,8 @@ impl Arena {
             Node::Pow(b, k) => {
                 let db = self.diff_memo(b, s, memo)?;
                 let kk = self.int(k as i128);
-                let bk = self.pow(b, k - 1)?;
+                let k1 = k.checked_sub(1).ok_or(crate::Overflow { op: "exponent" })?;
+                let bk = self.pow(b, k1)?;
                 self.mul(&[kk, bk, db])?
             }
             Node::Fun(f, args) => {

@@ -200,7 +200,7 @@ fn integral_kernel(
                     let k = arena.num(Rational::new(1, j as i128 + 1)?);
                     let d = arena.mul2(k, diff)?;
                     moment_syms.insert((i, j), s);
-                    moment_defs.push((s, d, format!("m{vname}{j}")));
+                    moment_defs.push((s, d, format!("mom_{vname}{j}")));
                     s
                 }
             };
@@ -329,8 +329,8 @@ fn integral_kernel(
     let mut grad_u = Vec::with_capacity(n);
     for k in 0..n {
         let mut terms = Vec::new();
-        for a in 0..na {
-            terms.push(arena.mul2(grad_e[a], jac[a][k])?);
+        for (ge, ja) in grad_e.iter().zip(&jac) {
+            terms.push(arena.mul2(*ge, ja[k])?);
         }
         grad_u.push(arena.add(&terms)?);
     }

@@ -221,7 +221,7 @@ impl<'a> Emitter<'a> {
         }
         let p = self.render(e);
         let shared = self.uses.get(&e).copied().unwrap_or(0) > 1;
-        let p = if shared && p.prec != Prec::Atom {
+        let p = if shared && self.costly(e, &p) {
             self.bind(p)
         } else {
             p
@@ -230,10 +230,17 @@ impl<'a> Emitter<'a> {
         p
     }
 
-    /// Makes sure `e` is available as a bound name (or an atom).
+    /// True when writing `p` (the rendering of `e`) twice would compute
+    /// something twice: anything but a name or a literal (a function call is
+    /// atomic in syntax but not free).
+    fn costly(&self, e: ExprId, p: &Piece) -> bool {
+        p.prec != Prec::Atom || matches!(self.arena.node(e), Node::Fun(..))
+    }
+
+    /// Makes sure `e` is available as a bound name (or a name or literal).
     fn force_bind(&mut self, e: ExprId) {
         let p = self.piece(e);
-        if p.prec != Prec::Atom {
+        if self.costly(e, &p) {
             let b = self.bind(p);
             self.bound.insert(e, b);
         }
@@ -247,6 +254,8 @@ impl<'a> Emitter<'a> {
         if let Some(p) = self.powers.get(&(base, n)) {
             return p.clone();
         }
+        // the base is multiplied by itself: write it as a name, not twice
+        self.force_bind(base);
         let p = if n % 2 == 0 {
             let h = self.power(base, n / 2).at_least(Prec::Atom);
             self.ops.mul += 1;

@@ -285,6 +285,12 @@ impl Arena {
                 out.push(self.scaled(c, body));
             }
         }
+        if out.iter().any(|&t| matches!(self.node(t), Node::Add(_))) {
+            // multiples of a sum added up to coefficient 1 (`2*(x + y) - (x + y)`):
+            // flatten that sum into this one. Its terms are children of the
+            // sum, so repeating this terminates.
+            return self.add(&out);
+        }
         Ok(match out.len() {
             0 => self.int(0),
             1 => out[0],
@@ -515,7 +521,7 @@ impl Arena {
         // precedence: 0 sum, 1 product, 2 unary minus, 3 power base
         match self.node(id) {
             Node::Num(r) => {
-                let needs = (r.is_negative() && prec >= 1) || (!r.is_integer() && prec >= 1);
+                let needs = prec >= 1 && (r.is_negative() || !r.is_integer());
                 if needs {
                     write!(f, "({r})")
                 } else {

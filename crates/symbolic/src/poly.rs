@@ -86,6 +86,11 @@ impl Poly {
         self.terms.len()
     }
 
+    /// True for the zero polynomial (no terms).
+    pub fn is_empty(&self) -> bool {
+        self.terms.is_empty()
+    }
+
     /// True for the zero polynomial.
     pub fn is_zero(&self) -> bool {
         self.terms.is_empty()

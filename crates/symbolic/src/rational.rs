@@ -23,9 +23,10 @@ pub struct Rational {
     den: i128,
 }
 
-fn gcd(mut a: i128, mut b: i128) -> i128 {
-    a = a.abs();
-    b = b.abs();
+/// The gcd of `|a|` and `|b|`, in `u128`: `i128::MIN.abs()` overflows, and
+/// gcd(i128::MIN, 0 or i128::MIN) = 2^127 does not fit in `i128`.
+fn gcd(a: i128, b: i128) -> u128 {
+    let (mut a, mut b) = (a.unsigned_abs(), b.unsigned_abs());
     while b != 0 {
         let t = a % b;
         a = b;
@@ -34,6 +35,9 @@ fn gcd(mut a: i128, mut b: i128) -> i128 {
     a
 }
 
+// The arithmetic methods are checked (they return `Result`), so they are
+// deliberately not the operator traits.
+#[allow(clippy::should_implement_trait)]
 impl Rational {
     /// Zero.
     pub const ZERO: Rational = Rational { num: 0, den: 1 };
@@ -51,7 +55,17 @@ impl Rational {
         if den == 0 {
             return Err(Overflow { op: "div" });
         }
-        let g = gcd(num, den).max(1);
+        let g = match i128::try_from(gcd(num, den)) {
+            Ok(g) => g.max(1),
+            // 2^127: both are i128::MIN, or num is 0
+            Err(_) => {
+                return Ok(if num == 0 {
+                    Rational::ZERO
+                } else {
+                    Rational::ONE
+                })
+            }
+        };
         let (mut n, mut d) = (num / g, den / g);
         if d < 0 {
             n = n.checked_neg().ok_or(Overflow { op: "neg" })?;
@@ -93,7 +107,8 @@ impl Rational {
     /// `self + rhs`.
     pub fn add(self, rhs: Rational) -> Result<Rational, Overflow> {
         let o = Overflow { op: "add" };
-        let g = gcd(self.den, rhs.den);
+        // denominators are positive, so their gcd fits
+        let g = gcd(self.den, rhs.den) as i128;
         let l = self.den / g;
         let r = rhs.den / g;
         let num = self
@@ -121,8 +136,9 @@ impl Rational {
     /// `self * rhs`.
     pub fn mul(self, rhs: Rational) -> Result<Rational, Overflow> {
         let o = Overflow { op: "mul" };
-        let g1 = gcd(self.num, rhs.den).max(1);
-        let g2 = gcd(rhs.num, self.den).max(1);
+        // each gcd divides a positive denominator, so it fits
+        let g1 = (gcd(self.num, rhs.den) as i128).max(1);
+        let g2 = (gcd(rhs.num, self.den) as i128).max(1);
         let num = (self.num / g1).checked_mul(rhs.num / g2).ok_or(o)?;
         let den = (self.den / g2).checked_mul(rhs.den / g1).ok_or(o)?;
         Rational::new(num, den)

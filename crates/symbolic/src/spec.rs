@@ -234,6 +234,23 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
     })
 }
 
+/// Rust keywords, and the argument names of generated kernels (`k`, `m`).
+const RUST_AND_GENERATED: [&str; 38] = [
+    "as", "break", "const", "continue", "crate", "else", "enum", "extern", "false", "fn", "for",
+    "if", "impl", "loop", "match", "mod", "move", "mut", "pub", "ref", "return", "self", "Self",
+    "static", "struct", "super", "trait", "true", "type", "unsafe", "use", "where", "while",
+    "async", "await", "dyn", "k", "m",
+];
+
+/// Names the generator uses for its own locals: `tmp0`, `atom3`, `mom_x2`.
+fn is_generated_name(name: &str) -> bool {
+    let numbered = |prefix: &str| {
+        name.strip_prefix(prefix)
+            .is_some_and(|rest| !rest.is_empty() && rest.chars().all(|c| c.is_ascii_digit()))
+    };
+    numbered("tmp") || numbered("atom") || name.starts_with("mom_")
+}
+
 fn definable_name(
     p: &mut Parser<'_>,
     what: &str,
@@ -241,6 +258,8 @@ fn definable_name(
     let (name, tok) = p.expect_ident(what)?;
     if KEYWORDS.contains(&name.as_str())
         || ["d", "at", "sin", "cos", "sqrt", "atan2"].contains(&name.as_str())
+        || RUST_AND_GENERATED.contains(&name.as_str())
+        || is_generated_name(&name)
     {
         return Err(p.error_at(&tok, &format!("{what} (`{name}` is reserved)")));
     }
@@ -309,7 +328,7 @@ mod tests {
     const SMALL: &str = "
         unknowns a, b;
         let e = a + b*x;
-        integral spring(k, l) = 1/2*k*e^2 over x in [0, l];
+        integral spring(ks, l) = 1/2*ks*e^2 over x in [0, l];
         point tip(l) { y = at(e, x, l); }
     ";
 
@@ -332,23 +351,27 @@ mod tests {
 
     #[test]
     fn errors_say_where_and_what() {
-        let e = err("unknowns a;\nintegral f(k) = k*a*q over x in [0, 1];");
+        let e = err("unknowns a;\nintegral f(ks) = ks*a*q over x in [0, 1];");
         assert_eq!(e.line, 2);
         assert!(e.expected.contains("`q` is none"), "{e}");
         let e = err("unknowns a;\nlet x = ;");
         assert_eq!((e.line, e.col), (2, 9));
-        let e = err("unknowns a;\nintegral f(k) = a over x in [0, m];");
-        assert!(e.expected.contains("`m` is not one"), "{e}");
-        let e = err("unknowns a;\nintegral f(k) = a;");
+        let e = err("unknowns a;\nintegral f(ks) = a over x in [0, mm];");
+        assert!(e.expected.contains("`mm` is not one"), "{e}");
+        let e = err("unknowns a;\nintegral f(ks) = a;");
         assert!(e.expected.contains("`over`"), "{e}");
         let e = err("bogus");
         assert!(e.expected.contains("a statement"), "{e}");
         let e = err("unknowns a;\nlet let = 1;");
         assert!(e.expected.contains("reserved"), "{e}");
+        let e = err("unknowns as, b;");
+        assert!(e.expected.contains("reserved"), "{e}");
+        let e = err("unknowns a, tmp3;");
+        assert!(e.expected.contains("reserved"), "{e}");
         let e = err("unknowns a;\npoint p(l) { }");
         assert!(e.expected.contains("at least one output"), "{e}");
         let e = err(
-            "unknowns a;\nintegral f(k) = a over x in [0, k];\nintegral f(k) = a over x in [0, k];",
+            "unknowns a;\nintegral f(ks) = a over x in [0, ks];\nintegral f(ks) = a over x in [0, ks];",
         );
         assert_eq!(e.line, 3);
     }
