@@ -112,6 +112,9 @@ pub struct SolveOptions {
     pub strategy: Strategy,
     /// Sample the mid-plane and fit a circle (off for tip-only output).
     pub shape: bool,
+    /// Compute the smallest Hessian eigenvalue (off for tip-only output,
+    /// then `Solution::min_hessian_eig` is `None`).
+    pub stability: bool,
     /// Mid-plane samples per element when `shape` is on.
     pub samples_per_element: usize,
     /// Fall back to load continuation when Newton fails from the guess.
@@ -125,6 +128,7 @@ impl Default for SolveOptions {
             max_iter: 60,
             strategy: Strategy::Auto,
             shape: true,
+            stability: true,
             samples_per_element: 16,
             continuation: true,
         }
@@ -132,9 +136,10 @@ impl Default for SolveOptions {
 }
 
 impl SolveOptions {
-    /// Tip-only output: no shape sampling, no circle fit.
+    /// Tip-only output: no shape sampling, no circle fit, no eigenvalue.
     pub fn tip_only(mut self) -> SolveOptions {
         self.shape = false;
+        self.stability = false;
         self
     }
 
@@ -186,8 +191,9 @@ pub struct Solution {
     pub end_angle: f64,
     /// Total potential energy `Pi` (N mm).
     pub energy: f64,
-    /// Smallest eigenvalue of the scaled Hessian (positive: stable).
-    pub min_hessian_eig: f64,
+    /// Smallest eigenvalue of the scaled Hessian over the stiffness scale
+    /// (positive: stable); `None` when not computed (`SolveOptions::stability` off).
+    pub min_hessian_eig: Option<f64>,
     /// Mid-plane samples from root to tip (empty for tip-only output).
     pub points: Vec<[f64; 2]>,
     /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
@@ -597,7 +603,9 @@ impl<'a> Solver<'a> {
         let (tip, end_angle) = f.tip(&k);
         let energy = f.energy(load, &k);
         // stability: eigenvalues of the scaled Hessian
-        let min_hessian_eig = if decoupled {
+        let min_hessian_eig = if !opts.stability {
+            None
+        } else if decoupled {
             let mut m = f64::INFINITY;
             for (i, e) in f.elements.iter().enumerate() {
                 if f.distinct[i] != i {
@@ -613,15 +621,15 @@ impl<'a> Solver<'a> {
                 p.hessian(&self.y[4 * i..4 * i + 4], &mut g, &mut h);
                 m = m.min(min_eigenvalue(4, &h));
             }
-            m
+            Some(m / f.stiffness)
         } else {
             let n = 4 * f.len();
             let mut g = vec![0.0; n];
             let mut h = vec![0.0; n * n];
             self.chain.set_load(load);
             self.chain.hessian(&self.y, &mut g, &mut h);
-            min_eigenvalue(n, &h)
-        } / f.stiffness;
+            Some(min_eigenvalue(n, &h) / f.stiffness)
+        };
         let (points, radius) = if opts.shape {
             let pts = f.shape(&k, opts.samples_per_element);
             let r = fit_circle(&pts).map(|c| c.radius);
@@ -715,7 +723,9 @@ struct Chain<'a> {
     end_h: Vec<[UpperHessian; 3]>,
     theta: Vec<f64>,
     q: Vec<[f64; 2]>,
+    u: Vec<Coeffs>,
     w: Vec<Coeffs>,
+    blk: Vec<UpperHessian>,
     tip: [f64; 2],
     force_chain: bool,
 }
@@ -734,7 +744,9 @@ impl<'a> Chain<'a> {
             end_h: vec![[[0.0; 10]; 3]; n],
             theta: vec![0.0; n],
             q: vec![[0.0; 2]; n],
+            u: vec![[0.0; 4]; n],
             w: vec![[0.0; 4]; n],
+            blk: vec![[0.0; 10]; n],
             tip: [0.0, 0.0],
             force_chain: false,
         }
@@ -870,17 +882,13 @@ impl Hessian for Chain<'_> {
         let n = self.k.len();
         let dim = 4 * n;
         let loaded = self.loaded();
-        h.iter_mut().for_each(|v| *v = 0.0);
         let mut v = 0.0;
+        // pass 1: element energies and, for the chain, end kinematics
         for (i, e) in self.finger.elements.iter().enumerate() {
             let (vi, gi, hi) = e.hessian(&self.k[i], self.kp);
             v += vi;
             g[4 * i..4 * i + 4].copy_from_slice(&gi);
-            for a in 0..4 {
-                for b in 0..4 {
-                    h[(4 * i + a) + dim * (4 * i + b)] = hi[upper_index(a, b)];
-                }
-            }
+            self.blk[i] = hi;
             if loaded {
                 let (ends, eg, eh) = e.end_hessian(&self.k[i]);
                 self.ends[i] = ends;
@@ -893,52 +901,66 @@ impl Hessian for Chain<'_> {
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
             for j in 0..n {
-                let (s, c) = self.theta[j].sin_cos();
-                let fr = [c * fx + s * fz, -s * fx + c * fz];
+                let (sn, cs) = self.theta[j].sin_cos();
+                let fr = [cs * fx + sn * fz, -sn * fx + cs * fz];
                 let qj = self.q[j];
                 let fjq = -fx * qj[1] + fz * qj[0]; // F . J Q_j
                 let fq = fx * qj[0] + fz * qj[1]; // F . Q_j
                 let eg = self.end_g[j];
                 let eh = self.end_h[j];
+                let blk = &mut self.blk[j];
                 for a in 0..4 {
                     g[4 * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
-                    for b in 0..4 {
+                    for b in a..4 {
                         let ab = upper_index(a, b);
-                        let d2 = fr[0] * eh[0][ab] + fr[1] * eh[1][ab] + fjq * eh[2][ab]
+                        blk[ab] -= fr[0] * eh[0][ab] + fr[1] * eh[1][ab] + fjq * eh[2][ab]
                             - fq * eg[2][a] * eg[2][b];
-                        h[(4 * j + a) + dim * (4 * j + b)] -= d2;
                     }
                 }
-                // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, with J^T Fr = (Fr_z, -Fr_x)
-                for (a, w) in self.w[j].iter_mut().enumerate() {
-                    *w = fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a];
+                // scaled coupling vectors: u_j = grad eta_j, and
+                // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, J^T Fr = (Fr_z, -Fr_x)
+                let sj = self.s[j];
+                for a in 0..4 {
+                    self.u[j][a] = eg[2][a] * sj[a];
+                    self.w[j][a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
                 }
             }
-            for j in 0..n {
-                let u = self.end_g[j][2];
-                for k in j + 1..n {
-                    let w = self.w[k];
-                    for a in 0..4 {
-                        for b in 0..4 {
-                            let val = u[a] * w[b];
-                            h[(4 * j + a) + dim * (4 * k + b)] -= val;
-                            h[(4 * k + b) + dim * (4 * j + a)] -= val;
+        }
+        // pass 2: write the scaled Hessian, both triangles
+        for j in 0..n {
+            let sj = self.s[j];
+            let blk = &self.blk[j];
+            for b in 0..4 {
+                let col = &mut h[dim * (4 * j + b)..dim * (4 * j + b + 1)];
+                for a in 0..4 {
+                    col[4 * j + a] = blk[upper_index(a, b)] * sj[a] * sj[b];
+                }
+                for k in 0..n {
+                    if k == j {
+                        continue;
+                    }
+                    let dst = &mut col[4 * k..4 * k + 4];
+                    if !loaded {
+                        dst.fill(0.0);
+                    } else if k < j {
+                        // row block k < column block j: -u_k w_j^T
+                        let wb = self.w[j][b];
+                        for a in 0..4 {
+                            dst[a] = -self.u[k][a] * wb;
+                        }
+                    } else {
+                        // row block k > column block j: -w_k u_j^T
+                        let ub = self.u[j][b];
+                        for a in 0..4 {
+                            dst[a] = -self.w[k][a] * ub;
                         }
                     }
                 }
             }
         }
-        // scale: g_y = s g_K, H_y = S H_K S
-        for i in 0..n {
+        for (i, s) in self.s.iter().enumerate() {
             for a in 0..4 {
-                g[4 * i + a] *= self.s[i][a];
-            }
-        }
-        for col in 0..dim {
-            let sc = self.s[col / 4][col % 4];
-            for row in 0..dim {
-                let sr = self.s[row / 4][row % 4];
-                h[row + dim * col] *= sr * sc;
+                g[4 * i + a] *= s[a];
             }
         }
         v

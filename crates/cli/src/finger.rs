@@ -69,7 +69,7 @@ pub fn to_json(sol: &Solution) -> serde_json::Value {
         "radius_mm": sol.radius,
         "energy_nmm": sol.energy,
         "min_hessian_eig": sol.min_hessian_eig,
-        "stable": sol.min_hessian_eig > 0.0,
+        "stable": sol.min_hessian_eig.map(|e| e > 0.0),
         "coefficients": sol.coefficients,
         "points_mm": sol.points,
         "report": {
@@ -110,16 +110,13 @@ fn summary(out: &mut impl Write, args: &Args, sol: &Solution) -> std::io::Result
         None => writeln!(out, "radius (fit)   none: the finger is straight")?,
     }
     writeln!(out, "energy         {:.6} N mm", sol.energy)?;
-    writeln!(
-        out,
-        "stability      smallest scaled Hessian eigenvalue {:.3e} ({})",
-        sol.min_hessian_eig,
-        if sol.min_hessian_eig > 0.0 {
-            "stable"
-        } else {
-            "NOT stable"
-        }
-    )?;
+    if let Some(eig) = sol.min_hessian_eig {
+        let verdict = if eig > 0.0 { "stable" } else { "NOT stable" };
+        writeln!(
+            out,
+            "stability      smallest scaled Hessian eigenvalue {eig:.3e} ({verdict})"
+        )?;
+    }
     writeln!(
         out,
         "solver         {} iterations, relative residual {:.2e}, {}",
