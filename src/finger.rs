@@ -315,6 +315,13 @@ impl Finger {
         pts
     }
 
+    /// The scene as a Newton problem in scaled unknowns.
+    pub fn problem(&self, load: &Load) -> Chain<'_> {
+        let mut c = Chain::new(self);
+        c.set_load(load);
+        c
+    }
+
     /// Total potential energy and its gradient with respect to the raw
     /// coefficients (element by element, `[a1, a3, b1, c2]` each).
     pub fn gradient(&self, load: &Load, k: &[Coeffs]) -> (f64, Vec<f64>) {
@@ -711,8 +718,12 @@ impl Hessian for Single<'_> {
     }
 }
 
-/// The coupled finger: all elements plus the tip-load chain.
-struct Chain<'a> {
+/// The coupled finger as a Newton problem in scaled unknowns
+/// `y = (a1, a3 L^2, b1, c2 L)` per element: all elements plus the tip-load
+/// chain, with exact gradient and Hessian (both triangles filled). Build it
+/// with [`Finger::problem`]; it reuses its buffers, so evaluations do not
+/// allocate.
+pub struct Chain<'a> {
     finger: &'a Finger,
     kp: f64,
     f: [f64; 2],
@@ -731,7 +742,8 @@ struct Chain<'a> {
 }
 
 impl<'a> Chain<'a> {
-    fn new(finger: &'a Finger) -> Chain<'a> {
+    /// The problem for `finger` with no load (see [`Chain::set_load`]).
+    pub fn new(finger: &'a Finger) -> Chain<'a> {
         let n = finger.len();
         Chain {
             finger,
@@ -752,7 +764,8 @@ impl<'a> Chain<'a> {
         }
     }
 
-    fn set_load(&mut self, load: &Load) {
+    /// Sets pressure and tip load.
+    pub fn set_load(&mut self, load: &Load) {
         self.kp = load.kp();
         self.f = [load.fx, load.fz];
     }
@@ -779,7 +792,8 @@ impl<'a> Chain<'a> {
         }
     }
 
-    fn scaled(&self, k: &[Coeffs]) -> Vec<f64> {
+    /// Scaled unknowns of raw coefficients.
+    pub fn scaled(&self, k: &[Coeffs]) -> Vec<f64> {
         k.iter()
             .zip(&self.s)
             .flat_map(|(k, s)| (0..4).map(move |j| k[j] / s[j]))

@@ -39,7 +39,7 @@ pub use blocks::{
 pub use element::{Coeffs, Element, UpperHessian};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem,
+    Chain, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
