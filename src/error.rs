@@ -90,6 +90,14 @@ pub enum Warning {
     /// The prestressed law's tangent modulus psi''(eps0) is not positive:
     /// the unloaded layer softens and equilibria may be unstable.
     SofteningPrestressLaw { eps0: f64, tangent: f64 },
+    /// The gripper's mounting angle (rad) lies outside the design space
+    /// [`lo`, `hi`] = [arccot mu, pi/2]: fingers pressed flat cannot hold
+    /// the object by friction (MODEL.md section 3).
+    MountingAngleOutsideDesignSpace { angle: f64, lo: f64, hi: f64 },
+    /// The palm diameter exceeds twice the fingers' inward reach
+    /// (`palm > 2 l0`, a negative overlap): the fingers leave a gap at rest,
+    /// and objects smaller than `palm - 2 l0` cannot be grasped.
+    PalmGapAtRest { palm: f64, reach: f64 },
 }
 
 impl fmt::Display for Warning {
@@ -102,6 +110,14 @@ impl fmt::Display for Warning {
             Warning::SofteningPrestressLaw { eps0, tangent } => write!(
                 f,
                 "actuator.pemc.eps0 = {eps0}: the prestressed law's tangent modulus there is {tangent} MPa (not positive)"
+            ),
+            Warning::MountingAngleOutsideDesignSpace { angle, lo, hi } => write!(
+                f,
+                "gripper.mounting_angle = {angle}: outside the design space [{lo}, {hi}] (arccot mu to pi/2)"
+            ),
+            Warning::PalmGapAtRest { palm, reach } => write!(
+                f,
+                "gripper.palm = {palm}: wider than twice the finger's inward reach l0 = {reach} mm, the fingers leave a gap at rest"
             ),
         }
     }

@@ -346,6 +346,7 @@ impl Finger {
         let mut g = vec![0.0; n];
         let mut h = vec![0.0; n * n];
         let v = chain.hessian(&y, &mut g, &mut h);
+        fill_upper(n, &mut h);
         for i in 0..n {
             let si = chain.s[i / 4][i % 4];
             g[i] /= si;
@@ -370,6 +371,15 @@ impl Finger {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         Solver::new(self).solve(load, Some(guess), opts)
+    }
+}
+
+/// Copies the lower triangle of a column-major `n x n` matrix to its upper triangle.
+pub fn fill_upper(n: usize, h: &mut [f64]) {
+    for j in 0..n {
+        for i in j + 1..n {
+            h[j + n * i] = h[i + n * j];
+        }
     }
 }
 
@@ -608,7 +618,13 @@ impl<'a> Solver<'a> {
         let f = self.finger;
         let k = self.coefficients();
         let (tip, end_angle) = f.tip(&k);
-        let energy = f.energy(load, &k);
+        let energy = f
+            .elements
+            .iter()
+            .zip(&k)
+            .map(|(e, k)| e.energy(k, load.kp()))
+            .sum::<f64>()
+            - (load.fx * tip[0] + load.fz * tip[1]);
         // stability: eigenvalues of the scaled Hessian
         let min_hessian_eig = if !opts.stability {
             None
@@ -635,8 +651,10 @@ impl<'a> Solver<'a> {
             let mut h = vec![0.0; n * n];
             self.chain.set_load(load);
             self.chain.hessian(&self.y, &mut g, &mut h);
+            fill_upper(n, &mut h);
             Some(min_eigenvalue(n, &h) / f.stiffness)
-        };
+        }
+        .filter(|e| e.is_finite());
         let (points, radius) = if opts.shape {
             let pts = f.shape(&k, opts.samples_per_element);
             let r = fit_circle(&pts).map(|c| c.radius);
@@ -720,7 +738,8 @@ impl Hessian for Single<'_> {
 
 /// The coupled finger as a Newton problem in scaled unknowns
 /// `y = (a1, a3 L^2, b1, c2 L)` per element: all elements plus the tip-load
-/// chain, with exact gradient and Hessian (both triangles filled). Build it
+/// chain, with exact gradient and Hessian (the lower triangle only, which is
+/// all Newton reads; [`fill_upper`] completes it). Build it
 /// with [`Finger::problem`]; it reuses its buffers, so evaluations do not
 /// allocate.
 pub struct Chain<'a> {
@@ -940,7 +959,7 @@ impl Hessian for Chain<'_> {
                 }
             }
         }
-        // pass 2: write the scaled Hessian, both triangles
+        // pass 2: write the scaled Hessian
         for j in 0..n {
             let sj = self.s[j];
             let blk = &self.blk[j];
@@ -949,26 +968,18 @@ impl Hessian for Chain<'_> {
                 for a in 0..4 {
                     col[4 * j + a] = blk[upper_index(a, b)] * sj[a] * sj[b];
                 }
-                for k in 0..n {
-                    if k == j {
-                        continue;
-                    }
-                    let dst = &mut col[4 * k..4 * k + 4];
-                    if !loaded {
-                        dst.fill(0.0);
-                    } else if k < j {
-                        // row block k < column block j: -u_k w_j^T
-                        let wb = self.w[j][b];
+                // lower triangle only (Newton reads no more): row blocks k > j
+                let below = &mut col[4 * (j + 1)..];
+                if loaded {
+                    // row block k > column block j: -w_k u_j^T
+                    let ub = self.u[j][b];
+                    for (dst, w) in below.chunks_exact_mut(4).zip(&self.w[j + 1..]) {
                         for a in 0..4 {
-                            dst[a] = -self.u[k][a] * wb;
-                        }
-                    } else {
-                        // row block k > column block j: -w_k u_j^T
-                        let ub = self.u[j][b];
-                        for a in 0..4 {
-                            dst[a] = -self.w[k][a] * ub;
+                            dst[a] = -w[a] * ub;
                         }
                     }
+                } else {
+                    below.fill(0.0);
                 }
             }
         }
@@ -1040,6 +1051,7 @@ impl fpc_newton::Bordered for BorderedChain<'_, '_> {
         self.chain.set_load(&load);
         self.chain.force_chain = true;
         let v = self.chain.hessian(y, &mut out.g, &mut out.h);
+        fill_upper(out.g.len(), &mut out.h);
         self.chain
             .tip_gradient_scaled(self.problem.direction, &mut self.scratch);
         for (gl, t) in out.g_lambda.iter_mut().zip(&self.scratch) {

@@ -27,6 +27,7 @@ mod error;
 mod finger;
 mod fit;
 pub mod kernels;
+mod refine;
 
 pub use actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
@@ -39,7 +40,26 @@ pub use blocks::{
 pub use element::{Coeffs, Element, UpperHessian};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    Chain, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem,
+    fill_upper, Chain, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy,
+    TargetProblem,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
+pub use refine::{solve_to_tip_tolerance, Refined, MAX_REFINED_ELEMENTS};
+mod gripper;
+mod studies;
+pub use gripper::{
+    contact_force_to_finger, contact_force_to_gripper, design_space,
+    finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
+    gripper_force_to_contact, gripper_force_to_finger, lifting_force, AngleSample, Grasp, Gripper,
+    GripperParams, Invalid, PalmSpec, SphereContact, SphereGrasp, SphereLift, ViableAngles,
+    GRIPPER_SAMPLES_PER_ELEMENT,
+};
+pub use studies::{
+    run_all, section5_gripper, study1_prestrain_angle, study2_overlap, study3_cuboid_region,
+    study4_force_control, study5_sphere_region, study6_viable_angles, study7_curvature,
+    study8_force_at_displacement, tip_force_for_displacement, Axis, CuboidRegion, CurvatureCurve,
+    CurvatureRow, DisplacementForce, DisplacementForceRow, ForceControl, ForceControlRow,
+    LiftCurve, LiftPoint, SpherePoint, SphereRegion, Studies, StudyOptions, SweepStop,
+    PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS, STUDY8_PRESSURES_KPA,
+};

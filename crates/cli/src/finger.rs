@@ -2,7 +2,7 @@
 
 use std::io::Write;
 
-use fpc::{Actuator, Finger, Load, Partition, Solution, SolveOptions};
+use fpc::{solve_to_tip_tolerance, Actuator, Finger, Load, Partition, Solution, SolveOptions};
 use serde_json::json;
 
 /// Flags of `fpc finger`.
@@ -33,6 +33,10 @@ pub struct Args {
     /// Pressure factor kappa = 1/(gamma - 1).
     #[arg(long, default_value_t = 2.5)]
     kappa: f64,
+    /// Choose N by doubling (from --elements) until the estimated tip error
+    /// (tip change between N/2 and N) is at most this many millimetres.
+    #[arg(long = "tip-tol-mm")]
+    tip_tol_mm: Option<f64>,
     /// Print one JSON object instead of a summary.
     #[arg(long)]
     json: bool,
@@ -43,20 +47,32 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for w in act.warnings() {
         eprintln!("fpc: warning: {w}");
     }
-    let part = Partition::equal(act.geometry().lx, args.elements)?;
-    let finger = Finger::new(&act, &part, !args.no_ribs);
     let load = Load {
         kappa: args.kappa,
         ..Load::unloaded()
     }
     .with_pressure_kpa(args.pressure_kpa)
     .with_tip_force(args.fx, args.fz);
-    let sol = finger.solve(&load, &SolveOptions::default())?;
+    let opts = SolveOptions::default();
+    let (sol, elements, estimate) = match args.tip_tol_mm {
+        Some(tol) => {
+            let r = solve_to_tip_tolerance(&act, !args.no_ribs, &load, tol, args.elements, &opts)?;
+            (r.solution, r.elements, Some(r.estimated_tip_error_mm))
+        }
+        None => {
+            let part = Partition::equal(act.geometry().lx, args.elements)?;
+            let finger = Finger::new(&act, &part, !args.no_ribs);
+            (finger.solve(&load, &opts)?, args.elements, None)
+        }
+    };
     let mut out = std::io::stdout().lock();
     if args.json {
-        writeln!(out, "{}", serde_json::to_string(&to_json(&sol))?)?;
+        let mut v = to_json(&sol);
+        v["elements"] = json!(elements);
+        v["tip_error_estimate_mm"] = json!(estimate);
+        writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
-        summary(&mut out, args, &sol)?;
+        summary(&mut out, args, elements, estimate, &sol)?;
     }
     Ok(())
 }
@@ -83,12 +99,18 @@ pub fn to_json(sol: &Solution) -> serde_json::Value {
     })
 }
 
-fn summary(out: &mut impl Write, args: &Args, sol: &Solution) -> std::io::Result<()> {
+fn summary(
+    out: &mut impl Write,
+    args: &Args,
+    elements: usize,
+    estimate: Option<f64>,
+    sol: &Solution,
+) -> std::io::Result<()> {
     writeln!(
         out,
         "finger: eps0 = {}, N = {}, ribs {}, P = {} kPa, tip force ({}, {}) N",
         args.eps0,
-        args.elements,
+        elements,
         if args.no_ribs { "off" } else { "on" },
         args.pressure_kpa,
         args.fx,
@@ -99,6 +121,13 @@ fn summary(out: &mut impl Write, args: &Args, sol: &Solution) -> std::io::Result
         "tip            X = {:.4} mm, Z = {:.4} mm",
         sol.tip[0], sol.tip[1]
     )?;
+    if let Some(e) = estimate {
+        writeln!(
+            out,
+            "tip accuracy   estimated error {e:.2e} mm at N = {elements} (change from N = {})",
+            elements / 2
+        )?;
+    }
     writeln!(
         out,
         "end angle      {:.5} rad ({:.2} deg)",

@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 
 mod finger;
 mod kernels;
+mod timing;
 
 /// Fluidic prestressed composite fingers and grippers: the chained composite model.
 #[derive(Parser, Debug)]
@@ -20,6 +21,8 @@ enum Command {
     Finger(finger::Args),
     /// Print the generated element kernels and their operation counts.
     Kernels(kernels::Args),
+    /// Median solve times of the standard cases, measured in-process.
+    Timing(timing::Args),
 }
 
 fn main() {
@@ -27,6 +30,7 @@ fn main() {
     let result = match cli.command {
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
+        Command::Timing(a) => timing::run(&a),
     };
     if let Err(e) = result {
         eprintln!("fpc: error: {e:#}");

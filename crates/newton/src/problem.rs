@@ -1,7 +1,10 @@
 //! The objective traits the solvers minimise.
 //!
 //! All vectors are `&[f64]` of length [`Energy::dim`]; Hessians are dense,
-//! column-major `n * n` with both triangles filled. An objective signals a
+//! column-major `n * n`. [`Newton::minimize`](crate::Newton::minimize) reads
+//! only the lower triangle (diagonal included), so an objective may leave the
+//! upper triangle unwritten; [`Newton::solve_bordered`](crate::Newton::solve_bordered)
+//! and [`min_eigenvalue`](crate::min_eigenvalue) read the whole matrix. An objective signals a
 //! point where it cannot be evaluated by returning a non-finite value (or
 //! writing one into `g`/`h`); the solvers detect this and report
 //! [`Termination::NonFinite`](crate::Termination::NonFinite) or backtrack,
@@ -22,10 +25,11 @@ pub trait Gradient: Energy {
     fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64;
 }
 
-/// Value, gradient and the full dense symmetric Hessian.
+/// Value, gradient and the dense symmetric Hessian.
 pub trait Hessian: Gradient {
-    /// Writes the gradient into `g` and the Hessian, column-major `n * n`
-    /// with both triangles filled, into `h`; returns the value.
+    /// Writes the gradient into `g` and the Hessian, column-major `n * n`,
+    /// into `h` (at least the lower triangle; see the module docs); returns
+    /// the value.
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64;
 }
 

@@ -1,0 +1,443 @@
+//! Criterion benchmarks of the generated kernels, the assembled chain and
+//! the solves built on them.
+//!
+//! ```sh
+//! cargo bench --bench solve                                   # everything
+//! cargo bench --bench solve -- solves/                        # one group
+//! cargo bench --bench solve -- --warm-up-time 0.5 --measurement-time 2
+//! ```
+//!
+//! Groups:
+//!
+//! - `kernels`: one element's generated kernels (the element with the
+//!   channel and ribs, at a strained state), and `Element::hessian` that
+//!   combines them;
+//! - `assembly`: energy, gradient and full Hessian of the coupled chain
+//!   (`Chain`, scaled unknowns) of a pressurised, tip-loaded finger, for
+//!   N = 4 ... 64;
+//! - `solves`: whole solves at N = 8 (see the ids), all through a reused
+//!   `Solver` workspace;
+//! - `sweep`: a 50-point force sweep, throughput in solves per second.
+//!
+//! Before each solve benchmark its iteration count is printed once, so
+//! that time differences can be told apart from work differences.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use fpc::kernels::{
+    end_hessian, gas_hessian, gas_moments, linear_hessian, linear_moments, prestressed_hessian,
+    prestressed_moments, GAS_MOMENTS, LINEAR_MOMENTS, PRESTRESSED_MOMENTS,
+};
+use fpc::{
+    element_blocks, Actuator, Coeffs, Finger, Load, Partition, Solution, SolveOptions, Solver,
+    Strategy, TargetProblem,
+};
+use fpc_newton::{Energy, Gradient, Hessian};
+
+/// The tip load of the paper's loaded validation case (N, finger frame).
+const FX: f64 = 0.939782;
+const FZ: f64 = 0.521707;
+
+/// A strained state typical of a loaded finger (raw `[a1, a3, b1, c2]`).
+const STRAINED: Coeffs = [-0.012, 2.0e-6, 0.004, -0.0035];
+
+fn tip_load() -> Load {
+    Load::unloaded().with_tip_force(FX, FZ)
+}
+
+fn tip_only() -> SolveOptions {
+    SolveOptions::default().tip_only()
+}
+
+/// Solves once, prints the iteration count under `id`, and returns the solution.
+fn probe(id: &str, sol: Result<Solution, fpc::SolveError>) -> Solution {
+    let sol = sol.unwrap_or_else(|e| panic!("{id}: solve failed: {e}"));
+    eprintln!(
+        "  [{id}] iterations {}, evaluations {}, coupled {}, continuation steps {}, residual {:.2e}",
+        sol.report.iterations,
+        sol.report.evaluations,
+        sol.report.coupled,
+        sol.report.continuation_steps,
+        sol.report.residual_norm
+    );
+    sol
+}
+
+// ---------------------------------------------------------------- kernels
+
+fn kernels(c: &mut Criterion) {
+    let act = Actuator::paper(0.25).unwrap();
+    let part = Partition::equal(act.geometry().lx, 8).unwrap();
+    let blocks = element_blocks(&act, &part, true);
+    // the element with the most blocks (channel and ribs)
+    let (idx, b) = blocks
+        .iter()
+        .enumerate()
+        .max_by_key(|(_, b)| b.linear.len() + b.gas.len())
+        .unwrap();
+    let mut lin = [0.0; LINEAR_MOMENTS];
+    for l in &b.linear {
+        linear_moments(
+            &mut lin, l.x0, l.x1, l.width, l.z0, l.z1, l.q.q11, l.q.q12, l.q.q22,
+        );
+    }
+    let mut pre = [0.0; PRESTRESSED_MOMENTS];
+    for p in &b.prestressed {
+        prestressed_moments(
+            &mut pre, p.x0, p.x1, p.width, p.z0, p.z1, p.eps0, p.p[0], p.p[1], p.p[2], p.p[3],
+            p.q22,
+        );
+    }
+    let mut gas = [0.0; GAS_MOMENTS];
+    for g in &b.gas {
+        gas_moments(&mut gas, g.x0, g.x1, g.width, g.z0, g.z1);
+    }
+    let finger = Finger::paper(0.25, 8).unwrap();
+    let element = &finger.elements()[idx];
+    let len = element.length();
+    let k = STRAINED;
+    let kp = 2.5 * 0.1; // 100 kPa
+
+    let mut g = c.benchmark_group("kernels");
+    g.bench_function("linear_hessian", |bch| {
+        bch.iter(|| linear_hessian(black_box(&k), black_box(&lin)))
+    });
+    g.bench_function("prestressed_hessian", |bch| {
+        bch.iter(|| prestressed_hessian(black_box(&k), black_box(&pre)))
+    });
+    g.bench_function("gas_hessian", |bch| {
+        bch.iter(|| gas_hessian(black_box(&k), black_box(&gas)))
+    });
+    g.bench_function("end_hessian", |bch| {
+        bch.iter(|| end_hessian(black_box(&k), black_box(len)))
+    });
+    g.bench_function("element_hessian/pressure", |bch| {
+        bch.iter(|| black_box(element).hessian(black_box(&k), black_box(kp)))
+    });
+    g.bench_function("element_hessian/no_pressure", |bch| {
+        bch.iter(|| black_box(element).hessian(black_box(&k), black_box(0.0)))
+    });
+    g.bench_function("element_gradient/pressure", |bch| {
+        bch.iter(|| black_box(element).gradient(black_box(&k), black_box(kp)))
+    });
+    g.bench_function("element_energy/pressure", |bch| {
+        bch.iter(|| black_box(element).energy(black_box(&k), black_box(kp)))
+    });
+    g.finish();
+}
+
+// ---------------------------------------------------------------- assembly
+
+fn assembly(c: &mut Criterion) {
+    let mut g = c.benchmark_group("assembly");
+    let load = Load::unloaded()
+        .with_pressure_kpa(100.0)
+        .with_tip_force(FX, FZ);
+    for n in [4usize, 8, 16, 32, 64] {
+        let finger = Finger::paper(0.25, n).unwrap();
+        let mut chain = finger.problem(&load);
+        // a strained, non-uniform state
+        let k: Vec<Coeffs> = (0..n)
+            .map(|i| {
+                let t = 1.0 + 0.1 * (i as f64 / n as f64);
+                [
+                    STRAINED[0] * t,
+                    STRAINED[1] * t,
+                    STRAINED[2] * t,
+                    STRAINED[3] * t,
+                ]
+            })
+            .collect();
+        let y = chain.scaled(&k);
+        let dim = chain.dim();
+        let mut grad = vec![0.0; dim];
+        let mut hess = vec![0.0; dim * dim];
+        g.bench_with_input(BenchmarkId::new("energy", n), &y, |bch, y| {
+            bch.iter(|| chain.energy(black_box(y)))
+        });
+        g.bench_with_input(BenchmarkId::new("gradient", n), &y, |bch, y| {
+            bch.iter(|| chain.gradient(black_box(y), black_box(&mut grad)))
+        });
+        g.bench_with_input(BenchmarkId::new("hessian", n), &y, |bch, y| {
+            bch.iter(|| chain.hessian(black_box(y), black_box(&mut grad), black_box(&mut hess)))
+        });
+    }
+    g.finish();
+}
+
+// ---------------------------------------------------------------- solves
+
+fn solves(c: &mut Criterion) {
+    let finger = Finger::paper(0.25, 8).unwrap();
+    let n = finger.len();
+    let zeros: Vec<Coeffs> = vec![[0.0; 4]; n];
+    let opts = tip_only();
+    let coupled = SolveOptions {
+        strategy: Strategy::Coupled,
+        ..opts
+    };
+    let mut solver = Solver::new(&finger);
+    let unloaded = solver.solve(&Load::unloaded(), None, &opts).unwrap();
+
+    let mut g = c.benchmark_group("solves");
+
+    // unloaded: decoupled 4x4 solves (equal elements once) vs the coupled 4N system
+    let un = Load::unloaded();
+    probe("unloaded/decoupled", solver.solve(&un, None, &opts));
+    g.bench_function("unloaded/decoupled", |bch| {
+        bch.iter(|| solver.solve(black_box(&un), None, &opts).unwrap())
+    });
+    probe(
+        "unloaded/coupled",
+        solver.solve(&un, Some(&zeros), &coupled),
+    );
+    g.bench_function("unloaded/coupled", |bch| {
+        bch.iter(|| {
+            solver
+                .solve(black_box(&un), Some(&zeros), &coupled)
+                .unwrap()
+        })
+    });
+
+    // the same at N = 32, where the coupled factorisation costs more
+    {
+        let f32e = Finger::paper(0.25, 32).unwrap();
+        let z32: Vec<Coeffs> = vec![[0.0; 4]; 32];
+        let mut s32 = Solver::new(&f32e);
+        probe("unloaded_n32/decoupled", s32.solve(&un, None, &opts));
+        g.bench_function("unloaded_n32/decoupled", |bch| {
+            bch.iter(|| s32.solve(black_box(&un), None, &opts).unwrap())
+        });
+        probe("unloaded_n32/coupled", s32.solve(&un, Some(&z32), &coupled));
+        g.bench_function("unloaded_n32/coupled", |bch| {
+            bch.iter(|| s32.solve(black_box(&un), Some(&z32), &coupled).unwrap())
+        });
+    }
+
+    // pressure only, eps0 = 0.4 at 386 kPa
+    let f04 = Finger::paper(0.4, 8).unwrap();
+    let mut s04 = Solver::new(&f04);
+    let pl = Load::unloaded().with_pressure_kpa(386.0);
+    probe("pressure/decoupled", s04.solve(&pl, None, &opts));
+    g.bench_function("pressure/decoupled", |bch| {
+        bch.iter(|| s04.solve(black_box(&pl), None, &opts).unwrap())
+    });
+    probe("pressure/coupled", s04.solve(&pl, Some(&zeros), &coupled));
+    g.bench_function("pressure/coupled", |bch| {
+        bch.iter(|| s04.solve(black_box(&pl), Some(&zeros), &coupled).unwrap())
+    });
+
+    // tip load: cold start from the unloaded shape, warm start from a nearby load
+    let tl = tip_load();
+    probe(
+        "tip/cold",
+        solver.solve(&tl, Some(&unloaded.coefficients), &opts),
+    );
+    g.bench_function("tip/cold", |bch| {
+        bch.iter(|| {
+            solver
+                .solve(black_box(&tl), Some(&unloaded.coefficients), &opts)
+                .unwrap()
+        })
+    });
+    let near = solver
+        .solve(
+            &Load::unloaded().with_tip_force(0.9, 0.5),
+            Some(&unloaded.coefficients),
+            &opts,
+        )
+        .unwrap();
+    probe(
+        "tip/warm",
+        solver.solve(&tl, Some(&near.coefficients), &opts),
+    );
+    g.bench_function("tip/warm", |bch| {
+        bch.iter(|| {
+            solver
+                .solve(black_box(&tl), Some(&near.coefficients), &opts)
+                .unwrap()
+        })
+    });
+
+    // bordered target solve: the +X force that moves the eps0 = 0.4 tip 10 mm along X
+    let un04 = s04.solve(&un, None, &opts).unwrap();
+    let target = TargetProblem {
+        base: Load::unloaded(),
+        direction: [1.0, 0.0],
+        weights: [1.0, 0.0],
+        target: un04.tip[0] + 10.0,
+    };
+    let (sol, lambda) = s04
+        .solve_target(&target, &un04.coefficients, 0.0, 1e-9, &opts)
+        .unwrap();
+    eprintln!(
+        "  [target/bordered] lambda = {lambda:.6} N, tip X {:.4} -> {:.4} mm, iterations {}",
+        un04.tip[0], sol.tip[0], sol.report.iterations
+    );
+    g.bench_function("target/bordered", |bch| {
+        bch.iter(|| {
+            s04.solve_target(black_box(&target), &un04.coefficients, 0.0, 1e-9, &opts)
+                .unwrap()
+        })
+    });
+    // for comparison: the plain solve at the load the target solve found
+    let at = target.load_at(lambda);
+    probe(
+        "target/plain_at_found_load",
+        s04.solve(&at, Some(&un04.coefficients), &opts),
+    );
+    g.bench_function("target/plain_at_found_load", |bch| {
+        bch.iter(|| {
+            s04.solve(black_box(&at), Some(&un04.coefficients), &opts)
+                .unwrap()
+        })
+    });
+
+    // ribs vs no ribs: building the finger (moments) and the unloaded
+    // decoupled solve (ribs make elements distinct), and the tip-loaded solve
+    let act = Actuator::paper(0.25).unwrap();
+    let part = Partition::equal(act.geometry().lx, 8).unwrap();
+    for (name, ribs) in [("ribs", true), ("no_ribs", false)] {
+        g.bench_function(format!("{name}/build"), |bch| {
+            bch.iter(|| Finger::new(black_box(&act), black_box(&part), ribs))
+        });
+        let f = Finger::new(&act, &part, ribs);
+        let mut s = Solver::new(&f);
+        let u = probe(&format!("{name}/unloaded"), s.solve(&un, None, &opts));
+        g.bench_function(format!("{name}/unloaded"), |bch| {
+            bch.iter(|| s.solve(black_box(&un), None, &opts).unwrap())
+        });
+        probe(
+            &format!("{name}/tip_cold"),
+            s.solve(&tl, Some(&u.coefficients), &opts),
+        );
+        g.bench_function(format!("{name}/tip_cold"), |bch| {
+            bch.iter(|| {
+                s.solve(black_box(&tl), Some(&u.coefficients), &opts)
+                    .unwrap()
+            })
+        });
+    }
+
+    // zero vs tiny pressure (the gas kernel is skipped at exactly zero)
+    for (name, kpa) in [("pressure_zero", 0.0), ("pressure_tiny", 1e-6)] {
+        let l = tl.with_pressure_kpa(kpa);
+        probe(
+            &format!("{name}/tip_cold"),
+            solver.solve(&l, Some(&unloaded.coefficients), &opts),
+        );
+        g.bench_function(format!("{name}/tip_cold"), |bch| {
+            bch.iter(|| {
+                solver
+                    .solve(black_box(&l), Some(&unloaded.coefficients), &opts)
+                    .unwrap()
+            })
+        });
+    }
+    for (name, kpa) in [("pressure_zero", 0.0), ("pressure_tiny", 1e-6)] {
+        let l = un.with_pressure_kpa(kpa);
+        probe(&format!("{name}/unloaded"), solver.solve(&l, None, &opts));
+        g.bench_function(format!("{name}/unloaded"), |bch| {
+            bch.iter(|| solver.solve(black_box(&l), None, &opts).unwrap())
+        });
+    }
+
+    // tip-only vs full output (shape samples + circle fit + smallest eigenvalue)
+    let full = SolveOptions::default();
+    let shape_only = SolveOptions {
+        shape: true,
+        ..opts
+    };
+    let stability_only = SolveOptions {
+        stability: true,
+        ..opts
+    };
+    for (name, o) in [
+        ("output_tip_only", opts),
+        ("output_full", full),
+        ("output_shape_only", shape_only),
+        ("output_stability_only", stability_only),
+    ] {
+        g.bench_function(format!("{name}/tip_cold"), |bch| {
+            bch.iter(|| {
+                solver
+                    .solve(black_box(&tl), Some(&unloaded.coefficients), &o)
+                    .unwrap()
+            })
+        });
+        g.bench_function(format!("{name}/unloaded"), |bch| {
+            bch.iter(|| solver.solve(black_box(&un), None, &o).unwrap())
+        });
+    }
+    g.finish();
+}
+
+// ---------------------------------------------------------------- sweep
+
+const SWEEP_POINTS: usize = 50;
+
+fn sweep(c: &mut Criterion) {
+    let finger = Finger::paper(0.25, 8).unwrap();
+    let opts = tip_only();
+    let mut solver = Solver::new(&finger);
+    let unloaded = solver.solve(&Load::unloaded(), None, &opts).unwrap();
+    let loads: Vec<Load> = (1..=SWEEP_POINTS)
+        .map(|i| {
+            let t = i as f64 / SWEEP_POINTS as f64;
+            tip_load().with_tip_force(t * FX, t * FZ)
+        })
+        .collect();
+    {
+        // work per sweep, for the record
+        let mut guess = unloaded.coefficients.clone();
+        let mut it = 0;
+        for l in &loads {
+            let s = solver.solve(l, Some(&guess), &opts).unwrap();
+            it += s.report.iterations;
+            guess = s.coefficients;
+        }
+        eprintln!("  [sweep/warm] {it} Newton iterations over {SWEEP_POINTS} points");
+        let it: usize = loads
+            .iter()
+            .map(|l| {
+                solver
+                    .solve(l, Some(&unloaded.coefficients), &opts)
+                    .unwrap()
+                    .report
+                    .iterations
+            })
+            .sum();
+        eprintln!("  [sweep/cold] {it} Newton iterations over {SWEEP_POINTS} points");
+    }
+
+    let mut g = c.benchmark_group("sweep");
+    g.throughput(Throughput::Elements(SWEEP_POINTS as u64));
+    // each point warm-started from the previous one
+    g.bench_function("force_50/warm", |bch| {
+        bch.iter(|| {
+            let mut guess = unloaded.coefficients.clone();
+            for l in &loads {
+                let s = solver.solve(black_box(l), Some(&guess), &opts).unwrap();
+                guess = s.coefficients;
+            }
+            guess
+        })
+    });
+    // each point from the unloaded shape
+    g.bench_function("force_50/cold", |bch| {
+        bch.iter(|| {
+            for l in &loads {
+                black_box(
+                    solver
+                        .solve(black_box(l), Some(&unloaded.coefficients), &opts)
+                        .unwrap(),
+                );
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, kernels, assembly, solves, sweep);
+criterion_main!(benches);
