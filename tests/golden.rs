@@ -10,13 +10,19 @@ fn compare(name: &str, fresh: &str) {
         return;
     }
     let golden = std::fs::read_to_string(&path).unwrap_or_else(|e| {
-        panic!("missing golden file {path} ({e}); create it with FPC_BLESS=1 cargo test --test golden")
+        panic!(
+            "missing golden file {path} ({e}); create it with FPC_BLESS=1 cargo test --test golden"
+        )
     });
     if golden == fresh {
         return;
     }
     let (g, f): (Vec<&str>, Vec<&str>) = (golden.lines().collect(), fresh.lines().collect());
-    let line = g.iter().zip(&f).position(|(a, b)| a != b).unwrap_or(g.len().min(f.len()));
+    let line = g
+        .iter()
+        .zip(&f)
+        .position(|(a, b)| a != b)
+        .unwrap_or(g.len().min(f.len()));
     panic!(
         "energy-spec/golden/{name} differs from the freshly generated code at line {}:\n  golden: {}\n  fresh:  {}\n\
          ({} vs {} lines). Review the generator/spec change, then run `FPC_BLESS=1 cargo test --test golden`.",
