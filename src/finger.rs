@@ -1039,6 +1039,9 @@ struct BorderedChain<'c, 'a> {
     chain: &'c mut Chain<'a>,
     problem: TargetProblem,
     scratch: Vec<f64>,
+    /// Stiffness scale over the finger length: weighs a tip error (mm) like
+    /// the strain error it implies.
+    c_scale: f64,
 }
 
 impl fpc_newton::Bordered for BorderedChain<'_, '_> {
@@ -1059,8 +1062,14 @@ impl fpc_newton::Bordered for BorderedChain<'_, '_> {
         }
         self.chain
             .tip_gradient_scaled(self.problem.weights, &mut out.c_x);
+        // the target equation in force units (mm times stiffness per length),
+        // so the merit weighs a tip error like the strain error it implies
+        let cs = self.c_scale;
+        for cx in out.c_x.iter_mut() {
+            *cx *= cs;
+        }
         let w = self.problem.weights;
-        out.c = w[0] * self.chain.tip[0] + w[1] * self.chain.tip[1] - self.problem.target;
+        out.c = cs * (w[0] * self.chain.tip[0] + w[1] * self.chain.tip[1] - self.problem.target);
         out.c_lambda = 0.0;
         self.chain.force_chain = false;
         v.is_finite() && out.is_finite()
@@ -1094,9 +1103,11 @@ impl Solver<'_> {
             .into());
         }
         self.load_guess(Some(guess));
+        let length: f64 = f.elements.iter().map(|e| e.length()).sum();
+        let c_scale = f.stiffness / length;
         let nopts = NewtonOptions {
             gtol: opts.rtol * f.stiffness,
-            ctol: ctol_mm,
+            ctol: ctol_mm * c_scale,
             max_iter: opts.max_iter,
             ..NewtonOptions::default()
         };
@@ -1113,6 +1124,7 @@ impl Solver<'_> {
             chain: &mut self.chain,
             problem: *problem,
             scratch: vec![0.0; n],
+            c_scale,
         };
         let r = self
             .newton
