@@ -642,7 +642,9 @@ impl<'a> Solver<'a> {
                 let mut g = [0.0; 4];
                 let mut h = [0.0; 16];
                 p.hessian(&self.y[4 * i..4 * i + 4], &mut g, &mut h);
-                m = m.min(min_eigenvalue(4, &h));
+                // 4x4 on the stack: nalgebra's symmetric eigenvalues, no allocation
+                let ev = nalgebra::Matrix4::from_column_slice(&h).symmetric_eigenvalues();
+                m = m.min(ev.min());
             }
             Some(m / f.stiffness)
         } else {
