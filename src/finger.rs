@@ -119,6 +119,11 @@ pub struct SolveOptions {
     pub samples_per_element: usize,
     /// Fall back to load continuation when Newton fails from the guess.
     pub continuation: bool,
+    /// Largest Newton step in the scaled unknowns (dimensionless strains).
+    /// The prestressed law's quintic makes the energy unbounded below at
+    /// large stretch, so an uncapped step from a poor guess can leave the
+    /// physical basin for good; 0.25 never limits a step near equilibrium.
+    pub max_step: f64,
 }
 
 impl Default for SolveOptions {
@@ -131,6 +136,7 @@ impl Default for SolveOptions {
             stability: true,
             samples_per_element: 16,
             continuation: true,
+            max_step: 0.25,
         }
     }
 }
@@ -145,6 +151,7 @@ impl SolveOptions {
 
     fn validate(&self) -> Result<(), InputError> {
         positive("solve.rtol", self.rtol)?;
+        positive("solve.max_step", self.max_step)?;
         if self.max_iter == 0 {
             return Err(InputError::OutOfRange {
                 field: "solve.max_iter".into(),
@@ -442,6 +449,7 @@ impl<'a> Solver<'a> {
         let nopts = NewtonOptions {
             gtol,
             max_iter: opts.max_iter,
+            max_step: opts.max_step,
             ..NewtonOptions::default()
         };
         self.newton
@@ -1111,6 +1119,7 @@ impl Solver<'_> {
             gtol: opts.rtol * f.stiffness,
             ctol: ctol_mm * c_scale,
             max_iter: opts.max_iter,
+            max_step: opts.max_step,
             ..NewtonOptions::default()
         };
         self.newton

@@ -20,6 +20,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod accuracy;
 mod actuator;
 mod blocks;
 mod element;
@@ -29,6 +30,7 @@ mod fit;
 pub mod kernels;
 mod refine;
 
+pub use accuracy::{accuracy_study, AccuracyRow, AccuracyStudy, Reference};
 pub use actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
@@ -62,4 +64,9 @@ pub use studies::{
     CurvatureRow, DisplacementForce, DisplacementForceRow, ForceControl, ForceControlRow,
     LiftCurve, LiftPoint, SpherePoint, SphereRegion, Studies, StudyOptions, SweepStop,
     PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS, STUDY8_PRESSURES_KPA,
+};
+pub mod scene;
+pub use scene::{
+    GraspOutcome, GraspSpec, GripperScene, PartitionPlan, Scene, SceneError, SceneFile,
+    SceneReadError, SceneSolution,
 };

@@ -3,8 +3,12 @@
 
 use clap::{Parser, Subcommand};
 
+mod accuracy;
 mod finger;
 mod kernels;
+mod output;
+mod paper;
+mod solve;
 mod timing;
 
 /// Fluidic prestressed composite fingers and grippers: the chained composite model.
@@ -17,20 +21,29 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Run time against error over N and the Newton tolerance (writes CSV and SVG).
+    Accuracy(accuracy::Args),
     /// Solve one finger of the default actuator (eps0, pressure, tip force).
     Finger(finger::Args),
     /// Print the generated element kernels and their operation counts.
     Kernels(kernels::Args),
+    /// Solve the finger or gripper grasp of a TOML scene file; write solution.json, shape.csv, shape.svg.
+    Solve(solve::Args),
     /// Median solve times of the standard cases, measured in-process.
     Timing(timing::Args),
+    /// Run the paper's eight studies; write CSV tables, SVG figures, summary.json and index.html.
+    Paper(paper::Args),
 }
 
 fn main() {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Accuracy(a) => accuracy::run(&a),
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
+        Command::Solve(a) => solve::run(&a),
         Command::Timing(a) => timing::run(&a),
+        Command::Paper(a) => paper::run(&a),
     };
     if let Err(e) = result {
         eprintln!("fpc: error: {e:#}");

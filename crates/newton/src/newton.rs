@@ -306,6 +306,11 @@ impl Newton {
                     _ => cholesky_solve(n, &self.l, &mut self.p),
                 }
                 if all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
+                    let len = norm_inf(&self.p);
+                    if len > self.opts.max_step {
+                        let s = self.opts.max_step / len;
+                        self.p.iter_mut().for_each(|v| *v *= s);
+                    }
                     return Ok(tau);
                 }
             }
@@ -357,11 +362,17 @@ impl Newton {
                 } else {
                     0.5 * alpha
                 };
-                alpha = aq.clamp(0.1 * alpha, 0.5 * alpha);
+                // a non-finite quadratic estimate would make the clamp NaN
+                // and the loop endless: halve instead
+                alpha = if aq.is_finite() {
+                    aq.clamp(0.1 * alpha, 0.5 * alpha)
+                } else {
+                    0.5 * alpha
+                };
             } else {
                 alpha *= 0.25;
             }
-            if alpha < o.min_step_fraction {
+            if alpha.is_nan() || alpha < o.min_step_fraction {
                 return Err(if any_finite {
                     Termination::LineSearchFailed
                 } else {

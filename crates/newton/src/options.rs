@@ -130,6 +130,11 @@ pub struct NewtonOptions {
     /// Backtracking gives up (`LineSearchFailed`) once the step fraction
     /// `alpha` falls below this value, in (0, 1). Default 1e-10.
     pub min_step_fraction: f64,
+    /// Largest infinity norm of a Newton step before the line search (the
+    /// direction is shortened to it): keeps iterates in the basin where the
+    /// model is meant to hold when the energy is unbounded far away. Positive;
+    /// default `f64::INFINITY` (no cap).
+    pub max_step: f64,
     /// Dense factorisation backend. Default [`LinearBackend::Auto`].
     pub backend: LinearBackend,
 }
@@ -143,6 +148,7 @@ impl Default for NewtonOptions {
             max_iter: 100,
             c1: 1e-4,
             min_step_fraction: 1e-10,
+            max_step: f64::INFINITY,
             backend: LinearBackend::Auto,
         }
     }
@@ -156,6 +162,13 @@ impl NewtonOptions {
         check_nonneg("ctol", self.ctol)?;
         check_open_unit("c1", self.c1)?;
         check_open_unit("min_step_fraction", self.min_step_fraction)?;
+        if self.max_step.is_nan() || self.max_step <= 0.0 {
+            return Err(OptionsError {
+                name: "max_step",
+                value: self.max_step,
+                rule: "must be positive (infinity for no cap)",
+            });
+        }
         Ok(())
     }
 

@@ -1,0 +1,304 @@
+//! `fpc paper`: runs the built binary and checks what it writes.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn fpc() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+}
+
+/// A fresh directory under the target directory's scratch space.
+fn scratch(name: &str) -> PathBuf {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("fpc-paper-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    dir
+}
+
+fn expected_files() -> Vec<String> {
+    let mut v: Vec<String> = (1..=8)
+        .flat_map(|n| [format!("study{n}.csv"), format!("study{n}.svg")])
+        .collect();
+    v.extend(
+        [
+            "study1_shapes.csv",
+            "study5_envelope.csv",
+            "summary.json",
+            "index.html",
+        ]
+        .map(String::from),
+    );
+    v
+}
+
+/// Columns without a unit: dimensionless numbers, flags and text.
+const UNITLESS: [&str; 9] = [
+    "eps0",
+    "f_over_F",
+    "viable",
+    "invalid",
+    "friction_ok",
+    "reversed",
+    "axis",
+    "status",
+    "note",
+];
+const UNITS: [&str; 5] = ["_mm", "_n", "_kpa", "_rad", "_per_mm"];
+
+/// Splits one CSV line (double-quoted fields may hold commas).
+fn fields(line: &str) -> Vec<String> {
+    let mut out = vec![String::new()];
+    let mut quoted = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '"' if quoted && chars.peek() == Some(&'"') => {
+                chars.next();
+                out.last_mut().unwrap().push('"');
+            }
+            '"' => quoted = !quoted,
+            ',' if !quoted => out.push(String::new()),
+            _ => out.last_mut().unwrap().push(c),
+        }
+    }
+    out
+}
+
+fn number(v: &Value, what: &str) -> f64 {
+    let x = v
+        .as_f64()
+        .unwrap_or_else(|| panic!("{what} is not a number: {v}"));
+    assert!(x.is_finite(), "{what} = {x}");
+    x
+}
+
+/// Every number in the document is finite (JSON cannot hold NaN, but a
+/// writer could emit one as a string or a huge literal).
+fn all_finite(v: &Value, path: &str) {
+    match v {
+        Value::Number(n) => assert!(n.as_f64().is_some_and(f64::is_finite), "{path} = {n}"),
+        Value::String(s) => assert!(
+            !matches!(s.as_str(), "NaN" | "inf" | "-inf" | "Infinity"),
+            "{path} = {s}"
+        ),
+        Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .for_each(|(i, x)| all_finite(x, &format!("{path}[{i}]"))),
+        Value::Object(o) => o
+            .iter()
+            .for_each(|(k, x)| all_finite(x, &format!("{path}.{k}"))),
+        _ => {}
+    }
+}
+
+#[test]
+fn paper_writes_every_file() {
+    let dir = scratch("full");
+    let out = fpc().args(["paper", "--out"]).arg(&dir).output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "fpc paper failed: {stderr}");
+
+    for f in expected_files() {
+        assert!(dir.join(&f).is_file(), "{f} missing");
+    }
+    let leftovers: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.') || n.ends_with(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty(), "temporary files left: {leftovers:?}");
+
+    // no absolute path in any output
+    let abs = dir.to_string_lossy().into_owned();
+    for f in expected_files() {
+        let text = std::fs::read_to_string(dir.join(&f)).unwrap();
+        assert!(!text.contains(&abs), "{f} contains the output path");
+    }
+
+    // summary.json
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let s: Value = serde_json::from_str(&text).expect("summary.json parses");
+    all_finite(&s, "summary");
+    assert_eq!(s["failures"], Value::Array(vec![]), "{}", s["failures"]);
+
+    let dmax = s["dmax_mm"].as_array().expect("dmax_mm is a list");
+    assert_eq!(dmax.len(), 9);
+    for d in dmax {
+        number(&d["eps0"], "eps0");
+        number(&d["angle_rad"], "angle_rad");
+        assert!(number(&d["dmax_mm"], "dmax_mm") > 0.0);
+    }
+    assert!(s["cuboid_region_contains"].is_boolean());
+
+    let fc = s["force_control"].as_array().expect("force_control");
+    assert!(fc.len() >= 2);
+    let forces: Vec<f64> = fc.iter().map(|r| number(&r["F_n"], "F_n")).collect();
+    let pressures: Vec<f64> = fc
+        .iter()
+        .map(|r| number(&r["pressure_kpa"], "pressure_kpa"))
+        .collect();
+    for r in fc {
+        number(&r["h_mm"], "h_mm");
+    }
+    assert!(pressures.windows(2).all(|w| w[1] > w[0]), "{pressures:?}");
+    assert!(
+        forces.windows(2).all(|w| w[1] < w[0]),
+        "F does not decrease with pressure: {forces:?}"
+    );
+
+    let peak = number(
+        &s["sphere_envelope_peak_radius_mm"],
+        "sphere_envelope_peak_radius_mm",
+    );
+    assert!(peak > 0.0);
+
+    let range = &s["sphere_beta_range_rad"];
+    assert!(range.is_null() || range.is_array(), "{range}");
+    if let Some(r) = range.as_array() {
+        assert_eq!(r.len(), 2);
+        let (lo, hi) = (number(&r[0], "lo"), number(&r[1], "hi"));
+        assert!(
+            lo <= hi && lo >= -std::f64::consts::FRAC_PI_2 && hi <= std::f64::consts::FRAC_PI_2
+        );
+    }
+
+    let rvp = s["radius_vs_pressure"]
+        .as_array()
+        .expect("radius_vs_pressure");
+    assert_eq!(rvp.len(), 3);
+    for c in rvp {
+        number(&c["eps0"], "eps0");
+        assert!(c["reversed"].is_boolean());
+        let pts = c["points"].as_array().expect("points");
+        assert!(!pts.is_empty());
+        for p in pts {
+            number(&p["pressure_kpa"], "pressure_kpa");
+            let r = &p["radius_mm"];
+            assert!(r.is_null() || number(r, "radius_mm") > 0.0);
+            assert!(p["reversed"].is_boolean());
+        }
+    }
+
+    let f10 = s["force_at_10mm"].as_array().expect("force_at_10mm");
+    assert_eq!(f10.len(), 8);
+    for r in f10 {
+        assert!(
+            matches!(r["axis"].as_str(), Some("X" | "Z")),
+            "{}",
+            r["axis"]
+        );
+        number(&r["eps0"], "eps0");
+        number(&r["pressure_kpa"], "pressure_kpa");
+        assert!(r["force_n"].is_null() || r["force_n"].is_number());
+    }
+
+    // CSV: headers with units, rows as wide as the header
+    for f in expected_files().iter().filter(|f| f.ends_with(".csv")) {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        let mut lines = text.lines();
+        let header = fields(lines.next().expect("header"));
+        for col in &header {
+            assert!(
+                UNITLESS.contains(&col.as_str()) || UNITS.iter().any(|u| col.ends_with(u)),
+                "{f}: column {col} has no unit"
+            );
+        }
+        assert_eq!(header.last().map(String::as_str), Some("note"));
+        let mut rows = 0;
+        for line in lines {
+            assert_eq!(fields(line).len(), header.len(), "{f}: {line}");
+            rows += 1;
+        }
+        assert!(rows > 0, "{f} has no rows");
+    }
+
+    // a sweep that stopped early is marked in its CSV
+    for stop in s["sweeps_stopped"].as_array().expect("sweeps_stopped") {
+        let n = stop["study"].as_u64().expect("study number");
+        let csv = std::fs::read_to_string(dir.join(format!("study{n}.csv"))).unwrap();
+        let marked = csv.lines().any(|l| {
+            let f = fields(l);
+            matches!(f[f.len() - 2].as_str(), "stopped" | "failed")
+        });
+        assert!(marked, "study {n}: the stop is not in study{n}.csv");
+    }
+
+    // SVG figures with labelled axes
+    for n in 1..=8 {
+        let svg = std::fs::read_to_string(dir.join(format!("study{n}.svg"))).unwrap();
+        let start = svg.trim_start();
+        assert!(
+            start.starts_with("<svg") || start.starts_with("<?xml"),
+            "study{n}.svg"
+        );
+        assert!(svg.trim_end().ends_with("</svg>"), "study{n}.svg");
+        assert!(svg.contains("<text"), "study{n}.svg has no text");
+        assert!(
+            ["(mm)", "(N)", "(kPa)", "(deg)"]
+                .iter()
+                .any(|u| svg.contains(u)),
+            "study{n}.svg has no axis unit"
+        );
+    }
+
+    // index.html shows every figure
+    let html = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    for n in 1..=8 {
+        assert!(
+            html.contains(&format!("<img src=\"study{n}.svg\"")),
+            "index.html lacks study{n}.svg"
+        );
+    }
+    assert!(html.contains("<table>"));
+    assert!(html.trim_end().ends_with("</html>"));
+
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn paper_creates_nested_output_directory() {
+    let base = scratch("nested");
+    let dir = base.join("a").join("b");
+    let out = fpc()
+        .args(["paper", "--coarse", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("summary.json").is_file());
+    let s: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s["options"]["coarse"], Value::Bool(true));
+    std::fs::remove_dir_all(&base).unwrap();
+}
+
+#[test]
+fn paper_rejects_a_file_as_output_directory() {
+    let base = scratch("file");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("not-a-dir");
+    std::fs::write(&file, "keep me").unwrap();
+    let out = fpc()
+        .args(["paper", "--coarse", "--out"])
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert_eq!(out.status.code(), Some(2), "an input error");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("not a directory"),
+        "unclear message: {stderr}"
+    );
+    assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
+    assert_eq!(std::fs::read_dir(&base).unwrap().count(), 1);
+    std::fs::remove_dir_all(&base).unwrap();
+}
