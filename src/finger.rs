@@ -513,6 +513,12 @@ impl<'a> Solver<'a> {
                 kp: load.kp(),
                 s: scales(f.elements[i].length()),
             };
+            if guess.is_none() && i > 0 {
+                // neighbouring elements strain alike: start from the last
+                // solved one (scaled unknowns are comparable across lengths)
+                let (a, b) = self.y.split_at_mut(4 * i);
+                b[..4].copy_from_slice(&a[4 * (i - 1)..4 * i]);
+            }
             let y = &mut self.y[4 * i..4 * i + 4];
             let r = self.local.minimize(&mut p, y);
             rep.iterations += r.iterations;
