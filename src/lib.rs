@@ -70,3 +70,13 @@ pub use scene::{
     GraspOutcome, GraspSpec, GripperScene, PartitionPlan, Scene, SceneError, SceneFile,
     SceneReadError, SceneSolution,
 };
+mod stress;
+pub use stress::{
+    reason_name, stress, stress_inputs, stress_with, StressCase, StressConfig, StressInputs,
+    StressOutcome, StressReport, MAX_DRAWS, RESIDUAL_LIMIT, STRESS_ELEMENT_COUNTS,
+};
+
+/// The README's Rust examples, compiled and run as doctests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+struct ReadmeDoctests;
