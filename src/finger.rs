@@ -117,7 +117,11 @@ pub struct SolveOptions {
     pub stability: bool,
     /// Mid-plane samples per element when `shape` is on.
     pub samples_per_element: usize,
-    /// Fall back to load continuation when Newton fails from the guess.
+    /// Fall back to continuation when Newton fails from the guess: load
+    /// continuation for tip loads; per element, pressure continuation from
+    /// the straight element at zero pressure; and, when no unloaded
+    /// equilibrium is found to start a loaded solve from, Newton from the
+    /// straight finger.
     pub continuation: bool,
     /// Largest Newton step in the scaled unknowns (dimensionless strains).
     /// The prestressed law's quintic makes the energy unbounded below at
@@ -390,6 +394,25 @@ pub fn fill_upper(n: usize, h: &mut [f64]) {
     }
 }
 
+/// Checks a starting guess: one coefficient set per element (`n`), every
+/// value finite.
+fn check_guess(guess: &[Coeffs], n: usize) -> Result<(), InputError> {
+    if guess.len() != n {
+        return Err(InputError::OutOfRange {
+            field: "guess".into(),
+            value: guess.len() as f64,
+            rule: format!("must hold one coefficient set per element ({n})"),
+        });
+    }
+    match guess.iter().flatten().find(|v| !v.is_finite()) {
+        Some(&value) => Err(InputError::NotFinite {
+            field: "guess".into(),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// A reusable solver workspace (no allocation per Newton iteration; reuse
 /// it across the points of a sweep).
 pub struct Solver<'a> {
@@ -429,21 +452,7 @@ impl<'a> Solver<'a> {
         opts.validate()?;
         let f = self.finger;
         if let Some(g) = guess {
-            if g.len() != f.len() {
-                return Err(InputError::OutOfRange {
-                    field: "guess".into(),
-                    value: g.len() as f64,
-                    rule: format!("must hold one coefficient set per element ({})", f.len()),
-                }
-                .into());
-            }
-            if g.iter().flatten().any(|v| !v.is_finite()) {
-                return Err(InputError::NotFinite {
-                    field: "guess".into(),
-                    value: f64::NAN,
-                }
-                .into());
-            }
+            check_guess(g, f.len())?;
         }
         let gtol = opts.rtol * f.stiffness;
         let nopts = NewtonOptions {
@@ -468,7 +477,7 @@ impl<'a> Solver<'a> {
             })?;
         let decoupled = !load.has_tip_load() && opts.strategy == Strategy::Auto;
         let mut report = if decoupled {
-            self.solve_decoupled(load, guess)?
+            self.solve_decoupled(load, guess, opts.continuation)?
         } else {
             self.solve_coupled(load, guess, opts)?
         };
@@ -490,6 +499,7 @@ impl<'a> Solver<'a> {
         &mut self,
         load: &Load,
         guess: Option<&[Coeffs]>,
+        continuation: bool,
     ) -> Result<SolveReport, SolveError> {
         self.load_guess(guess);
         let f = self.finger;
@@ -513,16 +523,21 @@ impl<'a> Solver<'a> {
                 kp: load.kp(),
                 s: scales(f.elements[i].length()),
             };
-            if guess.is_none() && i > 0 {
-                // neighbouring elements strain alike: start from the last
-                // solved one (scaled unknowns are comparable across lengths)
+            let warm = guess.is_none() && i > 0;
+            if warm {
+                // neighbouring elements strain and curve alike: start from
+                // the last solved one's raw coefficients (a1, a3, b1, c2 do
+                // not depend on the length; the scaled a3 L^2 and c2 L do)
+                let sp = scales(f.elements[i - 1].length());
                 let (a, b) = self.y.split_at_mut(4 * i);
-                b[..4].copy_from_slice(&a[4 * (i - 1)..4 * i]);
+                for (((yi, yp), sp), si) in
+                    b[..4].iter_mut().zip(&a[4 * (i - 1)..]).zip(sp).zip(p.s)
+                {
+                    *yi = yp * sp / si;
+                }
             }
             let y = &mut self.y[4 * i..4 * i + 4];
-            let r = self.local.minimize(&mut p, y);
-            rep.iterations += r.iterations;
-            rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+            let r = solve_element(&mut self.local, &mut p, y, warm, continuation, &mut rep);
             rep.residual_norm = rep.residual_norm.max(r.residual_norm);
             if !r.reason.is_converged() {
                 return Err(self.not_converged(&r, Some(i)));
@@ -550,13 +565,28 @@ impl<'a> Solver<'a> {
             fz: 0.0,
             ..*load
         };
+        let mut start_failed = false;
         match guess {
             Some(g) => self.load_guess(Some(g)),
             None => {
                 // the unloaded equilibrium at the same pressure
-                let r = self.solve_decoupled(&start_load, None)?;
-                base.iterations += r.iterations;
-                base.evaluations += r.evaluations;
+                match self.solve_decoupled(&start_load, None, opts.continuation) {
+                    Ok(r) => {
+                        base.iterations += r.iterations;
+                        base.evaluations += r.evaluations;
+                        base.continuation_steps += r.continuation_steps;
+                    }
+                    Err(SolveError::NotConverged { iterations, .. }) if opts.continuation => {
+                        // no unloaded equilibrium to start from (a curl the
+                        // elements cannot follow, which the load may undo):
+                        // Newton from the straight finger, and no load
+                        // continuation (it needs an equilibrium to start)
+                        base.iterations += iterations;
+                        self.load_guess(None);
+                        start_failed = true;
+                    }
+                    Err(e) => return Err(e),
+                }
             }
         }
         let start: Vec<f64> = self.y.clone();
@@ -568,7 +598,7 @@ impl<'a> Solver<'a> {
         if r.reason.is_converged() {
             return Ok(base);
         }
-        if !opts.continuation || !load.has_tip_load() {
+        if !opts.continuation || !load.has_tip_load() || start_failed {
             return Err(self.not_converged(&r, None));
         }
         // load continuation from the start point: F(t) = t F
@@ -585,7 +615,7 @@ impl<'a> Solver<'a> {
             newton.minimize(chain, y)
         });
         base.iterations += cr.newton_iterations;
-        base.continuation_steps = cr.steps;
+        base.continuation_steps += cr.steps;
         base.residual_norm = cr.last.residual_norm;
         if cr.complete && cr.last.reason.is_converged() {
             self.chain.set_load(load);
@@ -700,6 +730,58 @@ impl<'a> Solver<'a> {
             report,
         })
     }
+}
+
+/// Minimises one element's energy from `y` (the decoupled scenes). When
+/// that fails: again from the straight element if `y` was a warm start,
+/// then, with `continuation` and a pressure, by pressure continuation from
+/// the straight element at zero pressure to the target (warm-starting each
+/// step). Adds iterations, evaluations and continuation steps to `rep`;
+/// returns the last report, its `iterations` counting every attempt.
+fn solve_element(
+    newton: &mut Newton,
+    p: &mut Single,
+    y: &mut [f64],
+    warm: bool,
+    continuation: bool,
+    rep: &mut SolveReport,
+) -> Report {
+    let before = rep.iterations;
+    let tally = |r: &Report, rep: &mut SolveReport| {
+        rep.iterations += r.iterations;
+        rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+    };
+    let mut r = newton.minimize(p, y);
+    tally(&r, rep);
+    if !r.reason.is_converged() && warm {
+        y.fill(0.0);
+        r = newton.minimize(p, y);
+        tally(&r, rep);
+    }
+    let kp = p.kp;
+    if !r.reason.is_converged() && continuation && kp != 0.0 {
+        y.fill(0.0);
+        p.kp = 0.0;
+        r = newton.minimize(p, y);
+        tally(&r, rep);
+        if r.reason.is_converged() {
+            let copts = fpc_newton::ContinuationOptions::default();
+            let cr = fpc_newton::continuation(0.0, 1.0, y, &copts, |t, y| {
+                p.kp = t * kp;
+                let r = newton.minimize(p, y);
+                tally(&r, rep);
+                r
+            });
+            rep.continuation_steps += cr.steps;
+            r = cr.last;
+            if !cr.complete && r.reason.is_converged() {
+                r.reason = Termination::MaxIterations;
+            }
+        }
+        p.kp = kp;
+    }
+    r.iterations = rep.iterations - before;
+    r
 }
 
 /// One element in scaled unknowns (the decoupled scenes).
@@ -1110,14 +1192,7 @@ impl Solver<'_> {
         finite("target.lambda0", lambda0)?;
         positive("target.ctol_mm", ctol_mm)?;
         let f = self.finger;
-        if guess.len() != f.len() {
-            return Err(InputError::OutOfRange {
-                field: "guess".into(),
-                value: guess.len() as f64,
-                rule: format!("must hold one coefficient set per element ({})", f.len()),
-            }
-            .into());
-        }
+        check_guess(guess, f.len())?;
         self.load_guess(Some(guess));
         let length: f64 = f.elements.iter().map(|e| e.length()).sum();
         let c_scale = f.stiffness / length;

@@ -410,18 +410,24 @@ impl Gripper {
         self
     }
 
-    /// The paper's actuator at prestrain `eps0` in `n` equal elements.
+    /// The paper's actuator at prestrain `eps0` in `n` equal elements (the
+    /// actuator's warnings come first in [`Gripper::warnings`]).
     pub fn paper(eps0: f64, n: usize, params: GripperParams) -> Result<Gripper, SolveError> {
-        Gripper::new(Finger::paper(eps0, n)?, params)
+        let act = Actuator::paper(eps0)?;
+        Gripper::from_actuator(&act, &Partition::equal(act.geometry().lx, n)?, params)
     }
 
-    /// An actuator split by a partition (ribs on).
+    /// An actuator split by a partition (ribs on). The actuator's warnings
+    /// (a prestrain outside the fitted range, ...) come first in
+    /// [`Gripper::warnings`].
     pub fn from_actuator(
         actuator: &Actuator,
         partition: &Partition,
         params: GripperParams,
     ) -> Result<Gripper, SolveError> {
-        Gripper::new(Finger::new(actuator, partition, true), params)
+        let mut g = Gripper::new(Finger::new(actuator, partition, true), params)?;
+        g.warnings.splice(0..0, actuator.warnings().iter().cloned());
+        Ok(g)
     }
 
     /// The finger.
@@ -444,7 +450,8 @@ impl Gripper {
         self.params.mu
     }
 
-    /// Non-fatal notes about the design.
+    /// Non-fatal notes about the design (and, for a gripper built by
+    /// [`Gripper::paper`] or [`Gripper::from_actuator`], the actuator).
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
     }

@@ -73,7 +73,7 @@ pub use scene::{
 mod stress;
 pub use stress::{
     reason_name, stress, stress_inputs, stress_with, StressCase, StressConfig, StressInputs,
-    StressOutcome, StressReport, MAX_DRAWS, RESIDUAL_LIMIT, STRESS_ELEMENT_COUNTS,
+    StressOutcome, StressReport, MAX_DRAWS, RESIDUAL_LIMIT, ROTATION_LIMIT, STRESS_ELEMENT_COUNTS,
 };
 
 /// The README's Rust examples, compiled and run as doctests.

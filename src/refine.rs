@@ -10,7 +10,7 @@
 
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
-use crate::error::{positive, InputError, SolveError};
+use crate::error::{positive, require, InputError, SolveError};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 
 /// Largest N the refinement tries.
@@ -28,8 +28,9 @@ pub struct Refined {
 }
 
 /// Solves `load` with equal elements, doubling N from `start` until the
-/// estimated tip error is at most `tip_tol_mm`. Fails with an input error
-/// when `MAX_REFINED_ELEMENTS` cannot reach the tolerance.
+/// estimated tip error is at most `tip_tol_mm`. `start` must lie in
+/// [1, `MAX_REFINED_ELEMENTS` / 2] (at least one doubling). Fails with an
+/// input error when `MAX_REFINED_ELEMENTS` cannot reach the tolerance.
 pub fn solve_to_tip_tolerance(
     actuator: &Actuator,
     ribs: bool,
@@ -39,11 +40,18 @@ pub fn solve_to_tip_tolerance(
     opts: &SolveOptions,
 ) -> Result<Refined, SolveError> {
     positive("tip_tol_mm", tip_tol_mm)?;
+    let most = MAX_REFINED_ELEMENTS / 2;
+    require(
+        (1..=most).contains(&start),
+        "partition.n",
+        start as f64,
+        format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
+    )?;
     let lx = actuator.geometry().lx;
     let solve = |n: usize| -> Result<Solution, SolveError> {
         Finger::new(actuator, &Partition::equal(lx, n)?, ribs).solve(load, opts)
     };
-    let mut n = start.max(1);
+    let mut n = start;
     let mut coarse = solve(n)?;
     let mut last_estimate = f64::INFINITY;
     while 2 * n <= MAX_REFINED_ELEMENTS {

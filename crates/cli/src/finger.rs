@@ -25,17 +25,18 @@ pub struct Args {
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     fz: f64,
     /// Number of equal elements N.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
     elements: usize,
     /// Leave out the ribs inside the channel.
     #[arg(long = "no-ribs")]
     no_ribs: bool,
     /// Pressure factor kappa = 1/(gamma - 1).
-    #[arg(long, default_value_t = 2.5)]
+    #[arg(long, default_value_t = 2.5, allow_negative_numbers = true)]
     kappa: f64,
-    /// Choose N by doubling (from --elements) until the estimated tip error
-    /// (tip change between N/2 and N) is at most this many millimetres.
-    #[arg(long = "tip-tol-mm")]
+    /// Choose N by doubling (from --elements, at most 256) until the
+    /// estimated tip error (tip change between N/2 and N) is at most this
+    /// many millimetres.
+    #[arg(long = "tip-tol-mm", allow_negative_numbers = true)]
     tip_tol_mm: Option<f64>,
     /// Print one JSON object instead of a summary.
     #[arg(long)]

@@ -1276,12 +1276,20 @@ mod tests {
             |o, v| o.study3(v),
         )
         .unwrap();
+        // a sweep that stopped keeps the points computed before the stop
+        let row = |p: f64| fpc::ForceControlRow {
+            pressure_kpa: p,
+            normal: 1.0 - 0.01 * p,
+            height: 50.0,
+            tip_gap: 100.0,
+            friction_ok: true,
+        };
         let fc = ForceControl {
             size: 100.0,
             friction: 0.3,
-            rows: Vec::new(),
+            rows: vec![row(0.0), row(10.0)],
             stopped: Some(SweepStop {
-                at: 0.0,
+                at: 20.0,
                 reason: "solve failed: test".into(),
             }),
         };
@@ -1301,7 +1309,21 @@ mod tests {
         assert!(csv.contains(",failed,"), "{csv}");
         let svg = read(&dir, "study3.svg");
         assert!(svg.starts_with("<svg") && svg.contains("failed") && svg.contains("</svg>"));
-        assert!(read(&dir, "study4.csv").contains(",stopped,solve failed: test"));
+        let csv4 = read(&dir, "study4.csv");
+        let lines: Vec<&str> = csv4.lines().collect();
+        assert_eq!(lines.len(), 4, "{csv4}");
+        assert!(
+            lines[1].starts_with("0,") && lines[1].contains(",ok,"),
+            "{csv4}"
+        );
+        assert!(
+            lines[2].starts_with("10,") && lines[2].contains(",ok,"),
+            "{csv4}"
+        );
+        assert!(
+            lines[3].starts_with("20,") && lines[3].ends_with(",stopped,solve failed: test"),
+            "{csv4}"
+        );
 
         let s: Value = serde_json::from_str(&read(&dir, "summary.json")).unwrap();
         assert_eq!(s["failures"][0]["study"], json!(3));
@@ -1311,7 +1333,8 @@ mod tests {
             .contains("test.value"));
         assert_eq!(s["cuboid_region_contains"], Value::Null);
         assert_eq!(s["sweeps_stopped"][0]["study"], json!(4));
-        assert_eq!(s["sweeps_stopped"][0]["at_kpa"], json!(0.0));
+        assert_eq!(s["sweeps_stopped"][0]["at_kpa"], json!(20.0));
+        assert_eq!(s["force_control"].as_array().map(Vec::len), Some(2));
         assert_eq!(s["studies"][0]["status"], json!("failed"));
         assert_eq!(s["studies"][1]["status"], json!("partial"));
         for key in [
@@ -1357,7 +1380,11 @@ mod tests {
         let mut t = Csv::new(LIFT_HEADER_2);
         Output::lift_rows(&mut t, &curve, [curve.mounting_angle.into(), 20.0.into()]);
         let text = t.into_string();
-        let last = text.lines().last().unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        // header, the point computed before the stop, the stop
+        assert_eq!(lines.len(), 3, "{text}");
+        assert!(lines[1].ends_with(",ok,"), "{text}");
+        let last = lines[2];
         assert!(
             last.ends_with(",5.5,,,,,stopped,\"solve failed: line search, test\""),
             "{last}"

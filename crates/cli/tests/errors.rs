@@ -1,0 +1,213 @@
+//! The `fpc` binary's error paths: rejected input exits with status 2,
+//! anything else that fails (a solve that does not converge, a file that
+//! cannot be read) with status 1; either way stdout stays empty and stderr
+//! holds exactly one line, `fpc: error: ...`, naming the field, the value
+//! and the rule (or the solver's reason).
+//!
+//! `fpc solve` on bad scene files is in tests/solve.rs, `fpc paper`'s
+//! output directory in tests/paper.rs.
+
+use std::process::{Command, Output};
+
+fn fpc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Runs `fpc args`, which must fail with `code`, print nothing on stdout
+/// and one `fpc: error:` line on stderr; returns that line.
+fn fails(args: &[&str], code: i32) -> String {
+    let out = fpc(args);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "fpc {args:?}: status {:?}\nstderr: {stderr}",
+        out.status
+    );
+    assert!(stdout.is_empty(), "fpc {args:?}: stdout: {stdout}");
+    assert!(stderr.ends_with('\n'), "fpc {args:?}: {stderr:?}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "fpc {args:?}: not one line: {stderr}");
+    assert!(
+        lines[0].starts_with("fpc: error: "),
+        "fpc {args:?}: {stderr}"
+    );
+    lines[0].to_string()
+}
+
+/// `fpc args` is rejected input (status 2) and its message contains each of `parts`.
+fn rejected(args: &[&str], parts: &[&str]) {
+    let line = fails(args, 2);
+    for p in parts {
+        assert!(line.contains(p), "fpc {args:?}: {line} lacks {p:?}");
+    }
+}
+
+#[test]
+fn a_bad_prestrain_exits_2_naming_eps0() {
+    rejected(
+        &["finger", "--eps0", "nan"],
+        &["fpc: error: actuator.pemc.eps0 = NaN: must be finite"],
+    );
+    // (clap reads `--eps0 -inf` as a flag `-i`: `=` keeps it a value)
+    rejected(
+        &["finger", "--eps0=-inf"],
+        &["actuator.pemc.eps0 = -inf: must be finite"],
+    );
+}
+
+#[test]
+fn a_bad_element_count_exits_2_naming_the_partition() {
+    for n in ["0", "1001"] {
+        rejected(
+            &["finger", "--elements", n],
+            &[&format!("partition.n = {n}: must lie in [1, 1000]")],
+        );
+    }
+    // not a count at all: clap's message, in the same form
+    rejected(&["finger", "--elements", "-1"], &["--elements", "'-1'"]);
+}
+
+#[test]
+fn bad_loads_exit_2_naming_the_load() {
+    rejected(
+        &["finger", "--pressure-kpa", "inf"],
+        &["load.pressure = inf: must be finite"],
+    );
+    rejected(
+        &["finger", "--pressure-kpa", "NaN"],
+        &["load.pressure = NaN: must be finite"],
+    );
+    for k in ["0", "-1"] {
+        rejected(
+            &["finger", "--kappa", k],
+            &[&format!("load.kappa = {k}: must be positive")],
+        );
+    }
+    rejected(
+        &["finger", "--fx", "nan"],
+        &["load.fx = NaN: must be finite"],
+    );
+    rejected(
+        &["finger", "--fz=-inf", "--json"],
+        &["load.fz = -inf: must be finite"],
+    );
+}
+
+#[test]
+fn a_bad_tip_tolerance_exits_2_naming_it() {
+    for t in ["0", "-1"] {
+        rejected(
+            &["finger", "--tip-tol-mm", t],
+            &[&format!("tip_tol_mm = {t}: must be positive")],
+        );
+    }
+    rejected(
+        &["finger", "--tip-tol-mm", "nan"],
+        &["tip_tol_mm = NaN: must be finite"],
+    );
+    // refinement doubles N up to 512: it must start at 1 to 256 elements
+    for n in ["0", "300"] {
+        rejected(
+            &["finger", "--tip-tol-mm", "0.1", "--elements", n],
+            &[&format!("partition.n = {n}: must lie in [1, 256]")],
+        );
+    }
+}
+
+#[test]
+fn an_unreachable_tip_tolerance_exits_2() {
+    // the CCM's tip error at N = 512 is about 1e-2 mm; unloaded, the
+    // doubling from N = 8 is fast even in a debug build
+    rejected(
+        &["finger", "--tip-tol-mm", "1e-12"],
+        &[
+            "tip_tol_mm = 0.000000000001: not reached with up to 512 elements",
+            "estimated tip error there",
+        ],
+    );
+}
+
+#[test]
+fn a_failed_solve_exits_1_with_the_reason() {
+    // tip forces no equilibrium within reach balances: Newton and load
+    // continuation give up, deterministically
+    for args in [
+        &["finger", "--fx", "1e6"][..],
+        &["finger", "--fz", "1e6", "--json"][..],
+    ] {
+        let line = fails(args, 1);
+        assert!(
+            line.starts_with("fpc: error: solve failed: "),
+            "fpc {args:?}: {line}"
+        );
+        assert!(
+            line.contains("iterations (relative residual"),
+            "fpc {args:?}: {line}"
+        );
+        assert!(
+            !line.contains("NaN") && !line.contains("inf)"),
+            "fpc {args:?}: {line}"
+        );
+    }
+}
+
+#[test]
+fn usage_errors_exit_2_on_one_line() {
+    rejected(&["finger", "--bogus"], &["unexpected argument '--bogus'"]);
+    // clap's suggestion stays on the line
+    rejected(&["finger", "--fxx", "1"], &["'--fxx'", "'--fx'"]);
+    rejected(&["finger", "--eps0", "abc"], &["'abc'", "--eps0"]);
+    rejected(&["finger", "--eps0"], &["--eps0", "a value is required"]);
+    rejected(&["bogus"], &["'bogus'"]);
+    rejected(&["solve"], &["<SCENE>"]);
+}
+
+#[test]
+fn an_unreadable_scene_exits_1() {
+    let dir = std::env::temp_dir().join(format!("fpc-errors-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let missing = dir.join("missing.toml");
+    let out = dir.join("out");
+    let line = fails(
+        &[
+            "solve",
+            missing.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        1,
+    );
+    assert!(line.contains("cannot read"), "{line}");
+    assert!(line.contains("missing.toml"), "{line}");
+    assert!(!out.exists(), "nothing is written");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn warnings_do_not_fail() {
+    let out = fpc(&["finger", "--eps0", "0.8"]);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(out.status.success(), "{stderr}");
+    assert!(stdout.contains("tip"), "{stdout}");
+    assert_eq!(
+        stderr.trim_end(),
+        "fpc: warning: actuator.pemc.eps0 = 0.8: outside [0, 0.6], the range the prestressed law was fitted to"
+    );
+}
+
+#[test]
+fn help_is_not_an_error() {
+    let out = fpc(&["finger", "--help"]);
+    assert!(out.status.success());
+    assert!(text(&out.stdout).contains("Usage: fpc finger"));
+    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+}
