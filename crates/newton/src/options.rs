@@ -135,6 +135,14 @@ pub struct NewtonOptions {
     /// model is meant to hold when the energy is unbounded far away. Positive;
     /// default `f64::INFINITY` (no cap).
     pub max_step: f64,
+    /// In the quadratic phase (the previous step was a full, unshifted
+    /// Newton step), evaluate the full step's landing point with the
+    /// Hessian straight away (or only the gradient when the quadratic model
+    /// predicts convergence there), falling back to the line search if it
+    /// fails the Armijo test. Saves an energy evaluation per iteration and
+    /// the final Hessian; the price is that a rejected trial point has had
+    /// its Hessian evaluated. Default true.
+    pub eager_full_steps: bool,
     /// Dense factorisation backend. Default [`LinearBackend::Auto`].
     pub backend: LinearBackend,
 }
@@ -149,6 +157,7 @@ impl Default for NewtonOptions {
             c1: 1e-4,
             min_step_fraction: 1e-10,
             max_step: f64::INFINITY,
+            eager_full_steps: true,
             backend: LinearBackend::Auto,
         }
     }
