@@ -7,10 +7,10 @@
 
 use crate::blocks::ElementBlocks;
 use crate::kernels::{
-    end_hessian, end_value, gas_gradient, gas_hessian, gas_moments, gas_value, linear_gradient,
-    linear_hessian, linear_moments, linear_value, prestressed_gradient, prestressed_hessian,
-    prestressed_moments, prestressed_value, GAS_MOMENTS, HESSIAN_ENTRIES, LINEAR_MOMENTS,
-    PRESTRESSED_MOMENTS, UNKNOWNS,
+    end_hessian, end_value, frame_value, gas_gradient, gas_hessian, gas_moments, gas_value,
+    linear_gradient, linear_hessian, linear_moments, linear_value, prestressed_gradient,
+    prestressed_hessian, prestressed_moments, prestressed_value, GAS_MOMENTS, HESSIAN_ENTRIES,
+    LINEAR_MOMENTS, PRESTRESSED_MOMENTS, UNKNOWNS,
 };
 
 /// Element unknowns `[a1, a3, b1, c2]`.
@@ -148,6 +148,18 @@ impl Element {
     /// End point and slope `(Xe, Ze, eta)` in the element frame.
     pub fn end(&self, k: &Coeffs) -> [f64; 3] {
         end_value(k, self.length)
+    }
+
+    /// End point and the end tangent's direction `[Xe, Ze, cos eta, sin eta]`
+    /// without trigonometric calls.
+    pub fn frame(&self, k: &Coeffs) -> [f64; 4] {
+        let [xe, ze, dx, dz] = frame_value(k, self.length);
+        let r = dx.hypot(dz);
+        if r > 0.0 {
+            [xe, ze, dx / r, dz / r]
+        } else {
+            [xe, ze, 1.0, 0.0]
+        }
     }
 
     /// End point and slope with gradients and Hessians.

@@ -293,16 +293,22 @@ impl Finger {
 
     /// Tip position and end angle at raw coefficients.
     pub fn tip(&self, k: &[Coeffs]) -> ([f64; 2], f64) {
+        let angle = self.elements.iter().zip(k).map(|(e, k)| e.end(k)[2]).sum();
+        (self.tip_position(k), angle)
+    }
+
+    /// Tip position at raw coefficients, chaining element frames by
+    /// rotation (no trigonometric calls).
+    pub fn tip_position(&self, k: &[Coeffs]) -> [f64; 2] {
         let mut p = [0.0, 0.0];
-        let mut theta: f64 = 0.0;
+        let (mut c, mut s) = (1.0, 0.0);
         for (e, k) in self.elements.iter().zip(k) {
-            let [xe, ze, eta] = e.end(k);
-            let (s, c) = theta.sin_cos();
+            let [xe, ze, ce, se] = e.frame(k);
             p[0] += c * xe - s * ze;
             p[1] += s * xe + c * ze;
-            theta += eta;
+            (c, s) = (c * ce - s * se, s * ce + c * se);
         }
-        (p, theta)
+        p
     }
 
     /// Mid-plane samples from the root (included) to the tip.
@@ -849,7 +855,8 @@ pub struct Chain<'a> {
     ends: Vec<[f64; 3]>,
     end_g: Vec<[Coeffs; 3]>,
     end_h: Vec<[UpperHessian; 3]>,
-    theta: Vec<f64>,
+    /// (cos, sin) of each element frame's angle theta_i.
+    rot: Vec<[f64; 2]>,
     q: Vec<[f64; 2]>,
     u: Vec<Coeffs>,
     w: Vec<Coeffs>,
@@ -871,7 +878,7 @@ impl<'a> Chain<'a> {
             ends: vec![[0.0; 3]; n],
             end_g: vec![[[0.0; 4]; 3]; n],
             end_h: vec![[[0.0; 10]; 3]; n],
-            theta: vec![0.0; n],
+            rot: vec![[1.0, 0.0]; n],
             q: vec![[0.0; 2]; n],
             u: vec![[0.0; 4]; n],
             w: vec![[0.0; 4]; n],
@@ -897,7 +904,7 @@ impl<'a> Chain<'a> {
     /// gradient/Hessian evaluation.
     fn tip_gradient_scaled(&self, w: [f64; 2], out: &mut [f64]) {
         for j in 0..self.k.len() {
-            let (s, c) = self.theta[j].sin_cos();
+            let [c, s] = self.rot[j];
             let wr = [c * w[0] + s * w[1], -s * w[0] + c * w[1]];
             let qj = self.q[j];
             let wjq = -w[0] * qj[1] + w[1] * qj[0];
@@ -925,20 +932,20 @@ impl<'a> Chain<'a> {
         }
     }
 
-    /// Frames and the vectors from each element's end to the tip.
+    /// Frames (as rotations, from the elements' end tangents) and the
+    /// vectors from each element's end to the tip.
     fn chain_geometry(&mut self) {
         let n = self.k.len();
-        let mut theta: f64 = 0.0;
+        let (mut c, mut s) = (1.0, 0.0);
         let mut p = [0.0, 0.0];
         let mut ends_p = [0.0, 0.0];
         for i in 0..n {
-            self.theta[i] = theta;
-            let [xe, ze, eta] = self.ends[i];
-            let (s, c) = theta.sin_cos();
+            self.rot[i] = [c, s];
+            let [xe, ze, ce, se] = self.finger.elements[i].frame(&self.k[i]);
             p[0] += c * xe - s * ze;
             p[1] += s * xe + c * ze;
             self.q[i] = p; // p_i for now
-            theta += eta;
+            (c, s) = (c * ce - s * se, s * ce + c * se);
             ends_p = p;
         }
         for i in 0..n {
@@ -960,7 +967,7 @@ impl Energy for Chain<'_> {
             v += e.energy(k, self.kp);
         }
         if self.loaded() {
-            let (tip, _) = self.finger.tip(&self.k);
+            let tip = self.finger.tip_position(&self.k);
             v -= self.f[0] * tip[0] + self.f[1] * tip[1];
         }
         v
@@ -988,7 +995,7 @@ impl Gradient for Chain<'_> {
             let n = self.k.len();
             v -= fx * self.tip[0] + fz * self.tip[1];
             for j in 0..n {
-                let (s, c) = self.theta[j].sin_cos();
+                let [c, s] = self.rot[j];
                 let fr = [c * fx + s * fz, -s * fx + c * fz];
                 let qj = self.q[j];
                 let fjq = -fx * qj[1] + fz * qj[0];
@@ -1032,7 +1039,7 @@ impl Hessian for Chain<'_> {
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
             for j in 0..n {
-                let (sn, cs) = self.theta[j].sin_cos();
+                let [cs, sn] = self.rot[j];
                 let fr = [cs * fx + sn * fz, -sn * fx + cs * fz];
                 let qj = self.q[j];
                 let fjq = -fx * qj[1] + fz * qj[0]; // F . J Q_j

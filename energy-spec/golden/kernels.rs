@@ -978,3 +978,68 @@ pub fn end_hessian(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]
         ],
     )
 }
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `c2*L^2`
+- `[2]` dx = `1 + a1 + 3*a3*L^2`
+- `[3]` dz = `2*c2*L`*/
+pub fn frame_value(k: &[f64; 4], L: f64) -> [f64; 4] {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    [L + a1 * L + a3 * tmp1, c2 * tmp0, 1.0 + a1 + 3.0 * a3 * tmp0, 2.0 * c2 * L]
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `c2*L^2`
+- `[2]` dx = `1 + a1 + 3*a3*L^2`
+- `[3]` dz = `2*c2*L`*/
+///
+///Values and gradients of each output.
+pub fn frame_gradient(k: &[f64; 4], L: f64) -> ([f64; 4], [[f64; 4]; 4]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    (
+        [L + a1 * L + a3 * tmp1, c2 * tmp0, 1.0 + a1 + 3.0 * a3 * tmp0, 2.0 * c2 * L],
+        [
+            [L, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, tmp0],
+            [1.0, 3.0 * tmp0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 2.0 * L],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `c2*L^2`
+- `[2]` dx = `1 + a1 + 3*a3*L^2`
+- `[3]` dz = `2*c2*L`*/
+///
+///Values, gradients and upper-triangle Hessians (row by row) of each output.
+pub fn frame_hessian(k: &[f64; 4], L: f64) -> ([f64; 4], [[f64; 4]; 4], [[f64; 10]; 4]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    (
+        [L + a1 * L + a3 * tmp1, c2 * tmp0, 1.0 + a1 + 3.0 * a3 * tmp0, 2.0 * c2 * L],
+        [
+            [L, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, tmp0],
+            [1.0, 3.0 * tmp0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 2.0 * L],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
