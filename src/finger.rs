@@ -427,6 +427,10 @@ pub struct Solver<'a> {
     newton: Newton,
     local: Newton,
     y: Vec<f64>,
+    /// The start of a coupled solve, kept for a continuation restart.
+    start: Vec<f64>,
+    /// Pi at the end of the last coupled Newton solve (taken by `finish`).
+    final_energy: Option<f64>,
 }
 
 impl<'a> Solver<'a> {
@@ -439,6 +443,8 @@ impl<'a> Solver<'a> {
             newton: Newton::new(n, NewtonOptions::default()),
             local: Newton::new(4, NewtonOptions::default()),
             y: vec![0.0; n],
+            start: vec![0.0; n],
+            final_energy: None,
         }
     }
 
@@ -595,20 +601,21 @@ impl<'a> Solver<'a> {
                 }
             }
         }
-        let start: Vec<f64> = self.y.clone();
+        self.start.copy_from_slice(&self.y);
         self.chain.set_load(load);
         let r = self.newton.minimize(&mut self.chain, &mut self.y);
         base.iterations += r.iterations;
         base.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
         base.residual_norm = r.residual_norm;
         if r.reason.is_converged() {
+            self.final_energy = Some(r.energy);
             return Ok(base);
         }
         if !opts.continuation || !load.has_tip_load() || start_failed {
             return Err(self.not_converged(&r, None));
         }
         // load continuation from the start point: F(t) = t F
-        self.y.copy_from_slice(&start);
+        self.y.copy_from_slice(&self.start);
         let chain = &mut self.chain;
         let newton = &mut self.newton;
         let copts = fpc_newton::ContinuationOptions::default();
@@ -625,6 +632,7 @@ impl<'a> Solver<'a> {
         base.residual_norm = cr.last.residual_norm;
         if cr.complete && cr.last.reason.is_converged() {
             self.chain.set_load(load);
+            self.final_energy = Some(cr.last.energy);
             Ok(base)
         } else {
             Err(self.not_converged(&cr.last, None))
@@ -668,13 +676,15 @@ impl<'a> Solver<'a> {
         let f = self.finger;
         let k = self.coefficients();
         let (tip, end_angle) = f.tip(&k);
-        let energy = f
-            .elements
-            .iter()
-            .zip(&k)
-            .map(|(e, k)| e.energy(k, load.kp()))
-            .sum::<f64>()
-            - (load.fx * tip[0] + load.fz * tip[1]);
+        // a coupled Newton solve already knows Pi at its final point
+        let energy = self.final_energy.take().unwrap_or_else(|| {
+            f.elements
+                .iter()
+                .zip(&k)
+                .map(|(e, k)| e.energy(k, load.kp()))
+                .sum::<f64>()
+                - (load.fx * tip[0] + load.fz * tip[1])
+        });
         // stability: eigenvalues of the scaled Hessian
         let min_hessian_eig = if !opts.stability {
             None
