@@ -873,6 +873,12 @@ pub struct Chain<'a> {
     blk: Vec<UpperHessian>,
     tip: [f64; 2],
     force_chain: bool,
+    /// Condensed Newton system (lower triangle), its right-hand side, and
+    /// the shifted b1 pivots.
+    red: Vec<f64>,
+    rg: Vec<f64>,
+    hbb: Vec<f64>,
+    cb: Vec<[f64; 3]>,
 }
 
 impl<'a> Chain<'a> {
@@ -895,6 +901,10 @@ impl<'a> Chain<'a> {
             blk: vec![[0.0; 10]; n],
             tip: [0.0, 0.0],
             force_chain: false,
+            red: Vec::new(),
+            rg: Vec::new(),
+            hbb: vec![0.0; n],
+            cb: vec![[0.0; 3]; n],
         }
     }
 
@@ -1025,6 +1035,75 @@ impl Gradient for Chain<'_> {
 }
 
 impl Hessian for Chain<'_> {
+    /// Condenses the transverse strains `b1` out of the Newton system: each
+    /// couples only within its own element's block (the chain terms do not
+    /// involve it), so eliminating it leaves a `3N x 3N` Cholesky instead of
+    /// `4N x 4N`, about 2.4 times less work.
+    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
+        let n = self.k.len();
+        let (dim, m) = (4 * n, 3 * n);
+        if m > fpc_newton::AUTO_DENSE_MAX_DIM {
+            return None; // faer's factorisation wins at this size
+        }
+        const KEEP: [usize; 3] = [0, 1, 3];
+        self.red.resize(m * m, 0.0);
+        self.rg.resize(m, 0.0);
+        // per element: the shifted b1 pivot and the b1 column of its block
+        for e in 0..n {
+            let b = 4 * e + 2;
+            let hbb = h[b + dim * b] + tau;
+            if hbb.is_nan() || hbb <= 0.0 {
+                return Some(false);
+            }
+            self.hbb[e] = hbb;
+            // rows 4e, 4e+1 sit above b (upper part: read the mirrored lower entry)
+            self.cb[e] = [
+                h[b + dim * (4 * e)],
+                h[b + dim * (4 * e + 1)],
+                h[(4 * e + 3) + dim * b],
+            ];
+        }
+        for c in 0..m {
+            let (ec, tc) = (c / 3, c % 3);
+            let jc = 4 * ec + KEEP[tc];
+            let scale = self.cb[ec][tc] / self.hbb[ec];
+            self.rg[c] = g[jc] - scale * g[4 * ec + 2];
+            let col = &h[dim * jc..dim * (jc + 1)];
+            let out = &mut self.red[m * c..m * (c + 1)];
+            // the diagonal block: Schur complement of b1
+            for (r, o) in out.iter_mut().enumerate().take(3 * ec + 3).skip(c) {
+                let tr = r % 3;
+                *o = col[4 * ec + KEEP[tr]] - self.cb[ec][tr] * scale;
+            }
+            out[c] += tau;
+            // blocks below: b1 does not couple across elements
+            for er in ec + 1..n {
+                let src = &col[4 * er..4 * er + 4];
+                out[3 * er] = src[0];
+                out[3 * er + 1] = src[1];
+                out[3 * er + 2] = src[3];
+            }
+        }
+        if fpc_newton::cholesky_in_place(m, &mut self.red).is_err() {
+            return Some(false);
+        }
+        for v in self.rg.iter_mut() {
+            *v = -*v;
+        }
+        fpc_newton::cholesky_solve(m, &self.red, &mut self.rg);
+        for e in 0..n {
+            let b = 4 * e + 2;
+            let mut rhs = -g[b];
+            for (t, &kk) in KEEP.iter().enumerate() {
+                let j = 4 * e + kk;
+                p[j] = self.rg[3 * e + t];
+                rhs -= self.cb[e][t] * p[j];
+            }
+            p[b] = rhs / self.hbb[e];
+        }
+        Some(true)
+    }
+
     fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
         self.unscale(y);
         let n = self.k.len();

@@ -220,7 +220,7 @@ impl Newton {
                 rep.reason = Termination::MaxIterations;
                 break;
             }
-            let tau = match self.direction(last_tau, &mut rep) {
+            let tau = match self.direction(p, last_tau, &mut rep) {
                 Ok(tau) => tau,
                 Err(reason) => {
                     rep.reason = reason;
@@ -315,7 +315,12 @@ impl Newton {
     /// common positive definite case pays nothing), or `Err(Singular)` if no
     /// shift produced a usable factorisation. `last_tau` (the previous
     /// iteration's shift) seeds the escalation.
-    fn direction(&mut self, last_tau: f64, rep: &mut Report) -> Result<f64, Termination> {
+    fn direction<P: Hessian + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        last_tau: f64,
+        rep: &mut Report,
+    ) -> Result<f64, Termination> {
         let n = self.n;
         let mut dmin = f64::INFINITY;
         let mut dmax = 0.0f64;
@@ -332,6 +337,21 @@ impl Newton {
         let mut tau = 0.0;
         for _ in 0..MAX_SHIFT_TRIES {
             rep.factorizations += 1;
+            if let Some(pd) = problem.solve_shifted(&self.h, &self.g, tau, &mut self.p) {
+                if pd && all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
+                    let len = norm_inf(&self.p);
+                    if len > self.opts.max_step {
+                        let s = self.opts.max_step / len;
+                        self.p.iter_mut().for_each(|v| *v *= s);
+                    }
+                    return Ok(tau);
+                }
+                if tau == 0.0 && !all_finite(&self.h) {
+                    return Err(Termination::NonFinite);
+                }
+                tau = if tau == 0.0 { first } else { 2.0 * tau };
+                continue;
+            }
             let ok = match self.backend {
                 LinearBackend::Faer => {
                     self.l.copy_from_slice(&self.h);

@@ -31,6 +31,18 @@ pub trait Hessian: Gradient {
     /// into `h` (at least the lower triangle; see the module docs); returns
     /// the value.
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64;
+
+    /// Optionally solves `(h + tau I) p = -g` with structure the problem
+    /// knows (for example unknowns that couple only within small blocks and
+    /// can be condensed out). `h` and `g` are the last values this problem
+    /// wrote. Return `None` to let [`Newton`](crate::Newton) use its dense
+    /// Cholesky, `Some(true)` when `p` holds the solution and `h + tau I`
+    /// is positive definite, `Some(false)` when it is not (Newton then tries
+    /// a larger shift).
+    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
+        let _ = (h, g, tau, p);
+        None
+    }
 }
 
 impl<P: Energy + ?Sized> Energy for &mut P {
@@ -51,5 +63,8 @@ impl<P: Gradient + ?Sized> Gradient for &mut P {
 impl<P: Hessian + ?Sized> Hessian for &mut P {
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
         (**self).hessian(x, g, h)
+    }
+    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
+        (**self).solve_shifted(h, g, tau, p)
     }
 }

@@ -1114,3 +1114,65 @@ fn newton_timing() {
         );
     }
 }
+
+/// A problem that solves its own Newton systems (through the public dense
+/// kernels) and counts the calls.
+struct OwnSolve {
+    inner: Rosenbrock,
+    calls: usize,
+}
+
+impl Energy for OwnSolve {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        self.inner.energy(x)
+    }
+}
+
+impl Gradient for OwnSolve {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        self.inner.gradient(x, g)
+    }
+}
+
+impl Hessian for OwnSolve {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        self.inner.hessian(x, g, h)
+    }
+    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
+        self.calls += 1;
+        let n = g.len();
+        let mut l = h.to_vec();
+        for i in 0..n {
+            l[i * (n + 1)] += tau;
+        }
+        if crate::cholesky_in_place(n, &mut l).is_err() {
+            return Some(false);
+        }
+        for (pi, gi) in p.iter_mut().zip(g) {
+            *pi = -gi;
+        }
+        crate::cholesky_solve(n, &l, p);
+        Some(true)
+    }
+}
+
+#[test]
+fn a_problem_can_solve_its_own_newton_systems() {
+    let n = 10;
+    let mut own = OwnSolve {
+        inner: Rosenbrock { n },
+        calls: 0,
+    };
+    let mut x = rosenbrock_start(n);
+    let r = Newton::new(n, NewtonOptions::default()).minimize(&mut own, &mut x);
+    assert!(r.converged(), "{r}");
+    assert!(own.calls >= r.iterations && own.calls > 0);
+    let mut plain = Rosenbrock { n };
+    let mut xp = rosenbrock_start(n);
+    let rp = Newton::new(n, NewtonOptions::default()).minimize(&mut plain, &mut xp);
+    assert!(rp.converged());
+    assert!(max_abs_diff(&x, &xp) < 1e-9, "{x:?} vs {xp:?}");
+}
