@@ -699,15 +699,8 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> Result<SphereGrasp, SolveError> {
-        positive("sphere.radius", r)?;
+        check_sphere(r, beta)?;
         finite("sphere.lift", lift)?;
-        check_beta(beta)?;
-        require(
-            beta.abs() < FRAC_PI_2,
-            "sphere.beta",
-            beta,
-            "must lie in (-pi/2, pi/2)".into(),
-        )?;
         let grasp = self.solve_scene(
             &Scene {
                 pressure_kpa,
@@ -733,14 +726,7 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> Result<SphereGrasp, SolveError> {
-        positive("sphere.radius", r)?;
-        check_beta(beta)?;
-        require(
-            beta.abs() < FRAC_PI_2,
-            "sphere.beta",
-            beta,
-            "must lie in (-pi/2, pi/2)".into(),
-        )?;
+        check_sphere(r, beta)?;
         let grasp = self.solve_scene(
             &Scene {
                 pressure_kpa,
@@ -1033,6 +1019,19 @@ fn check_beta(beta: f64) -> Result<(), InputError> {
         "grasp.beta",
         beta,
         "must lie in [-pi/2, pi/2]".into(),
+    )
+}
+
+/// A sphere's radius and grasping angle: positive radius, angle strictly
+/// inside (-pi/2, pi/2) (the contact must not be at a pole).
+fn check_sphere(r: f64, beta: f64) -> Result<(), InputError> {
+    positive("sphere.radius", r)?;
+    check_beta(beta)?;
+    require(
+        beta.abs() < FRAC_PI_2,
+        "sphere.beta",
+        beta,
+        "must lie in (-pi/2, pi/2)".into(),
     )
 }
 

@@ -91,38 +91,23 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         bar.set_message(format!("study {n}: {}", STUDIES[n - 1].0));
     };
 
-    step(1);
-    let (r, t) = timed(|| fpc::study1_prestrain_angle(&act, &opts));
-    out.finish(1, t, r, &bar, |o, v| o.study1(v))?;
-    bar.inc(1);
-    step(2);
-    let (r, t) = timed(|| fpc::study2_overlap(&act, &opts));
-    out.finish(2, t, r, &bar, |o, v| o.study2(v))?;
-    bar.inc(1);
-    step(3);
-    let (r, t) = timed(|| fpc::study3_cuboid_region(&act, &opts));
-    out.finish(3, t, r, &bar, |o, v| o.study3(v))?;
-    bar.inc(1);
-    step(4);
-    let (r, t) = timed(|| fpc::study4_force_control(&act, &opts));
-    out.finish(4, t, r, &bar, |o, v| o.study4(v))?;
-    bar.inc(1);
-    step(5);
-    let (r, t) = timed(|| fpc::study5_sphere_region(&act, &opts));
-    out.finish(5, t, r, &bar, |o, v| o.study5(v))?;
-    bar.inc(1);
-    step(6);
-    let (r, t) = timed(|| fpc::study6_viable_angles(&act, &opts));
-    out.finish(6, t, r, &bar, |o, v| o.study6(v))?;
-    bar.inc(1);
-    step(7);
-    let (r, t) = timed(|| fpc::study7_curvature(&act, &opts));
-    out.finish(7, t, r, &bar, |o, v| o.study7(v))?;
-    bar.inc(1);
-    step(8);
-    let (r, t) = timed(|| fpc::study8_force_at_displacement(&act, &opts));
-    out.finish(8, t, r, &bar, |o, v| o.study8(v))?;
-    bar.inc(1);
+    // one study: label the bar, run it timed, write its files, tick
+    macro_rules! study {
+        ($n:expr, $run:path, $write:ident) => {{
+            step($n);
+            let (r, t) = timed(|| $run(&act, &opts));
+            out.finish($n, t, r, &bar, |o, v| o.$write(v))?;
+            bar.inc(1);
+        }};
+    }
+    study!(1, fpc::study1_prestrain_angle, study1);
+    study!(2, fpc::study2_overlap, study2);
+    study!(3, fpc::study3_cuboid_region, study3);
+    study!(4, fpc::study4_force_control, study4);
+    study!(5, fpc::study5_sphere_region, study5);
+    study!(6, fpc::study6_viable_angles, study6);
+    study!(7, fpc::study7_curvature, study7);
+    study!(8, fpc::study8_force_at_displacement, study8);
     bar.finish_and_clear();
 
     let elapsed = started.elapsed().as_secs_f64();
