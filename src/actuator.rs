@@ -43,14 +43,15 @@ pub struct Isotropic {
 }
 
 impl Isotropic {
-    /// Q11 = Q22 = E/(1-nu^2), Q12 = nu E/(1-nu^2).
+    /// Q11 = Q22 = E/(1-nu^2), Q12 = nu E/(1-nu^2): the orthotropic
+    /// formulas with E1 = E2.
     pub fn q(&self) -> PlaneStress {
-        let d = 1.0 - self.nu * self.nu;
-        PlaneStress {
-            q11: self.e / d,
-            q12: self.nu * self.e / d,
-            q22: self.e / d,
+        Orthotropic {
+            e1: self.e,
+            e2: self.e,
+            nu12: self.nu,
         }
+        .q()
     }
 
     fn validate(&self, path: &str) -> Result<(), InputError> {

@@ -862,7 +862,6 @@ pub struct Chain<'a> {
     f: [f64; 2],
     k: Vec<Coeffs>,
     s: Vec<Coeffs>,
-    ends: Vec<[f64; 3]>,
     end_g: Vec<[Coeffs; 3]>,
     end_h: Vec<[UpperHessian; 3]>,
     /// (cos, sin) of each element frame's angle theta_i.
@@ -891,7 +890,6 @@ impl<'a> Chain<'a> {
             f: [0.0, 0.0],
             k: vec![[0.0; 4]; n],
             s: finger.elements.iter().map(|e| scales(e.length())).collect(),
-            ends: vec![[0.0; 3]; n],
             end_g: vec![[[0.0; 4]; 3]; n],
             end_h: vec![[[0.0; 10]; 3]; n],
             rot: vec![[1.0, 0.0]; n],
@@ -1004,8 +1002,7 @@ impl Gradient for Chain<'_> {
             v += vi;
             g[4 * i..4 * i + 4].copy_from_slice(&gi);
             if loaded {
-                let (ends, eg) = crate::kernels::end_gradient(&self.k[i], e.length());
-                self.ends[i] = ends;
+                let (_, eg) = crate::kernels::end_gradient(&self.k[i], e.length());
                 self.end_g[i] = eg;
             }
         }
@@ -1117,8 +1114,7 @@ impl Hessian for Chain<'_> {
             g[4 * i..4 * i + 4].copy_from_slice(&gi);
             self.blk[i] = hi;
             if loaded {
-                let (ends, eg, eh) = e.end_hessian(&self.k[i]);
-                self.ends[i] = ends;
+                let (_, eg, eh) = e.end_hessian(&self.k[i]);
                 self.end_g[i] = eg;
                 self.end_h[i] = eh;
             }

@@ -763,14 +763,7 @@ impl Gripper {
         r: f64,
         samples: usize,
     ) -> Result<Option<SphereLift>, SolveError> {
-        positive("sphere.radius", r)?;
-        finite("grasp.pressure_kpa", pressure_kpa)?;
-        require(
-            samples >= 4,
-            "sphere.samples",
-            samples as f64,
-            "must be at least 4".into(),
-        )?;
+        check_scan(pressure_kpa, r, samples)?;
         let [lo, hi] = grasping_angle_range(self.params.mu);
         let mut best: Option<(SphereLift, Grasp)> = None;
         let consider = |sg: SphereGrasp, best: &mut Option<(SphereLift, Grasp)>| {
@@ -894,15 +887,8 @@ impl Gripper {
         lift: f64,
         samples: usize,
     ) -> Result<ViableAngles, SolveError> {
-        positive("sphere.radius", r)?;
         finite("sphere.lift", lift)?;
-        finite("grasp.pressure_kpa", pressure_kpa)?;
-        require(
-            samples >= 4,
-            "sphere.samples",
-            samples as f64,
-            "must be at least 4".into(),
-        )?;
+        check_scan(pressure_kpa, r, samples)?;
         let [lo, hi] = grasping_angle_range(self.params.mu);
         let mut scan = Vec::with_capacity(samples);
         let mut grasps: Vec<Option<Grasp>> = Vec::with_capacity(samples);
@@ -1032,6 +1018,18 @@ fn check_sphere(r: f64, beta: f64) -> Result<(), InputError> {
         "sphere.beta",
         beta,
         "must lie in (-pi/2, pi/2)".into(),
+    )
+}
+
+/// The inputs of an angle scan over a sphere: pressure, radius, samples.
+fn check_scan(pressure_kpa: f64, r: f64, samples: usize) -> Result<(), InputError> {
+    positive("sphere.radius", r)?;
+    finite("grasp.pressure_kpa", pressure_kpa)?;
+    require(
+        samples >= 4,
+        "sphere.samples",
+        samples as f64,
+        "must be at least 4".into(),
     )
 }
 
