@@ -767,7 +767,7 @@ impl Gripper {
         let [lo, hi] = grasping_angle_range(self.params.mu);
         let mut best: Option<(SphereLift, Grasp)> = None;
         let consider = |sg: SphereGrasp, best: &mut Option<(SphereLift, Grasp)>| {
-            if sg.is_valid() && best.as_ref().map_or(true, |(b, _)| sg.grasp.lift > b.lift) {
+            if sg.is_valid() && best.as_ref().is_none_or(|(b, _)| sg.grasp.lift > b.lift) {
                 *best = Some((
                     SphereLift {
                         radius: r,
@@ -864,7 +864,7 @@ impl Gripper {
         for (i, p) in points.iter().enumerate() {
             let q = self.to_gripper(*p);
             let depth = r - (q[0] - center[0]).hypot(q[1] - center[1]);
-            if depth > tol && worst.map_or(true, |(_, w)| depth > w) {
+            if depth > tol && worst.is_none_or(|(_, w)| depth > w) {
                 worst = Some((i, depth));
             }
         }

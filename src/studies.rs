@@ -490,7 +490,7 @@ fn sphere_envelope(
     let mut best: Option<(usize, SphereLift)> = None;
     for &r in &radii {
         if let Some(e) = at(r)? {
-            if best.map_or(true, |(_, b)| e.lift > b.lift) {
+            if best.is_none_or(|(_, b)| e.lift > b.lift) {
                 best = Some((envelope.len(), e));
             }
             envelope.push(e);

@@ -80,9 +80,9 @@ fn assert_finite_solution(what: &str, s: &Solution) {
         s.coefficients
     );
     assert!(s.points.iter().flatten().copied().all(fin), "{what}");
-    assert!(s.radius.map_or(true, fin), "{what}: radius {:?}", s.radius);
+    assert!(s.radius.is_none_or(fin), "{what}: radius {:?}", s.radius);
     assert!(
-        s.min_hessian_eig.map_or(true, fin),
+        s.min_hessian_eig.is_none_or(fin),
         "{what}: eigenvalue {:?}",
         s.min_hessian_eig
     );

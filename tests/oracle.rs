@@ -1,5 +1,5 @@
-//! Every case of `../shared/oracle/element_cases.json` (an independent
-//! symbolic implementation) against the generated kernels assembled with the
+//! Every case of `tests/data/oracle_element_cases.json` (reference values
+//! from an independent symbolic implementation, see `tests/data/README.md`) against the generated kernels assembled with the
 //! MODEL.md defaults: energy, gas volume, gradient, Hessian and end
 //! kinematics, each to 1e-10 relative.
 
@@ -9,14 +9,8 @@ use serde_json::Value;
 const TOL: f64 = 1e-10;
 
 fn oracle() -> Value {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../shared/oracle/element_cases.json"
-    );
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| {
-        panic!("the oracle file {path} is required (shared/ beside the repository): {e}")
-    });
-    serde_json::from_str(&text).expect("oracle JSON parses")
+    let text = include_str!("data/oracle_element_cases.json");
+    serde_json::from_str(text).expect("oracle JSON parses")
 }
 
 fn f(v: &Value) -> f64 {

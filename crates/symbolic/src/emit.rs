@@ -256,7 +256,7 @@ impl<'a> Emitter<'a> {
         }
         // the base is multiplied by itself: write it as a name, not twice
         self.force_bind(base);
-        let p = if n % 2 == 0 {
+        let p = if n.is_multiple_of(2) {
             let h = self.power(base, n / 2).at_least(Prec::Atom);
             self.ops.mul += 1;
             self.bind(Piece {
