@@ -1,4 +1,4 @@
-//! Generates the element kernels from the energy spec (see DESIGN.md).
+//! Generates the element kernels from the energy spec (see the README, "Generated kernels").
 //!
 //! Thin on purpose: parse and generate with `fpc-symbolic` (a pure function
 //! of the spec text), format with prettyplease, prepend an `@generated`

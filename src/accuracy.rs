@@ -4,7 +4,7 @@
 //!
 //! Scene (default actuator with ribs, eps0 = 0.25): the tip-loaded finger
 //! (Fx = 0.939782 N, Fz = 0.521707 N, finger frame) for the tip and the
-//! grasp size (gripper of MODEL.md Sec. 5: a = pi/3, overlap 20 mm), and
+//! grasp size (the gripper of the paper's Sec. 5: a = pi/3, overlap 20 mm), and
 //! the unloaded finger for the circle-fit radius. The reference is N = 256
 //! at a relative residual of 1e-13; a Richardson extrapolation from N = 64,
 //! 128 and 256 reports how far the reference itself may be from N -> oo.

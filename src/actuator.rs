@@ -1,5 +1,5 @@
 //! The actuator: laminate materials, dimensions, channel and ribs
-//! (MODEL.md section 1), with the paper's defaults, and their validation.
+//! (docs/model.md section 3), with the paper's defaults, and their validation.
 //!
 //! [`ActuatorParams`] is plain data anyone can edit; [`Actuator::new`]
 //! checks it once and returns an [`Actuator`] whose content can no longer
@@ -295,7 +295,7 @@ pub struct Rib {
 /// How the ribs inside the channel are laid out.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RibLayout {
-    /// The default layout of MODEL.md decision D5: one longitudinal rib of
+    /// The default layout of docs/model.md decision D5: one longitudinal rib of
     /// width `t` over the whole channel, and transverse ribs `t` long in X,
     /// centred at X_ref = k w1 (k = 1, 2, ... while k w1 + t/2 <= cx),
     /// each of total width 2 w2 beside the longitudinal rib.

@@ -1,5 +1,5 @@
 //! The element partition and each element's integration blocks
-//! (MODEL.md sections 2.1 and 2.2).
+//! (docs/model.md sections 4.3 and 4.4).
 //!
 //! An element's strain energy and gas volume are sums of integrals over
 //! boxes: x over a sub-interval [x0, x1] of the element (local

@@ -92,7 +92,7 @@ pub enum Warning {
     SofteningPrestressLaw { eps0: f64, tangent: f64 },
     /// The gripper's mounting angle (rad) lies outside the design space
     /// [`lo`, `hi`] = [arccot mu, pi/2]: fingers pressed flat cannot hold
-    /// the object by friction (MODEL.md section 3).
+    /// the object by friction (docs/model.md section 5).
     MountingAngleOutsideDesignSpace { angle: f64, lo: f64, hi: f64 },
     /// The palm diameter exceeds twice the fingers' inward reach
     /// (`palm > 2 l0`, a negative overlap): the fingers leave a gap at rest,

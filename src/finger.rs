@@ -1,4 +1,4 @@
-//! The chained composite model of one finger (MODEL.md section 2).
+//! The chained composite model of one finger (docs/model.md section 4).
 //!
 //! Unknowns are scaled per element, `y = (a1, a3 L^2, b1, c2 L)`, so every
 //! unknown is a dimensionless strain of order 0.01-0.1 and the Newton system
@@ -1184,7 +1184,7 @@ impl Hessian for Chain<'_> {
 
 /// A scene whose tip load depends on one unknown scalar `lambda`,
 /// `F = base + lambda * direction`, fixed by one target on the tip position:
-/// `weights . tip = target` at equilibrium (MODEL.md section 4: the unknown
+/// `weights . tip = target` at equilibrium (docs/model.md section 6: the unknown
 /// load joins the Newton system with the target as an extra equation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TargetProblem {

@@ -1,4 +1,4 @@
-//! The soft gripper built from identical, synchronised fingers (MODEL.md
+//! The soft gripper built from identical, synchronised fingers (docs/model.md
 //! section 3): frames, the geometry fixed by the unloaded finger, grasp
 //! measures, validity of sphere grasps, and direct target solves.
 //!
@@ -127,7 +127,7 @@ pub fn gripper_force_to_contact(force: [f64; 2], beta: f64) -> (f64, f64) {
 
 /// The tip load `(F_x, F_z)` in the finger frame of a contact with normal
 /// force `F`, friction `f`, grasping angle `b`, mounting angle `a`
-/// (MODEL.md section 3, decision D3):
+/// (docs/model.md section 5, decision D3):
 /// `F_x = F cos(a - b) + f sin(a - b)`, `F_z = F sin(a - b) - f cos(a - b)`.
 pub fn contact_force_to_finger(normal: f64, friction: f64, beta: f64, a: f64) -> [f64; 2] {
     let (s, c) = (a - beta).sin_cos();

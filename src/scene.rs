@@ -2,7 +2,7 @@
 //! option, the partition, the load, the solver settings) and, optionally, a
 //! gripper built from it with one grasp to solve.
 //!
-//! Every key has the paper's default (MODEL.md), so an empty document is
+//! Every key has the paper's default (docs/model.md), so an empty document is
 //! the default actuator (eps0 = 0.25) in eight equal elements, unloaded.
 //! Unknown keys are errors: a typo is reported with its line and column,
 //! never ignored. Units are in the key names where they are not the
@@ -185,7 +185,7 @@ pub struct ChannelSection {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum RibKind {
-    /// MODEL.md decision D5 from `w1`, `w2`, `t`.
+    /// docs/model.md decision D5 from `w1`, `w2`, `t`.
     Paper,
     /// An explicit `list` of ribs.
     List,

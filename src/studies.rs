@@ -1,4 +1,4 @@
-//! The eight studies of the paper (MODEL.md section 4) as functions that
+//! The eight studies of the paper (docs/model.md section 6) as functions that
 //! return plain rows.
 //!
 //! Every study takes the base actuator (the paper's by default; each study

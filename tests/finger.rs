@@ -1,4 +1,4 @@
-//! Validation of the CCM finger (MODEL.md section 2) against methods that do
+//! Validation of the CCM finger (docs/model.md section 4) against methods that do
 //! not share the solver's code path: finite differences of the energy, an
 //! independent Cholesky and eigen-solver, a gradient-only BFGS minimiser,
 //! physical and variational inequalities, and refinement in N.

@@ -1,4 +1,4 @@
-//! The gripper analysis (MODEL.md section 3): frame transforms against
+//! The gripper analysis (docs/model.md section 5): frame transforms against
 //! hand-derived cases, the geometry fixed by the unloaded finger, the
 //! validity filters on constructed grasps, and every target solve fed back
 //! to a plain forward solve.

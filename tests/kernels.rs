@@ -1,5 +1,5 @@
 //! The generated element kernels against methods written here, independently
-//! of the generator, from MODEL.md sections 1-2:
+//! of the generator, from docs/model.md sections 3-4:
 //!
 //! - tensor Gauss-Legendre quadrature of the energy densities (values, and
 //!   the chain-rule derivatives of the densities);
@@ -132,7 +132,7 @@ fn gauss_legendre_rules_are_exact() {
 }
 
 // ---------------------------------------------------------------------------
-// The model, written from MODEL.md section 2.
+// The model, written from docs/model.md section 4.
 
 type K = [f64; 4];
 
@@ -792,7 +792,7 @@ fn derivatives_match_quadrature_of_density_derivatives() {
 // ---------------------------------------------------------------------------
 // 3. End kinematics.
 
-/// MODEL.md Eqs. 11, 13 with decision D2.
+/// docs/model.md Eqs. 11, 13 with decision D2.
 fn end_closed_form(k: &K, l: f64) -> [f64; 3] {
     let [a1, a3, _, c2] = *k;
     [
@@ -933,9 +933,9 @@ fn end_slope_is_right_past_ninety_degrees() {
 }
 
 // ---------------------------------------------------------------------------
-// 4. Element energy from the laminate description of MODEL.md section 1.
+// 4. Element energy from the laminate description of docs/model.md section 3.
 
-/// The default finger, from MODEL.md's numbers (not from the library).
+/// The default finger, from docs/model.md's numbers (not from the library).
 mod paper {
     pub const LX: f64 = 110.0;
     pub const LY: f64 = 31.75;

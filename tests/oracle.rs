@@ -1,6 +1,6 @@
 //! Every case of `tests/data/oracle_element_cases.json` (reference values
 //! from an independent symbolic implementation, see `tests/data/README.md`) against the generated kernels assembled with the
-//! MODEL.md defaults: energy, gas volume, gradient, Hessian and end
+//! docs/model.md defaults: energy, gas volume, gradient, Hessian and end
 //! kinematics, each to 1e-10 relative.
 
 use fpc::{element_blocks, kernels::upper_index, Actuator, Element, Partition};

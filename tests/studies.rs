@@ -1,4 +1,4 @@
-//! The eight studies of MODEL.md section 4 on coarse sweeps: outputs are
+//! The eight studies of docs/model.md section 6 on coarse sweeps: outputs are
 //! finite, respect the angle bounds, and are monotone where the physics
 //! says so.
 

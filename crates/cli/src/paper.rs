@@ -1,4 +1,4 @@
-//! `fpc paper`: run the paper's eight studies (MODEL.md section 4) with the
+//! `fpc paper`: run the paper's eight studies (docs/model.md section 6) with the
 //! default actuator and write, into one directory, a CSV table and an SVG
 //! figure per study, `summary.json` with the key numbers, and `index.html`
 //! showing every figure.
@@ -1093,7 +1093,7 @@ impl Output {
         s.insert(
             "options".into(),
             json!({
-                "actuator": "default (MODEL.md section 1)",
+                "actuator": "default (docs/model.md section 3)",
                 "elements": self.opts.elements,
                 "mu": num(self.opts.mu),
                 "sweep_points": self.opts.sweep_points,
