@@ -16,6 +16,7 @@
 //! | prestressed EMC (PEMC) | [-H/2, -h3] |
 
 use crate::error::{finite, positive, require, InputError, Warning};
+use crate::model::PsiParams;
 
 /// Strain range of the uniaxial test the prestressed law was fitted to;
 /// a prestrain outside it is accepted with a [`Warning`].
@@ -148,49 +149,36 @@ impl From<Orthotropic> for Material {
     }
 }
 
-/// The prestressed layer's axial strain-energy law (MPa):
-///
-/// psi(s) = p0/2 s^2 - p1/3 s^3 + p2/4 s^4 - p3/5 s^5
-///
-/// a fit of a uniaxial test; psi'(s) is the axial stress.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PsiLaw {
-    pub p: [f64; 4],
-}
+/// The prestressed layer's axial law: the constants of the spec's
+/// `law psi(s)` (for the paper's element,
+/// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 in MPa, a fit of a
+/// uniaxial test; psi'(s) is the axial stress). The law itself, and its
+/// derivatives, are generated from the spec ([`crate::ElementModel::psi`]).
+pub type PsiLaw = PsiParams;
 
-impl Default for PsiLaw {
+impl Default for PsiParams {
     /// The paper's fit (printed in Pa as 1.598e6, ...).
     fn default() -> Self {
-        PsiLaw {
-            p: [1.598, 2.306, 2.29, 0.698],
+        PsiParams {
+            p1: 1.598,
+            p2: 2.306,
+            p3: 2.29,
+            p4: 0.698,
         }
     }
 }
 
-impl PsiLaw {
-    /// Energy density psi(s) (MPa = N mm / mm^3).
-    pub fn energy(&self, s: f64) -> f64 {
-        let [p0, p1, p2, p3] = self.p;
-        s * s * (p0 / 2.0 + s * (-p1 / 3.0 + s * (p2 / 4.0 - s * p3 / 5.0)))
-    }
-
-    /// Stress psi'(s) (MPa).
-    pub fn stress(&self, s: f64) -> f64 {
-        let [p0, p1, p2, p3] = self.p;
-        s * (p0 + s * (-p1 + s * (p2 - s * p3)))
-    }
-
-    /// Tangent modulus psi''(s) (MPa).
-    pub fn tangent(&self, s: f64) -> f64 {
-        let [p0, p1, p2, p3] = self.p;
-        p0 + s * (-2.0 * p1 + s * (3.0 * p2 - s * 4.0 * p3))
+impl PsiParams {
+    /// The constants, in order.
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.p1, self.p2, self.p3, self.p4]
     }
 
     fn validate(&self, path: &str) -> Result<(), InputError> {
-        for (k, &pk) in self.p.iter().enumerate() {
-            finite(&format!("{path}.p[{k}]"), pk)?;
+        for (k, pk) in self.to_array().into_iter().enumerate() {
+            finite(&format!("{path}.p{}", k + 1), pk)?;
         }
-        positive(&format!("{path}.p[0]"), self.p[0])?;
+        positive(&format!("{path}.p1"), self.p1)?;
         Ok(())
     }
 }
@@ -478,14 +466,6 @@ impl Actuator {
                 hi,
             });
         }
-        let tangent = pemc.law.tangent(pemc.eps0);
-        if tangent <= 0.0 {
-            warnings.push(Warning::SofteningPrestressLaw {
-                eps0: pemc.eps0,
-                tangent,
-            });
-        }
-
         Ok(Actuator {
             params,
             ribs,

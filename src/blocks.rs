@@ -8,8 +8,9 @@
 //! NEGATIVE width is subtracted: that is how the channel (a void in the
 //! fluidic layer) and the ribs (solid inside the gas volume) enter.
 
-use crate::actuator::{Actuator, PlaneStress, Rib};
+use crate::actuator::{Actuator, Rib};
 use crate::error::{finite, positive, require, InputError};
+use crate::model::{GasParams, LinearParams, PrestressedParams};
 
 /// Shortest element allowed, as a fraction of the finger's length.
 pub const MIN_ELEMENT_FRACTION: f64 = 1e-3;
@@ -108,64 +109,22 @@ impl Partition {
     }
 }
 
-/// A box of linear material: energy
-/// `width * integral_{x0}^{x1} integral_{z0}^{z1} W dz dx` with
-/// W = 1/2 q11 eps_x^2 + q12 eps_x eps_y + 1/2 q22 eps_y^2.
-///
-/// A negative `width` subtracts the box (the channel, a void cut out of
-/// the whole fluidic layer).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LinearBlock {
-    pub x0: f64,
-    pub x1: f64,
-    pub z0: f64,
-    pub z1: f64,
-    pub width: f64,
-    pub q: PlaneStress,
-}
-
-/// A box of the prestressed layer: energy
-/// `width * integral integral [psi(eps0 + eps_x) + 1/2 q22 eps_y^2] dz dx`,
-/// psi(s) = p0/2 s^2 - p1/3 s^3 + p2/4 s^4 - p3/5 s^5.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PrestressedBlock {
-    pub x0: f64,
-    pub x1: f64,
-    pub z0: f64,
-    pub z1: f64,
-    pub width: f64,
-    pub eps0: f64,
-    pub p: [f64; 4],
-    pub q22: f64,
-}
-
-/// A box of the gas volume: volume
-/// `width * integral integral (1 + eps_x)(1 + eps_y) dz dx`.
-///
-/// A negative `width` subtracts the box (a rib inside the channel).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GasBlock {
-    pub x0: f64,
-    pub x1: f64,
-    pub z0: f64,
-    pub z1: f64,
-    pub width: f64,
-}
-
-/// The blocks of one element. Two elements with equal `ElementBlocks`
-/// (compared exactly) have the same energy function.
+/// The blocks of one element, each in the parameter struct of the model's
+/// integral family it feeds (a negative width subtracts a box: the channel
+/// from the fluidic layer, a rib from the gas volume). Two elements with
+/// equal `ElementBlocks` (compared exactly) have the same energy function.
 #[derive(Debug, Clone, PartialEq)]
-pub struct ElementBlocks {
+pub(crate) struct ElementBlocks {
     /// Undeformed length L_i.
     pub length: f64,
     /// CL, regular EMC, whole fluidic layer, then the channel (negative
     /// width), then the ribs (fluidic material) if enabled.
-    pub linear: Vec<LinearBlock>,
+    pub linear: Vec<LinearParams>,
     /// The prestressed layer.
-    pub prestressed: Vec<PrestressedBlock>,
+    pub prestressed: Vec<PrestressedParams>,
     /// The channel (positive width), then the ribs (negative width) if
     /// enabled. Empty where the element has no channel.
-    pub gas: Vec<GasBlock>,
+    pub gas: Vec<GasParams>,
 }
 
 /// Clips the global range [gx0, gx1] to the element [start, start + len]
@@ -184,7 +143,7 @@ fn clip(gx0: f64, gx1: f64, start: f64, len: f64) -> Option<(f64, f64)> {
 /// `part` should be built for `act.geometry().lx`; the laminae cover each
 /// element whole, and the channel and ribs are clipped to it. `ribs`
 /// switches the rib terms (in both energy and gas volume) on or off.
-pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
+pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
     let layers = act.linear_layers();
     let fluidic_q = act.fluidic_q();
     let (pz0, pz1) = act.pemc_z();
@@ -198,28 +157,32 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Eleme
         .iter()
         .zip(part.starts())
         .map(|(&len, &start)| {
-            let mut linear: Vec<LinearBlock> = layers
+            let mut linear: Vec<LinearParams> = layers
                 .iter()
-                .map(|l| LinearBlock {
+                .map(|l| LinearParams {
                     x0: 0.0,
                     x1: len,
                     z0: l.z0,
                     z1: l.z1,
                     width,
-                    q: l.q,
+                    q11: l.q.q11,
+                    q12: l.q.q12,
+                    q22: l.q.q22,
                 })
                 .collect();
             let mut gas = Vec::new();
             if let Some((x0, x1)) = clip(0.0, channel.cx, start, len) {
-                linear.push(LinearBlock {
+                linear.push(LinearParams {
                     x0,
                     x1,
                     z0: cz0,
                     z1: cz1,
                     width: -channel.cy,
-                    q: fluidic_q,
+                    q11: fluidic_q.q11,
+                    q12: fluidic_q.q12,
+                    q22: fluidic_q.q22,
                 });
-                gas.push(GasBlock {
+                gas.push(GasParams {
                     x0,
                     x1,
                     z0: cz0,
@@ -229,15 +192,17 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Eleme
             }
             for rib in rib_list {
                 if let Some((x0, x1)) = clip(rib.x0, rib.x1, start, len) {
-                    linear.push(LinearBlock {
+                    linear.push(LinearParams {
                         x0,
                         x1,
                         z0: cz0,
                         z1: cz1,
                         width: rib.width,
-                        q: fluidic_q,
+                        q11: fluidic_q.q11,
+                        q12: fluidic_q.q12,
+                        q22: fluidic_q.q22,
                     });
-                    gas.push(GasBlock {
+                    gas.push(GasParams {
                         x0,
                         x1,
                         z0: cz0,
@@ -246,14 +211,18 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Eleme
                     });
                 }
             }
-            let prestressed = vec![PrestressedBlock {
+            let law = pemc.law;
+            let prestressed = vec![PrestressedParams {
                 x0: 0.0,
                 x1: len,
                 z0: pz0,
                 z1: pz1,
                 width,
                 eps0: pemc.eps0,
-                p: pemc.law.p,
+                p1: law.p1,
+                p2: law.p2,
+                p3: law.p3,
+                p4: law.p4,
                 q22: pemc.q22(),
             }];
             ElementBlocks {
@@ -270,7 +239,7 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Eleme
 /// blocks (itself if none before it matches). Elements that map to the
 /// same index have the same energy and, without tip loads, the same
 /// equilibrium, so they can be solved once.
-pub fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
+pub(crate) fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
     let mut first = Vec::with_capacity(blocks.len());
     for (i, b) in blocks.iter().enumerate() {
         let j = (0..i)

@@ -98,6 +98,125 @@ pub enum Warning {
     /// (`palm > 2 l0`, a negative overlap): the fingers leave a gap at rest,
     /// and objects smaller than `palm - 2 l0` cannot be grasped.
     PalmGapAtRest { palm: f64, reach: f64 },
+    /// An element's mid-plane turns further than the CCM's small-slope
+    /// limit from the element's root tangent (`degrees`, limit `limit`).
+    ElementSlope {
+        element: usize,
+        degrees: f64,
+        limit: f64,
+    },
+    /// An element's mid-plane axial strain exceeds the small-strain limit
+    /// in magnitude.
+    MidplaneStrain {
+        element: usize,
+        strain: f64,
+        limit: f64,
+    },
+    /// The prestressed layer's own strain `s = eps0 + eps_x` leaves the
+    /// range its law was fitted to.
+    PrestressedStrain {
+        element: usize,
+        strain: f64,
+        range: (f64, f64),
+    },
+    /// The mid-plane crosses itself: element `element` passes through
+    /// element `other` (or touches it).
+    SelfContact { element: usize, other: usize },
+    /// A grasp bends an element backwards (its curvature, in 1/mm, has the
+    /// opposite sign to the unloaded finger's), which the paper's grasp
+    /// analysis assumes away.
+    CurvatureReversal { element: usize, curvature: f64 },
+    /// A grasp's size exceeds `d_max`: the fingers are pressed past flat.
+    BeyondFlat { size: f64, d_max: f64 },
+}
+
+impl Warning {
+    /// A short, stable name of the warning's kind (`element_slope`,
+    /// `strain_range`, `self_contact`, `curvature_reversal`, `beyond_flat`
+    /// for the model's validity; `eps0_outside_fit`,
+    /// `softening_prestress_law`, `mounting_angle_outside_design_space`,
+    /// `palm_gap_at_rest` for notes on the input).
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Warning::Eps0OutsideFit { .. } => "eps0_outside_fit",
+            Warning::SofteningPrestressLaw { .. } => "softening_prestress_law",
+            Warning::MountingAngleOutsideDesignSpace { .. } => {
+                "mounting_angle_outside_design_space"
+            }
+            Warning::PalmGapAtRest { .. } => "palm_gap_at_rest",
+            Warning::ElementSlope { .. } => "element_slope",
+            Warning::MidplaneStrain { .. } | Warning::PrestressedStrain { .. } => "strain_range",
+            Warning::SelfContact { .. } => "self_contact",
+            Warning::CurvatureReversal { .. } => "curvature_reversal",
+            Warning::BeyondFlat { .. } => "beyond_flat",
+        }
+    }
+
+    /// True for a finding that the answer lies outside the model's
+    /// assumptions (as opposed to a note on the input).
+    pub fn is_validity(&self) -> bool {
+        matches!(
+            self,
+            Warning::ElementSlope { .. }
+                | Warning::MidplaneStrain { .. }
+                | Warning::PrestressedStrain { .. }
+                | Warning::SelfContact { .. }
+                | Warning::CurvatureReversal { .. }
+                | Warning::BeyondFlat { .. }
+        )
+    }
+
+    /// The element concerned (0 = at the root), if one is.
+    pub fn element(&self) -> Option<usize> {
+        match self {
+            Warning::ElementSlope { element, .. }
+            | Warning::MidplaneStrain { element, .. }
+            | Warning::PrestressedStrain { element, .. }
+            | Warning::SelfContact { element, .. }
+            | Warning::CurvatureReversal { element, .. } => Some(*element),
+            _ => None,
+        }
+    }
+
+    /// The offending value (in the unit of [`Warning::limit`]).
+    pub fn value(&self) -> Option<f64> {
+        match *self {
+            Warning::Eps0OutsideFit { eps0, .. } | Warning::SofteningPrestressLaw { eps0, .. } => {
+                Some(eps0)
+            }
+            Warning::MountingAngleOutsideDesignSpace { angle, .. } => Some(angle),
+            Warning::PalmGapAtRest { palm, .. } => Some(palm),
+            Warning::ElementSlope { degrees, .. } => Some(degrees),
+            Warning::MidplaneStrain { strain, .. } | Warning::PrestressedStrain { strain, .. } => {
+                Some(strain)
+            }
+            Warning::SelfContact { .. } => None,
+            Warning::CurvatureReversal { curvature, .. } => Some(curvature),
+            Warning::BeyondFlat { size, .. } => Some(size),
+        }
+    }
+
+    /// The limit the value passes (for a range, the bound it passes).
+    pub fn limit(&self) -> Option<f64> {
+        match *self {
+            Warning::Eps0OutsideFit { eps0, lo, hi } => Some(if eps0 < lo { lo } else { hi }),
+            Warning::SofteningPrestressLaw { .. } => Some(0.0),
+            Warning::MountingAngleOutsideDesignSpace { angle, lo, hi } => {
+                Some(if angle < lo { lo } else { hi })
+            }
+            Warning::PalmGapAtRest { reach, .. } => Some(2.0 * reach),
+            Warning::ElementSlope { limit, .. } => Some(limit),
+            Warning::MidplaneStrain { strain, limit, .. } => {
+                Some(if strain < 0.0 { -limit } else { limit })
+            }
+            Warning::PrestressedStrain { strain, range, .. } => {
+                Some(if strain < range.0 { range.0 } else { range.1 })
+            }
+            Warning::SelfContact { .. } => None,
+            Warning::CurvatureReversal { .. } => Some(0.0),
+            Warning::BeyondFlat { d_max, .. } => Some(d_max),
+        }
+    }
 }
 
 impl fmt::Display for Warning {
@@ -118,6 +237,43 @@ impl fmt::Display for Warning {
             Warning::PalmGapAtRest { palm, reach } => write!(
                 f,
                 "gripper.palm = {palm}: wider than twice the finger's inward reach l0 = {reach} mm, the fingers leave a gap at rest"
+            ),
+            Warning::ElementSlope {
+                element,
+                degrees,
+                limit,
+            } => write!(
+                f,
+                "element {element} turns {degrees:.1} degrees, beyond the CCM's small-slope limit of {limit} degrees per element: use more elements (--elements auto)"
+            ),
+            Warning::MidplaneStrain {
+                element,
+                strain,
+                limit,
+            } => write!(
+                f,
+                "element {element} has a mid-plane axial strain of {strain:.3}, beyond the small-strain limit of {limit}"
+            ),
+            Warning::PrestressedStrain {
+                element,
+                strain,
+                range,
+            } => write!(
+                f,
+                "element {element}: the prestressed layer's strain reaches {strain:.3}, outside [{}, {}] where its law was fitted",
+                range.0, range.1
+            ),
+            Warning::SelfContact { element, other } => write!(
+                f,
+                "the mid-plane crosses itself: element {element} passes through element {other}"
+            ),
+            Warning::CurvatureReversal { element, curvature } => write!(
+                f,
+                "element {element} is bent backwards (curvature {curvature:.3e} 1/mm against the unloaded curl), which the grasp analysis assumes away"
+            ),
+            Warning::BeyondFlat { size, d_max } => write!(
+                f,
+                "grasp size {size:.2} mm exceeds d_max = {d_max:.2} mm: the fingers would be pressed past flat"
             ),
         }
     }
@@ -144,7 +300,7 @@ pub enum SolveError {
         relative_residual: f64,
         /// The element whose decoupled solve failed, if any.
         element: Option<usize>,
-        /// The last iterate's coefficients, one `[a1, a3, b1, c2]` per element.
-        last: Vec<[f64; 4]>,
+        /// The last iterate's coefficients.
+        last: crate::finger::Coefficients,
     },
 }

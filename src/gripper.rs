@@ -27,9 +27,8 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
-use crate::element::Coeffs;
 use crate::error::{finite, positive, require, InputError, SolveError, Warning};
-use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
+use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
 
 /// Mid-plane samples per element for the reference state (l0 is the
 /// largest inward reach over all of them) and for grasp shapes.
@@ -344,7 +343,7 @@ impl Gripper {
             }
             .into());
         }
-        let lx: f64 = finger.elements().iter().map(|e| e.length()).sum();
+        let lx = finger.length();
         let opts = SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
             ..SolveOptions::default()
@@ -855,7 +854,8 @@ impl Gripper {
         let points = if solution.points.is_empty() {
             sampled = self
                 .finger
-                .shape(&solution.coefficients, GRIPPER_SAMPLES_PER_ELEMENT);
+                .shape(&solution.coefficients, GRIPPER_SAMPLES_PER_ELEMENT)
+                .unwrap_or_default();
             &sampled
         } else {
             &solution.points
@@ -1033,27 +1033,6 @@ fn check_scan(pressure_kpa: f64, r: f64, samples: usize) -> Result<(), InputErro
     )
 }
 
-fn lerp_problem(p0: &TargetProblem, p1: &TargetProblem, t: f64) -> TargetProblem {
-    let m = |a: f64, b: f64| a + t * (b - a);
-    TargetProblem {
-        base: Load {
-            pressure: m(p0.base.pressure, p1.base.pressure),
-            kappa: m(p0.base.kappa, p1.base.kappa),
-            fx: m(p0.base.fx, p1.base.fx),
-            fz: m(p0.base.fz, p1.base.fz),
-        },
-        direction: [
-            m(p0.direction[0], p1.direction[0]),
-            m(p0.direction[1], p1.direction[1]),
-        ],
-        weights: [
-            m(p0.weights[0], p1.weights[0]),
-            m(p0.weights[1], p1.weights[1]),
-        ],
-        target: m(p0.target, p1.target),
-    }
-}
-
 /// Solves `p1` from a state `(k0, lambda0)` that solves `p0`, following the
 /// straight homotopy between the two problems with adaptive steps
 /// (halved on failure, doubled after success) and a secant predictor
@@ -1062,7 +1041,7 @@ fn lerp_problem(p0: &TargetProblem, p1: &TargetProblem, t: f64) -> TargetProblem
 /// [`MAX_HOMOTOPY_ATTEMPTS`] solves or below [`MIN_HOMOTOPY_STEP`].
 pub(crate) fn follow(
     solver: &mut Solver<'_>,
-    k0: &[Coeffs],
+    k0: &Coefficients,
     lambda0: f64,
     p0: &TargetProblem,
     p1: &TargetProblem,
@@ -1075,10 +1054,10 @@ pub(crate) fn follow(
         ..opts.tip_only()
     };
     // the last accepted state (t1, k1, l1) and the one before it (t0, k0, l0)
-    let mut k1 = k0.to_vec();
+    let mut k1 = k0.clone();
     let mut l1 = lambda0;
     let mut t1 = 0.0;
-    let mut prev: Option<(f64, Vec<Coeffs>, f64)> = None;
+    let mut prev: Option<(f64, Coefficients, f64)> = None;
     let mut guess = k1.clone();
     let mut h = 1.0;
     let mut attempt = 0;
@@ -1086,21 +1065,24 @@ pub(crate) fn follow(
         attempt += 1;
         let tn = if t1 + h >= 1.0 - 1e-12 { 1.0 } else { t1 + h };
         let last = tn == 1.0;
-        let p = if last { *p1 } else { lerp_problem(p0, p1, tn) };
+        let p = if last { *p1 } else { p0.lerp(p1, tn) };
         // secant predictor through the last two accepted states
         let mut lguess = l1;
-        guess.copy_from_slice(&k1);
+        guess.clone_from(&k1);
         if let Some((t0, k0, l0)) = &prev {
             let w = (tn - t1) / (t1 - t0);
             lguess = l1 + w * (l1 - l0);
-            for ((g, a), b) in guess.iter_mut().zip(&k1).zip(k0) {
-                for j in 0..4 {
-                    g[j] = a[j] + w * (a[j] - b[j]);
-                }
+            for ((g, a), b) in guess
+                .as_mut_slice()
+                .iter_mut()
+                .zip(k1.as_slice())
+                .zip(k0.as_slice())
+            {
+                *g = a + w * (a - b);
             }
-            if !lguess.is_finite() || guess.iter().flatten().any(|v| !v.is_finite()) {
+            if !lguess.is_finite() || guess.as_slice().iter().any(|v| !v.is_finite()) {
                 lguess = l1;
-                guess.copy_from_slice(&k1);
+                guess.clone_from(&k1);
             }
         }
         let o = if last { opts } else { &tip_only };

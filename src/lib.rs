@@ -1,8 +1,8 @@
 //! fpc: the chained composite model (CCM) of fluidic prestressed composite
 //! fingers, and the analysis of soft grippers built from them.
 //!
-//! The element energy kernels are generated at build time from
-//! `energy-spec/ccm.spec` by the in-house symbolic crate; see [`kernels`].
+//! The element models are generated at build time from the specs in
+//! `energy-spec/` by the in-house symbolic crate; see [`model`].
 //!
 //! ```
 //! use fpc::{Finger, Load, SolveOptions};
@@ -27,27 +27,26 @@ mod element;
 mod error;
 mod finger;
 mod fit;
-pub mod kernels;
+pub mod model;
 mod refine;
+mod validity;
 
 pub use accuracy::{accuracy_study, AccuracyRow, AccuracyStudy, Reference};
 pub use actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
 };
-pub use blocks::{
-    distinct_elements, element_blocks, ElementBlocks, GasBlock, LinearBlock, Partition,
-    PrestressedBlock, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION,
-};
-pub use element::{Coeffs, Element, UpperHessian};
+pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    fill_upper, Chain, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy,
-    TargetProblem,
+    Coefficients, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy,
+    TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
+pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use refine::{solve_to_tip_tolerance, Refined, MAX_REFINED_ELEMENTS};
+pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
 mod gripper;
 mod studies;
 pub use gripper::{

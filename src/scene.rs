@@ -959,26 +959,24 @@ fn resolve_actuator(
     let (fluidic, e) = resolve_material(&a.fluidic, d.fluidic, "actuator.fluidic")?;
     echo.fluidic = e;
     let pm = &a.pemc;
-    let [q1, q2, q3, q4] = d.pemc.law.p;
+    let [q1, q2, q3, q4] = d.pemc.law.to_array();
     let pemc = Prestressed {
         e2: pm.e2.unwrap_or(d.pemc.e2),
         law: PsiLaw {
-            p: [
-                pm.p1.unwrap_or(q1),
-                pm.p2.unwrap_or(q2),
-                pm.p3.unwrap_or(q3),
-                pm.p4.unwrap_or(q4),
-            ],
+            p1: pm.p1.unwrap_or(q1),
+            p2: pm.p2.unwrap_or(q2),
+            p3: pm.p3.unwrap_or(q3),
+            p4: pm.p4.unwrap_or(q4),
         },
         eps0: pm.eps0.unwrap_or(d.pemc.eps0),
     };
     echo.pemc = PemcSection {
         eps0: Some(pemc.eps0),
         e2: Some(pemc.e2),
-        p1: Some(pemc.law.p[0]),
-        p2: Some(pemc.law.p[1]),
-        p3: Some(pemc.law.p[2]),
-        p4: Some(pemc.law.p[3]),
+        p1: Some(pemc.law.p1),
+        p2: Some(pemc.law.p2),
+        p3: Some(pemc.law.p3),
+        p4: Some(pemc.law.p4),
     };
     Actuator::new(ActuatorParams {
         geometry,
@@ -1339,10 +1337,8 @@ fn resolve_grasp(s: &GraspSection) -> Result<(GraspSpec, GraspSection), InputErr
 
 /// The scene key of a field the library names in its own terms.
 fn toml_path(field: &str) -> String {
-    if let Some(rest) = field.strip_prefix("actuator.pemc.law.p[") {
-        if let Some(k) = rest.strip_suffix(']').and_then(|k| k.parse::<usize>().ok()) {
-            return format!("actuator.pemc.p{}", k + 1);
-        }
+    if let Some(rest) = field.strip_prefix("actuator.pemc.law.") {
+        return format!("actuator.pemc.{rest}");
     }
     if let Some(rest) = field.strip_prefix("actuator.ribs[") {
         return format!("actuator.ribs.list[{rest}");
@@ -1523,7 +1519,7 @@ mod tests {
         assert_eq!(p.emc, Isotropic { e: 2.0, nu: 0.3 }.into());
         assert_eq!(p.fluidic, Isotropic { e: 1.2, nu: 0.45 }.into());
         assert_eq!(p.pemc.eps0, 0.4);
-        assert_eq!(p.pemc.law.p, [1.598, 2.0, 2.29, 0.698]);
+        assert_eq!(p.pemc.law.to_array(), [1.598, 2.0, 2.29, 0.698]);
         let PartitionPlan::Fixed(part) = &s.partition else {
             panic!()
         };
@@ -1700,8 +1696,8 @@ mod tests {
 
     #[test]
     fn toml_paths_of_library_fields() {
-        assert_eq!(toml_path("actuator.pemc.law.p[0]"), "actuator.pemc.p1");
-        assert_eq!(toml_path("actuator.pemc.law.p[3]"), "actuator.pemc.p4");
+        assert_eq!(toml_path("actuator.pemc.law.p1"), "actuator.pemc.p1");
+        assert_eq!(toml_path("actuator.pemc.law.p4"), "actuator.pemc.p4");
         assert_eq!(
             toml_path("actuator.ribs[2].width"),
             "actuator.ribs.list[2].width"

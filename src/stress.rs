@@ -644,11 +644,13 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     let stiffness = finger.stiffness_scale();
     let k = &sol.coefficients;
     let mut wrong = Vec::new();
-    if k.len() != finger.len() {
+    if k.elements() != finger.len() || k.per_element() != finger.unknowns_per_element() {
         wrong.push(format!(
-            "{} coefficient sets for {} elements",
-            k.len(),
-            finger.len()
+            "{} coefficient sets of {} for {} elements of {}",
+            k.elements(),
+            k.per_element(),
+            finger.len(),
+            finger.unknowns_per_element()
         ));
         return Checked {
             residual: f64::INFINITY,
@@ -658,7 +660,7 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
             wrong: Some(wrong.join("; ")),
         };
     }
-    if !k.iter().flatten().all(|v| v.is_finite()) {
+    if !k.as_slice().iter().all(|v| v.is_finite()) {
         wrong.push("non-finite coefficient".into());
     }
     if !(sol.tip.iter().all(|v| v.is_finite()) && sol.end_angle.is_finite()) {
@@ -670,20 +672,25 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     if !sol.energy.is_finite() {
         wrong.push(format!("non-finite energy {}", sol.energy));
     }
-    let (energy, g) = finger.gradient(load, k);
+    let Ok((energy, g)) = finger.gradient(load, k) else {
+        return Checked {
+            residual: f64::INFINITY,
+            max_rotation: f64::NAN,
+            min_eig: None,
+            conditioning: None,
+            wrong: Some("coefficients the finger rejects".into()),
+        };
+    };
+    let s = finger.unknown_scales();
     let mut residual: f64 = 0.0;
-    for (i, e) in finger.elements().iter().enumerate() {
-        let l = e.length();
-        let s = [1.0, 1.0 / (l * l), 1.0, 1.0 / l];
-        for j in 0..4 {
-            let v = (g[4 * i + j] * s[j]).abs();
-            // NaN poisons the maximum
-            residual = if v.is_nan() {
-                f64::NAN
-            } else {
-                residual.max(v)
-            };
-        }
+    for (gi, si) in g.iter().zip(&s) {
+        let v = (gi * si).abs();
+        // NaN poisons the maximum
+        residual = if v.is_nan() {
+            f64::NAN
+        } else {
+            residual.max(v)
+        };
     }
     residual /= stiffness;
     if residual.is_nan() || residual > RESIDUAL_LIMIT {
@@ -699,8 +706,8 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
             sol.energy, energy
         ));
     }
-    let (tip, _) = finger.tip(k);
-    let lx: f64 = finger.elements().iter().map(|e| e.length()).sum();
+    let (tip, _) = finger.tip(k).unwrap_or(([f64::NAN; 2], f64::NAN));
+    let lx = finger.length();
     let tip_err = (tip[0] - sol.tip[0]).abs().max((tip[1] - sol.tip[1]).abs());
     if tip_err.is_nan() || tip_err > 1e-9 * lx {
         wrong.push(format!(
@@ -710,16 +717,10 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     }
     // conditioning of the scaled Hessian
     let (min_eig, conditioning) = if wrong.is_empty() {
-        let (_, _, mut h) = finger.hessian(load, k);
-        let n = 4 * finger.len();
-        let s: Vec<f64> = finger
-            .elements()
-            .iter()
-            .flat_map(|e| {
-                let l = e.length();
-                [1.0, 1.0 / (l * l), 1.0, 1.0 / l]
-            })
-            .collect();
+        let (_, _, mut h) = finger
+            .hessian(load, k)
+            .unwrap_or_else(|_| (f64::NAN, Vec::new(), vec![f64::NAN; s.len() * s.len()]));
+        let n = s.len();
         for j in 0..n {
             for i in 0..n {
                 h[i + n * j] *= s[i] * s[j];
@@ -737,11 +738,11 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     } else {
         (None, None)
     };
-    let max_rotation = finger
-        .elements()
+    let max_rotation = k
         .iter()
-        .zip(k)
-        .map(|(e, k)| e.end(k)[2].abs())
+        .enumerate()
+        .filter_map(|(i, ki)| finger.element_end(i, ki))
+        .map(|e| e[2].abs())
         .fold(0.0, f64::max);
     Checked {
         residual,

@@ -13,7 +13,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
 use crate::error::{finite, positive, require, InputError, SolveError, Warning};
-use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
+use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
 use crate::fit::fit_circle;
 use crate::gripper::{
     follow, grasping_angle_range, Grasp, Gripper, GripperParams, PalmSpec, SphereLift, ViableAngles,
@@ -596,11 +596,11 @@ pub fn study7_curvature(
         let mut solver = Solver::new(&finger);
         let mut rows = Vec::new();
         let mut stopped = None;
-        let mut guess: Option<Vec<[f64; 4]>> = None;
+        let mut guess: Option<Coefficients> = None;
         for i in 0..opts.pressure_points {
             let p = 400.0 * i as f64 / (opts.pressure_points - 1) as f64;
             let load = Load::unloaded().with_pressure_kpa(p);
-            match solver.solve(&load, guess.as_deref(), &sopts) {
+            match solver.solve(&load, guess.as_ref(), &sopts) {
                 Ok(sol) => {
                     rows.push(curvature_row(p, &sol));
                     guess = Some(sol.coefficients);

@@ -160,3 +160,18 @@ fn summary(
     )?;
     Ok(())
 }
+
+/// The element model of a `--model` value.
+pub fn model_by_name(name: &str) -> anyhow::Result<fpc::ModelId> {
+    fpc::ModelId::from_name(name).ok_or_else(|| {
+        fpc::InputError::OutOfRange {
+            field: "model".into(),
+            value: f64::NAN,
+            rule: format!(
+                "`{name}` is not a model (models: {})",
+                fpc::ModelId::names().join(", ")
+            ),
+        }
+        .into()
+    })
+}

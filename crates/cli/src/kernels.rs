@@ -1,4 +1,4 @@
-//! `fpc kernels`: show what build.rs generated from the energy spec.
+//! `fpc kernels`: show what build.rs generated from an element model's spec.
 
 use std::io::Write;
 
@@ -8,15 +8,20 @@ pub struct Args {
     /// Print only the operation counts (before and after common-subexpression binding).
     #[arg(long)]
     report: bool,
+    /// The element model (`fpc models` lists them).
+    #[arg(long, default_value_t = fpc::ModelId::default().name().to_string())]
+    model: String,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
+    let model = crate::finger::model_by_name(&args.model)?;
+    let (source, report) = model.generated();
     let mut out = std::io::stdout().lock();
     if !args.report {
-        writeln!(out, "{}", fpc::kernels::SOURCE)?;
+        writeln!(out, "{source}")?;
     }
     writeln!(out, "// Operation counts per generated function:")?;
-    for line in fpc::kernels::REPORT.lines() {
+    for line in report.lines() {
         writeln!(out, "// {line}")?;
     }
     Ok(())

@@ -3,7 +3,7 @@
 
 use std::time::{Duration, Instant};
 
-use fpc::{Coeffs, Finger, Load, Solution, SolveOptions, Solver};
+use fpc::{Coefficients, Finger, Load, Solution, SolveOptions, Solver};
 use serde_json::json;
 
 /// Flags of `fpc timing`.
@@ -29,7 +29,7 @@ fn time_case(
     name: &'static str,
     finger: &Finger,
     load: &Load,
-    guess: Option<&[Coeffs]>,
+    guess: Option<&Coefficients>,
     budget: Duration,
 ) -> anyhow::Result<Case> {
     let opts = SolveOptions::default().tip_only();

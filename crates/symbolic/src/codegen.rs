@@ -32,7 +32,7 @@ use crate::expr::{Arena, ExprId, Node, Sym, SymError};
 use crate::parse::ParseError;
 use crate::poly::Poly;
 use crate::rational::Rational;
-use crate::spec::{parse_spec, IntegralDef, PointDef, Spec};
+use crate::spec::{parse_spec, EnergyDef, IntegralDef, LawDef, PointDef, ScaledDef, Spec};
 
 /// Why generation failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -75,8 +75,98 @@ pub struct Generated {
     pub report: Vec<FunctionReport>,
 }
 
-/// Generates kernels from spec text.
+/// Where the parameter structs of the generated functions live.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    /// A Rust path (e.g. `super::params`) holding the parameter structs
+    /// ([`param_structs`]) that several generated modules share; `None`
+    /// emits them into the module itself.
+    pub shared_params: Option<TokenStream>,
+}
+
+/// A named parameter struct of a generated function: integral kernels take
+/// their parameters as one (`LinearParams` for `integral linear(...)`), a
+/// law its constants (`PsiParams`), the energy its scalars (`EnergyScalars`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ParamStruct {
+    /// Rust type name.
+    pub name: String,
+    /// What it parametrises.
+    pub doc: String,
+    /// Field names, in the spec's order.
+    pub fields: Vec<String>,
+}
+
+impl ParamStruct {
+    /// The struct's definition (`Debug, Clone, Copy, PartialEq`, `f64` fields).
+    pub fn tokens(&self) -> TokenStream {
+        let name = ident(&self.name);
+        let doc = &self.doc;
+        let fields: Vec<Ident> = self.fields.iter().map(|f| ident(f)).collect();
+        quote! {
+            #[doc = #doc]
+            #[derive(Debug, Clone, Copy, PartialEq)]
+            pub struct #name {
+                #(#[doc = "Parameter of the spec."] pub #fields: f64,)*
+            }
+        }
+    }
+}
+
+/// `linear` -> `Linear`, `end_kin` -> `EndKin`.
+fn camel(name: &str) -> String {
+    name.split('_')
+        .filter(|p| !p.is_empty())
+        .map(|p| {
+            let mut c = p.chars();
+            c.next()
+                .map(|f| f.to_ascii_uppercase().to_string() + c.as_str())
+                .unwrap_or_default()
+        })
+        .collect()
+}
+
+/// The parameter structs a spec's generated functions take.
+pub fn param_structs(spec: &Spec) -> Vec<ParamStruct> {
+    let names = |syms: &[Sym]| -> Vec<String> {
+        syms.iter()
+            .map(|&s| spec.arena.name(s).to_string())
+            .collect()
+    };
+    let mut out: Vec<ParamStruct> = spec
+        .integrals
+        .iter()
+        .map(|d| ParamStruct {
+            name: format!("{}Params", camel(&d.name)),
+            doc: format!(
+                "Parameters of one `{}` box (integral kernel `{}` of the spec).",
+                d.name, d.name
+            ),
+            fields: names(&d.params),
+        })
+        .collect();
+    out.extend(spec.laws.iter().map(|l| ParamStruct {
+        name: format!("{}Params", camel(&l.name)),
+        doc: format!("Constants of the law `{}`.", l.name),
+        fields: names(&l.params),
+    }));
+    if let Some(e) = &spec.energy {
+        out.push(ParamStruct {
+            name: "EnergyScalars".into(),
+            doc: "The runtime scalars of the energy's coefficients.".into(),
+            fields: names(&e.scalars),
+        });
+    }
+    out
+}
+
+/// Generates kernels from spec text, with the parameter structs in the module.
 pub fn generate(src: &str) -> Result<Generated, GenError> {
+    generate_with(src, &Options::default())
+}
+
+/// Generates kernels from spec text.
+pub fn generate_with(src: &str, options: &Options) -> Result<Generated, GenError> {
     let mut spec = parse_spec(src)?;
     let mut items = Vec::new();
     let mut report = Vec::new();
@@ -97,6 +187,41 @@ pub fn generate(src: &str) -> Result<Generated, GenError> {
                  (`(0,0), (0,1), ..., (0,n-1), (1,1), ...`)."]
         pub const HESSIAN_ENTRIES: usize = #nh;
     });
+    let structs = param_structs(&spec);
+    let prefix = match &options.shared_params {
+        Some(path) => quote! { #path:: },
+        None => {
+            items.extend(structs.iter().map(ParamStruct::tokens));
+            TokenStream::new()
+        }
+    };
+    if let Some(def) = spec.scaled.clone() {
+        let wrap = |e: SymError| GenError::Algebra {
+            kernel: "scaled".into(),
+            line: def.line,
+            source: e,
+        };
+        items.push(unscale_fn(&mut spec, &def).map_err(wrap)?);
+    }
+    if !spec.local.is_empty() || spec.scaled.is_some() {
+        let idx: Vec<Literal> = spec
+            .local
+            .iter()
+            .map(|s| {
+                Literal::usize_unsuffixed(spec.unknowns.iter().position(|u| u == s).unwrap_or(0))
+            })
+            .collect();
+        let names: Vec<&str> = spec.local.iter().map(|&s| spec.arena.name(s)).collect();
+        let doc = format!(
+            "Positions of the unknowns local to their element (`{}`): they couple \
+             only within the element and can be condensed out of a coupled system.",
+            names.join(", ")
+        );
+        items.push(quote! {
+            #[doc = #doc]
+            pub const LOCAL: &[usize] = &[#(#idx),*];
+        });
+    }
     let integrals = spec.integrals.clone();
     for def in &integrals {
         let wrap = |e: SymError| GenError::Algebra {
@@ -104,9 +229,28 @@ pub fn generate(src: &str) -> Result<Generated, GenError> {
             line: def.line,
             source: e,
         };
-        let (tokens, rep) = integral_kernel(&mut spec, def).map_err(wrap)?;
+        let (tokens, rep) = integral_kernel(&mut spec, def, &prefix).map_err(wrap)?;
         items.push(tokens);
         report.extend(rep);
+    }
+    if let Some(def) = spec.energy.clone() {
+        let wrap = |e: SymError| GenError::Algebra {
+            kernel: "energy".into(),
+            line: def.line,
+            source: e,
+        };
+        items.push(energy_fns(&mut spec, &def, &prefix).map_err(wrap)?);
+    }
+    let laws = spec.laws.clone();
+    for def in &laws {
+        let wrap = |e: SymError| GenError::Algebra {
+            kernel: def.name.clone(),
+            line: def.line,
+            source: e,
+        };
+        let (tokens, rep) = law_fn(&mut spec, def, &prefix).map_err(wrap)?;
+        items.push(tokens);
+        report.push(rep);
     }
     let points = spec.points.clone();
     for def in &points {
@@ -163,6 +307,7 @@ struct Slot {
 fn integral_kernel(
     spec: &mut Spec,
     def: &IntegralDef,
+    prefix: &TokenStream,
 ) -> Result<(TokenStream, Vec<FunctionReport>), SymError> {
     let arena = &mut spec.arena;
     let unknowns = spec.unknowns.clone();
@@ -462,7 +607,9 @@ fn integral_kernel(
     after.add += slots.len() as u64;
     let prelude = em.take_statements();
     let _ = &mom_syms_all;
-    let fn_moments = ident(&format!("{name}_moments"));
+    let fn_moments = ident(&format!("{name}_moments_at"));
+    let fn_moments_named = ident(&format!("{name}_moments"));
+    let params_struct = ident(&format!("{}Params", camel(name)));
     reports.push(FunctionReport {
         function: fn_moments.to_string(),
         ops_before_cse: before,
@@ -559,9 +706,17 @@ fn integral_kernel(
         #[doc = #mom_doc]
         #[doc = ""]
         #[doc = #slots_doc]
-        pub fn #fn_moments(m: &mut [f64; #count_ident], #(#param_idents: f64),*) {
+        fn #fn_moments(m: &mut [f64; #count_ident], #(#param_idents: f64),*) {
             #(#prelude)*
             #(#adds)*
+        }
+
+        #[doc = #head_doc]
+        #[doc = ""]
+        #[doc = "Adds one block's moments to `m`, the parameters passed by name."]
+        #[inline]
+        pub fn #fn_moments_named(m: &mut [f64; #count_ident], p: &#prefix #params_struct) {
+            #fn_moments(m, #(p.#param_idents),*)
         }
 
         #[doc = #head_doc]
@@ -727,6 +882,264 @@ fn point_kernel(
         }
     };
     Ok((tokens, reports))
+}
+
+/// `pub fn unscale(params) -> [f64; n]`: the raw unknown per unit of the
+/// solver's scaled unknown, `1 / factor_i`.
+fn unscale_fn(spec: &mut Spec, def: &ScaledDef) -> Result<TokenStream, SymError> {
+    let arena = &mut spec.arena;
+    let one = arena.int(1);
+    let inv: Vec<ExprId> = def
+        .factors
+        .iter()
+        .map(|&f| arena.div(one, f))
+        .collect::<Result<_, _>>()?;
+    let arena_ro: &Arena = arena;
+    let params: Vec<Ident> = def
+        .params
+        .iter()
+        .map(|&p| ident(arena_ro.name(p)))
+        .collect();
+    let mut em = Emitter::new(arena_ro, &inv, "tmp");
+    let outs: Vec<TokenStream> = inv.iter().map(|&e| em.expr(e)).collect();
+    let stmts = em.take_statements();
+    let n = Literal::usize_unsuffixed(spec.unknowns.len());
+    let scaled: Vec<String> = spec
+        .unknowns
+        .iter()
+        .zip(&def.factors)
+        .map(|(&u, &f)| format!("`{} * ({})`", arena_ro.name(u), arena_ro.show(f)))
+        .collect();
+    let doc = format!(
+        "The solver's unknowns are {}; this gives, per unknown, the raw value of one \
+         scaled unit (`raw = scaled * unscale`).",
+        scaled.join(", ")
+    );
+    Ok(quote! {
+        #[doc = #doc]
+        pub fn unscale(#(#params: f64),*) -> [f64; #n] {
+            #(#stmts)*
+            [#(#outs),*]
+        }
+    })
+}
+
+/// `pub fn NAME(var, &Params) -> [f64; 3]`: a law with its first two derivatives.
+fn law_fn(
+    spec: &mut Spec,
+    def: &LawDef,
+    prefix: &TokenStream,
+) -> Result<(TokenStream, FunctionReport), SymError> {
+    let arena = &mut spec.arena;
+    let d1 = arena.diff(def.expr, def.var)?;
+    let d2 = arena.diff(d1, def.var)?;
+    let roots = [def.expr, d1, d2];
+    let arena_ro: &Arena = arena;
+    let mut em = Emitter::new(arena_ro, &roots, "tmp");
+    let var = ident(arena_ro.name(def.var));
+    em.bind_symbol(def.var, quote! { #var });
+    let mut pre = Vec::new();
+    for &p in &def.params {
+        let id = ident(arena_ro.name(p));
+        pre.push(quote! { let #id = p.#id; });
+        em.bind_symbol(p, quote! { #id });
+    }
+    let outs: Vec<TokenStream> = roots.iter().map(|&r| em.expr(r)).collect();
+    pre.extend(em.take_statements());
+    let name = ident(&def.name);
+    let st = ident(&format!("{}Params", camel(&def.name)));
+    let doc = format!(
+        "Law `{}({})` = `{}`: value, first and second derivative in `{}`.",
+        def.name,
+        arena_ro.name(def.var),
+        arena_ro.show(def.expr),
+        arena_ro.name(def.var)
+    );
+    let report = FunctionReport {
+        function: def.name.clone(),
+        ops_before_cse: tree_ops(arena_ro, &roots),
+        ops_after_cse: em.ops(),
+    };
+    Ok((
+        quote! {
+            #[doc = #doc]
+            pub fn #name(#var: f64, p: &#prefix #st) -> [f64; 3] {
+                #(#pre)*
+                [#(#outs),*]
+            }
+        },
+        report,
+    ))
+}
+
+/// The `Moments` struct (one array per integral of the energy) and
+/// `energy_value`, `energy_gradient`, `energy_hessian`: the integrals
+/// combined with their coefficients. A term whose coefficient is not a
+/// constant is skipped when the coefficient is zero (no gas kernel at zero
+/// pressure, say).
+fn energy_fns(
+    spec: &mut Spec,
+    def: &EnergyDef,
+    prefix: &TokenStream,
+) -> Result<TokenStream, SymError> {
+    let n = spec.unknowns.len();
+    let nu = Literal::usize_unsuffixed(n);
+    let nh = Literal::usize_unsuffixed(n * (n + 1) / 2);
+    let fields: Vec<Ident> = def.terms.iter().map(|(t, _)| ident(t)).collect();
+    let counts: Vec<Ident> = def
+        .terms
+        .iter()
+        .map(|(t, _)| ident(&format!("{}_MOMENTS", t.to_uppercase())))
+        .collect();
+    let arena_ro: &Arena = &spec.arena;
+    let scalars: Vec<Ident> = def
+        .scalars
+        .iter()
+        .map(|&s| ident(arena_ro.name(s)))
+        .collect();
+    let mut value = Vec::new();
+    let mut grad = Vec::new();
+    let mut hess = Vec::new();
+    // a first term with coefficient 1 initialises the sums (no adds to zero)
+    let first_is_one = def
+        .terms
+        .first()
+        .is_some_and(|(_, c)| arena_ro.as_num(*c) == Some(Rational::ONE));
+    for (i, ((name, coef), field)) in def.terms.iter().zip(&fields).enumerate() {
+        let mut em = Emitter::new(arena_ro, &[*coef], "coef");
+        for &sc in &def.scalars {
+            let id = ident(arena_ro.name(sc));
+            em.bind_symbol(sc, quote! { s.#id });
+        }
+        let c = em.expr(*coef);
+        let pre = em.take_statements();
+        let constant = arena_ro.as_num(*coef);
+        let one = constant == Some(Rational::ONE);
+        let ci = ident(&format!("c{i}"));
+        let f_value = ident(&format!("{name}_value"));
+        let f_grad = ident(&format!("{name}_gradient"));
+        let f_hess = ident(&format!("{name}_hessian"));
+        if i == 0 && first_is_one {
+            value.push(quote! { let mut v = #f_value(k, &m.#field); });
+            grad.push(quote! { let (mut v, mut g) = #f_grad(k, &m.#field); });
+            hess.push(quote! { let (mut v, mut g, mut h) = #f_hess(k, &m.#field); });
+            continue;
+        }
+        let times = |t: TokenStream| {
+            if one {
+                t
+            } else {
+                quote! { #ci * #t }
+            }
+        };
+        let tv = times(quote! { tv });
+        let gi: Vec<TokenStream> = (0..n)
+            .map(|j| {
+                let j = Literal::usize_unsuffixed(j);
+                let t = times(quote! { tg[#j] });
+                quote! { g[#j] += #t; }
+            })
+            .collect();
+        let hi: Vec<TokenStream> = (0..n * (n + 1) / 2)
+            .map(|j| {
+                let j = Literal::usize_unsuffixed(j);
+                let t = times(quote! { th[#j] });
+                quote! { h[#j] += #t; }
+            })
+            .collect();
+        let (v_body, g_body, h_body) = (
+            quote! { let tv = #f_value(k, &m.#field); v += #tv; },
+            quote! {
+                let (tv, tg) = #f_grad(k, &m.#field);
+                v += #tv;
+                #(#gi)*
+            },
+            quote! {
+                let (tv, tg, th) = #f_hess(k, &m.#field);
+                v += #tv;
+                #(#gi)*
+                #(#hi)*
+            },
+        );
+        let guard = |body: TokenStream| match (one, constant) {
+            (true, _) => quote! { { #body } },
+            (false, Some(_)) => quote! { { #(#pre)* let #ci: f64 = #c; #body } },
+            (false, None) => quote! { { #(#pre)* let #ci: f64 = #c; if #ci != 0.0 { #body } } },
+        };
+        value.push(guard(v_body));
+        grad.push(guard(g_body));
+        hess.push(guard(h_body));
+    }
+    let (init_v, init_g, init_h) = if first_is_one {
+        (TokenStream::new(), TokenStream::new(), TokenStream::new())
+    } else {
+        (
+            quote! { let mut v = 0.0; },
+            quote! { let mut v = 0.0; let mut g = [0.0; #nu]; },
+            quote! { let mut v = 0.0; let mut g = [0.0; #nu]; let mut h = [0.0; #nh]; },
+        )
+    };
+    let combo: Vec<String> = def
+        .terms
+        .iter()
+        .map(|(t, c)| format!("({}) * {t}", arena_ro.show(*c)))
+        .collect();
+    let doc = format!("The element energy: {}.", combo.join(" + "));
+    let scalar_doc = format!(
+        "`s` holds the runtime scalars (`{}`); a term whose coefficient is zero is skipped.",
+        scalars
+            .iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let used = if scalars.is_empty() {
+        quote! { let _ = s; }
+    } else {
+        TokenStream::new()
+    };
+    Ok(quote! {
+        #[doc = "The moments of every integral of the energy, accumulated block by block."]
+        #[derive(Debug, Clone, PartialEq)]
+        pub struct Moments {
+            #(#[doc = "Moments of this integral."] pub #fields: [f64; #counts],)*
+        }
+
+        impl Moments {
+            #[doc = "No blocks yet."]
+            pub const ZERO: Moments = Moments { #(#fields: [0.0; #counts],)* };
+        }
+
+        #[doc = #doc]
+        #[doc = ""]
+        #[doc = #scalar_doc]
+        pub fn energy_value(k: &[f64; #nu], m: &Moments, s: &#prefix EnergyScalars) -> f64 {
+            #used
+            #init_v
+            #(#value)*
+            v
+        }
+
+        #[doc = #doc]
+        #[doc = ""]
+        #[doc = "Value and gradient with respect to the unknowns."]
+        pub fn energy_gradient(k: &[f64; #nu], m: &Moments, s: &#prefix EnergyScalars) -> (f64, [f64; #nu]) {
+            #used
+            #init_g
+            #(#grad)*
+            (v, g)
+        }
+
+        #[doc = #doc]
+        #[doc = ""]
+        #[doc = "Value, gradient and the upper triangle of the Hessian (row by row)."]
+        pub fn energy_hessian(k: &[f64; #nu], m: &Moments, s: &#prefix EnergyScalars) -> (f64, [f64; #nu], [f64; #nh]) {
+            #used
+            #init_h
+            #(#hess)*
+            (v, g, h)
+        }
+    })
 }
 
 /// A plain-text table of operation counts per generated function.

@@ -135,6 +135,8 @@ pub struct Emitter<'a> {
     bound: HashMap<ExprId, Piece>,
     symbols: HashMap<Sym, TokenStream>,
     powers: HashMap<(ExprId, u32), Piece>,
+    /// Expressions already bound to a `let` name.
+    named: std::collections::HashSet<ExprId>,
     stmts: Vec<TokenStream>,
     next: usize,
     prefix: String,
@@ -166,6 +168,7 @@ impl<'a> Emitter<'a> {
             bound: HashMap::new(),
             symbols: HashMap::new(),
             powers: HashMap::new(),
+            named: std::collections::HashSet::new(),
             stmts: Vec::new(),
             next: 0,
             prefix: prefix.to_string(),
@@ -222,6 +225,7 @@ impl<'a> Emitter<'a> {
         let p = self.render(e);
         let shared = self.uses.get(&e).copied().unwrap_or(0) > 1;
         let p = if shared && self.costly(e, &p) {
+            self.named.insert(e);
             self.bind(p)
         } else {
             p
@@ -234,7 +238,8 @@ impl<'a> Emitter<'a> {
     /// something twice: anything but a name or a literal (a function call is
     /// atomic in syntax but not free).
     fn costly(&self, e: ExprId, p: &Piece) -> bool {
-        p.prec != Prec::Atom || matches!(self.arena.node(e), Node::Fun(..))
+        !self.named.contains(&e)
+            && (p.prec != Prec::Atom || matches!(self.arena.node(e), Node::Fun(..)))
     }
 
     /// Makes sure `e` is available as a bound name (or a name or literal).
@@ -242,6 +247,7 @@ impl<'a> Emitter<'a> {
         let p = self.piece(e);
         if self.costly(e, &p) {
             let b = self.bind(p);
+            self.named.insert(e);
             self.bound.insert(e, b);
         }
     }

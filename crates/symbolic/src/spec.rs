@@ -8,6 +8,11 @@
 //! let ex = d(u, x) + 1/2*d(w, x)^2;      # d(e, v[, n]) differentiates, at(e, v, value) substitutes
 //! integral linear(x0, x1, q11) = 1/2*q11*ex^2 over x in [x0, x1], z in [z0, z1];
 //! point end(L) { Xe = at(x + u, x, L); eta = atan2(..., ...); }
+//! model Ccm;                             # the generated model's name
+//! scaled a1, a3*L^2;                     # the solver's unknowns: each unknown times a factor
+//! local b1;                              # unknowns that couple only within their element
+//! law psi(s);                            # a `let` of one variable: value and two derivatives
+//! energy = linear - kp*gas;              # how the integrals combine; `kp` a runtime scalar
 //! ```
 //!
 //! An `integral` is a box integral of a polynomial density; its parameters
@@ -47,20 +52,85 @@ pub struct PointDef {
     pub line: usize,
 }
 
+/// A material law: a `let` of one variable, emitted with its first two
+/// derivatives in that variable.
+#[derive(Debug, Clone)]
+pub struct LawDef {
+    /// The `let` name (also the generated function's name).
+    pub name: String,
+    /// The variable.
+    pub var: Sym,
+    /// The law's expression.
+    pub expr: ExprId,
+    /// Its other free symbols, in order of first appearance: runtime parameters.
+    pub params: Vec<Sym>,
+    /// Line of the statement.
+    pub line: usize,
+}
+
+/// How the integrals combine into one energy: `sum_i coefficient_i * integral_i`.
+#[derive(Debug, Clone)]
+pub struct EnergyDef {
+    /// (integral name, coefficient), in the order of the spec's integrals;
+    /// each coefficient is an expression in the scalars only.
+    pub terms: Vec<(String, ExprId)>,
+    /// The runtime scalars of the coefficients, in order of first appearance.
+    pub scalars: Vec<Sym>,
+    /// Line of the statement.
+    pub line: usize,
+}
+
+/// The unknowns the solver works with: `scaled_i = unknown_i * factor_i`.
+#[derive(Debug, Clone)]
+pub struct ScaledDef {
+    /// One factor per unknown, free of unknowns.
+    pub factors: Vec<ExprId>,
+    /// The factors' free symbols, in order of first appearance.
+    pub params: Vec<Sym>,
+    /// Line of the statement.
+    pub line: usize,
+}
+
 /// A parsed spec.
 #[derive(Debug, Clone)]
 pub struct Spec {
     /// All expressions live here.
     pub arena: Arena,
+    /// The model's name (`model NAME;`), if declared.
+    pub model: Option<String>,
     /// The unknowns, in kernel-argument order.
     pub unknowns: Vec<Sym>,
+    /// The solver's scaling of the unknowns (`scaled ...;`), if declared.
+    pub scaled: Option<ScaledDef>,
+    /// Unknowns declared local to their element (`local ...;`).
+    pub local: Vec<Sym>,
     /// Box integrals.
     pub integrals: Vec<IntegralDef>,
     /// Point kernels.
     pub points: Vec<PointDef>,
+    /// Material laws.
+    pub laws: Vec<LawDef>,
+    /// The energy combination (`energy = ...;`), if declared.
+    pub energy: Option<EnergyDef>,
 }
 
-const KEYWORDS: [&str; 6] = ["unknowns", "let", "integral", "point", "over", "in"];
+const KEYWORDS: [&str; 11] = [
+    "unknowns", "let", "integral", "point", "over", "in", "model", "scaled", "local", "law",
+    "energy",
+];
+
+/// Free symbols of several expressions, in order of first appearance.
+fn symbols_in_order(arena: &Arena, es: &[ExprId]) -> Vec<Sym> {
+    let mut out = Vec::new();
+    for &e in es {
+        for s in arena.free_symbols(e) {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+    }
+    out
+}
 
 fn is_rust_ident(s: &str) -> bool {
     let mut cs = s.chars();
@@ -75,6 +145,11 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
     let mut unknowns = Vec::new();
     let mut integrals = Vec::new();
     let mut points: Vec<PointDef> = Vec::new();
+    let mut model = None;
+    let mut scaled = None;
+    let mut local = Vec::new();
+    let mut laws: Vec<LawDef> = Vec::new();
+    let mut energy = None;
     {
         let mut p = Parser::new(src, &mut arena)?;
         let mut names_used: Vec<String> = Vec::new();
@@ -218,7 +293,141 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                         line: t.line,
                     });
                 }
-                _ => return Err(p.error("a statement (`unknowns`, `let`, `integral` or `point`)")),
+                Tok::Ident(w) if w == "model" => {
+                    p.next();
+                    if model.is_some() {
+                        return Err(p.error_at(&t, "a single `model` statement"));
+                    }
+                    let (name, tok) = definable_name(&mut p, "the model's name")?;
+                    if !name.starts_with(|c: char| c.is_ascii_uppercase()) {
+                        return Err(p.error_at(&tok, "a model name that starts with a capital letter (it names a Rust type)"));
+                    }
+                    p.expect_punct(';')?;
+                    model = Some(name);
+                }
+                Tok::Ident(w) if w == "scaled" => {
+                    p.next();
+                    if scaled.is_some() {
+                        return Err(p.error_at(&t, "a single `scaled` statement"));
+                    }
+                    if unknowns.is_empty() {
+                        return Err(p.error_at(&t, "the `unknowns` statement before `scaled`"));
+                    }
+                    let mut factors = Vec::new();
+                    loop {
+                        let et = p.peek().clone();
+                        let e = p.expr()?;
+                        let i = factors.len();
+                        let Some(&u) = unknowns.get(i) else {
+                            return Err(p.error_at(&et, &format!("one scaled unknown per unknown ({})", unknowns.len())));
+                        };
+                        let ue = p.arena.sym(u);
+                        let factor = p.arena.div(e, ue).map_err(|err| p.error_at(&et, &format!("a scaling that can be built ({err})")))?;
+                        let fine = !p.arena.free_symbols(factor).iter().any(|s| unknowns.contains(s))
+                            && p.arena.as_num(factor).is_none_or(|r| !r.is_zero());
+                        if !fine {
+                            let n = p.arena.name(u).to_string();
+                            return Err(p.error_at(&et, &format!("`{n}` times a nonzero factor free of unknowns (entry {} scales `{n}`)", i + 1)));
+                        }
+                        factors.push(factor);
+                        if p.is_punct(',') {
+                            p.next();
+                            continue;
+                        }
+                        p.expect_punct(';')?;
+                        break;
+                    }
+                    if factors.len() != unknowns.len() {
+                        return Err(p.error_at(&t, &format!("one scaled unknown per unknown ({}, found {})", unknowns.len(), factors.len())));
+                    }
+                    let params = symbols_in_order(p.arena, &factors);
+                    scaled = Some(ScaledDef { factors, params, line: t.line });
+                }
+                Tok::Ident(w) if w == "local" => {
+                    p.next();
+                    let list = ident_list(&mut p, ';', "an unknown's name")?;
+                    for (name, tok) in list {
+                        let s = p.arena.symbol(&name);
+                        if !unknowns.contains(&s) {
+                            return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
+                        }
+                        if local.contains(&s) {
+                            return Err(p.error_at(&tok, "distinct local unknowns"));
+                        }
+                        local.push(s);
+                    }
+                }
+                Tok::Ident(w) if w == "law" => {
+                    p.next();
+                    let (name, tok) = p.expect_ident("the name of a `let` to emit as a law")?;
+                    let Some(&expr) = p.lets.get(&name) else {
+                        return Err(p.error_at(&tok, &format!("the name of a `let` (`{name}` is not one)")));
+                    };
+                    if laws.iter().any(|l| l.name == name) || names_used.contains(&name) {
+                        return Err(p.error_at(&tok, &format!("a new function name (`{name}` is taken)")));
+                    }
+                    names_used.push(name.clone());
+                    p.expect_punct('(')?;
+                    let (v, vt) = p.expect_ident("the law's variable")?;
+                    p.expect_punct(')')?;
+                    p.expect_punct(';')?;
+                    let var = p.arena.symbol(&v);
+                    let free = p.arena.free_symbols(expr);
+                    if !free.contains(&var) {
+                        return Err(p.error_at(&vt, &format!("a variable of `{name}` (`{v}` does not appear in it)")));
+                    }
+                    if let Some(u) = free.iter().find(|s| unknowns.contains(s)) {
+                        let n = p.arena.name(*u).to_string();
+                        return Err(p.error_at(&tok, &format!("a law free of unknowns (`{name}` uses `{n}`)")));
+                    }
+                    let params = symbols_in_order(p.arena, &[expr]).into_iter().filter(|&s| s != var).collect();
+                    laws.push(LawDef { name, var, expr, params, line: t.line });
+                }
+                Tok::Ident(w) if w == "energy" => {
+                    p.next();
+                    if energy.is_some() {
+                        return Err(p.error_at(&t, "a single `energy` statement"));
+                    }
+                    p.expect_punct('=')?;
+                    let et = p.peek().clone();
+                    let e = p.expr()?;
+                    p.expect_punct(';')?;
+                    let names: Vec<Sym> = integrals.iter().map(|d: &IntegralDef| p.arena.symbol(&d.name)).collect();
+                    let is_integral = |s: Sym| names.contains(&s);
+                    let expanded = p.arena.expand_in(e, &is_integral).map_err(|err| p.error_at(&et, &format!("an energy that can be expanded ({err})")))?;
+                    let mut coefs: Vec<Option<ExprId>> = vec![None; integrals.len()];
+                    for (mono, coef) in &expanded {
+                        let which = match mono.as_slice() {
+                            [(s, 1)] => names.iter().position(|n| n == s),
+                            _ => None,
+                        };
+                        let Some(i) = which else {
+                            return Err(p.error_at(&et, "a sum of integrals, each times a coefficient free of integrals (the energy must be linear in them)"));
+                        };
+                        let c = coef.to_expr(p.arena).map_err(|err| p.error_at(&et, &format!("an energy that can be built ({err})")))?;
+                        coefs[i] = Some(c);
+                    }
+                    let terms: Vec<(String, ExprId)> = integrals.iter().zip(&coefs).filter_map(|(d, c)| c.map(|c| (d.name.clone(), c))).collect();
+                    if terms.is_empty() {
+                        return Err(p.error_at(&et, "at least one integral in the energy"));
+                    }
+                    let coef_es: Vec<ExprId> = terms.iter().map(|t| t.1).collect();
+                    let scalars = symbols_in_order(p.arena, &coef_es);
+                    for &sc in &scalars {
+                        if unknowns.contains(&sc) {
+                            let n = p.arena.name(sc).to_string();
+                            return Err(p.error_at(&et, &format!("coefficients free of unknowns (`{n}` is one)")));
+                        }
+                        let n = p.arena.name(sc).to_string();
+                        if !is_rust_ident(&n) || RUST_AND_GENERATED.contains(&n.as_str()) {
+                            return Err(p.error_at(&et, &format!("scalar names usable in Rust (`{n}` is not)")));
+                        }
+                    }
+                    energy = Some(EnergyDef { terms, scalars, line: t.line });
+                }
+                _ => return Err(p.error(
+                    "a statement (`model`, `unknowns`, `scaled`, `local`, `let`, `law`, `integral`, `energy` or `point`)",
+                )),
             }
         }
         if unknowns.is_empty() && (!integrals.is_empty() || !points.is_empty()) {
@@ -228,9 +437,14 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
     }
     Ok(Spec {
         arena,
+        model,
         unknowns,
+        scaled,
+        local,
         integrals,
         points,
+        laws,
+        energy,
     })
 }
 

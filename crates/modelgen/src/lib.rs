@@ -1,0 +1,640 @@
+//! The element-model generator of `fpc`: energy specs in, Rust modules out.
+//!
+//! `fpc-symbolic` turns a spec into kernels and knows nothing about
+//! fingers. This crate knows the contract between a spec and the `fpc`
+//! runtime (the prost-build pattern: generated code plugs into a runtime
+//! trait) and emits, per spec, a module whose model type implements
+//! `fpc`'s `ElementModel`:
+//!
+//! - the integrals `linear`, `prestressed` and `gas`, one per kind of block
+//!   the runtime cuts from the actuator, with named parameter structs
+//!   shared by every model (`LinearParams`, ...);
+//! - `energy = ...;`, how the integrals combine (runtime scalars in
+//!   `EnergyScalars`);
+//! - `scaled ...;` (the solver's unknowns) and `local ...;` (unknowns the
+//!   chain does not see, condensed out of coupled systems);
+//! - the point kernels the runtime reads, by role and output name:
+//!   `end(L)` `{Xe, Ze, eta}`, `frame(L)` `{Xe, Ze, dx, dz}`,
+//!   `midplane(x)` `{X, Z}`, `tangent(x)` `{dx, dz}`, `strain(x, z)`
+//!   `{eps_x}`, `curvature(x)` `{kappa}`;
+//! - `law psi(s);`, the prestressed layer's material law (`PsiParams`).
+//!
+//! Every rule is checked here, so a spec that breaks the contract fails the
+//! build with the spec's name and the rule, never compiles into a model
+//! that computes something else. Outputs: `models.rs` (the shared parameter
+//! structs and the registry `ModelId`) and one `model_NAME.rs` per spec.
+
+use std::fmt;
+
+use fpc_symbolic::codegen::{format_file, generate_with, param_structs, report_table, Options};
+use fpc_symbolic::spec::{parse_spec, PointDef, Spec};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::quote;
+
+/// A spec to generate a model from.
+#[derive(Debug, Clone)]
+pub struct SpecFile {
+    /// Path relative to the package root (`energy-spec/ccm.spec`).
+    pub path: String,
+    /// Its text.
+    pub text: String,
+}
+
+/// A generated file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct GeneratedFile {
+    /// File name inside the output directory.
+    pub name: String,
+    /// Its text.
+    pub text: String,
+}
+
+/// Why a spec does not make a model.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{spec}: {message}")]
+pub struct ModelGenError {
+    /// The spec's path.
+    pub spec: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// The integrals the runtime builds blocks for.
+pub const FAMILIES: [&str; 3] = ["linear", "prestressed", "gas"];
+
+/// The point kernels the runtime reads: name, parameters (by name), outputs
+/// in the runtime's order.
+pub const POINT_ROLES: [(&str, &[&str], &[&str]); 6] = [
+    ("end", &["L"], &["Xe", "Ze", "eta"]),
+    ("frame", &["L"], &["Xe", "Ze", "dx", "dz"]),
+    ("midplane", &["x"], &["X", "Z"]),
+    ("tangent", &["x"], &["dx", "dz"]),
+    ("strain", &["x", "z"], &["eps_x"]),
+    ("curvature", &["x"], &["kappa"]),
+];
+
+/// The prestressed layer's law.
+pub const LAW: (&str, &str) = ("psi", "s");
+
+/// The runtime's names for the role parameters.
+fn runtime_arg(param: &str) -> TokenStream {
+    match param {
+        "L" => quote! { length },
+        "x" => quote! { x },
+        _ => quote! { z },
+    }
+}
+
+fn ident(s: &str) -> Ident {
+    Ident::new(s, Span::call_site())
+}
+
+/// The spec's leading comment block, without the `#` marks.
+fn header_comment(text: &str) -> String {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let t = line.trim();
+        match t.strip_prefix('#') {
+            Some(rest) => out.push(rest.strip_prefix(' ').unwrap_or(rest).to_string()),
+            None if t.is_empty() && out.is_empty() => continue,
+            None => break,
+        }
+    }
+    out.join("\n")
+}
+
+struct Checked {
+    model: String,
+    module: String,
+    spec: Spec,
+}
+
+fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
+    let fail = |message: String| ModelGenError {
+        spec: file.path.clone(),
+        message,
+    };
+    let spec = parse_spec(&file.text).map_err(|e| fail(e.to_string()))?;
+    let model = spec.model.clone().ok_or_else(|| {
+        fail("needs a `model NAME;` statement (the Rust type of the model)".into())
+    })?;
+    let module = model.to_lowercase();
+    if spec.scaled.is_none() {
+        return Err(fail(
+            "needs a `scaled ...;` statement: the solver's dimensionless unknowns".into(),
+        ));
+    }
+    let names: Vec<&str> = spec.integrals.iter().map(|d| d.name.as_str()).collect();
+    for f in FAMILIES {
+        if !names.contains(&f) {
+            return Err(fail(format!(
+                "needs `integral {f}(...)`: the runtime builds {} blocks from the actuator",
+                FAMILIES.join(", ")
+            )));
+        }
+    }
+    if let Some(other) = names.iter().find(|n| !FAMILIES.contains(n)) {
+        return Err(fail(format!(
+            "`integral {other}` has no blocks: the runtime builds {} blocks only",
+            FAMILIES.join(", ")
+        )));
+    }
+    let energy = spec.energy.as_ref().ok_or_else(|| {
+        fail("needs an `energy = ...;` statement (how the integrals combine)".into())
+    })?;
+    for t in &energy.terms {
+        if !FAMILIES.contains(&t.0.as_str()) {
+            return Err(fail(format!(
+                "the energy uses `{}`, which has no blocks",
+                t.0
+            )));
+        }
+    }
+    for (role, params, outputs) in POINT_ROLES {
+        let def = point(&spec, role).ok_or_else(|| {
+            fail(format!(
+                "needs `point {role}({}) {{ {} }}`",
+                params.join(", "),
+                outputs
+                    .iter()
+                    .map(|o| format!("{o} = ...;"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            ))
+        })?;
+        let got: Vec<&str> = def.params.iter().map(|&s| spec.arena.name(s)).collect();
+        let mut want = params.to_vec();
+        let mut have = got.clone();
+        want.sort_unstable();
+        have.sort_unstable();
+        if want != have {
+            return Err(fail(format!(
+                "`point {role}` takes ({}); the runtime passes ({})",
+                got.join(", "),
+                params.join(", ")
+            )));
+        }
+        let outs: Vec<&str> = def.outputs.iter().map(|o| o.0.as_str()).collect();
+        let mut o1 = outs.clone();
+        let mut o2 = outputs.to_vec();
+        o1.sort_unstable();
+        o2.sort_unstable();
+        if o1 != o2 {
+            return Err(fail(format!(
+                "`point {role}` has outputs {{{}}}; the runtime reads {{{}}}",
+                outs.join(", "),
+                outputs.join(", ")
+            )));
+        }
+    }
+    // local unknowns must not reach the chain
+    for &l in &spec.local {
+        for role in ["end", "frame"] {
+            if let Some(def) = point(&spec, role) {
+                if def
+                    .outputs
+                    .iter()
+                    .any(|o| spec.arena.free_symbols(o.1).contains(&l))
+                {
+                    return Err(fail(format!(
+                        "`{}` is declared local but `point {role}` depends on it: it couples elements through the chain",
+                        spec.arena.name(l)
+                    )));
+                }
+            }
+        }
+    }
+    let law = spec.laws.iter().find(|l| l.name == LAW.0).ok_or_else(|| {
+        fail(format!(
+            "needs `law {}({});`: the prestressed layer's material law",
+            LAW.0, LAW.1
+        ))
+    })?;
+    if spec.arena.name(law.var) != LAW.1 {
+        return Err(fail(format!(
+            "`law {}` must be a law in `{}`",
+            LAW.0, LAW.1
+        )));
+    }
+    Ok(Checked {
+        model,
+        module,
+        spec,
+    })
+}
+
+fn point<'s>(spec: &'s Spec, name: &str) -> Option<&'s PointDef> {
+    spec.points.iter().find(|p| p.name == name)
+}
+
+/// The call of a point kernel's function with the runtime's arguments in
+/// the spec's parameter order, and the output reordering to the runtime's.
+fn role_call(spec: &Spec, role: &str, suffix: &str) -> (TokenStream, Vec<usize>) {
+    let (_, _, outputs) = POINT_ROLES
+        .iter()
+        .find(|r| r.0 == role)
+        .copied()
+        .unwrap_or(POINT_ROLES[0]);
+    let def = point(spec, role).expect("checked");
+    let f = ident(&format!("{role}_{suffix}"));
+    let args: Vec<TokenStream> = def
+        .params
+        .iter()
+        .map(|&p| runtime_arg(spec.arena.name(p)))
+        .collect();
+    let order = outputs
+        .iter()
+        .map(|o| def.outputs.iter().position(|d| d.0 == *o).expect("checked"))
+        .collect();
+    (quote! { #f(k, #(#args),*) }, order)
+}
+
+fn reorder(value: TokenStream, order: &[usize]) -> TokenStream {
+    if order.iter().enumerate().all(|(i, &j)| i == j) && order.len() > 1 {
+        return value;
+    }
+    let idx: Vec<Literal> = order
+        .iter()
+        .map(|&j| Literal::usize_unsuffixed(j))
+        .collect();
+    quote! { { let o = #value; [#(o[#idx]),*] } }
+}
+
+fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGenError> {
+    let fail = |message: String| ModelGenError {
+        spec: file.path.clone(),
+        message,
+    };
+    let options = Options {
+        shared_params: Some(quote! { super }),
+    };
+    let generated = generate_with(&file.text, &options).map_err(|e| fail(e.to_string()))?;
+    let kernels = generated.tokens;
+    let spec = &c.spec;
+    let n = spec.unknowns.len();
+    let nu = Literal::usize_unsuffixed(n);
+    let nh = Literal::usize_unsuffixed(n * (n + 1) / 2);
+    let model = ident(&c.model);
+    let name = &c.module;
+    let path = &file.path;
+    let description = header_comment(&file.text);
+    let unknowns: Vec<&str> = spec.unknowns.iter().map(|&s| spec.arena.name(s)).collect();
+    let families: Vec<Ident> = FAMILIES.iter().map(|f| ident(f)).collect();
+    let family_names = FAMILIES;
+    let add_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("add_{f}")))
+        .collect();
+    let moments_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("{f}_moments")))
+        .collect();
+    let params_types: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| {
+            let mut s = f.to_string();
+            s[..1].make_ascii_uppercase();
+            ident(&format!("{s}Params"))
+        })
+        .collect();
+    let hess_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("{f}_hessian")))
+        .collect();
+    let fam_idx: Vec<Literal> = (0..FAMILIES.len()).map(Literal::usize_unsuffixed).collect();
+    let scaled_params: Vec<TokenStream> = spec
+        .scaled
+        .as_ref()
+        .map(|s| {
+            s.params
+                .iter()
+                .map(|&p| runtime_arg(spec.arena.name(p)))
+                .collect()
+        })
+        .unwrap_or_default();
+    let (end_v, end_o) = role_call(spec, "end", "value");
+    let (end_g, _) = role_call(spec, "end", "gradient");
+    let (end_h, _) = role_call(spec, "end", "hessian");
+    let (frame_v, frame_o) = role_call(spec, "frame", "value");
+    let (mid_v, mid_o) = role_call(spec, "midplane", "value");
+    let (tan_v, tan_o) = role_call(spec, "tangent", "value");
+    let (strain_v, strain_o) = role_call(spec, "strain", "value");
+    let (curv_v, curv_o) = role_call(spec, "curvature", "value");
+    let end_value = reorder(end_v, &end_o);
+    let idx3: Vec<Literal> = end_o
+        .iter()
+        .map(|&j| Literal::usize_unsuffixed(j))
+        .collect();
+    let frame_value = reorder(frame_v, &frame_o);
+    let mid_value = reorder(mid_v, &mid_o);
+    let tan_value = reorder(tan_v, &tan_o);
+    let s_idx = Literal::usize_unsuffixed(strain_o[0]);
+    let c_idx = Literal::usize_unsuffixed(curv_o[0]);
+    let law = ident(LAW.0);
+    let model_doc = format!(
+        "The element model of `{path}` ({n} unknowns: `{}`).\n\n{description}",
+        unknowns.join(", ")
+    );
+    let tokens = quote! {
+        #kernels
+
+        #[doc = #model_doc]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+        pub struct #model;
+
+        impl super::ElementModel for #model {
+            type Coeffs = [f64; #nu];
+            type Upper = [f64; #nh];
+            type Moments = Moments;
+
+            const NAME: &'static str = #name;
+            const SPEC_PATH: &'static str = #path;
+            const DESCRIPTION: &'static str = #description;
+            const UNKNOWNS: &'static [&'static str] = &[#(#unknowns),*];
+            const LOCAL: &'static [usize] = LOCAL;
+            const FAMILIES: &'static [&'static str] = &[#(#family_names),*];
+
+            #[inline]
+            fn unscale(length: f64) -> [f64; #nu] {
+                unscale(#(#scaled_params),*)
+            }
+
+            fn zero_moments() -> Moments {
+                Moments::ZERO
+            }
+
+            #(
+                fn #add_fns(m: &mut Moments, p: &super::#params_types) {
+                    #moments_fns(&mut m.#families, p);
+                }
+            )*
+
+            #[inline]
+            fn energy(m: &Moments, k: &[f64; #nu], s: &super::EnergyScalars) -> f64 {
+                energy_value(k, m, s)
+            }
+
+            #[inline]
+            fn gradient(m: &Moments, k: &[f64; #nu], s: &super::EnergyScalars) -> (f64, [f64; #nu]) {
+                energy_gradient(k, m, s)
+            }
+
+            #[inline]
+            fn hessian(m: &Moments, k: &[f64; #nu], s: &super::EnergyScalars) -> (f64, [f64; #nu], [f64; #nh]) {
+                energy_hessian(k, m, s)
+            }
+
+            fn family_hessian(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu], [f64; #nh])> {
+                match family {
+                    #(#fam_idx => Some(#hess_fns(k, &m.#families)),)*
+                    _ => None,
+                }
+            }
+
+            #[inline]
+            fn end(k: &[f64; #nu], length: f64) -> [f64; 3] {
+                #end_value
+            }
+
+            #[inline]
+            fn end_gradient(k: &[f64; #nu], length: f64) -> ([f64; 3], [[f64; #nu]; 3]) {
+                let (v, g) = #end_g;
+                ([#(v[#idx3]),*], [#(g[#idx3]),*])
+            }
+
+            #[inline]
+            fn end_hessian(k: &[f64; #nu], length: f64) -> ([f64; 3], [[f64; #nu]; 3], [[f64; #nh]; 3]) {
+                let (v, g, h) = #end_h;
+                ([#(v[#idx3]),*], [#(g[#idx3]),*], [#(h[#idx3]),*])
+            }
+
+            #[inline]
+            fn frame(k: &[f64; #nu], length: f64) -> [f64; 4] {
+                #frame_value
+            }
+
+            #[inline]
+            fn midplane(k: &[f64; #nu], x: f64) -> [f64; 2] {
+                #mid_value
+            }
+
+            #[inline]
+            fn tangent(k: &[f64; #nu], x: f64) -> [f64; 2] {
+                #tan_value
+            }
+
+            #[inline]
+            fn strain(k: &[f64; #nu], x: f64, z: f64) -> f64 {
+                #strain_v[#s_idx]
+            }
+
+            #[inline]
+            fn curvature(k: &[f64; #nu], x: f64) -> f64 {
+                #curv_v[#c_idx]
+            }
+
+            #[inline]
+            fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
+                #law(s, p)
+            }
+        }
+    };
+    let body = format_file(&tokens).map_err(|e| fail(e.to_string()))?;
+    let text = format!(
+        "// @generated by build.rs from {path} with fpc-modelgen and fpc-symbolic.\n\
+         // Do not edit: change the spec or the generator. A reviewed copy lives in\n\
+         // energy-spec/golden/ and tests/golden.rs compares the two.\n\n{body}"
+    );
+    Ok((text, report_table(&generated.report)))
+}
+
+/// Generates every model. `default` names the model `ModelId::default()`
+/// picks (its `model` name in lower case).
+pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>, ModelGenError> {
+    let mut checked = Vec::new();
+    for f in specs {
+        checked.push(check(f)?);
+    }
+    if checked.is_empty() {
+        return Err(ModelGenError {
+            spec: "energy-spec/".into(),
+            message: "no spec to generate a model from".into(),
+        });
+    }
+    // shared parameter structs: every spec must agree (by field names)
+    let mut structs = param_structs(&checked[0].spec);
+    for (f, c) in specs.iter().zip(&checked).skip(1) {
+        for s in param_structs(&c.spec) {
+            match structs.iter().find(|t| t.name == s.name) {
+                Some(t) => {
+                    let mut a = t.fields.clone();
+                    let mut b = s.fields.clone();
+                    a.sort();
+                    b.sort();
+                    if a != b {
+                        return Err(ModelGenError {
+                            spec: f.path.clone(),
+                            message: format!(
+                                "`{}` takes ({}) but {} gives it ({}): models share the runtime's parameter structs",
+                                s.name,
+                                s.fields.join(", "),
+                                specs[0].path,
+                                t.fields.join(", ")
+                            ),
+                        });
+                    }
+                }
+                None => structs.push(s),
+            }
+        }
+    }
+    for (i, c) in checked.iter().enumerate() {
+        if checked[..i].iter().any(|d| d.module == c.module) {
+            return Err(ModelGenError {
+                spec: specs[i].path.clone(),
+                message: format!("a second model named `{}`", c.model),
+            });
+        }
+    }
+    let default_index = checked
+        .iter()
+        .position(|c| c.module == default)
+        .ok_or_else(|| ModelGenError {
+            spec: "energy-spec/".into(),
+            message: format!("the default model `{default}` has no spec"),
+        })?;
+
+    let mut files = Vec::new();
+    for (f, c) in specs.iter().zip(&checked) {
+        let (text, report) = model_file(f, c)?;
+        files.push(GeneratedFile {
+            name: format!("model_{}.rs", c.module),
+            text,
+        });
+        files.push(GeneratedFile {
+            name: format!("model_{}_report.txt", c.module),
+            text: report,
+        });
+    }
+
+    let struct_tokens: Vec<TokenStream> = structs.iter().map(|s| s.tokens()).collect();
+    let variants: Vec<Ident> = checked.iter().map(|c| ident(&c.model)).collect();
+    let modules: Vec<Ident> = checked.iter().map(|c| ident(&c.module)).collect();
+    let names: Vec<&str> = checked.iter().map(|c| c.module.as_str()).collect();
+    let files_rs: Vec<String> = checked
+        .iter()
+        .map(|c| format!("/model_{}.rs", c.module))
+        .collect();
+    let reports: Vec<String> = checked
+        .iter()
+        .map(|c| format!("/model_{}_report.txt", c.module))
+        .collect();
+    let default_variant = &variants[default_index];
+    let generated_names: Vec<String> = files.iter().map(|f| f.name.clone()).collect();
+    let model_docs: Vec<String> = specs
+        .iter()
+        .zip(&checked)
+        .map(|(f, c)| format!("`{}`: the model of `{}`.", c.module, f.path))
+        .collect();
+    let tokens = quote! {
+        #(#struct_tokens)*
+
+        #(
+            #[doc = #model_docs]
+            #[allow(
+                non_snake_case,
+                unused_mut,
+                clippy::too_many_arguments,
+                clippy::excessive_precision,
+                clippy::unreadable_literal,
+                clippy::neg_multiply,
+                clippy::double_parens,
+                clippy::let_and_return,
+                clippy::redundant_locals,
+                clippy::needless_return,
+                clippy::needless_late_init
+            )]
+            pub mod #modules {
+                include!(concat!(env!("OUT_DIR"), #files_rs));
+
+                #[doc = "The generated Rust source of this model, as compiled."]
+                pub const SOURCE: &str = include_str!(concat!(env!("OUT_DIR"), #files_rs));
+
+                #[doc = "Operation counts of its generated functions, before and after CSE."]
+                pub const REPORT: &str = include_str!(concat!(env!("OUT_DIR"), #reports));
+            }
+        )*
+
+        #[doc = "The element models generated from the specs in `energy-spec/`."]
+        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+        pub enum ModelId {
+            #(
+                #[doc = #model_docs]
+                #variants,
+            )*
+        }
+
+        impl ModelId {
+            #[doc = "Every model, in the order of their specs."]
+            pub const ALL: &'static [ModelId] = &[#(ModelId::#variants),*];
+
+            #[doc = "Calls the visitor with the model's type."]
+            pub fn visit<V: ModelVisitor>(self, v: V) -> V::Output {
+                match self {
+                    #(ModelId::#variants => v.visit::<#modules::#variants>(),)*
+                }
+            }
+
+            #[doc = "The generated source and its operation counts."]
+            pub fn generated(self) -> (&'static str, &'static str) {
+                match self {
+                    #(ModelId::#variants => (#modules::SOURCE, #modules::REPORT),)*
+                }
+            }
+
+            #[doc = "The model's name (lower case), as the CLI and scene files spell it."]
+            pub fn name(self) -> &'static str {
+                match self {
+                    #(ModelId::#variants => #names,)*
+                }
+            }
+        }
+
+        #[doc = "Every generated file (name, text), as compiled: the golden test compares them."]
+        pub const GENERATED_FILES: &[(&str, &str)] = &[
+            ("models.rs", include_str!(concat!(env!("OUT_DIR"), "/models.rs"))),
+            #(
+                (#generated_names, include_str!(concat!(env!("OUT_DIR"), "/", #generated_names))),
+            )*
+        ];
+
+        impl Default for ModelId {
+            #[doc = "The default model (the paper's element)."]
+            fn default() -> ModelId {
+                ModelId::#default_variant
+            }
+        }
+    };
+    let body = format_file(&tokens).map_err(|e| ModelGenError {
+        spec: "energy-spec/".into(),
+        message: e.to_string(),
+    })?;
+    let list: Vec<&str> = specs.iter().map(|s| s.path.as_str()).collect();
+    files.insert(
+        0,
+        GeneratedFile {
+            name: "models.rs".into(),
+            text: format!(
+                "// @generated by build.rs from {} with fpc-modelgen. Do not edit.\n\n{body}",
+                list.join(", ")
+            ),
+        },
+    );
+    Ok(files)
+}
+
+impl fmt::Display for GeneratedFile {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} ({} bytes)", self.name, self.text.len())
+    }
+}

@@ -1,0 +1,648 @@
+//! One finger: the chained composite model over any [`ElementModel`]
+//! (docs/model.md section 4).
+//!
+//! The public types here do not depend on the model: a [`Finger`] holds
+//! its elements behind a trait object, so the model is a run-time choice
+//! ([`ModelId`]) while every solve runs monomorphised code.
+//!
+//! - [`problem`]: the elements of one finger and its energy, tip and shape;
+//! - [`chain`]: the coupled Newton problem in scaled unknowns, with the
+//!   exact chain derivatives of the tip load and the condensation of the
+//!   element-local unknowns;
+//! - [`solver`]: decoupled and coupled solves, continuation fallbacks,
+//!   stability and the validity checks of a solution;
+//! - [`target`]: bordered solves with one unknown load and one target.
+
+mod chain;
+mod problem;
+mod solver;
+mod target;
+
+use std::sync::Arc;
+
+use crate::actuator::Actuator;
+use crate::blocks::Partition;
+use crate::error::{finite, positive, InputError, SolveError, Warning};
+use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
+
+pub use target::TargetProblem;
+
+pub(crate) use problem::FingerCore;
+
+/// Pressure and tip loads of a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Load {
+    /// Channel pressure (MPa; 1 kPa = 0.001 MPa).
+    pub pressure: f64,
+    /// Pressure factor `kappa = 1/(gamma - 1)` (2.5 by default; 1 is plain `P dV` work).
+    pub kappa: f64,
+    /// Tip force along the finger's X axis (N).
+    pub fx: f64,
+    /// Tip force along the finger's Z axis (N).
+    pub fz: f64,
+}
+
+impl Default for Load {
+    fn default() -> Load {
+        Load {
+            pressure: 0.0,
+            kappa: 2.5,
+            fx: 0.0,
+            fz: 0.0,
+        }
+    }
+}
+
+/// Absolute vacuum relative to the atmosphere (MPa): a channel pressure
+/// (gauge) below it is not physical.
+pub const VACUUM_GAUGE_MPA: f64 = -0.101_325;
+
+impl Load {
+    /// No pressure, no tip load.
+    pub fn unloaded() -> Load {
+        Load::default()
+    }
+
+    /// The same load with a pressure given in kPa.
+    pub fn with_pressure_kpa(mut self, kpa: f64) -> Load {
+        self.pressure = kpa * 1e-3;
+        self
+    }
+
+    /// The same load with a tip force (N, finger frame).
+    pub fn with_tip_force(mut self, fx: f64, fz: f64) -> Load {
+        self.fx = fx;
+        self.fz = fz;
+        self
+    }
+
+    /// True when a tip force acts.
+    pub fn has_tip_load(&self) -> bool {
+        self.fx != 0.0 || self.fz != 0.0
+    }
+
+    /// Checks that every value is finite, kappa positive and the pressure
+    /// (gauge) not below absolute vacuum.
+    pub fn validate(&self) -> Result<(), InputError> {
+        finite("load.pressure", self.pressure)?;
+        if self.pressure < VACUUM_GAUGE_MPA {
+            return Err(InputError::OutOfRange {
+                field: "load.pressure".into(),
+                value: self.pressure,
+                rule: format!(
+                    "is below absolute vacuum ({} kPa gauge)",
+                    VACUUM_GAUGE_MPA * 1e3
+                ),
+            });
+        }
+        positive("load.kappa", self.kappa)?;
+        finite("load.fx", self.fx)?;
+        finite("load.fz", self.fz)?;
+        Ok(())
+    }
+
+    /// The energy's runtime scalars.
+    pub(crate) fn scalars(&self) -> EnergyScalars {
+        EnergyScalars {
+            kp: self.kappa * self.pressure,
+        }
+    }
+}
+
+/// How a scene is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// Decoupled element solves when there is no tip load, the coupled
+    /// system otherwise.
+    #[default]
+    Auto,
+    /// Always the coupled system (for checks and benchmarks).
+    Coupled,
+}
+
+/// Largest number of mid-plane samples per element.
+pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveOptions {
+    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
+    pub rtol: f64,
+    /// Newton iteration limit per solve.
+    pub max_iter: usize,
+    /// Decoupled or coupled path.
+    pub strategy: Strategy,
+    /// Sample the mid-plane and fit a circle (off for tip-only output).
+    pub shape: bool,
+    /// Compute the smallest Hessian eigenvalue (off for tip-only output,
+    /// then `Solution::min_hessian_eig` is `None`).
+    pub stability: bool,
+    /// Mid-plane samples per element when `shape` is on (at most
+    /// [`MAX_SAMPLES_PER_ELEMENT`]).
+    pub samples_per_element: usize,
+    /// Fall back to continuation when Newton fails from the guess: load
+    /// continuation for tip loads; per element, pressure continuation from
+    /// the straight element at zero pressure; and, when no unloaded
+    /// equilibrium is found to start a loaded solve from, Newton from the
+    /// straight finger.
+    pub continuation: bool,
+    /// Largest Newton step in the scaled unknowns (dimensionless strains).
+    /// The prestressed law's quintic makes the energy unbounded below at
+    /// large stretch, so an uncapped step from a poor guess can leave the
+    /// physical basin for good; 0.25 never limits a step near equilibrium.
+    pub max_step: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> SolveOptions {
+        SolveOptions {
+            rtol: 1e-11,
+            max_iter: 60,
+            strategy: Strategy::Auto,
+            shape: true,
+            stability: true,
+            samples_per_element: 16,
+            continuation: true,
+            max_step: 0.25,
+        }
+    }
+}
+
+impl SolveOptions {
+    /// Tip-only output: no shape sampling, no circle fit, no eigenvalue.
+    pub fn tip_only(mut self) -> SolveOptions {
+        self.shape = false;
+        self.stability = false;
+        self
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), InputError> {
+        positive("solve.rtol", self.rtol)?;
+        positive("solve.max_step", self.max_step)?;
+        if self.max_iter == 0 {
+            return Err(InputError::OutOfRange {
+                field: "solve.max_iter".into(),
+                value: 0.0,
+                rule: "must be at least 1".into(),
+            });
+        }
+        if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {
+            return Err(InputError::OutOfRange {
+                field: "solve.samples_per_element".into(),
+                value: self.samples_per_element as f64,
+                rule: format!(
+                    "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}] when the shape is sampled"
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How a solve went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SolveReport {
+    /// Why it stopped (always converged in a returned solution).
+    pub reason: fpc_newton::Termination,
+    /// Newton iterations (summed over element solves and continuation steps).
+    pub iterations: usize,
+    /// `||grad Pi||_inf` in scaled units over the stiffness scale.
+    pub residual_norm: f64,
+    /// Kernel evaluations: energy, gradient and Hessian calls.
+    pub evaluations: usize,
+    /// True when the coupled system was solved (false: decoupled elements).
+    pub coupled: bool,
+    /// Continuation steps taken (0: Newton from the guess sufficed).
+    pub continuation_steps: usize,
+}
+
+/// The unknowns of every element, element by element (`per_element` values
+/// each, in the model's order: `a1, a3, b1, c2` for the paper's element).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Coefficients {
+    per_element: usize,
+    values: Vec<f64>,
+}
+
+impl Coefficients {
+    /// Coefficients from their values, `per_element` per element.
+    pub fn new(per_element: usize, values: Vec<f64>) -> Result<Coefficients, InputError> {
+        if per_element == 0 || values.is_empty() || values.len() % per_element != 0 {
+            return Err(InputError::Inconsistent {
+                field: "coefficients".into(),
+                rule: format!(
+                    "{} values do not split into elements of {per_element} unknowns",
+                    values.len()
+                ),
+            });
+        }
+        Ok(Coefficients {
+            per_element,
+            values,
+        })
+    }
+
+    /// Zeros: the straight, unstrained finger.
+    pub fn zeros(elements: usize, per_element: usize) -> Coefficients {
+        Coefficients {
+            per_element,
+            values: vec![0.0; elements * per_element],
+        }
+    }
+
+    /// Number of elements.
+    pub fn elements(&self) -> usize {
+        self.values.len() / self.per_element
+    }
+
+    /// Unknowns per element.
+    pub fn per_element(&self) -> usize {
+        self.per_element
+    }
+
+    /// Element `i`'s unknowns.
+    pub fn element(&self, i: usize) -> &[f64] {
+        &self.values[i * self.per_element..(i + 1) * self.per_element]
+    }
+
+    /// Element by element.
+    pub fn iter(&self) -> std::slice::ChunksExact<'_, f64> {
+        self.values.chunks_exact(self.per_element)
+    }
+
+    /// Every value, element by element.
+    pub fn as_slice(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// Every value, element by element, to change in place.
+    pub fn as_mut_slice(&mut self) -> &mut [f64] {
+        &mut self.values
+    }
+
+    /// One `Vec` per element.
+    pub fn to_nested(&self) -> Vec<Vec<f64>> {
+        self.iter().map(<[f64]>::to_vec).collect()
+    }
+}
+
+impl serde::Serialize for Coefficients {
+    /// One array of unknowns per element.
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeSeq;
+        let mut seq = serializer.serialize_seq(Some(self.elements()))?;
+        for e in self.iter() {
+            seq.serialize_element(e)?;
+        }
+        seq.end()
+    }
+}
+
+/// An equilibrium of one finger.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Solution {
+    /// The element unknowns.
+    pub coefficients: Coefficients,
+    /// Tip position (X, Z) in the finger frame (mm).
+    pub tip: [f64; 2],
+    /// Angle of the tip tangent from the X axis (rad).
+    pub end_angle: f64,
+    /// Total potential energy `Pi` (N mm).
+    pub energy: f64,
+    /// Smallest eigenvalue of the scaled Hessian over the stiffness scale
+    /// (positive: stable); `None` when not computed (`SolveOptions::stability` off).
+    pub min_hessian_eig: Option<f64>,
+    /// Mid-plane samples from root to tip (empty for tip-only output).
+    pub points: Vec<[f64; 2]>,
+    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
+    pub radius: Option<f64>,
+    /// Undeformed element lengths (mm), root to tip.
+    pub element_lengths: Vec<f64>,
+    /// Where the answer leaves the model's assumptions, and the actuator's
+    /// notes: empty when every assumption holds (docs/model.md section 8).
+    pub warnings: Vec<Warning>,
+    /// Solver report.
+    pub report: SolveReport,
+}
+
+impl Solution {
+    /// True when no warning says the answer is outside the model.
+    pub fn is_within_model(&self) -> bool {
+        !self.warnings.iter().any(Warning::is_validity)
+    }
+}
+
+/// The model-specific core of a finger, behind a trait object.
+pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
+    fn model(&self) -> ModelId;
+    fn unknowns(&self) -> usize;
+    fn lengths(&self) -> &[f64];
+    fn stiffness(&self) -> f64;
+    fn unscale(&self) -> Vec<f64>;
+    fn energy(&self, load: &Load, k: &Coefficients) -> f64;
+    fn tip(&self, k: &Coefficients) -> ([f64; 2], f64);
+    fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]>;
+    fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>);
+    fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>);
+    fn element_hessian(
+        &self,
+        element: usize,
+        family: Option<usize>,
+        load: &Load,
+        k: &[f64],
+    ) -> Option<(f64, Vec<f64>, Vec<f64>)>;
+    fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]>;
+    fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning>;
+    fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
+}
+
+/// A model-specific solver workspace, behind a trait object.
+pub(crate) trait SolverDyn {
+    fn solve(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError>;
+    fn solve_target(
+        &mut self,
+        problem: &TargetProblem,
+        guess: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<(Solution, f64), SolveError>;
+}
+
+/// A finger: elements with their moments, ready to solve.
+#[derive(Debug, Clone)]
+pub struct Finger {
+    core: Arc<dyn FingerDyn>,
+    warnings: Vec<Warning>,
+}
+
+struct Build<'a> {
+    actuator: &'a Actuator,
+    partition: &'a Partition,
+    ribs: bool,
+}
+
+impl ModelVisitor for Build<'_> {
+    type Output = (Arc<dyn FingerDyn>, Vec<Warning>);
+    fn visit<M: ElementModel>(self) -> Self::Output {
+        let core = FingerCore::<M>::new(self.actuator, self.partition, self.ribs);
+        let mut warnings = self.actuator.warnings().to_vec();
+        let pemc = self.actuator.pemc();
+        let tangent = M::psi(pemc.eps0, &pemc.law)[2];
+        if !(tangent > 0.0) {
+            warnings.push(Warning::SofteningPrestressLaw {
+                eps0: pemc.eps0,
+                tangent,
+            });
+        }
+        (Arc::new(core), warnings)
+    }
+}
+
+impl Finger {
+    /// Builds the elements of `actuator` split by `partition` (ribs
+    /// optional) with the default element model (the paper's).
+    pub fn new(actuator: &Actuator, partition: &Partition, ribs: bool) -> Finger {
+        Finger::with_model(ModelId::default(), actuator, partition, ribs)
+    }
+
+    /// Builds the elements with element model `model`.
+    pub fn with_model(
+        model: ModelId,
+        actuator: &Actuator,
+        partition: &Partition,
+        ribs: bool,
+    ) -> Finger {
+        let (core, warnings) = model.visit(Build {
+            actuator,
+            partition,
+            ribs,
+        });
+        Finger { core, warnings }
+    }
+
+    /// The default actuator at prestrain `eps0`, `n` equal elements, ribs on.
+    pub fn paper(eps0: f64, n: usize) -> Result<Finger, InputError> {
+        let act = Actuator::paper(eps0)?;
+        let part = Partition::equal(act.geometry().lx, n)?;
+        Ok(Finger::new(&act, &part, true))
+    }
+
+    /// The element model.
+    pub fn model(&self) -> ModelId {
+        self.core.model()
+    }
+
+    /// Unknowns per element.
+    pub fn unknowns_per_element(&self) -> usize {
+        self.core.unknowns()
+    }
+
+    /// Number of elements.
+    pub fn len(&self) -> usize {
+        self.core.lengths().len()
+    }
+
+    /// True for a finger without elements (never built by the constructors).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Undeformed element lengths (mm), root to tip.
+    pub fn element_lengths(&self) -> &[f64] {
+        self.core.lengths()
+    }
+
+    /// The modelled length `Lx` (mm): the sum of the element lengths.
+    pub fn length(&self) -> f64 {
+        self.core.lengths().iter().sum()
+    }
+
+    /// Notes about the actuator and the model's law (a prestrain outside
+    /// the fitted range, ...); every solution carries them too.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// Stiffness scale (N mm) that makes residuals relative.
+    pub fn stiffness_scale(&self) -> f64 {
+        self.core.stiffness()
+    }
+
+    /// The raw value of one unit of each of the solver's scaled unknowns,
+    /// element by element (the model's `scaled` statement): the solver's
+    /// residual is the raw gradient times these, over
+    /// [`Finger::stiffness_scale`].
+    pub fn unknown_scales(&self) -> Vec<f64> {
+        self.core.unscale()
+    }
+
+    /// Zero coefficients (the straight finger) of the right shape.
+    pub fn straight(&self) -> Coefficients {
+        Coefficients::zeros(self.len(), self.unknowns_per_element())
+    }
+
+    fn check(&self, k: &Coefficients) -> Result<(), InputError> {
+        check_guess(k, self.len(), self.unknowns_per_element())
+    }
+
+    /// Total potential energy at raw coefficients.
+    pub fn energy(&self, load: &Load, k: &Coefficients) -> Result<f64, InputError> {
+        self.check(k)?;
+        Ok(self.core.energy(load, k))
+    }
+
+    /// Tip position and end angle at raw coefficients.
+    pub fn tip(&self, k: &Coefficients) -> Result<([f64; 2], f64), InputError> {
+        self.check(k)?;
+        Ok(self.core.tip(k))
+    }
+
+    /// Mid-plane samples from the root (included) to the tip, `per_element`
+    /// per element.
+    pub fn shape(&self, k: &Coefficients, per_element: usize) -> Result<Vec<[f64; 2]>, InputError> {
+        self.check(k)?;
+        if !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&per_element) {
+            return Err(InputError::OutOfRange {
+                field: "samples_per_element".into(),
+                value: per_element as f64,
+                rule: format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
+            });
+        }
+        Ok(self.core.shape(k, per_element))
+    }
+
+    /// Total potential energy and its gradient with respect to the raw
+    /// coefficients (element by element).
+    pub fn gradient(&self, load: &Load, k: &Coefficients) -> Result<(f64, Vec<f64>), InputError> {
+        self.check(k)?;
+        Ok(self.core.gradient(load, k))
+    }
+
+    /// Total potential energy, gradient and full Hessian (column-major,
+    /// `n x n` for `n` unknowns in all) with respect to the raw coefficients.
+    pub fn hessian(
+        &self,
+        load: &Load,
+        k: &Coefficients,
+    ) -> Result<(f64, Vec<f64>, Vec<f64>), InputError> {
+        self.check(k)?;
+        Ok(self.core.hessian(load, k))
+    }
+
+    /// One element's potential (or, with `family`, one integral family of
+    /// the model alone, without coefficient), gradient and upper-triangle
+    /// Hessian at the element's raw unknowns `k`. `None` for an element or
+    /// family out of range or `k` of the wrong length.
+    pub fn element_hessian(
+        &self,
+        element: usize,
+        family: Option<usize>,
+        load: &Load,
+        k: &[f64],
+    ) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+        self.core.element_hessian(element, family, load, k)
+    }
+
+    /// One element's end `[Xe, Ze, eta]` in its own frame.
+    pub fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
+        self.core.element_end(element, k)
+    }
+
+    /// The validity findings of a state (docs/model.md section 8), with
+    /// `samples` checks per element.
+    pub fn validity(&self, k: &Coefficients, samples: usize) -> Result<Vec<Warning>, InputError> {
+        self.check(k)?;
+        Ok(self
+            .core
+            .validity(k, samples.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
+    }
+
+    /// Solves a scene from the straight finger (or, with a tip load, from
+    /// the unloaded equilibrium at the same pressure).
+    pub fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solution, SolveError> {
+        Solver::new(self).solve(load, None, opts)
+    }
+
+    /// Solves a scene from given coefficients.
+    pub fn solve_from(
+        &self,
+        load: &Load,
+        guess: &Coefficients,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        Solver::new(self).solve(load, Some(guess), opts)
+    }
+}
+
+/// Checks a starting guess: one coefficient set per element, every value finite.
+pub(crate) fn check_guess(
+    guess: &Coefficients,
+    elements: usize,
+    per_element: usize,
+) -> Result<(), InputError> {
+    if guess.elements() != elements || guess.per_element() != per_element {
+        return Err(InputError::OutOfRange {
+            field: "guess".into(),
+            value: guess.elements() as f64,
+            rule: format!(
+                "must hold one set of {per_element} coefficients per element ({elements}); it holds {} of {}",
+                guess.elements(),
+                guess.per_element()
+            ),
+        });
+    }
+    match guess.as_slice().iter().find(|v| !v.is_finite()) {
+        Some(&value) => Err(InputError::NotFinite {
+            field: "guess".into(),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// A reusable solver workspace (no allocation per Newton iteration; reuse
+/// it across the points of a sweep).
+pub struct Solver<'a> {
+    inner: Box<dyn SolverDyn + 'a>,
+}
+
+impl<'a> Solver<'a> {
+    /// A workspace for `finger`.
+    pub fn new(finger: &'a Finger) -> Solver<'a> {
+        Solver {
+            inner: finger.core.solver(&finger.warnings),
+        }
+    }
+
+    /// Solves a scene; `guess` are raw coefficients.
+    pub fn solve(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        self.inner.solve(load, guess, opts)
+    }
+
+    /// Solves a [`TargetProblem`] from `guess` (raw coefficients, ideally a
+    /// nearby equilibrium) and a starting `lambda`; returns the equilibrium
+    /// and the `lambda` that meets the target. `ctol_mm` bounds the target
+    /// residual.
+    pub fn solve_target(
+        &mut self,
+        problem: &TargetProblem,
+        guess: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<(Solution, f64), SolveError> {
+        self.inner
+            .solve_target(problem, guess, lambda0, ctol_mm, opts)
+    }
+}

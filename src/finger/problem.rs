@@ -1,0 +1,287 @@
+//! The elements of one finger, for one element model: energy, tip, shape
+//! and the raw-coefficient derivatives, and the bridge to the erased
+//! [`Finger`](super::Finger).
+//!
+//! Unknowns are scaled per element by the model (`scaled` in the spec), so
+//! the Newton system sees dimensionless strains; `unscale[i]` holds, per
+//! element, the raw value of one scaled unit of each unknown.
+
+use crate::actuator::Actuator;
+use crate::blocks::{distinct_elements, element_blocks, Partition};
+use crate::element::Element;
+use crate::error::{SolveError, Warning};
+use crate::model::{upper_index, ElementModel, ModelId, Vector};
+
+use super::chain::Chain;
+use super::solver::SolverCore;
+use super::{Coefficients, FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
+
+/// The elements of a finger for model `M`.
+#[derive(Debug, Clone)]
+pub(crate) struct FingerCore<M: ElementModel> {
+    pub elements: Vec<Element<M>>,
+    /// For each element, the first element with identical blocks.
+    pub distinct: Vec<usize>,
+    /// Raw value of one scaled unit, per element.
+    pub unscale: Vec<M::Coeffs>,
+    pub lengths: Vec<f64>,
+    /// The largest scaled Hessian diagonal of the unstrained finger (N mm).
+    pub stiffness: f64,
+    /// The prestressed layer's z range and prestrain (validity checks).
+    pub pemc_z: (f64, f64),
+    pub eps0: f64,
+}
+
+impl<M: ElementModel> FingerCore<M> {
+    pub fn new(actuator: &Actuator, partition: &Partition, ribs: bool) -> FingerCore<M> {
+        let blocks = element_blocks(actuator, partition, ribs);
+        let distinct = distinct_elements(&blocks);
+        let elements: Vec<Element<M>> = blocks.iter().map(Element::from_blocks).collect();
+        let lengths: Vec<f64> = elements.iter().map(Element::length).collect();
+        let unscale: Vec<M::Coeffs> = lengths.iter().map(|&l| M::unscale(l)).collect();
+        // stiffness scale: the largest scaled Hessian diagonal of the
+        // unstrained strain energy (about E*A*L of the stiffest element)
+        let n = M::Coeffs::LEN;
+        let unloaded = Load::unloaded().scalars();
+        let mut stiffness: f64 = 0.0;
+        for (e, s) in elements.iter().zip(&unscale) {
+            let (_, _, h) = e.hessian(&M::Coeffs::zero(), &unloaded);
+            for i in 0..n {
+                stiffness = stiffness.max((h[upper_index(n, i, i)] * s[i] * s[i]).abs());
+            }
+        }
+        FingerCore {
+            elements,
+            distinct,
+            unscale,
+            lengths,
+            stiffness: stiffness.max(f64::MIN_POSITIVE),
+            pemc_z: actuator.pemc_z(),
+            eps0: actuator.eps0(),
+        }
+    }
+
+    pub fn len(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Element `i`'s raw unknowns from a flat slice.
+    #[inline]
+    pub fn element_coeffs(k: &[f64], i: usize) -> M::Coeffs {
+        let n = M::Coeffs::LEN;
+        M::Coeffs::from_fn(|j| k[n * i + j])
+    }
+
+    /// Tip position at raw coefficients, chaining element frames by
+    /// rotation (no trigonometric calls).
+    pub fn tip_position(&self, k: &[f64]) -> [f64; 2] {
+        let mut p = [0.0, 0.0];
+        let (mut c, mut s) = (1.0, 0.0);
+        for (i, e) in self.elements.iter().enumerate() {
+            let [xe, ze, ce, se] = e.frame(&Self::element_coeffs(k, i));
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            (c, s) = (c * ce - s * se, s * ce + c * se);
+        }
+        p
+    }
+
+    /// Total potential at raw coefficients.
+    pub fn energy_raw(&self, load: &Load, k: &[f64]) -> f64 {
+        let s = load.scalars();
+        let mut v: f64 = self
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(i, e)| e.energy(&Self::element_coeffs(k, i), &s))
+            .sum();
+        if load.has_tip_load() {
+            let tip = self.tip_position(k);
+            v -= load.fx * tip[0] + load.fz * tip[1];
+        }
+        v
+    }
+
+    /// Element `i`'s frame at the root: its position and (cos, sin) of
+    /// its angle, for every element, from raw coefficients.
+    pub fn frames(&self, k: &[f64]) -> Vec<([f64; 2], [f64; 2])> {
+        let mut out = Vec::with_capacity(self.len());
+        let mut p = [0.0, 0.0];
+        let (mut c, mut s) = (1.0, 0.0);
+        for (i, e) in self.elements.iter().enumerate() {
+            out.push((p, [c, s]));
+            let [xe, ze, ce, se] = e.frame(&Self::element_coeffs(k, i));
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            (c, s) = (c * ce - s * se, s * ce + c * se);
+        }
+        out
+    }
+
+    /// Mid-plane samples from the root (included) to the tip.
+    pub fn shape_raw(&self, k: &[f64], per_element: usize) -> Vec<[f64; 2]> {
+        let per = per_element.max(1);
+        let mut pts = Vec::with_capacity(1 + per * self.len());
+        pts.push([0.0, 0.0]);
+        for (i, (e, (p, [c, s]))) in self.elements.iter().zip(self.frames(k)).enumerate() {
+            let ki = Self::element_coeffs(k, i);
+            let l = e.length();
+            for j in 1..=per {
+                let x = l * j as f64 / per as f64;
+                let [xl, zl] = M::midplane(&ki, x);
+                pts.push([p[0] + c * xl - s * zl, p[1] + s * xl + c * zl]);
+            }
+        }
+        pts
+    }
+
+    /// Scaled unknowns of raw coefficients.
+    pub fn scaled(&self, k: &[f64]) -> Vec<f64> {
+        let n = M::Coeffs::LEN;
+        k.iter()
+            .enumerate()
+            .map(|(i, v)| v / self.unscale[i / n][i % n])
+            .collect()
+    }
+
+    /// Raw coefficients of scaled unknowns.
+    pub fn raw(&self, y: &[f64]) -> Coefficients {
+        let n = M::Coeffs::LEN;
+        let values = y
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v * self.unscale[i / n][i % n])
+            .collect();
+        Coefficients {
+            per_element: n,
+            values,
+        }
+    }
+}
+
+impl<M: ElementModel> FingerDyn for FingerCore<M> {
+    fn model(&self) -> ModelId {
+        ModelId::from_name(M::NAME).unwrap_or_default()
+    }
+
+    fn unknowns(&self) -> usize {
+        M::Coeffs::LEN
+    }
+
+    fn lengths(&self) -> &[f64] {
+        &self.lengths
+    }
+
+    fn stiffness(&self) -> f64 {
+        self.stiffness
+    }
+
+    fn unscale(&self) -> Vec<f64> {
+        self.unscale
+            .iter()
+            .flat_map(|s| s.as_ref().to_vec())
+            .collect()
+    }
+
+    fn energy(&self, load: &Load, k: &Coefficients) -> f64 {
+        self.energy_raw(load, k.as_slice())
+    }
+
+    fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
+        let angle = (0..self.len())
+            .map(|i| self.elements[i].end(&Self::element_coeffs(k.as_slice(), i))[2])
+            .sum();
+        (self.tip_position(k.as_slice()), angle)
+    }
+
+    fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
+        self.shape_raw(k.as_slice(), per_element)
+    }
+
+    fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
+        let mut chain = Chain::new(self);
+        chain.set_load(load);
+        let y = self.scaled(k.as_slice());
+        let mut g = vec![0.0; y.len()];
+        let v = fpc_newton::Gradient::gradient(&mut chain, &y, &mut g);
+        let n = M::Coeffs::LEN;
+        for (i, gi) in g.iter_mut().enumerate() {
+            *gi /= self.unscale[i / n][i % n];
+        }
+        (v, g)
+    }
+
+    fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
+        let mut chain = Chain::new(self);
+        chain.set_load(load);
+        let y = self.scaled(k.as_slice());
+        let dim = y.len();
+        let mut g = vec![0.0; dim];
+        let mut h = vec![0.0; dim * dim];
+        let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g, &mut h);
+        super::chain::fill_upper(dim, &mut h);
+        let n = M::Coeffs::LEN;
+        let s = |i: usize| self.unscale[i / n][i % n];
+        for i in 0..dim {
+            g[i] /= s(i);
+            for j in 0..dim {
+                h[i + dim * j] /= s(i) * s(j);
+            }
+        }
+        (v, g, h)
+    }
+
+    fn element_hessian(
+        &self,
+        element: usize,
+        family: Option<usize>,
+        load: &Load,
+        k: &[f64],
+    ) -> Option<(f64, Vec<f64>, Vec<f64>)> {
+        let e = self.elements.get(element)?;
+        if k.len() != M::Coeffs::LEN {
+            return None;
+        }
+        let ki = Self::element_coeffs(k, 0);
+        let (v, g, h) = match family {
+            Some(f) => e.family_hessian(f, &ki)?,
+            None => e.hessian(&ki, &load.scalars()),
+        };
+        Some((v, g.as_ref().to_vec(), h.as_ref().to_vec()))
+    }
+
+    fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
+        let e = self.elements.get(element)?;
+        (k.len() == M::Coeffs::LEN).then(|| e.end(&Self::element_coeffs(k, 0)))
+    }
+
+    fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
+        crate::validity::check(self, k.as_slice(), samples)
+    }
+
+    fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
+        Box::new(SolverCore::new(self, warnings))
+    }
+}
+
+impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
+    fn solve(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        SolverCore::solve(self, load, guess, opts)
+    }
+
+    fn solve_target(
+        &mut self,
+        problem: &TargetProblem,
+        guess: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<(Solution, f64), SolveError> {
+        SolverCore::solve_target(self, problem, guess, lambda0, ctol_mm, opts)
+    }
+}

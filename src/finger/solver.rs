@@ -1,0 +1,438 @@
+//! Solving a finger: decoupled element solves without a tip load, the
+//! coupled system with one, continuation where Newton alone fails, and the
+//! finishing of a [`Solution`] (tip, energy, stability, shape, validity).
+
+use fpc_newton::{
+    min_eigenvalue, Energy, Gradient, Hessian, Newton, NewtonOptions, Report, Termination,
+};
+
+use crate::error::{InputError, SolveError, Warning};
+use crate::fit::fit_circle;
+use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
+
+use super::chain::{fill_upper, Chain};
+use super::problem::FingerCore;
+use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport, Strategy};
+
+/// Validity checks per element when the shape is not sampled.
+pub(crate) const VALIDITY_SAMPLES: usize = 8;
+
+/// A reusable solver workspace for model `M`.
+pub(crate) struct SolverCore<'a, M: ElementModel> {
+    pub finger: &'a FingerCore<M>,
+    /// The finger's warnings (actuator, law), copied into every solution.
+    pub warnings: &'a [Warning],
+    pub chain: Chain<'a, M>,
+    pub newton: Newton,
+    local: Newton,
+    /// Scaled unknowns.
+    pub y: Vec<f64>,
+    /// The start of a coupled solve, kept for a continuation restart.
+    start: Vec<f64>,
+    /// Pi at the end of the last coupled Newton solve (taken by `finish`).
+    final_energy: Option<f64>,
+}
+
+pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOptions, InputError> {
+    let nopts = NewtonOptions {
+        gtol,
+        max_iter: opts.max_iter,
+        max_step: opts.max_step,
+        ..NewtonOptions::default()
+    };
+    nopts.validate().map_err(|e| InputError::OutOfRange {
+        field: "solve".into(),
+        value: gtol,
+        rule: e.to_string(),
+    })?;
+    Ok(nopts)
+}
+
+impl<'a, M: ElementModel> SolverCore<'a, M> {
+    pub fn new(finger: &'a FingerCore<M>, warnings: &'a [Warning]) -> SolverCore<'a, M> {
+        let dim = M::Coeffs::LEN * finger.len();
+        SolverCore {
+            finger,
+            warnings,
+            chain: Chain::new(finger),
+            newton: Newton::new(dim, NewtonOptions::default()),
+            local: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
+            y: vec![0.0; dim],
+            start: vec![0.0; dim],
+            final_energy: None,
+        }
+    }
+
+    /// Solves a scene; `guess` are raw coefficients.
+    pub fn solve(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        load.validate()?;
+        opts.validate()?;
+        let f = self.finger;
+        if let Some(g) = guess {
+            check_guess(g, f.len(), M::Coeffs::LEN)?;
+        }
+        let nopts = newton_options(opts.rtol * f.stiffness, opts)?;
+        // validated above: setting cannot fail
+        let _ = self.newton.set_options(nopts);
+        let _ = self.local.set_options(nopts);
+        let decoupled = !load.has_tip_load() && opts.strategy == Strategy::Auto;
+        let mut report = if decoupled {
+            self.solve_decoupled(load, guess, opts.continuation)?
+        } else {
+            self.solve_coupled(load, guess, opts)?
+        };
+        report.residual_norm /= f.stiffness;
+        self.finish(load, opts, report, decoupled)
+    }
+
+    pub fn load_guess(&mut self, guess: Option<&Coefficients>) {
+        match guess {
+            Some(g) => self.y.copy_from_slice(&self.finger.scaled(g.as_slice())),
+            None => self.y.fill(0.0),
+        }
+    }
+
+    fn solve_decoupled(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        continuation: bool,
+    ) -> Result<SolveReport, SolveError> {
+        self.load_guess(guess);
+        let f = self.finger;
+        let n = M::Coeffs::LEN;
+        let mut rep = SolveReport {
+            reason: Termination::Converged,
+            iterations: 0,
+            residual_norm: 0.0,
+            evaluations: 0,
+            coupled: false,
+            continuation_steps: 0,
+        };
+        for i in 0..f.len() {
+            let d = f.distinct[i];
+            if d != i {
+                let (a, b) = self.y.split_at_mut(n * i);
+                b[..n].copy_from_slice(&a[n * d..n * d + n]);
+                continue;
+            }
+            let mut p = Single::<M> {
+                finger: f,
+                element: i,
+                scalars: load.scalars(),
+            };
+            let warm = guess.is_none() && i > 0;
+            if warm {
+                // neighbouring elements strain and curve alike: start from
+                // the last solved one's raw coefficients (raw unknowns do
+                // not depend on the length; the scaled ones do)
+                let (sp, si) = (f.unscale[i - 1], f.unscale[i]);
+                let (a, b) = self.y.split_at_mut(n * i);
+                for j in 0..n {
+                    b[j] = a[n * (i - 1) + j] * sp[j] / si[j];
+                }
+            }
+            let y = &mut self.y[n * i..n * i + n];
+            let r = solve_element(&mut self.local, &mut p, y, warm, continuation, &mut rep);
+            rep.residual_norm = rep.residual_norm.max(r.residual_norm);
+            if !r.reason.is_converged() {
+                return Err(self.not_converged(&r, Some(i)));
+            }
+        }
+        Ok(rep)
+    }
+
+    fn solve_coupled(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<SolveReport, SolveError> {
+        let mut base = SolveReport {
+            reason: Termination::Converged,
+            iterations: 0,
+            residual_norm: 0.0,
+            evaluations: 0,
+            coupled: true,
+            continuation_steps: 0,
+        };
+        let start_load = Load {
+            fx: 0.0,
+            fz: 0.0,
+            ..*load
+        };
+        let mut start_failed = false;
+        match guess {
+            Some(g) => self.load_guess(Some(g)),
+            None => {
+                // the unloaded equilibrium at the same pressure
+                match self.solve_decoupled(&start_load, None, opts.continuation) {
+                    Ok(r) => {
+                        base.iterations += r.iterations;
+                        base.evaluations += r.evaluations;
+                        base.continuation_steps += r.continuation_steps;
+                    }
+                    Err(SolveError::NotConverged { iterations, .. }) if opts.continuation => {
+                        // no unloaded equilibrium to start from (a curl the
+                        // elements cannot follow, which the load may undo):
+                        // Newton from the straight finger, and no load
+                        // continuation (it needs an equilibrium to start)
+                        base.iterations += iterations;
+                        self.load_guess(None);
+                        start_failed = true;
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
+        }
+        self.start.copy_from_slice(&self.y);
+        self.chain.set_load(load);
+        let r = self.newton.minimize(&mut self.chain, &mut self.y);
+        base.iterations += r.iterations;
+        base.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+        base.residual_norm = r.residual_norm;
+        if r.reason.is_converged() {
+            self.final_energy = Some(r.energy);
+            return Ok(base);
+        }
+        if !opts.continuation || !load.has_tip_load() || start_failed {
+            return Err(self.not_converged(&r, None));
+        }
+        // load continuation from the start point: F(t) = t F
+        self.y.copy_from_slice(&self.start);
+        let chain = &mut self.chain;
+        let newton = &mut self.newton;
+        let copts = fpc_newton::ContinuationOptions::default();
+        let cr = fpc_newton::continuation(0.0, 1.0, &mut self.y, &copts, |t, y| {
+            chain.set_load(&Load {
+                fx: t * load.fx,
+                fz: t * load.fz,
+                ..*load
+            });
+            newton.minimize(chain, y)
+        });
+        base.iterations += cr.newton_iterations;
+        base.continuation_steps += cr.steps;
+        base.residual_norm = cr.last.residual_norm;
+        if cr.complete && cr.last.reason.is_converged() {
+            self.chain.set_load(load);
+            self.final_energy = Some(cr.last.energy);
+            Ok(base)
+        } else {
+            Err(self.not_converged(&cr.last, None))
+        }
+    }
+
+    pub fn coefficients(&self) -> Coefficients {
+        self.finger.raw(&self.y)
+    }
+
+    pub fn not_converged(&self, r: &Report, element: Option<usize>) -> SolveError {
+        SolveError::NotConverged {
+            reason: r.reason,
+            iterations: r.iterations,
+            relative_residual: r.residual_norm / self.finger.stiffness,
+            element,
+            last: self.coefficients(),
+        }
+    }
+
+    /// The smallest eigenvalue of the scaled Hessian over the stiffness scale.
+    fn min_eigenvalue(&mut self, load: &Load, decoupled: bool) -> f64 {
+        let f = self.finger;
+        let n = M::Coeffs::LEN;
+        if decoupled {
+            let mut m = f64::INFINITY;
+            let mut g = vec![0.0; n];
+            let mut h = vec![0.0; n * n];
+            for i in 0..f.len() {
+                if f.distinct[i] != i {
+                    continue;
+                }
+                let mut p = Single::<M> {
+                    finger: f,
+                    element: i,
+                    scalars: load.scalars(),
+                };
+                p.hessian(&self.y[n * i..n * i + n], &mut g, &mut h);
+                m = m.min(min_eigenvalue(n, &h));
+            }
+            m / f.stiffness
+        } else {
+            let dim = self.y.len();
+            let mut g = vec![0.0; dim];
+            let mut h = vec![0.0; dim * dim];
+            self.chain.set_load(load);
+            self.chain.hessian(&self.y, &mut g, &mut h);
+            fill_upper(dim, &mut h);
+            min_eigenvalue(dim, &h) / f.stiffness
+        }
+    }
+
+    pub fn finish(
+        &mut self,
+        load: &Load,
+        opts: &SolveOptions,
+        report: SolveReport,
+        decoupled: bool,
+    ) -> Result<Solution, SolveError> {
+        let f = self.finger;
+        let k = self.coefficients();
+        let tip = f.tip_position(k.as_slice());
+        let end_angle: f64 = (0..f.len())
+            .map(|i| f.elements[i].end(&FingerCore::<M>::element_coeffs(k.as_slice(), i))[2])
+            .sum();
+        // a coupled Newton solve already knows Pi at its final point
+        let energy = self
+            .final_energy
+            .take()
+            .unwrap_or_else(|| f.energy_raw(load, k.as_slice()));
+        let min_hessian_eig = opts
+            .stability
+            .then(|| self.min_eigenvalue(load, decoupled))
+            .filter(|e| e.is_finite());
+        let (points, radius) = if opts.shape {
+            let pts = f.shape_raw(k.as_slice(), opts.samples_per_element);
+            let r = fit_circle(&pts).map(|c| c.radius);
+            (pts, r)
+        } else {
+            (Vec::new(), None)
+        };
+        let values_finite =
+            tip.iter().all(|v| v.is_finite()) && energy.is_finite() && end_angle.is_finite();
+        if !values_finite {
+            return Err(SolveError::NotConverged {
+                reason: Termination::NonFinite,
+                iterations: report.iterations,
+                relative_residual: f64::INFINITY,
+                element: None,
+                last: k,
+            });
+        }
+        let samples = if opts.shape {
+            opts.samples_per_element.max(VALIDITY_SAMPLES)
+        } else {
+            VALIDITY_SAMPLES
+        };
+        let mut warnings = self.warnings.to_vec();
+        warnings.extend(crate::validity::check(f, k.as_slice(), samples));
+        Ok(Solution {
+            coefficients: k,
+            tip,
+            end_angle,
+            energy,
+            min_hessian_eig,
+            points,
+            radius,
+            element_lengths: f.lengths.clone(),
+            warnings,
+            report,
+        })
+    }
+}
+
+/// Minimises one element's energy from `y` (the decoupled scenes). When
+/// that fails: again from the straight element if `y` was a warm start,
+/// then, with `continuation` and a pressure, by pressure continuation from
+/// the straight element at zero pressure to the target (warm-starting each
+/// step). Adds iterations, evaluations and continuation steps to `rep`;
+/// returns the last report, its `iterations` counting every attempt.
+fn solve_element<M: ElementModel>(
+    newton: &mut Newton,
+    p: &mut Single<'_, M>,
+    y: &mut [f64],
+    warm: bool,
+    continuation: bool,
+    rep: &mut SolveReport,
+) -> Report {
+    let before = rep.iterations;
+    let tally = |r: &Report, rep: &mut SolveReport| {
+        rep.iterations += r.iterations;
+        rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
+    };
+    let mut r = newton.minimize(p, y);
+    tally(&r, rep);
+    if !r.reason.is_converged() && warm {
+        y.fill(0.0);
+        r = newton.minimize(p, y);
+        tally(&r, rep);
+    }
+    let full = p.scalars;
+    if !r.reason.is_converged() && continuation && full.kp != 0.0 {
+        y.fill(0.0);
+        p.scalars = EnergyScalars { kp: 0.0 };
+        r = newton.minimize(p, y);
+        tally(&r, rep);
+        if r.reason.is_converged() {
+            let copts = fpc_newton::ContinuationOptions::default();
+            let cr = fpc_newton::continuation(0.0, 1.0, y, &copts, |t, y| {
+                p.scalars = EnergyScalars { kp: t * full.kp };
+                let r = newton.minimize(p, y);
+                tally(&r, rep);
+                r
+            });
+            rep.continuation_steps += cr.steps;
+            r = cr.last;
+            if !cr.complete && r.reason.is_converged() {
+                r.reason = Termination::MaxIterations;
+            }
+        }
+        p.scalars = full;
+    }
+    r.iterations = rep.iterations - before;
+    r
+}
+
+/// One element in scaled unknowns (the decoupled scenes).
+struct Single<'a, M: ElementModel> {
+    finger: &'a FingerCore<M>,
+    element: usize,
+    scalars: EnergyScalars,
+}
+
+impl<M: ElementModel> Single<'_, M> {
+    fn raw(&self, y: &[f64]) -> M::Coeffs {
+        let s = &self.finger.unscale[self.element];
+        M::Coeffs::from_fn(|i| y[i] * s[i])
+    }
+}
+
+impl<M: ElementModel> Energy for Single<'_, M> {
+    fn dim(&self) -> usize {
+        M::Coeffs::LEN
+    }
+    fn energy(&mut self, y: &[f64]) -> f64 {
+        self.finger.elements[self.element].energy(&self.raw(y), &self.scalars)
+    }
+}
+
+impl<M: ElementModel> Gradient for Single<'_, M> {
+    fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
+        let (v, gk) = self.finger.elements[self.element].gradient(&self.raw(y), &self.scalars);
+        let s = &self.finger.unscale[self.element];
+        for i in 0..M::Coeffs::LEN {
+            g[i] = gk[i] * s[i];
+        }
+        v
+    }
+}
+
+impl<M: ElementModel> Hessian for Single<'_, M> {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        let (v, gk, hk) = self.finger.elements[self.element].hessian(&self.raw(y), &self.scalars);
+        let s = &self.finger.unscale[self.element];
+        let n = M::Coeffs::LEN;
+        for i in 0..n {
+            g[i] = gk[i] * s[i];
+            for j in 0..n {
+                h[i + n * j] = hk[upper_index(n, i, j)] * s[i] * s[j];
+            }
+        }
+        v
+    }
+}

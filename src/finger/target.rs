@@ -1,0 +1,176 @@
+//! Target solves: the tip load depends on one unknown scalar `lambda`,
+//! fixed by one equation on the tip position (docs/model.md section 6: the
+//! unknown load joins the Newton system with the target as an extra
+//! equation, solved by fpc-newton's bordered Newton).
+
+use fpc_newton::{Bordered, BorderedEval, Hessian, NewtonOptions};
+
+use crate::error::{finite, positive, InputError, SolveError};
+use crate::model::{ElementModel, Vector};
+
+use super::chain::{fill_upper, Chain};
+use super::solver::{newton_options, SolverCore};
+use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport};
+
+/// A scene whose tip load depends on one unknown scalar `lambda`,
+/// `F = base + lambda * direction`, fixed by one target on the tip position:
+/// `weights . tip = target` at equilibrium.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TargetProblem {
+    /// Pressure, kappa and the fixed part of the tip load.
+    pub base: Load,
+    /// Tip-load change per unit `lambda` (N, finger frame).
+    pub direction: [f64; 2],
+    /// Weights of the tip coordinates (X, Z) in the target.
+    pub weights: [f64; 2],
+    /// Target value of `weights . tip` (mm).
+    pub target: f64,
+}
+
+impl TargetProblem {
+    /// The load at a given `lambda`.
+    pub fn load_at(&self, lambda: f64) -> Load {
+        Load {
+            fx: self.base.fx + lambda * self.direction[0],
+            fz: self.base.fz + lambda * self.direction[1],
+            ..self.base
+        }
+    }
+
+    /// The straight homotopy between two problems at `t` in [0, 1].
+    pub fn lerp(&self, to: &TargetProblem, t: f64) -> TargetProblem {
+        let m = |a: f64, b: f64| a + t * (b - a);
+        TargetProblem {
+            base: Load {
+                pressure: m(self.base.pressure, to.base.pressure),
+                kappa: m(self.base.kappa, to.base.kappa),
+                fx: m(self.base.fx, to.base.fx),
+                fz: m(self.base.fz, to.base.fz),
+            },
+            direction: [
+                m(self.direction[0], to.direction[0]),
+                m(self.direction[1], to.direction[1]),
+            ],
+            weights: [
+                m(self.weights[0], to.weights[0]),
+                m(self.weights[1], to.weights[1]),
+            ],
+            target: m(self.target, to.target),
+        }
+    }
+
+    fn validate(&self) -> Result<(), InputError> {
+        self.base.validate()?;
+        finite("target.direction[0]", self.direction[0])?;
+        finite("target.direction[1]", self.direction[1])?;
+        finite("target.weights[0]", self.weights[0])?;
+        finite("target.weights[1]", self.weights[1])?;
+        finite("target.value", self.target)?;
+        if self.direction == [0.0, 0.0] || self.weights == [0.0, 0.0] {
+            return Err(InputError::Inconsistent {
+                field: "target".into(),
+                rule: "the load direction and the target weights must not be zero".into(),
+            });
+        }
+        Ok(())
+    }
+}
+
+struct BorderedChain<'c, 'a, M: ElementModel> {
+    chain: &'c mut Chain<'a, M>,
+    problem: TargetProblem,
+    scratch: Vec<f64>,
+    /// Stiffness scale over the finger length: weighs a tip error (mm) like
+    /// the strain error it implies.
+    c_scale: f64,
+}
+
+impl<M: ElementModel> Bordered for BorderedChain<'_, '_, M> {
+    fn dim(&self) -> usize {
+        fpc_newton::Energy::dim(&*self.chain)
+    }
+
+    fn eval(&mut self, y: &[f64], lambda: f64, out: &mut BorderedEval) -> bool {
+        let load = self.problem.load_at(lambda);
+        self.chain.set_load(&load);
+        self.chain.force_chain = true;
+        let v = self.chain.hessian(y, &mut out.g, &mut out.h);
+        fill_upper(out.g.len(), &mut out.h);
+        self.chain
+            .tip_gradient_scaled(self.problem.direction, &mut self.scratch);
+        for (gl, t) in out.g_lambda.iter_mut().zip(&self.scratch) {
+            *gl = -t;
+        }
+        self.chain
+            .tip_gradient_scaled(self.problem.weights, &mut out.c_x);
+        // the target equation in force units (mm times stiffness per length),
+        // so the merit weighs a tip error like the strain error it implies
+        let cs = self.c_scale;
+        for cx in out.c_x.iter_mut() {
+            *cx *= cs;
+        }
+        let w = self.problem.weights;
+        out.c = cs * (w[0] * self.chain.tip[0] + w[1] * self.chain.tip[1] - self.problem.target);
+        out.c_lambda = 0.0;
+        self.chain.force_chain = false;
+        v.is_finite() && out.is_finite()
+    }
+}
+
+impl<M: ElementModel> SolverCore<'_, M> {
+    /// Solves a [`TargetProblem`] from `guess` and a starting `lambda`.
+    pub fn solve_target(
+        &mut self,
+        problem: &TargetProblem,
+        guess: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<(Solution, f64), SolveError> {
+        problem.validate()?;
+        opts.validate()?;
+        finite("target.lambda0", lambda0)?;
+        positive("target.ctol_mm", ctol_mm)?;
+        let f = self.finger;
+        check_guess(guess, f.len(), M::Coeffs::LEN)?;
+        self.load_guess(Some(guess));
+        let length: f64 = f.lengths.iter().sum();
+        let c_scale = f.stiffness / length;
+        let nopts = NewtonOptions {
+            ctol: ctol_mm * c_scale,
+            ..newton_options(opts.rtol * f.stiffness, opts)?
+        };
+        self.newton
+            .set_options(nopts)
+            .map_err(|e| InputError::OutOfRange {
+                field: "target.ctol_mm".into(),
+                value: ctol_mm,
+                rule: e.to_string(),
+            })?;
+        let mut lambda = lambda0;
+        let n = self.y.len();
+        let mut bc = BorderedChain {
+            chain: &mut self.chain,
+            problem: *problem,
+            scratch: vec![0.0; n],
+            c_scale,
+        };
+        let r = self
+            .newton
+            .solve_bordered(&mut bc, &mut self.y, &mut lambda);
+        if !r.reason.is_converged() || !lambda.is_finite() {
+            return Err(self.not_converged(&r, None));
+        }
+        let report = SolveReport {
+            reason: r.reason,
+            iterations: r.iterations,
+            residual_norm: r.residual_norm / f.stiffness,
+            evaluations: r.hessian_evals,
+            coupled: true,
+            continuation_steps: 0,
+        };
+        let load = problem.load_at(lambda);
+        let sol = self.finish(&load, opts, report, false)?;
+        Ok((sol, lambda))
+    }
+}

@@ -1,0 +1,197 @@
+//! The element model: the runtime trait that generated code implements.
+//!
+//! Every `energy-spec/*.spec` becomes a module here (`ccm`, ...) whose
+//! model type implements [`ElementModel`] (build.rs, `crates/modelgen`).
+//! The rest of the library is generic over the trait and never calls a
+//! generated function by name: the unknowns, their scaling, which of them
+//! are local to an element, how the energies combine, the end kinematics,
+//! the mid-plane and the material law all come from the spec.
+//! [`ModelId`] names the generated models at run time (`--model NAME`,
+//! `[model] name = ...`).
+
+use std::fmt::Debug;
+use std::ops::{Index, IndexMut};
+
+/// A fixed-size vector of `f64`: an element's unknowns, or the upper
+/// triangle of its Hessian.
+pub trait Vector:
+    Copy
+    + Debug
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + AsRef<[f64]>
+    + AsMut<[f64]>
+    + Index<usize, Output = f64>
+    + IndexMut<usize>
+{
+    /// Number of entries.
+    const LEN: usize;
+    /// All zero.
+    fn zero() -> Self;
+    /// Entry `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+}
+
+impl<const N: usize> Vector for [f64; N] {
+    const LEN: usize = N;
+    fn zero() -> Self {
+        [0.0; N]
+    }
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self {
+        std::array::from_fn(f)
+    }
+}
+
+/// An element model generated from an energy spec.
+///
+/// Kinematic outputs come in the runtime's order whatever the spec's:
+/// `end` is `[Xe, Ze, eta]` (the element's end in its own frame and the end
+/// tangent's angle), `frame` is `[Xe, Ze, dx, dz]` (the end and an
+/// unnormalised end tangent), `midplane` `[X, Z]` and `tangent` `[dx, dz]`
+/// at a local coordinate `x`. Hessians are upper triangles, row by row
+/// ([`upper_index`]).
+pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
+    /// The element's unknowns.
+    type Coeffs: Vector;
+    /// The upper triangle of a Hessian over the unknowns.
+    type Upper: Vector;
+    /// Block moments of every integral of the energy, summed per element.
+    type Moments: Clone + Debug + PartialEq + Send + Sync + 'static;
+
+    /// The model's name (lower case; `--model NAME`).
+    const NAME: &'static str;
+    /// The spec it was generated from, relative to the repository.
+    const SPEC_PATH: &'static str;
+    /// The spec's header comment.
+    const DESCRIPTION: &'static str;
+    /// Names of the unknowns, in order.
+    const UNKNOWNS: &'static [&'static str];
+    /// Positions of the unknowns that couple only within their element.
+    const LOCAL: &'static [usize];
+    /// The integral families, in [`ElementModel::family_hessian`]'s order.
+    const FAMILIES: &'static [&'static str];
+
+    /// The raw value of one unit of each scaled unknown (`raw = scaled * unscale`)
+    /// for an element of length `length`.
+    fn unscale(length: f64) -> Self::Coeffs;
+    /// Moments of an element without blocks.
+    fn zero_moments() -> Self::Moments;
+    /// Adds a linear lamina's box.
+    fn add_linear(m: &mut Self::Moments, p: &LinearParams);
+    /// Adds a box of the prestressed layer.
+    fn add_prestressed(m: &mut Self::Moments, p: &PrestressedParams);
+    /// Adds a box of the gas volume.
+    fn add_gas(m: &mut Self::Moments, p: &GasParams);
+    /// The element's potential.
+    fn energy(m: &Self::Moments, k: &Self::Coeffs, s: &EnergyScalars) -> f64;
+    /// Potential and gradient.
+    fn gradient(m: &Self::Moments, k: &Self::Coeffs, s: &EnergyScalars) -> (f64, Self::Coeffs);
+    /// Potential, gradient and Hessian.
+    fn hessian(
+        m: &Self::Moments,
+        k: &Self::Coeffs,
+        s: &EnergyScalars,
+    ) -> (f64, Self::Coeffs, Self::Upper);
+    /// One integral family alone (`None` past the last family).
+    fn family_hessian(
+        m: &Self::Moments,
+        family: usize,
+        k: &Self::Coeffs,
+    ) -> Option<(f64, Self::Coeffs, Self::Upper)>;
+    /// `[Xe, Ze, eta]`.
+    fn end(k: &Self::Coeffs, length: f64) -> [f64; 3];
+    /// `[Xe, Ze, eta]` and their gradients.
+    fn end_gradient(k: &Self::Coeffs, length: f64) -> ([f64; 3], [Self::Coeffs; 3]);
+    /// `[Xe, Ze, eta]`, their gradients and Hessians.
+    #[allow(clippy::type_complexity)]
+    fn end_hessian(
+        k: &Self::Coeffs,
+        length: f64,
+    ) -> ([f64; 3], [Self::Coeffs; 3], [Self::Upper; 3]);
+    /// `[Xe, Ze, dx, dz]`.
+    fn frame(k: &Self::Coeffs, length: f64) -> [f64; 4];
+    /// The mid-plane point at local `x`, in the element's frame.
+    fn midplane(k: &Self::Coeffs, x: f64) -> [f64; 2];
+    /// The mid-plane's tangent `(dX/dx, dZ/dx)` at local `x`.
+    fn tangent(k: &Self::Coeffs, x: f64) -> [f64; 2];
+    /// Axial strain at local `x` and height `z`.
+    fn strain(k: &Self::Coeffs, x: f64, z: f64) -> f64;
+    /// Signed curvature of the mid-plane at local `x` (1/mm; negative curls
+    /// towards -Z).
+    fn curvature(k: &Self::Coeffs, x: f64) -> f64;
+    /// The prestressed law: `[psi, psi', psi'']` at strain `s`.
+    fn psi(s: f64, p: &PsiParams) -> [f64; 3];
+}
+
+/// Index of entry `(i, j)` in the upper-triangle layout for `n` unknowns.
+#[inline]
+pub const fn upper_index(n: usize, i: usize, j: usize) -> usize {
+    let (i, j) = if i <= j { (i, j) } else { (j, i) };
+    i * n - i * (i + 1) / 2 + j
+}
+
+/// Something done with a model's type (the way [`ModelId::visit`] hands a
+/// run-time choice of model to generic code).
+pub trait ModelVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Runs with the model `M`.
+    fn visit<M: ElementModel>(self) -> Self::Output;
+}
+
+/// What a model is, for listings.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModelInfo {
+    /// Name (lower case).
+    pub name: &'static str,
+    /// Spec path.
+    pub spec: &'static str,
+    /// The spec's header comment.
+    pub description: &'static str,
+    /// Unknown names.
+    pub unknowns: &'static [&'static str],
+    /// Local unknowns (positions).
+    pub local: &'static [usize],
+}
+
+struct Info;
+
+impl ModelVisitor for Info {
+    type Output = ModelInfo;
+    fn visit<M: ElementModel>(self) -> ModelInfo {
+        ModelInfo {
+            name: M::NAME,
+            spec: M::SPEC_PATH,
+            description: M::DESCRIPTION,
+            unknowns: M::UNKNOWNS,
+            local: M::LOCAL,
+        }
+    }
+}
+
+impl ModelId {
+    /// Name, spec and unknowns.
+    pub fn info(self) -> ModelInfo {
+        self.visit(Info)
+    }
+
+    /// The model of a name (`ccm`, ...).
+    pub fn from_name(name: &str) -> Option<ModelId> {
+        ModelId::ALL.iter().copied().find(|m| m.name() == name)
+    }
+
+    /// Every model's name, for messages.
+    pub fn names() -> Vec<&'static str> {
+        ModelId::ALL.iter().map(|m| m.name()).collect()
+    }
+}
+
+impl std::fmt::Display for ModelId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+include!(concat!(env!("OUT_DIR"), "/models.rs"));
