@@ -17,7 +17,7 @@ pub const SLOPE_LIMIT_DEG: f64 = 45.0;
 
 /// Largest mid-plane axial strain (magnitude) of the small-strain laminate
 /// theory (von Karman kinematics, linear laminae).
-pub const MIDPLANE_STRAIN_LIMIT: f64 = 0.10;
+pub const MIDPLANE_STRAIN_LIMIT: f64 = 0.20;
 
 /// The range of the prestressed layer's own strain `s = eps0 + eps_x` that
 /// the uniaxial fit of its law covers.
