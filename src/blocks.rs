@@ -78,6 +78,75 @@ impl Partition {
         Ok(Partition::from_lengths(lengths))
     }
 
+    /// Element boundaries on every material change: the ends of the ribs
+    /// and of the channel (when ribs are off, the channel's end only), and
+    /// every piece split into equal parts no longer than `max_length`.
+    /// Boundaries closer than [`MIN_ELEMENT_FRACTION`] `lx` to another are
+    /// merged. This is the starting partition of the automatic choice
+    /// ([`crate::solve_auto`]); with element ends on material changes the
+    /// CCM converges at second order in the element length.
+    pub fn material(
+        actuator: &Actuator,
+        ribs: bool,
+        max_length: f64,
+    ) -> Result<Partition, InputError> {
+        let lx = actuator.geometry().lx;
+        positive("partition.max_length", max_length)?;
+        let min = MIN_ELEMENT_FRACTION * lx;
+        let mut cuts: Vec<f64> = vec![0.0, lx, actuator.channel().cx];
+        if ribs {
+            for r in actuator.ribs() {
+                cuts.push(r.x0);
+                cuts.push(r.x1);
+            }
+        }
+        cuts.retain(|x| x.is_finite() && (0.0..=lx).contains(x));
+        cuts.sort_by(f64::total_cmp);
+        let mut merged: Vec<f64> = Vec::with_capacity(cuts.len());
+        for x in cuts {
+            match merged.last() {
+                Some(&last) if x - last < min => {
+                    // keep the finger's end exact
+                    if x == lx {
+                        *merged.last_mut().unwrap_or(&mut 0.0) = lx;
+                    }
+                }
+                _ => merged.push(x),
+            }
+        }
+        if merged.len() < 2 || merged[0] != 0.0 {
+            merged.insert(0, 0.0);
+        }
+        let mut lengths = Vec::new();
+        for w in merged.windows(2) {
+            let piece = w[1] - w[0];
+            let parts = (piece / max_length).ceil().max(1.0) as usize;
+            lengths.extend(std::iter::repeat_n(piece / parts as f64, parts));
+        }
+        let max = (1.0 / MIN_ELEMENT_FRACTION).round() as usize;
+        require(
+            lengths.len() <= max,
+            "partition.max_length",
+            max_length,
+            format!("gives {} elements, more than {max}", lengths.len()),
+        )?;
+        Partition::custom(lengths, lx)
+    }
+
+    /// Splits the elements whose index `split` marks into two halves.
+    pub(crate) fn split(&self, split: &[bool]) -> Partition {
+        let mut lengths = Vec::with_capacity(self.len() + split.len());
+        for (i, &l) in self.lengths.iter().enumerate() {
+            if split.get(i).copied().unwrap_or(false) {
+                lengths.push(0.5 * l);
+                lengths.push(0.5 * l);
+            } else {
+                lengths.push(l);
+            }
+        }
+        Partition::from_lengths(lengths)
+    }
+
     fn from_lengths(lengths: Vec<f64>) -> Partition {
         let mut starts = Vec::with_capacity(lengths.len());
         let mut s = 0.0;

@@ -303,4 +303,20 @@ pub enum SolveError {
         /// The last iterate's coefficients.
         last: crate::finger::Coefficients,
     },
+    /// A target solve (a grasp size, a force, a displacement) did not
+    /// reach its target: the path from the reference state stopped short.
+    #[error(
+        "{target} = {value}: not reached; the path from the unloaded finger stopped at {percent:.0} % of the way ({detail})",
+        percent = 100.0 * reached
+    )]
+    TargetNotReached {
+        /// The target's field path.
+        target: String,
+        /// The target's value.
+        value: f64,
+        /// How far along the path the last accepted state was (0 to 1).
+        reached: f64,
+        /// The failure at the step that could not be taken.
+        detail: String,
+    },
 }

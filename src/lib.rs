@@ -45,9 +45,12 @@ pub use finger::{
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
-pub use refine::{solve_to_tip_tolerance, Refined, MAX_REFINED_ELEMENTS};
+pub use refine::{
+    solve_auto, solve_to_tip_tolerance, AutoSolved, Refined, MAX_AUTO_ELEMENTS,
+    MAX_REFINED_ELEMENTS,
+};
 pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
-mod gripper;
+pub mod gripper;
 mod studies;
 pub use gripper::{
     contact_force_to_finger, contact_force_to_gripper, design_space,

@@ -10,8 +10,9 @@
 
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
-use crate::error::{positive, require, InputError, SolveError};
-use crate::finger::{Finger, Load, Solution, SolveOptions};
+use crate::error::{positive, require, InputError, SolveError, Warning};
+use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions};
+use crate::model::ModelId;
 
 /// Largest N the refinement tries.
 pub const MAX_REFINED_ELEMENTS: usize = 512;
@@ -76,4 +77,74 @@ pub fn solve_to_tip_tolerance(
         ),
     }
     .into())
+}
+
+/// The automatic partition's result.
+#[derive(Debug, Clone)]
+pub struct AutoSolved {
+    /// The solution on the chosen partition.
+    pub solution: Solution,
+    /// The partition chosen.
+    pub partition: Partition,
+    /// The finger built on it.
+    pub finger: Finger,
+    /// How many times elements were split after a solve.
+    pub refinements: usize,
+}
+
+/// Largest number of elements the automatic partition uses.
+pub const MAX_AUTO_ELEMENTS: usize = 1000;
+
+/// Solves `load` on an automatic partition: element boundaries on the
+/// material changes ([`Partition::material`], pieces at most `Lx / 8`),
+/// then, while an element turns beyond the CCM's small-slope limit at the
+/// solved state, that element is split in two and the finger solved again
+/// from the previous state. Stops with the remaining findings on the
+/// solution when [`MAX_AUTO_ELEMENTS`] would be exceeded.
+pub fn solve_auto(
+    model: ModelId,
+    actuator: &Actuator,
+    ribs: bool,
+    load: &Load,
+    opts: &SolveOptions,
+) -> Result<AutoSolved, SolveError> {
+    let lx = actuator.geometry().lx;
+    let mut partition = Partition::material(actuator, ribs, lx / 8.0)?;
+    let mut finger = Finger::with_model(model, actuator, &partition, ribs);
+    let mut solution = finger.solve(load, opts)?;
+    let mut refinements = 0;
+    loop {
+        let mut split = vec![false; partition.len()];
+        for w in &solution.warnings {
+            if let Warning::ElementSlope { element, .. } = w {
+                split[*element] = true;
+            }
+        }
+        let extra = split.iter().filter(|&&s| s).count();
+        if extra == 0 || partition.len() + extra > MAX_AUTO_ELEMENTS {
+            return Ok(AutoSolved {
+                solution,
+                partition,
+                finger,
+                refinements,
+            });
+        }
+        // each half starts from its parent's raw coefficients
+        let per = solution.coefficients.per_element();
+        let mut guess = Vec::with_capacity((partition.len() + extra) * per);
+        for (i, k) in solution.coefficients.iter().enumerate() {
+            guess.extend_from_slice(k);
+            if split[i] {
+                guess.extend_from_slice(k);
+            }
+        }
+        partition = partition.split(&split);
+        finger = Finger::with_model(model, actuator, &partition, ribs);
+        let guess = Coefficients::new(per, guess)?;
+        solution = match finger.solve_from(load, &guess, opts) {
+            Ok(s) => s,
+            Err(_) => finger.solve(load, opts)?,
+        };
+        refinements += 1;
+    }
 }

@@ -348,6 +348,9 @@ pub struct GripperSection {
     pub fingers: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mu: Option<f64>,
+    /// Strict mode: grasps that bend an element backwards are invalid.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strict: Option<bool>,
     /// The grasp to solve (none: the gripper at rest).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grasp: Option<GraspSection>,
@@ -1140,7 +1143,14 @@ fn resolve_gripper(
         "gripper.mounting_angle_deg",
         g.mounting_angle_deg.unwrap_or(DEFAULT_MOUNTING_ANGLE_DEG),
     )?;
+    require(
+        angle_deg > 0.0 && angle_deg < 180.0,
+        "gripper.mounting_angle_deg",
+        angle_deg,
+        "must lie in (0, 180) degrees: the finger points away from the palm".into(),
+    )?;
     let mu = positive("gripper.mu", g.mu.unwrap_or(d.mu))?;
+    let strict = g.strict.unwrap_or(false);
     let fingers = g.fingers.unwrap_or(d.fingers);
     require(
         fingers >= 1,
@@ -1152,6 +1162,7 @@ fn resolve_gripper(
         mounting_angle_deg: Some(angle_deg),
         fingers: Some(fingers),
         mu: Some(mu),
+        strict: Some(strict),
         ..GripperSection::default()
     };
     let geometry = match (g.overlap_mm, g.palm_mm) {
@@ -1193,6 +1204,7 @@ fn resolve_gripper(
                 geometry,
                 fingers,
                 mu,
+                strict,
             },
             stability,
             grasp,

@@ -609,6 +609,11 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
                 relative_residual,
             };
         }
+        Ok((Err(e @ SolveError::TargetNotReached { .. }), _)) => {
+            c.outcome = StressOutcome::Rejected {
+                error: format!("at solve: {e}"),
+            };
+        }
         Ok((Err(SolveError::Input(e)), _)) => {
             c.outcome = StressOutcome::Rejected {
                 error: format!("at solve: {e}"),

@@ -16,7 +16,8 @@ use crate::error::{finite, positive, require, InputError, SolveError, Warning};
 use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
 use crate::fit::fit_circle;
 use crate::gripper::{
-    follow, grasping_angle_range, Grasp, Gripper, GripperParams, PalmSpec, SphereLift, ViableAngles,
+    follow, grasping_angle_range, Grasp, Gripper, GripperParams, Invalid, PalmSpec, SphereLift,
+    ViableAngles,
 };
 
 /// Prestrains of the paper's samples.
@@ -44,6 +45,9 @@ pub struct StudyOptions {
     pub angle_samples: usize,
     /// Pressures in study 7 (0 to 400 kPa inclusive), at least 2.
     pub pressure_points: usize,
+    /// Strict mode: grasps that bend an element backwards are invalid and
+    /// dropped, as the paper's analysis assumes.
+    pub strict: bool,
 }
 
 impl Default for StudyOptions {
@@ -54,6 +58,7 @@ impl Default for StudyOptions {
             sweep_points: 32,
             angle_samples: 24,
             pressure_points: 21,
+            strict: false,
         }
     }
 }
@@ -102,6 +107,7 @@ impl StudyOptions {
                 geometry: PalmSpec::Overlap(overlap),
                 fingers: 3,
                 mu: self.mu,
+                strict: self.strict,
             },
         )
     }
@@ -119,7 +125,7 @@ pub struct SweepStop {
 // ------------------------------------------------------------ studies 1-3
 
 /// One point of a lifting-force curve (grasping angle 0, `f = mu F`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct LiftPoint {
     /// Grasping size `d` (mm).
     pub size: f64,
@@ -131,6 +137,10 @@ pub struct LiftPoint {
     pub lift: f64,
     /// Finger height `h` (mm).
     pub height: f64,
+    /// An element is bent backwards (dropped in strict mode).
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
 }
 
 /// Max lifting force versus grasping size for one gripper.
@@ -150,8 +160,11 @@ pub struct LiftCurve {
     pub d_max: f64,
     /// The unloaded finger's mid-plane in the gripper frame (mm).
     pub rest_shape: Vec<[f64; 2]>,
-    /// The sweep from `max(0, l - 2 l0)` to `d_max`.
+    /// The sweep from `max(0, l - 2 l0)` to `d_max` (in strict mode
+    /// without the grasps that bend an element backwards).
     pub points: Vec<LiftPoint>,
+    /// Grasps left out in strict mode.
+    pub dropped: usize,
     /// Set when the sweep stopped before `d_max`.
     pub stopped: Option<SweepStop>,
     /// The gripper's design warnings.
@@ -177,7 +190,7 @@ impl LiftCurve {
         let i = pts
             .windows(2)
             .position(|w| d >= w[0].size && d <= w[1].size)?;
-        let (p, q) = (pts[i], pts[i + 1]);
+        let (p, q) = (&pts[i], &pts[i + 1]);
         let t = if q.size > p.size {
             (d - p.size) / (q.size - p.size)
         } else {
@@ -220,13 +233,20 @@ fn size_sweep(
 
 fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
     let mut points = Vec::with_capacity(n + 1);
+    let mut dropped = 0;
     let stopped = size_sweep(g, 0.0, 0.0, g.d_min(), g.d_max(), n, |gr| {
+        if matches!(gr.invalid, Some(Invalid::CurvatureReversal { .. })) {
+            dropped += 1;
+            return;
+        }
         points.push(LiftPoint {
             size: gr.size,
             tip_gap: gr.tip_gap,
             normal: gr.normal,
             lift: gr.lift,
             height: gr.height,
+            reversed: gr.is_reversed(),
+            warnings: gr.warnings.clone(),
         })
     });
     LiftCurve {
@@ -238,6 +258,7 @@ fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
         d_max: g.d_max(),
         rest_shape: g.rest_shape(),
         points,
+        dropped,
         stopped,
         warnings: g.warnings().to_vec(),
     }
@@ -317,7 +338,7 @@ pub fn study3_cuboid_region(
 // ------------------------------------------------------------ study 4
 
 /// One pressure of the force-control study.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ForceControlRow {
     /// Channel pressure (kPa).
     pub pressure_kpa: f64,
@@ -329,6 +350,12 @@ pub struct ForceControlRow {
     pub tip_gap: f64,
     /// True when `F >= 0` and `f <= mu F`.
     pub friction_ok: bool,
+    /// True when the grasp breaks no rule (see [`crate::gripper::rules`]).
+    pub valid: bool,
+    /// An element is bent backwards.
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
 }
 
 /// Study 4 result.
@@ -366,6 +393,9 @@ pub fn study4_force_control(
                     height: gr.height,
                     tip_gap: gr.tip_gap,
                     friction_ok: gr.friction_ok(g.mu()),
+                    valid: gr.is_valid(),
+                    reversed: gr.is_reversed(),
+                    warnings: gr.warnings.clone(),
                 });
                 warm = Some(gr);
             }
@@ -389,7 +419,7 @@ pub fn study4_force_control(
 // ------------------------------------------------------------ study 5
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct SpherePoint {
     /// Grasping angle (rad).
     pub beta: f64,
@@ -401,6 +431,10 @@ pub struct SpherePoint {
     pub normal: f64,
     /// Grasping size (mm).
     pub size: f64,
+    /// An element is bent backwards (dropped in strict mode).
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
 }
 
 /// Study 5 result: the sphere grasping region.
@@ -440,13 +474,15 @@ pub fn study5_sphere_region(
         let d_max = g.d_max();
         let stop = size_sweep(&g, 0.0, beta, d_max / n as f64, d_max, n - 1, |gr| {
             let c = g.sphere_contact(&gr.solution, beta);
-            if c.invalid.is_none() && gr.friction_ok(g.mu()) {
+            if c.invalid.or(gr.invalid).is_none() {
                 points.push(SpherePoint {
                     beta,
                     radius: c.radius,
                     lift: gr.lift,
                     normal: gr.normal,
                     size: gr.size,
+                    reversed: gr.is_reversed(),
+                    warnings: gr.warnings.clone(),
                 });
             } else {
                 dropped += 1;
@@ -545,7 +581,7 @@ pub fn study6_viable_angles(
 // ------------------------------------------------------------ study 7
 
 /// One pressure of the curvature study.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CurvatureRow {
     /// Channel pressure (kPa).
     pub pressure_kpa: f64,
@@ -559,6 +595,8 @@ pub struct CurvatureRow {
     pub end_angle: f64,
     /// Tip in the finger frame (mm).
     pub tip: [f64; 2],
+    /// The finger's validity findings.
+    pub warnings: Vec<Warning>,
 }
 
 impl CurvatureRow {
@@ -637,6 +675,7 @@ fn curvature_row(pressure_kpa: f64, sol: &Solution) -> CurvatureRow {
         curvature,
         end_angle: sol.end_angle,
         tip: sol.tip,
+        warnings: sol.warnings.clone(),
     }
 }
 
@@ -706,7 +745,8 @@ pub fn tip_force_for_displacement(
         &at(s0),
         &at(s0 + displacement),
         &opts,
-    )?;
+    )
+    .map_err(|e| e.for_target("displacement.distance", displacement))?;
     Ok(DisplacementForce {
         pressure_kpa,
         axis,
@@ -718,7 +758,7 @@ pub fn tip_force_for_displacement(
 }
 
 /// One row of study 8.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct DisplacementForceRow {
     /// Prestrain of the sample.
     pub eps0: f64,
@@ -728,6 +768,8 @@ pub struct DisplacementForceRow {
     pub pressure_kpa: f64,
     /// Force for a 10 mm tip displacement (N); `None` when the solve failed.
     pub force: Option<f64>,
+    /// The loaded finger's validity findings.
+    pub warnings: Vec<Warning>,
 }
 
 /// Study 8 (Sec. 6.3): at 0, 27.6, 55.2, 82.7 kPa, the tip force that moves
@@ -742,14 +784,13 @@ pub fn study8_force_at_displacement(
     for (eps0, axis) in [(0.4, Axis::X), (0.15, Axis::Z)] {
         let finger = opts.finger(actuator, eps0)?;
         for p in STUDY8_PRESSURES_KPA {
-            let force = tip_force_for_displacement(&finger, p, axis, 10.0)
-                .ok()
-                .map(|r| r.force);
+            let r = tip_force_for_displacement(&finger, p, axis, 10.0).ok();
             rows.push(DisplacementForceRow {
                 eps0,
                 axis,
                 pressure_kpa: p,
-                force,
+                force: r.as_ref().map(|r| r.force),
+                warnings: r.map(|r| r.solution.warnings).unwrap_or_default(),
             });
         }
     }

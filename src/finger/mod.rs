@@ -353,6 +353,7 @@ pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
     ) -> Option<(f64, Vec<f64>, Vec<f64>)>;
     fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]>;
     fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning>;
+    fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64>;
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
 }
 
@@ -561,6 +562,16 @@ impl Finger {
         Ok(self
             .core
             .validity(k, samples.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
+    }
+
+    /// The mid-plane's signed curvature (1/mm; negative curls towards -Z)
+    /// at `per_element` points per element, element-major, at the middles
+    /// of equal sub-intervals.
+    pub fn curvatures(&self, k: &Coefficients, per_element: usize) -> Result<Vec<f64>, InputError> {
+        self.check(k)?;
+        Ok(self
+            .core
+            .curvatures(k, per_element.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
     }
 
     /// Solves a scene from the straight finger (or, with a tip load, from

@@ -259,6 +259,18 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         crate::validity::check(self, k.as_slice(), samples)
     }
 
+    fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.len() * per_element);
+        for (i, e) in self.elements.iter().enumerate() {
+            let ki = Self::element_coeffs(k.as_slice(), i);
+            for j in 0..per_element {
+                let x = e.length() * (j as f64 + 0.5) / per_element as f64;
+                out.push(M::curvature(&ki, x));
+            }
+        }
+        out
+    }
+
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
         Box::new(SolverCore::new(self, warnings))
     }

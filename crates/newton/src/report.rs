@@ -92,8 +92,9 @@ impl Report {
         self.reason.is_converged()
     }
 
-    /// A report for a solve that never evaluated anything.
-    pub(crate) fn empty(reason: Termination) -> Self {
+    /// A report of no work: zero counts, an infinite residual, the given
+    /// reason (for callers that build reports, e.g. around [`continuation`](crate::continuation)).
+    pub fn empty(reason: Termination) -> Self {
         Self {
             reason,
             iterations: 0,

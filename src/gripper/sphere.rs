@@ -1,0 +1,452 @@
+//! Spheres held by the gripper: a sphere centred on the gripper axis
+//! touching the tip, its validity, the best lifting force and the viable
+//! grasping angles.
+//!
+//! The sphere touches the tip with its surface normal `n`, so its centre is
+//! `tip - r n`; on the gripper axis (`Xg = 0`) that gives `r cos b = tip
+//! Xg`, i.e. `2 r cos b` = the gap between the tips. The paper writes
+//! `2 r cos b = d`; the two agree whenever the tip is the finger's
+//! innermost point at rest (every `eps0 <= 0.25` finger of the paper; not
+//! the `eps0 = 0.4` one, whose curl passes its innermost point). The
+//! physical contact is used here, so the centre is always on the axis.
+
+use std::f64::consts::FRAC_PI_2;
+
+use crate::error::{finite, positive, require, InputError, SolveError};
+use crate::finger::Solution;
+
+use super::frames::{contact_force_to_gripper, grasping_angle_range};
+use super::rules::Invalid;
+use super::{check_beta, Grasp, Gripper, Scene, GRIPPER_SAMPLES_PER_ELEMENT};
+
+/// A sphere centred on the gripper axis touching the tip.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereContact {
+    /// Radius `r = tip Xg / cos b` (mm); 0 when the fingers are not open.
+    pub radius: f64,
+    /// Centre in the gripper frame, `tip - r n` (mm).
+    pub center: [f64; 2],
+    /// The first geometric violation (not open, second contact), if any.
+    pub invalid: Option<Invalid>,
+}
+
+/// A sphere grasp: the equilibrium and its validity.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereGrasp {
+    /// Radius (mm).
+    pub radius: f64,
+    /// Sphere centre in the gripper frame (mm).
+    pub center: [f64; 2],
+    /// The equilibrium.
+    pub grasp: Grasp,
+    /// The first violation found (geometry, then `F >= 0`, then friction).
+    pub invalid: Option<Invalid>,
+}
+
+impl SphereGrasp {
+    /// True when no rule is violated.
+    pub fn is_valid(&self) -> bool {
+        self.invalid.is_none()
+    }
+}
+
+/// The largest lifting force that holds a sphere (full friction, best
+/// grasping angle).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereLift {
+    /// Sphere radius (mm).
+    pub radius: f64,
+    /// The grasping angle that gives it (rad).
+    pub beta: f64,
+    /// Lifting force per finger (N).
+    pub lift: f64,
+    /// Normal force there (N).
+    pub normal: f64,
+}
+
+/// One grasping angle of a [`ViableAngles`] scan.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AngleSample {
+    /// Grasping angle (rad).
+    pub beta: f64,
+    /// Normal force `F` (N); 0 when the solve failed or was skipped.
+    pub normal: f64,
+    /// Friction `f` (N); 0 when the solve failed or was skipped.
+    pub friction: f64,
+    /// True for a valid grasp with `0 <= f <= mu F`.
+    pub viable: bool,
+    /// Why not viable (`None` when viable, or when the solve failed).
+    pub invalid: Option<Invalid>,
+    /// The solve failure, if any.
+    pub failure: Option<String>,
+}
+
+/// The grasping angles that hold a sphere of radius `r` with lifting force
+/// `f_v` per finger.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ViableAngles {
+    /// Sphere radius (mm).
+    pub radius: f64,
+    /// Lifting force per finger (N).
+    pub lift: f64,
+    /// Viable intervals `[lo, hi]` (rad), boundaries refined by bisection.
+    pub intervals: Vec<[f64; 2]>,
+    /// The scan the intervals come from.
+    pub scan: Vec<AngleSample>,
+}
+
+impl ViableAngles {
+    /// The hull `[lo, hi]` of the viable intervals (`None`: no viable angle).
+    pub fn range(&self) -> Option<[f64; 2]> {
+        let lo = self.intervals.first()?[0];
+        let hi = self.intervals.last()?[1];
+        Some([lo, hi])
+    }
+}
+
+impl Gripper {
+    /// (c) A sphere of radius `r` held with lifting force `lift` per finger
+    /// at grasping angle `beta`: the tip sits at `Xg = r cos b`, the
+    /// vertical force is `lift`, and the horizontal force is solved for;
+    /// `F` and `f` follow. The result says whether the grasp is valid
+    /// (open, `F >= 0`, `0 <= f <= mu F`, no second contact).
+    pub fn sphere_grasp(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        lift: f64,
+        beta: f64,
+        warm: Option<&Grasp>,
+    ) -> Result<SphereGrasp, SolveError> {
+        self.check_sphere(r, beta)?;
+        finite("sphere.lift", lift)?;
+        let grasp = self.solve_scene(
+            &Scene {
+                pressure_kpa,
+                beta,
+                base: [0.0, lift],
+                direction: [1.0, 0.0],
+                tip_xg: r * beta.cos(),
+                target: ("sphere.lift", lift),
+            },
+            warm,
+        )?;
+        Ok(self.sphere_result(grasp))
+    }
+
+    /// A sphere of radius `r` held at grasping angle `beta` with full
+    /// friction `f = mu F`: the tip sits at `Xg = r cos b` and the normal
+    /// force is solved for; the lifting force `F (sin b + mu cos b)` is the
+    /// largest this contact can carry. The result says whether the grasp
+    /// is valid.
+    pub fn sphere_grasp_at_friction_limit(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        beta: f64,
+        warm: Option<&Grasp>,
+    ) -> Result<SphereGrasp, SolveError> {
+        self.check_sphere(r, beta)?;
+        let grasp = self.solve_scene(
+            &Scene {
+                pressure_kpa,
+                beta,
+                base: [0.0, 0.0],
+                direction: contact_force_to_gripper(1.0, self.params.mu, beta),
+                tip_xg: r * beta.cos(),
+                target: ("sphere.radius", r),
+            },
+            warm,
+        )?;
+        Ok(self.sphere_result(grasp))
+    }
+
+    fn sphere_result(&self, grasp: Grasp) -> SphereGrasp {
+        let contact = self.sphere_contact(&grasp.solution, grasp.beta);
+        let invalid = contact.invalid.or(grasp.invalid);
+        SphereGrasp {
+            radius: contact.radius,
+            center: contact.center,
+            grasp,
+            invalid,
+        }
+    }
+
+    /// The largest lifting force per finger that holds a sphere of radius
+    /// `r` validly, over the grasping angles in `[-arctan mu, pi/2)`: a scan
+    /// of `samples` angles (at least 4) with full friction, each warm-started
+    /// from the previous and stopped where that branch of equilibria is
+    /// lost, then two rounds of refinement around the best valid angle. `None` when no scanned
+    /// angle gives a valid grasp.
+    pub fn max_sphere_lift(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        samples: usize,
+    ) -> Result<Option<SphereLift>, SolveError> {
+        check_scan(pressure_kpa, r, samples)?;
+        let [lo, hi] = grasping_angle_range(self.params.mu);
+        let mut best: Option<(SphereLift, Grasp)> = None;
+        let consider = |sg: SphereGrasp, best: &mut Option<(SphereLift, Grasp)>| {
+            if sg.is_valid() && best.as_ref().is_none_or(|(b, _)| sg.grasp.lift > b.lift) {
+                *best = Some((
+                    SphereLift {
+                        radius: r,
+                        beta: sg.grasp.beta,
+                        lift: sg.grasp.lift,
+                        normal: sg.grasp.normal,
+                    },
+                    sg.grasp,
+                ));
+            }
+        };
+        let step = (hi - lo) / samples as f64;
+        let mut warm: Option<Grasp> = None;
+        for i in 0..samples {
+            let beta = lo + step * i as f64;
+            if self.check_sphere(r, beta).is_err() {
+                // the fingers cannot reach this contact: the branch breaks here
+                warm = None;
+                continue;
+            }
+            match self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, warm.as_ref()) {
+                Ok(sg) => {
+                    warm = Some(sg.grasp.clone());
+                    consider(sg, &mut best);
+                }
+                // the branch followed from the lowest angle is lost (a fold
+                // or a load growing without bound): stop rather than jump
+                // to another branch
+                Err(_) if warm.is_some() => break,
+                Err(_) => {}
+            }
+        }
+        // refine: subdivide the bracket around the best angle twice
+        let mut width = step;
+        for _ in 0..2 {
+            let Some((b, g)) = &best else { break };
+            let (centre, start) = (b.beta, g.clone());
+            let (a, z) = ((centre - width).max(lo), (centre + width).min(hi - 1e-9));
+            const SUB: usize = 8;
+            for j in 1..SUB {
+                let beta = a + (z - a) * j as f64 / SUB as f64;
+                if let Ok(sg) =
+                    self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, Some(&start))
+                {
+                    consider(sg, &mut best);
+                }
+            }
+            width = (z - a) / SUB as f64;
+        }
+        Ok(best.map(|(b, _)| b))
+    }
+
+    /// The sphere centred on the gripper axis that touches the tip of
+    /// `solution` with contact normal `n = (cos b, sin b)`, and its
+    /// geometric validity: not open when `d <= 0` or the tip gap is not
+    /// positive (or `cos b <= 0`); a second contact when any mid-plane
+    /// sample lies inside the sphere by more than a tolerance (`1e-6 (r +
+    /// Lx)`). A tip-only solution is sampled here from its coefficients
+    /// ([`GRIPPER_SAMPLES_PER_ELEMENT`] per element).
+    pub fn sphere_contact(&self, solution: &Solution, beta: f64) -> SphereContact {
+        let tip = self.to_gripper(solution.tip);
+        let size = self.size_of(solution.tip);
+        let tip_gap = 2.0 * tip[0];
+        let (s, c) = beta.sin_cos();
+        if !(size > 0.0 && tip_gap > 0.0 && c > 0.0 && beta.is_finite()) {
+            return SphereContact {
+                radius: 0.0,
+                center: tip,
+                invalid: Some(Invalid::NotOpen { size, tip_gap }),
+            };
+        }
+        let r = tip[0] / c;
+        let center = [tip[0] - r * c, tip[1] - r * s];
+        let tol = 1e-6 * (r + self.lx);
+        let sampled;
+        let points = if solution.points.is_empty() {
+            sampled = self
+                .finger
+                .shape(&solution.coefficients, GRIPPER_SAMPLES_PER_ELEMENT)
+                .unwrap_or_default();
+            &sampled
+        } else {
+            &solution.points
+        };
+        let mut worst: Option<(usize, f64)> = None;
+        for (i, p) in points.iter().enumerate() {
+            let q = self.to_gripper(*p);
+            let depth = r - (q[0] - center[0]).hypot(q[1] - center[1]);
+            if depth > tol && worst.is_none_or(|(_, w)| depth > w) {
+                worst = Some((i, depth));
+            }
+        }
+        SphereContact {
+            radius: r,
+            center,
+            invalid: worst.map(|(point, depth)| Invalid::SecondContact { point, depth }),
+        }
+    }
+
+    /// (c) The grasping angles in `[-arctan mu, pi/2)` at which a sphere of
+    /// radius `r` is held validly with lifting force `lift` per finger
+    /// (some `F` with `0 <= f <= mu F`). Scans `samples` angles (at least
+    /// 4), then bisects each boundary to `1e-6` rad. Failed solves count as
+    /// not viable and are recorded in the scan.
+    pub fn viable_angle_range(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        lift: f64,
+        samples: usize,
+    ) -> Result<ViableAngles, SolveError> {
+        finite("sphere.lift", lift)?;
+        check_scan(pressure_kpa, r, samples)?;
+        let [lo, hi] = grasping_angle_range(self.params.mu);
+        let mut scan = Vec::with_capacity(samples);
+        let mut grasps: Vec<Option<Grasp>> = Vec::with_capacity(samples);
+        let mut warm: Option<Grasp> = None;
+        for i in 0..samples {
+            let beta = lo + (hi - lo) * i as f64 / samples as f64;
+            let (sample, grasp) = self.angle_sample(pressure_kpa, r, lift, beta, warm.as_ref());
+            if grasp.is_some() {
+                warm.clone_from(&grasp);
+            }
+            scan.push(sample);
+            grasps.push(grasp);
+        }
+        // b = pi/2 closes the scan: the tips meet on the axis (not open)
+        let mut intervals = Vec::new();
+        let mut start: Option<f64> = None;
+        for i in 0..samples {
+            let here = scan[i].viable;
+            let prev = i > 0 && scan[i - 1].viable;
+            if here && !prev {
+                start = Some(if i == 0 {
+                    lo
+                } else {
+                    let (g, b) = (scan[i].beta, scan[i - 1].beta);
+                    self.bisect_to(pressure_kpa, r, lift, g, b, grasps[i].as_ref())
+                });
+            }
+            let next = i + 1 < samples && scan[i + 1].viable;
+            if here && !next {
+                let bad = if i + 1 < samples {
+                    scan[i + 1].beta
+                } else {
+                    hi
+                };
+                let end =
+                    self.bisect_to(pressure_kpa, r, lift, scan[i].beta, bad, grasps[i].as_ref());
+                if let Some(s) = start.take() {
+                    intervals.push([s, end]);
+                }
+            }
+        }
+        Ok(ViableAngles {
+            radius: r,
+            lift,
+            intervals,
+            scan,
+        })
+    }
+
+    fn angle_sample(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        lift: f64,
+        beta: f64,
+        warm: Option<&Grasp>,
+    ) -> (AngleSample, Option<Grasp>) {
+        match self.sphere_grasp(pressure_kpa, r, lift, beta, warm) {
+            Ok(sg) => (
+                AngleSample {
+                    beta,
+                    normal: sg.grasp.normal,
+                    friction: sg.grasp.friction,
+                    viable: sg.is_valid(),
+                    invalid: sg.invalid,
+                    failure: None,
+                },
+                Some(sg.grasp),
+            ),
+            Err(e) => (
+                AngleSample {
+                    beta,
+                    normal: 0.0,
+                    friction: 0.0,
+                    viable: false,
+                    invalid: None,
+                    failure: Some(e.to_string()),
+                },
+                None,
+            ),
+        }
+    }
+
+    /// Bisects between a viable angle and a non-viable one; returns the
+    /// last viable angle found.
+    fn bisect_to(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        lift: f64,
+        mut good: f64,
+        mut bad: f64,
+        warm: Option<&Grasp>,
+    ) -> f64 {
+        let mut warm = warm.cloned();
+        while (bad - good).abs() > 1e-6 {
+            let mid = 0.5 * (good + bad);
+            let (sample, grasp) = self.angle_sample(pressure_kpa, r, lift, mid, warm.as_ref());
+            if sample.viable {
+                good = mid;
+                warm = grasp;
+            } else {
+                bad = mid;
+            }
+        }
+        good
+    }
+}
+
+impl Gripper {
+    /// A sphere's radius and grasping angle: positive radius, angle strictly
+    /// inside (-pi/2, pi/2) (the contact must not be at a pole), and a
+    /// contact the fingers reach without being pressed past flat (the tip at
+    /// `Xg = r cos b <= d_max / 2`).
+    pub(crate) fn check_sphere(&self, r: f64, beta: f64) -> Result<(), InputError> {
+        positive("sphere.radius", r)?;
+        check_beta(beta)?;
+        require(
+            beta.abs() < FRAC_PI_2,
+            "sphere.beta",
+            beta,
+            "must lie in (-pi/2, pi/2)".into(),
+        )?;
+        let xg = r * beta.cos();
+        let reach = 0.5 * self.d_max();
+        require(
+            xg <= reach * (1.0 + 1e-12),
+            "sphere.radius",
+            r,
+            format!(
+                "touched at {:.3} degrees puts the tip at Xg = {xg:.3} mm, beyond the flat fingers' reach d_max / 2 = {reach:.3} mm",
+                beta.to_degrees()
+            ),
+        )
+    }
+}
+
+/// The inputs of an angle scan over a sphere: pressure, radius, samples.
+fn check_scan(pressure_kpa: f64, r: f64, samples: usize) -> Result<(), InputError> {
+    positive("sphere.radius", r)?;
+    finite("grasp.pressure_kpa", pressure_kpa)?;
+    require(
+        samples >= 4,
+        "sphere.samples",
+        samples as f64,
+        "must be at least 4".into(),
+    )
+}
