@@ -29,6 +29,7 @@ mod finger;
 mod fit;
 pub mod model;
 mod refine;
+mod ser;
 mod validity;
 
 pub use accuracy::{accuracy_study, AccuracyRow, AccuracyStudy, Reference};

@@ -30,7 +30,7 @@ pub use target::TargetProblem;
 pub(crate) use problem::FingerCore;
 
 /// Pressure and tip loads of a scene.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct Load {
     /// Channel pressure (MPa; 1 kPa = 0.001 MPa).
     pub pressure: f64,
@@ -200,9 +200,10 @@ impl SolveOptions {
 }
 
 /// How a solve went.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SolveReport {
     /// Why it stopped (always converged in a returned solution).
+    #[serde(serialize_with = "crate::ser::display")]
     pub reason: fpc_newton::Termination,
     /// Newton iterations (summed over element solves and continuation steps).
     pub iterations: usize,
@@ -298,25 +299,34 @@ impl serde::Serialize for Coefficients {
     }
 }
 
-/// An equilibrium of one finger.
-#[derive(Debug, Clone, PartialEq)]
+/// An equilibrium of one finger. Serializes with the units in the keys
+/// (`tip_mm`, `end_angle_rad`, ...; the README lists them).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Solution {
-    /// The element unknowns.
-    pub coefficients: Coefficients,
     /// Tip position (X, Z) in the finger frame (mm).
+    #[serde(rename = "tip_mm")]
     pub tip: [f64; 2],
     /// Angle of the tip tangent from the X axis (rad).
+    #[serde(rename = "end_angle_rad")]
     pub end_angle: f64,
+    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
+    #[serde(rename = "radius_mm")]
+    pub radius: Option<f64>,
     /// Total potential energy `Pi` (N mm).
+    #[serde(rename = "energy_nmm")]
     pub energy: f64,
     /// Smallest eigenvalue of the scaled Hessian over the stiffness scale
     /// (positive: stable); `None` when not computed (`SolveOptions::stability` off).
     pub min_hessian_eig: Option<f64>,
+    /// `min_hessian_eig > 0` when computed.
+    pub stable: Option<bool>,
+    /// The element unknowns.
+    pub coefficients: Coefficients,
     /// Mid-plane samples from root to tip (empty for tip-only output).
+    #[serde(rename = "points_mm")]
     pub points: Vec<[f64; 2]>,
-    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
-    pub radius: Option<f64>,
     /// Undeformed element lengths (mm), root to tip.
+    #[serde(rename = "element_lengths_mm")]
     pub element_lengths: Vec<f64>,
     /// Where the answer leaves the model's assumptions, and the actuator's
     /// notes: empty when every assumption holds (docs/model.md section 8).

@@ -327,6 +327,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             end_angle,
             energy,
             min_hessian_eig,
+            stable: min_hessian_eig.map(|e| e > 0.0),
             points,
             radius,
             element_lengths: f.lengths.clone(),

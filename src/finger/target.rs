@@ -15,7 +15,7 @@ use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport
 /// A scene whose tip load depends on one unknown scalar `lambda`,
 /// `F = base + lambda * direction`, fixed by one target on the tip position:
 /// `weights . tip = target` at equilibrium.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct TargetProblem {
     /// Pressure, kappa and the fixed part of the tip load.
     pub base: Load,

@@ -57,20 +57,24 @@ const MAX_HOMOTOPY_ATTEMPTS: usize = 16;
 const MAX_INTERMEDIATE_ITERATIONS: usize = 30;
 
 /// How the palm is specified.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum PalmSpec {
     /// Overlap `g = l0 - l/2` (mm) between the fingers at rest; the palm
     /// diameter follows as `l = 2 (l0 - g)`.
+    #[serde(rename = "overlap_mm")]
     Overlap(f64),
     /// Palm diameter `l` (mm); the overlap follows as `g = l0 - l/2`.
+    #[serde(rename = "palm_mm")]
     Palm(f64),
 }
 
 /// A gripper's design.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct GripperParams {
     /// Mounting angle `a` between the palm plane and the finger's root
     /// tangent (rad), in (0, pi); the design space is `[arccot mu, pi/2]`.
+    #[serde(rename = "mounting_angle_rad")]
     pub mounting_angle: f64,
     /// Palm diameter or overlap.
     pub geometry: PalmSpec,
@@ -99,26 +103,34 @@ impl Default for GripperParams {
 }
 
 /// An equilibrium of a grasp with its load and measures.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Grasp {
     /// Channel pressure (kPa).
     pub pressure_kpa: f64,
     /// Grasping angle `b` (rad).
+    #[serde(rename = "beta_rad")]
     pub beta: f64,
     /// Normal force `F` on the finger (N).
+    #[serde(rename = "normal_force_n")]
     pub normal: f64,
     /// Friction `f` on the finger, positive along `t` (N).
+    #[serde(rename = "friction_n")]
     pub friction: f64,
     /// Lifting force `f_v = f cos b + F sin b` (N).
+    #[serde(rename = "lift_n")]
     pub lift: f64,
     /// Grasping size `d = 2 (dXg - g)` (mm), the paper's measure.
+    #[serde(rename = "size_mm")]
     pub size: f64,
     /// Gap between the tips, `2 tip Xg` (mm); equals `size` when the tip
     /// is the innermost point at rest.
+    #[serde(rename = "tip_gap_mm")]
     pub tip_gap: f64,
     /// Finger height `h`: the tip's Zg (mm).
+    #[serde(rename = "height_mm")]
     pub height: f64,
     /// Tip in the gripper frame (mm).
+    #[serde(rename = "tip_gripper_mm")]
     pub tip: [f64; 2],
     /// The tip load in the finger frame.
     pub load: Load,
@@ -749,5 +761,26 @@ pub(crate) fn follow(
                 last: k0.clone(),
             }),
         }),
+    }
+}
+
+impl serde::Serialize for Gripper {
+    /// The design and the geometry its reference state fixes.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(None)?;
+        m.serialize_entry("params", &self.params)?;
+        m.serialize_entry("model", self.finger.model().name())?;
+        m.serialize_entry("elements", &self.finger.len())?;
+        m.serialize_entry("l0_mm", &self.l0)?;
+        m.serialize_entry("palm_mm", &self.palm)?;
+        m.serialize_entry("overlap_mm", &self.overlap)?;
+        m.serialize_entry("d_min_mm", &self.d_min())?;
+        m.serialize_entry("d_max_mm", &self.d_max())?;
+        m.serialize_entry("r_max_mm", &self.r_max())?;
+        m.serialize_entry("tip_is_innermost", &self.tip_is_innermost())?;
+        m.serialize_entry("rest_tip_gripper_mm", &self.to_gripper(self.reference.tip))?;
+        m.serialize_entry("warnings", &self.warnings)?;
+        m.end()
     }
 }

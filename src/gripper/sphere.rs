@@ -20,22 +20,26 @@ use super::rules::Invalid;
 use super::{check_beta, Grasp, Gripper, Scene, GRIPPER_SAMPLES_PER_ELEMENT};
 
 /// A sphere centred on the gripper axis touching the tip.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SphereContact {
     /// Radius `r = tip Xg / cos b` (mm); 0 when the fingers are not open.
+    #[serde(rename = "radius_mm")]
     pub radius: f64,
     /// Centre in the gripper frame, `tip - r n` (mm).
+    #[serde(rename = "center_gripper_mm")]
     pub center: [f64; 2],
     /// The first geometric violation (not open, second contact), if any.
     pub invalid: Option<Invalid>,
 }
 
 /// A sphere grasp: the equilibrium and its validity.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SphereGrasp {
     /// Radius (mm).
+    #[serde(rename = "radius_mm")]
     pub radius: f64,
     /// Sphere centre in the gripper frame (mm).
+    #[serde(rename = "center_gripper_mm")]
     pub center: [f64; 2],
     /// The equilibrium.
     pub grasp: Grasp,
@@ -52,26 +56,33 @@ impl SphereGrasp {
 
 /// The largest lifting force that holds a sphere (full friction, best
 /// grasping angle).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SphereLift {
     /// Sphere radius (mm).
+    #[serde(rename = "radius_mm")]
     pub radius: f64,
     /// The grasping angle that gives it (rad).
+    #[serde(rename = "beta_rad")]
     pub beta: f64,
     /// Lifting force per finger (N).
+    #[serde(rename = "lift_n")]
     pub lift: f64,
     /// Normal force there (N).
+    #[serde(rename = "normal_force_n")]
     pub normal: f64,
 }
 
 /// One grasping angle of a [`ViableAngles`] scan.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct AngleSample {
     /// Grasping angle (rad).
+    #[serde(rename = "beta_rad")]
     pub beta: f64,
     /// Normal force `F` (N); 0 when the solve failed or was skipped.
+    #[serde(rename = "normal_force_n")]
     pub normal: f64,
     /// Friction `f` (N); 0 when the solve failed or was skipped.
+    #[serde(rename = "friction_n")]
     pub friction: f64,
     /// True for a valid grasp with `0 <= f <= mu F`.
     pub viable: bool,
@@ -83,13 +94,16 @@ pub struct AngleSample {
 
 /// The grasping angles that hold a sphere of radius `r` with lifting force
 /// `f_v` per finger.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct ViableAngles {
     /// Sphere radius (mm).
+    #[serde(rename = "radius_mm")]
     pub radius: f64,
     /// Lifting force per finger (N).
+    #[serde(rename = "lift_n")]
     pub lift: f64,
     /// Viable intervals `[lo, hi]` (rad), boundaries refined by bisection.
+    #[serde(rename = "intervals_rad")]
     pub intervals: Vec<[f64; 2]>,
     /// The scan the intervals come from.
     pub scan: Vec<AngleSample>,
