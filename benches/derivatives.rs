@@ -12,12 +12,20 @@
 //! stiffness scale, at most 60 iterations) minimises the total potential
 //! energy given three ways:
 //!
-//! - **generated**: `Finger::problem(load)` (`fpc::Chain`), the build-time
-//!   generated straight-line kernels with the exactly differentiated chain;
+//! - **generated**: the build-time generated straight-line kernels with the
+//!   exactly differentiated chain, through the public raw-coefficient API
+//!   (`Finger::energy`, `gradient`, `hessian`) wrapped as a problem in the
+//!   scaled unknowns (`Generated` below, with `Finger::unknown_scales`).
+//!   The library's own buffer-reusing chain in scaled unknowns (formerly
+//!   `fpc::Chain`, `Finger::problem`) is crate-private now, so this
+//!   strategy also pays, per evaluation, for building the chain, the
+//!   conversions between raw and scaled unknowns and (Hessian) the full
+//!   matrix: an upper bound on the generated strategy's cost;
 //! - **dual**: the same energy written once, generically over a
 //!   `num_dual::DualNum` type: element energies by tensor Gauss-Legendre
-//!   quadrature of the energy densities over the blocks of
-//!   `fpc::element_blocks` (exact: linear density 3 x-points by 2 z-points,
+//!   quadrature of the energy densities over the elements' blocks (rebuilt
+//!   from the actuator in `common/blocks.rs` and checked against the
+//!   finger's own elements; exact: linear density 3 x-points by 2 z-points,
 //!   prestressed 6 by 3, gas volume 2 by 1), and the chain tip potential
 //!   with `atan2`/`sin_cos` in the dual type. Derivatives by
 //!   `num_dual::hessian` (`Dual2SVec64`): per element with 4 unknowns
@@ -27,7 +35,7 @@
 //! - **dual (whole)**: the same, but `num_dual::hessian` of the total
 //!   energy over all 4N unknowns at once (no structure used), for
 //!   reference;
-//! - **FD**: the generated value kernels only (`Chain` as `Energy`),
+//! - **FD**: the generated value kernels only (`Finger::energy`),
 //!   gradient by central differences (2n energies, step 1e-6 in scaled
 //!   units), Hessian by central second differences of the energy (step
 //!   1e-4; 2n + 2n(n-1) energies).
@@ -41,10 +49,15 @@
 
 use std::time::{Duration, Instant};
 
-use fpc::{element_blocks, Actuator, Chain, ElementBlocks, Finger, Load, Partition, SolveOptions};
+use fpc::model::ccm::Ccm;
+use fpc::{Actuator, Coefficients, Finger, Load, Partition, SolveOptions};
 use fpc_newton::{Energy, Gradient, Hessian, Newton, NewtonOptions, Report};
 use nalgebra::SVector;
 use num_dual::{Dual2SVec64, DualNum, DualSVec64};
+
+#[path = "common/blocks.rs"]
+mod blocks;
+use blocks::Blocks;
 
 const N: usize = 8;
 const DIM: usize = 4 * N;
@@ -116,24 +129,18 @@ struct QuadElement {
 }
 
 impl QuadElement {
-    fn new(b: &ElementBlocks) -> QuadElement {
+    fn new(b: &Blocks) -> QuadElement {
         let l = b.length;
         let mut linear = Vec::new();
         for blk in &b.linear {
             for [x2, tz, w] in tensor(3, 2, (blk.x0, blk.x1, blk.z0, blk.z1, blk.width)) {
-                linear.push([
-                    x2,
-                    tz,
-                    0.5 * w * blk.q.q11,
-                    w * blk.q.q12,
-                    0.5 * w * blk.q.q22,
-                ]);
+                linear.push([x2, tz, 0.5 * w * blk.q11, w * blk.q12, 0.5 * w * blk.q22]);
             }
         }
         let mut prestressed = Vec::new();
         for blk in &b.prestressed {
             for [x2, tz, w] in tensor(6, 3, (blk.x0, blk.x1, blk.z0, blk.z1, blk.width)) {
-                let p = blk.p;
+                let p = [blk.p1, blk.p2, blk.p3, blk.p4];
                 prestressed.push([
                     x2,
                     tz,
@@ -333,11 +340,82 @@ impl Hessian for DualProblem {
     }
 }
 
+// ------------------------------------------------------------ (a) generated
+
+/// The finger as a Newton problem in the solver's scaled unknowns
+/// (`raw = scaled * Finger::unknown_scales()`), through the public
+/// raw-coefficient API.
+struct Generated<'a> {
+    finger: &'a Finger,
+    load: Load,
+    /// raw value of one scaled unit, per unknown
+    s: Vec<f64>,
+}
+
+impl<'a> Generated<'a> {
+    fn new(finger: &'a Finger, load: Load) -> Generated<'a> {
+        Generated {
+            finger,
+            load,
+            s: finger.unknown_scales(),
+        }
+    }
+
+    fn raw(&self, y: &[f64]) -> Coefficients {
+        let values = y.iter().zip(&self.s).map(|(y, s)| y * s).collect();
+        Coefficients::new(self.finger.unknowns_per_element(), values).unwrap()
+    }
+
+    fn scaled(&self, k: &Coefficients) -> Vec<f64> {
+        k.as_slice()
+            .iter()
+            .zip(&self.s)
+            .map(|(k, s)| k / s)
+            .collect()
+    }
+}
+
+impl Energy for Generated<'_> {
+    fn dim(&self) -> usize {
+        self.s.len()
+    }
+    fn energy(&mut self, y: &[f64]) -> f64 {
+        self.finger.energy(&self.load, &self.raw(y)).unwrap()
+    }
+}
+
+impl Gradient for Generated<'_> {
+    fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
+        let (v, gr) = self.finger.gradient(&self.load, &self.raw(y)).unwrap();
+        for ((g, gr), s) in g.iter_mut().zip(gr).zip(&self.s) {
+            *g = gr * s;
+        }
+        v
+    }
+}
+
+impl Hessian for Generated<'_> {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        let n = self.s.len();
+        let (v, gr, hr) = self.finger.hessian(&self.load, &self.raw(y)).unwrap();
+        for i in 0..n {
+            g[i] = gr[i] * self.s[i];
+        }
+        // the full symmetric matrix, column-major
+        for j in 0..n {
+            for i in 0..n {
+                h[i + n * j] = hr[i + n * j] * self.s[i] * self.s[j];
+            }
+        }
+        v
+    }
+}
+
 // ------------------------------------------------------------ (c) finite differences
 
 /// The generated energy with central-difference derivatives.
 struct FdProblem<'a> {
-    chain: Chain<'a>,
+    chain: Generated<'a>,
     /// gradient step (scaled units)
     hg: f64,
     /// Hessian step (scaled units)
@@ -391,7 +469,7 @@ impl Hessian for FdProblem<'_> {
             self.x[i] = y[i];
             hm[i + n * i] = (fp - 2.0 * f0 + fm) / (h * h);
             for j in 0..i {
-                let corner = |si: f64, sj: f64, x: &mut [f64], c: &mut Chain| {
+                let corner = |si: f64, sj: f64, x: &mut [f64], c: &mut Generated| {
                     x[i] = y[i] + si * h;
                     x[j] = y[j] + sj * h;
                     let v = c.energy(x);
@@ -482,15 +560,6 @@ fn fmt_time(d: Duration) -> String {
     }
 }
 
-/// Copies the lower triangle of a column-major `n x n` matrix to the upper one.
-fn symmetrise_from_lower(n: usize, h: &mut [f64]) {
-    for j in 0..n {
-        for i in j + 1..n {
-            h[j + n * i] = h[i + n * j];
-        }
-    }
-}
-
 /// max |a - b| / max |b|
 fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
     let num = a
@@ -516,14 +585,29 @@ fn run() {
     let act = Actuator::paper(EPS0).unwrap();
     let part = Partition::equal(act.geometry().lx, N).unwrap();
     let finger = Finger::new(&act, &part, true);
-    let blocks = element_blocks(&act, &part, true);
-    let quad: Vec<QuadElement> = blocks.iter().map(QuadElement::new).collect();
     let load = Load::unloaded().with_tip_force(FX, FZ);
+    let blocks = blocks::element_blocks(&act, &part, true);
+    blocks::check_against_finger::<Ccm>(
+        &blocks,
+        &finger,
+        &load.with_pressure_kpa(100.0),
+        &[-0.012, 2.0e-6, 0.004, -0.0035],
+    );
+    let quad: Vec<QuadElement> = blocks.iter().map(QuadElement::new).collect();
+    // the dual strategy's scaling is the solver's
+    for (q, s) in quad.iter().zip(finger.unknown_scales().chunks_exact(4)) {
+        for (a, b) in q.s.iter().zip(s) {
+            assert!(
+                (a - b).abs() <= 1e-15 * b,
+                "scale {a:e} vs the solver's {b:e}"
+            );
+        }
+    }
     let unloaded = finger
         .solve(&Load::unloaded(), &SolveOptions::default().tip_only())
         .unwrap();
     let stiffness = finger.stiffness_scale();
-    let mut exact = finger.problem(&load);
+    let mut exact = Generated::new(&finger, load);
     let y0 = exact.scaled(&unloaded.coefficients);
     let opts = NewtonOptions {
         gtol: RTOL * stiffness,
@@ -558,7 +642,7 @@ fn run() {
         whole: true,
     };
     let mut fd = FdProblem {
-        chain: finger.problem(&load),
+        chain: Generated::new(&finger, load),
         hg: 1e-6,
         hh: 1e-4,
         x: vec![0.0; DIM],
@@ -580,15 +664,13 @@ fn run() {
         ("tip load", load),
         ("tip load + 100 kPa", load.with_pressure_kpa(100.0)),
     ] {
-        let mut ex = finger.problem(&l);
+        let mut ex = Generated::new(&finger, l);
         let (mut ge, mut he) = (vec![0.0; DIM], vec![0.0; DIM * DIM]);
         let ve = ex.hessian(&yr, &mut ge, &mut he);
-        // `Chain` writes the lower triangle only (all Newton reads)
-        symmetrise_from_lower(DIM, &mut he);
         let kp = l.kappa * l.pressure;
         dual.kp = kp;
         dual_whole.kp = kp;
-        fd.chain.set_load(&l);
+        fd.chain.load = l;
         let strategies: [(&str, &mut dyn Hessian); 3] = [
             ("dual", &mut dual),
             ("dual (whole)", &mut dual_whole),
@@ -616,7 +698,7 @@ fn run() {
     );
     dual.kp = 0.0;
     dual_whole.kp = 0.0;
-    fd.chain.set_load(&load);
+    fd.chain.load = load;
 
     // ---------------- timing
     let budget = Duration::from_secs(3);
@@ -636,25 +718,7 @@ fn run() {
     ];
 
     let base = &runs[0];
-    let scale_k = |y: &[f64]| -> Vec<[f64; 4]> {
-        (0..N)
-            .map(|i| {
-                let s = [
-                    1.0,
-                    1.0 / (quad[i].len * quad[i].len),
-                    1.0,
-                    1.0 / quad[i].len,
-                ];
-                [
-                    y[4 * i] * s[0],
-                    y[4 * i + 1] * s[1],
-                    y[4 * i + 2] * s[2],
-                    y[4 * i + 3] * s[3],
-                ]
-            })
-            .collect()
-    };
-    let (tip_a, _) = finger.tip(&scale_k(&base.y));
+    let (tip_a, _) = finger.tip(&exact.raw(&base.y)).unwrap();
     let mut gex = vec![0.0; DIM];
     println!(
         "## Newton solves ({} cores available; median over repeated solves)",
@@ -667,7 +731,7 @@ fn run() {
     for r in &runs {
         exact.gradient(&r.y, &mut gex);
         let res = gex.iter().map(|v| v.abs()).fold(0.0, f64::max) / stiffness;
-        let (tip, _) = finger.tip(&scale_k(&r.y));
+        let (tip, _) = finger.tip(&exact.raw(&r.y)).unwrap();
         let dtip = ((tip[0] - tip_a[0]).powi(2) + (tip[1] - tip_a[1]).powi(2)).sqrt();
         let ratio = r.median.as_secs_f64() / base.median.as_secs_f64();
         println!(
@@ -715,7 +779,7 @@ fn run() {
             &SVector::<f64, DIM>::from_column_slice(std::hint::black_box(&y0)),
         ));
     });
-    let mut unloaded_chain = finger.problem(&Load::unloaded());
+    let mut unloaded_chain = Generated::new(&finger, Load::unloaded());
     let t_ge = time_eval(&mut || {
         unloaded_chain.hessian(std::hint::black_box(&y0), &mut g, &mut h);
     });

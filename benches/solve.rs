@@ -9,12 +9,22 @@
 //!
 //! Groups:
 //!
-//! - `kernels`: one element's generated kernels (the element with the
-//!   channel and ribs, at a strained state), and `Element::hessian` that
-//!   combines them;
-//! - `assembly`: energy, gradient and full Hessian of the coupled chain
-//!   (`Chain`, scaled unknowns) of a pressurised, tip-loaded finger, for
-//!   N = 4 ... 64;
+//! - `kernels`: one element's generated kernels through the `ElementModel`
+//!   trait (the element with the channel and ribs, at a strained state):
+//!   each integral family alone (`family_hessian`), the end kinematics, and
+//!   the element potential that combines them (`hessian`, `gradient`,
+//!   `energy`); the element's moments are built from blocks rebuilt from
+//!   the actuator (`common/blocks.rs`, checked against the finger's own
+//!   elements), and `finger_element_hessian` times the same element
+//!   through the public `Finger::element_hessian` (trait object, vectors);
+//! - `assembly`: energy, gradient and full Hessian of a pressurised,
+//!   tip-loaded finger for N = 4 ... 64, through the public raw-coefficient
+//!   API (`Finger::energy`, `gradient`, `hessian`). These build the coupled
+//!   chain for every call and convert to and from the scaled unknowns (the
+//!   Hessian also fills and rescales the full matrix); the library's
+//!   buffer-reusing chain in scaled unknowns (formerly `fpc::Chain`, what
+//!   the solver iterates on) is crate-private now, so its own cost is only
+//!   measured inside the `solves` group;
 //! - `solves`: whole solves at N = 8 (see the ids), all through a reused
 //!   `Solver` workspace;
 //! - `sweep`: a 50-point force sweep, throughput in solves per second.
@@ -25,22 +35,22 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use fpc::kernels::{
-    end_hessian, gas_hessian, gas_moments, linear_hessian, linear_moments, prestressed_hessian,
-    prestressed_moments, GAS_MOMENTS, LINEAR_MOMENTS, PRESTRESSED_MOMENTS,
-};
+use fpc::model::ccm::Ccm;
+use fpc::model::EnergyScalars;
 use fpc::{
-    element_blocks, Actuator, Coeffs, Finger, Load, Partition, Solution, SolveOptions, Solver,
+    Actuator, Coefficients, ElementModel, Finger, Load, Partition, Solution, SolveOptions, Solver,
     Strategy, TargetProblem,
 };
-use fpc_newton::{Energy, Gradient, Hessian};
+
+#[path = "common/blocks.rs"]
+mod blocks;
 
 /// The tip load of the paper's loaded validation case (N, finger frame).
 const FX: f64 = 0.939782;
 const FZ: f64 = 0.521707;
 
 /// A strained state typical of a loaded finger (raw `[a1, a3, b1, c2]`).
-const STRAINED: Coeffs = [-0.012, 2.0e-6, 0.004, -0.0035];
+const STRAINED: [f64; 4] = [-0.012, 2.0e-6, 0.004, -0.0035];
 
 fn tip_load() -> Load {
     Load::unloaded().with_tip_force(FX, FZ)
@@ -69,60 +79,59 @@ fn probe(id: &str, sol: Result<Solution, fpc::SolveError>) -> Solution {
 fn kernels(c: &mut Criterion) {
     let act = Actuator::paper(0.25).unwrap();
     let part = Partition::equal(act.geometry().lx, 8).unwrap();
-    let blocks = element_blocks(&act, &part, true);
+    let finger = Finger::new(&act, &part, true);
+    let k = STRAINED;
+    let kp = 2.5 * 0.1; // 100 kPa
+    let pressure = Load::unloaded().with_pressure_kpa(100.0);
+    let all = blocks::element_blocks(&act, &part, true);
+    blocks::check_against_finger::<Ccm>(&all, &finger, &pressure, &k);
     // the element with the most blocks (channel and ribs)
-    let (idx, b) = blocks
+    let (idx, b) = all
         .iter()
         .enumerate()
         .max_by_key(|(_, b)| b.linear.len() + b.gas.len())
         .unwrap();
-    let mut lin = [0.0; LINEAR_MOMENTS];
-    for l in &b.linear {
-        linear_moments(
-            &mut lin, l.x0, l.x1, l.width, l.z0, l.z1, l.q.q11, l.q.q12, l.q.q22,
-        );
-    }
-    let mut pre = [0.0; PRESTRESSED_MOMENTS];
-    for p in &b.prestressed {
-        prestressed_moments(
-            &mut pre, p.x0, p.x1, p.width, p.z0, p.z1, p.eps0, p.p[0], p.p[1], p.p[2], p.p[3],
-            p.q22,
-        );
-    }
-    let mut gas = [0.0; GAS_MOMENTS];
-    for g in &b.gas {
-        gas_moments(&mut gas, g.x0, g.x1, g.width, g.z0, g.z1);
-    }
-    let finger = Finger::paper(0.25, 8).unwrap();
-    let element = &finger.elements()[idx];
-    let len = element.length();
-    let k = STRAINED;
-    let kp = 2.5 * 0.1; // 100 kPa
+    let m = blocks::moments::<Ccm>(b);
+    let len = b.length;
+    let family = |name: &str| Ccm::FAMILIES.iter().position(|f| *f == name).unwrap();
+    let (lin, pre, gas) = (family("linear"), family("prestressed"), family("gas"));
+    let with_p = EnergyScalars { kp };
+    let without_p = EnergyScalars { kp: 0.0 };
 
     let mut g = c.benchmark_group("kernels");
     g.bench_function("linear_hessian", |bch| {
-        bch.iter(|| linear_hessian(black_box(&k), black_box(&lin)))
+        bch.iter(|| Ccm::family_hessian(black_box(&m), lin, black_box(&k)))
     });
     g.bench_function("prestressed_hessian", |bch| {
-        bch.iter(|| prestressed_hessian(black_box(&k), black_box(&pre)))
+        bch.iter(|| Ccm::family_hessian(black_box(&m), pre, black_box(&k)))
     });
     g.bench_function("gas_hessian", |bch| {
-        bch.iter(|| gas_hessian(black_box(&k), black_box(&gas)))
+        bch.iter(|| Ccm::family_hessian(black_box(&m), gas, black_box(&k)))
     });
     g.bench_function("end_hessian", |bch| {
-        bch.iter(|| end_hessian(black_box(&k), black_box(len)))
+        bch.iter(|| Ccm::end_hessian(black_box(&k), black_box(len)))
     });
     g.bench_function("element_hessian/pressure", |bch| {
-        bch.iter(|| black_box(element).hessian(black_box(&k), black_box(kp)))
+        bch.iter(|| Ccm::hessian(black_box(&m), black_box(&k), black_box(&with_p)))
     });
     g.bench_function("element_hessian/no_pressure", |bch| {
-        bch.iter(|| black_box(element).hessian(black_box(&k), black_box(0.0)))
+        bch.iter(|| Ccm::hessian(black_box(&m), black_box(&k), black_box(&without_p)))
     });
     g.bench_function("element_gradient/pressure", |bch| {
-        bch.iter(|| black_box(element).gradient(black_box(&k), black_box(kp)))
+        bch.iter(|| Ccm::gradient(black_box(&m), black_box(&k), black_box(&with_p)))
     });
     g.bench_function("element_energy/pressure", |bch| {
-        bch.iter(|| black_box(element).energy(black_box(&k), black_box(kp)))
+        bch.iter(|| Ccm::energy(black_box(&m), black_box(&k), black_box(&with_p)))
+    });
+    g.bench_function("finger_element_hessian/pressure", |bch| {
+        bch.iter(|| {
+            black_box(&finger).element_hessian(
+                black_box(idx),
+                None,
+                black_box(&pressure),
+                black_box(&k),
+            )
+        })
     });
     g.finish();
 }
@@ -136,31 +145,22 @@ fn assembly(c: &mut Criterion) {
         .with_tip_force(FX, FZ);
     for n in [4usize, 8, 16, 32, 64] {
         let finger = Finger::paper(0.25, n).unwrap();
-        let mut chain = finger.problem(&load);
         // a strained, non-uniform state
-        let k: Vec<Coeffs> = (0..n)
-            .map(|i| {
+        let values = (0..n)
+            .flat_map(|i| {
                 let t = 1.0 + 0.1 * (i as f64 / n as f64);
-                [
-                    STRAINED[0] * t,
-                    STRAINED[1] * t,
-                    STRAINED[2] * t,
-                    STRAINED[3] * t,
-                ]
+                STRAINED.map(|v| v * t)
             })
             .collect();
-        let y = chain.scaled(&k);
-        let dim = chain.dim();
-        let mut grad = vec![0.0; dim];
-        let mut hess = vec![0.0; dim * dim];
-        g.bench_with_input(BenchmarkId::new("energy", n), &y, |bch, y| {
-            bch.iter(|| chain.energy(black_box(y)))
+        let k = Coefficients::new(4, values).unwrap();
+        g.bench_with_input(BenchmarkId::new("energy", n), &k, |bch, k| {
+            bch.iter(|| finger.energy(black_box(&load), black_box(k)).unwrap())
         });
-        g.bench_with_input(BenchmarkId::new("gradient", n), &y, |bch, y| {
-            bch.iter(|| chain.gradient(black_box(y), black_box(&mut grad)))
+        g.bench_with_input(BenchmarkId::new("gradient", n), &k, |bch, k| {
+            bch.iter(|| finger.gradient(black_box(&load), black_box(k)).unwrap())
         });
-        g.bench_with_input(BenchmarkId::new("hessian", n), &y, |bch, y| {
-            bch.iter(|| chain.hessian(black_box(y), black_box(&mut grad), black_box(&mut hess)))
+        g.bench_with_input(BenchmarkId::new("hessian", n), &k, |bch, k| {
+            bch.iter(|| finger.hessian(black_box(&load), black_box(k)).unwrap())
         });
     }
     g.finish();
@@ -171,7 +171,7 @@ fn assembly(c: &mut Criterion) {
 fn solves(c: &mut Criterion) {
     let finger = Finger::paper(0.25, 8).unwrap();
     let n = finger.len();
-    let zeros: Vec<Coeffs> = vec![[0.0; 4]; n];
+    let zeros = Coefficients::zeros(n, finger.unknowns_per_element());
     let opts = tip_only();
     let coupled = SolveOptions {
         strategy: Strategy::Coupled,
@@ -203,7 +203,7 @@ fn solves(c: &mut Criterion) {
     // the same at N = 32, where the coupled factorisation costs more
     {
         let f32e = Finger::paper(0.25, 32).unwrap();
-        let z32: Vec<Coeffs> = vec![[0.0; 4]; 32];
+        let z32 = f32e.straight();
         let mut s32 = Solver::new(&f32e);
         probe("unloaded_n32/decoupled", s32.solve(&un, None, &opts));
         g.bench_function("unloaded_n32/decoupled", |bch| {

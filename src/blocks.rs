@@ -318,3 +318,193 @@ pub(crate) fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
     }
     first
 }
+
+/// The blocks of the default actuator against values computed by hand
+/// (moved here from tests/actuator_validation.rs: the block construction
+/// is crate-private).
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::actuator::PlaneStress;
+
+    fn close(a: f64, b: f64, tol: f64) -> bool {
+        (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))
+    }
+
+    fn volume(x0: f64, x1: f64, z0: f64, z1: f64, w: f64) -> f64 {
+        (x1 - x0) * (z1 - z0) * w
+    }
+
+    fn q_of(k: &LinearParams) -> PlaneStress {
+        PlaneStress {
+            q11: k.q11,
+            q12: k.q12,
+            q22: k.q22,
+        }
+    }
+
+    fn assert_inside(blocks: &[ElementBlocks]) {
+        for b in blocks {
+            let l = b.length;
+            let boxes = b
+                .linear
+                .iter()
+                .map(|k| (k.x0, k.x1))
+                .chain(b.prestressed.iter().map(|k| (k.x0, k.x1)))
+                .chain(b.gas.iter().map(|k| (k.x0, k.x1)));
+            for (x0, x1) in boxes {
+                assert!(
+                    0.0 <= x0 && x0 < x1 && x1 <= l,
+                    "[{x0}, {x1}] outside [0, {l}]"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn block_volumes_add_up() {
+        let act = Actuator::default();
+        let height = 0.8 + 1.2;
+        // D5 by hand: longitudinal 2 x 105, 13 transverse 2 x 12.
+        let rib_area = 2.0 * 105.0 + 13.0 * 2.0 * 12.0;
+        let rib_area_list: f64 = act.ribs().iter().map(|r| (r.x1 - r.x0) * r.width).sum();
+        assert!(close(rib_area, rib_area_list, 1e-14));
+        let channel_vol = 26.0 * 105.0 * height;
+        let fl_vol = 31.75 * 110.0 * (1.8 + 2.2);
+        let fl_q = act.fluidic_q();
+
+        for n in [1, 3, 8] {
+            let part = Partition::equal(110.0, n).unwrap();
+            for ribs in [true, false] {
+                let blocks = element_blocks(&act, &part, ribs);
+                assert_eq!(blocks.len(), n);
+                assert_inside(&blocks);
+                let rib_vol = if ribs { rib_area * height } else { 0.0 };
+
+                let gas: f64 = blocks
+                    .iter()
+                    .flat_map(|b| &b.gas)
+                    .map(|g| volume(g.x0, g.x1, g.z0, g.z1, g.width))
+                    .sum();
+                assert!(close(gas, channel_vol - rib_vol, 1e-12), "n = {n}: {gas}");
+
+                let fl: f64 = blocks
+                    .iter()
+                    .flat_map(|b| &b.linear)
+                    .filter(|k| q_of(k) == fl_q)
+                    .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                    .sum();
+                assert!(
+                    close(fl, fl_vol - channel_vol + rib_vol, 1e-12),
+                    "n = {n}: {fl}"
+                );
+
+                // The other laminae cover the whole finger.
+                for (q, thick) in [
+                    (act.linear_layers()[0].q, 0.4),
+                    (act.linear_layers()[1].q, 1.9),
+                ] {
+                    let v: f64 = blocks
+                        .iter()
+                        .flat_map(|b| &b.linear)
+                        .filter(|k| q_of(k) == q)
+                        .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                        .sum();
+                    assert!(close(v, 31.75 * 110.0 * thick, 1e-12));
+                }
+                let pv: f64 = blocks
+                    .iter()
+                    .flat_map(|b| &b.prestressed)
+                    .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
+                    .sum();
+                assert!(close(pv, 31.75 * 110.0 * 1.9, 1e-12));
+                for b in &blocks {
+                    for k in &b.prestressed {
+                        assert_eq!(
+                            (k.eps0, [k.p1, k.p2, k.p3, k.p4], k.q22),
+                            (0.25, [1.598, 2.306, 2.29, 0.698], 250.0)
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn voids_have_negative_width() {
+        let act = Actuator::default();
+        let part = Partition::equal(110.0, 1).unwrap();
+        let b = &element_blocks(&act, &part, true)[0];
+        // Three laminae, the channel, 14 ribs.
+        assert_eq!(b.linear.len(), 3 + 1 + 14);
+        assert_eq!(b.linear[3].width, -26.0);
+        assert!(b.linear[4..].iter().all(|k| k.width > 0.0));
+        assert_eq!(b.gas.len(), 1 + 14);
+        assert_eq!(b.gas[0].width, 26.0);
+        assert!(b.gas[1..].iter().all(|g| g.width < 0.0));
+        assert_eq!((b.gas[0].z0, b.gas[0].z1), (-1.2, 0.8));
+    }
+
+    #[test]
+    fn element_past_the_channel_has_no_gas() {
+        let act = Actuator::default();
+        let part = Partition::custom(vec![105.0, 5.0], 110.0).unwrap();
+        let blocks = element_blocks(&act, &part, true);
+        assert!(blocks[1].gas.is_empty());
+        assert_eq!(blocks[1].linear.len(), 3);
+        assert_eq!(blocks[0].gas.len(), 15);
+    }
+
+    #[test]
+    fn equal_elements_are_found() {
+        let act = Actuator::default();
+        // Without ribs, elements 1..7 of 8 are whole channel; the last holds
+        // the channel's end.
+        let part = Partition::equal(110.0, 8).unwrap();
+        let blocks = element_blocks(&act, &part, false);
+        assert_eq!(distinct_elements(&blocks), [0, 0, 0, 0, 0, 0, 0, 7]);
+
+        // With ribs, elements [8k - 4, 8k + 4] each hold one centred
+        // transverse rib and are identical.
+        let mut lengths = vec![4.0];
+        lengths.extend([8.0; 12]);
+        lengths.push(10.0);
+        let part = Partition::custom(lengths, 110.0).unwrap();
+        let blocks = element_blocks(&act, &part, true);
+        let mut want = vec![0];
+        want.extend([1; 12]);
+        want.push(13);
+        assert_eq!(distinct_elements(&blocks), want);
+
+        // The general property on an irregular case.
+        let part = Partition::equal(110.0, 8).unwrap();
+        let blocks = element_blocks(&act, &part, true);
+        let map = distinct_elements(&blocks);
+        for (i, &j) in map.iter().enumerate() {
+            assert!(j <= i && map[j] == j && blocks[j] == blocks[i]);
+            for k in 0..j {
+                assert_ne!(blocks[k], blocks[i]);
+            }
+        }
+    }
+
+    #[test]
+    fn equal_elements_without_ribs_have_equal_blocks() {
+        // tests/finger.rs checks the same fingers through the public API
+        // (equal element energies, equal solutions); here the blocks
+        // themselves: N = 8, the last element holds the channel's end;
+        // N = 22, 5 mm elements, the last one is the solid wall.
+        let act = Actuator::paper(0.25).unwrap();
+        for n in [8usize, 22] {
+            let blocks = element_blocks(&act, &Partition::equal(110.0, n).unwrap(), false);
+            for (i, b) in blocks.iter().enumerate().take(n - 1) {
+                assert_eq!(b, &blocks[0], "N {n}: element {i} differs from element 0");
+            }
+            assert_ne!(
+                blocks[n - 1],
+                blocks[0],
+                "N {n}: the last element is special"
+            );
+        }
+    }
+}

@@ -1,9 +1,12 @@
-//! The actuator's defaults and validation rules, the partition, and the
-//! integration blocks, checked against values computed here by hand.
+//! The actuator's defaults and validation rules and the partition, checked
+//! against values computed here by hand. (The integration blocks are
+//! crate-private; their checks live in `src/blocks.rs`'s test module.)
 
+use fpc::model::ccm::Ccm;
+use fpc::model::PsiParams;
 use fpc::{
-    distinct_elements, element_blocks, Actuator, ActuatorParams, ElementBlocks, InputError,
-    Isotropic, Material, Orthotropic, Partition, Rib, RibLayout, Warning,
+    Actuator, ActuatorParams, ElementModel, Finger, InputError, Isotropic, Material, Orthotropic,
+    Partition, Rib, RibLayout, Warning,
 };
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
@@ -112,19 +115,24 @@ fn layers_stack_up_to_h() {
 #[test]
 fn psi_law_stress_is_the_energy_derivative() {
     let law = Actuator::default().pemc().law;
-    assert_eq!(law.p, [1.598, 2.306, 2.29, 0.698]);
+    assert_eq!(law.to_array(), [1.598, 2.306, 2.29, 0.698]);
+    assert_eq!(law, PsiParams::default());
+    // the law is generated from the spec: [psi, psi', psi''] at s
+    let energy = |s: f64| Ccm::psi(s, &law)[0];
+    let stress = |s: f64| Ccm::psi(s, &law)[1];
+    let tangent = |s: f64| Ccm::psi(s, &law)[2];
     let s = 0.3_f64;
     let by_hand = 1.598 / 2.0 * s.powi(2) - 2.306 / 3.0 * s.powi(3) + 2.29 / 4.0 * s.powi(4)
         - 0.698 / 5.0 * s.powi(5);
-    assert!(close(law.energy(s), by_hand, 1e-14));
+    assert!(close(energy(s), by_hand, 1e-14));
     for s in [-0.2, 0.0, 0.15, 0.4, 0.6] {
         let h = 1e-6;
-        let fd = (law.energy(s + h) - law.energy(s - h)) / (2.0 * h);
-        assert!(close(law.stress(s), fd, 1e-8), "stress at {s}");
-        let fd = (law.stress(s + h) - law.stress(s - h)) / (2.0 * h);
-        assert!(close(law.tangent(s), fd, 1e-8), "tangent at {s}");
+        let fd = (energy(s + h) - energy(s - h)) / (2.0 * h);
+        assert!(close(stress(s), fd, 1e-8), "stress at {s}");
+        let fd = (stress(s + h) - stress(s - h)) / (2.0 * h);
+        assert!(close(tangent(s), fd, 1e-8), "tangent at {s}");
     }
-    assert_eq!(law.tangent(0.0), 1.598);
+    assert_eq!(tangent(0.0), 1.598);
 }
 
 #[test]
@@ -400,13 +408,13 @@ fn material_rules() {
 fn prestressed_rules() {
     names(&rejected(|p| p.pemc.e2 = 0.0), "actuator.pemc.e2", "0");
     names(
-        &rejected(|p| p.pemc.law.p[0] = 0.0),
-        "actuator.pemc.law.p[0]",
+        &rejected(|p| p.pemc.law.p1 = 0.0),
+        "actuator.pemc.law.p1",
         "0",
     );
     names(
-        &rejected(|p| p.pemc.law.p[2] = f64::INFINITY),
-        "actuator.pemc.law.p[2]",
+        &rejected(|p| p.pemc.law.p3 = f64::INFINITY),
+        "actuator.pemc.law.p3",
         "inf",
     );
     names(
@@ -434,12 +442,20 @@ fn prestrain_warnings() {
             "{msg}"
         );
     }
-    // A law whose tangent is negative at eps0: 1 - 2 * 10 * 0.25 = -4.
+    // A law whose tangent is negative at eps0: 1 - 2 * 10 * 0.25 = -4. The
+    // law is the model's, so the finger (not the actuator) warns.
     let mut p = ActuatorParams::default();
-    p.pemc.law.p = [1.0, 10.0, 0.0, 0.0];
+    p.pemc.law = PsiParams {
+        p1: 1.0,
+        p2: 10.0,
+        p3: 0.0,
+        p4: 0.0,
+    };
     let a = Actuator::new(p).unwrap();
+    assert!(a.warnings().is_empty(), "{:?}", a.warnings());
+    let f = Finger::new(&a, &Partition::equal(110.0, 1).unwrap(), true);
     assert_eq!(
-        a.warnings(),
+        f.warnings(),
         [Warning::SofteningPrestressLaw {
             eps0: 0.25,
             tangent: -4.0
@@ -502,155 +518,4 @@ fn custom_partition() {
     assert!(e.to_string().contains("at least"));
     // Rounding within the tolerance is accepted.
     assert!(Partition::custom(vec![110.0 / 3.0; 3], 110.0).is_ok());
-}
-
-// ---------------------------------------------------------------- blocks
-
-fn volume(x0: f64, x1: f64, z0: f64, z1: f64, w: f64) -> f64 {
-    (x1 - x0) * (z1 - z0) * w
-}
-
-fn assert_inside(blocks: &[ElementBlocks]) {
-    for b in blocks {
-        let l = b.length;
-        let boxes = b
-            .linear
-            .iter()
-            .map(|k| (k.x0, k.x1))
-            .chain(b.prestressed.iter().map(|k| (k.x0, k.x1)))
-            .chain(b.gas.iter().map(|k| (k.x0, k.x1)));
-        for (x0, x1) in boxes {
-            assert!(
-                0.0 <= x0 && x0 < x1 && x1 <= l,
-                "[{x0}, {x1}] outside [0, {l}]"
-            );
-        }
-    }
-}
-
-#[test]
-fn block_volumes_add_up() {
-    let act = Actuator::default();
-    let height = 0.8 + 1.2;
-    // D5 by hand: longitudinal 2 x 105, 13 transverse 2 x 12.
-    let rib_area = 2.0 * 105.0 + 13.0 * 2.0 * 12.0;
-    let rib_area_list: f64 = act.ribs().iter().map(|r| (r.x1 - r.x0) * r.width).sum();
-    assert!(close(rib_area, rib_area_list, 1e-14));
-    let channel_vol = 26.0 * 105.0 * height;
-    let fl_vol = 31.75 * 110.0 * (1.8 + 2.2);
-    let fl_q = act.fluidic_q();
-
-    for n in [1, 3, 8] {
-        let part = Partition::equal(110.0, n).unwrap();
-        for ribs in [true, false] {
-            let blocks = element_blocks(&act, &part, ribs);
-            assert_eq!(blocks.len(), n);
-            assert_inside(&blocks);
-            let rib_vol = if ribs { rib_area * height } else { 0.0 };
-
-            let gas: f64 = blocks
-                .iter()
-                .flat_map(|b| &b.gas)
-                .map(|g| volume(g.x0, g.x1, g.z0, g.z1, g.width))
-                .sum();
-            assert!(close(gas, channel_vol - rib_vol, 1e-12), "n = {n}: {gas}");
-
-            let fl: f64 = blocks
-                .iter()
-                .flat_map(|b| &b.linear)
-                .filter(|k| k.q == fl_q)
-                .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
-                .sum();
-            assert!(
-                close(fl, fl_vol - channel_vol + rib_vol, 1e-12),
-                "n = {n}: {fl}"
-            );
-
-            // The other laminae cover the whole finger.
-            for (q, thick) in [
-                (act.linear_layers()[0].q, 0.4),
-                (act.linear_layers()[1].q, 1.9),
-            ] {
-                let v: f64 = blocks
-                    .iter()
-                    .flat_map(|b| &b.linear)
-                    .filter(|k| k.q == q)
-                    .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
-                    .sum();
-                assert!(close(v, 31.75 * 110.0 * thick, 1e-12));
-            }
-            let pv: f64 = blocks
-                .iter()
-                .flat_map(|b| &b.prestressed)
-                .map(|k| volume(k.x0, k.x1, k.z0, k.z1, k.width))
-                .sum();
-            assert!(close(pv, 31.75 * 110.0 * 1.9, 1e-12));
-            for b in &blocks {
-                for k in &b.prestressed {
-                    assert_eq!(
-                        (k.eps0, k.p, k.q22),
-                        (0.25, [1.598, 2.306, 2.29, 0.698], 250.0)
-                    );
-                }
-            }
-        }
-    }
-}
-
-#[test]
-fn voids_have_negative_width() {
-    let act = Actuator::default();
-    let part = Partition::equal(110.0, 1).unwrap();
-    let b = &element_blocks(&act, &part, true)[0];
-    // Three laminae, the channel, 14 ribs.
-    assert_eq!(b.linear.len(), 3 + 1 + 14);
-    assert_eq!(b.linear[3].width, -26.0);
-    assert!(b.linear[4..].iter().all(|k| k.width > 0.0));
-    assert_eq!(b.gas.len(), 1 + 14);
-    assert_eq!(b.gas[0].width, 26.0);
-    assert!(b.gas[1..].iter().all(|g| g.width < 0.0));
-    assert_eq!((b.gas[0].z0, b.gas[0].z1), (-1.2, 0.8));
-}
-
-#[test]
-fn element_past_the_channel_has_no_gas() {
-    let act = Actuator::default();
-    let part = Partition::custom(vec![105.0, 5.0], 110.0).unwrap();
-    let blocks = element_blocks(&act, &part, true);
-    assert!(blocks[1].gas.is_empty());
-    assert_eq!(blocks[1].linear.len(), 3);
-    assert_eq!(blocks[0].gas.len(), 15);
-}
-
-#[test]
-fn equal_elements_are_found() {
-    let act = Actuator::default();
-    // Without ribs, elements 1..7 of 8 are whole channel; the last holds
-    // the channel's end.
-    let part = Partition::equal(110.0, 8).unwrap();
-    let blocks = element_blocks(&act, &part, false);
-    assert_eq!(distinct_elements(&blocks), [0, 0, 0, 0, 0, 0, 0, 7]);
-
-    // With ribs, elements [8k - 4, 8k + 4] each hold one centred
-    // transverse rib and are identical.
-    let mut lengths = vec![4.0];
-    lengths.extend([8.0; 12]);
-    lengths.push(10.0);
-    let part = Partition::custom(lengths, 110.0).unwrap();
-    let blocks = element_blocks(&act, &part, true);
-    let mut want = vec![0];
-    want.extend([1; 12]);
-    want.push(13);
-    assert_eq!(distinct_elements(&blocks), want);
-
-    // The general property on an irregular case.
-    let part = Partition::equal(110.0, 8).unwrap();
-    let blocks = element_blocks(&act, &part, true);
-    let map = distinct_elements(&blocks);
-    for (i, &j) in map.iter().enumerate() {
-        assert!(j <= i && map[j] == j && blocks[j] == blocks[i]);
-        for k in 0..j {
-            assert_ne!(blocks[k], blocks[i]);
-        }
-    }
 }

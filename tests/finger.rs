@@ -5,9 +5,10 @@
 //!
 //! Randomness is a seeded LCG, so every run sees the same numbers.
 
+use fpc::model::ccm::Ccm;
 use fpc::{
-    Actuator, Coeffs, Finger, Load, Partition, Solution, SolveError, SolveOptions, Solver,
-    Strategy, Termination,
+    Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition, Solution, SolveError,
+    SolveOptions, Solver, Strategy, Termination,
 };
 use fpc_newton::{Bfgs, BfgsOptions, Energy, Gradient};
 
@@ -36,26 +37,35 @@ impl Lcg {
     }
 }
 
+/// One element's unknowns `[a1, a3, b1, c2]` (the paper's element).
+type Coeffs = [f64; 4];
+
 /// Natural scale of each unknown: `K = s * y` with `y = (a1, a3 L^2, b1, c2 L)`.
 fn scales(l: f64) -> Coeffs {
     [1.0, 1.0 / (l * l), 1.0, 1.0 / l]
 }
 
+/// The scales of every element, from the finger's element lengths (the
+/// finger's own `unknown_scales` is checked against these in test 1).
 fn finger_scales(f: &Finger) -> Vec<Coeffs> {
-    f.elements().iter().map(|e| scales(e.length())).collect()
+    assert_eq!(f.model(), ModelId::Ccm);
+    assert_eq!(f.unknowns_per_element(), 4);
+    f.element_lengths().iter().map(|&l| scales(l)).collect()
 }
 
-fn to_scaled(s: &[Coeffs], k: &[Coeffs]) -> Vec<f64> {
+fn to_scaled(s: &[Coeffs], k: &Coefficients) -> Vec<f64> {
+    assert_eq!(k.per_element(), 4);
     k.iter()
         .zip(s)
         .flat_map(|(k, s)| (0..4).map(move |j| k[j] / s[j]))
         .collect()
 }
 
-fn to_raw(s: &[Coeffs], y: &[f64]) -> Vec<Coeffs> {
-    s.iter()
+fn to_raw(s: &[Coeffs], y: &[f64]) -> Coefficients {
+    let values = s
+        .iter()
         .enumerate()
-        .map(|(i, s)| {
+        .flat_map(|(i, s)| {
             [
                 y[4 * i] * s[0],
                 y[4 * i + 1] * s[1],
@@ -63,7 +73,8 @@ fn to_raw(s: &[Coeffs], y: &[f64]) -> Vec<Coeffs> {
                 y[4 * i + 3] * s[3],
             ]
         })
-        .collect()
+        .collect();
+    Coefficients::new(4, values).expect("four unknowns per element")
 }
 
 fn flat_scales(s: &[Coeffs]) -> Vec<f64> {
@@ -118,10 +129,10 @@ fn solve(f: &Finger, load: &Load) -> Solution {
 }
 
 /// Scaled Hessian `S H S` (column-major) from the raw one.
-fn scaled_hessian(f: &Finger, load: &Load, k: &[Coeffs]) -> Vec<f64> {
+fn scaled_hessian(f: &Finger, load: &Load, k: &Coefficients) -> Vec<f64> {
     let s = flat_scales(&finger_scales(f));
     let n = s.len();
-    let (_, _, mut h) = f.hessian(load, k);
+    let (_, _, mut h) = f.hessian(load, k).unwrap();
     for j in 0..n {
         for i in 0..n {
             h[i + n * j] *= s[i] * s[j];
@@ -165,12 +176,23 @@ fn nalgebra_min_eig(n: usize, h: &[f64]) -> f64 {
         .min()
 }
 
-/// Total gas volume of the channel.
-fn gas_volume(f: &Finger, k: &[Coeffs]) -> f64 {
-    f.elements()
+/// Position of the gas-volume family among the model's integral families.
+fn gas_family() -> usize {
+    Ccm::FAMILIES
         .iter()
-        .zip(k)
-        .map(|(e, k)| e.gas_volume(k))
+        .position(|f| *f == "gas")
+        .expect("the CCM has a gas family")
+}
+
+/// Total gas volume of the channel: the gas family of every element alone.
+fn gas_volume(f: &Finger, k: &Coefficients) -> f64 {
+    let gas = gas_family();
+    (0..f.len())
+        .map(|i| {
+            f.element_hessian(i, Some(gas), &Load::unloaded(), k.element(i))
+                .expect("element and family in range")
+                .0
+        })
         .sum()
 }
 
@@ -182,6 +204,15 @@ fn equilibria_have_tiny_residuals_and_positive_definite_hessians() {
         let f = Finger::paper(eps0, 8).unwrap();
         let s = flat_scales(&finger_scales(&f));
         let n = s.len();
+        // the solver's scaled units are the paper's natural scales
+        let own = f.unknown_scales();
+        assert_eq!(own.len(), n);
+        for (i, (a, b)) in own.iter().zip(&s).enumerate() {
+            assert!(
+                (a - b).abs() <= 1e-15 * b.abs(),
+                "eps0 {eps0}: unknown_scales[{i}] = {a:e}, natural scale {b:e}"
+            );
+        }
         let stiff = f.stiffness_scale();
         for (name, load) in scenes() {
             let sol = solve(&f, &load);
@@ -195,7 +226,7 @@ fn equilibria_have_tiny_residuals_and_positive_definite_hessians() {
             assert_eq!(sol.report.coupled, load.has_tip_load(), "{what}");
 
             // the raw gradient, recomputed: scaled by s it is the residual
-            let (v, g) = f.gradient(&load, &sol.coefficients);
+            let (v, g) = f.gradient(&load, &sol.coefficients).unwrap();
             let gs: Vec<f64> = g.iter().zip(&s).map(|(g, s)| g * s).collect();
             let r = norm_inf(&gs) / stiff;
             assert!(r <= 1e-10, "{what}: recomputed scaled residual {r:e}");
@@ -207,7 +238,7 @@ fn equilibria_have_tiny_residuals_and_positive_definite_hessians() {
             );
 
             // positive definiteness by an independent Cholesky of the raw Hessian
-            let (_, _, h) = f.hessian(&load, &sol.coefficients);
+            let (_, _, h) = f.hessian(&load, &sol.coefficients).unwrap();
             assert!(cholesky(n, &h).is_some(), "{what}: raw Hessian not PD");
             // and the reported smallest eigenvalue by another eigen-solver
             let hs = scaled_hessian(&f, &load, &sol.coefficients);
@@ -228,11 +259,11 @@ fn equilibria_have_tiny_residuals_and_positive_definite_hessians() {
 // ------------------------------------------------- 2. assembled derivatives
 
 /// Random coefficients in the brief's realistic ranges.
-fn random_coeffs(rng: &mut Lcg, f: &Finger) -> Vec<Coeffs> {
-    f.elements()
+fn random_coeffs(rng: &mut Lcg, f: &Finger) -> Coefficients {
+    let values = f
+        .element_lengths()
         .iter()
-        .map(|e| {
-            let l = e.length();
+        .flat_map(|&l| {
             [
                 rng.range(-0.05, 0.05),
                 rng.range(-0.5, 0.5) / (l * l),
@@ -240,7 +271,8 @@ fn random_coeffs(rng: &mut Lcg, f: &Finger) -> Vec<Coeffs> {
                 rng.range(-0.5, 0.5) / l,
             ]
         })
-        .collect()
+        .collect();
+    Coefficients::new(4, values).unwrap()
 }
 
 #[test]
@@ -273,9 +305,9 @@ fn assembled_gradient_and_hessian_match_finite_differences() {
             };
             for load in [loaded, unloaded] {
                 let what = format!("N {n_el}, trial {trial}, {load:?}");
-                let energy = |y: &[f64]| f.energy(&load, &to_raw(&sc, y));
+                let energy = |y: &[f64]| f.energy(&load, &to_raw(&sc, y)).unwrap();
                 let grad = |y: &[f64]| -> Vec<f64> {
-                    let (_, g) = f.gradient(&load, &to_raw(&sc, y));
+                    let (_, g) = f.gradient(&load, &to_raw(&sc, y)).unwrap();
                     g.iter().zip(&s).map(|(g, s)| g * s).collect()
                 };
 
@@ -298,7 +330,7 @@ fn assembled_gradient_and_hessian_match_finite_differences() {
                 }
 
                 // Hessian against central differences of the gradient
-                let (_, _, hr) = f.hessian(&load, &k);
+                let (_, _, hr) = f.hessian(&load, &k).unwrap();
                 for i in 0..n {
                     for j in 0..n {
                         assert_eq!(
@@ -376,13 +408,16 @@ impl Energy for ScaledFinger<'_> {
         4 * self.finger.len()
     }
     fn energy(&mut self, y: &[f64]) -> f64 {
-        self.finger.energy(&self.load, &to_raw(&self.s, y))
+        self.finger.energy(&self.load, &to_raw(&self.s, y)).unwrap()
     }
 }
 
 impl Gradient for ScaledFinger<'_> {
     fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
-        let (v, gk) = self.finger.gradient(&self.load, &to_raw(&self.s, y));
+        let (v, gk) = self
+            .finger
+            .gradient(&self.load, &to_raw(&self.s, y))
+            .unwrap();
         for (i, (g, gk)) in g.iter_mut().zip(gk).enumerate() {
             *g = gk * self.s[i / 4][i % 4];
         }
@@ -415,7 +450,7 @@ fn bfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
         let what = format!("N {n_el}, {load:?}");
         assert_eq!(rep.reason, Termination::Converged, "{what}: {rep:?}");
         let k = to_raw(&p.s, &y);
-        let (tip, angle) = f.tip(&k);
+        let (tip, angle) = f.tip(&k).unwrap();
         let dtip = dist(tip, newton.tip);
         let yn = to_scaled(&p.s, &newton.coefficients);
         let dy = norm_inf(&y.iter().zip(&yn).map(|(a, b)| a - b).collect::<Vec<f64>>());
@@ -535,7 +570,7 @@ fn tip_force_along_plus_z_raises_the_tip() {
             assert!(sol.tip[1] > prev.tip[1], "{what}: tip Z not monotonic");
             // work inequality: K_F minimises Pi_F and K_0 minimises Pi_0, so
             // 0 <= Pi_0(K_F) - Pi_0(K_0) <= F . (tip_F - tip_0)
-            let stored = f.energy(&Load::unloaded(), &sol.coefficients) - free.energy;
+            let stored = f.energy(&Load::unloaded(), &sol.coefficients).unwrap() - free.energy;
             let work = fz * (sol.tip[1] - free.tip[1]);
             assert!(stored >= 0.0, "{what}: {stored}");
             assert!(stored <= work, "{what}: stored {stored} > work {work}");
@@ -564,7 +599,7 @@ fn tip_force_along_plus_z_raises_the_tip() {
         let f = Finger::paper(eps0, 8).unwrap();
         let free = solve(&f, &Load::unloaded());
         let sol = solve(&f, &Load::unloaded().with_tip_force(FX, FZ));
-        let stored = f.energy(&Load::unloaded(), &sol.coefficients) - free.energy;
+        let stored = f.energy(&Load::unloaded(), &sol.coefficients).unwrap() - free.energy;
         let work = FX * (sol.tip[0] - free.tip[0]) + FZ * (sol.tip[1] - free.tip[1]);
         assert!(
             0.0 <= stored && stored <= work,
@@ -587,7 +622,7 @@ fn equilibrium_energy_is_below_perturbed_states() {
         for _ in 0..20 {
             let d: Vec<f64> = (0..n).map(|_| rng.range(-1e-3, 1e-3)).collect();
             let y: Vec<f64> = y0.iter().zip(&d).map(|(a, b)| a + b).collect();
-            let de = f.energy(&load, &to_raw(&sc, &y)) - sol.energy;
+            let de = f.energy(&load, &to_raw(&sc, &y)).unwrap() - sol.energy;
             assert!(de > 0.0, "{name}: perturbation lowers the energy by {de:e}");
             // and the rise is the quadratic form of the Hessian (third order ~ |d|)
             let q: f64 = 0.5
@@ -717,7 +752,7 @@ fn decoupled_and_coupled_paths_agree_without_tip_load() {
     for eps0 in EPS0S {
         let f = Finger::paper(eps0, 8).unwrap();
         let sc = finger_scales(&f);
-        let zero = vec![[0.0; 4]; f.len()];
+        let zero = f.straight();
         // Both paths stop once the residual is below rtol (relative), which
         // pins the scaled coefficients only to about rtol / min_hessian_eig
         // (2.4e-9 and 0.67 um at the tip for eps0 0.4, 386 kPa at the
@@ -769,22 +804,54 @@ fn decoupled_and_coupled_paths_agree_without_tip_load() {
 
 // ---------------------------------------------------------- 7. equal elements
 
+/// Element `i`'s potential at `load`, and every integral family alone,
+/// each with gradient and Hessian, at the element unknowns `k`.
+fn element_outputs(f: &Finger, i: usize, load: &Load, k: &[f64]) -> Vec<Vec<f64>> {
+    let families = (0..Ccm::FAMILIES.len()).map(Some);
+    std::iter::once(None)
+        .chain(families)
+        .map(|fam| {
+            let (v, g, h) = f
+                .element_hessian(i, fam, load, k)
+                .expect("element and family in range");
+            let mut out = vec![v];
+            out.extend(g);
+            out.extend(h);
+            out
+        })
+        .collect()
+}
+
 #[test]
 fn equal_elements_without_ribs_have_equal_solutions() {
     let act = Actuator::paper(0.25).unwrap();
+    let mut rng = Lcg(0x0e9a_1e1e);
     // N = 8: the last element holds the channel's end; N = 22: elements of
     // 5 mm, the last one is the solid wall past the channel.
     for n_el in [8usize, 22] {
         let f = Finger::new(&act, &Partition::equal(110.0, n_el).unwrap(), false);
-        let els = f.elements();
-        for (i, e) in els.iter().enumerate().take(n_el - 1) {
-            assert_eq!(e, &els[0], "N {n_el}: element {i} differs from element 0");
+        let lengths = f.element_lengths();
+        // Equal elements have the same energy function: every family's
+        // value, gradient and Hessian agree bit for bit at random states
+        // (the blocks themselves are compared in src/blocks.rs's tests).
+        let load = pressure(100.0);
+        let states = random_coeffs(&mut rng, &f);
+        for probe in states.iter().chain(std::iter::once(&[0.0; 4][..])) {
+            let first = element_outputs(&f, 0, &load, probe);
+            for i in 1..n_el - 1 {
+                assert_eq!(lengths[i], lengths[0], "N {n_el}: length of element {i}");
+                assert_eq!(
+                    element_outputs(&f, i, &load, probe),
+                    first,
+                    "N {n_el}: element {i} differs from element 0 at {probe:?}"
+                );
+            }
+            assert_ne!(
+                element_outputs(&f, n_el - 1, &load, probe),
+                first,
+                "N {n_el}: the last element is special"
+            );
         }
-        assert_ne!(
-            els[n_el - 1],
-            els[0],
-            "N {n_el}: the last element is special"
-        );
         for load in [Load::unloaded(), pressure(100.0)] {
             // the coupled path solves every element itself (no sharing)
             let coupled = f
@@ -797,17 +864,17 @@ fn equal_elements_without_ribs_have_equal_solutions() {
                 )
                 .unwrap();
             let auto = solve(&f, &load);
-            let sc = scales(els[0].length());
-            let k0 = coupled.coefficients[0];
+            let sc = scales(lengths[0]);
+            let k0 = coupled.coefficients.element(0);
             for i in 1..n_el - 1 {
-                let ki = coupled.coefficients[i];
+                let ki = coupled.coefficients.element(i);
                 for j in 0..4 {
                     let d = (ki[j] - k0[j]).abs() / sc[j];
                     assert!(d <= 1e-12, "N {n_el}, element {i}, unknown {j}: {d:e}");
                 }
-                assert_eq!(auto.coefficients[i], auto.coefficients[0]);
+                assert_eq!(auto.coefficients.element(i), auto.coefficients.element(0));
             }
-            let kl = coupled.coefficients[n_el - 1];
+            let kl = coupled.coefficients.element(n_el - 1);
             assert!(
                 (kl[3] - k0[3]).abs() / sc[3] > 1e-6,
                 "N {n_el}: the last element should bend differently"
@@ -838,7 +905,8 @@ fn bad_input_is_rejected_with_the_field_named() {
         strategy: Strategy::Coupled,
         ..opts
     };
-    let good = vec![[0.0; 4]; f.len()];
+    let good = f.straight();
+    assert_eq!(good, Coefficients::zeros(f.len(), 4));
     let bad_loads = [
         (
             Load {
@@ -892,14 +960,22 @@ fn bad_input_is_rejected_with_the_field_named() {
     }
     let tip = Load::unloaded().with_tip_force(FX, FZ);
     for len in [0, 1, f.len() - 1, f.len() + 1] {
-        let guess = vec![[0.0; 4]; len];
+        let guess = Coefficients::zeros(len, 4);
         for load in [Load::unloaded(), tip] {
             assert_eq!(input_field(f.solve_from(&load, &guess, &opts)), "guess");
             assert_eq!(input_field(f.solve_from(&load, &guess, &coupled)), "guess");
         }
     }
+    // the right number of values, split into elements of the wrong size
+    let wrong_split = Coefficients::new(2, vec![0.0; 4 * f.len()]).unwrap();
+    for load in [Load::unloaded(), tip] {
+        assert_eq!(
+            input_field(f.solve_from(&load, &wrong_split, &opts)),
+            "guess"
+        );
+    }
     let mut nan_guess = good.clone();
-    nan_guess[3][1] = f64::NAN;
+    nan_guess.as_mut_slice()[4 * 3 + 1] = f64::NAN;
     assert_eq!(input_field(f.solve_from(&tip, &nan_guess, &opts)), "guess");
     let mut bad = opts;
     bad.rtol = 0.0;
@@ -979,7 +1055,7 @@ fn coarse_fingers_solve_promptly() {
             Err(e) => failures.push(format!("{what}: {e} (pressure ramp: {ramp_tip:?})")),
             Ok(sol) => {
                 let s = flat_scales(&finger_scales(&f));
-                let (_, g) = f.gradient(&load, &sol.coefficients);
+                let (_, g) = f.gradient(&load, &sol.coefficients).unwrap();
                 let r = g
                     .iter()
                     .zip(&s)

@@ -1,26 +1,71 @@
-//! The generated element kernels against methods written here, independently
+//! The generated element models against methods written here, independently
 //! of the generator, from docs/model.md sections 3-4:
 //!
 //! - tensor Gauss-Legendre quadrature of the energy densities (values, and
 //!   the chain-rule derivatives of the densities);
 //! - central finite differences with Richardson extrapolation;
-//! - the closed-form element end and end slope;
+//! - the closed-form element end and end slope, mid-plane, tangent,
+//!   strain and curvature;
+//! - the prestressed law in closed form;
 //! - an element energy assembled from the laminate description (cross
 //!   section by cross section, not box by box as the library does);
 //! - physical closed forms at K = 0.
 //!
+//! Everything goes through the [`ElementModel`] trait (moments built with
+//! `add_linear`, `add_prestressed`, `add_gas`; `energy`, `gradient`,
+//! `hessian`, `family_hessian`, the point kernels and the law) or the
+//! public finger API. The checks are generic over the model; what a check
+//! needs to know of a model beyond the trait, its displacement fields and
+//! the typical sizes of its unknowns, is written by hand in an
+//! `impl Fields` ([`Fields`] for [`Ccm`] below). A new model is one more
+//! `impl Fields` and one more line in [`for_each_model!`].
+//!
 //! Random inputs come from a seeded xorshift generator, so every run checks
 //! the same cases. Each test prints its worst error (`--nocapture`).
 
-use fpc::kernels::{
-    end_hessian, end_value, gas_gradient, gas_hessian, gas_moments, gas_value, linear_gradient,
-    linear_hessian, linear_moments, linear_value, prestressed_gradient, prestressed_hessian,
-    prestressed_moments, prestressed_value, upper_index, GAS_MOMENTS, LINEAR_MOMENTS,
-    PRESTRESSED_MOMENTS,
+use fpc::model::ccm::Ccm;
+use fpc::model::{
+    upper_index, EnergyScalars, GasParams, LinearParams, PrestressedParams, PsiParams, Vector,
 };
-use fpc::{element_blocks, Actuator, Element, Partition};
+use fpc::{Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
+
+// ---------------------------------------------------------------------------
+// The models checked here.
+
+/// Runs the generic check `$check::<M>($args)` for every model with
+/// hand-written [`Fields`]: adding a model is one line here.
+macro_rules! for_each_model {
+    ($check:ident $(, $arg:expr)*) => {{
+        $check::<Ccm>($($arg),*);
+    }};
+}
+
+fn push_name<M: ElementModel>(names: &mut Vec<&'static str>) {
+    names.push(M::NAME);
+}
+
+#[test]
+fn every_generated_model_is_checked() {
+    let mut names = Vec::new();
+    for_each_model!(push_name, &mut names);
+    assert_eq!(
+        names,
+        ModelId::names(),
+        "every generated model needs an `impl Fields` and a line in `for_each_model!`"
+    );
+}
+
+/// The run-time id of model `M`.
+fn model_id<M: ElementModel>() -> ModelId {
+    ModelId::from_name(M::NAME).unwrap_or_else(|| panic!("no ModelId for {}", M::NAME))
+}
+
+/// Number of unknowns of model `M`.
+fn len<M: ElementModel>() -> usize {
+    M::Coeffs::LEN
+}
 
 // ---------------------------------------------------------------------------
 // Deterministic random numbers (xorshift64*).
@@ -59,6 +104,11 @@ impl Rng {
                 return (a, b);
             }
         }
+    }
+
+    /// Each unknown uniform in [-size, size].
+    fn within<C: Vector>(&mut self, size: &C) -> C {
+        C::from_fn(|i| self.range(-size[i], size[i]))
     }
 }
 
@@ -108,7 +158,7 @@ fn rule(n: usize, a: f64, b: f64) -> Vec<(f64, f64)> {
     rules[n].iter().map(|&(t, w)| (c + h * t, h * w)).collect()
 }
 
-/// x: 8 points (exact to degree 15; the densities reach degree 10 in x).
+/// x: 8 points (exact to degree 15; the CCM's densities reach degree 10 in x).
 const NX: usize = 8;
 /// z: 4 points (exact to degree 7; the densities reach degree 5 in z).
 const NZ: usize = 4;
@@ -132,34 +182,110 @@ fn gauss_legendre_rules_are_exact() {
 }
 
 // ---------------------------------------------------------------------------
-// The model, written from docs/model.md section 4.
+// The kinematics of each model, written by hand from docs/model.md section 4.
 
-type K = [f64; 4];
-
-/// eps_x = a1 + (3 a3 + 2 c2^2) x^2 - 2 z c2.
-fn eps_x(k: &K, x: f64, z: f64) -> f64 {
-    let [a1, a3, _, c2] = *k;
-    a1 + (3.0 * a3 + 2.0 * c2 * c2) * x * x - 2.0 * z * c2
+/// What the checks need to know of a model beyond the trait: its
+/// displacement fields (as the strains, mid-plane and their derivatives
+/// they give) and the typical sizes of its unknowns, written here by hand.
+trait Fields: ElementModel {
+    /// Typical size of each unknown on elements up to 30 mm: random states
+    /// are drawn within it, finite-difference steps and error scales
+    /// follow it.
+    fn typical() -> Self::Coeffs;
+    /// Typical size of each unknown on an element of length `l`.
+    fn typical_at(l: f64) -> Self::Coeffs;
+    /// The axial strain eps_x at (x, z) and its gradient in the unknowns.
+    fn eps_x(k: &Self::Coeffs, x: f64, z: f64) -> (f64, Self::Coeffs);
+    /// The gradient of eps_x with each of its terms by absolute value.
+    fn eps_x_gradient_magnitude(k: &Self::Coeffs, x: f64, z: f64) -> Self::Coeffs;
+    /// d^2 eps_x / dK_i dK_j, and the same with its terms by absolute value.
+    fn eps_x_hessian(k: &Self::Coeffs, x: f64, z: f64, i: usize, j: usize) -> (f64, f64);
+    /// The transverse strain eps_y and its gradient (the gradient's terms
+    /// by absolute value are the last value).
+    fn eps_y(k: &Self::Coeffs, x: f64, z: f64) -> (f64, Self::Coeffs, Self::Coeffs);
+    /// d^2 eps_y / dK_i dK_j, and the same by absolute value.
+    fn eps_y_hessian(k: &Self::Coeffs, x: f64, z: f64, i: usize, j: usize) -> (f64, f64);
+    /// The mid-plane X = x + u, Z = w at local `x`, with their first two
+    /// derivatives in x: `[[X, X', X''], [Z, Z', Z'']]`.
+    fn shape(k: &Self::Coeffs, x: f64) -> [[f64; 3]; 2];
+    /// Gradients in the unknowns of `[X, Z, X', Z']` at local `x`.
+    fn shape_gradients(k: &Self::Coeffs, x: f64) -> [Self::Coeffs; 4];
 }
 
-/// d eps_x / d K_i.
-fn d_eps_x(k: &K, x: f64, z: f64) -> [f64; 4] {
-    let c2 = k[3];
-    [1.0, 3.0 * x * x, 0.0, 4.0 * c2 * x * x - 2.0 * z]
+/// The paper's element: u = a1 x + a3 x^3, v = b1 y, w = c2 x^2 (Eq. 4),
+/// eps_x = u' + w'^2 / 2 - z w'' = a1 + (3 a3 + 2 c2^2) x^2 - 2 z c2,
+/// eps_y = b1 (Eq. 5).
+impl Fields for Ccm {
+    /// a1, b1 and c2 of a few percent; a3 such that 3 a3 x^2 ~ 0.05 at x = 30.
+    fn typical() -> [f64; 4] {
+        [0.05, 2e-5, 0.05, 0.03]
+    }
+
+    /// a3's scale moves the end as much as a1's; c2 curls a 13.75 mm element
+    /// by a few percent.
+    fn typical_at(l: f64) -> [f64; 4] {
+        [0.05, 0.05 / (l * l), 0.05, 0.03 * 13.75 / l]
+    }
+
+    fn eps_x(k: &[f64; 4], x: f64, z: f64) -> (f64, [f64; 4]) {
+        let [a1, a3, _, c2] = *k;
+        (
+            a1 + (3.0 * a3 + 2.0 * c2 * c2) * x * x - 2.0 * z * c2,
+            [1.0, 3.0 * x * x, 0.0, 4.0 * c2 * x * x - 2.0 * z],
+        )
+    }
+
+    fn eps_x_gradient_magnitude(k: &[f64; 4], x: f64, z: f64) -> [f64; 4] {
+        [
+            1.0,
+            3.0 * x * x,
+            0.0,
+            4.0 * k[3].abs() * x * x + 2.0 * z.abs(),
+        ]
+    }
+
+    fn eps_x_hessian(_: &[f64; 4], x: f64, _: f64, i: usize, j: usize) -> (f64, f64) {
+        // d^2 eps_x / d c2^2 = 4 x^2, nothing else
+        if i == 3 && j == 3 {
+            (4.0 * x * x, 4.0 * x * x)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    fn eps_y(k: &[f64; 4], _: f64, _: f64) -> (f64, [f64; 4], [f64; 4]) {
+        (k[2], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 1.0, 0.0])
+    }
+
+    fn eps_y_hessian(_: &[f64; 4], _: f64, _: f64, _: usize, _: usize) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+
+    fn shape(k: &[f64; 4], x: f64) -> [[f64; 3]; 2] {
+        let [a1, a3, _, c2] = *k;
+        [
+            [
+                x + a1 * x + a3 * x.powi(3),
+                1.0 + a1 + 3.0 * a3 * x * x,
+                6.0 * a3 * x,
+            ],
+            [c2 * x * x, 2.0 * c2 * x, 2.0 * c2],
+        ]
+    }
+
+    fn shape_gradients(_: &[f64; 4], x: f64) -> [[f64; 4]; 4] {
+        [
+            [x, x.powi(3), 0.0, 0.0],
+            [0.0, 0.0, 0.0, x * x],
+            [1.0, 3.0 * x * x, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 2.0 * x],
+        ]
+    }
 }
 
-/// |d eps_x / d K_i| with each term by absolute value.
-fn d_eps_x_magnitude(k: &K, x: f64, z: f64) -> [f64; 4] {
-    [
-        1.0,
-        3.0 * x * x,
-        0.0,
-        4.0 * k[3].abs() * x * x + 2.0 * z.abs(),
-    ]
-}
-
-/// d eps_y / d K_i (eps_y = b1).
-const D_EPS_Y: [f64; 4] = [0.0, 0.0, 1.0, 0.0];
+// ---------------------------------------------------------------------------
+// The energy densities of docs/model.md section 4 (the same for every
+// model: the families' laws in the strains).
 
 /// An energy (or volume) density W(eps_x, eps_y) with its derivatives.
 #[derive(Debug, Clone, Copy)]
@@ -179,13 +305,28 @@ struct Jet {
     fyy: f64,
 }
 
-/// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 and its first two derivatives.
+/// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 and its first two
+/// derivatives (the paper's law, `p = [p1, p2, p3, p4]`).
 fn psi(p: &[f64; 4], s: f64) -> (f64, f64, f64) {
     let [p1, p2, p3, p4] = *p;
     (
         p1 / 2.0 * s.powi(2) - p2 / 3.0 * s.powi(3) + p3 / 4.0 * s.powi(4) - p4 / 5.0 * s.powi(5),
         p1 * s - p2 * s.powi(2) + p3 * s.powi(3) - p4 * s.powi(4),
         p1 - 2.0 * p2 * s + 3.0 * p3 * s.powi(2) - 4.0 * p4 * s.powi(3),
+    )
+}
+
+/// The same with every term by absolute value.
+fn psi_magnitude(p: &[f64; 4], s: f64) -> (f64, f64, f64) {
+    let s = s.abs();
+    let p = p.map(f64::abs);
+    (
+        p[0] / 2.0 * s.powi(2)
+            + p[1] / 3.0 * s.powi(3)
+            + p[2] / 4.0 * s.powi(4)
+            + p[3] / 5.0 * s.powi(5),
+        p[0] * s + p[1] * s.powi(2) + p[2] * s.powi(3) + p[3] * s.powi(4),
+        p[0] + 2.0 * p[1] * s + 3.0 * p[2] * s.powi(2) + 4.0 * p[3] * s.powi(3),
     )
 }
 
@@ -240,17 +381,12 @@ impl Density {
                 }
             }
             Density::Prestressed { eps0, p, q22 } => {
-                let s = eps0.abs() + e;
-                let p = p.map(f64::abs);
+                let (s0, s1, s2) = psi_magnitude(&p, eps0.abs() + e);
                 Jet {
-                    f: p[0] / 2.0 * s.powi(2)
-                        + p[1] / 3.0 * s.powi(3)
-                        + p[2] / 4.0 * s.powi(4)
-                        + p[3] / 5.0 * s.powi(5)
-                        + 0.5 * q22.abs() * y * y,
-                    fe: p[0] * s + p[1] * s.powi(2) + p[2] * s.powi(3) + p[3] * s.powi(4),
+                    f: s0 + 0.5 * q22.abs() * y * y,
+                    fe: s1,
                     fy: q22.abs() * y,
-                    fee: p[0] + 2.0 * p[1] * s + 3.0 * p[2] * s.powi(2) + 4.0 * p[3] * s.powi(3),
+                    fee: s2,
                     fey: 0.0,
                     fyy: q22.abs(),
                 }
@@ -265,17 +401,32 @@ impl Density {
             },
         }
     }
-
-    fn kind(&self) -> usize {
-        match self {
-            Density::Linear { .. } => 0,
-            Density::Prestressed { .. } => 1,
-            Density::Gas => 2,
-        }
-    }
 }
 
+/// The integral families by kind (the test's numbering).
 const KIND_NAMES: [&str; 3] = ["linear", "prestressed", "gas"];
+
+/// Position of kind `kind` in `M::FAMILIES` (family_hessian's argument).
+fn family<M: ElementModel>(kind: usize) -> usize {
+    M::FAMILIES
+        .iter()
+        .position(|f| *f == KIND_NAMES[kind])
+        .unwrap_or_else(|| panic!("{} has no family {}", M::NAME, KIND_NAMES[kind]))
+}
+
+#[test]
+fn every_family_is_known() {
+    fn check<M: ElementModel>() {
+        let mut known: Vec<&str> = M::FAMILIES.to_vec();
+        known.sort_unstable();
+        let mut want = KIND_NAMES.to_vec();
+        want.sort_unstable();
+        assert_eq!(known, want, "{}: families {:?}", M::NAME, M::FAMILIES);
+        let m = M::zero_moments();
+        assert!(M::family_hessian(&m, M::FAMILIES.len(), &M::Coeffs::zero()).is_none());
+    }
+    for_each_model!(check);
+}
 
 /// x in [x0, x1], y in [0, width], z in [z0, z1].
 #[derive(Debug, Clone, Copy)]
@@ -291,23 +442,23 @@ struct Bx {
 /// magnitude density (times |width|).
 struct Quad {
     v: f64,
-    g: [f64; 4],
-    h: [[f64; 4]; 4],
+    g: Vec<f64>,
+    h: Vec<Vec<f64>>,
     mag: f64,
     /// Integrals of the absolute terms of the gradient and Hessian densities.
-    gmag: [f64; 4],
-    hmag: [[f64; 4]; 4],
+    gmag: Vec<f64>,
+    hmag: Vec<Vec<f64>>,
 }
 
 impl Quad {
-    fn zero() -> Quad {
+    fn zero(n: usize) -> Quad {
         Quad {
             v: 0.0,
-            g: [0.0; 4],
-            h: [[0.0; 4]; 4],
+            g: vec![0.0; n],
+            h: vec![vec![0.0; n]; n],
             mag: 0.0,
-            gmag: [0.0; 4],
-            hmag: [[0.0; 4]; 4],
+            gmag: vec![0.0; n],
+            hmag: vec![vec![0.0; n]; n],
         }
     }
 
@@ -315,10 +466,10 @@ impl Quad {
     fn add_scaled(&mut self, c: f64, o: &Quad) {
         self.v += c * o.v;
         self.mag += c.abs() * o.mag;
-        for i in 0..4 {
+        for i in 0..self.g.len() {
             self.g[i] += c * o.g[i];
             self.gmag[i] += c.abs() * o.gmag[i];
-            for j in 0..4 {
+            for j in 0..self.g.len() {
                 self.h[i][j] += c * o.h[i][j];
                 self.hmag[i][j] += c.abs() * o.hmag[i][j];
             }
@@ -330,34 +481,37 @@ impl Quad {
     }
 }
 
-fn quad(d: &Density, b: &Bx, k: &K) -> Quad {
-    let mut q = Quad::zero();
-    let ey = k[2];
+/// Tensor Gauss-Legendre quadrature of density `d` over box `b` at `k`,
+/// through model `M`'s hand-written strains.
+fn quad<M: Fields>(d: &Density, b: &Bx, k: &M::Coeffs) -> Quad {
+    let n = len::<M>();
+    let mut q = Quad::zero(n);
     for &(x, wx) in &rule(NX, b.x0, b.x1) {
         for &(z, wz) in &rule(NZ, b.z0, b.z1) {
             let w = wx * wz * b.width;
-            let e = eps_x(k, x, z);
-            let de = d_eps_x(k, x, z);
+            let (e, de) = M::eps_x(k, x, z);
+            let dem = M::eps_x_gradient_magnitude(k, x, z);
+            let (ey, dy, dym) = M::eps_y(k, x, z);
             let j = d.jet(e, ey);
             let jm = d.magnitude_jet(e, ey);
-            let dem = d_eps_x_magnitude(k, x, z);
             q.v += w * j.f;
             q.mag += w.abs() * jm.f;
-            for i in 0..4 {
-                q.g[i] += w * (j.fe * de[i] + j.fy * D_EPS_Y[i]);
-                q.gmag[i] += w.abs() * (jm.fe * dem[i] + jm.fy * D_EPS_Y[i]);
-                for l in 0..4 {
-                    let mut hil = j.fee * de[i] * de[l]
-                        + j.fey * (de[i] * D_EPS_Y[l] + D_EPS_Y[i] * de[l])
-                        + j.fyy * D_EPS_Y[i] * D_EPS_Y[l];
-                    let mut mil = jm.fee * dem[i] * dem[l]
-                        + jm.fey * (dem[i] * D_EPS_Y[l] + D_EPS_Y[i] * dem[l])
-                        + jm.fyy * D_EPS_Y[i] * D_EPS_Y[l];
-                    if i == 3 && l == 3 {
-                        // d^2 eps_x / d c2^2 = 4 x^2
-                        hil += j.fe * 4.0 * x * x;
-                        mil += jm.fe * 4.0 * x * x;
-                    }
+            for i in 0..n {
+                q.g[i] += w * (j.fe * de[i] + j.fy * dy[i]);
+                q.gmag[i] += w.abs() * (jm.fe * dem[i] + jm.fy * dym[i]);
+                for l in 0..n {
+                    let (hx, hxm) = M::eps_x_hessian(k, x, z, i, l);
+                    let (hy, hym) = M::eps_y_hessian(k, x, z, i, l);
+                    let hil = j.fee * de[i] * de[l]
+                        + j.fey * (de[i] * dy[l] + dy[i] * de[l])
+                        + j.fyy * dy[i] * dy[l]
+                        + j.fe * hx
+                        + j.fy * hy;
+                    let mil = jm.fee * dem[i] * dem[l]
+                        + jm.fey * (dem[i] * dym[l] + dym[i] * dem[l])
+                        + jm.fyy * dym[i] * dym[l]
+                        + jm.fe * hxm
+                        + jm.fy * hym;
                     q.h[i][l] += w * hil;
                     q.hmag[i][l] += w.abs() * mil;
                 }
@@ -368,98 +522,112 @@ fn quad(d: &Density, b: &Bx, k: &K) -> Quad {
 }
 
 // ---------------------------------------------------------------------------
-// Dispatch to the generated kernels (moment arrays as slices).
+// The generated model through its trait.
 
-fn moments_len(kind: usize) -> usize {
-    [LINEAR_MOMENTS, PRESTRESSED_MOMENTS, GAS_MOMENTS][kind]
-}
-
-fn add_moments(d: &Density, b: &Bx, m: &mut [f64]) {
+/// Adds box `b` of density `d` to the moments, through the family's
+/// parameter struct.
+fn add_block<M: ElementModel>(d: &Density, b: &Bx, m: &mut M::Moments) {
     match *d {
-        Density::Linear { q11, q12, q22 } => linear_moments(
-            m.try_into().unwrap(),
-            b.x0,
-            b.x1,
-            b.width,
-            b.z0,
-            b.z1,
-            q11,
-            q12,
-            q22,
+        Density::Linear { q11, q12, q22 } => M::add_linear(
+            m,
+            &LinearParams {
+                x0: b.x0,
+                x1: b.x1,
+                width: b.width,
+                z0: b.z0,
+                z1: b.z1,
+                q11,
+                q12,
+                q22,
+            },
         ),
-        Density::Prestressed { eps0, p, q22 } => prestressed_moments(
-            m.try_into().unwrap(),
-            b.x0,
-            b.x1,
-            b.width,
-            b.z0,
-            b.z1,
-            eps0,
-            p[0],
-            p[1],
-            p[2],
-            p[3],
-            q22,
+        Density::Prestressed { eps0, p, q22 } => M::add_prestressed(
+            m,
+            &PrestressedParams {
+                x0: b.x0,
+                x1: b.x1,
+                width: b.width,
+                z0: b.z0,
+                z1: b.z1,
+                eps0,
+                p1: p[0],
+                p2: p[1],
+                p3: p[2],
+                p4: p[3],
+                q22,
+            },
         ),
-        Density::Gas => gas_moments(m.try_into().unwrap(), b.x0, b.x1, b.width, b.z0, b.z1),
+        Density::Gas => M::add_gas(
+            m,
+            &GasParams {
+                x0: b.x0,
+                x1: b.x1,
+                width: b.width,
+                z0: b.z0,
+                z1: b.z1,
+            },
+        ),
     }
 }
 
-fn moments_of(d: &Density, boxes: &[Bx]) -> Vec<f64> {
-    let mut m = vec![0.0; moments_len(d.kind())];
+fn moments_of<M: ElementModel>(d: &Density, boxes: &[Bx]) -> M::Moments {
+    let mut m = M::zero_moments();
     for b in boxes {
-        add_moments(d, b, &mut m);
+        add_block::<M>(d, b, &mut m);
     }
     m
 }
 
-fn k_value(kind: usize, k: &K, m: &[f64]) -> f64 {
-    match kind {
-        0 => linear_value(k, m.try_into().unwrap()),
-        1 => prestressed_value(k, m.try_into().unwrap()),
-        _ => gas_value(k, m.try_into().unwrap()),
+/// The element potential is `Psi - kp V` (docs/model.md Eq. 16): the
+/// coefficient of each kind.
+fn coefficient(kind: usize, kp: f64) -> f64 {
+    if kind == 2 {
+        -kp
+    } else {
+        1.0
     }
 }
 
-fn k_gradient(kind: usize, k: &K, m: &[f64]) -> (f64, [f64; 4]) {
-    match kind {
-        0 => linear_gradient(k, m.try_into().unwrap()),
-        1 => prestressed_gradient(k, m.try_into().unwrap()),
-        _ => gas_gradient(k, m.try_into().unwrap()),
+/// The scalars under which the potential of moments holding kind `kind`
+/// alone is that family's integral (kp = -1 for the gas volume).
+fn alone(kind: usize) -> EnergyScalars {
+    EnergyScalars {
+        kp: if kind == 2 { -1.0 } else { 0.0 },
     }
 }
 
-fn k_hessian(kind: usize, k: &K, m: &[f64]) -> (f64, [f64; 4], [f64; 10]) {
-    match kind {
-        0 => linear_hessian(k, m.try_into().unwrap()),
-        1 => prestressed_hessian(k, m.try_into().unwrap()),
-        _ => gas_hessian(k, m.try_into().unwrap()),
-    }
+/// The value kernel of kind `kind` (moments of that kind alone).
+fn k_value<M: ElementModel>(kind: usize, k: &M::Coeffs, m: &M::Moments) -> f64 {
+    M::energy(m, k, &alone(kind))
 }
 
-fn full(h: &[f64; 10]) -> [[f64; 4]; 4] {
-    let mut f = [[0.0; 4]; 4];
-    for (i, row) in f.iter_mut().enumerate() {
-        for (j, e) in row.iter_mut().enumerate() {
-            *e = h[upper_index(i, j)];
-        }
-    }
-    f
+/// The gradient kernel of kind `kind` (moments of that kind alone).
+fn k_gradient<M: ElementModel>(kind: usize, k: &M::Coeffs, m: &M::Moments) -> (f64, M::Coeffs) {
+    M::gradient(m, k, &alone(kind))
+}
+
+/// The family's own kernel.
+fn k_family<M: ElementModel>(
+    kind: usize,
+    k: &M::Coeffs,
+    m: &M::Moments,
+) -> (f64, M::Coeffs, M::Upper) {
+    M::family_hessian(m, family::<M>(kind), k).expect("family in range")
+}
+
+/// The full matrix of an upper triangle.
+fn full(n: usize, h: &[f64]) -> Vec<Vec<f64>> {
+    assert_eq!(h.len(), n * (n + 1) / 2);
+    (0..n)
+        .map(|i| (0..n).map(|j| h[upper_index(n, i, j)]).collect())
+        .collect()
 }
 
 // ---------------------------------------------------------------------------
 // Random inputs in realistic ranges.
 
-/// Typical sizes of a1, a3, b1, c2 (a3 such that 3 a3 x^2 ~ 0.05 at x = 30).
-const TYPICAL: K = [0.05, 2e-5, 0.05, 0.03];
-
-fn random_k(rng: &mut Rng) -> K {
-    [
-        rng.range(-0.05, 0.05),
-        rng.range(-2e-5, 2e-5),
-        rng.range(-0.05, 0.05),
-        rng.range(-0.03, 0.03),
-    ]
+fn random_k<M: Fields>(rng: &mut Rng) -> M::Coeffs {
+    rng.within(&M::typical())
 }
 
 fn random_box(rng: &mut Rng) -> Bx {
@@ -475,6 +643,18 @@ fn random_box(rng: &mut Rng) -> Bx {
     }
 }
 
+/// The paper's law, [p1, p2, p3, p4].
+const PAPER_PSI: [f64; 4] = [1.598, 2.306, 2.29, 0.698];
+
+/// The paper's law with each constant scaled by a random factor in [0.7, 1.3].
+fn random_law(rng: &mut Rng) -> [f64; 4] {
+    let mut p = [0.0; 4];
+    for (pi, base) in p.iter_mut().zip(PAPER_PSI) {
+        *pi = base * rng.range(0.7, 1.3);
+    }
+    p
+}
+
 fn random_density(kind: usize, rng: &mut Rng) -> Density {
     match kind {
         0 => {
@@ -484,11 +664,7 @@ fn random_density(kind: usize, rng: &mut Rng) -> Density {
             Density::Linear { q11, q12, q22 }
         }
         1 => {
-            let paper = [1.598, 2.306, 2.29, 0.698];
-            let mut p = [0.0; 4];
-            for (pi, base) in p.iter_mut().zip(paper) {
-                *pi = base * rng.range(0.7, 1.3);
-            }
+            let p = random_law(rng);
             Density::Prestressed {
                 eps0: rng.range(0.0, 0.6),
                 p,
@@ -502,59 +678,73 @@ fn random_density(kind: usize, rng: &mut Rng) -> Density {
 // ---------------------------------------------------------------------------
 // 1. Quadrature and linearity of the moments.
 
-#[test]
-fn values_match_gauss_legendre_quadrature() {
+fn values_vs_quadrature<M: Fields>() {
     let mut rng = Rng::new(1);
     for (kind, name) in KIND_NAMES.iter().enumerate() {
         let (mut worst_value, mut worst_mag) = (0.0f64, 0.0f64);
         for case in 0..300 {
             let d = random_density(kind, &mut rng);
             let b = random_box(&mut rng);
-            let k = random_k(&mut rng);
-            let got = k_value(kind, &k, &moments_of(&d, &[b]));
-            let q = quad(&d, &b, &k);
+            let k = random_k::<M>(&mut rng);
+            let m = moments_of::<M>(&d, &[b]);
+            let got = k_value::<M>(kind, &k, &m);
+            let q = quad::<M>(&d, &b, &k);
             let rel = (got - q.v).abs() / q.v.abs();
             worst_value = worst_value.max(rel);
             worst_mag = worst_mag.max((got - q.v).abs() / q.mag);
             assert!(
                 rel <= 1e-12,
-                "{} case {case}: kernel {got:e}, quadrature {:e}, relative {rel:e}\n{d:?}\n{b:?}\nK = {k:?}",
-                name,
+                "{} {name} case {case}: kernel {got:e}, quadrature {:e}, relative {rel:e}\n{d:?}\n{b:?}\nK = {k:?}",
+                M::NAME,
+                q.v
+            );
+            // the family's own kernel gives the same value
+            let fam = k_family::<M>(kind, &k, &m).0;
+            let rel = (fam - q.v).abs() / q.v.abs();
+            worst_value = worst_value.max(rel);
+            assert!(
+                rel <= 1e-12,
+                "{} {name} case {case}: family kernel {fam:e}, quadrature {:e}",
+                M::NAME,
                 q.v
             );
         }
         eprintln!(
-            "{}: worst relative error vs quadrature {worst_value:e} ({worst_mag:e} of the term magnitude)",
-            name
+            "{} {name}: worst relative error vs quadrature {worst_value:e} ({worst_mag:e} of the term magnitude)",
+            M::NAME
         );
     }
 }
 
 #[test]
-fn moments_are_linear_in_blocks() {
+fn values_match_gauss_legendre_quadrature() {
+    for_each_model!(values_vs_quadrature);
+}
+
+fn linearity<M: Fields>() {
     let mut rng = Rng::new(2);
     let (mut worst_sum, mut worst_cancel, mut worst_split) = (0.0f64, 0.0f64, 0.0f64);
     for (kind, name) in KIND_NAMES.iter().enumerate() {
         for case in 0..200 {
-            let k = random_k(&mut rng);
-            // two blocks of different material accumulate into one array
+            let k = random_k::<M>(&mut rng);
+            // two blocks of different material accumulate into one set of moments
             let (d1, d2) = (
                 random_density(kind, &mut rng),
                 random_density(kind, &mut rng),
             );
             let (b1, b2) = (random_box(&mut rng), random_box(&mut rng));
-            let mut m = vec![0.0; moments_len(kind)];
-            add_moments(&d1, &b1, &mut m);
-            add_moments(&d2, &b2, &mut m);
-            let v1 = k_value(kind, &k, &moments_of(&d1, &[b1]));
-            let v2 = k_value(kind, &k, &moments_of(&d2, &[b2]));
-            let both = k_value(kind, &k, &m);
+            let mut m = M::zero_moments();
+            add_block::<M>(&d1, &b1, &mut m);
+            add_block::<M>(&d2, &b2, &mut m);
+            let v1 = k_value::<M>(kind, &k, &moments_of::<M>(&d1, &[b1]));
+            let v2 = k_value::<M>(kind, &k, &moments_of::<M>(&d2, &[b2]));
+            let both = k_value::<M>(kind, &k, &m);
             let rel = (both - (v1 + v2)).abs() / (v1.abs() + v2.abs());
             worst_sum = worst_sum.max(rel);
             assert!(
                 rel <= 1e-12,
-                "{} case {case}: two blocks {both:e}, sum {:e}",
-                name,
+                "{} {name} case {case}: two blocks {both:e}, sum {:e}",
+                M::NAME,
                 v1 + v2
             );
 
@@ -563,13 +753,13 @@ fn moments_are_linear_in_blocks() {
                 width: -b1.width,
                 ..b1
             };
-            let cancel = k_value(kind, &k, &moments_of(&d1, &[b1, neg]));
+            let cancel = k_value::<M>(kind, &k, &moments_of::<M>(&d1, &[b1, neg]));
             let rel = cancel.abs() / v1.abs();
             worst_cancel = worst_cancel.max(rel);
             assert!(
                 rel <= 1e-12,
-                "{} case {case}: +w and -w leave {cancel:e} (block {v1:e})",
-                name
+                "{} {name} case {case}: +w and -w leave {cancel:e} (block {v1:e})",
+                M::NAME
             );
 
             // splitting a box in x and in z does not change the total
@@ -597,138 +787,146 @@ fn moments_are_linear_in_blocks() {
                     ..b1
                 },
             ];
-            let split = k_value(kind, &k, &moments_of(&d1, &parts));
-            let scale = quad(&d1, &b1, &k).mag;
+            let split = k_value::<M>(kind, &k, &moments_of::<M>(&d1, &parts));
+            let scale = quad::<M>(&d1, &b1, &k).mag;
             let rel = (split - v1).abs() / scale;
             worst_split = worst_split.max(rel);
             assert!(
                 rel <= 1e-12,
-                "{} case {case}: split {split:e}, whole {v1:e}",
-                name
+                "{} {name} case {case}: split {split:e}, whole {v1:e}",
+                M::NAME
             );
         }
     }
     eprintln!(
-        "linearity: worst two-block {worst_sum:e}, cancellation {worst_cancel:e}, split {worst_split:e}"
+        "{} linearity: worst two-block {worst_sum:e}, cancellation {worst_cancel:e}, split {worst_split:e}",
+        M::NAME
     );
+}
+
+#[test]
+fn moments_are_linear_in_blocks() {
+    for_each_model!(linearity);
 }
 
 // ---------------------------------------------------------------------------
 // 2. Derivatives.
 
-/// 5-point central difference (Richardson-extrapolated) of f along e_i.
-fn fd<T, F>(f: F, k: &K, i: usize, h: f64) -> T
-where
-    F: Fn(&K) -> T,
-    T: Combine,
-{
+/// 5-point central difference (Richardson-extrapolated) of `f` along e_i.
+fn fd_vec<C: Vector>(f: impl Fn(&C) -> Vec<f64>, k: &C, i: usize, h: f64) -> Vec<f64> {
     let at = |t: f64| {
         let mut kk = *k;
         kk[i] += t * h;
         f(&kk)
     };
-    T::combine(
-        &[
-            (8.0, at(1.0)),
-            (-8.0, at(-1.0)),
-            (-1.0, at(2.0)),
-            (1.0, at(-2.0)),
-        ],
-        12.0 * h,
-    )
-}
-
-trait Combine: Sized {
-    fn combine(terms: &[(f64, Self)], div: f64) -> Self;
-}
-
-impl Combine for f64 {
-    fn combine(terms: &[(f64, f64)], div: f64) -> f64 {
-        terms.iter().map(|(c, v)| c * v).sum::<f64>() / div
-    }
-}
-
-impl Combine for [f64; 4] {
-    fn combine(terms: &[(f64, [f64; 4])], div: f64) -> [f64; 4] {
-        let mut out = [0.0; 4];
-        for (c, v) in terms {
-            for (o, x) in out.iter_mut().zip(v) {
-                *o += c * x;
-            }
+    let terms = [
+        (8.0, at(1.0)),
+        (-8.0, at(-1.0)),
+        (-1.0, at(2.0)),
+        (1.0, at(-2.0)),
+    ];
+    let mut out = vec![0.0; terms[0].1.len()];
+    for (c, v) in &terms {
+        for (o, x) in out.iter_mut().zip(v) {
+            *o += c * x;
         }
-        out.map(|o| o / div)
     }
+    out.iter().map(|o| o / (12.0 * h)).collect()
+}
+
+/// The same for a scalar function.
+fn fd<C: Vector>(f: impl Fn(&C) -> f64, k: &C, i: usize, h: f64) -> f64 {
+    fd_vec(|kk| vec![f(kk)], k, i, h)[0]
+}
+
+/// 5-point central difference in a scalar argument.
+fn fd1(f: impl Fn(f64) -> f64, s: f64, h: f64) -> f64 {
+    (8.0 * (f(s + h) - f(s - h)) - (f(s + 2.0 * h) - f(s - 2.0 * h))) / (12.0 * h)
 }
 
 /// Step of the finite differences, as a fraction of each unknown's typical
 /// size. The 5-point stencil's truncation error grows as step^4 (about 1e-9
-/// of the energy scale at 1e-3 for the degree-10 prestressed kernel) and
-/// its rounding error as 1/step; 3e-4 keeps both near 1e-11.
+/// of the energy scale at 1e-3 for the CCM's degree-10 prestressed kernel)
+/// and its rounding error as 1/step; 3e-4 keeps both near 1e-11.
 const FD_STEP: f64 = 3e-4;
 
-/// A random scene for a kernel: 1 to 3 blocks of random material.
-fn random_scene(kind: usize, rng: &mut Rng) -> Vec<f64> {
-    let mut m = vec![0.0; moments_len(kind)];
+/// A random scene for a family: 1 to 3 blocks of random material.
+fn random_scene<M: ElementModel>(kind: usize, rng: &mut Rng) -> M::Moments {
+    let mut m = M::zero_moments();
     let n = 1 + (rng.next_u64() % 3) as usize;
     for _ in 0..n {
         let d = random_density(kind, rng);
         let b = random_box(rng);
-        add_moments(&d, &b, &mut m);
+        add_block::<M>(&d, &b, &mut m);
     }
     m
 }
 
-#[test]
-fn derivatives_match_finite_differences() {
+fn derivatives_vs_fd<M: Fields>() {
     let mut rng = Rng::new(3);
+    let n = len::<M>();
+    let typical = M::typical();
     for (kind, name) in KIND_NAMES.iter().enumerate() {
         let (mut worst_g, mut worst_h, mut worst_variant) = (0.0f64, 0.0f64, 0.0f64);
         for case in 0..60 {
-            let m = random_scene(kind, &mut rng);
-            let k = random_k(&mut rng);
-            let v = k_value(kind, &k, &m);
-            let (vg, g) = k_gradient(kind, &k, &m);
-            let (vh, gh, hu) = k_hessian(kind, &k, &m);
-            let h = full(&hu);
+            let m = random_scene::<M>(kind, &mut rng);
+            let k = random_k::<M>(&mut rng);
+            let v = k_value::<M>(kind, &k, &m);
+            let (vg, g) = k_gradient::<M>(kind, &k, &m);
+            let (vh, gh, hu) = M::hessian(&m, &k, &alone(kind));
+            let (vf, gf, hf) = k_family::<M>(kind, &k, &m);
+            let h = full(n, hf.as_ref());
 
-            // the three variants agree
-            let gscale = (0..4).fold(0.0f64, |s, i| s.max(g[i].abs() * TYPICAL[i]));
+            // the value, gradient and Hessian variants and the family's own
+            // kernel agree
+            let gscale = (0..n).fold(0.0f64, |s, i| s.max(g[i].abs() * typical[i]));
             let scale = v.abs().max(gscale);
-            let mut variant = (vg - v).abs().max((vh - v).abs()) / scale;
-            for i in 0..4 {
-                variant = variant.max((gh[i] - g[i]).abs() * TYPICAL[i] / scale);
+            let mut variant = (vg - v).abs().max((vh - v).abs()).max((vf - v).abs()) / scale;
+            for i in 0..n {
+                let d = (gh[i] - g[i]).abs().max((gf[i] - g[i]).abs());
+                variant = variant.max(d * typical[i] / scale);
+                for j in 0..n {
+                    let hij = hu[upper_index(n, i, j)];
+                    let d = (hij - h[i][j]).abs() * typical[i] * typical[j] / scale;
+                    variant = variant.max(d);
+                }
             }
             worst_variant = worst_variant.max(variant);
             assert!(
                 variant <= 1e-14,
-                "{} case {case}: value/gradient/hessian variants differ by {variant:e}",
-                name
+                "{} {name} case {case}: value/gradient/hessian/family variants differ by {variant:e}",
+                M::NAME
             );
 
             // gradient: finite differences of the value; errors are measured
             // as the change of the value over a typical step, over the
             // energy scale
-            for i in 0..4 {
-                let d = fd(|kk| k_value(kind, kk, &m), &k, i, FD_STEP * TYPICAL[i]);
-                let err = (d - g[i]).abs() * TYPICAL[i] / scale;
+            for i in 0..n {
+                let d = fd(|kk| k_value::<M>(kind, kk, &m), &k, i, FD_STEP * typical[i]);
+                let err = (d - g[i]).abs() * typical[i] / scale;
                 worst_g = worst_g.max(err);
                 assert!(
                     err <= 1e-9,
-                    "{} case {case}: dV/dK[{i}] kernel {:e}, finite difference {d:e} (error {err:e})",
-                    name,
+                    "{} {name} case {case}: dV/dK[{i}] kernel {:e}, finite difference {d:e} (error {err:e})",
+                    M::NAME,
                     g[i]
                 );
             }
-            // Hessian: finite differences of the gradient, full 4x4
-            for j in 0..4 {
-                let col = fd(|kk| k_gradient(kind, kk, &m).1, &k, j, FD_STEP * TYPICAL[j]);
-                for i in 0..4 {
-                    let err = (col[i] - h[i][j]).abs() * TYPICAL[i] * TYPICAL[j] / scale;
+            // Hessian: finite differences of the gradient, full n x n
+            for j in 0..n {
+                let col = fd_vec(
+                    |kk| k_gradient::<M>(kind, kk, &m).1.as_ref().to_vec(),
+                    &k,
+                    j,
+                    FD_STEP * typical[j],
+                );
+                for i in 0..n {
+                    let err = (col[i] - h[i][j]).abs() * typical[i] * typical[j] / scale;
                     worst_h = worst_h.max(err);
                     assert!(
                         err <= 1e-9,
-                        "{} case {case}: H[{i}][{j}] kernel {:e}, finite difference {:e} (error {err:e})",
-                        name,
+                        "{} {name} case {case}: H[{i}][{j}] kernel {:e}, finite difference {:e} (error {err:e})",
+                        M::NAME,
                         h[i][j],
                         col[i]
                     );
@@ -736,30 +934,135 @@ fn derivatives_match_finite_differences() {
             }
         }
         eprintln!(
-            "{}: worst FD gradient error {worst_g:e}, FD Hessian {worst_h:e}, variants {worst_variant:e}",
-            name
+            "{} {name}: worst FD gradient error {worst_g:e}, FD Hessian {worst_h:e}, variants {worst_variant:e}",
+            M::NAME
         );
     }
 }
 
 #[test]
-fn derivatives_match_quadrature_of_density_derivatives() {
+fn derivatives_match_finite_differences() {
+    for_each_model!(derivatives_vs_fd);
+}
+
+/// The element potential of moments holding every family is the
+/// families' sum with the potential's coefficients (1, 1, -kp), in all
+/// three variants.
+fn potential_combines_families<M: Fields>() {
+    let mut rng = Rng::new(7);
+    let n = len::<M>();
+    let mut worst = 0.0f64;
+    for case in 0..100 {
+        let mut m = M::zero_moments();
+        for kind in 0..3 {
+            for _ in 0..1 + (rng.next_u64() % 3) {
+                let d = random_density(kind, &mut rng);
+                let b = random_box(&mut rng);
+                add_block::<M>(&d, &b, &mut m);
+            }
+        }
+        let k = random_k::<M>(&mut rng);
+        // kappa P from 0 to 2.5 * 400 kPa, exactly zero in a quarter of the cases
+        let kp = if case % 4 == 0 {
+            0.0
+        } else {
+            rng.range(0.0, 1.0)
+        };
+        let s = EnergyScalars { kp };
+        let mut want = Quad::zero(n);
+        for kind in 0..3 {
+            let (v, g, h) = k_family::<M>(kind, &k, &m);
+            let c = coefficient(kind, kp);
+            want.v += c * v;
+            want.mag += (c * v).abs();
+            for i in 0..n {
+                want.g[i] += c * g[i];
+                want.gmag[i] += (c * g[i]).abs();
+                for j in 0..n {
+                    let hij = h.as_ref()[upper_index(n, i, j)];
+                    want.h[i][j] += c * hij;
+                    want.hmag[i][j] += (c * hij).abs();
+                }
+            }
+        }
+        let v = M::energy(&m, &k, &s);
+        let (vg, g) = M::gradient(&m, &k, &s);
+        let (vh, gh, hu) = M::hessian(&m, &k, &s);
+        for (what, got) in [
+            ("value", v),
+            ("gradient variant", vg),
+            ("Hessian variant", vh),
+        ] {
+            let err = (got - want.v).abs() / want.mag;
+            worst = worst.max(err);
+            assert!(
+                err <= 1e-14,
+                "{} case {case} kp {kp}: {what} {got:e} vs the families' {:e} ({err:e})",
+                M::NAME,
+                want.v
+            );
+        }
+        for i in 0..n {
+            for (what, got) in [("gradient", g[i]), ("Hessian variant's gradient", gh[i])] {
+                if want.gmag[i] == 0.0 {
+                    assert_eq!(got, 0.0, "{} case {case}: {what}[{i}]", M::NAME);
+                    continue;
+                }
+                let err = (got - want.g[i]).abs() / want.gmag[i].max(1e-300);
+                worst = worst.max(err);
+                assert!(
+                    err <= 1e-14,
+                    "{} case {case} kp {kp}: {what}[{i}] {got:e} vs {:e}",
+                    M::NAME,
+                    want.g[i]
+                );
+            }
+            for j in 0..n {
+                let got = hu[upper_index(n, i, j)];
+                if want.hmag[i][j] == 0.0 {
+                    assert_eq!(got, 0.0, "{} case {case}: H[{i}][{j}]", M::NAME);
+                    continue;
+                }
+                let err = (got - want.h[i][j]).abs() / want.hmag[i][j];
+                worst = worst.max(err);
+                assert!(
+                    err <= 1e-14,
+                    "{} case {case} kp {kp}: H[{i}][{j}] {got:e} vs {:e}",
+                    M::NAME,
+                    want.h[i][j]
+                );
+            }
+        }
+    }
+    eprintln!(
+        "{}: element potential vs the sum of its families: worst {worst:e} of the term magnitude",
+        M::NAME
+    );
+}
+
+#[test]
+fn element_potential_is_the_sum_of_its_families() {
+    for_each_model!(potential_combines_families);
+}
+
+fn derivatives_vs_density_quadrature<M: Fields>() {
     let mut rng = Rng::new(4);
+    let n = len::<M>();
     for (kind, name) in KIND_NAMES.iter().enumerate() {
         let (mut worst_g, mut worst_h) = ((0.0f64, 0.0f64), (0.0f64, 0.0f64));
         for case in 0..150 {
             let d = random_density(kind, &mut rng);
             let b = random_box(&mut rng);
-            let k = random_k(&mut rng);
-            let m = moments_of(&d, &[b]);
-            let (_, g, hu) = k_hessian(kind, &k, &m);
-            let h = full(&hu);
-            let q = quad(&d, &b, &k);
+            let k = random_k::<M>(&mut rng);
+            let m = moments_of::<M>(&d, &[b]);
+            let (_, g, hu) = k_family::<M>(kind, &k, &m);
+            let h = full(n, hu.as_ref());
+            let q = quad::<M>(&d, &b, &k);
             // Errors over the integral of the absolute terms of each
             // entry's density (exact zeros must be exact); the relative
             // error per entry is reported too.
             let mut entries: Vec<(String, f64, f64, f64, bool)> = Vec::new();
-            for i in 0..4 {
+            for i in 0..n {
                 entries.push((format!("gradient[{i}]"), g[i], q.g[i], q.gmag[i], true));
                 for (j, (hij, (qh, qm))) in
                     h[i].iter().zip(q.h[i].iter().zip(&q.hmag[i])).enumerate()
@@ -769,7 +1072,7 @@ fn derivatives_match_quadrature_of_density_derivatives() {
             }
             for (entry, got, want, mag, is_grad) in entries {
                 if mag == 0.0 {
-                    assert_eq!(got, 0.0, "{name} case {case}: {entry}");
+                    assert_eq!(got, 0.0, "{} {name} case {case}: {entry}", M::NAME);
                     continue;
                 }
                 let err = (got - want).abs() / mag;
@@ -778,64 +1081,307 @@ fn derivatives_match_quadrature_of_density_derivatives() {
                 worst.1 = worst.1.max((got - want).abs() / want.abs().max(1e-6 * mag));
                 assert!(
                     err <= 1e-12,
-                    "{name} case {case}: {entry} kernel {got:e}, quadrature {want:e} ({err:e} of the term magnitude {mag:e})",
+                    "{} {name} case {case}: {entry} kernel {got:e}, quadrature {want:e} ({err:e} of the term magnitude {mag:e})",
+                    M::NAME
                 );
             }
         }
         eprintln!(
-            "{}: worst error vs quadrature of density derivatives (of term magnitude / relative): gradient {:e} / {:e}, Hessian {:e} / {:e}",
-            name, worst_g.0, worst_g.1, worst_h.0, worst_h.1
+            "{} {name}: worst error vs quadrature of density derivatives (of term magnitude / relative): gradient {:e} / {:e}, Hessian {:e} / {:e}",
+            M::NAME, worst_g.0, worst_g.1, worst_h.0, worst_h.1
         );
     }
 }
 
+#[test]
+fn derivatives_match_quadrature_of_density_derivatives() {
+    for_each_model!(derivatives_vs_density_quadrature);
+}
+
 // ---------------------------------------------------------------------------
-// 3. End kinematics.
+// 3. The prestressed law.
 
-/// docs/model.md Eqs. 11, 13 with decision D2.
-fn end_closed_form(k: &K, l: f64) -> [f64; 3] {
-    let [a1, a3, _, c2] = *k;
+fn psi_vs_fd<M: ElementModel>() {
+    let mut rng = Rng::new(8);
+    let mut worst = 0.0f64;
+    for case in 0..200 {
+        let p = random_law(&mut rng);
+        let law = PsiParams {
+            p1: p[0],
+            p2: p[1],
+            p3: p[2],
+            p4: p[3],
+        };
+        let s = rng.range(-0.3, 0.9);
+        let got = M::psi(s, &law);
+        // psi' and psi'' against finite differences of psi and psi'; errors
+        // over the magnitude of the derivative's terms
+        let (_, m1, m2) = psi_magnitude(&p, s);
+        let h = 1e-4;
+        for (o, fd_value, mag) in [
+            (1, fd1(|t| M::psi(t, &law)[0], s, h), m1),
+            (2, fd1(|t| M::psi(t, &law)[1], s, h), m2),
+        ] {
+            let err = (got[o] - fd_value).abs() / mag.max(1e-300);
+            worst = worst.max(err);
+            assert!(
+                err <= 1e-10,
+                "{} case {case}: psi derivative {o} at s = {s}: {:e} vs finite difference {fd_value:e} ({err:e})",
+                M::NAME,
+                got[o]
+            );
+        }
+    }
+    eprintln!(
+        "{}: psi', psi'' vs finite differences: worst {worst:e} of the term magnitude",
+        M::NAME
+    );
+}
+
+#[test]
+fn psi_derivatives_match_finite_differences() {
+    for_each_model!(psi_vs_fd);
+}
+
+#[test]
+fn ccm_psi_is_the_papers_law() {
+    // the default constants are the paper's fit
+    assert_eq!(PsiParams::default().to_array(), PAPER_PSI);
+    let mut rng = Rng::new(9);
+    let mut worst = 0.0f64;
+    for case in 0..300 {
+        let p = if case == 0 {
+            PAPER_PSI
+        } else {
+            random_law(&mut rng)
+        };
+        let law = PsiParams {
+            p1: p[0],
+            p2: p[1],
+            p3: p[2],
+            p4: p[3],
+        };
+        let s = if case < 2 { 0.0 } else { rng.range(-0.3, 0.9) };
+        let got = Ccm::psi(s, &law);
+        let (w0, w1, w2) = psi(&p, s);
+        let (m0, m1, m2) = psi_magnitude(&p, s);
+        for (o, want, mag) in [(0, w0, m0), (1, w1, m1), (2, w2, m2)] {
+            if mag == 0.0 {
+                assert_eq!(got[o], 0.0, "case {case}: psi[{o}] at s = 0");
+                continue;
+            }
+            let err = (got[o] - want).abs() / mag;
+            worst = worst.max(err);
+            assert!(
+                err <= 1e-14,
+                "case {case}: psi[{o}]({s}) = {:e}, closed form {want:e} ({err:e})",
+                got[o]
+            );
+        }
+    }
+    // at rest the tangent modulus is p1, exactly
+    assert_eq!(Ccm::psi(0.0, &PsiParams::default()), [0.0, 0.0, 1.598]);
+    eprintln!("ccm psi vs the paper's law in closed form: worst {worst:e} of the term magnitude");
+}
+
+// ---------------------------------------------------------------------------
+// 4. Point kernels: mid-plane, tangent, strain, curvature; scaling.
+
+fn point_kernels_vs_closed_forms<M: Fields>() {
+    let mut rng = Rng::new(10);
+    let n = len::<M>();
+    let (mut worst_p, mut worst_t, mut worst_s, mut worst_c, mut worst_fd) =
+        (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for case in 0..400 {
+        let l = rng.range(1.0, 110.0);
+        let k: M::Coeffs = rng.within(&M::typical_at(l));
+        let x = if case % 10 == 0 {
+            0.0
+        } else {
+            rng.range(0.0, l)
+        };
+        let z = rng.range(-4.1, 4.1);
+        let [[xx, dxx, ddxx], [zz, dzz, ddzz]] = M::shape(&k, x);
+        let label = format!("{} case {case} L={l} x={x} z={z} K={k:?}", M::NAME);
+
+        // mid-plane [X, Z] = [x + u, w], on the scale of the element
+        let got = M::midplane(&k, x);
+        for (o, want) in [xx, zz].into_iter().enumerate() {
+            let err = (got[o] - want).abs() / want.abs().max(l);
+            worst_p = worst_p.max(err);
+            assert!(
+                err <= 1e-14,
+                "{label}: midplane[{o}] {:e}, closed form {want:e}",
+                got[o]
+            );
+        }
+        // tangent [X', Z']
+        let got = M::tangent(&k, x);
+        for (o, want) in [dxx, dzz].into_iter().enumerate() {
+            let err = (got[o] - want).abs() / want.abs().max(1.0);
+            worst_t = worst_t.max(err);
+            assert!(
+                err <= 1e-14,
+                "{label}: tangent[{o}] {:e}, closed form {want:e}",
+                got[o]
+            );
+        }
+        // the tangent is the mid-plane's derivative in x
+        let hx = 1e-3 * l;
+        for (o, &t_o) in got.iter().enumerate() {
+            let d = fd1(|t| M::midplane(&k, t)[o], x, hx);
+            let err = (d - t_o).abs() / t_o.abs().max(1.0);
+            worst_fd = worst_fd.max(err);
+            assert!(
+                err <= 1e-9,
+                "{label}: tangent[{o}] {t_o:e}, finite difference of the mid-plane {d:e}"
+            );
+        }
+        // axial strain eps_x; scale: its terms by absolute value
+        let (want, _) = M::eps_x(&k, x, z);
+        let dm = M::eps_x_gradient_magnitude(&k, x, z);
+        let scale = (0..n).map(|i| (dm[i] * k[i]).abs()).sum::<f64>();
+        let got = M::strain(&k, x, z);
+        let err = (got - want).abs() / scale.max(f64::MIN_POSITIVE);
+        worst_s = worst_s.max(err);
+        assert!(
+            err <= 1e-14,
+            "{label}: strain {got:e}, closed form {want:e}"
+        );
+        // curvature (X' Z'' - Z' X'') / (X'^2 + Z'^2)^(3/2)
+        let r3 = (dxx * dxx + dzz * dzz).powf(1.5);
+        let want = (dxx * ddzz - dzz * ddxx) / r3;
+        let scale = ((dxx * ddzz).abs() + (dzz * ddxx).abs()) / r3;
+        let got = M::curvature(&k, x);
+        if scale == 0.0 {
+            assert_eq!(got, 0.0, "{label}: curvature of a straight element");
+        } else {
+            let err = (got - want).abs() / scale;
+            worst_c = worst_c.max(err);
+            assert!(
+                err <= 1e-13,
+                "{label}: curvature {got:e}, closed form {want:e} ({err:e})"
+            );
+        }
+    }
+    // the straight element: flat, unit tangent, no strain, no curvature
+    let zero = M::Coeffs::zero();
+    for x in [0.0, 1.0, 13.75, 110.0] {
+        assert_eq!(M::midplane(&zero, x), [x, 0.0], "{}", M::NAME);
+        assert_eq!(M::tangent(&zero, x), [1.0, 0.0], "{}", M::NAME);
+        assert_eq!(M::strain(&zero, x, 2.0), 0.0, "{}", M::NAME);
+        assert_eq!(M::curvature(&zero, x), 0.0, "{}", M::NAME);
+    }
+    eprintln!(
+        "{}: point kernels vs closed forms: worst mid-plane {worst_p:e}, tangent {worst_t:e}, strain {worst_s:e}, curvature {worst_c:e}; tangent vs FD of the mid-plane {worst_fd:e}",
+        M::NAME
+    );
+}
+
+#[test]
+fn midplane_tangent_strain_and_curvature_match_closed_forms() {
+    for_each_model!(point_kernels_vs_closed_forms);
+}
+
+#[test]
+fn ccm_constant_curvature_is_twice_c2() {
+    // an element with a1 = a3 = 0 bends as w = c2 x^2: curvature at the
+    // root 2 c2, and 2 c2 / (1 + 4 c2^2 x^2)^(3/2) along it
+    for c2 in [-0.03f64, -1e-4, 1e-4, 0.03] {
+        let k = [0.0, 0.0, 0.01, c2];
+        for x in [0.0f64, 3.0, 13.75] {
+            let want = 2.0 * c2 / (1.0 + 4.0 * c2 * c2 * x * x).powf(1.5);
+            let got = Ccm::curvature(&k, x);
+            assert!(
+                (got - want).abs() <= 2e-15 * want.abs(),
+                "c2 {c2}, x {x}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn ccm_unscale_is_the_natural_scaling() {
+    let mut rng = Rng::new(11);
+    let mut lengths = vec![1e-3, 0.11, 1.0, 5.0, 13.75, 110.0, 1e3];
+    lengths.extend((0..50).map(|_| rng.range(0.1, 200.0)));
+    for l in lengths {
+        let got = Ccm::unscale(l);
+        let want = [1.0, 1.0 / (l * l), 1.0, 1.0 / l];
+        for i in 0..4 {
+            assert!(
+                (got[i] - want[i]).abs() <= 1e-15 * want[i],
+                "L = {l}: unscale[{i}] = {:e}, want {:e}",
+                got[i],
+                want[i]
+            );
+        }
+    }
+    assert_eq!(Ccm::UNKNOWNS, ["a1", "a3", "b1", "c2"]);
+    assert_eq!(Ccm::LOCAL, [2], "b1 couples only within its element");
+}
+
+// ---------------------------------------------------------------------------
+// 5. End kinematics.
+
+/// docs/model.md Eqs. 11, 13 with decision D2, from the fields:
+/// `[X(L), Z(L), atan2(Z'(L), X'(L))]`, and the unnormalised end frame
+/// `[X(L), Z(L), X'(L), Z'(L)]`.
+fn end_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> ([f64; 3], [f64; 4]) {
+    let [[x, dx, _], [z, dz, _]] = M::shape(k, l);
+    ([x, z, dz.atan2(dx)], [x, z, dx, dz])
+}
+
+/// Gradient of (Xe, Ze, eta) by the chain rule from the fields' gradients:
+/// d atan2(Z', X') = (X' dZ' - Z' dX') / (X'^2 + Z'^2).
+fn end_gradient_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> [Vec<f64>; 3] {
+    let n = len::<M>();
+    let [[_, dx, _], [_, dz, _]] = M::shape(k, l);
+    let [gx, gz, gdx, gdz] = M::shape_gradients(k, l);
+    let r2 = dx * dx + dz * dz;
     [
-        (1.0 + a1) * l + a3 * l.powi(3),
-        c2 * l * l,
-        (2.0 * c2 * l).atan2(1.0 + a1 + 3.0 * a3 * l * l),
+        (0..n).map(|i| gx[i]).collect(),
+        (0..n).map(|i| gz[i]).collect(),
+        (0..n).map(|i| (dx * gdz[i] - dz * gdx[i]) / r2).collect(),
     ]
 }
 
-/// Gradient of (Xe, Ze, eta), differentiated by hand.
-fn end_gradient_closed_form(k: &K, l: f64) -> [[f64; 4]; 3] {
-    let [a1, a3, _, c2] = *k;
-    let (x, y) = (1.0 + a1 + 3.0 * a3 * l * l, 2.0 * c2 * l);
-    let r2 = x * x + y * y;
-    // d atan2(y, x) = (x dy - y dx) / r2; dx = (1, 3 L^2, 0, 0), dy = (0, 0, 0, 2 L)
-    [
-        [l, l.powi(3), 0.0, 0.0],
-        [0.0, 0.0, 0.0, l * l],
-        [-y / r2, -3.0 * l * l * y / r2, 0.0, 2.0 * l * x / r2],
-    ]
-}
-
-fn random_end_case(rng: &mut Rng) -> (K, f64) {
+fn random_end_case<M: Fields>(rng: &mut Rng) -> (M::Coeffs, f64) {
     let l = rng.range(1.0, 110.0);
-    let k = [
-        rng.range(-0.05, 0.05),
-        rng.range(-1.0, 1.0) * 0.05 / (l * l),
-        rng.range(-0.05, 0.05),
-        rng.range(-1.0, 1.0) * 0.03 * 13.75 / l,
-    ];
+    let k = rng.within(&M::typical_at(l));
     (k, l)
 }
 
-fn check_end(k: &K, l: f64, label: &str, worst: &mut [f64; 4]) {
-    let v = end_value(k, l);
-    let (vh, g, hu) = end_hessian(k, l);
-    let want = end_closed_form(k, l);
-    let want_g = end_gradient_closed_form(k, l);
-    // typical sizes: a3's scale is the one that moves the end by ~ a1's
-    let typ = [0.05, 0.05 / (l * l), 0.05, 0.03 * 13.75 / l];
+fn check_end<M: Fields>(k: &M::Coeffs, l: f64, label: &str, worst: &mut [f64; 4]) {
+    let n = len::<M>();
+    let v = M::end(k, l);
+    let (vg, gg) = M::end_gradient(k, l);
+    let (vh, g, hu) = M::end_hessian(k, l);
+    let (want, want_frame) = end_closed_form::<M>(k, l);
+    let want_g = end_gradient_closed_form::<M>(k, l);
+    // typical sizes: a step that moves the end as much as the others
+    let typ = M::typical_at(l);
+
+    // the unnormalised end frame [Xe, Ze, X'(L), Z'(L)]
+    let frame = M::frame(k, l);
+    for o in 0..4 {
+        let scale = want_frame[o].abs().max(if o < 2 { l } else { 1.0 });
+        let err = (frame[o] - want_frame[o]).abs() / scale;
+        worst[0] = worst[0].max(err);
+        assert!(
+            err <= 1e-14,
+            "{label}: frame[{o}] kernel {:e}, closed form {:e}",
+            frame[o],
+            want_frame[o]
+        );
+    }
     for o in 0..3 {
         let scale = want[o].abs().max(if o == 2 { 1.0 } else { l });
-        let err = (v[o] - want[o]).abs().max((vh[o] - want[o]).abs()) / scale;
+        let err = (v[o] - want[o])
+            .abs()
+            .max((vh[o] - want[o]).abs())
+            .max((vg[o] - want[o]).abs())
+            / scale;
         worst[0] = worst[0].max(err);
         assert!(
             err <= 1e-14,
@@ -844,8 +1390,8 @@ fn check_end(k: &K, l: f64, label: &str, worst: &mut [f64; 4]) {
             want[o]
         );
         // gradient scale: the output's change over typical steps
-        let gscale = (0..4).fold(0.0f64, |s, i| s.max(want_g[o][i].abs() * typ[i]));
-        for i in 0..4 {
+        let gscale = (0..n).fold(0.0f64, |s, i| s.max(want_g[o][i].abs() * typ[i]));
+        for i in 0..n {
             let err = (g[o][i] - want_g[o][i]).abs() * typ[i] / gscale.max(1e-300);
             worst[1] = worst[1].max(err);
             assert!(
@@ -854,7 +1400,16 @@ fn check_end(k: &K, l: f64, label: &str, worst: &mut [f64; 4]) {
                 g[o][i],
                 want_g[o][i]
             );
-            let d = fd(|kk| end_value(kk, l)[o], k, i, FD_STEP * typ[i]);
+            // the gradient-only kernel agrees with the Hessian kernel
+            let err = (gg[o][i] - g[o][i]).abs() * typ[i] / gscale.max(1e-300);
+            worst[1] = worst[1].max(err);
+            assert!(
+                err <= 1e-14,
+                "{label}: d end[{o}]/dK[{i}] end_gradient {:e}, end_hessian {:e}",
+                gg[o][i],
+                g[o][i]
+            );
+            let d = fd(|kk| M::end(kk, l)[o], k, i, FD_STEP * typ[i]);
             let err = (d - g[o][i]).abs() * typ[i] / gscale.max(1e-300);
             worst[2] = worst[2].max(err);
             assert!(
@@ -863,10 +1418,15 @@ fn check_end(k: &K, l: f64, label: &str, worst: &mut [f64; 4]) {
                 g[o][i]
             );
         }
-        let h = full(&hu[o]);
-        for j in 0..4 {
-            let col = fd(|kk| end_hessian(kk, l).1[o], k, j, FD_STEP * typ[j]);
-            for i in 0..4 {
+        let h = full(n, hu[o].as_ref());
+        for j in 0..n {
+            let col = fd_vec(
+                |kk| M::end_hessian(kk, l).1[o].as_ref().to_vec(),
+                k,
+                j,
+                FD_STEP * typ[j],
+            );
+            for i in 0..n {
                 let err = (col[i] - h[i][j]).abs() * typ[i] * typ[j] / scale;
                 worst[3] = worst[3].max(err);
                 assert!(
@@ -880,27 +1440,42 @@ fn check_end(k: &K, l: f64, label: &str, worst: &mut [f64; 4]) {
     }
 }
 
-#[test]
-fn end_kinematics_match_closed_forms_and_finite_differences() {
+fn end_kinematics<M: Fields>() {
     let mut rng = Rng::new(5);
     let mut worst = [0.0f64; 4];
     for case in 0..200 {
-        let (k, l) = random_end_case(&mut rng);
-        check_end(&k, l, &format!("case {case} L={l} K={k:?}"), &mut worst);
+        let (k, l) = random_end_case::<M>(&mut rng);
+        check_end::<M>(
+            &k,
+            l,
+            &format!("{} case {case} L={l} K={k:?}", M::NAME),
+            &mut worst,
+        );
 
         // eta is the direction of the mid-plane's tangent at x = L
-        let [a1, a3, _, c2] = k;
-        let shape = |x: f64| ((1.0 + a1) * x + a3 * x.powi(3), c2 * x * x);
         let hh = 1e-4 * l;
-        let (p, q) = (shape(l + hh), shape(l - hh));
-        let eta_fd = (p.1 - q.1).atan2(p.0 - q.0);
-        let err = (end_value(&k, l)[2] - eta_fd).abs();
-        assert!(err <= 1e-9, "case {case}: eta vs mid-plane tangent {err:e}");
+        let (p, q) = (M::shape(&k, l + hh), M::shape(&k, l - hh));
+        let eta_fd = (p[1][0] - q[1][0]).atan2(p[0][0] - q[0][0]);
+        let err = (M::end(&k, l)[2] - eta_fd).abs();
+        assert!(
+            err <= 1e-9,
+            "{} case {case}: eta vs mid-plane tangent {err:e}",
+            M::NAME
+        );
     }
     eprintln!(
-        "end: worst value {:e}, gradient vs closed form {:e}, vs FD {:e}, Hessian vs FD {:e}",
-        worst[0], worst[1], worst[2], worst[3]
+        "{} end: worst value {:e}, gradient vs closed form {:e}, vs FD {:e}, Hessian vs FD {:e}",
+        M::NAME,
+        worst[0],
+        worst[1],
+        worst[2],
+        worst[3]
     );
+}
+
+#[test]
+fn end_kinematics_match_closed_forms_and_finite_differences() {
+    for_each_model!(end_kinematics);
 }
 
 #[test]
@@ -912,20 +1487,20 @@ fn end_slope_is_right_past_ninety_degrees() {
         let k = [-0.5, -0.3 / (l * l), 0.01, c2];
         let x = 1.0 + k[0] + 3.0 * k[1] * l * l;
         assert!(x < 0.0);
-        let eta = end_value(&k, l)[2];
+        let eta = Ccm::end(&k, l)[2];
         assert!(
             eta > lo && eta < hi,
             "eta = {eta} for c2 = {c2}, should lie in ({lo}, {hi})"
         );
         let want = PI.copysign(c2) - (2.0 * c2 * l / -x).atan();
         assert!((eta - want).abs() <= 1e-14, "eta {eta} vs {want}");
-        check_end(&k, l, &format!("past 90 degrees, c2 = {c2}"), &mut worst);
+        check_end::<Ccm>(&k, l, &format!("past 90 degrees, c2 = {c2}"), &mut worst);
     }
     // exactly 90 degrees: dX/dx = 0 at the end
     let k = [-0.4, -0.6 / (3.0 * l * l), 0.0, 0.01];
-    let eta = end_value(&k, l)[2];
+    let eta = Ccm::end(&k, l)[2];
     assert!((eta - FRAC_PI_2).abs() <= 1e-12, "eta = {eta}");
-    check_end(&k, l, "at 90 degrees", &mut worst);
+    check_end::<Ccm>(&k, l, "at 90 degrees", &mut worst);
     eprintln!(
         "end past 90 degrees: worst value {:e}, gradient {:e}, FD gradient {:e}, FD Hessian {:e}",
         worst[0], worst[1], worst[2], worst[3]
@@ -933,7 +1508,7 @@ fn end_slope_is_right_past_ninety_degrees() {
 }
 
 // ---------------------------------------------------------------------------
-// 4. Element energy from the laminate description of docs/model.md section 3.
+// 6. Element energy from the laminate description of docs/model.md section 3.
 
 /// The default finger, from docs/model.md's numbers (not from the library).
 mod paper {
@@ -995,8 +1570,9 @@ mod paper {
 
 /// (Psi, V) of the element [start, start + len] at K, integrating the
 /// laminate cross-section by cross-section over pieces of constant section.
-fn laminate_energy(start: f64, len: f64, eps0: f64, k: &K) -> (Quad, Quad) {
+fn laminate_energy<M: Fields>(start: f64, len: f64, eps0: f64, k: &M::Coeffs) -> (Quad, Quad) {
     use paper::*;
+    let n = self::len::<M>();
     let (cl, emc, fl) = (iso(305.0, 0.43), ortho(1.5, 250.0, 0.0), iso(1.2, 0.48));
     let lin = |q: (f64, f64, f64)| Density::Linear {
         q11: q.0,
@@ -1013,7 +1589,7 @@ fn laminate_energy(start: f64, len: f64, eps0: f64, k: &K) -> (Quad, Quad) {
     cuts.extend(breakpoints().into_iter().filter(|&b| b > start && b < end));
     cuts.sort_by(f64::total_cmp);
 
-    let (mut psi_total, mut vol) = (Quad::zero(), Quad::zero());
+    let (mut psi_total, mut vol) = (Quad::zero(n), Quad::zero(n));
     for w in cuts.windows(2) {
         let (a, b) = (w[0] - start, w[1] - start);
         let mid = 0.5 * (w[0] + w[1]);
@@ -1022,7 +1598,7 @@ fn laminate_energy(start: f64, len: f64, eps0: f64, k: &K) -> (Quad, Quad) {
         let fl_mid_width = if in_channel { LY - CY + ribs } else { LY };
         let gas_width = if in_channel { CY - ribs } else { 0.0 };
         let piece = |z0: f64, z1: f64, width: f64, d: Density| {
-            quad(
+            quad::<M>(
                 &d,
                 &Bx {
                     x0: a,
@@ -1065,18 +1641,49 @@ fn against_magnitude(name: &str, got: f64, want: (f64, f64), tol: f64, worst: &m
     );
 }
 
-fn paper_elements(eps0: f64) -> Vec<Element> {
+/// The paper's finger at prestrain `eps0`, N equal elements, ribs on, with model `M`.
+fn paper_finger<M: ElementModel>(eps0: f64) -> Finger {
     let act = Actuator::paper(eps0).expect("paper actuator");
     let part = Partition::equal(act.geometry().lx, N).expect("partition");
-    element_blocks(&act, &part, true)
-        .iter()
-        .map(Element::from_blocks)
-        .collect()
+    let f = Finger::with_model(model_id::<M>(), &act, &part, true);
+    assert_eq!(f.model(), model_id::<M>());
+    assert_eq!(f.unknowns_per_element(), len::<M>());
+    f
 }
 
-#[test]
-fn element_energy_matches_laminate_quadrature() {
+/// A load whose runtime scalar is `kp` exactly (kappa = 1).
+fn load_kp(kp: f64) -> Load {
+    Load {
+        pressure: kp,
+        kappa: 1.0,
+        fx: 0.0,
+        fz: 0.0,
+    }
+}
+
+/// One element's family alone (value, gradient, upper Hessian) through the finger.
+fn element_family(f: &Finger, i: usize, kind: usize, k: &[f64]) -> (f64, Vec<f64>, Vec<f64>) {
+    let pos = f.model().visit(FamilyPosition(KIND_NAMES[kind]));
+    f.element_hessian(i, Some(pos), &Load::unloaded(), k)
+        .expect("element and family in range")
+}
+
+/// The position of a family in a model's `FAMILIES`, for a run-time model.
+struct FamilyPosition(&'static str);
+
+impl fpc::ModelVisitor for FamilyPosition {
+    type Output = usize;
+    fn visit<M: ElementModel>(self) -> usize {
+        M::FAMILIES
+            .iter()
+            .position(|f| *f == self.0)
+            .unwrap_or_else(|| panic!("{} has no family {}", M::NAME, self.0))
+    }
+}
+
+fn laminate_check<M: Fields>() {
     let mut rng = Rng::new(6);
+    let n = len::<M>();
     let len = paper::LX / N as f64;
     #[derive(Default)]
     struct Worst {
@@ -1085,71 +1692,78 @@ fn element_energy_matches_laminate_quadrature() {
         pi: f64,
         g: f64,
         h: f64,
+        variants: f64,
     }
     let mut worst = Worst::default();
     // Actuator::paper(0.25) is the default actuator; the other two are the
     // paper's other samples
     for eps0 in [0.25, 0.15, 0.4] {
-        for (i, el) in paper_elements(eps0).iter().enumerate() {
-            assert_eq!(el.length(), len);
-            for case in 0..8 {
-                let k = if case == 0 {
-                    [0.0; 4]
-                } else {
-                    [
-                        rng.range(-0.05, 0.05),
-                        rng.range(-1.0, 1.0) * 0.05 / (len * len),
-                        rng.range(-0.05, 0.05),
-                        rng.range(-0.03, 0.03),
-                    ]
-                };
-                // kappa P from 0 to 2.5 * 400 kPa
-                let kp = if case % 2 == 0 {
-                    0.0
-                } else {
-                    rng.range(0.0, 1.0)
-                };
-                let (psi, gas) = laminate_energy(i as f64 * len, len, eps0, &k);
+        let finger = paper_finger::<M>(eps0);
+        for (i, &l) in finger.element_lengths().iter().enumerate() {
+            assert_eq!(l, len, "element {i}");
+        }
+        for case in 0..8 {
+            // every element its own state (the straight finger first)
+            let ks: Vec<M::Coeffs> = (0..N)
+                .map(|_| {
+                    if case == 0 {
+                        M::Coeffs::zero()
+                    } else {
+                        rng.within(&M::typical_at(len))
+                    }
+                })
+                .collect();
+            // kappa P from 0 to 2.5 * 400 kPa
+            let kp = if case % 2 == 0 {
+                0.0
+            } else {
+                rng.range(0.0, 1.0)
+            };
+            let load = load_kp(kp);
+            let flat: Vec<f64> = ks.iter().flat_map(|k| k.as_ref().to_vec()).collect();
+            let coefficients = Coefficients::new(n, flat).expect("coefficients");
+            let (mut sum_pi, mut sum_mag) = (0.0, 0.0);
+            let mut grads = Vec::new();
+            for (i, k) in ks.iter().enumerate() {
+                let (psi, gas) = laminate_energy::<M>(i as f64 * len, len, eps0, k);
                 let (psi_want, v_want) = (psi.v, gas.v);
-                let mut pi_want = Quad::zero();
+                let mut pi_want = Quad::zero(n);
                 pi_want.add(&psi);
                 pi_want.add_scaled(-kp, &gas);
-                let label = format!("eps0 {eps0} element {i} K={k:?} kp={kp}");
+                let label = format!("{} eps0 {eps0} element {i} K={k:?} kp={kp}", M::NAME);
+                let kr = k.as_ref();
 
-                let rel = (el.strain_energy(&k) - psi_want).abs() / psi_want.abs();
+                let psi_got =
+                    element_family(&finger, i, 0, kr).0 + element_family(&finger, i, 1, kr).0;
+                let rel = (psi_got - psi_want).abs() / psi_want.abs();
                 worst.psi = worst.psi.max(rel);
                 assert!(
                     rel <= 1e-11,
-                    "{label}: Psi {} vs {psi_want} ({rel:e})",
-                    el.strain_energy(&k)
+                    "{label}: Psi {psi_got} vs {psi_want} ({rel:e})"
                 );
 
+                let v_got = element_family(&finger, i, 2, kr).0;
                 if v_want == 0.0 {
-                    assert_eq!(el.gas_volume(&k), 0.0, "{label}: element without channel");
+                    assert_eq!(v_got, 0.0, "{label}: element without channel");
                 } else {
-                    let rel = (el.gas_volume(&k) - v_want).abs() / v_want.abs();
+                    let rel = (v_got - v_want).abs() / v_want.abs();
                     worst.v = worst.v.max(rel);
-                    assert!(
-                        rel <= 1e-11,
-                        "{label}: V {} vs {v_want} ({rel:e})",
-                        el.gas_volume(&k)
-                    );
+                    assert!(rel <= 1e-11, "{label}: V {v_got} vs {v_want} ({rel:e})");
                 }
 
-                let pi = el.energy(&k, kp);
+                let (pi, g, hu) = finger
+                    .element_hessian(i, None, &load, kr)
+                    .expect("element in range");
                 let rel = (pi - pi_want.v).abs() / pi_want.mag;
                 worst.pi = worst.pi.max(rel);
                 assert!(rel <= 1e-11, "{label}: Pi {pi} vs {} ({rel:e})", pi_want.v);
+                sum_pi += pi;
+                sum_mag += pi_want.mag;
 
                 // gradient and Hessian, each entry against the integral of
                 // its density's absolute terms
-                let (vg, g) = el.gradient(&k, kp);
-                let (vh, gh, hu) = el.hessian(&k, kp);
-                assert!((vg - pi).abs() <= 1e-14 * pi_want.mag, "{label}");
-                assert!((vh - pi).abs() <= 1e-14 * pi_want.mag, "{label}");
-                let h = full(&hu);
-                for r in 0..4 {
-                    assert!((gh[r] - g[r]).abs() <= 1e-14 * pi_want.gmag[r], "{label}");
+                let h = full(n, &hu);
+                for r in 0..n {
                     let name = format!("{label}: gradient[{r}]");
                     let want = (pi_want.g[r], pi_want.gmag[r]);
                     against_magnitude(&name, g[r], want, 1e-11, &mut worst.g);
@@ -1159,34 +1773,84 @@ fn element_energy_matches_laminate_quadrature() {
                         against_magnitude(&name, hrc, want, 1e-11, &mut worst.h);
                     }
                 }
+                grads.push((g, pi_want.gmag.clone(), label));
+            }
+            // the finger's value kernels (energy) and gradient kernels
+            // (gradient) agree with the elements' Hessian kernels
+            let label = format!("{} eps0 {eps0} case {case} kp={kp}", M::NAME);
+            let total = finger.energy(&load, &coefficients).expect("valid");
+            let err = (total - sum_pi).abs() / sum_mag;
+            worst.variants = worst.variants.max(err);
+            assert!(err <= 1e-14, "{label}: finger energy {total} vs {sum_pi}");
+            let (total_g, g_all) = finger.gradient(&load, &coefficients).expect("valid");
+            let err = (total_g - sum_pi).abs() / sum_mag;
+            worst.variants = worst.variants.max(err);
+            assert!(
+                err <= 1e-14,
+                "{label}: finger gradient's value {total_g} vs {sum_pi}"
+            );
+            for (i, (g, gmag, label)) in grads.iter().enumerate() {
+                for r in 0..n {
+                    let got = g_all[n * i + r];
+                    let err = (got - g[r]).abs() / gmag[r].max(f64::MIN_POSITIVE);
+                    worst.variants = worst.variants.max(err);
+                    assert!(
+                        (got - g[r]).abs() <= 1e-14 * gmag[r],
+                        "{label}: finger gradient[{r}] {got:e} vs element {:e}",
+                        g[r]
+                    );
+                }
             }
         }
     }
     eprintln!(
-        "element vs laminate quadrature: worst relative Psi {:e}, V {:e}; of the term magnitude: Pi {:e}, gradient {:e}, Hessian {:e}",
-        worst.psi, worst.v, worst.pi, worst.g, worst.h
+        "{} element vs laminate quadrature: worst relative Psi {:e}, V {:e}; of the term magnitude: Pi {:e}, gradient {:e}, Hessian {:e}; finger energy/gradient vs element kernels {:e}",
+        M::NAME, worst.psi, worst.v, worst.pi, worst.g, worst.h, worst.variants
     );
 }
 
-// ---------------------------------------------------------------------------
-// 5. Physical sanity at K = 0.
-
 #[test]
-fn unstressed_finger_has_zero_energy_and_gradient_and_is_stable() {
-    for el in paper_elements(0.0) {
-        let k = [0.0; 4];
-        let (v, g, hu) = el.hessian(&k, 0.0);
-        assert_eq!(el.strain_energy(&k), 0.0);
-        assert_eq!(v, 0.0);
-        assert_eq!(g, [0.0; 4]);
+fn element_energy_matches_laminate_quadrature() {
+    for_each_model!(laminate_check);
+}
+
+// ---------------------------------------------------------------------------
+// 7. Physical sanity at K = 0.
+
+fn unstressed<M: ElementModel>() {
+    let n = len::<M>();
+    let f = paper_finger::<M>(0.0);
+    let straight = f.straight();
+    // the whole finger: no energy, no force
+    assert_eq!(f.energy(&Load::unloaded(), &straight).unwrap(), 0.0);
+    let (v, g) = f.gradient(&Load::unloaded(), &straight).unwrap();
+    assert_eq!(v, 0.0);
+    assert!(g.iter().all(|&gi| gi == 0.0), "{g:?}");
+    for i in 0..f.len() {
+        let k = straight.element(i);
+        let (v, g, hu) = f
+            .element_hessian(i, None, &Load::unloaded(), k)
+            .expect("element in range");
+        let psi = element_family(&f, i, 0, k).0 + element_family(&f, i, 1, k).0;
+        assert_eq!(psi, 0.0, "{} element {i}", M::NAME);
+        assert_eq!(v, 0.0, "{} element {i}", M::NAME);
+        assert!(
+            g.iter().all(|&gi| gi == 0.0),
+            "{} element {i}: {g:?}",
+            M::NAME
+        );
         // positive definite Hessian (Cholesky)
-        let h = full(&hu);
-        let mut l = [[0.0f64; 4]; 4];
-        for i in 0..4 {
+        let h = full(n, &hu);
+        let mut l = vec![vec![0.0f64; n]; n];
+        for i in 0..n {
             for j in 0..=i {
                 let s: f64 = h[i][j] - (0..j).map(|m| l[i][m] * l[j][m]).sum::<f64>();
                 if i == j {
-                    assert!(s > 0.0, "Hessian at rest not positive definite: {h:?}");
+                    assert!(
+                        s > 0.0,
+                        "{}: Hessian at rest not positive definite: {h:?}",
+                        M::NAME
+                    );
                     l[i][i] = s.sqrt();
                 } else {
                     l[i][j] = s / l[j][j];
@@ -1197,7 +1861,12 @@ fn unstressed_finger_has_zero_energy_and_gradient_and_is_stable() {
 }
 
 #[test]
-fn prestrain_gradient_at_rest_matches_closed_form() {
+fn unstressed_finger_has_zero_energy_and_gradient_and_is_stable() {
+    for_each_model!(unstressed);
+}
+
+#[test]
+fn ccm_prestrain_gradient_at_rest_matches_closed_form() {
     use paper::*;
     let len = LX / N as f64;
     let (z0, z1) = (-H / 2.0, -H3);
@@ -1214,56 +1883,99 @@ fn prestrain_gradient_at_rest_matches_closed_form() {
             0.0,
             stress * LY * len * (z0 * z0 - z1 * z1),
         ];
-        for (i, el) in paper_elements(eps0).iter().enumerate() {
-            let (_, g) = el.gradient(&[0.0; 4], 0.0);
-            // stretched prestressed layer: shortening (a1 < 0) and curling
-            // towards -Z (c2 < 0) both lower the energy
-            assert!(g[0] > 0.0 && g[3] > 0.0, "element {i}: {g:?}");
-            for j in 0..4 {
-                let err = (g[j] - want[j]).abs() / want[0].abs().max(want[j].abs());
-                worst = worst.max(err);
-                assert!(
-                    err <= 1e-13,
-                    "eps0 {eps0} element {i}: dPsi/dK[{j}] = {}, closed form {}",
-                    g[j],
-                    want[j]
-                );
+        let f = paper_finger::<Ccm>(eps0);
+        let straight = f.straight();
+        // the gradient kernels (through the finger) and the Hessian kernels
+        let (_, g_all) = f.gradient(&Load::unloaded(), &straight).unwrap();
+        for i in 0..f.len() {
+            let (_, gh, _) = f
+                .element_hessian(i, None, &Load::unloaded(), straight.element(i))
+                .unwrap();
+            for (what, g) in [("gradient", &g_all[4 * i..4 * i + 4]), ("Hessian", &gh[..])] {
+                // stretched prestressed layer: shortening (a1 < 0) and curling
+                // towards -Z (c2 < 0) both lower the energy
+                assert!(g[0] > 0.0 && g[3] > 0.0, "element {i}: {g:?}");
+                for j in 0..4 {
+                    let err = (g[j] - want[j]).abs() / want[0].abs().max(want[j].abs());
+                    worst = worst.max(err);
+                    assert!(
+                        err <= 1e-13,
+                        "eps0 {eps0} element {i} ({what} kernel): dPsi/dK[{j}] = {}, closed form {}",
+                        g[j],
+                        want[j]
+                    );
+                }
             }
         }
     }
     eprintln!("prestrain gradient at rest: worst relative error {worst:e}");
 }
 
-#[test]
-fn gas_volume_at_rest_is_channel_minus_ribs() {
+/// Gas volume of each element at rest, channel minus ribs (mm^3), and the
+/// channel-minus-ribs area in (x, y) of each element (mm^2).
+fn gas_at_rest_by_hand() -> Vec<(f64, f64)> {
     use paper::*;
     let len = LX / N as f64;
     let height = H3A + H3B;
-    let elements = paper_elements(0.25);
+    (0..N)
+        .map(|i| {
+            let (s, e) = (i as f64 * len, (i + 1) as f64 * len);
+            let overlap = |a: f64, b: f64| (b.min(e) - a.max(s)).max(0.0);
+            let mut area = CY * overlap(0.0, CX) - T * overlap(0.0, CX);
+            let mut k = 1.0;
+            while k * W1 + T / 2.0 <= CX {
+                area -= 2.0 * W2 * overlap(k * W1 - T / 2.0, k * W1 + T / 2.0);
+                k += 1.0;
+            }
+            (area * height, area)
+        })
+        .collect()
+}
+
+fn gas_volume_at_rest<M: ElementModel>() {
+    use paper::*;
+    let height = H3A + H3B;
+    let f = paper_finger::<M>(0.25);
+    let zero = M::Coeffs::zero();
     let mut total = 0.0;
     let mut worst = 0.0f64;
-    for (i, el) in elements.iter().enumerate() {
-        let (s, e) = (i as f64 * len, (i + 1) as f64 * len);
-        let overlap = |a: f64, b: f64| (b.min(e) - a.max(s)).max(0.0);
-        let mut area = CY * overlap(0.0, CX) - T * overlap(0.0, CX);
-        let mut k = 1.0;
-        while k * W1 + T / 2.0 <= CX {
-            area -= 2.0 * W2 * overlap(k * W1 - T / 2.0, k * W1 + T / 2.0);
-            k += 1.0;
-        }
-        let want = area * height;
-        let got = el.gas_volume(&[0.0; 4]);
+    for (i, (want, _)) in gas_at_rest_by_hand().into_iter().enumerate() {
+        let got = element_family(&f, i, 2, zero.as_ref()).0;
         let err = (got - want).abs() / want.abs().max(1.0);
         worst = worst.max(err);
         assert!(
             err <= 1e-13,
-            "element {i}: V = {got}, channel minus ribs {want}"
+            "{} element {i}: V = {got}, channel minus ribs {want}",
+            M::NAME
         );
         total += got;
+    }
+    // 2 mm x (26 x 105 - 2 x 105 - 13 x 12 x 2) mm^2
+    let all = height * (CY * CX - T * CX - 13.0 * 2.0 * W2 * T);
+    assert!(
+        (total - all).abs() <= 1e-12 * all,
+        "{}: total {total} vs {all}",
+        M::NAME
+    );
+    eprintln!(
+        "{} gas volume at rest: worst relative error {worst:e}, total {total} mm^3",
+        M::NAME
+    );
+}
 
+#[test]
+fn gas_volume_at_rest_is_channel_minus_ribs() {
+    for_each_model!(gas_volume_at_rest);
+}
+
+#[test]
+fn ccm_gas_volume_gradient_at_rest_matches_closed_form() {
+    use paper::*;
+    let f = paper_finger::<Ccm>(0.25);
+    for (i, (want, area)) in gas_at_rest_by_hand().into_iter().enumerate() {
         // pressure flattens: dV/dc2 = (gas width * length) (z0^2 - z1^2) > 0
         // over z in [-h3b, h3a], and dV/da1 = V at rest
-        let (_, g, _) = el.gas_hessian(&[0.0; 4]);
+        let (_, g, _) = element_family(&f, i, 2, &[0.0; 4]);
         let want_c2 = area * (H3B * H3B - H3A * H3A);
         assert!(
             (g[0] - want).abs() <= 1e-12 * want.abs().max(1.0),
@@ -1277,8 +1989,4 @@ fn gas_volume_at_rest_is_channel_minus_ribs() {
             assert!(g[3] > 0.0);
         }
     }
-    // 2 mm x (26 x 105 - 2 x 105 - 13 x 12 x 2) mm^2
-    let all = height * (CY * CX - T * CX - 13.0 * 2.0 * W2 * T);
-    assert!((total - all).abs() <= 1e-12 * all, "total {total} vs {all}");
-    eprintln!("gas volume at rest: worst relative error {worst:e}, total {total} mm^3");
 }
