@@ -15,7 +15,7 @@ use std::fmt::{Debug, Display};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use fpc::{
-    design_space, solve_to_tip_tolerance, study7_curvature, Actuator, ActuatorParams, Coeffs,
+    design_space, solve_to_tip_tolerance, study7_curvature, Actuator, ActuatorParams, Coefficients,
     Finger, Gripper, GripperParams, InputError, Load, PalmSpec, Partition, Prestressed, PsiLaw,
     Solution, SolveError, SolveOptions, Solver, Strategy, StudyOptions, TargetProblem, Termination,
     Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
@@ -96,7 +96,7 @@ struct Failure {
     iterations: usize,
     relative_residual: f64,
     element: Option<usize>,
-    last: Vec<Coeffs>,
+    last: Coefficients,
     message: String,
 }
 
@@ -143,9 +143,13 @@ fn failed<T: Debug>(what: &str, n: usize, r: Result<T, SolveError>) -> Failure {
             "{what}: {message}"
         );
     }
-    assert_eq!(last.len(), n, "{what}: one coefficient set per element");
+    assert_eq!(
+        last.elements(),
+        n,
+        "{what}: one coefficient set per element"
+    );
     assert!(
-        last.iter().flatten().all(|v| v.is_finite()),
+        last.as_slice().iter().all(|v| v.is_finite()),
         "{what}: non-finite last iterate {last:?}"
     );
     Failure {
@@ -186,6 +190,15 @@ fn loads_must_be_finite_and_kappa_positive() {
             "load.pressure",
             f64::NEG_INFINITY,
             "must be finite",
+        ),
+        (
+            Load {
+                pressure: -0.2,
+                ..d
+            },
+            "load.pressure",
+            -0.2,
+            "is below absolute vacuum (-101.325 kPa gauge)",
         ),
         (
             Load { kappa: 0.0, ..d },
@@ -270,7 +283,7 @@ fn solve_options_are_checked() {
             },
             "solve.samples_per_element",
             0.0,
-            "must be at least 1 when the shape is sampled",
+            "must lie in [1, 4096] when the shape is sampled",
         ),
         (
             SolveOptions { max_step: 0.0, ..d },
@@ -322,8 +335,8 @@ fn solve_options_are_checked() {
 fn guesses_must_be_finite() {
     let f = Finger::paper(0.25, 4).unwrap();
     let opts = SolveOptions::default();
-    let mut guess = vec![[0.0; 4]; 4];
-    guess[2][3] = f64::NEG_INFINITY;
+    let mut guess = Coefficients::zeros(4, 4);
+    guess.as_mut_slice()[4 * 2 + 3] = f64::NEG_INFINITY;
     for load in [Load::unloaded(), tip(0.5, 0.2)] {
         // the error shows the offending value
         names(
@@ -334,10 +347,10 @@ fn guesses_must_be_finite() {
         );
     }
     names(
-        &input(f.solve_from(&Load::unloaded(), &[[0.0; 4]; 3], &opts)),
+        &input(f.solve_from(&Load::unloaded(), &Coefficients::zeros(3, 4), &opts)),
         "guess",
         3.0,
-        "must hold one coefficient set per element (4)",
+        "must hold one set of 4 coefficients per element (4); it holds 3 of 4",
     );
 }
 
@@ -406,7 +419,7 @@ fn target_problems_are_checked() {
         .unwrap();
     assert!((sol.tip[0] - good.target).abs() < 1e-6 && lambda.is_finite());
 
-    let run = |p: &TargetProblem, k: &[Coeffs], lambda0: f64, ctol: f64, o: &SolveOptions| {
+    let run = |p: &TargetProblem, k: &Coefficients, lambda0: f64, ctol: f64, o: &SolveOptions| {
         input(Solver::new(&f).solve_target(p, k, lambda0, ctol, o))
     };
     let zero_rule = "the load direction and the target weights must not be zero";
@@ -518,13 +531,19 @@ fn target_problems_are_checked() {
 
     // the guess: one finite coefficient set per element
     names(
-        &run(&good, &k[..3], 0.0, 1e-9, &opts),
+        &run(
+            &good,
+            &Coefficients::new(4, k.as_slice()[..12].to_vec()).unwrap(),
+            0.0,
+            1e-9,
+            &opts,
+        ),
         "guess",
         3.0,
-        "must hold one coefficient set per element (4)",
+        "must hold one set of 4 coefficients per element (4); it holds 3 of 4",
     );
     let mut nan = k.clone();
-    nan[1][0] = f64::NAN;
+    nan.as_mut_slice()[4] = f64::NAN;
     names(
         &run(&good, &nan, 0.0, 1e-9, &opts),
         "guess",
@@ -631,8 +650,9 @@ fn a_mounting_angle_outside_the_design_space_is_a_warning() {
         let g = Gripper::new(f.clone(), params(a)).unwrap();
         assert!(g.warnings().is_empty(), "{a}: {:?}", g.warnings());
     }
-    // outside it on either side: accepted, with one warning
-    for a in [lo - 0.1, -0.3, hi + 0.1, 2.0] {
+    // outside it on either side, but pointing away from the palm: accepted,
+    // with one warning
+    for a in [lo - 0.1, 0.2, hi + 0.1, 2.0] {
         let g = Gripper::new(f.clone(), params(a)).unwrap_or_else(|e| panic!("{a}: {e}"));
         assert_eq!(
             g.warnings(),
@@ -646,6 +666,17 @@ fn a_mounting_angle_outside_the_design_space_is_a_warning() {
         );
         assert!(msg.contains("outside the design space"), "{msg}");
         assert!(msg.contains(&format!("[{lo}, {hi}]")), "{msg}");
+    }
+    // outside (0, pi) the finger points into the palm: an input error that
+    // names the mounting angle (not the overlap that would follow from it)
+    for a in [0.0, -0.3, std::f64::consts::PI, 4.0 * std::f64::consts::PI] {
+        match Gripper::new(f.clone(), params(a)) {
+            Err(SolveError::Input(e)) => {
+                assert_eq!(e.field(), "gripper.mounting_angle", "{a}: {e}");
+                assert!(e.to_string().contains("(0, 180) degrees"), "{e}");
+            }
+            other => panic!("{a}: {other:?}"),
+        }
     }
 }
 
@@ -889,7 +920,7 @@ fn stalled_solves_are_failures() {
 #[test]
 fn a_guess_where_the_energy_overflows_fails_as_non_finite() {
     let f = Finger::paper(0.25, 8).unwrap();
-    let guess = vec![[1e200; 4]; 8];
+    let guess = Coefficients::new(4, vec![1e200; 32]).unwrap();
     for (what, load) in [("decoupled", Load::unloaded()), ("coupled", tip(0.5, 0.0))] {
         let opts = SolveOptions {
             continuation: false,
@@ -914,7 +945,7 @@ fn a_guess_where_the_energy_overflows_fails_as_non_finite() {
         8,
         f.solve_from(
             &Load::unloaded(),
-            &vec![[1e3; 4]; 8],
+            &Coefficients::new(4, vec![1e3; 32]).unwrap(),
             &SolveOptions::default(),
         ),
     );
@@ -1024,13 +1055,34 @@ fn target_solves_fail_with_the_bordered_solver_s_reason() {
 }
 
 #[test]
-fn an_unreachable_grasp_fails_with_the_last_iterate() {
+fn an_unreachable_grasp_is_a_typed_error_naming_the_target() {
     let g = Gripper::paper(0.25, 8, GripperParams::default()).unwrap();
-    for d in [1e4, -1e4] {
-        let what = format!("grasping size {d} mm");
-        let r = no_panic(&what, || g.grasp_load_for_size(0.0, d, 0.0, None));
-        let r = failed(&what, 8, r);
-        assert!(r.relative_residual.is_finite(), "{what}: {}", r.message);
+    // wider than the flat fingers: rejected before any solve
+    match no_panic("1e4 mm", || g.grasp_load_for_size(0.0, 1e4, 0.0, None)) {
+        Err(SolveError::Input(e)) => {
+            assert_eq!(e.field(), "grasp.size");
+            assert!(e.to_string().contains("exceeds d_max"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // closed far past the fingers' reach: the path stops short of the target
+    match no_panic("-1e4 mm", || g.grasp_load_for_size(0.0, -1e4, 0.0, None)) {
+        Err(e @ SolveError::TargetNotReached { .. }) => {
+            let msg = one_line(&e);
+            let SolveError::TargetNotReached {
+                target,
+                value,
+                reached,
+                ..
+            } = e
+            else {
+                unreachable!()
+            };
+            assert_eq!((target.as_str(), value), ("grasp.size", -1e4));
+            assert!((0.0..1.0).contains(&reached), "{reached}");
+            assert!(msg.starts_with("grasp.size = -10000: not reached"), "{msg}");
+        }
+        other => panic!("{other:?}"),
     }
 }
 
@@ -1041,7 +1093,7 @@ fn extreme_loads_that_do_solve_give_finite_solutions() {
         ("fz = -1e3 N", tip(0.0, -1e3)),
         ("fx = -1e3 N", tip(-1e3, 0.0)),
         ("fz = 50 N", tip(0.0, 50.0)),
-        ("-1e4 kPa", Load::unloaded().with_pressure_kpa(-1e4)),
+        ("-100 kPa", Load::unloaded().with_pressure_kpa(-100.0)),
     ] {
         let s = no_panic(what, || f.solve(&load, &SolveOptions::default()))
             .unwrap_or_else(|e| panic!("{what}: {e}"));
@@ -1053,13 +1105,13 @@ fn extreme_loads_that_do_solve_give_finite_solutions() {
 
 /// A sweep that fails part-way keeps every point computed before the
 /// failure and records where and why it stopped. A prestressed law with a
-/// strong quintic term (p3 = 20 MPa instead of 0.698) makes the energy
+/// strong quintic term (p4 = 20 MPa instead of 0.698) makes the energy
 /// unbounded below at moderate stretch, so the pressure sweep of study 7
 /// fails at a pressure that depends on eps0.
 #[test]
 fn a_failed_sweep_keeps_the_points_already_computed() {
     let mut law = PsiLaw::default();
-    law.p[3] = 20.0;
+    law.p4 = 20.0;
     let act = Actuator::new(ActuatorParams {
         pemc: Prestressed {
             law,

@@ -24,6 +24,7 @@
 //! the same cases. Each test prints its worst error (`--nocapture`).
 
 use fpc::model::ccm::Ccm;
+use fpc::model::quad::Quad as QuadModel;
 use fpc::model::{
     upper_index, EnergyScalars, GasParams, LinearParams, PrestressedParams, PsiParams, Vector,
 };
@@ -39,6 +40,7 @@ use std::sync::OnceLock;
 macro_rules! for_each_model {
     ($check:ident $(, $arg:expr)*) => {{
         $check::<Ccm>($($arg),*);
+        $check::<QuadModel>($($arg),*);
     }};
 }
 
@@ -279,6 +281,75 @@ impl Fields for Ccm {
             [0.0, 0.0, 0.0, x * x],
             [1.0, 3.0 * x * x, 0.0, 0.0],
             [0.0, 0.0, 0.0, 2.0 * x],
+        ]
+    }
+}
+
+/// The richer membrane: u = a1 x + a2 x^2 + a3 x^3, v = b1 y, w = c2 x^2,
+/// eps_x = a1 + 2 a2 x + (3 a3 + 2 c2^2) x^2 - 2 z c2, eps_y = b1
+/// (unknowns a1, a2, a3, b1, c2).
+impl Fields for QuadModel {
+    fn typical() -> [f64; 5] {
+        [0.05, 1e-3, 2e-5, 0.05, 0.03]
+    }
+
+    fn typical_at(l: f64) -> [f64; 5] {
+        [0.05, 0.05 / l, 0.05 / (l * l), 0.05, 0.03 * 13.75 / l]
+    }
+
+    fn eps_x(k: &[f64; 5], x: f64, z: f64) -> (f64, [f64; 5]) {
+        let [a1, a2, a3, _, c2] = *k;
+        (
+            a1 + 2.0 * a2 * x + (3.0 * a3 + 2.0 * c2 * c2) * x * x - 2.0 * z * c2,
+            [1.0, 2.0 * x, 3.0 * x * x, 0.0, 4.0 * c2 * x * x - 2.0 * z],
+        )
+    }
+
+    fn eps_x_gradient_magnitude(k: &[f64; 5], x: f64, z: f64) -> [f64; 5] {
+        [
+            1.0,
+            2.0 * x.abs(),
+            3.0 * x * x,
+            0.0,
+            4.0 * k[4].abs() * x * x + 2.0 * z.abs(),
+        ]
+    }
+
+    fn eps_x_hessian(_: &[f64; 5], x: f64, _: f64, i: usize, j: usize) -> (f64, f64) {
+        // d^2 eps_x / d c2^2 = 4 x^2, nothing else
+        if i == 4 && j == 4 {
+            (4.0 * x * x, 4.0 * x * x)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    fn eps_y(k: &[f64; 5], _: f64, _: f64) -> (f64, [f64; 5], [f64; 5]) {
+        (k[3], [0.0, 0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0])
+    }
+
+    fn eps_y_hessian(_: &[f64; 5], _: f64, _: f64, _: usize, _: usize) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+
+    fn shape(k: &[f64; 5], x: f64) -> [[f64; 3]; 2] {
+        let [a1, a2, a3, _, c2] = *k;
+        [
+            [
+                x + a1 * x + a2 * x * x + a3 * x.powi(3),
+                1.0 + a1 + 2.0 * a2 * x + 3.0 * a3 * x * x,
+                2.0 * a2 + 6.0 * a3 * x,
+            ],
+            [c2 * x * x, 2.0 * c2 * x, 2.0 * c2],
+        ]
+    }
+
+    fn shape_gradients(_: &[f64; 5], x: f64) -> [[f64; 5]; 4] {
+        [
+            [x, x * x, x.powi(3), 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, x * x],
+            [1.0, 2.0 * x, 3.0 * x * x, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 2.0 * x],
         ]
     }
 }

@@ -228,7 +228,7 @@ pub struct Coefficients {
 impl Coefficients {
     /// Coefficients from their values, `per_element` per element.
     pub fn new(per_element: usize, values: Vec<f64>) -> Result<Coefficients, InputError> {
-        if per_element == 0 || values.is_empty() || values.len() % per_element != 0 {
+        if per_element == 0 || values.is_empty() || !values.len().is_multiple_of(per_element) {
             return Err(InputError::Inconsistent {
                 field: "coefficients".into(),
                 rule: format!(
@@ -405,7 +405,8 @@ impl ModelVisitor for Build<'_> {
         let mut warnings = self.actuator.warnings().to_vec();
         let pemc = self.actuator.pemc();
         let tangent = M::psi(pemc.eps0, &pemc.law)[2];
-        if !(tangent > 0.0) {
+        // NaN counts as not positive
+        if tangent.is_nan() || tangent <= 0.0 {
             warnings.push(Warning::SofteningPrestressLaw {
                 eps0: pemc.eps0,
                 tangent,
