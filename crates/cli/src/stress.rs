@@ -8,20 +8,25 @@ use fpc::{StressCase, StressConfig, StressReport};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 
-/// Flags of `fpc stress`.
+/// Flags of `fpc stress`. Numeric flags take `allow_hyphen_values` (see
+/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Seed of the case generator.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
     /// Number of cases.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_hyphen_values = true)]
     cases: usize,
     /// Wall-clock budget in seconds; no case starts after it is spent.
-    #[arg(long = "budget-s", default_value_t = 60.0)]
+    #[arg(long = "budget-s", default_value_t = 60.0, allow_hyphen_values = true)]
     budget_s: f64,
     /// Largest element count drawn (from 1, 2, 3, 4, 8, 16, 32, 64, 128).
-    #[arg(long = "max-elements", default_value_t = 128)]
+    #[arg(
+        long = "max-elements",
+        default_value_t = 128,
+        allow_hyphen_values = true
+    )]
     max_elements: usize,
     /// Print one JSON object instead of a table.
     #[arg(long)]

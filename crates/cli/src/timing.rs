@@ -6,14 +6,15 @@ use std::time::{Duration, Instant};
 use fpc::{Coefficients, Finger, Load, Solution, SolveOptions, Solver};
 use serde_json::json;
 
-/// Flags of `fpc timing`.
+/// Flags of `fpc timing`. Numeric flags take `allow_hyphen_values` (see
+/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
     /// Wall-clock budget per case, in milliseconds.
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, allow_hyphen_values = true)]
     budget_ms: u64,
 }
 

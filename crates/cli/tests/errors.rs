@@ -56,7 +56,7 @@ fn a_bad_prestrain_exits_2_naming_eps0() {
         &["finger", "--eps0", "nan"],
         &["fpc: error: actuator.pemc.eps0 = NaN: must be finite"],
     );
-    // (clap reads `--eps0 -inf` as a flag `-i`: `=` keeps it a value)
+    // attached with `=` or separate (tests/numbers.rs), a value either way
     rejected(
         &["finger", "--eps0=-inf"],
         &["actuator.pemc.eps0 = -inf: must be finite"],
