@@ -38,9 +38,9 @@ pub fn csv(study: &AccuracyStudy) -> String {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let study = accuracy_study(&ELEMENTS, &RTOLS, |done, total| {
-        eprint!("\rfpc accuracy: {done}/{total} points");
+        crate::report::progress(&format!("fpc accuracy: {done}/{total} points"));
     })?;
-    eprintln!();
+    crate::report::end_progress();
     std::fs::create_dir_all(&args.out)?;
     crate::output::write_atomic(&args.out, "accuracy.csv", csv(&study).as_bytes())?;
     let svg = crate::output::accuracy_svg(&study);

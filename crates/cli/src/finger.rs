@@ -51,7 +51,7 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let act = Actuator::paper(args.eps0)?;
     for w in act.warnings() {
-        eprintln!("fpc: warning: {w}");
+        crate::report::warning(&w.to_string());
     }
     let load = Load {
         kappa: args.kappa,

@@ -431,7 +431,9 @@ impl Output {
                 (true, table, notes)
             }
             Err(e) => {
-                bar.suspend(|| eprintln!("fpc: study {n} ({}) failed: {e}", STUDIES[n - 1].0));
+                bar.suspend(|| {
+                    crate::report::note(&format!("study {n} ({}) failed: {e}", STUDIES[n - 1].0))
+                });
                 let msg = e.to_string();
                 for (name, header) in csv_files(n) {
                     let mut t = Csv::new(header);

@@ -27,22 +27,16 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let shown = args.scene.display().to_string();
     let text = fs::read_to_string(&args.scene).with_context(|| format!("cannot read {shown}"))?;
-    let file = match SceneFile::parse(&text) {
-        Ok(f) => f,
-        Err(e) => {
-            // a syntax error is rejected input: same form as the other
-            // errors, with the position as file:line:col
-            eprintln!("fpc: error: {shown}:{e}");
-            std::process::exit(2);
-        }
-    };
+    // a syntax error is rejected input, its position as file:line:col
+    let file =
+        SceneFile::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let scene = file.resolve().with_context(|| shown.clone())?;
     for w in scene.warnings() {
-        eprintln!("fpc: warning: {}", warning_text(w));
+        crate::report::warning(&warning_text(w));
     }
     let solved = scene.solve().with_context(|| shown.clone())?;
     for w in solved.warnings() {
-        eprintln!("fpc: warning: {}", warning_text(w));
+        crate::report::warning(&warning_text(w));
     }
 
     let stem = args

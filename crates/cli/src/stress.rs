@@ -58,7 +58,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let report = fpc::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
-            eprintln!("fpc stress: {done}/{total} cases");
+            crate::report::plain(&format!("fpc stress: {done}/{total} cases"));
         }
     });
     bar.finish_and_clear();
