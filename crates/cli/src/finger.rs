@@ -71,7 +71,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             (finger.solve(&load, &opts)?, args.elements, None)
         }
     };
-    let mut out = std::io::stdout().lock();
+    let mut out = crate::output::stdout();
     if args.json {
         let mut v = to_json(&sol);
         v["elements"] = json!(elements);

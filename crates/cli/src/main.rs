@@ -1,5 +1,13 @@
 //! `fpc`: the command-line face of the fpc library. Glue only: parse flags,
 //! validate them into library types, call the library, print or write.
+//!
+//! Output goes through two doors: `output::stdout()` for results (a failed
+//! write is an error, status 1) and `report` for every line on stderr
+//! (bounded, escaped). `print!`-style macros and direct handles are
+//! refused by clippy (the lints below and clippy.toml).
+#![warn(clippy::print_stdout, clippy::print_stderr, clippy::dbg_macro)]
+
+use std::io::Write as _;
 
 use clap::{Parser, Subcommand};
 
@@ -61,7 +69,10 @@ fn run() -> anyhow::Result<()> {
         Command::Timing(a) => timing::run(&a),
         Command::Paper(a) => paper::run(&a),
         Command::Stress(a) => stress::run(&a),
-    }
+    }?;
+    // what is still buffered: a failure here is a failure to write output
+    output::stdout().flush()?;
+    Ok(())
 }
 
 /// Help and version go to stdout (status 0) as clap prints them; `fpc`
@@ -72,8 +83,9 @@ fn usage(e: clap::Error) -> anyhow::Result<()> {
     use clap::error::ErrorKind;
     match e.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
-            e.print()?;
-            Ok(())
+            output::usable()?;
+            e.print()
+                .map_err(|e| anyhow::anyhow!("cannot write to standard output: {e}"))
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             let _ = e.print();

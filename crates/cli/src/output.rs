@@ -1,9 +1,94 @@
-//! Output files: atomic writes and a small SVG plotter for the
-//! diagnostics commands.
+//! Output: standard output, atomic file writes, and a small SVG plotter
+//! for the diagnostics commands.
 
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::OnceLock;
+
+// ------------------------------------------------------------ stdout
+
+/// Standard output, through which every command writes its results. A
+/// write that fails (a closed pipe, a full disk, a descriptor that was
+/// closed or opened read-only) is an `io::Error` saying "cannot write to
+/// standard output: ...", which the command returns: status 1, never a
+/// panic (`println!` panics on a closed pipe).
+pub fn stdout() -> Stdout {
+    #[allow(clippy::disallowed_methods)] // the one place stdout is written
+    let inner = std::io::stdout().lock();
+    Stdout(inner)
+}
+
+/// See [`stdout`].
+pub struct Stdout(std::io::StdoutLock<'static>);
+
+impl std::io::Write for Stdout {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        usable()?;
+        self.0.write(buf).map_err(cannot_write)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        usable()?;
+        self.0.flush().map_err(cannot_write)
+    }
+}
+
+fn cannot_write(e: std::io::Error) -> std::io::Error {
+    std::io::Error::new(e.kind(), format!("cannot write to standard output: {e}"))
+}
+
+/// Fails when standard output cannot take output although writes to it
+/// would seem to succeed: the standard library turns EBADF on stdout into
+/// success, and its runtime puts /dev/null in place of a descriptor that
+/// was closed at start (`fpc ... >&-`).
+pub fn usable() -> std::io::Result<()> {
+    static WHY_NOT: OnceLock<Option<&'static str>> = OnceLock::new();
+    match WHY_NOT.get_or_init(why_stdout_is_unusable) {
+        None => Ok(()),
+        Some(why) => Err(std::io::Error::other(format!(
+            "cannot write to standard output: {why}"
+        ))),
+    }
+}
+
+fn why_stdout_is_unusable() -> Option<&'static str> {
+    if STDOUT_CLOSED_AT_START.load(Ordering::Relaxed) {
+        return Some("it was closed");
+    }
+    // the access mode of descriptor 1 (Linux: O_RDONLY is 0)
+    let info = std::fs::read_to_string("/proc/self/fdinfo/1").ok()?;
+    let flags = info.lines().find_map(|l| l.strip_prefix("flags:"))?;
+    let flags = u32::from_str_radix(flags.trim(), 8).ok()?;
+    (flags & 0o3 == 0).then_some("it is open for reading only")
+}
+
+/// Whether descriptor 1 was closed when the process started. Rust's
+/// runtime opens /dev/null in place of a closed standard descriptor before
+/// `main` runs, so this is looked at earlier: by an ELF constructor, which
+/// the loader runs before the runtime's initialisation. Linux only (it
+/// reads /proc); elsewhere a closed stdout behaves as /dev/null.
+static STDOUT_CLOSED_AT_START: AtomicBool = AtomicBool::new(false);
+
+#[cfg(target_os = "linux")]
+#[used]
+#[link_section = ".init_array"]
+static LOOK_AT_STDOUT_AT_START: extern "C" fn() = {
+    extern "C" fn look() {
+        // /proc/self/fd lists the open descriptors; without /proc, assume open
+        let fds = Path::new("/proc/self/fd");
+        if std::fs::symlink_metadata(fds).is_ok()
+            && std::fs::symlink_metadata(fds.join("1"))
+                .is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound)
+        {
+            STDOUT_CLOSED_AT_START.store(true, Ordering::Relaxed);
+        }
+    }
+    look
+};
+
+// ------------------------------------------------------------ files
 
 use anyhow::Context;
 use fpc::AccuracyStudy;

@@ -11,6 +11,7 @@ mod figures;
 mod files;
 mod plot;
 
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -113,14 +114,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let elapsed = started.elapsed().as_secs_f64();
     out.write_summary(elapsed)?;
     out.write_index()?;
-    println!(
+    writeln!(
+        crate::output::stdout(),
         "fpc paper: {} files in {} ({} of 8 studies ok, {} sweeps stopped early) in {:.1} s",
         out.files.len(),
         args.out.display(),
         8 - out.failed_studies().len(),
         out.stops.len(),
         elapsed
-    );
+    )?;
     if !out.failed.is_empty() {
         let more = match out.failed.len() {
             1 => String::new(),

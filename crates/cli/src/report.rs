@@ -73,6 +73,13 @@ fn line(prefix: &str, msg: &str) {
     write_stderr(text.as_bytes());
 }
 
+/// Whether stderr is a terminal (where progress bars draw).
+pub fn is_terminal() -> bool {
+    use std::io::IsTerminal as _;
+    #[allow(clippy::disallowed_methods)] // not a write
+    std::io::stderr().is_terminal()
+}
+
 fn write_stderr(bytes: &[u8]) {
     // one write_all on the unbuffered handle: one write(2) for a line
     #[allow(clippy::disallowed_methods)] // the one place stderr is written

@@ -59,7 +59,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     write_atomic(&out, "shape.csv", shape_csv(&solved).as_bytes())?;
     write_atomic(&out, "shape.svg", shape_svg(&stem, &solved).as_bytes())?;
 
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = crate::output::stdout();
     summary(&mut stdout, &stem, scene.file(), &solved)?;
     writeln!(
         stdout,

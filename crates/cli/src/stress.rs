@@ -1,7 +1,7 @@
 //! `fpc stress`: seeded random scenes with extreme but legal inputs, each
 //! solved and checked independently (the library's `fpc::stress`).
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::time::Duration;
 
 use fpc::{StressCase, StressConfig, StressReport};
@@ -54,7 +54,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     bar.set_style(style);
     bar.enable_steady_tick(Duration::from_millis(120));
     // the bar is hidden when stderr is not a terminal: then one line per tenth
-    let plain = !std::io::stderr().is_terminal();
+    let plain = !crate::report::is_terminal();
     let report = fpc::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
@@ -63,7 +63,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
 
-    let mut out = std::io::stdout().lock();
+    let mut out = crate::output::stdout();
     if args.json {
         writeln!(out, "{}", serde_json::to_string(&to_json(&report))?)?;
     } else {
