@@ -42,7 +42,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         crate::report::progress(&format!("fpc accuracy: {done}/{total} points"));
     })?;
     crate::report::end_progress();
-    std::fs::create_dir_all(&args.out)?;
+    crate::output::prepare_dir(&args.out)?;
     crate::output::write_atomic(&args.out, "accuracy.csv", csv(&study).as_bytes())?;
     let svg = crate::output::accuracy_svg(&study);
     crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;

@@ -48,7 +48,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-out")));
-    fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    crate::output::prepare_dir(&out)?;
 
     let json = solution_json(&stem, scene.file(), &solved)?;
     write_atomic(
