@@ -110,12 +110,10 @@ fn usage(e: clap::Error) -> anyhow::Result<()> {
 
 /// clap's message and tips on one line, without the usage block.
 fn usage_error_line(text: &str) -> String {
-    // the usage block and the pointer to --help come last (a quoted value
-    // may itself hold such words or newlines: cut at the last ones)
-    let body = text
-        .rfind("\nFor more information")
-        .map_or(text, |i| &text[..i]);
-    let body = body.rfind("\nUsage:").map_or(body, |i| &body[..i]);
+    // the usage block and the pointer to --help come after the message
+    // (which quotes no newline: the arguments were escaped)
+    let body = text.split("\nUsage:").next().unwrap_or(text);
+    let body = body.split("\nFor more information").next().unwrap_or(body);
     let mut line = String::new();
     for part in body.lines().map(str::trim).filter(|l| !l.is_empty()) {
         if !line.is_empty() {
