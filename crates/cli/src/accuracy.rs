@@ -1,6 +1,7 @@
 //! `fpc accuracy`: run time against error over N and the Newton tolerance.
 
 use std::fmt::Write as _;
+use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::{accuracy_study, AccuracyStudy};
@@ -38,28 +39,33 @@ pub fn csv(study: &AccuracyStudy) -> String {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let study = accuracy_study(&ELEMENTS, &RTOLS, |done, total| {
-        eprint!("\rfpc accuracy: {done}/{total} points");
+        crate::report::progress(&format!("fpc accuracy: {done}/{total} points"));
     })?;
-    eprintln!();
-    std::fs::create_dir_all(&args.out)?;
+    crate::report::end_progress();
+    crate::output::prepare_dir(&args.out)?;
     crate::output::write_atomic(&args.out, "accuracy.csv", csv(&study).as_bytes())?;
     let svg = crate::output::accuracy_svg(&study);
     crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;
     let r = &study.reference;
-    println!(
+    let mut out = crate::output::stdout();
+    writeln!(
+        out,
         "reference: N = {}, tip ({:.4}, {:.4}) mm, radius {:.4} mm, grasp size {:.4} mm",
         r.elements, r.tip[0], r.tip[1], r.radius, r.grasp_size
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "reference check: observed tip order {:.2} from N = 64, 128, 256; Richardson gap {:.2e} mm",
         r.observed_order, r.richardson_gap_mm
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "{:>5} {:>8} {:>11} {:>12} {:>12} {:>12} pareto",
         "N", "rtol", "time (us)", "tip (mm)", "radius (mm)", "grasp (mm)"
-    );
+    )?;
     for row in &study.rows {
-        println!(
+        writeln!(
+            out,
             "{:>5} {:>8.0e} {:>11.2} {:>12.3e} {:>12.3e} {:>12.3e} {}",
             row.elements,
             row.rtol,
@@ -68,18 +74,20 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             row.radius_error_mm,
             row.grasp_error_mm,
             if row.pareto { "*" } else { "" }
-        );
+        )?;
     }
     let rec =
         |n: Option<usize>| n.map_or("none of the tested N".to_string(), |n| format!("N = {n}"));
-    println!(
+    writeln!(
+        out,
         "tip within 0.1 mm: {}; within 0.01 mm: {}",
         rec(study.n_for_0_1_mm),
         rec(study.n_for_0_01_mm)
-    );
-    println!(
+    )?;
+    writeln!(
+        out,
         "wrote {} and accuracy.svg",
         args.out.join("accuracy.csv").display()
-    );
+    )?;
     Ok(())
 }

@@ -6,37 +6,42 @@ use fpc::{solve_to_tip_tolerance, Actuator, Finger, Load, Partition, Solution, S
 use serde_json::json;
 
 /// Flags of `fpc finger`.
+///
+/// Numeric flags take `allow_hyphen_values`, so a separate value starting
+/// with `-` is the flag's value: `allow_negative_numbers` only covers what
+/// looks like a number, and `--eps0 -inf` would be read as a flag `-i`
+/// instead of reaching the library's "must be finite".
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Prestrain of the prestressed EMC layer.
-    #[arg(long, default_value_t = 0.25, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.25, allow_hyphen_values = true)]
     eps0: f64,
     /// Channel pressure in kPa.
     #[arg(
         long = "pressure-kpa",
         default_value_t = 0.0,
-        allow_negative_numbers = true
+        allow_hyphen_values = true
     )]
     pressure_kpa: f64,
     /// Tip force along the finger's X axis, in newtons.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     fx: f64,
     /// Tip force along the finger's Z axis, in newtons.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     fz: f64,
     /// Number of equal elements N.
-    #[arg(long, default_value_t = 8, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 8, allow_hyphen_values = true)]
     elements: usize,
     /// Leave out the ribs inside the channel.
     #[arg(long = "no-ribs")]
     no_ribs: bool,
     /// Pressure factor kappa = 1/(gamma - 1).
-    #[arg(long, default_value_t = 2.5, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 2.5, allow_hyphen_values = true)]
     kappa: f64,
     /// Choose N by doubling (from --elements, at most 256) until the
     /// estimated tip error (tip change between N/2 and N) is at most this
     /// many millimetres.
-    #[arg(long = "tip-tol-mm", allow_negative_numbers = true)]
+    #[arg(long = "tip-tol-mm", allow_hyphen_values = true)]
     tip_tol_mm: Option<f64>,
     /// Print one JSON object instead of a summary.
     #[arg(long)]
@@ -46,7 +51,7 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let act = Actuator::paper(args.eps0)?;
     for w in act.warnings() {
-        eprintln!("fpc: warning: {w}");
+        crate::report::warning(&w.to_string());
     }
     let load = Load {
         kappa: args.kappa,
@@ -66,7 +71,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             (finger.solve(&load, &opts)?, args.elements, None)
         }
     };
-    let mut out = std::io::stdout().lock();
+    let mut out = crate::output::stdout();
     if args.json {
         let mut v = to_json(&sol);
         v["elements"] = json!(elements);

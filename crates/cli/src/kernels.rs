@@ -16,7 +16,7 @@ pub struct Args {
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let model = crate::finger::model_by_name(&args.model)?;
     let (source, report) = model.generated();
-    let mut out = std::io::stdout().lock();
+    let mut out = crate::output::stdout();
     if !args.report {
         writeln!(out, "{source}")?;
     }

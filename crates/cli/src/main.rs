@@ -1,5 +1,13 @@
 //! `fpc`: the command-line face of the fpc library. Glue only: parse flags,
 //! validate them into library types, call the library, print or write.
+//!
+//! Output goes through two doors: `output::stdout()` for results (a failed
+//! write is an error, status 1) and `report` for every line on stderr
+//! (bounded, escaped). `print!`-style macros and direct handles are
+//! refused by clippy (the lints below and clippy.toml).
+#![warn(clippy::print_stdout, clippy::print_stderr, clippy::dbg_macro)]
+
+use std::io::Write as _;
 
 use clap::{Parser, Subcommand};
 
@@ -8,7 +16,9 @@ mod finger;
 mod kernels;
 mod output;
 mod paper;
+mod report;
 mod solve;
+mod status;
 mod stress;
 mod timing;
 
@@ -39,8 +49,19 @@ enum Command {
 }
 
 fn main() {
-    let cli = Cli::try_parse().unwrap_or_else(|e| exit_on_usage_error(e));
-    let result = match cli.command {
+    let result = run();
+    if let Err(e) = &result {
+        report::error(e);
+    }
+    std::process::exit(status::exit_code(&result));
+}
+
+fn run() -> anyhow::Result<()> {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return usage(e),
+    };
+    match cli.command {
         Command::Accuracy(a) => accuracy::run(&a),
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
@@ -48,32 +69,49 @@ fn main() {
         Command::Timing(a) => timing::run(&a),
         Command::Paper(a) => paper::run(&a),
         Command::Stress(a) => stress::run(&a),
-    };
-    if let Err(e) = result {
-        eprintln!("fpc: error: {e:#}");
-        std::process::exit(exit_code(&e));
-    }
+    }?;
+    // what is still buffered: a failure here is a failure to write output
+    output::stdout().flush()?;
+    Ok(())
 }
 
-/// Help and version go to stdout (status 0) as clap prints them; a usage
-/// error (unknown flag, missing or malformed value) is rejected input: one
-/// line on stderr in the form of every other error, and status 2.
-fn exit_on_usage_error(e: clap::Error) -> ! {
+/// Help and version go to stdout (status 0) as clap prints them; `fpc`
+/// alone prints the help on stderr and is rejected. A usage error (unknown
+/// flag, missing or malformed value) is rejected input: one line in the
+/// form of every other error.
+fn usage(e: clap::Error) -> anyhow::Result<()> {
     use clap::error::ErrorKind;
-    if matches!(
-        e.kind(),
-        ErrorKind::DisplayHelp
-            | ErrorKind::DisplayVersion
-            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
-    ) {
-        e.exit()
+    match e.kind() {
+        ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
+            output::usable()?;
+            e.print()
+                .map_err(|e| anyhow::anyhow!("cannot write to standard output: {e}"))
+        }
+        ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+            let _ = e.print();
+            Err(status::rejected("a subcommand is required (see above)"))
+        }
+        _ => {
+            // clap quotes the offending argument: one holding a newline
+            // would break up its message, so the message is rendered again
+            // from the arguments with their control characters escaped
+            let escaped = std::env::args_os().map(|a| match a.to_str() {
+                Some(s) => report::escape(s).into_owned().into(),
+                None => a,
+            });
+            let text = match Cli::try_parse_from(escaped) {
+                Err(again) if again.kind() == e.kind() => again.render().to_string(),
+                _ => e.render().to_string(),
+            };
+            Err(status::rejected(usage_error_line(&text)))
+        }
     }
-    eprintln!("fpc: error: {}", usage_error_line(&e.to_string()));
-    std::process::exit(2)
 }
 
 /// clap's message and tips on one line, without the usage block.
 fn usage_error_line(text: &str) -> String {
+    // the usage block and the pointer to --help come after the message
+    // (which quotes no newline: the arguments were escaped)
     let body = text.split("\nUsage:").next().unwrap_or(text);
     let body = body.split("\nFor more information").next().unwrap_or(body);
     let mut line = String::new();
@@ -85,20 +123,4 @@ fn usage_error_line(text: &str) -> String {
     }
     let line = line.strip_prefix("error: ").unwrap_or(&line);
     format!("{line} (see --help)")
-}
-
-/// 2 for rejected input, 1 for anything else (a failed solve, I/O).
-fn exit_code(e: &anyhow::Error) -> i32 {
-    let input = e.chain().any(|c| {
-        c.downcast_ref::<fpc::InputError>().is_some()
-            || matches!(
-                c.downcast_ref::<fpc::SolveError>(),
-                Some(fpc::SolveError::Input(_))
-            )
-    });
-    if input {
-        2
-    } else {
-        1
-    }
 }

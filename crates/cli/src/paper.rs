@@ -11,13 +11,13 @@ mod figures;
 mod files;
 mod plot;
 
-use std::path::{Path, PathBuf};
+use std::io::Write as _;
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use anyhow::Context;
 use fpc::{
-    Actuator, CuboidRegion, CurvatureCurve, DisplacementForceRow, ForceControl, InputError,
-    Invalid, LiftCurve, SolveError, SphereRegion, StudyOptions, SweepStop, ViableAngles,
+    Actuator, CuboidRegion, CurvatureCurve, DisplacementForceRow, ForceControl, Invalid, LiftCurve,
+    SolveError, SphereRegion, StudyOptions, SweepStop, ViableAngles,
 };
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};
@@ -77,7 +77,8 @@ const STUDIES: [(&str, &str); 8] = [
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let started = Instant::now();
-    let dir = prepare_dir(&args.out)?;
+    crate::output::prepare_dir(&args.out)?;
+    let dir = args.out.clone();
     let opts = if args.coarse {
         StudyOptions::coarse()
     } else {
@@ -113,14 +114,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let elapsed = started.elapsed().as_secs_f64();
     out.write_summary(elapsed)?;
     out.write_index()?;
-    println!(
+    writeln!(
+        crate::output::stdout(),
         "fpc paper: {} files in {} ({} of 8 studies ok, {} sweeps stopped early) in {:.1} s",
         out.files.len(),
         args.out.display(),
         8 - out.failed_studies().len(),
         out.stops.len(),
         elapsed
-    );
+    )?;
     if !out.failed.is_empty() {
         let more = match out.failed.len() {
             1 => String::new(),
@@ -151,43 +153,6 @@ fn progress_bar(len: u64) -> ProgressBar {
     bar.set_style(style);
     bar.enable_steady_tick(Duration::from_millis(120));
     bar
-}
-
-/// Creates `out` if missing; rejects a path that exists and is not a
-/// directory, before any study runs.
-fn prepare_dir(out: &Path) -> anyhow::Result<PathBuf> {
-    let reject = |rule: String| -> anyhow::Error {
-        InputError::Inconsistent {
-            field: "--out".into(),
-            rule,
-        }
-        .into()
-    };
-    if out.as_os_str().is_empty() {
-        return Err(reject("the output directory must not be empty".into()));
-    }
-    match std::fs::metadata(out) {
-        Ok(m) if m.is_dir() => {}
-        Ok(_) => {
-            return Err(reject(format!(
-                "{} exists and is not a directory",
-                out.display()
-            )))
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            std::fs::create_dir_all(out)
-                .with_context(|| format!("cannot create the output directory {}", out.display()))?;
-        }
-        Err(e) => {
-            return Err(e)
-                .with_context(|| format!("cannot use the output directory {}", out.display()))
-        }
-    }
-    // fail now, not after the studies, when the directory is not writable
-    write_atomic(out, ".fpc-paper-probe", b"")?;
-    std::fs::remove_file(out.join(".fpc-paper-probe"))
-        .with_context(|| format!("cannot write into {}", out.display()))?;
-    Ok(out.to_path_buf())
 }
 
 /// A small table for index.html: header row, then rows.
@@ -431,7 +396,9 @@ impl Output {
                 (true, table, notes)
             }
             Err(e) => {
-                bar.suspend(|| eprintln!("fpc: study {n} ({}) failed: {e}", STUDIES[n - 1].0));
+                bar.suspend(|| {
+                    crate::report::note(&format!("study {n} ({}) failed: {e}", STUDIES[n - 1].0))
+                });
                 let msg = e.to_string();
                 for (name, header) in csv_files(n) {
                     let mut t = Csv::new(header);
@@ -1231,6 +1198,8 @@ fn min_of(it: impl Iterator<Item = f64>) -> Option<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fpc::InputError;
+    use std::path::Path;
 
     fn scratch(name: &str) -> PathBuf {
         let dir =
@@ -1374,16 +1343,5 @@ mod tests {
             last.ends_with(",5.5,,,,,stopped,\"solve failed: line search, test\""),
             "{last}"
         );
-    }
-
-    #[test]
-    fn a_file_is_not_an_output_directory() {
-        let dir = scratch("file");
-        let f = dir.join("x");
-        std::fs::write(&f, "x").unwrap();
-        let e = prepare_dir(&f).unwrap_err();
-        assert!(e.downcast_ref::<InputError>().is_some());
-        assert!(e.to_string().contains("not a directory"), "{e}");
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -4,8 +4,8 @@
 
 use std::fmt::Write as _;
 use std::fs;
-use std::io::Write as _;
-use std::path::PathBuf;
+use std::io::{Read as _, Write as _};
+use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use fpc::scene::{warning_text, GraspOutcome, GraspSpec, SceneFile, SceneSolution};
@@ -26,23 +26,17 @@ pub struct Args {
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let shown = args.scene.display().to_string();
-    let text = fs::read_to_string(&args.scene).with_context(|| format!("cannot read {shown}"))?;
-    let file = match SceneFile::parse(&text) {
-        Ok(f) => f,
-        Err(e) => {
-            // a syntax error is rejected input: same form as the other
-            // errors, with the position as file:line:col
-            eprintln!("fpc: error: {shown}:{e}");
-            std::process::exit(2);
-        }
-    };
+    let text = read_scene(&args.scene, &shown)?;
+    // a syntax error is rejected input, its position as file:line:col
+    let file =
+        SceneFile::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let scene = file.resolve().with_context(|| shown.clone())?;
     for w in scene.warnings() {
-        eprintln!("fpc: warning: {}", warning_text(w));
+        crate::report::warning(&warning_text(w));
     }
     let solved = scene.solve().with_context(|| shown.clone())?;
     for w in solved.warnings() {
-        eprintln!("fpc: warning: {}", warning_text(w));
+        crate::report::warning(&warning_text(w));
     }
 
     let stem = args
@@ -54,7 +48,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-out")));
-    fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    crate::output::prepare_dir(&out)?;
 
     let json = solution_json(&stem, scene.file(), &solved)?;
     write_atomic(
@@ -65,7 +59,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     write_atomic(&out, "shape.csv", shape_csv(&solved).as_bytes())?;
     write_atomic(&out, "shape.svg", shape_svg(&stem, &solved).as_bytes())?;
 
-    let mut stdout = std::io::stdout().lock();
+    let mut stdout = crate::output::stdout();
     summary(&mut stdout, &stem, scene.file(), &solved)?;
     writeln!(
         stdout,
@@ -78,6 +72,34 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 }
 
 use crate::output::write_atomic;
+
+/// The largest scene file `fpc solve` reads: 4 MiB. The example scenes are
+/// a few hundred bytes; the limit keeps a wrong path (a disk image, a
+/// device, an endless pipe) from being read into memory whole.
+pub const MAX_SCENE_BYTES: u64 = 4 * 1024 * 1024;
+
+/// The text of the scene file at `path` (`shown` in messages), read
+/// through a bounded reader. Missing, unreadable, a directory, larger than
+/// [`MAX_SCENE_BYTES`] or not UTF-8: rejected input, one line naming the
+/// path.
+fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
+    let cannot = |why: String| crate::status::rejected(format!("cannot read {shown}: {why}"));
+    let file = fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| cannot(e.to_string()))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(cannot(format!(
+            "larger than {} MiB ({MAX_SCENE_BYTES} bytes), the limit for a scene file",
+            MAX_SCENE_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        cannot(format!("not UTF-8 text (invalid byte at offset {at})"))
+    })
+}
 
 // ------------------------------------------------------------ solution.json
 

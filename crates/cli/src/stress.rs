@@ -1,27 +1,32 @@
 //! `fpc stress`: seeded random scenes with extreme but legal inputs, each
 //! solved and checked independently (the library's `fpc::stress`).
 
-use std::io::{IsTerminal, Write};
+use std::io::Write;
 use std::time::Duration;
 
 use fpc::{StressCase, StressConfig, StressReport};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 
-/// Flags of `fpc stress`.
+/// Flags of `fpc stress`. Numeric flags take `allow_hyphen_values` (see
+/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Seed of the case generator.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
     /// Number of cases.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_hyphen_values = true)]
     cases: usize,
     /// Wall-clock budget in seconds; no case starts after it is spent.
-    #[arg(long = "budget-s", default_value_t = 60.0)]
+    #[arg(long = "budget-s", default_value_t = 60.0, allow_hyphen_values = true)]
     budget_s: f64,
     /// Largest element count drawn (from 1, 2, 3, 4, 8, 16, 32, 64, 128).
-    #[arg(long = "max-elements", default_value_t = 128)]
+    #[arg(
+        long = "max-elements",
+        default_value_t = 128,
+        allow_hyphen_values = true
+    )]
     max_elements: usize,
     /// Print one JSON object instead of a table.
     #[arg(long)]
@@ -49,16 +54,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     bar.set_style(style);
     bar.enable_steady_tick(Duration::from_millis(120));
     // the bar is hidden when stderr is not a terminal: then one line per tenth
-    let plain = !std::io::stderr().is_terminal();
+    let plain = !crate::report::is_terminal();
     let report = fpc::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
-            eprintln!("fpc stress: {done}/{total} cases");
+            crate::report::plain(&format!("fpc stress: {done}/{total} cases"));
         }
     });
     bar.finish_and_clear();
 
-    let mut out = std::io::stdout().lock();
+    let mut out = crate::output::stdout();
     if args.json {
         writeln!(out, "{}", serde_json::to_string(&to_json(&report))?)?;
     } else {

@@ -1,19 +1,21 @@
 //! `fpc timing`: in-process median solve times for the standard cases
 //! (default actuator, N = 8, tip-only output).
 
+use std::io::Write as _;
 use std::time::{Duration, Instant};
 
 use fpc::{Coefficients, Finger, Load, Solution, SolveOptions, Solver};
 use serde_json::json;
 
-/// Flags of `fpc timing`.
+/// Flags of `fpc timing`. Numeric flags take `allow_hyphen_values` (see
+/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
     /// Wall-clock budget per case, in milliseconds.
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, allow_hyphen_values = true)]
     budget_ms: u64,
 }
 
@@ -92,6 +94,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         "release"
     };
+    let mut out = crate::output::stdout();
     if args.json {
         let mut obj = serde_json::Map::new();
         obj.insert("build".into(), json!(build));
@@ -108,23 +111,29 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             );
         }
         obj.insert("loaded_cold_tip_mm".into(), json!(cases[2].last.tip));
-        println!("{}", serde_json::Value::Object(obj));
+        writeln!(out, "{}", serde_json::Value::Object(obj))?;
     } else {
-        println!("median time per solve ({build} build, N = 8, default actuator, tip-only output)");
-        println!(
+        writeln!(
+            out,
+            "median time per solve ({build} build, N = 8, default actuator, tip-only output)"
+        )?;
+        writeln!(
+            out,
             "{:<12} {:>12} {:>8} {:>11} {:>12}",
             "case", "median (us)", "runs", "iterations", "residual"
-        );
+        )?;
         for c in &cases {
-            println!(
+            writeln!(
+                out,
                 "{:<12} {:>12.2} {:>8} {:>11} {:>12.2e}",
                 c.name, c.median_us, c.runs, c.last.report.iterations, c.last.report.residual_norm
-            );
+            )?;
         }
-        println!(
+        writeln!(
+            out,
             "loaded_cold tip: X = {:.6} mm, Z = {:.6} mm",
             cases[2].last.tip[0], cases[2].last.tip[1]
-        );
+        )?;
     }
     Ok(())
 }

@@ -1,6 +1,7 @@
-//! The `fpc` binary's error paths: rejected input exits with status 2,
-//! anything else that fails (a solve that does not converge, a file that
-//! cannot be read) with status 1; either way stdout stays empty and stderr
+//! The `fpc` binary's error paths: rejected input (a scene file that
+//! cannot be read included) exits with status 2, anything else that fails
+//! (a solve that does not converge, output that cannot be written) with
+//! status 1; either way stdout stays empty and stderr
 //! holds exactly one line, `fpc: error: ...`, naming the field, the value
 //! and the rule (or the solver's reason).
 //!
@@ -56,7 +57,7 @@ fn a_bad_prestrain_exits_2_naming_eps0() {
         &["finger", "--eps0", "nan"],
         &["fpc: error: actuator.pemc.eps0 = NaN: must be finite"],
     );
-    // (clap reads `--eps0 -inf` as a flag `-i`: `=` keeps it a value)
+    // attached with `=` or separate (tests/numbers.rs), a value either way
     rejected(
         &["finger", "--eps0=-inf"],
         &["actuator.pemc.eps0 = -inf: must be finite"],
@@ -171,7 +172,7 @@ fn usage_errors_exit_2_on_one_line() {
 }
 
 #[test]
-fn an_unreadable_scene_exits_1() {
+fn an_unreadable_scene_exits_2() {
     let dir = std::env::temp_dir().join(format!("fpc-errors-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -184,7 +185,7 @@ fn an_unreadable_scene_exits_1() {
             "--out",
             out.to_str().unwrap(),
         ],
-        1,
+        2,
     );
     assert!(line.contains("cannot read"), "{line}");
     assert!(line.contains("missing.toml"), "{line}");

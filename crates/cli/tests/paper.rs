@@ -302,3 +302,87 @@ fn paper_rejects_a_file_as_output_directory() {
     assert_eq!(std::fs::read_dir(&base).unwrap().count(), 1);
     std::fs::remove_dir_all(&base).unwrap();
 }
+
+/// Every expected file of a run is there and complete: JSON that parses,
+/// CSV rows as wide as their header, SVG and HTML documents that close.
+fn assert_complete(dir: &Path) {
+    for f in expected_files() {
+        let text = std::fs::read_to_string(dir.join(&f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        if f.ends_with(".json") {
+            let s: Value = serde_json::from_str(&text).unwrap_or_else(|e| panic!("{f}: {e}"));
+            assert_eq!(s["failures"], Value::Array(vec![]), "{f}");
+        } else if f.ends_with(".csv") {
+            let mut lines = text.lines();
+            let width = fields(lines.next().expect("header")).len();
+            assert!(text.ends_with('\n'), "{f} is cut short");
+            for line in lines {
+                assert_eq!(fields(line).len(), width, "{f}: {line}");
+            }
+        } else if f.ends_with(".svg") {
+            assert!(text.trim_start().starts_with("<svg"), "{f}");
+            assert!(text.trim_end().ends_with("</svg>"), "{f} is cut short");
+            assert_eq!(text.matches("<svg").count(), 1, "{f}: two documents");
+        } else {
+            assert!(text.trim_end().ends_with("</html>"), "{f} is cut short");
+            assert_eq!(text.matches("<html").count(), 1, "{f}: two documents");
+        }
+    }
+}
+
+#[test]
+fn two_runs_into_one_directory_both_succeed() {
+    use std::os::unix::fs::PermissionsExt as _;
+    use std::time::{Duration, SystemTime};
+    let dir = scratch("concurrent");
+    std::fs::create_dir_all(&dir).unwrap();
+    // a temporary file of a run killed an hour ago, one of a live run, and
+    // a file that is none of fpc's business
+    let hour_ago = SystemTime::now() - Duration::from_secs(3600);
+    std::fs::File::create(dir.join(".fpc-tmp-killed.tmp"))
+        .unwrap()
+        .set_modified(hour_ago)
+        .unwrap();
+    std::fs::write(dir.join(".fpc-tmp-live.tmp"), "").unwrap();
+    std::fs::File::create(dir.join(".keep"))
+        .unwrap()
+        .set_modified(hour_ago)
+        .unwrap();
+
+    let run = || {
+        fpc()
+            .args(["paper", "--coarse", "--out"])
+            .arg(&dir)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap()
+    };
+    let (a, b) = (run(), run());
+    for child in [a, b] {
+        let out = child.wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{:?}: {stderr}", out.status);
+        assert!(stderr.is_empty(), "{stderr}");
+        assert!(String::from_utf8_lossy(&out.stdout).starts_with("fpc paper: 20 files in "));
+    }
+    assert_complete(&dir);
+
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [".fpc-tmp-live.tmp", ".keep"],
+        "stale removed, the rest kept"
+    );
+
+    // the files get the mode a plain File::create gets (not 0600)
+    let probe = dir.join("probe");
+    std::fs::File::create(&probe).unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&dir.join("summary.json")), mode(&probe));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,223 @@
+//! Every line `fpc` writes on standard error goes through here: errors
+//! (the library's, clap's usage errors, the CLI's own), warnings, notes
+//! and progress. Such a line echoes input (a value, a key, a path, a whole
+//! argument), so it is made safe and short before it is written:
+//!
+//! - control characters (newlines, terminal escapes) and bidirectional
+//!   overrides are written escaped (`\n`, `\u{1b}`): a message is one line
+//!   and cannot forge another or restyle the terminal;
+//! - a word (a run of non-blank characters) longer than [`MAX_WORD`]
+//!   characters keeps its first and last characters and says how long it
+//!   was, so a 309-digit number or a huge argument is not echoed whole;
+//! - a line longer than [`MAX_LINE`] characters keeps its head (which names
+//!   the field) and its tail (which states the rule).
+//!
+//! A line is written with one `write` call (at most 4 x [`MAX_LINE`] bytes,
+//! below the 4096 bytes a pipe takes atomically), so lines of concurrent
+//! runs do not interleave. A write that fails (stderr closed or full) is
+//! ignored: there is nowhere left to report it, and the exit status still
+//! says what happened.
+
+use std::io::Write as _;
+
+/// The longest line written on stderr, in characters (Unicode scalar
+/// values), prefix included, newline excluded.
+pub const MAX_LINE: usize = 300;
+
+/// The longest word kept whole, in characters.
+pub const MAX_WORD: usize = 100;
+
+/// Characters kept at each end of a shortened word.
+const WORD_HEAD: usize = 60;
+const WORD_TAIL: usize = 20;
+
+/// Characters kept at the start of a shortened line (the rest of
+/// [`MAX_LINE`] goes to the marker and the tail).
+const LINE_HEAD: usize = 200;
+
+/// `fpc: error: ` and the error with its causes, on one line.
+pub fn error(e: &anyhow::Error) {
+    line("fpc: error: ", &format!("{e:#}"));
+}
+
+/// `fpc: warning: ` and the warning.
+pub fn warning(msg: &str) {
+    line("fpc: warning: ", msg);
+}
+
+/// `fpc: ` and a note (a study that failed while the others go on).
+pub fn note(msg: &str) {
+    line("fpc: ", msg);
+}
+
+/// A line as it is (bounded), no prefix: the plain progress of `fpc stress`.
+pub fn plain(msg: &str) {
+    line("", msg);
+}
+
+/// A progress line that redraws itself: carriage return, then the text
+/// (bounded like any line), no newline; [`end_progress`] ends it.
+pub fn progress(msg: &str) {
+    write_stderr(format!("\r{}", bounded("", msg)).as_bytes());
+}
+
+/// Ends a line of [`progress`].
+pub fn end_progress() {
+    write_stderr(b"\n");
+}
+
+/// Writes `prefix` and `msg` as one bounded line.
+fn line(prefix: &str, msg: &str) {
+    let mut text = bounded(prefix, msg);
+    text.push('\n');
+    write_stderr(text.as_bytes());
+}
+
+/// Whether stderr is a terminal (where progress bars draw).
+pub fn is_terminal() -> bool {
+    use std::io::IsTerminal as _;
+    #[allow(clippy::disallowed_methods)] // not a write
+    std::io::stderr().is_terminal()
+}
+
+fn write_stderr(bytes: &[u8]) {
+    // one write_all on the unbuffered handle: one write(2) for a line
+    #[allow(clippy::disallowed_methods)] // the one place stderr is written
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_all(bytes);
+    let _ = err.flush();
+}
+
+/// `prefix` and `msg` as one line of at most [`MAX_LINE`] characters:
+/// controls escaped, long words and then the line shortened in the middle.
+pub fn bounded(prefix: &str, msg: &str) -> String {
+    let mut line = String::with_capacity(prefix.len() + msg.len().min(4 * MAX_LINE));
+    line.push_str(prefix);
+    let mut first = true;
+    for word in escape(msg).split(' ') {
+        if !first {
+            line.push(' ');
+        }
+        first = false;
+        shorten_word(&mut line, word);
+    }
+    shorten_line(line)
+}
+
+/// Control characters and bidirectional formatting characters escaped.
+pub fn escape(msg: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}')
+    };
+    if !msg.chars().any(unsafe_char) {
+        return msg.into();
+    }
+    let mut s = String::with_capacity(msg.len() + 16);
+    for c in msg.chars() {
+        if unsafe_char(c) {
+            s.extend(c.escape_default());
+        } else {
+            s.push(c);
+        }
+    }
+    s.into()
+}
+
+/// Appends `word`, or its ends and its length when it is too long.
+fn shorten_word(out: &mut String, word: &str) {
+    let n = word.chars().count();
+    if n <= MAX_WORD {
+        out.push_str(word);
+        return;
+    }
+    out.extend(word.chars().take(WORD_HEAD));
+    out.push_str(&format!("…[{n} chars]…"));
+    out.extend(word.chars().skip(n - WORD_TAIL));
+}
+
+/// `line`, or its head and tail when it has more than [`MAX_LINE`] characters.
+fn shorten_line(line: String) -> String {
+    let n = line.chars().count();
+    if n <= MAX_LINE {
+        return line;
+    }
+    // the marker names the number of characters cut, which is at most n:
+    // sized for n, it fits whatever the count
+    let widest = format!(" …[{n} chars cut]… ").chars().count();
+    let tail = MAX_LINE - LINE_HEAD - widest;
+    let cut = n - LINE_HEAD - tail;
+    let mut out: String = line.chars().take(LINE_HEAD).collect();
+    out.push_str(&format!(" …[{cut} chars cut]… "));
+    out.extend(line.chars().skip(n - tail));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn len(s: &str) -> usize {
+        s.chars().count()
+    }
+
+    #[test]
+    fn short_lines_are_kept() {
+        let m = "actuator.pemc.eps0 = NaN: must be finite";
+        assert_eq!(bounded("fpc: error: ", m), format!("fpc: error: {m}"));
+    }
+
+    #[test]
+    fn a_long_number_keeps_its_ends() {
+        let digits = format!("1{}", "0".repeat(308));
+        let msg = format!("actuator.pemc.eps0 = {digits}: outside [0, 0.6]");
+        let b = bounded("fpc: warning: ", &msg);
+        assert!(len(&b) <= MAX_LINE, "{b}");
+        assert!(!b.contains(&digits), "{b}");
+        assert!(b.contains("[310 chars]"), "{b}"); // the digits and the colon
+        assert!(b.starts_with("fpc: warning: actuator.pemc.eps0 = 1000"));
+        assert!(b.ends_with("0000: outside [0, 0.6]"), "{b}");
+    }
+
+    #[test]
+    fn every_line_is_bounded() {
+        for msg in [
+            "x".repeat(2_000_000),
+            "ab ".repeat(1_000_000),
+            "é".repeat(50_000),
+            "\n".repeat(100_000),
+            format!("{} {}", "word ".repeat(90), "y".repeat(99)),
+        ] {
+            let b = bounded("fpc: error: ", &msg);
+            assert!(len(&b) <= MAX_LINE, "{} chars: {b}", len(&b));
+            assert!(b.starts_with("fpc: error: "));
+            assert!(!b.contains('\n'));
+        }
+        // the boundary: a line of exactly MAX_LINE characters is whole
+        let m = "w ".repeat((MAX_LINE - 12) / 2);
+        assert_eq!(len(&bounded("fpc: error: ", &m)), MAX_LINE);
+        assert_eq!(bounded("fpc: error: ", &m), format!("fpc: error: {m}"));
+    }
+
+    #[test]
+    fn a_long_line_keeps_head_and_tail() {
+        let msg = format!("field.name = {}: the rule", "ab ".repeat(1000));
+        let b = bounded("fpc: error: ", &msg);
+        assert!(len(&b) <= MAX_LINE, "{b}");
+        assert!(b.starts_with("fpc: error: field.name = ab ab"), "{b}");
+        assert!(b.ends_with("ab : the rule"), "{b}");
+        assert!(b.contains(" chars cut]… "), "{b}");
+    }
+
+    #[test]
+    fn controls_are_escaped() {
+        let b = bounded(
+            "fpc: error: ",
+            "a\nfpc: error: forged\u{1b}[31m\r\u{202e}x\ty",
+        );
+        assert_eq!(
+            b,
+            "fpc: error: a\\nfpc: error: forged\\u{1b}[31m\\r\\u{202e}x\\ty"
+        );
+    }
+}

@@ -1,0 +1,80 @@
+//! The exit status of `fpc`, decided in one place ([`exit_code`]):
+//!
+//! | status | when |
+//! | --- | --- |
+//! | 0 | success (help and version included) |
+//! | 1 | a failed solve, a failed study, an I/O failure writing output (a file, stdout), anything else |
+//! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file |
+
+use std::fmt;
+
+use fpc::scene::{SceneError, SceneReadError};
+use fpc::{InputError, SolveError};
+
+/// The command did what was asked.
+pub const SUCCESS: i32 = 0;
+/// A solve or study failed, or output could not be written.
+pub const FAILURE: i32 = 1;
+/// The input was rejected.
+pub const REJECTED: i32 = 2;
+
+/// Input that the CLI itself rejects before the library sees it: a usage
+/// error, a scene file that cannot be read, is too large or is not TOML.
+#[derive(Debug)]
+pub struct Rejected(String);
+
+impl fmt::Display for Rejected {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Rejected {}
+
+/// An error that marks rejected input, with this message.
+pub fn rejected(msg: impl Into<String>) -> anyhow::Error {
+    Rejected(msg.into()).into()
+}
+
+/// The exit status of a run that ended with `result`.
+pub fn exit_code(result: &anyhow::Result<()>) -> i32 {
+    match result {
+        Ok(()) => SUCCESS,
+        Err(e) if is_rejected_input(e) => REJECTED,
+        Err(_) => FAILURE,
+    }
+}
+
+/// Whether any error in the chain is one of the rejected-input kinds.
+fn is_rejected_input(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.is::<Rejected>()
+            || c.is::<InputError>()
+            || c.is::<SceneError>()
+            || c.is::<SceneReadError>()
+            || matches!(c.downcast_ref::<SolveError>(), Some(SolveError::Input(_)))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use anyhow::Context as _;
+
+    #[test]
+    fn each_class_has_its_status() {
+        assert_eq!(exit_code(&Ok(())), 0);
+        assert_eq!(exit_code(&Err(rejected("usage"))), 2);
+        let input = InputError::NotFinite {
+            field: "x".into(),
+            value: f64::NAN,
+        };
+        assert_eq!(exit_code(&Err(input.clone().into())), 2);
+        // wrapped in context, or inside a SolveError, still input
+        let wrapped = Err::<(), _>(SolveError::Input(input)).context("scene.toml");
+        assert_eq!(exit_code(&wrapped.map_err(|e| e.context("more"))), 2);
+        let io = std::io::Error::new(std::io::ErrorKind::BrokenPipe, "closed");
+        assert_eq!(exit_code(&Err(anyhow::Error::new(io))), 1);
+        assert_eq!(exit_code(&Err(anyhow::anyhow!("anything else"))), 1);
+    }
+}
