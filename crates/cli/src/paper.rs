@@ -203,12 +203,7 @@ fn stop_json(s: &Option<SweepStop>, unit: &str) -> Value {
 }
 
 fn invalid_text(i: &Invalid) -> &'static str {
-    match i {
-        Invalid::NotOpen { .. } => "not open",
-        Invalid::NegativeNormal { .. } => "F < 0",
-        Invalid::FrictionCone { .. } => "friction outside [0, mu F]",
-        Invalid::SecondContact { .. } => "second contact",
-    }
+    i.kind()
 }
 
 const LIFT_HEADER_1: &[&str] = &[
@@ -1237,6 +1232,9 @@ mod tests {
             height: 50.0,
             tip_gap: 100.0,
             friction_ok: true,
+            valid: true,
+            reversed: false,
+            warnings: Vec::new(),
         };
         let fc = ForceControl {
             size: 100.0,
@@ -1324,7 +1322,10 @@ mod tests {
                 normal: 0.4,
                 lift: 0.24,
                 height: 78.0,
+                reversed: false,
+                warnings: Vec::new(),
             }],
+            dropped: 0,
             stopped: Some(SweepStop {
                 at: 5.5,
                 reason: "solve failed: line search, test".into(),

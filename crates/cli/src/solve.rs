@@ -191,20 +191,7 @@ fn degrees(rad: f64) -> f64 {
 }
 
 fn invalid_text(i: &Invalid) -> String {
-    match *i {
-        Invalid::NotOpen { size, tip_gap } => format!(
-            "the fingers are not open (grasping size {size:.4} mm, tip gap {tip_gap:.4} mm)"
-        ),
-        Invalid::NegativeNormal { normal } => {
-            format!("the object would pull on the finger (F = {normal:.4} N < 0)")
-        }
-        Invalid::FrictionCone { friction, limit } => format!(
-            "the friction f = {friction:.4} N lies outside [0, mu F] = [0, {limit:.4}] N"
-        ),
-        Invalid::SecondContact { point, depth } => format!(
-            "the sphere crosses the finger at mid-plane sample {point} ({depth:.4} mm deep): a second contact"
-        ),
-    }
+    i.to_string()
 }
 
 // ------------------------------------------------------------ shape.csv
