@@ -26,6 +26,13 @@ pub enum InputError {
     /// channel outside its layer, overlapping ribs); `rule` says how.
     #[error("{field}: {rule}")]
     Inconsistent { field: String, rule: String },
+    /// A name that is not one of the choices (a model, a kind).
+    #[error("{field} = `{value}`: {rule}")]
+    Unrecognised {
+        field: String,
+        value: String,
+        rule: String,
+    },
 }
 
 impl InputError {
@@ -35,7 +42,8 @@ impl InputError {
             InputError::NotFinite { field, .. }
             | InputError::NotPositive { field, .. }
             | InputError::OutOfRange { field, .. }
-            | InputError::Inconsistent { field, .. } => field,
+            | InputError::Inconsistent { field, .. }
+            | InputError::Unrecognised { field, .. } => field,
         }
     }
 }

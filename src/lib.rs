@@ -40,8 +40,8 @@ pub use actuator::{
 pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    Coefficients, Finger, Load, Solution, SolveOptions, SolveReport, Solver, Strategy,
-    TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
+    input_warnings, Coefficients, Finger, Load, Solution, SolveOptions, SolveReport, Solver,
+    Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;

@@ -182,6 +182,16 @@ impl ModelId {
         ModelId::ALL.iter().copied().find(|m| m.name() == name)
     }
 
+    /// The model of a name, or an input error for `field` that lists the
+    /// models.
+    pub fn parse(field: &str, name: &str) -> Result<ModelId, crate::InputError> {
+        ModelId::from_name(name).ok_or_else(|| crate::InputError::Unrecognised {
+            field: field.into(),
+            value: name.into(),
+            rule: format!("not a model (models: {})", ModelId::names().join(", ")),
+        })
+    }
+
     /// Every model's name, for messages.
     pub fn names() -> Vec<&'static str> {
         ModelId::ALL.iter().map(|m| m.name()).collect()

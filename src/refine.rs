@@ -33,6 +33,7 @@ pub struct Refined {
 /// [1, `MAX_REFINED_ELEMENTS` / 2] (at least one doubling). Fails with an
 /// input error when `MAX_REFINED_ELEMENTS` cannot reach the tolerance.
 pub fn solve_to_tip_tolerance(
+    model: ModelId,
     actuator: &Actuator,
     ribs: bool,
     load: &Load,
@@ -50,7 +51,7 @@ pub fn solve_to_tip_tolerance(
     )?;
     let lx = actuator.geometry().lx;
     let solve = |n: usize| -> Result<Solution, SolveError> {
-        Finger::new(actuator, &Partition::equal(lx, n)?, ribs).solve(load, opts)
+        Finger::with_model(model, actuator, &Partition::equal(lx, n)?, ribs).solve(load, opts)
     };
     let mut n = start;
     let mut coarse = solve(n)?;

@@ -532,6 +532,7 @@ impl Scene {
                 },
                 &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
                     let r = solve_to_tip_tolerance(
+                        crate::ModelId::default(),
                         &self.actuator,
                         true,
                         &self.load,
@@ -1393,6 +1394,11 @@ fn rename(e: InputError) -> InputError {
         },
         InputError::Inconsistent { field, rule } => InputError::Inconsistent {
             field: toml_path(&field),
+            rule,
+        },
+        InputError::Unrecognised { field, value, rule } => InputError::Unrecognised {
+            field: toml_path(&field),
+            value,
             rule,
         },
     }

@@ -16,9 +16,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use fpc::{
     design_space, solve_to_tip_tolerance, study7_curvature, Actuator, ActuatorParams, Coefficients,
-    Finger, Gripper, GripperParams, InputError, Load, PalmSpec, Partition, Prestressed, PsiLaw,
-    Solution, SolveError, SolveOptions, Solver, Strategy, StudyOptions, TargetProblem, Termination,
-    Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
+    Finger, Gripper, GripperParams, InputError, Load, ModelId, PalmSpec, Partition, Prestressed,
+    PsiLaw, Solution, SolveError, SolveOptions, Solver, Strategy, StudyOptions, TargetProblem,
+    Termination, Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
 };
 
 // ---------------------------------------------------------------- helpers
@@ -734,7 +734,15 @@ fn tip_tolerance_refinement_is_checked() {
     let load = Load::unloaded();
     let opts = SolveOptions::default();
     let refine = |tol: f64, start: usize| {
-        input(solve_to_tip_tolerance(&act, true, &load, tol, start, &opts))
+        input(solve_to_tip_tolerance(
+            ModelId::default(),
+            &act,
+            true,
+            &load,
+            tol,
+            start,
+            &opts,
+        ))
     };
     for tol in [0.0, -1.0] {
         names(&refine(tol, 8), "tip_tol_mm", tol, "must be positive");
@@ -753,7 +761,8 @@ fn tip_tolerance_refinement_is_checked() {
     }
     // reachable from either end of the range
     for start in [1, most] {
-        let r = solve_to_tip_tolerance(&act, true, &load, 1.0, start, &opts).unwrap();
+        let r = solve_to_tip_tolerance(ModelId::default(), &act, true, &load, 1.0, start, &opts)
+            .unwrap();
         assert!(r.elements <= MAX_REFINED_ELEMENTS && r.estimated_tip_error_mm <= 1.0);
     }
 }
@@ -768,7 +777,15 @@ fn an_unreachable_tip_tolerance_names_tip_tol_mm() {
     let act = Actuator::default();
     let opts = SolveOptions::default();
     for load in [Load::unloaded(), Load::unloaded().with_pressure_kpa(50.0)] {
-        let e = input(solve_to_tip_tolerance(&act, true, &load, 1e-12, 1, &opts));
+        let e = input(solve_to_tip_tolerance(
+            ModelId::default(),
+            &act,
+            true,
+            &load,
+            1e-12,
+            1,
+            &opts,
+        ));
         names(
             &e,
             "tip_tol_mm",
@@ -796,6 +813,7 @@ fn an_unreachable_tip_tolerance_under_a_tip_load_names_tip_tol_mm() {
     let act = Actuator::default();
     let load = tip(0.5, 0.2);
     let e = input(solve_to_tip_tolerance(
+        ModelId::default(),
         &act,
         true,
         &load,

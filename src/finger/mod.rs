@@ -399,21 +399,38 @@ struct Build<'a> {
 }
 
 impl ModelVisitor for Build<'_> {
-    type Output = (Arc<dyn FingerDyn>, Vec<Warning>);
+    type Output = Arc<dyn FingerDyn>;
     fn visit<M: ElementModel>(self) -> Self::Output {
-        let core = FingerCore::<M>::new(self.actuator, self.partition, self.ribs);
-        let mut warnings = self.actuator.warnings().to_vec();
-        let pemc = self.actuator.pemc();
+        Arc::new(FingerCore::<M>::new(
+            self.actuator,
+            self.partition,
+            self.ribs,
+        ))
+    }
+}
+
+struct LawCheck<'a>(&'a Actuator);
+
+impl ModelVisitor for LawCheck<'_> {
+    type Output = Option<Warning>;
+    fn visit<M: ElementModel>(self) -> Self::Output {
+        let pemc = self.0.pemc();
         let tangent = M::psi(pemc.eps0, &pemc.law)[2];
         // NaN counts as not positive
-        if tangent.is_nan() || tangent <= 0.0 {
-            warnings.push(Warning::SofteningPrestressLaw {
-                eps0: pemc.eps0,
-                tangent,
-            });
-        }
-        (Arc::new(core), warnings)
+        (tangent.is_nan() || tangent <= 0.0).then_some(Warning::SofteningPrestressLaw {
+            eps0: pemc.eps0,
+            tangent,
+        })
     }
+}
+
+/// The notes on an actuator as model `model` reads it: the actuator's own
+/// (a prestrain outside the fitted range, ...) and the model's law (a
+/// softening prestressed law at eps0). Every finger and solution carries them.
+pub fn input_warnings(model: ModelId, actuator: &Actuator) -> Vec<Warning> {
+    let mut w = actuator.warnings().to_vec();
+    w.extend(model.visit(LawCheck(actuator)));
+    w
 }
 
 impl Finger {
@@ -430,12 +447,15 @@ impl Finger {
         partition: &Partition,
         ribs: bool,
     ) -> Finger {
-        let (core, warnings) = model.visit(Build {
+        let core = model.visit(Build {
             actuator,
             partition,
             ribs,
         });
-        Finger { core, warnings }
+        Finger {
+            core,
+            warnings: input_warnings(model, actuator),
+        }
     }
 
     /// The default actuator at prestrain `eps0`, `n` equal elements, ribs on.

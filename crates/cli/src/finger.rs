@@ -2,8 +2,29 @@
 
 use std::io::Write;
 
-use fpc::{solve_to_tip_tolerance, Actuator, Finger, Load, Partition, Solution, SolveOptions};
-use serde_json::json;
+use fpc::{
+    solve_auto, solve_to_tip_tolerance, Actuator, Finger, InputError, Load, ModelId, Partition,
+    Solution, SolveOptions,
+};
+
+/// `--elements`: a count, or `auto`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Elements {
+    /// N equal elements.
+    Equal(usize),
+    /// The automatic partition ([`fpc::solve_auto`]).
+    Auto,
+}
+
+/// Parses `--elements`: a whole number or `auto`.
+pub fn parse_elements(s: &str) -> Result<Elements, String> {
+    if s == "auto" {
+        return Ok(Elements::Auto);
+    }
+    s.parse::<usize>()
+        .map(Elements::Equal)
+        .map_err(|_| format!("'{s}' is neither a whole number of elements nor `auto`"))
+}
 
 /// Flags of `fpc finger`.
 ///
@@ -29,9 +50,13 @@ pub struct Args {
     /// Tip force along the finger's Z axis, in newtons.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     fz: f64,
-    /// Number of equal elements N.
-    #[arg(long, default_value_t = 8, allow_hyphen_values = true)]
-    elements: usize,
+    /// Number of equal elements N, or `auto`: boundaries on the material
+    /// changes, refined until every element is within the slope limit.
+    #[arg(long, default_value = "8", value_parser = parse_elements, allow_hyphen_values = true)]
+    elements: Elements,
+    /// The element model (`fpc models` lists them).
+    #[arg(long, default_value_t = ModelId::default().name().to_string())]
+    model: String,
     /// Leave out the ribs inside the channel.
     #[arg(long = "no-ribs")]
     no_ribs: bool,
@@ -49,10 +74,8 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
+    let model = ModelId::parse("model", &args.model)?;
     let act = Actuator::paper(args.eps0)?;
-    for w in act.warnings() {
-        crate::report::warning(&w.to_string());
-    }
     let load = Load {
         kappa: args.kappa,
         ..Load::unloaded()
@@ -60,63 +83,81 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     .with_pressure_kpa(args.pressure_kpa)
     .with_tip_force(args.fx, args.fz);
     let opts = SolveOptions::default();
-    let (sol, elements, estimate) = match args.tip_tol_mm {
-        Some(tol) => {
-            let r = solve_to_tip_tolerance(&act, !args.no_ribs, &load, tol, args.elements, &opts)?;
-            (r.solution, r.elements, Some(r.estimated_tip_error_mm))
+    let ribs = !args.no_ribs;
+    // notes on the input first: they hold even when the solve fails
+    for w in fpc::input_warnings(model, &act) {
+        crate::report::warning(&w.to_string());
+    }
+    let (sol, estimate) = match (args.tip_tol_mm, args.elements) {
+        (Some(_), Elements::Auto) => {
+            return Err(InputError::Inconsistent {
+                field: "tip_tol_mm".into(),
+                rule: "chooses N itself: give a starting --elements count, not auto".into(),
+            }
+            .into())
         }
-        None => {
-            let part = Partition::equal(act.geometry().lx, args.elements)?;
-            let finger = Finger::new(&act, &part, !args.no_ribs);
-            (finger.solve(&load, &opts)?, args.elements, None)
+        (Some(tol), Elements::Equal(n)) => {
+            let r = solve_to_tip_tolerance(model, &act, ribs, &load, tol, n, &opts)?;
+            (r.solution, Some(r.estimated_tip_error_mm))
+        }
+        (None, Elements::Auto) => (solve_auto(model, &act, ribs, &load, &opts)?.solution, None),
+        (None, Elements::Equal(n)) => {
+            let part = Partition::equal(act.geometry().lx, n)?;
+            let finger = Finger::with_model(model, &act, &part, ribs);
+            (finger.solve(&load, &opts)?, None)
         }
     };
+    for w in sol.warnings.iter().filter(|w| w.is_validity()) {
+        crate::report::warning(&w.to_string());
+    }
     let mut out = crate::output::stdout();
     if args.json {
-        let mut v = to_json(&sol);
-        v["elements"] = json!(elements);
-        v["tip_error_estimate_mm"] = json!(estimate);
+        let v = Json {
+            model: model.name(),
+            elements: sol.element_lengths.len(),
+            tip_error_estimate_mm: estimate,
+            solution: &sol,
+        };
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
-        summary(&mut out, args, elements, estimate, &sol)?;
+        summary(&mut out, args, model, estimate, &sol)?;
     }
     Ok(())
 }
 
 /// The JSON form of a solution (keys documented in the README).
 pub fn to_json(sol: &Solution) -> serde_json::Value {
-    json!({
-        "tip_mm": sol.tip,
-        "end_angle_rad": sol.end_angle,
-        "radius_mm": sol.radius,
-        "energy_nmm": sol.energy,
-        "min_hessian_eig": sol.min_hessian_eig,
-        "stable": sol.min_hessian_eig.map(|e| e > 0.0),
-        "coefficients": sol.coefficients,
-        "points_mm": sol.points,
-        "report": {
-            "reason": sol.report.reason.to_string(),
-            "iterations": sol.report.iterations,
-            "residual_norm": sol.report.residual_norm,
-            "evaluations": sol.report.evaluations,
-            "coupled": sol.report.coupled,
-            "continuation_steps": sol.report.continuation_steps,
-        },
-    })
+    serde_json::to_value(sol).unwrap_or(serde_json::Value::Null)
+}
+
+/// `fpc finger --json`: the solution's keys (README) and the run's.
+#[derive(serde::Serialize)]
+struct Json<'a> {
+    model: &'static str,
+    elements: usize,
+    tip_error_estimate_mm: Option<f64>,
+    #[serde(flatten)]
+    solution: &'a Solution,
 }
 
 fn summary(
     out: &mut impl Write,
     args: &Args,
-    elements: usize,
+    model: ModelId,
     estimate: Option<f64>,
     sol: &Solution,
 ) -> std::io::Result<()> {
+    let elements = sol.element_lengths.len();
     writeln!(
         out,
-        "finger: eps0 = {}, N = {}, ribs {}, P = {} kPa, tip force ({}, {}) N",
+        "finger: eps0 = {}, model {model}, N = {}{}, ribs {}, P = {} kPa, tip force ({}, {}) N",
         args.eps0,
         elements,
+        if args.elements == Elements::Auto {
+            " (auto)"
+        } else {
+            ""
+        },
         if args.no_ribs { "off" } else { "on" },
         args.pressure_kpa,
         args.fx,
@@ -163,20 +204,14 @@ fn summary(
             "decoupled elements"
         }
     )?;
+    let findings = sol.warnings.iter().filter(|w| w.is_validity()).count();
+    if findings == 0 {
+        writeln!(out, "validity       within the model's limits")?;
+    } else {
+        writeln!(
+            out,
+            "validity       OUTSIDE the model's limits: {findings} finding(s), see the warnings"
+        )?;
+    }
     Ok(())
-}
-
-/// The element model of a `--model` value.
-pub fn model_by_name(name: &str) -> anyhow::Result<fpc::ModelId> {
-    fpc::ModelId::from_name(name).ok_or_else(|| {
-        fpc::InputError::OutOfRange {
-            field: "model".into(),
-            value: f64::NAN,
-            rule: format!(
-                "`{name}` is not a model (models: {})",
-                fpc::ModelId::names().join(", ")
-            ),
-        }
-        .into()
-    })
 }

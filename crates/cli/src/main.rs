@@ -14,6 +14,7 @@ use clap::{Parser, Subcommand};
 mod accuracy;
 mod finger;
 mod kernels;
+mod models;
 mod output;
 mod paper;
 mod report;
@@ -34,10 +35,12 @@ struct Cli {
 enum Command {
     /// Run time against error over N and the Newton tolerance (writes CSV and SVG).
     Accuracy(accuracy::Args),
-    /// Solve one finger of the default actuator (eps0, pressure, tip force).
+    /// Solve one finger of the default actuator (eps0, pressure, tip force, model, N or auto).
     Finger(finger::Args),
     /// Print the generated element kernels and their operation counts.
     Kernels(kernels::Args),
+    /// List the element models: name, spec file, unknowns.
+    Models(models::Args),
     /// Solve the finger or gripper grasp of a TOML scene file; write solution.json, shape.csv, shape.svg.
     Solve(solve::Args),
     /// Median solve times of the standard cases, measured in-process.
@@ -65,6 +68,7 @@ fn run() -> anyhow::Result<()> {
         Command::Accuracy(a) => accuracy::run(&a),
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
+        Command::Models(a) => models::run(&a),
         Command::Solve(a) => solve::run(&a),
         Command::Timing(a) => timing::run(&a),
         Command::Paper(a) => paper::run(&a),

@@ -1,0 +1,120 @@
+//! The CLI says when an answer leaves the model: `fpc: warning:` lines on
+//! stderr, `warnings` and `element_lengths_mm` in the JSON, a validity line
+//! in the summary; `--elements auto` and `--model`; `fpc models`.
+
+use std::process::{Command, Output};
+
+fn fpc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+fn json(args: &[&str]) -> (serde_json::Value, String) {
+    let out = fpc(args);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    (v, text(&out.stderr))
+}
+
+fn kinds(v: &serde_json::Value) -> Vec<String> {
+    v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["kind"].as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn a_finger_outside_the_model_says_so_in_text_json_and_stderr() {
+    // one element pushed back on itself: the tip ends metres away
+    let out = fpc(&["finger", "--elements", "1", "--fx", "-5"]);
+    assert!(out.status.success());
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(
+        stdout.contains("validity       OUTSIDE the model's limits"),
+        "{stdout}"
+    );
+    assert!(stderr.contains("fpc: warning: element 0 turns"), "{stderr}");
+    assert!(stderr.contains("strain"), "{stderr}");
+    let (v, _) = json(&["finger", "--elements", "1", "--fx", "-5", "--json"]);
+    let k = kinds(&v);
+    assert!(k.contains(&"element_slope".to_string()), "{k:?}");
+    assert!(k.contains(&"strain_range".to_string()), "{k:?}");
+    for w in v["warnings"].as_array().unwrap() {
+        assert!(w["message"].as_str().unwrap().len() > 10);
+        assert_eq!(w["element"], 0);
+        assert!(w["value"].is_number() && w["limit"].is_number(), "{w}");
+    }
+    assert_eq!(v["element_lengths_mm"], serde_json::json!([110.0]));
+
+    // the paper's eps0 = 0.4 finger in two elements turns each > 100 degrees
+    let (v, stderr) = json(&["finger", "--eps0", "0.4", "--elements", "2", "--json"]);
+    assert_eq!(kinds(&v), ["element_slope", "element_slope"]);
+    assert_eq!(stderr.lines().count(), 2, "{stderr}");
+}
+
+#[test]
+fn the_default_finger_raises_nothing_and_auto_fixes_the_coarse_one() {
+    let (v, stderr) = json(&["finger", "--json"]);
+    assert!(kinds(&v).is_empty() && stderr.is_empty(), "{stderr}");
+    assert_eq!(v["elements"], 8);
+    assert_eq!(v["model"], "ccm");
+    let (v, stderr) = json(&["finger", "--eps0", "0.4", "--elements", "auto", "--json"]);
+    assert!(kinds(&v).is_empty(), "{stderr}");
+    let n = v["elements"].as_u64().unwrap() as usize;
+    let lengths = v["element_lengths_mm"].as_array().unwrap();
+    assert_eq!(lengths.len(), n);
+    let sum: f64 = lengths.iter().map(|l| l.as_f64().unwrap()).sum();
+    assert!((sum - 110.0).abs() < 1e-9, "{sum}");
+    let out = fpc(&["finger", "--eps0", "0.4", "--elements", "auto"]);
+    assert!(text(&out.stdout).contains("(auto)"));
+    // below vacuum is rejected input
+    let out = fpc(&["finger", "--pressure-kpa", "-10000"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("below absolute vacuum"));
+    // neither a count nor auto
+    let out = fpc(&["finger", "--elements", "many"]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn models_are_listed_and_chosen_by_name() {
+    let out = fpc(&["models", "--json"]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = v
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"ccm") && names.contains(&"quad"),
+        "{names:?}"
+    );
+    for m in v.as_array().unwrap() {
+        let spec = m["spec"].as_str().unwrap();
+        assert!(
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("../..")
+                .join(spec)
+                .exists(),
+            "{spec}"
+        );
+    }
+    let (v, _) = json(&["finger", "--model", "quad", "--json"]);
+    assert_eq!(v["model"], "quad");
+    assert_eq!(v["coefficients"][0].as_array().unwrap().len(), 5);
+    let out = fpc(&["finger", "--model", "nope"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("not a model (models: ccm, quad)"));
+    let out = fpc(&["kernels", "--model", "quad", "--report"]);
+    assert!(text(&out.stdout).contains("prestressed_hessian"));
+}
