@@ -1,21 +1,23 @@
 //! The parser and the resolution never panic and always return, on
 //! random text and on random edits of the example scenes.
 
-use super::testing::SCENES;
+use super::testing::{schema_keys, schema_path, SCENES};
 use super::SceneFile;
 use proptest::prelude::*;
 use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
 use std::sync::mpsc;
 use std::time::Duration;
 
-/// Parse and resolve; every error must carry a usable position or path.
+/// Parse and resolve; every error must carry a usable position or a key
+/// of the schema.
 fn read(text: &str) {
     match SceneFile::parse(text) {
         Ok(f) => match f.resolve() {
             Ok(s) => {
                 let _ = s.file().resolve();
             }
-            Err(e) => assert!(!e.field().is_empty()),
+            // named by a key of the scene
+            Err(e) => assert!(schema_keys().contains(&schema_path(e.field())), "{e}"),
         },
         Err(e) => {
             let lines = text.split('\n').count();

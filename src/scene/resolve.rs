@@ -8,11 +8,14 @@ use crate::actuator::{
     PsiLaw, Rib, RibLayout,
 };
 use crate::blocks::Partition;
-use crate::error::{finite, positive, require, InputError};
+use crate::error::InputError;
 use crate::finger::{Load, SolveOptions, Strategy};
 use crate::gripper::{GripperParams, PalmSpec};
 
-use super::fields::rename;
+use super::fields::{
+    finite, forbid, inconsistent, positive, require, scene_input, ElasticKey, GraspKey, GripperKey,
+    Layer, LoadKey, PaperRibKey, PartitionKey, SceneKey, SolveKey,
+};
 use super::schema::*;
 use super::Scene;
 
@@ -43,7 +46,7 @@ pub enum PartitionPlan {
     /// A fixed partition (equal or custom elements).
     Fixed(Partition),
     /// Equal elements doubled from `start` until the estimated tip error is
-    /// at most `tip_tol_mm` ([`solve_to_tip_tolerance`]).
+    /// at most `tip_tol_mm` ([`crate::solve_to_tip_tolerance`]).
     TipTolerance { tip_tol_mm: f64, start: usize },
 }
 
@@ -103,22 +106,7 @@ impl SceneFile {
     /// Checks every value and builds the scene (the defaults fill absent
     /// keys). Errors name the key by its TOML path.
     pub fn resolve(&self) -> Result<Scene, InputError> {
-        resolve(self).map_err(rename)
-    }
-}
-
-fn inconsistent(field: &str, rule: impl Into<String>) -> InputError {
-    InputError::Inconsistent {
-        field: field.into(),
-        rule: rule.into(),
-    }
-}
-
-/// Fails for the first key of `keys` that is set.
-fn forbid(keys: &[(&str, bool)], rule: &str) -> Result<(), InputError> {
-    match keys.iter().find(|(_, set)| *set) {
-        Some((k, _)) => Err(inconsistent(k, rule)),
-        None => Ok(()),
+        resolve(self)
     }
 }
 
@@ -133,30 +121,30 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let partition = match (&p.lengths, p.tip_tol_mm) {
         (Some(_), _) if p.elements.is_some() => {
             return Err(inconsistent(
-                "partition.lengths",
+                PartitionKey::Lengths,
                 "give either elements or lengths, not both",
             ))
         }
         (Some(_), Some(_)) => {
             return Err(inconsistent(
-                "partition.tip_tol_mm",
+                PartitionKey::TipTolMm,
                 "refines equal elements; it cannot be combined with lengths",
             ))
         }
         (Some(lengths), None) => {
             file.partition.lengths = Some(lengths.clone());
-            PartitionPlan::Fixed(Partition::custom(lengths.clone(), lx)?)
+            PartitionPlan::Fixed(Partition::custom(lengths.clone(), lx).map_err(scene_input)?)
         }
         (None, Some(tol)) => {
             if gripper_scene {
                 return Err(inconsistent(
-                    "partition.tip_tol_mm",
+                    PartitionKey::TipTolMm,
                     "not supported in a gripper scene (give elements or lengths)",
                 ));
             }
-            positive("partition.tip_tol_mm", tol)?;
+            positive(PartitionKey::TipTolMm, tol)?;
             let start = p.elements.unwrap_or(DEFAULT_ELEMENTS);
-            Partition::equal(lx, start)?;
+            Partition::equal(lx, start).map_err(scene_input)?;
             file.partition.tip_tol_mm = Some(tol);
             file.partition.elements = Some(start);
             PartitionPlan::TipTolerance {
@@ -167,7 +155,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         (None, None) => {
             let n = p.elements.unwrap_or(DEFAULT_ELEMENTS);
             file.partition.elements = Some(n);
-            PartitionPlan::Fixed(Partition::equal(lx, n)?)
+            PartitionPlan::Fixed(Partition::equal(lx, n).map_err(scene_input)?)
         }
     };
 
@@ -176,24 +164,24 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let load = if gripper_scene {
         forbid(
             &[
-                ("load.pressure_kpa", l.pressure_kpa.is_some()),
-                ("load.kappa", l.kappa.is_some()),
-                ("load.fx", l.fx.is_some()),
-                ("load.fz", l.fz.is_some()),
+                (LoadKey::PressureKpa.into(), l.pressure_kpa.is_some()),
+                (LoadKey::Kappa.into(), l.kappa.is_some()),
+                (LoadKey::Fx.into(), l.fx.is_some()),
+                (LoadKey::Fz.into(), l.fz.is_some()),
             ],
             "not used in a gripper scene: the grasp solves for the tip load (set the pressure with gripper.grasp.pressure_kpa)",
         )?;
         Load::unloaded()
     } else {
         let d = Load::default();
-        let kpa = finite("load.pressure_kpa", l.pressure_kpa.unwrap_or(0.0))?;
+        let kpa = finite(LoadKey::PressureKpa, l.pressure_kpa.unwrap_or(0.0))?;
         let load = Load {
             pressure: kpa * 1e-3,
             kappa: l.kappa.unwrap_or(d.kappa),
             fx: l.fx.unwrap_or(d.fx),
             fz: l.fz.unwrap_or(d.fz),
         };
-        load.validate()?;
+        load.validate().map_err(scene_input)?;
         file.load = LoadSection {
             pressure_kpa: Some(kpa),
             kappa: Some(load.kappa),
@@ -209,13 +197,13 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let options = if gripper_scene {
         forbid(
             &[
-                ("solve.rtol", s.rtol.is_some()),
-                ("solve.max_iter", s.max_iter.is_some()),
-                ("solve.strategy", s.strategy.is_some()),
-                ("solve.samples_per_element", s.samples_per_element.is_some()),
-                ("solve.shape", s.shape.is_some()),
-                ("solve.continuation", s.continuation.is_some()),
-                ("solve.max_step", s.max_step.is_some()),
+                (SolveKey::Rtol.into(), s.rtol.is_some()),
+                (SolveKey::MaxIter.into(), s.max_iter.is_some()),
+                (SolveKey::Strategy.into(), s.strategy.is_some()),
+                (SolveKey::SamplesPerElement.into(), s.samples_per_element.is_some()),
+                (SolveKey::Shape.into(), s.shape.is_some()),
+                (SolveKey::Continuation.into(), s.continuation.is_some()),
+                (SolveKey::MaxStep.into(), s.max_step.is_some()),
             ],
             "not used in a gripper scene: grasps are solved with the gripper's own settings (only solve.stability applies)",
         )?;
@@ -235,19 +223,19 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
             continuation: s.continuation.unwrap_or(d.continuation),
             max_step: s.max_step.unwrap_or(d.max_step),
         };
-        positive("solve.rtol", o.rtol)?;
-        positive("solve.max_step", o.max_step)?;
+        positive(SolveKey::Rtol, o.rtol)?;
+        positive(SolveKey::MaxStep, o.max_step)?;
         require(
             o.max_iter >= 1,
-            "solve.max_iter",
+            SolveKey::MaxIter,
             o.max_iter as f64,
-            "must be at least 1".into(),
+            "must be at least 1",
         )?;
         require(
             o.samples_per_element >= 1,
-            "solve.samples_per_element",
+            SolveKey::SamplesPerElement,
             o.samples_per_element as f64,
-            "must be at least 1".into(),
+            "must be at least 1",
         )?;
         file.solve = SolveSection {
             rtol: Some(o.rtol),
@@ -324,11 +312,11 @@ fn resolve_actuator(
     };
     let (ribs, ribs_echo) = resolve_ribs(&a.ribs, &d.ribs)?;
     echo.ribs = ribs_echo;
-    let (cl, e) = resolve_material(&a.cl, d.cl, "actuator.cl")?;
+    let (cl, e) = resolve_material(&a.cl, d.cl, Layer::Cl)?;
     echo.cl = e;
-    let (emc, e) = resolve_material(&a.emc, d.emc, "actuator.emc")?;
+    let (emc, e) = resolve_material(&a.emc, d.emc, Layer::Emc)?;
     echo.emc = e;
-    let (fluidic, e) = resolve_material(&a.fluidic, d.fluidic, "actuator.fluidic")?;
+    let (fluidic, e) = resolve_material(&a.fluidic, d.fluidic, Layer::Fluidic)?;
     echo.fluidic = e;
     let pm = &a.pemc;
     let [q1, q2, q3, q4] = d.pemc.law.to_array();
@@ -359,6 +347,7 @@ fn resolve_actuator(
         fluidic,
         pemc,
     })
+    .map_err(scene_input)
 }
 
 fn resolve_ribs(
@@ -371,11 +360,11 @@ fn resolve_ribs(
         RibKind::Paper
     });
     let paper_keys = [
-        ("actuator.ribs.w1", r.w1.is_some()),
-        ("actuator.ribs.w2", r.w2.is_some()),
-        ("actuator.ribs.t", r.t.is_some()),
+        (PaperRibKey::W1.into(), r.w1.is_some()),
+        (PaperRibKey::W2.into(), r.w2.is_some()),
+        (PaperRibKey::T.into(), r.t.is_some()),
     ];
-    let list_key = [("actuator.ribs.list", r.list.is_some())];
+    let list_key = [(SceneKey::RibsList, r.list.is_some())];
     let mut echo = RibsSection {
         kind: Some(kind),
         ..RibsSection::default()
@@ -395,7 +384,7 @@ fn resolve_ribs(
             forbid(&paper_keys, "only used with kind = \"paper\"")?;
             let Some(list) = &r.list else {
                 return Err(inconsistent(
-                    "actuator.ribs.list",
+                    SceneKey::RibsList,
                     "required with kind = \"list\" (an empty list means no ribs)",
                 ));
             };
@@ -422,7 +411,7 @@ fn resolve_ribs(
 fn resolve_material(
     m: &MaterialSection,
     default: Material,
-    path: &str,
+    layer: Layer,
 ) -> Result<(Material, MaterialSection), InputError> {
     let iso_set = m.e.is_some() || m.nu.is_some();
     let ortho_set = m.e1.is_some() || m.e2.is_some() || m.nu12.is_some();
@@ -435,13 +424,13 @@ fn resolve_material(
         (false, true) => MaterialKind::Orthotropic,
         _ => default_kind,
     });
-    let key = |k: &str| format!("{path}.{k}");
+    let key = |k: ElasticKey| SceneKey::Material(layer, k);
     // a value of this kind: the file's, else the layer's default if it is
     // of the same kind, else required
-    let value = |k: &str, v: Option<f64>, fallback: Option<f64>| -> Result<f64, InputError> {
+    let value = |k: ElasticKey, v: Option<f64>, fallback: Option<f64>| -> Result<f64, InputError> {
         v.or(fallback).ok_or_else(|| {
             inconsistent(
-                &key(k),
+                key(k),
                 format!(
                     "required: the layer's default material is {}, so a {} one needs all its keys",
                     kind_name(default_kind),
@@ -458,9 +447,9 @@ fn resolve_material(
         MaterialKind::Isotropic => {
             forbid(
                 &[
-                    (&key("e1"), m.e1.is_some()),
-                    (&key("e2"), m.e2.is_some()),
-                    (&key("nu12"), m.nu12.is_some()),
+                    (key(ElasticKey::E1), m.e1.is_some()),
+                    (key(ElasticKey::E2), m.e2.is_some()),
+                    (key(ElasticKey::Nu12), m.nu12.is_some()),
                 ],
                 "an orthotropic key, but the layer is isotropic (keys e, nu)",
             )?;
@@ -469,15 +458,18 @@ fn resolve_material(
                 Material::Orthotropic(_) => None,
             };
             let iso = Isotropic {
-                e: value("e", m.e, d.map(|d| d.e))?,
-                nu: value("nu", m.nu, d.map(|d| d.nu))?,
+                e: value(ElasticKey::E, m.e, d.map(|d| d.e))?,
+                nu: value(ElasticKey::Nu, m.nu, d.map(|d| d.nu))?,
             };
             (echo.e, echo.nu) = (Some(iso.e), Some(iso.nu));
             Material::Isotropic(iso)
         }
         MaterialKind::Orthotropic => {
             forbid(
-                &[(&key("e"), m.e.is_some()), (&key("nu"), m.nu.is_some())],
+                &[
+                    (key(ElasticKey::E), m.e.is_some()),
+                    (key(ElasticKey::Nu), m.nu.is_some()),
+                ],
                 "an isotropic key, but the layer is orthotropic (keys e1, e2, nu12)",
             )?;
             let d = match default {
@@ -485,9 +477,9 @@ fn resolve_material(
                 Material::Isotropic(_) => None,
             };
             let o = Orthotropic {
-                e1: value("e1", m.e1, d.map(|d| d.e1))?,
-                e2: value("e2", m.e2, d.map(|d| d.e2))?,
-                nu12: value("nu12", m.nu12, d.map(|d| d.nu12))?,
+                e1: value(ElasticKey::E1, m.e1, d.map(|d| d.e1))?,
+                e2: value(ElasticKey::E2, m.e2, d.map(|d| d.e2))?,
+                nu12: value(ElasticKey::Nu12, m.nu12, d.map(|d| d.nu12))?,
             };
             (echo.e1, echo.e2, echo.nu12) = (Some(o.e1), Some(o.e2), Some(o.nu12));
             Material::Orthotropic(o)
@@ -509,23 +501,23 @@ fn resolve_gripper(
 ) -> Result<(GripperScene, GripperSection), InputError> {
     let d = GripperParams::default();
     let angle_deg = finite(
-        "gripper.mounting_angle_deg",
+        GripperKey::MountingAngleDeg,
         g.mounting_angle_deg.unwrap_or(DEFAULT_MOUNTING_ANGLE_DEG),
     )?;
     require(
         angle_deg > 0.0 && angle_deg < 180.0,
-        "gripper.mounting_angle_deg",
+        GripperKey::MountingAngleDeg,
         angle_deg,
-        "must lie in (0, 180) degrees: the finger points away from the palm".into(),
+        "must lie in (0, 180) degrees: the finger points away from the palm",
     )?;
-    let mu = positive("gripper.mu", g.mu.unwrap_or(d.mu))?;
+    let mu = positive(GripperKey::Mu, g.mu.unwrap_or(d.mu))?;
     let strict = g.strict.unwrap_or(false);
     let fingers = g.fingers.unwrap_or(d.fingers);
     require(
         fingers >= 1,
-        "gripper.fingers",
+        GripperKey::Fingers,
         fingers as f64,
-        "must be at least 1".into(),
+        "must be at least 1",
     )?;
     let mut echo = GripperSection {
         mounting_angle_deg: Some(angle_deg),
@@ -537,23 +529,18 @@ fn resolve_gripper(
     let geometry = match (g.overlap_mm, g.palm_mm) {
         (Some(_), Some(_)) => {
             return Err(inconsistent(
-                "gripper.palm_mm",
+                GripperKey::PalmMm,
                 "give either overlap_mm or palm_mm, not both",
             ))
         }
         (_, Some(l)) => {
-            finite("gripper.palm_mm", l)?;
-            require(
-                l >= 0.0,
-                "gripper.palm_mm",
-                l,
-                "must not be negative".into(),
-            )?;
+            finite(GripperKey::PalmMm, l)?;
+            require(l >= 0.0, GripperKey::PalmMm, l, "must not be negative")?;
             echo.palm_mm = Some(l);
             PalmSpec::Palm(l)
         }
         (o, None) => {
-            let o = finite("gripper.overlap_mm", o.unwrap_or(DEFAULT_OVERLAP_MM))?;
+            let o = finite(GripperKey::OverlapMm, o.unwrap_or(DEFAULT_OVERLAP_MM))?;
             echo.overlap_mm = Some(o);
             PalmSpec::Overlap(o)
         }
@@ -590,64 +577,53 @@ fn resolve_grasp(s: &GraspSection) -> Result<(GraspSpec, GraspSection), InputErr
         GraspKind::Sphere => "sphere",
     };
     let rule = format!("not used by kind = \"{name}\"");
-    let pressure_kpa = finite("gripper.grasp.pressure_kpa", s.pressure_kpa.unwrap_or(0.0))?;
+    let pressure_kpa = finite(GraspKey::PressureKpa, s.pressure_kpa.unwrap_or(0.0))?;
     let beta = |limit_open: bool| -> Result<f64, InputError> {
         let default = if limit_open {
             DEFAULT_SPHERE_BETA_DEG
         } else {
             0.0
         };
-        let b = finite("gripper.grasp.beta_deg", s.beta_deg.unwrap_or(default))?;
+        let b = finite(GraspKey::BetaDeg, s.beta_deg.unwrap_or(default))?;
         let ok = if limit_open {
             b.abs() < 90.0 && b.to_radians().abs() < FRAC_PI_2
         } else {
             b.abs() <= 90.0
         };
         let range = if limit_open { "(-90, 90)" } else { "[-90, 90]" };
-        require(
-            ok,
-            "gripper.grasp.beta_deg",
-            b,
-            format!("must lie in {range}"),
-        )?;
+        require(ok, GraspKey::BetaDeg, b, format!("must lie in {range}"))?;
         Ok(b)
     };
     let spec = match kind {
         GraspKind::Size => {
             forbid(
                 &[
-                    ("gripper.grasp.friction_n", s.friction_n.is_some()),
-                    ("gripper.grasp.r_mm", s.r_mm.is_some()),
-                    ("gripper.grasp.lift_n", s.lift_n.is_some()),
+                    (GraspKey::FrictionN.into(), s.friction_n.is_some()),
+                    (GraspKey::RMm.into(), s.r_mm.is_some()),
+                    (GraspKey::LiftN.into(), s.lift_n.is_some()),
                 ],
                 &rule,
             )?;
             GraspSpec::Size {
                 pressure_kpa,
-                d_mm: finite(
-                    "gripper.grasp.d_mm",
-                    s.d_mm.unwrap_or(DEFAULT_GRASP_SIZE_MM),
-                )?,
+                d_mm: finite(GraspKey::DMm, s.d_mm.unwrap_or(DEFAULT_GRASP_SIZE_MM))?,
                 beta_deg: beta(false)?,
             }
         }
         GraspKind::Cuboid => {
             forbid(
                 &[
-                    ("gripper.grasp.beta_deg", s.beta_deg.is_some()),
-                    ("gripper.grasp.r_mm", s.r_mm.is_some()),
-                    ("gripper.grasp.lift_n", s.lift_n.is_some()),
+                    (GraspKey::BetaDeg.into(), s.beta_deg.is_some()),
+                    (GraspKey::RMm.into(), s.r_mm.is_some()),
+                    (GraspKey::LiftN.into(), s.lift_n.is_some()),
                 ],
                 &format!("{rule} (a cuboid is held at b = 0)"),
             )?;
             GraspSpec::Cuboid {
                 pressure_kpa,
-                d_mm: positive(
-                    "gripper.grasp.d_mm",
-                    s.d_mm.unwrap_or(DEFAULT_GRASP_SIZE_MM),
-                )?,
+                d_mm: positive(GraspKey::DMm, s.d_mm.unwrap_or(DEFAULT_GRASP_SIZE_MM))?,
                 friction_n: finite(
-                    "gripper.grasp.friction_n",
+                    GraspKey::FrictionN,
                     s.friction_n.unwrap_or(DEFAULT_CUBOID_FRICTION_N),
                 )?,
             }
@@ -655,21 +631,15 @@ fn resolve_grasp(s: &GraspSection) -> Result<(GraspSpec, GraspSection), InputErr
         GraspKind::Sphere => {
             forbid(
                 &[
-                    ("gripper.grasp.d_mm", s.d_mm.is_some()),
-                    ("gripper.grasp.friction_n", s.friction_n.is_some()),
+                    (GraspKey::DMm.into(), s.d_mm.is_some()),
+                    (GraspKey::FrictionN.into(), s.friction_n.is_some()),
                 ],
                 &format!("{rule} (the sphere's size is r_mm; F and f are solved for)"),
             )?;
             GraspSpec::Sphere {
                 pressure_kpa,
-                r_mm: positive(
-                    "gripper.grasp.r_mm",
-                    s.r_mm.unwrap_or(DEFAULT_SPHERE_RADIUS_MM),
-                )?,
-                lift_n: finite(
-                    "gripper.grasp.lift_n",
-                    s.lift_n.unwrap_or(DEFAULT_SPHERE_LIFT_N),
-                )?,
+                r_mm: positive(GraspKey::RMm, s.r_mm.unwrap_or(DEFAULT_SPHERE_RADIUS_MM))?,
+                lift_n: finite(GraspKey::LiftN, s.lift_n.unwrap_or(DEFAULT_SPHERE_LIFT_N))?,
                 beta_deg: beta(true)?,
             }
         }
@@ -717,7 +687,7 @@ fn resolve_grasp(s: &GraspSection) -> Result<(GraspSpec, GraspSection), InputErr
 mod tests {
     use super::*;
     use crate::actuator::{ActuatorParams, Isotropic};
-    use crate::scene::testing::{input_err, SCENES};
+    use crate::scene::testing::{input_err, schema_keys, schema_path, SCENES};
     use crate::scene::Scene;
 
     #[test]
@@ -828,6 +798,17 @@ mod tests {
     }
 
     #[test]
+    fn library_errors_give_the_value_in_the_keys_unit() {
+        // the library checks the pressure in MPa; the scene key is in kPa
+        let e = input_err("[load]\npressure_kpa = -200");
+        assert!(
+            e.to_string()
+                .starts_with("load.pressure_kpa = -200: is below absolute vacuum"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn validation_errors_name_the_toml_path() {
         let cases: &[(&str, &str)] = &[
             ("[actuator.geometry]\nh1 = 5", "actuator.geometry.h1"),
@@ -894,6 +875,10 @@ mod tests {
             let e = input_err(text);
             assert_eq!(e.field(), *path, "{text:?}: {e}");
             assert!(e.to_string().starts_with(path), "{text:?}: {e}");
+            assert!(
+                schema_keys().contains(&schema_path(path)),
+                "{path} is not a key of the schema"
+            );
         }
     }
 }

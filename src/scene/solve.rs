@@ -4,12 +4,12 @@
 //! hold the results.
 
 use crate::blocks::Partition;
-use crate::error::{InputError, SolveError, Warning};
+use crate::error::{SolveError, Warning};
 use crate::finger::{Finger, Solution};
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
 use crate::refine::solve_to_tip_tolerance;
 
-use super::fields::rename_solve;
+use super::fields::{inconsistent, scene_solve, PartitionKey};
 use super::resolve::{GraspSpec, PartitionPlan};
 use super::Scene;
 
@@ -17,7 +17,8 @@ impl Scene {
     /// Solves the finger, or builds the gripper and solves its grasp.
     /// Input errors name the scene's keys.
     pub fn solve(&self) -> Result<SceneSolution, SolveError> {
-        self.solve_inner().map_err(rename_solve)
+        // every error in here comes from the library, in its terms
+        self.solve_inner().map_err(scene_solve)
     }
 
     fn solve_inner(&self) -> Result<SceneSolution, SolveError> {
@@ -48,11 +49,9 @@ impl Scene {
         };
         let PartitionPlan::Fixed(part) = &self.partition else {
             // resolve() rejects tip_tol_mm with a gripper
-            return Err(InputError::Inconsistent {
-                field: "partition.tip_tol_mm".into(),
-                rule: "not supported in a gripper scene".into(),
-            }
-            .into());
+            return Err(
+                inconsistent(PartitionKey::TipTolMm, "not supported in a gripper scene").into(),
+            );
         };
         let gripper = Gripper::new(finger(part), g.params)?.with_stability(g.stability);
         let grasp = match g.grasp {
