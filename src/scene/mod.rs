@@ -101,8 +101,9 @@ impl Scene {
         &self.file
     }
 
-    /// Non-fatal notes about the actuator (gripper notes come with the
-    /// solution, [`SceneSolution::warnings`]).
+    /// Non-fatal notes about the actuator, known before solving (the
+    /// solution repeats them with every other warning,
+    /// [`SceneSolution::warnings`]).
     pub fn warnings(&self) -> &[Warning] {
         self.actuator.warnings()
     }

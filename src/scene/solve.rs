@@ -65,24 +65,38 @@ impl Scene {
     }
 }
 
+/// Solves the grasp `spec` asks for. Its validity is the gripper's
+/// verdict ([`Grasp::invalid`], for a sphere [`crate::SphereGrasp::invalid`],
+/// which adds the contact's geometry).
 fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, SolveError> {
-    let (grasp, sphere) = match spec {
+    Ok(match spec {
         GraspSpec::Size {
             pressure_kpa,
             d_mm,
             beta_deg,
-        } => (
-            gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), None)?,
-            None,
-        ),
+        } => {
+            let grasp =
+                gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), None)?;
+            GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
         GraspSpec::Cuboid {
             pressure_kpa,
             d_mm,
             friction_n,
-        } => (
-            gripper.force_control(pressure_kpa, d_mm, friction_n, None)?,
-            None,
-        ),
+        } => {
+            let grasp = gripper.force_control(pressure_kpa, d_mm, friction_n, None)?;
+            GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
         GraspSpec::Sphere {
             pressure_kpa,
             r_mm,
@@ -91,46 +105,16 @@ fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, Solve
         } => {
             let sg =
                 gripper.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), None)?;
-            let contact = SphereContact {
-                radius: sg.radius,
-                center: sg.center,
+            // the contact's own (geometric) verdict, as the gripper judged it
+            let contact = gripper.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
+            GraspOutcome {
+                spec,
                 invalid: sg.invalid,
-            };
-            (sg.grasp, Some(contact))
+                grasp: sg.grasp,
+                sphere: Some(contact),
+            }
         }
-    };
-    let invalid = match &sphere {
-        Some(c) => c.invalid,
-        None => open_and_friction(&grasp, gripper.mu()),
-    };
-    Ok(GraspOutcome {
-        spec,
-        grasp,
-        sphere,
-        invalid,
     })
-}
-
-/// The validity of a cuboid or size grasp: the fingers open (`d > 0` and a
-/// positive tip gap), `F >= 0` and `0 <= f <= mu F`.
-fn open_and_friction(g: &Grasp, mu: f64) -> Option<Invalid> {
-    if !(g.size > 0.0 && g.tip_gap > 0.0) {
-        return Some(Invalid::NotOpen {
-            size: g.size,
-            tip_gap: g.tip_gap,
-        });
-    }
-    let tol = 1e-12 * (1.0 + g.normal.abs());
-    if g.normal < -tol {
-        return Some(Invalid::NegativeNormal { normal: g.normal });
-    }
-    if !g.friction_ok(mu) {
-        return Some(Invalid::FrictionCone {
-            friction: g.friction,
-            limit: mu * g.normal,
-        });
-    }
-    None
 }
 
 /// A solved grasp.
@@ -140,9 +124,13 @@ pub struct GraspOutcome {
     pub spec: GraspSpec,
     /// The equilibrium and its measures (F, f, f_v, d, tip gap, h).
     pub grasp: Grasp,
-    /// For a sphere: its radius, centre (gripper frame) and geometric validity.
+    /// For a sphere: its radius, centre (gripper frame) and geometric
+    /// validity (not open, a second contact).
     pub sphere: Option<SphereContact>,
-    /// The first rule the grasp breaks (`None`: valid).
+    /// The first rule the grasp breaks (`None`: valid), as the gripper
+    /// judges it (`crate::gripper::rules`): the fingers open, `F >= 0`,
+    /// `0 <= f <= mu F`, not pressed past flat, for a sphere no second
+    /// contact, and in strict mode no element bent backwards.
     pub invalid: Option<Invalid>,
 }
 
@@ -191,12 +179,28 @@ impl SceneSolution {
         }
     }
 
-    /// Non-fatal notes about the gripper's design.
-    pub fn warnings(&self) -> &[Warning] {
-        match self {
-            SceneSolution::Finger { .. } => &[],
-            SceneSolution::Gripper { gripper, .. } => gripper.warnings(),
+    /// Every warning, each once: the solution's (the actuator's notes and
+    /// where the answer leaves the model), and in a gripper scene the
+    /// gripper's (its design) and the grasp's (`curvature_reversal`,
+    /// `beyond_flat`).
+    pub fn warnings(&self) -> Vec<Warning> {
+        let sources: [&[Warning]; 2] = match self {
+            SceneSolution::Finger { solution, .. } => [&solution.warnings, &[]],
+            SceneSolution::Gripper { gripper, grasp } => [
+                gripper.warnings(),
+                match grasp {
+                    Some(g) => &g.grasp.warnings,
+                    None => &gripper.reference().warnings,
+                },
+            ],
+        };
+        let mut all: Vec<Warning> = Vec::new();
+        for w in sources.into_iter().flatten() {
+            if !all.contains(w) {
+                all.push(w.clone());
+            }
         }
+        all
     }
 }
 
@@ -206,6 +210,7 @@ mod tests {
     use crate::error::SolveError;
     use crate::gripper::PalmSpec;
     use crate::scene::testing::SCENES;
+    use crate::scene::Scene;
 
     #[test]
     fn solve_errors_name_the_toml_path() {
@@ -278,5 +283,95 @@ mod tests {
         assert_eq!(direct.normal, out.grasp.normal);
         assert!((out.grasp.size - d_mm).abs() < 1e-6);
         assert!((out.grasp.friction - friction_n).abs() < 1e-9);
+        assert_eq!(out.invalid, direct.invalid);
+    }
+
+    fn grasp_of(text: &str) -> (Gripper, GraspOutcome) {
+        match Scene::from_toml(text).unwrap().solve().unwrap() {
+            SceneSolution::Gripper {
+                gripper,
+                grasp: Some(g),
+            } => (*gripper, *g),
+            other => panic!("{text:?}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn grasp_validity_is_the_grippers() {
+        // friction beyond the cone
+        let (_, out) = grasp_of("[gripper]\n[gripper.grasp]\nfriction_n = 50\n");
+        assert!(
+            matches!(out.invalid, Some(Invalid::FrictionCone { .. })),
+            "{:?}",
+            out.invalid
+        );
+        assert_eq!(out.invalid, out.grasp.invalid);
+        // a wide cuboid bends the root element backwards: flagged, and
+        // invalid only in strict mode
+        let text = "[gripper]\n[gripper.grasp]\nd_mm = 140\n";
+        let (_, out) = grasp_of(text);
+        assert_eq!(out.invalid, None);
+        assert!(out.grasp.is_reversed());
+        let (gripper, strict) =
+            grasp_of(&text.replace("[gripper]\n", "[gripper]\nstrict = true\n"));
+        assert!(gripper.is_strict());
+        assert!(
+            matches!(
+                strict.invalid,
+                Some(Invalid::CurvatureReversal { element: 0, .. })
+            ),
+            "{:?}",
+            strict.invalid
+        );
+        assert_eq!(strict.invalid, strict.grasp.invalid);
+        assert!(!strict.is_valid());
+    }
+
+    #[test]
+    fn sphere_validity_is_the_grippers() {
+        let text = "[gripper]\n[gripper.grasp]\nkind = \"sphere\"\nr_mm = 70\nlift_n = 2\n";
+        let (gripper, out) = grasp_of(text);
+        let direct = gripper
+            .sphere_grasp(0.0, 70.0, 2.0, 20f64.to_radians(), None)
+            .unwrap();
+        assert_eq!(out.invalid, direct.invalid);
+        assert!(
+            matches!(out.invalid, Some(Invalid::SecondContact { .. })),
+            "{:?}",
+            out.invalid
+        );
+        // the contact carries the geometric verdict, the grasp's forces are fine
+        let contact = out.sphere.unwrap();
+        assert_eq!(contact.invalid, out.invalid);
+        assert_eq!(out.grasp.invalid, None);
+        assert_eq!(
+            (contact.radius, contact.center),
+            (direct.radius, direct.center)
+        );
+    }
+
+    #[test]
+    fn warnings_are_every_warning_once() {
+        // the actuator's note reaches the finger, the gripper and the grasp:
+        // it is listed once, with the design note and the grasp's findings
+        let text = "[actuator.pemc]\neps0 = 0.62\n[gripper]\nmounting_angle_deg = 30\n[gripper.grasp]\nd_mm = 140\n";
+        let scene = Scene::from_toml(text).unwrap();
+        assert_eq!(scene.warnings().len(), 1);
+        let sol = scene.solve().unwrap();
+        let w = sol.warnings();
+        let count = |kind: &str| w.iter().filter(|w| w.kind() == kind).count();
+        assert_eq!(count("eps0_outside_fit"), 1, "{w:?}");
+        assert_eq!(count("mounting_angle_outside_design_space"), 1, "{w:?}");
+        assert_eq!(count("curvature_reversal"), 1, "{w:?}");
+        for (i, a) in w.iter().enumerate() {
+            assert!(!w[i + 1..].contains(a), "{a:?} twice in {w:?}");
+        }
+        // a finger scene: the solution's findings
+        let sol = Scene::from_toml("[partition]\nelements = 2\n[load]\npressure_kpa = 60\n")
+            .unwrap()
+            .solve()
+            .unwrap();
+        assert!(!sol.warnings().is_empty());
+        assert_eq!(sol.warnings(), sol.solution().warnings);
     }
 }
