@@ -7,9 +7,9 @@ use crate::actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Material, Orthotropic, Prestressed,
     PsiLaw, Rib, RibLayout,
 };
-use crate::blocks::Partition;
+use crate::blocks::{Partition, MIN_ELEMENT_FRACTION};
 use crate::error::InputError;
-use crate::finger::{Load, SolveOptions, Strategy};
+use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::gripper::{GripperParams, PalmSpec};
 
 use super::fields::{
@@ -23,6 +23,8 @@ use super::Scene;
 
 /// Default number of equal elements (the paper's N).
 pub const DEFAULT_ELEMENTS: usize = 8;
+/// Most elements of a partition: 1 / [`MIN_ELEMENT_FRACTION`].
+const MAX_ELEMENTS: usize = 1000;
 /// Default mounting angle of `[gripper]` (deg; the paper's Sec. 5).
 pub const DEFAULT_MOUNTING_ANGLE_DEG: f64 = 60.0;
 /// Default overlap of `[gripper]` (mm; the paper's Sec. 5).
@@ -132,6 +134,16 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
             ))
         }
         (Some(lengths), None) => {
+            // before any copy of the list
+            if lengths.len() > MAX_ELEMENTS {
+                return Err(inconsistent(
+                    PartitionKey::Lengths,
+                    format!(
+                        "{} entries, more than the {MAX_ELEMENTS} allowed (each element at least {MIN_ELEMENT_FRACTION} lx long)",
+                        lengths.len()
+                    ),
+                ));
+            }
             file.partition.lengths = Some(lengths.clone());
             PartitionPlan::Fixed(Partition::custom(lengths.clone(), lx).map_err(scene_input)?)
         }
@@ -232,10 +244,10 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
             "must be at least 1",
         )?;
         require(
-            o.samples_per_element >= 1,
+            (1..=MAX_SAMPLES_PER_ELEMENT).contains(&o.samples_per_element),
             SolveKey::SamplesPerElement,
             o.samples_per_element as f64,
-            "must be at least 1",
+            format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
         )?;
         file.solve = SolveSection {
             rtol: Some(o.rtol),
@@ -798,6 +810,43 @@ mod tests {
     }
 
     #[test]
+    fn bounded_counts() {
+        assert_eq!(MAX_ELEMENTS as f64, (1.0 / MIN_ELEMENT_FRACTION).round());
+        // the most samples are accepted, one more is not
+        let s = Scene::from_toml(&format!(
+            "[solve]\nsamples_per_element = {MAX_SAMPLES_PER_ELEMENT}"
+        ))
+        .unwrap();
+        assert_eq!(s.options.samples_per_element, MAX_SAMPLES_PER_ELEMENT);
+        let e = input_err(&format!(
+            "[solve]\nsamples_per_element = {}",
+            MAX_SAMPLES_PER_ELEMENT + 1
+        ));
+        assert_eq!(
+            e.to_string(),
+            "solve.samples_per_element = 4097: must lie in [1, 4096]"
+        );
+        // 1000 lengths are a partition, 1001 are refused as too many, even
+        // when each is too short as well
+        let list = |n: usize| {
+            let l = vec![format!("{}", 110.0 / n as f64); n];
+            format!("[partition]\nlengths = [{}]", l.join(", "))
+        };
+        let s = Scene::from_toml(&list(1000)).unwrap();
+        let PartitionPlan::Fixed(p) = &s.partition else {
+            panic!()
+        };
+        assert_eq!(p.len(), 1000);
+        let e = input_err(&list(1001));
+        assert_eq!(e.field(), "partition.lengths");
+        assert!(
+            e.to_string()
+                .contains("1001 entries, more than the 1000 allowed"),
+            "{e}"
+        );
+    }
+
+    #[test]
     fn library_errors_give_the_value_in_the_keys_unit() {
         // the library checks the pressure in MPa; the scene key is in kPa
         let e = input_err("[load]\npressure_kpa = -200");
@@ -850,6 +899,11 @@ mod tests {
             ("[solve]\nrtol = 0", "solve.rtol"),
             ("[solve]\nmax_iter = 0", "solve.max_iter"),
             ("[solve]\nsamples_per_element = 0", "solve.samples_per_element"),
+            ("[solve]\nsamples_per_element = 4097", "solve.samples_per_element"),
+            (
+                "[solve]\nshape = false\nsamples_per_element = 100000000000",
+                "solve.samples_per_element",
+            ),
             ("[gripper]\nmounting_angle_deg = nan", "gripper.mounting_angle_deg"),
             ("[gripper]\nmu = 0", "gripper.mu"),
             ("[gripper]\nfingers = 0", "gripper.fingers"),
