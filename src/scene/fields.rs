@@ -45,6 +45,10 @@ macro_rules! names {
 }
 
 names!(
+    /// `[model]`.
+    ModelKey { Name => "name" }
+);
+names!(
     /// `[actuator.geometry]`.
     GeometryKey { Lx => "lx", Ly => "ly", Lc => "lc", H => "h", H1 => "h1", H2 => "h2", H3 => "h3" }
 );
@@ -121,6 +125,7 @@ names!(
 /// TOML path (`actuator.geometry.h1`, `partition.lengths[2]`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub(crate) enum SceneKey {
+    Model(ModelKey),
     Geometry(GeometryKey),
     Channel(ChannelKey),
     /// `actuator.ribs` as a whole (ribs that together do not fit).
@@ -154,6 +159,7 @@ pub(crate) enum SceneKey {
 impl fmt::Display for SceneKey {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
+            SceneKey::Model(k) => write!(f, "model.{k}"),
             SceneKey::Geometry(k) => write!(f, "actuator.geometry.{k}"),
             SceneKey::Channel(k) => write!(f, "actuator.channel.{k}"),
             SceneKey::Ribs => f.write_str("actuator.ribs"),
@@ -186,6 +192,7 @@ macro_rules! into_key {
 }
 
 into_key!(
+    ModelKey => Model,
     GeometryKey => Geometry,
     ChannelKey => Channel,
     PaperRibKey => PaperRib,
@@ -202,6 +209,7 @@ impl SceneKey {
     /// Every key (list entries at index 0).
     pub(crate) fn all() -> Vec<SceneKey> {
         let mut keys: Vec<SceneKey> = Vec::new();
+        keys.extend(ModelKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(GeometryKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(ChannelKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);

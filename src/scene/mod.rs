@@ -9,6 +9,8 @@
 //! library's (mm, MPa, N): `pressure_kpa`, `mounting_angle_deg`, ...
 //!
 //! ```toml
+//! [model]                      # name = "ccm": the element model (crate::ModelId)
+//! name = "ccm"
 //! [actuator.geometry]          # mm: lx, ly, lc, h, h1, h2, h3
 //! lx = 110.0
 //! [actuator.channel]           # mm: cx, cy, h3a, h3b
@@ -48,6 +50,7 @@ mod testing;
 use crate::actuator::Actuator;
 use crate::error::{InputError, Warning};
 use crate::finger::{Load, SolveOptions};
+use crate::model::ModelId;
 
 pub use fields::warning_text;
 pub use resolve::{
@@ -57,8 +60,9 @@ pub use resolve::{
 };
 pub use schema::{
     line_col, ActuatorSection, ChannelSection, GeometrySection, GraspKind, GraspSection,
-    GripperSection, LoadSection, MaterialKind, MaterialSection, PartitionSection, PemcSection,
-    RibEntry, RibKind, RibsSection, SceneError, SceneFile, SceneStrategy, SolveSection,
+    GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection, PartitionSection,
+    PemcSection, RibEntry, RibKind, RibsSection, SceneError, SceneFile, SceneStrategy,
+    SolveSection,
 };
 pub use solve::{GraspOutcome, SceneSolution};
 
@@ -76,6 +80,8 @@ pub enum SceneReadError {
 /// A validated scene, ready to solve.
 #[derive(Debug, Clone)]
 pub struct Scene {
+    /// The element model of the finger.
+    pub model: ModelId,
     /// The validated actuator.
     pub actuator: Actuator,
     /// The partition.

@@ -11,10 +11,11 @@ use crate::blocks::{Partition, MIN_ELEMENT_FRACTION};
 use crate::error::InputError;
 use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::gripper::{GripperParams, PalmSpec};
+use crate::model::ModelId;
 
 use super::fields::{
     finite, forbid, inconsistent, positive, require, scene_input, ElasticKey, GraspKey, GripperKey,
-    Layer, LoadKey, PaperRibKey, PartitionKey, SceneKey, SolveKey,
+    Layer, LoadKey, ModelKey, PaperRibKey, PartitionKey, SceneKey, SolveKey,
 };
 use super::schema::*;
 use super::Scene;
@@ -114,6 +115,8 @@ impl SceneFile {
 
 fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let mut file = SceneFile::default();
+    let model = resolve_model(&f.model)?;
+    file.model.name = Some(model.name().to_string());
     let actuator = resolve_actuator(&f.actuator, &mut file.actuator)?;
     let lx = actuator.geometry().lx;
     let gripper_scene = f.gripper.is_some();
@@ -155,6 +158,16 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
                 ));
             }
             positive(PartitionKey::TipTolMm, tol)?;
+            if model != ModelId::default() {
+                // crate::solve_to_tip_tolerance builds default-model fingers
+                return Err(inconsistent(
+                    PartitionKey::TipTolMm,
+                    format!(
+                        "refines fingers of the default model \"{}\" only, not \"{model}\" (give elements or lengths)",
+                        ModelId::default()
+                    ),
+                ));
+            }
             let start = p.elements.unwrap_or(DEFAULT_ELEMENTS);
             Partition::equal(lx, start).map_err(scene_input)?;
             file.partition.tip_tol_mm = Some(tol);
@@ -276,6 +289,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     };
 
     Ok(Scene {
+        model,
         actuator,
         partition,
         load,
@@ -283,6 +297,25 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         gripper,
         file,
     })
+}
+
+fn resolve_model(m: &ModelSection) -> Result<ModelId, InputError> {
+    match &m.name {
+        None => Ok(ModelId::default()),
+        Some(name) => ModelId::from_name(name).ok_or_else(|| {
+            inconsistent(
+                ModelKey::Name,
+                format!(
+                    "unknown model {name:?}; the models are {}",
+                    ModelId::names()
+                        .iter()
+                        .map(|n| format!("{n:?}"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+        }),
+    }
 }
 
 fn resolve_actuator(
@@ -699,7 +732,7 @@ fn resolve_grasp(s: &GraspSection) -> Result<(GraspSpec, GraspSection), InputErr
 mod tests {
     use super::*;
     use crate::actuator::{ActuatorParams, Isotropic};
-    use crate::scene::testing::{input_err, schema_keys, schema_path, SCENES};
+    use crate::scene::testing::{input_err, schema_keys, schema_path, syntax_err, SCENES};
     use crate::scene::Scene;
 
     #[test]
@@ -810,6 +843,40 @@ mod tests {
     }
 
     #[test]
+    fn model_name_selects_the_element_model() {
+        let s = Scene::from_toml("").unwrap();
+        assert_eq!(s.model, ModelId::default());
+        assert_eq!(s.file().model.name.as_deref(), Some("ccm"));
+        for name in ModelId::names() {
+            let s = Scene::from_toml(&format!("[model]\nname = \"{name}\"\n")).unwrap();
+            assert_eq!(s.model.name(), name);
+            assert_eq!(s.file().model.name.as_deref(), Some(name));
+        }
+        let e = input_err("[model]\nname = \"nope\"\n");
+        assert_eq!(e.field(), "model.name");
+        let listed: Vec<String> = ModelId::names()
+            .iter()
+            .map(|n| format!("\"{n}\""))
+            .collect();
+        assert_eq!(
+            e.to_string(),
+            format!(
+                "model.name: unknown model \"nope\"; the models are {}",
+                listed.join(", ")
+            )
+        );
+        // a name that is not one line stays one line in the message
+        let e = input_err("[model]\nname = \"a\\nb\"\n");
+        assert!(!e.to_string().contains('\n'), "{e}");
+        // a wrong type or an unknown key is the parser's
+        let e = syntax_err("[model]\nname = 3\n");
+        assert_eq!((e.line, e.col), (2, 8), "{e}");
+        let e = syntax_err("[model]\nnmae = \"ccm\"\n");
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("nmae"), "{e}");
+    }
+
+    #[test]
     fn bounded_counts() {
         assert_eq!(MAX_ELEMENTS as f64, (1.0 / MIN_ELEMENT_FRACTION).round());
         // the most samples are accepted, one more is not
@@ -860,6 +927,8 @@ mod tests {
     #[test]
     fn validation_errors_name_the_toml_path() {
         let cases: &[(&str, &str)] = &[
+            ("[model]\nname = \"CCM\"", "model.name"),
+            ("[model]\nname = \"\"", "model.name"),
             ("[actuator.geometry]\nh1 = 5", "actuator.geometry.h1"),
             ("[actuator.geometry]\nlx = -1", "actuator.geometry.lx"),
             ("[actuator.geometry]\nlx = nan", "actuator.geometry.lx"),

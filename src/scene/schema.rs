@@ -58,6 +58,8 @@ pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SceneFile {
+    /// The element model.
+    pub model: ModelSection,
     /// The finger: geometry, channel, ribs, materials.
     pub actuator: ActuatorSection,
     /// How the finger is split into elements.
@@ -69,6 +71,16 @@ pub struct SceneFile {
     /// A gripper built from the finger, and the grasp to solve.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gripper: Option<GripperSection>,
+}
+
+/// `[model]`: the element model the finger is built from.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ModelSection {
+    /// A model's name ([`crate::ModelId::from_name`]); default the paper's
+    /// element, `"ccm"` ([`crate::ModelId::default`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
 }
 
 /// `[actuator]`.

@@ -22,7 +22,7 @@ impl Scene {
     }
 
     fn solve_inner(&self) -> Result<SceneSolution, SolveError> {
-        let finger = |part: &Partition| Finger::new(&self.actuator, part, true);
+        let finger = |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
         let Some(g) = &self.gripper else {
             return Ok(match &self.partition {
                 PartitionPlan::Fixed(part) => SceneSolution::Finger {
@@ -293,6 +293,19 @@ mod tests {
                 grasp: Some(g),
             } => (*gripper, *g),
             other => panic!("{text:?}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn the_finger_is_built_with_the_scenes_model() {
+        for name in crate::ModelId::names() {
+            let text = format!("[model]\nname = \"{name}\"\n[gripper]\n");
+            let SceneSolution::Gripper { gripper, .. } =
+                Scene::from_toml(&text).unwrap().solve().unwrap()
+            else {
+                panic!()
+            };
+            assert_eq!(gripper.finger().model().name(), name);
         }
     }
 
