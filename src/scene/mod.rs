@@ -22,13 +22,23 @@
 //! [actuator.fluidic]
 //! [actuator.pemc]              # eps0, e2 (MPa), p1..p4 (MPa)
 //! eps0 = 0.25
-//! [partition]                  # elements = N | lengths = [...] | tip_tol_mm (+ elements to start)
+//! [partition]                  # elements = N | "auto" | lengths = [...] | tip_tol_mm (+ elements to start)
 //! elements = 8
 //! [load]                       # pressure_kpa, kappa, fx, fz (N, finger frame)
 //! [solve]                      # rtol, max_iter, strategy, samples_per_element, shape, stability, continuation, max_step
 //! [gripper]                    # mounting_angle_deg, overlap_mm | palm_mm, fingers, mu
 //! [gripper.grasp]              # kind = "size" | "cuboid" | "sphere", with its keys
 //! ```
+//!
+//! `[partition] elements = "auto"` asks for the automatic partition
+//! ([`crate::solve_auto`]): element boundaries on the material changes,
+//! and elements split until every one turns within the CCM's slope limit.
+//! A finger scene chooses it at its load; a gripper scene at the unloaded,
+//! zero-pressure state, and builds the gripper on it (a grasp far from
+//! rest may still find elements beyond the limit). The number of elements
+//! used is [`SceneSolution::elements`]. `partition.lengths` holds at most
+//! 1000 entries (1 / [`crate::MIN_ELEMENT_FRACTION`]) and
+//! `solve.samples_per_element` is at most [`crate::MAX_SAMPLES_PER_ELEMENT`].
 //!
 //! Reading is two steps: [`SceneFile::parse`] checks the TOML and its keys
 //! and types ([`SceneError`] with line and column), [`SceneFile::resolve`]
@@ -59,7 +69,7 @@ pub use resolve::{
     DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
-    line_col, ActuatorSection, ChannelSection, GeometrySection, GraspKind, GraspSection,
+    line_col, ActuatorSection, ChannelSection, Elements, GeometrySection, GraspKind, GraspSection,
     GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection, PartitionSection,
     PemcSection, RibEntry, RibKind, RibsSection, SceneError, SceneFile, SceneStrategy,
     SolveSection,

@@ -51,6 +51,11 @@ pub enum PartitionPlan {
     /// Equal elements doubled from `start` until the estimated tip error is
     /// at most `tip_tol_mm` ([`crate::solve_to_tip_tolerance`]).
     TipTolerance { tip_tol_mm: f64, start: usize },
+    /// The automatic partition ([`crate::solve_auto`]): boundaries on the
+    /// material changes, elements split until every one turns within the
+    /// CCM's slope limit. A finger scene chooses it at its load, a gripper
+    /// scene at the unloaded, zero-pressure state (the gripper's reference).
+    Auto,
 }
 
 /// A resolved grasp (angles in degrees, as in the file).
@@ -168,20 +173,34 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
                     ),
                 ));
             }
-            let start = p.elements.unwrap_or(DEFAULT_ELEMENTS);
+            let start = match p.elements {
+                None => DEFAULT_ELEMENTS,
+                Some(Elements::Count(n)) => n,
+                Some(Elements::Auto) => {
+                    return Err(inconsistent(
+                        PartitionKey::Elements,
+                        "\"auto\" chooses the partition itself; with tip_tol_mm, give the number of equal elements to start from",
+                    ))
+                }
+            };
             Partition::equal(lx, start).map_err(scene_input)?;
             file.partition.tip_tol_mm = Some(tol);
-            file.partition.elements = Some(start);
+            file.partition.elements = Some(Elements::Count(start));
             PartitionPlan::TipTolerance {
                 tip_tol_mm: tol,
                 start,
             }
         }
-        (None, None) => {
-            let n = p.elements.unwrap_or(DEFAULT_ELEMENTS);
-            file.partition.elements = Some(n);
-            PartitionPlan::Fixed(Partition::equal(lx, n).map_err(scene_input)?)
-        }
+        (None, None) => match p.elements.unwrap_or(Elements::Count(DEFAULT_ELEMENTS)) {
+            Elements::Count(n) => {
+                file.partition.elements = Some(Elements::Count(n));
+                PartitionPlan::Fixed(Partition::equal(lx, n).map_err(scene_input)?)
+            }
+            Elements::Auto => {
+                file.partition.elements = Some(Elements::Auto);
+                PartitionPlan::Auto
+            }
+        },
     };
 
     // load
@@ -750,7 +769,17 @@ mod tests {
 
     #[test]
     fn echo_spells_out_every_default_and_resolves_to_the_same_scene() {
-        for (name, text) in SCENES.iter().chain(&[("empty", "")]) {
+        let more = [
+            ("empty", ""),
+            ("auto", "[partition]\nelements = \"auto\""),
+            (
+                "auto gripper",
+                "[partition]\nelements = \"auto\"\n[gripper]\n",
+            ),
+            ("model", "[model]\nname = \"ccm\""),
+            ("strict", "[gripper]\nstrict = true\n[gripper.grasp]\n"),
+        ];
+        for (name, text) in SCENES.iter().chain(&more) {
             let s = Scene::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             let again = s.file().resolve().unwrap();
             assert_eq!(again.actuator, s.actuator, "{name}");
@@ -768,7 +797,7 @@ mod tests {
         assert_eq!(echo.actuator.geometry.h1, Some(3.7));
         assert_eq!(echo.actuator.emc.kind, Some(MaterialKind::Orthotropic));
         assert_eq!(echo.actuator.pemc.p4, Some(0.698));
-        assert_eq!(echo.partition.elements, Some(8));
+        assert_eq!(echo.partition.elements, Some(Elements::Count(8)));
     }
 
     #[test]
@@ -877,6 +906,38 @@ mod tests {
     }
 
     #[test]
+    fn elements_auto() {
+        for text in [
+            "[partition]\nelements = \"auto\"\n",
+            "[partition]\nelements = \"auto\"\n[gripper]\n",
+        ] {
+            let s = Scene::from_toml(text).unwrap();
+            assert_eq!(s.partition, PartitionPlan::Auto, "{text:?}");
+            assert_eq!(s.file().partition.elements, Some(Elements::Auto));
+            assert_eq!(s.file().partition.lengths, None);
+        }
+        let echo = Scene::from_toml("[partition]\nelements = \"auto\"").unwrap();
+        let json = serde_json::to_value(echo.file()).unwrap();
+        assert_eq!(json["partition"]["elements"], "auto");
+        let json = serde_json::to_value(Scene::from_toml("").unwrap().file()).unwrap();
+        assert_eq!(json["partition"]["elements"], 8);
+        let e = input_err("[partition]\nelements = \"auto\"\ntip_tol_mm = 0.1\n");
+        assert!(e.to_string().contains("tip_tol_mm"), "{e}");
+        // anything else is the parser's, at the value
+        for (text, col) in [
+            ("[partition]\nelements = \"Auto\"\n", 12),
+            ("[partition]\nelements = \"\"\n", 12),
+            ("[partition]\nelements = true\n", 12),
+            ("[partition]\nelements = -3\n", 12),
+            ("[partition]\nelements = 2.0\n", 12),
+        ] {
+            let e = syntax_err(text);
+            assert_eq!((e.line, e.col), (2, col), "{text:?}: {e}");
+            assert!(e.message.contains("\"auto\""), "{text:?}: {e}");
+        }
+    }
+
+    #[test]
     fn bounded_counts() {
         assert_eq!(MAX_ELEMENTS as f64, (1.0 / MIN_ELEMENT_FRACTION).round());
         // the most samples are accepted, one more is not
@@ -962,6 +1023,14 @@ mod tests {
             ("[partition]\nlengths = [110]\nelements = 1", "partition.lengths"),
             ("[partition]\nlengths = [110]\ntip_tol_mm = 1", "partition.tip_tol_mm"),
             ("[partition]\ntip_tol_mm = 0", "partition.tip_tol_mm"),
+            (
+                "[partition]\nelements = \"auto\"\nlengths = [110]",
+                "partition.lengths",
+            ),
+            (
+                "[partition]\nelements = \"auto\"\ntip_tol_mm = 0.1",
+                "partition.elements",
+            ),
             ("[load]\npressure_kpa = nan", "load.pressure_kpa"),
             ("[load]\nkappa = 0", "load.kappa"),
             ("[load]\nfx = inf", "load.fx"),

@@ -224,18 +224,75 @@ pub struct PemcSection {
     pub p4: Option<f64>,
 }
 
-/// `[partition]`: `elements` equal elements (default 8), or custom
-/// `lengths` (mm, root to tip, adding up to lx), or `tip_tol_mm` (equal
-/// elements doubled from `elements` until the tip moves at most this much).
+/// `[partition]`: `elements` equal elements (default 8) or `"auto"` (the
+/// automatic partition), or custom `lengths` (mm, root to tip, adding up
+/// to lx), or `tip_tol_mm` (equal elements doubled from `elements` until
+/// the tip moves at most this much).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PartitionSection {
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub elements: Option<usize>,
+    pub elements: Option<Elements>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lengths: Option<Vec<f64>>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tip_tol_mm: Option<f64>,
+}
+
+/// `partition.elements`: a number of elements, or `"auto"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Elements {
+    /// `N` equal elements (with `tip_tol_mm`: the number to start from).
+    Count(usize),
+    /// `"auto"`: element boundaries on the material changes, elements
+    /// split until each turns within the CCM's slope limit
+    /// ([`crate::solve_auto`]).
+    Auto,
+}
+
+impl Serialize for Elements {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Elements::Count(n) => serializer.serialize_u64(n as u64),
+            Elements::Auto => serializer.serialize_str("auto"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Elements {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Elements, D::Error> {
+        struct ElementsVisitor;
+
+        impl serde::de::Visitor<'_> for ElementsVisitor {
+            type Value = Elements;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number of elements or \"auto\"")
+            }
+
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Elements, E> {
+                usize::try_from(v)
+                    .map(Elements::Count)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+            }
+
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Elements, E> {
+                match u64::try_from(v) {
+                    Ok(u) => self.visit_u64(u),
+                    Err(_) => Err(E::invalid_value(serde::de::Unexpected::Signed(v), &self)),
+                }
+            }
+
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Elements, E> {
+                match v {
+                    "auto" => Ok(Elements::Auto),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+        }
+
+        deserializer.deserialize_any(ElementsVisitor)
+    }
 }
 
 /// `[load]`: channel pressure (kPa), pressure factor kappa, tip force (N,

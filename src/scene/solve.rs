@@ -5,9 +5,10 @@
 
 use crate::blocks::Partition;
 use crate::error::{SolveError, Warning};
-use crate::finger::{Finger, Solution};
+use crate::finger::{Finger, Load, Solution, SolveOptions};
+use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
-use crate::refine::solve_to_tip_tolerance;
+use crate::refine::{solve_auto, solve_to_tip_tolerance};
 
 use super::fields::{inconsistent, scene_solve, PartitionKey};
 use super::resolve::{GraspSpec, PartitionPlan};
@@ -45,15 +46,40 @@ impl Scene {
                         tip_error_estimate_mm: Some(r.estimated_tip_error_mm),
                     }
                 }
+                PartitionPlan::Auto => {
+                    let r =
+                        solve_auto(self.model, &self.actuator, true, &self.load, &self.options)?;
+                    SceneSolution::Finger {
+                        elements: r.partition.len(),
+                        solution: r.solution,
+                        tip_error_estimate_mm: None,
+                    }
+                }
             });
         };
-        let PartitionPlan::Fixed(part) = &self.partition else {
-            // resolve() rejects tip_tol_mm with a gripper
-            return Err(
-                inconsistent(PartitionKey::TipTolMm, "not supported in a gripper scene").into(),
-            );
+        let finger = match &self.partition {
+            PartitionPlan::Fixed(part) => finger(part),
+            // chosen at the gripper's reference state, sampled as the
+            // gripper samples it, so that state is within the slope limit
+            PartitionPlan::Auto => {
+                let opts = SolveOptions {
+                    samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+                    stability: false,
+                    ..SolveOptions::default()
+                };
+                let unloaded = Load::unloaded();
+                solve_auto(self.model, &self.actuator, true, &unloaded, &opts)?.finger
+            }
+            PartitionPlan::TipTolerance { .. } => {
+                // resolve() rejects tip_tol_mm with a gripper
+                return Err(inconsistent(
+                    PartitionKey::TipTolMm,
+                    "not supported in a gripper scene",
+                )
+                .into());
+            }
         };
-        let gripper = Gripper::new(finger(part), g.params)?.with_stability(g.stability);
+        let gripper = Gripper::new(finger, g.params)?.with_stability(g.stability);
         let grasp = match g.grasp {
             None => None,
             Some(spec) => Some(Box::new(solve_grasp(&gripper, spec)?)),
@@ -294,6 +320,91 @@ mod tests {
             } => (*gripper, *g),
             other => panic!("{text:?}: {other:?}"),
         }
+    }
+
+    /// A finger 300 mm long without ribs curls so far that the material
+    /// partition's nine elements each turn beyond the slope limit.
+    const LONG: &str = "[actuator.geometry]\nlx = 300\n[actuator.channel]\ncx = 295\n[actuator.ribs]\nkind = \"none\"\n[actuator.pemc]\neps0 = 0.4\n";
+
+    fn slope_findings(w: &[Warning]) -> usize {
+        w.iter().filter(|w| w.kind() == "element_slope").count()
+    }
+
+    fn solve(text: &str) -> SceneSolution {
+        Scene::from_toml(text)
+            .unwrap_or_else(|e| panic!("{text:?}: {e}"))
+            .solve()
+            .unwrap_or_else(|e| panic!("{text:?}: {e}"))
+    }
+
+    #[test]
+    fn auto_partition_of_a_finger_scene() {
+        let fixed = solve(&format!("{LONG}[partition]\nelements = 9\n"));
+        assert!(slope_findings(&fixed.warnings()) > 0);
+        let text = format!("{LONG}[partition]\nelements = \"auto\"\n");
+        let scene = Scene::from_toml(&text).unwrap();
+        assert_eq!(scene.partition, PartitionPlan::Auto);
+        let sol = scene.solve().unwrap();
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(slope_findings(&sol.solution().warnings), 0);
+        assert!(sol.elements() > 9, "{}", sol.elements());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
+        // the library's automatic partition at the scene's load
+        let direct = solve_auto(
+            scene.model,
+            &scene.actuator,
+            true,
+            &scene.load,
+            &scene.options,
+        )
+        .unwrap();
+        assert_eq!(sol.elements(), direct.partition.len());
+        assert_eq!(sol.solution().tip, direct.solution.tip);
+        // the paper's finger under pressure
+        let sol = solve("[partition]\nelements = \"auto\"\n[load]\npressure_kpa = 100\n");
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
+    }
+
+    #[test]
+    fn auto_partition_of_a_gripper_scene() {
+        let fixed = solve(&format!("{LONG}[partition]\nelements = 9\n[gripper]\n"));
+        assert!(slope_findings(&fixed.warnings()) > 0);
+        let text = format!("{LONG}[partition]\nelements = \"auto\"\n[gripper]\n");
+        let scene = Scene::from_toml(&text).unwrap();
+        let sol = scene.solve().unwrap();
+        let SceneSolution::Gripper { gripper, grasp } = &sol else {
+            panic!()
+        };
+        assert!(grasp.is_none());
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(slope_findings(&gripper.reference().warnings), 0);
+        assert!(sol.elements() > 9, "{}", sol.elements());
+        assert_eq!(sol.elements(), gripper.finger().len());
+        // chosen by the library at the unloaded, zero-pressure state
+        let opts = SolveOptions {
+            samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+            ..SolveOptions::default()
+        };
+        let direct =
+            solve_auto(scene.model, &scene.actuator, true, &Load::unloaded(), &opts).unwrap();
+        assert_eq!(
+            gripper.finger().element_lengths(),
+            direct.partition.lengths()
+        );
+        // the paper's gripper holding the default cuboid
+        let sol = solve("[partition]\nelements = \"auto\"\n[gripper]\n[gripper.grasp]\n");
+        let SceneSolution::Gripper {
+            gripper,
+            grasp: Some(g),
+        } = &sol
+        else {
+            panic!()
+        };
+        assert!(g.is_valid(), "{:?}", g.invalid);
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(sol.elements(), gripper.finger().len());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
     }
 
     #[test]
