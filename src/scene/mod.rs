@@ -26,9 +26,13 @@
 //! elements = 8
 //! [load]                       # pressure_kpa, kappa, fx, fz (N, finger frame)
 //! [solve]                      # rtol, max_iter, strategy, samples_per_element, shape, stability, continuation, max_step
-//! [gripper]                    # mounting_angle_deg, overlap_mm | palm_mm, fingers, mu
+//! [gripper]                    # mounting_angle_deg, overlap_mm | palm_mm, fingers, mu, strict
 //! [gripper.grasp]              # kind = "size" | "cuboid" | "sphere", with its keys
 //! ```
+//!
+//! A grasp's validity is the gripper's (`crate::gripper::rules`): a grasp
+//! that bends an element backwards is flagged (`curvature_reversal`), and
+//! with `[gripper] strict = true` it is invalid too.
 //!
 //! `[partition] elements = "auto"` asks for the automatic partition
 //! ([`crate::solve_auto`]): element boundaries on the material changes,

@@ -906,6 +906,31 @@ mod tests {
     }
 
     #[test]
+    fn gripper_strict() {
+        let strict = |text: &str| {
+            Scene::from_toml(text)
+                .unwrap()
+                .gripper
+                .unwrap()
+                .params
+                .strict
+        };
+        assert!(!strict("[gripper]\n"));
+        assert!(!strict("[gripper]\nstrict = false\n"));
+        assert!(strict("[gripper]\nstrict = true\n"));
+        let s = Scene::from_toml("[gripper]\n").unwrap();
+        assert_eq!(s.file().gripper.as_ref().unwrap().strict, Some(false));
+        // a boolean, in [gripper] only
+        for text in ["[gripper]\nstrict = \"yes\"\n", "[gripper]\nstrict = 1\n"] {
+            let e = syntax_err(text);
+            assert_eq!((e.line, e.col), (2, 10), "{text:?}: {e}");
+        }
+        let e = syntax_err("[gripper.grasp]\nstrict = true\n");
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("strict"), "{e}");
+    }
+
+    #[test]
     fn elements_auto() {
         for text in [
             "[partition]\nelements = \"auto\"\n",

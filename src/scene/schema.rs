@@ -358,7 +358,8 @@ pub struct GripperSection {
     pub fingers: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub mu: Option<f64>,
-    /// Strict mode: grasps that bend an element backwards are invalid.
+    /// Strict mode (default false): grasps that bend an element backwards
+    /// are invalid, not only flagged ([`crate::GripperParams::strict`]).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub strict: Option<bool>,
     /// The grasp to solve (none: the gripper at rest).
