@@ -168,6 +168,9 @@ impl GraspOutcome {
 }
 
 /// The result of [`Scene::solve`].
+// One per solve, matched by its fields: boxing the finger's solution would
+// only add an indirection.
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum SceneSolution {
     /// A finger scene.
