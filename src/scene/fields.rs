@@ -597,6 +597,14 @@ pub fn warning_text(w: &Warning) -> String {
             degrees(lo),
             degrees(hi)
         ),
+        Warning::ElementSlope {
+            element,
+            degrees,
+            limit,
+        } => format!(
+            "element {element} turns {degrees:.1} degrees, beyond the CCM's small-slope limit of {limit} degrees per element: use more elements ({} = \"auto\")",
+            SceneKey::Partition(PartitionKey::Elements)
+        ),
         Warning::PalmGapAtRest { palm, reach } => format!(
             "gripper: the palm diameter {palm:.4} mm is wider than twice the finger's inward reach l0 = {reach:.4} mm (negative overlap): the fingers leave a gap at rest"
         ),
@@ -868,6 +876,17 @@ mod tests {
             texts
                 .iter()
                 .any(|t| t.starts_with("gripper.mounting_angle_deg = 30")),
+            "{texts:?}"
+        );
+        // the advice for too few elements is the scene's key
+        let sol = Scene::from_toml("[partition]\nelements = 2\n")
+            .unwrap()
+            .solve()
+            .unwrap();
+        let texts: Vec<String> = sol.warnings().iter().map(warning_text).collect();
+        assert!(
+            texts.iter().any(|t| t.starts_with("element 0 turns")
+                && t.ends_with("(partition.elements = \"auto\")")),
             "{texts:?}"
         );
         let s = Scene::from_toml("[actuator.pemc]\neps0 = 0.8\n").unwrap();

@@ -30,6 +30,10 @@
 //! [gripper.grasp]              # kind = "size" | "cuboid" | "sphere", with its keys
 //! ```
 //!
+//! `[model] name` picks the element model ([`crate::ModelId::from_name`];
+//! default the paper's, `"ccm"`). `partition.tip_tol_mm` refines with the
+//! default model only.
+//!
 //! A grasp's validity is the gripper's (`crate::gripper::rules`): a grasp
 //! that bends an element backwards is flagged (`curvature_reversal`), and
 //! with `[gripper] strict = true` it is invalid too.

@@ -782,6 +782,7 @@ mod tests {
         for (name, text) in SCENES.iter().chain(&more) {
             let s = Scene::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             let again = s.file().resolve().unwrap();
+            assert_eq!(again.model, s.model, "{name}");
             assert_eq!(again.actuator, s.actuator, "{name}");
             assert_eq!(again.partition, s.partition, "{name}");
             assert_eq!(again.load, s.load, "{name}");
