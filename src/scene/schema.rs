@@ -320,7 +320,7 @@ pub enum SceneStrategy {
     Coupled,
 }
 
-/// `[solve]`: the fields of [`SolveOptions`].
+/// `[solve]`: the fields of [`crate::SolveOptions`].
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SolveSection {
