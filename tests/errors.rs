@@ -1128,8 +1128,10 @@ fn extreme_loads_that_do_solve_give_finite_solutions() {
 /// fails at a pressure that depends on eps0.
 #[test]
 fn a_failed_sweep_keeps_the_points_already_computed() {
-    let mut law = PsiLaw::default();
-    law.p4 = 20.0;
+    let law = PsiLaw {
+        p4: 20.0,
+        ..PsiLaw::default()
+    };
     let act = Actuator::new(ActuatorParams {
         pemc: Prestressed {
             law,

@@ -585,11 +585,17 @@ fn bad_grasp_inputs_are_typed_errors() {
 
 #[test]
 fn unreachable_targets_fail_cleanly() {
-    // a grasping size far beyond any finger: a solve error, never NaN
+    // a grasping size far beyond any finger: rejected, naming the target
     let g = section5();
     match g.grasp_load_for_size(0.0, 2000.0, 0.0, None) {
-        Err(SolveError::NotConverged { .. }) => {}
+        Err(SolveError::Input(e)) => assert_eq!(e.field(), "grasp.size"),
         Ok(gr) => panic!("reached an impossible size: {}", gr.size),
+        Err(e) => panic!("unexpected error {e}"),
+    }
+    // a friction the finger cannot carry: the path stops short, naming it
+    match g.force_control(0.0, 100.0, 500.0, None) {
+        Err(SolveError::TargetNotReached { target, .. }) => assert_eq!(target, "grasp.friction"),
+        Ok(gr) => assert!(!gr.is_valid(), "{gr:?}"),
         Err(e) => panic!("unexpected error {e}"),
     }
 }

@@ -31,11 +31,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let file =
         SceneFile::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let scene = file.resolve().with_context(|| shown.clone())?;
+    // notes on the input first: they hold even when the solve fails
     for w in scene.warnings() {
         crate::report::warning(&warning_text(w));
     }
     let solved = scene.solve().with_context(|| shown.clone())?;
-    for w in solved.warnings() {
+    for w in solved
+        .warnings()
+        .iter()
+        .filter(|w| !scene.warnings().contains(w))
+    {
         crate::report::warning(&warning_text(w));
     }
 

@@ -1774,7 +1774,7 @@ fn accumulate_moments(file: &syn::File, name: &str, blocks: &[Vec<f64>]) -> V {
     for params in blocks {
         let mut args = vec![m];
         args.extend(params.iter().map(|p| V::F(*p)));
-        let (_, env) = rust_subset::call(file, &format!("{name}_moments"), args);
+        let (_, env) = rust_subset::call(file, &format!("{name}_moments_at"), args);
         m = env["m"].clone();
     }
     m

@@ -1,0 +1,134 @@
+//! Scene files: one TOML document describes a finger (every actuator
+//! option, the partition, the load, the solver settings) and, optionally, a
+//! gripper built from it with one grasp to solve.
+//!
+//! Every key has the paper's default (docs/model.md), so an empty document is
+//! the default actuator (eps0 = 0.25) in eight equal elements, unloaded.
+//! Unknown keys are errors: a typo is reported with its line and column,
+//! never ignored. Units are in the key names where they are not the
+//! library's (mm, MPa, N): `pressure_kpa`, `mounting_angle_deg`, ...
+//!
+//! ```toml
+//! [model]                      # name = "ccm": the element model (crate::ModelId)
+//! name = "ccm"
+//! [actuator.geometry]          # mm: lx, ly, lc, h, h1, h2, h3
+//! lx = 110.0
+//! [actuator.channel]           # mm: cx, cy, h3a, h3b
+//! [actuator.ribs]              # kind = "paper" (w1, w2, t) | "list" (list) | "none"
+//! kind = "paper"
+//! w1 = 8.0
+//! [actuator.cl]                # isotropic (e, nu) or orthotropic (e1, e2, nu12), MPa
+//! [actuator.emc]
+//! [actuator.fluidic]
+//! [actuator.pemc]              # eps0, e2 (MPa), p1..p4 (MPa)
+//! eps0 = 0.25
+//! [partition]                  # elements = N | "auto" | lengths = [...] | tip_tol_mm (+ elements to start)
+//! elements = 8
+//! [load]                       # pressure_kpa, kappa, fx, fz (N, finger frame)
+//! [solve]                      # rtol, max_iter, strategy, samples_per_element, shape, stability, continuation, max_step
+//! [gripper]                    # mounting_angle_deg, overlap_mm | palm_mm, fingers, mu, strict
+//! [gripper.grasp]              # kind = "size" | "cuboid" | "sphere", with its keys
+//! ```
+//!
+//! `[model] name` picks the element model ([`crate::ModelId::from_name`];
+//! default the paper's, `"ccm"`). `partition.tip_tol_mm` refines with the
+//! default model only.
+//!
+//! A grasp's validity is the gripper's (`crate::gripper::rules`): a grasp
+//! that bends an element backwards is flagged (`curvature_reversal`), and
+//! with `[gripper] strict = true` it is invalid too.
+//!
+//! `[partition] elements = "auto"` asks for the automatic partition
+//! ([`crate::solve_auto`]): element boundaries on the material changes,
+//! and elements split until every one turns within the CCM's slope limit.
+//! A finger scene chooses it at its load; a gripper scene at the unloaded,
+//! zero-pressure state, and builds the gripper on it (a grasp far from
+//! rest may still find elements beyond the limit). The number of elements
+//! used is [`SceneSolution::elements`]. `partition.lengths` holds at most
+//! 1000 entries (1 / [`crate::MIN_ELEMENT_FRACTION`]) and
+//! `solve.samples_per_element` is at most [`crate::MAX_SAMPLES_PER_ELEMENT`].
+//!
+//! Reading is two steps: [`SceneFile::parse`] checks the TOML and its keys
+//! and types ([`SceneError`] with line and column), [`SceneFile::resolve`]
+//! checks the values through the library's validating constructors
+//! ([`InputError`] naming the key by its TOML path, e.g.
+//! `actuator.geometry.h1`). [`Scene::solve`] then solves the finger or the
+//! grasp.
+
+mod fields;
+mod resolve;
+mod schema;
+mod solve;
+
+#[cfg(test)]
+mod fuzz;
+#[cfg(test)]
+mod testing;
+
+use crate::actuator::Actuator;
+use crate::error::{InputError, Warning};
+use crate::finger::{Load, SolveOptions};
+use crate::model::ModelId;
+
+pub use fields::warning_text;
+pub use resolve::{
+    GraspSpec, GripperScene, PartitionPlan, DEFAULT_CUBOID_FRICTION_N, DEFAULT_ELEMENTS,
+    DEFAULT_GRASP_SIZE_MM, DEFAULT_MOUNTING_ANGLE_DEG, DEFAULT_OVERLAP_MM, DEFAULT_SPHERE_BETA_DEG,
+    DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
+};
+pub use schema::{
+    line_col, ActuatorSection, ChannelSection, Elements, GeometrySection, GraspKind, GraspSection,
+    GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection, PartitionSection,
+    PemcSection, RibEntry, RibKind, RibsSection, SceneError, SceneFile, SceneStrategy,
+    SolveSection,
+};
+pub use solve::{GraspOutcome, SceneSolution};
+
+/// Why a scene document could not be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneReadError {
+    /// Not TOML, an unknown key, or a value of the wrong type.
+    #[error(transparent)]
+    Syntax(#[from] SceneError),
+    /// A value the model rejects (named by its TOML path).
+    #[error(transparent)]
+    Input(#[from] InputError),
+}
+
+/// A validated scene, ready to solve.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The element model of the finger.
+    pub model: ModelId,
+    /// The validated actuator.
+    pub actuator: Actuator,
+    /// The partition.
+    pub partition: PartitionPlan,
+    /// Pressure and tip load (unloaded in gripper scenes).
+    pub load: Load,
+    /// Solver settings of a finger scene.
+    pub options: SolveOptions,
+    /// The gripper, if the scene has one.
+    pub gripper: Option<GripperScene>,
+    file: SceneFile,
+}
+
+impl Scene {
+    /// Parses and resolves a scene document.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneReadError> {
+        Ok(SceneFile::parse(text)?.resolve()?)
+    }
+
+    /// The scene with every default written out: the keys that apply, with
+    /// the values used (resolving it again gives the same scene).
+    pub fn file(&self) -> &SceneFile {
+        &self.file
+    }
+
+    /// Non-fatal notes about the actuator, known before solving (the
+    /// solution repeats them with every other warning,
+    /// [`SceneSolution::warnings`]).
+    pub fn warnings(&self) -> &[Warning] {
+        self.actuator.warnings()
+    }
+}

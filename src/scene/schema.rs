@@ -1,0 +1,490 @@
+//! The file format: the serde structs of a scene document, every key
+//! optional, unknown keys rejected, and the syntax errors of parsing.
+
+use serde::{Deserialize, Serialize};
+
+/// A scene document that is not valid TOML, or has an unknown key or a
+/// value of the wrong type. `line` and `col` (both from 1; the column
+/// counts characters) locate the offending text.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{line}:{col}: {message}")]
+pub struct SceneError {
+    /// Line of the offending text (from 1).
+    pub line: usize,
+    /// Column of the offending text (from 1, in characters).
+    pub col: usize,
+    /// What is wrong and, where the parser knows, what was expected (one line).
+    pub message: String,
+}
+
+impl SceneError {
+    fn from_toml(text: &str, e: &toml::de::Error) -> SceneError {
+        let (line, col) = match e.span() {
+            Some(span) => line_col(text, span.start),
+            None => (1, 1),
+        };
+        let mut message = e
+            .message()
+            .lines()
+            .map(str::trim)
+            .filter(|l| !l.is_empty())
+            .collect::<Vec<_>>()
+            .join("; ");
+        if e.span().is_none() {
+            message.push_str(" (position unknown)");
+        }
+        SceneError { line, col, message }
+    }
+}
+
+/// Line and column (both from 1; the column in characters) of a byte
+/// offset into `text`. An offset past the end is the end; one inside a
+/// character is that character.
+pub fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let mut o = offset.min(text.len());
+    while !text.is_char_boundary(o) {
+        o -= 1;
+    }
+    let before = &text[..o];
+    let line = before.matches('\n').count() + 1;
+    let start = before.rfind('\n').map_or(0, |i| i + 1);
+    (line, before[start..].chars().count() + 1)
+}
+
+// ------------------------------------------------------------ the document
+
+/// A scene document as written: every key optional (absent keys take the
+/// paper's defaults in [`SceneFile::resolve`]), unknown keys rejected.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SceneFile {
+    /// The element model.
+    pub model: ModelSection,
+    /// The finger: geometry, channel, ribs, materials.
+    pub actuator: ActuatorSection,
+    /// How the finger is split into elements.
+    pub partition: PartitionSection,
+    /// Pressure and tip load (finger scenes only).
+    pub load: LoadSection,
+    /// Solver settings.
+    pub solve: SolveSection,
+    /// A gripper built from the finger, and the grasp to solve.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub gripper: Option<GripperSection>,
+}
+
+/// `[model]`: the element model the finger is built from.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ModelSection {
+    /// A model's name ([`crate::ModelId::from_name`]); default the paper's
+    /// element, `"ccm"` ([`crate::ModelId::default`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+}
+
+/// `[actuator]`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ActuatorSection {
+    pub geometry: GeometrySection,
+    pub channel: ChannelSection,
+    pub ribs: RibsSection,
+    /// Constraining layer (default isotropic, E = 305 MPa, nu = 0.43).
+    pub cl: MaterialSection,
+    /// Regular EMC (default orthotropic, E1 = 1.5, E2 = 250 MPa, nu12 = 0).
+    pub emc: MaterialSection,
+    /// Fluidic layer and ribs (default isotropic, E = 1.2 MPa, nu = 0.48).
+    pub fluidic: MaterialSection,
+    /// Prestressed EMC.
+    pub pemc: PemcSection,
+}
+
+/// `[actuator.geometry]`, mm.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GeometrySection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lx: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ly: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lc: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h1: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3: Option<f64>,
+}
+
+/// `[actuator.channel]`, mm.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ChannelSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cx: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cy: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3a: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3b: Option<f64>,
+}
+
+/// How the ribs are given.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RibKind {
+    /// docs/model.md decision D5 from `w1`, `w2`, `t`.
+    Paper,
+    /// An explicit `list` of ribs.
+    List,
+    /// No ribs.
+    None,
+}
+
+/// `[actuator.ribs]`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct RibsSection {
+    /// Default: "list" when `list` is given, "paper" otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<RibKind>,
+    /// Transverse rib pitch (mm), kind "paper".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub w1: Option<f64>,
+    /// Transverse rib width each side of the longitudinal rib (mm), kind "paper".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub w2: Option<f64>,
+    /// Rib thickness (mm), kind "paper".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub t: Option<f64>,
+    /// The ribs, kind "list".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub list: Option<Vec<RibEntry>>,
+}
+
+/// One rib of a list: X_ref in [x0, x1] (mm), total width across Y (mm).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RibEntry {
+    pub x0: f64,
+    pub x1: f64,
+    pub width: f64,
+}
+
+/// A linear lamina's material model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MaterialKind {
+    /// Keys `e` (MPa) and `nu`.
+    Isotropic,
+    /// Keys `e1`, `e2` (MPa, along X and Y) and `nu12`.
+    Orthotropic,
+}
+
+/// `[actuator.cl]`, `[actuator.emc]`, `[actuator.fluidic]`. The kind
+/// defaults to the one the keys belong to, else to the layer's default.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct MaterialSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<MaterialKind>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e1: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nu12: Option<f64>,
+}
+
+/// `[actuator.pemc]`: prestrain, Y modulus (MPa) and the axial law
+/// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 (MPa).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PemcSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eps0: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub e2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p1: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p3: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub p4: Option<f64>,
+}
+
+/// `[partition]`: `elements` equal elements (default 8) or `"auto"` (the
+/// automatic partition), or custom `lengths` (mm, root to tip, adding up
+/// to lx), or `tip_tol_mm` (equal elements doubled from `elements` until
+/// the tip moves at most this much).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PartitionSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elements: Option<Elements>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lengths: Option<Vec<f64>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tip_tol_mm: Option<f64>,
+}
+
+/// `partition.elements`: a number of elements, or `"auto"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Elements {
+    /// `N` equal elements (with `tip_tol_mm`: the number to start from).
+    Count(usize),
+    /// `"auto"`: element boundaries on the material changes, elements
+    /// split until each turns within the CCM's slope limit
+    /// ([`crate::solve_auto`]).
+    Auto,
+}
+
+impl Serialize for Elements {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match *self {
+            Elements::Count(n) => serializer.serialize_u64(n as u64),
+            Elements::Auto => serializer.serialize_str("auto"),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Elements {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Elements, D::Error> {
+        struct ElementsVisitor;
+
+        impl serde::de::Visitor<'_> for ElementsVisitor {
+            type Value = Elements;
+
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a number of elements or \"auto\"")
+            }
+
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Elements, E> {
+                usize::try_from(v)
+                    .map(Elements::Count)
+                    .map_err(|_| E::invalid_value(serde::de::Unexpected::Unsigned(v), &self))
+            }
+
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Elements, E> {
+                match u64::try_from(v) {
+                    Ok(u) => self.visit_u64(u),
+                    Err(_) => Err(E::invalid_value(serde::de::Unexpected::Signed(v), &self)),
+                }
+            }
+
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Elements, E> {
+                match v {
+                    "auto" => Ok(Elements::Auto),
+                    _ => Err(E::invalid_value(serde::de::Unexpected::Str(v), &self)),
+                }
+            }
+        }
+
+        deserializer.deserialize_any(ElementsVisitor)
+    }
+}
+
+/// `[load]`: channel pressure (kPa), pressure factor kappa, tip force (N,
+/// finger frame).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LoadSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pressure_kpa: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kappa: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fx: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fz: Option<f64>,
+}
+
+/// The solve strategy's name in a scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum SceneStrategy {
+    /// Decoupled elements without a tip load, the coupled system otherwise.
+    Auto,
+    /// Always the coupled system.
+    Coupled,
+}
+
+/// `[solve]`: the fields of [`crate::SolveOptions`].
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SolveSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rtol: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_iter: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strategy: Option<SceneStrategy>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub samples_per_element: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stability: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub continuation: Option<bool>,
+    /// Largest Newton step in the scaled unknowns.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub max_step: Option<f64>,
+}
+
+/// `[gripper]`: the gripper of the paper's Sec. 5 by default (a = 60 deg,
+/// overlap 20 mm, three fingers, mu = 0.6).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GripperSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mounting_angle_deg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub overlap_mm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub palm_mm: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fingers: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub mu: Option<f64>,
+    /// Strict mode (default false): grasps that bend an element backwards
+    /// are invalid, not only flagged ([`crate::GripperParams::strict`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub strict: Option<bool>,
+    /// The grasp to solve (none: the gripper at rest).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub grasp: Option<GraspSection>,
+}
+
+/// What a grasp solves for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GraspKind {
+    /// The normal force F that gives grasping size `d_mm` at angle
+    /// `beta_deg`, with full friction f = mu F.
+    Size,
+    /// Force control (Sec. 5.1.2): the normal force F that holds a cuboid
+    /// of size `d_mm` with friction `friction_n` per finger (b = 0).
+    Cuboid,
+    /// A sphere of radius `r_mm` held at angle `beta_deg` with lifting
+    /// force `lift_n` per finger; F and f are solved for.
+    Sphere,
+}
+
+/// `[gripper.grasp]`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GraspSection {
+    /// Default "cuboid".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kind: Option<GraspKind>,
+    /// Channel pressure during the grasp (kPa), every kind.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pressure_kpa: Option<f64>,
+    /// Grasping size d (mm), kinds "size" and "cuboid".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub d_mm: Option<f64>,
+    /// Grasping angle b (deg), kinds "size" and "sphere".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub beta_deg: Option<f64>,
+    /// Friction f per finger (N), kind "cuboid".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction_n: Option<f64>,
+    /// Sphere radius (mm), kind "sphere".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub r_mm: Option<f64>,
+    /// Lifting force per finger (N), kind "sphere".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lift_n: Option<f64>,
+}
+
+impl SceneFile {
+    /// Parses a scene document: TOML syntax, known keys, value types.
+    pub fn parse(text: &str) -> Result<SceneFile, SceneError> {
+        toml::from_str(text).map_err(|e| SceneError::from_toml(text, &e))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testing::syntax_err;
+
+    #[test]
+    fn unknown_key_is_rejected_with_its_name_and_line() {
+        let e = syntax_err("[actuator.geometry]\nlx = 100\nlxx = 3\n");
+        assert_eq!(e.line, 3, "{e}");
+        assert_eq!(e.col, 1, "{e}");
+        assert!(e.message.contains("lxx"), "{e}");
+        let e = syntax_err("[load]\npresure_kpa = 3\n");
+        assert_eq!((e.line, e.col), (2, 1), "{e}");
+        assert!(e.message.contains("presure_kpa"), "{e}");
+        // a misspelled section
+        let e = syntax_err("# comment\n\n[actuatr]\n");
+        assert_eq!(e.line, 3, "{e}");
+        assert!(e.message.contains("actuatr"), "{e}");
+        // a misspelled key inside an inline table in a list
+        let e = syntax_err("[actuator.ribs]\nlist = [\n  { x0 = 0, x1 = 5, widht = 2 },\n]\n");
+        assert_eq!(e.line, 3, "{e}");
+        assert!(e.message.contains("widht"), "{e}");
+        // a bad enumeration value
+        let e = syntax_err("[gripper.grasp]\nkind = \"cube\"\n");
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("cube"), "{e}");
+    }
+
+    #[test]
+    fn syntax_errors_give_line_and_column() {
+        let e = syntax_err("[load]\nfx = 0.1\nfz = = 2\n");
+        assert_eq!(e.line, 3, "{e}");
+        assert_eq!(e.col, 6, "{e}");
+        let e = syntax_err("[partition]\nelements = 8.5\n");
+        assert_eq!(e.line, 2, "{e}");
+        assert_eq!(e.col, 12, "{e}");
+        assert!(e.to_string().starts_with("2:12: "), "{e}");
+        let e = syntax_err("[solve\n");
+        assert_eq!(e.line, 1, "{e}");
+        let e = syntax_err("[load]\nfx = \"a\"\n");
+        assert_eq!((e.line, e.col), (2, 6), "{e}");
+        let e = syntax_err("[partition]\nelements = -1\n");
+        assert_eq!((e.line, e.col), (2, 12), "{e}");
+        // columns count characters, not bytes
+        let e = syntax_err("# é\n[load] # ü\nfx = ä\n");
+        assert_eq!((e.line, e.col), (3, 6), "{e}");
+        // messages are one line
+        for text in [
+            "[a",
+            "x = [1,",
+            "a = \"\n\"",
+            "[[gripper]]",
+            "a.b = 1\na = 2",
+        ] {
+            let e = syntax_err(text);
+            assert!(!e.message.contains('\n'), "{e}");
+        }
+    }
+
+    #[test]
+    fn line_col_of_offsets() {
+        let t = "ab\ncé\n";
+        assert_eq!(line_col(t, 0), (1, 1));
+        assert_eq!(line_col(t, 2), (1, 3));
+        assert_eq!(line_col(t, 3), (2, 1));
+        assert_eq!(line_col(t, 4), (2, 2));
+        assert_eq!(line_col(t, 5), (2, 2)); // inside é
+        assert_eq!(line_col(t, 6), (2, 3));
+        assert_eq!(line_col(t, 7), (3, 1));
+        assert_eq!(line_col(t, 100), (3, 1));
+    }
+}

@@ -1,0 +1,505 @@
+//! The solve dispatch: a finger scene is solved at its load (on its
+//! partition, or refined to a tip tolerance); a gripper scene builds the
+//! gripper and solves its grasp. [`SceneSolution`] and [`GraspOutcome`]
+//! hold the results.
+
+use crate::blocks::Partition;
+use crate::error::{SolveError, Warning};
+use crate::finger::{Finger, Load, Solution, SolveOptions};
+use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
+use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
+use crate::refine::{solve_auto, solve_to_tip_tolerance};
+
+use super::fields::{inconsistent, scene_solve, PartitionKey};
+use super::resolve::{GraspSpec, PartitionPlan};
+use super::Scene;
+
+impl Scene {
+    /// Solves the finger, or builds the gripper and solves its grasp.
+    /// Input errors name the scene's keys.
+    pub fn solve(&self) -> Result<SceneSolution, SolveError> {
+        // every error in here comes from the library, in its terms
+        self.solve_inner().map_err(scene_solve)
+    }
+
+    fn solve_inner(&self) -> Result<SceneSolution, SolveError> {
+        let finger = |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
+        let Some(g) = &self.gripper else {
+            return Ok(match &self.partition {
+                PartitionPlan::Fixed(part) => SceneSolution::Finger {
+                    solution: finger(part).solve(&self.load, &self.options)?,
+                    elements: part.len(),
+                    tip_error_estimate_mm: None,
+                },
+                &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
+                    let r = solve_to_tip_tolerance(
+                        self.model,
+                        &self.actuator,
+                        true,
+                        &self.load,
+                        tip_tol_mm,
+                        start,
+                        &self.options,
+                    )?;
+                    SceneSolution::Finger {
+                        solution: r.solution,
+                        elements: r.elements,
+                        tip_error_estimate_mm: Some(r.estimated_tip_error_mm),
+                    }
+                }
+                PartitionPlan::Auto => {
+                    let r =
+                        solve_auto(self.model, &self.actuator, true, &self.load, &self.options)?;
+                    SceneSolution::Finger {
+                        elements: r.partition.len(),
+                        solution: r.solution,
+                        tip_error_estimate_mm: None,
+                    }
+                }
+            });
+        };
+        let finger = match &self.partition {
+            PartitionPlan::Fixed(part) => finger(part),
+            // chosen at the gripper's reference state, sampled as the
+            // gripper samples it, so that state is within the slope limit
+            PartitionPlan::Auto => {
+                let opts = SolveOptions {
+                    samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+                    stability: false,
+                    ..SolveOptions::default()
+                };
+                let unloaded = Load::unloaded();
+                solve_auto(self.model, &self.actuator, true, &unloaded, &opts)?.finger
+            }
+            PartitionPlan::TipTolerance { .. } => {
+                // resolve() rejects tip_tol_mm with a gripper
+                return Err(inconsistent(
+                    PartitionKey::TipTolMm,
+                    "not supported in a gripper scene",
+                )
+                .into());
+            }
+        };
+        let gripper = Gripper::new(finger, g.params)?.with_stability(g.stability);
+        let grasp = match g.grasp {
+            None => None,
+            Some(spec) => Some(Box::new(solve_grasp(&gripper, spec)?)),
+        };
+        Ok(SceneSolution::Gripper {
+            gripper: Box::new(gripper),
+            grasp,
+        })
+    }
+}
+
+/// Solves the grasp `spec` asks for. Its validity is the gripper's
+/// verdict ([`Grasp::invalid`], for a sphere [`crate::SphereGrasp::invalid`],
+/// which adds the contact's geometry).
+fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, SolveError> {
+    Ok(match spec {
+        GraspSpec::Size {
+            pressure_kpa,
+            d_mm,
+            beta_deg,
+        } => {
+            let grasp =
+                gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), None)?;
+            GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
+        GraspSpec::Cuboid {
+            pressure_kpa,
+            d_mm,
+            friction_n,
+        } => {
+            let grasp = gripper.force_control(pressure_kpa, d_mm, friction_n, None)?;
+            GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
+        GraspSpec::Sphere {
+            pressure_kpa,
+            r_mm,
+            lift_n,
+            beta_deg,
+        } => {
+            let sg =
+                gripper.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), None)?;
+            // the contact's own (geometric) verdict, as the gripper judged it
+            let contact = gripper.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
+            GraspOutcome {
+                spec,
+                invalid: sg.invalid,
+                grasp: sg.grasp,
+                sphere: Some(contact),
+            }
+        }
+    })
+}
+
+/// A solved grasp.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GraspOutcome {
+    /// What was asked.
+    pub spec: GraspSpec,
+    /// The equilibrium and its measures (F, f, f_v, d, tip gap, h).
+    pub grasp: Grasp,
+    /// For a sphere: its radius, centre (gripper frame) and geometric
+    /// validity (not open, a second contact).
+    pub sphere: Option<SphereContact>,
+    /// The first rule the grasp breaks (`None`: valid), as the gripper
+    /// judges it (`crate::gripper::rules`): the fingers open, `F >= 0`,
+    /// `0 <= f <= mu F`, not pressed past flat, for a sphere no second
+    /// contact, and in strict mode no element bent backwards.
+    pub invalid: Option<Invalid>,
+}
+
+impl GraspOutcome {
+    /// True when the grasp breaks no rule.
+    pub fn is_valid(&self) -> bool {
+        self.invalid.is_none()
+    }
+}
+
+/// The result of [`Scene::solve`].
+// One per solve, matched by its fields: boxing the finger's solution would
+// only add an indirection.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone)]
+pub enum SceneSolution {
+    /// A finger scene.
+    Finger {
+        solution: Solution,
+        /// The number of elements used.
+        elements: usize,
+        /// With `tip_tol_mm`: the estimated tip error (mm).
+        tip_error_estimate_mm: Option<f64>,
+    },
+    /// A gripper scene: the gripper (its reference state, l0, palm,
+    /// overlap) and the grasp, if one was asked.
+    Gripper {
+        gripper: Box<Gripper>,
+        grasp: Option<Box<GraspOutcome>>,
+    },
+}
+
+impl SceneSolution {
+    /// The finger's equilibrium: the grasp's, or the gripper's reference
+    /// state when there is no grasp.
+    pub fn solution(&self) -> &Solution {
+        match self {
+            SceneSolution::Finger { solution, .. } => solution,
+            SceneSolution::Gripper { grasp: Some(g), .. } => &g.grasp.solution,
+            SceneSolution::Gripper { gripper, .. } => gripper.reference(),
+        }
+    }
+
+    /// The number of elements used.
+    pub fn elements(&self) -> usize {
+        match self {
+            SceneSolution::Finger { elements, .. } => *elements,
+            SceneSolution::Gripper { gripper, .. } => gripper.finger().len(),
+        }
+    }
+
+    /// Every warning, each once: the solution's (the actuator's notes and
+    /// where the answer leaves the model), and in a gripper scene the
+    /// gripper's (its design) and the grasp's (`curvature_reversal`,
+    /// `beyond_flat`).
+    pub fn warnings(&self) -> Vec<Warning> {
+        let sources: [&[Warning]; 2] = match self {
+            SceneSolution::Finger { solution, .. } => [&solution.warnings, &[]],
+            SceneSolution::Gripper { gripper, grasp } => [
+                gripper.warnings(),
+                match grasp {
+                    Some(g) => &g.grasp.warnings,
+                    None => &gripper.reference().warnings,
+                },
+            ],
+        };
+        let mut all: Vec<Warning> = Vec::new();
+        for w in sources.into_iter().flatten() {
+            if !all.contains(w) {
+                all.push(w.clone());
+            }
+        }
+        all
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::error::SolveError;
+    use crate::gripper::PalmSpec;
+    use crate::scene::testing::SCENES;
+    use crate::scene::Scene;
+
+    #[test]
+    fn solve_errors_name_the_toml_path() {
+        // an overlap larger than the finger's reach is found by the gripper
+        let s = Scene::from_toml("[gripper]\noverlap_mm = 500\n").unwrap();
+        match s.solve() {
+            Err(SolveError::Input(e)) => assert_eq!(e.field(), "gripper.overlap_mm", "{e}"),
+            other => panic!("{other:?}"),
+        }
+        // a tip tolerance that cannot be reached
+        let s = Scene::from_toml("[partition]\ntip_tol_mm = 1e-30\nelements = 256\n").unwrap();
+        match s.solve() {
+            Err(SolveError::Input(e)) => assert_eq!(e.field(), "partition.tip_tol_mm", "{e}"),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn example_scenes_parse_and_solve() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".toml"))
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = SCENES.iter().map(|(n, _)| n.to_string()).collect();
+        listed.sort();
+        assert_eq!(on_disk, listed, "every scene in scenes/ is tested here");
+        for (name, text) in SCENES {
+            let scene = Scene::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let sol = scene.solve().unwrap_or_else(|e| panic!("{name}: {e}"));
+            let s = sol.solution();
+            assert!(s.tip.iter().all(|v| v.is_finite()), "{name}");
+            assert!(!s.points.is_empty(), "{name}");
+            if let SceneSolution::Gripper { grasp: Some(g), .. } = &sol {
+                assert!(g.is_valid(), "{name}: {:?}", g.invalid);
+            }
+        }
+    }
+
+    #[test]
+    fn example_grasps_match_the_library() {
+        // the cuboid example is the paper's force control scene
+        let text = SCENES
+            .iter()
+            .find(|(n, _)| *n == "cuboid_grasp.toml")
+            .unwrap()
+            .1;
+        let scene = Scene::from_toml(text).unwrap();
+        let g = scene.gripper.unwrap();
+        assert_eq!(g.params.mounting_angle, 60f64.to_radians());
+        assert_eq!(g.params.geometry, PalmSpec::Overlap(20.0));
+        let Some(GraspSpec::Cuboid {
+            d_mm, friction_n, ..
+        }) = g.grasp
+        else {
+            panic!()
+        };
+        let SceneSolution::Gripper {
+            gripper,
+            grasp: Some(out),
+        } = scene.solve().unwrap()
+        else {
+            panic!()
+        };
+        let direct = gripper
+            .force_control(out.grasp.pressure_kpa, d_mm, friction_n, None)
+            .unwrap();
+        assert_eq!(direct.normal, out.grasp.normal);
+        assert!((out.grasp.size - d_mm).abs() < 1e-6);
+        assert!((out.grasp.friction - friction_n).abs() < 1e-9);
+        assert_eq!(out.invalid, direct.invalid);
+    }
+
+    fn grasp_of(text: &str) -> (Gripper, GraspOutcome) {
+        match Scene::from_toml(text).unwrap().solve().unwrap() {
+            SceneSolution::Gripper {
+                gripper,
+                grasp: Some(g),
+            } => (*gripper, *g),
+            other => panic!("{text:?}: {other:?}"),
+        }
+    }
+
+    /// A finger 300 mm long without ribs curls so far that the material
+    /// partition's nine elements each turn beyond the slope limit.
+    const LONG: &str = "[actuator.geometry]\nlx = 300\n[actuator.channel]\ncx = 295\n[actuator.ribs]\nkind = \"none\"\n[actuator.pemc]\neps0 = 0.4\n";
+
+    fn slope_findings(w: &[Warning]) -> usize {
+        w.iter().filter(|w| w.kind() == "element_slope").count()
+    }
+
+    fn solve(text: &str) -> SceneSolution {
+        Scene::from_toml(text)
+            .unwrap_or_else(|e| panic!("{text:?}: {e}"))
+            .solve()
+            .unwrap_or_else(|e| panic!("{text:?}: {e}"))
+    }
+
+    #[test]
+    fn auto_partition_of_a_finger_scene() {
+        let fixed = solve(&format!("{LONG}[partition]\nelements = 9\n"));
+        assert!(slope_findings(&fixed.warnings()) > 0);
+        let text = format!("{LONG}[partition]\nelements = \"auto\"\n");
+        let scene = Scene::from_toml(&text).unwrap();
+        assert_eq!(scene.partition, PartitionPlan::Auto);
+        let sol = scene.solve().unwrap();
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(slope_findings(&sol.solution().warnings), 0);
+        assert!(sol.elements() > 9, "{}", sol.elements());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
+        // the library's automatic partition at the scene's load
+        let direct = solve_auto(
+            scene.model,
+            &scene.actuator,
+            true,
+            &scene.load,
+            &scene.options,
+        )
+        .unwrap();
+        assert_eq!(sol.elements(), direct.partition.len());
+        assert_eq!(sol.solution().tip, direct.solution.tip);
+        // the paper's finger under pressure
+        let sol = solve("[partition]\nelements = \"auto\"\n[load]\npressure_kpa = 100\n");
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
+    }
+
+    #[test]
+    fn auto_partition_of_a_gripper_scene() {
+        let fixed = solve(&format!("{LONG}[partition]\nelements = 9\n[gripper]\n"));
+        assert!(slope_findings(&fixed.warnings()) > 0);
+        let text = format!("{LONG}[partition]\nelements = \"auto\"\n[gripper]\n");
+        let scene = Scene::from_toml(&text).unwrap();
+        let sol = scene.solve().unwrap();
+        let SceneSolution::Gripper { gripper, grasp } = &sol else {
+            panic!()
+        };
+        assert!(grasp.is_none());
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(slope_findings(&gripper.reference().warnings), 0);
+        assert!(sol.elements() > 9, "{}", sol.elements());
+        assert_eq!(sol.elements(), gripper.finger().len());
+        // chosen by the library at the unloaded, zero-pressure state
+        let opts = SolveOptions {
+            samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+            ..SolveOptions::default()
+        };
+        let direct =
+            solve_auto(scene.model, &scene.actuator, true, &Load::unloaded(), &opts).unwrap();
+        assert_eq!(
+            gripper.finger().element_lengths(),
+            direct.partition.lengths()
+        );
+        // the paper's gripper holding the default cuboid
+        let sol = solve("[partition]\nelements = \"auto\"\n[gripper]\n[gripper.grasp]\n");
+        let SceneSolution::Gripper {
+            gripper,
+            grasp: Some(g),
+        } = &sol
+        else {
+            panic!()
+        };
+        assert!(g.is_valid(), "{:?}", g.invalid);
+        assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
+        assert_eq!(sol.elements(), gripper.finger().len());
+        assert_eq!(sol.elements(), sol.solution().element_lengths.len());
+    }
+
+    #[test]
+    fn the_finger_is_built_with_the_scenes_model() {
+        for name in crate::ModelId::names() {
+            let text = format!("[model]\nname = \"{name}\"\n[gripper]\n");
+            let SceneSolution::Gripper { gripper, .. } =
+                Scene::from_toml(&text).unwrap().solve().unwrap()
+            else {
+                panic!()
+            };
+            assert_eq!(gripper.finger().model().name(), name);
+        }
+    }
+
+    #[test]
+    fn grasp_validity_is_the_grippers() {
+        // friction beyond the cone
+        let (_, out) = grasp_of("[gripper]\n[gripper.grasp]\nfriction_n = 50\n");
+        assert!(
+            matches!(out.invalid, Some(Invalid::FrictionCone { .. })),
+            "{:?}",
+            out.invalid
+        );
+        assert_eq!(out.invalid, out.grasp.invalid);
+        // a wide cuboid bends the root element backwards: flagged, and
+        // invalid only in strict mode
+        let text = "[gripper]\n[gripper.grasp]\nd_mm = 140\n";
+        let (_, out) = grasp_of(text);
+        assert_eq!(out.invalid, None);
+        assert!(out.grasp.is_reversed());
+        let (gripper, strict) =
+            grasp_of(&text.replace("[gripper]\n", "[gripper]\nstrict = true\n"));
+        assert!(gripper.is_strict());
+        assert!(
+            matches!(
+                strict.invalid,
+                Some(Invalid::CurvatureReversal { element: 0, .. })
+            ),
+            "{:?}",
+            strict.invalid
+        );
+        assert_eq!(strict.invalid, strict.grasp.invalid);
+        assert!(!strict.is_valid());
+    }
+
+    #[test]
+    fn sphere_validity_is_the_grippers() {
+        let text = "[gripper]\n[gripper.grasp]\nkind = \"sphere\"\nr_mm = 70\nlift_n = 2\n";
+        let (gripper, out) = grasp_of(text);
+        let direct = gripper
+            .sphere_grasp(0.0, 70.0, 2.0, 20f64.to_radians(), None)
+            .unwrap();
+        assert_eq!(out.invalid, direct.invalid);
+        assert!(
+            matches!(out.invalid, Some(Invalid::SecondContact { .. })),
+            "{:?}",
+            out.invalid
+        );
+        // the contact carries the geometric verdict, the grasp's forces are fine
+        let contact = out.sphere.unwrap();
+        assert_eq!(contact.invalid, out.invalid);
+        assert_eq!(out.grasp.invalid, None);
+        assert_eq!(
+            (contact.radius, contact.center),
+            (direct.radius, direct.center)
+        );
+    }
+
+    #[test]
+    fn warnings_are_every_warning_once() {
+        // the actuator's note reaches the finger, the gripper and the grasp:
+        // it is listed once, with the design note and the grasp's findings
+        let text = "[actuator.pemc]\neps0 = 0.62\n[gripper]\nmounting_angle_deg = 30\n[gripper.grasp]\nd_mm = 140\n";
+        let scene = Scene::from_toml(text).unwrap();
+        assert_eq!(scene.warnings().len(), 1);
+        let sol = scene.solve().unwrap();
+        let w = sol.warnings();
+        let count = |kind: &str| w.iter().filter(|w| w.kind() == kind).count();
+        assert_eq!(count("eps0_outside_fit"), 1, "{w:?}");
+        assert_eq!(count("mounting_angle_outside_design_space"), 1, "{w:?}");
+        assert_eq!(count("curvature_reversal"), 1, "{w:?}");
+        for (i, a) in w.iter().enumerate() {
+            assert!(!w[i + 1..].contains(a), "{a:?} twice in {w:?}");
+        }
+        // a finger scene: the solution's findings
+        let sol = Scene::from_toml("[partition]\nelements = 2\n[load]\npressure_kpa = 60\n")
+            .unwrap()
+            .solve()
+            .unwrap();
+        assert!(!sol.warnings().is_empty());
+        assert_eq!(sol.warnings(), sol.solution().warnings);
+    }
+}
