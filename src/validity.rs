@@ -30,6 +30,12 @@ const TURNING_FOR_CONTACT: f64 = std::f64::consts::PI - 0.05;
 
 /// The findings of state `k` (raw coefficients) of `finger`, checking each
 /// element at `samples` points (`x = L/samples .. L`, and the root).
+///
+/// Cheap on purpose (it runs after every solve): the slope test compares
+/// the tangent's components (an angle is computed only for an element that
+/// fails); the tangent's turning comes from the element ends; and the
+/// self-crossing test, which only runs past half a turn, compares only
+/// elements whose bounding boxes overlap.
 pub(crate) fn check<M: ElementModel>(
     finger: &FingerCore<M>,
     k: &[f64],
@@ -43,22 +49,18 @@ pub(crate) fn check<M: ElementModel>(
     let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
     let mut theta_lo = 0.0f64;
     let mut theta_hi = 0.0f64;
-    let mut theta = 0.0;
+    let mut theta = 0.0f64;
     for (i, e) in finger.elements.iter().enumerate() {
         let ki = FingerCore::<M>::element_coeffs(k, i);
         let l = e.length();
-        let mut slope: f64 = 0.0;
+        let mut steep = false;
         let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
-        let mut pre: Option<f64> = None; // worst s outside the range
+        let mut pre: Option<(f64, f64)> = None; // (distance outside, s)
         for j in 0..=samples {
             let x = l * j as f64 / samples as f64;
-            let [dx, dz] = M::tangent(&ki, x);
             if j > 0 {
-                // the angle from the element's root tangent
-                let a = dz.atan2(dx);
-                slope = slope.max(a.abs());
-                theta_lo = theta_lo.min(theta + a);
-                theta_hi = theta_hi.max(theta + a);
+                let [dx, dz] = M::tangent(&ki, x);
+                steep |= !(dx > 0.0 && dz.abs() <= limit_tan * dx);
             }
             let m = M::strain(&ki, x, 0.0);
             if m.abs() > mid.0 {
@@ -66,16 +68,23 @@ pub(crate) fn check<M: ElementModel>(
             }
             for z in [pz0, pz1] {
                 let s = eps0 + M::strain(&ki, x, z);
-                let out_by = (slo - s).max(s - shi);
-                if out_by > 0.0 && pre.is_none_or(|p| out_by > (slo - p).max(p - shi)) {
-                    pre = Some(s);
+                let by = (slo - s).max(s - shi);
+                if by > 0.0 && pre.is_none_or(|(b, _)| by > b) {
+                    pre = Some((by, s));
                 }
             }
         }
-        if slope.tan() > limit_tan || slope > std::f64::consts::FRAC_PI_2 {
+        if steep {
+            // the angle, only for an element that breaks the limit
+            let most = (1..=samples)
+                .map(|j| {
+                    let [dx, dz] = M::tangent(&ki, l * j as f64 / samples as f64);
+                    dz.atan2(dx).abs()
+                })
+                .fold(0.0f64, f64::max);
             out.push(Warning::ElementSlope {
                 element: i,
-                degrees: slope.to_degrees(),
+                degrees: most.to_degrees(),
                 limit: SLOPE_LIMIT_DEG,
             });
         }
@@ -86,18 +95,24 @@ pub(crate) fn check<M: ElementModel>(
                 limit: MIDPLANE_STRAIN_LIMIT,
             });
         }
-        if let Some(s) = pre {
+        if let Some((_, s)) = pre {
             out.push(Warning::PrestressedStrain {
                 element: i,
                 strain: s,
                 range: PRESTRESSED_STRAIN_RANGE,
             });
         }
-        theta += e.end(&ki)[2];
+        // within an element that keeps its slope limit the tangent stays
+        // within 45 degrees of the element's ends
+        let eta = e.end(&ki)[2];
+        let margin = if steep { std::f64::consts::PI } else { 0.0 };
+        theta_lo = theta_lo.min(theta.min(theta + eta) - margin);
+        theta_hi = theta_hi.max(theta.max(theta + eta) + margin);
+        theta += eta;
     }
     if theta_hi - theta_lo > TURNING_FOR_CONTACT {
         let pts = finger.shape_raw(k, samples);
-        if let Some((a, b)) = first_crossing(&pts) {
+        if let Some((a, b)) = first_crossing_by_element(&pts, samples) {
             let element = |seg: usize| (seg / samples).min(finger.len() - 1);
             out.push(Warning::SelfContact {
                 element: element(b),
@@ -108,9 +123,46 @@ pub(crate) fn check<M: ElementModel>(
     out
 }
 
+/// [`first_crossing`] for a polyline of `per` segments per element: only
+/// the segments of elements whose bounding boxes overlap are compared.
+fn first_crossing_by_element(pts: &[[f64; 2]], per: usize) -> Option<(usize, usize)> {
+    let segments = pts.len().checked_sub(1)?;
+    let elements = segments.div_ceil(per);
+    let bbox = |e: usize| {
+        let (a, b) = (e * per, ((e + 1) * per).min(segments));
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for p in &pts[a..=b] {
+            for c in 0..2 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+        }
+        (lo, hi)
+    };
+    let boxes: Vec<([f64; 2], [f64; 2])> = (0..elements).map(bbox).collect();
+    for eb in 0..elements {
+        for ea in 0..=eb {
+            let ((la, ha), (lb, hb)) = (boxes[ea], boxes[eb]);
+            if la[0] > hb[0] || lb[0] > ha[0] || la[1] > hb[1] || lb[1] > ha[1] {
+                continue;
+            }
+            for b in eb * per..((eb + 1) * per).min(segments) {
+                for a in ea * per..((ea + 1) * per).min(segments) {
+                    if a + 1 < b && segments_cross(pts[a], pts[a + 1], pts[b], pts[b + 1]) {
+                        return Some((a, b));
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
 /// The first pair of non-adjacent segments of a polyline that intersect
 /// (segment `i` joins points `i` and `i + 1`), by brute force.
-pub(crate) fn first_crossing(pts: &[[f64; 2]]) -> Option<(usize, usize)> {
+#[cfg(test)]
+fn first_crossing(pts: &[[f64; 2]]) -> Option<(usize, usize)> {
     let n = pts.len().checked_sub(1)?;
     for b in 2..n {
         for a in 0..b - 1 {
@@ -152,6 +204,35 @@ fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn crossings_by_element_agree_with_brute_force() {
+        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            (rng >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..300 {
+            // a random walk with a random turning rate: coils and straights
+            let per = 1 + (next() * 5.0) as usize;
+            let n = per * (1 + (next() * 12.0) as usize);
+            let (mut p, mut a) = ([0.0, 0.0], 0.0);
+            let turn = next() * 0.8;
+            let mut pts = vec![p];
+            for _ in 0..n {
+                a += turn + 0.3 * (next() - 0.5);
+                p = [p[0] + a.cos(), p[1] + a.sin()];
+                pts.push(p);
+            }
+            assert_eq!(
+                first_crossing(&pts).is_some(),
+                first_crossing_by_element(&pts, per).is_some(),
+                "{pts:?}"
+            );
+        }
+    }
 
     #[test]
     fn crossings_of_hand_drawn_polylines() {
