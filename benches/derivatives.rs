@@ -13,14 +13,9 @@
 //! energy given three ways:
 //!
 //! - **generated**: the build-time generated straight-line kernels with the
-//!   exactly differentiated chain, through the public raw-coefficient API
-//!   (`Finger::energy`, `gradient`, `hessian`) wrapped as a problem in the
-//!   scaled unknowns (`Generated` below, with `Finger::unknown_scales`).
-//!   The library's own buffer-reusing chain in scaled unknowns (formerly
-//!   `fpc::Chain`, `Finger::problem`) is crate-private now, so this
-//!   strategy also pays, per evaluation, for building the chain, the
-//!   conversions between raw and scaled unknowns and (Hessian) the full
-//!   matrix: an upper bound on the generated strategy's cost;
+//!   exactly differentiated chain: the library's own Newton problem in the
+//!   scaled unknowns (`Finger::problem`), which reuses its buffers and
+//!   condenses the local unknowns like the solver;
 //! - **dual**: the same energy written once, generically over a
 //!   `num_dual::DualNum` type: element energies by tensor Gauss-Legendre
 //!   quadrature of the energy densities over the elements' blocks (rebuilt
@@ -607,8 +602,9 @@ fn run() {
         .solve(&Load::unloaded(), &SolveOptions::default().tip_only())
         .unwrap();
     let stiffness = finger.stiffness_scale();
-    let mut exact = Generated::new(&finger, load);
-    let y0 = exact.scaled(&unloaded.coefficients);
+    let convert = Generated::new(&finger, load);
+    let y0 = convert.scaled(&unloaded.coefficients);
+    let mut exact = finger.problem(&load);
     let opts = NewtonOptions {
         gtol: RTOL * stiffness,
         max_iter: 60,
@@ -651,13 +647,8 @@ fn run() {
     println!();
     println!("| scene | strategy | energy rel. diff | max abs gradient diff / max abs gradient | max abs Hessian diff / max abs Hessian | worst entrywise Hessian rel. diff |");
     println!("|---|---|---|---|---|---|");
-    let mut seed: u64 = 0x9e37_79b9_7f4a_7c15;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+    let mut rng = fastrand::Rng::with_seed(0x9e37_79b9);
+    let mut rnd = move || 2.0 * rng.f64() - 1.0;
     let yr: Vec<f64> = y0.iter().map(|v| v + 0.02 * rnd()).collect();
     let mut worst_dual: f64 = 0.0;
     for (scene, l) in [
@@ -718,7 +709,7 @@ fn run() {
     ];
 
     let base = &runs[0];
-    let (tip_a, _) = finger.tip(&exact.raw(&base.y)).unwrap();
+    let (tip_a, _) = finger.tip(&convert.raw(&base.y)).unwrap();
     let mut gex = vec![0.0; DIM];
     println!(
         "## Newton solves ({} cores available; median over repeated solves)",
@@ -731,7 +722,7 @@ fn run() {
     for r in &runs {
         exact.gradient(&r.y, &mut gex);
         let res = gex.iter().map(|v| v.abs()).fold(0.0, f64::max) / stiffness;
-        let (tip, _) = finger.tip(&exact.raw(&r.y)).unwrap();
+        let (tip, _) = finger.tip(&convert.raw(&r.y)).unwrap();
         let dtip = ((tip[0] - tip_a[0]).powi(2) + (tip[1] - tip_a[1]).powi(2)).sqrt();
         let ratio = r.median.as_secs_f64() / base.median.as_secs_f64();
         println!(

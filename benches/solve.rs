@@ -17,14 +17,10 @@
 //!   the actuator (`common/blocks.rs`, checked against the finger's own
 //!   elements), and `finger_element_hessian` times the same element
 //!   through the public `Finger::element_hessian` (trait object, vectors);
-//! - `assembly`: energy, gradient and full Hessian of a pressurised,
-//!   tip-loaded finger for N = 4 ... 64, through the public raw-coefficient
-//!   API (`Finger::energy`, `gradient`, `hessian`). These build the coupled
-//!   chain for every call and convert to and from the scaled unknowns (the
-//!   Hessian also fills and rescales the full matrix); the library's
-//!   buffer-reusing chain in scaled unknowns (formerly `fpc::Chain`, what
-//!   the solver iterates on) is crate-private now, so its own cost is only
-//!   measured inside the `solves` group;
+//! - `assembly`: energy, gradient and Hessian (lower triangle) of a
+//!   pressurised, tip-loaded finger for N = 4 ... 64 on the solver's own
+//!   Newton problem in scaled unknowns (`Finger::problem`, buffers reused,
+//!   what the solver iterates on);
 //! - `solves`: whole solves at N = 8 (see the ids), all through a reused
 //!   `Solver` workspace;
 //! - `sweep`: a 50-point force sweep, throughput in solves per second.
@@ -41,6 +37,7 @@ use fpc::{
     Actuator, Coefficients, ElementModel, Finger, Load, Partition, Solution, SolveOptions, Solver,
     Strategy, TargetProblem,
 };
+use fpc_newton::{Energy, Gradient, Hessian};
 
 #[path = "common/blocks.rs"]
 mod blocks;
@@ -153,14 +150,23 @@ fn assembly(c: &mut Criterion) {
             })
             .collect();
         let k = Coefficients::new(4, values).unwrap();
-        g.bench_with_input(BenchmarkId::new("energy", n), &k, |bch, k| {
-            bch.iter(|| finger.energy(black_box(&load), black_box(k)).unwrap())
+        let y: Vec<f64> = k
+            .as_slice()
+            .iter()
+            .zip(finger.unknown_scales())
+            .map(|(k, s)| k / s)
+            .collect();
+        let mut p = finger.problem(&load);
+        let dim = y.len();
+        let (mut gr, mut h) = (vec![0.0; dim], vec![0.0; dim * dim]);
+        g.bench_function(BenchmarkId::new("energy", n), |bch| {
+            bch.iter(|| p.energy(black_box(&y)))
         });
-        g.bench_with_input(BenchmarkId::new("gradient", n), &k, |bch, k| {
-            bch.iter(|| finger.gradient(black_box(&load), black_box(k)).unwrap())
+        g.bench_function(BenchmarkId::new("gradient", n), |bch| {
+            bch.iter(|| p.gradient(black_box(&y), &mut gr))
         });
-        g.bench_with_input(BenchmarkId::new("hessian", n), &k, |bch, k| {
-            bch.iter(|| finger.hessian(black_box(&load), black_box(k)).unwrap())
+        g.bench_function(BenchmarkId::new("hessian", n), |bch| {
+            bch.iter(|| p.hessian(black_box(&y), &mut gr, &mut h))
         });
     }
     g.finish();

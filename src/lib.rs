@@ -20,7 +20,6 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod accuracy;
 mod actuator;
 mod blocks;
 mod element;
@@ -32,7 +31,6 @@ mod refine;
 mod ser;
 mod validity;
 
-pub use accuracy::{accuracy_study, AccuracyRow, AccuracyStudy, Reference};
 pub use actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
@@ -40,8 +38,8 @@ pub use actuator::{
 pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    input_warnings, Coefficients, Finger, Load, Solution, SolveOptions, SolveReport, Solver,
-    Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
+    input_warnings, Coefficients, Finger, Load, Problem, Solution, SolveOptions, SolveReport,
+    Solver, Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
@@ -72,11 +70,6 @@ pub mod scene;
 pub use scene::{
     GraspOutcome, GraspSpec, GripperScene, PartitionPlan, Scene, SceneError, SceneFile,
     SceneReadError, SceneSolution,
-};
-mod stress;
-pub use stress::{
-    reason_name, stress, stress_inputs, stress_with, StressCase, StressConfig, StressInputs,
-    StressOutcome, StressReport, MAX_DRAWS, RESIDUAL_LIMIT, ROTATION_LIMIT, STRESS_ELEMENT_COUNTS,
 };
 
 /// The README's Rust examples, compiled and run as doctests.

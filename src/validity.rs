@@ -207,13 +207,8 @@ mod tests {
 
     #[test]
     fn crossings_by_element_agree_with_brute_force() {
-        let mut rng = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = fastrand::Rng::with_seed(7);
+        let mut next = || rng.f64();
         for _ in 0..300 {
             // a random walk with a random turning rate: coils and straights
             let per = 1 + (next() * 5.0) as usize;

@@ -20,7 +20,7 @@
 //! `impl Fields` ([`Fields`] for [`Ccm`] below). A new model is one more
 //! `impl Fields` and one more line in [`for_each_model!`].
 //!
-//! Random inputs come from a seeded xorshift generator, so every run checks
+//! Random inputs come from fastrand with fixed seeds, so every run checks
 //! the same cases. Each test prints its worst error (`--nocapture`).
 
 use fpc::model::ccm::Ccm;
@@ -70,27 +70,22 @@ fn len<M: ElementModel>() -> usize {
 }
 
 // ---------------------------------------------------------------------------
-// Deterministic random numbers (xorshift64*).
+// Deterministic random numbers (fastrand, seeded).
 
-struct Rng(u64);
+struct Rng(fastrand::Rng);
 
 impl Rng {
     fn new(seed: u64) -> Rng {
-        Rng(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1)
+        Rng(fastrand::Rng::with_seed(seed))
     }
 
     fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        self.0.u64(..)
     }
 
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.f64()
     }
 
     fn range(&mut self, lo: f64, hi: f64) -> f64 {

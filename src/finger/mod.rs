@@ -365,6 +365,7 @@ pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
     fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning>;
     fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64>;
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
+    fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a>;
 }
 
 /// A model-specific solver workspace, behind a trait object.
@@ -605,6 +606,17 @@ impl Finger {
             .curvatures(k, per_element.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
     }
 
+    /// The coupled finger as a Newton problem in the solver's scaled
+    /// unknowns (raw coefficients over [`Finger::unknown_scales`], element
+    /// by element): energy, exact gradient and Hessian (its lower triangle;
+    /// the problem condenses the model's local unknowns in
+    /// `solve_shifted`). For external solvers and benchmarks.
+    pub fn problem(&self, load: &Load) -> Problem<'_> {
+        Problem {
+            inner: self.core.problem(load),
+        }
+    }
+
     /// Solves a scene from the straight finger (or, with a tip load, from
     /// the unloaded equilibrium at the same pressure).
     pub fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solution, SolveError> {
@@ -619,6 +631,35 @@ impl Finger {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         Solver::new(self).solve(load, Some(guess), opts)
+    }
+}
+
+/// A finger's Newton problem ([`Finger::problem`]).
+pub struct Problem<'a> {
+    inner: Box<dyn fpc_newton::Hessian + 'a>,
+}
+
+impl fpc_newton::Energy for Problem<'_> {
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        self.inner.energy(x)
+    }
+}
+
+impl fpc_newton::Gradient for Problem<'_> {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        self.inner.gradient(x, g)
+    }
+}
+
+impl fpc_newton::Hessian for Problem<'_> {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        self.inner.hessian(x, g, h)
+    }
+    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
+        self.inner.solve_shifted(h, g, tau, p)
     }
 }
 

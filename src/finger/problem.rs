@@ -271,6 +271,12 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         out
     }
 
+    fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
+        let mut chain = Chain::new(self);
+        chain.set_load(load);
+        Box::new(chain)
+    }
+
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
         Box::new(SolverCore::new(self, warnings))
     }

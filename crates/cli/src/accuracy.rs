@@ -4,7 +4,7 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 
-use fpc::{accuracy_study, AccuracyStudy};
+use fpc_lab::{accuracy_study, AccuracyStudy};
 
 /// Flags of `fpc accuracy`.
 #[derive(clap::Args, Debug)]

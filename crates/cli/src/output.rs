@@ -9,7 +9,8 @@ use std::sync::OnceLock;
 use std::time::{Duration, SystemTime};
 
 use anyhow::Context;
-use fpc::{AccuracyStudy, InputError};
+use fpc::InputError;
+use fpc_lab::AccuracyStudy;
 
 // ------------------------------------------------------------ stdout
 

@@ -1,10 +1,10 @@
 //! `fpc stress`: seeded random scenes with extreme but legal inputs, each
-//! solved and checked independently (the library's `fpc::stress`).
+//! solved and checked independently (`fpc_lab::stress`).
 
 use std::io::Write;
 use std::time::Duration;
 
-use fpc::{StressCase, StressConfig, StressReport};
+use fpc_lab::{StressCase, StressConfig, StressReport};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 
@@ -55,7 +55,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     bar.enable_steady_tick(Duration::from_millis(120));
     // the bar is hidden when stderr is not a terminal: then one line per tenth
     let plain = !crate::report::is_terminal();
-    let report = fpc::stress_with(&config, |done, total| {
+    let report = fpc_lab::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
             crate::report::plain(&format!("fpc stress: {done}/{total} cases"));
@@ -100,26 +100,26 @@ fn case_json(c: &StressCase) -> Value {
     let g = &i.geometry;
     let ch = &i.channel;
     let (reason, element, solver_residual, detail) = match &c.outcome {
-        fpc::StressOutcome::Failed {
+        fpc_lab::StressOutcome::Failed {
             reason,
             element,
             relative_residual,
         } => (
-            json!(fpc::reason_name(*reason)),
+            json!(fpc_lab::reason_name(*reason)),
             json!(element),
             num(*relative_residual),
             Value::Null,
         ),
-        fpc::StressOutcome::Rejected { error } => {
+        fpc_lab::StressOutcome::Rejected { error } => {
             (Value::Null, Value::Null, Value::Null, json!(error))
         }
-        fpc::StressOutcome::SilentlyWrong { what } => {
+        fpc_lab::StressOutcome::SilentlyWrong { what } => {
             (Value::Null, Value::Null, Value::Null, json!(what))
         }
-        fpc::StressOutcome::Panicked { message } => {
+        fpc_lab::StressOutcome::Panicked { message } => {
             (Value::Null, Value::Null, Value::Null, json!(message))
         }
-        fpc::StressOutcome::Converged => (Value::Null, Value::Null, Value::Null, Value::Null),
+        fpc_lab::StressOutcome::Converged => (Value::Null, Value::Null, Value::Null, Value::Null),
     };
     json!({
         "index": c.index,
@@ -244,7 +244,7 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
             "  largest recomputed residual       {:.3e} (case {}, limit {:.0e})",
             c.residual.unwrap_or(f64::NAN),
             c.index,
-            fpc::RESIDUAL_LIMIT
+            fpc_lab::RESIDUAL_LIMIT
         )?;
     }
     if let Some(c) = r.worst_conditioning() {

@@ -2,7 +2,7 @@
 //! inputs, each solved with the default options (tip-only output) and
 //! checked independently of the solver.
 //!
-//! A case draws, from a SplitMix64 stream fixed by the seed and the case
+//! A case draws, from a fastrand stream fixed by the seed and the case
 //! index:
 //!
 //! - the prestrain `eps0` uniform in [0.01, 0.6];
@@ -63,10 +63,10 @@ use std::time::{Duration, Instant};
 
 use fpc_newton::{min_eigenvalue, Termination};
 
-use crate::actuator::{Actuator, ActuatorParams, Channel, Geometry};
-use crate::blocks::Partition;
-use crate::error::{InputError, SolveError};
-use crate::finger::{Finger, Load, Solution, SolveOptions};
+use fpc::{
+    Actuator, ActuatorParams, Channel, Finger, Geometry, InputError, Load, Partition, Solution,
+    SolveError, SolveOptions,
+};
 
 /// Largest accepted recomputed residual, `||g_scaled||_inf` over the
 /// stiffness scale (the solver's own tolerance is 1e-11).
@@ -515,7 +515,7 @@ fn draw_case(
     index: usize,
     max_elements: usize,
 ) -> (StressInputs, Vec<String>, Result<Finger, NoFinger>) {
-    let mut rng = SplitMix64::for_case(seed, index);
+    let mut rng = CaseRng::for_case(seed, index);
     let mut rejected = Vec::new();
     loop {
         let inputs = draw(&mut rng, max_elements);
@@ -758,32 +758,22 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     }
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a 64-bit state, one add and a
-/// mixing function per output.
+/// The random stream of one case: fastrand's generator, seeded from the
+/// run's seed and the case index, so a case does not depend on the cases
+/// before it (an early stop does not change later cases).
 #[derive(Debug, Clone)]
-struct SplitMix64(u64);
+struct CaseRng(fastrand::Rng);
 
-fn mix64(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
-impl SplitMix64 {
-    /// The stream of case `index` of a run from `seed`: independent of the
-    /// cases before it, so an early stop does not change later cases.
-    fn for_case(seed: u64, index: usize) -> SplitMix64 {
-        SplitMix64(mix64(seed) ^ mix64((index as u64).wrapping_add(0x5851_F42D_4C95_7F2D)))
-    }
-
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        mix64(self.0)
+impl CaseRng {
+    fn for_case(seed: u64, index: usize) -> CaseRng {
+        // the index picks a stream; fastrand mixes the seed itself
+        let stream = fastrand::Rng::with_seed(index as u64).u64(..);
+        CaseRng(fastrand::Rng::with_seed(seed ^ stream))
     }
 
     /// Uniform in [0, 1).
     fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.f64()
     }
 
     fn range(&mut self, lo: f64, hi: f64) -> f64 {
@@ -799,12 +789,12 @@ impl SplitMix64 {
     }
 
     fn below(&mut self, n: usize) -> usize {
-        ((self.unit() * n as f64) as usize).min(n.saturating_sub(1))
+        self.0.usize(..n.max(1))
     }
 }
 
 /// One draw of every input (module docs); validation is the caller's.
-fn draw(rng: &mut SplitMix64, max_elements: usize) -> StressInputs {
+fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
     let eps0 = rng.range(0.01, 0.6);
     let pressure_kpa = if rng.chance(0.2) {
         0.0

@@ -12,11 +12,10 @@
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::SolveError;
-use crate::finger::{Finger, Load, SolveOptions, Solver};
-use crate::gripper::{Gripper, GripperParams, PalmSpec};
+use fpc::{
+    Actuator, Finger, Gripper, GripperParams, Load, PalmSpec, Partition, SolveError, SolveOptions,
+    Solver,
+};
 
 /// One (N, tolerance) point.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,10 +1,10 @@
-//! The numerical stress test (`fpc::stress`): a light debug run must find
+//! The numerical stress test (`fpc_lab::stress`): a light debug run must find
 //! no panics and no silently wrong answers, and the case generator must be
 //! deterministic and stay inside its documented ranges.
 
 use std::time::Duration;
 
-use fpc::{
+use fpc_lab::{
     stress_inputs, stress_with, StressConfig, StressOutcome, MAX_DRAWS, RESIDUAL_LIMIT,
     STRESS_ELEMENT_COUNTS,
 };
