@@ -16,7 +16,7 @@
 //! let load = Load::unloaded().with_pressure_kpa(50.0).with_tip_force(0.5, 0.2);
 //! let loaded = finger.solve(&load, &SolveOptions::default())?;
 //! assert!(loaded.report.residual_norm <= 1e-10);
-//! assert!(loaded.min_hessian_eig.unwrap() > 0.0); // stable
+//! assert_eq!(loaded.stable, Some(true)); // no negative Hessian eigenvalue
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 

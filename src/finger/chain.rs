@@ -9,33 +9,25 @@
 //! - block `jj`: `Fr_j . D2e_j + (F . J Q_j) D2eta_j - (F . Q_j) grad eta_j grad eta_j^T`
 //! - block `jk`, `j < k`: `grad eta_j w_k^T`, `w_k = (J^T Fr_k) . De_k - (F . Q_k) grad eta_k`
 //!
-//! where `J` rotates by +90 degrees and `e = (Xe, Ze)`. The unknowns the
-//! model declares local do not enter the end kernels, so they couple only
-//! within their element's diagonal block and are condensed out before the
-//! factorisation ([`Chain::solve_shifted`]).
+//! where `J` rotates by +90 degrees and `e = (Xe, Ze)`. So the Hessian is
+//! block diagonal plus a rank-one semiseparable coupling (block `kj` is
+//! `-w_k u_j^T` with `u_j = grad eta_j`), which fpc-newton's
+//! [`Semiseparable`] stores in `O(N)` and factorises and solves in `O(N)`
+//! (block LDL^T along the chain, two scalar recurrences; its inertia gives
+//! the stability). No `4N x 4N` matrix exists on the solve path.
 
-use fpc_newton::{Energy, Gradient, Hessian};
+use fpc_newton::{
+    Energy, FactorError, Gradient, Hessian, Inertia, LinearSystem, PivotKind, Semiseparable,
+};
 
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
 use super::problem::FingerCore;
 use super::Load;
 
-/// Largest number of unknowns per element the condensation handles.
-const MAX_UNKNOWNS: usize = 8;
-
-/// Copies the lower triangle of a column-major `n x n` matrix to its upper triangle.
-pub(crate) fn fill_upper(n: usize, h: &mut [f64]) {
-    for j in 0..n {
-        for i in j + 1..n {
-            h[j + n * i] = h[i + n * j];
-        }
-    }
-}
-
 /// The coupled finger: all elements plus the tip-load chain, with exact
-/// gradient and Hessian (the lower triangle only, which is all Newton
-/// reads). It reuses its buffers, so evaluations do not allocate.
+/// gradient and structured Hessian. It reuses its buffers, so evaluations
+/// do not allocate.
 pub(crate) struct Chain<'a, M: ElementModel> {
     pub finger: &'a FingerCore<M>,
     scalars: EnergyScalars,
@@ -53,24 +45,13 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     /// Evaluate the chain geometry even without a tip load (bordered solves
     /// need the tip and its gradient).
     pub force_chain: bool,
-    /// Condensed Newton system (lower triangle) and its right-hand side.
-    red: Vec<f64>,
-    rg: Vec<f64>,
-    /// Per element: the factorised local block and the coupling rows to
-    /// the kept unknowns, for the back substitution.
-    local_l: Vec<[f64; MAX_UNKNOWNS * MAX_UNKNOWNS]>,
-    local_c: Vec<[f64; MAX_UNKNOWNS * MAX_UNKNOWNS]>,
-}
-
-/// Positions of the kept (chain) unknowns of model `M`, in order.
-fn kept<M: ElementModel>() -> impl Iterator<Item = usize> {
-    (0..M::Coeffs::LEN).filter(|i| !M::LOCAL.contains(i))
+    /// The scaled Hessian of the last evaluation, and its factorisation.
+    pub matrix: Semiseparable,
 }
 
 impl<'a, M: ElementModel> Chain<'a, M> {
     /// The problem for `finger` with no load (see [`Chain::set_load`]).
     pub fn new(finger: &'a FingerCore<M>) -> Chain<'a, M> {
-        const { assert!(M::Coeffs::LEN <= MAX_UNKNOWNS) };
         let n = finger.len();
         Chain {
             finger,
@@ -86,10 +67,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             blk: vec![M::Upper::zero(); n],
             tip: [0.0, 0.0],
             force_chain: false,
-            red: Vec::new(),
-            rg: Vec::new(),
-            local_l: vec![[0.0; MAX_UNKNOWNS * MAX_UNKNOWNS]; n],
-            local_c: vec![[0.0; MAX_UNKNOWNS * MAX_UNKNOWNS]; n],
+            matrix: Semiseparable::new(M::Coeffs::LEN, n),
         }
     }
 
@@ -216,189 +194,32 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
     }
 }
 
-/// In-place Cholesky of the leading `m x m` block of a row-major
-/// `MAX_UNKNOWNS`-strided matrix; false unless positive definite.
-fn small_cholesky(a: &mut [f64; MAX_UNKNOWNS * MAX_UNKNOWNS], m: usize) -> bool {
-    for j in 0..m {
-        let mut d = a[j * MAX_UNKNOWNS + j];
-        for k in 0..j {
-            d -= a[j * MAX_UNKNOWNS + k] * a[j * MAX_UNKNOWNS + k];
-        }
-        if d.is_nan() || d <= 0.0 {
-            return false;
-        }
-        let d = d.sqrt();
-        a[j * MAX_UNKNOWNS + j] = d;
-        for i in j + 1..m {
-            let mut v = a[i * MAX_UNKNOWNS + j];
-            for k in 0..j {
-                v -= a[i * MAX_UNKNOWNS + k] * a[j * MAX_UNKNOWNS + k];
+impl<M: ElementModel> LinearSystem for Chain<'_, M> {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.matrix.diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        let r = self.matrix.factor(tau, kind);
+        match r {
+            Err(FactorError::NotPositiveDefinite { .. }) if !self.matrix.is_finite() => {
+                Err(FactorError::NonFinite { block: 0 })
             }
-            a[i * MAX_UNKNOWNS + j] = v / d;
+            r => r,
         }
     }
-    true
-}
-
-/// Solves `L L^T x = b` in place for the factor of [`small_cholesky`].
-fn small_solve(l: &[f64; MAX_UNKNOWNS * MAX_UNKNOWNS], m: usize, b: &mut [f64]) {
-    for i in 0..m {
-        let mut v = b[i];
-        for k in 0..i {
-            v -= l[i * MAX_UNKNOWNS + k] * b[k];
-        }
-        b[i] = v / l[i * MAX_UNKNOWNS + i];
+    fn solve(&mut self, b: &mut [f64]) {
+        self.matrix.solve(b)
     }
-    for i in (0..m).rev() {
-        let mut v = b[i];
-        for k in i + 1..m {
-            v -= l[k * MAX_UNKNOWNS + i] * b[k];
-        }
-        b[i] = v / l[i * MAX_UNKNOWNS + i];
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.matrix.apply(x, out)
     }
 }
 
 impl<M: ElementModel> Hessian for Chain<'_, M> {
-    /// Condenses the model's local unknowns out of the Newton system: they
-    /// couple only within their own element's block (the chain terms do
-    /// not involve them), so eliminating them leaves a smaller Cholesky.
-    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
-        let nl = M::LOCAL.len();
-        if nl == 0 {
-            return None;
-        }
-        let n = M::Coeffs::LEN;
-        let nk = n - nl;
-        let ne = self.k.len();
-        let (dim, m) = (n * ne, nk * ne);
-        if m > fpc_newton::AUTO_DENSE_MAX_DIM {
-            return None; // faer's factorisation wins at this size
-        }
-        let keep: [usize; MAX_UNKNOWNS] = {
-            let mut kk = [0; MAX_UNKNOWNS];
-            for (t, i) in kept::<M>().enumerate() {
-                kk[t] = i;
-            }
-            kk
-        };
-        // read an entry of the (lower-triangle) Hessian
-        let at = |r: usize, c: usize| {
-            if r >= c {
-                h[r + dim * c]
-            } else {
-                h[c + dim * r]
-            }
-        };
-        self.red.resize(m * m, 0.0);
-        self.rg.resize(m, 0.0);
-        // per element: factor the shifted local block, and X = L^-1 B_lc
-        for e in 0..ne {
-            let base = n * e;
-            let l = &mut self.local_l[e];
-            for (a, &ia) in M::LOCAL.iter().enumerate() {
-                for (b, &ib) in M::LOCAL.iter().enumerate().take(a + 1) {
-                    l[a * MAX_UNKNOWNS + b] =
-                        at(base + ia, base + ib) + if a == b { tau } else { 0.0 };
-                }
-            }
-            if !small_cholesky(l, nl) {
-                return Some(false);
-            }
-            // column t of B_lc (local rows, kept column t), then solved by L
-            let c = &mut self.local_c[e];
-            for t in 0..nk {
-                let mut col = [0.0; MAX_UNKNOWNS];
-                for (a, &ia) in M::LOCAL.iter().enumerate() {
-                    col[a] = at(base + ia, base + keep[t]);
-                }
-                // forward substitution only: y = L^-1 col
-                for i in 0..nl {
-                    let mut v = col[i];
-                    for k in 0..i {
-                        v -= l[i * MAX_UNKNOWNS + k] * col[k];
-                    }
-                    col[i] = v / l[i * MAX_UNKNOWNS + i];
-                }
-                for a in 0..nl {
-                    c[a * MAX_UNKNOWNS + t] = col[a];
-                }
-            }
-        }
-        for col in 0..m {
-            let (ec, tc) = (col / nk, col % nk);
-            let jc = n * ec + keep[tc];
-            // L^-1 g_l for this element
-            let mut gl = [0.0; MAX_UNKNOWNS];
-            for (a, &ia) in M::LOCAL.iter().enumerate() {
-                gl[a] = g[n * ec + ia];
-            }
-            let l = &self.local_l[ec];
-            for i in 0..nl {
-                let mut v = gl[i];
-                for k in 0..i {
-                    v -= l[i * MAX_UNKNOWNS + k] * gl[k];
-                }
-                gl[i] = v / l[i * MAX_UNKNOWNS + i];
-            }
-            let c = &self.local_c[ec];
-            let mut corr = 0.0;
-            for a in 0..nl {
-                corr += c[a * MAX_UNKNOWNS + tc] * gl[a];
-            }
-            self.rg[col] = g[jc] - corr;
-            let src = &h[dim * jc..dim * (jc + 1)];
-            let out = &mut self.red[m * col..m * (col + 1)];
-            // the diagonal block: Schur complement of the local unknowns
-            for (r, o) in out.iter_mut().enumerate().take(nk * ec + nk).skip(col) {
-                let tr = r % nk;
-                let mut s = 0.0;
-                for a in 0..nl {
-                    s += c[a * MAX_UNKNOWNS + tr] * c[a * MAX_UNKNOWNS + tc];
-                }
-                *o = src[n * ec + keep[tr]] - s;
-            }
-            out[col] += tau;
-            // blocks below: local unknowns do not couple across elements
-            for er in ec + 1..ne {
-                for t in 0..nk {
-                    out[nk * er + t] = src[n * er + keep[t]];
-                }
-            }
-        }
-        if fpc_newton::cholesky_in_place(m, &mut self.red).is_err() {
-            return Some(false);
-        }
-        for v in self.rg.iter_mut() {
-            *v = -*v;
-        }
-        fpc_newton::cholesky_solve(m, &self.red, &mut self.rg);
-        // back substitution: B_ll p_l = -g_l - B_lc p_c
-        for e in 0..ne {
-            let base = n * e;
-            let mut rhs = [0.0; MAX_UNKNOWNS];
-            for t in 0..nk {
-                p[base + keep[t]] = self.rg[nk * e + t];
-            }
-            for (a, &ia) in M::LOCAL.iter().enumerate() {
-                let mut v = -g[base + ia];
-                for t in 0..nk {
-                    v -= at(base + ia, base + keep[t]) * p[base + keep[t]];
-                }
-                rhs[a] = v;
-            }
-            small_solve(&self.local_l[e], nl, &mut rhs);
-            for (a, &ia) in M::LOCAL.iter().enumerate() {
-                p[base + ia] = rhs[a];
-            }
-        }
-        Some(true)
-    }
-
-    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         self.unscale_into(y);
         let n = M::Coeffs::LEN;
         let ne = self.k.len();
-        let dim = n * ne;
         let loaded = self.loaded();
         let mut v = 0.0;
         // pass 1: element energies and, for the chain, end kinematics
@@ -443,29 +264,25 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 }
             }
         }
-        // pass 2: write the scaled Hessian
+        // pass 2: the scaled blocks and coupling vectors
         for j in 0..ne {
             let sj = self.finger.unscale[j];
             let blk = &self.blk[j];
+            let out = self.matrix.block_mut(j);
             for b in 0..n {
-                let col = &mut h[dim * (n * j + b)..dim * (n * j + b + 1)];
                 for a in 0..n {
-                    col[n * j + a] = blk[upper_index(n, a, b)] * sj[a] * sj[b];
-                }
-                // lower triangle only (Newton reads no more): row blocks k > j
-                let below = &mut col[n * (j + 1)..];
-                if loaded {
-                    // row block k > column block j: -w_k u_j^T
-                    let ub = self.u[j][b];
-                    for (dst, w) in below.chunks_exact_mut(n).zip(&self.w[j + 1..]) {
-                        for a in 0..n {
-                            dst[a] = -w[a] * ub;
-                        }
-                    }
-                } else {
-                    below.fill(0.0);
+                    out[a + n * b] = blk[upper_index(n, a, b)] * (sj[a] * sj[b]);
                 }
             }
+        }
+        if loaded {
+            for j in 0..ne {
+                let (u, w) = self.matrix.coupling_mut(j);
+                u.copy_from_slice(self.u[j].as_ref());
+                w.copy_from_slice(self.w[j].as_ref());
+            }
+        } else {
+            self.matrix.clear_coupling();
         }
         for (i, s) in self.finger.unscale.iter().enumerate() {
             for a in 0..n {

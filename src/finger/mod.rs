@@ -134,8 +134,8 @@ pub struct SolveOptions {
     pub strategy: Strategy,
     /// Sample the mid-plane and fit a circle (off for tip-only output).
     pub shape: bool,
-    /// Compute the smallest Hessian eigenvalue (off for tip-only output,
-    /// then `Solution::min_hessian_eig` is `None`).
+    /// Count the Hessian's negative eigenvalues from its factorisation (off
+    /// for tip-only output, then `Solution::negative_eigenvalues` is `None`).
     pub stability: bool,
     /// Mid-plane samples per element when `shape` is on (at most
     /// [`MAX_SAMPLES_PER_ELEMENT`]).
@@ -315,10 +315,11 @@ pub struct Solution {
     /// Total potential energy `Pi` (N mm).
     #[serde(rename = "energy_nmm")]
     pub energy: f64,
-    /// Smallest eigenvalue of the scaled Hessian over the stiffness scale
-    /// (positive: stable); `None` when not computed (`SolveOptions::stability` off).
-    pub min_hessian_eig: Option<f64>,
-    /// `min_hessian_eig > 0` when computed.
+    /// Negative eigenvalues of the Hessian (its inertia, from the
+    /// structured factorisation; 0: a stable equilibrium); `None` when not
+    /// computed (`SolveOptions::stability` off).
+    pub negative_eigenvalues: Option<usize>,
+    /// `negative_eigenvalues == 0` when computed.
     pub stable: Option<bool>,
     /// The element unknowns.
     pub coefficients: Coefficients,
@@ -608,9 +609,10 @@ impl Finger {
 
     /// The coupled finger as a Newton problem in the solver's scaled
     /// unknowns (raw coefficients over [`Finger::unknown_scales`], element
-    /// by element): energy, exact gradient and Hessian (its lower triangle;
-    /// the problem condenses the model's local unknowns in
-    /// `solve_shifted`). For external solvers and benchmarks.
+    /// by element): energy, exact gradient and the structured Hessian with
+    /// its `O(N)` factorisation (fpc-newton's [`Hessian`](fpc_newton::Hessian)
+    /// and [`LinearSystem`](fpc_newton::LinearSystem)). For external solvers
+    /// and benchmarks.
     pub fn problem(&self, load: &Load) -> Problem<'_> {
         Problem {
             inner: self.core.problem(load),
@@ -655,11 +657,27 @@ impl fpc_newton::Gradient for Problem<'_> {
 }
 
 impl fpc_newton::Hessian for Problem<'_> {
-    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
-        self.inner.hessian(x, g, h)
+    fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        self.inner.hessian(x, g)
     }
-    fn solve_shifted(&mut self, h: &[f64], g: &[f64], tau: f64, p: &mut [f64]) -> Option<bool> {
-        self.inner.solve_shifted(h, g, tau, p)
+}
+
+impl fpc_newton::LinearSystem for Problem<'_> {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.inner.diagonal_range()
+    }
+    fn factor(
+        &mut self,
+        tau: f64,
+        kind: fpc_newton::PivotKind,
+    ) -> Result<fpc_newton::Inertia, fpc_newton::FactorError> {
+        self.inner.factor(tau, kind)
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.inner.solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.inner.apply(x, out)
     }
 }
 

@@ -218,8 +218,8 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         let dim = y.len();
         let mut g = vec![0.0; dim];
         let mut h = vec![0.0; dim * dim];
-        let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g, &mut h);
-        super::chain::fill_upper(dim, &mut h);
+        let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g);
+        chain.matrix.dense(&mut h);
         let n = M::Coeffs::LEN;
         let s = |i: usize| self.unscale[i / n][i % n];
         for i in 0..dim {

@@ -3,14 +3,15 @@
 //! finishing of a [`Solution`] (tip, energy, stability, shape, validity).
 
 use fpc_newton::{
-    min_eigenvalue, Energy, Gradient, Hessian, Newton, NewtonOptions, Report, Termination,
+    BorderedNewton, Energy, FactorError, Gradient, Hessian, Inertia, LinearSystem, Newton,
+    NewtonOptions, PivotKind, Report, Semiseparable, Termination,
 };
 
 use crate::error::{InputError, SolveError, Warning};
 use crate::fit::fit_circle;
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
-use super::chain::{fill_upper, Chain};
+use super::chain::Chain;
 use super::problem::FingerCore;
 use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport, Strategy};
 
@@ -25,7 +26,10 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     pub warnings: &'a [Warning],
     pub chain: Chain<'a, M>,
     pub newton: Newton,
+    pub bordered: BorderedNewton,
     local: Newton,
+    /// The Hessian of one element (decoupled solves), reused.
+    local_matrix: Semiseparable,
     /// Scaled unknowns.
     pub y: Vec<f64>,
     /// The start of a coupled solve, kept for a continuation restart.
@@ -57,7 +61,10 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             warnings,
             chain: Chain::new(finger),
             newton: Newton::new(dim, NewtonOptions::default()),
+            bordered: BorderedNewton::new(dim, NewtonOptions::default())
+                .expect("the default options are valid"),
             local: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
+            local_matrix: Semiseparable::new(M::Coeffs::LEN, 1),
             y: vec![0.0; dim],
             start: vec![0.0; dim],
             final_energy: None,
@@ -122,11 +129,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 b[..n].copy_from_slice(&a[n * d..n * d + n]);
                 continue;
             }
-            let mut p = Single::<M> {
-                finger: f,
-                element: i,
-                scalars: load.scalars(),
-            };
+            let mut p = Single::<M>::new(f, i, load.scalars(), &mut self.local_matrix);
             let warm = guess.is_none() && i > 0;
             if warm {
                 // neighbouring elements strain and curve alike: start from
@@ -243,35 +246,32 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
     }
 
-    /// The smallest eigenvalue of the scaled Hessian over the stiffness scale.
-    fn min_eigenvalue(&mut self, load: &Load, decoupled: bool) -> f64 {
+    /// The Hessian's negative eigenvalues at the current state (`None`
+    /// when it cannot be factorised: singular).
+    fn negative_eigenvalues(&mut self, load: &Load, decoupled: bool) -> Option<usize> {
         let f = self.finger;
         let n = M::Coeffs::LEN;
         if decoupled {
-            let mut m = f64::INFINITY;
+            let mut negative = 0;
             let mut g = vec![0.0; n];
-            let mut h = vec![0.0; n * n];
             for i in 0..f.len() {
-                if f.distinct[i] != i {
-                    continue;
+                let mut p = Single::<M>::new(f, i, load.scalars(), &mut self.local_matrix);
+                p.hessian(&self.y[n * i..n * i + n], &mut g);
+                // equal elements have equal Hessians
+                let count = f.distinct.iter().filter(|&&d| d == f.distinct[i]).count();
+                if f.distinct[i] == i {
+                    negative += count * p.factor(0.0, PivotKind::Symmetric).ok()?.negative;
                 }
-                let mut p = Single::<M> {
-                    finger: f,
-                    element: i,
-                    scalars: load.scalars(),
-                };
-                p.hessian(&self.y[n * i..n * i + n], &mut g, &mut h);
-                m = m.min(min_eigenvalue(n, &h));
             }
-            m / f.stiffness
+            Some(negative)
         } else {
-            let dim = self.y.len();
-            let mut g = vec![0.0; dim];
-            let mut h = vec![0.0; dim * dim];
+            let mut g = vec![0.0; self.y.len()];
             self.chain.set_load(load);
-            self.chain.hessian(&self.y, &mut g, &mut h);
-            fill_upper(dim, &mut h);
-            min_eigenvalue(dim, &h) / f.stiffness
+            self.chain.hessian(&self.y, &mut g);
+            self.chain
+                .factor(0.0, PivotKind::Symmetric)
+                .ok()
+                .map(|i: Inertia| i.negative)
         }
     }
 
@@ -293,10 +293,11 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             .final_energy
             .take()
             .unwrap_or_else(|| f.energy_raw(load, k.as_slice()));
-        let min_hessian_eig = opts
-            .stability
-            .then(|| self.min_eigenvalue(load, decoupled))
-            .filter(|e| e.is_finite());
+        let negative_eigenvalues = if opts.stability {
+            self.negative_eigenvalues(load, decoupled)
+        } else {
+            None
+        };
         let (points, radius) = if opts.shape {
             let pts = f.shape_raw(k.as_slice(), opts.samples_per_element);
             let r = fit_circle(&pts).map(|c| c.radius);
@@ -322,8 +323,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             tip,
             end_angle,
             energy,
-            min_hessian_eig,
-            stable: min_hessian_eig.map(|e| e > 0.0),
+            negative_eigenvalues,
+            stable: negative_eigenvalues.map(|k| k == 0),
             points,
             radius,
             element_lengths: f.lengths.clone(),
@@ -390,9 +391,24 @@ struct Single<'a, M: ElementModel> {
     finger: &'a FingerCore<M>,
     element: usize,
     scalars: EnergyScalars,
+    matrix: &'a mut Semiseparable,
 }
 
-impl<M: ElementModel> Single<'_, M> {
+impl<'a, M: ElementModel> Single<'a, M> {
+    fn new(
+        finger: &'a FingerCore<M>,
+        element: usize,
+        scalars: EnergyScalars,
+        matrix: &'a mut Semiseparable,
+    ) -> Single<'a, M> {
+        Single {
+            finger,
+            element,
+            scalars,
+            matrix,
+        }
+    }
+
     fn raw(&self, y: &[f64]) -> M::Coeffs {
         let s = &self.finger.unscale[self.element];
         M::Coeffs::from_fn(|i| y[i] * s[i])
@@ -420,16 +436,37 @@ impl<M: ElementModel> Gradient for Single<'_, M> {
 }
 
 impl<M: ElementModel> Hessian for Single<'_, M> {
-    fn hessian(&mut self, y: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+    fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         let (v, gk, hk) = self.finger.elements[self.element].hessian(&self.raw(y), &self.scalars);
-        let s = &self.finger.unscale[self.element];
+        let s = self.finger.unscale[self.element];
         let n = M::Coeffs::LEN;
+        let h = self.matrix.block_mut(0);
         for i in 0..n {
             g[i] = gk[i] * s[i];
             for j in 0..n {
-                h[i + n * j] = hk[upper_index(n, i, j)] * s[i] * s[j];
+                h[i + n * j] = hk[upper_index(n, i, j)] * (s[i] * s[j]);
             }
         }
         v
+    }
+}
+
+impl<M: ElementModel> LinearSystem for Single<'_, M> {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.matrix.diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        match self.matrix.factor(tau, kind) {
+            Err(FactorError::NotPositiveDefinite { .. }) if !self.matrix.is_finite() => {
+                Err(FactorError::NonFinite { block: 0 })
+            }
+            r => r,
+        }
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.matrix.solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.matrix.apply(x, out)
     }
 }

@@ -3,12 +3,14 @@
 //! unknown load joins the Newton system with the target as an extra
 //! equation, solved by fpc-newton's bordered Newton).
 
-use fpc_newton::{Bordered, BorderedEval, Hessian, NewtonOptions};
+use fpc_newton::{
+    Bordered, BorderedEval, FactorError, Hessian, Inertia, LinearSystem, NewtonOptions, PivotKind,
+};
 
 use crate::error::{finite, positive, InputError, SolveError};
 use crate::model::{ElementModel, Vector};
 
-use super::chain::{fill_upper, Chain};
+use super::chain::Chain;
 use super::solver::{newton_options, SolverCore};
 use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport};
 
@@ -94,8 +96,7 @@ impl<M: ElementModel> Bordered for BorderedChain<'_, '_, M> {
         let load = self.problem.load_at(lambda);
         self.chain.set_load(&load);
         self.chain.force_chain = true;
-        let v = self.chain.hessian(y, &mut out.g, &mut out.h);
-        fill_upper(out.g.len(), &mut out.h);
+        let v = self.chain.hessian(y, &mut out.g);
         self.chain
             .tip_gradient_scaled(self.problem.direction, &mut self.scratch);
         for (gl, t) in out.g_lambda.iter_mut().zip(&self.scratch) {
@@ -114,6 +115,21 @@ impl<M: ElementModel> Bordered for BorderedChain<'_, '_, M> {
         out.c_lambda = 0.0;
         self.chain.force_chain = false;
         v.is_finite() && out.is_finite()
+    }
+}
+
+impl<M: ElementModel> LinearSystem for BorderedChain<'_, '_, M> {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.chain.diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        self.chain.factor(tau, kind)
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.chain.solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.chain.apply(x, out)
     }
 }
 
@@ -140,7 +156,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             ctol: ctol_mm * c_scale,
             ..newton_options(opts.rtol * f.stiffness, opts)?
         };
-        self.newton
+        self.bordered
             .set_options(nopts)
             .map_err(|e| InputError::OutOfRange {
                 field: "target.ctol_mm".into(),
@@ -155,9 +171,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             scratch: vec![0.0; n],
             c_scale,
         };
-        let r = self
-            .newton
-            .solve_bordered(&mut bc, &mut self.y, &mut lambda);
+        let r = self.bordered.solve(&mut bc, &mut self.y, &mut lambda);
         if !r.reason.is_converged() || !lambda.is_finite() {
             return Err(self.not_converged(&r, None));
         }

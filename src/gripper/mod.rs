@@ -288,7 +288,7 @@ impl Gripper {
     }
 
     /// The same gripper, computing (or not) the smallest Hessian
-    /// eigenvalue of every grasp's equilibrium (`Solution::min_hessian_eig`;
+    /// inertia of every grasp's equilibrium (`Solution::negative_eigenvalues`;
     /// off by default: it costs more than the solve itself). The Hessian is
     /// that of the finger under the fixed load; a grasp holds the tip's
     /// position, so an indefinite Hessian does not by itself make a grasp

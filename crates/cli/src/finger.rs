@@ -186,11 +186,11 @@ fn summary(
         None => writeln!(out, "radius (fit)   none: the finger is straight")?,
     }
     writeln!(out, "energy         {:.6} N mm", sol.energy)?;
-    if let Some(eig) = sol.min_hessian_eig {
-        let verdict = if eig > 0.0 { "stable" } else { "NOT stable" };
+    if let Some(k) = sol.negative_eigenvalues {
+        let verdict = if k == 0 { "stable" } else { "NOT stable" };
         writeln!(
             out,
-            "stability      smallest scaled Hessian eigenvalue {eig:.3e} ({verdict})"
+            "stability      {k} negative Hessian eigenvalue(s) ({verdict})"
         )?;
     }
     writeln!(

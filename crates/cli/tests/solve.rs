@@ -75,7 +75,7 @@ fn every_example_scene_solves_and_writes_its_files() {
             "end_angle_rad",
             "radius_mm",
             "energy_nmm",
-            "min_hessian_eig",
+            "negative_eigenvalues",
             "stable",
             "coefficients",
             "points_mm",

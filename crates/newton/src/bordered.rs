@@ -11,22 +11,29 @@
 //! [ c_x^T  c_lambda ] [dlambda] = - [ c ]
 //! ```
 //!
-//! with an LU factorisation with partial pivoting ([`crate::lu_in_place`]),
-//! because the matrix is unsymmetric and `H` may be indefinite (e.g. past a
-//! limit point in load, which a displacement target passes smoothly).
+//! by block elimination on the problem's own factorisation of `H`
+//! ([`LinearSystem`], symmetric pivots, so `H` may be indefinite, as past a
+//! limit point in load, which a displacement target passes smoothly):
+//! `a = -H^-1 g`, `b = -H^-1 g_lambda`, `dlambda = -(c + c_x.a) / (c_lambda
+//! + c_x.b)`, `dx = a + b dlambda`, followed by one step of iterative
+//! refinement on the whole bordered system (with `H` applied exactly), which
+//! recovers the accuracy the elimination loses when `H` is nearly singular.
+//! The solver holds no `n x n` matrix: work and storage are those of the
+//! problem's factorisation.
 
-use crate::dense::{all_finite, lu_in_place, lu_solve, norm_inf};
-use crate::newton::Newton;
+use crate::dense::{all_finite, norm_inf};
+use crate::linear::Inertia;
+use crate::options::{NewtonOptions, OptionsError};
+use crate::problem::{DenseMatrix, LinearSystem};
 use crate::report::{Report, Termination};
+use crate::semiseparable::PivotKind;
 
-/// One evaluation of a [`Bordered`] problem at `(x, lambda)`; reused
-/// across evaluations (the solver preallocates two of them).
+/// One evaluation of a [`Bordered`] problem at `(x, lambda)`, besides the
+/// Hessian the problem keeps; reused across evaluations.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BorderedEval {
     /// `n`: gradient of the energy with respect to `x` at `(x, lambda)`.
     pub g: Vec<f64>,
-    /// `n * n`, column-major: Hessian of the energy with respect to `x`.
-    pub h: Vec<f64>,
     /// `n`: `d g / d lambda`.
     pub g_lambda: Vec<f64>,
     /// Target residual, 0 at the solution.
@@ -42,7 +49,6 @@ impl BorderedEval {
     pub fn new(n: usize) -> Self {
         Self {
             g: vec![0.0; n],
-            h: vec![0.0; n * n],
             g_lambda: vec![0.0; n],
             c: 0.0,
             c_x: vec![0.0; n],
@@ -62,7 +68,6 @@ impl BorderedEval {
             && all_finite(&self.g)
             && all_finite(&self.g_lambda)
             && all_finite(&self.c_x)
-            && all_finite(&self.h)
     }
 
     fn merit(&self) -> f64 {
@@ -70,13 +75,16 @@ impl BorderedEval {
     }
 }
 
-/// A parametrised equilibrium problem with one target equation.
-pub trait Bordered {
+/// A parametrised equilibrium problem with one target equation; the
+/// Hessian `H = d g / d x` of the last [`Bordered::eval`] is the problem's
+/// [`LinearSystem`].
+pub trait Bordered: LinearSystem {
     /// Number of state unknowns `n` (the load `lambda` is extra).
     fn dim(&self) -> usize;
     /// Fills every field of `out` (whose buffers already have the right
-    /// sizes) at `(x, lambda)`. Returns `false` if the point cannot be
-    /// evaluated; non-finite entries are also detected by the solver.
+    /// sizes) at `(x, lambda)` and keeps `H` there. Returns `false` if the
+    /// point cannot be evaluated; non-finite entries are also detected by
+    /// the solver.
     fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool;
 }
 
@@ -89,28 +97,74 @@ impl<P: Bordered + ?Sized> Bordered for &mut P {
     }
 }
 
-/// Preallocated buffers of [`Newton::solve_bordered`].
-pub(crate) struct BorderedWork {
-    jac: Vec<f64>,
-    perm: Vec<usize>,
-    rhs: Vec<f64>,
+/// A bordered problem that writes its Hessian densely (wrap it in
+/// [`DenseBordered`]).
+pub trait DenseBorderedProblem {
+    /// Number of state unknowns `n`.
+    fn dim(&self) -> usize;
+    /// As [`Bordered::eval`], with `H` written into `h` (column-major,
+    /// `n * n`, at least the lower triangle).
+    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval, h: &mut [f64]) -> bool;
+}
+
+/// A [`DenseBorderedProblem`] as a [`Bordered`] problem (dense LU and
+/// eigenvalues for its Hessian).
+pub struct DenseBordered<P> {
+    /// The wrapped problem.
+    pub problem: P,
+    /// Its Hessian and factorisation.
+    pub matrix: DenseMatrix,
+}
+
+impl<P: DenseBorderedProblem> DenseBordered<P> {
+    /// Wraps `problem`.
+    pub fn new(problem: P) -> DenseBordered<P> {
+        let n = problem.dim();
+        DenseBordered {
+            problem,
+            matrix: DenseMatrix::new(n, crate::LinearBackend::Auto),
+        }
+    }
+}
+
+impl<P: DenseBorderedProblem> Bordered for DenseBordered<P> {
+    fn dim(&self) -> usize {
+        self.problem.dim()
+    }
+    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool {
+        self.problem.eval(x, lambda, out, self.matrix.matrix_mut())
+    }
+}
+
+impl<P> LinearSystem for DenseBordered<P> {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.matrix.diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, crate::FactorError> {
+        self.matrix.factor(tau, kind)
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.matrix.solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.matrix.apply(x, out)
+    }
+}
+
+/// The bordered Newton solver and its workspace (all `O(n)`).
+#[derive(Debug, Clone)]
+pub struct BorderedNewton {
+    n: usize,
+    opts: NewtonOptions,
+    a: Vec<f64>,
+    b: Vec<f64>,
+    r: Vec<f64>,
+    hx: Vec<f64>,
+    dx: Vec<f64>,
     xt: Vec<f64>,
     cur: BorderedEval,
     trial: BorderedEval,
-}
-
-impl BorderedWork {
-    fn new(n: usize) -> Self {
-        let m = n + 1;
-        Self {
-            jac: vec![0.0; m * m],
-            perm: vec![0; m],
-            rhs: vec![0.0; m],
-            xt: vec![0.0; n],
-            cur: BorderedEval::new(n),
-            trial: BorderedEval::new(n),
-        }
-    }
+    inertia: Option<Inertia>,
 }
 
 fn evaluate<P: Bordered + ?Sized>(
@@ -122,7 +176,80 @@ fn evaluate<P: Bordered + ?Sized>(
     p.eval(x, lambda, out) && out.is_finite()
 }
 
-impl Newton {
+impl BorderedNewton {
+    /// A solver for `n` state unknowns.
+    pub fn new(n: usize, opts: NewtonOptions) -> Result<BorderedNewton, OptionsError> {
+        opts.validate()?;
+        Ok(BorderedNewton {
+            n,
+            opts,
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            r: vec![0.0; n],
+            hx: vec![0.0; n],
+            dx: vec![0.0; n],
+            xt: vec![0.0; n],
+            cur: BorderedEval::new(n),
+            trial: BorderedEval::new(n),
+            inertia: None,
+        })
+    }
+
+    /// Replaces the options (validated; on error the old ones stay).
+    pub fn set_options(&mut self, opts: NewtonOptions) -> Result<(), OptionsError> {
+        opts.validate()?;
+        self.opts = opts;
+        Ok(())
+    }
+
+    /// The last evaluation (at the returned point after a solve).
+    pub fn last(&self) -> &BorderedEval {
+        &self.cur
+    }
+
+    /// The inertia of `H` at the last factorisation (the last Newton step,
+    /// one evaluation before the returned point), if any.
+    pub fn last_inertia(&self) -> Option<Inertia> {
+        self.inertia
+    }
+
+    /// Solves the bordered system at the problem's current evaluation
+    /// (`self.cur`) for the Newton step: `dx` in `self.dx`, returns
+    /// `dlambda`; `None` when `H` cannot be factorised or the step is not
+    /// finite.
+    fn step<P: Bordered + ?Sized>(&mut self, p: &mut P, rep: &mut Report) -> Option<f64> {
+        rep.factorizations += 1;
+        self.inertia = Some(p.factor(0.0, PivotKind::Symmetric).ok()?);
+        let e = &self.cur;
+        for (a, g) in self.a.iter_mut().zip(&e.g) {
+            *a = -g;
+        }
+        p.solve(&mut self.a);
+        for (b, g) in self.b.iter_mut().zip(&e.g_lambda) {
+            *b = -g;
+        }
+        p.solve(&mut self.b);
+        let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+        let den = e.c_lambda + dot(&e.c_x, &self.b);
+        let mut dl = -(e.c + dot(&e.c_x, &self.a)) / den;
+        for ((d, a), b) in self.dx.iter_mut().zip(&self.a).zip(&self.b) {
+            *d = a + b * dl;
+        }
+        // one step of iterative refinement on the bordered system
+        p.apply(&self.dx, &mut self.hx);
+        for i in 0..self.n {
+            self.r[i] = -(self.hx[i] + e.g_lambda[i] * dl + e.g[i]);
+        }
+        let rc = -(dot(&e.c_x, &self.dx) + e.c_lambda * dl + e.c);
+        p.solve(&mut self.r);
+        let ddl = (rc - dot(&e.c_x, &self.r)) / den;
+        for ((d, r), b) in self.dx.iter_mut().zip(&self.r).zip(&self.b) {
+            *d += r + b * ddl;
+        }
+        dl += ddl;
+        (dl.is_finite() && all_finite(&self.dx)).then_some(dl)
+    }
+
     /// Solves `g(x, lambda) = 0, c(x, lambda) = 0` for `x` and `lambda`
     /// by Newton's method on the bordered Jacobian, globalised by
     /// backtracking on the merit `phi = ||F||^2 / 2` (Armijo test
@@ -131,12 +258,11 @@ impl Newton {
     ///
     /// `x` and `lambda` are the start on input and the result on output (on
     /// failure: the last accepted iterate). Uses the same options as
-    /// [`Newton::minimize`]: converged when `||g||_inf <= gtol` and `|c| <=
-    /// ctol`; `max_iter`, `xtol` (on the step in `(x, lambda)`), `c1` and
-    /// `min_step_fraction` as there. `Singular` is reported when an LU pivot
-    /// is exactly zero or non-finite, or the Newton step is non-finite. No
-    /// relative pivot threshold is applied (it would depend on the units of
-    /// `x`, `lambda` and `c`): a nearly singular Jacobian gives a huge step,
+    /// [`Newton::minimize`](crate::Newton::minimize): converged when
+    /// `||g||_inf <= gtol` and `|c| <= ctol`; `max_iter`, `xtol` (on the step
+    /// in `(x, lambda)`), `c1` and `min_step_fraction` as there. `Singular`
+    /// is reported when `H` cannot be factorised (a singular pivot) or the
+    /// step is not finite; a nearly singular system gives a huge step,
     /// which backtracking shortens or rejects (`LineSearchFailed`).
     ///
     /// Like any Newton method for equations, this converges from starts
@@ -145,49 +271,43 @@ impl Newton {
     ///
     /// In the [`Report`], `energy` holds the final merit `phi`,
     /// `residual_norm` is `max(||g||_inf, |c|)`, `hessian_evals` counts
-    /// `eval` calls, `factorizations` LU factorisations, and `energy_evals`,
+    /// `eval` calls, `factorizations` factorisations of `H`, and `energy_evals`,
     /// `gradient_evals`, `max_shift` are 0.
-    ///
-    /// The `(n+1)^2` workspace is allocated on the first call and reused.
     ///
     /// # Panics
     /// If `x.len()` or `p.dim()` differ from the dimension given to
-    /// [`Newton::new`] (programmer error).
-    pub fn solve_bordered<P: Bordered + ?Sized>(
+    /// [`BorderedNewton::new`] (programmer error).
+    pub fn solve<P: Bordered + ?Sized>(
         &mut self,
         p: &mut P,
         x: &mut [f64],
         lambda: &mut f64,
     ) -> Report {
-        let (n, opts, valid, slot) = self.parts();
+        let n = self.n;
         assert_eq!(
             x.len(),
             n,
-            "Newton::solve_bordered: x.len() must equal the dimension given to Newton::new"
+            "BorderedNewton::solve: x.len() must equal the dimension given to BorderedNewton::new"
         );
         assert_eq!(
             p.dim(),
             n,
-            "Newton::solve_bordered: problem dim() must equal the dimension given to Newton::new"
+            "BorderedNewton::solve: problem dim() must equal the dimension given to BorderedNewton::new"
         );
-        if !valid {
-            return Report::empty(Termination::InvalidInput);
-        }
-        let o = *opts;
-        let w = slot.get_or_insert_with(|| BorderedWork::new(n));
-        let m = n + 1;
+        let o = self.opts;
         let mut rep = Report::empty(Termination::Converged);
+        self.inertia = None;
 
         rep.hessian_evals += 1;
-        if !lambda.is_finite() || !evaluate(p, x, *lambda, &mut w.cur) {
+        if !lambda.is_finite() || !evaluate(p, x, *lambda, &mut self.cur) {
             rep.reason = Termination::NonFinite;
             return rep;
         }
-        let mut phi = w.cur.merit();
+        let mut phi = self.cur.merit();
 
         loop {
-            let gnorm = norm_inf(&w.cur.g);
-            let cabs = w.cur.c.abs();
+            let gnorm = norm_inf(&self.cur.g);
+            let cabs = self.cur.c.abs();
             rep.energy = phi;
             rep.residual_norm = gnorm.max(cabs);
             if gnorm <= o.gtol && cabs <= o.ctol {
@@ -198,45 +318,23 @@ impl Newton {
                 rep.reason = Termination::MaxIterations;
                 break;
             }
-            // Assemble J = [[H, g_lambda], [c_x^T, c_lambda]] column-major.
-            for j in 0..n {
-                let col = &mut w.jac[j * m..j * m + m];
-                col[..n].copy_from_slice(&w.cur.h[j * n..j * n + n]);
-                col[n] = w.cur.c_x[j];
-            }
-            {
-                let col = &mut w.jac[n * m..n * m + m];
-                col[..n].copy_from_slice(&w.cur.g_lambda);
-                col[n] = w.cur.c_lambda;
-            }
-            rep.factorizations += 1;
-            if lu_in_place(m, &mut w.jac, &mut w.perm).is_err() {
+            let Some(dl) = self.step(p, &mut rep) else {
                 rep.reason = Termination::Singular;
                 break;
-            }
-            for (r, gi) in w.rhs.iter_mut().zip(&w.cur.g) {
-                *r = -gi;
-            }
-            w.rhs[n] = -w.cur.c;
-            lu_solve(m, &w.jac, &w.perm, &mut w.rhs);
-            if !all_finite(&w.rhs) {
-                rep.reason = Termination::Singular;
-                break;
-            }
-
+            };
             // Backtracking on phi along the Newton direction (phi'(0) = -2 phi).
             let dphi0 = -2.0 * phi;
             let mut alpha = 1.0f64;
             let mut any_finite = false;
             let accepted = loop {
-                for ((xt, xi), di) in w.xt.iter_mut().zip(x.iter()).zip(&w.rhs) {
+                for ((xt, xi), di) in self.xt.iter_mut().zip(x.iter()).zip(&self.dx) {
                     *xt = xi + alpha * di;
                 }
-                let lt = *lambda + alpha * w.rhs[n];
+                let lt = *lambda + alpha * dl;
                 rep.hessian_evals += 1;
-                if lt.is_finite() && evaluate(p, &w.xt, lt, &mut w.trial) {
+                if lt.is_finite() && evaluate(p, &self.xt, lt, &mut self.trial) {
                     any_finite = true;
-                    let phit = w.trial.merit();
+                    let phit = self.trial.merit();
                     if phit <= phi + o.c1 * alpha * dphi0 {
                         break Ok((alpha, lt, phit));
                     }
@@ -265,14 +363,14 @@ impl Newton {
                     break;
                 }
             };
-            x.copy_from_slice(&w.xt);
+            x.copy_from_slice(&self.xt);
             *lambda = lt;
-            core::mem::swap(&mut w.cur, &mut w.trial);
+            core::mem::swap(&mut self.cur, &mut self.trial);
             phi = phit;
             rep.iterations += 1;
-            rep.step_norm = alpha * norm_inf(&w.rhs);
-            let gnorm = norm_inf(&w.cur.g);
-            let cabs = w.cur.c.abs();
+            rep.step_norm = alpha * norm_inf(&self.dx).max(dl.abs());
+            let gnorm = norm_inf(&self.cur.g);
+            let cabs = self.cur.c.abs();
             let converged = gnorm <= o.gtol && cabs <= o.ctol;
             if !converged && rep.step_norm <= o.xtol * (1.0 + norm_inf(x).max(lambda.abs())) {
                 rep.energy = phi;

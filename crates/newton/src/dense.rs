@@ -7,6 +7,34 @@
 //! programmer errors and panic with a message naming the argument.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+
+/// Why a dense factorisation stopped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
+pub enum DenseError {
+    /// A Cholesky pivot was not strictly positive and finite: the matrix is
+    /// not (numerically) positive definite, or holds NaN/inf.
+    #[error("Cholesky pivot {index} is not positive")]
+    NonPositivePivot {
+        /// Row of the pivot (0-based).
+        index: usize,
+    },
+    /// An LU pivot was zero or non-finite: the matrix is singular to
+    /// working precision, or holds NaN/inf.
+    #[error("LU pivot {index} is zero or not finite")]
+    ZeroPivot {
+        /// Elimination step (0-based).
+        index: usize,
+    },
+}
+
+impl DenseError {
+    /// The row or step where the factorisation stopped.
+    pub fn index(&self) -> usize {
+        match *self {
+            DenseError::NonPositivePivot { index } | DenseError::ZeroPivot { index } => index,
+        }
+    }
+}
 use faer::linalg::cholesky::llt;
 use faer::{MatMut, MatRef, Par, Side};
 
@@ -24,13 +52,14 @@ use faer::{MatMut, MatRef, Par, Side};
 /// Both start the updates of a row at its first nonzero (the envelope of
 /// `A`, which Cholesky preserves), so banded matrices are cheap.
 ///
-/// Returns `Err(j)` with the index of the first pivot that is not strictly
-/// positive and finite (the matrix is not numerically positive definite,
-/// or holds NaN/inf); `a` is then partially overwritten.
+/// Returns [`DenseError::NonPositivePivot`] with the index of the first
+/// pivot that is not strictly positive and finite (the matrix is not
+/// numerically positive definite, or holds NaN/inf); `a` is then partially
+/// overwritten.
 ///
 /// # Panics
 /// If `a.len() != n * n`.
-pub fn cholesky_in_place(n: usize, a: &mut [f64]) -> Result<(), usize> {
+pub fn cholesky_in_place(n: usize, a: &mut [f64]) -> Result<(), DenseError> {
     assert_eq!(
         a.len(),
         n * n,
@@ -41,10 +70,11 @@ pub fn cholesky_in_place(n: usize, a: &mut [f64]) -> Result<(), usize> {
         if crate::simd::has_avx2_fma() {
             // SAFETY: the CPU supports AVX2 and FMA (checked just above) and
             // a.len() == n * n.
-            return unsafe { crate::simd::cholesky_avx2_fma(n, a) };
+            return unsafe { crate::simd::cholesky_avx2_fma(n, a) }
+                .map_err(|index| DenseError::NonPositivePivot { index });
         }
     }
-    cholesky_portable(n, a)
+    cholesky_portable(n, a).map_err(|index| DenseError::NonPositivePivot { index })
 }
 
 /// Portable left-looking column Cholesky (the fallback kernel).
@@ -125,12 +155,13 @@ pub(crate) fn cholesky_solve_portable(n: usize, l: &[f64], b: &mut [f64]) {
 /// interchange record). Right-looking elimination with contiguous column
 /// updates.
 ///
-/// Returns `Err(k)` if the pivot at step `k` is zero or non-finite (the
-/// matrix is singular to working precision or holds NaN/inf).
+/// Returns [`DenseError::ZeroPivot`] if the pivot at step `k` is zero or
+/// non-finite (the matrix is singular to working precision or holds
+/// NaN/inf).
 ///
 /// # Panics
 /// If `a.len() != n * n` or `perm.len() != n`.
-pub fn lu_in_place(n: usize, a: &mut [f64], perm: &mut [usize]) -> Result<(), usize> {
+pub fn lu_in_place(n: usize, a: &mut [f64], perm: &mut [usize]) -> Result<(), DenseError> {
     assert_eq!(a.len(), n * n, "lu_in_place: a.len() must equal n * n");
     assert_eq!(perm.len(), n, "lu_in_place: perm.len() must equal n");
     for k in 0..n {
@@ -146,7 +177,7 @@ pub fn lu_in_place(n: usize, a: &mut [f64], perm: &mut [usize]) -> Result<(), us
             }
         }
         if !(best > 0.0 && best.is_finite()) {
-            return Err(k);
+            return Err(DenseError::ZeroPivot { index: k });
         }
         perm[k] = p;
         if p != k {
@@ -206,6 +237,22 @@ pub fn lu_solve(n: usize, lu: &[f64], perm: &[usize], b: &mut [f64]) {
             }
         }
     }
+}
+
+/// Number of negative eigenvalues of the symmetric column-major `n * n`
+/// matrix `h` (faer's self-adjoint eigenvalues of `(h + h^T) / 2`); `None`
+/// for a non-finite entry or no convergence. Allocates `O(n^2)`.
+pub fn negative_eigenvalues(n: usize, h: &[f64]) -> Option<usize> {
+    if n == 0 {
+        return Some(0);
+    }
+    if !all_finite(h) {
+        return None;
+    }
+    let m = faer::Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (h[i + j * n] + h[j + i * n]));
+    m.self_adjoint_eigenvalues(Side::Lower)
+        .ok()
+        .map(|v| v.iter().filter(|&&l| l < 0.0).count())
 }
 
 /// Smallest eigenvalue of the symmetric column-major `n * n` matrix `h`.
@@ -395,11 +442,12 @@ mod tests {
     /// portable fallback.
     type Kernel = fn(usize, &mut [f64]) -> Result<(), usize>;
 
+    fn dispatched(n: usize, a: &mut [f64]) -> Result<(), usize> {
+        cholesky_in_place(n, a).map_err(|e| e.index())
+    }
+
     fn kernels() -> [(&'static str, Kernel); 2] {
-        [
-            ("dispatched", cholesky_in_place),
-            ("portable", cholesky_portable),
-        ]
+        [("dispatched", dispatched), ("portable", cholesky_portable)]
     }
 
     #[test]
@@ -523,7 +571,10 @@ mod tests {
         assert_eq!(b, [3.0, 2.0]);
         // Rank-deficient.
         let mut s = vec![1.0, 2.0, 2.0, 4.0];
-        assert_eq!(lu_in_place(2, &mut s, &mut perm), Err(1));
+        assert_eq!(
+            lu_in_place(2, &mut s, &mut perm),
+            Err(DenseError::ZeroPivot { index: 1 })
+        );
         let mut z = vec![f64::NAN, 0.0, 0.0, 1.0];
         assert!(lu_in_place(2, &mut z, &mut perm).is_err());
     }

@@ -1,5 +1,4 @@
-//! Generic dense Newton-type solvers for smooth minimisation and equation
-//! problems.
+//! Newton-type solvers for smooth minimisation and equation problems.
 //!
 //! This crate knows nothing about the physics it serves: it minimises an
 //! objective given through the [`Energy`] / [`Gradient`] / [`Hessian`]
@@ -13,8 +12,14 @@
 //! [`LinearBackend`]).
 //!
 //! * [`Newton`] — Newton with a shifted Cholesky (descent even where the
-//!   Hessian is indefinite) and Armijo backtracking; also
-//!   [`Newton::solve_bordered`].
+//!   Hessian is indefinite) and Armijo backtracking, on the problem's own
+//!   linear algebra ([`Hessian`], [`LinearSystem`]); [`Dense`] supplies it
+//!   for problems that write a dense Hessian ([`DenseHessian`]).
+//! * [`BorderedNewton`] — an equilibrium plus one target equation with the
+//!   load as an extra unknown, by block elimination.
+//! * [`Semiseparable`] — block-diagonal plus rank-one semiseparable
+//!   symmetric matrices (chains), factorised and solved in linear time, with
+//!   their inertia.
 //! * [`Bfgs`] — gradient-only quasi-Newton, an independent cross-check.
 //! * [`continuation()`] — adaptive parameter stepping with a secant predictor.
 //! * [`cholesky_in_place`], [`lu_in_place`], [`min_eigenvalue`] — the
@@ -32,10 +37,12 @@ mod bfgs;
 mod bordered;
 mod continuation;
 mod dense;
+mod linear;
 mod newton;
 mod options;
 mod problem;
 mod report;
+mod semiseparable;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 #[cfg(test)]
@@ -44,13 +51,18 @@ mod tests;
 mod testutil;
 
 pub use bfgs::Bfgs;
-pub use bordered::{Bordered, BorderedEval};
+pub use bordered::{Bordered, BorderedEval, BorderedNewton, DenseBordered, DenseBorderedProblem};
 pub use continuation::{continuation, ContinuationReport};
-pub use dense::{cholesky_in_place, cholesky_solve, lu_in_place, lu_solve, min_eigenvalue};
+pub use dense::{
+    cholesky_in_place, cholesky_solve, lu_in_place, lu_solve, min_eigenvalue, negative_eigenvalues,
+    DenseError,
+};
+pub use linear::{FactorError, Inertia};
 pub use newton::Newton;
 pub use options::{
     BfgsOptions, ContinuationOptions, LinearBackend, NewtonOptions, OptionsError,
     AUTO_DENSE_MAX_DIM,
 };
-pub use problem::{Energy, Gradient, Hessian};
+pub use problem::{Dense, DenseHessian, DenseMatrix, Energy, Gradient, Hessian, LinearSystem};
 pub use report::{Report, Termination};
+pub use semiseparable::{PivotKind, Semiseparable};

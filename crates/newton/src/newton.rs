@@ -1,10 +1,11 @@
 //! Newton's method with a shifted Cholesky and Armijo backtracking.
 
-use crate::bordered::BorderedWork;
-use crate::dense::{all_finite, cholesky_in_place, cholesky_solve, dot, norm_inf, FaerCholesky};
-use crate::options::{LinearBackend, NewtonOptions, OptionsError};
+use crate::dense::{all_finite, dot, norm_inf};
+use crate::linear::FactorError;
+use crate::options::{NewtonOptions, OptionsError};
 use crate::problem::Hessian;
 use crate::report::{Report, Termination};
+use crate::semiseparable::PivotKind;
 
 /// Number of shifted factorisations tried before giving up with
 /// [`Termination::Singular`]. Shifts double per try from at least
@@ -17,12 +18,13 @@ const ROUNDOFF_FACTOR: f64 = 1e3;
 
 /// Newton minimiser and its reusable workspace.
 ///
-/// `Newton::new(n, ..)` allocates every buffer a solve of dimension `n`
-/// needs (Hessian, factor, gradient, direction, trial point, faer scratch);
-/// [`Newton::minimize`] then runs without heap allocation, so calling it
-/// repeatedly (e.g. along a continuation path) costs only arithmetic and
-/// objective evaluations. [`Newton::solve_bordered`] allocates its extra
-/// `(n+1)^2` workspace on its first call and reuses it afterwards.
+/// `Newton::new(n, ..)` allocates the `O(n)` vectors a solve of dimension
+/// `n` needs (gradient, direction, trial point); the Hessian, its
+/// factorisation and their storage belong to the problem ([`Hessian`]), so
+/// a structured problem never has an `n x n` matrix. [`Newton::minimize`]
+/// then runs without heap allocation (if the problem's evaluations do not
+/// allocate), so calling it repeatedly (e.g. along a continuation path)
+/// costs only arithmetic and objective evaluations.
 ///
 /// # Algorithm (`minimize`)
 /// At the current iterate the full Hessian `H` is evaluated. The direction
@@ -31,7 +33,8 @@ const ROUNDOFF_FACTOR: f64 = 1e3;
 /// direction) `tau` starts at `1e-3 * s - min(0, min_i H_ii)` (with `s =
 /// max_i |H_ii|`, or 1 if that is 0), or at half the previous
 /// iteration's shift if that is larger, and is doubled until the
-/// factorisation succeeds. Thus indefinite Hessians still give descent
+/// factorisation succeeds (the problem's [`LinearSystem::factor`](crate::LinearSystem::factor)
+/// with Cholesky pivots). Thus indefinite Hessians still give descent
 /// directions, and near a non-degenerate minimum pure Newton steps (and
 /// quadratic convergence) are recovered. Backtracking then starts at the
 /// full step, evaluates only [`Energy::energy`](crate::Energy::energy) at
@@ -60,31 +63,24 @@ const ROUNDOFF_FACTOR: f64 = 1e3;
 /// Non-finite values: a non-finite value or gradient at the start →
 /// `NonFinite` (x unchanged); from [`Hessian::hessian`] at an accepted
 /// point → `NonFinite` with `x` restored to the previous iterate;
-/// non-finite trial energies are backtracked from. The Hessian's entries
-/// are checked for finiteness only when the unshifted Cholesky fails (a
-/// NaN/inf entry in the lower triangle always makes it fail), then →
+/// non-finite trial energies are backtracked from. A factorisation that
+/// reports a non-finite Hessian entry ([`FactorError::NonFinite`]) →
 /// `NonFinite` with `x` at the current iterate (finite energy and
-/// gradient). This keeps the finiteness scan of the `n^2` entries out of
-/// the common path; a Hessian that is never factorised (the iterate already
-/// converged) is not scanned. The upper triangle is never read.
+/// gradient).
 ///
 /// A start that is exactly stationary (`g = 0`, e.g. a saddle by symmetry)
-/// is reported `Converged` at once; use [`min_eigenvalue`](crate::min_eigenvalue)
-/// on [`Newton::hessian`] to check stability.
+/// is reported `Converged` at once; factorise the problem's Hessian with
+/// symmetric pivots ([`LinearSystem::factor`](crate::LinearSystem::factor))
+/// for its inertia to check stability.
 pub struct Newton {
     n: usize,
     opts: NewtonOptions,
     valid: bool,
-    backend: LinearBackend,
     g: Vec<f64>,
-    h: Vec<f64>,
-    l: Vec<f64>,
     p: Vec<f64>,
     xt: Vec<f64>,
     gt: Vec<f64>,
     xprev: Vec<f64>,
-    faer: FaerCholesky,
-    pub(crate) bordered: Option<BorderedWork>,
 }
 
 impl core::fmt::Debug for Newton {
@@ -92,7 +88,6 @@ impl core::fmt::Debug for Newton {
         f.debug_struct("Newton")
             .field("n", &self.n)
             .field("opts", &self.opts)
-            .field("backend", &self.backend)
             .finish_non_exhaustive()
     }
 }
@@ -105,21 +100,15 @@ impl Newton {
     /// anything. Use [`Newton::try_new`] to get the error instead.
     pub fn new(n: usize, opts: NewtonOptions) -> Newton {
         let valid = opts.validate().is_ok();
-        let backend = opts.backend.resolve(n);
         Newton {
             n,
             opts,
             valid,
-            backend,
             g: vec![0.0; n],
-            h: vec![0.0; n * n],
-            l: vec![0.0; n * n],
             p: vec![0.0; n],
             xt: vec![0.0; n],
             gt: vec![0.0; n],
             xprev: vec![0.0; n],
-            faer: FaerCholesky::new(if backend == LinearBackend::Faer { n } else { 0 }),
-            bordered: None,
         }
     }
 
@@ -142,34 +131,15 @@ impl Newton {
     /// Replaces the options (validated; on error the old ones stay).
     pub fn set_options(&mut self, opts: NewtonOptions) -> Result<(), OptionsError> {
         opts.validate()?;
-        let backend = opts.backend.resolve(self.n);
-        if backend == LinearBackend::Faer && self.backend != LinearBackend::Faer {
-            self.faer = FaerCholesky::new(self.n);
-        }
-        self.backend = backend;
         self.opts = opts;
         self.valid = true;
         Ok(())
-    }
-
-    /// The concrete linear backend (`Dense` or `Faer`) used for this dimension.
-    pub fn backend(&self) -> LinearBackend {
-        self.backend
     }
 
     /// Gradient from the last Hessian evaluation of [`Newton::minimize`]
     /// (at the returned `x` unless the solve ended `NonFinite`).
     pub fn gradient(&self) -> &[f64] {
         &self.g
-    }
-
-    /// Hessian (column-major `n * n`) from the last evaluation of
-    /// [`Newton::minimize`]; at the returned `x` unless the solve ended
-    /// `NonFinite`. Useful for a stability check with
-    /// [`min_eigenvalue`](crate::min_eigenvalue) (which returns NaN if the
-    /// objective put a non-finite entry into it).
-    pub fn hessian(&self) -> &[f64] {
-        &self.h
     }
 
     /// Minimises `p` starting from `x`; on return `x` holds the result (on
@@ -197,7 +167,7 @@ impl Newton {
         let o = self.opts;
         let mut rep = Report::empty(Termination::Converged);
 
-        let mut f = p.hessian(x, &mut self.g, &mut self.h);
+        let mut f = p.hessian(x, &mut self.g);
         rep.hessian_evals += 1;
         if !(f.is_finite() && all_finite(&self.g)) {
             rep.reason = Termination::NonFinite;
@@ -258,7 +228,7 @@ impl Newton {
                         break;
                     }
                 } else {
-                    let ft = p.hessian(&self.xt, &mut self.g, &mut self.h);
+                    let ft = p.hessian(&self.xt, &mut self.g);
                     rep.hessian_evals += 1;
                     if ft.is_finite() && all_finite(&self.g) && ft <= f + o.c1 * gtp {
                         x.copy_from_slice(&self.xt);
@@ -283,7 +253,7 @@ impl Newton {
             };
             self.xprev.copy_from_slice(x);
             x.copy_from_slice(&self.xt);
-            let fnew = p.hessian(x, &mut self.g, &mut self.h);
+            let fnew = p.hessian(x, &mut self.g);
             rep.hessian_evals += 1;
             if !(fnew.is_finite() && all_finite(&self.g)) {
                 x.copy_from_slice(&self.xprev);
@@ -321,14 +291,7 @@ impl Newton {
         last_tau: f64,
         rep: &mut Report,
     ) -> Result<f64, Termination> {
-        let n = self.n;
-        let mut dmin = f64::INFINITY;
-        let mut dmax = 0.0f64;
-        for i in 0..n {
-            let d = self.h[i * (n + 1)];
-            dmin = dmin.min(d);
-            dmax = dmax.max(d.abs());
-        }
+        let (dmin, dmax) = problem.diagonal_range();
         let scale = if dmax > 0.0 { dmax } else { 1.0 };
         let beta = 1e-3 * scale;
         // First nonzero shift: enough to make the diagonal positive, and
@@ -337,57 +300,23 @@ impl Newton {
         let mut tau = 0.0;
         for _ in 0..MAX_SHIFT_TRIES {
             rep.factorizations += 1;
-            if let Some(pd) = problem.solve_shifted(&self.h, &self.g, tau, &mut self.p) {
-                if pd && all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
-                    let len = norm_inf(&self.p);
-                    if len > self.opts.max_step {
-                        let s = self.opts.max_step / len;
-                        self.p.iter_mut().for_each(|v| *v *= s);
+            match problem.factor(tau, PivotKind::Cholesky) {
+                Ok(_) => {
+                    for (pi, gi) in self.p.iter_mut().zip(&self.g) {
+                        *pi = -gi;
                     }
-                    return Ok(tau);
-                }
-                if tau == 0.0 && !all_finite(&self.h) {
-                    return Err(Termination::NonFinite);
-                }
-                tau = if tau == 0.0 { first } else { 2.0 * tau };
-                continue;
-            }
-            let ok = match self.backend {
-                LinearBackend::Faer => {
-                    self.l.copy_from_slice(&self.h);
-                    for i in 0..n {
-                        self.l[i * (n + 1)] += tau;
+                    problem.solve(&mut self.p);
+                    if all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
+                        let len = norm_inf(&self.p);
+                        if len > self.opts.max_step {
+                            let s = self.opts.max_step / len;
+                            self.p.iter_mut().for_each(|v| *v *= s);
+                        }
+                        return Ok(tau);
                     }
-                    self.faer.factor(&mut self.l).is_ok()
                 }
-                _ => {
-                    for j in 0..n {
-                        let r = j * n + j..j * n + n;
-                        self.l[r.clone()].copy_from_slice(&self.h[r]);
-                        self.l[j * (n + 1)] += tau;
-                    }
-                    cholesky_in_place(n, &mut self.l).is_ok()
-                }
-            };
-            if ok {
-                for (pi, gi) in self.p.iter_mut().zip(&self.g) {
-                    *pi = -gi;
-                }
-                match self.backend {
-                    LinearBackend::Faer => self.faer.solve(&self.l, &mut self.p),
-                    _ => cholesky_solve(n, &self.l, &mut self.p),
-                }
-                if all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
-                    let len = norm_inf(&self.p);
-                    if len > self.opts.max_step {
-                        let s = self.opts.max_step / len;
-                        self.p.iter_mut().for_each(|v| *v *= s);
-                    }
-                    return Ok(tau);
-                }
-            }
-            if tau == 0.0 && !all_finite(&self.h) {
-                return Err(Termination::NonFinite);
+                Err(FactorError::NonFinite { .. }) => return Err(Termination::NonFinite),
+                Err(_) => {}
             }
             tau = if tau == 0.0 { first } else { 2.0 * tau };
         }
@@ -452,10 +381,5 @@ impl Newton {
                 });
             }
         }
-    }
-
-    /// Workspace pieces for the bordered solver (crate-internal).
-    pub(crate) fn parts(&mut self) -> (usize, &NewtonOptions, bool, &mut Option<BorderedWork>) {
-        (self.n, &self.opts, self.valid, &mut self.bordered)
     }
 }

@@ -33,7 +33,7 @@ impl OptionsError {
 /// measurements behind this value.
 pub const AUTO_DENSE_MAX_DIM: usize = 192;
 
-/// Which dense symmetric factorisation [`Newton`](crate::Newton) uses for the
+/// Which dense symmetric factorisation [`Dense`](crate::Dense) uses for the
 /// (shifted) Hessian.
 ///
 /// Both backends run without heap allocation inside the iterations (their
@@ -143,8 +143,6 @@ pub struct NewtonOptions {
     /// the final Hessian; the price is that a rejected trial point has had
     /// its Hessian evaluated. Default true.
     pub eager_full_steps: bool,
-    /// Dense factorisation backend. Default [`LinearBackend::Auto`].
-    pub backend: LinearBackend,
 }
 
 impl Default for NewtonOptions {
@@ -158,7 +156,6 @@ impl Default for NewtonOptions {
             min_step_fraction: 1e-10,
             max_step: f64::INFINITY,
             eager_full_steps: true,
-            backend: LinearBackend::Auto,
         }
     }
 }
@@ -220,12 +217,6 @@ impl NewtonOptions {
         check_open_unit("min_step_fraction", f)?;
         self.min_step_fraction = f;
         Ok(self)
-    }
-
-    /// Sets the linear [`backend`](Self::backend).
-    pub fn with_backend(mut self, backend: LinearBackend) -> Self {
-        self.backend = backend;
-        self
     }
 }
 
