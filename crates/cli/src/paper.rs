@@ -1233,6 +1233,7 @@ mod tests {
             tip_gap: 100.0,
             friction_ok: true,
             valid: true,
+            invalid: None,
             reversed: false,
             warnings: Vec::new(),
         };
@@ -1323,6 +1324,7 @@ mod tests {
                 lift: 0.24,
                 height: 78.0,
                 reversed: false,
+                valid: true,
                 warnings: Vec::new(),
             }],
             dropped: 0,
