@@ -331,7 +331,8 @@ pub(crate) mod tests {
         add_lift_curve(&mut p, &c, "a=pi/3".into(), "a = π/3".into());
         assert_eq!(p.series.len(), 2);
         assert_eq!(p.series[1].kind, SeriesKind::BentBackwards);
-        assert_eq!(p.series[1].color, "a=pi/3");
+        assert_eq!(p.series[0].color, "a=pi/3");
+        assert_eq!(p.series[1].color, BENT_BACKWARDS);
         assert_eq!(p.series[1].points, vec![[2.0, 0.24 + 1.2]]);
         assert_eq!(p.series[1].label.as_deref(), Some(BENT_BACKWARDS));
     }

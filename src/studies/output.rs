@@ -313,11 +313,13 @@ pub enum SeriesKind {
     /// The area between the curve and y = 0.
     Area,
     /// Points whose grasp bends an element backwards (`curvature_reversal`):
-    /// large hollow markers over the curve they belong to.
+    /// hollow markers over the curve they belong to, one legend entry per
+    /// panel.
     BentBackwards,
 }
 
-/// The legend entry of every [`SeriesKind::BentBackwards`] series.
+/// The legend entry and colour key of every [`SeriesKind::BentBackwards`]
+/// series.
 pub const BENT_BACKWARDS: &str = "bent backwards";
 
 /// One data series. `color` is a key naming the variable and its value
@@ -352,11 +354,12 @@ impl Series {
         self
     }
 
-    /// The markers of the points that are bent backwards, in the colour of
-    /// the curve they belong to; `None` when there is none.
-    pub fn bent_backwards(color: impl Into<String>, points: Vec<[f64; 2]>) -> Option<Series> {
-        (!points.is_empty())
-            .then(|| Series::new(color, SeriesKind::BentBackwards, points).label(BENT_BACKWARDS))
+    /// The markers of the points that are bent backwards (colour key and
+    /// legend entry [`BENT_BACKWARDS`]); `None` when there is none.
+    pub fn bent_backwards(points: Vec<[f64; 2]>) -> Option<Series> {
+        (!points.is_empty()).then(|| {
+            Series::new(BENT_BACKWARDS, SeriesKind::BentBackwards, points).label(BENT_BACKWARDS)
+        })
     }
 }
 
@@ -439,11 +442,10 @@ impl Panel {
         }
     }
 
-    /// Adds a series, and its bent-backwards markers when there are any.
+    /// Adds a series, and the markers of its points bent backwards.
     pub(crate) fn curve(&mut self, s: Series, bent: Vec<[f64; 2]>) {
-        let color = s.color.clone();
         self.series.push(s);
-        self.series.extend(Series::bent_backwards(color, bent));
+        self.series.extend(Series::bent_backwards(bent));
     }
 }
 

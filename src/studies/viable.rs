@@ -252,7 +252,7 @@ fn figure(v: &ViableAngles, grasps: &[Option<Grasp>], mu: f64) -> Figure {
         Series::new("not viable", SeriesKind::Hollow, pick(&|_, s| !s.viable)).label("not viable"),
     );
     p.series
-        .extend(Series::bent_backwards("reference", pick(&|i, _| bent(i))));
+        .extend(Series::bent_backwards(pick(&|i, _| bent(i))));
     p.hlines.push(RefLine {
         at: mu,
         label: format!("μ = {mu}"),
