@@ -124,7 +124,7 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
 };
 
 /// Largest radius drawn in study 7 (mm): near flat the radius diverges.
-pub const STUDY7_RADIUS_CAP_MM: f64 = 1000.0;
+pub(crate) const STUDY7_RADIUS_CAP_MM: f64 = 1000.0;
 
 const COLUMNS: [Column; 11] = [
     Column::new("eps0", ""),

@@ -109,7 +109,7 @@ pub fn html(out: &Output) -> String {
                 .warnings_by_kind
                 .iter()
                 .filter(|(_, &c)| c > 0)
-                .map(|(k, c)| format!("{} at {c}", escape(k)))
+                .map(|(k, c)| format!("{}: {c}", escape(k)))
                 .collect();
             h.push_str(&format!(
                 "<p class=\"small\">Validity over {} points (grasps and finger states): {}{}.</p>\n",
