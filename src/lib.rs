@@ -50,7 +50,7 @@ pub use refine::{
 };
 pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
 pub mod gripper;
-mod studies;
+pub mod studies;
 pub use gripper::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
     finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
@@ -63,8 +63,8 @@ pub use studies::{
     study4_force_control, study5_sphere_region, study6_viable_angles, study7_curvature,
     study8_force_at_displacement, tip_force_for_displacement, Axis, CuboidRegion, CurvatureCurve,
     CurvatureRow, DisplacementForce, DisplacementForceRow, ForceControl, ForceControlRow,
-    LiftCurve, LiftPoint, SpherePoint, SphereRegion, Studies, StudyOptions, SweepStop,
-    PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS, STUDY8_PRESSURES_KPA,
+    LiftCurve, LiftPoint, SpherePoint, SphereRegion, Studies, StudyInfo, StudyOptions, StudyOutput,
+    SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS, STUDIES, STUDY8_PRESSURES_KPA,
 };
 pub mod scene;
 pub use scene::{

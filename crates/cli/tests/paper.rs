@@ -34,13 +34,15 @@ fn expected_files() -> Vec<String> {
 }
 
 /// Columns without a unit: dimensionless numbers, flags and text.
-const UNITLESS: [&str; 9] = [
+const UNITLESS: [&str; 11] = [
     "eps0",
     "f_over_F",
     "viable",
     "invalid",
     "friction_ok",
     "reversed",
+    "valid",
+    "warnings",
     "axis",
     "status",
     "note",
@@ -215,6 +217,77 @@ fn paper_writes_every_file() {
         assert!(rows > 0, "{f} has no rows");
     }
 
+    // every row that is a grasp says whether it is bent backwards and
+    // valid, every grasp or finger state which validity kinds it raises
+    let header = |f: &str| {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        fields(text.lines().next().unwrap())
+    };
+    for f in [
+        "study1.csv",
+        "study2.csv",
+        "study3.csv",
+        "study4.csv",
+        "study5.csv",
+        "study5_envelope.csv",
+        "study6.csv",
+    ] {
+        let h = header(f);
+        let n = h.len();
+        assert_eq!(
+            h[n - 5..],
+            ["reversed", "valid", "warnings", "status", "note"],
+            "{f}"
+        );
+    }
+    for f in ["study7.csv", "study8.csv"] {
+        assert!(header(f).contains(&"warnings".to_string()), "{f}");
+    }
+    let kinds = [
+        "element_slope",
+        "strain_range",
+        "self_contact",
+        "curvature_reversal",
+        "beyond_flat",
+    ];
+    let text = std::fs::read_to_string(dir.join("study1.csv")).unwrap();
+    let mut lines = text.lines();
+    let h = fields(lines.next().unwrap());
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let (rev, warn) = (col("reversed"), col("warnings"));
+    let mut reversed = 0;
+    for line in lines {
+        let f = fields(line);
+        if f[warn].is_empty() {
+            continue;
+        }
+        let listed: Vec<&str> = f[warn].split(';').collect();
+        assert!(listed.iter().all(|k| kinds.contains(k)), "{line}");
+        // reversed is the curvature_reversal finding
+        assert_eq!(
+            f[rev] == "true",
+            listed.contains(&"curvature_reversal"),
+            "{line}"
+        );
+        reversed += usize::from(f[rev] == "true");
+    }
+    // summary.json counts the same points, not strict by default
+    assert_eq!(s["strict"], Value::Bool(false));
+    let v1 = &s["validity"]["study1"];
+    assert_eq!(v1["warnings_by_kind"]["curvature_reversal"], reversed);
+    assert_eq!(v1["strict_dropped"], 0);
+    for n in 1..=8 {
+        let v = &s["validity"][format!("study{n}")];
+        let points = v["points"].as_u64().expect("points");
+        assert!(points > 0, "study {n}");
+        for k in kinds {
+            assert!(
+                v["warnings_by_kind"][k].as_u64().unwrap() <= points,
+                "{n} {k}"
+            );
+        }
+    }
+
     // a sweep that stopped early is marked in its CSV
     for stop in s["sweeps_stopped"].as_array().expect("sweeps_stopped") {
         let n = stop["study"].as_u64().expect("study number");
@@ -385,4 +458,68 @@ fn two_runs_into_one_directory_both_succeed() {
     let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode(&dir.join("summary.json")), mode(&probe));
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--strict` drops the grasps that bend an element backwards: fewer rows,
+/// counted under `validity`, and none of the remaining rows reversed.
+#[test]
+fn strict_mode_drops_reversed_grasps() {
+    let base = scratch("strict");
+    let run = |name: &str, strict: bool| {
+        let dir = base.join(name);
+        let mut cmd = fpc();
+        cmd.args(["paper", "--coarse", "--out"]).arg(&dir);
+        if strict {
+            cmd.arg("--strict");
+        }
+        let out = cmd.output().unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s: Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+                .unwrap();
+        (dir, s)
+    };
+    let (loose_dir, loose) = run("loose", false);
+    let (strict_dir, strict) = run("strict", true);
+    assert_eq!(strict["strict"], Value::Bool(true));
+    assert_eq!(strict["options"]["strict"], Value::Bool(true));
+    let count =
+        |s: &Value, n: u32, what: &str| s["validity"][format!("study{n}")][what].as_u64().unwrap();
+    let reversed = |s: &Value, n: u32| {
+        s["validity"][format!("study{n}")]["warnings_by_kind"]["curvature_reversal"]
+            .as_u64()
+            .unwrap()
+    };
+    // study 1: every reversed grasp of the default run is dropped
+    let dropped = count(&strict, 1, "strict_dropped");
+    assert!(dropped > 0, "the coarse study 1 has reversed grasps");
+    assert_eq!(dropped, reversed(&loose, 1));
+    assert_eq!(reversed(&strict, 1), 0);
+    assert_eq!(
+        count(&strict, 1, "points") + dropped,
+        count(&loose, 1, "points")
+    );
+    let rows = |dir: &Path| {
+        std::fs::read_to_string(dir.join("study1.csv"))
+            .unwrap()
+            .lines()
+            .count()
+    };
+    assert_eq!(rows(&strict_dir) + dropped as usize, rows(&loose_dir));
+    // study 5 drops its reversed sweep grasps too
+    assert!(count(&strict, 5, "strict_dropped") > 0);
+    assert!(
+        strict["sphere_region"]["valid_points"].as_u64()
+            < loose["sphere_region"]["valid_points"].as_u64()
+    );
+    for n in 1..=8 {
+        assert_eq!(count(&loose, n, "strict_dropped"), 0, "not strict");
+    }
+    let html = std::fs::read_to_string(strict_dir.join("index.html")).unwrap();
+    assert!(html.contains("strict mode"));
+    std::fs::remove_dir_all(&base).unwrap();
 }

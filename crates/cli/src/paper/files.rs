@@ -1,130 +1,75 @@
-//! Output plumbing of `fpc paper`: atomic file writes, CSV tables, finite
-//! JSON numbers, HTML escaping.
+//! Output plumbing of `fpc paper`: tables as CSV (the `csv` crate), numbers
+//! as text, HTML escaping, atomic writes.
 
-use serde_json::Value;
+use fpc::studies::{Cell, Table};
 
 pub use crate::output::write_atomic;
 
-/// A JSON number, or `null` when `x` is not finite.
-pub fn num(x: f64) -> Value {
-    if x.is_finite() {
-        Value::from(x)
+/// Significant digits of a number in a CSV file: 10, well above what the
+/// model's tolerances resolve and short enough to read.
+pub const CSV_DIGITS: usize = 10;
+
+/// A number with [`CSV_DIGITS`] significant digits, trailing zeros dropped:
+/// plain decimals for magnitudes from 1e-5 to below 1e15, else
+/// `1.234567891e-12`; `0` for zero, empty when not finite.
+pub fn number(x: f64) -> String {
+    if !x.is_finite() {
+        return String::new();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let sci = format!("{:.*e}", CSV_DIGITS - 1, x);
+    let (mantissa, exp) = sci.split_once('e').expect("`e` in exponent format");
+    let exp: i32 = exp.parse().expect("integer exponent");
+    if (-5..15).contains(&exp) {
+        let decimals = (CSV_DIGITS as i32 - 1 - exp).max(0) as usize;
+        trim_zeros(format!("{x:.decimals$}"))
     } else {
-        Value::Null
+        format!("{}e{exp}", trim_zeros(mantissa.to_string()))
     }
 }
 
-/// A JSON number, or `null` when absent or not finite.
-pub fn opt(x: Option<f64>) -> Value {
-    x.map_or(Value::Null, num)
-}
-
-/// One CSV cell.
-#[derive(Clone)]
-pub enum Cell {
-    /// A number (empty when not finite).
-    Num(f64),
-    /// A number that may be missing (empty).
-    Opt(Option<f64>),
-    /// Text (quoted when needed).
-    Text(String),
-    /// `true` / `false`.
-    Bool(bool),
-    /// Nothing.
-    Empty,
-}
-
-impl From<f64> for Cell {
-    fn from(x: f64) -> Cell {
-        Cell::Num(x)
+fn trim_zeros(s: String) -> String {
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
     }
 }
 
-impl From<Option<f64>> for Cell {
-    fn from(x: Option<f64>) -> Cell {
-        Cell::Opt(x)
-    }
-}
-
-impl From<bool> for Cell {
-    fn from(b: bool) -> Cell {
-        Cell::Bool(b)
-    }
-}
-
-impl From<&str> for Cell {
-    fn from(s: &str) -> Cell {
-        Cell::Text(s.to_string())
-    }
-}
-
-impl From<String> for Cell {
-    fn from(s: String) -> Cell {
-        Cell::Text(s)
-    }
-}
-
-/// A CSV table with a fixed header. Every table of `fpc paper` ends with
-/// the columns `status` (`ok`, `stopped`, `failed`, ...) and `note`.
-pub struct Csv {
-    header: &'static [&'static str],
-    text: String,
-}
-
-impl Csv {
-    /// An empty table with `header` (column names with units).
-    pub fn new(header: &'static [&'static str]) -> Csv {
-        let mut text = header.join(",");
-        text.push('\n');
-        Csv { header, text }
-    }
-
-    /// Appends a row; panics (a programming error) when the cell count
-    /// does not match the header.
-    pub fn row(&mut self, cells: Vec<Cell>) {
-        assert_eq!(cells.len(), self.header.len(), "CSV row width");
-        let cells: Vec<String> = cells.into_iter().map(cell_text).collect();
-        self.text.push_str(&cells.join(","));
-        self.text.push('\n');
-    }
-
-    /// Appends a row whose only filled cells are those named in `cells`
-    /// (by column name); the others stay empty.
-    pub fn sparse_row(&mut self, cells: Vec<(&str, Cell)>) {
-        let mut row: Vec<Cell> = self.header.iter().map(|_| Cell::Empty).collect();
-        for (name, cell) in cells {
-            let i = self
-                .header
-                .iter()
-                .position(|h| *h == name)
-                .unwrap_or_else(|| panic!("no CSV column {name}"));
-            row[i] = cell;
-        }
-        self.row(row);
-    }
-
-    /// The table's text.
-    pub fn into_string(self) -> String {
-        self.text
-    }
-}
-
-fn cell_text(c: Cell) -> String {
+/// The text of one cell: numbers by [`number`], flags as `true`/`false`,
+/// text on one line (line breaks become spaces).
+pub fn cell_text(c: &Cell) -> String {
     match c {
-        Cell::Num(x) | Cell::Opt(Some(x)) if x.is_finite() => format!("{x}"),
-        Cell::Num(_) | Cell::Opt(_) | Cell::Empty => String::new(),
+        Cell::Num(x) => number(*x),
         Cell::Bool(b) => b.to_string(),
-        Cell::Text(s) => {
-            if s.contains([',', '"', '\n', '\r']) {
-                format!("\"{}\"", s.replace('"', "\"\"").replace(['\n', '\r'], " "))
-            } else {
-                s
-            }
-        }
+        Cell::Text(s) => s.replace(['\n', '\r'], " "),
+        Cell::Empty => String::new(),
     }
 }
 
-/// Escapes text for HTML and SVG.
+/// A table as CSV: a header of the column names, one line per row, fields
+/// quoted where they need it.
+pub fn csv(table: &Table) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    w.write_record(table.columns.iter().map(|c| c.name))?;
+    for row in &table.rows {
+        anyhow::ensure!(
+            row.len() == table.columns.len(),
+            "table {}: a row of {} cells under {} columns",
+            table.name,
+            row.len(),
+            table.columns.len()
+        );
+        w.write_record(row.iter().map(cell_text))?;
+    }
+    Ok(w.into_inner().map_err(|e| e.into_error())?)
+}
+
+/// Escapes text for HTML and SVG (`&`, `<`, `>`, both quotes).
 pub fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
@@ -143,22 +88,49 @@ pub fn escape(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use fpc::studies::{Column, NOTE, STATUS};
+
+    #[test]
+    fn numbers_have_ten_significant_digits() {
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(-0.0), "0");
+        assert_eq!(number(10.0), "10");
+        assert_eq!(number(5.5), "5.5");
+        assert_eq!(number(-21.143866366825623), "-21.14386637");
+        assert_eq!(number(std::f64::consts::FRAC_PI_2), "1.570796327");
+        assert_eq!(number(143.93439916293065), "143.9343992");
+        assert_eq!(number(99.99999999994014), "100");
+        assert_eq!(number(0.00002842170943040401), "0.00002842170943");
+        assert_eq!(number(2.842170943040401e-14), "2.842170943e-14");
+        assert_eq!(number(-6.658668470837774e-17), "-6.658668471e-17");
+        assert_eq!(number(1.0e20), "1e20");
+        assert_eq!(number(123456789012.0), "123456789012");
+        assert_eq!(number(f64::NAN), "");
+        assert_eq!(number(f64::NEG_INFINITY), "");
+        // the text reads back to within the precision
+        for x in [0.1234567890123, -98765.4321012345, 3.3e-9] {
+            let y: f64 = number(x).parse().unwrap();
+            assert!((x - y).abs() <= 1e-9 * x.abs(), "{x} -> {y}");
+        }
+    }
 
     #[test]
     fn csv_quotes_and_blanks() {
-        let mut t = Csv::new(&["d_mm", "status", "note"]);
-        t.row(vec![f64::NAN.into(), "ok".into(), "a, \"b\"".into()]);
-        t.sparse_row(vec![("status", "stopped".into())]);
+        let mut t = Table::new("t", &[Column::new("d_mm", "mm"), STATUS, NOTE]);
+        t.push(vec![f64::NAN.into(), "ok".into(), "a, \"b\"".into()]);
+        t.push_named(vec![("status", "stopped".into())]);
+        t.push(vec![Cell::Bool(true), Cell::Empty, "two\nlines".into()]);
         assert_eq!(
-            t.into_string(),
-            "d_mm,status,note\n,ok,\"a, \"\"b\"\"\"\n,stopped,\n"
+            String::from_utf8(csv(&t).unwrap()).unwrap(),
+            "d_mm,status,note\n,ok,\"a, \"\"b\"\"\"\n,stopped,\ntrue,,two lines\n"
         );
     }
 
     #[test]
-    fn json_numbers_are_finite() {
-        assert_eq!(num(f64::INFINITY), Value::Null);
-        assert_eq!(opt(None), Value::Null);
-        assert_eq!(num(1.5), Value::from(1.5));
+    fn escaping_covers_quotes() {
+        assert_eq!(
+            escape(r#"<a href="x">'&'</a>"#),
+            "&lt;a href=&quot;x&quot;&gt;&#39;&amp;&#39;&lt;/a&gt;"
+        );
     }
 }

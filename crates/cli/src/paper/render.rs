@@ -1,0 +1,374 @@
+//! One renderer for every study's [`Figure`]: plotters' SVG backend, text
+//! as SVG `<text>` elements (no font files are read), and a fixed palette
+//! keyed by the series' colour keys, so that one prestrain, mounting angle
+//! or overlap has one colour in every panel of every study.
+
+use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind, BENT_BACKWARDS};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use super::files::escape;
+
+/// The drawing area of one panel.
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+
+/// A grey for reference lines.
+pub const GREY: RGBColor = RGBColor(110, 110, 110);
+
+/// The colours of the keys the studies use: the paper's prestrains, then
+/// its mounting angles (Okabe-Ito), its overlaps, and the quantities drawn
+/// alone. A key not listed gets one of [`SPARE`] by a hash of its text.
+const KEYED: [(&str, RGBColor); 21] = [
+    ("eps0=0.4", RGBColor(0, 114, 178)),
+    ("eps0=0.25", RGBColor(213, 94, 0)),
+    ("eps0=0.15", RGBColor(0, 158, 115)),
+    ("a=pi/2", RGBColor(204, 121, 167)),
+    ("a=pi/2.5", RGBColor(230, 159, 0)),
+    ("a=pi/3", RGBColor(86, 180, 233)),
+    ("g=0mm", RGBColor(51, 34, 136)),
+    ("g=10mm", RGBColor(153, 153, 51)),
+    ("g=20mm", RGBColor(136, 34, 85)),
+    ("region", RGBColor(68, 170, 153)),
+    ("cuboid", RGBColor(204, 102, 119)),
+    ("normal force", RGBColor(17, 119, 51)),
+    ("height", RGBColor(170, 68, 153)),
+    ("slips", RGBColor(204, 102, 119)),
+    ("grasps", RGBColor(68, 170, 153)),
+    ("envelope", RGBColor(17, 119, 51)),
+    ("peak", RGBColor(204, 102, 119)),
+    ("viable", RGBColor(17, 119, 51)),
+    ("not viable", RGBColor(204, 102, 119)),
+    ("reference", GREY),
+    (BENT_BACKWARDS, BLACK),
+];
+
+/// Colours for keys not in [`KEYED`].
+const SPARE: [RGBColor; 6] = [
+    RGBColor(51, 102, 170),
+    RGBColor(187, 85, 51),
+    RGBColor(34, 136, 85),
+    RGBColor(119, 51, 153),
+    RGBColor(170, 136, 0),
+    RGBColor(85, 85, 85),
+];
+
+/// The colour of a colour key: a pure function of the key.
+pub fn color_of(key: &str) -> RGBColor {
+    if let Some((_, c)) = KEYED.iter().find(|(k, _)| *k == key) {
+        return *c;
+    }
+    // FNV-1a: stable across runs and platforms
+    let h = key.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x100_0000_01b3)
+    });
+    SPARE[(h % SPARE.len() as u64) as usize]
+}
+
+/// A colour as SVG writes it (`#0072B2`).
+#[cfg(test)]
+pub fn hex(c: RGBColor) -> String {
+    format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+}
+
+/// Renders a figure as an SVG document.
+pub fn svg(fig: &Figure) -> anyhow::Result<String> {
+    anyhow::ensure!(
+        fig.rows.iter().all(|r| !r.is_empty()) && !fig.rows.is_empty(),
+        "the figure has no panels"
+    );
+    let mut buf = String::new();
+    {
+        let root =
+            SVGBackend::with_string(&mut buf, (fig.size[0], fig.size[1])).into_drawing_area();
+        root.fill(&WHITE)?;
+        let body = root.titled(&fig.title, ("sans-serif", 21))?;
+        let rows = body.split_evenly((fig.rows.len(), 1));
+        for (row, area) in fig.rows.iter().zip(&rows) {
+            let cells = area.split_evenly((1, row.len()));
+            for (p, cell) in row.iter().zip(&cells) {
+                draw(p, cell)?;
+            }
+        }
+        root.present()?;
+    }
+    Ok(buf)
+}
+
+/// The finite points of a series.
+fn finite(points: &[[f64; 2]]) -> Vec<(f64, f64)> {
+    points
+        .iter()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+        .map(|p| (p[0], p[1]))
+        .collect()
+}
+
+/// A data range with 5 % margins (a unit range around a single value,
+/// `0..1` without data).
+fn padded(v: &[f64]) -> (f64, f64) {
+    let (lo, hi) = v
+        .iter()
+        .filter(|x| x.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let span = hi - lo;
+    if span <= 1e-12 * (1.0 + lo.abs()) {
+        let d = 0.5 * (1.0 + lo.abs() * 0.1);
+        return (lo - d, hi + d);
+    }
+    (lo - 0.05 * span, hi + 0.05 * span)
+}
+
+fn range(axis: &PlotAxis, mut data: Vec<f64>) -> (f64, f64) {
+    if let Some([a, b]) = axis.range {
+        return (a, b);
+    }
+    if axis.include_zero {
+        data.push(0.0);
+    }
+    padded(&data)
+}
+
+/// The panel's ranges: fixed, or fitted to everything it draws (stretched
+/// for an equal aspect on `plot_px` pixels).
+fn ranges(p: &Panel, plot_px: (f64, f64)) -> ((f64, f64), (f64, f64)) {
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for s in &p.series {
+        for (x, y) in finite(&s.points) {
+            xs.push(x);
+            ys.push(y);
+        }
+        if s.kind == SeriesKind::Area {
+            ys.push(0.0);
+        }
+    }
+    xs.extend(p.vlines.iter().map(|v| v.at));
+    ys.extend(p.hlines.iter().map(|h| h.at));
+    for b in &p.bands {
+        xs.extend([b.from, b.to]);
+    }
+    let mut x = range(&p.x, xs);
+    let mut y = range(&p.y, ys);
+    if p.equal_aspect {
+        // stretch the range that is too short for the pixel aspect
+        let (w, h) = plot_px;
+        let (sx, sy) = ((x.1 - x.0) / w, (y.1 - y.0) / h);
+        if sx > sy {
+            let extra = 0.5 * (sx * h - (y.1 - y.0));
+            y = (y.0 - extra, y.1 + extra);
+        } else {
+            let extra = 0.5 * (sy * w - (x.1 - x.0));
+            x = (x.0 - extra, x.1 + extra);
+        }
+    }
+    (x, y)
+}
+
+fn position(c: Corner) -> SeriesLabelPosition {
+    match c {
+        Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+        Corner::UpperRight => SeriesLabelPosition::UpperRight,
+        Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+        Corner::LowerRight => SeriesLabelPosition::LowerRight,
+    }
+}
+
+/// Draws one panel into `area`.
+fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
+    const X_LABELS: u32 = 42;
+    const Y_LABELS: u32 = 62;
+    const CAPTION: u32 = 26;
+    const MARGIN: u32 = 12;
+    let (w, h) = area.dim_in_pixel();
+    let plot_px = (
+        f64::from(w.saturating_sub(Y_LABELS + 2 * MARGIN).max(10)),
+        f64::from(h.saturating_sub(X_LABELS + CAPTION + 2 * MARGIN).max(10)),
+    );
+    let ((x0, x1), (y0, y1)) = ranges(p, plot_px);
+    let mut builder = ChartBuilder::on(area);
+    if !p.title.is_empty() {
+        builder.caption(&p.title, ("sans-serif", 17));
+    }
+    let mut chart = builder
+        .margin(MARGIN)
+        .x_label_area_size(X_LABELS)
+        .y_label_area_size(Y_LABELS)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(p.x.text())
+        .y_desc(p.y.text())
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .light_line_style(RGBColor(238, 238, 238))
+        .bold_line_style(RGBColor(215, 215, 215))
+        .x_labels(7)
+        .y_labels(7)
+        .draw()?;
+    let mut labelled = false;
+    for (k, b) in p.bands.iter().enumerate() {
+        let color = color_of(&b.color);
+        let (a, z) = (b.from.max(x0), b.to.min(x1));
+        if z > a {
+            let anno = chart.draw_series(std::iter::once(Rectangle::new(
+                [(a, y0), (z, y1)],
+                color.mix(0.18).filled(),
+            )))?;
+            if let (0, Some(l)) = (k, &p.band_label) {
+                labelled = true;
+                anno.label(l.as_str()).legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 18, y + 5)], color.mix(0.3).filled())
+                });
+            }
+        }
+    }
+    for line in &p.hlines {
+        let anno = chart.draw_series(DashedLineSeries::new(
+            [(x0, line.at), (x1, line.at)],
+            6,
+            4,
+            GREY.stroke_width(1),
+        ))?;
+        if !line.label.is_empty() {
+            labelled = true;
+            anno.label(line.label.as_str())
+                .legend(|(x, y)| legend_mark(x, y, GREY, SeriesKind::Dashed));
+        }
+    }
+    for line in &p.vlines {
+        let anno = chart.draw_series(DashedLineSeries::new(
+            [(line.at, y0), (line.at, y1)],
+            3,
+            3,
+            GREY.stroke_width(1),
+        ))?;
+        if !line.label.is_empty() {
+            labelled = true;
+            anno.label(line.label.as_str()).legend(|(x, y)| {
+                PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], GREY.stroke_width(1))
+            });
+        }
+    }
+    // areas first, so that every line and marker stays visible
+    let order = p
+        .series
+        .iter()
+        .filter(|s| s.kind == SeriesKind::Area)
+        .chain(p.series.iter().filter(|s| s.kind != SeriesKind::Area));
+    let mut legend: Vec<&str> = Vec::new();
+    for s in order {
+        let anno = draw_series(&mut chart, s)?;
+        // one legend entry per label (the bent-backwards markers of
+        // several curves share one)
+        if let Some(l) = s.label.as_deref().filter(|l| !legend.contains(l)) {
+            legend.push(l);
+            labelled = true;
+            let (c, kind) = (color_of(&s.color), s.kind);
+            anno.label(l)
+                .legend(move |(x, y)| legend_mark(x, y, c, kind));
+        }
+    }
+    if !p.notes.is_empty() {
+        let style = ("sans-serif", 13).into_font().color(&BLACK);
+        chart.draw_series(p.notes.iter().enumerate().map(|(i, n)| {
+            EmptyElement::at((x0, y1)) + Text::new(n.clone(), (8, 8 + 17 * i as i32), style.clone())
+        }))?;
+    }
+    if labelled {
+        chart
+            .configure_series_labels()
+            .position(position(p.legend))
+            .label_font(("sans-serif", 12))
+            .background_style(WHITE.mix(0.85))
+            .border_style(RGBColor(190, 190, 190))
+            .draw()?;
+    }
+    Ok(())
+}
+
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+fn draw_series<'a, 'b, 'c>(
+    chart: &'c mut Chart<'a, 'b>,
+    s: &Series,
+) -> anyhow::Result<&'c mut plotters::chart::SeriesAnno<'a, SVGBackend<'b>>> {
+    let c = color_of(&s.color);
+    let pts = finite(&s.points);
+    Ok(match s.kind {
+        SeriesKind::Line => chart.draw_series(LineSeries::new(pts, c.stroke_width(2)))?,
+        SeriesKind::Dashed => {
+            chart.draw_series(DashedLineSeries::new(pts, 5, 5, c.stroke_width(2)))?
+        }
+        SeriesKind::LinePoints => {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
+            chart.draw_series(LineSeries::new(pts, c.stroke_width(2)))?
+        }
+        SeriesKind::Points => {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?
+        }
+        SeriesKind::Scatter => {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 2, c.mix(0.55).filled())))?
+        }
+        SeriesKind::Hollow => {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 4, c.stroke_width(1))))?
+        }
+        SeriesKind::Cross => {
+            chart.draw_series(pts.iter().map(|&p| Cross::new(p, 4, c.stroke_width(2))))?
+        }
+        SeriesKind::Area => chart
+            .draw_series(AreaSeries::new(pts, 0.0, c.mix(0.25)).border_style(c.stroke_width(2)))?,
+        SeriesKind::BentBackwards => {
+            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 6, c.stroke_width(2))))?
+        }
+    })
+}
+
+fn legend_mark<DB: DrawingBackend>(
+    x: i32,
+    y: i32,
+    c: RGBColor,
+    kind: SeriesKind,
+) -> DynElement<'static, DB, (i32, i32)> {
+    match kind {
+        SeriesKind::Line | SeriesKind::LinePoints => {
+            PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)).into_dyn()
+        }
+        SeriesKind::Dashed => plotters::element::DashedPathElement::new(
+            vec![(x, y), (x + 18, y)],
+            4,
+            3,
+            c.stroke_width(2),
+        )
+        .into_dyn(),
+        SeriesKind::Points | SeriesKind::Scatter => {
+            Circle::new((x + 9, y), 3, c.filled()).into_dyn()
+        }
+        SeriesKind::Hollow => Circle::new((x + 9, y), 4, c.stroke_width(1)).into_dyn(),
+        SeriesKind::BentBackwards => Circle::new((x + 9, y), 6, c.stroke_width(2)).into_dyn(),
+        SeriesKind::Cross => Cross::new((x + 9, y), 4, c.stroke_width(2)).into_dyn(),
+        SeriesKind::Area => {
+            Rectangle::new([(x, y - 5), (x + 18, y + 5)], c.mix(0.4).filled()).into_dyn()
+        }
+    }
+}
+
+/// A figure that only states why there is nothing to plot.
+pub fn placeholder(title: &str, message: &str) -> String {
+    format!(
+        "<svg width=\"800\" height=\"160\" viewBox=\"0 0 800 160\" xmlns=\"http://www.w3.org/2000/svg\">\n\
+         <rect x=\"0\" y=\"0\" width=\"800\" height=\"160\" fill=\"#FFFFFF\"/>\n\
+         <text x=\"400\" y=\"50\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"20\">{}</text>\n\
+         <text x=\"400\" y=\"95\" text-anchor=\"middle\" font-family=\"sans-serif\" font-size=\"14\" fill=\"#B00000\">{}</text>\n\
+         </svg>\n",
+        escape(title),
+        escape(message)
+    )
+}

@@ -1,0 +1,216 @@
+//! Study 3 (Sec. 5.1.1): the cuboid grasping region of the Sec. 5 gripper.
+
+use serde::Serialize;
+
+use super::lift::{lift_curve, lift_points, LiftCurve};
+use super::output::{
+    entries, fmt, fmt_opt, pts, stop_entry, Cell, Column, Figure, Overview, Panel, PlotAxis,
+    RefLine, Series, SeriesKind, Stop, StopAt, StopEntry, StudyOutput, Table, Tally, NOTE,
+    REVERSED, STATUS, VALID, WARNINGS,
+};
+use super::{section5_gripper, StudyInfo, StudyOptions};
+use crate::actuator::Actuator;
+use crate::error::SolveError;
+
+/// Study 3 result: the cuboid grasping region, under the max lifting force
+/// versus grasping size curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CuboidRegion {
+    /// The boundary curve.
+    pub curve: LiftCurve,
+}
+
+impl CuboidRegion {
+    /// True when a cuboid of size `d` (mm) needing lifting force `lift`
+    /// (N per finger) lies in the region: `d` within the swept sizes and
+    /// `0 <= lift <= max f_v(d)`.
+    pub fn contains(&self, d: f64, lift: f64) -> bool {
+        d > 0.0 && lift >= 0.0 && self.curve.max_lift(d).is_some_and(|m| lift <= m)
+    }
+}
+
+/// Study 3 (Sec. 5.1.1): the cuboid grasping region of the Sec. 5 gripper
+/// (grasping angle 0).
+pub fn study3_cuboid_region(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<CuboidRegion, SolveError> {
+    let g = section5_gripper(actuator, opts)?;
+    Ok(CuboidRegion {
+        curve: lift_curve(&g, 0.25, opts.sweep_points),
+    })
+}
+
+/// The cuboid tested against the study-3 region: d (mm), f_v (N per finger).
+pub const CUBOID_TEST: (f64, f64) = (100.0, 0.3);
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 3,
+    key: "cuboid_region",
+    title: "Cuboid grasping region",
+    description: "The Sec. 5 gripper (eps0 = 0.25, a = π/3, g = 20 mm), b = 0: cuboids of size d needing lifting force f_v per finger can be held when the point lies under the max f_v curve (Sec. 5.1.1).",
+    run: |act, opts| Ok(output(Some(&study3_cuboid_region(act, opts)?))),
+    empty: || output(None),
+};
+
+const COLUMNS: [Column; 10] = [
+    Column::new("d_mm", "mm"),
+    Column::new("tip_gap_mm", "mm"),
+    Column::new("F_n", "N"),
+    Column::new("fv_max_n", "N"),
+    Column::new("h_mm", "mm"),
+    REVERSED,
+    VALID,
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+#[derive(Serialize)]
+struct RegionSummary {
+    test_d_mm: f64,
+    test_fv_n: f64,
+    max_fv_at_test_d_n: Option<f64>,
+    d_min_mm: Option<f64>,
+    reached_mm: f64,
+    dmax_mm: f64,
+    palm_mm: f64,
+    l0_mm: f64,
+    stopped: Option<StopEntry>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    cuboid_region_contains: Option<bool>,
+    cuboid_region: Option<RegionSummary>,
+}
+
+/// The outputs of study 3 (`None`: the empty outputs).
+pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
+    let mut t = Table::new("study3", &COLUMNS);
+    let Some(region) = region else {
+        let summary = Summary {
+            cuboid_region_contains: None,
+            cuboid_region: None,
+        };
+        return StudyOutput::new(
+            vec![t],
+            Figure::row("", [1000, 620], vec![]),
+            entries(&summary),
+        );
+    };
+    let c = &region.curve;
+    let mut tally = Tally::default();
+    for p in &c.points {
+        let [rev, valid, warn] = tally.grasp(p.reversed, p.valid, &p.warnings);
+        t.push(vec![
+            p.size.into(),
+            p.tip_gap.into(),
+            p.normal.into(),
+            p.lift.into(),
+            p.height.into(),
+            rev,
+            valid,
+            warn,
+            "ok".into(),
+            Cell::Empty,
+        ]);
+    }
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    if let Some(s) = &c.stopped {
+        t.push_stop(vec![], "d_mm", s);
+        notes.push(format!("sweep stopped at d = {:.1} mm: {}", s.at, s.reason));
+        stops.push(Stop {
+            case: "cuboid region".into(),
+            at: StopAt::Mm(s.at),
+            reason: s.reason.clone(),
+        });
+    }
+    let (d, fv) = CUBOID_TEST;
+    let contains = region.contains(d, fv);
+    let at_test = c.max_lift(d);
+    let d_min = c.points.first().map(|p| p.size);
+    let summary = Summary {
+        cuboid_region_contains: Some(contains),
+        cuboid_region: Some(RegionSummary {
+            test_d_mm: d,
+            test_fv_n: fv,
+            max_fv_at_test_d_n: at_test,
+            d_min_mm: d_min,
+            reached_mm: c.reached(),
+            dmax_mm: c.d_max,
+            palm_mm: c.palm,
+            l0_mm: c.l0,
+            stopped: stop_entry(&c.stopped, StopAt::Mm),
+        }),
+    };
+    let mut overview = Overview::new(&["quantity", "value"]);
+    overview.push(vec![
+        format!("cuboid d = {d} mm, f_v = {fv} N inside the region"),
+        if contains { "yes" } else { "no" }.into(),
+    ]);
+    overview.push(vec![
+        format!("max f_v at d = {d} mm (N)"),
+        fmt_opt(at_test, 3),
+    ]);
+    overview.push(vec![
+        "grasping sizes swept (mm)".into(),
+        format!("{} to {}", fmt_opt(d_min, 1), fmt(c.reached(), 1)),
+    ]);
+    overview.push(vec!["d_max (mm)".into(), fmt(c.d_max, 1)]);
+    overview.push(vec![
+        "palm l / reach l0 (mm)".into(),
+        format!("{} / {}", fmt(c.palm, 1), fmt(c.l0, 1)),
+    ]);
+    let mut out = StudyOutput::new(vec![t], figure(region), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.strict_dropped = c.dropped;
+    out.design(&c.warnings);
+    out.tallied(tally)
+}
+
+/// The region under the curve and the test cuboid.
+fn figure(region: &CuboidRegion) -> Figure {
+    let c = &region.curve;
+    let (d, fv) = CUBOID_TEST;
+    let mut p = Panel::new(
+        "Region under the max lifting force curve",
+        PlotAxis::new("grasping size d", "mm"),
+        PlotAxis::new("lifting force f_v per finger", "N"),
+    );
+    p.y.include_zero = true;
+    let bent = pts(c
+        .points
+        .iter()
+        .filter(|q| q.reversed)
+        .map(|q| (q.size, q.lift)));
+    p.curve(
+        Series::new("region", SeriesKind::Area, lift_points(c)).label("grasping region"),
+        bent,
+    );
+    let inside = region.contains(d, fv);
+    p.series.push(
+        Series::new("cuboid", SeriesKind::Cross, vec![[d, fv]]).label(format!(
+            "cuboid d = {d} mm, f_v = {fv} N ({})",
+            if inside { "inside" } else { "outside" }
+        )),
+    );
+    p.vlines.push(RefLine {
+        at: c.d_max,
+        label: format!("d_max = {:.1} mm", c.d_max),
+    });
+    p.notes.push(format!(
+        "palm l = {:.1} mm, reach l0 = {:.1} mm",
+        c.palm, c.l0
+    ));
+    if let Some(s) = &c.stopped {
+        p.notes.push(format!("sweep stopped at d = {:.1} mm", s.at));
+    }
+    Figure::row(
+        "Study 3: cuboid grasping region (ε0 = 0.25, a = π/3, g = 20 mm, b = 0)",
+        [1000, 620],
+        vec![p],
+    )
+}

@@ -1,0 +1,282 @@
+//! Study 8 (Sec. 6.3): the tip force that moves the tip a fixed distance.
+
+use serde::Serialize;
+
+use super::output::{
+    entries, eps0_key, fmt_opt, pts, Cell, Column, Figure, Overview, Panel, PlotAxis, Series,
+    SeriesKind, Stop, StopAt, StudyOutput, Table, Tally, NOTE, STATUS, WARNINGS,
+};
+use super::{StudyInfo, StudyOptions, STUDY8_PRESSURES_KPA};
+use crate::actuator::Actuator;
+use crate::error::{finite, SolveError, Warning};
+use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
+use crate::gripper::follow;
+
+/// An axis of the finger frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Axis {
+    /// Along the root tangent.
+    X,
+    /// Normal to it, towards the constraining layer.
+    Z,
+}
+
+impl Axis {
+    fn unit(self) -> [f64; 2] {
+        match self {
+            Axis::X => [1.0, 0.0],
+            Axis::Z => [0.0, 1.0],
+        }
+    }
+}
+
+/// A tip force that moves the tip a given distance along an axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DisplacementForce {
+    /// Channel pressure (kPa).
+    pub pressure_kpa: f64,
+    /// The axis of force and displacement.
+    pub axis: Axis,
+    /// Displacement of the tip along the axis (mm).
+    pub displacement: f64,
+    /// The force along the axis (N).
+    pub force: f64,
+    /// The pressurised, unloaded tip (finger frame, mm).
+    pub start_tip: [f64; 2],
+    /// The loaded equilibrium.
+    pub solution: Solution,
+}
+
+/// From the pressurised unloaded shape, the tip force along `axis` (finger
+/// frame) that moves the tip `displacement` mm along that axis.
+pub fn tip_force_for_displacement(
+    finger: &Finger,
+    pressure_kpa: f64,
+    axis: Axis,
+    displacement: f64,
+) -> Result<DisplacementForce, SolveError> {
+    finite("displacement.pressure_kpa", pressure_kpa)?;
+    finite("displacement.distance", displacement)?;
+    let base = Load::unloaded().with_pressure_kpa(pressure_kpa);
+    let opts = SolveOptions::default();
+    let mut solver = Solver::new(finger);
+    let start = solver.solve(&base, None, &opts)?;
+    let u = axis.unit();
+    let at = |target: f64| TargetProblem {
+        base,
+        direction: u,
+        weights: u,
+        target,
+    };
+    let s0 = u[0] * start.tip[0] + u[1] * start.tip[1];
+    let (solution, force) = follow(
+        &mut solver,
+        &start.coefficients,
+        0.0,
+        &at(s0),
+        &at(s0 + displacement),
+        &opts,
+    )
+    .map_err(|e| e.for_target("displacement.distance", displacement))?;
+    Ok(DisplacementForce {
+        pressure_kpa,
+        axis,
+        displacement,
+        force,
+        start_tip: start.tip,
+        solution,
+    })
+}
+
+/// One row of study 8.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DisplacementForceRow {
+    /// Prestrain of the sample.
+    pub eps0: f64,
+    /// Axis of force and displacement.
+    pub axis: Axis,
+    /// Channel pressure (kPa).
+    pub pressure_kpa: f64,
+    /// Force for a 10 mm tip displacement (N); `None` when the solve failed.
+    pub force: Option<f64>,
+    /// The loaded finger's validity findings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Study 8 (Sec. 6.3): at 0, 27.6, 55.2, 82.7 kPa, the tip force that moves
+/// the tip 10 mm: along +X for the eps0 = 0.4 sample, along +Z for the
+/// eps0 = 0.15 sample.
+pub fn study8_force_at_displacement(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<Vec<DisplacementForceRow>, SolveError> {
+    opts.validate()?;
+    let mut rows = Vec::new();
+    for (eps0, axis) in [(0.4, Axis::X), (0.15, Axis::Z)] {
+        let finger = opts.finger(actuator, eps0)?;
+        for p in STUDY8_PRESSURES_KPA {
+            let r = tip_force_for_displacement(&finger, p, axis, DISPLACEMENT_MM).ok();
+            rows.push(DisplacementForceRow {
+                eps0,
+                axis,
+                pressure_kpa: p,
+                force: r.as_ref().map(|r| r.force),
+                warnings: r.map(|r| r.solution.warnings).unwrap_or_default(),
+            });
+        }
+    }
+    Ok(rows)
+}
+
+// ------------------------------------------------------------ outputs
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 8,
+    key: "force_at_displacement",
+    title: "Force at a fixed displacement",
+    description: "From the pressurised unloaded shape at 0, 27.6, 55.2 and 82.7 kPa, the tip force that moves the tip 10 mm: along +X for the eps0 = 0.4 sample, along +Z for the eps0 = 0.15 sample (Sec. 6.3).",
+    run: |act, opts| Ok(output(&study8_force_at_displacement(act, opts)?)),
+    empty: || output(&[]),
+};
+
+/// The tip displacement of study 8 (mm).
+const DISPLACEMENT_MM: f64 = 10.0;
+
+impl Axis {
+    /// `X` or `Z`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Axis::X => "X",
+            Axis::Z => "Z",
+        }
+    }
+}
+
+const COLUMNS: [Column; 8] = [
+    Column::new("eps0", ""),
+    Column::new("axis", ""),
+    Column::new("pressure_kpa", "kPa"),
+    Column::new("displacement_mm", "mm"),
+    Column::new("force_n", "N"),
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+/// One entry of `force_at_10mm`.
+#[derive(Serialize)]
+struct Row {
+    axis: &'static str,
+    eps0: f64,
+    pressure_kpa: f64,
+    force_n: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    force_at_10mm: Vec<Row>,
+}
+
+/// The outputs of study 8 from its rows.
+pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
+    let mut t = Table::new("study8", &COLUMNS);
+    let mut tally = Tally::default();
+    let mut overview = Overview::new(&["eps0", "axis", "P (kPa)", "force for 10 mm (N)"]);
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    for r in rows {
+        let axis = r.axis.name();
+        let solved = r.force.is_some();
+        t.push(vec![
+            r.eps0.into(),
+            axis.into(),
+            r.pressure_kpa.into(),
+            DISPLACEMENT_MM.into(),
+            r.force.into(),
+            if solved {
+                tally.point(&r.warnings)
+            } else {
+                Cell::Empty
+            },
+            if solved { "ok" } else { "failed" }.into(),
+            if solved {
+                Cell::Empty
+            } else {
+                "no solution".into()
+            },
+        ]);
+        overview.push(vec![
+            r.eps0.to_string(),
+            format!("+{axis}"),
+            r.pressure_kpa.to_string(),
+            fmt_opt(r.force, 4),
+        ]);
+        if !solved {
+            let case = format!("eps0 = {}, axis {axis}", r.eps0);
+            notes.push(format!("{case}: no solution at {} kPa", r.pressure_kpa));
+            stops.push(Stop {
+                case,
+                at: StopAt::Kpa(r.pressure_kpa),
+                reason: "no solution".into(),
+            });
+        }
+    }
+    let summary = Summary {
+        force_at_10mm: rows
+            .iter()
+            .map(|r| Row {
+                axis: r.axis.name(),
+                eps0: r.eps0,
+                pressure_kpa: r.pressure_kpa,
+                force_n: r.force,
+            })
+            .collect(),
+    };
+    let mut out = StudyOutput::new(vec![t], figure(rows), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.tallied(tally)
+}
+
+/// Tip force for a 10 mm displacement against pressure, one curve per sample.
+fn figure(rows: &[DisplacementForceRow]) -> Figure {
+    let mut p = Panel::new(
+        "",
+        PlotAxis::new("pressure P", "kPa"),
+        PlotAxis::new("tip force", "N"),
+    );
+    p.y.include_zero = true;
+    let mut cases: Vec<(f64, Axis)> = Vec::new();
+    for r in rows {
+        if !cases.contains(&(r.eps0, r.axis)) {
+            cases.push((r.eps0, r.axis));
+        }
+    }
+    for (eps0, axis) in cases {
+        let sel: Vec<_> = rows
+            .iter()
+            .filter(|r| r.eps0 == eps0 && r.axis == axis)
+            .collect();
+        let points = pts(sel
+            .iter()
+            .filter_map(|r| r.force.map(|f| (r.pressure_kpa, f))));
+        p.series.push(
+            Series::new(eps0_key(eps0), SeriesKind::LinePoints, points).label(format!(
+                "ε0 = {eps0}, force and displacement along +{}",
+                axis.name()
+            )),
+        );
+        for r in sel.iter().filter(|r| r.force.is_none()) {
+            p.notes.push(format!(
+                "ε0 = {eps0}, +{}: no solution at {} kPa",
+                axis.name(),
+                r.pressure_kpa
+            ));
+        }
+    }
+    Figure::row(
+        "Study 8: tip force that moves the tip 10 mm, from the pressurised shape",
+        [1000, 600],
+        vec![p],
+    )
+}

@@ -1,0 +1,349 @@
+//! Study 4 (Sec. 5.1.2): force control by pressure.
+
+use serde::Serialize;
+
+use super::output::{
+    entries, fmt, pts, stop_entry, Cell, Column, Figure, Overview, Panel, PlotAxis, RefLine,
+    Series, SeriesKind, Stop, StopAt, StopEntry, StudyOutput, Table, Tally, NOTE, REVERSED, STATUS,
+    VALID, WARNINGS,
+};
+use super::{section5_gripper, StudyInfo, StudyOptions, SweepStop};
+use crate::actuator::Actuator;
+use crate::error::{SolveError, Warning};
+use crate::gripper::{Grasp, Invalid};
+
+/// One pressure of the force-control study.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceControlRow {
+    /// Channel pressure (kPa).
+    pub pressure_kpa: f64,
+    /// Normal force `F` that holds the cuboid (N).
+    pub normal: f64,
+    /// Finger height `h` (mm).
+    pub height: f64,
+    /// Gap between the tips (mm).
+    pub tip_gap: f64,
+    /// True when `F >= 0` and `f <= mu F`.
+    pub friction_ok: bool,
+    /// True when the grasp breaks no rule (see [`crate::gripper::rules`]).
+    pub valid: bool,
+    /// The first rule the grasp breaks (`None`: valid).
+    pub invalid: Option<Invalid>,
+    /// An element is bent backwards.
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Study 4 result.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForceControl {
+    /// Cuboid size (mm).
+    pub size: f64,
+    /// Friction per finger (N).
+    pub friction: f64,
+    /// One row per pressure, 0 to 100 kPa in steps of 10.
+    pub rows: Vec<ForceControlRow>,
+    /// Set when the pressure sweep stopped early.
+    pub stopped: Option<SweepStop>,
+}
+
+/// Study 4 (Sec. 5.1.2): the Sec. 5 gripper holds a cuboid of d = 100 mm
+/// with f = 0.3 N per finger; for each pressure, the normal force and the
+/// finger height. Every pressure keeps its row: in strict mode a grasp
+/// bent backwards is marked not valid.
+pub fn study4_force_control(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<ForceControl, SolveError> {
+    let g = section5_gripper(actuator, opts)?;
+    let (size, friction) = (100.0, 0.3);
+    let mut rows = Vec::new();
+    let mut stopped = None;
+    let mut warm: Option<Grasp> = None;
+    for i in 0..=10 {
+        let p = 10.0 * i as f64;
+        match g.force_control(p, size, friction, warm.as_ref()) {
+            Ok(gr) => {
+                rows.push(ForceControlRow {
+                    pressure_kpa: p,
+                    normal: gr.normal,
+                    height: gr.height,
+                    tip_gap: gr.tip_gap,
+                    friction_ok: gr.friction_ok(g.mu()),
+                    valid: gr.is_valid(),
+                    invalid: gr.invalid,
+                    reversed: gr.is_reversed(),
+                    warnings: gr.warnings.clone(),
+                });
+                warm = Some(gr);
+            }
+            Err(e) => {
+                stopped = Some(SweepStop {
+                    at: p,
+                    reason: e.to_string(),
+                });
+                break;
+            }
+        }
+    }
+    Ok(ForceControl {
+        size,
+        friction,
+        rows,
+        stopped,
+    })
+}
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 4,
+    key: "force_control",
+    title: "Force control by pressure",
+    description: "The same gripper holds a cuboid of d = 100 mm with friction f = 0.3 N per finger; for each pressure, the normal force F that holds it and the finger height h (Sec. 5.1.2).",
+    run: |act, opts| Ok(output(Some(&study4_force_control(act, opts)?), opts.mu)),
+    empty: || output(None, StudyOptions::default().mu),
+};
+
+const COLUMNS: [Column; 10] = [
+    Column::new("pressure_kpa", "kPa"),
+    Column::new("F_n", "N"),
+    Column::new("h_mm", "mm"),
+    Column::new("tip_gap_mm", "mm"),
+    Column::new("friction_ok", ""),
+    REVERSED,
+    VALID,
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+/// One entry of `force_control`.
+#[derive(Serialize)]
+struct Row {
+    pressure_kpa: f64,
+    #[serde(rename = "F_n")]
+    f_n: f64,
+    h_mm: f64,
+    tip_gap_mm: f64,
+    friction_ok: bool,
+}
+
+#[derive(Serialize)]
+struct Case {
+    d_mm: f64,
+    f_n: f64,
+    stopped: Option<StopEntry>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    force_control: Vec<Row>,
+    force_control_case: Option<Case>,
+}
+
+/// The outputs of study 4 (`None`: the empty outputs).
+pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
+    let mut t = Table::new("study4", &COLUMNS);
+    let Some(fc) = fc else {
+        let summary = Summary {
+            force_control: Vec::new(),
+            force_control_case: None,
+        };
+        return StudyOutput::new(
+            vec![t],
+            Figure::row("", [1200, 560], vec![]),
+            entries(&summary),
+        );
+    };
+    let mut tally = Tally::default();
+    let mut overview = Overview::new(&["P (kPa)", "F (N)", "h (mm)", "f ≤ μF", "valid"]);
+    for r in &fc.rows {
+        let [rev, valid, warn] = tally.grasp(r.reversed, r.valid, &r.warnings);
+        t.push(vec![
+            r.pressure_kpa.into(),
+            r.normal.into(),
+            r.height.into(),
+            r.tip_gap.into(),
+            r.friction_ok.into(),
+            rev,
+            valid,
+            warn,
+            "ok".into(),
+            Cell::Empty,
+        ]);
+        overview.push(vec![
+            fmt(r.pressure_kpa, 0),
+            fmt(r.normal, 3),
+            fmt(r.height, 1),
+            if r.friction_ok { "yes" } else { "no" }.into(),
+            if r.valid { "yes" } else { "no" }.into(),
+        ]);
+    }
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    if let Some(s) = &fc.stopped {
+        t.push_stop(vec![], "pressure_kpa", s);
+        notes.push(format!(
+            "pressure sweep stopped at {:.1} kPa: {}",
+            s.at, s.reason
+        ));
+        stops.push(Stop {
+            case: "force control".into(),
+            at: StopAt::Kpa(s.at),
+            reason: s.reason.clone(),
+        });
+    }
+    let summary = Summary {
+        force_control: fc
+            .rows
+            .iter()
+            .map(|r| Row {
+                pressure_kpa: r.pressure_kpa,
+                f_n: r.normal,
+                h_mm: r.height,
+                tip_gap_mm: r.tip_gap,
+                friction_ok: r.friction_ok,
+            })
+            .collect(),
+        force_control_case: Some(Case {
+            d_mm: fc.size,
+            f_n: fc.friction,
+            stopped: stop_entry(&fc.stopped, StopAt::Kpa),
+        }),
+    };
+    let mut out = StudyOutput::new(vec![t], figure(fc, mu), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.strict_dropped = fc
+        .rows
+        .iter()
+        .filter(|r| matches!(r.invalid, Some(Invalid::CurvatureReversal { .. })))
+        .count();
+    out.tallied(tally)
+}
+
+/// Normal force and finger height against pressure.
+fn figure(fc: &ForceControl, mu: f64) -> Figure {
+    let mut p = Panel::new(
+        "Normal force",
+        PlotAxis::new("pressure P", "kPa"),
+        PlotAxis::new("normal force F", "N"),
+    );
+    p.y.include_zero = true;
+    let bent = pts(fc
+        .rows
+        .iter()
+        .filter(|r| r.reversed)
+        .map(|r| (r.pressure_kpa, r.normal)));
+    p.curve(
+        Series::new(
+            "normal force",
+            SeriesKind::LinePoints,
+            pts(fc.rows.iter().map(|r| (r.pressure_kpa, r.normal))),
+        )
+        .label("F holding the cuboid"),
+        bent,
+    );
+    let slips = pts(fc
+        .rows
+        .iter()
+        .filter(|r| !r.friction_ok)
+        .map(|r| (r.pressure_kpa, r.normal)));
+    if !slips.is_empty() {
+        p.series
+            .push(Series::new("slips", SeriesKind::Hollow, slips).label("f > μF: slips"));
+    }
+    p.hlines.push(RefLine {
+        at: fc.friction / mu,
+        label: format!("F = f/μ = {:.2} N (friction limit)", fc.friction / mu),
+    });
+    if let Some(s) = &fc.stopped {
+        p.notes.push(format!("sweep stopped at {:.1} kPa", s.at));
+    }
+    let mut h = Panel::new(
+        "Finger height",
+        PlotAxis::new("pressure P", "kPa"),
+        PlotAxis::new("finger height h", "mm"),
+    );
+    h.series.push(
+        Series::new(
+            "height",
+            SeriesKind::LinePoints,
+            pts(fc.rows.iter().map(|r| (r.pressure_kpa, r.height))),
+        )
+        .label("h = tip Zg"),
+    );
+    Figure::row(
+        format!(
+            "Study 4: force control by pressure (cuboid d = {} mm, f = {} N per finger)",
+            fc.size, fc.friction
+        ),
+        [1200, 560],
+        vec![p, h],
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(p: f64, reversed: bool) -> ForceControlRow {
+        ForceControlRow {
+            pressure_kpa: p,
+            normal: 1.0 - 0.01 * p,
+            height: 50.0,
+            tip_gap: 100.0,
+            friction_ok: true,
+            valid: !reversed,
+            invalid: reversed.then_some(Invalid::CurvatureReversal {
+                element: 1,
+                curvature: -0.01,
+            }),
+            reversed,
+            warnings: if reversed {
+                vec![Warning::CurvatureReversal {
+                    element: 1,
+                    curvature: -0.01,
+                }]
+            } else {
+                Vec::new()
+            },
+        }
+    }
+
+    #[test]
+    fn rows_then_the_stop() {
+        let fc = ForceControl {
+            size: 100.0,
+            friction: 0.3,
+            rows: vec![row(0.0, false), row(10.0, true)],
+            stopped: Some(SweepStop {
+                at: 20.0,
+                reason: "solve failed: test".into(),
+            }),
+        };
+        let out = output(Some(&fc), 0.6);
+        let t = &out.tables[0];
+        assert_eq!(t.rows.len(), 3);
+        assert_eq!(t.cell(1, "valid"), Some(&Cell::Bool(false)));
+        assert_eq!(t.cell(2, "pressure_kpa"), Some(&Cell::Num(20.0)));
+        assert_eq!(t.cell(2, "status"), Some(&Cell::from("stopped")));
+        assert_eq!(out.points, 2);
+        assert_eq!(out.warnings_by_kind["curvature_reversal"], 1);
+        assert_eq!(out.strict_dropped, 1);
+        assert_eq!(out.stops[0].at, StopAt::Kpa(20.0));
+        let summary: serde_json::Map<_, _> = out.summary.into_iter().collect();
+        assert_eq!(summary["force_control"].as_array().map(Vec::len), Some(2));
+        assert_eq!(summary["force_control"][1]["F_n"], serde_json::json!(0.9));
+        assert_eq!(
+            summary["force_control_case"]["stopped"]["at_kpa"],
+            serde_json::json!(20.0)
+        );
+        // the F panel marks the grasp bent backwards
+        let f = &out.figure.rows[0][0];
+        assert!(f
+            .series
+            .iter()
+            .any(|s| s.kind == SeriesKind::BentBackwards && s.points == vec![[10.0, 0.9]]));
+    }
+}

@@ -1,0 +1,339 @@
+//! The lifting-force curve that studies 1 to 3 share: a gripper at grasping
+//! angle 0 with full friction `f = mu F`, its grasping size swept from
+//! `max(0, l - 2 l0)` to `d_max`; and the table rows, figure series and
+//! summary rows built from one.
+
+use serde::Serialize;
+
+use super::output::{
+    max_of, pts, stop_entry, Cell, Column, Panel, Series, SeriesKind, StopAt, StopEntry, Table,
+    Tally, NOTE, REVERSED, STATUS, VALID, WARNINGS,
+};
+use super::{size_sweep, SweepStop};
+use crate::error::Warning;
+use crate::gripper::{Gripper, Invalid};
+
+/// One point of a lifting-force curve (grasping angle 0, `f = mu F`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiftPoint {
+    /// Grasping size `d` (mm).
+    pub size: f64,
+    /// Gap between the tips (mm).
+    pub tip_gap: f64,
+    /// Normal force `F` (N).
+    pub normal: f64,
+    /// Max lifting force `f_v = mu F` (N).
+    pub lift: f64,
+    /// Finger height `h` (mm).
+    pub height: f64,
+    /// An element is bent backwards (dropped in strict mode).
+    pub reversed: bool,
+    /// The grasp breaks no rule (see [`crate::gripper::rules`]).
+    pub valid: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Max lifting force versus grasping size for one gripper.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LiftCurve {
+    /// Prestrain.
+    pub eps0: f64,
+    /// Mounting angle (rad).
+    pub mounting_angle: f64,
+    /// Overlap `g` (mm).
+    pub overlap: f64,
+    /// Palm diameter `l` (mm).
+    pub palm: f64,
+    /// Inward reach `l0` (mm).
+    pub l0: f64,
+    /// `d_max = l + 2 Lx cos a` (mm).
+    pub d_max: f64,
+    /// The unloaded finger's mid-plane in the gripper frame (mm).
+    pub rest_shape: Vec<[f64; 2]>,
+    /// The sweep from `max(0, l - 2 l0)` to `d_max` (in strict mode
+    /// without the grasps that bend an element backwards).
+    pub points: Vec<LiftPoint>,
+    /// Grasps left out in strict mode.
+    pub dropped: usize,
+    /// Set when the sweep stopped before `d_max`.
+    pub stopped: Option<SweepStop>,
+    /// The gripper's design warnings.
+    pub warnings: Vec<Warning>,
+}
+
+impl LiftCurve {
+    /// The largest grasping size the sweep reached (mm).
+    pub fn reached(&self) -> f64 {
+        self.points.last().map_or(0.0, |p| p.size)
+    }
+
+    /// The max lifting force at grasping size `d`, interpolated linearly
+    /// (`None` outside the swept range).
+    pub fn max_lift(&self, d: f64) -> Option<f64> {
+        let pts = &self.points;
+        if pts.is_empty() || !d.is_finite() {
+            return None;
+        }
+        if pts.len() == 1 {
+            return (d == pts[0].size).then_some(pts[0].lift);
+        }
+        let i = pts
+            .windows(2)
+            .position(|w| d >= w[0].size && d <= w[1].size)?;
+        let (p, q) = (&pts[i], &pts[i + 1]);
+        let t = if q.size > p.size {
+            (d - p.size) / (q.size - p.size)
+        } else {
+            0.0
+        };
+        Some(p.lift + t * (q.lift - p.lift))
+    }
+
+    /// The largest lifting force of the sweep.
+    pub(crate) fn peak_lift(&self) -> Option<f64> {
+        max_of(self.points.iter().map(|p| p.lift))
+    }
+}
+
+/// The lifting-force curve of `g` on `n + 1` grasping sizes.
+pub(crate) fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
+    let mut points = Vec::with_capacity(n + 1);
+    let mut dropped = 0;
+    let stopped = size_sweep(g, 0.0, 0.0, g.d_min(), g.d_max(), n, |gr| {
+        if matches!(gr.invalid, Some(Invalid::CurvatureReversal { .. })) {
+            dropped += 1;
+            return;
+        }
+        points.push(LiftPoint {
+            size: gr.size,
+            tip_gap: gr.tip_gap,
+            normal: gr.normal,
+            lift: gr.lift,
+            height: gr.height,
+            reversed: gr.is_reversed(),
+            valid: gr.is_valid(),
+            warnings: gr.warnings.clone(),
+        })
+    });
+    LiftCurve {
+        eps0,
+        mounting_angle: g.mounting_angle(),
+        overlap: g.overlap(),
+        palm: g.palm(),
+        l0: g.l0(),
+        d_max: g.d_max(),
+        rest_shape: g.rest_shape(),
+        points,
+        dropped,
+        stopped,
+        warnings: g.warnings().to_vec(),
+    }
+}
+
+// ------------------------------------------------------------ outputs
+
+/// The columns of a lift-curve table after its two leading ones.
+pub(crate) const LIFT_COLUMNS: [Column; 13] = [
+    Column::new("palm_mm", "mm"),
+    Column::new("l0_mm", "mm"),
+    Column::new("dmax_mm", "mm"),
+    Column::new("d_mm", "mm"),
+    Column::new("tip_gap_mm", "mm"),
+    Column::new("F_n", "N"),
+    Column::new("fv_n", "N"),
+    Column::new("h_mm", "mm"),
+    REVERSED,
+    VALID,
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+/// Two leading columns, then [`LIFT_COLUMNS`].
+pub(crate) fn lift_columns(lead: [Column; 2]) -> Vec<Column> {
+    lead.into_iter().chain(LIFT_COLUMNS).collect()
+}
+
+/// Appends one row per point of `c` (the first two cells `lead`, e.g.
+/// eps0 and the angle), then the stop if the sweep stopped.
+pub(crate) fn lift_rows(t: &mut Table, c: &LiftCurve, lead: [Cell; 2], tally: &mut Tally) {
+    for p in &c.points {
+        let [x, y] = lead.clone();
+        let [rev, valid, warn] = tally.grasp(p.reversed, p.valid, &p.warnings);
+        t.push(vec![
+            x,
+            y,
+            c.palm.into(),
+            c.l0.into(),
+            c.d_max.into(),
+            p.size.into(),
+            p.tip_gap.into(),
+            p.normal.into(),
+            p.lift.into(),
+            p.height.into(),
+            rev,
+            valid,
+            warn,
+            "ok".into(),
+            Cell::Empty,
+        ]);
+    }
+    if let Some(s) = &c.stopped {
+        let [x, y] = lead;
+        let (a, b) = (t.columns[0].name, t.columns[1].name);
+        t.push_stop(
+            vec![
+                (a, x),
+                (b, y),
+                ("palm_mm", c.palm.into()),
+                ("l0_mm", c.l0.into()),
+                ("dmax_mm", c.d_max.into()),
+            ],
+            "d_mm",
+            s,
+        );
+    }
+}
+
+/// The curve's max lifting force against the grasping size, with markers
+/// on the points bent backwards.
+pub(crate) fn add_lift_curve(p: &mut Panel, c: &LiftCurve, color: String, label: String) {
+    let bent = pts(c
+        .points
+        .iter()
+        .filter(|q| q.reversed)
+        .map(|q| (q.size, q.lift)));
+    p.curve(
+        Series::new(color, SeriesKind::Line, lift_points(c)).label(label),
+        bent,
+    );
+}
+
+/// The (d, f_v) points of a curve.
+pub(crate) fn lift_points(c: &LiftCurve) -> Vec<[f64; 2]> {
+    pts(c.points.iter().map(|p| (p.size, p.lift)))
+}
+
+/// The geometry and reach of one curve, for `dmax_mm` and
+/// `overlap_dmax_mm` in the summary.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub(crate) struct CurveSummary {
+    pub dmax_mm: f64,
+    pub l0_mm: f64,
+    pub palm_mm: f64,
+    pub reached_mm: f64,
+    pub max_fv_n: Option<f64>,
+    pub stopped: Option<StopEntry>,
+}
+
+impl CurveSummary {
+    pub fn of(c: &LiftCurve) -> CurveSummary {
+        CurveSummary {
+            dmax_mm: c.d_max,
+            l0_mm: c.l0,
+            palm_mm: c.palm,
+            reached_mm: c.reached(),
+            max_fv_n: c.peak_lift(),
+            stopped: stop_entry(&c.stopped, StopAt::Mm),
+        }
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+    use crate::studies::output::{PlotAxis, BENT_BACKWARDS};
+
+    /// A curve of two points, the second bent backwards, stopped at 5.5 mm.
+    pub fn curve() -> LiftCurve {
+        let point = |size: f64, reversed: bool| LiftPoint {
+            size,
+            tip_gap: size,
+            normal: 0.4 + size,
+            lift: 0.24 + 0.6 * size,
+            height: 78.0,
+            reversed,
+            valid: size > 0.0,
+            warnings: if reversed {
+                vec![Warning::CurvatureReversal {
+                    element: 2,
+                    curvature: -0.01,
+                }]
+            } else {
+                Vec::new()
+            },
+        };
+        LiftCurve {
+            eps0: 0.25,
+            mounting_angle: std::f64::consts::FRAC_PI_3,
+            overlap: 20.0,
+            palm: 66.4,
+            l0: 53.2,
+            d_max: 176.4,
+            rest_shape: vec![[33.2, 0.0], [40.0, 20.0]],
+            points: vec![point(0.0, false), point(2.0, true)],
+            dropped: 0,
+            stopped: Some(SweepStop {
+                at: 5.5,
+                reason: "solve failed: line search, test".into(),
+            }),
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_stopped_lift_sweep_is_a_row() {
+        let c = curve();
+        let mut t = Table::new(
+            "t",
+            &lift_columns([Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")]),
+        );
+        let mut tally = Tally::default();
+        lift_rows(
+            &mut t,
+            &c,
+            [c.mounting_angle.into(), 20.0.into()],
+            &mut tally,
+        );
+        // the points computed before the stop, then the stop
+        assert_eq!(t.rows.len(), 3);
+        assert_eq!(t.cell(0, "status"), Some(&Cell::from("ok")));
+        assert_eq!(t.cell(0, "valid"), Some(&Cell::Bool(false)));
+        assert_eq!(t.cell(0, "warnings"), Some(&Cell::Empty));
+        assert_eq!(t.cell(1, "reversed"), Some(&Cell::Bool(true)));
+        assert_eq!(
+            t.cell(1, "warnings"),
+            Some(&Cell::from("curvature_reversal"))
+        );
+        assert_eq!(t.cell(2, "d_mm"), Some(&Cell::Num(5.5)));
+        assert_eq!(t.cell(2, "g_mm"), Some(&Cell::Num(20.0)));
+        assert_eq!(t.cell(2, "status"), Some(&Cell::from("stopped")));
+        assert_eq!(
+            t.cell(2, "note"),
+            Some(&Cell::from("solve failed: line search, test"))
+        );
+        // a stopped row is no point: its findings are empty and not counted
+        assert_eq!(t.cell(2, "reversed"), Some(&Cell::Empty));
+        assert_eq!(tally.point(&[]), Cell::Empty);
+        let s = CurveSummary::of(&c);
+        assert_eq!(s.reached_mm, 2.0);
+        assert_eq!(
+            serde_json::to_value(&s.stopped).unwrap()["at_mm"],
+            serde_json::json!(5.5)
+        );
+    }
+
+    #[test]
+    fn bent_points_get_markers() {
+        let c = curve();
+        let mut p = Panel::new("", PlotAxis::new("d", "mm"), PlotAxis::new("f", "N"));
+        add_lift_curve(&mut p, &c, "a=pi/3".into(), "a = π/3".into());
+        assert_eq!(p.series.len(), 2);
+        assert_eq!(p.series[1].kind, SeriesKind::BentBackwards);
+        assert_eq!(p.series[0].color, "a=pi/3");
+        assert_eq!(p.series[1].color, BENT_BACKWARDS);
+        assert_eq!(p.series[1].points, vec![[2.0, 0.24 + 1.2]]);
+        assert_eq!(p.series[1].label.as_deref(), Some(BENT_BACKWARDS));
+    }
+}

@@ -1,0 +1,168 @@
+//! Study 2 (Sec. 4.2): the overlap of the fingers at rest.
+
+use serde::Serialize;
+
+use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
+use super::output::{
+    angle_key, angle_name, entries, fmt, fmt_opt, overlap_key, pts, Column, Corner, Figure,
+    Overview, Panel, PlotAxis, Series, SeriesKind, Stop, StopAt, StudyOutput, Table, Tally,
+};
+use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
+use crate::actuator::Actuator;
+use crate::error::SolveError;
+
+/// Study 2 (Sec. 4.2): overlap, eps0 = 0.25: one curve per (a in
+/// [`PAPER_ANGLES`], g in [`PAPER_OVERLAPS`]), angle-major. Each curve's
+/// `d_max` is `2 (l0 - g + Lx cos a)`.
+pub fn study2_overlap(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<Vec<LiftCurve>, SolveError> {
+    opts.validate()?;
+    let mut out = Vec::new();
+    for a in PAPER_ANGLES {
+        for g in PAPER_OVERLAPS {
+            let gr = opts.gripper(actuator, 0.25, a, g)?;
+            out.push(lift_curve(&gr, 0.25, opts.sweep_points));
+        }
+    }
+    Ok(out)
+}
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 2,
+    key: "overlap",
+    title: "Overlap",
+    description: "eps0 = 0.25, a in {π/2, π/2.5, π/3}, overlap g in {0, 10, 20} mm: max f_v against d per overlap, and d_max = 2 (l0 − g + Lx cos a) against g (Sec. 4.2).",
+    run: |act, opts| Ok(output(&study2_overlap(act, opts)?)),
+    empty: || output(&[]),
+};
+
+const LEAD: [Column; 2] = [Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")];
+
+/// One entry of `overlap_dmax_mm`.
+#[derive(Serialize)]
+struct OverlapRow {
+    angle_rad: f64,
+    g_mm: f64,
+    #[serde(flatten)]
+    curve: CurveSummary,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    overlap_dmax_mm: Vec<OverlapRow>,
+}
+
+/// The outputs of study 2 from its curves.
+pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
+    let mut t = Table::new("study2", &lift_columns(LEAD));
+    let mut tally = Tally::default();
+    let mut overview = Overview::new(&[
+        "a",
+        "g (mm)",
+        "l (mm)",
+        "d_max (mm)",
+        "swept to d (mm)",
+        "max f_v (N)",
+    ]);
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    for c in curves {
+        lift_rows(
+            &mut t,
+            c,
+            [c.mounting_angle.into(), c.overlap.into()],
+            &mut tally,
+        );
+        overview.push(vec![
+            angle_name(c.mounting_angle),
+            fmt(c.overlap, 0),
+            fmt(c.palm, 1),
+            fmt(c.d_max, 1),
+            fmt(c.reached(), 1),
+            fmt_opt(c.peak_lift(), 3),
+        ]);
+        if let Some(s) = &c.stopped {
+            let case = format!("a = {}, g = {} mm", angle_name(c.mounting_angle), c.overlap);
+            notes.push(format!(
+                "{case}: sweep stopped at d = {:.1} mm: {}",
+                s.at, s.reason
+            ));
+            stops.push(Stop {
+                case,
+                at: StopAt::Mm(s.at),
+                reason: s.reason.clone(),
+            });
+        }
+    }
+    let summary = Summary {
+        overlap_dmax_mm: curves
+            .iter()
+            .map(|c| OverlapRow {
+                angle_rad: c.mounting_angle,
+                g_mm: c.overlap,
+                curve: CurveSummary::of(c),
+            })
+            .collect(),
+    };
+    let mut out = StudyOutput::new(vec![t], figure(curves), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.strict_dropped = curves.iter().map(|c| c.dropped).sum();
+    for c in curves {
+        out.design(&c.warnings);
+    }
+    out.tallied(tally)
+}
+
+/// f_v against d per overlap (one panel per mounting angle), d_max against g.
+fn figure(curves: &[LiftCurve]) -> Figure {
+    let mut panels = Vec::new();
+    for a in PAPER_ANGLES {
+        let mut p = Panel::new(
+            format!("Max lifting force, a = {}", angle_name(a)),
+            PlotAxis::new("grasping size d", "mm"),
+            PlotAxis::new("max f_v", "N"),
+        );
+        p.y.include_zero = true;
+        p.legend = Corner::UpperLeft;
+        for c in curves.iter().filter(|c| c.mounting_angle == a) {
+            add_lift_curve(
+                &mut p,
+                c,
+                overlap_key(c.overlap),
+                format!("g = {} mm", c.overlap),
+            );
+            if let Some(s) = &c.stopped {
+                p.notes.push(format!(
+                    "g = {} mm: sweep stopped at d = {:.1} mm",
+                    c.overlap, s.at
+                ));
+            }
+        }
+        panels.push(p);
+    }
+    let mut p = Panel::new(
+        "Largest grasping size",
+        PlotAxis::new("overlap g", "mm"),
+        PlotAxis::new("d_max", "mm"),
+    );
+    for a in PAPER_ANGLES {
+        let points = pts(curves
+            .iter()
+            .filter(|c| c.mounting_angle == a)
+            .map(|c| (c.overlap, c.d_max)));
+        p.series.push(
+            Series::new(angle_key(a), SeriesKind::LinePoints, points)
+                .label(format!("a = {}", angle_name(a))),
+        );
+    }
+    panels.push(p);
+    let second = panels.split_off(2);
+    Figure {
+        title: "Study 2: overlap g (ε0 = 0.25, b = 0, f = μF)".into(),
+        size: [1200, 900],
+        rows: vec![panels, second],
+    }
+}

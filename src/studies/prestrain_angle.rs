@@ -1,0 +1,219 @@
+//! Study 1 (Sec. 4.1): prestrain x mounting angle.
+
+use serde::Serialize;
+
+use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
+use super::output::{
+    angle_key, angle_name, entries, eps0_key, fmt, fmt_opt, pts, Cell, Column, Corner, Figure,
+    Overview, Panel, PlotAxis, RefLine, Series, SeriesKind, Stop, StopAt, StudyOutput, Table,
+    Tally, NOTE, STATUS,
+};
+use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_EPS0};
+use crate::actuator::Actuator;
+use crate::error::SolveError;
+
+/// Study 1 (Sec. 4.1): prestrain x mounting angle, overlap 0, grasping
+/// angle 0, `f = mu F`: one curve per (eps0 in [`PAPER_EPS0`], a in
+/// [`PAPER_ANGLES`]), eps0-major.
+pub fn study1_prestrain_angle(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<Vec<LiftCurve>, SolveError> {
+    opts.validate()?;
+    let mut out = Vec::new();
+    for eps0 in PAPER_EPS0 {
+        for a in PAPER_ANGLES {
+            let g = opts.gripper(actuator, eps0, a, 0.0)?;
+            out.push(lift_curve(&g, eps0, opts.sweep_points));
+        }
+    }
+    Ok(out)
+}
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 1,
+    key: "prestrain_angle",
+    title: "Prestrain × mounting angle",
+    description: "eps0 in {0.4, 0.25, 0.15} × a in {π/2, π/2.5, π/3}, no overlap (l = 2 l0), grasping angle b = 0, full friction f = μF: unloaded finger shapes in the gripper frame, the max lifting force f_v against the grasping size d, and d_max = l + 2 Lx cos a against a (Sec. 4.1).",
+    run: |act, opts| Ok(output(&study1_prestrain_angle(act, opts)?)),
+    empty: || output(&[]),
+};
+
+const LEAD: [Column; 2] = [Column::new("eps0", ""), Column::new("angle_rad", "rad")];
+const SHAPE_COLUMNS: [Column; 6] = [
+    Column::new("eps0", ""),
+    Column::new("angle_rad", "rad"),
+    Column::new("xg_mm", "mm"),
+    Column::new("zg_mm", "mm"),
+    STATUS,
+    NOTE,
+];
+
+/// One entry of `dmax_mm`.
+#[derive(Serialize)]
+struct DmaxRow {
+    eps0: f64,
+    angle_rad: f64,
+    #[serde(flatten)]
+    curve: CurveSummary,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    dmax_mm: Vec<DmaxRow>,
+}
+
+/// The outputs of study 1 from its curves.
+pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
+    let mut t = Table::new("study1", &lift_columns(LEAD));
+    let mut shapes = Table::new("study1_shapes", &SHAPE_COLUMNS);
+    let mut tally = Tally::default();
+    let mut overview = Overview::new(&[
+        "eps0",
+        "a",
+        "l0 (mm)",
+        "l (mm)",
+        "d_max (mm)",
+        "swept to d (mm)",
+        "max f_v (N)",
+    ]);
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    for c in curves {
+        lift_rows(
+            &mut t,
+            c,
+            [c.eps0.into(), c.mounting_angle.into()],
+            &mut tally,
+        );
+        for q in &c.rest_shape {
+            shapes.push(vec![
+                c.eps0.into(),
+                c.mounting_angle.into(),
+                q[0].into(),
+                q[1].into(),
+                "ok".into(),
+                Cell::Empty,
+            ]);
+        }
+        overview.push(vec![
+            c.eps0.to_string(),
+            angle_name(c.mounting_angle),
+            fmt(c.l0, 1),
+            fmt(c.palm, 1),
+            fmt(c.d_max, 1),
+            fmt(c.reached(), 1),
+            fmt_opt(c.peak_lift(), 3),
+        ]);
+        if let Some(s) = &c.stopped {
+            let case = format!("eps0 = {}, a = {}", c.eps0, angle_name(c.mounting_angle));
+            notes.push(format!(
+                "{case}: sweep stopped at d = {:.1} mm: {}",
+                s.at, s.reason
+            ));
+            stops.push(Stop {
+                case,
+                at: StopAt::Mm(s.at),
+                reason: s.reason.clone(),
+            });
+        }
+    }
+    let summary = Summary {
+        dmax_mm: curves
+            .iter()
+            .map(|c| DmaxRow {
+                eps0: c.eps0,
+                angle_rad: c.mounting_angle,
+                curve: CurveSummary::of(c),
+            })
+            .collect(),
+    };
+    let mut out = StudyOutput::new(vec![t, shapes], figure(curves), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.strict_dropped = curves.iter().map(|c| c.dropped).sum();
+    for c in curves {
+        out.design(&c.warnings);
+    }
+    out.tallied(tally)
+}
+
+/// Finger shapes per mounting angle, max f_v against d per prestrain,
+/// d_max against a.
+fn figure(curves: &[LiftCurve]) -> Figure {
+    let mut top = Vec::new();
+    for a in PAPER_ANGLES {
+        let mut p = Panel::new(
+            format!("Unloaded fingers, a = {}", angle_name(a)),
+            PlotAxis::new("Xg", "mm"),
+            PlotAxis::new("−Zg, the gripper points down", "mm"),
+        );
+        p.equal_aspect = true;
+        p.legend = Corner::LowerRight;
+        for c in curves.iter().filter(|c| c.mounting_angle == a) {
+            let key = eps0_key(c.eps0);
+            let shape: Vec<[f64; 2]> = c.rest_shape.iter().map(|q| [q[0], -q[1]]).collect();
+            let mirror = shape.iter().map(|q| [-q[0], q[1]]).collect();
+            p.series.push(
+                Series::new(key.clone(), SeriesKind::Line, shape).label(format!("ε0 = {}", c.eps0)),
+            );
+            p.series
+                .push(Series::new(key.clone(), SeriesKind::Dashed, mirror));
+            p.series.push(Series::new(
+                key,
+                SeriesKind::Points,
+                vec![[0.5 * c.palm, 0.0], [-0.5 * c.palm, 0.0]],
+            ));
+        }
+        p.hlines.push(RefLine {
+            at: 0.0,
+            label: String::new(),
+        });
+        top.push(p);
+    }
+    let mut bottom = Vec::new();
+    for eps0 in PAPER_EPS0 {
+        let mut p = Panel::new(
+            format!("Max lifting force, ε0 = {eps0}"),
+            PlotAxis::new("grasping size d", "mm"),
+            PlotAxis::new("max f_v", "N"),
+        );
+        p.y.include_zero = true;
+        p.legend = Corner::UpperLeft;
+        for c in curves.iter().filter(|c| c.eps0 == eps0) {
+            let name = angle_name(c.mounting_angle);
+            add_lift_curve(
+                &mut p,
+                c,
+                angle_key(c.mounting_angle),
+                format!("a = {name}"),
+            );
+            if let Some(s) = &c.stopped {
+                p.notes
+                    .push(format!("a = {name}: stopped at d = {:.1} mm", s.at));
+            }
+        }
+        bottom.push(p);
+    }
+    let mut p = Panel::new(
+        "Largest grasping size",
+        PlotAxis::new("mounting angle a", "deg"),
+        PlotAxis::new("d_max", "mm"),
+    );
+    for eps0 in PAPER_EPS0 {
+        let points = pts(curves
+            .iter()
+            .filter(|c| c.eps0 == eps0)
+            .map(|c| (c.mounting_angle.to_degrees(), c.d_max)));
+        p.series.push(
+            Series::new(eps0_key(eps0), SeriesKind::LinePoints, points)
+                .label(format!("ε0 = {eps0}")),
+        );
+    }
+    bottom.push(p);
+    Figure {
+        title: "Study 1: prestrain × mounting angle (g = 0, b = 0, f = μF)".into(),
+        size: [1600, 1000],
+        rows: vec![top, bottom],
+    }
+}

@@ -1,0 +1,456 @@
+//! Study 5 (Sec. 5.2.1): the sphere grasping region of the Sec. 5 gripper.
+
+use serde::Serialize;
+
+use super::output::{
+    entries, fmt, fmt_opt, max_of, min_of, pts, Cell, Column, Figure, Overview, Panel, PlotAxis,
+    Series, SeriesKind, Stop, StopAt, StudyOutput, Table, Tally, NOTE, REVERSED, STATUS, VALID,
+    WARNINGS,
+};
+use super::{section5_gripper, size_sweep, StudyInfo, StudyOptions, SweepStop};
+use crate::actuator::Actuator;
+use crate::error::{SolveError, Warning};
+use crate::gripper::{grasping_angle_range, Grasp, Gripper, Invalid, SphereLift};
+
+/// A valid sphere grasp of the study-5 sweep (`f = mu F`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpherePoint {
+    /// Grasping angle (rad).
+    pub beta: f64,
+    /// Sphere radius (mm).
+    pub radius: f64,
+    /// Max lifting force `F (sin b + mu cos b)` (N).
+    pub lift: f64,
+    /// Normal force (N).
+    pub normal: f64,
+    /// Grasping size (mm).
+    pub size: f64,
+    /// An element is bent backwards (dropped in strict mode).
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<Warning>,
+}
+
+/// Study 5 result: the sphere grasping region.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereRegion {
+    /// Every valid grasp of the sweeps.
+    pub points: Vec<SpherePoint>,
+    /// Number of invalid grasps dropped.
+    pub dropped: usize,
+    /// Of those, the grasps dropped only for bending an element backwards
+    /// (strict mode; 0 otherwise).
+    pub strict_dropped: usize,
+    /// Max lifting force versus radius on a radius grid over the swept
+    /// radii, each the best valid grasping angle ([`Gripper::max_sphere_lift`]).
+    pub envelope: Vec<SphereLift>,
+    /// The envelope's highest point, refined by golden-section search in
+    /// the radius (`None`: no valid grasp).
+    pub peak: Option<SphereLift>,
+    /// Sweeps that stopped early: (grasping angle, where and why).
+    pub stopped: Vec<(f64, SweepStop)>,
+}
+
+/// Study 5 (Sec. 5.2.1): the Sec. 5 gripper; grasping angles over
+/// `[-arctan mu, pi/2)`, at each a sweep of the grasping size (so of `F`)
+/// with `f = mu F`, `r = tip gap / (2 cos b)`; invalid grasps dropped. The
+/// envelope is solved directly on a grid of `2 sweep_points` radii over the
+/// swept ones: at each radius, the best valid grasping angle.
+pub fn study5_sphere_region(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+) -> Result<SphereRegion, SolveError> {
+    let g = section5_gripper(actuator, opts)?;
+    let [lo, hi] = grasping_angle_range(g.mu());
+    let n = opts.sweep_points;
+    let mut points = Vec::new();
+    let mut dropped = 0;
+    let mut strict_dropped = 0;
+    let mut stopped = Vec::new();
+    for j in 0..opts.angle_samples {
+        let beta = lo + (hi - lo) * j as f64 / opts.angle_samples as f64;
+        let d_max = g.d_max();
+        let stop = size_sweep(&g, 0.0, beta, d_max / n as f64, d_max, n - 1, |gr| {
+            let c = g.sphere_contact(&gr.solution, beta);
+            if c.invalid.or(gr.invalid).is_none() {
+                points.push(SpherePoint {
+                    beta,
+                    radius: c.radius,
+                    lift: gr.lift,
+                    normal: gr.normal,
+                    size: gr.size,
+                    reversed: gr.is_reversed(),
+                    warnings: gr.warnings.clone(),
+                });
+            } else {
+                dropped += 1;
+                if c.invalid.is_none()
+                    && matches!(gr.invalid, Some(Invalid::CurvatureReversal { .. }))
+                {
+                    strict_dropped += 1;
+                }
+            }
+        });
+        if let Some(s) = stop {
+            stopped.push((beta, s));
+        }
+    }
+    let (envelope, peak) = sphere_envelope(&g, &points, 2 * n, opts.angle_samples)?;
+    Ok(SphereRegion {
+        points,
+        dropped,
+        strict_dropped,
+        envelope,
+        peak,
+        stopped,
+    })
+}
+
+/// The max-lift envelope on `m` radii spanning the valid sweep points,
+/// and its peak refined by golden-section search around the best radius.
+fn sphere_envelope(
+    g: &Gripper,
+    points: &[SpherePoint],
+    m: usize,
+    samples: usize,
+) -> Result<(Vec<SphereLift>, Option<SphereLift>), SolveError> {
+    let rmin = points
+        .iter()
+        .map(|p| p.radius)
+        .fold(f64::INFINITY, f64::min);
+    let rmax = points.iter().map(|p| p.radius).fold(0.0, f64::max);
+    if !(rmin.is_finite() && rmax > rmin) {
+        return Ok((Vec::new(), None));
+    }
+    let at = |r: f64| g.max_sphere_lift(0.0, r, samples);
+    let radii: Vec<f64> = (0..m)
+        .map(|i| rmin + (rmax - rmin) * i as f64 / (m - 1) as f64)
+        .collect();
+    let mut envelope = Vec::with_capacity(m);
+    let mut best: Option<(usize, SphereLift)> = None;
+    for &r in &radii {
+        if let Some(e) = at(r)? {
+            if best.is_none_or(|(_, b)| e.lift > b.lift) {
+                best = Some((envelope.len(), e));
+            }
+            envelope.push(e);
+        }
+    }
+    let Some((i, mut peak)) = best else {
+        return Ok((envelope, None));
+    };
+    // golden section on the neighbours' bracket (a lift of None counts as -inf)
+    let (mut a, mut b) = (
+        envelope[i.saturating_sub(1)].radius,
+        envelope[(i + 1).min(envelope.len() - 1)].radius,
+    );
+    let ratio = 0.5 * (5f64.sqrt() - 1.0);
+    let lift = |e: &Option<SphereLift>| e.map_or(f64::NEG_INFINITY, |e| e.lift);
+    let (mut x1, mut x2) = (b - ratio * (b - a), a + ratio * (b - a));
+    let (mut e1, mut e2) = (at(x1)?, at(x2)?);
+    for _ in 0..GOLDEN_STEPS {
+        if lift(&e1) >= lift(&e2) {
+            (b, x2, e2) = (x2, x1, e1);
+            x1 = b - ratio * (b - a);
+            e1 = at(x1)?;
+        } else {
+            (a, x1, e1) = (x1, x2, e2);
+            x2 = a + ratio * (b - a);
+            e2 = at(x2)?;
+        }
+    }
+    for e in [e1, e2].into_iter().flatten() {
+        if e.lift > peak.lift {
+            peak = e;
+        }
+    }
+    Ok((envelope, Some(peak)))
+}
+
+/// Golden-section steps refining the study-5 peak radius.
+const GOLDEN_STEPS: usize = 12;
+
+// ------------------------------------------------------------ outputs
+
+pub(crate) const INFO: StudyInfo = StudyInfo {
+    number: 5,
+    key: "sphere_region",
+    title: "Sphere grasping region",
+    description: "The same gripper; grasping angle b swept over [−arctan μ, π/2), at each the grasping size swept with f = μF, r = d / (2 cos b), invalid grasps (not open, second contact, friction) dropped; the envelope is the best b at each radius (Sec. 5.2.1).",
+    run,
+    empty: || output(None, &[], 0),
+};
+
+fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
+    let region = study5_sphere_region(act, opts)?;
+    let g = section5_gripper(act, opts)?;
+    let findings = envelope_findings(&g, &region.envelope);
+    Ok(output(Some(&region), &findings, opts.angle_samples))
+}
+
+/// What a grasp of the envelope breaks: its validity findings.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Findings {
+    reversed: bool,
+    valid: bool,
+    warnings: Vec<Warning>,
+}
+
+impl Findings {
+    fn of(g: &Grasp) -> Findings {
+        Findings {
+            reversed: g.is_reversed(),
+            valid: g.is_valid(),
+            warnings: g.warnings.clone(),
+        }
+    }
+}
+
+/// The grasps of the envelope solved again at their radius and grasping
+/// angle (the envelope keeps only the numbers), each warm-started from the
+/// previous, else from the unloaded finger; `None` where the solve does not
+/// return the envelope's equilibrium (another normal force).
+pub(crate) fn envelope_findings(g: &Gripper, envelope: &[SphereLift]) -> Vec<Option<Findings>> {
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
+    let mut warm: Option<Grasp> = None;
+    let mut out = Vec::with_capacity(envelope.len());
+    for e in envelope {
+        let solve = |w: Option<&Grasp>| {
+            g.sphere_grasp_at_friction_limit(0.0, e.radius, e.beta, w)
+                .ok()
+                .filter(|sg| same(sg.grasp.normal, e.normal))
+        };
+        let found = solve(warm.as_ref()).or_else(|| warm.as_ref().and_then(|_| solve(None)));
+        out.push(found.as_ref().map(|sg| Findings::of(&sg.grasp)));
+        if let Some(sg) = found {
+            warm = Some(sg.grasp);
+        }
+    }
+    out
+}
+
+const COLUMNS: [Column; 10] = [
+    Column::new("beta_rad", "rad"),
+    Column::new("r_mm", "mm"),
+    Column::new("fv_n", "N"),
+    Column::new("F_n", "N"),
+    Column::new("d_mm", "mm"),
+    REVERSED,
+    VALID,
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+const ENVELOPE_COLUMNS: [Column; 9] = [
+    Column::new("r_mm", "mm"),
+    Column::new("beta_rad", "rad"),
+    Column::new("fv_n", "N"),
+    Column::new("F_n", "N"),
+    REVERSED,
+    VALID,
+    WARNINGS,
+    STATUS,
+    NOTE,
+];
+
+#[derive(Serialize)]
+struct Peak {
+    r_mm: f64,
+    beta_rad: f64,
+    fv_n: f64,
+    #[serde(rename = "F_n")]
+    f_n: f64,
+}
+
+#[derive(Serialize)]
+struct RegionSummary {
+    valid_points: usize,
+    dropped_points: usize,
+    stopped_sweeps: usize,
+    peak: Option<Peak>,
+}
+
+#[derive(Serialize)]
+struct Summary {
+    sphere_envelope_peak_radius_mm: Option<f64>,
+    sphere_region: Option<RegionSummary>,
+}
+
+/// The outputs of study 5 (`None`: the empty outputs); `findings` has one
+/// entry per envelope point (missing ones: not recomputed).
+pub(crate) fn output(
+    region: Option<&SphereRegion>,
+    findings: &[Option<Findings>],
+    angle_samples: usize,
+) -> StudyOutput {
+    let mut t = Table::new("study5", &COLUMNS);
+    let mut env = Table::new("study5_envelope", &ENVELOPE_COLUMNS);
+    let Some(region) = region else {
+        let summary = Summary {
+            sphere_envelope_peak_radius_mm: None,
+            sphere_region: None,
+        };
+        return StudyOutput::new(
+            vec![t, env],
+            Figure::row("", [1000, 640], vec![]),
+            entries(&summary),
+        );
+    };
+    let mut tally = Tally::default();
+    for p in &region.points {
+        let [rev, valid, warn] = tally.grasp(p.reversed, true, &p.warnings);
+        t.push(vec![
+            p.beta.into(),
+            p.radius.into(),
+            p.lift.into(),
+            p.normal.into(),
+            p.size.into(),
+            rev,
+            valid,
+            warn,
+            "ok".into(),
+            Cell::Empty,
+        ]);
+    }
+    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    for (beta, s) in &region.stopped {
+        t.push_stop(vec![("beta_rad", (*beta).into())], "d_mm", s);
+        stops.push(Stop {
+            case: format!("b = {beta:.6} rad"),
+            at: StopAt::Mm(s.at),
+            reason: s.reason.clone(),
+        });
+    }
+    if !region.stopped.is_empty() {
+        notes.push(format!(
+            "{} of the {angle_samples} grasping-angle sweeps stopped before d_max (rows with status 'stopped' in study5.csv)",
+            region.stopped.len(),
+        ));
+    }
+    for (i, e) in region.envelope.iter().enumerate() {
+        let lead: [Cell; 4] = [
+            e.radius.into(),
+            e.beta.into(),
+            e.lift.into(),
+            e.normal.into(),
+        ];
+        let row = match findings.get(i).and_then(Option::as_ref) {
+            Some(f) => {
+                let [rev, valid, warn] = tally.grasp(f.reversed, f.valid, &f.warnings);
+                [rev, valid, warn, "ok".into(), Cell::Empty]
+            }
+            None => [
+                Cell::Empty,
+                Cell::Empty,
+                Cell::Empty,
+                "ok".into(),
+                "findings not recomputed: the grasp did not solve again".into(),
+            ],
+        };
+        env.push(lead.into_iter().chain(row).collect());
+    }
+    let peak = region.peak;
+    let summary = Summary {
+        sphere_envelope_peak_radius_mm: peak.map(|p| p.radius),
+        sphere_region: Some(RegionSummary {
+            valid_points: region.points.len(),
+            dropped_points: region.dropped,
+            stopped_sweeps: region.stopped.len(),
+            peak: peak.map(|p| Peak {
+                r_mm: p.radius,
+                beta_rad: p.beta,
+                fv_n: p.lift,
+                f_n: p.normal,
+            }),
+        }),
+    };
+    let mut overview = Overview::new(&["quantity", "value"]);
+    overview.push(vec![
+        "valid grasps / dropped".into(),
+        format!("{} / {}", region.points.len(), region.dropped),
+    ]);
+    overview.push(vec![
+        "envelope peak radius (mm)".into(),
+        fmt_opt(peak.map(|p| p.radius), 2),
+    ]);
+    overview.push(vec![
+        "envelope peak f_v (N)".into(),
+        fmt_opt(peak.map(|p| p.lift), 3),
+    ]);
+    overview.push(vec![
+        "grasping angle at the peak (deg)".into(),
+        fmt_opt(peak.map(|p| p.beta.to_degrees()), 1),
+    ]);
+    overview.push(vec![
+        "radii covered (mm)".into(),
+        match (
+            min_of(region.points.iter().map(|p| p.radius)),
+            max_of(region.points.iter().map(|p| p.radius)),
+        ) {
+            (Some(a), Some(b)) => format!("{} to {}", fmt(a, 1), fmt(b, 1)),
+            _ => "–".into(),
+        },
+    ]);
+    let mut out = StudyOutput::new(vec![t, env], figure(region, findings), entries(&summary));
+    out.overview = overview;
+    out.notes = notes;
+    out.stops = stops;
+    out.strict_dropped = region.strict_dropped;
+    out.tallied(tally)
+}
+
+/// Valid sphere grasps and the max-lift envelope.
+fn figure(region: &SphereRegion, findings: &[Option<Findings>]) -> Figure {
+    let mut p = Panel::new(
+        "Valid grasps and the max lifting force envelope",
+        PlotAxis::new("sphere radius r", "mm"),
+        PlotAxis::new("lifting force f_v per finger", "N"),
+    );
+    p.y.include_zero = true;
+    let grasps = pts(region.points.iter().map(|q| (q.radius, q.lift)));
+    let bent = pts(region
+        .points
+        .iter()
+        .filter(|q| q.reversed)
+        .map(|q| (q.radius, q.lift)));
+    p.curve(
+        Series::new("grasps", SeriesKind::Scatter, grasps)
+            .label(format!("valid grasps ({})", region.points.len())),
+        bent,
+    );
+    let envelope = pts(region.envelope.iter().map(|e| (e.radius, e.lift)));
+    let bent = pts(region
+        .envelope
+        .iter()
+        .zip(findings)
+        .filter(|(_, f)| f.as_ref().is_some_and(|f| f.reversed))
+        .map(|(e, _)| (e.radius, e.lift)));
+    p.curve(
+        Series::new("envelope", SeriesKind::Line, envelope).label("envelope (best b)"),
+        bent,
+    );
+    if let Some(pk) = region.peak {
+        p.series.push(
+            Series::new("peak", SeriesKind::Cross, vec![[pk.radius, pk.lift]]).label(format!(
+                "peak: r = {:.1} mm, f_v = {:.3} N, b = {:.1}°",
+                pk.radius,
+                pk.lift,
+                pk.beta.to_degrees()
+            )),
+        );
+    }
+    p.notes
+        .push(format!("{} invalid grasps dropped", region.dropped));
+    if !region.stopped.is_empty() {
+        p.notes.push(format!(
+            "{} of the angle sweeps stopped early",
+            region.stopped.len()
+        ));
+    }
+    Figure::row(
+        "Study 5: sphere grasping region (ε0 = 0.25, a = π/3, g = 20 mm, f = μF)",
+        [1000, 640],
+        vec![p],
+    )
+}
