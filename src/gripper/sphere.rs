@@ -56,7 +56,7 @@ impl SphereGrasp {
 
 /// The largest lifting force that holds a sphere (full friction, best
 /// grasping angle).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SphereLift {
     /// Sphere radius (mm).
     #[serde(rename = "radius_mm")]
@@ -70,6 +70,10 @@ pub struct SphereLift {
     /// Normal force there (N).
     #[serde(rename = "normal_force_n")]
     pub normal: f64,
+    /// An element is bent backwards there.
+    pub reversed: bool,
+    /// The grasp's validity findings.
+    pub warnings: Vec<crate::Warning>,
 }
 
 /// One grasping angle of a [`ViableAngles`] scan.
@@ -90,6 +94,10 @@ pub struct AngleSample {
     pub invalid: Option<Invalid>,
     /// The solve failure, if any.
     pub failure: Option<String>,
+    /// An element is bent backwards (false when the solve failed).
+    pub reversed: bool,
+    /// The grasp's validity findings (empty when the solve failed).
+    pub warnings: Vec<crate::Warning>,
 }
 
 /// The grasping angles that hold a sphere of radius `r` with lifting force
@@ -209,6 +217,8 @@ impl Gripper {
                         beta: sg.grasp.beta,
                         lift: sg.grasp.lift,
                         normal: sg.grasp.normal,
+                        reversed: sg.grasp.is_reversed(),
+                        warnings: sg.grasp.warnings.clone(),
                     },
                     sg.grasp,
                 ));
@@ -382,6 +392,8 @@ impl Gripper {
                     viable: sg.is_valid(),
                     invalid: sg.invalid,
                     failure: None,
+                    reversed: sg.grasp.is_reversed(),
+                    warnings: sg.grasp.warnings.clone(),
                 },
                 Some(sg.grasp),
             ),
@@ -393,6 +405,8 @@ impl Gripper {
                     viable: false,
                     invalid: None,
                     failure: Some(e.to_string()),
+                    reversed: false,
+                    warnings: Vec::new(),
                 },
                 None,
             ),

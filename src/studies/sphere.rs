@@ -10,7 +10,7 @@ use super::output::{
 use super::{section5_gripper, size_sweep, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::error::{SolveError, Warning};
-use crate::gripper::{grasping_angle_range, Grasp, Gripper, Invalid, SphereLift};
+use crate::gripper::{grasping_angle_range, Gripper, Invalid, SphereLift};
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
 #[derive(Debug, Clone, PartialEq)]
@@ -130,8 +130,8 @@ fn sphere_envelope(
     let mut best: Option<(usize, SphereLift)> = None;
     for &r in &radii {
         if let Some(e) = at(r)? {
-            if best.is_none_or(|(_, b)| e.lift > b.lift) {
-                best = Some((envelope.len(), e));
+            if best.as_ref().is_none_or(|(_, b)| e.lift > b.lift) {
+                best = Some((envelope.len(), e.clone()));
             }
             envelope.push(e);
         }
@@ -145,7 +145,7 @@ fn sphere_envelope(
         envelope[(i + 1).min(envelope.len() - 1)].radius,
     );
     let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let lift = |e: &Option<SphereLift>| e.map_or(f64::NEG_INFINITY, |e| e.lift);
+    let lift = |e: &Option<SphereLift>| e.as_ref().map_or(f64::NEG_INFINITY, |e| e.lift);
     let (mut x1, mut x2) = (b - ratio * (b - a), a + ratio * (b - a));
     let (mut e1, mut e2) = (at(x1)?, at(x2)?);
     for _ in 0..GOLDEN_STEPS {
@@ -178,55 +178,12 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     title: "Sphere grasping region",
     description: "The same gripper; grasping angle b swept over [−arctan μ, π/2), at each the grasping size swept with f = μF, r = d / (2 cos b), invalid grasps (not open, second contact, friction) dropped; the envelope is the best b at each radius (Sec. 5.2.1).",
     run,
-    empty: || output(None, &[], 0),
+    empty: || output(None, 0),
 };
 
 fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
     let region = study5_sphere_region(act, opts)?;
-    let g = section5_gripper(act, opts)?;
-    let findings = envelope_findings(&g, &region.envelope);
-    Ok(output(Some(&region), &findings, opts.angle_samples))
-}
-
-/// What a grasp of the envelope breaks: its validity findings.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Findings {
-    reversed: bool,
-    valid: bool,
-    warnings: Vec<Warning>,
-}
-
-impl Findings {
-    fn of(g: &Grasp) -> Findings {
-        Findings {
-            reversed: g.is_reversed(),
-            valid: g.is_valid(),
-            warnings: g.warnings.clone(),
-        }
-    }
-}
-
-/// The grasps of the envelope solved again at their radius and grasping
-/// angle (the envelope keeps only the numbers), each warm-started from the
-/// previous, else from the unloaded finger; `None` where the solve does not
-/// return the envelope's equilibrium (another normal force).
-pub(crate) fn envelope_findings(g: &Gripper, envelope: &[SphereLift]) -> Vec<Option<Findings>> {
-    let same = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + b.abs());
-    let mut warm: Option<Grasp> = None;
-    let mut out = Vec::with_capacity(envelope.len());
-    for e in envelope {
-        let solve = |w: Option<&Grasp>| {
-            g.sphere_grasp_at_friction_limit(0.0, e.radius, e.beta, w)
-                .ok()
-                .filter(|sg| same(sg.grasp.normal, e.normal))
-        };
-        let found = solve(warm.as_ref()).or_else(|| warm.as_ref().and_then(|_| solve(None)));
-        out.push(found.as_ref().map(|sg| Findings::of(&sg.grasp)));
-        if let Some(sg) = found {
-            warm = Some(sg.grasp);
-        }
-    }
-    out
+    Ok(output(Some(&region), opts.angle_samples))
 }
 
 const COLUMNS: [Column; 10] = [
@@ -277,13 +234,8 @@ struct Summary {
     sphere_region: Option<RegionSummary>,
 }
 
-/// The outputs of study 5 (`None`: the empty outputs); `findings` has one
-/// entry per envelope point (missing ones: not recomputed).
-pub(crate) fn output(
-    region: Option<&SphereRegion>,
-    findings: &[Option<Findings>],
-    angle_samples: usize,
-) -> StudyOutput {
+/// The outputs of study 5 (`None`: the empty outputs).
+pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> StudyOutput {
     let mut t = Table::new("study5", &COLUMNS);
     let mut env = Table::new("study5_envelope", &ENVELOPE_COLUMNS);
     let Some(region) = region else {
@@ -328,29 +280,22 @@ pub(crate) fn output(
             region.stopped.len(),
         ));
     }
-    for (i, e) in region.envelope.iter().enumerate() {
-        let lead: [Cell; 4] = [
+    for e in &region.envelope {
+        // the envelope holds valid grasps only
+        let [rev, valid, warn] = tally.grasp(e.reversed, true, &e.warnings);
+        env.push(vec![
             e.radius.into(),
             e.beta.into(),
             e.lift.into(),
             e.normal.into(),
-        ];
-        let row = match findings.get(i).and_then(Option::as_ref) {
-            Some(f) => {
-                let [rev, valid, warn] = tally.grasp(f.reversed, f.valid, &f.warnings);
-                [rev, valid, warn, "ok".into(), Cell::Empty]
-            }
-            None => [
-                Cell::Empty,
-                Cell::Empty,
-                Cell::Empty,
-                "ok".into(),
-                "findings not recomputed: the grasp did not solve again".into(),
-            ],
-        };
-        env.push(lead.into_iter().chain(row).collect());
+            rev,
+            valid,
+            warn,
+            "ok".into(),
+            Cell::Empty,
+        ]);
     }
-    let peak = region.peak;
+    let peak = region.peak.as_ref();
     let summary = Summary {
         sphere_envelope_peak_radius_mm: peak.map(|p| p.radius),
         sphere_region: Some(RegionSummary {
@@ -392,7 +337,7 @@ pub(crate) fn output(
             _ => "–".into(),
         },
     ]);
-    let mut out = StudyOutput::new(vec![t, env], figure(region, findings), entries(&summary));
+    let mut out = StudyOutput::new(vec![t, env], figure(region), entries(&summary));
     out.overview = overview;
     out.notes = notes;
     out.stops = stops;
@@ -401,7 +346,7 @@ pub(crate) fn output(
 }
 
 /// Valid sphere grasps and the max-lift envelope.
-fn figure(region: &SphereRegion, findings: &[Option<Findings>]) -> Figure {
+fn figure(region: &SphereRegion) -> Figure {
     let mut p = Panel::new(
         "Valid grasps and the max lifting force envelope",
         PlotAxis::new("sphere radius r", "mm"),
@@ -423,14 +368,13 @@ fn figure(region: &SphereRegion, findings: &[Option<Findings>]) -> Figure {
     let bent = pts(region
         .envelope
         .iter()
-        .zip(findings)
-        .filter(|(_, f)| f.as_ref().is_some_and(|f| f.reversed))
-        .map(|(e, _)| (e.radius, e.lift)));
+        .filter(|e| e.reversed)
+        .map(|e| (e.radius, e.lift)));
     p.curve(
         Series::new("envelope", SeriesKind::Line, envelope).label("envelope (best b)"),
         bent,
     );
-    if let Some(pk) = region.peak {
+    if let Some(pk) = &region.peak {
         p.series.push(
             Series::new("peak", SeriesKind::Cross, vec![[pk.radius, pk.lift]]).label(format!(
                 "peak: r = {:.1} mm, f_v = {:.3} N, b = {:.1}°",

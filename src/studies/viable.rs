@@ -9,7 +9,7 @@ use super::output::{
 use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
 use crate::error::SolveError;
-use crate::gripper::{grasping_angle_range, AngleSample, Grasp, Gripper, Invalid, ViableAngles};
+use crate::gripper::{grasping_angle_range, AngleSample, Invalid, ViableAngles};
 
 /// The sphere of study 6: radius (mm) and lifting force per finger (N).
 const SPHERE: (f64, f64) = (50.0, 0.5);
@@ -30,38 +30,12 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     title: "Viable grasping angles",
     description: "A sphere r = 50 mm needing f_v = 0.5 N per finger: the grasping angles b at which some F with 0 ≤ f ≤ μF holds it validly (Sec. 5.2.2).",
     run,
-    empty: || output(None, &[], StudyOptions::default().mu),
+    empty: || output(None, StudyOptions::default().mu),
 };
 
 fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
     let v = study6_viable_angles(act, opts)?;
-    let g = section5_gripper(act, opts)?;
-    let grasps = scan_grasps(&g, &v);
-    Ok(output(Some(&v), &grasps, opts.mu))
-}
-
-/// The grasps of the scan solved again (a scan keeps only the forces):
-/// the same solves in the same order from the same warm starts as
-/// [`Gripper::viable_angle_range`], so the same equilibria; `None` for an
-/// angle that did not solve, or (never expected) a different equilibrium.
-fn scan_grasps(g: &Gripper, v: &ViableAngles) -> Vec<Option<Grasp>> {
-    let mut warm: Option<Grasp> = None;
-    let mut out = Vec::with_capacity(v.scan.len());
-    for s in &v.scan {
-        let found = if s.failure.is_some() {
-            None
-        } else {
-            g.sphere_grasp(0.0, v.radius, v.lift, s.beta, warm.as_ref())
-                .ok()
-                .map(|sg| sg.grasp)
-                .filter(|gr| gr.normal == s.normal && gr.friction == s.friction)
-        };
-        if let Some(gr) = &found {
-            warm = Some(gr.clone());
-        }
-        out.push(found);
-    }
-    out
+    Ok(output(Some(&v), opts.mu))
 }
 
 const COLUMNS: [Column; 11] = [
@@ -94,9 +68,8 @@ struct Summary {
     sphere_viable_angles: Option<ViableSummary>,
 }
 
-/// The outputs of study 6 (`None`: the empty outputs); `grasps` has one
-/// entry per scanned angle.
-pub(crate) fn output(v: Option<&ViableAngles>, grasps: &[Option<Grasp>], mu: f64) -> StudyOutput {
+/// The outputs of study 6 (`None`: the empty outputs).
+pub(crate) fn output(v: Option<&ViableAngles>, mu: f64) -> StudyOutput {
     let mut t = Table::new("study6", &COLUMNS);
     let Some(v) = v else {
         let summary = Summary {
@@ -111,16 +84,15 @@ pub(crate) fn output(v: Option<&ViableAngles>, grasps: &[Option<Grasp>], mu: f64
     };
     let mut tally = Tally::default();
     let mut failed = 0;
-    for (i, s) in v.scan.iter().enumerate() {
+    for s in &v.scan {
         let solved = s.failure.is_none();
         failed += usize::from(!solved);
         let ratio = (solved && s.normal != 0.0).then(|| s.friction / s.normal);
         let solved_num = |x: f64| if solved { Cell::Num(x) } else { Cell::Empty };
-        let findings: [Cell; 3] = match grasps.get(i).and_then(Option::as_ref) {
-            Some(g) => tally.grasp(g.is_reversed(), s.invalid.is_none(), &g.warnings),
-            // not solved again: the scan's own verdict, no findings
-            None if solved => [Cell::Empty, s.invalid.is_none().into(), Cell::Empty],
-            None => [Cell::Empty, Cell::Empty, Cell::Empty],
+        let findings: [Cell; 3] = if solved {
+            tally.grasp(s.reversed, s.invalid.is_none(), &s.warnings)
+        } else {
+            [Cell::Empty, Cell::Empty, Cell::Empty]
         };
         let mut row = vec![
             s.beta.into(),
@@ -175,7 +147,7 @@ pub(crate) fn output(v: Option<&ViableAngles>, grasps: &[Option<Grasp>], mu: f64
             "{failed} scanned angles did not solve (status 'failed' in study6.csv)"
         ));
     }
-    let mut out = StudyOutput::new(vec![t], figure(v, grasps, mu), entries(&summary));
+    let mut out = StudyOutput::new(vec![t], figure(v, mu), entries(&summary));
     out.overview = overview;
     out.notes = notes;
     out.strict_dropped = v
@@ -188,19 +160,14 @@ pub(crate) fn output(v: Option<&ViableAngles>, grasps: &[Option<Grasp>], mu: f64
 
 /// Friction needed against the grasping angle, with the viable band; the
 /// normal force.
-fn figure(v: &ViableAngles, grasps: &[Option<Grasp>], mu: f64) -> Figure {
+fn figure(v: &ViableAngles, mu: f64) -> Figure {
     let solved: Vec<(usize, &AngleSample)> = v
         .scan
         .iter()
         .enumerate()
         .filter(|(_, s)| s.failure.is_none())
         .collect();
-    let bent = |i: usize| {
-        grasps
-            .get(i)
-            .and_then(Option::as_ref)
-            .is_some_and(Grasp::is_reversed)
-    };
+    let bent = |i: usize| v.scan[i].reversed;
     let ratio =
         |s: &AngleSample| (s.normal > 0.0).then(|| [s.beta.to_degrees(), s.friction / s.normal]);
     let (lo, hi) = (-1.0, (3.0 * mu).max(2.0));
