@@ -77,11 +77,11 @@ impl<M: ElementModel> Element<M> {
         M::end_gradient(k, self.length)
     }
 
-    /// End point and slope with gradients and Hessians.
+    /// The gradients and Hessians of the end point and slope (no values).
     #[inline]
     #[allow(clippy::type_complexity)]
-    pub fn end_hessian(&self, k: &M::Coeffs) -> ([f64; 3], [M::Coeffs; 3], [M::Upper; 3]) {
-        M::end_hessian(k, self.length)
+    pub fn end_derivatives(&self, k: &M::Coeffs) -> ([M::Coeffs; 3], [M::Upper; 3]) {
+        M::end_derivatives(k, self.length)
     }
 
     /// End point and the end tangent's direction `[Xe, Ze, cos eta, sin eta]`
@@ -89,7 +89,8 @@ impl<M: ElementModel> Element<M> {
     #[inline]
     pub fn frame(&self, k: &M::Coeffs) -> [f64; 4] {
         let [xe, ze, dx, dz] = M::frame(k, self.length);
-        let r = dx.hypot(dz);
+        // the tangent is of order 1: no overflow for hypot to guard against
+        let r = (dx * dx + dz * dz).sqrt();
         if r > 0.0 {
             [xe, ze, dx / r, dz / r]
         } else {

@@ -110,6 +110,10 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
         k: &Self::Coeffs,
         length: f64,
     ) -> ([f64; 3], [Self::Coeffs; 3], [Self::Upper; 3]);
+    /// The gradients and Hessians of `[Xe, Ze, eta]`, without the values
+    /// (the chain's Hessian needs no `atan2`).
+    #[allow(clippy::type_complexity)]
+    fn end_derivatives(k: &Self::Coeffs, length: f64) -> ([Self::Coeffs; 3], [Self::Upper; 3]);
     /// `[Xe, Ze, dx, dz]`.
     fn frame(k: &Self::Coeffs, length: f64) -> [f64; 4];
     /// The mid-plane point at local `x`, in the element's frame.

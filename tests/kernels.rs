@@ -1423,6 +1423,25 @@ fn check_end<M: Fields>(k: &M::Coeffs, l: f64, label: &str, worst: &mut [f64; 4]
     let v = M::end(k, l);
     let (vg, gg) = M::end_gradient(k, l);
     let (vh, g, hu) = M::end_hessian(k, l);
+    // the values-free kernel the chain's Hessian uses: the same derivatives
+    // (hu is checked against finite differences below)
+    let (dg, dh) = M::end_derivatives(k, l);
+    for o in 0..3 {
+        let gs = g[o].as_ref().iter().fold(1e-300f64, |s, x| s.max(x.abs()));
+        let hs = hu[o].as_ref().iter().fold(1e-300f64, |s, x| s.max(x.abs()));
+        for (a, b) in dg[o].as_ref().iter().zip(g[o].as_ref()) {
+            assert!(
+                (a - b).abs() <= 1e-14 * gs,
+                "{label}: end_derivatives gradient {a:e} vs {b:e}"
+            );
+        }
+        for (a, b) in dh[o].as_ref().iter().zip(hu[o].as_ref()) {
+            assert!(
+                (a - b).abs() <= 1e-14 * hs,
+                "{label}: end_derivatives Hessian {a:e} vs {b:e}"
+            );
+        }
+    }
     let (want, want_frame) = end_closed_form::<M>(k, l);
     let want_g = end_gradient_closed_form::<M>(k, l);
     // typical sizes: a step that moves the end as much as the others

@@ -1111,6 +1111,54 @@ pub fn end_gradient(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3]) {
 - `[1]` Ze = `L^2*c2`
 - `[2]` eta = `atan2(2*L*c2, 1 + a1 + 3*a3*L^2)`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn end_derivatives(k: &[f64; 4], L: f64) -> ([[f64; 4]; 3], [[f64; 10]; 3]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = c2 * c2;
+    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp0 * tmp0;
+    let tmp8 = tmp7 * L;
+    (
+        [
+            [L, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, tmp0],
+            [
+                -(2.0 * L * c2 / tmp5),
+                -(6.0 * tmp1 * c2 / tmp5),
+                0.0,
+                2.0 * L * tmp2 / tmp5,
+            ],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [
+                4.0 * L * c2 * tmp2 / tmp6,
+                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                0.0,
+                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
+                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                0.0,
+                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                0.0,
+                0.0,
+                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` eta = `atan2(2*L*c2, 1 + a1 + 3*a3*L^2)`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn end_hessian(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]; 3]) {
     let a1 = k[0];
@@ -1197,6 +1245,31 @@ pub fn frame_gradient(k: &[f64; 4], L: f64) -> ([f64; 4], [[f64; 4]; 4]) {
 - `[2]` dx = `1 + a1 + 3*a3*L^2`
 - `[3]` dz = `2*L*c2`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn frame_derivatives(_k: &[f64; 4], L: f64) -> ([[f64; 4]; 4], [[f64; 10]; 4]) {
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    (
+        [
+            [L, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, tmp0],
+            [1.0, 3.0 * tmp0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 2.0 * L],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` dx = `1 + a1 + 3*a3*L^2`
+- `[3]` dz = `2*L*c2`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn frame_hessian(k: &[f64; 4], L: f64) -> ([f64; 4], [[f64; 4]; 4], [[f64; 10]; 4]) {
     let a1 = k[0];
@@ -1248,6 +1321,22 @@ pub fn midplane_gradient(k: &[f64; 4], x: f64) -> ([f64; 2], [[f64; 4]; 2]) {
 - `[0]` X = `x + a1*x + a3*x^3`
 - `[1]` Z = `c2*x^2`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn midplane_derivatives(_k: &[f64; 4], x: f64) -> ([[f64; 4]; 2], [[f64; 10]; 2]) {
+    let tmp0 = x * x;
+    let tmp1 = tmp0 * x;
+    (
+        [[x, tmp1, 0.0, 0.0], [0.0, 0.0, 0.0, tmp0]],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `midplane`. Outputs:
+- `[0]` X = `x + a1*x + a3*x^3`
+- `[1]` Z = `c2*x^2`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn midplane_hessian(
     k: &[f64; 4],
@@ -1290,6 +1379,21 @@ pub fn tangent_gradient(k: &[f64; 4], x: f64) -> ([f64; 2], [[f64; 4]; 2]) {
     (
         [1.0 + a1 + 3.0 * a3 * tmp0, 2.0 * c2 * x],
         [[1.0, 3.0 * tmp0, 0.0, 0.0], [0.0, 0.0, 0.0, 2.0 * x]],
+    )
+}
+/**Point kernel `tangent`. Outputs:
+- `[0]` dx = `1 + a1 + 3*a3*x^2`
+- `[1]` dz = `2*c2*x`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn tangent_derivatives(_k: &[f64; 4], x: f64) -> ([[f64; 4]; 2], [[f64; 10]; 2]) {
+    let tmp0 = x * x;
+    (
+        [[1.0, 3.0 * tmp0, 0.0, 0.0], [0.0, 0.0, 0.0, 2.0 * x]],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
     )
 }
 /**Point kernel `tangent`. Outputs:
@@ -1355,6 +1459,59 @@ pub fn curvature_gradient(k: &[f64; 4], x: f64) -> ([f64; 1], [[f64; 4]; 1]) {
                 -6.0 * c2 * tmp0 / tmp7 - 9.0 * tmp0 * tmp1 * tmp2 / tmp9,
                 0.0,
                 (-12.0 * a3 * tmp0 + 2.0 * tmp1) / tmp7 - 12.0 * c2 * tmp0 * tmp2 / tmp9,
+            ],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 12*a3*c2*x^2)*sqrt(4*c2^2*x^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn curvature_derivatives(k: &[f64; 4], x: f64) -> ([[f64; 4]; 1], [[f64; 10]; 1]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = c2 * c2;
+    let tmp1 = x * x;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp1;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
+    let tmp5 = tmp4 * tmp4;
+    let tmp6 = tmp5 * tmp4;
+    let tmp7 = 2.0 * c2 * tmp2 - 12.0 * a3 * c2 * tmp1;
+    let tmp8 = tmp5 * tmp5;
+    let tmp9 = tmp8 * tmp4;
+    let tmp10 = -12.0 * a3 * tmp1 + 2.0 * tmp2;
+    let tmp11 = tmp6 * tmp6;
+    let tmp12 = tmp11 * tmp4;
+    let tmp13 = tmp1 * tmp1;
+    (
+        [
+            [
+                2.0 * c2 / tmp6 - 3.0 * tmp2 * tmp7 / tmp9,
+                -6.0 * c2 * tmp1 / tmp6 - 9.0 * tmp1 * tmp2 * tmp7 / tmp9,
+                0.0,
+                tmp10 / tmp6 - 12.0 * c2 * tmp1 * tmp7 / tmp9,
+            ],
+        ],
+        [
+            [
+                -12.0 * c2 * tmp2 / tmp9 - 3.0 * tmp7 / tmp9
+                    + 15.0 * tmp3 * tmp7 / tmp12,
+                -9.0 * tmp1 * tmp7 / tmp9 + 45.0 * tmp1 * tmp3 * tmp7 / tmp12,
+                0.0,
+                2.0 / tmp6 - 24.0 * tmp0 * tmp1 / tmp9 - 3.0 * tmp2 * tmp10 / tmp9
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp7 / tmp12,
+                108.0 * c2 * tmp13 * tmp2 / tmp9 - 27.0 * tmp13 * tmp7 / tmp9
+                    + 135.0 * tmp13 * tmp3 * tmp7 / tmp12,
+                0.0,
+                -6.0 * tmp1 / tmp6 + 72.0 * tmp0 * tmp13 / tmp9
+                    - 9.0 * tmp1 * tmp2 * tmp10 / tmp9
+                    + 180.0 * c2 * tmp13 * tmp2 * tmp7 / tmp12,
+                0.0,
+                0.0,
+                -12.0 * tmp1 * tmp7 / tmp9 - 24.0 * c2 * tmp1 * tmp10 / tmp9
+                    + 240.0 * tmp0 * tmp13 * tmp7 / tmp12,
             ],
         ],
     )
@@ -1439,6 +1596,22 @@ pub fn strain_gradient(k: &[f64; 4], x: f64, z: f64) -> ([f64; 1], [[f64; 4]; 1]
     (
         [a1 + 3.0 * a3 * tmp0 + 2.0 * tmp1 * tmp0 - 2.0 * c2 * z],
         [[1.0, 3.0 * tmp0, 0.0, 4.0 * c2 * tmp0 - 2.0 * z]],
+    )
+}
+/**Point kernel `strain`. Outputs:
+- `[0]` eps_x = `a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn strain_derivatives(
+    k: &[f64; 4],
+    x: f64,
+    z: f64,
+) -> ([[f64; 4]; 1], [[f64; 10]; 1]) {
+    let c2 = k[3];
+    let tmp0 = x * x;
+    (
+        [[1.0, 3.0 * tmp0, 0.0, 4.0 * c2 * tmp0 - 2.0 * z]],
+        [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.0 * tmp0]],
     )
 }
 /**Point kernel `strain`. Outputs:
@@ -1543,6 +1716,11 @@ impl super::ElementModel for Ccm {
     ) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]; 3]) {
         let (v, g, h) = end_hessian(k, length);
         ([v[0], v[1], v[2]], [g[0], g[1], g[2]], [h[0], h[1], h[2]])
+    }
+    #[inline]
+    fn end_derivatives(k: &[f64; 4], length: f64) -> ([[f64; 4]; 3], [[f64; 10]; 3]) {
+        let (g, h) = end_derivatives(k, length);
+        ([g[0], g[1], g[2]], [h[0], h[1], h[2]])
     }
     #[inline]
     fn frame(k: &[f64; 4], length: f64) -> [f64; 4] {

@@ -2275,6 +2275,61 @@ pub fn end_gradient(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3]) {
 - `[1]` Ze = `L^2*c2`
 - `[2]` eta = `atan2(2*L*c2, 1 + a1 + 2*a2*L + 3*L^2*a3)`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn end_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) {
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let c2 = k[4];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 2.0 * a2 * L + 3.0 * tmp0 * a3;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = c2 * c2;
+    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp0 * tmp0;
+    let tmp8 = tmp7 * L;
+    (
+        [
+            [L, tmp0, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, tmp0],
+            [
+                -(2.0 * L * c2 / tmp5),
+                -(4.0 * tmp0 * c2 / tmp5),
+                -(6.0 * tmp1 * c2 / tmp5),
+                0.0,
+                2.0 * L * tmp2 / tmp5,
+            ],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [
+                4.0 * L * c2 * tmp2 / tmp6,
+                8.0 * tmp0 * c2 * tmp2 / tmp6,
+                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                0.0,
+                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
+                16.0 * tmp1 * c2 * tmp2 / tmp6,
+                24.0 * tmp7 * c2 * tmp2 / tmp6,
+                0.0,
+                -4.0 * tmp0 / tmp5 + 32.0 * tmp7 * tmp4 / tmp6,
+                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                0.0,
+                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                0.0,
+                0.0,
+                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a2*L^2 + L^3*a3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` eta = `atan2(2*L*c2, 1 + a1 + 2*a2*L + 3*L^2*a3)`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]; 3]) {
     let a1 = k[0];
@@ -2381,6 +2436,32 @@ pub fn frame_gradient(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4]) {
 - `[2]` dx = `1 + a1 + 2*a2*L + 3*L^2*a3`
 - `[3]` dz = `2*L*c2`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn frame_derivatives(_k: &[f64; 5], L: f64) -> ([[f64; 5]; 4], [[f64; 15]; 4]) {
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 2.0 * L;
+    (
+        [
+            [L, tmp0, tmp1, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, tmp0],
+            [1.0, tmp2, 3.0 * tmp0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, tmp2],
+        ],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a2*L^2 + L^3*a3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` dx = `1 + a1 + 2*a2*L + 3*L^2*a3`
+- `[3]` dz = `2*L*c2`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn frame_hessian(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4], [[f64; 15]; 4]) {
     let a1 = k[0];
@@ -2444,6 +2525,22 @@ pub fn midplane_gradient(k: &[f64; 5], x: f64) -> ([f64; 2], [[f64; 5]; 2]) {
 - `[0]` X = `x + a1*x + a2*x^2 + a3*x^3`
 - `[1]` Z = `c2*x^2`*/
 ///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn midplane_derivatives(_k: &[f64; 5], x: f64) -> ([[f64; 5]; 2], [[f64; 15]; 2]) {
+    let tmp0 = x * x;
+    let tmp1 = tmp0 * x;
+    (
+        [[x, tmp0, tmp1, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, tmp0]],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `midplane`. Outputs:
+- `[0]` X = `x + a1*x + a2*x^2 + a3*x^3`
+- `[1]` Z = `c2*x^2`*/
+///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn midplane_hessian(
     k: &[f64; 5],
@@ -2490,6 +2587,22 @@ pub fn tangent_gradient(k: &[f64; 5], x: f64) -> ([f64; 2], [[f64; 5]; 2]) {
     (
         [1.0 + a1 + 2.0 * a2 * x + 3.0 * a3 * tmp0, 2.0 * c2 * x],
         [[1.0, tmp1, 3.0 * tmp0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, tmp1]],
+    )
+}
+/**Point kernel `tangent`. Outputs:
+- `[0]` dx = `1 + a1 + 2*a2*x + 3*a3*x^2`
+- `[1]` dz = `2*c2*x`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn tangent_derivatives(_k: &[f64; 5], x: f64) -> ([[f64; 5]; 2], [[f64; 15]; 2]) {
+    let tmp0 = 2.0 * x;
+    let tmp1 = x * x;
+    (
+        [[1.0, tmp0, 3.0 * tmp1, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, tmp0]],
+        [
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
     )
 }
 /**Point kernel `tangent`. Outputs:
@@ -2561,6 +2674,72 @@ pub fn curvature_gradient(k: &[f64; 5], x: f64) -> ([f64; 1], [[f64; 5]; 1]) {
                 -6.0 * c2 * tmp0 / tmp8 - 9.0 * tmp0 * tmp1 * tmp3 / tmp10,
                 0.0,
                 (2.0 * tmp1 - 2.0 * x * tmp2) / tmp8 - 12.0 * c2 * tmp0 * tmp3 / tmp10,
+            ],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `(2*c2*(1 + a1 + 2*a2*x + 3*a3*x^2) - 2*c2*x*(2*a2 + 6*a3*x))*sqrt(4*c2^2*x^2 + (1 + a1 + 2*a2*x + 3*a3*x^2)^2)^(-3)`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn curvature_derivatives(k: &[f64; 5], x: f64) -> ([[f64; 5]; 1], [[f64; 15]; 1]) {
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let c2 = k[4];
+    let tmp0 = c2 * c2;
+    let tmp1 = x * x;
+    let tmp2 = 1.0 + a1 + 2.0 * a2 * x + 3.0 * a3 * tmp1;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
+    let tmp5 = tmp4 * tmp4;
+    let tmp6 = tmp5 * tmp4;
+    let tmp7 = 2.0 * a2 + 6.0 * a3 * x;
+    let tmp8 = 2.0 * c2 * tmp2 - 2.0 * c2 * x * tmp7;
+    let tmp9 = tmp5 * tmp5;
+    let tmp10 = tmp9 * tmp4;
+    let tmp11 = 2.0 * tmp2 - 2.0 * x * tmp7;
+    let tmp12 = tmp6 * tmp6;
+    let tmp13 = tmp12 * tmp4;
+    let tmp14 = -(12.0 * tmp1 * tmp8 / tmp10);
+    let tmp15 = tmp1 * x;
+    let tmp16 = tmp1 * tmp1;
+    (
+        [
+            [
+                2.0 * c2 / tmp6 - 3.0 * tmp2 * tmp8 / tmp10,
+                -(6.0 * x * tmp2 * tmp8 / tmp10),
+                -6.0 * c2 * tmp1 / tmp6 - 9.0 * tmp1 * tmp2 * tmp8 / tmp10,
+                0.0,
+                tmp11 / tmp6 - 12.0 * c2 * tmp1 * tmp8 / tmp10,
+            ],
+        ],
+        [
+            [
+                -12.0 * c2 * tmp2 / tmp10 - 3.0 * tmp8 / tmp10
+                    + 15.0 * tmp3 * tmp8 / tmp13,
+                -12.0 * c2 * x * tmp2 / tmp10 - 6.0 * x * tmp8 / tmp10
+                    + 30.0 * x * tmp3 * tmp8 / tmp13,
+                -9.0 * tmp1 * tmp8 / tmp10 + 45.0 * tmp1 * tmp3 * tmp8 / tmp13,
+                0.0,
+                2.0 / tmp6 - 24.0 * tmp0 * tmp1 / tmp10 - 3.0 * tmp2 * tmp11 / tmp10
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp8 / tmp13,
+                tmp14 + 60.0 * tmp1 * tmp3 * tmp8 / tmp13,
+                -18.0 * tmp15 * tmp8 / tmp10 + 36.0 * c2 * tmp15 * tmp2 / tmp10
+                    + 90.0 * tmp15 * tmp3 * tmp8 / tmp13,
+                0.0,
+                -6.0 * x * tmp2 * tmp11 / tmp10
+                    + 120.0 * c2 * tmp15 * tmp2 * tmp8 / tmp13,
+                108.0 * c2 * tmp16 * tmp2 / tmp10 - 27.0 * tmp16 * tmp8 / tmp10
+                    + 135.0 * tmp16 * tmp3 * tmp8 / tmp13,
+                0.0,
+                -6.0 * tmp1 / tmp6 + 72.0 * tmp0 * tmp16 / tmp10
+                    - 9.0 * tmp1 * tmp2 * tmp11 / tmp10
+                    + 180.0 * c2 * tmp16 * tmp2 * tmp8 / tmp13,
+                0.0,
+                0.0,
+                tmp14 - 24.0 * c2 * tmp1 * tmp11 / tmp10
+                    + 240.0 * tmp0 * tmp16 * tmp8 / tmp13,
             ],
         ],
     )
@@ -2660,6 +2839,40 @@ pub fn strain_gradient(k: &[f64; 5], x: f64, z: f64) -> ([f64; 1], [[f64; 5]; 1]
     (
         [a1 + 2.0 * a2 * x + 3.0 * a3 * tmp0 + 2.0 * tmp1 * tmp0 - 2.0 * c2 * z],
         [[1.0, 2.0 * x, 3.0 * tmp0, 0.0, 4.0 * c2 * tmp0 - 2.0 * z]],
+    )
+}
+/**Point kernel `strain`. Outputs:
+- `[0]` eps_x = `a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn strain_derivatives(
+    k: &[f64; 5],
+    x: f64,
+    z: f64,
+) -> ([[f64; 5]; 1], [[f64; 15]; 1]) {
+    let c2 = k[4];
+    let tmp0 = x * x;
+    (
+        [[1.0, 2.0 * x, 3.0 * tmp0, 0.0, 4.0 * c2 * tmp0 - 2.0 * z]],
+        [
+            [
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                0.0,
+                4.0 * tmp0,
+            ],
+        ],
     )
 }
 /**Point kernel `strain`. Outputs:
@@ -2785,6 +2998,11 @@ impl super::ElementModel for Quad {
     ) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]; 3]) {
         let (v, g, h) = end_hessian(k, length);
         ([v[0], v[1], v[2]], [g[0], g[1], g[2]], [h[0], h[1], h[2]])
+    }
+    #[inline]
+    fn end_derivatives(k: &[f64; 5], length: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) {
+        let (g, h) = end_derivatives(k, length);
+        ([g[0], g[1], g[2]], [h[0], h[1], h[2]])
     }
     #[inline]
     fn frame(k: &[f64; 5], length: f64) -> [f64; 4] {

@@ -229,7 +229,7 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             g[n * i..n * i + n].copy_from_slice(gi.as_ref());
             self.blk[i] = hi;
             if loaded {
-                let (_, eg, eh) = e.end_hessian(&self.k[i]);
+                let (eg, eh) = e.end_derivatives(&self.k[i]);
                 self.end_g[i] = eg;
                 self.end_h[i] = eh;
             }

@@ -315,6 +315,7 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
     let (end_v, end_o) = role_call(spec, "end", "value");
     let (end_g, _) = role_call(spec, "end", "gradient");
     let (end_h, _) = role_call(spec, "end", "hessian");
+    let (end_d, _) = role_call(spec, "end", "derivatives");
     let (frame_v, frame_o) = role_call(spec, "frame", "value");
     let (mid_v, mid_o) = role_call(spec, "midplane", "value");
     let (tan_v, tan_o) = role_call(spec, "tangent", "value");
@@ -406,6 +407,12 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             fn end_hessian(k: &[f64; #nu], length: f64) -> ([f64; 3], [[f64; #nu]; 3], [[f64; #nh]; 3]) {
                 let (v, g, h) = #end_h;
                 ([#(v[#idx3]),*], [#(g[#idx3]),*], [#(h[#idx3]),*])
+            }
+
+            #[inline]
+            fn end_derivatives(k: &[f64; #nu], length: f64) -> ([[f64; #nu]; 3], [[f64; #nh]; 3]) {
+                let (g, h) = #end_d;
+                ([#(g[#idx3]),*], [#(h[#idx3]),*])
             }
 
             #[inline]

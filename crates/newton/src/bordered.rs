@@ -14,8 +14,8 @@
 //! by block elimination on the problem's own factorisation of `H`
 //! ([`LinearSystem`], symmetric pivots, so `H` may be indefinite, as past a
 //! limit point in load, which a displacement target passes smoothly):
-//! `a = -H^-1 g`, `b = -H^-1 g_lambda`, `dlambda = -(c + c_x.a) / (c_lambda
-//! + c_x.b)`, `dx = a + b dlambda`, followed by one step of iterative
+//! `a = -H^-1 g`, `b = -H^-1 g_lambda`,
+//! `dlambda = -(c + c_x.a) / (c_lambda + c_x.b)`, `dx = a + b dlambda`, followed by one step of iterative
 //! refinement on the whole bordered system (with `H` applied exactly), which
 //! recovers the accuracy the elimination loses when `H` is nearly singular.
 //! The solver holds no `n x n` matrix: work and storage are those of the
@@ -83,8 +83,10 @@ pub trait Bordered: LinearSystem {
     fn dim(&self) -> usize;
     /// Fills every field of `out` (whose buffers already have the right
     /// sizes) at `(x, lambda)` and keeps `H` there. Returns `false` if the
-    /// point cannot be evaluated; non-finite entries are also detected by
-    /// the solver.
+    /// point cannot be evaluated. Non-finite entries of `out` are detected
+    /// by the solver (the point is backtracked from); a non-finite `H` is
+    /// detected when it is factorised and ends the solve with
+    /// [`Termination::NonFinite`].
     fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool;
 }
 
@@ -215,11 +217,19 @@ impl BorderedNewton {
 
     /// Solves the bordered system at the problem's current evaluation
     /// (`self.cur`) for the Newton step: `dx` in `self.dx`, returns
-    /// `dlambda`; `None` when `H` cannot be factorised or the step is not
-    /// finite.
-    fn step<P: Bordered + ?Sized>(&mut self, p: &mut P, rep: &mut Report) -> Option<f64> {
+    /// `dlambda`; `Err(NonFinite)` when `H` holds a non-finite entry,
+    /// `Err(Singular)` when it cannot be factorised otherwise or the step
+    /// is not finite.
+    fn step<P: Bordered + ?Sized>(
+        &mut self,
+        p: &mut P,
+        rep: &mut Report,
+    ) -> Result<f64, Termination> {
         rep.factorizations += 1;
-        self.inertia = Some(p.factor(0.0, PivotKind::Symmetric).ok()?);
+        self.inertia = Some(p.factor(0.0, PivotKind::Symmetric).map_err(|e| match e {
+            crate::FactorError::NonFinite { .. } => Termination::NonFinite,
+            _ => Termination::Singular,
+        })?);
         let e = &self.cur;
         for (a, g) in self.a.iter_mut().zip(&e.g) {
             *a = -g;
@@ -247,7 +257,11 @@ impl BorderedNewton {
             *d += r + b * ddl;
         }
         dl += ddl;
-        (dl.is_finite() && all_finite(&self.dx)).then_some(dl)
+        if dl.is_finite() && all_finite(&self.dx) {
+            Ok(dl)
+        } else {
+            Err(Termination::Singular)
+        }
     }
 
     /// Solves `g(x, lambda) = 0, c(x, lambda) = 0` for `x` and `lambda`
@@ -318,9 +332,12 @@ impl BorderedNewton {
                 rep.reason = Termination::MaxIterations;
                 break;
             }
-            let Some(dl) = self.step(p, &mut rep) else {
-                rep.reason = Termination::Singular;
-                break;
+            let dl = match self.step(p, &mut rep) {
+                Ok(dl) => dl,
+                Err(reason) => {
+                    rep.reason = reason;
+                    break;
+                }
             };
             // Backtracking on phi along the Newton direction (phi'(0) = -2 phi).
             let dphi0 = -2.0 * phi;

@@ -35,7 +35,7 @@ impl DenseError {
         }
     }
 }
-use faer::linalg::cholesky::llt;
+use faer::linalg::cholesky::{lblt, llt};
 use faer::{MatMut, MatRef, Par, Side};
 
 /// Cholesky factorisation `A = L L^T` in place (lower triangle).
@@ -327,6 +327,103 @@ impl FaerCholesky {
         let lm = MatRef::from_column_major_slice(l, n, n);
         let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
         llt::solve::solve_in_place(lm, rhs, Par::Seq, MemStack::new(&mut self.mem));
+    }
+}
+
+/// A dense symmetric-indefinite factorisation `P A Pᵀ = L B Lᵀ`
+/// (faer's Bunch-Kaufman, `B` block diagonal with 1x1 and 2x2 blocks)
+/// whose scratch and pivots are allocated once: factorising gives the
+/// inertia (Sylvester's law: that of `B`), and neither factorising nor
+/// solving allocates.
+pub(crate) struct FaerLblt {
+    n: usize,
+    subdiag: Vec<f64>,
+    perm: Vec<usize>,
+    perm_inv: Vec<usize>,
+    mem: MemBuffer,
+}
+
+impl FaerLblt {
+    pub(crate) fn new(n: usize) -> Self {
+        let req =
+            lblt::factor::cholesky_in_place_scratch::<usize, f64>(n, Par::Seq, Default::default())
+                .or(lblt::solve::solve_in_place_scratch::<usize, f64>(
+                    n,
+                    1,
+                    Par::Seq,
+                ));
+        Self {
+            n,
+            subdiag: vec![0.0; n],
+            perm: vec![0; n],
+            perm_inv: vec![0; n],
+            mem: MemBuffer::new(req),
+        }
+    }
+
+    /// Factorises the symmetric matrix `a` (column-major, lower triangle
+    /// read) in place; returns the number of negative eigenvalues, or
+    /// `Err(i)` for the first exactly singular (or non-finite) pivot block.
+    pub(crate) fn factor(&mut self, a: &mut [f64]) -> Result<usize, usize> {
+        let n = self.n;
+        let m = MatMut::from_column_major_slice_mut(a, n, n);
+        let sub = faer::diag::DiagMut::from_slice_mut(&mut self.subdiag);
+        lblt::factor::cholesky_in_place(
+            m,
+            sub,
+            &mut self.perm,
+            &mut self.perm_inv,
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        );
+        let d = |i: usize| a[i * (n + 1)];
+        let mut negative = 0;
+        let mut i = 0;
+        while i < n {
+            let s = self.subdiag[i];
+            if s != 0.0 && i + 1 < n {
+                // a 2x2 block [d_i s; s d_i+1]
+                let det = d(i) * d(i + 1) - s * s;
+                if !(det.is_finite() && det != 0.0) {
+                    return Err(i);
+                }
+                negative += if det < 0.0 {
+                    1
+                } else if d(i) + d(i + 1) < 0.0 {
+                    2
+                } else {
+                    0
+                };
+                i += 2;
+            } else {
+                let di = d(i);
+                if !(di.is_finite() && di != 0.0) {
+                    return Err(i);
+                }
+                negative += usize::from(di < 0.0);
+                i += 1;
+            }
+        }
+        Ok(negative)
+    }
+
+    /// Solves with the factor produced by [`Self::factor`].
+    pub(crate) fn solve(&mut self, l: &[f64], b: &mut [f64]) {
+        let n = self.n;
+        let lm = MatRef::from_column_major_slice(l, n, n);
+        let rhs = MatMut::from_column_major_slice_mut(b, n, 1);
+        let perm = faer::perm::PermRef::new_checked(&self.perm, &self.perm_inv, n);
+        lblt::solve::solve_in_place_with_conj(
+            lm,
+            lm.diagonal(),
+            faer::diag::DiagRef::from_slice(&self.subdiag),
+            faer::Conj::No,
+            perm,
+            rhs,
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+        );
     }
 }
 

@@ -14,7 +14,7 @@
 //! and report [`Termination::NonFinite`](crate::Termination::NonFinite) or
 //! backtrack, they never return a non-finite iterate.
 
-use crate::dense::{cholesky_in_place, cholesky_solve, lu_in_place, lu_solve, FaerCholesky};
+use crate::dense::{cholesky_in_place, cholesky_solve, FaerCholesky, FaerLblt};
 use crate::linear::{FactorError, Inertia};
 use crate::options::LinearBackend;
 use crate::semiseparable::PivotKind;
@@ -74,10 +74,10 @@ pub struct DenseMatrix {
     backend: LinearBackend,
     h: Vec<f64>,
     l: Vec<f64>,
-    perm: Vec<usize>,
-    /// LU (not Cholesky) in `l` after a symmetric factorisation.
-    lu: bool,
+    /// `L B Lᵀ` (not Cholesky) in `l` after a symmetric factorisation.
+    indefinite: bool,
     faer: FaerCholesky,
+    lblt: FaerLblt,
 }
 
 impl DenseMatrix {
@@ -89,9 +89,9 @@ impl DenseMatrix {
             backend,
             h: vec![0.0; n * n],
             l: vec![0.0; n * n],
-            perm: vec![0; n],
-            lu: false,
+            indefinite: false,
             faer: FaerCholesky::new(if backend == LinearBackend::Faer { n } else { 0 }),
+            lblt: FaerLblt::new(n),
         }
     }
 
@@ -137,7 +137,7 @@ impl LinearSystem for DenseMatrix {
                     self.l[r.clone()].copy_from_slice(&self.h[r]);
                     self.l[j * (n + 1)] += tau;
                 }
-                self.lu = false;
+                self.indefinite = false;
                 let ok = match self.backend {
                     LinearBackend::Faer => self.faer.factor(&mut self.l).is_ok(),
                     _ => cholesky_in_place(n, &mut self.l).is_ok(),
@@ -164,11 +164,12 @@ impl LinearSystem for DenseMatrix {
                 if self.l.iter().any(|v| !v.is_finite()) {
                     return Err(FactorError::NonFinite { block: 0 });
                 }
-                let negative = crate::dense::negative_eigenvalues(n, &self.l)
-                    .ok_or(FactorError::NoConvergence { block: 0 })?;
-                lu_in_place(n, &mut self.l, &mut self.perm)
-                    .map_err(|e| FactorError::Singular { block: e.index() })?;
-                self.lu = true;
+                // Bunch-Kaufman: the inertia without an eigenvalue solve
+                let negative = self
+                    .lblt
+                    .factor(&mut self.l)
+                    .map_err(|block| FactorError::Singular { block })?;
+                self.indefinite = true;
                 Ok(Inertia {
                     positive: n - negative,
                     negative,
@@ -179,8 +180,8 @@ impl LinearSystem for DenseMatrix {
 
     fn solve(&mut self, b: &mut [f64]) {
         let n = self.n;
-        if self.lu {
-            lu_solve(n, &self.l, &self.perm, b);
+        if self.indefinite {
+            self.lblt.solve(&self.l, b);
             return;
         }
         match self.backend {
@@ -192,17 +193,19 @@ impl LinearSystem for DenseMatrix {
     fn apply(&self, x: &[f64], out: &mut [f64]) {
         let n = self.n;
         // the lower triangle is authoritative
-        for i in 0..n {
-            let mut s = 0.0;
-            for j in 0..n {
-                let v = if i >= j {
-                    self.h[i + n * j]
-                } else {
-                    self.h[j + n * i]
-                };
-                s += v * x[j];
-            }
-            out[i] = s;
+        for (i, o) in out.iter_mut().enumerate().take(n) {
+            *o = x
+                .iter()
+                .enumerate()
+                .map(|(j, xj)| {
+                    let v = if i >= j {
+                        self.h[i + n * j]
+                    } else {
+                        self.h[j + n * i]
+                    };
+                    v * xj
+                })
+                .sum();
         }
     }
 }

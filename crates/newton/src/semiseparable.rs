@@ -61,6 +61,9 @@ pub struct Semiseparable {
     lambda: Vec<f64>,
     q: Vec<f64>,
     factored: bool,
+    /// False while every coupling vector is zero (block diagonal: the
+    /// recurrences are skipped).
+    coupled: bool,
     scratch: Vec<f64>,
 }
 
@@ -81,6 +84,7 @@ impl Semiseparable {
             lambda: vec![0.0; n * blocks],
             q: vec![0.0; n * blocks],
             factored: false,
+            coupled: false,
             scratch: vec![0.0; n * n + 4 * n],
         }
     }
@@ -112,6 +116,7 @@ impl Semiseparable {
     /// the factorisation.
     pub fn coupling_mut(&mut self, k: usize) -> (&mut [f64], &mut [f64]) {
         self.factored = false;
+        self.coupled = true;
         let n = self.n;
         (
             &mut self.u[k * n..(k + 1) * n],
@@ -122,8 +127,11 @@ impl Semiseparable {
     /// Sets every coupling vector to zero (no coupling: block diagonal).
     pub fn clear_coupling(&mut self) {
         self.factored = false;
-        self.u.fill(0.0);
-        self.w.fill(0.0);
+        if self.coupled {
+            self.u.fill(0.0);
+            self.w.fill(0.0);
+        }
+        self.coupled = false;
     }
 
     /// `(min_i H_ii, max_i |H_ii|)` (the coupling has no diagonal).
@@ -154,6 +162,16 @@ impl Semiseparable {
     pub fn apply(&self, x: &[f64], out: &mut [f64]) {
         let n = self.n;
         let nb = self.blocks;
+        if !self.coupled {
+            for k in 0..nb {
+                let xk = &x[k * n..(k + 1) * n];
+                let bk = &self.b[k * n * n..(k + 1) * n * n];
+                for i in 0..n {
+                    out[k * n + i] = (0..n).map(|j| bk[i + n * j] * xk[j]).sum();
+                }
+            }
+            return;
+        }
         // sum_{j<k} u_j^T x_j, running forward
         let mut s = 0.0;
         for k in 0..nb {
@@ -208,10 +226,48 @@ impl Semiseparable {
     /// `PivotKind::Cholesky` fails at the first pivot that is not positive
     /// definite; `PivotKind::Symmetric` at the first (numerically) singular
     /// pivot.
+    /// A non-finite entry (or shift) is reported as
+    /// [`FactorError::NonFinite`] naming the first such block.
     pub fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        // the common block sizes run with the size known at compile time
+        let r = match self.n {
+            4 => self.factor_sized::<4>(tau, kind),
+            5 => self.factor_sized::<5>(tau, kind),
+            6 => self.factor_sized::<6>(tau, kind),
+            _ => self.factor_sized::<0>(tau, kind),
+        };
+        // a failed pivot may come from an infinity or NaN: say so (checked
+        // only on failure, so the successful path pays nothing)
+        r.map_err(|e| match self.first_non_finite_block(tau) {
+            Some(block) => FactorError::NonFinite { block },
+            None => e,
+        })
+    }
+
+    /// The first block holding a non-finite entry (diagonal block or
+    /// coupling vectors), or 0 for a non-finite shift.
+    fn first_non_finite_block(&self, tau: f64) -> Option<usize> {
+        if !tau.is_finite() {
+            return Some(0);
+        }
+        let (n, nn) = (self.n, self.n * self.n);
+        (0..self.blocks).find(|&m| {
+            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+            !(finite(&self.b[m * nn..(m + 1) * nn])
+                && finite(&self.u[m * n..(m + 1) * n])
+                && finite(&self.w[m * n..(m + 1) * n]))
+        })
+    }
+
+    /// [`Semiseparable::factor`] for blocks of size `N` (0: `self.n`).
+    fn factor_sized<const N: usize>(
+        &mut self,
+        tau: f64,
+        kind: PivotKind,
+    ) -> Result<Inertia, FactorError> {
         self.factored = false;
         self.kind = kind;
-        let n = self.n;
+        let n = if N > 0 { N } else { self.n };
         let nn = n * n;
         let mut gamma = 0.0;
         let mut inertia = Inertia::default();
@@ -225,9 +281,12 @@ impl Semiseparable {
                 }
                 p[c + n * c] += tau;
             }
+            let coupled = self.coupled;
             let qm = &mut self.q[m * n..(m + 1) * n];
-            for i in 0..n {
-                qm[i] = um[i] + gamma * wm[i];
+            if coupled {
+                for i in 0..n {
+                    qm[i] = um[i] + gamma * wm[i];
+                }
             }
             match kind {
                 PivotKind::Cholesky => {
@@ -235,15 +294,13 @@ impl Semiseparable {
                         index: m * n + index,
                     })?;
                     inertia.positive += n;
-                    // q_m = P^-1 v_m (qm holds v_m)
-                    let vv: f64;
-                    {
+                    if coupled {
+                        // q_m = P^-1 v_m (qm holds v_m)
                         let s = &mut self.scratch[..n];
                         s.copy_from_slice(qm);
                         cholesky_solve(n, p, qm);
-                        vv = dot(s, qm);
+                        gamma += dot(s, qm);
                     }
-                    gamma += vv;
                 }
                 PivotKind::Symmetric => {
                     let lam = &mut self.lambda[m * n..(m + 1) * n];
@@ -251,7 +308,9 @@ impl Semiseparable {
                         .ok_or(FactorError::NoConvergence { block: m })?;
                     let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
                     for &l in lam.iter() {
-                        if !(l.abs() > 1e-14 * scale) {
+                        if l.abs().partial_cmp(&(1e-14 * scale))
+                            != Some(core::cmp::Ordering::Greater)
+                        {
                             return Err(FactorError::Singular { block: m });
                         }
                         if l > 0.0 {
@@ -260,10 +319,12 @@ impl Semiseparable {
                             inertia.negative += 1;
                         }
                     }
-                    let (s, rest) = self.scratch.split_at_mut(n);
-                    s.copy_from_slice(qm);
-                    eigen_solve(n, p, lam, qm, rest);
-                    gamma += dot(s, qm);
+                    if coupled {
+                        let (s, rest) = self.scratch.split_at_mut(n);
+                        s.copy_from_slice(qm);
+                        eigen_solve(n, p, lam, qm, rest);
+                        gamma += dot(s, qm);
+                    }
                 }
             }
             if !gamma.is_finite() {
@@ -284,9 +345,36 @@ impl Semiseparable {
             self.factored,
             "Semiseparable::solve without a factorisation"
         );
-        let n = self.n;
+        match self.n {
+            4 => self.solve_sized::<4>(b),
+            5 => self.solve_sized::<5>(b),
+            6 => self.solve_sized::<6>(b),
+            _ => self.solve_sized::<0>(b),
+        }
+    }
+
+    /// [`Semiseparable::solve`] for blocks of size `N` (0: `self.n`).
+    fn solve_sized<const N: usize>(&mut self, b: &mut [f64]) {
+        let n = if N > 0 { N } else { self.n };
         let nn = n * n;
         let nb = self.blocks;
+        if !self.coupled {
+            for k in 0..nb {
+                let fk = &self.f[k * nn..(k + 1) * nn];
+                let bk = &mut b[k * n..(k + 1) * n];
+                match self.kind {
+                    PivotKind::Cholesky => cholesky_solve(n, fk, bk),
+                    PivotKind::Symmetric => eigen_solve(
+                        n,
+                        fk,
+                        &self.lambda[k * n..(k + 1) * n],
+                        bk,
+                        &mut self.scratch,
+                    ),
+                }
+            }
+            return;
+        }
         // forward sweep and pivot solves
         let mut sigma = 0.0;
         for k in 0..nb {
@@ -327,14 +415,48 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// In-place Cholesky of a column-major `n x n` matrix (lower triangle);
-/// the index of the first non-positive pivot on failure.
+/// the index of the first non-positive pivot on failure. The common block
+/// sizes run unrolled (a const-generic copy).
 fn cholesky(n: usize, a: &mut [f64]) -> Result<(), usize> {
+    match n {
+        3 => cholesky_fixed::<3>(a),
+        4 => cholesky_fixed::<4>(a),
+        5 => cholesky_fixed::<5>(a),
+        6 => cholesky_fixed::<6>(a),
+        _ => cholesky_any(n, a),
+    }
+}
+
+fn cholesky_fixed<const N: usize>(a: &mut [f64]) -> Result<(), usize> {
+    let a = &mut a[..N * N];
+    for j in 0..N {
+        let mut d = a[j + N * j];
+        for k in 0..j {
+            d -= a[j + N * k] * a[j + N * k];
+        }
+        if !(d > 0.0 && d.is_finite()) {
+            return Err(j);
+        }
+        let d = d.sqrt();
+        a[j + N * j] = d;
+        for i in j + 1..N {
+            let mut v = a[i + N * j];
+            for k in 0..j {
+                v -= a[i + N * k] * a[j + N * k];
+            }
+            a[i + N * j] = v / d;
+        }
+    }
+    Ok(())
+}
+
+fn cholesky_any(n: usize, a: &mut [f64]) -> Result<(), usize> {
     for j in 0..n {
         let mut d = a[j + n * j];
         for k in 0..j {
             d -= a[j + n * k] * a[j + n * k];
         }
-        if d.is_nan() || d <= 0.0 {
+        if !(d > 0.0 && d.is_finite()) {
             return Err(j);
         }
         let d = d.sqrt();
@@ -351,6 +473,34 @@ fn cholesky(n: usize, a: &mut [f64]) -> Result<(), usize> {
 }
 
 fn cholesky_solve(n: usize, l: &[f64], b: &mut [f64]) {
+    match n {
+        3 => cholesky_solve_fixed::<3>(l, b),
+        4 => cholesky_solve_fixed::<4>(l, b),
+        5 => cholesky_solve_fixed::<5>(l, b),
+        6 => cholesky_solve_fixed::<6>(l, b),
+        _ => cholesky_solve_any(n, l, b),
+    }
+}
+
+fn cholesky_solve_fixed<const N: usize>(l: &[f64], b: &mut [f64]) {
+    let (l, b) = (&l[..N * N], &mut b[..N]);
+    for i in 0..N {
+        let mut v = b[i];
+        for k in 0..i {
+            v -= l[i + N * k] * b[k];
+        }
+        b[i] = v / l[i + N * i];
+    }
+    for i in (0..N).rev() {
+        let mut v = b[i];
+        for k in i + 1..N {
+            v -= l[k + N * i] * b[k];
+        }
+        b[i] = v / l[i + N * i];
+    }
+}
+
+fn cholesky_solve_any(n: usize, l: &[f64], b: &mut [f64]) {
     for i in 0..n {
         let mut v = b[i];
         for k in 0..i {

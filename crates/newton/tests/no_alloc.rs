@@ -1,34 +1,63 @@
 //! The solvers' iterations must not touch the heap: after the workspace is
-//! built (and, for bordered solves, after the first call), repeated solves
-//! perform zero allocations. Checked with a counting global allocator;
-//! this file holds a single test so no other test allocates concurrently.
+//! built and a warm-up solve, repeated `Newton::minimize` and
+//! `BorderedNewton::solve` calls perform zero allocations, for a problem
+//! wrapped in `Dense` / `DenseBordered` and for one that keeps its Hessian
+//! as a `Semiseparable`. Checked with a counting global allocator that
+//! counts per thread, so the tests of this file may run concurrently.
 
 use fpc_newton::{
-    Bordered, BorderedEval, Energy, Gradient, Hessian, LinearBackend, Newton, NewtonOptions,
+    Bordered, BorderedEval, BorderedNewton, Dense, DenseBordered, DenseBorderedProblem,
+    DenseHessian, Energy, FactorError, Gradient, Hessian, Inertia, LinearBackend, LinearSystem,
+    Newton, NewtonOptions, PivotKind, Semiseparable,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 struct Counting;
 
-static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static ALLOCS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    // const-initialised, no destructor: the access itself never allocates
+    let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+}
+
+/// Allocations made by this thread so far.
+fn allocations() -> usize {
+    ALLOCS.with(|c| c.get())
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        count();
         System.alloc(layout)
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count();
+        System.alloc_zeroed(layout)
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         System.dealloc(ptr, layout)
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCS.fetch_add(1, Ordering::Relaxed);
+        count();
         System.realloc(ptr, layout, new_size)
     }
 }
 
 #[global_allocator]
 static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f`.
+fn allocations_in(f: impl FnOnce()) -> usize {
+    let before = allocations();
+    f();
+    allocations() - before
+}
+
+// ------------------------------------------------------------ dense chain
 
 /// Chain of tilted double wells with nearest-neighbour and all-to-all
 /// weak coupling (dense Hessian, indefinite near 0):
@@ -70,7 +99,7 @@ impl Gradient for Chain {
     }
 }
 
-impl Hessian for Chain {
+impl DenseHessian for Chain {
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
         let n = self.n;
         h.fill(0.2 / n as f64);
@@ -93,14 +122,14 @@ struct ChainTarget {
     t: f64,
 }
 
-impl Bordered for ChainTarget {
+impl DenseBorderedProblem for ChainTarget {
     fn dim(&self) -> usize {
         self.chain.n
     }
-    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool {
+    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval, h: &mut [f64]) -> bool {
         let n = self.chain.n;
         self.chain.tilt = lambda;
-        self.chain.hessian(x, &mut out.g, &mut out.h);
+        self.chain.hessian(x, &mut out.g, h);
         out.g_lambda.fill(-1.0);
         out.c = x[n - 1] - self.t;
         out.c_x.fill(0.0);
@@ -110,53 +139,307 @@ impl Bordered for ChainTarget {
     }
 }
 
+const DENSE_CASES: [(usize, LinearBackend); 3] = [
+    (32, LinearBackend::Auto),
+    (32, LinearBackend::Faer),
+    (200, LinearBackend::Auto),
+];
+
 #[test]
-fn repeated_solves_do_not_allocate() {
-    for (n, backend) in [
-        (32, LinearBackend::Auto),
-        (32, LinearBackend::Faer),
-        (200, LinearBackend::Auto),
-    ] {
-        let mut newton = Newton::new(n, NewtonOptions::default().with_backend(backend));
-        let mut p = Chain { n, tilt: 0.5 };
+fn dense_minimize_does_not_allocate() {
+    for (n, backend) in DENSE_CASES {
+        let mut newton = Newton::new(n, NewtonOptions::default());
+        let mut p = Dense::with_backend(Chain { n, tilt: 0.5 }, backend);
         let start: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
         let mut x = start.clone();
-        // Warm-up (the bordered workspace is allocated on first use).
         let r = newton.minimize(&mut p, &mut x);
         assert!(r.converged(), "n = {n}, {backend:?}: {r}");
-        let eq = x.clone();
-        // Bordered solves warm-started from the equilibrium at tilt 0.5,
-        // with the last coordinate prescribed a little further.
-        let mut bt = ChainTarget {
-            chain: Chain { n, tilt: 0.0 },
-            t: eq[n - 1] + 0.05,
-        };
-        let mut xb = eq.clone();
-        let mut lambda = 0.5;
-        let r = newton.solve_bordered(&mut bt, &mut xb, &mut lambda);
-        assert!(r.converged(), "{r}");
 
-        let before = ALLOCS.load(Ordering::Relaxed);
         let mut shifted = 0.0f64;
-        for k in 0..10 {
-            x.copy_from_slice(&start);
-            p.tilt = 0.5 + 0.01 * k as f64;
-            let r = newton.minimize(&mut p, &mut x);
-            assert!(r.converged());
-            shifted = shifted.max(r.max_shift);
-            xb.copy_from_slice(&eq);
-            lambda = 0.5;
-            bt.t = eq[n - 1] + 0.01 * k as f64;
-            assert!(newton
-                .solve_bordered(&mut bt, &mut xb, &mut lambda)
-                .converged());
-        }
-        let after = ALLOCS.load(Ordering::Relaxed);
+        let allocs = allocations_in(|| {
+            for k in 0..10 {
+                x.copy_from_slice(&start);
+                p.problem.tilt = 0.5 + 0.01 * k as f64;
+                let r = newton.minimize(&mut p, &mut x);
+                assert!(r.converged());
+                shifted = shifted.max(r.max_shift);
+            }
+        });
         assert_eq!(
-            after - before,
-            0,
-            "n = {n}, {backend:?}: allocations inside solves"
+            allocs, 0,
+            "n = {n}, {backend:?}: allocations inside minimize"
         );
         assert!(shifted > 0.0, "the shifted-Cholesky path was exercised");
+    }
+}
+
+#[test]
+fn dense_bordered_solve_does_not_allocate() {
+    for (n, _) in DENSE_CASES {
+        let mut newton = Newton::new(n, NewtonOptions::default());
+        let mut x: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
+        assert!(newton
+            .minimize(&mut Dense::new(Chain { n, tilt: 0.5 }), &mut x)
+            .converged());
+        let eq = x;
+        // Bordered solves warm-started from the equilibrium at tilt 0.5,
+        // with the last coordinate prescribed a little further.
+        let mut bordered = BorderedNewton::new(n, NewtonOptions::default()).unwrap();
+        let mut bt = DenseBordered::new(ChainTarget {
+            chain: Chain { n, tilt: 0.0 },
+            t: eq[n - 1] + 0.05,
+        });
+        let mut xb = eq.clone();
+        let mut lambda = 0.5;
+        let r = bordered.solve(&mut bt, &mut xb, &mut lambda);
+        assert!(r.converged(), "{r}");
+
+        let allocs = allocations_in(|| {
+            for k in 0..10 {
+                xb.copy_from_slice(&eq);
+                lambda = 0.5;
+                bt.problem.t = eq[n - 1] + 0.01 * k as f64;
+                assert!(bordered.solve(&mut bt, &mut xb, &mut lambda).converged());
+            }
+        });
+        // where they come from, if any: the dense symmetric factorisation
+        let factor = allocations_in(|| {
+            bt.factor(0.0, PivotKind::Symmetric).unwrap();
+        });
+        assert_eq!(
+            allocs, 0,
+            "n = {n}: allocations inside BorderedNewton::solve \
+             ({factor} in one DenseMatrix::factor(_, PivotKind::Symmetric))"
+        );
+    }
+}
+
+// ---------------------------------------------------- semiseparable chain
+
+/// Blocks of `m` tilted double wells with a nearest-neighbour coupling
+/// inside each block, and the running sum `s_k` of the unknowns of blocks
+/// `0..=k` held by a spring `kappa s_k^2 / 2` at every block:
+/// `sum x^4/4 - x^2/2 - tilt x + 1/4 sum_(within blocks) (x_{i+1}-x_i)^2 +
+/// kappa/2 sum_k s_k^2`. Its Hessian is a [`Semiseparable`]: blocks `D_k +
+/// T_k 1 1^T`, coupling `u_k = 1`, `w_k = -T_k 1`, with `T_k = kappa (N -
+/// k)`. Evaluations do not allocate.
+struct SemiChain {
+    m: usize,
+    blocks: usize,
+    tilt: f64,
+    kappa: f64,
+    /// target `x_last = t` (bordered, with the tilt as load)
+    t: f64,
+    sums: Vec<f64>,
+    h: Semiseparable,
+}
+
+impl SemiChain {
+    fn new(m: usize, blocks: usize, tilt: f64) -> SemiChain {
+        SemiChain {
+            m,
+            blocks,
+            tilt,
+            kappa: 0.1 / blocks as f64,
+            t: 0.0,
+            sums: vec![0.0; blocks],
+            h: Semiseparable::new(m, blocks),
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.m * self.blocks
+    }
+
+    fn running_sums(&mut self, x: &[f64]) -> f64 {
+        let mut s = 0.0;
+        let mut f = 0.0;
+        for k in 0..self.blocks {
+            s += x[k * self.m..(k + 1) * self.m].iter().sum::<f64>();
+            self.sums[k] = s;
+            f += 0.5 * self.kappa * s * s;
+        }
+        f
+    }
+
+    fn structured_hessian(&mut self, x: &[f64]) {
+        let m = self.m;
+        for k in 0..self.blocks {
+            let t = self.kappa * (self.blocks - k) as f64;
+            let b = self.h.block_mut(k);
+            b.fill(t);
+            for i in 0..m {
+                let xi = x[k * m + i];
+                b[i * (m + 1)] += 3.0 * xi * xi - 1.0;
+                if i + 1 < m {
+                    b[i * (m + 1)] += 0.5;
+                    b[(i + 1) * (m + 1)] += 0.5;
+                    b[i + (i + 1) * m] -= 0.5;
+                    b[(i + 1) + i * m] -= 0.5;
+                }
+            }
+            let (u, w) = self.h.coupling_mut(k);
+            u.fill(1.0);
+            w.fill(-t);
+        }
+    }
+}
+
+impl Energy for SemiChain {
+    fn dim(&self) -> usize {
+        self.n()
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        let mut f = self.running_sums(x);
+        for (i, &v) in x.iter().enumerate() {
+            f += v.powi(4) / 4.0 - v * v / 2.0 - self.tilt * v;
+            if (i + 1) % self.m != 0 {
+                f += 0.25 * (x[i + 1] - v).powi(2);
+            }
+        }
+        f
+    }
+}
+
+impl Gradient for SemiChain {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        let f = self.energy(x);
+        // d/dx_(k,i) of kappa/2 sum_j s_j^2 = kappa sum_{j >= k} s_j
+        let mut tail = 0.0;
+        for k in (0..self.blocks).rev() {
+            tail += self.kappa * self.sums[k];
+            for i in 0..self.m {
+                let v = x[k * self.m + i];
+                g[k * self.m + i] = v * v * v - v - self.tilt + tail;
+            }
+        }
+        for i in 0..self.n() - 1 {
+            if (i + 1) % self.m != 0 {
+                let d = 0.5 * (x[i + 1] - x[i]);
+                g[i + 1] += d;
+                g[i] -= d;
+            }
+        }
+        f
+    }
+}
+
+impl Hessian for SemiChain {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        let f = self.gradient(x, g);
+        self.structured_hessian(x);
+        f
+    }
+}
+
+impl LinearSystem for SemiChain {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.h.diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        self.h.factor(tau, kind)
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.h.solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.h.apply(x, out)
+    }
+}
+
+impl Bordered for SemiChain {
+    fn dim(&self) -> usize {
+        self.n()
+    }
+    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool {
+        let n = self.n();
+        self.tilt = lambda;
+        self.hessian(x, &mut out.g);
+        out.g_lambda.fill(-1.0);
+        out.c = x[n - 1] - self.t;
+        out.c_x.fill(0.0);
+        out.c_x[n - 1] = 1.0;
+        out.c_lambda = 0.0;
+        true
+    }
+}
+
+const SEMI_CASES: [(usize, usize); 3] = [(4, 50), (2, 16), (1, 40)];
+
+#[test]
+fn semiseparable_minimize_does_not_allocate() {
+    for (m, blocks) in SEMI_CASES {
+        let mut p = SemiChain::new(m, blocks, 0.5);
+        let n = p.n();
+        let mut newton = Newton::new(n, NewtonOptions::default());
+        let start: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
+        let mut x = start.clone();
+        let r = newton.minimize(&mut p, &mut x);
+        assert!(r.converged(), "{m} x {blocks}: {r}");
+
+        let mut shifted = 0.0f64;
+        let allocs = allocations_in(|| {
+            for k in 0..10 {
+                x.copy_from_slice(&start);
+                p.tilt = 0.5 + 0.01 * k as f64;
+                let r = newton.minimize(&mut p, &mut x);
+                assert!(r.converged());
+                shifted = shifted.max(r.max_shift);
+            }
+        });
+        assert_eq!(allocs, 0, "{m} x {blocks}: allocations inside minimize");
+        assert!(shifted > 0.0, "the shifted-Cholesky path was exercised");
+    }
+}
+
+#[test]
+fn semiseparable_bordered_solve_does_not_allocate() {
+    for (m, blocks) in SEMI_CASES {
+        let mut p = SemiChain::new(m, blocks, 0.5);
+        let n = p.n();
+        let mut x: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
+        assert!(Newton::new(n, NewtonOptions::default())
+            .minimize(&mut p, &mut x)
+            .converged());
+        let eq = x;
+        let mut bordered = BorderedNewton::new(n, NewtonOptions::default()).unwrap();
+        p.t = eq[n - 1] + 0.05;
+        let mut xb = eq.clone();
+        let mut lambda = 0.5;
+        let r = bordered.solve(&mut p, &mut xb, &mut lambda);
+        assert!(r.converged(), "{r}");
+
+        let allocs = allocations_in(|| {
+            for k in 0..10 {
+                xb.copy_from_slice(&eq);
+                lambda = 0.5;
+                p.t = eq[n - 1] + 0.01 * k as f64;
+                assert!(bordered.solve(&mut p, &mut xb, &mut lambda).converged());
+            }
+        });
+        assert_eq!(
+            allocs, 0,
+            "{m} x {blocks}: allocations inside BorderedNewton::solve"
+        );
+
+        // the symmetric (and Cholesky) factorisation itself, where H is
+        // indefinite (near x = 0, the double wells' maxima)
+        let near_zero: Vec<f64> = (0..n).map(|i| 0.1 * (1.3 * i as f64).sin()).collect();
+        let mut g = vec![0.0; n];
+        p.hessian(&near_zero, &mut g);
+        let mut rhs = vec![1.0; n];
+        let mut inertia = None;
+        let allocs = allocations_in(|| {
+            for k in 0..5 {
+                inertia = Some(p.factor(0.01 * k as f64, PivotKind::Symmetric).unwrap());
+                p.solve(&mut rhs);
+                assert!(p.factor(0.0, PivotKind::Cholesky).is_err());
+            }
+        });
+        assert_eq!(
+            allocs, 0,
+            "{m} x {blocks}: allocations inside Semiseparable::factor (Symmetric) / solve"
+        );
+        assert!(inertia.unwrap().negative > 0, "indefinite pivots were met");
     }
 }

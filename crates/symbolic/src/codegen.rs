@@ -843,6 +843,45 @@ fn point_kernel(
         ops_before_cse: b,
         ops_after_cse: a,
     });
+    // derivatives only (no values: an atan2 value costs more than its derivatives)
+    let mut derivs: Vec<ExprId> = Vec::new();
+    for g in &grads {
+        derivs.extend(g.iter().copied());
+    }
+    for h in &hess {
+        derivs.extend(h.iter().copied());
+    }
+    let (d_stmts, d_outs, b, a) = emit(&derivs);
+    // a kernel linear in the unknowns has constant derivatives
+    let d_arg = if derivs.iter().any(|&r| {
+        arena_ro
+            .free_symbols(r)
+            .iter()
+            .any(|s| unknowns.contains(s))
+    }) {
+        ident("k")
+    } else {
+        ident("_k")
+    };
+    let fn_derivs = ident(&format!("{name}_derivatives"));
+    reports.push(FunctionReport {
+        function: fn_derivs.to_string(),
+        ops_before_cse: b,
+        ops_after_cse: a,
+    });
+    let dg: Vec<TokenStream> = (0..no)
+        .map(|o| {
+            let row = &d_outs[o * n..(o + 1) * n];
+            quote! { [#(#row),*] }
+        })
+        .collect();
+    let dh: Vec<TokenStream> = (0..no)
+        .map(|o| {
+            let start = no * n + o * (n * (n + 1) / 2);
+            let row = &d_outs[start..start + n * (n + 1) / 2];
+            quote! { [#(#row),*] }
+        })
+        .collect();
     let hv = &h_outs[..no];
     let hg: Vec<TokenStream> = (0..no)
         .map(|o| {
@@ -871,6 +910,14 @@ fn point_kernel(
         pub fn #fn_grad(k: &[f64; #nu], #(#params: f64),*) -> ([f64; #nout], [[f64; #nu]; #nout]) {
             #(#g_stmts)*
             ([#(#gv),*], [#(#gg),*])
+        }
+
+        #[doc = #head_doc]
+        #[doc = ""]
+        #[doc = "Gradients and upper-triangle Hessians (row by row) of each output, without the values."]
+        pub fn #fn_derivs(#d_arg: &[f64; #nu], #(#params: f64),*) -> ([[f64; #nu]; #nout], [[f64; #nh]; #nout]) {
+            #(#d_stmts)*
+            ([#(#dg),*], [#(#dh),*])
         }
 
         #[doc = #head_doc]
