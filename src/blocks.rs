@@ -133,8 +133,13 @@ impl Partition {
         Partition::custom(lengths, lx)
     }
 
+    /// Every element halved (twice the elements, nested in this partition).
+    pub fn halved(&self) -> Partition {
+        self.split(&vec![true; self.len()])
+    }
+
     /// Splits the elements whose index `split` marks into two halves.
-    pub(crate) fn split(&self, split: &[bool]) -> Partition {
+    pub fn split(&self, split: &[bool]) -> Partition {
         let mut lengths = Vec::with_capacity(self.len() + split.len());
         for (i, &l) in self.lengths.iter().enumerate() {
             if split.get(i).copied().unwrap_or(false) {

@@ -45,8 +45,9 @@ pub use fit::{fit_circle, Circle};
 pub use fpc_newton::Termination;
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use refine::{
-    solve_auto, solve_to_tip_tolerance, AutoSolved, Refined, MAX_AUTO_ELEMENTS,
-    MAX_REFINED_ELEMENTS,
+    refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
+    Refinement, Refiner, EQUAL_PARTITION_TOLERANCE_MM, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
+    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
 };
 pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
 pub mod gripper;

@@ -40,3 +40,10 @@ impl serde::Serialize for Invalid {
         m.end()
     }
 }
+
+impl serde::Serialize for crate::model::ModelId {
+    /// The model's name (`ccm`, `quad`, ...).
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}

@@ -740,7 +740,7 @@ fn tip_tolerance_refinement_is_checked() {
             true,
             &load,
             tol,
-            start,
+            Some(start),
             &opts,
         ))
     };
@@ -761,9 +761,18 @@ fn tip_tolerance_refinement_is_checked() {
     }
     // reachable from either end of the range
     for start in [1, most] {
-        let r = solve_to_tip_tolerance(ModelId::default(), &act, true, &load, 1.0, start, &opts)
-            .unwrap();
-        assert!(r.elements <= MAX_REFINED_ELEMENTS && r.estimated_tip_error_mm <= 1.0);
+        let r = solve_to_tip_tolerance(
+            ModelId::default(),
+            &act,
+            true,
+            &load,
+            1.0,
+            Some(start),
+            &opts,
+        )
+        .unwrap();
+        assert!(r.elements <= MAX_REFINED_ELEMENTS);
+        assert!(r.estimated_tip_error_mm.is_some_and(|e| e <= 1.0));
     }
 }
 
@@ -783,7 +792,7 @@ fn an_unreachable_tip_tolerance_names_tip_tol_mm() {
             true,
             &load,
             1e-12,
-            1,
+            Some(1),
             &opts,
         ));
         names(
@@ -818,7 +827,7 @@ fn an_unreachable_tip_tolerance_under_a_tip_load_names_tip_tol_mm() {
         true,
         &load,
         1e-12,
-        64,
+        Some(64),
         &SolveOptions::default(),
     ));
     names(

@@ -776,7 +776,7 @@ mod tests {
                     true,
                     &Load::unloaded(),
                     0.0,
-                    8,
+                    Some(8),
                     &SolveOptions::default(),
                 )),
                 LibField::TipTolMm,

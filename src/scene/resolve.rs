@@ -48,9 +48,13 @@ pub const DEFAULT_SPHERE_BETA_DEG: f64 = 20.0;
 pub enum PartitionPlan {
     /// A fixed partition (equal or custom elements).
     Fixed(Partition),
-    /// Equal elements doubled from `start` until the estimated tip error is
-    /// at most `tip_tol_mm` ([`crate::solve_to_tip_tolerance`]).
-    TipTolerance { tip_tol_mm: f64, start: usize },
+    /// Refined until the estimated tip error is at most `tip_tol_mm`
+    /// ([`crate::solve_to_tip_tolerance`]): equal elements doubled from
+    /// `start`, or without it the fastest configuration for the tolerance.
+    TipTolerance {
+        tip_tol_mm: f64,
+        start: Option<usize>,
+    },
     /// The automatic partition ([`crate::solve_auto`]): boundaries on the
     /// material changes, elements split until every one turns within the
     /// CCM's slope limit. A finger scene chooses it at its load, a gripper
@@ -104,7 +108,7 @@ impl GraspSpec {
 pub struct GripperScene {
     /// The design (mounting angle in rad).
     pub params: GripperParams,
-    /// Compute the Hessian's smallest eigenvalue of the grasp (`solve.stability`).
+    /// Count the negative eigenvalues of the grasp's Hessian (`solve.stability`).
     pub stability: bool,
     /// The grasp to solve; `None`: the gripper at rest.
     pub grasp: Option<GraspSpec>,
@@ -163,19 +167,20 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
                 ));
             }
             positive(PartitionKey::TipTolMm, tol)?;
+            // a count asks for equal elements doubled from it; absent or
+            // "auto", the fastest configuration for the tolerance
             let start = match p.elements {
-                None => DEFAULT_ELEMENTS,
-                Some(Elements::Count(n)) => n,
-                Some(Elements::Auto) => {
-                    return Err(inconsistent(
-                        PartitionKey::Elements,
-                        "\"auto\" chooses the partition itself; with tip_tol_mm, give the number of equal elements to start from",
-                    ))
+                None | Some(Elements::Auto) => None,
+                Some(Elements::Count(n)) => {
+                    Partition::equal(lx, n).map_err(scene_input)?;
+                    Some(n)
                 }
             };
-            Partition::equal(lx, start).map_err(scene_input)?;
             file.partition.tip_tol_mm = Some(tol);
-            file.partition.elements = Some(Elements::Count(start));
+            file.partition.elements = Some(match start {
+                Some(n) => Elements::Count(n),
+                None => Elements::Auto,
+            });
             PartitionPlan::TipTolerance {
                 tip_tol_mm: tol,
                 start,
@@ -937,8 +942,22 @@ mod tests {
         assert_eq!(json["partition"]["elements"], "auto");
         let json = serde_json::to_value(Scene::from_toml("").unwrap().file()).unwrap();
         assert_eq!(json["partition"]["elements"], 8);
-        let e = input_err("[partition]\nelements = \"auto\"\ntip_tol_mm = 0.1\n");
-        assert!(e.to_string().contains("tip_tol_mm"), "{e}");
+        // with a tolerance, "auto" (or no count) is the fastest configuration
+        for text in [
+            "[partition]\nelements = \"auto\"\ntip_tol_mm = 0.1\n",
+            "[partition]\ntip_tol_mm = 0.1\n",
+        ] {
+            let s = Scene::from_toml(text).unwrap();
+            assert_eq!(
+                s.partition,
+                PartitionPlan::TipTolerance {
+                    tip_tol_mm: 0.1,
+                    start: None
+                },
+                "{text:?}"
+            );
+            assert_eq!(s.file().partition.elements, Some(Elements::Auto));
+        }
         // anything else is the parser's, at the value
         for (text, col) in [
             ("[partition]\nelements = \"Auto\"\n", 12),
@@ -1042,10 +1061,6 @@ mod tests {
             (
                 "[partition]\nelements = \"auto\"\nlengths = [110]",
                 "partition.lengths",
-            ),
-            (
-                "[partition]\nelements = \"auto\"\ntip_tol_mm = 0.1",
-                "partition.elements",
             ),
             ("[load]\npressure_kpa = nan", "load.pressure_kpa"),
             ("[load]\nkappa = 0", "load.kappa"),

@@ -44,7 +44,7 @@ impl Scene {
                     SceneSolution::Finger {
                         solution: r.solution,
                         elements: r.elements,
-                        tip_error_estimate_mm: Some(r.estimated_tip_error_mm),
+                        tip_error_estimate_mm: r.estimated_tip_error_mm,
                     }
                 }
                 PartitionPlan::Auto => {

@@ -3,8 +3,8 @@
 use std::io::Write;
 
 use fpc::{
-    solve_auto, solve_to_tip_tolerance, Actuator, Finger, InputError, Load, ModelId, Partition,
-    Solution, SolveOptions,
+    refine, solve_auto, solve_to_tip_tolerance, Actuator, Finger, InputError, Load, ModelId,
+    Partition, PartitionKind, Refined, Refinement, Solution, SolveOptions,
 };
 
 /// `--elements`: a count, or `auto`.
@@ -50,10 +50,27 @@ pub struct Args {
     /// Tip force along the finger's Z axis, in newtons.
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     fz: f64,
-    /// Number of equal elements N, or `auto`: boundaries on the material
-    /// changes, refined until every element is within the slope limit.
-    #[arg(long, default_value = "8", value_parser = parse_elements, allow_hyphen_values = true)]
-    elements: Elements,
+    /// Number of elements N, or `auto`: boundaries on the material
+    /// changes, refined until every element is within the slope limit
+    /// (with --tip-tol-mm: the fastest configuration for the tolerance).
+    /// With `--partition material`, N sets the longest piece to lx / N.
+    /// [default: 8]
+    #[arg(long, value_parser = parse_elements, allow_hyphen_values = true)]
+    elements: Option<Elements>,
+    /// Where element boundaries go: `equal` elements, or `material`
+    /// (boundaries on the rib edges and the channel end, second-order
+    /// convergence).
+    #[arg(long, default_value = "equal")]
+    partition: String,
+    /// Solve on this many partitions, each halving the elements of the one
+    /// before and starting from it (nested iteration); the answer is the
+    /// finest level's, with an error estimate.
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
+    levels: usize,
+    /// Richardson-extrapolate the tip from the last two levels (needs
+    /// `--partition material` and `--levels` of at least 2).
+    #[arg(long)]
+    extrapolate: bool,
     /// The element model (`fpc models` lists them).
     #[arg(long, default_value_t = ModelId::default().name().to_string())]
     model: String,
@@ -63,9 +80,10 @@ pub struct Args {
     /// Pressure factor kappa = 1/(gamma - 1).
     #[arg(long, default_value_t = 2.5, allow_hyphen_values = true)]
     kappa: f64,
-    /// Choose N by doubling (from --elements, at most 256) until the
-    /// estimated tip error (tip change between N/2 and N) is at most this
-    /// many millimetres.
+    /// Refine until the estimated tip error is at most this many
+    /// millimetres: with --elements N, equal elements doubled from N (the
+    /// estimate is the tip's change from N/2); otherwise the fastest
+    /// configuration for the tolerance (docs/performance.md).
     #[arg(long = "tip-tol-mm", allow_hyphen_values = true)]
     tip_tol_mm: Option<f64>,
     /// Print one JSON object instead of a summary.
@@ -88,25 +106,66 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for w in fpc::input_warnings(model, &act) {
         crate::report::warning(&w.to_string());
     }
-    let (sol, estimate) = match (args.tip_tol_mm, args.elements) {
-        (Some(_), Elements::Auto) => {
-            return Err(InputError::Inconsistent {
-                field: "tip_tol_mm".into(),
-                rule: "chooses N itself: give a starting --elements count, not auto".into(),
+    let partition = PartitionKind::parse("partition", &args.partition)?;
+    let refinement = |r: Refined| Run {
+        best_tip: r.tip,
+        best_end_angle: r.end_angle,
+        estimate: r.estimated_tip_error_mm,
+        configuration: Some(r.plan.label()),
+        level_elements: r.levels.iter().map(|l| l.elements).collect(),
+        extrapolated: r.is_extrapolated(),
+        solution: r.solution,
+    };
+    let run = match (args.tip_tol_mm, args.elements) {
+        (Some(tol), elements) => {
+            let start = match elements {
+                Some(Elements::Equal(n)) => Some(n),
+                None | Some(Elements::Auto) => None,
+            };
+            if args.levels != 1 || args.extrapolate || partition != PartitionKind::Equal {
+                return Err(InputError::Inconsistent {
+                    field: "tip_tol_mm".into(),
+                    rule: "chooses the partition, levels and extrapolation itself: leave out --partition, --levels and --extrapolate".into(),
+                }
+                .into());
             }
-            .into())
+            refinement(solve_to_tip_tolerance(
+                model, &act, ribs, &load, tol, start, &opts,
+            )?)
         }
-        (Some(tol), Elements::Equal(n)) => {
-            let r = solve_to_tip_tolerance(model, &act, ribs, &load, tol, n, &opts)?;
-            (r.solution, Some(r.estimated_tip_error_mm))
+        (None, Some(Elements::Auto)) => {
+            if args.levels != 1 || args.extrapolate {
+                return Err(InputError::Inconsistent {
+                    field: "elements".into(),
+                    rule: "auto chooses the partition itself: leave out --levels and --extrapolate"
+                        .into(),
+                }
+                .into());
+            }
+            Run::single(solve_auto(model, &act, ribs, &load, &opts)?.solution)
         }
-        (None, Elements::Auto) => (solve_auto(model, &act, ribs, &load, &opts)?.solution, None),
-        (None, Elements::Equal(n)) => {
-            let part = Partition::equal(act.geometry().lx, n)?;
-            let finger = Finger::with_model(model, &act, &part, ribs);
-            (finger.solve(&load, &opts)?, None)
+        (None, elements) => {
+            let n = match elements {
+                Some(Elements::Equal(n)) => n,
+                _ => DEFAULT_ELEMENTS,
+            };
+            if args.levels == 1 && !args.extrapolate && partition == PartitionKind::Equal {
+                let part = Partition::equal(act.geometry().lx, n)?;
+                let finger = Finger::with_model(model, &act, &part, ribs);
+                Run::single(finger.solve(&load, &opts)?)
+            } else {
+                let plan = Refinement {
+                    model,
+                    partition,
+                    start: n,
+                    levels: args.levels,
+                    extrapolate: args.extrapolate,
+                };
+                refinement(refine(&act, ribs, &load, &plan, &opts)?)
+            }
         }
     };
+    let sol = &run.solution;
     for w in sol.warnings.iter().filter(|w| w.is_validity()) {
         crate::report::warning(&w.to_string());
     }
@@ -115,19 +174,55 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let v = Json {
             model: model.name(),
             elements: sol.element_lengths.len(),
-            tip_error_estimate_mm: estimate,
-            solution: &sol,
+            tip_error_estimate_mm: run.estimate,
+            refinement: run.refinement(),
+            solution: sol,
         };
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
-        summary(&mut out, args, model, estimate, &sol)?;
+        summary(&mut out, args, model, &run)?;
     }
     Ok(())
 }
 
-/// The JSON form of a solution (keys documented in the README).
-pub fn to_json(sol: &Solution) -> serde_json::Value {
-    serde_json::to_value(sol).unwrap_or(serde_json::Value::Null)
+/// The default `--elements`.
+const DEFAULT_ELEMENTS: usize = 8;
+
+/// A solve, or a refinement and its finest solve.
+struct Run {
+    solution: Solution,
+    /// The best tip (extrapolated when `extrapolated`).
+    best_tip: [f64; 2],
+    best_end_angle: f64,
+    estimate: Option<f64>,
+    /// The refinement's label, `None` for a single solve.
+    configuration: Option<String>,
+    level_elements: Vec<usize>,
+    extrapolated: bool,
+}
+
+impl Run {
+    fn single(solution: Solution) -> Run {
+        Run {
+            best_tip: solution.tip,
+            best_end_angle: solution.end_angle,
+            estimate: None,
+            configuration: None,
+            level_elements: vec![solution.element_lengths.len()],
+            extrapolated: false,
+            solution,
+        }
+    }
+
+    fn refinement(&self) -> Option<RefinementJson<'_>> {
+        self.configuration.as_deref().map(|c| RefinementJson {
+            configuration: c,
+            levels: &self.level_elements,
+            extrapolated: self.extrapolated,
+            tip_mm: self.best_tip,
+            end_angle_rad: self.best_end_angle,
+        })
+    }
 }
 
 /// `fpc finger --json`: the solution's keys (README) and the run's.
@@ -136,24 +231,33 @@ struct Json<'a> {
     model: &'static str,
     elements: usize,
     tip_error_estimate_mm: Option<f64>,
+    /// With a refinement: its levels and best tip (extrapolated or the
+    /// finest level's); the solution below is the finest level's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    refinement: Option<RefinementJson<'a>>,
     #[serde(flatten)]
     solution: &'a Solution,
 }
 
-fn summary(
-    out: &mut impl Write,
-    args: &Args,
-    model: ModelId,
-    estimate: Option<f64>,
-    sol: &Solution,
-) -> std::io::Result<()> {
+#[derive(serde::Serialize)]
+struct RefinementJson<'a> {
+    configuration: &'a str,
+    /// Elements of each level, coarse to fine.
+    levels: &'a [usize],
+    extrapolated: bool,
+    tip_mm: [f64; 2],
+    end_angle_rad: f64,
+}
+
+fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std::io::Result<()> {
+    let sol = &run.solution;
     let elements = sol.element_lengths.len();
     writeln!(
         out,
         "finger: eps0 = {}, model {model}, N = {}{}, ribs {}, P = {} kPa, tip force ({}, {}) N",
         args.eps0,
         elements,
-        if args.elements == Elements::Auto {
+        if args.elements == Some(Elements::Auto) && args.tip_tol_mm.is_none() {
             " (auto)"
         } else {
             ""
@@ -163,16 +267,34 @@ fn summary(
         args.fx,
         args.fz
     )?;
+    if let Some(c) = &run.configuration {
+        writeln!(
+            out,
+            "refinement     {c}: levels of {:?} elements",
+            run.level_elements
+        )?;
+    }
     writeln!(
         out,
         "tip            X = {:.4} mm, Z = {:.4} mm",
         sol.tip[0], sol.tip[1]
     )?;
-    if let Some(e) = estimate {
+    if run.extrapolated {
         writeln!(
             out,
-            "tip accuracy   estimated error {e:.2e} mm at N = {elements} (change from N = {})",
-            elements / 2
+            "tip (extrap.)  X = {:.4} mm, Z = {:.4} mm (Richardson, last two levels)",
+            run.best_tip[0], run.best_tip[1]
+        )?;
+    }
+    if let Some(e) = run.estimate {
+        writeln!(
+            out,
+            "tip accuracy   estimated error {e:.2e} mm ({})",
+            if run.extrapolated {
+                "of the extrapolated tip"
+            } else {
+                "of the finest level's tip"
+            }
         )?;
     }
     writeln!(

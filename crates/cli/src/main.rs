@@ -100,7 +100,7 @@ fn usage(e: clap::Error) -> anyhow::Result<()> {
             // would break up its message, so the message is rendered again
             // from the arguments with their control characters escaped
             let escaped = std::env::args_os().map(|a| match a.to_str() {
-                Some(s) => report::escape(s).into_owned().into(),
+                Some(s) => report::sanitize(s).into_owned().into(),
                 None => a,
             });
             let text = match Cli::try_parse_from(escaped) {

@@ -94,7 +94,7 @@ pub fn bounded(prefix: &str, msg: &str) -> String {
     let mut line = String::with_capacity(prefix.len() + msg.len().min(4 * MAX_LINE));
     line.push_str(prefix);
     let mut first = true;
-    for word in escape(msg).split(' ') {
+    for word in sanitize(msg).split(' ') {
         if !first {
             line.push(' ');
         }
@@ -105,7 +105,7 @@ pub fn bounded(prefix: &str, msg: &str) -> String {
 }
 
 /// Control characters and bidirectional formatting characters escaped.
-pub fn escape(msg: &str) -> std::borrow::Cow<'_, str> {
+pub fn sanitize(msg: &str) -> std::borrow::Cow<'_, str> {
     let unsafe_char = |c: char| {
         c.is_control()
             || matches!(c, '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}' | '\u{feff}')

@@ -1,32 +1,90 @@
 //! `fpc timing`: in-process median solve times for the standard cases
-//! (default actuator, N = 8, tip-only output).
+//! (default actuator, N = 8, tip-only output), how the tip-loaded solve
+//! scales with N, the time to a tip within 0.01 mm of the N -> infinity
+//! limit, and (with `--peer DIR`) the same cases of an external peer run
+//! alternately with ours.
 
 use std::io::Write as _;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use fpc::{Coefficients, Finger, Load, Solution, SolveOptions, Solver};
-use serde_json::json;
+use anyhow::Context as _;
+use fpc::{
+    Actuator, Coefficients, Finger, Load, ModelId, PartitionKind, Refinement, Refiner, Solution,
+    SolveOptions, Solver,
+};
+use serde::Serialize;
 
 /// Flags of `fpc timing`. Numeric flags take `allow_hyphen_values` (see
 /// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Print one JSON object instead of a table.
+    /// Print one JSON object instead of tables.
     #[arg(long)]
     json: bool,
-    /// Wall-clock budget per case, in milliseconds.
+    /// Wall-clock budget per measured case, in milliseconds.
     #[arg(long, default_value_t = 400, allow_hyphen_values = true)]
     budget_ms: u64,
+    /// A built performance peer (a directory holding `driver`, as the
+    /// CasADi peer's build step leaves it): run it and our cold and warm
+    /// cases alternately and print the ratios.
+    #[arg(long, value_name = "DIR")]
+    peer: Option<PathBuf>,
+    /// Alternating rounds against the peer.
+    #[arg(long, default_value_t = 5, allow_hyphen_values = true)]
+    peer_rounds: u32,
 }
 
+/// The tip load of the standard loaded case (N, finger frame).
+const FX: f64 = 0.939782;
+const FZ: f64 = 0.521707;
+
+/// The element counts of the scaling table.
+const SCALING_ELEMENTS: [usize; 4] = [8, 32, 128, 256];
+
+/// The tolerance of the `to_0p01mm` entry (mm).
+const TIP_TOLERANCE_MM: f64 = 0.01;
+
+fn tip_load() -> Load {
+    Load::unloaded().with_tip_force(FX, FZ)
+}
+
+fn tip_only() -> SolveOptions {
+    SolveOptions::default().tip_only()
+}
+
+/// Median wall time (us) of `f` over runs until `budget` is spent (at
+/// least 11 runs), and the number of runs. The first call warms caches.
+fn median_us<T>(
+    budget: Duration,
+    mut f: impl FnMut() -> anyhow::Result<T>,
+) -> anyhow::Result<(f64, usize, T)> {
+    let mut last = f()?;
+    let mut samples = Vec::new();
+    let start = Instant::now();
+    while (start.elapsed() < budget || samples.len() < 11) && samples.len() < 200_000 {
+        let t = Instant::now();
+        last = f()?;
+        samples.push(t.elapsed().as_secs_f64() * 1e6);
+    }
+    samples.sort_by(f64::total_cmp);
+    Ok((samples[samples.len() / 2], samples.len(), last))
+}
+
+/// One standard case.
+#[derive(Serialize)]
 struct Case {
+    #[serde(skip)]
     name: &'static str,
     median_us: f64,
     runs: usize,
-    last: Solution,
+    iterations: usize,
+    residual: f64,
+    coupled: bool,
+    #[serde(skip)]
+    tip: [f64; 2],
 }
 
-/// Times repeated solves of `load` from `guess` until the budget is spent.
 fn time_case(
     name: &'static str,
     finger: &Finger,
@@ -34,38 +92,35 @@ fn time_case(
     guess: Option<&Coefficients>,
     budget: Duration,
 ) -> anyhow::Result<Case> {
-    let opts = SolveOptions::default().tip_only();
+    let opts = tip_only();
     let mut solver = Solver::new(finger);
-    let mut last = solver.solve(load, guess, &opts)?; // warm caches, check it solves
-    let mut samples = Vec::new();
-    let start = Instant::now();
-    while start.elapsed() < budget || samples.len() < 11 {
-        let t = Instant::now();
-        last = solver.solve(load, guess, &opts)?;
-        samples.push(t.elapsed().as_secs_f64() * 1e6);
-        if samples.len() >= 200_000 {
-            break;
-        }
-    }
-    samples.sort_by(f64::total_cmp);
-    let median_us = samples[samples.len() / 2];
-    Ok(Case {
-        name,
-        median_us,
-        runs: samples.len(),
-        last,
-    })
+    let (median_us, runs, last) = median_us(budget, || Ok(solver.solve(load, guess, &opts)?))?;
+    Ok(case(name, median_us, runs, &last))
 }
 
-pub fn run(args: &Args) -> anyhow::Result<()> {
-    let budget = Duration::from_millis(args.budget_ms.max(1));
-    let opts = SolveOptions::default().tip_only();
+fn case(name: &'static str, median_us: f64, runs: usize, s: &Solution) -> Case {
+    Case {
+        name,
+        median_us,
+        runs,
+        iterations: s.report.iterations,
+        residual: s.report.residual_norm,
+        coupled: s.report.coupled,
+        tip: s.tip,
+    }
+}
+
+/// The four standard cases at N = 8.
+fn standard_cases(budget: Duration) -> anyhow::Result<Vec<Case>> {
+    let opts = tip_only();
     let f25 = Finger::paper(0.25, 8)?;
     let f40 = Finger::paper(0.4, 8)?;
-    let cold_load = Load::unloaded().with_tip_force(0.939782, 0.521707);
     let unloaded = f25.solve(&Load::unloaded(), &opts)?;
-    let near = f25.solve(&Load::unloaded().with_tip_force(0.9, 0.5), &opts)?;
-    let cases = [
+    let near = f25.solve(
+        &Load::unloaded().with_tip_force(0.95 * FX, 0.95 * FZ),
+        &opts,
+    )?;
+    Ok(vec![
         time_case("unloaded", &f25, &Load::unloaded(), None, budget)?,
         time_case(
             "pressure",
@@ -77,18 +132,253 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         time_case(
             "loaded_cold",
             &f25,
-            &cold_load,
+            &tip_load(),
             Some(&unloaded.coefficients),
             budget,
         )?,
         time_case(
             "loaded_warm",
             &f25,
-            &cold_load,
+            &tip_load(),
             Some(&near.coefficients),
             budget,
         )?,
-    ];
+    ])
+}
+
+/// One row of the scaling table.
+#[derive(Serialize)]
+struct ScalingRow {
+    elements: usize,
+    loaded_cold_us: f64,
+    iterations: usize,
+    per_iteration_us: f64,
+}
+
+/// The tip-loaded cold solve (from the unloaded equilibrium) at each N.
+fn scaling(budget: Duration) -> anyhow::Result<Vec<ScalingRow>> {
+    let opts = tip_only();
+    SCALING_ELEMENTS
+        .iter()
+        .map(|&n| {
+            let f = Finger::paper(0.25, n)?;
+            let unloaded = f.solve(&Load::unloaded(), &opts)?;
+            let c = time_case(
+                "scaling",
+                &f,
+                &tip_load(),
+                Some(&unloaded.coefficients),
+                budget,
+            )?;
+            Ok(ScalingRow {
+                elements: n,
+                loaded_cold_us: c.median_us,
+                iterations: c.iterations,
+                per_iteration_us: c.median_us / c.iterations.max(1) as f64,
+            })
+        })
+        .collect()
+}
+
+/// The fastest configuration for a 0.01 mm tip, timed like `loaded_cold`
+/// (fingers built, coarsest level started from its unloaded equilibrium),
+/// with its distance from the N -> infinity reference.
+#[derive(Serialize)]
+struct ToTolerance {
+    us: f64,
+    /// Elements of the finest level.
+    elements: usize,
+    model: ModelId,
+    tip_mm: [f64; 2],
+    configuration: String,
+    partition: PartitionKind,
+    levels: Vec<usize>,
+    extrapolated: bool,
+    estimated_error_mm: Option<f64>,
+    /// Distance from the reference tip (mm).
+    error_mm: f64,
+    reference_tip_mm: [f64; 2],
+    reference_uncertainty_mm: Option<f64>,
+    /// `us` over the `loaded_cold` N = 8 time of this run.
+    ratio_to_n8_cold: f64,
+}
+
+/// The N -> infinity reference of the standard tip-loaded case: the
+/// material partition at six levels (27 to 864 elements by default),
+/// extrapolated, Newton to a relative residual of 1e-13.
+fn reference(actuator: &Actuator) -> anyhow::Result<fpc::Refined> {
+    let plan = Refinement {
+        model: ModelId::default(),
+        partition: PartitionKind::Material,
+        start: 8,
+        levels: 6,
+        extrapolate: true,
+    };
+    let opts = SolveOptions {
+        rtol: 1e-13,
+        ..tip_only()
+    };
+    Ok(fpc::refine(actuator, true, &tip_load(), &plan, &opts)?)
+}
+
+fn to_tolerance(budget: Duration, n8_cold_us: f64) -> anyhow::Result<ToTolerance> {
+    let act = Actuator::paper(0.25)?;
+    let opts = tip_only();
+    let model = ModelId::default();
+    // the library's choice for the tolerance, with the levels it needed
+    let chosen = fpc::solve_to_tip_tolerance(
+        model,
+        &act,
+        true,
+        &tip_load(),
+        TIP_TOLERANCE_MM,
+        None,
+        &opts,
+    )?;
+    let mut refiner = Refiner::new(&act, true, &chosen.plan)?;
+    let unloaded = refiner.finger(0)?.solve(&Load::unloaded(), &opts)?;
+    let (us, _, r) = median_us(budget, || {
+        Ok(refiner.solve(&tip_load(), Some(&unloaded.coefficients), &opts)?)
+    })?;
+    let reference = reference(&act)?;
+    let error_mm = (r.tip[0] - reference.tip[0]).hypot(r.tip[1] - reference.tip[1]);
+    Ok(ToTolerance {
+        us,
+        elements: r.elements,
+        model,
+        tip_mm: r.tip,
+        configuration: r.plan.label(),
+        partition: r.plan.partition,
+        levels: r.levels.iter().map(|l| l.elements).collect(),
+        extrapolated: r.is_extrapolated(),
+        estimated_error_mm: r.estimated_tip_error_mm,
+        error_mm,
+        reference_tip_mm: reference.tip,
+        reference_uncertainty_mm: reference.estimated_tip_error_mm,
+        ratio_to_n8_cold: us / n8_cold_us,
+    })
+}
+
+/// Our cold and warm cases against the peer's, run alternately.
+#[derive(Serialize)]
+struct PeerComparison {
+    rounds: u32,
+    peer_cold_us: f64,
+    peer_warm_us: f64,
+    fpc_cold_us: f64,
+    fpc_warm_us: f64,
+    /// Peer time over ours (above 1: we are faster).
+    ratio_cold: f64,
+    ratio_warm: f64,
+    peer_cold_samples_us: Vec<f64>,
+    peer_warm_samples_us: Vec<f64>,
+    fpc_cold_samples_us: Vec<f64>,
+    fpc_warm_samples_us: Vec<f64>,
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    s.get(s.len() / 2).copied().unwrap_or(f64::NAN)
+}
+
+/// Runs the peer's driver once; its `cold_solve_us` and `warm_solve_us`.
+fn run_peer(dir: &Path) -> anyhow::Result<(f64, f64)> {
+    let driver = dir.join("driver");
+    let out = std::process::Command::new(&driver)
+        .arg("2000")
+        .current_dir(dir)
+        .output()
+        .with_context(|| format!("cannot run the peer driver {}", driver.display()))?;
+    anyhow::ensure!(
+        out.status.success(),
+        "the peer driver {} failed ({})",
+        driver.display(),
+        out.status
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let value = |key: &str| -> anyhow::Result<f64> {
+        text.lines()
+            .find_map(|l| {
+                let mut w = l.split_whitespace();
+                (w.next() == Some(key)).then(|| w.next()?.parse::<f64>().ok())?
+            })
+            .filter(|v| v.is_finite() && *v > 0.0)
+            .with_context(|| format!("the peer driver printed no `{key} <us>` line"))
+    };
+    Ok((value("cold_solve_us")?, value("warm_solve_us")?))
+}
+
+fn peer(dir: &Path, rounds: u32, budget: Duration) -> anyhow::Result<PeerComparison> {
+    anyhow::ensure!(
+        (1..=100).contains(&rounds),
+        "--peer-rounds must lie in [1, 100], got {rounds}"
+    );
+    let mut s = PeerComparison {
+        rounds,
+        peer_cold_us: 0.0,
+        peer_warm_us: 0.0,
+        fpc_cold_us: 0.0,
+        fpc_warm_us: 0.0,
+        ratio_cold: 0.0,
+        ratio_warm: 0.0,
+        peer_cold_samples_us: Vec::new(),
+        peer_warm_samples_us: Vec::new(),
+        fpc_cold_samples_us: Vec::new(),
+        fpc_warm_samples_us: Vec::new(),
+    };
+    for round in 0..rounds {
+        crate::report::progress(&format!("fpc timing --peer: round {}/{rounds}", round + 1));
+        let (pc, pw) = run_peer(dir)?;
+        s.peer_cold_samples_us.push(pc);
+        s.peer_warm_samples_us.push(pw);
+        let ours = standard_cases(budget)?;
+        s.fpc_cold_samples_us.push(ours[2].median_us);
+        s.fpc_warm_samples_us.push(ours[3].median_us);
+    }
+    crate::report::end_progress();
+    s.peer_cold_us = median(&s.peer_cold_samples_us);
+    s.peer_warm_us = median(&s.peer_warm_samples_us);
+    s.fpc_cold_us = median(&s.fpc_cold_samples_us);
+    s.fpc_warm_us = median(&s.fpc_warm_samples_us);
+    s.ratio_cold = s.peer_cold_us / s.fpc_cold_us;
+    s.ratio_warm = s.peer_warm_us / s.fpc_warm_us;
+    Ok(s)
+}
+
+/// The JSON form.
+#[derive(Serialize)]
+struct Report<'a> {
+    build: &'static str,
+    cpu: Option<String>,
+    unloaded: &'a Case,
+    pressure: &'a Case,
+    loaded_cold: &'a Case,
+    loaded_warm: &'a Case,
+    loaded_cold_tip_mm: [f64; 2],
+    scaling: &'a [ScalingRow],
+    to_0p01mm: &'a ToTolerance,
+    peer: Option<&'a PeerComparison>,
+}
+
+/// The CPU's model name, where the system says it (Linux).
+fn cpu() -> Option<String> {
+    let info = std::fs::read_to_string("/proc/cpuinfo").ok()?;
+    info.lines()
+        .find(|l| l.starts_with("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map(|s| s.trim().to_string())
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let budget = Duration::from_millis(args.budget_ms.max(1));
+    let cases = standard_cases(budget)?;
+    let scaling = scaling(budget)?;
+    let to = to_tolerance(budget, cases[2].median_us)?;
+    let peer = match &args.peer {
+        Some(dir) => Some(peer(dir, args.peer_rounds, budget)?),
+        None => None,
+    };
     let build = if cfg!(debug_assertions) {
         "debug"
     } else {
@@ -96,43 +386,90 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     };
     let mut out = crate::output::stdout();
     if args.json {
-        let mut obj = serde_json::Map::new();
-        obj.insert("build".into(), json!(build));
-        for c in &cases {
-            obj.insert(
-                c.name.into(),
-                json!({
-                    "median_us": c.median_us,
-                    "runs": c.runs,
-                    "iterations": c.last.report.iterations,
-                    "residual": c.last.report.residual_norm,
-                    "coupled": c.last.report.coupled,
-                }),
-            );
-        }
-        obj.insert("loaded_cold_tip_mm".into(), json!(cases[2].last.tip));
-        writeln!(out, "{}", serde_json::Value::Object(obj))?;
-    } else {
+        let r = Report {
+            build,
+            cpu: cpu(),
+            unloaded: &cases[0],
+            pressure: &cases[1],
+            loaded_cold: &cases[2],
+            loaded_warm: &cases[3],
+            loaded_cold_tip_mm: cases[2].tip,
+            scaling: &scaling,
+            to_0p01mm: &to,
+            peer: peer.as_ref(),
+        };
+        writeln!(out, "{}", serde_json::to_string(&r)?)?;
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "median time per solve ({build} build, N = 8, default actuator, tip-only output{})",
+        cpu().map(|c| format!(", {c}")).unwrap_or_default()
+    )?;
+    writeln!(
+        out,
+        "{:<12} {:>12} {:>8} {:>11} {:>12}",
+        "case", "median (us)", "runs", "iterations", "residual"
+    )?;
+    for c in &cases {
         writeln!(
             out,
-            "median time per solve ({build} build, N = 8, default actuator, tip-only output)"
+            "{:<12} {:>12.2} {:>8} {:>11} {:>12.2e}",
+            c.name, c.median_us, c.runs, c.iterations, c.residual
         )?;
+    }
+    writeln!(
+        out,
+        "loaded_cold tip: X = {:.6} mm, Z = {:.6} mm",
+        cases[2].tip[0], cases[2].tip[1]
+    )?;
+    writeln!(
+        out,
+        "\nscaling: tip-loaded cold solve against N (equal elements)"
+    )?;
+    writeln!(
+        out,
+        "{:>9} {:>12} {:>11} {:>18}",
+        "elements", "median (us)", "iterations", "per iteration (us)"
+    )?;
+    for r in &scaling {
         writeln!(
             out,
-            "{:<12} {:>12} {:>8} {:>11} {:>12}",
-            "case", "median (us)", "runs", "iterations", "residual"
+            "{:>9} {:>12.1} {:>11} {:>18.2}",
+            r.elements, r.loaded_cold_us, r.iterations, r.per_iteration_us
         )?;
-        for c in &cases {
-            writeln!(
-                out,
-                "{:<12} {:>12.2} {:>8} {:>11} {:>12.2e}",
-                c.name, c.median_us, c.runs, c.last.report.iterations, c.last.report.residual_norm
-            )?;
-        }
+    }
+    if let (Some(a), Some(b)) = (scaling.get(1), scaling.last()) {
         writeln!(
             out,
-            "loaded_cold tip: X = {:.6} mm, Z = {:.6} mm",
-            cases[2].last.tip[0], cases[2].last.tip[1]
+            "per-iteration cost ratio N = {} / N = {}: {:.2} (elements ratio {})",
+            b.elements,
+            a.elements,
+            b.per_iteration_us / a.per_iteration_us,
+            b.elements / a.elements
+        )?;
+    }
+    writeln!(
+        out,
+        "\ntip within {TIP_TOLERANCE_MM} mm: {} ({} elements at the finest level, levels {:?}) in {:.1} us = {:.2} x the N = 8 cold solve",
+        to.configuration, to.elements, to.levels, to.us, to.ratio_to_n8_cold
+    )?;
+    writeln!(
+        out,
+        "  tip ({:.6}, {:.6}) mm, {:.2e} mm from the reference ({:.6}, {:.6}) mm (uncertainty {:.1e} mm); estimated {:.2e} mm",
+        to.tip_mm[0],
+        to.tip_mm[1],
+        to.error_mm,
+        to.reference_tip_mm[0],
+        to.reference_tip_mm[1],
+        to.reference_uncertainty_mm.unwrap_or(f64::NAN),
+        to.estimated_error_mm.unwrap_or(f64::NAN)
+    )?;
+    if let Some(p) = &peer {
+        writeln!(
+            out,
+            "\npeer ({} alternating rounds, medians): cold {:.1} us vs ours {:.1} us = {:.2}x; warm {:.1} us vs ours {:.1} us = {:.2}x",
+            p.rounds, p.peer_cold_us, p.fpc_cold_us, p.ratio_cold, p.peer_warm_us, p.fpc_warm_us, p.ratio_warm
         )?;
     }
     Ok(())

@@ -114,26 +114,35 @@ fn a_bad_tip_tolerance_exits_2_naming_it() {
         &["finger", "--tip-tol-mm", "nan"],
         &["tip_tol_mm = NaN: must be finite"],
     );
-    // refinement doubles N up to 512: it must start at 1 to 256 elements
-    for n in ["0", "300"] {
+    // refinement doubles N up to 1000: it must start at 1 to 500 elements
+    for n in ["0", "600"] {
         rejected(
             &["finger", "--tip-tol-mm", "0.1", "--elements", n],
-            &[&format!("partition.n = {n}: must lie in [1, 256]")],
+            &[&format!("partition.n = {n}: must lie in [1, 500]")],
         );
     }
+    // the tolerance chooses the partition, levels and extrapolation
+    rejected(
+        &["finger", "--tip-tol-mm", "0.1", "--levels", "2"],
+        &["tip_tol_mm: chooses the partition, levels and extrapolation itself"],
+    );
 }
 
 #[test]
 fn an_unreachable_tip_tolerance_exits_2() {
-    // the CCM's tip error at N = 512 is about 1e-2 mm; unloaded, the
-    // doubling from N = 8 is fast even in a debug build
-    rejected(
-        &["finger", "--tip-tol-mm", "1e-12"],
-        &[
-            "tip_tol_mm = 0.000000000001: not reached with up to 512 elements",
-            "estimated tip error there",
-        ],
-    );
+    // no partition of at most 1000 elements estimates 1e-12 mm; unloaded,
+    // the refinement is fast even in a debug build
+    for extra in [&[][..], &["--elements", "8"][..]] {
+        let mut args = vec!["finger", "--tip-tol-mm", "1e-12"];
+        args.extend_from_slice(extra);
+        rejected(
+            &args,
+            &[
+                "tip_tol_mm = 0.000000000001: not reached with up to 1000 elements",
+                "estimated tip error there",
+            ],
+        );
+    }
 }
 
 #[test]

@@ -57,96 +57,418 @@ fn example_scenes() -> Vec<PathBuf> {
     v
 }
 
+/// The keys of `solution.json` in every scene: the finger's equilibrium
+/// (the `fpc finger --json` keys) and the run's.
+const KEYS: [&str; 18] = [
+    "scene_name",
+    "kind",
+    "elements",
+    "tip_error_estimate_mm",
+    "tip_mm",
+    "end_angle_rad",
+    "radius_mm",
+    "energy_nmm",
+    "negative_eigenvalues",
+    "stable",
+    "coefficients",
+    "points_mm",
+    "element_lengths_mm",
+    "report",
+    "validity",
+    "warnings",
+    "warning_messages",
+    "scene",
+];
+
+/// The keys a gripper scene adds.
+const GRIPPER_KEYS: [&str; 3] = ["gripper", "grasp", "points_gripper_mm"];
+
+/// The keys of `gripper`: the design and the geometry its rest state fixes.
+const GRIPPER: [&str; 15] = [
+    "mounting_angle_deg",
+    "mu",
+    "fingers",
+    "params",
+    "model",
+    "elements",
+    "l0_mm",
+    "palm_mm",
+    "overlap_mm",
+    "d_min_mm",
+    "d_max_mm",
+    "r_max_mm",
+    "tip_is_innermost",
+    "rest_tip_gripper_mm",
+    "warnings",
+];
+
+/// The keys of `grasp` (a sphere adds `sphere_radius_mm` and
+/// `sphere_center_gripper_mm`).
+const GRASP: [&str; 14] = [
+    "kind",
+    "pressure_kpa",
+    "beta_deg",
+    "normal_force_n",
+    "friction_n",
+    "friction_limit_n",
+    "lift_n",
+    "size_mm",
+    "tip_gap_mm",
+    "height_mm",
+    "tip_gripper_mm",
+    "tip_load_finger_n",
+    "valid",
+    "invalid",
+];
+
+/// What `fpc solve` wrote for one scene.
+struct Written {
+    json: serde_json::Value,
+    csv: String,
+    svg: String,
+    stderr: String,
+}
+
+/// Solves `scene` into `out` and reads the three files back.
+fn solve_into(scene: &Path, out: &Path) -> Written {
+    let o = run_ok(fpc().arg("solve").arg(scene).arg("--out").arg(out));
+    assert!(text(&o.stdout).contains("wrote"), "{}", text(&o.stdout));
+    let read = |f: &str| {
+        std::fs::read_to_string(out.join(f)).unwrap_or_else(|e| panic!("{scene:?}: {f}: {e}"))
+    };
+    Written {
+        json: serde_json::from_str(&read("solution.json"))
+            .unwrap_or_else(|e| panic!("{scene:?}: solution.json: {e}")),
+        csv: read("shape.csv"),
+        svg: read("shape.svg"),
+        stderr: text(&o.stderr),
+    }
+}
+
+/// Writes `text` as `<name>.toml` in `dir` and solves it into `<name>`.
+fn solve_text(dir: &Path, name: &str, scene: &str) -> Written {
+    let path = dir.join(format!("{name}.toml"));
+    std::fs::write(&path, scene).unwrap();
+    solve_into(&path, &dir.join(name))
+}
+
+/// The checks every `solution.json` passes: every key, the findings as
+/// typed objects with their text beside them, and `validity` agreeing
+/// with them and with the grasp.
+fn check_json(name: &str, json: &serde_json::Value) {
+    let kind = json["kind"]
+        .as_str()
+        .unwrap_or_else(|| panic!("{name}: kind"));
+    assert!(
+        ["finger", "gripper", "grasp"].contains(&kind),
+        "{name}: {kind}"
+    );
+    for key in KEYS {
+        assert!(json.get(key).is_some(), "{name}: no {key}");
+    }
+    for key in GRIPPER_KEYS {
+        assert_eq!(json.get(key).is_some(), kind != "finger", "{name}: {key}");
+    }
+    if kind != "finger" {
+        for key in GRIPPER {
+            assert!(
+                json["gripper"].get(key).is_some(),
+                "{name}: no gripper.{key}"
+            );
+        }
+        assert_eq!(json["grasp"].is_null(), kind == "gripper", "{name}");
+    }
+    if kind == "grasp" {
+        let g = &json["grasp"];
+        for key in GRASP {
+            assert!(g.get(key).is_some(), "{name}: no grasp.{key}");
+        }
+        let sphere = g["kind"] == "sphere";
+        assert_eq!(g.get("sphere_radius_mm").is_some(), sphere, "{name}");
+        assert_eq!(
+            g.get("sphere_center_gripper_mm").is_some(),
+            sphere,
+            "{name}"
+        );
+        assert_eq!(g["valid"].as_bool(), Some(g["invalid"].is_null()), "{name}");
+    }
+    let tip = json["tip_mm"].as_array().unwrap();
+    assert!(
+        tip.iter().all(|v| v.as_f64().unwrap().is_finite()),
+        "{name}"
+    );
+    // the echo spells out the defaults
+    assert!(
+        json["scene"]["actuator"]["geometry"]["lx"].is_number(),
+        "{name}"
+    );
+
+    let warnings = json["warnings"].as_array().unwrap();
+    let messages = json["warning_messages"].as_array().unwrap();
+    assert_eq!(warnings.len(), messages.len(), "{name}");
+    for (w, m) in warnings.iter().zip(messages) {
+        assert!(w.is_object(), "{name}: a warning is an object: {w}");
+        assert!(
+            w["kind"].as_str().is_some_and(|k| !k.is_empty()),
+            "{name}: {w}"
+        );
+        assert!(
+            w["message"].as_str().is_some_and(|m| m.len() > 10),
+            "{name}: {w}"
+        );
+        for key in ["element", "value", "limit"] {
+            let v = w.get(key);
+            assert!(v.is_none_or(serde_json::Value::is_number), "{name}: {w}");
+        }
+        assert!(m.as_str().is_some_and(|m| m.len() > 10), "{name}: {m}");
+    }
+    let grasp_valid = kind != "grasp" || json["grasp"]["valid"] == true;
+    let outside = warnings
+        .iter()
+        .any(|w| VALIDITY_KINDS.contains(&w["kind"].as_str().unwrap()));
+    assert_eq!(json["validity"], grasp_valid && !outside, "{name}");
+}
+
+/// The warning kinds that put an answer outside the model.
+const VALIDITY_KINDS: [&str; 5] = [
+    "element_slope",
+    "strain_range",
+    "self_contact",
+    "curvature_reversal",
+    "beyond_flat",
+];
+
+/// `shape.csv`: the header of the scene's kind, one finite row per sample.
+fn check_csv(name: &str, json: &serde_json::Value, csv: &str) {
+    let mut lines = csv.lines();
+    let header = lines.next().unwrap();
+    let expected = if json["kind"] == "finger" {
+        "x_mm,z_mm"
+    } else {
+        "x_mm,z_mm,xg_mm,zg_mm"
+    };
+    assert_eq!(header, expected, "{name}");
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(
+        rows.len(),
+        json["points_mm"].as_array().unwrap().len(),
+        "{name}"
+    );
+    assert!(rows.iter().all(|r| r.len() == header.split(',').count()));
+}
+
+/// `shape.svg`: a whole document with axes named in the scene's frame,
+/// the tip's caption, every validity finding listed, and no `NaN`.
+fn check_svg(name: &str, json: &serde_json::Value, svg: &str) {
+    assert!(
+        svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
+        "{name}"
+    );
+    assert!(!svg.contains("NaN"), "{name}: NaN in the SVG");
+    assert!(
+        !svg.contains("inf\""),
+        "{name}: an infinite coordinate in the SVG"
+    );
+    let (x, y) = if json["kind"] == "finger" {
+        ("X (mm)", "Z (mm)")
+    } else {
+        ("Xg (mm)", "Zg (mm, pointing down)")
+    };
+    assert!(svg.contains(x) && svg.contains(y), "{name}: no axis labels");
+    assert!(svg.contains("tip X"), "{name}: no tip in the caption");
+    assert!(svg.contains("end angle"), "{name}");
+    if json["kind"] == "grasp" {
+        assert!(svg.contains("kPa") && svg.contains("f_v ="), "{name}");
+        let verdict = if json["grasp"]["valid"] == true {
+            ": valid"
+        } else {
+            "NOT valid"
+        };
+        assert!(svg.contains(verdict), "{name}: {verdict}");
+    }
+    let findings: Vec<&serde_json::Value> = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| VALIDITY_KINDS.contains(&w["kind"].as_str().unwrap()))
+        .collect();
+    for w in findings.iter().take(MAX_FINDINGS) {
+        let kind = w["kind"].as_str().unwrap();
+        let line = match w.get("element") {
+            Some(e) => format!("outside the model: {kind} at element {e}"),
+            None => format!("outside the model: {kind}"),
+        };
+        assert!(svg.contains(&line), "{name}: {line} not in the SVG");
+    }
+    if findings.len() > MAX_FINDINGS {
+        let more = format!("and {} more findings", findings.len() - MAX_FINDINGS);
+        assert!(svg.contains(&more), "{name}: {more} not in the SVG");
+    }
+    if findings.is_empty() {
+        assert!(svg.contains("within the model"), "{name}");
+    }
+}
+
+/// The findings the SVG's caption lists one by one (src/solve.rs).
+const MAX_FINDINGS: usize = 12;
+
 #[test]
 fn every_example_scene_solves_and_writes_its_files() {
     let tmp = TempDir::new("examples");
     for scene in example_scenes() {
         let stem = scene.file_stem().unwrap().to_string_lossy().into_owned();
         let out = tmp.0.join(&stem);
-        let o = run_ok(fpc().arg("solve").arg(&scene).arg("--out").arg(&out));
-        let stdout = text(&o.stdout);
-        assert!(stdout.contains("wrote"), "{stem}: {stdout}");
-
-        let json: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(out.join("solution.json")).unwrap())
-                .unwrap_or_else(|e| panic!("{stem}: solution.json: {e}"));
-        for key in [
-            "tip_mm",
-            "end_angle_rad",
-            "radius_mm",
-            "energy_nmm",
-            "negative_eigenvalues",
-            "stable",
-            "coefficients",
-            "points_mm",
-            "report",
-            "elements",
-            "scene",
-            "kind",
-        ] {
-            assert!(json.get(key).is_some(), "{stem}: no {key}");
+        let w = solve_into(&scene, &out);
+        check_json(&stem, &w.json);
+        check_csv(&stem, &w.json, &w.csv);
+        check_svg(&stem, &w.json, &w.svg);
+        assert_eq!(w.json["scene_name"], stem.as_str());
+        if w.json["kind"] == "grasp" {
+            assert_eq!(w.json["grasp"]["valid"], true, "{stem}");
+            assert!(w.svg.contains("<polygon"), "{stem}: no object");
         }
-        assert_eq!(json["scene_name"], stem.as_str());
-        let tip = json["tip_mm"].as_array().unwrap();
-        assert!(
-            tip.iter().all(|v| v.as_f64().unwrap().is_finite()),
-            "{stem}"
-        );
-        // the echo spells out the defaults
-        assert!(
-            json["scene"]["actuator"]["geometry"]["lx"].is_number(),
-            "{stem}"
-        );
-
-        let csv = std::fs::read_to_string(out.join("shape.csv")).unwrap();
-        let mut lines = csv.lines();
-        let header = lines.next().unwrap();
-        let grasp = json["kind"] == "grasp";
-        if grasp {
-            assert_eq!(header, "x_mm,z_mm,xg_mm,zg_mm", "{stem}");
-            let g = &json["grasp"];
-            for key in [
-                "normal_force_n",
-                "friction_n",
-                "lift_n",
-                "size_mm",
-                "tip_gap_mm",
-                "height_mm",
-                "valid",
-            ] {
-                assert!(g.get(key).is_some(), "{stem}: no grasp.{key}");
-            }
-            assert_eq!(g["valid"], true, "{stem}");
-        } else {
-            assert_eq!(header, "x_mm,z_mm", "{stem}");
-        }
-        let rows: Vec<Vec<f64>> = lines
-            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
-            .collect();
-        assert_eq!(
-            rows.len(),
-            json["points_mm"].as_array().unwrap().len(),
-            "{stem}"
-        );
-        assert!(rows.iter().all(|r| r.len() == header.split(',').count()));
-
-        let svg = std::fs::read_to_string(out.join("shape.svg")).unwrap();
-        assert!(
-            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
-            "{stem}"
-        );
-        assert!(svg.contains("<polyline"), "{stem}");
-        if grasp {
-            assert!(
-                svg.contains("<polygon") || svg.contains("<circle cx"),
-                "{stem}"
-            );
-        }
+        assert!(w.svg.contains("<polyline"), "{stem}: no shape");
         // written atomically: no temporary file left behind
         for e in std::fs::read_dir(&out).unwrap() {
             let name = e.unwrap().file_name().to_string_lossy().into_owned();
             assert!(!name.ends_with(".tmp"), "{stem}: {name}");
         }
+    }
+}
+
+#[test]
+fn findings_are_typed_in_the_json_and_listed_in_the_svg() {
+    let tmp = TempDir::new("findings");
+    // two elements under pressure each turn beyond the slope limit
+    let w = solve_text(
+        &tmp.0,
+        "coarse",
+        "[partition]\nelements = 2\n[load]\npressure_kpa = 60\n",
+    );
+    check_json("coarse", &w.json);
+    check_svg("coarse", &w.json, &w.svg);
+    assert_eq!(w.json["validity"], false);
+    let warnings = w.json["warnings"].as_array().unwrap();
+    let slopes: Vec<&serde_json::Value> = warnings
+        .iter()
+        .filter(|w| w["kind"] == "element_slope")
+        .collect();
+    assert_eq!(slopes.len(), 2, "{warnings:?}");
+    for (i, s) in slopes.iter().enumerate() {
+        assert_eq!(s["element"], i);
+        assert!(
+            s["value"].as_f64().unwrap() > s["limit"].as_f64().unwrap(),
+            "{s}"
+        );
+    }
+    // the text form names the scene's keys, as stderr does
+    let messages = w.json["warning_messages"].as_array().unwrap();
+    for m in messages {
+        let m = m.as_str().unwrap();
+        assert!(w.stderr.contains(m), "{m} not on stderr: {}", w.stderr);
+    }
+    assert!(w
+        .svg
+        .contains("outside the model: element_slope at element 1"));
+
+    // a grasp breaking a rule: `invalid` is a typed object
+    let w = solve_text(
+        &tmp.0,
+        "cone",
+        "[gripper]\n[gripper.grasp]\nfriction_n = 50\n",
+    );
+    check_json("cone", &w.json);
+    check_svg("cone", &w.json, &w.svg);
+    let g = &w.json["grasp"];
+    assert_eq!(g["valid"], false);
+    assert_eq!(g["invalid"]["kind"], "friction_cone", "{g}");
+    assert!(
+        g["invalid"]["message"].as_str().unwrap().contains("mu F"),
+        "{g}"
+    );
+    assert_eq!(w.json["validity"], false);
+    assert!(w.svg.contains("NOT valid: friction_cone"));
+
+    // the gripper's design note is a typed warning too, not a finding
+    let w = solve_text(&tmp.0, "angle", "[gripper]\nmounting_angle_deg = 30\n");
+    check_json("angle", &w.json);
+    check_svg("angle", &w.json, &w.svg);
+    let kinds: Vec<&str> = w.json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["kind"].as_str().unwrap())
+        .collect();
+    assert!(
+        kinds.contains(&"mounting_angle_outside_design_space"),
+        "{kinds:?}"
+    );
+    assert_eq!(
+        w.json["gripper"]["warnings"][0]["kind"],
+        "mounting_angle_outside_design_space"
+    );
+}
+
+#[test]
+fn an_unsampled_shape_draws_the_tip_without_nan() {
+    let tmp = TempDir::new("unsampled");
+    for (name, scene) in [
+        ("finger", "[solve]\nshape = false\n"),
+        (
+            "tip_load",
+            "[solve]\nshape = false\n[load]\nfx = 0.5\nfz = -0.5\n",
+        ),
+    ] {
+        let w = solve_text(&tmp.0, name, scene);
+        check_json(name, &w.json);
+        check_csv(name, &w.json, &w.csv);
+        check_svg(name, &w.json, &w.svg);
+        assert!(w.json["points_mm"].as_array().unwrap().is_empty(), "{name}");
+        assert_eq!(w.csv, "x_mm,z_mm\n", "{name}");
+        assert!(w.svg.contains("solve.shape = false"), "{name}");
+        assert!(w.svg.contains("<circle"), "{name}: the tip");
+    }
+}
+
+#[test]
+fn every_grasp_kind_and_a_gripper_at_rest_are_drawn() {
+    let tmp = TempDir::new("kinds");
+    for (name, scene, object) in [
+        ("rest", "[gripper]\n", None),
+        (
+            "size",
+            "[gripper]\n[gripper.grasp]\nkind = \"size\"\nd_mm = 90\nbeta_deg = 10\n",
+            Some("object surface at the contacts"),
+        ),
+        ("cuboid", "[gripper]\n[gripper.grasp]\n", Some("cuboid")),
+        (
+            "sphere",
+            "[gripper]\n[gripper.grasp]\nkind = \"sphere\"\n",
+            Some("sphere"),
+        ),
+    ] {
+        let w = solve_text(&tmp.0, name, scene);
+        check_json(name, &w.json);
+        check_csv(name, &w.json, &w.csv);
+        check_svg(name, &w.json, &w.svg);
+        for entry in [
+            "finger mid-plane",
+            "opposite finger",
+            "fingers at rest",
+            "palm",
+            "tip",
+        ] {
+            assert!(w.svg.contains(entry), "{name}: no {entry} in the legend");
+        }
+        if let Some(o) = object {
+            assert!(w.svg.contains(o), "{name}: no {o}");
+        }
+        assert_eq!(
+            w.json["kind"],
+            if object.is_some() { "grasp" } else { "gripper" }
+        );
     }
 }
 

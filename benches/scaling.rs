@@ -1,0 +1,126 @@
+//! How a tip-loaded solve scales with the number of elements N, and the
+//! structured `O(N)` Newton against the dense reference path (the same
+//! Newton on the same problem with the Hessian expanded and factorised
+//! densely), measured in one run. Prints a table; targets (issue
+//! "Linear-time chain solves"): per-iteration cost t(256) / t(32) <= 10,
+//! and the N = 256 cold solve >= 100x faster than the dense path.
+//!
+//! ```sh
+//! cargo bench --bench scaling
+//! cargo bench --bench scaling -- --quick     # fewer repetitions
+//! ```
+
+use std::time::Instant;
+
+use fpc::{Finger, Load, SolveOptions, Solver};
+
+#[path = "common/dense.rs"]
+mod dense;
+
+const FX: f64 = 0.939782;
+const FZ: f64 = 0.521707;
+
+/// Median seconds of `f` over `reps` runs (after one warm-up run).
+fn median_s(reps: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// Repetitions for a solve of about `estimate_s` seconds.
+fn reps(quick: bool, estimate_s: f64) -> usize {
+    let budget = if quick { 0.05 } else { 0.5 };
+    ((budget / estimate_s.max(1e-9)) as usize).clamp(3, 2000)
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let load = Load::unloaded().with_tip_force(FX, FZ);
+    let opts = SolveOptions::default().tip_only();
+    println!("tip-loaded cold solve (from the unloaded equilibrium), eps0 = 0.25, default actuator, release build");
+    println!(
+        "{:>5} {:>12} {:>6} {:>12} {:>14} {:>12} {:>8} {:>10}",
+        "N", "solve (us)", "iters", "per iter", "Newton (us)", "dense (us)", "dense/", "tip diff"
+    );
+    let mut per_iter = Vec::new();
+    let mut ratio_256 = f64::NAN;
+    for n in [8usize, 32, 128, 256] {
+        let finger = Finger::paper(0.25, n).expect("the default finger builds");
+        let unloaded = finger
+            .solve(&Load::unloaded(), &opts)
+            .expect("the unloaded finger solves");
+        // the product path: Solver (workspace reused), validity included
+        let mut solver = Solver::new(&finger);
+        let sol = solver
+            .solve(&load, Some(&unloaded.coefficients), &opts)
+            .expect("the tip-loaded finger solves");
+        let t_solve = median_s(reps(quick, 1e-6 * n as f64), || {
+            std::hint::black_box(
+                solver
+                    .solve(&load, Some(&unloaded.coefficients), &opts)
+                    .ok(),
+            );
+        });
+        let it = sol.report.iterations.max(1);
+        per_iter.push((n, t_solve / it as f64));
+        // the same Newton on the structured and on the dense path
+        let nopts = dense::newton_options(&finger, opts.rtol);
+        let x0 = dense::scaled(&finger, unloaded.coefficients.as_slice());
+        let mut xs = x0.clone();
+        let rs = dense::solve_structured(&finger, &load, nopts, &mut xs);
+        let t_s = median_s(reps(quick, 1e-6 * n as f64), || {
+            let mut x = x0.clone();
+            std::hint::black_box(dense::solve_structured(&finger, &load, nopts, &mut x));
+        });
+        let mut xd = x0.clone();
+        let rd = dense::solve_dense(&finger, &load, nopts, &mut xd);
+        let dense_reps = if quick { 1 } else { 3 };
+        let t_d = median_s(dense_reps, || {
+            let mut x = x0.clone();
+            std::hint::black_box(dense::solve_dense(&finger, &load, nopts, &mut x));
+        });
+        let diff = xs
+            .iter()
+            .zip(&xd)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            rs.reason == rd.reason,
+            "N = {n}: structured {rs:?} but dense {rd:?}"
+        );
+        if n == 256 {
+            ratio_256 = t_d / t_s;
+        }
+        println!(
+            "{n:>5} {:>12.1} {it:>6} {:>12.2} {:>14.1} {:>12.1} {:>8.1} {diff:>10.1e}",
+            t_solve * 1e6,
+            t_solve * 1e6 / it as f64,
+            t_s * 1e6,
+            t_d * 1e6,
+            t_d / t_s,
+        );
+    }
+    let t32 = per_iter
+        .iter()
+        .find(|p| p.0 == 32)
+        .map_or(f64::NAN, |p| p.1);
+    let t256 = per_iter
+        .iter()
+        .find(|p| p.0 == 256)
+        .map_or(f64::NAN, |p| p.1);
+    println!(
+        "per-iteration cost t(256) / t(32) = {:.2} (target <= 10; elements ratio 8)",
+        t256 / t32
+    );
+    println!("N = 256: dense path / structured = {ratio_256:.0}x (target >= 100)");
+    println!(
+        "(\"tip diff\" is the largest difference of the scaled unknowns between the two paths)"
+    );
+}
