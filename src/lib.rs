@@ -28,6 +28,7 @@ mod finger;
 mod fit;
 pub mod model;
 mod refine;
+mod search;
 mod ser;
 mod validity;
 

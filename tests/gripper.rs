@@ -599,3 +599,59 @@ fn unreachable_targets_fail_cleanly() {
         Err(e) => panic!("unexpected error {e}"),
     }
 }
+
+/// The best grasping angle of a sphere is solved, not sampled: a dense grid
+/// of angles (each grasp solved independently, warm-started along the grid)
+/// never finds a valid grasp lifting more than the solved maximum, beyond
+/// the lift's change over one grid step.
+#[test]
+fn the_solved_sphere_envelope_is_not_beaten_by_a_dense_grid() {
+    use fpc::gripper::grasping_angle_range;
+    let params = GripperParams {
+        mounting_angle: std::f64::consts::FRAC_PI_3,
+        geometry: PalmSpec::Overlap(20.0),
+        ..GripperParams::default()
+    };
+    let g = Gripper::paper(0.25, 8, params).unwrap();
+    let [lo, hi] = grasping_angle_range(g.mu());
+    for r in [40.0, 60.0] {
+        let best = g
+            .max_sphere_lift(0.0, r, 24)
+            .unwrap()
+            .expect("a valid grasp");
+        let m = 400;
+        let mut warm = None;
+        let mut grid_best = f64::NEG_INFINITY;
+        let mut max_step_change = 0.0f64;
+        let mut last: Option<f64> = None;
+        for i in 0..m {
+            let beta = lo + (hi - lo) * i as f64 / m as f64;
+            match g.sphere_grasp_at_friction_limit(0.0, r, beta, warm.as_ref()) {
+                Ok(sg) => {
+                    if sg.is_valid() {
+                        grid_best = grid_best.max(sg.grasp.lift);
+                        if let Some(l) = last {
+                            max_step_change = max_step_change.max((sg.grasp.lift - l).abs());
+                        }
+                        last = Some(sg.grasp.lift);
+                    } else {
+                        last = None;
+                    }
+                    warm = Some(sg.grasp);
+                }
+                Err(_) => {
+                    warm = None;
+                    last = None;
+                }
+            }
+        }
+        assert!(grid_best.is_finite(), "r = {r}: no valid grasp on the grid");
+        assert!(
+            grid_best <= best.lift + 1e-9 * best.lift.abs(),
+            "r = {r}: grid {grid_best} > solved {} (step change {max_step_change:e})",
+            best.lift
+        );
+        // and the solved maximum is not far above the grid either
+        assert!(best.lift - grid_best <= max_step_change + 1e-9, "r = {r}");
+    }
+}

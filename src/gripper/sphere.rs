@@ -19,6 +19,13 @@ use super::frames::{contact_force_to_gripper, grasping_angle_range};
 use super::rules::Invalid;
 use super::{check_beta, Grasp, Gripper, Scene, GRIPPER_SAMPLES_PER_ELEMENT};
 
+/// Tolerance (rad) on the best grasping angle of [`Gripper::max_sphere_lift`].
+pub const ENVELOPE_BETA_TOL: f64 = 1e-9;
+
+/// Target solves the search for the best grasping angle may spend beyond
+/// the scan.
+const ENVELOPE_MAX_EVALUATIONS: usize = 60;
+
 /// A sphere centred on the gripper axis touching the tip.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub struct SphereContact {
@@ -198,8 +205,10 @@ impl Gripper {
     /// `r` validly, over the grasping angles in `[-arctan mu, pi/2)`: a scan
     /// of `samples` angles (at least 4) with full friction, each warm-started
     /// from the previous and stopped where that branch of equilibria is
-    /// lost, then two rounds of refinement around the best valid angle. `None` when no scanned
-    /// angle gives a valid grasp.
+    /// lost, then Brent's method between the best valid angle's neighbours
+    /// to [`ENVELOPE_BETA_TOL`] (the optimality condition d f_v / d b = 0,
+    /// or the validity boundary where the maximum lies on one). `None` when
+    /// no scanned angle gives a valid grasp.
     pub fn max_sphere_lift(
         &self,
         pressure_kpa: f64,
@@ -245,22 +254,34 @@ impl Gripper {
                 Err(_) => {}
             }
         }
-        // refine: subdivide the bracket around the best angle twice
-        let mut width = step;
-        for _ in 0..2 {
-            let Some((b, g)) = &best else { break };
-            let (centre, start) = (b.beta, g.clone());
-            let (a, z) = ((centre - width).max(lo), (centre + width).min(hi - 1e-9));
-            const SUB: usize = 8;
-            for j in 1..SUB {
-                let beta = a + (z - a) * j as f64 / SUB as f64;
-                if let Ok(sg) =
-                    self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, Some(&start))
-                {
-                    consider(sg, &mut best);
+        // the optimum between the scan's neighbours: Brent's method on the
+        // lift (an invalid or failed grasp counts as -inf, so a maximum on
+        // a validity boundary is found as that boundary)
+        if let Some((b, g)) = &best {
+            let (centre, start, fb) = (b.beta, g.clone(), b.lift);
+            let (a, z) = ((centre - step).max(lo), (centre + step).min(hi - 1e-9));
+            let mut eval = |beta: f64| -> Result<Option<f64>, SolveError> {
+                if self.check_sphere(r, beta).is_err() {
+                    return Ok(None);
                 }
-            }
-            width = (z - a) / SUB as f64;
+                let Ok(sg) =
+                    self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, Some(&start))
+                else {
+                    return Ok(None);
+                };
+                let lift = sg.is_valid().then_some(sg.grasp.lift);
+                consider(sg, &mut best);
+                Ok(lift)
+            };
+            crate::search::brent_max(
+                &mut eval,
+                a,
+                centre,
+                z,
+                fb,
+                ENVELOPE_BETA_TOL,
+                ENVELOPE_MAX_EVALUATIONS,
+            )?;
         }
         Ok(best.map(|(b, _)| b))
     }

@@ -44,8 +44,8 @@ pub struct SphereRegion {
     /// Max lifting force versus radius on a radius grid over the swept
     /// radii, each the best valid grasping angle ([`Gripper::max_sphere_lift`]).
     pub envelope: Vec<SphereLift>,
-    /// The envelope's highest point, refined by golden-section search in
-    /// the radius (`None`: no valid grasp).
+    /// The envelope's highest point, refined by Brent's method in the
+    /// radius to 1e-6 mm (`None`: no valid grasp).
     pub peak: Option<SphereLift>,
     /// Sweeps that stopped early: (grasping angle, where and why).
     pub stopped: Vec<(f64, SweepStop)>,
@@ -107,7 +107,7 @@ pub fn study5_sphere_region(
 }
 
 /// The max-lift envelope on `m` radii spanning the valid sweep points,
-/// and its peak refined by golden-section search around the best radius.
+/// and its peak refined by Brent's method around the best radius.
 fn sphere_envelope(
     g: &Gripper,
     points: &[SpherePoint],
@@ -139,36 +139,29 @@ fn sphere_envelope(
     let Some((i, mut peak)) = best else {
         return Ok((envelope, None));
     };
-    // golden section on the neighbours' bracket (a lift of None counts as -inf)
-    let (mut a, mut b) = (
+    // Brent's method on the neighbours' bracket (a radius without a valid
+    // grasp counts as -inf): the peak's optimality condition in r
+    let (a, b) = (
         envelope[i.saturating_sub(1)].radius,
         envelope[(i + 1).min(envelope.len() - 1)].radius,
     );
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let lift = |e: &Option<SphereLift>| e.as_ref().map_or(f64::NEG_INFINITY, |e| e.lift);
-    let (mut x1, mut x2) = (b - ratio * (b - a), a + ratio * (b - a));
-    let (mut e1, mut e2) = (at(x1)?, at(x2)?);
-    for _ in 0..GOLDEN_STEPS {
-        if lift(&e1) >= lift(&e2) {
-            (b, x2, e2) = (x2, x1, e1);
-            x1 = b - ratio * (b - a);
-            e1 = at(x1)?;
-        } else {
-            (a, x1, e1) = (x1, x2, e2);
-            x2 = a + ratio * (b - a);
-            e2 = at(x2)?;
+    let (centre, fb) = (peak.radius, peak.lift);
+    let mut eval = |r: f64| -> Result<Option<f64>, SolveError> {
+        let e = at(r)?;
+        let lift = e.as_ref().map(|e| e.lift);
+        if let Some(e) = e {
+            if e.lift > peak.lift {
+                peak = e;
+            }
         }
-    }
-    for e in [e1, e2].into_iter().flatten() {
-        if e.lift > peak.lift {
-            peak = e;
-        }
-    }
+        Ok(lift)
+    };
+    crate::search::brent_max(&mut eval, a, centre, b, fb, PEAK_RADIUS_TOL_MM, 40)?;
     Ok((envelope, Some(peak)))
 }
 
-/// Golden-section steps refining the study-5 peak radius.
-const GOLDEN_STEPS: usize = 12;
+/// Tolerance (mm) on the radius of the study-5 envelope's peak.
+const PEAK_RADIUS_TOL_MM: f64 = 1e-6;
 
 // ------------------------------------------------------------ outputs
 
