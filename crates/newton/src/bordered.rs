@@ -215,6 +215,31 @@ impl BorderedNewton {
         self.inertia
     }
 
+    /// The inertia of `H` restricted to the tangent space `{v : c_x . v =
+    /// 0}` of the target equation at the returned point: the stability of
+    /// the target-constrained equilibrium (no negative count: a strict
+    /// local minimum of the energy on the constraint). See
+    /// [`restricted_inertia`](crate::restricted_inertia) for the method and
+    /// its errors.
+    ///
+    /// Call it right after a converged [`BorderedNewton::solve`] with the
+    /// problem just solved: its Hessian is then the one at the returned
+    /// point (the last evaluation), which this factorises once more with
+    /// symmetric pivots (one factorisation, not counted in the solve's
+    /// report; a problem may invalidate its factorisation on evaluation,
+    /// and the solve's last factorisation is one Newton step before the
+    /// returned point). `c_x` is that of [`BorderedNewton::last`].
+    /// Allocates nothing.
+    pub fn last_restricted_inertia<P: LinearSystem + ?Sized>(
+        &mut self,
+        p: &mut P,
+    ) -> Result<Inertia, crate::RestrictedInertiaError> {
+        let inertia = p
+            .factor(0.0, PivotKind::Symmetric)
+            .map_err(crate::RestrictedInertiaError::Hessian)?;
+        crate::palc::restricted_inertia_with(p, inertia, &self.cur.c_x, &mut self.r, &mut self.hx)
+    }
+
     /// Solves the bordered system at the problem's current evaluation
     /// (`self.cur`) for the Newton step: `dx` in `self.dx`, returns
     /// `dlambda`; `Err(NonFinite)` when `H` holds a non-finite entry,

@@ -22,6 +22,11 @@
 //!   their inertia.
 //! * [`Bfgs`] — gradient-only quasi-Newton, an independent cross-check.
 //! * [`continuation()`] — adaptive parameter stepping with a secant predictor.
+//! * [`Palc`] — pseudo-arclength continuation of an equilibrium path
+//!   ([`Path`]) through limit points, with fold and stability (inertia)
+//!   events located along the way; [`restricted_inertia`] — the inertia of
+//!   a Hessian on a constraint's tangent space (stability of target
+//!   solves, also [`BorderedNewton::last_restricted_inertia`]).
 //! * [`cholesky_in_place`], [`lu_in_place`], [`min_eigenvalue`] — the
 //!   dense kernels.
 //!
@@ -40,6 +45,7 @@ mod dense;
 mod linear;
 mod newton;
 mod options;
+mod palc;
 mod problem;
 mod report;
 mod semiseparable;
@@ -60,8 +66,13 @@ pub use dense::{
 pub use linear::{FactorError, Inertia};
 pub use newton::Newton;
 pub use options::{
-    BfgsOptions, ContinuationOptions, LinearBackend, NewtonOptions, OptionsError,
+    BfgsOptions, ContinuationOptions, LinearBackend, NewtonOptions, OptionsError, PalcOptions,
     AUTO_DENSE_MAX_DIM,
+};
+pub use palc::{
+    factor_restricted_inertia, restricted_inertia, BorderedPath, Branch, BranchEvent, BranchPoint,
+    Control, DensePath, DensePathProblem, Direction, EventKind, Palc, Path, PathEvent,
+    PathObserver, PathPoint, PathReport, PathTermination, RestrictedInertiaError,
 };
 pub use problem::{Dense, DenseHessian, DenseMatrix, Energy, Gradient, Hessian, LinearSystem};
 pub use report::{Report, Termination};

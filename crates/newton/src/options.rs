@@ -433,6 +433,205 @@ impl ContinuationOptions {
     }
 }
 
+/// Options of the pseudo-arclength continuation driver [`Palc`](crate::Palc).
+///
+/// Step lengths are pseudo-arclengths in the weighted norm
+/// `||(dx, dlambda)||_theta = sqrt(||dx||_2^2 + theta^2 dlambda^2)` (see
+/// [`theta`](Self::theta)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PalcOptions {
+    /// First step length (`min_step <= initial_step <= max_step`). Default 0.05.
+    pub initial_step: f64,
+    /// Smallest step length (finite, > 0): a failure at this length ends the
+    /// branch ([`PathTermination::StepTooSmall`](crate::PathTermination::StepTooSmall)
+    /// or [`NonFinite`](crate::PathTermination::NonFinite)). Default 1e-8.
+    pub min_step: f64,
+    /// Largest step length (finite, `>= min_step`). Default 0.5.
+    pub max_step: f64,
+    /// Step growth factor after an easy corrector solve (finite, >= 1). Default 1.5.
+    pub grow: f64,
+    /// Step shrink factor after a rejected step, in (0, 1). Default 0.5.
+    pub shrink: f64,
+    /// Largest number of accepted steps (points after the start). Default 10 000.
+    pub max_steps: usize,
+    /// Weight `theta` of the load in the arclength norm (finite, > 0): one
+    /// unit of `lambda` counts as `theta` units of `x`. Default 1.
+    pub theta: f64,
+    /// Corrector convergence: `||g||_inf <= gtol` (absolute; finite, >= 0). Default 1e-10.
+    pub gtol: f64,
+    /// Newton iterations allowed per corrector solve (>= 1). Default 8.
+    pub max_corrector_iterations: usize,
+    /// A corrector solve needing at most this many iterations lets the step
+    /// grow. Default 3.
+    pub easy_iterations: usize,
+    /// A corrector iterate farther than `max_correction * ds` (weighted
+    /// norm) from its predictor rejects the step: guards against jumping to
+    /// another branch (> 0, may be infinite). Default 1.
+    pub max_correction: f64,
+    /// A step whose new tangent makes `cos(angle) < min_tangent_cos` with
+    /// the previous one (weighted inner product) is rejected: bounds the
+    /// turn of the branch per step, so events are not stepped over, in
+    /// [-1, 1] (-1: no check). Default 0.95.
+    pub min_tangent_cos: f64,
+    /// Detect folds and inertia changes between accepted points, and locate
+    /// them. Default true.
+    pub detect_events: bool,
+    /// Events are located to this pseudo-arclength along the step (finite,
+    /// > 0; see [`Palc`](crate::Palc) for what it means in `x` and `lambda`). Default 1e-10.
+    pub event_tol: f64,
+    /// Corrector solves allowed to locate one event (0: events are reported
+    /// at the accepted point after them, unlocated). Default 100.
+    pub max_locate_iterations: usize,
+}
+
+impl Default for PalcOptions {
+    fn default() -> Self {
+        Self {
+            initial_step: 0.05,
+            min_step: 1e-8,
+            max_step: 0.5,
+            grow: 1.5,
+            shrink: 0.5,
+            max_steps: 10_000,
+            theta: 1.0,
+            gtol: 1e-10,
+            max_corrector_iterations: 8,
+            easy_iterations: 3,
+            max_correction: 1.0,
+            min_tangent_cos: 0.95,
+            detect_events: true,
+            event_tol: 1e-10,
+            max_locate_iterations: 100,
+        }
+    }
+}
+
+impl PalcOptions {
+    /// Checks every field against its rule.
+    pub fn validate(&self) -> Result<(), OptionsError> {
+        if !(self.min_step.is_finite() && self.min_step > 0.0) {
+            return Err(OptionsError::new(
+                "min_step",
+                self.min_step,
+                "must be finite and > 0",
+            ));
+        }
+        if !(self.max_step.is_finite() && self.max_step >= self.min_step) {
+            return Err(OptionsError::new(
+                "max_step",
+                self.max_step,
+                "must be finite and >= min_step",
+            ));
+        }
+        if !(self.initial_step >= self.min_step && self.initial_step <= self.max_step) {
+            return Err(OptionsError::new(
+                "initial_step",
+                self.initial_step,
+                "must lie in [min_step, max_step]",
+            ));
+        }
+        if !(self.grow.is_finite() && self.grow >= 1.0) {
+            return Err(OptionsError::new(
+                "grow",
+                self.grow,
+                "must be finite and >= 1",
+            ));
+        }
+        check_open_unit("shrink", self.shrink)?;
+        if !(self.theta.is_finite() && self.theta > 0.0) {
+            return Err(OptionsError::new(
+                "theta",
+                self.theta,
+                "must be finite and > 0",
+            ));
+        }
+        check_nonneg("gtol", self.gtol)?;
+        if self.max_corrector_iterations == 0 {
+            return Err(OptionsError::new(
+                "max_corrector_iterations",
+                0.0,
+                "must be >= 1",
+            ));
+        }
+        if self.max_correction.is_nan() || self.max_correction <= 0.0 {
+            return Err(OptionsError::new(
+                "max_correction",
+                self.max_correction,
+                "must be > 0 (infinity for no check)",
+            ));
+        }
+        if !(self.min_tangent_cos >= -1.0 && self.min_tangent_cos <= 1.0) {
+            return Err(OptionsError::new(
+                "min_tangent_cos",
+                self.min_tangent_cos,
+                "must lie in [-1, 1]",
+            ));
+        }
+        if !(self.event_tol.is_finite() && self.event_tol > 0.0) {
+            return Err(OptionsError::new(
+                "event_tol",
+                self.event_tol,
+                "must be finite and > 0",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Sets the step bounds and the initial step (`0 < min <= initial <= max`, finite).
+    pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
+        let mut o = self;
+        o.initial_step = initial;
+        o.min_step = min;
+        o.max_step = max;
+        o.validate()?;
+        self.initial_step = initial;
+        self.min_step = min;
+        self.max_step = max;
+        Ok(self)
+    }
+
+    /// Sets [`theta`](Self::theta) (finite, > 0).
+    pub fn with_theta(mut self, theta: f64) -> Result<Self, OptionsError> {
+        if !(theta.is_finite() && theta > 0.0) {
+            return Err(OptionsError::new("theta", theta, "must be finite and > 0"));
+        }
+        self.theta = theta;
+        Ok(self)
+    }
+
+    /// Sets [`gtol`](Self::gtol) (finite, >= 0).
+    pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
+        check_nonneg("gtol", gtol)?;
+        self.gtol = gtol;
+        Ok(self)
+    }
+
+    /// Sets [`event_tol`](Self::event_tol) (finite, > 0).
+    pub fn with_event_tol(mut self, tol: f64) -> Result<Self, OptionsError> {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(OptionsError::new(
+                "event_tol",
+                tol,
+                "must be finite and > 0",
+            ));
+        }
+        self.event_tol = tol;
+        Ok(self)
+    }
+
+    /// Sets [`max_steps`](Self::max_steps).
+    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
+        self.max_steps = max_steps;
+        self
+    }
+
+    /// Enables or disables [`detect_events`](Self::detect_events).
+    pub fn with_events(mut self, on: bool) -> Self {
+        self.detect_events = on;
+        self
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -442,6 +641,7 @@ mod tests {
         NewtonOptions::default().validate().unwrap();
         BfgsOptions::default().validate().unwrap();
         ContinuationOptions::default().validate().unwrap();
+        PalcOptions::default().validate().unwrap();
     }
 
     #[test]
