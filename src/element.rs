@@ -38,6 +38,11 @@ impl<M: ElementModel> Element<M> {
         self.length
     }
 
+    /// The element's moments, summed over its blocks.
+    pub fn moments(&self) -> &M::Moments {
+        &self.moments
+    }
+
     /// The element's potential for the load scalars `s`.
     #[inline]
     pub fn energy(&self, k: &M::Coeffs, s: &EnergyScalars) -> f64 {

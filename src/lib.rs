@@ -22,6 +22,7 @@
 
 mod actuator;
 mod blocks;
+pub mod design;
 mod element;
 mod error;
 mod finger;
@@ -29,6 +30,7 @@ mod fit;
 pub mod model;
 mod refine;
 mod search;
+mod sensitivity;
 mod ser;
 mod validity;
 
@@ -39,16 +41,21 @@ pub use actuator::{
 pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
 pub use error::{InputError, SolveError, Warning};
 pub use finger::{
-    input_warnings, Coefficients, Finger, Load, Problem, Solution, SolveOptions, SolveReport,
-    Solver, Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
+    input_warnings, Coefficients, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint, Problem,
+    Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT,
+    VACUUM_GAUGE_MPA,
 };
 pub use fit::{fit_circle, Circle};
-pub use fpc_newton::Termination;
+pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use refine::{
     refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
     Refinement, Refiner, EQUAL_PARTITION_TOLERANCE_MM, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
     MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
+};
+pub use sensitivity::{
+    ActuatorParam, Elastic, Lamina, Param, Sensitivities, Sensitivity, EQUILIBRIUM_TOLERANCE,
+    TARGET_TOLERANCE,
 };
 pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
 pub mod gripper;

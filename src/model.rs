@@ -127,6 +127,43 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     fn curvature(k: &Self::Coeffs, x: f64) -> f64;
     /// The prestressed law: `[psi, psi', psi'']` at strain `s`.
     fn psi(s: f64, p: &PsiParams) -> [f64; 3];
+
+    /// For each direction `dp[d]` of a linear box's parameters, adds the
+    /// derivative of the box's moments along it to `m[d]`:
+    /// `m[d] += (d moments / d p) dp[d]`, from one evaluation of the
+    /// generated Jacobian (`linear_dmoments`, straight-line code); zero
+    /// entries of `dp[d]` cost nothing. A unit `dp` gives one column. The
+    /// energy is linear in the moments, so [`ElementModel::gradient`] at
+    /// moments built this way is the gradient's derivative along `dp`.
+    fn add_linear_tangents(m: &mut [Self::Moments], p: &LinearParams, dp: &[LinearParams]);
+    /// The same for a prestressed box.
+    fn add_prestressed_tangents(
+        m: &mut [Self::Moments],
+        p: &PrestressedParams,
+        dp: &[PrestressedParams],
+    );
+    /// The same for a gas box.
+    fn add_gas_tangents(m: &mut [Self::Moments], p: &GasParams, dp: &[GasParams]);
+    /// One integral family's value and gradient alone, without its
+    /// coefficient (`None` past the last family).
+    fn family_gradient(
+        m: &Self::Moments,
+        family: usize,
+        k: &Self::Coeffs,
+    ) -> Option<(f64, Self::Coeffs)>;
+    /// The coefficient of a family in the energy for the load scalars `s`
+    /// (`1` for the strain energies, `-kp` for the gas volume; 0 for a
+    /// family the energy leaves out or past the last one): the energy is
+    /// `sum_f family_coefficient(f, s) * family f`.
+    fn family_coefficient(family: usize, s: &EnergyScalars) -> f64;
+    /// The derivative of the potential and its gradient along a change `ds`
+    /// of the load scalars (`kp = kappa P`: minus the gas family).
+    fn scalars_tangent(
+        m: &Self::Moments,
+        k: &Self::Coeffs,
+        s: &EnergyScalars,
+        ds: &EnergyScalars,
+    ) -> (f64, Self::Coeffs);
 }
 
 /// Index of entry `(i, j)` in the upper-triangle layout for `n` unknowns.

@@ -483,13 +483,15 @@ fn max_sphere_lift_is_the_best_valid_angle() {
 }
 
 #[test]
-fn stability_is_reported_on_request() {
+fn stability_is_judged_by_default_and_can_be_switched_off() {
     let g = section5();
-    let plain = g.grasp_load_for_size(0.0, 50.0, 0.0, None).unwrap();
-    assert!(plain.solution.negative_eigenvalues.is_none());
-    let g = g.with_stability(true);
+    // on by default: the restricted inertia of every grasp is reported
     let checked = g.grasp_load_for_size(0.0, 50.0, 0.0, None).unwrap();
     assert_eq!(checked.solution.negative_eigenvalues, Some(0));
+    let g = g.with_stability(false);
+    let plain = g.grasp_load_for_size(0.0, 50.0, 0.0, None).unwrap();
+    assert!(plain.solution.negative_eigenvalues.is_none());
+    // judging stability does not move the answer
     assert!(close(checked.normal, plain.normal, 1e-9));
 }
 

@@ -187,6 +187,125 @@ pub fn linear_hessian(
         ],
     )
 }
+///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1, q11, q12, q22`.
+fn linear_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+    q11: f64,
+    q12: f64,
+    q22: f64,
+) -> [[f64; LINEAR_MOMENTS]; 8] {
+    let tmp0 = x1 * x1;
+    let tmp1 = tmp0 * x1;
+    let tmp2 = x0 * x0;
+    let tmp3 = tmp2 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let mom_y0 = width;
+    let tmp4 = z1 * z1;
+    let tmp5 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    let mom_z0 = -z0 + z1;
+    let tmp6 = tmp0 * tmp0;
+    let tmp7 = tmp6 * x1;
+    let tmp8 = tmp2 * tmp2;
+    let tmp9 = tmp8 * x0;
+    let mom_x4 = 0.2 * (tmp7 - tmp9);
+    let mom_x0 = -x0 + x1;
+    let tmp10 = tmp4 * z1;
+    let tmp11 = tmp5 * z0;
+    let mom_z2 = 0.3333333333333333 * (tmp10 - tmp11);
+    let tmp12 = 0.5 * mom_y0 * mom_z0 * mom_x0;
+    let tmp13 = -(2.0 * mom_y0 * mom_x0 * mom_z1);
+    let tmp14 = mom_y0 * mom_z0 * mom_x2;
+    [
+        [
+            -(0.5 * q11 * mom_y0 * mom_z0),
+            -(q12 * mom_y0 * mom_z0),
+            2.0 * q11 * mom_y0 * mom_z1,
+            -(q11 * tmp2 * mom_y0 * mom_z0),
+            -(0.5 * q22 * mom_y0 * mom_z0),
+            2.0 * q12 * mom_y0 * mom_z1,
+            -(q12 * tmp2 * mom_y0 * mom_z0),
+            -(2.0 * q11 * mom_y0 * mom_z2),
+            2.0 * q11 * tmp2 * mom_y0 * mom_z1,
+            -(0.5 * q11 * tmp8 * mom_y0 * mom_z0),
+        ],
+        [
+            0.5 * q11 * mom_y0 * mom_z0,
+            q12 * mom_y0 * mom_z0,
+            -(2.0 * q11 * mom_y0 * mom_z1),
+            q11 * tmp0 * mom_y0 * mom_z0,
+            0.5 * q22 * mom_y0 * mom_z0,
+            -(2.0 * q12 * mom_y0 * mom_z1),
+            q12 * tmp0 * mom_y0 * mom_z0,
+            2.0 * q11 * mom_y0 * mom_z2,
+            -(2.0 * q11 * tmp0 * mom_y0 * mom_z1),
+            0.5 * q11 * tmp6 * mom_y0 * mom_z0,
+        ],
+        [
+            0.5 * q11 * mom_z0 * mom_x0,
+            q12 * mom_z0 * mom_x0,
+            -(2.0 * q11 * mom_x0 * mom_z1),
+            q11 * mom_z0 * mom_x2,
+            0.5 * q22 * mom_z0 * mom_x0,
+            -(2.0 * q12 * mom_x0 * mom_z1),
+            q12 * mom_z0 * mom_x2,
+            2.0 * q11 * mom_x0 * mom_z2,
+            -(2.0 * q11 * mom_z1 * mom_x2),
+            0.5 * q11 * mom_z0 * mom_x4,
+        ],
+        [
+            -(0.5 * q11 * mom_y0 * mom_x0),
+            -(q12 * mom_y0 * mom_x0),
+            2.0 * q11 * z0 * mom_y0 * mom_x0,
+            -(q11 * mom_y0 * mom_x2),
+            -(0.5 * q22 * mom_y0 * mom_x0),
+            2.0 * q12 * z0 * mom_y0 * mom_x0,
+            -(q12 * mom_y0 * mom_x2),
+            -(2.0 * q11 * tmp5 * mom_y0 * mom_x0),
+            2.0 * q11 * z0 * mom_y0 * mom_x2,
+            -(0.5 * q11 * mom_y0 * mom_x4),
+        ],
+        [
+            0.5 * q11 * mom_y0 * mom_x0,
+            q12 * mom_y0 * mom_x0,
+            -(2.0 * q11 * z1 * mom_y0 * mom_x0),
+            q11 * mom_y0 * mom_x2,
+            0.5 * q22 * mom_y0 * mom_x0,
+            -(2.0 * q12 * z1 * mom_y0 * mom_x0),
+            q12 * mom_y0 * mom_x2,
+            2.0 * q11 * tmp4 * mom_y0 * mom_x0,
+            -(2.0 * q11 * z1 * mom_y0 * mom_x2),
+            0.5 * q11 * mom_y0 * mom_x4,
+        ],
+        [
+            tmp12,
+            0.0,
+            tmp13,
+            tmp14,
+            0.0,
+            0.0,
+            0.0,
+            2.0 * mom_y0 * mom_x0 * mom_z2,
+            -(2.0 * mom_y0 * mom_z1 * mom_x2),
+            0.5 * mom_y0 * mom_z0 * mom_x4,
+        ],
+        [0.0, mom_y0 * mom_z0 * mom_x0, 0.0, 0.0, 0.0, tmp13, tmp14, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.0, 0.0, tmp12, 0.0, 0.0, 0.0, 0.0, 0.0],
+    ]
+}
+///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn linear_dmoments(p: &super::LinearParams) -> [[f64; LINEAR_MOMENTS]; 8] {
+    linear_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1, p.q11, p.q12, p.q22)
+}
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
 ///Number of moment slots of this kernel.
@@ -818,6 +937,839 @@ pub fn prestressed_hessian(
         ],
     )
 }
+///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1, eps0, p1, p2, p3, p4, q22`.
+fn prestressed_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+    eps0: f64,
+    p1: f64,
+    p2: f64,
+    p3: f64,
+    p4: f64,
+    q22: f64,
+) -> [[f64; PRESTRESSED_MOMENTS]; 11] {
+    let tmp0 = x1 * x1;
+    let tmp1 = tmp0 * x1;
+    let tmp2 = x0 * x0;
+    let tmp3 = tmp2 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let mom_y0 = width;
+    let tmp4 = z1 * z1;
+    let tmp5 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    let tmp6 = tmp4 * z1;
+    let tmp7 = tmp5 * z0;
+    let mom_z2 = 0.3333333333333333 * (tmp6 - tmp7);
+    let tmp8 = tmp4 * tmp4;
+    let tmp9 = tmp5 * tmp5;
+    let mom_z3 = 0.25 * (tmp8 - tmp9);
+    let tmp10 = tmp8 * z1;
+    let tmp11 = tmp9 * z0;
+    let mom_z4 = 0.2 * (tmp10 - tmp11);
+    let mom_z0 = -z0 + z1;
+    let tmp12 = tmp0 * tmp0;
+    let tmp13 = tmp12 * x1;
+    let tmp14 = tmp2 * tmp2;
+    let tmp15 = tmp14 * x0;
+    let mom_x4 = 0.2 * (tmp13 - tmp15);
+    let tmp16 = tmp1 * tmp1;
+    let tmp17 = tmp16 * x1;
+    let tmp18 = tmp3 * tmp3;
+    let tmp19 = tmp18 * x0;
+    let mom_x6 = 0.14285714285714285 * (tmp17 - tmp19);
+    let tmp20 = tmp12 * tmp12;
+    let tmp21 = tmp20 * x1;
+    let tmp22 = tmp14 * tmp14;
+    let tmp23 = tmp22 * x0;
+    let mom_x8 = 0.1111111111111111 * (tmp21 - tmp23);
+    let tmp24 = tmp13 * tmp13;
+    let tmp25 = tmp24 * x1;
+    let tmp26 = tmp15 * tmp15;
+    let tmp27 = tmp26 * x0;
+    let mom_x10 = 0.09090909090909091 * (tmp25 - tmp27);
+    let mom_x0 = -x0 + x1;
+    let tmp28 = tmp6 * tmp6;
+    let tmp29 = tmp7 * tmp7;
+    let mom_z5 = 0.16666666666666666 * (tmp28 - tmp29);
+    let tmp30 = eps0 * eps0;
+    let tmp31 = eps0
+        * (eps0 * (0.25 * p3 * mom_y0 * mom_z0 - 0.2 * p4 * eps0 * mom_y0 * mom_z0)
+            - 0.3333333333333333 * p2 * mom_y0 * mom_z0) + 0.5 * p1 * mom_y0 * mom_z0;
+    let tmp32 = p1 * mom_y0 * mom_z0
+        + eps0
+            * (-p2 * mom_y0 * mom_z0
+                + eps0 * (p3 * mom_y0 * mom_z0 - p4 * eps0 * mom_y0 * mom_z0));
+    let tmp33 = eps0
+        * (eps0 * (-2.0 * p3 * mom_y0 * mom_z1 + 2.0 * p4 * eps0 * mom_y0 * mom_z1)
+            + 2.0 * p2 * mom_y0 * mom_z1) - 2.0 * p1 * mom_y0 * mom_z1;
+    let tmp34 = -(p2);
+    let tmp35 = 1.5 * p3;
+    let tmp36 = -(2.0 * p4 * eps0);
+    let tmp37 = 0.5 * p1 + eps0 * (tmp34 + eps0 * (tmp35 + tmp36));
+    let tmp38 = 4.0 * p2;
+    let tmp39 = -(6.0 * p3);
+    let tmp40 = 8.0 * p4 * eps0;
+    let tmp41 = -2.0 * p1 + eps0 * (tmp38 + eps0 * (tmp39 + tmp40));
+    let tmp42 = -(2.0 * p2);
+    let tmp43 = 3.0 * p3;
+    let tmp44 = -(4.0 * p4 * eps0);
+    let tmp45 = p1 + eps0 * (tmp42 + eps0 * (tmp43 + tmp44));
+    let tmp46 = -(4.0 * p2);
+    let tmp47 = 6.0 * p3;
+    let tmp48 = 2.0 * p1 + eps0 * (tmp46 + eps0 * (tmp47 - 8.0 * p4 * eps0));
+    let tmp49 = -0.3333333333333333 * p2 + eps0 * (p3 + tmp36);
+    let tmp50 = 2.0 * p2 + eps0 * (tmp39 + 12.0 * p4 * eps0);
+    let tmp51 = -(6.0 * p4 * eps0);
+    let tmp52 = tmp34 + eps0 * (tmp43 + tmp51);
+    let tmp53 = 12.0 * p3;
+    let tmp54 = -(24.0 * p4 * eps0);
+    let tmp55 = tmp46 + eps0 * (tmp53 + tmp54);
+    let tmp56 = -(12.0 * p3);
+    let tmp57 = 24.0 * p4 * eps0;
+    let tmp58 = tmp38 + eps0 * (tmp56 + tmp57);
+    let tmp59 = -(8.0 * p3);
+    let tmp60 = 2.6666666666666665 * p2 + eps0 * (tmp59 + 16.0 * p4 * eps0);
+    let tmp61 = 0.25 * p3 - p4 * eps0;
+    let tmp62 = -2.0 * p3 + tmp40;
+    let tmp63 = p3 + tmp44;
+    let tmp64 = tmp47 + tmp54;
+    let tmp65 = tmp39 + tmp57;
+    let tmp66 = tmp35 + tmp51;
+    let tmp67 = tmp59 + 32.0 * p4 * eps0;
+    let tmp68 = tmp53 - 48.0 * p4 * eps0;
+    let tmp69 = 4.0 * p3 - 16.0 * p4 * eps0;
+    let tmp70 = eps0
+        * (eps0 * (0.25 * p3 * mom_y0 * mom_x0 - 0.2 * p4 * eps0 * mom_y0 * mom_x0)
+            - 0.3333333333333333 * p2 * mom_y0 * mom_x0) + 0.5 * p1 * mom_y0 * mom_x0;
+    let tmp71 = p1 * mom_y0 * mom_x0
+        + eps0
+            * (-p2 * mom_y0 * mom_x0
+                + eps0 * (p3 * mom_y0 * mom_x0 - p4 * eps0 * mom_y0 * mom_x0));
+    let tmp72 = -2.0 * p1 * mom_y0 * mom_x0
+        + eps0
+            * (2.0 * p2 * mom_y0 * mom_x0
+                + eps0
+                    * (-2.0 * p3 * mom_y0 * mom_x0 + 2.0 * p4 * eps0 * mom_y0 * mom_x0));
+    let tmp73 = p1 * mom_y0 * mom_x2
+        + eps0
+            * (eps0 * (p3 * mom_y0 * mom_x2 - p4 * eps0 * mom_y0 * mom_x2)
+                - p2 * mom_y0 * mom_x2);
+    let tmp74 = -(12.0 * p4 * eps0);
+    let tmp75 = tmp43 + tmp74;
+    let tmp76 = eps0 * mom_y0 * mom_z0 * mom_x0;
+    let tmp77 = 0.5 * mom_y0 * mom_z0 * mom_x0;
+    let tmp78 = -(2.0 * mom_y0 * mom_x0 * mom_z1);
+    let tmp79 = mom_y0 * mom_z0 * mom_x2;
+    let tmp80 = tmp30 * eps0;
+    let tmp81 = -(eps0 * mom_y0 * mom_z0 * mom_x0);
+    let tmp82 = 2.0 * mom_y0 * mom_x0 * mom_z1;
+    let tmp83 = -(mom_y0 * mom_z0 * mom_x2);
+    let tmp84 = tmp30 * tmp30;
+    let tmp85 = tmp84 * eps0;
+    [
+        [
+            -(tmp30 * tmp31),
+            -(eps0 * tmp32),
+            -(eps0 * tmp33),
+            -(eps0 * tmp2 * tmp32),
+            -(mom_y0 * mom_z0 * tmp37),
+            -(mom_y0 * mom_z1 * tmp41),
+            -(tmp2 * mom_y0 * mom_z0 * tmp45),
+            -(0.5 * q22 * mom_y0 * mom_z0),
+            -(mom_y0 * mom_z2 * tmp48),
+            -(tmp2 * mom_y0 * mom_z1 * tmp41),
+            -(tmp14 * mom_y0 * mom_z0 * tmp37),
+            -(mom_y0 * mom_z0 * tmp49),
+            -(mom_y0 * mom_z1 * tmp50),
+            -(tmp2 * mom_y0 * mom_z0 * tmp52),
+            -(mom_y0 * mom_z2 * tmp55),
+            -(tmp2 * mom_y0 * mom_z1 * tmp58),
+            -(tmp14 * mom_y0 * mom_z0 * tmp52),
+            -(mom_y0 * mom_z3 * tmp60),
+            -(tmp2 * mom_y0 * mom_z2 * tmp55),
+            -(tmp14 * mom_y0 * mom_z1 * tmp50),
+            -(tmp18 * mom_y0 * mom_z0 * tmp49),
+            -(mom_y0 * mom_z0 * tmp61),
+            -(mom_y0 * mom_z1 * tmp62),
+            -(tmp2 * mom_y0 * mom_z0 * tmp63),
+            -(mom_y0 * mom_z2 * tmp64),
+            -(tmp2 * mom_y0 * mom_z1 * tmp65),
+            -(tmp14 * mom_y0 * mom_z0 * tmp66),
+            -(mom_y0 * mom_z3 * tmp67),
+            -(tmp2 * mom_y0 * mom_z2 * tmp68),
+            -(tmp14 * mom_y0 * mom_z1 * tmp65),
+            -(tmp18 * mom_y0 * mom_z0 * tmp63),
+            -(mom_y0 * mom_z4 * tmp69),
+            -(tmp2 * mom_y0 * mom_z3 * tmp67),
+            -(tmp14 * mom_y0 * mom_z2 * tmp64),
+            -(tmp18 * mom_y0 * mom_z1 * tmp62),
+            -(tmp22 * mom_y0 * mom_z0 * tmp61),
+            0.2 * p4 * mom_y0 * mom_z0,
+            -(2.0 * p4 * mom_y0 * mom_z1),
+            p4 * tmp2 * mom_y0 * mom_z0,
+            8.0 * p4 * mom_y0 * mom_z2,
+            -(8.0 * p4 * tmp2 * mom_y0 * mom_z1),
+            2.0 * p4 * tmp14 * mom_y0 * mom_z0,
+            -(16.0 * p4 * mom_y0 * mom_z3),
+            24.0 * p4 * tmp2 * mom_y0 * mom_z2,
+            -(12.0 * p4 * tmp14 * mom_y0 * mom_z1),
+            2.0 * p4 * tmp18 * mom_y0 * mom_z0,
+            16.0 * p4 * mom_y0 * mom_z4,
+            -(32.0 * p4 * tmp2 * mom_y0 * mom_z3),
+            24.0 * p4 * tmp14 * mom_y0 * mom_z2,
+            -(8.0 * p4 * tmp18 * mom_y0 * mom_z1),
+            p4 * tmp22 * mom_y0 * mom_z0,
+            -(6.4 * p4 * mom_y0 * mom_z5),
+            16.0 * p4 * tmp2 * mom_y0 * mom_z4,
+            -(16.0 * p4 * tmp14 * mom_y0 * mom_z3),
+            8.0 * p4 * tmp18 * mom_y0 * mom_z2,
+            -(2.0 * p4 * tmp22 * mom_y0 * mom_z1),
+            0.2 * p4 * tmp26 * mom_y0 * mom_z0,
+        ],
+        [
+            tmp30 * tmp31,
+            eps0 * tmp32,
+            eps0 * tmp33,
+            eps0 * tmp0 * tmp32,
+            mom_y0 * mom_z0 * tmp37,
+            mom_y0 * mom_z1 * tmp41,
+            tmp0 * mom_y0 * mom_z0 * tmp45,
+            0.5 * q22 * mom_y0 * mom_z0,
+            mom_y0 * mom_z2 * tmp48,
+            tmp0 * mom_y0 * mom_z1 * tmp41,
+            tmp12 * mom_y0 * mom_z0 * tmp37,
+            mom_y0 * mom_z0 * tmp49,
+            mom_y0 * mom_z1 * tmp50,
+            tmp0 * mom_y0 * mom_z0 * tmp52,
+            mom_y0 * mom_z2 * tmp55,
+            tmp0 * mom_y0 * mom_z1 * tmp58,
+            tmp12 * mom_y0 * mom_z0 * tmp52,
+            mom_y0 * mom_z3 * tmp60,
+            tmp0 * mom_y0 * mom_z2 * tmp55,
+            tmp12 * mom_y0 * mom_z1 * tmp50,
+            tmp16 * mom_y0 * mom_z0 * tmp49,
+            mom_y0 * mom_z0 * tmp61,
+            mom_y0 * mom_z1 * tmp62,
+            tmp0 * mom_y0 * mom_z0 * tmp63,
+            mom_y0 * mom_z2 * tmp64,
+            tmp0 * mom_y0 * mom_z1 * tmp65,
+            tmp12 * mom_y0 * mom_z0 * tmp66,
+            mom_y0 * mom_z3 * tmp67,
+            tmp0 * mom_y0 * mom_z2 * tmp68,
+            tmp12 * mom_y0 * mom_z1 * tmp65,
+            tmp16 * mom_y0 * mom_z0 * tmp63,
+            mom_y0 * mom_z4 * tmp69,
+            tmp0 * mom_y0 * mom_z3 * tmp67,
+            tmp12 * mom_y0 * mom_z2 * tmp64,
+            tmp16 * mom_y0 * mom_z1 * tmp62,
+            tmp20 * mom_y0 * mom_z0 * tmp61,
+            -(0.2 * p4 * mom_y0 * mom_z0),
+            2.0 * p4 * mom_y0 * mom_z1,
+            -(p4 * tmp0 * mom_y0 * mom_z0),
+            -(8.0 * p4 * mom_y0 * mom_z2),
+            8.0 * p4 * tmp0 * mom_y0 * mom_z1,
+            -(2.0 * p4 * tmp12 * mom_y0 * mom_z0),
+            16.0 * p4 * mom_y0 * mom_z3,
+            -(24.0 * p4 * tmp0 * mom_y0 * mom_z2),
+            12.0 * p4 * tmp12 * mom_y0 * mom_z1,
+            -(2.0 * p4 * tmp16 * mom_y0 * mom_z0),
+            -(16.0 * p4 * mom_y0 * mom_z4),
+            32.0 * p4 * tmp0 * mom_y0 * mom_z3,
+            -(24.0 * p4 * tmp12 * mom_y0 * mom_z2),
+            8.0 * p4 * tmp16 * mom_y0 * mom_z1,
+            -(p4 * tmp20 * mom_y0 * mom_z0),
+            6.4 * p4 * mom_y0 * mom_z5,
+            -(16.0 * p4 * tmp0 * mom_y0 * mom_z4),
+            16.0 * p4 * tmp12 * mom_y0 * mom_z3,
+            -(8.0 * p4 * tmp16 * mom_y0 * mom_z2),
+            2.0 * p4 * tmp20 * mom_y0 * mom_z1,
+            -(0.2 * p4 * tmp24 * mom_y0 * mom_z0),
+        ],
+        [
+            tmp30
+                * (eps0
+                    * (eps0
+                        * (0.25 * p3 * mom_z0 * mom_x0
+                            - 0.2 * p4 * eps0 * mom_z0 * mom_x0)
+                        - 0.3333333333333333 * p2 * mom_z0 * mom_x0)
+                    + 0.5 * p1 * mom_z0 * mom_x0),
+            eps0
+                * (p1 * mom_z0 * mom_x0
+                    + eps0
+                        * (-p2 * mom_z0 * mom_x0
+                            + eps0
+                                * (p3 * mom_z0 * mom_x0 - p4 * eps0 * mom_z0 * mom_x0))),
+            eps0
+                * (eps0
+                    * (eps0
+                        * (-2.0 * p3 * mom_x0 * mom_z1
+                            + 2.0 * p4 * eps0 * mom_x0 * mom_z1)
+                        + 2.0 * p2 * mom_x0 * mom_z1) - 2.0 * p1 * mom_x0 * mom_z1),
+            eps0
+                * (p1 * mom_z0 * mom_x2
+                    + eps0
+                        * (eps0 * (p3 * mom_z0 * mom_x2 - p4 * eps0 * mom_z0 * mom_x2)
+                            - p2 * mom_z0 * mom_x2)),
+            mom_z0 * mom_x0 * tmp37,
+            mom_x0 * mom_z1 * tmp41,
+            mom_z0 * mom_x2 * tmp45,
+            0.5 * q22 * mom_z0 * mom_x0,
+            mom_x0 * mom_z2 * tmp48,
+            mom_z1 * mom_x2 * tmp41,
+            mom_z0 * tmp37 * mom_x4,
+            mom_z0 * mom_x0 * tmp49,
+            mom_x0 * mom_z1 * tmp50,
+            mom_z0 * mom_x2 * tmp52,
+            mom_x0 * mom_z2 * tmp55,
+            mom_z1 * mom_x2 * tmp58,
+            mom_z0 * mom_x4 * tmp52,
+            mom_x0 * mom_z3 * tmp60,
+            mom_x2 * mom_z2 * tmp55,
+            mom_z1 * mom_x4 * tmp50,
+            mom_z0 * tmp49 * mom_x6,
+            mom_z0 * mom_x0 * tmp61,
+            mom_x0 * mom_z1 * tmp62,
+            mom_z0 * mom_x2 * tmp63,
+            mom_x0 * mom_z2 * tmp64,
+            mom_z1 * mom_x2 * tmp65,
+            mom_z0 * mom_x4 * tmp66,
+            mom_x0 * mom_z3 * tmp67,
+            mom_x2 * mom_z2 * tmp68,
+            mom_z1 * mom_x4 * tmp65,
+            mom_z0 * mom_x6 * tmp63,
+            mom_x0 * mom_z4 * tmp69,
+            mom_x2 * mom_z3 * tmp67,
+            mom_z2 * mom_x4 * tmp64,
+            mom_z1 * mom_x6 * tmp62,
+            mom_z0 * tmp61 * mom_x8,
+            -(0.2 * p4 * mom_z0 * mom_x0),
+            2.0 * p4 * mom_x0 * mom_z1,
+            -(p4 * mom_z0 * mom_x2),
+            -(8.0 * p4 * mom_x0 * mom_z2),
+            8.0 * p4 * mom_z1 * mom_x2,
+            -(2.0 * p4 * mom_z0 * mom_x4),
+            16.0 * p4 * mom_x0 * mom_z3,
+            -(24.0 * p4 * mom_x2 * mom_z2),
+            12.0 * p4 * mom_z1 * mom_x4,
+            -(2.0 * p4 * mom_z0 * mom_x6),
+            -(16.0 * p4 * mom_x0 * mom_z4),
+            32.0 * p4 * mom_x2 * mom_z3,
+            -(24.0 * p4 * mom_z2 * mom_x4),
+            8.0 * p4 * mom_z1 * mom_x6,
+            -(p4 * mom_z0 * mom_x8),
+            6.4 * p4 * mom_x0 * mom_z5,
+            -(16.0 * p4 * mom_x2 * mom_z4),
+            16.0 * p4 * mom_x4 * mom_z3,
+            -(8.0 * p4 * mom_z2 * mom_x6),
+            2.0 * p4 * mom_z1 * mom_x8,
+            -(0.2 * p4 * mom_z0 * mom_x10),
+        ],
+        [
+            -(tmp30 * tmp70),
+            -(eps0 * tmp71),
+            -(eps0 * z0 * tmp72),
+            -(eps0 * tmp73),
+            -(mom_y0 * mom_x0 * tmp37),
+            -(z0 * mom_y0 * mom_x0 * tmp41),
+            -(mom_y0 * mom_x2 * tmp45),
+            -(0.5 * q22 * mom_y0 * mom_x0),
+            -(tmp5 * mom_y0 * mom_x0 * tmp48),
+            -(z0 * mom_y0 * mom_x2 * tmp41),
+            -(mom_y0 * tmp37 * mom_x4),
+            -(mom_y0 * mom_x0 * tmp49),
+            -(z0 * mom_y0 * mom_x0 * tmp50),
+            -(mom_y0 * mom_x2 * tmp52),
+            -(tmp5 * mom_y0 * mom_x0 * tmp55),
+            -(z0 * mom_y0 * mom_x2 * tmp58),
+            -(mom_y0 * mom_x4 * tmp52),
+            -(tmp7 * mom_y0 * mom_x0 * tmp60),
+            -(tmp5 * mom_y0 * mom_x2 * tmp55),
+            -(z0 * mom_y0 * mom_x4 * tmp50),
+            -(mom_y0 * tmp49 * mom_x6),
+            -(mom_y0 * mom_x0 * tmp61),
+            -(z0 * mom_y0 * mom_x0 * tmp62),
+            -(mom_y0 * mom_x2 * tmp63),
+            -(tmp5 * mom_y0 * mom_x0 * tmp64),
+            -(z0 * mom_y0 * mom_x2 * tmp65),
+            -(mom_y0 * mom_x4 * tmp66),
+            -(tmp7 * mom_y0 * mom_x0 * tmp67),
+            -(tmp5 * mom_y0 * mom_x2 * tmp68),
+            -(z0 * mom_y0 * mom_x4 * tmp65),
+            -(mom_y0 * mom_x6 * tmp63),
+            -(tmp9 * mom_y0 * mom_x0 * tmp69),
+            -(tmp7 * mom_y0 * mom_x2 * tmp67),
+            -(tmp5 * mom_y0 * mom_x4 * tmp64),
+            -(z0 * mom_y0 * mom_x6 * tmp62),
+            -(mom_y0 * tmp61 * mom_x8),
+            0.2 * p4 * mom_y0 * mom_x0,
+            -(2.0 * p4 * z0 * mom_y0 * mom_x0),
+            p4 * mom_y0 * mom_x2,
+            8.0 * p4 * tmp5 * mom_y0 * mom_x0,
+            -(8.0 * p4 * z0 * mom_y0 * mom_x2),
+            2.0 * p4 * mom_y0 * mom_x4,
+            -(16.0 * p4 * tmp7 * mom_y0 * mom_x0),
+            24.0 * p4 * tmp5 * mom_y0 * mom_x2,
+            -(12.0 * p4 * z0 * mom_y0 * mom_x4),
+            2.0 * p4 * mom_y0 * mom_x6,
+            16.0 * p4 * tmp9 * mom_y0 * mom_x0,
+            -(32.0 * p4 * tmp7 * mom_y0 * mom_x2),
+            24.0 * p4 * tmp5 * mom_y0 * mom_x4,
+            -(8.0 * p4 * z0 * mom_y0 * mom_x6),
+            p4 * mom_y0 * mom_x8,
+            -(6.4 * p4 * tmp11 * mom_y0 * mom_x0),
+            16.0 * p4 * tmp9 * mom_y0 * mom_x2,
+            -(16.0 * p4 * tmp7 * mom_y0 * mom_x4),
+            8.0 * p4 * tmp5 * mom_y0 * mom_x6,
+            -(2.0 * p4 * z0 * mom_y0 * mom_x8),
+            0.2 * p4 * mom_y0 * mom_x10,
+        ],
+        [
+            tmp30 * tmp70,
+            eps0 * tmp71,
+            eps0 * z1 * tmp72,
+            eps0 * tmp73,
+            mom_y0 * mom_x0 * tmp37,
+            z1 * mom_y0 * mom_x0 * tmp41,
+            mom_y0 * mom_x2 * tmp45,
+            0.5 * q22 * mom_y0 * mom_x0,
+            tmp4 * mom_y0 * mom_x0 * tmp48,
+            z1 * mom_y0 * mom_x2 * tmp41,
+            mom_y0 * tmp37 * mom_x4,
+            mom_y0 * mom_x0 * tmp49,
+            z1 * mom_y0 * mom_x0 * tmp50,
+            mom_y0 * mom_x2 * tmp52,
+            tmp4 * mom_y0 * mom_x0 * tmp55,
+            z1 * mom_y0 * mom_x2 * tmp58,
+            mom_y0 * mom_x4 * tmp52,
+            tmp6 * mom_y0 * mom_x0 * tmp60,
+            tmp4 * mom_y0 * mom_x2 * tmp55,
+            z1 * mom_y0 * mom_x4 * tmp50,
+            mom_y0 * tmp49 * mom_x6,
+            mom_y0 * mom_x0 * tmp61,
+            z1 * mom_y0 * mom_x0 * tmp62,
+            mom_y0 * mom_x2 * tmp63,
+            tmp4 * mom_y0 * mom_x0 * tmp64,
+            z1 * mom_y0 * mom_x2 * tmp65,
+            mom_y0 * mom_x4 * tmp66,
+            tmp6 * mom_y0 * mom_x0 * tmp67,
+            tmp4 * mom_y0 * mom_x2 * tmp68,
+            z1 * mom_y0 * mom_x4 * tmp65,
+            mom_y0 * mom_x6 * tmp63,
+            tmp8 * mom_y0 * mom_x0 * tmp69,
+            tmp6 * mom_y0 * mom_x2 * tmp67,
+            tmp4 * mom_y0 * mom_x4 * tmp64,
+            z1 * mom_y0 * mom_x6 * tmp62,
+            mom_y0 * tmp61 * mom_x8,
+            -(0.2 * p4 * mom_y0 * mom_x0),
+            2.0 * p4 * z1 * mom_y0 * mom_x0,
+            -(p4 * mom_y0 * mom_x2),
+            -(8.0 * p4 * tmp4 * mom_y0 * mom_x0),
+            8.0 * p4 * z1 * mom_y0 * mom_x2,
+            -(2.0 * p4 * mom_y0 * mom_x4),
+            16.0 * p4 * tmp6 * mom_y0 * mom_x0,
+            -(24.0 * p4 * tmp4 * mom_y0 * mom_x2),
+            12.0 * p4 * z1 * mom_y0 * mom_x4,
+            -(2.0 * p4 * mom_y0 * mom_x6),
+            -(16.0 * p4 * tmp8 * mom_y0 * mom_x0),
+            32.0 * p4 * tmp6 * mom_y0 * mom_x2,
+            -(24.0 * p4 * tmp4 * mom_y0 * mom_x4),
+            8.0 * p4 * z1 * mom_y0 * mom_x6,
+            -(p4 * mom_y0 * mom_x8),
+            6.4 * p4 * tmp10 * mom_y0 * mom_x0,
+            -(16.0 * p4 * tmp8 * mom_y0 * mom_x2),
+            16.0 * p4 * tmp6 * mom_y0 * mom_x4,
+            -(8.0 * p4 * tmp4 * mom_y0 * mom_x6),
+            2.0 * p4 * z1 * mom_y0 * mom_x8,
+            -(0.2 * p4 * mom_y0 * mom_x10),
+        ],
+        [
+            eps0
+                * (p1 * mom_y0 * mom_z0 * mom_x0
+                    + eps0
+                        * (-p2 * mom_y0 * mom_z0 * mom_x0
+                            + eps0
+                                * (p3 * mom_y0 * mom_z0 * mom_x0
+                                    - p4 * eps0 * mom_y0 * mom_z0 * mom_x0))),
+            mom_y0 * mom_z0 * mom_x0 * tmp45,
+            mom_y0 * mom_x0 * mom_z1 * tmp41,
+            mom_y0 * mom_z0 * mom_x2 * tmp45,
+            mom_y0 * mom_z0 * mom_x0 * tmp52,
+            mom_y0 * mom_x0 * mom_z1 * tmp58,
+            mom_y0 * mom_z0 * mom_x2 * (tmp42 + eps0 * (tmp47 + tmp74)),
+            0.0,
+            mom_y0 * mom_x0 * mom_z2 * tmp55,
+            mom_y0 * mom_z1 * mom_x2 * tmp58,
+            mom_y0 * mom_z0 * mom_x4 * tmp52,
+            mom_y0 * mom_z0 * mom_x0 * tmp63,
+            mom_y0 * mom_x0 * mom_z1 * tmp65,
+            mom_y0 * mom_z0 * mom_x2 * tmp75,
+            mom_y0 * mom_x0 * mom_z2 * tmp68,
+            mom_y0 * mom_z1 * mom_x2 * (tmp56 + 48.0 * p4 * eps0),
+            mom_y0 * mom_z0 * mom_x4 * tmp75,
+            mom_y0 * mom_x0 * mom_z3 * tmp67,
+            mom_y0 * mom_x2 * mom_z2 * tmp68,
+            mom_y0 * mom_z1 * mom_x4 * tmp65,
+            mom_y0 * mom_z0 * mom_x6 * tmp63,
+            -(p4 * mom_y0 * mom_z0 * mom_x0),
+            8.0 * p4 * mom_y0 * mom_x0 * mom_z1,
+            -(4.0 * p4 * mom_y0 * mom_z0 * mom_x2),
+            -(24.0 * p4 * mom_y0 * mom_x0 * mom_z2),
+            24.0 * p4 * mom_y0 * mom_z1 * mom_x2,
+            -(6.0 * p4 * mom_y0 * mom_z0 * mom_x4),
+            32.0 * p4 * mom_y0 * mom_x0 * mom_z3,
+            -(48.0 * p4 * mom_y0 * mom_x2 * mom_z2),
+            24.0 * p4 * mom_y0 * mom_z1 * mom_x4,
+            -(4.0 * p4 * mom_y0 * mom_z0 * mom_x6),
+            -(16.0 * p4 * mom_y0 * mom_x0 * mom_z4),
+            32.0 * p4 * mom_y0 * mom_x2 * mom_z3,
+            -(24.0 * p4 * mom_y0 * mom_z2 * mom_x4),
+            8.0 * p4 * mom_y0 * mom_z1 * mom_x6,
+            -(p4 * mom_y0 * mom_z0 * mom_x8),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            0.5 * tmp30 * mom_y0 * mom_z0 * mom_x0,
+            tmp76,
+            -(2.0 * eps0 * mom_y0 * mom_x0 * mom_z1),
+            eps0 * mom_y0 * mom_z0 * mom_x2,
+            tmp77,
+            tmp78,
+            tmp79,
+            0.0,
+            2.0 * mom_y0 * mom_x0 * mom_z2,
+            -(2.0 * mom_y0 * mom_z1 * mom_x2),
+            0.5 * mom_y0 * mom_z0 * mom_x4,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            -(0.3333333333333333 * tmp80 * mom_y0 * mom_z0 * mom_x0),
+            -(tmp30 * mom_y0 * mom_z0 * mom_x0),
+            2.0 * tmp30 * mom_y0 * mom_x0 * mom_z1,
+            -(tmp30 * mom_y0 * mom_z0 * mom_x2),
+            tmp81,
+            4.0 * eps0 * mom_y0 * mom_x0 * mom_z1,
+            -(2.0 * eps0 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            -(4.0 * eps0 * mom_y0 * mom_x0 * mom_z2),
+            4.0 * eps0 * mom_y0 * mom_z1 * mom_x2,
+            -(eps0 * mom_y0 * mom_z0 * mom_x4),
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x0),
+            tmp82,
+            tmp83,
+            -(4.0 * mom_y0 * mom_x0 * mom_z2),
+            4.0 * mom_y0 * mom_z1 * mom_x2,
+            -(mom_y0 * mom_z0 * mom_x4),
+            2.6666666666666665 * mom_y0 * mom_x0 * mom_z3,
+            -(4.0 * mom_y0 * mom_x2 * mom_z2),
+            2.0 * mom_y0 * mom_z1 * mom_x4,
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x6),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            0.25 * tmp84 * mom_y0 * mom_z0 * mom_x0,
+            tmp80 * mom_y0 * mom_z0 * mom_x0,
+            -(2.0 * tmp80 * mom_y0 * mom_x0 * mom_z1),
+            tmp80 * mom_y0 * mom_z0 * mom_x2,
+            1.5 * tmp30 * mom_y0 * mom_z0 * mom_x0,
+            -(6.0 * tmp30 * mom_y0 * mom_x0 * mom_z1),
+            3.0 * tmp30 * mom_y0 * mom_z0 * mom_x2,
+            0.0,
+            6.0 * tmp30 * mom_y0 * mom_x0 * mom_z2,
+            -(6.0 * tmp30 * mom_y0 * mom_z1 * mom_x2),
+            1.5 * tmp30 * mom_y0 * mom_z0 * mom_x4,
+            tmp76,
+            -(6.0 * eps0 * mom_y0 * mom_x0 * mom_z1),
+            3.0 * eps0 * mom_y0 * mom_z0 * mom_x2,
+            12.0 * eps0 * mom_y0 * mom_x0 * mom_z2,
+            -(12.0 * eps0 * mom_y0 * mom_z1 * mom_x2),
+            3.0 * eps0 * mom_y0 * mom_z0 * mom_x4,
+            -(8.0 * eps0 * mom_y0 * mom_x0 * mom_z3),
+            12.0 * eps0 * mom_y0 * mom_x2 * mom_z2,
+            -(6.0 * eps0 * mom_y0 * mom_z1 * mom_x4),
+            eps0 * mom_y0 * mom_z0 * mom_x6,
+            0.25 * mom_y0 * mom_z0 * mom_x0,
+            tmp78,
+            tmp79,
+            6.0 * mom_y0 * mom_x0 * mom_z2,
+            -(6.0 * mom_y0 * mom_z1 * mom_x2),
+            1.5 * mom_y0 * mom_z0 * mom_x4,
+            -(8.0 * mom_y0 * mom_x0 * mom_z3),
+            12.0 * mom_y0 * mom_x2 * mom_z2,
+            -(6.0 * mom_y0 * mom_z1 * mom_x4),
+            mom_y0 * mom_z0 * mom_x6,
+            4.0 * mom_y0 * mom_x0 * mom_z4,
+            -(8.0 * mom_y0 * mom_x2 * mom_z3),
+            6.0 * mom_y0 * mom_z2 * mom_x4,
+            -(2.0 * mom_y0 * mom_z1 * mom_x6),
+            0.25 * mom_y0 * mom_z0 * mom_x8,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            -(0.2 * tmp85 * mom_y0 * mom_z0 * mom_x0),
+            -(tmp84 * mom_y0 * mom_z0 * mom_x0),
+            2.0 * tmp84 * mom_y0 * mom_x0 * mom_z1,
+            -(tmp84 * mom_y0 * mom_z0 * mom_x2),
+            -(2.0 * tmp80 * mom_y0 * mom_z0 * mom_x0),
+            8.0 * tmp80 * mom_y0 * mom_x0 * mom_z1,
+            -(4.0 * tmp80 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            -(8.0 * tmp80 * mom_y0 * mom_x0 * mom_z2),
+            8.0 * tmp80 * mom_y0 * mom_z1 * mom_x2,
+            -(2.0 * tmp80 * mom_y0 * mom_z0 * mom_x4),
+            -(2.0 * tmp30 * mom_y0 * mom_z0 * mom_x0),
+            12.0 * tmp30 * mom_y0 * mom_x0 * mom_z1,
+            -(6.0 * tmp30 * mom_y0 * mom_z0 * mom_x2),
+            -(24.0 * tmp30 * mom_y0 * mom_x0 * mom_z2),
+            24.0 * tmp30 * mom_y0 * mom_z1 * mom_x2,
+            -(6.0 * tmp30 * mom_y0 * mom_z0 * mom_x4),
+            16.0 * tmp30 * mom_y0 * mom_x0 * mom_z3,
+            -(24.0 * tmp30 * mom_y0 * mom_x2 * mom_z2),
+            12.0 * tmp30 * mom_y0 * mom_z1 * mom_x4,
+            -(2.0 * tmp30 * mom_y0 * mom_z0 * mom_x6),
+            tmp81,
+            8.0 * eps0 * mom_y0 * mom_x0 * mom_z1,
+            -(4.0 * eps0 * mom_y0 * mom_z0 * mom_x2),
+            -(24.0 * eps0 * mom_y0 * mom_x0 * mom_z2),
+            24.0 * eps0 * mom_y0 * mom_z1 * mom_x2,
+            -(6.0 * eps0 * mom_y0 * mom_z0 * mom_x4),
+            32.0 * eps0 * mom_y0 * mom_x0 * mom_z3,
+            -(48.0 * eps0 * mom_y0 * mom_x2 * mom_z2),
+            24.0 * eps0 * mom_y0 * mom_z1 * mom_x4,
+            -(4.0 * eps0 * mom_y0 * mom_z0 * mom_x6),
+            -(16.0 * eps0 * mom_y0 * mom_x0 * mom_z4),
+            32.0 * eps0 * mom_y0 * mom_x2 * mom_z3,
+            -(24.0 * eps0 * mom_y0 * mom_z2 * mom_x4),
+            8.0 * eps0 * mom_y0 * mom_z1 * mom_x6,
+            -(eps0 * mom_y0 * mom_z0 * mom_x8),
+            -(0.2 * mom_y0 * mom_z0 * mom_x0),
+            tmp82,
+            tmp83,
+            -(8.0 * mom_y0 * mom_x0 * mom_z2),
+            8.0 * mom_y0 * mom_z1 * mom_x2,
+            -(2.0 * mom_y0 * mom_z0 * mom_x4),
+            16.0 * mom_y0 * mom_x0 * mom_z3,
+            -(24.0 * mom_y0 * mom_x2 * mom_z2),
+            12.0 * mom_y0 * mom_z1 * mom_x4,
+            -(2.0 * mom_y0 * mom_z0 * mom_x6),
+            -(16.0 * mom_y0 * mom_x0 * mom_z4),
+            32.0 * mom_y0 * mom_x2 * mom_z3,
+            -(24.0 * mom_y0 * mom_z2 * mom_x4),
+            8.0 * mom_y0 * mom_z1 * mom_x6,
+            -(mom_y0 * mom_z0 * mom_x8),
+            6.4 * mom_y0 * mom_x0 * mom_z5,
+            -(16.0 * mom_y0 * mom_x2 * mom_z4),
+            16.0 * mom_y0 * mom_x4 * mom_z3,
+            -(8.0 * mom_y0 * mom_z2 * mom_x6),
+            2.0 * mom_y0 * mom_z1 * mom_x8,
+            -(0.2 * mom_y0 * mom_z0 * mom_x10),
+        ],
+        [
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            tmp77,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+    ]
+}
+///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn prestressed_dmoments(
+    p: &super::PrestressedParams,
+) -> [[f64; PRESTRESSED_MOMENTS]; 11] {
+    prestressed_dmoments_at(
+        p.x0,
+        p.x1,
+        p.width,
+        p.z0,
+        p.z1,
+        p.eps0,
+        p.p1,
+        p.p2,
+        p.p3,
+        p.p4,
+        p.q22,
+    )
+}
 ///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
 ///Number of moment slots of this kernel.
@@ -930,6 +1882,42 @@ pub fn gas_hessian(k: &[f64; 4], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 4], [f64
             4.0 * atom1 * m[1],
         ],
     )
+}
+///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1`.
+fn gas_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+) -> [[f64; GAS_MOMENTS]; 5] {
+    let mom_x0 = -x0 + x1;
+    let mom_y0 = width;
+    let mom_z0 = -z0 + z1;
+    let tmp0 = x1 * x1;
+    let tmp1 = tmp0 * x1;
+    let tmp2 = x0 * x0;
+    let tmp3 = tmp2 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp1 - tmp3);
+    let tmp4 = z1 * z1;
+    let tmp5 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    [
+        [2.0 * mom_y0 * mom_z1, -(tmp2 * mom_y0 * mom_z0), -(mom_y0 * mom_z0)],
+        [-(2.0 * mom_y0 * mom_z1), tmp0 * mom_y0 * mom_z0, mom_y0 * mom_z0],
+        [-(2.0 * mom_x0 * mom_z1), mom_z0 * mom_x2, mom_x0 * mom_z0],
+        [2.0 * z0 * mom_x0 * mom_y0, -(mom_y0 * mom_x2), -(mom_x0 * mom_y0)],
+        [-(2.0 * z1 * mom_x0 * mom_y0), mom_y0 * mom_x2, mom_x0 * mom_y0],
+    ]
+}
+///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn gas_dmoments(p: &super::GasParams) -> [[f64; GAS_MOMENTS]; 5] {
+    gas_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1)
 }
 ///The moments of every integral of the energy, accumulated block by block.
 #[derive(Debug, Clone, PartialEq)]
@@ -1046,6 +2034,31 @@ pub fn energy_hessian(
         }
     }
     (v, g, h)
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///The derivative of the element energy and of its gradient along a change `ds` of the runtime scalars (`kp`): each integral enters linearly through its coefficient, so this is each integral's value and gradient times the coefficient's change.
+pub fn energy_scalars_tangent(
+    k: &[f64; 4],
+    m: &Moments,
+    s: &super::EnergyScalars,
+    ds: &super::EnergyScalars,
+) -> (f64, [f64; 4]) {
+    let _ = s;
+    let mut v = 0.0;
+    let mut g = [0.0; 4];
+    {
+        let dc2: f64 = -(ds.kp);
+        if dc2 != 0.0 {
+            let (tv, tg) = gas_gradient(k, &m.gas);
+            v += dc2 * tv;
+            g[0] += dc2 * tg[0];
+            g[1] += dc2 * tg[1];
+            g[2] += dc2 * tg[2];
+            g[3] += dc2 * tg[3];
+        }
+    }
+    (v, g)
 }
 ///Law `psi(s)` = `1/2*p1*s^2 - 1/3*s^3*p2 + 1/4*s^4*p3 - 1/5*s^5*p4`: value, first and second derivative in `s`.
 pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
@@ -1745,5 +2758,83 @@ impl super::ElementModel for Ccm {
     #[inline]
     fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
         psi(s, p)
+    }
+    fn add_linear_tangents(
+        m: &mut [Moments],
+        p: &super::LinearParams,
+        dp: &[super::LinearParams],
+    ) {
+        let jacobian = linear_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.linear.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn add_prestressed_tangents(
+        m: &mut [Moments],
+        p: &super::PrestressedParams,
+        dp: &[super::PrestressedParams],
+    ) {
+        let jacobian = prestressed_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.prestressed.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn add_gas_tangents(
+        m: &mut [Moments],
+        p: &super::GasParams,
+        dp: &[super::GasParams],
+    ) {
+        let jacobian = gas_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.gas.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn family_gradient(
+        m: &Moments,
+        family: usize,
+        k: &[f64; 4],
+    ) -> Option<(f64, [f64; 4])> {
+        match family {
+            0 => Some(linear_gradient(k, &m.linear)),
+            1 => Some(prestressed_gradient(k, &m.prestressed)),
+            2 => Some(gas_gradient(k, &m.gas)),
+            _ => None,
+        }
+    }
+    fn family_coefficient(family: usize, s: &super::EnergyScalars) -> f64 {
+        let _ = s;
+        match family {
+            0 => 1.0,
+            1 => 1.0,
+            2 => -(s.kp),
+            _ => 0.0,
+        }
+    }
+    #[inline]
+    fn scalars_tangent(
+        m: &Moments,
+        k: &[f64; 4],
+        s: &super::EnergyScalars,
+        ds: &super::EnergyScalars,
+    ) -> (f64, [f64; 4]) {
+        energy_scalars_tangent(k, m, s, ds)
     }
 }

@@ -230,6 +230,166 @@ pub fn linear_hessian(
         ],
     )
 }
+///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1, q11, q12, q22`.
+fn linear_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+    q11: f64,
+    q12: f64,
+    q22: f64,
+) -> [[f64; LINEAR_MOMENTS]; 8] {
+    let tmp0 = x1 * x1;
+    let tmp1 = x0 * x0;
+    let mom_x1 = 0.5 * (tmp0 - tmp1);
+    let mom_y0 = width;
+    let tmp2 = z1 * z1;
+    let tmp3 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp2 - tmp3);
+    let mom_z0 = -z0 + z1;
+    let tmp4 = tmp0 * x1;
+    let tmp5 = tmp1 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp4 - tmp5);
+    let tmp6 = tmp0 * tmp0;
+    let tmp7 = tmp1 * tmp1;
+    let mom_x3 = 0.25 * (tmp6 - tmp7);
+    let tmp8 = tmp6 * x1;
+    let tmp9 = tmp7 * x0;
+    let mom_x4 = 0.2 * (tmp8 - tmp9);
+    let mom_x0 = -x0 + x1;
+    let tmp10 = tmp2 * z1;
+    let tmp11 = tmp3 * z0;
+    let mom_z2 = 0.3333333333333333 * (tmp10 - tmp11);
+    let tmp12 = 0.5 * mom_y0 * mom_z0 * mom_x0;
+    let tmp13 = 2.0 * mom_y0 * mom_z0 * mom_x1;
+    let tmp14 = -(2.0 * mom_y0 * mom_x0 * mom_z1);
+    [
+        [
+            -(0.5 * q11 * tmp1 * mom_y0 * mom_z0),
+            -(0.5 * q11 * mom_y0 * mom_z0),
+            -(2.0 * q11 * x0 * mom_y0 * mom_z0),
+            -(q12 * mom_y0 * mom_z0),
+            2.0 * q11 * mom_y0 * mom_z1,
+            -(2.0 * q12 * x0 * mom_y0 * mom_z0),
+            4.0 * q11 * x0 * mom_y0 * mom_z1,
+            -(2.0 * q11 * tmp5 * mom_y0 * mom_z0),
+            -(0.5 * q22 * mom_y0 * mom_z0),
+            2.0 * q12 * mom_y0 * mom_z1,
+            -(q12 * tmp1 * mom_y0 * mom_z0),
+            -(2.0 * q11 * mom_y0 * mom_z2),
+            2.0 * q11 * tmp1 * mom_y0 * mom_z1,
+            -(0.5 * q11 * tmp7 * mom_y0 * mom_z0),
+        ],
+        [
+            0.5 * q11 * tmp0 * mom_y0 * mom_z0,
+            0.5 * q11 * mom_y0 * mom_z0,
+            2.0 * q11 * x1 * mom_y0 * mom_z0,
+            q12 * mom_y0 * mom_z0,
+            -(2.0 * q11 * mom_y0 * mom_z1),
+            2.0 * q12 * x1 * mom_y0 * mom_z0,
+            -(4.0 * q11 * x1 * mom_y0 * mom_z1),
+            2.0 * q11 * tmp4 * mom_y0 * mom_z0,
+            0.5 * q22 * mom_y0 * mom_z0,
+            -(2.0 * q12 * mom_y0 * mom_z1),
+            q12 * tmp0 * mom_y0 * mom_z0,
+            2.0 * q11 * mom_y0 * mom_z2,
+            -(2.0 * q11 * tmp0 * mom_y0 * mom_z1),
+            0.5 * q11 * tmp6 * mom_y0 * mom_z0,
+        ],
+        [
+            0.5 * q11 * mom_z0 * mom_x2,
+            0.5 * q11 * mom_z0 * mom_x0,
+            2.0 * q11 * mom_z0 * mom_x1,
+            q12 * mom_z0 * mom_x0,
+            -(2.0 * q11 * mom_x0 * mom_z1),
+            2.0 * q12 * mom_z0 * mom_x1,
+            -(4.0 * q11 * mom_x1 * mom_z1),
+            2.0 * q11 * mom_z0 * mom_x3,
+            0.5 * q22 * mom_z0 * mom_x0,
+            -(2.0 * q12 * mom_x0 * mom_z1),
+            q12 * mom_z0 * mom_x2,
+            2.0 * q11 * mom_x0 * mom_z2,
+            -(2.0 * q11 * mom_x2 * mom_z1),
+            0.5 * q11 * mom_z0 * mom_x4,
+        ],
+        [
+            -(0.5 * q11 * mom_y0 * mom_x2),
+            -(0.5 * q11 * mom_y0 * mom_x0),
+            -(2.0 * q11 * mom_y0 * mom_x1),
+            -(q12 * mom_y0 * mom_x0),
+            2.0 * q11 * z0 * mom_y0 * mom_x0,
+            -(2.0 * q12 * mom_y0 * mom_x1),
+            4.0 * q11 * z0 * mom_y0 * mom_x1,
+            -(2.0 * q11 * mom_y0 * mom_x3),
+            -(0.5 * q22 * mom_y0 * mom_x0),
+            2.0 * q12 * z0 * mom_y0 * mom_x0,
+            -(q12 * mom_y0 * mom_x2),
+            -(2.0 * q11 * tmp3 * mom_y0 * mom_x0),
+            2.0 * q11 * z0 * mom_y0 * mom_x2,
+            -(0.5 * q11 * mom_y0 * mom_x4),
+        ],
+        [
+            0.5 * q11 * mom_y0 * mom_x2,
+            0.5 * q11 * mom_y0 * mom_x0,
+            2.0 * q11 * mom_y0 * mom_x1,
+            q12 * mom_y0 * mom_x0,
+            -(2.0 * q11 * z1 * mom_y0 * mom_x0),
+            2.0 * q12 * mom_y0 * mom_x1,
+            -(4.0 * q11 * z1 * mom_y0 * mom_x1),
+            2.0 * q11 * mom_y0 * mom_x3,
+            0.5 * q22 * mom_y0 * mom_x0,
+            -(2.0 * q12 * z1 * mom_y0 * mom_x0),
+            q12 * mom_y0 * mom_x2,
+            2.0 * q11 * tmp2 * mom_y0 * mom_x0,
+            -(2.0 * q11 * z1 * mom_y0 * mom_x2),
+            0.5 * q11 * mom_y0 * mom_x4,
+        ],
+        [
+            0.5 * mom_y0 * mom_z0 * mom_x2,
+            tmp12,
+            tmp13,
+            0.0,
+            tmp14,
+            0.0,
+            -(4.0 * mom_y0 * mom_x1 * mom_z1),
+            2.0 * mom_y0 * mom_z0 * mom_x3,
+            0.0,
+            0.0,
+            0.0,
+            2.0 * mom_y0 * mom_x0 * mom_z2,
+            -(2.0 * mom_y0 * mom_x2 * mom_z1),
+            0.5 * mom_y0 * mom_z0 * mom_x4,
+        ],
+        [
+            0.0,
+            0.0,
+            0.0,
+            mom_y0 * mom_z0 * mom_x0,
+            0.0,
+            tmp13,
+            0.0,
+            0.0,
+            0.0,
+            tmp14,
+            mom_y0 * mom_z0 * mom_x2,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, tmp12, 0.0, 0.0, 0.0, 0.0, 0.0],
+    ]
+}
+///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn linear_dmoments(p: &super::LinearParams) -> [[f64; LINEAR_MOMENTS]; 8] {
+    linear_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1, p.q11, p.q12, p.q22)
+}
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
 ///Number of moment slots of this kernel.
@@ -1934,6 +2094,1473 @@ pub fn prestressed_hessian(
         ],
     )
 }
+///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1, eps0, p1, p2, p3, p4, q22`.
+fn prestressed_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+    eps0: f64,
+    p1: f64,
+    p2: f64,
+    p3: f64,
+    p4: f64,
+    q22: f64,
+) -> [[f64; PRESTRESSED_MOMENTS]; 11] {
+    let tmp0 = x1 * x1;
+    let tmp1 = x0 * x0;
+    let mom_x1 = 0.5 * (tmp0 - tmp1);
+    let mom_y0 = width;
+    let tmp2 = z1 * z1;
+    let tmp3 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp2 - tmp3);
+    let tmp4 = tmp2 * z1;
+    let tmp5 = tmp3 * z0;
+    let mom_z2 = 0.3333333333333333 * (tmp4 - tmp5);
+    let tmp6 = tmp2 * tmp2;
+    let tmp7 = tmp3 * tmp3;
+    let mom_z3 = 0.25 * (tmp6 - tmp7);
+    let tmp8 = tmp6 * z1;
+    let tmp9 = tmp7 * z0;
+    let mom_z4 = 0.2 * (tmp8 - tmp9);
+    let mom_z0 = -z0 + z1;
+    let tmp10 = tmp0 * x1;
+    let tmp11 = tmp1 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp10 - tmp11);
+    let tmp12 = tmp0 * tmp0;
+    let tmp13 = tmp1 * tmp1;
+    let mom_x3 = 0.25 * (tmp12 - tmp13);
+    let tmp14 = tmp12 * x1;
+    let tmp15 = tmp13 * x0;
+    let mom_x4 = 0.2 * (tmp14 - tmp15);
+    let tmp16 = tmp10 * tmp10;
+    let tmp17 = tmp11 * tmp11;
+    let mom_x5 = 0.16666666666666666 * (tmp16 - tmp17);
+    let tmp18 = tmp16 * x1;
+    let tmp19 = tmp17 * x0;
+    let mom_x6 = 0.14285714285714285 * (tmp18 - tmp19);
+    let tmp20 = tmp12 * tmp12;
+    let tmp21 = tmp13 * tmp13;
+    let mom_x7 = 0.125 * (tmp20 - tmp21);
+    let tmp22 = tmp20 * x1;
+    let tmp23 = tmp21 * x0;
+    let mom_x8 = 0.1111111111111111 * (tmp22 - tmp23);
+    let tmp24 = tmp14 * tmp14;
+    let tmp25 = tmp15 * tmp15;
+    let mom_x9 = 0.1 * (tmp24 - tmp25);
+    let tmp26 = tmp24 * x1;
+    let tmp27 = tmp25 * x0;
+    let mom_x10 = 0.09090909090909091 * (tmp26 - tmp27);
+    let mom_x0 = -x0 + x1;
+    let tmp28 = tmp4 * tmp4;
+    let tmp29 = tmp5 * tmp5;
+    let mom_z5 = 0.16666666666666666 * (tmp28 - tmp29);
+    let tmp30 = eps0 * eps0;
+    let tmp31 = eps0
+        * (eps0 * (0.25 * p3 * mom_y0 * mom_z0 - 0.2 * p4 * eps0 * mom_y0 * mom_z0)
+            - 0.3333333333333333 * p2 * mom_y0 * mom_z0) + 0.5 * p1 * mom_y0 * mom_z0;
+    let tmp32 = p1 * mom_y0 * mom_z0
+        + eps0
+            * (-p2 * mom_y0 * mom_z0
+                + eps0 * (p3 * mom_y0 * mom_z0 - p4 * eps0 * mom_y0 * mom_z0));
+    let tmp33 = 2.0 * p1 * mom_y0 * mom_z0
+        + eps0
+            * (-2.0 * p2 * mom_y0 * mom_z0
+                + eps0
+                    * (2.0 * p3 * mom_y0 * mom_z0 - 2.0 * p4 * eps0 * mom_y0 * mom_z0));
+    let tmp34 = eps0
+        * (eps0 * (-2.0 * p3 * mom_y0 * mom_z1 + 2.0 * p4 * eps0 * mom_y0 * mom_z1)
+            + 2.0 * p2 * mom_y0 * mom_z1) - 2.0 * p1 * mom_y0 * mom_z1;
+    let tmp35 = tmp30 * eps0;
+    let tmp36 = -(p2);
+    let tmp37 = -(2.0 * p4 * eps0);
+    let tmp38 = 0.5 * p1 + eps0 * (tmp36 + eps0 * (1.5 * p3 + tmp37));
+    let tmp39 = -(4.0 * p2);
+    let tmp40 = 6.0 * p3;
+    let tmp41 = -(8.0 * p4 * eps0);
+    let tmp42 = 2.0 * p1 + eps0 * (tmp39 + eps0 * (tmp40 + tmp41));
+    let tmp43 = 4.0 * p2;
+    let tmp44 = -(6.0 * p3);
+    let tmp45 = 8.0 * p4 * eps0;
+    let tmp46 = -2.0 * p1 + eps0 * (tmp43 + eps0 * (tmp44 + tmp45));
+    let tmp47 = 8.0 * p2;
+    let tmp48 = -(12.0 * p3);
+    let tmp49 = 16.0 * p4 * eps0;
+    let tmp50 = -4.0 * p1 + eps0 * (tmp47 + eps0 * (tmp48 + tmp49));
+    let tmp51 = -0.3333333333333333 * p2 + eps0 * (p3 + tmp37);
+    let tmp52 = -(2.0 * p2);
+    let tmp53 = tmp52 + eps0 * (tmp40 - 12.0 * p4 * eps0);
+    let tmp54 = 2.0 * p2 + eps0 * (tmp44 + 12.0 * p4 * eps0);
+    let tmp55 = -(24.0 * p3);
+    let tmp56 = 48.0 * p4 * eps0;
+    let tmp57 = tmp47 + eps0 * (tmp55 + tmp56);
+    let tmp58 = 12.0 * p3;
+    let tmp59 = -(24.0 * p4 * eps0);
+    let tmp60 = tmp39 + eps0 * (tmp58 + tmp59);
+    let tmp61 = 24.0 * p3;
+    let tmp62 = -(48.0 * p4 * eps0);
+    let tmp63 = -8.0 * p2 + eps0 * (tmp61 + tmp62);
+    let tmp64 = -(8.0 * p3);
+    let tmp65 = 2.6666666666666665 * p2 + eps0 * (tmp64 + tmp49);
+    let tmp66 = 0.25 * p3 - p4 * eps0;
+    let tmp67 = 2.0 * p3 + tmp41;
+    let tmp68 = -2.0 * p3 + tmp45;
+    let tmp69 = tmp48 + tmp56;
+    let tmp70 = tmp40 + tmp59;
+    let tmp71 = tmp61 - 96.0 * p4 * eps0;
+    let tmp72 = tmp64 + 32.0 * p4 * eps0;
+    let tmp73 = -16.0 * p3 + 64.0 * p4 * eps0;
+    let tmp74 = 4.0 * p3 - 16.0 * p4 * eps0;
+    let tmp75 = eps0
+        * (eps0 * (0.25 * p3 * mom_y0 * mom_x0 - 0.2 * p4 * eps0 * mom_y0 * mom_x0)
+            - 0.3333333333333333 * p2 * mom_y0 * mom_x0) + 0.5 * p1 * mom_y0 * mom_x0;
+    let tmp76 = p1 * mom_y0 * mom_x0
+        + eps0
+            * (-p2 * mom_y0 * mom_x0
+                + eps0 * (p3 * mom_y0 * mom_x0 - p4 * eps0 * mom_y0 * mom_x0));
+    let tmp77 = eps0
+        * (eps0 * (2.0 * p3 * mom_y0 * mom_x1 - 2.0 * p4 * eps0 * mom_y0 * mom_x1)
+            - 2.0 * p2 * mom_y0 * mom_x1) + 2.0 * p1 * mom_y0 * mom_x1;
+    let tmp78 = -2.0 * p1 * mom_y0 * mom_x0
+        + eps0
+            * (2.0 * p2 * mom_y0 * mom_x0
+                + eps0
+                    * (-2.0 * p3 * mom_y0 * mom_x0 + 2.0 * p4 * eps0 * mom_y0 * mom_x0));
+    let tmp79 = p1 * mom_y0 * mom_x2
+        + eps0
+            * (eps0 * (p3 * mom_y0 * mom_x2 - p4 * eps0 * mom_y0 * mom_x2)
+                - p2 * mom_y0 * mom_x2);
+    let tmp80 = 3.0 * p3;
+    let tmp81 = -(4.0 * p4 * eps0);
+    let tmp82 = p1 + eps0 * (tmp52 + eps0 * (tmp80 + tmp81));
+    let tmp83 = tmp36 + eps0 * (tmp80 - 6.0 * p4 * eps0);
+    let tmp84 = 24.0 * p4 * eps0;
+    let tmp85 = tmp43 + eps0 * (tmp48 + tmp84);
+    let tmp86 = p3 + tmp81;
+    let tmp87 = tmp44 + tmp84;
+    let tmp88 = tmp55 + 96.0 * p4 * eps0;
+    let tmp89 = tmp58 + tmp62;
+    let tmp90 = eps0 * mom_y0 * mom_z0 * mom_x0;
+    let tmp91 = 0.5 * mom_y0 * mom_z0 * mom_x0;
+    let tmp92 = 2.0 * mom_y0 * mom_z0 * mom_x1;
+    let tmp93 = -(2.0 * mom_y0 * mom_x0 * mom_z1);
+    let tmp94 = -(eps0 * mom_y0 * mom_z0 * mom_x0);
+    let tmp95 = -(2.0 * mom_y0 * mom_z0 * mom_x1);
+    let tmp96 = 2.0 * mom_y0 * mom_x0 * mom_z1;
+    let tmp97 = tmp30 * tmp30;
+    let tmp98 = tmp97 * eps0;
+    [
+        [
+            -(tmp30 * tmp31),
+            -(eps0 * tmp32),
+            -(eps0 * x0 * tmp33),
+            -(eps0 * tmp34),
+            -(eps0 * tmp1 * tmp32),
+            -(0.5 * p1 * tmp1 * mom_y0 * mom_z0),
+            0.3333333333333333 * p2 * tmp1 * mom_y0 * mom_z0,
+            0.3333333333333333 * p2 * tmp1 * mom_y0 * mom_z1,
+            0.3333333333333333 * p2 * eps0 * tmp1 * mom_y0 * mom_z0,
+            0.3333333333333333 * p2 * tmp11 * mom_y0 * mom_z0,
+            0.3333333333333333 * p2 * tmp13 * mom_y0 * mom_z0,
+            -(0.25 * p3 * tmp1 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp1 * mom_y0 * mom_z1),
+            -(0.25 * p3 * eps0 * tmp1 * mom_y0 * mom_z1),
+            -(0.25 * p3 * tmp1 * mom_y0 * mom_z2),
+            -(0.25 * p3 * eps0 * tmp1 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp30 * tmp1 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp11 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp11 * mom_y0 * mom_z1),
+            -(0.25 * p3 * eps0 * tmp11 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp13 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp13 * mom_y0 * mom_z1),
+            -(0.25 * p3 * eps0 * tmp13 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp15 * mom_y0 * mom_z0),
+            -(0.25 * p3 * tmp17 * mom_y0 * mom_z0),
+            0.2 * p4 * tmp1 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp1 * mom_y0 * mom_z1,
+            0.2 * p4 * eps0 * tmp1 * mom_y0 * mom_z1,
+            0.2 * p4 * tmp30 * tmp1 * mom_y0 * mom_z1,
+            0.2 * p4 * tmp1 * mom_y0 * mom_z2,
+            0.2 * p4 * eps0 * tmp1 * mom_y0 * mom_z2,
+            0.2 * p4 * tmp1 * mom_y0 * mom_z3,
+            0.2 * p4 * eps0 * tmp1 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp30 * tmp1 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp35 * tmp1 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp11 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp11 * mom_y0 * mom_z1,
+            0.2 * p4 * eps0 * tmp11 * mom_y0 * mom_z1,
+            0.2 * p4 * tmp11 * mom_y0 * mom_z2,
+            0.2 * p4 * eps0 * tmp11 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp30 * tmp11 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp13 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp13 * mom_y0 * mom_z1,
+            0.2 * p4 * eps0 * tmp13 * mom_y0 * mom_z1,
+            0.2 * p4 * tmp13 * mom_y0 * mom_z2,
+            0.2 * p4 * eps0 * tmp13 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp30 * tmp13 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp15 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp15 * mom_y0 * mom_z1,
+            0.2 * p4 * eps0 * tmp15 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp17 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp17 * mom_y0 * mom_z1,
+            0.2 * p4 * eps0 * tmp17 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp19 * mom_y0 * mom_z0,
+            0.2 * p4 * tmp21 * mom_y0 * mom_z0,
+            -(mom_y0 * mom_z0 * tmp38),
+            -(x0 * mom_y0 * mom_z0 * tmp42),
+            -(mom_y0 * mom_z1 * tmp46),
+            -(x0 * mom_y0 * mom_z1 * tmp50),
+            -(tmp11 * mom_y0 * mom_z0 * tmp42),
+            -(0.5 * q22 * mom_y0 * mom_z0),
+            -(mom_y0 * mom_z2 * tmp42),
+            -(tmp1 * mom_y0 * mom_z1 * tmp46),
+            -(tmp13 * mom_y0 * mom_z0 * tmp38),
+            -(mom_y0 * mom_z0 * tmp51),
+            -(x0 * mom_y0 * mom_z0 * tmp53),
+            -(mom_y0 * mom_z1 * tmp54),
+            -(x0 * mom_y0 * mom_z1 * tmp57),
+            -(mom_y0 * mom_z2 * tmp60),
+            -(x0 * mom_y0 * mom_z2 * tmp63),
+            -(tmp11 * mom_y0 * mom_z1 * tmp57),
+            -(tmp15 * mom_y0 * mom_z0 * tmp53),
+            -(mom_y0 * mom_z3 * tmp65),
+            -(tmp1 * mom_y0 * mom_z2 * tmp60),
+            -(tmp13 * mom_y0 * mom_z1 * tmp54),
+            -(tmp17 * mom_y0 * mom_z0 * tmp51),
+            -(mom_y0 * mom_z0 * tmp66),
+            -(x0 * mom_y0 * mom_z0 * tmp67),
+            -(mom_y0 * mom_z1 * tmp68),
+            -(x0 * mom_y0 * mom_z1 * tmp69),
+            -(mom_y0 * mom_z2 * tmp70),
+            -(x0 * mom_y0 * mom_z2 * tmp71),
+            -(mom_y0 * mom_z3 * tmp72),
+            -(x0 * mom_y0 * mom_z3 * tmp73),
+            -(tmp11 * mom_y0 * mom_z2 * tmp71),
+            -(tmp15 * mom_y0 * mom_z1 * tmp69),
+            -(tmp19 * mom_y0 * mom_z0 * tmp67),
+            -(mom_y0 * mom_z4 * tmp74),
+            -(tmp1 * mom_y0 * mom_z3 * tmp72),
+            -(tmp13 * mom_y0 * mom_z2 * tmp70),
+            -(tmp17 * mom_y0 * mom_z1 * tmp68),
+            -(tmp21 * mom_y0 * mom_z0 * tmp66),
+            0.2 * p4 * mom_y0 * mom_z0,
+            2.0 * p4 * x0 * mom_y0 * mom_z0,
+            -(2.0 * p4 * mom_y0 * mom_z1),
+            -(16.0 * p4 * x0 * mom_y0 * mom_z1),
+            8.0 * p4 * mom_y0 * mom_z2,
+            48.0 * p4 * x0 * mom_y0 * mom_z2,
+            -(16.0 * p4 * mom_y0 * mom_z3),
+            -(64.0 * p4 * x0 * mom_y0 * mom_z3),
+            16.0 * p4 * mom_y0 * mom_z4,
+            32.0 * p4 * x0 * mom_y0 * mom_z4,
+            -(64.0 * p4 * tmp11 * mom_y0 * mom_z3),
+            48.0 * p4 * tmp15 * mom_y0 * mom_z2,
+            -(16.0 * p4 * tmp19 * mom_y0 * mom_z1),
+            2.0 * p4 * tmp23 * mom_y0 * mom_z0,
+            -(6.4 * p4 * mom_y0 * mom_z5),
+            16.0 * p4 * tmp1 * mom_y0 * mom_z4,
+            -(16.0 * p4 * tmp13 * mom_y0 * mom_z3),
+            8.0 * p4 * tmp17 * mom_y0 * mom_z2,
+            -(2.0 * p4 * tmp21 * mom_y0 * mom_z1),
+            0.2 * p4 * tmp25 * mom_y0 * mom_z0,
+        ],
+        [
+            tmp30 * tmp31,
+            eps0 * tmp32,
+            eps0 * x1 * tmp33,
+            eps0 * tmp34,
+            eps0 * tmp0 * tmp32,
+            0.5 * p1 * tmp0 * mom_y0 * mom_z0,
+            -(0.3333333333333333 * p2 * tmp0 * mom_y0 * mom_z0),
+            -(0.3333333333333333 * p2 * tmp0 * mom_y0 * mom_z1),
+            -(0.3333333333333333 * p2 * eps0 * tmp0 * mom_y0 * mom_z0),
+            -(0.3333333333333333 * p2 * tmp10 * mom_y0 * mom_z0),
+            -(0.3333333333333333 * p2 * tmp12 * mom_y0 * mom_z0),
+            0.25 * p3 * tmp0 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp0 * mom_y0 * mom_z1,
+            0.25 * p3 * eps0 * tmp0 * mom_y0 * mom_z1,
+            0.25 * p3 * tmp0 * mom_y0 * mom_z2,
+            0.25 * p3 * eps0 * tmp0 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp30 * tmp0 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp10 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp10 * mom_y0 * mom_z1,
+            0.25 * p3 * eps0 * tmp10 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp12 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp12 * mom_y0 * mom_z1,
+            0.25 * p3 * eps0 * tmp12 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp14 * mom_y0 * mom_z0,
+            0.25 * p3 * tmp16 * mom_y0 * mom_z0,
+            -(0.2 * p4 * tmp0 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp0 * mom_y0 * mom_z1),
+            -(0.2 * p4 * eps0 * tmp0 * mom_y0 * mom_z1),
+            -(0.2 * p4 * tmp30 * tmp0 * mom_y0 * mom_z1),
+            -(0.2 * p4 * tmp0 * mom_y0 * mom_z2),
+            -(0.2 * p4 * eps0 * tmp0 * mom_y0 * mom_z2),
+            -(0.2 * p4 * tmp0 * mom_y0 * mom_z3),
+            -(0.2 * p4 * eps0 * tmp0 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp30 * tmp0 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp35 * tmp0 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp10 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp10 * mom_y0 * mom_z1),
+            -(0.2 * p4 * eps0 * tmp10 * mom_y0 * mom_z1),
+            -(0.2 * p4 * tmp10 * mom_y0 * mom_z2),
+            -(0.2 * p4 * eps0 * tmp10 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp30 * tmp10 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp12 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp12 * mom_y0 * mom_z1),
+            -(0.2 * p4 * eps0 * tmp12 * mom_y0 * mom_z1),
+            -(0.2 * p4 * tmp12 * mom_y0 * mom_z2),
+            -(0.2 * p4 * eps0 * tmp12 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp30 * tmp12 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp14 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp14 * mom_y0 * mom_z1),
+            -(0.2 * p4 * eps0 * tmp14 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp16 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp16 * mom_y0 * mom_z1),
+            -(0.2 * p4 * eps0 * tmp16 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp18 * mom_y0 * mom_z0),
+            -(0.2 * p4 * tmp20 * mom_y0 * mom_z0),
+            mom_y0 * mom_z0 * tmp38,
+            x1 * mom_y0 * mom_z0 * tmp42,
+            mom_y0 * mom_z1 * tmp46,
+            x1 * mom_y0 * mom_z1 * tmp50,
+            tmp10 * mom_y0 * mom_z0 * tmp42,
+            0.5 * q22 * mom_y0 * mom_z0,
+            mom_y0 * mom_z2 * tmp42,
+            tmp0 * mom_y0 * mom_z1 * tmp46,
+            tmp12 * mom_y0 * mom_z0 * tmp38,
+            mom_y0 * mom_z0 * tmp51,
+            x1 * mom_y0 * mom_z0 * tmp53,
+            mom_y0 * mom_z1 * tmp54,
+            x1 * mom_y0 * mom_z1 * tmp57,
+            mom_y0 * mom_z2 * tmp60,
+            x1 * mom_y0 * mom_z2 * tmp63,
+            tmp10 * mom_y0 * mom_z1 * tmp57,
+            tmp14 * mom_y0 * mom_z0 * tmp53,
+            mom_y0 * mom_z3 * tmp65,
+            tmp0 * mom_y0 * mom_z2 * tmp60,
+            tmp12 * mom_y0 * mom_z1 * tmp54,
+            tmp16 * mom_y0 * mom_z0 * tmp51,
+            mom_y0 * mom_z0 * tmp66,
+            x1 * mom_y0 * mom_z0 * tmp67,
+            mom_y0 * mom_z1 * tmp68,
+            x1 * mom_y0 * mom_z1 * tmp69,
+            mom_y0 * mom_z2 * tmp70,
+            x1 * mom_y0 * mom_z2 * tmp71,
+            mom_y0 * mom_z3 * tmp72,
+            x1 * mom_y0 * mom_z3 * tmp73,
+            tmp10 * mom_y0 * mom_z2 * tmp71,
+            tmp14 * mom_y0 * mom_z1 * tmp69,
+            tmp18 * mom_y0 * mom_z0 * tmp67,
+            mom_y0 * mom_z4 * tmp74,
+            tmp0 * mom_y0 * mom_z3 * tmp72,
+            tmp12 * mom_y0 * mom_z2 * tmp70,
+            tmp16 * mom_y0 * mom_z1 * tmp68,
+            tmp20 * mom_y0 * mom_z0 * tmp66,
+            -(0.2 * p4 * mom_y0 * mom_z0),
+            -(2.0 * p4 * x1 * mom_y0 * mom_z0),
+            2.0 * p4 * mom_y0 * mom_z1,
+            16.0 * p4 * x1 * mom_y0 * mom_z1,
+            -(8.0 * p4 * mom_y0 * mom_z2),
+            -(48.0 * p4 * x1 * mom_y0 * mom_z2),
+            16.0 * p4 * mom_y0 * mom_z3,
+            64.0 * p4 * x1 * mom_y0 * mom_z3,
+            -(16.0 * p4 * mom_y0 * mom_z4),
+            -(32.0 * p4 * x1 * mom_y0 * mom_z4),
+            64.0 * p4 * tmp10 * mom_y0 * mom_z3,
+            -(48.0 * p4 * tmp14 * mom_y0 * mom_z2),
+            16.0 * p4 * tmp18 * mom_y0 * mom_z1,
+            -(2.0 * p4 * tmp22 * mom_y0 * mom_z0),
+            6.4 * p4 * mom_y0 * mom_z5,
+            -(16.0 * p4 * tmp0 * mom_y0 * mom_z4),
+            16.0 * p4 * tmp12 * mom_y0 * mom_z3,
+            -(8.0 * p4 * tmp16 * mom_y0 * mom_z2),
+            2.0 * p4 * tmp20 * mom_y0 * mom_z1,
+            -(0.2 * p4 * tmp24 * mom_y0 * mom_z0),
+        ],
+        [
+            tmp30
+                * (eps0
+                    * (eps0
+                        * (0.25 * p3 * mom_z0 * mom_x0
+                            - 0.2 * p4 * eps0 * mom_z0 * mom_x0)
+                        - 0.3333333333333333 * p2 * mom_z0 * mom_x0)
+                    + 0.5 * p1 * mom_z0 * mom_x0),
+            eps0
+                * (p1 * mom_z0 * mom_x0
+                    + eps0
+                        * (-p2 * mom_z0 * mom_x0
+                            + eps0
+                                * (p3 * mom_z0 * mom_x0 - p4 * eps0 * mom_z0 * mom_x0))),
+            eps0
+                * (eps0
+                    * (eps0
+                        * (2.0 * p3 * mom_z0 * mom_x1
+                            - 2.0 * p4 * eps0 * mom_z0 * mom_x1)
+                        - 2.0 * p2 * mom_z0 * mom_x1) + 2.0 * p1 * mom_z0 * mom_x1),
+            eps0
+                * (eps0
+                    * (eps0
+                        * (-2.0 * p3 * mom_x0 * mom_z1
+                            + 2.0 * p4 * eps0 * mom_x0 * mom_z1)
+                        + 2.0 * p2 * mom_x0 * mom_z1) - 2.0 * p1 * mom_x0 * mom_z1),
+            eps0
+                * (p1 * mom_z0 * mom_x2
+                    + eps0
+                        * (eps0 * (p3 * mom_z0 * mom_x2 - p4 * eps0 * mom_z0 * mom_x2)
+                            - p2 * mom_z0 * mom_x2)),
+            0.5 * p1 * mom_z0 * mom_x2,
+            -(0.3333333333333333 * p2 * mom_z0 * mom_x2),
+            -(0.3333333333333333 * p2 * mom_z1 * mom_x2),
+            -(0.3333333333333333 * p2 * eps0 * mom_z0 * mom_x2),
+            -(0.3333333333333333 * p2 * mom_z0 * mom_x3),
+            -(0.3333333333333333 * p2 * mom_z0 * mom_x4),
+            0.25 * p3 * mom_z0 * mom_x2,
+            0.25 * p3 * mom_z1 * mom_x2,
+            0.25 * p3 * eps0 * mom_z1 * mom_x2,
+            0.25 * p3 * mom_x2 * mom_z2,
+            0.25 * p3 * eps0 * mom_z0 * mom_x2,
+            0.25 * p3 * tmp30 * mom_z0 * mom_x2,
+            0.25 * p3 * mom_z0 * mom_x3,
+            0.25 * p3 * mom_z1 * mom_x3,
+            0.25 * p3 * eps0 * mom_z0 * mom_x3,
+            0.25 * p3 * mom_z0 * mom_x4,
+            0.25 * p3 * mom_z1 * mom_x4,
+            0.25 * p3 * eps0 * mom_z0 * mom_x4,
+            0.25 * p3 * mom_z0 * mom_x5,
+            0.25 * p3 * mom_z0 * mom_x6,
+            -(0.2 * p4 * mom_z0 * mom_x2),
+            -(0.2 * p4 * mom_z1 * mom_x2),
+            -(0.2 * p4 * eps0 * mom_z1 * mom_x2),
+            -(0.2 * p4 * tmp30 * mom_z1 * mom_x2),
+            -(0.2 * p4 * mom_x2 * mom_z2),
+            -(0.2 * p4 * eps0 * mom_x2 * mom_z2),
+            -(0.2 * p4 * mom_x2 * mom_z3),
+            -(0.2 * p4 * eps0 * mom_z0 * mom_x2),
+            -(0.2 * p4 * tmp30 * mom_z0 * mom_x2),
+            -(0.2 * p4 * tmp35 * mom_z0 * mom_x2),
+            -(0.2 * p4 * mom_z0 * mom_x3),
+            -(0.2 * p4 * mom_z1 * mom_x3),
+            -(0.2 * p4 * eps0 * mom_z1 * mom_x3),
+            -(0.2 * p4 * mom_x3 * mom_z2),
+            -(0.2 * p4 * eps0 * mom_z0 * mom_x3),
+            -(0.2 * p4 * tmp30 * mom_z0 * mom_x3),
+            -(0.2 * p4 * mom_z0 * mom_x4),
+            -(0.2 * p4 * mom_z1 * mom_x4),
+            -(0.2 * p4 * eps0 * mom_z1 * mom_x4),
+            -(0.2 * p4 * mom_x4 * mom_z2),
+            -(0.2 * p4 * eps0 * mom_z0 * mom_x4),
+            -(0.2 * p4 * tmp30 * mom_z0 * mom_x4),
+            -(0.2 * p4 * mom_z0 * mom_x5),
+            -(0.2 * p4 * mom_z1 * mom_x5),
+            -(0.2 * p4 * eps0 * mom_z0 * mom_x5),
+            -(0.2 * p4 * mom_z0 * mom_x6),
+            -(0.2 * p4 * mom_z1 * mom_x6),
+            -(0.2 * p4 * eps0 * mom_z0 * mom_x6),
+            -(0.2 * p4 * mom_z0 * mom_x7),
+            -(0.2 * p4 * mom_z0 * mom_x8),
+            mom_z0 * mom_x0 * tmp38,
+            mom_z0 * mom_x1 * tmp42,
+            mom_x0 * mom_z1 * tmp46,
+            mom_x1 * mom_z1 * tmp50,
+            mom_z0 * mom_x3 * tmp42,
+            0.5 * q22 * mom_z0 * mom_x0,
+            mom_x0 * mom_z2 * tmp42,
+            mom_z1 * mom_x2 * tmp46,
+            mom_z0 * mom_x4 * tmp38,
+            mom_z0 * mom_x0 * tmp51,
+            mom_z0 * mom_x1 * tmp53,
+            mom_x0 * mom_z1 * tmp54,
+            mom_x1 * mom_z1 * tmp57,
+            mom_x0 * mom_z2 * tmp60,
+            mom_x1 * mom_z2 * tmp63,
+            mom_z1 * mom_x3 * tmp57,
+            mom_z0 * mom_x5 * tmp53,
+            mom_x0 * mom_z3 * tmp65,
+            mom_x2 * mom_z2 * tmp60,
+            mom_z1 * mom_x4 * tmp54,
+            mom_z0 * mom_x6 * tmp51,
+            mom_z0 * mom_x0 * tmp66,
+            mom_z0 * mom_x1 * tmp67,
+            mom_x0 * mom_z1 * tmp68,
+            mom_x1 * mom_z1 * tmp69,
+            mom_x0 * mom_z2 * tmp70,
+            mom_x1 * mom_z2 * tmp71,
+            mom_x0 * mom_z3 * tmp72,
+            mom_x1 * mom_z3 * tmp73,
+            mom_x3 * mom_z2 * tmp71,
+            mom_z1 * mom_x5 * tmp69,
+            mom_z0 * mom_x7 * tmp67,
+            mom_x0 * mom_z4 * tmp74,
+            mom_x2 * mom_z3 * tmp72,
+            mom_x4 * mom_z2 * tmp70,
+            mom_z1 * mom_x6 * tmp68,
+            mom_z0 * mom_x8 * tmp66,
+            -(0.2 * p4 * mom_z0 * mom_x0),
+            -(2.0 * p4 * mom_z0 * mom_x1),
+            2.0 * p4 * mom_x0 * mom_z1,
+            16.0 * p4 * mom_x1 * mom_z1,
+            -(8.0 * p4 * mom_x0 * mom_z2),
+            -(48.0 * p4 * mom_x1 * mom_z2),
+            16.0 * p4 * mom_x0 * mom_z3,
+            64.0 * p4 * mom_x1 * mom_z3,
+            -(16.0 * p4 * mom_x0 * mom_z4),
+            -(32.0 * p4 * mom_x1 * mom_z4),
+            64.0 * p4 * mom_x3 * mom_z3,
+            -(48.0 * p4 * mom_z2 * mom_x5),
+            16.0 * p4 * mom_z1 * mom_x7,
+            -(2.0 * p4 * mom_z0 * mom_x9),
+            6.4 * p4 * mom_x0 * mom_z5,
+            -(16.0 * p4 * mom_x2 * mom_z4),
+            16.0 * p4 * mom_x4 * mom_z3,
+            -(8.0 * p4 * mom_z2 * mom_x6),
+            2.0 * p4 * mom_z1 * mom_x8,
+            -(0.2 * p4 * mom_z0 * mom_x10),
+        ],
+        [
+            -(tmp30 * tmp75),
+            -(eps0 * tmp76),
+            -(eps0 * tmp77),
+            -(eps0 * z0 * tmp78),
+            -(eps0 * tmp79),
+            -(0.5 * p1 * mom_y0 * mom_x2),
+            0.3333333333333333 * p2 * mom_y0 * mom_x2,
+            0.3333333333333333 * p2 * z0 * mom_y0 * mom_x2,
+            0.3333333333333333 * p2 * eps0 * mom_y0 * mom_x2,
+            0.3333333333333333 * p2 * mom_y0 * mom_x3,
+            0.3333333333333333 * p2 * mom_y0 * mom_x4,
+            -(0.25 * p3 * mom_y0 * mom_x2),
+            -(0.25 * p3 * z0 * mom_y0 * mom_x2),
+            -(0.25 * p3 * eps0 * z0 * mom_y0 * mom_x2),
+            -(0.25 * p3 * tmp3 * mom_y0 * mom_x2),
+            -(0.25 * p3 * eps0 * mom_y0 * mom_x2),
+            -(0.25 * p3 * tmp30 * mom_y0 * mom_x2),
+            -(0.25 * p3 * mom_y0 * mom_x3),
+            -(0.25 * p3 * z0 * mom_y0 * mom_x3),
+            -(0.25 * p3 * eps0 * mom_y0 * mom_x3),
+            -(0.25 * p3 * mom_y0 * mom_x4),
+            -(0.25 * p3 * z0 * mom_y0 * mom_x4),
+            -(0.25 * p3 * eps0 * mom_y0 * mom_x4),
+            -(0.25 * p3 * mom_y0 * mom_x5),
+            -(0.25 * p3 * mom_y0 * mom_x6),
+            0.2 * p4 * mom_y0 * mom_x2,
+            0.2 * p4 * z0 * mom_y0 * mom_x2,
+            0.2 * p4 * eps0 * z0 * mom_y0 * mom_x2,
+            0.2 * p4 * tmp30 * z0 * mom_y0 * mom_x2,
+            0.2 * p4 * tmp3 * mom_y0 * mom_x2,
+            0.2 * p4 * eps0 * tmp3 * mom_y0 * mom_x2,
+            0.2 * p4 * tmp5 * mom_y0 * mom_x2,
+            0.2 * p4 * eps0 * mom_y0 * mom_x2,
+            0.2 * p4 * tmp30 * mom_y0 * mom_x2,
+            0.2 * p4 * tmp35 * mom_y0 * mom_x2,
+            0.2 * p4 * mom_y0 * mom_x3,
+            0.2 * p4 * z0 * mom_y0 * mom_x3,
+            0.2 * p4 * eps0 * z0 * mom_y0 * mom_x3,
+            0.2 * p4 * tmp3 * mom_y0 * mom_x3,
+            0.2 * p4 * eps0 * mom_y0 * mom_x3,
+            0.2 * p4 * tmp30 * mom_y0 * mom_x3,
+            0.2 * p4 * mom_y0 * mom_x4,
+            0.2 * p4 * z0 * mom_y0 * mom_x4,
+            0.2 * p4 * eps0 * z0 * mom_y0 * mom_x4,
+            0.2 * p4 * tmp3 * mom_y0 * mom_x4,
+            0.2 * p4 * eps0 * mom_y0 * mom_x4,
+            0.2 * p4 * tmp30 * mom_y0 * mom_x4,
+            0.2 * p4 * mom_y0 * mom_x5,
+            0.2 * p4 * z0 * mom_y0 * mom_x5,
+            0.2 * p4 * eps0 * mom_y0 * mom_x5,
+            0.2 * p4 * mom_y0 * mom_x6,
+            0.2 * p4 * z0 * mom_y0 * mom_x6,
+            0.2 * p4 * eps0 * mom_y0 * mom_x6,
+            0.2 * p4 * mom_y0 * mom_x7,
+            0.2 * p4 * mom_y0 * mom_x8,
+            -(mom_y0 * mom_x0 * tmp38),
+            -(mom_y0 * mom_x1 * tmp42),
+            -(z0 * mom_y0 * mom_x0 * tmp46),
+            -(z0 * mom_y0 * mom_x1 * tmp50),
+            -(mom_y0 * mom_x3 * tmp42),
+            -(0.5 * q22 * mom_y0 * mom_x0),
+            -(tmp3 * mom_y0 * mom_x0 * tmp42),
+            -(z0 * mom_y0 * mom_x2 * tmp46),
+            -(mom_y0 * mom_x4 * tmp38),
+            -(mom_y0 * mom_x0 * tmp51),
+            -(mom_y0 * mom_x1 * tmp53),
+            -(z0 * mom_y0 * mom_x0 * tmp54),
+            -(z0 * mom_y0 * mom_x1 * tmp57),
+            -(tmp3 * mom_y0 * mom_x0 * tmp60),
+            -(tmp3 * mom_y0 * mom_x1 * tmp63),
+            -(z0 * mom_y0 * mom_x3 * tmp57),
+            -(mom_y0 * mom_x5 * tmp53),
+            -(tmp5 * mom_y0 * mom_x0 * tmp65),
+            -(tmp3 * mom_y0 * mom_x2 * tmp60),
+            -(z0 * mom_y0 * mom_x4 * tmp54),
+            -(mom_y0 * mom_x6 * tmp51),
+            -(mom_y0 * mom_x0 * tmp66),
+            -(mom_y0 * mom_x1 * tmp67),
+            -(z0 * mom_y0 * mom_x0 * tmp68),
+            -(z0 * mom_y0 * mom_x1 * tmp69),
+            -(tmp3 * mom_y0 * mom_x0 * tmp70),
+            -(tmp3 * mom_y0 * mom_x1 * tmp71),
+            -(tmp5 * mom_y0 * mom_x0 * tmp72),
+            -(tmp5 * mom_y0 * mom_x1 * tmp73),
+            -(tmp3 * mom_y0 * mom_x3 * tmp71),
+            -(z0 * mom_y0 * mom_x5 * tmp69),
+            -(mom_y0 * mom_x7 * tmp67),
+            -(tmp7 * mom_y0 * mom_x0 * tmp74),
+            -(tmp5 * mom_y0 * mom_x2 * tmp72),
+            -(tmp3 * mom_y0 * mom_x4 * tmp70),
+            -(z0 * mom_y0 * mom_x6 * tmp68),
+            -(mom_y0 * mom_x8 * tmp66),
+            0.2 * p4 * mom_y0 * mom_x0,
+            2.0 * p4 * mom_y0 * mom_x1,
+            -(2.0 * p4 * z0 * mom_y0 * mom_x0),
+            -(16.0 * p4 * z0 * mom_y0 * mom_x1),
+            8.0 * p4 * tmp3 * mom_y0 * mom_x0,
+            48.0 * p4 * tmp3 * mom_y0 * mom_x1,
+            -(16.0 * p4 * tmp5 * mom_y0 * mom_x0),
+            -(64.0 * p4 * tmp5 * mom_y0 * mom_x1),
+            16.0 * p4 * tmp7 * mom_y0 * mom_x0,
+            32.0 * p4 * tmp7 * mom_y0 * mom_x1,
+            -(64.0 * p4 * tmp5 * mom_y0 * mom_x3),
+            48.0 * p4 * tmp3 * mom_y0 * mom_x5,
+            -(16.0 * p4 * z0 * mom_y0 * mom_x7),
+            2.0 * p4 * mom_y0 * mom_x9,
+            -(6.4 * p4 * tmp9 * mom_y0 * mom_x0),
+            16.0 * p4 * tmp7 * mom_y0 * mom_x2,
+            -(16.0 * p4 * tmp5 * mom_y0 * mom_x4),
+            8.0 * p4 * tmp3 * mom_y0 * mom_x6,
+            -(2.0 * p4 * z0 * mom_y0 * mom_x8),
+            0.2 * p4 * mom_y0 * mom_x10,
+        ],
+        [
+            tmp30 * tmp75,
+            eps0 * tmp76,
+            eps0 * tmp77,
+            eps0 * z1 * tmp78,
+            eps0 * tmp79,
+            0.5 * p1 * mom_y0 * mom_x2,
+            -(0.3333333333333333 * p2 * mom_y0 * mom_x2),
+            -(0.3333333333333333 * p2 * z1 * mom_y0 * mom_x2),
+            -(0.3333333333333333 * p2 * eps0 * mom_y0 * mom_x2),
+            -(0.3333333333333333 * p2 * mom_y0 * mom_x3),
+            -(0.3333333333333333 * p2 * mom_y0 * mom_x4),
+            0.25 * p3 * mom_y0 * mom_x2,
+            0.25 * p3 * z1 * mom_y0 * mom_x2,
+            0.25 * p3 * eps0 * z1 * mom_y0 * mom_x2,
+            0.25 * p3 * tmp2 * mom_y0 * mom_x2,
+            0.25 * p3 * eps0 * mom_y0 * mom_x2,
+            0.25 * p3 * tmp30 * mom_y0 * mom_x2,
+            0.25 * p3 * mom_y0 * mom_x3,
+            0.25 * p3 * z1 * mom_y0 * mom_x3,
+            0.25 * p3 * eps0 * mom_y0 * mom_x3,
+            0.25 * p3 * mom_y0 * mom_x4,
+            0.25 * p3 * z1 * mom_y0 * mom_x4,
+            0.25 * p3 * eps0 * mom_y0 * mom_x4,
+            0.25 * p3 * mom_y0 * mom_x5,
+            0.25 * p3 * mom_y0 * mom_x6,
+            -(0.2 * p4 * mom_y0 * mom_x2),
+            -(0.2 * p4 * z1 * mom_y0 * mom_x2),
+            -(0.2 * p4 * eps0 * z1 * mom_y0 * mom_x2),
+            -(0.2 * p4 * tmp30 * z1 * mom_y0 * mom_x2),
+            -(0.2 * p4 * tmp2 * mom_y0 * mom_x2),
+            -(0.2 * p4 * eps0 * tmp2 * mom_y0 * mom_x2),
+            -(0.2 * p4 * tmp4 * mom_y0 * mom_x2),
+            -(0.2 * p4 * eps0 * mom_y0 * mom_x2),
+            -(0.2 * p4 * tmp30 * mom_y0 * mom_x2),
+            -(0.2 * p4 * tmp35 * mom_y0 * mom_x2),
+            -(0.2 * p4 * mom_y0 * mom_x3),
+            -(0.2 * p4 * z1 * mom_y0 * mom_x3),
+            -(0.2 * p4 * eps0 * z1 * mom_y0 * mom_x3),
+            -(0.2 * p4 * tmp2 * mom_y0 * mom_x3),
+            -(0.2 * p4 * eps0 * mom_y0 * mom_x3),
+            -(0.2 * p4 * tmp30 * mom_y0 * mom_x3),
+            -(0.2 * p4 * mom_y0 * mom_x4),
+            -(0.2 * p4 * z1 * mom_y0 * mom_x4),
+            -(0.2 * p4 * eps0 * z1 * mom_y0 * mom_x4),
+            -(0.2 * p4 * tmp2 * mom_y0 * mom_x4),
+            -(0.2 * p4 * eps0 * mom_y0 * mom_x4),
+            -(0.2 * p4 * tmp30 * mom_y0 * mom_x4),
+            -(0.2 * p4 * mom_y0 * mom_x5),
+            -(0.2 * p4 * z1 * mom_y0 * mom_x5),
+            -(0.2 * p4 * eps0 * mom_y0 * mom_x5),
+            -(0.2 * p4 * mom_y0 * mom_x6),
+            -(0.2 * p4 * z1 * mom_y0 * mom_x6),
+            -(0.2 * p4 * eps0 * mom_y0 * mom_x6),
+            -(0.2 * p4 * mom_y0 * mom_x7),
+            -(0.2 * p4 * mom_y0 * mom_x8),
+            mom_y0 * mom_x0 * tmp38,
+            mom_y0 * mom_x1 * tmp42,
+            z1 * mom_y0 * mom_x0 * tmp46,
+            z1 * mom_y0 * mom_x1 * tmp50,
+            mom_y0 * mom_x3 * tmp42,
+            0.5 * q22 * mom_y0 * mom_x0,
+            tmp2 * mom_y0 * mom_x0 * tmp42,
+            z1 * mom_y0 * mom_x2 * tmp46,
+            mom_y0 * mom_x4 * tmp38,
+            mom_y0 * mom_x0 * tmp51,
+            mom_y0 * mom_x1 * tmp53,
+            z1 * mom_y0 * mom_x0 * tmp54,
+            z1 * mom_y0 * mom_x1 * tmp57,
+            tmp2 * mom_y0 * mom_x0 * tmp60,
+            tmp2 * mom_y0 * mom_x1 * tmp63,
+            z1 * mom_y0 * mom_x3 * tmp57,
+            mom_y0 * mom_x5 * tmp53,
+            tmp4 * mom_y0 * mom_x0 * tmp65,
+            tmp2 * mom_y0 * mom_x2 * tmp60,
+            z1 * mom_y0 * mom_x4 * tmp54,
+            mom_y0 * mom_x6 * tmp51,
+            mom_y0 * mom_x0 * tmp66,
+            mom_y0 * mom_x1 * tmp67,
+            z1 * mom_y0 * mom_x0 * tmp68,
+            z1 * mom_y0 * mom_x1 * tmp69,
+            tmp2 * mom_y0 * mom_x0 * tmp70,
+            tmp2 * mom_y0 * mom_x1 * tmp71,
+            tmp4 * mom_y0 * mom_x0 * tmp72,
+            tmp4 * mom_y0 * mom_x1 * tmp73,
+            tmp2 * mom_y0 * mom_x3 * tmp71,
+            z1 * mom_y0 * mom_x5 * tmp69,
+            mom_y0 * mom_x7 * tmp67,
+            tmp6 * mom_y0 * mom_x0 * tmp74,
+            tmp4 * mom_y0 * mom_x2 * tmp72,
+            tmp2 * mom_y0 * mom_x4 * tmp70,
+            z1 * mom_y0 * mom_x6 * tmp68,
+            mom_y0 * mom_x8 * tmp66,
+            -(0.2 * p4 * mom_y0 * mom_x0),
+            -(2.0 * p4 * mom_y0 * mom_x1),
+            2.0 * p4 * z1 * mom_y0 * mom_x0,
+            16.0 * p4 * z1 * mom_y0 * mom_x1,
+            -(8.0 * p4 * tmp2 * mom_y0 * mom_x0),
+            -(48.0 * p4 * tmp2 * mom_y0 * mom_x1),
+            16.0 * p4 * tmp4 * mom_y0 * mom_x0,
+            64.0 * p4 * tmp4 * mom_y0 * mom_x1,
+            -(16.0 * p4 * tmp6 * mom_y0 * mom_x0),
+            -(32.0 * p4 * tmp6 * mom_y0 * mom_x1),
+            64.0 * p4 * tmp4 * mom_y0 * mom_x3,
+            -(48.0 * p4 * tmp2 * mom_y0 * mom_x5),
+            16.0 * p4 * z1 * mom_y0 * mom_x7,
+            -(2.0 * p4 * mom_y0 * mom_x9),
+            6.4 * p4 * tmp8 * mom_y0 * mom_x0,
+            -(16.0 * p4 * tmp6 * mom_y0 * mom_x2),
+            16.0 * p4 * tmp4 * mom_y0 * mom_x4,
+            -(8.0 * p4 * tmp2 * mom_y0 * mom_x6),
+            2.0 * p4 * z1 * mom_y0 * mom_x8,
+            -(0.2 * p4 * mom_y0 * mom_x10),
+        ],
+        [
+            eps0
+                * (p1 * mom_y0 * mom_z0 * mom_x0
+                    + eps0
+                        * (-p2 * mom_y0 * mom_z0 * mom_x0
+                            + eps0
+                                * (p3 * mom_y0 * mom_z0 * mom_x0
+                                    - p4 * eps0 * mom_y0 * mom_z0 * mom_x0))),
+            mom_y0 * mom_z0 * mom_x0 * tmp82,
+            mom_y0 * mom_z0 * mom_x1 * tmp42,
+            mom_y0 * mom_x0 * mom_z1 * tmp46,
+            mom_y0 * mom_z0 * mom_x2 * tmp82,
+            0.0,
+            0.0,
+            0.0,
+            -(0.3333333333333333 * p2 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.25 * p3 * mom_y0 * mom_z1 * mom_x2,
+            0.0,
+            0.25 * p3 * mom_y0 * mom_z0 * mom_x2,
+            0.5 * p3 * eps0 * mom_y0 * mom_z0 * mom_x2,
+            0.0,
+            0.0,
+            0.25 * p3 * mom_y0 * mom_z0 * mom_x3,
+            0.0,
+            0.0,
+            0.25 * p3 * mom_y0 * mom_z0 * mom_x4,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z1 * mom_x2),
+            -(0.4 * p4 * eps0 * mom_y0 * mom_z1 * mom_x2),
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_x2 * mom_z2),
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z0 * mom_x2),
+            -(0.4 * p4 * eps0 * mom_y0 * mom_z0 * mom_x2),
+            -(0.6 * p4 * tmp30 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z1 * mom_x3),
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z0 * mom_x3),
+            -(0.4 * p4 * eps0 * mom_y0 * mom_z0 * mom_x3),
+            0.0,
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z1 * mom_x4),
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z0 * mom_x4),
+            -(0.4 * p4 * eps0 * mom_y0 * mom_z0 * mom_x4),
+            0.0,
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z0 * mom_x5),
+            0.0,
+            0.0,
+            -(0.2 * p4 * mom_y0 * mom_z0 * mom_x6),
+            0.0,
+            0.0,
+            mom_y0 * mom_z0 * mom_x0 * tmp83,
+            mom_y0 * mom_z0 * mom_x1 * tmp60,
+            mom_y0 * mom_x0 * mom_z1 * tmp85,
+            mom_y0 * mom_x1 * mom_z1 * tmp57,
+            mom_y0 * mom_z0 * mom_x3 * tmp60,
+            0.0,
+            mom_y0 * mom_x0 * mom_z2 * tmp60,
+            mom_y0 * mom_z1 * mom_x2 * tmp85,
+            mom_y0 * mom_z0 * mom_x4 * tmp83,
+            mom_y0 * mom_z0 * mom_x0 * tmp86,
+            mom_y0 * mom_z0 * mom_x1 * tmp70,
+            mom_y0 * mom_x0 * mom_z1 * tmp87,
+            mom_y0 * mom_x1 * mom_z1 * tmp88,
+            mom_y0 * mom_x0 * mom_z2 * tmp89,
+            mom_y0 * mom_x1 * mom_z2 * tmp71,
+            mom_y0 * mom_z1 * mom_x3 * tmp88,
+            mom_y0 * mom_z0 * mom_x5 * tmp70,
+            mom_y0 * mom_x0 * mom_z3 * tmp72,
+            mom_y0 * mom_x2 * mom_z2 * tmp89,
+            mom_y0 * mom_z1 * mom_x4 * tmp87,
+            mom_y0 * mom_z0 * mom_x6 * tmp86,
+            -(p4 * mom_y0 * mom_z0 * mom_x0),
+            -(8.0 * p4 * mom_y0 * mom_z0 * mom_x1),
+            8.0 * p4 * mom_y0 * mom_x0 * mom_z1,
+            48.0 * p4 * mom_y0 * mom_x1 * mom_z1,
+            -(24.0 * p4 * mom_y0 * mom_x0 * mom_z2),
+            -(96.0 * p4 * mom_y0 * mom_x1 * mom_z2),
+            32.0 * p4 * mom_y0 * mom_x0 * mom_z3,
+            64.0 * p4 * mom_y0 * mom_x1 * mom_z3,
+            -(96.0 * p4 * mom_y0 * mom_x3 * mom_z2),
+            48.0 * p4 * mom_y0 * mom_z1 * mom_x5,
+            -(8.0 * p4 * mom_y0 * mom_z0 * mom_x7),
+            -(16.0 * p4 * mom_y0 * mom_x0 * mom_z4),
+            32.0 * p4 * mom_y0 * mom_x2 * mom_z3,
+            -(24.0 * p4 * mom_y0 * mom_x4 * mom_z2),
+            8.0 * p4 * mom_y0 * mom_z1 * mom_x6,
+            -(p4 * mom_y0 * mom_z0 * mom_x8),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            0.5 * tmp30 * mom_y0 * mom_z0 * mom_x0,
+            tmp90,
+            2.0 * eps0 * mom_y0 * mom_z0 * mom_x1,
+            -(2.0 * eps0 * mom_y0 * mom_x0 * mom_z1),
+            eps0 * mom_y0 * mom_z0 * mom_x2,
+            0.5 * mom_y0 * mom_z0 * mom_x2,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            tmp91,
+            tmp92,
+            tmp93,
+            -(4.0 * mom_y0 * mom_x1 * mom_z1),
+            2.0 * mom_y0 * mom_z0 * mom_x3,
+            0.0,
+            2.0 * mom_y0 * mom_x0 * mom_z2,
+            -(2.0 * mom_y0 * mom_z1 * mom_x2),
+            0.5 * mom_y0 * mom_z0 * mom_x4,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            -(0.3333333333333333 * tmp35 * mom_y0 * mom_z0 * mom_x0),
+            -(tmp30 * mom_y0 * mom_z0 * mom_x0),
+            -(2.0 * tmp30 * mom_y0 * mom_z0 * mom_x1),
+            2.0 * tmp30 * mom_y0 * mom_x0 * mom_z1,
+            -(tmp30 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x2),
+            -(0.3333333333333333 * mom_y0 * mom_z1 * mom_x2),
+            -(0.3333333333333333 * eps0 * mom_y0 * mom_z0 * mom_x2),
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x3),
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x4),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            tmp94,
+            -(4.0 * eps0 * mom_y0 * mom_z0 * mom_x1),
+            4.0 * eps0 * mom_y0 * mom_x0 * mom_z1,
+            8.0 * eps0 * mom_y0 * mom_x1 * mom_z1,
+            -(4.0 * eps0 * mom_y0 * mom_z0 * mom_x3),
+            0.0,
+            -(4.0 * eps0 * mom_y0 * mom_x0 * mom_z2),
+            4.0 * eps0 * mom_y0 * mom_z1 * mom_x2,
+            -(eps0 * mom_y0 * mom_z0 * mom_x4),
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x0),
+            tmp95,
+            tmp96,
+            8.0 * mom_y0 * mom_x1 * mom_z1,
+            -(4.0 * mom_y0 * mom_x0 * mom_z2),
+            -(8.0 * mom_y0 * mom_x1 * mom_z2),
+            8.0 * mom_y0 * mom_z1 * mom_x3,
+            -(2.0 * mom_y0 * mom_z0 * mom_x5),
+            2.6666666666666665 * mom_y0 * mom_x0 * mom_z3,
+            -(4.0 * mom_y0 * mom_x2 * mom_z2),
+            2.0 * mom_y0 * mom_z1 * mom_x4,
+            -(0.3333333333333333 * mom_y0 * mom_z0 * mom_x6),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            0.25 * tmp97 * mom_y0 * mom_z0 * mom_x0,
+            tmp35 * mom_y0 * mom_z0 * mom_x0,
+            2.0 * tmp35 * mom_y0 * mom_z0 * mom_x1,
+            -(2.0 * tmp35 * mom_y0 * mom_x0 * mom_z1),
+            tmp35 * mom_y0 * mom_z0 * mom_x2,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.25 * mom_y0 * mom_z0 * mom_x2,
+            0.25 * mom_y0 * mom_z1 * mom_x2,
+            0.25 * eps0 * mom_y0 * mom_z1 * mom_x2,
+            0.25 * mom_y0 * mom_x2 * mom_z2,
+            0.25 * eps0 * mom_y0 * mom_z0 * mom_x2,
+            0.25 * tmp30 * mom_y0 * mom_z0 * mom_x2,
+            0.25 * mom_y0 * mom_z0 * mom_x3,
+            0.25 * mom_y0 * mom_z1 * mom_x3,
+            0.25 * eps0 * mom_y0 * mom_z0 * mom_x3,
+            0.25 * mom_y0 * mom_z0 * mom_x4,
+            0.25 * mom_y0 * mom_z1 * mom_x4,
+            0.25 * eps0 * mom_y0 * mom_z0 * mom_x4,
+            0.25 * mom_y0 * mom_z0 * mom_x5,
+            0.25 * mom_y0 * mom_z0 * mom_x6,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.5 * tmp30 * mom_y0 * mom_z0 * mom_x0,
+            6.0 * tmp30 * mom_y0 * mom_z0 * mom_x1,
+            -(6.0 * tmp30 * mom_y0 * mom_x0 * mom_z1),
+            -(12.0 * tmp30 * mom_y0 * mom_x1 * mom_z1),
+            6.0 * tmp30 * mom_y0 * mom_z0 * mom_x3,
+            0.0,
+            6.0 * tmp30 * mom_y0 * mom_x0 * mom_z2,
+            -(6.0 * tmp30 * mom_y0 * mom_z1 * mom_x2),
+            1.5 * tmp30 * mom_y0 * mom_z0 * mom_x4,
+            tmp90,
+            6.0 * eps0 * mom_y0 * mom_z0 * mom_x1,
+            -(6.0 * eps0 * mom_y0 * mom_x0 * mom_z1),
+            -(24.0 * eps0 * mom_y0 * mom_x1 * mom_z1),
+            12.0 * eps0 * mom_y0 * mom_x0 * mom_z2,
+            24.0 * eps0 * mom_y0 * mom_x1 * mom_z2,
+            -(24.0 * eps0 * mom_y0 * mom_z1 * mom_x3),
+            6.0 * eps0 * mom_y0 * mom_z0 * mom_x5,
+            -(8.0 * eps0 * mom_y0 * mom_x0 * mom_z3),
+            12.0 * eps0 * mom_y0 * mom_x2 * mom_z2,
+            -(6.0 * eps0 * mom_y0 * mom_z1 * mom_x4),
+            eps0 * mom_y0 * mom_z0 * mom_x6,
+            0.25 * mom_y0 * mom_z0 * mom_x0,
+            tmp92,
+            tmp93,
+            -(12.0 * mom_y0 * mom_x1 * mom_z1),
+            6.0 * mom_y0 * mom_x0 * mom_z2,
+            24.0 * mom_y0 * mom_x1 * mom_z2,
+            -(8.0 * mom_y0 * mom_x0 * mom_z3),
+            -(16.0 * mom_y0 * mom_x1 * mom_z3),
+            24.0 * mom_y0 * mom_x3 * mom_z2,
+            -(12.0 * mom_y0 * mom_z1 * mom_x5),
+            2.0 * mom_y0 * mom_z0 * mom_x7,
+            4.0 * mom_y0 * mom_x0 * mom_z4,
+            -(8.0 * mom_y0 * mom_x2 * mom_z3),
+            6.0 * mom_y0 * mom_x4 * mom_z2,
+            -(2.0 * mom_y0 * mom_z1 * mom_x6),
+            0.25 * mom_y0 * mom_z0 * mom_x8,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+        [
+            -(0.2 * tmp98 * mom_y0 * mom_z0 * mom_x0),
+            -(tmp97 * mom_y0 * mom_z0 * mom_x0),
+            -(2.0 * tmp97 * mom_y0 * mom_z0 * mom_x1),
+            2.0 * tmp97 * mom_y0 * mom_x0 * mom_z1,
+            -(tmp97 * mom_y0 * mom_z0 * mom_x2),
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            -(0.2 * mom_y0 * mom_z0 * mom_x2),
+            -(0.2 * mom_y0 * mom_z1 * mom_x2),
+            -(0.2 * eps0 * mom_y0 * mom_z1 * mom_x2),
+            -(0.2 * tmp30 * mom_y0 * mom_z1 * mom_x2),
+            -(0.2 * mom_y0 * mom_x2 * mom_z2),
+            -(0.2 * eps0 * mom_y0 * mom_x2 * mom_z2),
+            -(0.2 * mom_y0 * mom_x2 * mom_z3),
+            -(0.2 * eps0 * mom_y0 * mom_z0 * mom_x2),
+            -(0.2 * tmp30 * mom_y0 * mom_z0 * mom_x2),
+            -(0.2 * tmp35 * mom_y0 * mom_z0 * mom_x2),
+            -(0.2 * mom_y0 * mom_z0 * mom_x3),
+            -(0.2 * mom_y0 * mom_z1 * mom_x3),
+            -(0.2 * eps0 * mom_y0 * mom_z1 * mom_x3),
+            -(0.2 * mom_y0 * mom_x3 * mom_z2),
+            -(0.2 * eps0 * mom_y0 * mom_z0 * mom_x3),
+            -(0.2 * tmp30 * mom_y0 * mom_z0 * mom_x3),
+            -(0.2 * mom_y0 * mom_z0 * mom_x4),
+            -(0.2 * mom_y0 * mom_z1 * mom_x4),
+            -(0.2 * eps0 * mom_y0 * mom_z1 * mom_x4),
+            -(0.2 * mom_y0 * mom_x4 * mom_z2),
+            -(0.2 * eps0 * mom_y0 * mom_z0 * mom_x4),
+            -(0.2 * tmp30 * mom_y0 * mom_z0 * mom_x4),
+            -(0.2 * mom_y0 * mom_z0 * mom_x5),
+            -(0.2 * mom_y0 * mom_z1 * mom_x5),
+            -(0.2 * eps0 * mom_y0 * mom_z0 * mom_x5),
+            -(0.2 * mom_y0 * mom_z0 * mom_x6),
+            -(0.2 * mom_y0 * mom_z1 * mom_x6),
+            -(0.2 * eps0 * mom_y0 * mom_z0 * mom_x6),
+            -(0.2 * mom_y0 * mom_z0 * mom_x7),
+            -(0.2 * mom_y0 * mom_z0 * mom_x8),
+            -(2.0 * tmp35 * mom_y0 * mom_z0 * mom_x0),
+            -(8.0 * tmp35 * mom_y0 * mom_z0 * mom_x1),
+            8.0 * tmp35 * mom_y0 * mom_x0 * mom_z1,
+            16.0 * tmp35 * mom_y0 * mom_x1 * mom_z1,
+            -(8.0 * tmp35 * mom_y0 * mom_z0 * mom_x3),
+            0.0,
+            -(8.0 * tmp35 * mom_y0 * mom_x0 * mom_z2),
+            8.0 * tmp35 * mom_y0 * mom_z1 * mom_x2,
+            -(2.0 * tmp35 * mom_y0 * mom_z0 * mom_x4),
+            -(2.0 * tmp30 * mom_y0 * mom_z0 * mom_x0),
+            -(12.0 * tmp30 * mom_y0 * mom_z0 * mom_x1),
+            12.0 * tmp30 * mom_y0 * mom_x0 * mom_z1,
+            48.0 * tmp30 * mom_y0 * mom_x1 * mom_z1,
+            -(24.0 * tmp30 * mom_y0 * mom_x0 * mom_z2),
+            -(48.0 * tmp30 * mom_y0 * mom_x1 * mom_z2),
+            48.0 * tmp30 * mom_y0 * mom_z1 * mom_x3,
+            -(12.0 * tmp30 * mom_y0 * mom_z0 * mom_x5),
+            16.0 * tmp30 * mom_y0 * mom_x0 * mom_z3,
+            -(24.0 * tmp30 * mom_y0 * mom_x2 * mom_z2),
+            12.0 * tmp30 * mom_y0 * mom_z1 * mom_x4,
+            -(2.0 * tmp30 * mom_y0 * mom_z0 * mom_x6),
+            tmp94,
+            -(8.0 * eps0 * mom_y0 * mom_z0 * mom_x1),
+            8.0 * eps0 * mom_y0 * mom_x0 * mom_z1,
+            48.0 * eps0 * mom_y0 * mom_x1 * mom_z1,
+            -(24.0 * eps0 * mom_y0 * mom_x0 * mom_z2),
+            -(96.0 * eps0 * mom_y0 * mom_x1 * mom_z2),
+            32.0 * eps0 * mom_y0 * mom_x0 * mom_z3,
+            64.0 * eps0 * mom_y0 * mom_x1 * mom_z3,
+            -(96.0 * eps0 * mom_y0 * mom_x3 * mom_z2),
+            48.0 * eps0 * mom_y0 * mom_z1 * mom_x5,
+            -(8.0 * eps0 * mom_y0 * mom_z0 * mom_x7),
+            -(16.0 * eps0 * mom_y0 * mom_x0 * mom_z4),
+            32.0 * eps0 * mom_y0 * mom_x2 * mom_z3,
+            -(24.0 * eps0 * mom_y0 * mom_x4 * mom_z2),
+            8.0 * eps0 * mom_y0 * mom_z1 * mom_x6,
+            -(eps0 * mom_y0 * mom_z0 * mom_x8),
+            -(0.2 * mom_y0 * mom_z0 * mom_x0),
+            tmp95,
+            tmp96,
+            16.0 * mom_y0 * mom_x1 * mom_z1,
+            -(8.0 * mom_y0 * mom_x0 * mom_z2),
+            -(48.0 * mom_y0 * mom_x1 * mom_z2),
+            16.0 * mom_y0 * mom_x0 * mom_z3,
+            64.0 * mom_y0 * mom_x1 * mom_z3,
+            -(16.0 * mom_y0 * mom_x0 * mom_z4),
+            -(32.0 * mom_y0 * mom_x1 * mom_z4),
+            64.0 * mom_y0 * mom_x3 * mom_z3,
+            -(48.0 * mom_y0 * mom_z2 * mom_x5),
+            16.0 * mom_y0 * mom_z1 * mom_x7,
+            -(2.0 * mom_y0 * mom_z0 * mom_x9),
+            6.4 * mom_y0 * mom_x0 * mom_z5,
+            -(16.0 * mom_y0 * mom_x2 * mom_z4),
+            16.0 * mom_y0 * mom_x4 * mom_z3,
+            -(8.0 * mom_y0 * mom_z2 * mom_x6),
+            2.0 * mom_y0 * mom_z1 * mom_x8,
+            -(0.2 * mom_y0 * mom_z0 * mom_x10),
+        ],
+        [
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            tmp91,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+        ],
+    ]
+}
+///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn prestressed_dmoments(
+    p: &super::PrestressedParams,
+) -> [[f64; PRESTRESSED_MOMENTS]; 11] {
+    prestressed_dmoments_at(
+        p.x0,
+        p.x1,
+        p.width,
+        p.z0,
+        p.z1,
+        p.eps0,
+        p.p1,
+        p.p2,
+        p.p3,
+        p.p4,
+        p.q22,
+    )
+}
 ///Kernel `gas`: the integral of `(1 + a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
 ///Number of moment slots of this kernel.
@@ -2074,6 +3701,68 @@ pub fn gas_hessian(k: &[f64; 5], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 5], [f64
         ],
     )
 }
+///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///Parameters (and columns, in this order): `x0, x1, width, z0, z1`.
+fn gas_dmoments_at(
+    x0: f64,
+    x1: f64,
+    width: f64,
+    z0: f64,
+    z1: f64,
+) -> [[f64; GAS_MOMENTS]; 5] {
+    let mom_x0 = -x0 + x1;
+    let mom_y0 = width;
+    let mom_z0 = -z0 + z1;
+    let tmp0 = x1 * x1;
+    let tmp1 = x0 * x0;
+    let mom_x1 = 0.5 * (tmp0 - tmp1);
+    let tmp2 = tmp0 * x1;
+    let tmp3 = tmp1 * x0;
+    let mom_x2 = 0.3333333333333333 * (tmp2 - tmp3);
+    let tmp4 = z1 * z1;
+    let tmp5 = z0 * z0;
+    let mom_z1 = 0.5 * (tmp4 - tmp5);
+    [
+        [
+            -(2.0 * x0 * mom_y0 * mom_z0),
+            2.0 * mom_y0 * mom_z1,
+            -(tmp1 * mom_y0 * mom_z0),
+            -(mom_y0 * mom_z0),
+        ],
+        [
+            2.0 * x1 * mom_y0 * mom_z0,
+            -(2.0 * mom_y0 * mom_z1),
+            tmp0 * mom_y0 * mom_z0,
+            mom_y0 * mom_z0,
+        ],
+        [
+            2.0 * mom_z0 * mom_x1,
+            -(2.0 * mom_x0 * mom_z1),
+            mom_z0 * mom_x2,
+            mom_z0 * mom_x0,
+        ],
+        [
+            -(2.0 * mom_y0 * mom_x1),
+            2.0 * z0 * mom_y0 * mom_x0,
+            -(mom_y0 * mom_x2),
+            -(mom_y0 * mom_x0),
+        ],
+        [
+            2.0 * mom_y0 * mom_x1,
+            -(2.0 * z1 * mom_y0 * mom_x0),
+            mom_y0 * mom_x2,
+            mom_y0 * mom_x0,
+        ],
+    ]
+}
+///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
+///
+///The parameters passed by name.
+#[inline]
+pub fn gas_dmoments(p: &super::GasParams) -> [[f64; GAS_MOMENTS]; 5] {
+    gas_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1)
+}
 ///The moments of every integral of the energy, accumulated block by block.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Moments {
@@ -2203,6 +3892,32 @@ pub fn energy_hessian(
         }
     }
     (v, g, h)
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///The derivative of the element energy and of its gradient along a change `ds` of the runtime scalars (`kp`): each integral enters linearly through its coefficient, so this is each integral's value and gradient times the coefficient's change.
+pub fn energy_scalars_tangent(
+    k: &[f64; 5],
+    m: &Moments,
+    s: &super::EnergyScalars,
+    ds: &super::EnergyScalars,
+) -> (f64, [f64; 5]) {
+    let _ = s;
+    let mut v = 0.0;
+    let mut g = [0.0; 5];
+    {
+        let dc2: f64 = -(ds.kp);
+        if dc2 != 0.0 {
+            let (tv, tg) = gas_gradient(k, &m.gas);
+            v += dc2 * tv;
+            g[0] += dc2 * tg[0];
+            g[1] += dc2 * tg[1];
+            g[2] += dc2 * tg[2];
+            g[3] += dc2 * tg[3];
+            g[4] += dc2 * tg[4];
+        }
+    }
+    (v, g)
 }
 ///Law `psi(s)` = `1/2*p1*s^2 - 1/3*s^3*p2 + 1/4*s^4*p3 - 1/5*s^5*p4`: value, first and second derivative in `s`.
 pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
@@ -3027,5 +4742,83 @@ impl super::ElementModel for Quad {
     #[inline]
     fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
         psi(s, p)
+    }
+    fn add_linear_tangents(
+        m: &mut [Moments],
+        p: &super::LinearParams,
+        dp: &[super::LinearParams],
+    ) {
+        let jacobian = linear_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.linear.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn add_prestressed_tangents(
+        m: &mut [Moments],
+        p: &super::PrestressedParams,
+        dp: &[super::PrestressedParams],
+    ) {
+        let jacobian = prestressed_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.prestressed.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn add_gas_tangents(
+        m: &mut [Moments],
+        p: &super::GasParams,
+        dp: &[super::GasParams],
+    ) {
+        let jacobian = gas_dmoments(p);
+        for (m, dp) in m.iter_mut().zip(dp) {
+            for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                if dpj != 0.0 {
+                    for (mi, c) in m.gas.iter_mut().zip(column) {
+                        *mi += c * dpj;
+                    }
+                }
+            }
+        }
+    }
+    fn family_gradient(
+        m: &Moments,
+        family: usize,
+        k: &[f64; 5],
+    ) -> Option<(f64, [f64; 5])> {
+        match family {
+            0 => Some(linear_gradient(k, &m.linear)),
+            1 => Some(prestressed_gradient(k, &m.prestressed)),
+            2 => Some(gas_gradient(k, &m.gas)),
+            _ => None,
+        }
+    }
+    fn family_coefficient(family: usize, s: &super::EnergyScalars) -> f64 {
+        let _ = s;
+        match family {
+            0 => 1.0,
+            1 => 1.0,
+            2 => -(s.kp),
+            _ => 0.0,
+        }
+    }
+    #[inline]
+    fn scalars_tangent(
+        m: &Moments,
+        k: &[f64; 5],
+        s: &super::EnergyScalars,
+        ds: &super::EnergyScalars,
+    ) -> (f64, [f64; 5]) {
+        energy_scalars_tangent(k, m, s, ds)
     }
 }

@@ -20,6 +20,36 @@ pub struct LinearParams {
     ///Parameter of the spec.
     pub q22: f64,
 }
+impl LinearParams {
+    ///The field names, in the spec's order.
+    pub const FIELDS: &'static [&'static str] = &[
+        "x0",
+        "x1",
+        "width",
+        "z0",
+        "z1",
+        "q11",
+        "q12",
+        "q22",
+    ];
+    ///The fields' values, in the spec's order.
+    pub fn to_values(&self) -> [f64; 8] {
+        [self.x0, self.x1, self.width, self.z0, self.z1, self.q11, self.q12, self.q22]
+    }
+    ///The struct of values in the spec's order.
+    pub fn from_values(v: [f64; 8]) -> Self {
+        Self {
+            x0: v[0],
+            x1: v[1],
+            width: v[2],
+            z0: v[3],
+            z1: v[4],
+            q11: v[5],
+            q12: v[6],
+            q22: v[7],
+        }
+    }
+}
 ///Parameters of one `prestressed` box (integral kernel `prestressed` of the spec).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrestressedParams {
@@ -46,6 +76,54 @@ pub struct PrestressedParams {
     ///Parameter of the spec.
     pub q22: f64,
 }
+impl PrestressedParams {
+    ///The field names, in the spec's order.
+    pub const FIELDS: &'static [&'static str] = &[
+        "x0",
+        "x1",
+        "width",
+        "z0",
+        "z1",
+        "eps0",
+        "p1",
+        "p2",
+        "p3",
+        "p4",
+        "q22",
+    ];
+    ///The fields' values, in the spec's order.
+    pub fn to_values(&self) -> [f64; 11] {
+        [
+            self.x0,
+            self.x1,
+            self.width,
+            self.z0,
+            self.z1,
+            self.eps0,
+            self.p1,
+            self.p2,
+            self.p3,
+            self.p4,
+            self.q22,
+        ]
+    }
+    ///The struct of values in the spec's order.
+    pub fn from_values(v: [f64; 11]) -> Self {
+        Self {
+            x0: v[0],
+            x1: v[1],
+            width: v[2],
+            z0: v[3],
+            z1: v[4],
+            eps0: v[5],
+            p1: v[6],
+            p2: v[7],
+            p3: v[8],
+            p4: v[9],
+            q22: v[10],
+        }
+    }
+}
 ///Parameters of one `gas` box (integral kernel `gas` of the spec).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GasParams {
@@ -60,6 +138,24 @@ pub struct GasParams {
     ///Parameter of the spec.
     pub z1: f64,
 }
+impl GasParams {
+    ///The field names, in the spec's order.
+    pub const FIELDS: &'static [&'static str] = &["x0", "x1", "width", "z0", "z1"];
+    ///The fields' values, in the spec's order.
+    pub fn to_values(&self) -> [f64; 5] {
+        [self.x0, self.x1, self.width, self.z0, self.z1]
+    }
+    ///The struct of values in the spec's order.
+    pub fn from_values(v: [f64; 5]) -> Self {
+        Self {
+            x0: v[0],
+            x1: v[1],
+            width: v[2],
+            z0: v[3],
+            z1: v[4],
+        }
+    }
+}
 ///Constants of the law `psi`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PsiParams {
@@ -72,11 +168,40 @@ pub struct PsiParams {
     ///Parameter of the spec.
     pub p4: f64,
 }
+impl PsiParams {
+    ///The field names, in the spec's order.
+    pub const FIELDS: &'static [&'static str] = &["p1", "p2", "p3", "p4"];
+    ///The fields' values, in the spec's order.
+    pub fn to_values(&self) -> [f64; 4] {
+        [self.p1, self.p2, self.p3, self.p4]
+    }
+    ///The struct of values in the spec's order.
+    pub fn from_values(v: [f64; 4]) -> Self {
+        Self {
+            p1: v[0],
+            p2: v[1],
+            p3: v[2],
+            p4: v[3],
+        }
+    }
+}
 ///The runtime scalars of the energy's coefficients.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyScalars {
     ///Parameter of the spec.
     pub kp: f64,
+}
+impl EnergyScalars {
+    ///The field names, in the spec's order.
+    pub const FIELDS: &'static [&'static str] = &["kp"];
+    ///The fields' values, in the spec's order.
+    pub fn to_values(&self) -> [f64; 1] {
+        [self.kp]
+    }
+    ///The struct of values in the spec's order.
+    pub fn from_values(v: [f64; 1]) -> Self {
+        Self { kp: v[0] }
+    }
 }
 ///`ccm`: the model of `energy-spec/ccm.spec`.
 #[allow(

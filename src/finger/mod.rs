@@ -14,6 +14,7 @@
 //! - [`target`]: bordered solves with one unknown load and one target.
 
 mod chain;
+mod path;
 mod problem;
 mod solver;
 mod target;
@@ -25,8 +26,10 @@ use crate::blocks::Partition;
 use crate::error::{finite, positive, InputError, SolveError, Warning};
 use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
 
+pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
 pub use target::TargetProblem;
 
+pub(crate) use chain::Chain;
 pub(crate) use problem::FingerCore;
 
 /// Pressure and tip loads of a scene.
@@ -367,6 +370,10 @@ pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
     fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64>;
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
     fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a>;
+    fn sensitivities(
+        &self,
+        request: &crate::sensitivity::Request<'_>,
+    ) -> Result<crate::sensitivity::Sensitivities, SolveError>;
 }
 
 /// A model-specific solver workspace, behind a trait object.
@@ -385,6 +392,13 @@ pub(crate) trait SolverDyn {
         ctol_mm: f64,
         opts: &SolveOptions,
     ) -> Result<(Solution, f64), SolveError>;
+    fn follow_load(
+        &mut self,
+        spec: &LoadPathSpec,
+        guess: &Coefficients,
+        opts: &SolveOptions,
+        visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
+    ) -> Result<LoadPath, SolveError>;
 }
 
 /// A finger: elements with their moments, ready to solve.
@@ -465,6 +479,11 @@ impl Finger {
         let act = Actuator::paper(eps0)?;
         let part = Partition::equal(act.geometry().lx, n)?;
         Ok(Finger::new(&act, &part, true))
+    }
+
+    /// The model-specific core (for `crate::sensitivity`).
+    pub(crate) fn core(&self) -> &dyn FingerDyn {
+        &*self.core
     }
 
     /// The element model.
@@ -745,5 +764,19 @@ impl<'a> Solver<'a> {
     ) -> Result<(Solution, f64), SolveError> {
         self.inner
             .solve_target(problem, guess, lambda0, ctol_mm, opts)
+    }
+
+    /// Follows the equilibrium path of a load family by pseudo-arclength
+    /// continuation from `guess` (see [`LoadPathSpec`]): through folds,
+    /// which it locates and reports with the load and shape there. `visit`
+    /// sees every accepted point and ends the path by returning `false`.
+    pub fn follow_load(
+        &mut self,
+        spec: &LoadPathSpec,
+        guess: &Coefficients,
+        opts: &SolveOptions,
+        visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
+    ) -> Result<LoadPath, SolveError> {
+        self.inner.follow_load(spec, guess, opts, visit)
     }
 }

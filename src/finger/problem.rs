@@ -280,6 +280,13 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
         Box::new(SolverCore::new(self, warnings))
     }
+
+    fn sensitivities(
+        &self,
+        request: &crate::sensitivity::Request<'_>,
+    ) -> Result<crate::sensitivity::Sensitivities, SolveError> {
+        crate::sensitivity::compute(self, request)
+    }
 }
 
 impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
@@ -301,5 +308,15 @@ impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
         opts: &SolveOptions,
     ) -> Result<(Solution, f64), SolveError> {
         SolverCore::solve_target(self, problem, guess, lambda0, ctol_mm, opts)
+    }
+
+    fn follow_load(
+        &mut self,
+        spec: &super::LoadPathSpec,
+        guess: &Coefficients,
+        opts: &SolveOptions,
+        visit: &mut dyn FnMut(&super::LoadPoint<'_>) -> bool,
+    ) -> Result<super::LoadPath, SolveError> {
+        SolverCore::follow_load(self, spec, guess, opts, visit)
     }
 }

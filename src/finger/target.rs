@@ -61,7 +61,7 @@ impl TargetProblem {
         }
     }
 
-    fn validate(&self) -> Result<(), InputError> {
+    pub(crate) fn validate(&self) -> Result<(), InputError> {
         self.base.validate()?;
         finite("target.direction[0]", self.direction[0])?;
         finite("target.direction[1]", self.direction[1])?;
@@ -78,13 +78,32 @@ impl TargetProblem {
     }
 }
 
-struct BorderedChain<'c, 'a, M: ElementModel> {
+/// The chain under the load `problem.load_at(lambda)`, with the target
+/// equation, as fpc-newton's bordered problem (and, through
+/// `BorderedPath`, as a path in `lambda`).
+pub(crate) struct BorderedChain<'c, 'a, M: ElementModel> {
     chain: &'c mut Chain<'a, M>,
     problem: TargetProblem,
     scratch: Vec<f64>,
     /// Stiffness scale over the finger length: weighs a tip error (mm) like
     /// the strain error it implies.
     c_scale: f64,
+}
+
+impl<'c, 'a, M: ElementModel> BorderedChain<'c, 'a, M> {
+    pub(crate) fn new(
+        chain: &'c mut Chain<'a, M>,
+        problem: TargetProblem,
+        c_scale: f64,
+    ) -> BorderedChain<'c, 'a, M> {
+        let n = fpc_newton::Energy::dim(&*chain);
+        BorderedChain {
+            chain,
+            problem,
+            scratch: vec![0.0; n],
+            c_scale,
+        }
+    }
 }
 
 impl<M: ElementModel> Bordered for BorderedChain<'_, '_, M> {
@@ -135,6 +154,9 @@ impl<M: ElementModel> LinearSystem for BorderedChain<'_, '_, M> {
 
 impl<M: ElementModel> SolverCore<'_, M> {
     /// Solves a [`TargetProblem`] from `guess` and a starting `lambda`.
+    /// With `opts.stability`, the solution's `negative_eigenvalues` counts
+    /// those of the Hessian restricted to the target constraint (the
+    /// object holds the tip), `None` where the Hessian is singular.
     pub fn solve_target(
         &mut self,
         problem: &TargetProblem,
@@ -164,17 +186,18 @@ impl<M: ElementModel> SolverCore<'_, M> {
                 rule: e.to_string(),
             })?;
         let mut lambda = lambda0;
-        let n = self.y.len();
-        let mut bc = BorderedChain {
-            chain: &mut self.chain,
-            problem: *problem,
-            scratch: vec![0.0; n],
-            c_scale,
-        };
+        let mut bc = BorderedChain::new(&mut self.chain, *problem, c_scale);
         let r = self.bordered.solve(&mut bc, &mut self.y, &mut lambda);
         if !r.reason.is_converged() || !lambda.is_finite() {
             return Err(self.not_converged(&r, None));
         }
+        // the target holds the tip: stability is that of the energy on the
+        // constraint, the inertia of H restricted to c_x . v = 0 (None when
+        // H is singular there, so the count is not known)
+        let restricted = opts
+            .stability
+            .then(|| self.bordered.last_restricted_inertia(&mut bc).ok())
+            .flatten();
         let report = SolveReport {
             reason: r.reason,
             iterations: r.iterations,
@@ -184,7 +207,15 @@ impl<M: ElementModel> SolverCore<'_, M> {
             continuation_steps: 0,
         };
         let load = problem.load_at(lambda);
-        let sol = self.finish(&load, opts, report, false)?;
+        let unconstrained = SolveOptions {
+            stability: false,
+            ..*opts
+        };
+        let mut sol = self.finish(&load, &unconstrained, report, false)?;
+        if opts.stability {
+            sol.negative_eigenvalues = restricted.map(|i| i.negative);
+            sol.stable = sol.negative_eigenvalues.map(|k| k == 0);
+        }
         Ok((sol, lambda))
     }
 }

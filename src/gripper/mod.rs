@@ -18,6 +18,7 @@
 pub mod frames;
 pub mod rules;
 pub mod sphere;
+mod tail;
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -33,6 +34,7 @@ pub use frames::{
 };
 pub use rules::Invalid;
 pub use sphere::{AngleSample, SphereContact, SphereGrasp, SphereLift, ViableAngles};
+pub use tail::{SizeTail, SweepEnd, MAX_GRASP_FORCE_N};
 
 /// Mid-plane samples per element for the reference state (l0 is the
 /// largest inward reach over all of them) and for grasp shapes.
@@ -283,16 +285,16 @@ impl Gripper {
             palm,
             overlap,
             warnings,
-            stability: false,
+            stability: true,
         })
     }
 
-    /// The same gripper, computing (or not) the smallest Hessian
-    /// inertia of every grasp's equilibrium (`Solution::negative_eigenvalues`;
-    /// off by default: it costs more than the solve itself). The Hessian is
-    /// that of the finger under the fixed load; a grasp holds the tip's
-    /// position, so an indefinite Hessian does not by itself make a grasp
-    /// unstable.
+    /// The same gripper, judging (or not) the stability of every grasp's
+    /// equilibrium (on by default): `Solution::negative_eigenvalues` counts
+    /// the negative eigenvalues of the Hessian restricted to the grasp
+    /// constraint (the object holds the tip's position), from one extra
+    /// O(N) factorisation, and a grasp with any is invalid
+    /// ([`Invalid::Unstable`]). Off, grasps are not judged on stability.
     pub fn with_stability(mut self, on: bool) -> Gripper {
         self.stability = on;
         self
@@ -472,11 +474,16 @@ impl Gripper {
             _ => None,
         };
         warnings.extend(reversal);
+        let unstable = match solution.negative_eigenvalues {
+            Some(negative) if negative > 0 => Some(Invalid::Unstable { negative }),
+            _ => None,
+        };
         let invalid = open
             .then(|| rules::open_rule(size, tip_gap))
             .flatten()
             .or_else(|| rules::force_rule(normal, friction, self.params.mu))
             .or(beyond)
+            .or(unstable)
             .or(strict_invalid);
         (warnings, invalid)
     }

@@ -31,12 +31,16 @@ pub enum Invalid {
     BeyondFlat { size: f64, d_max: f64 },
     /// (Strict mode.) An element is bent backwards.
     CurvatureReversal { element: usize, curvature: f64 },
+    /// The equilibrium is unstable with the object holding the tip: the
+    /// Hessian restricted to the grasp constraint has `negative` negative
+    /// eigenvalues (the finger would snap away from this state).
+    Unstable { negative: usize },
 }
 
 impl Invalid {
     /// A short, stable name (`not_open`, `negative_normal`,
     /// `friction_cone`, `second_contact`, `beyond_flat`,
-    /// `curvature_reversal`).
+    /// `curvature_reversal`, `unstable`).
     pub fn kind(&self) -> &'static str {
         match self {
             Invalid::NotOpen { .. } => "not_open",
@@ -45,6 +49,7 @@ impl Invalid {
             Invalid::SecondContact { .. } => "second_contact",
             Invalid::BeyondFlat { .. } => "beyond_flat",
             Invalid::CurvatureReversal { .. } => "curvature_reversal",
+            Invalid::Unstable { .. } => "unstable",
         }
     }
 }
@@ -75,19 +80,28 @@ impl std::fmt::Display for Invalid {
                 f,
                 "element {element} is bent backwards (curvature {curvature:.3e} 1/mm; strict mode)"
             ),
+            Invalid::Unstable { negative } => write!(
+                f,
+                "the equilibrium is unstable with the object holding the tip ({negative} negative eigenvalue(s) of the constrained Hessian)"
+            ),
         }
     }
 }
 
-/// True when `F >= 0` and `0 <= f <= mu F` (to rounding).
+/// Relative tolerance of the force rules: forces come out of iterative
+/// solves (residuals of 1e-11, targets to 1e-9 mm), so a grasp solved to
+/// lie on the friction limit may land a few 1e-10 N beyond it.
+pub const FORCE_RULE_TOL: f64 = 1e-9;
+
+/// True when `F >= 0` and `0 <= f <= mu F` (to [`FORCE_RULE_TOL`]).
 pub fn friction_ok(normal: f64, friction: f64, mu: f64) -> bool {
-    let tol = 1e-12 * (1.0 + normal.abs());
+    let tol = FORCE_RULE_TOL * (1.0 + normal.abs());
     normal >= -tol && friction >= -tol && friction <= mu * normal + tol
 }
 
 /// The force rules: `F >= 0`, then `0 <= f <= mu F`.
 pub fn force_rule(normal: f64, friction: f64, mu: f64) -> Option<Invalid> {
-    let tol = 1e-12 * (1.0 + normal.abs());
+    let tol = FORCE_RULE_TOL * (1.0 + normal.abs());
     if normal < -tol {
         return Some(Invalid::NegativeNormal { normal });
     }

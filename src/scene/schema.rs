@@ -18,7 +18,7 @@ pub struct SceneError {
 }
 
 impl SceneError {
-    fn from_toml(text: &str, e: &toml::de::Error) -> SceneError {
+    pub(crate) fn from_toml(text: &str, e: &toml::de::Error) -> SceneError {
         let (line, col) = match e.span() {
             Some(span) => line_col(text, span.start),
             None => (1, 1),

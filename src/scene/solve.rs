@@ -19,18 +19,41 @@ impl Scene {
     /// Input errors name the scene's keys.
     pub fn solve(&self) -> Result<SceneSolution, SolveError> {
         // every error in here comes from the library, in its terms
-        self.solve_inner().map_err(scene_solve)
+        self.solve_inner(None).map_err(scene_solve)
     }
 
-    fn solve_inner(&self) -> Result<SceneSolution, SolveError> {
+    /// [`Scene::solve`] started from the solution of a nearby scene (the
+    /// previous point of a sweep): a finger on a fixed partition starts
+    /// Newton from `warm`'s coefficients when the element counts match, a
+    /// grasp follows the path from `warm`'s grasp when it is of the same
+    /// kind (so a sweep stays on the branch it started on). Anything else
+    /// solves as [`Scene::solve`] does.
+    pub fn solve_warm(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
+        self.solve_inner(warm).map_err(scene_solve)
+    }
+
+    fn solve_inner(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
         let finger = |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
         let Some(g) = &self.gripper else {
             return Ok(match &self.partition {
-                PartitionPlan::Fixed(part) => SceneSolution::Finger {
-                    solution: finger(part).solve(&self.load, &self.options)?,
-                    elements: part.len(),
-                    tip_error_estimate_mm: None,
-                },
+                PartitionPlan::Fixed(part) => {
+                    let f = finger(part);
+                    let solution = match warm {
+                        Some(SceneSolution::Finger { solution: w, .. })
+                            if w.coefficients.elements() == part.len()
+                                && w.coefficients.per_element() == f.unknowns_per_element() =>
+                        {
+                            f.solve_from(&self.load, &w.coefficients, &self.options)
+                                .or_else(|_| f.solve(&self.load, &self.options))?
+                        }
+                        _ => f.solve(&self.load, &self.options)?,
+                    };
+                    SceneSolution::Finger {
+                        solution,
+                        elements: part.len(),
+                        tip_error_estimate_mm: None,
+                    }
+                }
                 &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
                     let r = solve_to_tip_tolerance(
                         self.model,
@@ -81,9 +104,13 @@ impl Scene {
             }
         };
         let gripper = Gripper::new(finger, g.params)?.with_stability(g.stability);
+        let warm_grasp = match warm {
+            Some(SceneSolution::Gripper { grasp: Some(w), .. }) => Some(&w.grasp),
+            _ => None,
+        };
         let grasp = match g.grasp {
             None => None,
-            Some(spec) => Some(Box::new(solve_grasp(&gripper, spec)?)),
+            Some(spec) => Some(Box::new(solve_grasp(&gripper, spec, warm_grasp)?)),
         };
         Ok(SceneSolution::Gripper {
             gripper: Box::new(gripper),
@@ -92,10 +119,20 @@ impl Scene {
     }
 }
 
-/// Solves the grasp `spec` asks for. Its validity is the gripper's
-/// verdict ([`Grasp::invalid`], for a sphere [`crate::SphereGrasp::invalid`],
-/// which adds the contact's geometry).
-fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, SolveError> {
+/// Solves the grasp `spec` asks for, following the path from `warm` (a
+/// grasp of a nearby scene) when given, else from the unloaded finger. Its
+/// validity is the gripper's verdict ([`Grasp::invalid`], for a sphere
+/// [`crate::SphereGrasp::invalid`], which adds the contact's geometry).
+fn solve_grasp(
+    gripper: &Gripper,
+    spec: GraspSpec,
+    warm: Option<&Grasp>,
+) -> Result<GraspOutcome, SolveError> {
+    // a warm grasp of another kind, or of another finger, starts nothing
+    let warm = warm.filter(|w| {
+        w.solution.coefficients.elements() == gripper.finger().len()
+            && w.solution.coefficients.per_element() == gripper.finger().unknowns_per_element()
+    });
     Ok(match spec {
         GraspSpec::Size {
             pressure_kpa,
@@ -103,7 +140,7 @@ fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, Solve
             beta_deg,
         } => {
             let grasp =
-                gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), None)?;
+                gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), warm)?;
             GraspOutcome {
                 spec,
                 invalid: grasp.invalid,
@@ -116,7 +153,7 @@ fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, Solve
             d_mm,
             friction_n,
         } => {
-            let grasp = gripper.force_control(pressure_kpa, d_mm, friction_n, None)?;
+            let grasp = gripper.force_control(pressure_kpa, d_mm, friction_n, warm)?;
             GraspOutcome {
                 spec,
                 invalid: grasp.invalid,
@@ -131,7 +168,7 @@ fn solve_grasp(gripper: &Gripper, spec: GraspSpec) -> Result<GraspOutcome, Solve
             beta_deg,
         } => {
             let sg =
-                gripper.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), None)?;
+                gripper.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), warm)?;
             // the contact's own (geometric) verdict, as the gripper judged it
             let contact = gripper.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
             GraspOutcome {

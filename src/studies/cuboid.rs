@@ -120,11 +120,7 @@ pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
     if let Some(s) = &c.stopped {
         t.push_stop(vec![], "d_mm", s);
         notes.push(format!("sweep stopped at d = {:.1} mm: {}", s.at, s.reason));
-        stops.push(Stop {
-            case: "cuboid region".into(),
-            at: StopAt::Mm(s.at),
-            reason: s.reason.clone(),
-        });
+        stops.push(Stop::of_sweep("cuboid region", StopAt::Mm, s));
     }
     let (d, fv) = CUBOID_TEST;
     let contains = region.contains(d, fv);

@@ -77,10 +77,7 @@ pub fn study7_curvature(
                     guess = Some(sol.coefficients);
                 }
                 Err(e) => {
-                    stopped = Some(SweepStop {
-                        at: p,
-                        reason: e.to_string(),
-                    });
+                    stopped = Some(SweepStop::failed(p, e.to_string()));
                     break;
                 }
             }
@@ -204,11 +201,7 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
                 "{case}: pressure sweep stopped at {:.1} kPa: {}",
                 s.at, s.reason
             ));
-            stops.push(Stop {
-                case,
-                at: StopAt::Kpa(s.at),
-                reason: s.reason.clone(),
-            });
+            stops.push(Stop::of_sweep(case, StopAt::Kpa, s));
         }
         let reversed_from = c.rows.iter().find(|r| r.reversed()).map(|r| r.pressure_kpa);
         list.push(Curve {

@@ -217,6 +217,7 @@ pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
                 case,
                 at: StopAt::Kpa(r.pressure_kpa),
                 reason: "no solution".into(),
+                end: None,
             });
         }
     }

@@ -79,10 +79,7 @@ pub fn study4_force_control(
                 warm = Some(gr);
             }
             Err(e) => {
-                stopped = Some(SweepStop {
-                    at: p,
-                    reason: e.to_string(),
-                });
+                stopped = Some(SweepStop::failed(p, e.to_string()));
                 break;
             }
         }
@@ -186,11 +183,7 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
             "pressure sweep stopped at {:.1} kPa: {}",
             s.at, s.reason
         ));
-        stops.push(Stop {
-            case: "force control".into(),
-            at: StopAt::Kpa(s.at),
-            reason: s.reason.clone(),
-        });
+        stops.push(Stop::of_sweep("force control", StopAt::Kpa, s));
     }
     let summary = Summary {
         force_control: fc
@@ -317,10 +310,7 @@ mod tests {
             size: 100.0,
             friction: 0.3,
             rows: vec![row(0.0, false), row(10.0, true)],
-            stopped: Some(SweepStop {
-                at: 20.0,
-                reason: "solve failed: test".into(),
-            }),
+            stopped: Some(SweepStop::failed(20.0, "solve failed: test".into())),
         };
         let out = output(Some(&fc), 0.6);
         let t = &out.tables[0];

@@ -274,10 +274,10 @@ pub(crate) mod tests {
             rest_shape: vec![[33.2, 0.0], [40.0, 20.0]],
             points: vec![point(0.0, false), point(2.0, true)],
             dropped: 0,
-            stopped: Some(SweepStop {
-                at: 5.5,
-                reason: "solve failed: line search, test".into(),
-            }),
+            stopped: Some(SweepStop::failed(
+                5.5,
+                "solve failed: line search, test".into(),
+            )),
             warnings: Vec::new(),
         }
     }

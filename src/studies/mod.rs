@@ -21,7 +21,8 @@ use crate::actuator::Actuator;
 use crate::blocks::Partition;
 use crate::error::{positive, require, InputError, SolveError};
 use crate::finger::Finger;
-use crate::gripper::{Grasp, Gripper, GripperParams, PalmSpec, ViableAngles};
+use crate::gripper::{Grasp, Gripper, GripperParams, PalmSpec, SizeTail, SweepEnd, ViableAngles};
+use crate::model::ModelId;
 
 mod cuboid;
 mod curvature;
@@ -67,6 +68,8 @@ pub const STUDY8_PRESSURES_KPA: [f64; 4] = [0.0, 27.6, 55.2, 82.7];
 /// Resolution and shared settings of the studies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StudyOptions {
+    /// The element model of the fingers (the paper's CCM by default).
+    pub model: ModelId,
     /// Elements per finger (the paper uses 8).
     pub elements: usize,
     /// Friction coefficient.
@@ -85,6 +88,7 @@ pub struct StudyOptions {
 impl Default for StudyOptions {
     fn default() -> StudyOptions {
         StudyOptions {
+            model: ModelId::default(),
             elements: 8,
             mu: 0.6,
             sweep_points: 32,
@@ -122,7 +126,7 @@ impl StudyOptions {
     pub(crate) fn finger(&self, actuator: &Actuator, eps0: f64) -> Result<Finger, InputError> {
         let act = actuator.with_eps0(eps0)?;
         let part = Partition::equal(act.geometry().lx, self.elements)?;
-        Ok(Finger::new(&act, &part, true))
+        Ok(Finger::with_model(self.model, &act, &part, true))
     }
 
     pub(crate) fn gripper(
@@ -150,13 +154,37 @@ impl StudyOptions {
 pub struct SweepStop {
     /// The sweep parameter that failed (grasping size in mm, or pressure in kPa).
     pub at: f64,
-    /// The solver's message.
+    /// Why, in words.
     pub reason: String,
+    /// The sweep's natural end (a fold, the validity limit, a force beyond
+    /// [`crate::gripper::MAX_GRASP_FORCE_N`]), when it is one; `None` for a
+    /// numerical stop.
+    pub end: Option<SweepEnd>,
+}
+
+impl SweepStop {
+    /// A numerical stop (a failed solve).
+    pub(crate) fn failed(at: f64, reason: String) -> SweepStop {
+        SweepStop {
+            at,
+            reason,
+            end: None,
+        }
+    }
+
+    /// True when the sweep ended for a reason of the gripper's, not a
+    /// failed solve.
+    pub fn is_natural(&self) -> bool {
+        self.end.as_ref().is_some_and(|e| !e.is_numerical())
+    }
 }
 
 /// Sweeps the grasping size over `n + 1` points from `from` to `to`
 /// (grasping angle `beta`, `f = mu F`), each solve warm-started from the
-/// previous; stops at the first failure.
+/// previous. Where a target solve fails, the load path from the last grasp
+/// is followed ([`Gripper::size_tail`]): the sweep goes on if it reaches
+/// the size, and otherwise ends at the path's natural end (or, if the path
+/// cannot be continued, at a numerical stop).
 pub(crate) fn size_sweep(
     g: &Gripper,
     pressure_kpa: f64,
@@ -169,18 +197,43 @@ pub(crate) fn size_sweep(
     let mut warm: Option<Grasp> = None;
     for i in 0..=n {
         let d = from + (to - from) * i as f64 / n as f64;
-        match g.grasp_load_for_size(pressure_kpa, d, beta, warm.as_ref()) {
-            Ok(gr) => {
-                visit(&gr);
-                warm = Some(gr);
-            }
+        let gr = match g.grasp_load_for_size(pressure_kpa, d, beta, warm.as_ref()) {
+            Ok(gr) => gr,
             Err(e) => {
-                return Some(SweepStop {
-                    at: d,
-                    reason: e.to_string(),
-                })
+                // from the last grasp, or the finger without contact force
+                let start = match &warm {
+                    Some(w) => Ok(w.clone()),
+                    None => g.size_sweep_start(pressure_kpa, beta),
+                };
+                let last = match start {
+                    Ok(l) => l,
+                    Err(e2) => {
+                        return Some(SweepStop::failed(
+                            d,
+                            format!("{e}; and the start of the load path: {e2}"),
+                        ))
+                    }
+                };
+                match g.size_tail(&last, d) {
+                    Ok(SizeTail::Reached(gr)) => *gr,
+                    Ok(SizeTail::End(end)) => {
+                        return Some(SweepStop {
+                            at: d,
+                            reason: end.to_string(),
+                            end: Some(end),
+                        })
+                    }
+                    Err(e2) => {
+                        return Some(SweepStop::failed(
+                            d,
+                            format!("{e}; following the load path: {e2}"),
+                        ))
+                    }
+                }
             }
-        }
+        };
+        visit(&gr);
+        warm = Some(gr);
     }
     None
 }

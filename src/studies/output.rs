@@ -15,6 +15,7 @@ use serde_json::Value;
 
 use super::SweepStop;
 use crate::error::Warning;
+use crate::gripper::SweepEnd;
 
 // ------------------------------------------------------------ tables
 
@@ -156,7 +157,9 @@ impl Table {
     pub(crate) fn push_stop(&mut self, lead: Vec<(&str, Cell)>, at_column: &str, s: &SweepStop) {
         let mut cells = lead;
         cells.push((at_column, s.at.into()));
-        cells.push((STATUS.name, "stopped".into()));
+        // a natural end is a result ("ended"), a failed solve a stop
+        let status = if s.is_natural() { "ended" } else { "stopped" };
+        cells.push((STATUS.name, status.into()));
         cells.push((NOTE.name, s.reason.clone().into()));
         self.push_named(cells);
     }
@@ -269,6 +272,8 @@ pub struct PlotAxis {
     pub range: Option<[f64; 2]>,
     /// Include 0 in a fitted range.
     pub include_zero: bool,
+    /// A logarithmic axis: positive values only, ticks at powers of ten.
+    pub log: bool,
 }
 
 impl PlotAxis {
@@ -279,7 +284,14 @@ impl PlotAxis {
             unit: unit.into(),
             range: None,
             include_zero: false,
+            log: false,
         }
+    }
+
+    /// A logarithmic axis (a renderer skips values that are not positive).
+    pub fn log(mut self) -> Self {
+        self.log = true;
+        self
     }
 
     /// The label with its unit, `label (unit)`.
@@ -487,8 +499,10 @@ pub enum StopAt {
     Kpa(f64),
 }
 
-/// A sweep of a study that stopped before its end:
-/// `{"case", "at_mm" | "at_kpa", "reason"}`.
+/// A sweep of a study that ended before its last point:
+/// `{"case", "at_mm" | "at_kpa", "reason", "end"?}`. With `end` it is a
+/// natural end of the sweep (a fold, the validity limit, a force bound:
+/// a result); without, a numerical stop (a failed solve).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Stop {
     /// Which sweep (`eps0 = 0.25, a = π/3`).
@@ -498,6 +512,26 @@ pub struct Stop {
     pub at: StopAt,
     /// Why.
     pub reason: String,
+    /// The natural end, if it is one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub end: Option<SweepEnd>,
+}
+
+impl Stop {
+    /// The stop of a sweep `case` at `at(s.at)`.
+    pub(crate) fn of_sweep(case: impl Into<String>, at: fn(f64) -> StopAt, s: &SweepStop) -> Stop {
+        Stop {
+            case: case.into(),
+            at: at(s.at),
+            reason: s.reason.clone(),
+            end: s.end.clone().filter(|e| !e.is_numerical()),
+        }
+    }
+
+    /// True for a natural end (not a failed solve).
+    pub fn is_natural(&self) -> bool {
+        self.end.is_some()
+    }
 }
 
 /// A stop as a summary value: `{"at_mm" | "at_kpa", "reason"}`.
@@ -730,19 +764,14 @@ mod tests {
             case: "c".into(),
             at: StopAt::Kpa(20.0),
             reason: "r".into(),
+            end: None,
         };
         let v = serde_json::to_value(&s).unwrap();
         assert_eq!(
             v,
             serde_json::json!({"case": "c", "at_kpa": 20.0, "reason": "r"})
         );
-        let e = stop_entry(
-            &Some(SweepStop {
-                at: 5.5,
-                reason: "why".into(),
-            }),
-            StopAt::Mm,
-        );
+        let e = stop_entry(&Some(SweepStop::failed(5.5, "why".into())), StopAt::Mm);
         assert_eq!(
             serde_json::to_value(e).unwrap(),
             serde_json::json!({"at_mm": 5.5, "reason": "why"})

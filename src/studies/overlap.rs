@@ -88,11 +88,7 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
                 "{case}: sweep stopped at d = {:.1} mm: {}",
                 s.at, s.reason
             ));
-            stops.push(Stop {
-                case,
-                at: StopAt::Mm(s.at),
-                reason: s.reason.clone(),
-            });
+            stops.push(Stop::of_sweep(case, StopAt::Mm, s));
         }
     }
     let summary = Summary {

@@ -261,11 +261,7 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
     let (mut notes, mut stops) = (Vec::new(), Vec::new());
     for (beta, s) in &region.stopped {
         t.push_stop(vec![("beta_rad", (*beta).into())], "d_mm", s);
-        stops.push(Stop {
-            case: format!("b = {beta:.6} rad"),
-            at: StopAt::Mm(s.at),
-            reason: s.reason.clone(),
-        });
+        stops.push(Stop::of_sweep(format!("b = {beta:.6} rad"), StopAt::Mm, s));
     }
     if !region.stopped.is_empty() {
         notes.push(format!(

@@ -27,6 +27,7 @@
 use std::fmt;
 
 use fpc_symbolic::codegen::{format_file, generate_with, param_structs, report_table, Options};
+use fpc_symbolic::emit::Emitter;
 use fpc_symbolic::spec::{parse_spec, PointDef, Spec};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
@@ -297,6 +298,36 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             ident(&format!("{s}Params"))
         })
         .collect();
+    let tangent_add_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("add_{f}_tangents")))
+        .collect();
+    let tangent_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("{f}_dmoments")))
+        .collect();
+    let grad_fns: Vec<Ident> = FAMILIES
+        .iter()
+        .map(|f| ident(&format!("{f}_gradient")))
+        .collect();
+    // each family's coefficient in the energy (0 if the energy leaves it out)
+    let energy = spec.energy.as_ref().expect("checked");
+    let coefficients: Vec<TokenStream> = FAMILIES
+        .iter()
+        .map(|f| match energy.terms.iter().find(|t| t.0 == *f) {
+            None => quote! { 0.0 },
+            Some((_, coef)) => {
+                let mut em = Emitter::new(&spec.arena, &[*coef], "c");
+                for &sc in &energy.scalars {
+                    let id = ident(spec.arena.name(sc));
+                    em.bind_symbol(sc, quote! { s.#id });
+                }
+                let e = em.expr(*coef);
+                let stmts = em.take_statements();
+                quote! { { #(#stmts)* #e } }
+            }
+        })
+        .collect();
     let hess_fns: Vec<Ident> = FAMILIES
         .iter()
         .map(|f| ident(&format!("{f}_hessian")))
@@ -443,6 +474,41 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             #[inline]
             fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
                 #law(s, p)
+            }
+
+            #(
+                fn #tangent_add_fns(m: &mut [Moments], p: &super::#params_types, dp: &[super::#params_types]) {
+                    let jacobian = #tangent_fns(p);
+                    for (m, dp) in m.iter_mut().zip(dp) {
+                        for (column, dpj) in jacobian.iter().zip(dp.to_values()) {
+                            if dpj != 0.0 {
+                                for (mi, c) in m.#families.iter_mut().zip(column) {
+                                    *mi += c * dpj;
+                                }
+                            }
+                        }
+                    }
+                }
+            )*
+
+            fn family_gradient(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu])> {
+                match family {
+                    #(#fam_idx => Some(#grad_fns(k, &m.#families)),)*
+                    _ => None,
+                }
+            }
+
+            fn family_coefficient(family: usize, s: &super::EnergyScalars) -> f64 {
+                let _ = s;
+                match family {
+                    #(#fam_idx => #coefficients,)*
+                    _ => 0.0,
+                }
+            }
+
+            #[inline]
+            fn scalars_tangent(m: &Moments, k: &[f64; #nu], s: &super::EnergyScalars, ds: &super::EnergyScalars) -> (f64, [f64; #nu]) {
+                energy_scalars_tangent(k, m, s, ds)
             }
         }
     };

@@ -103,11 +103,31 @@ impl ParamStruct {
         let name = ident(&self.name);
         let doc = &self.doc;
         let fields: Vec<Ident> = self.fields.iter().map(|f| ident(f)).collect();
+        let names = &self.fields;
+        let count = Literal::usize_unsuffixed(self.fields.len());
+        let idx: Vec<Literal> = (0..self.fields.len())
+            .map(Literal::usize_unsuffixed)
+            .collect();
         quote! {
             #[doc = #doc]
             #[derive(Debug, Clone, Copy, PartialEq)]
             pub struct #name {
                 #(#[doc = "Parameter of the spec."] pub #fields: f64,)*
+            }
+
+            impl #name {
+                #[doc = "The field names, in the spec's order."]
+                pub const FIELDS: &'static [&'static str] = &[#(#names),*];
+
+                #[doc = "The fields' values, in the spec's order."]
+                pub fn to_values(&self) -> [f64; #count] {
+                    [#(self.#fields),*]
+                }
+
+                #[doc = "The struct of values in the spec's order."]
+                pub fn from_values(v: [f64; #count]) -> Self {
+                    Self { #(#fields: v[#idx],)* }
+                }
             }
         }
     }
@@ -581,6 +601,10 @@ fn integral_kernel(
         moment_roots.push(*d);
     }
     moment_roots.extend(moment_polys_e.iter().copied());
+    // on a copy of the arena: the expressions of the kernels generated
+    // after this one (ordered by their ids) stay exactly as they were
+    let mut jacobian_arena = arena.clone();
+    let jacobian = moments_jacobian(&mut jacobian_arena, &params, &slots, &moment_defs)?;
     let arena_ro: &Arena = arena;
     let mut em = Emitter::new(arena_ro, &moment_roots, "tmp");
     let mut before = OpCount::default();
@@ -685,6 +709,16 @@ fn integral_kernel(
         ops_before_cse: b,
         ops_after_cse: a,
     });
+    let (jacobian_tokens, jacobian_report) = jacobian.emit(
+        &jacobian_arena,
+        name,
+        &params,
+        &param_idents,
+        &count_ident,
+        &params_struct,
+        prefix,
+    );
+    reports.push(jacobian_report);
     // split the hessian tuple tokens into value, gradient and hessian parts
     let h_parts = h_all;
     let hv = &h_parts[0];
@@ -744,8 +778,181 @@ fn integral_kernel(
             #(#h_stmts)*
             (#hv, [#(#hg),*], [#(#hh),*])
         }
+
+        #jacobian_tokens
     };
     Ok((tokens, reports))
+}
+
+/// The Jacobian of an integral's moments with respect to its parameters:
+/// `dm_s/dp_j = dP_s/dp_j + sum_mu dP_s/dmu dmu/dp_j`, where `P_s` is slot
+/// `s`'s moment as a polynomial in the parameters and the 1-D moments `mu`
+/// (the chain rule through the range bounds). The `dP_s/dmu` are shared by
+/// every column.
+struct MomentsJacobian {
+    /// The 1-D moments (as in the moments kernel).
+    moments: Vec<(Sym, ExprId, String)>,
+    /// `columns[j][s] = dm_s/dp_j`.
+    columns: Vec<Vec<ExprId>>,
+}
+
+fn moments_jacobian(
+    arena: &mut Arena,
+    params: &[Sym],
+    slots: &[Slot],
+    moment_defs: &[(Sym, ExprId, String)],
+) -> Result<MomentsJacobian, SymError> {
+    // dmu/dp_j per 1-D moment and parameter
+    let mut dmu = Vec::with_capacity(moment_defs.len());
+    for (_, d, _) in moment_defs {
+        let row: Vec<ExprId> = params
+            .iter()
+            .map(|&p| arena.diff(*d, p))
+            .collect::<Result<_, _>>()?;
+        dmu.push(row);
+    }
+    // dP_s/dmu, shared by the columns
+    let mut dpdmu = Vec::with_capacity(slots.len());
+    for slot in slots {
+        let mut row = Vec::with_capacity(moment_defs.len());
+        for (ms, _, _) in moment_defs {
+            let d = slot.moment.diff(*ms)?;
+            row.push(if d.is_zero() {
+                None
+            } else {
+                Some(arena.horner(&d, &[])?)
+            });
+        }
+        dpdmu.push(row);
+    }
+    let mut columns = Vec::with_capacity(params.len());
+    for (j, &p) in params.iter().enumerate() {
+        let mut col = Vec::with_capacity(slots.len());
+        for (s, slot) in slots.iter().enumerate() {
+            let mut terms = Vec::new();
+            let direct = slot.moment.diff(p)?;
+            if !direct.is_zero() {
+                terms.push(arena.horner(&direct, &[])?);
+            }
+            for (mu, dp) in dpdmu[s].iter().enumerate() {
+                if let Some(dp) = *dp {
+                    let inner = dmu[mu][j];
+                    if arena.as_num(inner) != Some(Rational::ZERO) {
+                        terms.push(arena.mul2(dp, inner)?);
+                    }
+                }
+            }
+            col.push(arena.add(&terms)?);
+        }
+        columns.push(col);
+    }
+    Ok(MomentsJacobian {
+        moments: moment_defs.to_vec(),
+        columns,
+    })
+}
+
+impl MomentsJacobian {
+    /// `NAME_dmoments_at` (straight-line, positional) and `NAME_dmoments`
+    /// (the parameters by name).
+    #[allow(clippy::too_many_arguments)]
+    fn emit(
+        &self,
+        arena: &Arena,
+        name: &str,
+        params: &[Sym],
+        param_idents: &[Ident],
+        count_ident: &Ident,
+        params_struct: &Ident,
+        prefix: &TokenStream,
+    ) -> (TokenStream, FunctionReport) {
+        let entries: Vec<ExprId> = self.columns.iter().flatten().copied().collect();
+        let mut roots: Vec<ExprId> = self.moments.iter().map(|d| d.1).collect();
+        roots.extend(entries.iter().copied());
+        let mut em = Emitter::new(arena, &roots, "tmp");
+        let used = |s: Sym| entries.iter().any(|&e| arena.free_symbols(e).contains(&s));
+        let mut before = OpCount::default();
+        let mut emitted: Vec<ExprId> = Vec::new();
+        for (s, d, label) in &self.moments {
+            if used(*s) {
+                let t = em.let_named(label, *d);
+                em.bind_symbol(*s, t);
+                before += tree_ops(arena, &[*d]);
+                emitted.push(*d);
+            }
+        }
+        let cols: Vec<TokenStream> = self
+            .columns
+            .iter()
+            .map(|col| {
+                let vals: Vec<TokenStream> = col.iter().map(|&e| em.expr(e)).collect();
+                quote! { [#(#vals),*] }
+            })
+            .collect();
+        before += tree_ops(arena, &entries);
+        let after = em.ops();
+        let stmts = em.take_statements();
+        emitted.extend(entries.iter().copied());
+        let free: std::collections::HashSet<Sym> = emitted
+            .iter()
+            .flat_map(|&e| arena.free_symbols(e))
+            .collect();
+        // an argument nothing depends on is named `_...` (no unused warning)
+        let args: Vec<Ident> = params
+            .iter()
+            .zip(param_idents)
+            .map(|(&s, id)| {
+                if free.contains(&s) {
+                    id.clone()
+                } else {
+                    ident(&format!("_{id}"))
+                }
+            })
+            .collect();
+        let np = Literal::usize_unsuffixed(params.len());
+        let fn_at = ident(&format!("{name}_dmoments_at"));
+        let fn_named = ident(&format!("{name}_dmoments"));
+        let head_doc = format!(
+            "Kernel `{name}`: the Jacobian of one block's moments with respect to its \
+             parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The \
+             moments of an element add over its blocks, and so do their derivatives; \
+             the energy is linear in the moments, so the gradient kernels evaluated at \
+             a column give the gradient's derivative."
+        );
+        let at_doc = format!(
+            "Parameters (and columns, in this order): `{}`.",
+            param_idents
+                .iter()
+                .map(|i| i.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let tokens = quote! {
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = #at_doc]
+            fn #fn_at(#(#args: f64),*) -> [[f64; #count_ident]; #np] {
+                #(#stmts)*
+                [#(#cols),*]
+            }
+
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = "The parameters passed by name."]
+            #[inline]
+            pub fn #fn_named(p: &#prefix #params_struct) -> [[f64; #count_ident]; #np] {
+                #fn_at(#(p.#param_idents),*)
+            }
+        };
+        (
+            tokens,
+            FunctionReport {
+                function: fn_at.to_string(),
+                ops_before_cse: before,
+                ops_after_cse: after,
+            },
+        )
+    }
 }
 
 fn point_kernel(
@@ -1032,6 +1239,30 @@ fn energy_fns(
     let n = spec.unknowns.len();
     let nu = Literal::usize_unsuffixed(n);
     let nh = Literal::usize_unsuffixed(n * (n + 1) / 2);
+    // each coefficient's change along a change `ds` of the scalars (on a
+    // copy of the arena, which leaves the later kernels as they were)
+    let mut tangent_arena = spec.arena.clone();
+    let dscalars: Vec<Sym> = def
+        .scalars
+        .iter()
+        .map(|&sc| {
+            let base = format!("__d{}", tangent_arena.name(sc));
+            fresh_symbol(&mut tangent_arena, &base)
+        })
+        .collect();
+    let mut dcoefs = Vec::with_capacity(def.terms.len());
+    for (_, coef) in &def.terms {
+        let arena = &mut tangent_arena;
+        let mut terms = Vec::new();
+        for (&sc, &ds) in def.scalars.iter().zip(&dscalars) {
+            let d = arena.diff(*coef, sc)?;
+            if arena.as_num(d) != Some(Rational::ZERO) {
+                let v = arena.sym(ds);
+                terms.push(arena.mul2(d, v)?);
+            }
+        }
+        dcoefs.push(arena.add(&terms)?);
+    }
     let fields: Vec<Ident> = def.terms.iter().map(|(t, _)| ident(t)).collect();
     let counts: Vec<Ident> = def
         .terms
@@ -1145,6 +1376,62 @@ fn energy_fns(
     } else {
         TokenStream::new()
     };
+    // the scalar tangent: only terms whose coefficient moves with the scalars
+    let mut tangent = Vec::new();
+    let mut tangent_uses_s = false;
+    let ta: &Arena = &tangent_arena;
+    for (i, (((name, _), field), &dc)) in def.terms.iter().zip(&fields).zip(&dcoefs).enumerate() {
+        if ta.as_num(dc) == Some(Rational::ZERO) {
+            continue;
+        }
+        let mut em = Emitter::new(ta, &[dc], "dcoef");
+        for &sc in &def.scalars {
+            let id = ident(ta.name(sc));
+            em.bind_symbol(sc, quote! { s.#id });
+        }
+        for (&sc, &ds) in def.scalars.iter().zip(&dscalars) {
+            let id = ident(ta.name(sc));
+            em.bind_symbol(ds, quote! { ds.#id });
+        }
+        tangent_uses_s |= ta.free_symbols(dc).iter().any(|s| def.scalars.contains(s));
+        let c = em.expr(dc);
+        let pre = em.take_statements();
+        let ci = ident(&format!("dc{i}"));
+        let f_grad = ident(&format!("{name}_gradient"));
+        let gi: Vec<TokenStream> = (0..n)
+            .map(|j| {
+                let j = Literal::usize_unsuffixed(j);
+                quote! { g[#j] += #ci * tg[#j]; }
+            })
+            .collect();
+        tangent.push(quote! {
+            {
+                #(#pre)*
+                let #ci: f64 = #c;
+                if #ci != 0.0 {
+                    let (tv, tg) = #f_grad(k, &m.#field);
+                    v += #ci * tv;
+                    #(#gi)*
+                }
+            }
+        });
+    }
+    let tangent_unused = match (tangent.is_empty(), tangent_uses_s) {
+        (true, _) => quote! { let _ = (k, m, s, ds); },
+        (false, false) => quote! { let _ = s; },
+        (false, true) => TokenStream::new(),
+    };
+    let tangent_doc = format!(
+        "The derivative of the element energy and of its gradient along a change `ds` \
+         of the runtime scalars (`{}`): each integral enters linearly through its \
+         coefficient, so this is each integral's value and gradient times the \
+         coefficient's change.",
+        scalars
+            .iter()
+            .map(|s| s.to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     Ok(quote! {
         #[doc = "The moments of every integral of the energy, accumulated block by block."]
         #[derive(Debug, Clone, PartialEq)]
@@ -1185,6 +1472,17 @@ fn energy_fns(
             #init_h
             #(#hess)*
             (v, g, h)
+        }
+
+        #[doc = #doc]
+        #[doc = ""]
+        #[doc = #tangent_doc]
+        pub fn energy_scalars_tangent(k: &[f64; #nu], m: &Moments, s: &#prefix EnergyScalars, ds: &#prefix EnergyScalars) -> (f64, [f64; #nu]) {
+            #tangent_unused
+            let mut v = 0.0;
+            let mut g = [0.0; #nu];
+            #(#tangent)*
+            (v, g)
         }
     })
 }

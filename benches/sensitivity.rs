@@ -1,0 +1,109 @@
+//! The cost of every sensitivity of one equilibrium (src/sensitivity.rs)
+//! against one re-solve, at N = 8 and N = 64, for both element models.
+//! Prints a table; the case is the tip-loaded standard finger (eps0 0.25,
+//! Fx 0.939782 N, Fz 0.521707 N).
+//!
+//! - "all sens.": `Finger::sensitivities` for every parameter of the
+//!   actuator and the load (`Param::all`): one Hessian and factorisation,
+//!   one right-hand side and one refined solve per parameter;
+//! - "re-solve": what one central difference needs per side: the finger
+//!   rebuilt with eps0 changed by 1e-4 and solved from the equilibrium;
+//! - "cold": one solve from scratch (`Finger::solve`);
+//! - "FD / sens": central differences of every parameter (two re-solves
+//!   each) over the sensitivities.
+//!
+//! ```sh
+//! cargo bench --bench sensitivity
+//! cargo bench --bench sensitivity -- --quick     # fewer repetitions
+//! ```
+
+use std::time::Instant;
+
+use fpc::{Actuator, ActuatorParam, Finger, Load, ModelId, Param, Partition, SolveOptions};
+
+const FX: f64 = 0.939782;
+const FZ: f64 = 0.521707;
+
+/// Median seconds of `f` over `reps` runs (after one warm-up run).
+fn median_s(reps: usize, mut f: impl FnMut()) -> f64 {
+    f();
+    let mut t: Vec<f64> = (0..reps.max(1))
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+/// Repetitions for a run of about `estimate_s` seconds.
+fn reps(quick: bool, estimate_s: f64) -> usize {
+    let budget = if quick { 0.05 } else { 0.5 };
+    ((budget / estimate_s.max(1e-9)) as usize).clamp(3, 2000)
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let load = Load::unloaded().with_tip_force(FX, FZ);
+    let opts = SolveOptions::default().tip_only();
+    let act = Actuator::paper(0.25).expect("the paper's actuator");
+    let params = Param::all(&act);
+    let eps0 = ActuatorParam::Eps0;
+    let moved = eps0
+        .with_value(&act, 0.25 + 1e-4)
+        .expect("a nearby prestrain");
+    println!(
+        "sensitivities of a tip-loaded equilibrium (eps0 0.25, Fx {FX} N, Fz {FZ} N) against re-solves, release build"
+    );
+    println!(
+        "{:>5} {:>6} {:>7} {:>14} {:>10} {:>14} {:>11} {:>12} {:>10}",
+        "model",
+        "N",
+        "params",
+        "all sens. (us)",
+        "per param",
+        "re-solve (us)",
+        "cold (us)",
+        "sens/resolve",
+        "FD / sens"
+    );
+    for &model in ModelId::ALL {
+        for n in [8usize, 64] {
+            let part = Partition::equal(act.geometry().lx, n).expect("a partition");
+            let finger = Finger::with_model(model, &act, &part, true);
+            let sol = finger.solve(&load, &opts).expect("the finger solves");
+            let sens = finger
+                .sensitivities(&act, &sol, &load, &params)
+                .expect("the sensitivities");
+            assert_eq!(sens.rows.len(), params.len());
+            let t_sens = median_s(reps(quick, 2e-6 * n as f64 * params.len() as f64), || {
+                std::hint::black_box(finger.sensitivities(&act, &sol, &load, &params).ok());
+            });
+            let t_resolve = median_s(reps(quick, 2e-5 * n as f64), || {
+                let f = Finger::with_model(model, &moved, &part, true);
+                std::hint::black_box(f.solve_from(&load, &sol.coefficients, &opts).ok());
+            });
+            let t_cold = median_s(reps(quick, 5e-5 * n as f64), || {
+                std::hint::black_box(finger.solve(&load, &opts).ok());
+            });
+            let p = params.len() as f64;
+            println!(
+                "{:>5} {n:>6} {:>7} {:>14.1} {:>10.2} {:>14.1} {:>11.1} {:>12.2} {:>10.1}",
+                model.name(),
+                params.len(),
+                t_sens * 1e6,
+                t_sens * 1e6 / p,
+                t_resolve * 1e6,
+                t_cold * 1e6,
+                t_sens / t_resolve,
+                2.0 * p * t_resolve / t_sens,
+            );
+        }
+    }
+    println!(
+        "(\"sens/resolve\": all {} sensitivities over one re-solve; \"FD / sens\": two re-solves per parameter over all sensitivities)",
+        params.len()
+    );
+}

@@ -1,0 +1,328 @@
+//! The search for the design with the largest worst-case margin, and the
+//! brute-force grid that checks it.
+//!
+//! The optimiser works on the varied variables scaled to `[0, 1]` and
+//! maximises a smooth minimum of the margins,
+//! `S = -(1/k) ln sum_i exp(-k m_i)` (within `ln(n) / k` below the true
+//! minimum), by projected gradient ascent with backtracking: the gradient
+//! of S from central differences of the margins (each a set of full
+//! re-solves through the gripper path), steps projected onto the bounds,
+//! halved until S increases. It starts from the box's centre, its corners
+//! (up to 8) and seeded random points, and returns the best design by its
+//! true worst margin, with the margins' sensitivities to each variable.
+
+use serde::Serialize;
+
+use super::{evaluate, Evaluation, ObjectRequirement, Requirements};
+
+/// Settings of [`optimize`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignOptions {
+    /// Random starts besides the centre and the corners.
+    pub random_starts: usize,
+    /// Iterations per start.
+    pub max_iterations: usize,
+    /// Central-difference step, as a fraction of each variable's range.
+    pub step: f64,
+    /// Sharpness `k` of the smooth minimum.
+    pub sharpness: f64,
+    /// Seed of the random starts.
+    pub seed: u64,
+}
+
+impl Default for DesignOptions {
+    fn default() -> DesignOptions {
+        DesignOptions {
+            random_starts: 2,
+            max_iterations: 25,
+            step: 2e-3,
+            sharpness: 40.0,
+            seed: 1,
+        }
+    }
+}
+
+/// The design found, with everything that backs the claim.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Designed {
+    /// True when the best design meets every requirement.
+    pub feasible: bool,
+    /// The best design's evaluation (every margin).
+    pub best: Evaluation,
+    /// d margin / d variable at the best design, per margin, for each
+    /// varied variable (`VARIABLES` order; fixed ones are 0), by central
+    /// differences of full re-solves.
+    pub sensitivities: Vec<MarginSensitivity>,
+    /// Design evaluations spent.
+    pub evaluations: usize,
+    /// Starts run.
+    pub starts: usize,
+}
+
+/// A margin's sensitivity to the design variables.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MarginSensitivity {
+    /// The requirement.
+    pub requirement: String,
+    /// d margin / d (eps0, mounting angle deg, overlap mm).
+    pub gradient: [f64; 3],
+}
+
+/// A brute-force grid over the varied variables.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GridResult {
+    /// The best grid point by worst margin.
+    pub best: Evaluation,
+    /// Points evaluated.
+    pub evaluated: usize,
+    /// The grid spacing of each variable (0 for a fixed one).
+    pub resolution: [f64; 3],
+}
+
+/// The varied variables: index, low, high.
+fn active(req: &Requirements) -> Vec<(usize, f64, f64)> {
+    req.bounds()
+        .iter()
+        .enumerate()
+        .filter(|(_, b)| b[1] > b[0])
+        .map(|(i, b)| (i, b[0], b[1]))
+        .collect()
+}
+
+fn design_of(req: &Requirements, u: &[f64]) -> [f64; 3] {
+    let b = req.bounds();
+    let mut x = [b[0][0], b[1][0], b[2][0]];
+    for (k, &(i, lo, hi)) in active(req).iter().enumerate() {
+        x[i] = lo + u[k].clamp(0.0, 1.0) * (hi - lo);
+    }
+    x
+}
+
+/// The smooth minimum of margins (see the module docs).
+fn smooth_min(e: &Evaluation, k: f64) -> f64 {
+    let m = e.worst;
+    if !m.is_finite() {
+        return -1e3;
+    }
+    let s: f64 = e.margins.iter().map(|g| (-k * (g.margin - m)).exp()).sum();
+    m - s.ln() / k
+}
+
+struct Counter<'a> {
+    req: &'a Requirements,
+    evaluations: usize,
+}
+
+impl Counter<'_> {
+    fn eval(&mut self, u: &[f64]) -> Evaluation {
+        self.evaluations += 1;
+        evaluate(self.req, design_of(self.req, u))
+    }
+}
+
+/// The gradient of the smooth minimum at `u` (central differences).
+fn gradient(c: &mut Counter<'_>, u: &[f64], h: f64, k: f64) -> Vec<f64> {
+    (0..u.len())
+        .map(|j| {
+            let (mut a, mut b) = (u.to_vec(), u.to_vec());
+            a[j] = (u[j] + h).min(1.0);
+            b[j] = (u[j] - h).max(0.0);
+            let (fa, fb) = (smooth_min(&c.eval(&a), k), smooth_min(&c.eval(&b), k));
+            (fa - fb) / (a[j] - b[j])
+        })
+        .collect()
+}
+
+/// Projected gradient ascent from `u0`.
+fn ascend(c: &mut Counter<'_>, u0: Vec<f64>, opts: &DesignOptions) -> (Vec<f64>, Evaluation) {
+    let k = opts.sharpness;
+    let mut u = u0;
+    let mut e = c.eval(&u);
+    let mut f = smooth_min(&e, k);
+    let mut alpha = 0.25;
+    for _ in 0..opts.max_iterations {
+        let g = gradient(c, &u, opts.step, k);
+        let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if norm.is_nan() || norm <= 1e-9 {
+            break;
+        }
+        let mut improved = false;
+        while alpha > 1e-4 {
+            let trial: Vec<f64> = u
+                .iter()
+                .zip(&g)
+                .map(|(ui, gi)| (ui + alpha * gi / norm).clamp(0.0, 1.0))
+                .collect();
+            if trial == u {
+                break;
+            }
+            let et = c.eval(&trial);
+            let ft = smooth_min(&et, k);
+            if ft > f {
+                (u, e, f) = (trial, et, ft);
+                alpha = (alpha * 1.5).min(0.5);
+                improved = true;
+                break;
+            }
+            alpha *= 0.5;
+        }
+        if !improved {
+            break;
+        }
+    }
+    (u, e)
+}
+
+/// The starting points: the centre, the corners (at most 8), and
+/// `random_starts` seeded points.
+fn starts(dim: usize, opts: &DesignOptions) -> Vec<Vec<f64>> {
+    let mut s = vec![vec![0.5; dim]];
+    for corner in 0..(1usize << dim).min(8) {
+        s.push(
+            (0..dim)
+                .map(|j| if corner >> j & 1 == 1 { 0.85 } else { 0.15 })
+                .collect(),
+        );
+    }
+    let mut rng = fastrand::Rng::with_seed(opts.seed);
+    for _ in 0..opts.random_starts {
+        s.push((0..dim).map(|_| rng.f64()).collect());
+    }
+    s
+}
+
+/// The design with the largest worst-case margin (module docs).
+pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
+    let act = active(req);
+    let dim = act.len();
+    let mut c = Counter {
+        req,
+        evaluations: 0,
+    };
+    let mut best: Option<(Vec<f64>, Evaluation)> = None;
+    let list = starts(dim, opts);
+    for u0 in &list {
+        let (u, e) = ascend(&mut c, u0.clone(), opts);
+        if best.as_ref().is_none_or(|(_, b)| e.worst > b.worst) {
+            best = Some((u, e));
+        }
+    }
+    let (u, e) = best.unwrap_or_else(|| (Vec::new(), c.eval(&[])));
+    // sensitivities of every margin at the best design
+    let mut sens: Vec<MarginSensitivity> = e
+        .margins
+        .iter()
+        .map(|m| MarginSensitivity {
+            requirement: m.requirement.clone(),
+            gradient: [0.0; 3],
+        })
+        .collect();
+    for (j, &(i, lo, hi)) in act.iter().enumerate() {
+        let h = opts.step;
+        let (mut a, mut b) = (u.clone(), u.clone());
+        a[j] = (u[j] + h).min(1.0);
+        b[j] = (u[j] - h).max(0.0);
+        let (ea, eb) = (c.eval(&a), c.eval(&b));
+        let dx = (a[j] - b[j]) * (hi - lo);
+        for (s, m) in sens.iter_mut().zip(&e.margins) {
+            let ma = ea.margins.iter().find(|x| x.requirement == m.requirement);
+            let mb = eb.margins.iter().find(|x| x.requirement == m.requirement);
+            if let (Some(ma), Some(mb)) = (ma, mb) {
+                if dx > 0.0 {
+                    s.gradient[i] = (ma.margin - mb.margin) / dx;
+                }
+            }
+        }
+    }
+    Designed {
+        feasible: e.feasible(),
+        best: e,
+        sensitivities: sens,
+        evaluations: c.evaluations,
+        starts: list.len(),
+    }
+}
+
+/// Every point of a grid of `per_axis` values per varied variable (both
+/// bounds included); the best by worst margin.
+pub fn grid_search(req: &Requirements, per_axis: usize) -> GridResult {
+    let act = active(req);
+    let n = per_axis.max(2);
+    let mut c = Counter {
+        req,
+        evaluations: 0,
+    };
+    let total = n.pow(act.len() as u32);
+    let mut best: Option<Evaluation> = None;
+    for idx in 0..total {
+        let mut r = idx;
+        let u: Vec<f64> = (0..act.len())
+            .map(|_| {
+                let v = r % n;
+                r /= n;
+                v as f64 / (n - 1) as f64
+            })
+            .collect();
+        let e = c.eval(&u);
+        if best.as_ref().is_none_or(|b| e.worst > b.worst) {
+            best = Some(e);
+        }
+    }
+    let mut resolution = [0.0; 3];
+    for &(i, lo, hi) in &act {
+        resolution[i] = (hi - lo) / (n - 1) as f64;
+    }
+    GridResult {
+        best: best.unwrap_or_else(|| c.eval(&[])),
+        evaluated: c.evaluations,
+        resolution,
+    }
+}
+
+impl Designed {
+    /// One scene file per object (a file name and its TOML text) that `fpc
+    /// solve` runs to reproduce the design's grasp of it at its hardest
+    /// sample (the width or radius with the smallest lift margin).
+    pub fn scenes(&self, req: &Requirements) -> Vec<(String, String)> {
+        let x = self.best.design;
+        let head = format!(
+            "# generated by fpc design: eps0 = {}, mounting angle = {} deg, overlap = {} mm\n\n[actuator.pemc]\neps0 = {}\n\n[partition]\nelements = {}\n\n[gripper]\nmounting_angle_deg = {}\noverlap_mm = {}\nfingers = {}\nmu = {}\n\n[gripper.grasp]\n",
+            x[0], x[1], x[2], x[0], req.elements, x[1], x[2], req.fingers, req.mu
+        );
+        let hardest = |i: usize| {
+            let prefix = format!("object[{i}] ");
+            self.best
+                .margins
+                .iter()
+                .filter(|m| m.requirement.starts_with(&prefix) && m.requirement.ends_with("lift"))
+                .min_by(|a, b| a.margin.total_cmp(&b.margin))
+        };
+        let mut out = Vec::new();
+        for (i, o) in req.objects.iter().enumerate() {
+            let m = hardest(i);
+            match o {
+                ObjectRequirement::Cuboid { size_mm, .. } => {
+                    let d = m.and_then(|m| m.at_mm).unwrap_or(size_mm[1]);
+                    out.push((
+                        format!("object{i}_cuboid.toml"),
+                        format!("{head}kind = \"size\"\nd_mm = {d}\nbeta_deg = 0.0\npressure_kpa = 0.0\n"),
+                    ));
+                }
+                ObjectRequirement::Sphere {
+                    radius_mm, lift_n, ..
+                } => {
+                    let r = m.and_then(|m| m.at_mm).unwrap_or(radius_mm[1]);
+                    let beta = m.and_then(|m| m.beta_deg).unwrap_or(20.0);
+                    // the claimed grasp lifts its best f_v (friction at its
+                    // limit); the required lift if none was found
+                    let lift_n = m.and_then(|m| m.value).unwrap_or(*lift_n);
+                    out.push((
+                        format!("object{i}_sphere.toml"),
+                        format!("{head}kind = \"sphere\"\nr_mm = {r}\nlift_n = {lift_n}\nbeta_deg = {beta}\npressure_kpa = 0.0\n"),
+                    ));
+                }
+            }
+        }
+        out
+    }
+}

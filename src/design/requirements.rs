@@ -1,0 +1,354 @@
+//! The requirements file of `fpc design`: what the gripper must hold and
+//! which design variables may vary, as TOML. Every key is documented here
+//! and unknown keys are rejected with their line and column, as in scene
+//! files.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{finite, positive, require, InputError};
+use crate::scene::SceneError;
+
+/// A requirements document as written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Requirements {
+    /// Fingers of the gripper (default 3).
+    #[serde(default = "default_fingers")]
+    pub fingers: usize,
+    /// Friction coefficient between finger and object (default 0.6).
+    #[serde(default = "default_mu")]
+    pub mu: f64,
+    /// Elements per finger (default 8, the paper's).
+    #[serde(default = "default_elements")]
+    pub elements: usize,
+    /// Every object must be held.
+    #[serde(default, rename = "object", with = "object_list")]
+    pub objects: Vec<ObjectRequirement>,
+    /// Optional: the gripper opens to at least `size_mm` at a pressure of
+    /// at most `pressure_kpa`.
+    #[serde(default)]
+    pub open: Option<OpenRequirement>,
+    /// The design variables and their bounds; everything else stays at the
+    /// paper's defaults.
+    pub vary: Vary,
+}
+
+fn default_fingers() -> usize {
+    3
+}
+fn default_mu() -> f64 {
+    0.6
+}
+fn default_elements() -> usize {
+    8
+}
+
+/// One object the gripper must hold, at zero pressure.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ObjectRequirement {
+    /// A cuboid (or any object held between flat faces) of every width in
+    /// `size_mm`, touched at grasping angle 0.
+    Cuboid {
+        /// The widths to hold, `[smallest, largest]` (mm).
+        size_mm: [f64; 2],
+        /// The weight each finger must carry by friction (N).
+        lift_n: f64,
+        /// Optional: a fragile object; the normal force at most this (N).
+        max_normal_n: Option<f64>,
+    },
+    /// A sphere of every radius in `radius_mm`, at its best grasping angle.
+    Sphere {
+        /// The radii to hold, `[smallest, largest]` (mm).
+        radius_mm: [f64; 2],
+        /// The lifting force each finger must provide (N).
+        lift_n: f64,
+        /// Optional: the normal force at most this (N).
+        max_normal_n: Option<f64>,
+    },
+}
+
+/// An `[[object]]` table as written (a flat table, so that an unknown key
+/// is located by line and column): `kind` says which keys apply.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ObjectTable {
+    kind: ObjectKind,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    size_mm: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    radius_mm: Option<[f64; 2]>,
+    lift_n: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    max_normal_n: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum ObjectKind {
+    Cuboid,
+    Sphere,
+}
+
+/// `[[object]]` tables to and from [`ObjectRequirement`]s: the keys that do
+/// not apply to the kind are errors.
+mod object_list {
+    use super::{ObjectKind, ObjectRequirement, ObjectTable};
+    use serde::{de::Error as _, Deserialize, Deserializer, Serialize, Serializer};
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Vec<ObjectRequirement>, D::Error> {
+        let tables = Vec::<ObjectTable>::deserialize(d)?;
+        tables
+            .into_iter()
+            .map(|t| match t.kind {
+                ObjectKind::Cuboid => {
+                    if t.radius_mm.is_some() {
+                        return Err(D::Error::custom("a cuboid has `size_mm`, not `radius_mm`"));
+                    }
+                    Ok(ObjectRequirement::Cuboid {
+                        size_mm: t.size_mm.ok_or_else(|| {
+                            D::Error::custom("a cuboid needs `size_mm = [smallest, largest]`")
+                        })?,
+                        lift_n: t.lift_n,
+                        max_normal_n: t.max_normal_n,
+                    })
+                }
+                ObjectKind::Sphere => {
+                    if t.size_mm.is_some() {
+                        return Err(D::Error::custom("a sphere has `radius_mm`, not `size_mm`"));
+                    }
+                    Ok(ObjectRequirement::Sphere {
+                        radius_mm: t.radius_mm.ok_or_else(|| {
+                            D::Error::custom("a sphere needs `radius_mm = [smallest, largest]`")
+                        })?,
+                        lift_n: t.lift_n,
+                        max_normal_n: t.max_normal_n,
+                    })
+                }
+            })
+            .collect()
+    }
+
+    pub fn serialize<S: Serializer>(v: &[ObjectRequirement], s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+}
+
+/// The gripper must open to at least `size_mm` at `pressure_kpa` or less.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OpenRequirement {
+    /// The opening to reach (mm, as a grasp size).
+    pub size_mm: f64,
+    /// The largest pressure allowed (kPa).
+    pub pressure_kpa: f64,
+}
+
+/// The design variables: each one given is varied within its bounds, the
+/// others are fixed at the value in `fixed` or the paper's default.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields)]
+pub struct Vary {
+    /// Prestrain of the prestressed layer, `[low, high]`.
+    #[serde(default)]
+    pub eps0: Option<[f64; 2]>,
+    /// Mounting angle (degrees), `[low, high]`.
+    #[serde(default)]
+    pub mounting_angle_deg: Option<[f64; 2]>,
+    /// Overlap (mm), `[low, high]`.
+    #[serde(default)]
+    pub overlap_mm: Option<[f64; 2]>,
+}
+
+/// The paper's Sec. 5 design: eps0 0.25, 60 degrees, 20 mm overlap.
+pub const DEFAULT_DESIGN: [f64; 3] = [0.25, 60.0, 20.0];
+
+/// The names of the design variables, in their order in a design vector.
+pub const VARIABLES: [&str; 3] = ["eps0", "mounting_angle_deg", "overlap_mm"];
+
+impl Requirements {
+    /// Parses and validates a requirements document: TOML syntax, known
+    /// keys and types (with line and column), then the values (naming the
+    /// field).
+    pub fn parse(text: &str) -> Result<Requirements, RequirementsError> {
+        let r: Requirements = toml::from_str(text)
+            .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
+        r.validate().map_err(RequirementsError::Input)?;
+        Ok(r)
+    }
+
+    /// Checks every value.
+    pub fn validate(&self) -> Result<(), InputError> {
+        require(
+            (2..=12).contains(&self.fingers),
+            "fingers",
+            self.fingers as f64,
+            "must lie in [2, 12]".into(),
+        )?;
+        positive("mu", self.mu)?;
+        require(
+            (1..=256).contains(&self.elements),
+            "elements",
+            self.elements as f64,
+            "must lie in [1, 256]".into(),
+        )?;
+        require(
+            !self.objects.is_empty() || self.open.is_some(),
+            "object",
+            0.0,
+            "at least one [[object]] (or an [open] requirement) is needed".into(),
+        )?;
+        for (i, o) in self.objects.iter().enumerate() {
+            let field = |k: &str| format!("object[{i}].{k}");
+            let (range, range_key, lift, max_normal) = match o {
+                ObjectRequirement::Cuboid {
+                    size_mm,
+                    lift_n,
+                    max_normal_n,
+                } => (size_mm, "size_mm", lift_n, max_normal_n),
+                ObjectRequirement::Sphere {
+                    radius_mm,
+                    lift_n,
+                    max_normal_n,
+                } => (radius_mm, "radius_mm", lift_n, max_normal_n),
+            };
+            positive(&field(&format!("{range_key}[0]")), range[0])?;
+            positive(&field(&format!("{range_key}[1]")), range[1])?;
+            require(
+                range[0] <= range[1],
+                &field(range_key),
+                range[1],
+                "must be [smallest, largest]".into(),
+            )?;
+            positive(&field("lift_n"), *lift)?;
+            if let Some(m) = max_normal {
+                positive(&field("max_normal_n"), *m)?;
+            }
+        }
+        if let Some(o) = &self.open {
+            positive("open.size_mm", o.size_mm)?;
+            finite("open.pressure_kpa", o.pressure_kpa)?;
+            require(
+                (0.0..=1000.0).contains(&o.pressure_kpa),
+                "open.pressure_kpa",
+                o.pressure_kpa,
+                "must lie in [0, 1000] kPa".into(),
+            )?;
+        }
+        let bound = |key: &str, b: Option<[f64; 2]>, lo: f64, hi: f64| -> Result<(), InputError> {
+            if let Some([a, z]) = b {
+                finite(&format!("vary.{key}[0]"), a)?;
+                finite(&format!("vary.{key}[1]"), z)?;
+                require(
+                    a <= z,
+                    &format!("vary.{key}"),
+                    z,
+                    "must be [low, high]".into(),
+                )?;
+                require(
+                    a >= lo && z <= hi,
+                    &format!("vary.{key}"),
+                    if a < lo { a } else { z },
+                    format!("must lie within [{lo}, {hi}]"),
+                )?;
+            }
+            Ok(())
+        };
+        bound("eps0", self.vary.eps0, 0.0, 0.6)?;
+        bound(
+            "mounting_angle_deg",
+            self.vary.mounting_angle_deg,
+            1.0,
+            179.0,
+        )?;
+        bound("overlap_mm", self.vary.overlap_mm, -200.0, 200.0)?;
+        require(
+            self.vary.eps0.is_some()
+                || self.vary.mounting_angle_deg.is_some()
+                || self.vary.overlap_mm.is_some(),
+            "vary",
+            0.0,
+            "must give at least one design variable".into(),
+        )?;
+        Ok(())
+    }
+
+    /// The bounds of each design variable, `[low, high]` (equal ends for a
+    /// fixed one).
+    pub fn bounds(&self) -> [[f64; 2]; 3] {
+        let or = |b: Option<[f64; 2]>, d: f64| b.unwrap_or([d, d]);
+        [
+            or(self.vary.eps0, DEFAULT_DESIGN[0]),
+            or(self.vary.mounting_angle_deg, DEFAULT_DESIGN[1]),
+            or(self.vary.overlap_mm, DEFAULT_DESIGN[2]),
+        ]
+    }
+}
+
+/// A requirements file that cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RequirementsError {
+    /// Not TOML, an unknown key or a value of the wrong type, at a line and
+    /// column.
+    #[error("{0}")]
+    Syntax(SceneError),
+    /// A value out of range, naming its field.
+    #[error("{0}")]
+    Input(InputError),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAPER: &str = r#"
+fingers = 3
+mu = 0.6
+[[object]]
+kind = "cuboid"
+size_mm = [60.0, 120.0]
+lift_n = 0.3
+[vary]
+eps0 = [0.1, 0.5]
+mounting_angle_deg = [60.0, 90.0]
+"#;
+
+    #[test]
+    fn a_requirements_file_parses_with_defaults() {
+        let r = Requirements::parse(PAPER).unwrap();
+        assert_eq!((r.fingers, r.elements), (3, 8));
+        assert_eq!(r.objects.len(), 1);
+        assert_eq!(r.bounds()[2], [20.0, 20.0]);
+        assert_eq!(r.bounds()[1], [60.0, 90.0]);
+    }
+
+    #[test]
+    fn unknown_keys_and_bad_values_are_located_or_named() {
+        let e = Requirements::parse(&PAPER.replace("lift_n", "lift")).unwrap_err();
+        let RequirementsError::Syntax(s) = e else {
+            panic!("{e:?}")
+        };
+        assert!(s.message.contains("lift"), "{s}");
+        assert_eq!(s.line, 7, "{s}");
+        let e = Requirements::parse(&PAPER.replace("kind = \"cuboid\"", "kind = \"cube\""))
+            .unwrap_err();
+        assert!(matches!(e, RequirementsError::Syntax(_)), "{e:?}");
+        for (from, to, field) in [
+            ("lift_n = 0.3", "lift_n = -1", "object[0].lift_n"),
+            ("[60.0, 120.0]", "[120.0, 60.0]", "object[0].size_mm"),
+            ("eps0 = [0.1, 0.5]", "eps0 = [0.1, 0.9]", "vary.eps0"),
+            ("mu = 0.6", "mu = 0", "mu"),
+            ("fingers = 3", "fingers = 1", "fingers"),
+        ] {
+            let e = Requirements::parse(&PAPER.replace(from, to)).unwrap_err();
+            let RequirementsError::Input(i) = e else {
+                panic!("{to}: {e:?}")
+            };
+            assert_eq!(i.field(), field, "{to}: {i}");
+        }
+        let e = Requirements::parse("[vary]\neps0 = [0.1, 0.2]\n").unwrap_err();
+        assert!(e.to_string().contains("object"), "{e}");
+    }
+}

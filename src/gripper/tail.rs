@@ -1,0 +1,232 @@
+//! Where a grasp-size sweep ends when the next size cannot be reached by a
+//! target solve: the load path from the last grasp is followed by
+//! pseudo-arclength continuation in the normal force (the contact
+//! direction and the friction ratio fixed), and its natural end is
+//! reported: the size reached after all (the sweep goes on), a fold (the
+//! finger snaps through), the model's validity limit, or a normal force
+//! beyond [`MAX_GRASP_FORCE_N`]. Only a path that cannot be continued at
+//! all is a numerical stop.
+
+use serde::Serialize;
+
+use crate::error::SolveError;
+use crate::finger::{Coefficients, LoadPathSpec, SolveOptions, Solver};
+use fpc_newton::PathTermination;
+
+use super::frames::contact_force_to_gripper;
+use super::{follow, Grasp, Gripper, Scene, TargetProblem, GRIPPER_SAMPLES_PER_ELEMENT};
+
+/// The normal force (N) beyond which a sweep ends: forces far above what a
+/// soft gripper exerts; the grasping size then approaches its limit for
+/// the contact direction.
+pub const MAX_GRASP_FORCE_N: f64 = 100.0;
+
+/// The natural end of a grasp-size sweep.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum SweepEnd {
+    /// The normal force needed grows without bound: beyond
+    /// [`MAX_GRASP_FORCE_N`] the size reached is `size_mm`.
+    ForceBound { force_n: f64, size_mm: f64 },
+    /// The finger leaves the model's validity before the next size: the
+    /// first finding, at this force and size.
+    Validity {
+        force_n: f64,
+        size_mm: f64,
+        finding: String,
+    },
+    /// A limit point of the load path: the finger snaps through at this
+    /// normal force; `tip_mm` is the tip there (finger frame).
+    Fold {
+        force_n: f64,
+        size_mm: f64,
+        tip_mm: [f64; 2],
+    },
+    /// The path could not be continued (a numerical end).
+    Numerical {
+        force_n: f64,
+        size_mm: f64,
+        reason: String,
+    },
+}
+
+impl SweepEnd {
+    /// True for a numerical end (not a property of the gripper).
+    pub fn is_numerical(&self) -> bool {
+        matches!(self, SweepEnd::Numerical { .. })
+    }
+}
+
+impl std::fmt::Display for SweepEnd {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SweepEnd::ForceBound { force_n, size_mm } => write!(
+                f,
+                "the normal force grows without bound: beyond F = {force_n:.4} N (limit {MAX_GRASP_FORCE_N} N) the grasp size is {size_mm:.4} mm"
+            ),
+            SweepEnd::Validity {
+                force_n,
+                size_mm,
+                finding,
+            } => write!(
+                f,
+                "the finger leaves the model at F = {force_n:.4} N, grasp size {size_mm:.4} mm: {finding}"
+            ),
+            SweepEnd::Fold {
+                force_n, size_mm, ..
+            } => write!(
+                f,
+                "the finger snaps through at F = {force_n:.4} N (grasp size {size_mm:.4} mm)"
+            ),
+            SweepEnd::Numerical {
+                force_n,
+                size_mm,
+                reason,
+            } => write!(
+                f,
+                "the load path could not be continued past F = {force_n:.4} N, grasp size {size_mm:.4} mm ({reason})"
+            ),
+        }
+    }
+}
+
+/// The outcome of [`Gripper::size_tail`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum SizeTail {
+    /// The size was reached along the path: its grasp.
+    Reached(Box<Grasp>),
+    /// The sweep ends here.
+    End(SweepEnd),
+}
+
+impl Gripper {
+    /// The start of a grasp-size sweep at grasping angle `beta`: the finger
+    /// at `pressure_kpa` without contact force (`lambda = 0`), as a grasp of
+    /// its own size, from which [`Gripper::size_tail`] can follow the load.
+    pub fn size_sweep_start(&self, pressure_kpa: f64, beta: f64) -> Result<Grasp, SolveError> {
+        let opts = SolveOptions {
+            samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+            stability: self.stability,
+            ..SolveOptions::default()
+        };
+        let load = crate::finger::Load::unloaded().with_pressure_kpa(pressure_kpa);
+        let sol = self.finger.solve(&load, &opts)?;
+        let size = self.size_of(sol.tip);
+        let scene = Scene {
+            pressure_kpa,
+            beta,
+            base: [0.0, 0.0],
+            direction: contact_force_to_gripper(1.0, self.params.mu, beta),
+            tip_xg: self.tip_xg_for_size(size),
+            target: ("grasp.size", size),
+        };
+        let problem = self.problem(&scene);
+        Ok(self.grasp_from(sol, &scene, problem, 0.0))
+    }
+
+    /// From `last` (a grasp of a size sweep: [`Gripper::grasp_load_for_size`],
+    /// zero fixed force, `f = mu F`), follows the load path in the normal
+    /// force towards the grasping size `d_next`, which a target solve did
+    /// not reach, and returns its grasp or the sweep's natural end (module
+    /// docs).
+    pub fn size_tail(&self, last: &Grasp, d_next: f64) -> Result<SizeTail, SolveError> {
+        self.check_size(d_next)?;
+        let opts = SolveOptions {
+            samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+            ..SolveOptions::default().tip_only()
+        };
+        let mut solver = Solver::new(&self.finger);
+        let spec = LoadPathSpec {
+            problem: last.problem,
+            lambda0: last.lambda,
+            // a larger size needs a larger normal force
+            increasing: true,
+            lambda_end: None,
+            lambda_scale: last.lambda.abs().max(0.1),
+        };
+        let per = self.finger.unknowns_per_element();
+        let mut end: Option<SweepEnd> = None;
+        let mut reached: Option<(Vec<f64>, f64)> = None;
+        let mut at = (last.lambda, last.size);
+        let path = solver.follow_load(&spec, &last.solution.coefficients, &opts, &mut |p| {
+            let size = self.size_of(p.tip);
+            at = (p.lambda, size);
+            if size >= d_next {
+                reached = Some((p.coefficients.to_vec(), p.lambda));
+                return false;
+            }
+            if p.lambda > MAX_GRASP_FORCE_N {
+                end = Some(SweepEnd::ForceBound {
+                    force_n: p.lambda,
+                    size_mm: size,
+                });
+                return false;
+            }
+            let finding = Coefficients::new(per, p.coefficients.to_vec())
+                .ok()
+                .and_then(|k| self.finger.validity(&k, 4).ok())
+                .and_then(|w| w.into_iter().find(|w| w.is_validity()));
+            if let Some(w) = finding {
+                end = Some(SweepEnd::Validity {
+                    force_n: p.lambda,
+                    size_mm: size,
+                    finding: w.to_string(),
+                });
+                return false;
+            }
+            true
+        })?;
+        if let Some(fold) = path.folds.iter().find(|f| f.is_fold) {
+            // the first limit point ends the sweep: past it the finger snaps
+            return Ok(SizeTail::End(SweepEnd::Fold {
+                force_n: fold.lambda,
+                size_mm: self.size_of(fold.tip),
+                tip_mm: fold.tip,
+            }));
+        }
+        if let Some((k, lambda)) = reached {
+            let k = Coefficients::new(per, k)?;
+            let tip = self.finger.tip(&k)?.0;
+            let p0 = TargetProblem {
+                target: last.problem.weights[0] * tip[0] + last.problem.weights[1] * tip[1],
+                ..last.problem
+            };
+            let scene = Scene {
+                pressure_kpa: last.pressure_kpa,
+                beta: last.beta,
+                base: [0.0, 0.0],
+                direction: contact_force_to_gripper(1.0, self.params.mu, last.beta),
+                tip_xg: self.tip_xg_for_size(d_next),
+                target: ("grasp.size", d_next),
+            };
+            let p1 = self.problem(&scene);
+            let full = SolveOptions {
+                samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+                stability: self.stability,
+                ..SolveOptions::default()
+            };
+            return match follow(&mut solver, &k, lambda, &p0, &p1, &full) {
+                Ok((sol, lambda)) => Ok(SizeTail::Reached(Box::new(
+                    self.grasp_from(sol, &scene, p1, lambda),
+                ))),
+                Err(e) => Ok(SizeTail::End(SweepEnd::Numerical {
+                    force_n: lambda,
+                    size_mm: at.1,
+                    reason: e.error.to_string(),
+                })),
+            };
+        }
+        Ok(SizeTail::End(match (end, path.termination) {
+            (Some(e), _) => e,
+            (None, t) => SweepEnd::Numerical {
+                force_n: at.0,
+                size_mm: at.1,
+                reason: termination_text(t),
+            },
+        }))
+    }
+}
+
+fn termination_text(t: PathTermination) -> String {
+    format!("{t:?}")
+}
