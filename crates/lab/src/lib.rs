@@ -1,14 +1,21 @@
 //! Experiments on the `fpc` library, kept out of its user API: the seeded
-//! numerical stress test ([`stress`]) and the study of run time against
-//! error ([`accuracy`]). Both use only `fpc`'s public API, as a user's own
-//! experiment would; the `fpc` binary runs them (`fpc stress`, `fpc
-//! accuracy`).
+//! numerical stress test ([`stress`]) and the accuracy-time front of every
+//! element model, partition kind and extrapolation ([`accuracy`]). Both use
+//! only `fpc`'s public API, as a user's own experiment would; the `fpc`
+//! binary runs them (`fpc stress`, `fpc accuracy`).
 
 pub mod accuracy;
 pub mod stress;
 
-pub use accuracy::{accuracy_study, AccuracyRow, AccuracyStudy, Reference};
+pub use accuracy::{
+    accuracy_study, standard_load, AccuracyRow, AccuracyStudy, Convergence, Fastest, FrontPoint,
+    LibraryChoice, ModelGap, ModelReference, Plan, StudyConfig, TimingReference, CONFIGURATIONS,
+    QUICK_CONFIGURATIONS, TIME_RESOLUTION, TOLERANCES_MM,
+};
 pub use stress::{
-    reason_name, stress, stress_inputs, stress_with, StressCase, StressConfig, StressInputs,
-    StressOutcome, StressReport, MAX_DRAWS, RESIDUAL_LIMIT, ROTATION_LIMIT, STRESS_ELEMENT_COUNTS,
+    dense_negative_eigenvalues, finding_name, force_scale, inside_envelope, reason_name, stress,
+    stress_case, stress_inputs, stress_with, PartitionKey, StressCase, StressConfig, StressInputs,
+    StressOutcome, StressReport, Tally, AUTO_FRACTION, CONDITIONING_MAX_ELEMENTS,
+    DENSE_CHECK_MAX_ELEMENTS, FINE_VALIDITY_SAMPLES, MAX_DRAWS, RESIDUAL_LIMIT,
+    STABILITY_TOLERANCE, STRESS_ELEMENT_COUNTS,
 };

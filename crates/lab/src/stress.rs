@@ -1,24 +1,30 @@
-//! Numerical stress test: seeded random scenes with extreme but legal
-//! inputs, each solved with the default options (tip-only output) and
-//! checked independently of the solver.
+//! Numerical stress test: seeded random scenes over a domain wider than
+//! the model's validity, each solved with the library's defaults
+//! (stability from the structured factorisation on, no shape sampling),
+//! checked independently of the solver, and classified inside or outside
+//! the validity envelope ([`inside_envelope`]).
 //!
 //! A case draws, from a fastrand stream fixed by the seed and the case
 //! index:
 //!
+//! - the element model, uniform over [`fpc::ModelId::ALL`];
 //! - the prestrain `eps0` uniform in [0.01, 0.6];
 //! - the pressure: 0 (one case in five) or uniform in [0, 600] kPa, from
 //!   the curled finger past flattening into reversed curvature;
-//! - the tip load: none (three cases in ten), otherwise `Fx` in [-3, 10] N
-//!   (positive pulls the finger straight, negative compresses it towards
-//!   buckling) and `Fz` in [-5, 5] N (folds it), each zero one time in
-//!   seven;
-//! - N from {1, 2, 3, 4, 8, 16, 32, 64, 128}, with weights that fall for
-//!   the large counts (their coupled solves cost `O(N^3)` per iteration),
-//!   capped by [`StressConfig::max_elements`];
-//! - equal elements (three in ten, and always for N = 1), otherwise
-//!   lengths `r^u_i` with `u_i` uniform in [0, 1] (one element at each
-//!   end of the range) and `r` log-uniform in [1, 100], normalised to
-//!   `lx` ([`Partition::custom`]);
+//! - the tip load: none (three cases in ten), otherwise a magnitude
+//!   `f F_ref` with `f` log-uniform in [1e-3, 30] and the force scale
+//!   `F_ref = D / lx^2` of the drawn stack ([`force_scale`]); its direction
+//!   is along +-X one time in seven, along +-Z one time in seven, and
+//!   uniform otherwise (positive `Fx` pulls the finger straight, negative
+//!   compresses it towards buckling, `Fz` folds it);
+//! - the partition: automatic ([`fpc::solve_auto`]: boundaries on material
+//!   changes, elements split until each is within the slope limit) in
+//!   [`AUTO_FRACTION`] of the cases; otherwise N from
+//!   [`STRESS_ELEMENT_COUNTS`] with weights that fall for the large counts,
+//!   capped by [`StressConfig::max_elements`], and equal elements (three
+//!   in ten, and always for N = 1) or lengths `r^u_i` with `u_i` uniform
+//!   in [0, 1] (one element at each end of the range) and `r`
+//!   log-uniform in [1, 100], normalised to `lx` ([`Partition::custom`]);
 //! - the layer stack scaled by `s` log-uniform in [0.3, 3]; in about one
 //!   case in three each lamina's thickness is further multiplied by its
 //!   own factor, log-uniform in [0.5, 2], and the channel's heights
@@ -28,66 +34,149 @@
 //!
 //! A draw that [`Actuator::new`] or [`Partition::custom`] rejects (the
 //! mid-plane outside the fluidic layer, an element shorter than
-//! [`MIN_ELEMENT_FRACTION`](crate::MIN_ELEMENT_FRACTION) `lx`) is an
+//! [`MIN_ELEMENT_FRACTION`](fpc::MIN_ELEMENT_FRACTION) `lx`) is an
 //! expected outcome, not a failure: it is counted and the whole case is
 //! drawn again, up to [`MAX_DRAWS`] times; a case whose every draw was
 //! rejected is reported as rejected input.
 //!
 //! Checks on a returned solution, all independent of the solver's own
 //! report: the raw gradient is recomputed with [`Finger::gradient`],
-//! scaled by `(1, 1/L^2, 1, 1/L)` per element, and its infinity norm over
-//! [`Finger::stiffness_scale`] must be at most [`RESIDUAL_LIMIT`]; the
+//! scaled per unknown by [`Finger::unknown_scales`], and its infinity norm
+//! over [`Finger::stiffness_scale`] must be at most [`RESIDUAL_LIMIT`]; the
 //! tip, end angle, energy and every coefficient must be finite, and the
 //! tip and energy must agree with [`Finger::tip`] and the energy
-//! [`Finger::gradient`] returns at the returned coefficients. A violation
-//! is a *silently wrong answer*.
+//! [`Finger::gradient`] returns at the returned coefficients; the element
+//! lengths must be the finger's and `stable` must say what
+//! `negative_eigenvalues` says. A violation is a *silently wrong answer*.
+//! Stability, for solutions on at most [`DENSE_CHECK_MAX_ELEMENTS`]
+//! elements: the dense Hessian ([`Finger::hessian`], scaled by the unknown
+//! scales and over the stiffness, a congruence that keeps the inertia) has
+//! its eigenvalues counted by `fpc_newton`'s dense eigensolver below
+//! `-tau` and below `+tau` ([`STABILITY_TOLERANCE`]); the structured
+//! factorisation's count ([`Solution::negative_eigenvalues`]) must lie
+//! between the two, otherwise the case is a *wrong stability* answer (an
+//! unstable equilibrium reported as stable is the case that matters).
 //! A panic anywhere (drawing, validation, solve, check) is caught and
-//! reported: the library must never panic on user input. Both are bugs.
+//! reported: the library must never panic on user input. All three are
+//! bugs.
 //!
-//! Conditioning, per converged case: `lambda_min` is the smallest
-//! eigenvalue of the scaled Hessian (unknowns `(a1, a3 L^2, b1, c2 L)`)
-//! at the solution, and `G = max_i sum_j |H_ij|` its Gershgorin bound,
-//! which is at least the largest eigenvalue. The case records
-//! `lambda_min / stiffness` and `conditioning = lambda_min / G`: for a
-//! stable equilibrium it is a lower bound on `1 / cond(H)` (small means
-//! nearly singular); a negative value marks an unstable equilibrium (a
-//! saddle), which is a legitimate root of the equations but not a state
-//! the finger rests in. The case also records the largest element end
-//! rotation `max |eta_i|`; above [`ROTATION_LIMIT`] the converged state
-//! lies outside the element's kinematics ([`StressReport::beyond_validity`]).
+//! Conditioning, for solutions on at most [`CONDITIONING_MAX_ELEMENTS`]
+//! elements (a dense `O(N^3)` eigenvalue problem): `lambda_min` of the
+//! scaled Hessian and `G = max_i sum_j |H_ij|` its Gershgorin bound; the
+//! case records `lambda_min / stiffness` and `conditioning = lambda_min /
+//! G`, a lower bound on `1 / cond(H)` for a stable equilibrium.
+//!
+//! Validity: every solution carries the library's findings
+//! ([`fpc::Warning::is_validity`]: element slope, mid-plane strain,
+//! prestressed strain, self contact); a converged case with findings is
+//! *warned*. Inside the envelope a case must converge without findings;
+//! outside it may converge with its findings or fail with a typed reason.
 
 use std::collections::BTreeMap;
 use std::fmt;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::time::{Duration, Instant};
 
-use fpc_newton::{min_eigenvalue, Termination};
+use fpc_newton::{min_eigenvalue, negative_eigenvalues, Termination};
 
 use fpc::{
-    Actuator, ActuatorParams, Channel, Finger, Geometry, InputError, Load, Partition, Solution,
-    SolveError, SolveOptions,
+    Actuator, ActuatorParams, Channel, Coefficients, Finger, Geometry, InputError, Load, ModelId,
+    Partition, Solution, SolveError, SolveOptions, Warning,
 };
 
 /// Largest accepted recomputed residual, `||g_scaled||_inf` over the
 /// stiffness scale (the solver's own tolerance is 1e-11).
 pub const RESIDUAL_LIMIT: f64 = 1e-9;
 
-/// Element end rotation (rad) beyond which a converged solution is
-/// counted as outside the model's validity ([`StressReport::beyond_validity`]):
-/// the element's end tangent is perpendicular to its root tangent or turned
-/// back, far from the moderate rotations of its von Karman kinematics.
-pub const ROTATION_LIMIT: f64 = std::f64::consts::FRAC_PI_2;
-
 /// Draws per case before it counts as rejected input.
 pub const MAX_DRAWS: usize = 4;
 
-/// The element counts drawn, and their relative weights.
-pub const STRESS_ELEMENT_COUNTS: [usize; 9] = [1, 2, 3, 4, 8, 16, 32, 64, 128];
-const ELEMENT_WEIGHTS: [f64; 9] = [10.0, 10.0, 10.0, 12.0, 14.0, 14.0, 12.0, 6.0, 3.0];
+/// Share of the cases solved on the automatic partition.
+pub const AUTO_FRACTION: f64 = 0.4;
+
+/// The fixed element counts drawn (the other cases use the automatic
+/// partition), and their relative weights.
+pub const STRESS_ELEMENT_COUNTS: [usize; 10] = [1, 2, 3, 4, 8, 16, 32, 64, 128, 256];
+const ELEMENT_WEIGHTS: [f64; 10] = [10.0, 10.0, 10.0, 12.0, 14.0, 14.0, 12.0, 8.0, 6.0, 4.0];
+
+/// Largest element count whose stability is checked against a dense
+/// eigenvalue count (`O(N^3)`).
+pub const DENSE_CHECK_MAX_ELEMENTS: usize = 64;
+
+/// Largest element count whose conditioning is reported.
+pub const CONDITIONING_MAX_ELEMENTS: usize = 32;
+
+/// Eigenvalues of the scaled Hessian over the stiffness within this of
+/// zero may be counted either way: the structured count must lie between
+/// the dense counts below `-tau` and below `+tau`.
+pub const STABILITY_TOLERANCE: f64 = 1e-9;
+
+/// Validity checks per element when the stress test re-checks a solution
+/// more finely than the solver does ([`StressCase::missed_findings`]).
+pub const FINE_VALIDITY_SAMPLES: usize = 32;
 
 /// Relative thicknesses of the default stack: CL, regular EMC, fluidic
 /// layer, prestressed EMC (mm).
 const STACK: [f64; 4] = [0.4, 1.9, 4.0, 1.9];
+
+/// The validity envelope's bounds ([`inside_envelope`]; docs/stress.md
+/// says how they were found and checks them on other seeds).
+pub mod envelope {
+    /// Largest prestrain: above it the mid-plane strain of the unloaded
+    /// finger nears its 0.20 limit, and the prestressed layer's strain its
+    /// 0.6 limit once pressure stretches it.
+    pub const MAX_EPS0: f64 = 0.5;
+    /// Largest pressure (kPa): above it the fluidic layer's stretch takes
+    /// the strains past their limits and, on thin stacks, the reversed
+    /// curl closes on itself.
+    pub const MAX_PRESSURE_KPA: f64 = 400.0;
+    /// The pressure (kPa) whose uncurling offsets a prestrain of 1 in the
+    /// curl estimate ([`StressInputs::curl`](super::StressInputs::curl)).
+    pub const PRESSURE_PER_PRESTRAIN_KPA: f64 = 1000.0;
+    /// Largest curl estimate `|eps0 - P / 1000 kPa| lx / H`: the paper's
+    /// finger at eps0 = 0.25 has 3.4; from about 7.5 on, the unloaded (or
+    /// the reversed) finger turns through a full circle into self contact.
+    pub const MAX_CURL: f64 = 7.0;
+    /// Largest load strain `|F| lx H / D` over eps0: a tip load whose
+    /// bending strain `M z / D` (at `M = |F| lx`, `z = H`) reaches a
+    /// fraction of the prestrain compresses the prestressed layer below
+    /// zero strain (folding) or stretches the laminate past the strain
+    /// limits (unfolding).
+    pub const MAX_LOAD_STRAIN_OVER_EPS0: f64 = 0.15;
+    /// Longest element of a drawn partition over `lx`: elements of at most
+    /// `lx / 12` stay within the slope limit wherever the curl estimate
+    /// does (the automatic partition needs no bound: it splits).
+    pub const MAX_ELEMENT_FRACTION: f64 = 1.0 / 12.0;
+}
+
+/// True when a case's inputs lie inside the validity envelope, where the
+/// solutions are expected to converge and to satisfy every validity limit
+/// (docs/stress.md gives the evidence):
+///
+/// - the default stack's proportions, uniformly scaled (no per-lamina
+///   jitter: that moves the neutral axis and the prestress moment in ways
+///   the thickness alone does not capture);
+/// - `eps0 <= 0.5` and `P <= 400 kPa` (the strain limits);
+/// - the curl estimate `|eps0 - P / 1000 kPa| lx / H <= 7` (self contact
+///   of the curled, or reversed, finger; it bounds the thickness from
+///   below for a given prestrain and pressure);
+/// - the load strain `|F| lx H / D <= 0.15 eps0`, with `D = F_ref lx^2`
+///   ([`force_scale`]): `relative_load * H / lx` (folding loads compress the
+///   prestressed layer below zero strain);
+/// - the automatic partition, or a drawn one whose longest element is at
+///   most `lx / 12` (the slope limit).
+pub fn inside_envelope(i: &StressInputs) -> bool {
+    use envelope::*;
+    let partition_ok = i.auto_partition
+        || i.lengths.iter().fold(0.0f64, |m, &l| m.max(l))
+            <= MAX_ELEMENT_FRACTION * i.geometry.lx * (1.0 + 1e-12);
+    !i.jittered
+        && i.eps0 <= MAX_EPS0
+        && i.pressure_kpa <= MAX_PRESSURE_KPA
+        && i.curl().abs() <= MAX_CURL
+        && i.load_strain() <= MAX_LOAD_STRAIN_OVER_EPS0 * i.eps0
+        && partition_ok
+}
 
 /// Settings of a stress run.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -98,8 +187,8 @@ pub struct StressConfig {
     pub cases: usize,
     /// Wall-clock budget: no case starts after it is spent.
     pub budget: Duration,
-    /// Largest element count drawn (counts above it are never drawn;
-    /// at least 1).
+    /// Largest fixed element count drawn (counts above it are never drawn;
+    /// at least 1). The automatic partition is drawn whatever it is.
     pub max_elements: usize,
 }
 
@@ -110,7 +199,7 @@ impl StressConfig {
             seed,
             cases,
             budget,
-            max_elements: 128,
+            max_elements: 256,
         }
     }
 }
@@ -118,6 +207,8 @@ impl StressConfig {
 /// The inputs of one case.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StressInputs {
+    /// Element model.
+    pub model: ModelId,
     /// Prestrain.
     pub eps0: f64,
     /// Channel pressure (kPa).
@@ -126,14 +217,23 @@ pub struct StressInputs {
     pub fx: f64,
     /// Tip force along Z (N).
     pub fz: f64,
-    /// Element count N.
+    /// Tip load magnitude over the force scale (0: no tip load).
+    pub relative_load: f64,
+    /// The force scale `F_ref` (N) of the stack ([`force_scale`]; 0 when
+    /// no draw was accepted).
+    pub force_scale: f64,
+    /// Solved on the automatic partition ([`fpc::solve_auto`]).
+    pub auto_partition: bool,
+    /// Element count N drawn (0 for the automatic partition).
     pub elements: usize,
-    /// Element lengths, root to tip (mm).
+    /// Element lengths, root to tip (mm; empty for the automatic partition).
     pub lengths: Vec<f64>,
-    /// Longest over shortest element.
+    /// Longest over shortest element (1 for the automatic partition).
     pub length_ratio: f64,
     /// Scale of the whole layer stack (1: the default thicknesses).
     pub thickness_scale: f64,
+    /// Per-lamina factors and channel heights redrawn.
+    pub jittered: bool,
     /// Extra per-lamina factors (CL, regular EMC, fluidic layer, PEMC).
     pub lamina_factors: [f64; 4],
     /// The geometry handed to [`Actuator::new`].
@@ -152,17 +252,49 @@ impl StressInputs {
             .with_tip_force(self.fx, self.fz)
     }
 
-    /// Validates the inputs into a finger.
-    pub fn finger(&self) -> Result<Finger, InputError> {
+    /// Validates the inputs into an actuator.
+    pub fn actuator(&self) -> Result<Actuator, InputError> {
         let mut params = ActuatorParams {
             geometry: self.geometry,
             channel: self.channel,
             ..ActuatorParams::default()
         };
         params.pemc.eps0 = self.eps0;
-        let act = Actuator::new(params)?;
-        let part = Partition::custom(self.lengths.clone(), self.geometry.lx)?;
-        Ok(Finger::new(&act, &part, self.ribs))
+        Actuator::new(params)
+    }
+
+    /// The drawn partition (`None` for the automatic partition).
+    pub fn partition(&self) -> Result<Option<Partition>, InputError> {
+        if self.auto_partition {
+            Ok(None)
+        } else {
+            Partition::custom(self.lengths.clone(), self.geometry.lx).map(Some)
+        }
+    }
+
+    /// The curl estimate `(eps0 - P / 1000 kPa) lx / H`: the rest curl's
+    /// turning scales as `eps0 lx / H` (the prestress moment over the
+    /// bending stiffness, times the length), and pressure unbends it
+    /// ([`envelope::PRESSURE_PER_PRESTRAIN_KPA`]); negative for a
+    /// reversed curl.
+    pub fn curl(&self) -> f64 {
+        (self.eps0 - self.pressure_kpa / envelope::PRESSURE_PER_PRESTRAIN_KPA) * self.geometry.lx
+            / self.geometry.h
+    }
+
+    /// The tip load's bending strain scale `|F| lx H / D`, with
+    /// `D = F_ref lx^2`: `relative_load * H / lx`.
+    pub fn load_strain(&self) -> f64 {
+        self.relative_load * self.geometry.h / self.geometry.lx
+    }
+
+    /// The partition's label: `auto` or N.
+    pub fn partition_key(&self) -> PartitionKey {
+        if self.auto_partition {
+            PartitionKey::Auto
+        } else {
+            PartitionKey::Count(self.elements)
+        }
     }
 }
 
@@ -171,12 +303,15 @@ impl fmt::Display for StressInputs {
         let [a, b, c, d] = self.lamina_factors;
         write!(
             f,
-            "eps0={:.4} P={:.1}kPa F=({:.3},{:.3})N N={} ratio={:.1} stack={:.3}x[{:.2},{:.2},{:.2},{:.2}] H={:.3}mm ribs={}",
+            "model={} eps0={:.4} P={:.1}kPa F=({:.4e},{:.4e})N ({:.3e} F_ref, F_ref={:.4e}N) N={} ratio={:.1} stack={:.3}x[{:.2},{:.2},{:.2},{:.2}] H={:.3}mm h3a={:.3} h3b={:.3} ribs={}",
+            self.model,
             self.eps0,
             self.pressure_kpa,
             self.fx,
             self.fz,
-            self.elements,
+            self.relative_load,
+            self.force_scale,
+            self.partition_key(),
             self.length_ratio,
             self.thickness_scale,
             a,
@@ -184,15 +319,36 @@ impl fmt::Display for StressInputs {
             c,
             d,
             self.geometry.h,
+            self.channel.h3a,
+            self.channel.h3b,
             if self.ribs { "on" } else { "off" }
         )
+    }
+}
+
+/// A partition class: a fixed element count, or the automatic partition.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum PartitionKey {
+    /// N drawn elements.
+    Count(usize),
+    /// [`fpc::solve_auto`].
+    Auto,
+}
+
+impl fmt::Display for PartitionKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PartitionKey::Count(n) => write!(f, "{n}"),
+            PartitionKey::Auto => f.write_str("auto"),
+        }
     }
 }
 
 /// How one case ended.
 #[derive(Debug, Clone, PartialEq)]
 pub enum StressOutcome {
-    /// Solved, and the solution passed every check.
+    /// Solved, and the solution passed every check (it may carry validity
+    /// findings: [`StressCase::findings`]).
     Converged,
     /// The solver reported that it did not converge (an honest failure).
     Failed {
@@ -213,6 +369,16 @@ pub enum StressOutcome {
         /// What failed.
         what: String,
     },
+    /// The structured count of negative eigenvalues disagrees with the
+    /// dense count (a bug).
+    WrongStability {
+        /// [`Solution::negative_eigenvalues`].
+        reported: usize,
+        /// Dense eigenvalues below `-tau`.
+        below: usize,
+        /// Dense eigenvalues below `+tau`.
+        within: usize,
+    },
     /// A panic was caught (a bug).
     Panicked {
         /// The panic message.
@@ -221,22 +387,26 @@ pub enum StressOutcome {
 }
 
 impl StressOutcome {
-    /// A short label: `converged`, `failed`, `rejected`, `silently_wrong`, `panic`.
+    /// A short label: `converged`, `failed`, `rejected`, `silently_wrong`,
+    /// `wrong_stability`, `panic`.
     pub fn label(&self) -> &'static str {
         match self {
             StressOutcome::Converged => "converged",
             StressOutcome::Failed { .. } => "failed",
             StressOutcome::Rejected { .. } => "rejected",
             StressOutcome::SilentlyWrong { .. } => "silently_wrong",
+            StressOutcome::WrongStability { .. } => "wrong_stability",
             StressOutcome::Panicked { .. } => "panic",
         }
     }
 
-    /// True for panics and silently wrong answers.
+    /// True for panics, silently wrong answers and wrong stability.
     pub fn is_bug(&self) -> bool {
         matches!(
             self,
-            StressOutcome::SilentlyWrong { .. } | StressOutcome::Panicked { .. }
+            StressOutcome::SilentlyWrong { .. }
+                | StressOutcome::WrongStability { .. }
+                | StressOutcome::Panicked { .. }
         )
     }
 }
@@ -258,6 +428,14 @@ impl fmt::Display for StressOutcome {
             }
             StressOutcome::Rejected { error } => write!(f, "rejected input: {error}"),
             StressOutcome::SilentlyWrong { what } => write!(f, "SILENTLY WRONG: {what}"),
+            StressOutcome::WrongStability {
+                reported,
+                below,
+                within,
+            } => write!(
+                f,
+                "WRONG STABILITY: {reported} negative eigenvalue(s) reported, dense count {below} below -tau and {within} below +tau"
+            ),
             StressOutcome::Panicked { message } => write!(f, "PANIC: {message}"),
         }
     }
@@ -268,6 +446,17 @@ pub fn reason_name(r: Termination) -> String {
     format!("{r:?}")
 }
 
+/// A stable name of a validity finding: `element_slope`,
+/// `midplane_strain`, `prestressed_strain`, `self_contact`, or the
+/// warning's own kind.
+pub fn finding_name(w: &Warning) -> &'static str {
+    match w {
+        Warning::MidplaneStrain { .. } => "midplane_strain",
+        Warning::PrestressedStrain { .. } => "prestressed_strain",
+        other => other.kind(),
+    }
+}
+
 /// One case: inputs, outcome and measurements.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StressCase {
@@ -275,6 +464,8 @@ pub struct StressCase {
     pub index: usize,
     /// The inputs of the last draw.
     pub inputs: StressInputs,
+    /// [`inside_envelope`] of the inputs.
+    pub inside_envelope: bool,
     /// Draws rejected by validation before the one kept.
     pub rejected_draws: usize,
     /// The field each rejected draw was rejected for
@@ -282,20 +473,110 @@ pub struct StressCase {
     pub rejected_fields: Vec<String>,
     /// How it ended.
     pub outcome: StressOutcome,
+    /// Elements of the solution (the automatic partition's choice).
+    pub solved_elements: Option<usize>,
+    /// Times the automatic partition split elements after a solve.
+    pub refinements: Option<usize>,
     /// Newton iterations (returned solutions and reported failures).
     pub iterations: Option<usize>,
     /// Continuation steps (returned solutions).
     pub continuation_steps: Option<usize>,
     /// Recomputed `||g_scaled||_inf / stiffness` (returned solutions).
     pub residual: Option<f64>,
-    /// Smallest scaled-Hessian eigenvalue over the stiffness scale.
+    /// [`Solution::negative_eigenvalues`] (returned solutions).
+    pub negative_eigenvalues: Option<usize>,
+    /// Dense eigenvalue counts below `-tau` and below `+tau` (solutions on
+    /// at most [`DENSE_CHECK_MAX_ELEMENTS`] elements).
+    pub dense_negative: Option<(usize, usize)>,
+    /// Smallest scaled-Hessian eigenvalue over the stiffness scale (at most
+    /// [`CONDITIONING_MAX_ELEMENTS`] elements).
     pub min_eig: Option<f64>,
     /// `lambda_min / G` (module docs).
     pub conditioning: Option<f64>,
     /// Largest element end rotation `|eta_i|` (rad) of a returned solution.
     pub max_rotation: Option<f64>,
+    /// The distinct validity findings of a returned solution
+    /// ([`finding_name`]), in order.
+    pub findings: Vec<&'static str>,
+    /// Findings that a re-check at [`FINE_VALIDITY_SAMPLES`] per element
+    /// adds to the solution's (a measurement, not a failure).
+    pub missed_findings: Vec<&'static str>,
     /// Wall-clock time of the case (s).
     pub seconds: f64,
+}
+
+impl StressCase {
+    /// Converged with at least one validity finding.
+    pub fn warned(&self) -> bool {
+        self.outcome == StressOutcome::Converged && !self.findings.is_empty()
+    }
+
+    /// Converged at an equilibrium the structured count calls unstable.
+    pub fn unstable(&self) -> bool {
+        self.outcome == StressOutcome::Converged && self.negative_eigenvalues.is_some_and(|k| k > 0)
+    }
+}
+
+/// Counts over a class of cases with legal inputs.
+#[derive(Debug, Clone, Default, PartialEq, serde::Serialize)]
+pub struct Tally {
+    /// Cases with legal inputs.
+    pub cases: usize,
+    /// Converged (and passed every check), with or without findings.
+    pub converged: usize,
+    /// Converged with validity findings.
+    pub warned: usize,
+    /// Honest failures to converge.
+    pub failed: usize,
+    /// Failures by reason name.
+    pub failed_by_reason: BTreeMap<String, usize>,
+    /// Converged cases per finding (a case counts once per kind).
+    pub findings: BTreeMap<String, usize>,
+    /// Converged at an unstable equilibrium.
+    pub unstable: usize,
+    /// Panics, silently wrong answers and wrong stability.
+    pub bugs: usize,
+}
+
+impl Tally {
+    fn add(&mut self, c: &StressCase) {
+        if matches!(c.outcome, StressOutcome::Rejected { .. }) {
+            return;
+        }
+        self.cases += 1;
+        match &c.outcome {
+            StressOutcome::Converged => {
+                self.converged += 1;
+                if c.warned() {
+                    self.warned += 1;
+                }
+                if c.unstable() {
+                    self.unstable += 1;
+                }
+                for f in &c.findings {
+                    *self.findings.entry((*f).to_string()).or_insert(0) += 1;
+                }
+            }
+            StressOutcome::Failed { reason, .. } => {
+                self.failed += 1;
+                *self
+                    .failed_by_reason
+                    .entry(reason_name(*reason))
+                    .or_insert(0) += 1;
+            }
+            _ => self.bugs += 1,
+        }
+    }
+
+    /// Converged without findings.
+    pub fn clean(&self) -> usize {
+        self.converged - self.warned
+    }
+
+    /// Converged over cases (`None` without cases).
+    pub fn convergence_rate(&self) -> Option<f64> {
+        (self.cases > 0).then(|| self.converged as f64 / self.cases as f64)
+    }
 }
 
 /// The outcome of a stress run.
@@ -327,6 +608,49 @@ impl StressReport {
             .count()
     }
 
+    fn tally<'a>(&self, cases: impl Iterator<Item = &'a StressCase>) -> Tally {
+        let mut t = Tally::default();
+        for c in cases {
+            t.add(c);
+        }
+        t
+    }
+
+    /// Every case with legal inputs.
+    pub fn all(&self) -> Tally {
+        self.tally(self.cases.iter())
+    }
+
+    /// The cases inside the validity envelope ([`inside_envelope`]).
+    pub fn inside(&self) -> Tally {
+        self.tally(self.cases.iter().filter(|c| c.inside_envelope))
+    }
+
+    /// The cases outside the validity envelope.
+    pub fn outside(&self) -> Tally {
+        self.tally(self.cases.iter().filter(|c| !c.inside_envelope))
+    }
+
+    /// Counts per partition class (a fixed N, or `auto`).
+    pub fn by_elements(&self) -> BTreeMap<PartitionKey, Tally> {
+        let mut m: BTreeMap<PartitionKey, Tally> = BTreeMap::new();
+        for c in &self.cases {
+            m.entry(c.inputs.partition_key()).or_default().add(c);
+        }
+        m.retain(|_, t| t.cases > 0);
+        m
+    }
+
+    /// Counts per element model.
+    pub fn by_model(&self) -> BTreeMap<&'static str, Tally> {
+        let mut m: BTreeMap<&'static str, Tally> = BTreeMap::new();
+        for c in &self.cases {
+            m.entry(c.inputs.model.name()).or_default().add(c);
+        }
+        m.retain(|_, t| t.cases > 0);
+        m
+    }
+
     /// Converged cases (solutions that passed every check).
     pub fn converged(&self) -> usize {
         self.count("converged")
@@ -339,13 +663,7 @@ impl StressReport {
 
     /// Honest failures by reason name.
     pub fn failed_by_reason(&self) -> BTreeMap<String, usize> {
-        let mut m = BTreeMap::new();
-        for c in &self.cases {
-            if let StressOutcome::Failed { reason, .. } = c.outcome {
-                *m.entry(reason_name(reason)).or_insert(0) += 1;
-            }
-        }
-        m
+        self.all().failed_by_reason
     }
 
     /// Cases whose every draw was rejected.
@@ -369,22 +687,6 @@ impl StressReport {
         m
     }
 
-    /// Legal cases and converged cases per element count N.
-    pub fn by_elements(&self) -> BTreeMap<usize, (usize, usize)> {
-        let mut m = BTreeMap::new();
-        for c in &self.cases {
-            if matches!(c.outcome, StressOutcome::Rejected { .. }) {
-                continue;
-            }
-            let e = m.entry(c.inputs.elements).or_insert((0, 0));
-            e.0 += 1;
-            if c.outcome == StressOutcome::Converged {
-                e.1 += 1;
-            }
-        }
-        m
-    }
-
     /// Panics caught.
     pub fn panics(&self) -> usize {
         self.count("panic")
@@ -395,7 +697,44 @@ impl StressReport {
         self.count("silently_wrong")
     }
 
-    /// Panics plus silently wrong answers.
+    /// Solutions whose structured eigenvalue count disagrees with the
+    /// dense count.
+    pub fn wrong_stability(&self) -> usize {
+        self.count("wrong_stability")
+    }
+
+    /// Unstable equilibria reported as stable: `stable == Some(true)` with
+    /// a dense eigenvalue below `-tau`.
+    pub fn unstable_reported_stable(&self) -> usize {
+        self.cases
+            .iter()
+            .filter(|c| {
+                matches!(
+                    c.outcome,
+                    StressOutcome::WrongStability { reported: 0, below, .. } if below > 0
+                )
+            })
+            .count()
+    }
+
+    /// Solutions whose stability was checked against the dense count.
+    pub fn stability_checked(&self) -> usize {
+        self.cases
+            .iter()
+            .filter(|c| c.dense_negative.is_some() && c.negative_eigenvalues.is_some())
+            .count()
+    }
+
+    /// Converged cases without a structured count (the Hessian could not
+    /// be factorised).
+    pub fn stability_unknown(&self) -> usize {
+        self.cases
+            .iter()
+            .filter(|c| c.outcome == StressOutcome::Converged && c.negative_eigenvalues.is_none())
+            .count()
+    }
+
+    /// Panics, silently wrong answers and wrong stability.
     pub fn bugs(&self) -> usize {
         self.cases.iter().filter(|c| c.outcome.is_bug()).count()
     }
@@ -411,24 +750,23 @@ impl StressReport {
         (legal > 0).then(|| self.converged() as f64 / legal as f64)
     }
 
-    /// Converged cases whose equilibrium is unstable (`min_eig < 0`).
+    /// Converged cases at an equilibrium the structured count calls
+    /// unstable (a saddle: a legitimate root, not a rest state).
     pub fn unstable(&self) -> usize {
-        self.cases
-            .iter()
-            .filter(|c| c.outcome == StressOutcome::Converged && c.min_eig.is_some_and(|e| e < 0.0))
-            .count()
+        self.cases.iter().filter(|c| c.unstable()).count()
     }
 
-    /// Converged cases with an element rotated by more than
-    /// [`ROTATION_LIMIT`]: solutions of the discrete equations that lie
-    /// outside the model's small-rotation kinematics (too few elements).
+    /// Converged cases with validity findings.
     pub fn beyond_validity(&self) -> usize {
+        self.cases.iter().filter(|c| c.warned()).count()
+    }
+
+    /// Converged cases where the finer re-check found a finding the
+    /// solution does not carry.
+    pub fn missed_findings(&self) -> usize {
         self.cases
             .iter()
-            .filter(|c| {
-                c.outcome == StressOutcome::Converged
-                    && c.max_rotation.is_some_and(|r| r > ROTATION_LIMIT)
-            })
+            .filter(|c| !c.missed_findings.is_empty())
             .count()
     }
 
@@ -453,7 +791,7 @@ impl StressReport {
             })
     }
 
-    /// Failures, panics and silently wrong answers, in order.
+    /// Failures, panics, silently wrong answers and wrong stability, in order.
     pub fn failures(&self) -> impl Iterator<Item = &StressCase> {
         self.cases.iter().filter(|c| {
             !matches!(
@@ -462,11 +800,24 @@ impl StressReport {
             )
         })
     }
+
+    /// Inside-envelope cases that did not converge cleanly: failures, bugs
+    /// and converged cases with findings (each a defect of the solver or
+    /// of the envelope).
+    pub fn inside_defects(&self) -> impl Iterator<Item = &StressCase> {
+        self.cases.iter().filter(|c| {
+            c.inside_envelope
+                && (c.warned()
+                    || !matches!(
+                        c.outcome,
+                        StressOutcome::Converged | StressOutcome::Rejected { .. }
+                    ))
+        })
+    }
 }
 
-/// Runs `cases` stress cases from `seed` (every element count up to 128)
-/// until done or `budget` is spent; `progress(done, total)` is called
-/// after each case.
+/// Runs `cases` stress cases from `seed` (every element count) until done
+/// or `budget` is spent; `progress(done, total)` is called after each case.
 pub fn stress(
     seed: u64,
     cases: usize,
@@ -494,16 +845,54 @@ pub fn stress_with(config: &StressConfig, mut progress: impl FnMut(usize, usize)
     }
 }
 
-/// The inputs of case `index` of a run from `seed` (element counts up to
-/// `max_elements`) and the number of draws validation rejected before
-/// them. When all [`MAX_DRAWS`] draws were rejected, the inputs are the
-/// last draw's. Deterministic: the same arguments give the same inputs.
+/// Runs case `index` of a run from `seed` alone (to reproduce a case).
+pub fn stress_case(seed: u64, index: usize, max_elements: usize) -> StressCase {
+    let config = StressConfig {
+        max_elements,
+        ..StressConfig::new(seed, index + 1, Duration::MAX)
+    };
+    run_case(&config, index)
+}
+
+/// The inputs of case `index` of a run from `seed` (fixed element counts
+/// up to `max_elements`) and the number of draws validation rejected
+/// before them. When all [`MAX_DRAWS`] draws were rejected, the inputs are
+/// the last draw's. Deterministic: the same arguments give the same inputs.
 pub fn stress_inputs(seed: u64, index: usize, max_elements: usize) -> (StressInputs, usize) {
     let (inputs, rejected, _) = draw_case(seed, index, max_elements);
     (inputs, rejected.len())
 }
 
-/// Why a case has no finger to solve.
+/// The force scale `F_ref = D / lx^2` (N) of an actuator: `D` (N mm^2) is
+/// the laminate bending stiffness of the solid strip about its neutral
+/// axis, `ly (sum Q11 z^2 dz - (sum Q11 z dz)^2 / sum Q11 dz)` over the
+/// constraining layer, the regular EMC, the fluidic layer and the
+/// prestressed layer at its law's small-strain modulus `p1` (the channel
+/// and the ribs, both inside the compliant fluidic layer, are ignored).
+/// It depends on the stack and the materials only, not on eps0, the model
+/// or the partition. `F_ref` bends a cantilever of stiffness `D` by about
+/// a radian at small deflections; the Euler load of the clamped-free
+/// strip is `pi^2 / 4 F_ref`. The default stack's is 0.672 N.
+pub fn force_scale(actuator: &Actuator) -> f64 {
+    let g = actuator.geometry();
+    let (pz0, pz1) = actuator.pemc_z();
+    let mut boxes: Vec<(f64, f64, f64)> = actuator
+        .linear_layers()
+        .iter()
+        .map(|l| (l.z0, l.z1, l.q.q11))
+        .collect();
+    boxes.push((pz0, pz1, actuator.pemc().law.p1));
+    let (mut a, mut b, mut d) = (0.0, 0.0, 0.0);
+    for (z0, z1, q) in boxes {
+        a += q * (z1 - z0);
+        b += q * (z1 * z1 - z0 * z0) / 2.0;
+        d += q * (z1.powi(3) - z0.powi(3)) / 3.0;
+    }
+    let stiffness = g.ly * (d - b * b / a);
+    stiffness / (g.lx * g.lx)
+}
+
+/// Why a case has no actuator to solve.
 enum NoFinger {
     Rejected(String),
     Panicked(String),
@@ -514,17 +903,35 @@ fn draw_case(
     seed: u64,
     index: usize,
     max_elements: usize,
-) -> (StressInputs, Vec<String>, Result<Finger, NoFinger>) {
+) -> (StressInputs, Vec<String>, Result<Actuator, NoFinger>) {
     let mut rng = CaseRng::for_case(seed, index);
     let mut rejected = Vec::new();
     loop {
-        let inputs = draw(&mut rng, max_elements);
-        match catch_unwind(AssertUnwindSafe(|| inputs.finger())) {
+        let (mut inputs, angle) = draw(&mut rng, max_elements);
+        let validated = catch_unwind(AssertUnwindSafe(|| {
+            let act = inputs.actuator()?;
+            inputs.partition()?;
+            let scale = force_scale(&act);
+            Ok::<_, InputError>((act, scale))
+        }));
+        match validated {
             Err(p) => {
                 let m = format!("while validating: {}", panic_message(p));
                 return (inputs, rejected, Err(NoFinger::Panicked(m)));
             }
-            Ok(Ok(finger)) => return (inputs, rejected, Ok(finger)),
+            Ok(Ok((act, scale))) => {
+                // an undefined scale (not seen) leaves the scene unloaded
+                let scale = if scale.is_finite() && scale > 0.0 {
+                    scale
+                } else {
+                    0.0
+                };
+                inputs.force_scale = scale;
+                let f = inputs.relative_load * scale;
+                inputs.fx = f * angle.cos();
+                inputs.fz = f * angle.sin();
+                return (inputs, rejected, Ok(act));
+            }
             Ok(Err(e)) => {
                 if rejected.len() + 1 >= MAX_DRAWS {
                     return (inputs, rejected, Err(NoFinger::Rejected(e.to_string())));
@@ -545,25 +952,57 @@ fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
     }
 }
 
+/// The options of every solve: the defaults without shape sampling
+/// (stability on, so `negative_eigenvalues` is counted).
+fn solve_options() -> SolveOptions {
+    SolveOptions {
+        shape: false,
+        stability: true,
+        ..SolveOptions::default()
+    }
+}
+
+/// Solves a case: on the automatic partition, or on the drawn one.
+fn solve(inputs: &StressInputs, act: &Actuator) -> Result<(Finger, Solution, usize), SolveError> {
+    let load = inputs.load();
+    let opts = solve_options();
+    if inputs.auto_partition {
+        let a = fpc::solve_auto(inputs.model, act, inputs.ribs, &load, &opts)?;
+        Ok((a.finger, a.solution, a.refinements))
+    } else {
+        let part = Partition::custom(inputs.lengths.clone(), inputs.geometry.lx)?;
+        let finger = Finger::with_model(inputs.model, act, &part, inputs.ribs);
+        let sol = finger.solve(&load, &opts)?;
+        Ok((finger, sol, 0))
+    }
+}
+
 fn run_case(config: &StressConfig, index: usize) -> StressCase {
     let t0 = Instant::now();
-    let (inputs, rejected_fields, finger) = draw_case(config.seed, index, config.max_elements);
+    let (inputs, rejected_fields, act) = draw_case(config.seed, index, config.max_elements);
     let mut c = StressCase {
         index,
+        inside_envelope: inside_envelope(&inputs),
         inputs,
         rejected_draws: rejected_fields.len(),
         rejected_fields,
         outcome: StressOutcome::Converged,
+        solved_elements: None,
+        refinements: None,
         iterations: None,
         continuation_steps: None,
         residual: None,
+        negative_eigenvalues: None,
+        dense_negative: None,
         min_eig: None,
         conditioning: None,
         max_rotation: None,
+        findings: Vec::new(),
+        missed_findings: Vec::new(),
         seconds: 0.0,
     };
-    let finger = match finger {
-        Ok(f) => f,
+    let act = match act {
+        Ok(a) => a,
         Err(NoFinger::Rejected(error)) => {
             c.outcome = StressOutcome::Rejected { error };
             c.seconds = t0.elapsed().as_secs_f64();
@@ -576,15 +1015,12 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
         }
     };
     let load = c.inputs.load();
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        let r = finger.solve(&load, &SolveOptions::default().tip_only());
-        match r {
-            Ok(sol) => {
-                let m = check(&finger, &load, &sol);
-                (Ok(sol), Some(m))
-            }
-            Err(e) => (Err(e), None),
+    let result = catch_unwind(AssertUnwindSafe(|| match solve(&c.inputs, &act) {
+        Ok((finger, sol, refinements)) => {
+            let m = check(&finger, &load, &sol);
+            Ok((sol, refinements, m))
         }
+        Err(e) => Err(e),
     }));
     match result {
         Err(p) => {
@@ -592,16 +1028,13 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
                 message: panic_message(p),
             };
         }
-        Ok((
-            Err(SolveError::NotConverged {
-                reason,
-                iterations,
-                relative_residual,
-                element,
-                ..
-            }),
-            _,
-        )) => {
+        Ok(Err(SolveError::NotConverged {
+            reason,
+            iterations,
+            relative_residual,
+            element,
+            ..
+        })) => {
             c.iterations = Some(iterations);
             c.outcome = StressOutcome::Failed {
                 reason,
@@ -609,26 +1042,41 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
                 relative_residual,
             };
         }
-        Ok((Err(e @ SolveError::TargetNotReached { .. }), _)) => {
+        Ok(Err(e @ SolveError::TargetNotReached { .. })) => {
+            c.outcome = StressOutcome::SilentlyWrong {
+                what: format!("a plain solve reported a target: {e}"),
+            };
+        }
+        Ok(Err(SolveError::Input(e))) => {
             c.outcome = StressOutcome::Rejected {
                 error: format!("at solve: {e}"),
             };
         }
-        Ok((Err(SolveError::Input(e)), _)) => {
-            c.outcome = StressOutcome::Rejected {
-                error: format!("at solve: {e}"),
-            };
-        }
-        Ok((Ok(sol), m)) => {
-            let m = m.expect("checked with the solution");
+        Ok(Ok((sol, refinements, m))) => {
+            c.solved_elements = Some(sol.coefficients.elements());
+            c.refinements = Some(refinements);
             c.iterations = Some(sol.report.iterations);
             c.continuation_steps = Some(sol.report.continuation_steps);
             c.residual = Some(m.residual);
+            c.negative_eigenvalues = sol.negative_eigenvalues;
+            c.dense_negative = m.dense_negative;
             c.min_eig = m.min_eig;
             c.conditioning = m.conditioning;
             c.max_rotation = Some(m.max_rotation).filter(|r| r.is_finite());
+            c.findings = m.findings;
+            c.missed_findings = m.missed;
             if let Some(what) = m.wrong {
                 c.outcome = StressOutcome::SilentlyWrong { what };
+            } else if let (Some(reported), Some((below, within))) =
+                (sol.negative_eigenvalues, m.dense_negative)
+            {
+                if reported < below || reported > within {
+                    c.outcome = StressOutcome::WrongStability {
+                        reported,
+                        below,
+                        within,
+                    };
+                }
             }
         }
     }
@@ -639,9 +1087,39 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
 struct Checked {
     residual: f64,
     max_rotation: f64,
+    dense_negative: Option<(usize, usize)>,
     min_eig: Option<f64>,
     conditioning: Option<f64>,
+    findings: Vec<&'static str>,
+    missed: Vec<&'static str>,
     wrong: Option<String>,
+}
+
+impl Checked {
+    fn wrong(what: String) -> Checked {
+        Checked {
+            residual: f64::INFINITY,
+            max_rotation: f64::NAN,
+            dense_negative: None,
+            min_eig: None,
+            conditioning: None,
+            findings: Vec::new(),
+            missed: Vec::new(),
+            wrong: Some(what),
+        }
+    }
+}
+
+/// The distinct finding names of a list of warnings, in order.
+fn finding_names(ws: &[Warning]) -> Vec<&'static str> {
+    let mut out: Vec<&'static str> = Vec::new();
+    for w in ws.iter().filter(|w| w.is_validity()) {
+        let n = finding_name(w);
+        if !out.contains(&n) {
+            out.push(n);
+        }
+    }
+    out
 }
 
 /// The independent checks of a returned solution (module docs).
@@ -650,20 +1128,22 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     let k = &sol.coefficients;
     let mut wrong = Vec::new();
     if k.elements() != finger.len() || k.per_element() != finger.unknowns_per_element() {
-        wrong.push(format!(
+        return Checked::wrong(format!(
             "{} coefficient sets of {} for {} elements of {}",
             k.elements(),
             k.per_element(),
             finger.len(),
             finger.unknowns_per_element()
         ));
-        return Checked {
-            residual: f64::INFINITY,
-            max_rotation: f64::NAN,
-            min_eig: None,
-            conditioning: None,
-            wrong: Some(wrong.join("; ")),
-        };
+    }
+    if sol.element_lengths != finger.element_lengths() {
+        wrong.push("element lengths differ from the finger's".to_string());
+    }
+    if sol.stable != sol.negative_eigenvalues.map(|n| n == 0) {
+        wrong.push(format!(
+            "stable {:?} but {:?} negative eigenvalues",
+            sol.stable, sol.negative_eigenvalues
+        ));
     }
     if !k.as_slice().iter().all(|v| v.is_finite()) {
         wrong.push("non-finite coefficient".into());
@@ -678,15 +1158,16 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
         wrong.push(format!("non-finite energy {}", sol.energy));
     }
     let Ok((energy, g)) = finger.gradient(load, k) else {
-        return Checked {
-            residual: f64::INFINITY,
-            max_rotation: f64::NAN,
-            min_eig: None,
-            conditioning: None,
-            wrong: Some("coefficients the finger rejects".into()),
-        };
+        return Checked::wrong("coefficients the finger rejects".into());
     };
     let s = finger.unknown_scales();
+    if s.len() != g.len() {
+        return Checked::wrong(format!(
+            "{} unknown scales for {} unknowns",
+            s.len(),
+            g.len()
+        ));
+    }
     let mut residual: f64 = 0.0;
     for (gi, si) in g.iter().zip(&s) {
         let v = (gi * si).abs();
@@ -720,29 +1201,22 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
             sol.tip, tip
         ));
     }
-    // conditioning of the scaled Hessian
-    let (min_eig, conditioning) = if wrong.is_empty() {
-        let (_, _, mut h) = finger
-            .hessian(load, k)
-            .unwrap_or_else(|_| (f64::NAN, Vec::new(), vec![f64::NAN; s.len() * s.len()]));
-        let n = s.len();
-        for j in 0..n {
-            for i in 0..n {
-                h[i + n * j] *= s[i] * s[j];
-            }
-        }
-        let lmin = min_eigenvalue(n, &h);
-        let gersh = (0..n)
-            .map(|i| (0..n).map(|j| h[i + n * j].abs()).sum::<f64>())
-            .fold(0.0, f64::max);
-        let cond = lmin / gersh;
-        (
-            Some(lmin / stiffness).filter(|v| v.is_finite()),
-            Some(cond).filter(|v| v.is_finite()),
-        )
-    } else {
-        (None, None)
-    };
+    let findings = finding_names(&sol.warnings);
+    let missed = finger
+        .validity(k, FINE_VALIDITY_SAMPLES)
+        .map(|w| {
+            finding_names(&w)
+                .into_iter()
+                .filter(|n| !findings.contains(n))
+                .collect()
+        })
+        .unwrap_or_default();
+    let (dense_negative, min_eig, conditioning) =
+        if wrong.is_empty() && finger.len() <= DENSE_CHECK_MAX_ELEMENTS {
+            dense_stability(finger, load, k, &s, stiffness)
+        } else {
+            (None, None, None)
+        };
     let max_rotation = k
         .iter()
         .enumerate()
@@ -752,10 +1226,81 @@ fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
     Checked {
         residual,
         max_rotation,
+        dense_negative,
         min_eig,
         conditioning,
+        findings,
+        missed,
         wrong: (!wrong.is_empty()).then(|| wrong.join("; ")),
     }
+}
+
+/// The dense count of negative eigenvalues of `finger`'s Hessian at raw
+/// coefficients `k` under `load`: the eigenvalues of the scaled Hessian
+/// over the stiffness below `-tau` and below `+tau`
+/// ([`STABILITY_TOLERANCE`]), from `fpc_newton`'s dense eigensolver
+/// (`O(n^3)`; the stress test calls it for at most
+/// [`DENSE_CHECK_MAX_ELEMENTS`] elements). `None` when the Hessian is not
+/// finite or the eigensolver fails.
+pub fn dense_negative_eigenvalues(
+    finger: &Finger,
+    load: &Load,
+    k: &Coefficients,
+) -> Option<(usize, usize)> {
+    let s = finger.unknown_scales();
+    dense_stability(finger, load, k, &s, finger.stiffness_scale()).0
+}
+
+/// The dense eigenvalue counts below `-tau` and `+tau` of the scaled
+/// Hessian over the stiffness, and (for at most
+/// [`CONDITIONING_MAX_ELEMENTS`] elements) `lambda_min / stiffness` and
+/// `lambda_min / G`.
+#[allow(clippy::type_complexity)]
+fn dense_stability(
+    finger: &Finger,
+    load: &Load,
+    k: &Coefficients,
+    s: &[f64],
+    stiffness: f64,
+) -> (Option<(usize, usize)>, Option<f64>, Option<f64>) {
+    let Ok((_, _, mut h)) = finger.hessian(load, k) else {
+        return (None, None, None);
+    };
+    let n = s.len();
+    if h.len() != n * n {
+        return (None, None, None);
+    }
+    for j in 0..n {
+        for i in 0..n {
+            h[i + n * j] *= s[i] * s[j] / stiffness;
+        }
+    }
+    let lmin = min_eigenvalue(n, &h);
+    if !lmin.is_finite() {
+        return (None, None, None);
+    }
+    let tau = STABILITY_TOLERANCE;
+    let counts = if lmin > tau {
+        Some((0, 0))
+    } else {
+        let shifted = |shift: f64| {
+            let mut m = h.clone();
+            for i in 0..n {
+                m[i + n * i] += shift;
+            }
+            negative_eigenvalues(n, &m)
+        };
+        shifted(tau).zip(shifted(-tau))
+    };
+    let (min_eig, conditioning) = if finger.len() <= CONDITIONING_MAX_ELEMENTS {
+        let gersh = (0..n)
+            .map(|i| (0..n).map(|j| h[i + n * j].abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        (Some(lmin), Some(lmin / gersh).filter(|v| v.is_finite()))
+    } else {
+        (None, None)
+    };
+    (counts, min_eig, conditioning)
 }
 
 /// The random stream of one case: fastrand's generator, seeded from the
@@ -793,30 +1338,38 @@ impl CaseRng {
     }
 }
 
-/// One draw of every input (module docs); validation is the caller's.
-fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
+/// One draw of every input (module docs) and the tip load's direction
+/// (rad from +X); validation and the load in newtons are the caller's.
+fn draw(rng: &mut CaseRng, max_elements: usize) -> (StressInputs, f64) {
+    use std::f64::consts::{FRAC_PI_2, PI};
+    let model = ModelId::ALL[rng.below(ModelId::ALL.len())];
     let eps0 = rng.range(0.01, 0.6);
     let pressure_kpa = if rng.chance(0.2) {
         0.0
     } else {
         rng.range(0.0, 600.0)
     };
-    let (fx, fz) = if rng.chance(0.3) {
+    let (relative_load, angle) = if rng.chance(0.3) {
         (0.0, 0.0)
     } else {
-        let fx = if rng.chance(1.0 / 7.0) {
-            0.0
+        let f = rng.log_range(1e-3, 30.0);
+        let u = rng.unit();
+        let sign = if rng.chance(0.5) { 1.0 } else { -1.0 };
+        let angle = if u < 1.0 / 7.0 {
+            if sign > 0.0 {
+                0.0
+            } else {
+                PI
+            }
+        } else if u < 2.0 / 7.0 {
+            sign * FRAC_PI_2
         } else {
-            rng.range(-3.0, 10.0)
+            rng.range(-PI, PI)
         };
-        let fz = if rng.chance(1.0 / 7.0) {
-            0.0
-        } else {
-            rng.range(-5.0, 5.0)
-        };
-        (fx, fz)
+        (f, angle)
     };
-    // element count: weighted, capped
+    // the partition: automatic, or a weighted, capped element count
+    let auto_partition = rng.chance(AUTO_FRACTION);
     let max_elements = max_elements.max(1);
     let allowed: Vec<(usize, f64)> = STRESS_ELEMENT_COUNTS
         .iter()
@@ -834,7 +1387,6 @@ fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
         }
         pick -= w;
     }
-    // lengths
     let lx = Geometry::default().lx;
     let lengths = if elements == 1 || rng.chance(0.3) {
         vec![lx / elements as f64; elements]
@@ -852,14 +1404,19 @@ fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
         let sum: f64 = raw.iter().sum();
         raw.iter().map(|r| r * lx / sum).collect()
     };
-    let (lmin, lmax) = lengths
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(a, b), &l| (a.min(l), b.max(l)));
+    let (lengths, elements, length_ratio) = if auto_partition {
+        (Vec::new(), 0, 1.0)
+    } else {
+        let (lmin, lmax) = lengths
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), &l| (a.min(l), b.max(l)));
+        (lengths, elements, lmax / lmin)
+    };
     // the layer stack
     let thickness_scale = rng.log_range(0.3, 3.0);
-    let jitter = rng.chance(0.35);
+    let jittered = rng.chance(0.35);
     let mut lamina_factors = [1.0; 4];
-    if jitter {
+    if jittered {
         for f in &mut lamina_factors {
             *f = rng.log_range(0.5, 2.0);
         }
@@ -875,7 +1432,7 @@ fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
     let h3 = t[2] - h2;
     let d = Geometry::default();
     let dc = Channel::default();
-    let (fa, fb) = if jitter {
+    let (fa, fb) = if jittered {
         (rng.range(0.15, 0.95), rng.range(0.15, 0.95))
     } else {
         (dc.h3a / d.h2, dc.h3b / d.h3)
@@ -887,18 +1444,26 @@ fn draw(rng: &mut CaseRng, max_elements: usize) -> StressInputs {
         ..dc
     };
     let ribs = rng.chance(0.5);
-    StressInputs {
-        eps0,
-        pressure_kpa,
-        fx,
-        fz,
-        elements,
-        lengths,
-        length_ratio: lmax / lmin,
-        thickness_scale,
-        lamina_factors,
-        geometry,
-        channel,
-        ribs,
-    }
+    (
+        StressInputs {
+            model,
+            eps0,
+            pressure_kpa,
+            fx: 0.0,
+            fz: 0.0,
+            relative_load,
+            force_scale: 0.0,
+            auto_partition,
+            elements,
+            lengths,
+            length_ratio,
+            thickness_scale,
+            jittered,
+            lamina_factors,
+            geometry,
+            channel,
+            ribs,
+        },
+        angle,
+    )
 }

@@ -1,0 +1,123 @@
+//! The accuracy-time study on a reduced configuration list with a tiny
+//! time budget (a debug build is slow): the references, the orders, the
+//! extrapolation and the front.
+
+use std::time::Duration;
+
+use fpc::{ModelId, PartitionKind};
+use fpc_lab::{accuracy_study, AccuracyStudy, StudyConfig, TIME_RESOLUTION, TOLERANCES_MM};
+
+fn study() -> AccuracyStudy {
+    let config = StudyConfig::quick().with_budget(Duration::ZERO);
+    let mut calls = Vec::new();
+    let s = accuracy_study(&config, |done, total| calls.push((done, total))).unwrap();
+    let total = calls.last().unwrap().1;
+    assert_eq!(calls.len(), total, "one progress call per step");
+    assert!(calls
+        .iter()
+        .enumerate()
+        .all(|(i, &(d, t))| d == i + 1 && t == total));
+    s
+}
+
+#[test]
+fn the_quick_study_reproduces_the_front() {
+    let s = study();
+    assert_eq!(s.references.len(), ModelId::ALL.len());
+    for r in &s.references {
+        let m = r.model.name();
+        assert!(
+            r.uncertainty_mm < 1e-4,
+            "{m}: reference uncertainty {:.3e} mm",
+            r.uncertainty_mm
+        );
+        assert_eq!(r.material.elements.first(), Some(&27), "{m}");
+        assert_eq!(r.material.elements.last(), Some(&864), "{m}");
+        assert!(!r.material.orders.is_empty());
+        for &o in &r.material.orders {
+            assert!((1.7..=2.3).contains(&o), "{m}: material order {o}");
+        }
+        assert_eq!(r.equal.partition, PartitionKind::Equal);
+        assert!(!r.equal.orders.is_empty());
+    }
+    let ccm = s.ccm_reference();
+    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+    assert!(
+        dist(ccm.tip, [83.937465, -47.611843]) < 1e-5,
+        "CCM reference {:?}",
+        ccm.tip
+    );
+    for g in &s.gaps {
+        assert!(
+            (4e-3..6e-3).contains(&g.gap_mm),
+            "{} gap {:.3e} mm",
+            g.model.name(),
+            g.gap_mm
+        );
+    }
+
+    assert_eq!(s.rows.len(), s.config.plans.len() * s.config.models.len());
+    for r in &s.rows {
+        assert!(
+            r.error_vs_ccm_mm.is_finite() && r.error_vs_own_mm.is_finite(),
+            "{}",
+            r.label
+        );
+        assert!(r.time_us > 0.0 && r.time_over_n8.is_finite(), "{}", r.label);
+        assert_eq!(r.iterations.len(), r.plan.levels, "{}", r.label);
+        assert_eq!(
+            r.elements_per_level.last(),
+            Some(&r.elements),
+            "{}",
+            r.label
+        );
+    }
+    for m in ModelId::ALL {
+        let label = format!("{}/material/8x2+richardson", m.name());
+        let r = s.rows.iter().find(|r| r.label == label).expect(&label);
+        assert_eq!(r.elements_per_level, [27, 54]);
+        assert!(
+            r.error_vs_own_mm < 1e-3,
+            "{label}: {:.3e} mm",
+            r.error_vs_own_mm
+        );
+    }
+    let n8 = s.rows.iter().find(|r| r.label == "ccm/equal/8x1").unwrap();
+    assert!(
+        (0.2..0.3).contains(&n8.error_vs_ccm_mm),
+        "{}",
+        n8.error_vs_ccm_mm
+    );
+
+    assert!(!s.front.is_empty());
+    for w in s.front.windows(2) {
+        assert!(w[0].time_us <= w[1].time_us, "front sorted by time");
+        assert!(w[0].error_vs_ccm_mm >= w[1].error_vs_ccm_mm, "and error");
+    }
+    assert!(s.front.iter().all(|f| s.rows[f.row].pareto));
+    assert_eq!(s.front.len(), s.rows.iter().filter(|r| r.pareto).count());
+
+    assert_eq!(s.fastest.len(), TOLERANCES_MM.len());
+    for f in &s.fastest {
+        let best = f.fastest.as_ref().expect("a row within every tolerance");
+        assert!(best.error_vs_ccm_mm <= f.tolerance_mm);
+        assert!(s
+            .rows
+            .iter()
+            .filter(|r| r.error_vs_ccm_mm <= f.tolerance_mm)
+            .all(|r| r.time_us * (1.0 + TIME_RESOLUTION) >= best.time_us));
+        if let Some(e) = &f.fastest_estimated {
+            let r = &s.rows[e.row];
+            assert!(r.estimated_error_mm.unwrap() <= f.tolerance_mm);
+            assert!(e.time_us * (1.0 + TIME_RESOLUTION) >= best.time_us);
+        }
+        let lib = f.library.as_ref().expect("the library's choice solves");
+        assert!(lib.meets, "{} at {} mm", lib.label, f.tolerance_mm);
+    }
+    assert!(s.n8.time_us > 0.0 && s.n8.batches_us.len() > s.rows.len());
+
+    // the whole study serialises, non-finite numbers as null
+    let v = serde_json::to_value(&s).unwrap();
+    assert_eq!(v["references"][0]["model"], "ccm");
+    assert!(v["rows"][0]["tip_mm"].is_array());
+}
