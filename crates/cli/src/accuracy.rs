@@ -1,93 +1,396 @@
-//! `fpc accuracy`: run time against error over N and the Newton tolerance.
+//! `fpc accuracy`: the accuracy-time front of the standard tip-loaded
+//! finger over every element model, partition kind and extrapolation
+//! ([`fpc_lab::accuracy`]). Writes accuracy.csv (one row per
+//! configuration), accuracy.json (the whole study) and accuracy.svg (error
+//! against time, log-log, with the Pareto front), and prints the
+//! references, the observed orders, every configuration and the fastest
+//! configuration per tolerance (or the JSON document with `--json`).
 
-use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
+use std::time::Duration;
 
-use fpc_lab::{accuracy_study, AccuracyStudy};
+use fpc::studies::{Corner, Figure, Panel, PlotAxis, RefLine, Series, SeriesKind};
+use fpc::{ModelId, PartitionKind};
+use fpc_lab::{accuracy_study, AccuracyRow, AccuracyStudy, Convergence, FrontPoint, StudyConfig};
 
-/// Flags of `fpc accuracy`.
+/// Flags of `fpc accuracy`. The budget takes `allow_hyphen_values` (see
+/// `finger::Args`): `-1` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Directory for accuracy.csv (created if missing).
-    #[arg(long, default_value = "accuracy-out")]
+    /// Directory for accuracy.csv, accuracy.json and accuracy.svg (created
+    /// if missing).
+    #[arg(long, value_name = "DIR", default_value = "accuracy-out")]
     out: PathBuf,
+    /// Least wall-clock time spent timing each configuration, in
+    /// milliseconds, shared by its 7 rounds (and at least 7 runs per round;
+    /// a configuration's time is its fastest round's median).
+    #[arg(long, default_value_t = 30, allow_hyphen_values = true)]
+    budget_ms: u64,
+    /// Print the whole study as one JSON document instead of tables.
+    #[arg(long)]
+    json: bool,
+    /// The reduced configuration list, 2 rounds, 3 runs (tests, previews).
+    #[arg(long, hide = true)]
+    quick: bool,
 }
 
-const ELEMENTS: [usize; 8] = [1, 2, 4, 8, 16, 32, 64, 128];
-const RTOLS: [f64; 5] = [1e-4, 1e-6, 1e-8, 1e-10, 1e-12];
+/// One row of accuracy.csv: flat, units in the column names.
+#[derive(serde::Serialize)]
+struct CsvRow<'a> {
+    label: &'a str,
+    model: &'static str,
+    partition: &'static str,
+    start: usize,
+    levels: usize,
+    extrapolate: bool,
+    elements: usize,
+    elements_per_level: String,
+    iterations_per_level: String,
+    tip_x_mm: f64,
+    tip_z_mm: f64,
+    error_vs_ccm_mm: f64,
+    error_vs_own_mm: f64,
+    estimated_error_mm: Option<f64>,
+    time_us: f64,
+    runs: usize,
+    time_over_n8: f64,
+    pareto: bool,
+}
 
-/// The CSV text of a study (columns with units).
-pub fn csv(study: &AccuracyStudy) -> String {
-    let mut s =
-        String::from("elements,rtol,time_us,tip_error_mm,radius_error_mm,grasp_error_mm,pareto\n");
+fn joined(v: &[usize]) -> String {
+    v.iter().map(usize::to_string).collect::<Vec<_>>().join(";")
+}
+
+/// accuracy.csv: one row per configuration.
+pub fn csv(study: &AccuracyStudy) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
     for r in &study.rows {
-        let _ = writeln!(
-            s,
-            "{},{:e},{:.3},{:.6e},{:.6e},{:.6e},{}",
-            r.elements,
-            r.rtol,
-            r.time_us,
-            r.tip_error_mm,
-            r.radius_error_mm,
-            r.grasp_error_mm,
-            r.pareto
-        );
+        w.serialize(CsvRow {
+            label: &r.label,
+            model: r.plan.model.name(),
+            partition: r.plan.partition.name(),
+            start: r.plan.start,
+            levels: r.plan.levels,
+            extrapolate: r.plan.extrapolate,
+            elements: r.elements,
+            elements_per_level: joined(&r.elements_per_level),
+            iterations_per_level: joined(&r.iterations),
+            tip_x_mm: r.tip[0],
+            tip_z_mm: r.tip[1],
+            error_vs_ccm_mm: r.error_vs_ccm_mm,
+            error_vs_own_mm: r.error_vs_own_mm,
+            estimated_error_mm: r.estimated_error_mm,
+            time_us: r.time_us,
+            runs: r.runs,
+            time_over_n8: r.time_over_n8,
+            pareto: r.pareto,
+        })?;
     }
-    s
+    Ok(w.into_inner().map_err(|e| e.into_error())?)
 }
 
-pub fn run(args: &Args) -> anyhow::Result<()> {
-    let study = accuracy_study(&ELEMENTS, &RTOLS, |done, total| {
-        crate::report::progress(&format!("fpc accuracy: {done}/{total} points"));
-    })?;
-    crate::report::end_progress();
-    crate::output::prepare_dir(&args.out)?;
-    crate::output::write_atomic(&args.out, "accuracy.csv", csv(&study).as_bytes())?;
-    let svg = crate::output::accuracy_svg(&study);
-    crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;
-    let r = &study.reference;
-    let mut out = crate::output::stdout();
+/// A family of rows: one model, one partition kind, with or without
+/// extrapolation.
+fn family(r: &AccuracyRow) -> (ModelId, PartitionKind, bool) {
+    (r.plan.model, r.plan.partition, r.plan.extrapolate)
+}
+
+/// The colour key of a family (the model is told by the marker).
+fn family_key(partition: PartitionKind, extrapolate: bool) -> &'static str {
+    match (partition, extrapolate) {
+        (PartitionKind::Equal, _) => "equal",
+        (PartitionKind::Material, false) => "material",
+        (PartitionKind::Material, true) => "material+richardson",
+    }
+}
+
+/// The figure: error against time, both logarithmic, one series per
+/// family (the CCM with filled markers, other models with crosses), the
+/// Pareto front dashed, the tolerances and t8 as grey reference lines.
+pub fn figure(study: &AccuracyStudy) -> Figure {
+    let mut p = Panel::new(
+        format!(
+            "tip-loaded finger, eps0 = {}: error vs the CCM's N → ∞ tip ({} build)",
+            study.eps0, study.build
+        ),
+        PlotAxis::new("time per solve", "us").log(),
+        PlotAxis::new("tip error", "mm").log(),
+    );
+    p.legend = Corner::UpperRight;
+    let mut families: Vec<(ModelId, PartitionKind, bool)> = Vec::new();
+    for r in &study.rows {
+        if !families.contains(&family(r)) {
+            families.push(family(r));
+        }
+    }
+    for f @ (model, partition, extrapolate) in families {
+        let mut rows: Vec<&AccuracyRow> = study.rows.iter().filter(|r| family(r) == f).collect();
+        rows.sort_by_key(|r| r.elements);
+        let points: Vec<[f64; 2]> = rows
+            .iter()
+            .map(|r| [r.time_us, r.error_vs_ccm_mm])
+            .collect();
+        let key = family_key(partition, extrapolate);
+        let label = format!(
+            "{} {}{}",
+            model.name(),
+            partition.name(),
+            if extrapolate { " + Richardson" } else { "" }
+        );
+        if model == ModelId::default() {
+            p.series
+                .push(Series::new(key, SeriesKind::LinePoints, points).label(label));
+        } else {
+            p.series
+                .push(Series::new(key, SeriesKind::Line, points.clone()));
+            p.series
+                .push(Series::new(key, SeriesKind::Cross, points).label(label));
+        }
+    }
+    let front: Vec<[f64; 2]> = study
+        .front
+        .iter()
+        .map(|f| [f.time_us, f.error_vs_ccm_mm])
+        .collect();
+    p.series
+        .push(Series::new("reference", SeriesKind::Dashed, front).label("Pareto front"));
+    let tolerances: Vec<String> = study
+        .fastest
+        .iter()
+        .map(|f| f.tolerance_mm.to_string())
+        .collect();
+    for (i, f) in study.fastest.iter().enumerate() {
+        p.hlines.push(RefLine {
+            at: f.tolerance_mm,
+            label: if i == 0 {
+                format!("tolerances {} mm", tolerances.join(", "))
+            } else {
+                String::new()
+            },
+        });
+    }
+    p.vlines.push(RefLine {
+        at: study.n8.time_us,
+        label: "t8: N = 8 equal, cold".into(),
+    });
+    Figure::row("The accuracy-time front", [1000, 680], vec![p])
+}
+
+/// `x` in scientific notation, `–` when not finite.
+fn sci(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.2e}")
+    } else {
+        "–".into()
+    }
+}
+
+fn orders(c: &Convergence) -> String {
+    let o: Vec<String> = c
+        .orders
+        .iter()
+        .map(|x| {
+            if x.is_finite() {
+                format!("{x:.2}")
+            } else {
+                "–".into()
+            }
+        })
+        .collect();
+    format!(
+        "{} {}->{}: {}",
+        c.partition.name(),
+        c.elements.first().copied().unwrap_or(0),
+        c.elements.last().copied().unwrap_or(0),
+        o.join(" ")
+    )
+}
+
+/// The tables on stdout.
+fn print_tables(study: &AccuracyStudy, out: &mut impl std::io::Write) -> std::io::Result<()> {
     writeln!(
         out,
-        "reference: N = {}, tip ({:.4}, {:.4}) mm, radius {:.4} mm, grasp size {:.4} mm",
-        r.elements, r.tip[0], r.tip[1], r.radius, r.grasp_size
+        "fpc accuracy ({} build): tip-loaded finger, eps0 = {}, Fx = {} N, Fz = {} N, tip-only, rtol {:e}",
+        study.build, study.eps0, study.tip_force_n[0], study.tip_force_n[1], study.rtol
     )?;
     writeln!(
         out,
-        "reference check: observed tip order {:.2} from N = 64, 128, 256; Richardson gap {:.2e} mm",
-        r.observed_order, r.richardson_gap_mm
+        "references: material partition, {} -> {} elements, every level to rtol {:e}, Richardson from the last two; uncertainty |R(5,6) - R(4,5)|",
+        study.ccm_reference().material.elements.first().copied().unwrap_or(0),
+        study.ccm_reference().material.elements.last().copied().unwrap_or(0),
+        fpc_lab::accuracy::REFERENCE_RTOL
     )?;
-    writeln!(
-        out,
-        "{:>5} {:>8} {:>11} {:>12} {:>12} {:>12} pareto",
-        "N", "rtol", "time (us)", "tip (mm)", "radius (mm)", "grasp (mm)"
-    )?;
-    for row in &study.rows {
+    for r in &study.references {
         writeln!(
             out,
-            "{:>5} {:>8.0e} {:>11.2} {:>12.3e} {:>12.3e} {:>12.3e} {}",
-            row.elements,
-            row.rtol,
-            row.time_us,
-            row.tip_error_mm,
-            row.radius_error_mm,
-            row.grasp_error_mm,
-            if row.pareto { "*" } else { "" }
+            "  {:<5} tip ({:.6}, {:.6}) mm  uncertainty {} mm (change before: {} mm)  refiner: estimate {} mm, {} mm from the reference",
+            r.model.name(),
+            r.tip[0],
+            r.tip[1],
+            sci(r.uncertainty_mm),
+            sci(r.previous_change_mm),
+            r.refiner_estimate_mm.map_or("–".into(), sci),
+            sci(r.refiner_offset_mm)
         )?;
     }
-    let rec =
-        |n: Option<usize>| n.map_or("none of the tested N".to_string(), |n| format!("N = {n}"));
+    writeln!(out, "observed orders (log2 of successive change ratios):")?;
+    for r in &study.references {
+        writeln!(
+            out,
+            "  {:<5} {}; {}",
+            r.model.name(),
+            orders(&r.material),
+            orders(&r.equal)
+        )?;
+    }
+    for g in &study.gaps {
+        writeln!(
+            out,
+            "model gap: {} vs {} {} mm (uncertainty {} mm)",
+            g.model.name(),
+            g.against.name(),
+            sci(g.gap_mm),
+            sci(g.uncertainty_mm)
+        )?;
+    }
+    let (lo, hi) = study
+        .n8
+        .batches_us
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &t| {
+            (lo.min(t), hi.max(t))
+        });
     writeln!(
         out,
-        "tip within 0.1 mm: {}; within 0.01 mm: {}",
-        rec(study.n_for_0_1_mm),
-        rec(study.n_for_0_01_mm)
+        "t8 ({}, cold, {} iterations): {:.2} us, the fastest of {} batch medians (their median {:.2} us, range {:.2} - {:.2} us; median of those paired with the rows' fastest rounds {:.2} us)",
+        study.n8.label,
+        study.n8.iterations,
+        study.n8.time_us,
+        study.n8.batches_us.len(),
+        study.n8.all_batches_median_us,
+        lo,
+        hi,
+        study.n8.paired_median_us,
     )?;
     writeln!(
         out,
-        "wrote {} and accuracy.svg",
-        args.out.join("accuracy.csv").display()
+        "every time: the fastest of {} rounds' medians, each round at least {} runs; noise check: the {} row / t8 = {}",
+        study.config.rounds,
+        study.config.min_runs,
+        study.n8.label,
+        study
+            .n8
+            .same_row_ratio
+            .map_or("–".into(), |x| format!("{x:.3}"))
     )?;
+    writeln!(
+        out,
+        "{:<32} {:>8} {:>14} {:>11} {:>8} {:>10} {:>10} {:>10} pareto",
+        "configuration",
+        "elements",
+        "iterations",
+        "time (us)",
+        "t / t8",
+        "vs ccm",
+        "vs own",
+        "estimate"
+    )?;
+    for r in &study.rows {
+        writeln!(
+            out,
+            "{:<32} {:>8} {:>14} {:>11.2} {:>8.3} {:>10} {:>10} {:>10} {}",
+            r.label,
+            r.elements,
+            joined(&r.iterations),
+            r.time_us,
+            r.time_over_n8,
+            sci(r.error_vs_ccm_mm),
+            sci(r.error_vs_own_mm),
+            r.estimated_error_mm.map_or("–".into(), sci),
+            if r.pareto { "*" } else { "" }
+        )?;
+    }
+    writeln!(
+        out,
+        "(errors in mm, vs the CCM's and the model's own reference)"
+    )?;
+    let point = |b: &FrontPoint| {
+        format!(
+            "{} ({:.2} us, {:.2} x t8, error {} mm)",
+            b.label,
+            b.time_us,
+            b.time_over_n8,
+            sci(b.error_vs_ccm_mm)
+        )
+    };
+    for f in &study.fastest {
+        let fastest = f.fastest.as_ref().map_or("no configuration".into(), point);
+        let estimated = f
+            .fastest_estimated
+            .as_ref()
+            .map_or("no configuration".into(), point);
+        let library = f.library.as_ref().map_or("failed".into(), |l| {
+            format!(
+                "{} ({:.2} us, {:.2} x t8, error {} mm{}{})",
+                l.label,
+                l.time_us,
+                l.time_over_n8,
+                sci(l.error_vs_ccm_mm),
+                if l.meets { "" } else { ", NOT within" },
+                f.library_over_fastest
+                    .map_or(String::new(), |x| format!(", {x:.2} x the fastest"))
+            )
+        });
+        writeln!(
+            out,
+            "fastest within {} mm: {fastest}; with its estimate within too: {estimated}; the library picks {library}",
+            f.tolerance_mm
+        )?;
+    }
+    Ok(())
+}
+
+/// How far the N = 8 row's time may be from t8 (relative) before the run
+/// is reported as noisy.
+const NOISY: f64 = 0.05;
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let config = if args.quick {
+        StudyConfig::quick()
+    } else {
+        StudyConfig::full()
+    }
+    .with_budget(Duration::from_millis(args.budget_ms));
+    crate::output::prepare_dir(&args.out)?;
+    let study = accuracy_study(&config, |done, total| {
+        crate::report::progress(&format!("fpc accuracy: {done}/{total} steps"));
+    });
+    crate::report::end_progress();
+    let study = study?;
+    if let Some(r) = study.n8.same_row_ratio.filter(|r| (r - 1.0).abs() > NOISY) {
+        crate::report::warning(&format!(
+            "timing noise: the {} row took {r:.2} x t8, the same configuration measured the same way; the time ratios of this run are unreliable (run again on a quieter machine)",
+            study.n8.label
+        ));
+    }
+    let json = serde_json::to_string_pretty(&study)?;
+    let svg = crate::paper::render::svg(&figure(&study))?;
+    crate::output::write_atomic(&args.out, "accuracy.csv", &csv(&study)?)?;
+    crate::output::write_atomic(&args.out, "accuracy.json", format!("{json}\n").as_bytes())?;
+    crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;
+    let mut out = crate::output::stdout();
+    if args.json {
+        writeln!(out, "{json}")?;
+    } else {
+        print_tables(&study, &mut out)?;
+        writeln!(
+            out,
+            "wrote accuracy.csv, accuracy.json and accuracy.svg in {}",
+            args.out.display()
+        )?;
+    }
     Ok(())
 }

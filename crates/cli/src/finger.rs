@@ -177,6 +177,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             tip_error_estimate_mm: run.estimate,
             refinement: run.refinement(),
             solution: sol,
+            provenance: crate::provenance::Provenance::now(),
         };
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
@@ -237,6 +238,8 @@ struct Json<'a> {
     refinement: Option<RefinementJson<'a>>,
     #[serde(flatten)]
     solution: &'a Solution,
+    /// The command, fpc's version and the git commit.
+    provenance: crate::provenance::Provenance,
 }
 
 #[derive(serde::Serialize)]

@@ -12,15 +12,18 @@ use std::io::Write as _;
 use clap::{Parser, Subcommand};
 
 mod accuracy;
+mod design;
 mod finger;
 mod kernels;
 mod models;
 mod output;
 mod paper;
+mod provenance;
 mod report;
 mod solve;
 mod status;
 mod stress;
+mod sweep;
 mod timing;
 
 /// Fluidic prestressed composite fingers and grippers: the chained composite model.
@@ -33,8 +36,10 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// Run time against error over N and the Newton tolerance (writes CSV and SVG).
+    /// Run time against tip error over element models, partitions and extrapolation (CSV, JSON, SVG).
     Accuracy(accuracy::Args),
+    /// The finger and gripper to build for a set of objects (REQUIREMENTS.toml); writes design.json, scenes, design.svg.
+    Design(design::Args),
     /// Solve one finger of the default actuator (eps0, pressure, tip force, model, N or auto).
     Finger(finger::Args),
     /// Print the generated element kernels and their operation counts.
@@ -49,6 +54,8 @@ enum Command {
     Paper(paper::Args),
     /// Seeded random extreme-but-legal scenes, solved and checked independently.
     Stress(stress::Args),
+    /// A grid over scene parameters, solved in parallel with warm starts; writes sweep.csv and sweep.json.
+    Sweep(sweep::Args),
 }
 
 fn main() {
@@ -66,6 +73,7 @@ fn run() -> anyhow::Result<()> {
     };
     match cli.command {
         Command::Accuracy(a) => accuracy::run(&a),
+        Command::Design(a) => design::run(&a),
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
         Command::Models(a) => models::run(&a),
@@ -73,6 +81,7 @@ fn run() -> anyhow::Result<()> {
         Command::Timing(a) => timing::run(&a),
         Command::Paper(a) => paper::run(&a),
         Command::Stress(a) => stress::run(&a),
+        Command::Sweep(a) => sweep::run(&a),
     }?;
     // what is still buffered: a failure here is a failure to write output
     output::stdout().flush()?;

@@ -1,7 +1,5 @@
-//! Output: standard output, atomic file writes, and a small SVG plotter
-//! for the diagnostics commands.
+//! Output: standard output and atomic file writes.
 
-use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -10,7 +8,6 @@ use std::time::{Duration, SystemTime};
 
 use anyhow::Context;
 use fpc::InputError;
-use fpc_lab::AccuracyStudy;
 
 // ------------------------------------------------------------ stdout
 
@@ -201,124 +198,6 @@ pub fn remove_stale_temps(dir: &Path, age: Duration) {
             let _ = std::fs::remove_file(entry.path());
         }
     }
-}
-
-/// A log-log scatter of run time against tip error, Pareto front joined.
-pub fn accuracy_svg(study: &AccuracyStudy) -> String {
-    let (w, h, ml, mr, mt, mb) = (720.0, 480.0, 80.0, 150.0, 40.0, 60.0);
-    let pts: Vec<(f64, f64, usize, bool)> = study
-        .rows
-        .iter()
-        .filter(|r| r.time_us > 0.0 && r.tip_error_mm > 0.0)
-        .map(|r| {
-            (
-                r.time_us.log10(),
-                r.tip_error_mm.log10(),
-                r.elements,
-                r.pareto,
-            )
-        })
-        .collect();
-    let fold = |f: fn(&(f64, f64, usize, bool)) -> f64, init: f64, m: fn(f64, f64) -> f64| {
-        pts.iter().map(f).fold(init, m)
-    };
-    let (x0, x1) = (
-        fold(|p| p.0, f64::INFINITY, f64::min).floor(),
-        fold(|p| p.0, f64::NEG_INFINITY, f64::max).ceil(),
-    );
-    let (y0, y1) = (
-        fold(|p| p.1, f64::INFINITY, f64::min).floor(),
-        fold(|p| p.1, f64::NEG_INFINITY, f64::max).ceil(),
-    );
-    let (x1, y1) = (
-        if x1 > x0 { x1 } else { x0 + 1.0 },
-        if y1 > y0 { y1 } else { y0 + 1.0 },
-    );
-    let sx = |x: f64| ml + (x - x0) / (x1 - x0) * (w - ml - mr);
-    let sy = |y: f64| h - mb - (y - y0) / (y1 - y0) * (h - mt - mb);
-    let mut s = String::new();
-    let _ = write!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="12">
-<rect width="100%" height="100%" fill="white"/>
-<text x="{}" y="24" text-anchor="middle" font-size="15">Tip error against run time (tip-loaded solve, eps0 = 0.25)</text>
-"#,
-        (ml + w - mr) / 2.0
-    );
-    for e in (x0 as i32)..=(x1 as i32) {
-        let x = sx(e as f64);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x}" y1="{}" x2="{x}" y2="{}" stroke="#ddd"/><text x="{x}" y="{}" text-anchor="middle">1e{e}</text>"##,
-            mt,
-            h - mb,
-            h - mb + 18.0
-        );
-    }
-    for e in (y0 as i32)..=(y1 as i32) {
-        let y = sy(e as f64);
-        let _ = writeln!(
-            s,
-            r##"<line x1="{ml}" y1="{y}" x2="{}" y2="{y}" stroke="#ddd"/><text x="{}" y="{}" text-anchor="end">1e{e}</text>"##,
-            w - mr,
-            ml - 6.0,
-            y + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">time per solve (us)</text><text transform="translate(18 {}) rotate(-90)" text-anchor="middle">tip error (mm)</text>"#,
-        (ml + w - mr) / 2.0,
-        h - 14.0,
-        (mt + h - mb) / 2.0
-    );
-    let colours = [
-        "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666",
-    ];
-    let mut ns: Vec<usize> = pts.iter().map(|p| p.2).collect();
-    ns.sort_unstable();
-    ns.dedup();
-    for (i, n) in ns.iter().enumerate() {
-        let c = colours[i % colours.len()];
-        for p in pts.iter().filter(|p| p.2 == *n) {
-            let _ = writeln!(
-                s,
-                r#"<circle cx="{:.2}" cy="{:.2}" r="4" fill="{c}" fill-opacity="0.8"/>"#,
-                sx(p.0),
-                sy(p.1)
-            );
-        }
-        let ly = mt + 20.0 + 18.0 * i as f64;
-        let _ = writeln!(
-            s,
-            r#"<circle cx="{}" cy="{ly}" r="4" fill="{c}"/><text x="{}" y="{}">N = {n}</text>"#,
-            w - mr + 20.0,
-            w - mr + 30.0,
-            ly + 4.0
-        );
-    }
-    let mut front: Vec<&(f64, f64, usize, bool)> = pts.iter().filter(|p| p.3).collect();
-    front.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let path: Vec<String> = front
-        .iter()
-        .map(|p| format!("{:.2},{:.2}", sx(p.0), sy(p.1)))
-        .collect();
-    let _ = writeln!(
-        s,
-        r#"<polyline points="{}" fill="none" stroke="black" stroke-dasharray="4 3"/>"#,
-        path.join(" ")
-    );
-    let ly = mt + 20.0 + 18.0 * ns.len() as f64;
-    let _ = writeln!(
-        s,
-        r#"<line x1="{}" y1="{ly}" x2="{}" y2="{ly}" stroke="black" stroke-dasharray="4 3"/><text x="{}" y="{}">Pareto front</text>"#,
-        w - mr + 12.0,
-        w - mr + 28.0,
-        w - mr + 32.0,
-        ly + 4.0
-    );
-    s.push_str("</svg>\n");
-    s
 }
 
 #[cfg(test)]

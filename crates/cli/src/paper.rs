@@ -13,7 +13,7 @@
 
 mod files;
 mod index;
-mod render;
+pub(crate) mod render;
 
 use std::collections::BTreeMap;
 use std::io::Write as _;
@@ -21,7 +21,7 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use fpc::studies::{Cell, Overview, NOTE, STATUS};
-use fpc::{Actuator, SolveError, StudyInfo, StudyOptions, StudyOutput, STUDIES};
+use fpc::{Actuator, ModelId, SolveError, StudyInfo, StudyOptions, StudyOutput, STUDIES};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};
 
@@ -40,6 +40,56 @@ pub struct Args {
     /// Coarse sweeps (StudyOptions::coarse()), for tests and previews.
     #[arg(long, hide = true)]
     coarse: bool,
+    /// Run the studies on the actuator (and element model) of a scene file
+    /// instead of the paper's default actuator; its load, solve and
+    /// gripper tables are not used (the studies set their own).
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// The element model (`fpc models`; default: the scene's, else ccm).
+    #[arg(long)]
+    model: Option<String>,
+    /// Elements per finger (default: the scene's count, else 8).
+    #[arg(long, allow_hyphen_values = true)]
+    elements: Option<usize>,
+}
+
+/// The actuator, model and element count the studies run on, and a
+/// description of where they came from.
+fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, String)> {
+    let Some(path) = &args.scene else {
+        let model = match &args.model {
+            Some(m) => ModelId::parse("model", m)?,
+            None => ModelId::default(),
+        };
+        return Ok((
+            Actuator::default(),
+            model,
+            None,
+            "the default (docs/model.md section 3)".into(),
+        ));
+    };
+    let shown = path.display().to_string();
+    let text = crate::solve::read_scene(path, &shown)?;
+    let scene = fpc::scene::Scene::from_toml(&text)
+        .map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    let model = match &args.model {
+        Some(m) => ModelId::parse("model", m)?,
+        None => scene.model,
+    };
+    let elements = match &scene.partition {
+        fpc::scene::PartitionPlan::Fixed(p) => {
+            let l = p.lengths();
+            // the studies use equal elements: take the count of an equal partition
+            (l.iter().all(|&x| (x - l[0]).abs() <= 1e-9 * l[0])).then_some(l.len())
+        }
+        _ => None,
+    };
+    Ok((
+        scene.actuator.clone(),
+        model,
+        elements,
+        format!("the scene {shown}'s"),
+    ))
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -50,12 +100,18 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         StudyOptions::default()
     };
+    let (act, model, scene_elements, source) = setup(args)?;
     let opts = StudyOptions {
         strict: args.strict,
+        model,
+        elements: args.elements.or(scene_elements).unwrap_or(base.elements),
         ..base
     };
-    let act = Actuator::default();
-    let mut out = Output::new(args.out.clone(), opts, args.coarse);
+    opts.validate()?;
+    for w in act.warnings() {
+        crate::report::warning(&w.to_string());
+    }
+    let mut out = Output::new(args.out.clone(), opts, args.coarse, source);
 
     let bar = progress_bar(STUDIES.len() as u64);
     for info in STUDIES {
@@ -72,11 +128,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     out.write_index()?;
     writeln!(
         crate::output::stdout(),
-        "fpc paper: {} files in {} ({} of {} studies ok, {} sweeps stopped early) in {:.1} s",
+        "fpc paper: {} files in {} ({} of {} studies ok, {} sweeps ended at a natural end, {} stopped early) in {:.1} s",
         out.files.len(),
         args.out.display(),
         STUDIES.len() - out.failed_studies().len(),
         STUDIES.len(),
+        out.ends.len(),
         out.stops.len(),
         elapsed
     )?;
@@ -131,28 +188,38 @@ struct Output {
     dir: PathBuf,
     opts: StudyOptions,
     coarse: bool,
+    /// Where the actuator came from (`default ...` or `scene PATH`).
+    source: String,
+    provenance: crate::provenance::Provenance,
     files: Vec<String>,
     summary: Map<String, Value>,
     /// Failed studies and figures: (study, error). A failed solve keeps
     /// its [`SolveError`] in the chain (for the exit code).
     failed: Vec<(usize, anyhow::Error)>,
-    /// `sweeps_stopped`: `{study, case, at_mm | at_kpa, reason}`.
+    /// `sweeps_stopped`: `{study, case, at_mm | at_kpa, reason}` (failed
+    /// solves).
     stops: Vec<Value>,
+    /// `sweep_ends`: sweeps that ended at a natural end (`end`: a fold, the
+    /// validity limit, a force bound).
+    ends: Vec<Value>,
     /// The grippers' design warnings, each once.
     warnings: Vec<String>,
     sections: Vec<Section>,
 }
 
 impl Output {
-    fn new(dir: PathBuf, opts: StudyOptions, coarse: bool) -> Output {
+    fn new(dir: PathBuf, opts: StudyOptions, coarse: bool, source: String) -> Output {
         Output {
             dir,
             opts,
             coarse,
+            source,
+            provenance: crate::provenance::Provenance::now(),
             files: Vec::new(),
             summary: Map::new(),
             failed: Vec::new(),
             stops: Vec::new(),
+            ends: Vec::new(),
             warnings: Vec::new(),
             sections: Vec::new(),
         }
@@ -240,7 +307,11 @@ impl Output {
             if let Value::Object(m) = &mut v {
                 m.insert("study".into(), json!(n));
             }
-            self.stops.push(v);
+            if s.is_natural() {
+                self.ends.push(v);
+            } else {
+                self.stops.push(v);
+            }
         }
         for w in out.design_warnings {
             if !self.warnings.contains(&w) {
@@ -288,6 +359,15 @@ impl Output {
             ),
         );
         s.insert("sweeps_stopped".into(), Value::Array(self.stops.clone()));
+        s.insert("sweep_ends".into(), Value::Array(self.ends.clone()));
+        // the folds met: the natural ends that are limit points
+        let folds: Vec<Value> = self
+            .ends
+            .iter()
+            .filter(|v| v["end"]["kind"] == "fold")
+            .cloned()
+            .collect();
+        s.insert("folds".into(), Value::Array(folds));
         s.insert("warnings".into(), json!(self.warnings));
         s.insert(
             "studies".into(),
@@ -330,7 +410,8 @@ impl Output {
         s.insert(
             "options".into(),
             json!({
-                "actuator": "default (docs/model.md section 3)",
+                "actuator": self.source,
+                "model": self.opts.model.name(),
                 "elements": self.opts.elements,
                 "mu": self.opts.mu,
                 "sweep_points": self.opts.sweep_points,
@@ -342,6 +423,7 @@ impl Output {
             }),
         );
         s.insert("fpc_version".into(), json!(env!("CARGO_PKG_VERSION")));
+        s.insert("provenance".into(), serde_json::to_value(&self.provenance)?);
         s.insert("run_seconds".into(), json!(elapsed));
         let mut files = self.files.clone();
         files.push("summary.json".into());
@@ -379,7 +461,7 @@ mod tests {
     #[test]
     fn a_failed_study_is_recorded_and_the_others_go_on() {
         let dir = scratch("failed");
-        let mut out = Output::new(dir.clone(), StudyOptions::coarse(), true);
+        let mut out = Output::new(dir.clone(), StudyOptions::coarse(), true, "default".into());
         let bar = ProgressBar::hidden();
         let err = SolveError::Input(InputError::NotFinite {
             field: "test.value".into(),
@@ -404,6 +486,7 @@ mod tests {
             case: "force control".into(),
             at: StopAt::Kpa(20.0),
             reason: "solve failed: test".into(),
+            end: None,
         });
         partial.figure = Figure::row(
             "partial <&>",

@@ -88,7 +88,7 @@ pub const MAX_SCENE_BYTES: u64 = 4 * 1024 * 1024;
 /// through a bounded reader. Missing, unreadable, a directory, larger than
 /// [`MAX_SCENE_BYTES`] or not UTF-8: rejected input, one line naming the
 /// path.
-fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
+pub(crate) fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
     let cannot = |why: String| crate::status::rejected(format!("cannot read {shown}: {why}"));
     let file = fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
     let mut bytes = Vec::new();
@@ -139,6 +139,8 @@ struct SolutionFile<'a> {
     /// A gripper scene's keys (absent in a finger scene).
     #[serde(flatten)]
     gripper: Option<GripperKeys<'a>>,
+    /// The command, fpc's version and the git commit.
+    provenance: crate::provenance::Provenance,
 }
 
 /// The keys of a [`Solution`] but its `warnings` (the scene's
@@ -280,6 +282,7 @@ fn solution_file<'a>(
         warnings,
         scene: file,
         gripper,
+        provenance: crate::provenance::Provenance::now(),
     }
 }
 

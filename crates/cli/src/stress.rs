@@ -1,10 +1,11 @@
-//! `fpc stress`: seeded random scenes with extreme but legal inputs, each
-//! solved and checked independently (`fpc_lab::stress`).
+//! `fpc stress`: seeded random scenes over a domain wider than the model's
+//! validity, each solved, checked independently and classified inside or
+//! outside the validity envelope (`fpc_lab::stress`).
 
 use std::io::Write;
 use std::time::Duration;
 
-use fpc_lab::{StressCase, StressConfig, StressReport};
+use fpc_lab::{StressCase, StressConfig, StressOutcome, StressReport, Tally};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 
@@ -21,13 +22,20 @@ pub struct Args {
     /// Wall-clock budget in seconds; no case starts after it is spent.
     #[arg(long = "budget-s", default_value_t = 60.0, allow_hyphen_values = true)]
     budget_s: f64,
-    /// Largest element count drawn (from 1, 2, 3, 4, 8, 16, 32, 64, 128).
+    /// Largest fixed element count drawn (from 1, 2, 3, 4, 8, 16, 32, 64,
+    /// 128, 256); the automatic partition is drawn whatever it is.
     #[arg(
         long = "max-elements",
-        default_value_t = 128,
+        default_value_t = 256,
         allow_hyphen_values = true
     )]
     max_elements: usize,
+    /// Run only case INDEX of the seed (to reproduce it) and print it in full.
+    #[arg(long = "case", allow_hyphen_values = true)]
+    case: Option<usize>,
+    /// With --json, list every case (not only the failures).
+    #[arg(long = "all-cases")]
+    all_cases: bool,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -41,9 +49,39 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
         .into());
     }
+    let max_elements = args.max_elements.max(1);
+    if let Some(index) = args.case {
+        let c = fpc_lab::stress_case(args.seed, index, max_elements);
+        let mut out = crate::output::stdout();
+        if args.json {
+            writeln!(out, "{}", serde_json::to_string(&case_json(&c))?)?;
+        } else {
+            writeln!(
+                out,
+                "case {} of seed {} ({} envelope): {} [{}] | {} | {:.3} s",
+                c.index,
+                args.seed,
+                if c.inside_envelope {
+                    "inside the"
+                } else {
+                    "outside the"
+                },
+                c.outcome,
+                c.findings.join(", "),
+                c.inputs,
+                c.seconds
+            )?;
+            writeln!(out, "{}", serde_json::to_string_pretty(&case_json(&c))?)?;
+        }
+        out.flush()?;
+        if c.outcome.is_bug() {
+            anyhow::bail!("case {index} of seed {}: {}", args.seed, c.outcome);
+        }
+        return Ok(());
+    }
     let budget = Duration::try_from_secs_f64(args.budget_s).unwrap_or(Duration::MAX);
     let config = StressConfig {
-        max_elements: args.max_elements.max(1),
+        max_elements,
         ..StressConfig::new(args.seed, args.cases, budget)
     };
     // draws on stderr, and not at all when stderr is not a terminal
@@ -65,16 +103,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 
     let mut out = crate::output::stdout();
     if args.json {
-        writeln!(out, "{}", serde_json::to_string(&to_json(&report))?)?;
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string(&to_json(&report, args.all_cases))?
+        )?;
     } else {
         summary(&mut out, &report)?;
     }
     out.flush()?;
     if report.bugs() > 0 {
         anyhow::bail!(
-            "{} panic(s) and {} silently wrong answer(s) in {} cases (seed {})",
+            "{} panic(s), {} silently wrong answer(s) and {} wrong stability answer(s) in {} cases (seed {})",
             report.panics(),
             report.silently_wrong(),
+            report.wrong_stability(),
             report.cases_run(),
             args.seed
         );
@@ -100,7 +143,7 @@ fn case_json(c: &StressCase) -> Value {
     let g = &i.geometry;
     let ch = &i.channel;
     let (reason, element, solver_residual, detail) = match &c.outcome {
-        fpc_lab::StressOutcome::Failed {
+        StressOutcome::Failed {
             reason,
             element,
             relative_residual,
@@ -110,33 +153,45 @@ fn case_json(c: &StressCase) -> Value {
             num(*relative_residual),
             Value::Null,
         ),
-        fpc_lab::StressOutcome::Rejected { error } => {
-            (Value::Null, Value::Null, Value::Null, json!(error))
-        }
-        fpc_lab::StressOutcome::SilentlyWrong { what } => {
+        StressOutcome::Rejected { error } => (Value::Null, Value::Null, Value::Null, json!(error)),
+        StressOutcome::SilentlyWrong { what } => {
             (Value::Null, Value::Null, Value::Null, json!(what))
         }
-        fpc_lab::StressOutcome::Panicked { message } => {
+        StressOutcome::WrongStability { .. } => (
+            Value::Null,
+            Value::Null,
+            Value::Null,
+            json!(c.outcome.to_string()),
+        ),
+        StressOutcome::Panicked { message } => {
             (Value::Null, Value::Null, Value::Null, json!(message))
         }
-        fpc_lab::StressOutcome::Converged => (Value::Null, Value::Null, Value::Null, Value::Null),
+        StressOutcome::Converged => (Value::Null, Value::Null, Value::Null, Value::Null),
     };
     json!({
         "index": c.index,
         "outcome": c.outcome.label(),
+        "inside_envelope": c.inside_envelope,
         "reason": reason,
         "element": element,
         "solver_residual": solver_residual,
         "detail": detail,
         "inputs": {
+            "model": i.model.name(),
             "eps0": num(i.eps0),
             "pressure_kpa": num(i.pressure_kpa),
             "fx_n": num(i.fx),
             "fz_n": num(i.fz),
-            "elements": i.elements,
+            "relative_load": num(i.relative_load),
+            "load_strain": num(i.load_strain()),
+            "curl": num(i.curl()),
+            "force_scale_n": num(i.force_scale),
+            "partition": if i.auto_partition { "auto" } else { "custom" },
+            "elements": (!i.auto_partition).then_some(i.elements),
             "length_ratio": num(i.length_ratio),
             "lengths_mm": i.lengths.iter().map(|&l| num(l)).collect::<Vec<_>>(),
             "thickness_scale": num(i.thickness_scale),
+            "jittered": i.jittered,
             "lamina_factors": i.lamina_factors.iter().map(|&f| num(f)).collect::<Vec<_>>(),
             "h_mm": num(g.h),
             "h1_mm": num(g.h1),
@@ -147,19 +202,54 @@ fn case_json(c: &StressCase) -> Value {
             "ribs": i.ribs,
         },
         "rejected_draws": c.rejected_draws,
+        "solved_elements": c.solved_elements,
+        "refinements": c.refinements,
         "iterations": c.iterations,
         "continuation_steps": c.continuation_steps,
         "residual": opt(c.residual),
+        "negative_eigenvalues": c.negative_eigenvalues,
+        "dense_negative": c.dense_negative.map(|(below, within)| json!({"below": below, "within": within})),
         "min_eig": opt(c.min_eig),
         "conditioning": opt(c.conditioning),
         "max_rotation_rad": opt(c.max_rotation),
+        "findings": c.findings,
+        "missed_findings": c.missed_findings,
         "seconds": num(c.seconds),
     })
 }
 
-fn to_json(r: &StressReport) -> Value {
-    let failures: Vec<Value> = r.failures().map(case_json).collect();
+fn tally_json(t: &Tally) -> Value {
     json!({
+        "cases": t.cases,
+        "converged": t.converged,
+        "warned": t.warned,
+        "failed": t.failed,
+        "failed_by_reason": t.failed_by_reason,
+        "findings": t.findings,
+        "unstable": t.unstable,
+        "bugs": t.bugs,
+        "convergence_rate": opt(t.convergence_rate()),
+    })
+}
+
+fn envelope_json() -> Value {
+    use fpc_lab::stress::envelope::*;
+    json!({
+        "definition": "auto partition or longest element <= max_element_fraction lx; no per-lamina jitter; eps0 <= max_eps0; P <= max_pressure_kpa; |eps0 - P / pressure_per_prestrain_kpa| lx / H <= max_curl; relative_load H / lx <= max_load_strain_over_eps0 eps0",
+        "max_eps0": MAX_EPS0,
+        "max_pressure_kpa": MAX_PRESSURE_KPA,
+        "pressure_per_prestrain_kpa": PRESSURE_PER_PRESTRAIN_KPA,
+        "max_curl": MAX_CURL,
+        "max_load_strain_over_eps0": MAX_LOAD_STRAIN_OVER_EPS0,
+        "max_element_fraction": MAX_ELEMENT_FRACTION,
+        "lamina_jitter": false,
+    })
+}
+
+fn to_json(r: &StressReport, all_cases: bool) -> Value {
+    let failures: Vec<Value> = r.failures().map(case_json).collect();
+    let inside_defects: Vec<Value> = r.inside_defects().map(case_json).collect();
+    let mut v = json!({
         "seed": r.config.seed,
         "cases_requested": r.config.cases,
         "cases_run": r.cases_run(),
@@ -175,27 +265,82 @@ fn to_json(r: &StressReport) -> Value {
         "rejected_draws_by_field": r.rejections_by_field(),
         "panics": r.panics(),
         "silently_wrong": r.silently_wrong(),
+        "wrong_stability": r.wrong_stability(),
+        "unstable_reported_stable": r.unstable_reported_stable(),
+        "stability_checked": r.stability_checked(),
+        "stability_unknown": r.stability_unknown(),
         "unstable": r.unstable(),
         "beyond_validity": r.beyond_validity(),
+        "missed_findings": r.missed_findings(),
         "convergence_rate": opt(r.convergence_rate()),
         "largest_residual": opt(r.largest_residual().and_then(|c| c.residual)),
         "largest_residual_case": r.largest_residual().map(|c| c.index),
         "worst_conditioning": opt(r.worst_conditioning().and_then(|c| c.conditioning)),
         "worst_conditioning_case": r.worst_conditioning().map(|c| c.index),
+        "envelope": envelope_json(),
+        "inside_envelope": tally_json(&r.inside()),
+        "outside_envelope": tally_json(&r.outside()),
         "by_elements": r
             .by_elements()
             .iter()
-            .map(|(n, (legal, conv))| (n.to_string(), json!({ "legal": legal, "converged": conv })))
+            .map(|(n, t)| {
+                (
+                    n.to_string(),
+                    json!({
+                        "legal": t.cases,
+                        "converged": t.converged,
+                        "warned": t.warned,
+                        "failed": t.failed,
+                    }),
+                )
+            })
+            .collect::<serde_json::Map<String, Value>>(),
+        "by_model": r
+            .by_model()
+            .iter()
+            .map(|(m, t)| (m.to_string(), tally_json(t)))
             .collect::<serde_json::Map<String, Value>>(),
         "failures": failures,
-    })
+        "inside_defects": inside_defects,
+    });
+    if all_cases {
+        v["cases"] = Value::Array(r.cases.iter().map(case_json).collect());
+    }
+    v
+}
+
+fn rate(t: &Tally) -> String {
+    match t.convergence_rate() {
+        Some(r) => format!("{:.2} %", 100.0 * r),
+        None => "n/a".into(),
+    }
+}
+
+fn tally_lines(out: &mut impl Write, name: &str, t: &Tally) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "  {name}: {} cases, {} converged ({}), {} of them with validity findings, {} failed, {} bugs",
+        t.cases,
+        t.converged,
+        rate(t),
+        t.warned,
+        t.failed,
+        t.bugs
+    )?;
+    for (reason, n) in &t.failed_by_reason {
+        writeln!(out, "    failed: {reason:<28} {n:>6}")?;
+    }
+    for (kind, n) in &t.findings {
+        writeln!(out, "    finding: {kind:<27} {n:>6}")?;
+    }
+    Ok(())
 }
 
 fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
     let cfg = &r.config;
     writeln!(
         out,
-        "fpc stress: seed {}, {} of {} cases in {:.1} s (budget {:.0} s{}), N up to {}",
+        "fpc stress: seed {}, {} of {} cases in {:.1} s (budget {:.0} s{}), fixed N up to {} or auto",
         cfg.seed,
         r.cases_run(),
         cfg.cases,
@@ -211,6 +356,12 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
     writeln!(out)?;
     writeln!(out, "  {:<34} {:>6}", "outcome", "cases")?;
     writeln!(out, "  {:<34} {:>6}", "converged (checked)", r.converged())?;
+    writeln!(
+        out,
+        "  {:<34} {:>6}",
+        "  with validity findings",
+        r.beyond_validity()
+    )?;
     writeln!(out, "  {:<34} {:>6}", "failed to converge", r.failed())?;
     for (reason, n) in r.failed_by_reason() {
         writeln!(out, "  {:<34} {:>6}", format!("  {reason}"), n)?;
@@ -227,6 +378,22 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
     }
     writeln!(out, "  {:<34} {:>6}", "PANICS", r.panics())?;
     writeln!(out, "  {:<34} {:>6}", "SILENTLY WRONG", r.silently_wrong())?;
+    writeln!(
+        out,
+        "  {:<34} {:>6}",
+        "WRONG STABILITY",
+        r.wrong_stability()
+    )?;
+    writeln!(
+        out,
+        "  {:<34} {:>6}",
+        "  unstable reported stable",
+        r.unstable_reported_stable()
+    )?;
+    writeln!(out)?;
+    writeln!(out, "validity envelope (fpc_lab::inside_envelope):")?;
+    tally_lines(out, "inside", &r.inside())?;
+    tally_lines(out, "outside", &r.outside())?;
     writeln!(out)?;
     match r.convergence_rate() {
         Some(rate) => writeln!(
@@ -250,32 +417,71 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
     if let Some(c) = r.worst_conditioning() {
         writeln!(
             out,
-            "  worst conditioning lmin/G         {:.3e} (case {}, lmin/stiffness {:.3e})",
+            "  worst conditioning lmin/G         {:.3e} (case {}, lmin/stiffness {:.3e}, N <= {})",
             c.conditioning.unwrap_or(f64::NAN),
             c.index,
-            c.min_eig.unwrap_or(f64::NAN)
+            c.min_eig.unwrap_or(f64::NAN),
+            fpc_lab::CONDITIONING_MAX_ELEMENTS
         )?;
     }
-    writeln!(out, "  unstable equilibria (lmin < 0)    {}", r.unstable())?;
+    writeln!(
+        out,
+        "  stability checked against dense   {} (N <= {})",
+        r.stability_checked(),
+        fpc_lab::DENSE_CHECK_MAX_ELEMENTS
+    )?;
+    writeln!(out, "  unstable equilibria               {}", r.unstable())?;
+    writeln!(
+        out,
+        "  stability unknown (singular)      {}",
+        r.stability_unknown()
+    )?;
+    writeln!(
+        out,
+        "  findings missed at {} samples     {}",
+        fpc_lab::FINE_VALIDITY_SAMPLES,
+        r.missed_findings()
+    )?;
     let by_n: Vec<String> = r
         .by_elements()
         .iter()
-        .map(|(n, (legal, conv))| format!("N={n} {conv}/{legal}"))
+        .map(|(n, t)| format!("N={n} {}/{}", t.converged, t.cases))
         .collect();
     writeln!(
         out,
         "  converged by N                    {}",
         by_n.join(", ")
     )?;
+    let by_model: Vec<String> = r
+        .by_model()
+        .iter()
+        .map(|(m, t)| format!("{m} {}/{}", t.converged, t.cases))
+        .collect();
     writeln!(
         out,
-        "  element rotated > 90 deg          {} (converged, outside the model's kinematics)",
-        r.beyond_validity()
+        "  converged by model                {}",
+        by_model.join(", ")
     )?;
-    let failures: Vec<&StressCase> = r.failures().collect();
+    let defects: Vec<&StressCase> = r.inside_defects().collect();
+    if !defects.is_empty() {
+        writeln!(out)?;
+        writeln!(out, "inside the envelope, not converged cleanly:")?;
+        for c in defects {
+            writeln!(
+                out,
+                "  case {:>4}: {} [{}] | {} | {:.2} s",
+                c.index,
+                c.outcome,
+                c.findings.join(", "),
+                c.inputs,
+                c.seconds
+            )?;
+        }
+    }
+    let failures: Vec<&StressCase> = r.failures().filter(|c| !c.inside_envelope).collect();
     if !failures.is_empty() {
         writeln!(out)?;
-        writeln!(out, "failures:")?;
+        writeln!(out, "failures outside the envelope:")?;
         for c in failures {
             writeln!(
                 out,

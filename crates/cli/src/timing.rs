@@ -359,6 +359,7 @@ struct Report<'a> {
     scaling: &'a [ScalingRow],
     to_0p01mm: &'a ToTolerance,
     peer: Option<&'a PeerComparison>,
+    provenance: crate::provenance::Provenance,
 }
 
 /// The CPU's model name, where the system says it (Linux).
@@ -397,6 +398,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             scaling: &scaling,
             to_0p01mm: &to,
             peer: peer.as_ref(),
+            provenance: crate::provenance::Provenance::now(),
         };
         writeln!(out, "{}", serde_json::to_string(&r)?)?;
         return Ok(());

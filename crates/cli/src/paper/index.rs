@@ -26,9 +26,11 @@ pub fn html(out: &Output) -> String {
         out.sections.len()
     ));
     h.push_str(&format!(
-        "<p class=\"small\">fpc {}, default actuator, N = {} elements, μ = {}{}{}. \
+        "<p class=\"small\">fpc {}, {} actuator, model {}, N = {} elements, μ = {}{}{}. \
          Key numbers: <a href=\"summary.json\">summary.json</a>.</p>\n",
         escape(env!("CARGO_PKG_VERSION")),
+        escape(&out.source),
+        escape(out.opts.model.name()),
         out.opts.elements,
         out.opts.mu,
         if out.coarse {
@@ -136,6 +138,13 @@ pub fn html(out: &Output) -> String {
             sec.seconds
         ));
     }
+    h.push_str(&format!(
+        "<footer class=\"small\">Actuator: {} · model {} · N = {} · {}</footer>\n",
+        escape(&out.source),
+        escape(out.opts.model.name()),
+        out.opts.elements,
+        escape(&out.provenance.line())
+    ));
     h.push_str("</body>\n</html>\n");
     h
 }

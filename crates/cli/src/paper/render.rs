@@ -183,6 +183,14 @@ fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
     const Y_LABELS: u32 = 62;
     const CAPTION: u32 = 26;
     const MARGIN: u32 = 12;
+    // a log axis is drawn as log10 of the data on a linear axis
+    let logged;
+    let p = if p.x.log || p.y.log {
+        logged = on_log_axes(p);
+        &logged
+    } else {
+        p
+    };
     let (w, h) = area.dim_in_pixel();
     let plot_px = (
         f64::from(w.saturating_sub(Y_LABELS + 2 * MARGIN).max(10)),
@@ -198,17 +206,27 @@ fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
         .x_label_area_size(X_LABELS)
         .y_label_area_size(Y_LABELS)
         .build_cartesian_2d(x0..x1, y0..y1)?;
-    chart
-        .configure_mesh()
-        .x_desc(p.x.text())
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(p.x.text())
         .y_desc(p.y.text())
         .label_style(("sans-serif", 13))
         .axis_desc_style(("sans-serif", 14))
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .x_labels(7)
-        .y_labels(7)
-        .draw()?;
+        .y_labels(7);
+    if p.x.log {
+        mesh.x_labels(decade_labels(x0, x1))
+            .x_max_light_lines(1)
+            .x_label_formatter(&power_of_ten);
+    }
+    if p.y.log {
+        mesh.y_labels(decade_labels(y0, y1))
+            .y_max_light_lines(1)
+            .y_label_formatter(&power_of_ten);
+    }
+    mesh.draw()?;
+    draw_log_minor_lines(&mut chart, p, (x0, x1), (y0, y1))?;
     let mut labelled = false;
     for (k, b) in p.bands.iter().enumerate() {
         let color = color_of(&b.color);
@@ -286,6 +304,136 @@ fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(190, 190, 190))
             .draw()?;
+    }
+    Ok(())
+}
+
+// ------------------------------------------------------------ log axes
+
+/// `log10(v)`, or `None` for a value a log axis cannot show.
+fn log10_of(v: f64) -> Option<f64> {
+    (v > 0.0 && v.is_finite()).then(|| v.log10())
+}
+
+/// A copy of `p` with the data of its log axes replaced by their log10
+/// (values that are not positive become NaN points, which are skipped, or
+/// are dropped), a fixed range likewise, `include_zero` ignored, and areas
+/// on a log y axis drawn as lines (their base, y = 0, is not on it).
+fn on_log_axes(p: &Panel) -> Panel {
+    let mut q = p.clone();
+    let map = |log: bool, v: f64| {
+        if log {
+            log10_of(v).unwrap_or(f64::NAN)
+        } else {
+            v
+        }
+    };
+    for s in &mut q.series {
+        for pt in &mut s.points {
+            *pt = [map(p.x.log, pt[0]), map(p.y.log, pt[1])];
+        }
+        if p.y.log && s.kind == SeriesKind::Area {
+            s.kind = SeriesKind::Line;
+        }
+    }
+    for (lines, log) in [(&mut q.hlines, p.y.log), (&mut q.vlines, p.x.log)] {
+        lines.retain_mut(|l| {
+            l.at = map(log, l.at);
+            l.at.is_finite()
+        });
+    }
+    if p.x.log {
+        q.bands.retain_mut(|b| match log10_of(b.to) {
+            Some(to) => {
+                b.from = log10_of(b.from).unwrap_or(f64::NEG_INFINITY);
+                b.to = to;
+                true
+            }
+            None => false,
+        });
+    }
+    for axis in [&mut q.x, &mut q.y] {
+        if axis.log {
+            axis.include_zero = false;
+            axis.range = axis.range.and_then(|[a, b]| {
+                let (a, b) = (log10_of(a)?, log10_of(b)?);
+                (b > a).then_some([a, b])
+            });
+        }
+    }
+    q
+}
+
+/// The integer powers in `[lo, hi]` (log10 units): asked for as many
+/// labels, plotters puts its ticks on them (its steps are 1, 2 or 5 times a
+/// power of ten, and step 1/2 would give too many). Fewer than two: the
+/// default count, ticks between powers.
+fn decade_labels(lo: f64, hi: f64) -> usize {
+    let n = (hi.floor() - lo.ceil() + 1.0).max(0.0);
+    if n >= 2.0 {
+        (n as usize).min(16)
+    } else {
+        7
+    }
+}
+
+/// Superscript digits of an integer exponent (`-2` -> `⁻²`).
+fn superscript(k: i64) -> String {
+    const DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let mut s = String::new();
+    if k < 0 {
+        s.push('⁻');
+    }
+    for c in k.unsigned_abs().to_string().chars() {
+        s.push(c.to_digit(10).map_or(c, |d| DIGITS[d as usize]));
+    }
+    s
+}
+
+/// The label of a tick at `v` on a log axis: `10⁻²` at a power of ten,
+/// else the value with three significant digits.
+fn power_of_ten(v: &f64) -> String {
+    let k = v.round();
+    if (v - k).abs() < 1e-6 && k.abs() < 1e6 {
+        format!("10{}", superscript(k as i64))
+    } else {
+        format!("{:.2e}", 10f64.powf(*v))
+    }
+}
+
+/// Light grid lines at 2..9 times each power of ten of a log axis (the
+/// mesh's own light lines are turned off there), when the axis spans at
+/// most 12 decades.
+fn draw_log_minor_lines(
+    chart: &mut Chart<'_, '_>,
+    p: &Panel,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> anyhow::Result<()> {
+    let minor = |lo: f64, hi: f64| -> Vec<f64> {
+        if !(hi - lo).is_finite() || hi - lo > 12.0 {
+            return Vec::new();
+        }
+        let (first, last) = (lo.floor() as i64, hi.ceil() as i64);
+        (first..=last)
+            .flat_map(|k| (2..=9).map(move |m| k as f64 + f64::from(m).log10()))
+            .filter(|v| (lo..=hi).contains(v))
+            .collect()
+    };
+    let style = RGBColor(238, 238, 238).stroke_width(1);
+    if p.x.log {
+        chart.draw_series(
+            minor(x0, x1)
+                .into_iter()
+                .map(|x| PathElement::new(vec![(x, y0), (x, y1)], style)),
+        )?;
+    }
+    if p.y.log {
+        chart.draw_series(
+            minor(y0, y1)
+                .into_iter()
+                .map(|y| PathElement::new(vec![(x0, y), (x1, y)], style)),
+        )?;
     }
     Ok(())
 }
@@ -371,4 +519,58 @@ pub fn placeholder(title: &str, message: &str) -> String {
         escape(title),
         escape(message)
     )
+}
+
+#[cfg(test)]
+mod log_axis_tests {
+    use super::*;
+    use fpc::studies::RefLine;
+
+    #[test]
+    fn powers_of_ten_are_labelled_with_superscripts() {
+        assert_eq!(power_of_ten(&-2.0), "10⁻²");
+        assert_eq!(power_of_ten(&0.0), "10⁰");
+        assert_eq!(power_of_ten(&13.0), "10¹³");
+        assert_eq!(power_of_ten(&0.5), "3.16e0");
+        assert_eq!(decade_labels(-4.2, 1.3), 6);
+        assert_eq!(decade_labels(0.2, 0.8), 7);
+    }
+
+    #[test]
+    fn a_log_log_panel_skips_values_that_are_not_positive() {
+        let mut p = Panel::new(
+            "t",
+            PlotAxis::new("x", "").log(),
+            PlotAxis::new("y", "mm").log(),
+        );
+        p.series.push(
+            Series::new(
+                "a",
+                SeriesKind::LinePoints,
+                vec![
+                    [1.0, 1e-3],
+                    [0.0, 1.0],
+                    [10.0, -1.0],
+                    [100.0, 1e-1],
+                    [1e3, f64::NAN],
+                ],
+            )
+            .label("a"),
+        );
+        p.hlines.push(RefLine {
+            at: 0.0,
+            label: "zero".into(),
+        });
+        p.hlines.push(RefLine {
+            at: 1e-2,
+            label: "tol".into(),
+        });
+        let q = on_log_axes(&p);
+        assert_eq!(q.hlines.len(), 1);
+        assert_eq!(finite(&q.series[0].points), [(0.0, -3.0), (2.0, -1.0)]);
+        let fig = Figure::row("log", [600, 400], vec![p]);
+        let s = svg(&fig).unwrap();
+        assert!(!s.contains("NaN") && !s.contains("inf"), "{s}");
+        assert!(s.contains("10⁻²") && s.contains("10¹"), "{s}");
+    }
 }

@@ -1,0 +1,330 @@
+//! `fpc design REQUIREMENTS.toml`: the finger and gripper to build for a
+//! set of objects (`fpc::design`). Prints the design with the largest
+//! worst-case margin (or the least-violating one and what fails), every
+//! margin and its sensitivities, and writes `design.json`, one scene file
+//! per object (which `fpc solve` runs to reproduce the claimed grasp; each
+//! is run here through the ordinary scene path and compared), and
+//! `design.svg` (the finger at rest, the lift curves and the requirements).
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use fpc::design::{
+    evaluate, gripper, optimize, DesignOptions, Designed, Evaluation, ObjectRequirement,
+    Requirements, VARIABLES,
+};
+use fpc::scene::{Scene, SceneSolution};
+use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
+use serde::Serialize;
+
+/// Flags of `fpc design`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The requirements file (TOML; scenes/design/ has examples, the README
+    /// documents every key).
+    requirements: PathBuf,
+    /// Output directory (default `<stem>-design`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print one JSON object instead of the summary.
+    #[arg(long)]
+    json: bool,
+    /// Random starts of the optimiser besides the centre and the corners.
+    #[arg(long, default_value_t = 2)]
+    starts: usize,
+}
+
+/// A scene written for an object, and whether `fpc solve`'s path
+/// reproduces the claimed grasp.
+#[derive(Serialize)]
+struct SceneCheck {
+    file: String,
+    requirement: String,
+    claimed_lift_n: Option<f64>,
+    solved_lift_n: Option<f64>,
+    reproduced: bool,
+    detail: String,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    feasible: bool,
+    design: DesignJson,
+    worst_margin: f64,
+    /// The requirement that fails most (or holds least), and by how much.
+    limiting: Option<&'a fpc::design::Margin>,
+    margins: &'a [fpc::design::Margin],
+    sensitivities: &'a [fpc::design::MarginSensitivity],
+    evaluations: usize,
+    starts: usize,
+    scenes: Vec<SceneCheck>,
+    provenance: crate::provenance::Provenance,
+}
+
+#[derive(Serialize)]
+struct DesignJson {
+    eps0: f64,
+    mounting_angle_deg: f64,
+    overlap_mm: f64,
+    varied: Vec<&'static str>,
+}
+
+/// The claimed lift of the margin a scene reproduces.
+fn claimed_lift(d: &Designed, requirement: &str) -> Option<f64> {
+    d.best
+        .margins
+        .iter()
+        .find(|m| m.requirement == requirement)?
+        .value
+}
+
+/// Solves every scene through the ordinary path and compares its lift.
+fn check_scenes(d: &Designed, req: &Requirements) -> Vec<SceneCheck> {
+    d.scenes(req)
+        .into_iter()
+        .enumerate()
+        .map(|(i, (file, text))| {
+            let hardest = d
+                .best
+                .margins
+                .iter()
+                .filter(|m| {
+                    m.requirement.starts_with(&format!("object[{i}] "))
+                        && m.requirement.ends_with("lift")
+                })
+                .min_by(|a, b| a.margin.total_cmp(&b.margin))
+                .map(|m| m.requirement.clone())
+                .unwrap_or_default();
+            let claimed = claimed_lift(d, &hardest);
+            let solved = Scene::from_toml(&text)
+                .map_err(|e| e.to_string())
+                .and_then(|s| s.solve().map_err(|e| e.to_string()));
+            let (solved_lift, detail) = match &solved {
+                Ok(SceneSolution::Gripper { grasp: Some(g), .. }) => (
+                    Some(g.grasp.lift),
+                    if g.is_valid() {
+                        "valid".to_string()
+                    } else {
+                        format!(
+                            "invalid: {}",
+                            g.invalid
+                                .as_ref()
+                                .map(|i| i.to_string())
+                                .unwrap_or_default()
+                        )
+                    },
+                ),
+                Ok(_) => (None, "no grasp in the scene".into()),
+                Err(e) => (None, e.clone()),
+            };
+            let reproduced = match (claimed, solved_lift) {
+                // the same grasp solved again: to the solver's tolerance
+                (Some(c), Some(s)) => (c - s).abs() <= 1e-6 * (1.0 + c.abs()),
+                (None, _) => solved.is_ok(),
+                _ => false,
+            };
+            SceneCheck {
+                file,
+                requirement: hardest,
+                claimed_lift_n: claimed,
+                solved_lift_n: solved_lift,
+                reproduced,
+                detail,
+            }
+        })
+        .collect()
+}
+
+/// The figure: the finger at rest in the gripper frame, and per object
+/// the design's lift against size (cuboids) or radius (spheres) with the
+/// required region.
+fn figure(req: &Requirements, e: &Evaluation) -> Figure {
+    let mut shape = Panel::new(
+        "The designed finger at rest (gripper frame)",
+        PlotAxis::new("Xg", "mm"),
+        PlotAxis::new("Zg (down)", "mm"),
+    );
+    shape.equal_aspect = true;
+    shape.legend = Corner::UpperRight;
+    if let Ok(g) = gripper(req, e.design) {
+        let pts: Vec<[f64; 2]> = g.rest_shape().iter().map(|p| [p[0], -p[1]]).collect();
+        shape.series.push(Series {
+            label: Some("finger".into()),
+            color: "finger".into(),
+            kind: SeriesKind::Line,
+            points: pts.clone(),
+        });
+        shape.series.push(Series {
+            label: Some("opposite finger".into()),
+            color: "opposite finger".into(),
+            kind: SeriesKind::Line,
+            points: pts.iter().map(|p| [-p[0], p[1]]).collect(),
+        });
+    }
+    let mut lift = Panel::new(
+        "Lift per finger at each sample (bars: required)",
+        PlotAxis::new("object size (width d or radius r)", "mm"),
+        PlotAxis::new("lift f_v", "N"),
+    );
+    lift.legend = Corner::UpperRight;
+    for (i, o) in req.objects.iter().enumerate() {
+        let (kind, need) = match o {
+            ObjectRequirement::Cuboid { lift_n, .. } => ("cuboid", *lift_n),
+            ObjectRequirement::Sphere { lift_n, .. } => ("sphere", *lift_n),
+        };
+        let pts: Vec<[f64; 2]> = e
+            .margins
+            .iter()
+            .filter(|m| {
+                m.requirement.starts_with(&format!("object[{i}] "))
+                    && m.requirement.ends_with("lift")
+            })
+            .filter_map(|m| Some([m.at_mm?, need * (1.0 + m.margin)]))
+            .collect();
+        let color = format!("object{i}");
+        let (lo, hi) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p[0]), b.max(p[0]))
+            });
+        lift.series.push(Series {
+            label: Some(format!("object {i} ({kind})")),
+            color: color.clone(),
+            kind: SeriesKind::LinePoints,
+            points: pts,
+        });
+        if lo.is_finite() {
+            lift.series.push(Series {
+                label: Some(format!("object {i}: required")),
+                color,
+                kind: SeriesKind::Dashed,
+                points: vec![[lo, need], [hi, need]],
+            });
+        }
+    }
+    Figure {
+        title: format!(
+            "fpc design: eps0 = {:.3}, mounting angle = {:.1} deg, overlap = {:.1} mm",
+            e.design[0], e.design[1], e.design[2]
+        ),
+        size: [1200, 520],
+        rows: vec![vec![shape, lift]],
+    }
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let shown = args.requirements.display().to_string();
+    let text = crate::solve::read_scene(&args.requirements, &shown)?;
+    let req =
+        Requirements::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    let stem = args
+        .requirements
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "requirements".into());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-design")));
+    crate::output::prepare_dir(&out)?;
+    crate::report::progress("fpc design: optimising");
+    let opts = DesignOptions {
+        random_starts: args.starts,
+        ..DesignOptions::default()
+    };
+    let d = optimize(&req, &opts);
+    crate::report::end_progress();
+    // the claim, evaluated once more from scratch
+    let again = evaluate(&req, d.best.design);
+    anyhow::ensure!(
+        (again.worst - d.best.worst).abs() <= 1e-9 * (1.0 + d.best.worst.abs()),
+        "the best design's margins do not reproduce ({} vs {})",
+        again.worst,
+        d.best.worst
+    );
+    let scenes = check_scenes(&d, &req);
+    for (file, text) in d.scenes(&req) {
+        crate::output::write_atomic(&out, &file, text.as_bytes())?;
+    }
+    let svg = crate::paper::render::svg(&figure(&req, &d.best))?;
+    crate::output::write_atomic(&out, "design.svg", svg.as_bytes())?;
+    let b = req.bounds();
+    let report = Report {
+        feasible: d.feasible,
+        design: DesignJson {
+            eps0: d.best.design[0],
+            mounting_angle_deg: d.best.design[1],
+            overlap_mm: d.best.design[2],
+            varied: VARIABLES
+                .iter()
+                .zip(b)
+                .filter(|(_, b)| b[1] > b[0])
+                .map(|(n, _)| *n)
+                .collect(),
+        },
+        worst_margin: d.best.worst,
+        limiting: d.best.worst_margin(),
+        margins: &d.best.margins,
+        sensitivities: &d.sensitivities,
+        evaluations: d.evaluations,
+        starts: d.starts,
+        scenes,
+        provenance: crate::provenance::Provenance::now(),
+    };
+    let json = serde_json::to_string_pretty(&report)? + "\n";
+    crate::output::write_atomic(&out, "design.json", json.as_bytes())?;
+    let mut w = crate::output::stdout();
+    if args.json {
+        writeln!(w, "{}", serde_json::to_string(&report)?)?;
+        return Ok(());
+    }
+    writeln!(
+        w,
+        "design         {}: eps0 = {:.4}, mounting angle = {:.2} deg, overlap = {:.2} mm",
+        if d.feasible {
+            "meets every requirement"
+        } else {
+            "NO design meets every requirement; the least-violating one"
+        },
+        d.best.design[0],
+        d.best.design[1],
+        d.best.design[2]
+    )?;
+    if let Some(m) = d.best.worst_margin() {
+        writeln!(
+            w,
+            "worst margin   {:+.4} ({}: {})",
+            m.margin, m.requirement, m.detail
+        )?;
+    }
+    writeln!(
+        w,
+        "margins (normalised; >= 0 met) and d margin / d (eps0, angle deg, overlap mm):"
+    )?;
+    for (m, s) in d.best.margins.iter().zip(&d.sensitivities) {
+        writeln!(
+            w,
+            "  {:+.4}  {:<44} [{:+.3e}, {:+.3e}, {:+.3e}]  {}",
+            m.margin, m.requirement, s.gradient[0], s.gradient[1], s.gradient[2], m.detail
+        )?;
+    }
+    for s in &report.scenes {
+        writeln!(
+            w,
+            "scene          {}: {} ({})",
+            out.join(&s.file).display(),
+            if s.reproduced {
+                "fpc solve reproduces the grasp"
+            } else {
+                "NOT reproduced"
+            },
+            s.detail
+        )?;
+    }
+    writeln!(
+        w,
+        "search         {} evaluations from {} starts; wrote design.json, design.svg",
+        d.evaluations, d.starts
+    )?;
+    Ok(())
+}

@@ -1,0 +1,567 @@
+//! `fpc sweep SCENE.toml --vary KEY=SPEC ...`: a grid over scene
+//! parameters, solved in parallel with warm starts along the grid, one CSV
+//! row (and one JSON record) per point with its status and warnings.
+//!
+//! `SPEC` is `from:to:count` (count points, both ends included) or a comma
+//! list `v1,v2,...`. The last `--vary` is the fastest-varying axis: each
+//! line of the grid along it is solved in order, every point starting from
+//! the one before (`Scene::solve_warm`, so a sweep stays on the branch it
+//! started on); lines run in parallel (rayon). A key is any numeric scene
+//! key (`load.fx`, `actuator.pemc.eps0`, `gripper.grasp.d_mm`, ...): each
+//! point's scene is the file with those keys set, validated as `fpc solve`
+//! validates a file, so a bad value is that point's `rejected` status, not
+//! the end of the sweep.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use anyhow::Context as _;
+use fpc::scene::{warning_text, Scene, SceneSolution};
+use fpc::SolveError;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Flags of `fpc sweep`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The scene file (TOML; `fpc solve` documents the keys).
+    scene: PathBuf,
+    /// A scene key and its values: `KEY=FROM:TO:COUNT` or `KEY=V1,V2,...`
+    /// (repeat for more axes; the last varies fastest).
+    #[arg(
+        long = "vary",
+        value_name = "KEY=SPEC",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    vary: Vec<String>,
+    /// Output directory for sweep.csv and sweep.json. Default:
+    /// `<stem>-sweep` in the current directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (default: every core).
+    #[arg(long)]
+    threads: Option<usize>,
+}
+
+/// The largest grid a sweep runs.
+const MAX_POINTS: usize = 1_000_000;
+
+/// The largest number of values on one axis.
+const MAX_AXIS_POINTS: usize = 100_000;
+
+/// One axis of the grid.
+#[derive(Debug, Clone, PartialEq)]
+struct Axis {
+    key: String,
+    values: Vec<f64>,
+}
+
+/// Parses `KEY=FROM:TO:COUNT` or `KEY=V1,V2,...`.
+fn parse_axis(spec: &str) -> Result<Axis, String> {
+    let (key, values) = spec
+        .split_once('=')
+        .ok_or_else(|| format!("--vary {spec}: expected KEY=FROM:TO:COUNT or KEY=V1,V2,..."))?;
+    let key = key.trim();
+    if key.is_empty()
+        || !key
+            .split('.')
+            .all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
+    {
+        return Err(format!(
+            "--vary {spec}: '{key}' is not a scene key (like load.fx)"
+        ));
+    }
+    let number = |s: &str| -> Result<f64, String> {
+        let v: f64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("--vary {key}: '{}' is not a number", s.trim()))?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(format!("--vary {key}: {v} is not finite"))
+        }
+    };
+    let values = if values.contains(':') {
+        let parts: Vec<&str> = values.split(':').collect();
+        let [from, to, count] = parts[..] else {
+            return Err(format!("--vary {key}: a range is FROM:TO:COUNT"));
+        };
+        let (from, to) = (number(from)?, number(to)?);
+        let count: usize = count.trim().parse().map_err(|_| {
+            format!(
+                "--vary {key}: COUNT '{}' is not a whole number",
+                count.trim()
+            )
+        })?;
+        if !(1..=MAX_AXIS_POINTS).contains(&count) {
+            return Err(format!(
+                "--vary {key}: COUNT must lie in [1, {MAX_AXIS_POINTS}], got {count}"
+            ));
+        }
+        if count == 1 && from != to {
+            return Err(format!(
+                "--vary {key}: one point cannot span {from} to {to}"
+            ));
+        }
+        (0..count)
+            .map(|i| {
+                if count == 1 {
+                    from
+                } else {
+                    from + (to - from) * i as f64 / (count - 1) as f64
+                }
+            })
+            .collect()
+    } else {
+        values
+            .split(',')
+            .map(number)
+            .collect::<Result<Vec<_>, _>>()?
+    };
+    if values.is_empty() || values.len() > MAX_AXIS_POINTS {
+        return Err(format!(
+            "--vary {key}: between 1 and {MAX_AXIS_POINTS} values"
+        ));
+    }
+    Ok(Axis {
+        key: key.to_string(),
+        values,
+    })
+}
+
+/// Sets the dotted `key` of a TOML document to `value`, creating tables on
+/// the way (an integer key such as `partition.elements` keeps integers).
+fn set_key(doc: &mut toml::Table, key: &str, value: f64) -> Result<(), String> {
+    let mut parts: Vec<&str> = key.split('.').collect();
+    let last = parts.pop().unwrap_or(key);
+    let mut table = doc;
+    for p in parts {
+        let entry = table
+            .entry(p.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = entry
+            .as_table_mut()
+            .ok_or_else(|| format!("{key}: '{p}' is not a table in the scene"))?;
+    }
+    let v = if value.fract() == 0.0 && value.abs() < 1e15 && INTEGER_KEYS.contains(&key) {
+        toml::Value::Integer(value as i64)
+    } else {
+        toml::Value::Float(value)
+    };
+    table.insert(last.to_string(), v);
+    Ok(())
+}
+
+/// Scene keys that take whole numbers.
+const INTEGER_KEYS: [&str; 4] = [
+    "partition.elements",
+    "solve.max_iter",
+    "solve.samples_per_element",
+    "gripper.fingers",
+];
+
+/// One point's outcome.
+#[derive(Debug, Clone, Serialize)]
+struct Row {
+    /// The varied keys' values, in axis order.
+    values: Vec<f64>,
+    /// `ok`, `failed` (the solve did not converge) or `rejected` (the
+    /// scene is invalid at this point).
+    status: &'static str,
+    tip_x_mm: Option<f64>,
+    tip_z_mm: Option<f64>,
+    end_angle_deg: Option<f64>,
+    elements: Option<usize>,
+    iterations: Option<usize>,
+    residual: Option<f64>,
+    stable: Option<bool>,
+    /// No validity finding, and the grasp (if any) breaks no rule.
+    valid: Option<bool>,
+    normal_n: Option<f64>,
+    friction_n: Option<f64>,
+    lift_n: Option<f64>,
+    size_mm: Option<f64>,
+    /// Warning kinds, `;`-separated.
+    warnings: String,
+    /// The error, or the warnings' text.
+    message: String,
+}
+
+fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> Row {
+    let mut out = Row {
+        values,
+        status: "ok",
+        tip_x_mm: None,
+        tip_z_mm: None,
+        end_angle_deg: None,
+        elements: None,
+        iterations: None,
+        residual: None,
+        stable: None,
+        valid: None,
+        normal_n: None,
+        friction_n: None,
+        lift_n: None,
+        size_mm: None,
+        warnings: String::new(),
+        message: String::new(),
+    };
+    match r {
+        Err(e) => {
+            out.status = if rejected { "rejected" } else { "failed" };
+            out.message = e.clone();
+        }
+        Ok(s) => {
+            let sol = s.solution();
+            out.tip_x_mm = Some(sol.tip[0]);
+            out.tip_z_mm = Some(sol.tip[1]);
+            out.end_angle_deg = Some(sol.end_angle.to_degrees());
+            out.elements = Some(s.elements());
+            out.iterations = Some(sol.report.iterations);
+            out.residual = Some(sol.report.residual_norm);
+            out.stable = sol.stable;
+            let warnings = s.warnings();
+            let mut valid = !warnings.iter().any(|w| w.is_validity());
+            if let SceneSolution::Gripper { grasp: Some(g), .. } = s {
+                valid &= g.is_valid();
+                out.normal_n = Some(g.grasp.normal);
+                out.friction_n = Some(g.grasp.friction);
+                out.lift_n = Some(g.grasp.lift);
+                out.size_mm = Some(g.grasp.size);
+            }
+            out.valid = Some(valid);
+            out.warnings = warnings
+                .iter()
+                .map(|w| w.kind())
+                .collect::<Vec<_>>()
+                .join(";");
+            out.message = warnings
+                .iter()
+                .map(warning_text)
+                .collect::<Vec<_>>()
+                .join("; ");
+        }
+    }
+    out
+}
+
+/// The scene at one grid point, or the reason it is rejected.
+fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, String> {
+    let mut doc = base.clone();
+    for (a, &v) in axes.iter().zip(values) {
+        set_key(&mut doc, &a.key, v)?;
+    }
+    let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
+    Scene::from_toml(&text).map_err(|e| e.to_string())
+}
+
+/// Solves one line of the grid (the last axis), warm-starting along it.
+fn solve_line(base: &toml::Table, axes: &[Axis], outer: &[f64], done: &AtomicUsize) -> Vec<Row> {
+    let last = &axes[axes.len() - 1];
+    let mut warm: Option<SceneSolution> = None;
+    let mut rows = Vec::with_capacity(last.values.len());
+    for &v in &last.values {
+        let mut values = outer.to_vec();
+        values.push(v);
+        let r = match scene_at(base, axes, &values) {
+            Err(e) => row(values, &Err(e), true),
+            Ok(scene) => {
+                let solved = scene.solve_warm(warm.as_ref());
+                let rejected = matches!(solved, Err(SolveError::Input(_)));
+                let r = solved.map_err(|e| e.to_string());
+                let out = row(values, &r, rejected);
+                // a failed point starts the next one cold
+                warm = r.ok();
+                out
+            }
+        };
+        rows.push(r);
+        done.fetch_add(1, Ordering::Relaxed);
+    }
+    rows
+}
+
+/// Every combination of the outer axes (all but the last), in order.
+fn outer_points(axes: &[Axis]) -> Vec<Vec<f64>> {
+    let mut points = vec![Vec::new()];
+    for a in &axes[..axes.len() - 1] {
+        points = points
+            .into_iter()
+            .flat_map(|p| {
+                a.values.iter().map(move |&v| {
+                    let mut q = p.clone();
+                    q.push(v);
+                    q
+                })
+            })
+            .collect();
+    }
+    points
+}
+
+fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let mut header: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    header.extend(
+        [
+            "status",
+            "tip_x_mm",
+            "tip_z_mm",
+            "end_angle_deg",
+            "elements",
+            "iterations",
+            "residual",
+            "stable",
+            "valid",
+            "normal_n",
+            "friction_n",
+            "lift_n",
+            "size_mm",
+            "warnings",
+            "message",
+        ]
+        .map(String::from),
+    );
+    w.write_record(&header)?;
+    let num = |v: Option<f64>| v.map(|x| format!("{x:.10}")).unwrap_or_default();
+    let text = |v: Option<String>| v.unwrap_or_default();
+    for r in rows {
+        let mut rec: Vec<String> = r.values.iter().map(|v| format!("{v}")).collect();
+        rec.push(r.status.to_string());
+        rec.push(num(r.tip_x_mm));
+        rec.push(num(r.tip_z_mm));
+        rec.push(num(r.end_angle_deg));
+        rec.push(text(r.elements.map(|v| v.to_string())));
+        rec.push(text(r.iterations.map(|v| v.to_string())));
+        rec.push(text(r.residual.map(|v| format!("{v:.3e}"))));
+        rec.push(text(r.stable.map(|v| v.to_string())));
+        rec.push(text(r.valid.map(|v| v.to_string())));
+        rec.push(num(r.normal_n));
+        rec.push(num(r.friction_n));
+        rec.push(num(r.lift_n));
+        rec.push(num(r.size_mm));
+        rec.push(r.warnings.clone());
+        rec.push(r.message.clone());
+        w.write_record(&rec)?;
+    }
+    Ok(w.into_inner().map_err(|e| e.into_error())?)
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    scene: String,
+    axes: Vec<AxisJson<'a>>,
+    points: usize,
+    ok: usize,
+    failed: usize,
+    rejected: usize,
+    invalid: usize,
+    provenance: crate::provenance::Provenance,
+    rows: &'a [Row],
+}
+
+#[derive(Serialize)]
+struct AxisJson<'a> {
+    key: &'a str,
+    values: &'a [f64],
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let axes: Vec<Axis> = args
+        .vary
+        .iter()
+        .map(|s| parse_axis(s).map_err(crate::status::rejected))
+        .collect::<anyhow::Result<_>>()?;
+    for (i, a) in axes.iter().enumerate() {
+        if axes[..i].iter().any(|b| b.key == a.key) {
+            return Err(crate::status::rejected(format!(
+                "--vary {}: the key is varied twice",
+                a.key
+            )));
+        }
+    }
+    let total = axes
+        .iter()
+        .try_fold(1usize, |n, a| n.checked_mul(a.values.len()))
+        .filter(|&n| n <= MAX_POINTS)
+        .ok_or_else(|| {
+            crate::status::rejected(format!("the grid has more than {MAX_POINTS} points"))
+        })?;
+    let shown = args.scene.display().to_string();
+    let text = crate::solve::read_scene(&args.scene, &shown)?;
+    // the file must be a valid scene as it stands
+    Scene::from_toml(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    let base: toml::Table =
+        toml::from_str(&text).map_err(|e| crate::status::rejected(format!("{shown}: {e}")))?;
+    // every varied key must be a key of the schema: set it to the value
+    // the first point uses and check the file still parses
+    let first: Vec<f64> = axes.iter().map(|a| a.values[0]).collect();
+    if let Err(e) = scene_at(&base, &axes, &first) {
+        if e.contains("unknown field") || e.contains("is not a table") {
+            return Err(crate::status::rejected(format!("--vary: {e}")));
+        }
+    }
+    let stem = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-sweep")));
+    crate::output::prepare_dir(&out)?;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("cannot start the worker threads")?;
+    let done = AtomicUsize::new(0);
+    let lines = outer_points(&axes);
+    let rows: Vec<Row> = std::thread::scope(|s| {
+        let progress = s.spawn(|| {
+            let started = std::time::Instant::now();
+            loop {
+                let d = done.load(Ordering::Relaxed);
+                if d >= total {
+                    break;
+                }
+                if started.elapsed().as_millis() > 500 {
+                    crate::report::progress(&format!("fpc sweep: {d}/{total} points"));
+                }
+                std::thread::sleep(std::time::Duration::from_millis(200));
+            }
+        });
+        let rows = pool.install(|| {
+            lines
+                .par_iter()
+                .map(|outer| solve_line(&base, &axes, outer, &done))
+                .collect::<Vec<_>>()
+        });
+        done.store(total, Ordering::Relaxed);
+        let _ = progress.join();
+        rows.into_iter().flatten().collect()
+    });
+    if total > 0 {
+        crate::report::end_progress();
+    }
+    let count = |s: &str| rows.iter().filter(|r| r.status == s).count();
+    let report = Report {
+        scene: shown.clone(),
+        axes: axes
+            .iter()
+            .map(|a| AxisJson {
+                key: &a.key,
+                values: &a.values,
+            })
+            .collect(),
+        points: rows.len(),
+        ok: count("ok"),
+        failed: count("failed"),
+        rejected: count("rejected"),
+        invalid: rows.iter().filter(|r| r.valid == Some(false)).count(),
+        provenance: crate::provenance::Provenance::now(),
+        rows: &rows,
+    };
+    crate::output::write_atomic(&out, "sweep.csv", &csv_text(&axes, &rows)?)?;
+    crate::output::write_atomic(
+        &out,
+        "sweep.json",
+        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
+    )?;
+    let mut stdout = crate::output::stdout();
+    writeln!(
+        stdout,
+        "sweep          {shown}: {} points over {}",
+        rows.len(),
+        axes.iter()
+            .map(|a| format!("{} ({} values)", a.key, a.values.len()))
+            .collect::<Vec<_>>()
+            .join(" x ")
+    )?;
+    writeln!(
+        stdout,
+        "outcome        {} ok ({} outside the model or invalid), {} failed, {} rejected",
+        report.ok, report.invalid, report.failed, report.rejected
+    )?;
+    writeln!(
+        stdout,
+        "wrote          {}, {}",
+        out.join("sweep.csv").display(),
+        out.join("sweep.json").display()
+    )?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axes_parse_ranges_and_lists() {
+        let a = parse_axis("load.fx=0:2:5").unwrap();
+        assert_eq!(a.key, "load.fx");
+        assert_eq!(a.values, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
+        let b = parse_axis("load.pressure_kpa=0,50,100").unwrap();
+        assert_eq!(b.values, vec![0.0, 50.0, 100.0]);
+        assert_eq!(
+            parse_axis("a.b=-1:-3:3").unwrap().values,
+            vec![-1.0, -2.0, -3.0]
+        );
+        assert_eq!(parse_axis("a=7:7:1").unwrap().values, vec![7.0]);
+        for bad in [
+            "load.fx",
+            "=1,2",
+            "load..fx=1",
+            "load.fx=1:2",
+            "load.fx=1:2:0",
+            "load.fx=a,b",
+            "load.fx=nan",
+            "load.fx=1:2:1",
+            "load fx=1",
+            "load.fx=0:1:1000001",
+        ] {
+            assert!(parse_axis(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn keys_are_set_in_nested_tables() {
+        let mut doc: toml::Table = toml::from_str("[load]\nfx = 1.0\n").unwrap();
+        set_key(&mut doc, "load.fx", 2.5).unwrap();
+        set_key(&mut doc, "actuator.pemc.eps0", 0.3).unwrap();
+        set_key(&mut doc, "partition.elements", 16.0).unwrap();
+        let s = toml::to_string(&doc).unwrap();
+        let back: toml::Table = toml::from_str(&s).unwrap();
+        assert_eq!(back["load"]["fx"].as_float(), Some(2.5));
+        assert_eq!(back["actuator"]["pemc"]["eps0"].as_float(), Some(0.3));
+        assert_eq!(back["partition"]["elements"].as_integer(), Some(16));
+        let mut doc: toml::Table = toml::from_str("load = 3\n").unwrap();
+        assert!(set_key(&mut doc, "load.fx", 1.0).is_err());
+    }
+
+    #[test]
+    fn the_grid_is_the_cartesian_product_in_order() {
+        let axes = vec![
+            parse_axis("a=1,2").unwrap(),
+            parse_axis("b=10,20,30").unwrap(),
+            parse_axis("c=0,1").unwrap(),
+        ];
+        let outer = outer_points(&axes);
+        assert_eq!(
+            outer,
+            vec![
+                vec![1.0, 10.0],
+                vec![1.0, 20.0],
+                vec![1.0, 30.0],
+                vec![2.0, 10.0],
+                vec![2.0, 20.0],
+                vec![2.0, 30.0]
+            ]
+        );
+        assert_eq!(outer_points(&axes[2..]), vec![Vec::<f64>::new()]);
+    }
+}

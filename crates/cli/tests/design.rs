@@ -1,0 +1,108 @@
+//! `fpc design`: the JSON keys, the files written, the scenes that
+//! reproduce the claimed grasps, and requirements errors with their line.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn fpc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fpc-design-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn a_design_run_writes_its_claim_and_reproducible_scenes() {
+    let dir = tmp("run");
+    let req = dir.join("req.toml");
+    std::fs::write(
+        &req,
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n[vary]\nmounting_angle_deg = [60.0, 80.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = fpc(&[
+        "design",
+        req.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+        "--starts",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for key in [
+        "feasible",
+        "design",
+        "margins",
+        "scenes",
+        "sensitivities",
+        "provenance",
+    ] {
+        assert!(v.get(key).is_some(), "no {key} in {v}");
+    }
+    assert_eq!(v["feasible"], true);
+    assert_eq!(
+        v["design"]["varied"],
+        serde_json::json!(["mounting_angle_deg"])
+    );
+    let scenes = v["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 1);
+    assert_eq!(scenes[0]["reproduced"], true, "{}", scenes[0]);
+    for f in ["design.json", "design.svg", "object0_cuboid.toml"] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+    // the scene file runs with fpc solve, and gives the claimed lift
+    let s = fpc(&[
+        "solve",
+        out.join("object0_cuboid.toml").to_str().unwrap(),
+        "--out",
+        dir.join("solve").to_str().unwrap(),
+    ]);
+    assert!(s.status.success(), "{}", String::from_utf8_lossy(&s.stderr));
+    let sol: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("solve/solution.json")).unwrap())
+            .unwrap();
+    let claimed = scenes[0]["claimed_lift_n"].as_f64().unwrap();
+    let solved = sol["grasp"]["lift_n"].as_f64().unwrap();
+    assert!((claimed - solved).abs() <= 1e-6 * claimed);
+    let svg = std::fs::read_to_string(out.join("design.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && !svg.contains("NaN"));
+}
+
+#[test]
+fn bad_requirements_are_rejected_with_their_place() {
+    let dir = tmp("bad");
+    let req = dir.join("req.toml");
+    std::fs::write(
+        &req,
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift = 0.3\n",
+    )
+    .unwrap();
+    let o = fpc(&[
+        "design",
+        req.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains(":4:1:") && err.contains("lift"), "{err}");
+    std::fs::write(&req, "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = -1\n[vary]\neps0 = [0.1, 0.2]\n").unwrap();
+    let o = fpc(&[
+        "design",
+        req.to_str().unwrap(),
+        "--out",
+        dir.join("o").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("object[0].lift_n"));
+}

@@ -1,0 +1,167 @@
+//! `fpc sweep`: the grid's rows against independent single solves
+//! (`fpc finger --json` at the same point), warm starts that change
+//! nothing but the path, rejected points kept as rows, and bad flags.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(name: &str) -> TempDir {
+        let dir = std::env::temp_dir().join(format!("fpc-sweep-{}-{name}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        TempDir(dir)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn fpc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn sweep(scene: &Path, out: &Path, vary: &[&str]) -> Output {
+    let mut args = vec![
+        "sweep".to_string(),
+        scene.display().to_string(),
+        "--out".into(),
+        out.display().to_string(),
+    ];
+    for v in vary {
+        args.push("--vary".into());
+        args.push(v.to_string());
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    fpc(&args)
+}
+
+fn rows(out: &Path) -> Vec<csv::StringRecord> {
+    let mut r = csv::Reader::from_path(out.join("sweep.csv")).unwrap();
+    r.records().map(|x| x.unwrap()).collect()
+}
+
+fn header(out: &Path) -> Vec<String> {
+    let mut r = csv::Reader::from_path(out.join("sweep.csv")).unwrap();
+    r.headers().unwrap().iter().map(String::from).collect()
+}
+
+#[test]
+fn a_grid_matches_single_solves_point_by_point() {
+    let tmp = TempDir::new("grid");
+    let scene = tmp.0.join("finger.toml");
+    std::fs::write(&scene, "[actuator.pemc]\neps0 = 0.3\n").unwrap();
+    let out = tmp.0.join("out");
+    let o = sweep(
+        &scene,
+        &out,
+        &[
+            "load.pressure_kpa=0,40",
+            "load.fx=0:1:3",
+            "load.fz=-0.2,0.3",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = header(&out);
+    assert_eq!(
+        &h[..4],
+        &["load.pressure_kpa", "load.fx", "load.fz", "status"]
+    );
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 2 * 3 * 2);
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    // the last axis varies fastest
+    assert_eq!(&rows[0][2], "-0.2");
+    assert_eq!(&rows[1][2], "0.3");
+    assert_eq!(&rows[2][1], "0.5");
+    for r in &rows {
+        assert_eq!(&r[col("status")], "ok", "{r:?}");
+        let (p, fx, fz) = (&r[0], &r[1], &r[2]);
+        let single = fpc(&[
+            "finger",
+            "--eps0",
+            "0.3",
+            "--pressure-kpa",
+            p,
+            "--fx",
+            fx,
+            "--fz",
+            fz,
+            "--json",
+        ]);
+        assert!(single.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&single.stdout).unwrap();
+        let tip = [
+            v["tip_mm"][0].as_f64().unwrap(),
+            v["tip_mm"][1].as_f64().unwrap(),
+        ];
+        let got = [
+            r[col("tip_x_mm")].parse::<f64>().unwrap(),
+            r[col("tip_z_mm")].parse::<f64>().unwrap(),
+        ];
+        // both converge to the same equilibrium (to the solver's
+        // tolerance), the sweep from its neighbour
+        for k in 0..2 {
+            assert!((tip[k] - got[k]).abs() <= 1e-6, "{r:?}: {tip:?} vs {got:?}");
+        }
+        assert_eq!(&r[col("valid")], "true");
+    }
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("sweep.json")).unwrap()).unwrap();
+    assert_eq!(json["points"], 12);
+    assert_eq!(json["ok"], 12);
+    assert_eq!(json["rows"].as_array().unwrap().len(), 12);
+    assert!(json["provenance"]["git_commit"].is_string());
+    assert_eq!(json["provenance"]["command"][1], "sweep");
+}
+
+#[test]
+fn a_rejected_point_is_a_row_not_the_end_of_the_sweep() {
+    let tmp = TempDir::new("rejected");
+    let scene = tmp.0.join("finger.toml");
+    std::fs::write(&scene, "").unwrap();
+    let out = tmp.0.join("out");
+    // kappa = 0 is rejected by the library; the others solve
+    let o = sweep(&scene, &out, &["load.kappa=1,0,2"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = header(&out);
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let rows = rows(&out);
+    let status: Vec<&str> = rows.iter().map(|r| &r[col("status")]).collect();
+    assert_eq!(status, ["ok", "rejected", "ok"]);
+    assert!(
+        rows[1][col("message")].contains("load.kappa"),
+        "{:?}",
+        rows[1]
+    );
+}
+
+#[test]
+fn bad_flags_are_rejected() {
+    let tmp = TempDir::new("flags");
+    let scene = tmp.0.join("finger.toml");
+    std::fs::write(&scene, "").unwrap();
+    let out = tmp.0.join("out");
+    for (vary, part) in [
+        ("load.fx", "expected KEY=FROM:TO:COUNT"),
+        ("load.fx=1:2", "FROM:TO:COUNT"),
+        ("load.fx=a", "is not a number"),
+        ("load.nonsense=1,2", "unknown field"),
+    ] {
+        let o = sweep(&scene, &out, &[vary]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{vary}: {err}");
+        assert!(err.contains(part), "{vary}: {err}");
+    }
+    let o = sweep(&scene, &out, &["load.fx=1,2", "load.fx=3"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("varied twice"));
+}
