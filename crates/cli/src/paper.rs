@@ -51,6 +51,14 @@ pub struct Args {
     /// Elements per finger (default: the scene's count, else 8).
     #[arg(long, allow_hyphen_values = true)]
     elements: Option<usize>,
+    /// Printed width of the figures in inches (the SVG's width and height
+    /// become inches; default: their pixel size).
+    #[arg(long, value_name = "INCHES", allow_hyphen_values = true)]
+    width_in: Option<f64>,
+    /// Printed size of the figures' tick labels in points, at --width-in
+    /// (every other text scales with it; default: as drawn).
+    #[arg(long, value_name = "POINTS", allow_hyphen_values = true)]
+    font_pt: Option<f64>,
 }
 
 /// The actuator, model and element count the studies run on, and a
@@ -100,6 +108,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     } else {
         StudyOptions::default()
     };
+    let style = render::Style {
+        width_in: args.width_in,
+        font_pt: args.font_pt,
+    };
+    style.validate()?;
     let (act, model, scene_elements, source) = setup(args)?;
     let opts = StudyOptions {
         strict: args.strict,
@@ -112,6 +125,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         crate::report::warning(&w.to_string());
     }
     let mut out = Output::new(args.out.clone(), opts, args.coarse, source);
+    out.style = style;
 
     let bar = progress_bar(STUDIES.len() as u64);
     for info in STUDIES {
@@ -188,6 +202,8 @@ struct Output {
     dir: PathBuf,
     opts: StudyOptions,
     coarse: bool,
+    /// Print sizing of the figures.
+    style: render::Style,
     /// Where the actuator came from (`default ...` or `scene PATH`).
     source: String,
     provenance: crate::provenance::Provenance,
@@ -213,6 +229,7 @@ impl Output {
             dir,
             opts,
             coarse,
+            style: render::Style::default(),
             source,
             provenance: crate::provenance::Provenance::now(),
             files: Vec::new(),
@@ -299,7 +316,7 @@ impl Output {
             csvs.push(name);
         }
         if ok {
-            self.figure(info, render::svg(&out.figure))?;
+            self.figure(info, render::svg_styled(&out.figure, &self.style))?;
         }
         self.summary.extend(out.summary);
         for s in &out.stops {

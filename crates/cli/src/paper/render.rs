@@ -70,26 +70,93 @@ pub fn hex(c: RGBColor) -> String {
     format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
 }
 
-/// Renders a figure as an SVG document.
+/// Print sizing of a figure: the width it is shown at on paper and the
+/// size of its tick labels there. The drawing keeps its pixel layout; the
+/// SVG's `width` and `height` become inches and every text (titles, axis
+/// names, legends, notes) scales with the tick labels.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Style {
+    /// Printed width in inches (`None`: the pixel size, at 96 px per inch).
+    pub width_in: Option<f64>,
+    /// Printed size of the tick labels in points (`None`: as drawn, 13 px
+    /// in plotters' units).
+    pub font_pt: Option<f64>,
+}
+
+/// Default tick-label size in plotters' units; the SVG's font-size is
+/// 1/1.24 of it.
+const LABEL_FONT: f64 = 13.0;
+
+impl Style {
+    /// Checks the options (positive and finite).
+    pub fn validate(&self) -> anyhow::Result<()> {
+        for (name, v) in [("--width-in", self.width_in), ("--font-pt", self.font_pt)] {
+            if let Some(v) = v {
+                anyhow::ensure!(
+                    v.is_finite() && v > 0.0 && v <= 1000.0,
+                    "{name} = {v}: must be a positive number of at most 1000"
+                );
+            }
+        }
+        Ok(())
+    }
+
+    /// Printed points per SVG pixel of a figure `width_px` wide.
+    fn pt_per_px(&self, width_px: u32) -> f64 {
+        match self.width_in {
+            Some(w) => 72.0 * w / f64::from(width_px.max(1)),
+            None => 0.75,
+        }
+    }
+
+    /// The factor on every font size (and on the label areas that hold
+    /// them) for a figure `width_px` wide.
+    fn font_scale(&self, width_px: u32) -> f64 {
+        match self.font_pt {
+            Some(pt) => pt / (LABEL_FONT / 1.24 * self.pt_per_px(width_px)),
+            None => 1.0,
+        }
+    }
+}
+
+/// Renders a figure as an SVG document, at its pixel size.
 pub fn svg(fig: &Figure) -> anyhow::Result<String> {
+    svg_styled(fig, &Style::default())
+}
+
+/// Renders a figure as an SVG document sized for print by `style`.
+pub fn svg_styled(fig: &Figure, style: &Style) -> anyhow::Result<String> {
     anyhow::ensure!(
         fig.rows.iter().all(|r| !r.is_empty()) && !fig.rows.is_empty(),
         "the figure has no panels"
     );
+    let k = style.font_scale(fig.size[0]);
     let mut buf = String::new();
     {
         let root =
             SVGBackend::with_string(&mut buf, (fig.size[0], fig.size[1])).into_drawing_area();
         root.fill(&WHITE)?;
-        let body = root.titled(&fig.title, ("sans-serif", 21))?;
+        let body = root.titled(&fig.title, ("sans-serif", 21.0 * k))?;
         let rows = body.split_evenly((fig.rows.len(), 1));
         for (row, area) in fig.rows.iter().zip(&rows) {
             let cells = area.split_evenly((1, row.len()));
             for (p, cell) in row.iter().zip(&cells) {
-                draw(p, cell)?;
+                draw(p, cell, k)?;
             }
         }
         root.present()?;
+    }
+    if let Some(w) = style.width_in {
+        let h = w * f64::from(fig.size[1]) / f64::from(fig.size[0].max(1));
+        let from = format!("<svg width=\"{}\" height=\"{}\"", fig.size[0], fig.size[1]);
+        anyhow::ensure!(
+            buf.starts_with(&from),
+            "unexpected SVG header from plotters"
+        );
+        buf = format!(
+            "<svg width=\"{w:.3}in\" height=\"{h:.3}in\"{}",
+            &buf[from.len()..]
+        );
     }
     Ok(buf)
 }
@@ -178,10 +245,10 @@ fn position(c: Corner) -> SeriesLabelPosition {
 }
 
 /// Draws one panel into `area`.
-fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
-    const X_LABELS: u32 = 42;
-    const Y_LABELS: u32 = 62;
-    const CAPTION: u32 = 26;
+fn draw(p: &Panel, area: &Area, k: f64) -> anyhow::Result<()> {
+    // label areas grow with the fonts they hold
+    let grown = |px: f64| (px * k.max(0.5)).round() as u32;
+    let (x_labels, y_labels, caption) = (grown(42.0), grown(62.0), grown(26.0));
     const MARGIN: u32 = 12;
     // a log axis is drawn as log10 of the data on a linear axis
     let logged;
@@ -193,24 +260,24 @@ fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
     };
     let (w, h) = area.dim_in_pixel();
     let plot_px = (
-        f64::from(w.saturating_sub(Y_LABELS + 2 * MARGIN).max(10)),
-        f64::from(h.saturating_sub(X_LABELS + CAPTION + 2 * MARGIN).max(10)),
+        f64::from(w.saturating_sub(y_labels + 2 * MARGIN).max(10)),
+        f64::from(h.saturating_sub(x_labels + caption + 2 * MARGIN).max(10)),
     );
     let ((x0, x1), (y0, y1)) = ranges(p, plot_px);
     let mut builder = ChartBuilder::on(area);
     if !p.title.is_empty() {
-        builder.caption(&p.title, ("sans-serif", 17));
+        builder.caption(&p.title, ("sans-serif", 17.0 * k));
     }
     let mut chart = builder
         .margin(MARGIN)
-        .x_label_area_size(X_LABELS)
-        .y_label_area_size(Y_LABELS)
+        .x_label_area_size(x_labels)
+        .y_label_area_size(y_labels)
         .build_cartesian_2d(x0..x1, y0..y1)?;
     let mut mesh = chart.configure_mesh();
     mesh.x_desc(p.x.text())
         .y_desc(p.y.text())
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 14))
+        .label_style(("sans-serif", LABEL_FONT * k))
+        .axis_desc_style(("sans-serif", 14.0 * k))
         .light_line_style(RGBColor(238, 238, 238))
         .bold_line_style(RGBColor(215, 215, 215))
         .x_labels(7)
@@ -291,16 +358,21 @@ fn draw(p: &Panel, area: &Area) -> anyhow::Result<()> {
         }
     }
     if !p.notes.is_empty() {
-        let style = ("sans-serif", 13).into_font().color(&BLACK);
+        let style = ("sans-serif", LABEL_FONT * k).into_font().color(&BLACK);
         chart.draw_series(p.notes.iter().enumerate().map(|(i, n)| {
-            EmptyElement::at((x0, y1)) + Text::new(n.clone(), (8, 8 + 17 * i as i32), style.clone())
+            EmptyElement::at((x0, y1))
+                + Text::new(
+                    n.clone(),
+                    (8, 8 + (17.0 * k * i as f64) as i32),
+                    style.clone(),
+                )
         }))?;
     }
     if labelled {
         chart
             .configure_series_labels()
             .position(position(p.legend))
-            .label_font(("sans-serif", 12))
+            .label_font(("sans-serif", 12.0 * k))
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(190, 190, 190))
             .draw()?;
@@ -522,7 +594,7 @@ pub fn placeholder(title: &str, message: &str) -> String {
 }
 
 #[cfg(test)]
-mod log_axis_tests {
+mod tests {
     use super::*;
     use fpc::studies::RefLine;
 
@@ -572,5 +644,39 @@ mod log_axis_tests {
         let s = svg(&fig).unwrap();
         assert!(!s.contains("NaN") && !s.contains("inf"), "{s}");
         assert!(s.contains("10⁻²") && s.contains("10¹"), "{s}");
+    }
+
+    #[test]
+    fn print_sizing_sets_inches_and_the_printed_font_size() {
+        let mut p = Panel::new("t", PlotAxis::new("x", "mm"), PlotAxis::new("y", "N"));
+        p.series
+            .push(Series::new("a", SeriesKind::Line, vec![[0.0, 0.0], [1.0, 2.0]]).label("a"));
+        let fig = Figure::row("print", [1200, 600], vec![p]);
+        let style = Style {
+            width_in: Some(6.0),
+            font_pt: Some(9.0),
+        };
+        let s = svg_styled(&fig, &style).unwrap();
+        assert!(s.starts_with("<svg width=\"6.000in\" height=\"3.000in\" viewBox=\"0 0 1200 600\""));
+        // 6 in over 1200 px: 0.36 pt per px, so 9 pt tick labels are 25 px
+        // in the SVG; the tick labels are its most common font size
+        let mut counts = std::collections::BTreeMap::<String, usize>::new();
+        for part in s.split("font-size=\"").skip(1) {
+            let v = part.split('"').next().unwrap().to_string();
+            *counts.entry(v).or_default() += 1;
+        }
+        let (common, _) = counts.iter().max_by_key(|(_, n)| **n).unwrap();
+        let px: f64 = common.parse().unwrap();
+        assert!((px * 72.0 * 6.0 / 1200.0 - 9.0).abs() < 1e-6, "{counts:?}");
+        // the default keeps the pixel size
+        assert!(svg(&fig)
+            .unwrap()
+            .starts_with("<svg width=\"1200\" height=\"600\""));
+        assert!(Style {
+            width_in: Some(-1.0),
+            font_pt: None
+        }
+        .validate()
+        .is_err());
     }
 }

@@ -1,0 +1,568 @@
+//! `fpc.batch_solve`: many finger solves in parallel (rayon), the GIL
+//! released, results as arrays.
+//!
+//! The points are grouped by prestrain (one finger built per distinct
+//! `eps0`), each group split into chunks, and each chunk solved on one
+//! thread with one reused [`fpc::Solver`] workspace. By default every
+//! point is solved cold, exactly as `Finger.solve` solves it (the batch
+//! equals a loop of single solves bit for bit, whatever the number of
+//! threads); `warm_start` sorts each group by load and starts each solve
+//! from the previous point of its chunk (falling back to a cold solve when
+//! that fails), which agrees to the solver's tolerance.
+
+use std::time::Instant;
+
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+use rayon::prelude::*;
+
+use fpc::{Actuator, Coefficients, Load, ModelId, Partition, SolveError, SolveOptions, Solver};
+
+use crate::convert::{array1, array2};
+use crate::errors::{from_input, guarded, input_error, panic_message};
+use crate::finger::{actuator_from_kwargs, elements_arg, load, model, ElementsArg};
+
+/// `status` codes of a batch point, by index: 0 ok, 1 input_error,
+/// 2 not_converged, 3 internal_error.
+pub const STATUS_NAMES: [&str; 4] = ["ok", "input_error", "not_converged", "internal_error"];
+
+/// One point of a batch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Point {
+    pub eps0: f64,
+    pub pressure_kpa: f64,
+    pub fx: f64,
+    pub fz: f64,
+    pub kappa: f64,
+}
+
+/// How every point is solved.
+#[derive(Debug, Clone)]
+pub struct Config {
+    pub actuator: Actuator,
+    pub model: ModelId,
+    pub ribs: bool,
+    /// Equal elements (`Some(n)`) or the automatic partition (`None`).
+    pub elements: Option<usize>,
+    /// Refine each point to this tip tolerance (mm).
+    pub tip_tol_mm: Option<f64>,
+    /// `Some(n)` with `tip_tol_mm`: equal elements doubled from `n`.
+    pub tip_tol_start: Option<usize>,
+    pub warm_start: bool,
+    pub options: SolveOptions,
+}
+
+/// The outcome of one point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    pub status: u8,
+    pub tip: [f64; 2],
+    pub end_angle: f64,
+    pub residual: f64,
+    pub iterations: usize,
+    pub valid: bool,
+    pub elements: usize,
+    pub error: String,
+}
+
+impl Outcome {
+    fn failed(status: u8, error: String) -> Outcome {
+        Outcome {
+            status,
+            tip: [f64::NAN; 2],
+            end_angle: f64::NAN,
+            residual: f64::NAN,
+            iterations: 0,
+            valid: false,
+            elements: 0,
+            error,
+        }
+    }
+
+    fn of(r: Result<fpc::Solution, SolveError>) -> Outcome {
+        match r {
+            Ok(s) => Outcome {
+                status: 0,
+                tip: s.tip,
+                end_angle: s.end_angle,
+                residual: s.report.residual_norm,
+                iterations: s.report.iterations,
+                valid: s.is_within_model(),
+                elements: s.element_lengths.len(),
+                error: String::new(),
+            },
+            Err(SolveError::Input(e)) => Outcome::failed(1, e.to_string()),
+            Err(e) => {
+                let mut o = Outcome::failed(2, e.to_string());
+                if let SolveError::NotConverged {
+                    iterations,
+                    relative_residual,
+                    ..
+                } = e
+                {
+                    o.iterations = iterations;
+                    o.residual = relative_residual;
+                }
+                o
+            }
+        }
+    }
+
+    fn panicked(message: String) -> Outcome {
+        Outcome::failed(3, format!("internal error (a bug): {message}"))
+    }
+}
+
+/// Solves every point; `threads` (None: rayon's global pool, all cores).
+pub fn run(points: &[Point], cfg: &Config, threads: Option<usize>) -> Result<Vec<Outcome>, String> {
+    match threads {
+        None => Ok(run_in_pool(points, cfg)),
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| e.to_string())
+            .map(|pool| pool.install(|| run_in_pool(points, cfg))),
+    }
+}
+
+/// One distinct prestrain: its finger (or why it has none).
+struct Group {
+    eps0: f64,
+    actuator: Result<Actuator, String>,
+    finger: Option<fpc::Finger>,
+    members: Vec<usize>,
+}
+
+fn run_in_pool(points: &[Point], cfg: &Config) -> Vec<Outcome> {
+    // distinct prestrains, in order of first appearance
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.sort_by(|&a, &b| points[a].eps0.total_cmp(&points[b].eps0).then(a.cmp(&b)));
+    let mut groups: Vec<Group> = Vec::new();
+    for i in order {
+        match groups.last_mut() {
+            Some(g) if g.eps0.total_cmp(&points[i].eps0).is_eq() => g.members.push(i),
+            _ => groups.push(Group {
+                eps0: points[i].eps0,
+                actuator: Err(String::new()),
+                finger: None,
+                members: vec![i],
+            }),
+        }
+    }
+    // one finger per prestrain, built in parallel
+    groups.par_iter_mut().for_each(|g| {
+        let built = guarded(|| -> Result<(Actuator, Option<fpc::Finger>), String> {
+            let act = cfg.actuator.with_eps0(g.eps0).map_err(|e| e.to_string())?;
+            let finger = match (cfg.elements, cfg.tip_tol_mm) {
+                (Some(n), None) => {
+                    let part = Partition::equal(act.geometry().lx, n).map_err(|e| e.to_string())?;
+                    Some(fpc::Finger::with_model(cfg.model, &act, &part, cfg.ribs))
+                }
+                _ => None,
+            };
+            Ok((act, finger))
+        });
+        match built {
+            Ok(Ok((act, finger))) => {
+                g.actuator = Ok(act);
+                g.finger = finger;
+            }
+            Ok(Err(e)) => g.actuator = Err(e),
+            Err(p) => g.actuator = Err(format!("internal error (a bug): {p}")),
+        }
+        if cfg.warm_start {
+            g.members.sort_by(|&a, &b| {
+                let (p, q) = (&points[a], &points[b]);
+                p.pressure_kpa
+                    .total_cmp(&q.pressure_kpa)
+                    .then(p.fx.total_cmp(&q.fx))
+                    .then(p.fz.total_cmp(&q.fz))
+                    .then(p.kappa.total_cmp(&q.kappa))
+            });
+        }
+    });
+    // chunks of about 1/8 of a thread's share: balanced, and long enough
+    // for a warm start to pay
+    let threads = rayon::current_num_threads().max(1);
+    let chunk = points.len().div_ceil(8 * threads).max(1);
+    let tasks: Vec<(&Group, &[usize])> = groups
+        .iter()
+        .flat_map(|g| g.members.chunks(chunk).map(move |c| (g, c)))
+        .collect();
+    let solved: Vec<Vec<(usize, Outcome)>> = tasks
+        .par_iter()
+        .map(|&(g, members)| solve_chunk(points, cfg, g, members))
+        .collect();
+    let mut out = vec![Outcome::failed(3, String::new()); points.len()];
+    for (i, o) in solved.into_iter().flatten() {
+        out[i] = o;
+    }
+    out
+}
+
+/// The points of one chunk, in order, on one thread.
+fn solve_chunk(
+    points: &[Point],
+    cfg: &Config,
+    g: &Group,
+    members: &[usize],
+) -> Vec<(usize, Outcome)> {
+    let act = match &g.actuator {
+        Ok(a) => a,
+        Err(e) => {
+            let status = if e.starts_with("internal error") {
+                3
+            } else {
+                1
+            };
+            return members
+                .iter()
+                .map(|&i| (i, Outcome::failed(status, e.clone())))
+                .collect();
+        }
+    };
+    let mut out = Vec::with_capacity(members.len());
+    let mut loads = members.iter().map(|&i| {
+        let p = &points[i];
+        (i, load(p.pressure_kpa, p.kappa, p.fx, p.fz))
+    });
+    match &g.finger {
+        Some(finger) => {
+            let mut solver = Solver::new(finger);
+            let mut prev: Option<Coefficients> = None;
+            for (i, l) in loads.by_ref() {
+                let l = match l {
+                    Ok(l) => l,
+                    Err(e) => {
+                        out.push((i, Outcome::failed(1, e.to_string())));
+                        continue;
+                    }
+                };
+                let r = guarded(|| match (&prev, cfg.warm_start) {
+                    (Some(k), true) => solver
+                        .solve(&l, Some(k), &cfg.options)
+                        .or_else(|_| solver.solve(&l, None, &cfg.options)),
+                    _ => solver.solve(&l, None, &cfg.options),
+                });
+                match r {
+                    Ok(r) => {
+                        if let Ok(s) = &r {
+                            if cfg.warm_start {
+                                prev = Some(s.coefficients.clone());
+                            }
+                        }
+                        out.push((i, Outcome::of(r)));
+                    }
+                    Err(p) => {
+                        // the workspace may be left mid-solve: start afresh
+                        solver = Solver::new(finger);
+                        prev = None;
+                        out.push((i, Outcome::panicked(p)));
+                    }
+                }
+            }
+        }
+        None => {
+            for (i, l) in loads {
+                let l = match l {
+                    Ok(l) => l,
+                    Err(e) => {
+                        out.push((i, Outcome::failed(1, e.to_string())));
+                        continue;
+                    }
+                };
+                let r = guarded(|| match cfg.tip_tol_mm {
+                    Some(tol) => fpc::solve_to_tip_tolerance(
+                        cfg.model,
+                        act,
+                        cfg.ribs,
+                        &l,
+                        tol,
+                        cfg.tip_tol_start,
+                        &cfg.options,
+                    )
+                    .map(|r| r.solution),
+                    None => fpc::solve_auto(cfg.model, act, cfg.ribs, &l, &cfg.options)
+                        .map(|a| a.solution),
+                });
+                out.push((
+                    i,
+                    match r {
+                        Ok(r) => Outcome::of(r),
+                        Err(p) => Outcome::panicked(p),
+                    },
+                ));
+            }
+        }
+    }
+    out
+}
+
+// ------------------------------------------------------------ Python
+
+/// The inputs broadcast against each other (numpy rules), flattened.
+fn broadcast<'py>(
+    py: Python<'py>,
+    inputs: &[(&str, Option<&Bound<'py, PyAny>>, f64)],
+) -> PyResult<(Vec<usize>, Vec<Vec<f64>>)> {
+    let np = py.import("numpy")?;
+    let mut arrays = Vec::new();
+    for (name, v, default) in inputs {
+        let v = match v {
+            Some(v) if !v.is_none() => (*v).clone(),
+            _ => default.into_pyobject(py)?.into_any(),
+        };
+        let a = np
+            .call_method1("asarray", (v, "float64"))
+            .map_err(|e| input_error(py, name, format!("{name}: not an array of numbers ({e})")))?;
+        arrays.push(a);
+    }
+    let b = np
+        .call_method1("broadcast_arrays", PyTuple::new(py, &arrays)?)
+        .map_err(|e| {
+            let names: Vec<&str> = inputs.iter().map(|i| i.0).collect();
+            input_error(
+                py,
+                names[0],
+                format!("{}: shapes do not broadcast ({e})", names.join(", ")),
+            )
+        })?;
+    let mut shape: Vec<usize> = Vec::new();
+    let mut cols = Vec::new();
+    for a in b.try_iter()? {
+        let a = a?;
+        shape = a.getattr("shape")?.extract()?;
+        // a fresh C-ordered copy: aligned, whatever the input (a view, a
+        // buffer unpickled at an odd offset, a broadcast with zero strides)
+        let flat = a.call_method1("flatten", ("C",))?;
+        let flat: PyReadonlyArray1<'_, f64> = flat.extract()?;
+        cols.push(flat.as_slice()?.to_vec());
+    }
+    Ok((shape, cols))
+}
+
+/// The configuration from Python's arguments.
+#[allow(clippy::too_many_arguments)]
+fn config(
+    py: Python<'_>,
+    elements: Option<&Bound<'_, PyAny>>,
+    model_name: &str,
+    ribs: bool,
+    tip_tol_mm: Option<f64>,
+    warm_start: bool,
+    actuator: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Config> {
+    let model = model(py, model_name)?;
+    let elements = elements_arg(elements)?;
+    if let Some(t) = tip_tol_mm {
+        if !(t.is_finite() && t > 0.0) {
+            return Err(from_input(
+                py,
+                &fpc::InputError::NotPositive {
+                    field: "tip_tol_mm".into(),
+                    value: t,
+                },
+            ));
+        }
+    }
+    let actuator = actuator_from_kwargs(py, None, actuator)?;
+    let (count, start) = match elements {
+        ElementsArg::Default => (Some(crate::finger::DEFAULT_ELEMENTS), None),
+        ElementsArg::Count(n) => {
+            crate::finger::equal_partition(py, actuator.geometry().lx, n)?;
+            (Some(n), Some(n))
+        }
+        ElementsArg::Auto => (None, None),
+    };
+    let options = SolveOptions::default().tip_only();
+    Ok(Config {
+        actuator,
+        model,
+        ribs,
+        elements: count,
+        tip_tol_mm,
+        tip_tol_start: start,
+        warm_start,
+        options,
+    })
+}
+
+/// Solves a batch of fingers in parallel and returns a dict of arrays.
+///
+/// ``eps0``, ``pressure_kpa``, ``fx``, ``fz`` and ``kappa`` are scalars or
+/// array-likes, broadcast against each other like numpy arrays; the M
+/// points are the broadcast result flattened in C order (``shape`` keeps
+/// its shape). Every point is a finger of the same actuator
+/// (``**actuator``, as for ``fpc.Finger``) at its own prestrain, under its
+/// own load, with ``elements`` (default 8, or ``"auto"``), ``model`` and
+/// ``ribs``; ``tip_tol_mm`` refines each point to a tip tolerance.
+///
+/// The solves run on ``threads`` threads (default: all cores, rayon) with
+/// the GIL released. ``warm_start=False`` (default) solves every point as
+/// ``Finger.solve(..., shape=False, stability=False)`` does: the results
+/// equal a loop of single solves exactly (with a fixed partition whatever
+/// the output options; a refinement re-solves its finest level for them). ``warm_start=True`` starts each solve from a neighbouring
+/// point of the same prestrain (faster; agrees to the solver's tolerance).
+/// Only the tip is computed (no shape sampling, no eigenvalues); the
+/// validity checks are those of ``Finger.solve``.
+///
+/// Returns: ``shape`` (tuple), the inputs flattened (``eps0``,
+/// ``pressure_kpa``, ``fx``, ``fz``, ``kappa``), ``tip`` (M x 2, mm),
+/// ``end_angle`` (rad), ``status`` (int8: 0 ok, 1 input_error,
+/// 2 not_converged, 3 internal_error; names in ``fpc.BATCH_STATUS``),
+/// ``residual`` (relative, also for not_converged), ``iterations``,
+/// ``valid`` (solved and within the model), ``elements`` and ``error``
+/// (list of messages, "" where solved). Failed points have NaN tips.
+#[pyfunction]
+#[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model="ccm", ribs=true, tip_tol_mm=None, warm_start=false, threads=None, **actuator))]
+#[allow(clippy::too_many_arguments)]
+pub fn batch_solve<'py>(
+    py: Python<'py>,
+    eps0: Option<&Bound<'py, PyAny>>,
+    pressure_kpa: Option<&Bound<'py, PyAny>>,
+    fx: Option<&Bound<'py, PyAny>>,
+    fz: Option<&Bound<'py, PyAny>>,
+    kappa: Option<&Bound<'py, PyAny>>,
+    elements: Option<&Bound<'py, PyAny>>,
+    model: &str,
+    ribs: bool,
+    tip_tol_mm: Option<f64>,
+    warm_start: bool,
+    threads: Option<usize>,
+    actuator: Option<&Bound<'py, PyDict>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if threads == Some(0) {
+        return Err(input_error(
+            py,
+            "threads",
+            "threads = 0: must be at least 1".into(),
+        ));
+    }
+    let cfg = config(py, elements, model, ribs, tip_tol_mm, warm_start, actuator)?;
+    let (dims, cols) = broadcast(
+        py,
+        &[
+            ("eps0", eps0, 0.25),
+            ("pressure_kpa", pressure_kpa, 0.0),
+            ("fx", fx, 0.0),
+            ("fz", fz, 0.0),
+            ("kappa", kappa, 2.5),
+        ],
+    )?;
+    let points: Vec<Point> = (0..cols[0].len())
+        .map(|i| Point {
+            eps0: cols[0][i],
+            pressure_kpa: cols[1][i],
+            fx: cols[2][i],
+            fz: cols[3][i],
+            kappa: cols[4][i],
+        })
+        .collect();
+    let outcomes = py
+        .detach(|| {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run(&points, &cfg, threads)))
+                .map_err(|p| format!("internal error (a bug): {}", panic_message(&*p)))
+                .and_then(|r| r)
+        })
+        .map_err(crate::errors::InternalError::new_err)?;
+
+    let d = PyDict::new(py);
+    d.set_item("shape", PyTuple::new(py, &dims)?)?;
+    for (name, col) in ["eps0", "pressure_kpa", "fx", "fz", "kappa"]
+        .iter()
+        .zip(cols)
+    {
+        d.set_item(*name, array1(py, col))?;
+    }
+    let m = outcomes.len();
+    let mut tip = Vec::with_capacity(2 * m);
+    let (mut end_angle, mut residual) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    let (mut status, mut iterations) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    let (mut valid, mut elements) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    let mut errors = Vec::with_capacity(m);
+    for o in outcomes {
+        tip.extend(o.tip);
+        end_angle.push(o.end_angle);
+        residual.push(o.residual);
+        status.push(o.status as i8);
+        iterations.push(o.iterations as i64);
+        valid.push(o.valid);
+        elements.push(o.elements as i64);
+        errors.push(o.error);
+    }
+    d.set_item("tip", array2(py, tip, 2)?)?;
+    d.set_item("end_angle", array1(py, end_angle))?;
+    d.set_item("status", PyArray1::from_vec(py, status))?;
+    d.set_item("residual", array1(py, residual))?;
+    d.set_item("iterations", PyArray1::from_vec(py, iterations))?;
+    d.set_item("valid", PyArray1::from_vec(py, valid))?;
+    d.set_item("elements", PyArray1::from_vec(py, elements))?;
+    d.set_item("error", PyList::new(py, errors)?)?;
+    Ok(d)
+}
+
+/// For benchmarks only: the batch of the paper's finger at ``eps0`` (N
+/// equal elements, tip-only output, cold solves) over the given loads,
+/// solved by a plain rayon loop in Rust (one reused ``Solver`` per chunk,
+/// no Python objects, no outcome records); returns the wall time in
+/// seconds measured in Rust, and the number of points solved.
+#[pyfunction]
+#[pyo3(signature = (eps0, pressure_kpa, fx, fz, elements=8, threads=None))]
+pub fn _batch_reference(
+    py: Python<'_>,
+    eps0: f64,
+    pressure_kpa: Vec<f64>,
+    fx: Vec<f64>,
+    fz: Vec<f64>,
+    elements: usize,
+    threads: Option<usize>,
+) -> PyResult<(f64, usize)> {
+    let n = pressure_kpa.len();
+    if fx.len() != n || fz.len() != n {
+        return Err(input_error(
+            py,
+            "fx",
+            "fx, fz: must have as many values as pressure_kpa".into(),
+        ));
+    }
+    let finger = fpc::Finger::paper(eps0, elements).map_err(|e| from_input(py, &e))?;
+    let loads: Vec<Load> = (0..n)
+        .map(|i| {
+            Load::unloaded()
+                .with_pressure_kpa(pressure_kpa[i])
+                .with_tip_force(fx[i], fz[i])
+        })
+        .collect();
+    let opts = SolveOptions::default().tip_only();
+    let work = || {
+        let threads = rayon::current_num_threads().max(1);
+        let chunk = n.div_ceil(8 * threads).max(1);
+        let start = Instant::now();
+        let solved: usize = loads
+            .par_chunks(chunk)
+            .map(|c| {
+                let mut solver = Solver::new(&finger);
+                c.iter()
+                    .filter(|l| solver.solve(l, None, &opts).is_ok())
+                    .count()
+            })
+            .sum();
+        (start.elapsed().as_secs_f64(), solved)
+    };
+    let r = py.detach(|| {
+        guarded(|| match threads {
+            None => Ok(work()),
+            Some(t) => rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .map(|p| p.install(work))
+                .map_err(|e| e.to_string()),
+        })
+    });
+    match r {
+        Ok(Ok(x)) => Ok(x),
+        Ok(Err(e)) => Err(crate::errors::InternalError::new_err(e)),
+        Err(p) => Err(crate::errors::InternalError::new_err(p)),
+    }
+}

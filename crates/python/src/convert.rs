@@ -1,0 +1,174 @@
+//! Conversions between library values and Python objects: JSON-like data
+//! both ways, numpy arrays, and a [`fpc::Solution`] as a dict.
+
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use serde_json::Value;
+
+/// A JSON value as a Python object (objects as dicts, arrays as lists;
+/// numbers keep their exact value).
+pub fn json_to_py<'py>(py: Python<'py>, v: &Value) -> PyResult<Bound<'py, PyAny>> {
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any(),
+        Value::Number(n) => {
+            if let Some(i) = n.as_i64() {
+                i.into_pyobject(py)?.into_any()
+            } else if let Some(u) = n.as_u64() {
+                u.into_pyobject(py)?.into_any()
+            } else {
+                PyFloat::new(py, n.as_f64().unwrap_or(f64::NAN)).into_any()
+            }
+        }
+        Value::String(s) => PyString::new(py, s).into_any(),
+        Value::Array(a) => {
+            let items = a
+                .iter()
+                .map(|x| json_to_py(py, x))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any()
+        }
+        Value::Object(m) => {
+            let d = PyDict::new(py);
+            for (k, x) in m {
+                d.set_item(k, json_to_py(py, x)?)?;
+            }
+            d.into_any()
+        }
+    })
+}
+
+/// Any `Serialize` value as a Python object, through JSON.
+pub fn to_py<'py, T: serde::Serialize + ?Sized>(
+    py: Python<'py>,
+    v: &T,
+) -> PyResult<Bound<'py, PyAny>> {
+    let v = serde_json::to_value(v)
+        .map_err(|e| crate::errors::InternalError::new_err(format!("serialization: {e}")))?;
+    json_to_py(py, &v)
+}
+
+/// A Python object of plain data (dict with str keys, list or tuple, str,
+/// bool, int, float, None, numpy scalars and arrays through `tolist`) as JSON.
+pub fn py_to_json(obj: &Bound<'_, PyAny>) -> PyResult<Value> {
+    if obj.is_none() {
+        return Ok(Value::Null);
+    }
+    if let Ok(b) = obj.cast::<PyBool>() {
+        return Ok(Value::Bool(b.is_true()));
+    }
+    if obj.is_instance_of::<PyInt>() {
+        if let Ok(i) = obj.extract::<i64>() {
+            return Ok(Value::from(i));
+        }
+        if let Ok(u) = obj.extract::<u64>() {
+            return Ok(Value::from(u));
+        }
+    }
+    if obj.is_instance_of::<PyFloat>() {
+        let x: f64 = obj.extract()?;
+        // JSON has no NaN: keep it as a float the library then rejects by name
+        return Ok(serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number));
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Ok(Value::String(s.extract::<String>()?));
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let mut m = serde_json::Map::new();
+        for (k, v) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| PyTypeError::new_err("dictionary keys must be strings"))?;
+            m.insert(k, py_to_json(&v)?);
+        }
+        return Ok(Value::Object(m));
+    }
+    if obj.is_instance_of::<PyList>() || obj.is_instance_of::<PyTuple>() {
+        let items = obj
+            .try_iter()?
+            .map(|x| py_to_json(&x?))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(Value::Array(items));
+    }
+    // numpy scalars and arrays
+    if obj.hasattr("tolist")? {
+        let plain = obj.call_method0("tolist")?;
+        if !plain.is(obj) {
+            return py_to_json(&plain);
+        }
+    }
+    Err(PyTypeError::new_err(format!(
+        "cannot use a value of type {} here (expected numbers, strings, booleans, lists or dicts)",
+        obj.get_type().name()?
+    )))
+}
+
+/// A vector as a 1-D float array.
+pub fn array1<'py>(py: Python<'py>, v: Vec<f64>) -> Bound<'py, PyArray1<f64>> {
+    PyArray1::from_vec(py, v)
+}
+
+/// Rows of `width` values as an `n x width` array (`0 x width` when empty).
+pub fn array2<'py>(
+    py: Python<'py>,
+    flat: Vec<f64>,
+    width: usize,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    let rows = flat.len().checked_div(width).unwrap_or(0);
+    PyArray1::from_vec(py, flat).reshape([rows, width])
+}
+
+/// Points `[x, z]` as an `n x 2` array.
+pub fn points<'py>(py: Python<'py>, pts: &[[f64; 2]]) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    array2(py, pts.iter().flatten().copied().collect(), 2)
+}
+
+/// The warnings as a list of `{kind, message, element?, value?, limit?}`.
+pub fn warnings<'py>(py: Python<'py>, w: &[fpc::Warning]) -> PyResult<Bound<'py, PyAny>> {
+    to_py(py, w)
+}
+
+/// A solution as a dict: `tip` (mm, finger frame), `end_angle` (rad),
+/// `radius` (mm or None), `energy` (N mm), `negative_eigenvalues`,
+/// `stable`, `coefficients` (elements x unknowns), `points` (n x 2, mm),
+/// `element_lengths` (mm), `warnings`, `valid` (no validity finding),
+/// `report` and `elements`.
+pub fn solution_dict<'py>(py: Python<'py>, s: &fpc::Solution) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("tip", array1(py, s.tip.to_vec()))?;
+    d.set_item("end_angle", s.end_angle)?;
+    d.set_item("radius", s.radius)?;
+    d.set_item("energy", s.energy)?;
+    d.set_item("negative_eigenvalues", s.negative_eigenvalues)?;
+    d.set_item("stable", s.stable)?;
+    d.set_item(
+        "coefficients",
+        array2(
+            py,
+            s.coefficients.as_slice().to_vec(),
+            s.coefficients.per_element(),
+        )?,
+    )?;
+    d.set_item("points", points(py, &s.points)?)?;
+    d.set_item("element_lengths", array1(py, s.element_lengths.clone()))?;
+    d.set_item("warnings", warnings(py, &s.warnings)?)?;
+    d.set_item("valid", s.is_within_model())?;
+    d.set_item("report", report_dict(py, &s.report)?)?;
+    d.set_item("elements", s.element_lengths.len())?;
+    Ok(d)
+}
+
+/// A solve report as a dict (`reason`, `iterations`, `residual_norm`,
+/// `evaluations`, `coupled`, `continuation_steps`).
+pub fn report_dict<'py>(py: Python<'py>, r: &fpc::SolveReport) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("reason", r.reason.to_string())?;
+    d.set_item("iterations", r.iterations)?;
+    d.set_item("residual_norm", r.residual_norm)?;
+    d.set_item("evaluations", r.evaluations)?;
+    d.set_item("coupled", r.coupled)?;
+    d.set_item("continuation_steps", r.continuation_steps)?;
+    Ok(d)
+}

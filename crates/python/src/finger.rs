@@ -1,0 +1,729 @@
+//! `fpc.Finger`: one finger (actuator, element model, partition) and its
+//! solves; the keyword arguments that describe an actuator; scene input.
+
+use std::path::Path;
+
+use numpy::PyReadonlyArray2;
+use pyo3::exceptions::PyTypeError;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use serde_json::{Map, Value};
+
+use fpc::scene::{ActuatorSection, PartitionPlan, SceneFile};
+use fpc::{Actuator, Coefficients, InputError, Load, ModelId, Partition, Refined, SolveOptions};
+
+use crate::convert::{array1, solution_dict, to_py};
+use crate::errors::{detached, from_input, from_scene_read, from_solve, input_error};
+
+// ------------------------------------------------------------ arguments
+
+/// The geometry keys accepted as keyword arguments on their own.
+const GEOMETRY_KEYS: [&str; 7] = ["lx", "ly", "lc", "h", "h1", "h2", "h3"];
+/// The channel keys accepted as keyword arguments on their own.
+const CHANNEL_KEYS: [&str; 4] = ["cx", "cy", "h3a", "h3b"];
+/// Keyword arguments that are whole sections (dicts with the scene's keys),
+/// and the section each fills.
+const SECTION_KEYS: [(&str, &str); 7] = [
+    ("geometry", "geometry"),
+    ("channel", "channel"),
+    ("rib_layout", "ribs"),
+    ("cl", "cl"),
+    ("emc", "emc"),
+    ("fluidic", "fluidic"),
+    ("pemc", "pemc"),
+];
+
+/// The actuator keyword arguments the constructors accept, for messages.
+pub fn actuator_keywords() -> String {
+    let mut k: Vec<&str> = GEOMETRY_KEYS.to_vec();
+    k.extend(CHANNEL_KEYS);
+    k.extend(SECTION_KEYS.iter().map(|s| s.0));
+    k.join(", ")
+}
+
+/// A Python value of plain data as JSON, non-finite numbers rejected by
+/// `path` (JSON has no NaN, and an absent key would mean the default).
+fn value_at(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
+    if let Ok(x) = obj.extract::<f64>() {
+        if !obj.is_instance_of::<pyo3::types::PyBool>() && !obj.is_instance_of::<PyString>() {
+            if !x.is_finite() {
+                return Err(from_input(
+                    obj.py(),
+                    &InputError::NotFinite {
+                        field: path.into(),
+                        value: x,
+                    },
+                ));
+            }
+            if obj.is_instance_of::<pyo3::types::PyInt>() {
+                return crate::convert::py_to_json(obj);
+            }
+            return Ok(serde_json::Number::from_f64(x).map_or(Value::Null, Value::Number));
+        }
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let mut m = Map::new();
+        for (k, v) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| PyTypeError::new_err(format!("{path}: keys must be strings")))?;
+            let sub = format!("{path}.{k}");
+            m.insert(k, value_at(&v, &sub)?);
+        }
+        return Ok(Value::Object(m));
+    }
+    if obj.is_instance_of::<pyo3::types::PyList>() || obj.is_instance_of::<pyo3::types::PyTuple>() {
+        let items = obj
+            .try_iter()?
+            .enumerate()
+            .map(|(i, x)| value_at(&x?, &format!("{path}[{i}]")))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(Value::Array(items));
+    }
+    crate::convert::py_to_json(obj)
+}
+
+/// The `[actuator]` section of the keyword arguments: `eps0`, the geometry
+/// and channel keys on their own, and whole sections as dicts.
+pub fn actuator_section(
+    py: Python<'_>,
+    eps0: Option<f64>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<ActuatorSection> {
+    let mut sections: Map<String, Value> = Map::new();
+    let mut put = |section: &str, key: &str, v: Value| {
+        let s = sections
+            .entry(section.to_string())
+            .or_insert_with(|| Value::Object(Map::new()));
+        if let Value::Object(m) = s {
+            m.insert(key.to_string(), v);
+        }
+    };
+    if let Some(kw) = kwargs {
+        for (k, v) in kw.iter() {
+            let k: String = k.extract()?;
+            if v.is_none() {
+                continue;
+            }
+            if GEOMETRY_KEYS.contains(&k.as_str()) {
+                put(
+                    "geometry",
+                    &k,
+                    value_at(&v, &format!("actuator.geometry.{k}"))?,
+                );
+            } else if CHANNEL_KEYS.contains(&k.as_str()) {
+                put(
+                    "channel",
+                    &k,
+                    value_at(&v, &format!("actuator.channel.{k}"))?,
+                );
+            } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
+                let path = format!("actuator.{section}");
+                let Value::Object(m) = value_at(&v, &path)? else {
+                    return Err(PyTypeError::new_err(format!(
+                        "{k} must be a dict of the scene's [{path}] keys"
+                    )));
+                };
+                for (key, x) in m {
+                    put(section, &key, x);
+                }
+            } else {
+                return Err(PyTypeError::new_err(format!(
+                    "unexpected keyword argument '{k}' (actuator keywords: {})",
+                    actuator_keywords()
+                )));
+            }
+        }
+    }
+    if let Some(e) = eps0 {
+        let path = "actuator.pemc.eps0";
+        let v = value_at(&e.into_pyobject(py)?.into_any(), path)?;
+        put("pemc", "eps0", v);
+    }
+    // each section on its own, so that a serde error names its section
+    let mut out = ActuatorSection::default();
+    for (section, v) in sections {
+        let err = |e: serde_json::Error| {
+            input_error(
+                py,
+                &format!("actuator.{section}"),
+                format!("actuator.{section}: {e}"),
+            )
+        };
+        match section.as_str() {
+            "geometry" => out.geometry = serde_json::from_value(v).map_err(err)?,
+            "channel" => out.channel = serde_json::from_value(v).map_err(err)?,
+            "ribs" => out.ribs = serde_json::from_value(v).map_err(err)?,
+            "cl" => out.cl = serde_json::from_value(v).map_err(err)?,
+            "emc" => out.emc = serde_json::from_value(v).map_err(err)?,
+            "fluidic" => out.fluidic = serde_json::from_value(v).map_err(err)?,
+            "pemc" => out.pemc = serde_json::from_value(v).map_err(err)?,
+            _ => unreachable!("sections come from SECTION_KEYS"),
+        }
+    }
+    Ok(out)
+}
+
+/// A validated actuator from the keyword arguments (errors name the
+/// scene's keys: `actuator.geometry.h1`, `actuator.pemc.eps0`, ...).
+pub fn actuator_from_kwargs(
+    py: Python<'_>,
+    eps0: Option<f64>,
+    kwargs: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Actuator> {
+    let file = SceneFile {
+        actuator: actuator_section(py, eps0, kwargs)?,
+        ..SceneFile::default()
+    };
+    file.resolve()
+        .map(|s| s.actuator)
+        .map_err(|e| from_input(py, &e))
+}
+
+/// The model named `name`, or `fpc.InputError` for `model`.
+pub fn model(py: Python<'_>, name: &str) -> PyResult<ModelId> {
+    ModelId::parse("model", name).map_err(|e| from_input(py, &e))
+}
+
+/// `elements`: a whole number, `"auto"`, or None.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ElementsArg {
+    /// Not given: 8 equal elements (with a tip tolerance: the fastest
+    /// configuration for it).
+    Default,
+    /// `N` equal elements (with a tip tolerance: equal elements doubled from N).
+    Count(usize),
+    /// The automatic partition (with a tip tolerance: the fastest configuration).
+    Auto,
+}
+
+/// The number of elements when none is given.
+pub const DEFAULT_ELEMENTS: usize = 8;
+
+/// Reads `elements`.
+pub fn elements_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<ElementsArg> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(ElementsArg::Default);
+    };
+    let py = obj.py();
+    if obj.is_instance_of::<PyString>() {
+        let s: String = obj.extract()?;
+        let s = s.as_str();
+        return if s == "auto" {
+            Ok(ElementsArg::Auto)
+        } else {
+            Err(input_error(
+                py,
+                "elements",
+                format!("elements = `{s}`: must be a whole number of elements or \"auto\""),
+            ))
+        };
+    }
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyTypeError::new_err(
+            "elements must be a whole number or \"auto\"",
+        ));
+    }
+    match obj.extract::<i64>() {
+        Ok(n) if n >= 1 => Ok(ElementsArg::Count(n as usize)),
+        Ok(n) => Err(input_error(
+            py,
+            "elements",
+            format!("elements = {n}: must be at least 1"),
+        )),
+        Err(_) => Err(PyTypeError::new_err(
+            "elements must be a whole number or \"auto\"",
+        )),
+    }
+}
+
+/// `n` equal elements over `lx`, errors naming `elements`.
+pub fn equal_partition(py: Python<'_>, lx: f64, n: usize) -> PyResult<Partition> {
+    Partition::equal(lx, n).map_err(|e| {
+        let message = e.to_string();
+        let rest = message.strip_prefix(e.field()).unwrap_or(&message);
+        input_error(py, "elements", format!("elements{rest}"))
+    })
+}
+
+/// The load of a solve from Python's arguments, checked in their terms
+/// (`pressure_kpa`, `kappa`, `fx`, `fz`).
+pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, InputError> {
+    let finite = |field: &str, value: f64| {
+        if value.is_finite() {
+            Ok(value)
+        } else {
+            Err(InputError::NotFinite {
+                field: field.into(),
+                value,
+            })
+        }
+    };
+    finite("pressure_kpa", pressure_kpa)?;
+    let vacuum_kpa = fpc::VACUUM_GAUGE_MPA * 1e3;
+    if pressure_kpa < vacuum_kpa {
+        return Err(InputError::OutOfRange {
+            field: "pressure_kpa".into(),
+            value: pressure_kpa,
+            rule: format!("is below absolute vacuum ({vacuum_kpa} kPa gauge)"),
+        });
+    }
+    finite("kappa", kappa)?;
+    if kappa <= 0.0 {
+        return Err(InputError::NotPositive {
+            field: "kappa".into(),
+            value: kappa,
+        });
+    }
+    finite("fx", fx)?;
+    finite("fz", fz)?;
+    Ok(Load {
+        kappa,
+        ..Load::unloaded()
+    }
+    .with_pressure_kpa(pressure_kpa)
+    .with_tip_force(fx, fz))
+}
+
+/// A scene argument: TOML text, or a path to a scene file (a `str` naming
+/// an existing file without a newline, or any `os.PathLike`). Returns the
+/// text and the path shown in messages (empty for text).
+pub fn scene_text(obj: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
+    let py = obj.py();
+    let os = py.import("os")?;
+    let is_pathlike = obj.is_instance(&os.getattr("PathLike")?)?;
+    let path: Option<String> = if is_pathlike {
+        Some(os.call_method1("fspath", (obj,))?.extract()?)
+    } else {
+        let s: String = obj
+            .extract()
+            .map_err(|_| PyTypeError::new_err("a scene is TOML text or a path to a scene file"))?;
+        (!s.contains('\n') && !s.is_empty() && Path::new(&s).is_file()).then_some(s)
+    };
+    match path {
+        Some(p) => {
+            let text = std::fs::read_to_string(&p).map_err(|e| {
+                pyo3::exceptions::PyOSError::new_err(format!("cannot read {p}: {e}"))
+            })?;
+            Ok((text, p))
+        }
+        None => Ok((obj.extract()?, String::new())),
+    }
+}
+
+/// Parses and resolves a scene argument.
+pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
+    let (text, shown) = scene_text(obj)?;
+    let scene = fpc::Scene::from_toml(&text).map_err(|e| from_scene_read(obj.py(), &e, &shown))?;
+    Ok((scene, shown))
+}
+
+// ------------------------------------------------------------ the class
+
+/// How the finger is split.
+#[derive(Debug, Clone)]
+pub enum Split {
+    /// A fixed partition: built once. `count` is N for equal elements.
+    Fixed {
+        finger: fpc::Finger,
+        count: Option<usize>,
+    },
+    /// The automatic partition, chosen at each solve's load.
+    Auto,
+}
+
+/// A finger: the actuator (the paper's by default), an element model and
+/// a partition, ready to solve.
+///
+/// ``Finger(eps0=0.25, elements=None, model="ccm", ribs=True, **actuator)``
+///
+/// - ``eps0``: prestrain of the prestressed layer;
+/// - ``elements``: a number of equal elements (default 8), or ``"auto"``
+///   (boundaries on the material changes, split until every element is
+///   within the slope limit, chosen at each solve's load);
+/// - ``model``: the element model (``fpc.models()`` lists them);
+/// - ``ribs``: model the ribs inside the channel;
+/// - ``**actuator``: the scene file's ``[actuator.*]`` keys: ``lx``, ``ly``,
+///   ``lc``, ``h``, ``h1``, ``h2``, ``h3`` (mm), ``cx``, ``cy``, ``h3a``,
+///   ``h3b`` (mm), or whole sections as dicts: ``geometry``, ``channel``,
+///   ``rib_layout`` (``[actuator.ribs]``), ``cl``, ``emc``, ``fluidic``,
+///   ``pemc``.
+///
+/// Invalid values raise ``fpc.InputError`` (a ``ValueError``) naming the
+/// field, e.g. ``actuator.geometry.h1``.
+#[pyclass(module = "fpc", frozen)]
+#[derive(Debug, Clone)]
+pub struct Finger {
+    pub model: ModelId,
+    pub actuator: Actuator,
+    pub ribs: bool,
+    pub split: Split,
+    /// The load of `solve()` without arguments (a scene's; else unloaded).
+    pub load: Load,
+    /// A scene's tip tolerance.
+    pub tip_tol_mm: Option<f64>,
+    pub options: SolveOptions,
+}
+
+impl Finger {
+    /// A finger from its parts; `elements` as given.
+    pub fn build(
+        py: Python<'_>,
+        model: ModelId,
+        actuator: Actuator,
+        ribs: bool,
+        elements: ElementsArg,
+    ) -> PyResult<Finger> {
+        let split = match elements {
+            ElementsArg::Auto => Split::Auto,
+            ElementsArg::Default | ElementsArg::Count(_) => {
+                let n = match elements {
+                    ElementsArg::Count(n) => n,
+                    _ => DEFAULT_ELEMENTS,
+                };
+                let part = equal_partition(py, actuator.geometry().lx, n)?;
+                Split::Fixed {
+                    finger: fpc::Finger::with_model(model, &actuator, &part, ribs),
+                    count: matches!(elements, ElementsArg::Count(_)).then_some(n),
+                }
+            }
+        };
+        Ok(Finger {
+            model,
+            actuator,
+            ribs,
+            split,
+            load: Load::unloaded(),
+            tip_tol_mm: None,
+            options: SolveOptions::default(),
+        })
+    }
+
+    /// The finger of a resolved scene (its load, tolerance and solver
+    /// settings become the defaults of `solve()`).
+    pub fn of_scene(scene: &fpc::Scene) -> Finger {
+        let count = match scene.file().partition.elements {
+            Some(fpc::scene::Elements::Count(n)) if scene.file().partition.lengths.is_none() => {
+                Some(n)
+            }
+            _ => None,
+        };
+        let (split, tip_tol_mm) = match &scene.partition {
+            PartitionPlan::Fixed(part) => (
+                Split::Fixed {
+                    finger: fpc::Finger::with_model(scene.model, &scene.actuator, part, true),
+                    count,
+                },
+                None,
+            ),
+            PartitionPlan::Auto => (Split::Auto, None),
+            &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
+                let n = start.unwrap_or(DEFAULT_ELEMENTS);
+                let part = Partition::equal(scene.actuator.geometry().lx, n)
+                    .expect("the scene checked its partition");
+                (
+                    Split::Fixed {
+                        finger: fpc::Finger::with_model(scene.model, &scene.actuator, &part, true),
+                        count: start,
+                    },
+                    Some(tip_tol_mm),
+                )
+            }
+        };
+        Finger {
+            model: scene.model,
+            actuator: scene.actuator.clone(),
+            ribs: true,
+            split,
+            load: scene.load,
+            tip_tol_mm,
+            options: scene.options,
+        }
+    }
+
+    /// The solve: fixed partition, automatic partition, or refined to a tip
+    /// tolerance. Returns the solution and the refinement, if any.
+    pub fn run(
+        &self,
+        load: &Load,
+        tip_tol_mm: Option<f64>,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<(fpc::Solution, Option<Refined>), fpc::SolveError> {
+        if let Some(tol) = tip_tol_mm {
+            let start = match &self.split {
+                Split::Fixed { count, .. } => *count,
+                Split::Auto => None,
+            };
+            let r = fpc::solve_to_tip_tolerance(
+                self.model,
+                &self.actuator,
+                self.ribs,
+                load,
+                tol,
+                start,
+                opts,
+            )?;
+            return Ok((r.solution.clone(), Some(r)));
+        }
+        match &self.split {
+            Split::Fixed { finger, .. } => Ok((
+                match guess {
+                    Some(g) => finger.solve_from(load, g, opts)?,
+                    None => finger.solve(load, opts)?,
+                },
+                None,
+            )),
+            Split::Auto => Ok((
+                fpc::solve_auto(self.model, &self.actuator, self.ribs, load, opts)?.solution,
+                None,
+            )),
+        }
+    }
+}
+
+/// A refinement as the dict of `fpc finger --json`'s `refinement`.
+fn refinement_dict<'py>(py: Python<'py>, r: &Refined) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("configuration", r.plan.label())?;
+    d.set_item(
+        "levels",
+        r.levels.iter().map(|l| l.elements).collect::<Vec<_>>(),
+    )?;
+    d.set_item("extrapolated", r.is_extrapolated())?;
+    d.set_item("tip", array1(py, r.tip.to_vec()))?;
+    d.set_item("end_angle", r.end_angle)?;
+    Ok(d)
+}
+
+#[pymethods]
+impl Finger {
+    #[new]
+    #[pyo3(signature = (eps0=0.25, elements=None, model="ccm", ribs=true, **actuator))]
+    fn new(
+        py: Python<'_>,
+        eps0: f64,
+        elements: Option<&Bound<'_, PyAny>>,
+        model: &str,
+        ribs: bool,
+        actuator: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Finger> {
+        let model = self::model(py, model)?;
+        let elements = elements_arg(elements)?;
+        let act = actuator_from_kwargs(py, Some(eps0), actuator)?;
+        Finger::build(py, model, act, ribs, elements)
+    }
+
+    /// The finger of a scene file: TOML text, or a path to a ``.toml`` file.
+    /// The scene's model, actuator and partition make the finger; its load,
+    /// ``partition.tip_tol_mm`` and ``[solve]`` settings become the defaults
+    /// of :meth:`solve` (so ``Finger.from_scene(s).solve()`` solves the
+    /// scene's finger). A gripper scene gives its finger, unloaded.
+    #[staticmethod]
+    fn from_scene(scene: &Bound<'_, PyAny>) -> PyResult<Finger> {
+        let (scene, _) = read_scene(scene)?;
+        Ok(Finger::of_scene(&scene))
+    }
+
+    /// Solves the finger under a channel pressure (kPa) and a tip force
+    /// (N, finger frame), returning a dict:
+    ///
+    /// - ``tip``: tip (X, Z) in mm, finger frame (numpy array);
+    /// - ``end_angle``: tip tangent angle from X (rad);
+    /// - ``radius``: least-squares circle radius (mm) or None;
+    /// - ``energy``: total potential energy (N mm);
+    /// - ``coefficients``: element unknowns, elements x unknowns (numpy);
+    /// - ``points``: mid-plane samples, root to tip, n x 2 (mm, numpy;
+    ///   0 x 2 with ``shape=False``);
+    /// - ``element_lengths``: undeformed element lengths (mm, numpy);
+    /// - ``warnings``: list of ``{kind, message, element?, value?, limit?}``;
+    /// - ``valid``: no warning puts the answer outside the model;
+    /// - ``stable``, ``negative_eigenvalues``: the Hessian's inertia (None
+    ///   with ``stability=False``);
+    /// - ``report``: ``{reason, iterations, residual_norm, evaluations,
+    ///   coupled, continuation_steps}``;
+    /// - ``elements``, ``model``;
+    /// - ``tip_error_estimate`` (mm) and ``refinement`` (with ``tip_tol_mm``).
+    ///
+    /// Arguments left as None take the finger's defaults: 0 kPa, no tip
+    /// force, kappa 2.5 (or a scene's). ``tip_tol_mm`` refines until the
+    /// estimated tip error is at most that many mm. ``guess``: coefficients
+    /// to start Newton from (elements x unknowns, e.g. a previous solution's
+    /// ``coefficients``; fixed partitions only). Raises ``fpc.InputError``
+    /// naming the argument, ``fpc.SolveError`` when the solve fails.
+    #[pyo3(signature = (pressure_kpa=None, fx=None, fz=None, kappa=None, tip_tol_mm=None, *, shape=None, stability=None, guess=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn solve<'py>(
+        &self,
+        py: Python<'py>,
+        pressure_kpa: Option<f64>,
+        fx: Option<f64>,
+        fz: Option<f64>,
+        kappa: Option<f64>,
+        tip_tol_mm: Option<f64>,
+        shape: Option<bool>,
+        stability: Option<bool>,
+        guess: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let load = load(
+            pressure_kpa.unwrap_or(self.load.pressure * 1e3),
+            kappa.unwrap_or(self.load.kappa),
+            fx.unwrap_or(self.load.fx),
+            fz.unwrap_or(self.load.fz),
+        )
+        .map_err(|e| from_input(py, &e))?;
+        let mut opts = self.options;
+        if let Some(s) = shape {
+            opts.shape = s;
+        }
+        if let Some(s) = stability {
+            opts.stability = s;
+        }
+        let tip_tol = tip_tol_mm.or(self.tip_tol_mm);
+        let guess = match guess.filter(|g| !g.is_none()) {
+            None => None,
+            Some(g) => Some(self.guess(py, g, tip_tol.is_some())?),
+        };
+        let (sol, refined) = detached(py, || self.run(&load, tip_tol, guess.as_ref(), &opts))?
+            .map_err(|e| from_solve(py, &e))?;
+        let d = solution_dict(py, &sol)?;
+        d.set_item("model", self.model.name())?;
+        d.set_item(
+            "tip_error_estimate",
+            refined.as_ref().and_then(|r| r.estimated_tip_error_mm),
+        )?;
+        match &refined {
+            Some(r) => d.set_item("refinement", refinement_dict(py, r)?)?,
+            None => d.set_item("refinement", py.None())?,
+        }
+        Ok(d)
+    }
+
+    /// The element model's name.
+    #[getter]
+    fn model(&self) -> &'static str {
+        self.model.name()
+    }
+
+    /// The element model's unknowns per element, by name.
+    #[getter]
+    fn unknowns(&self) -> Vec<&'static str> {
+        self.model.info().unknowns.to_vec()
+    }
+
+    /// The prestrain of the prestressed layer.
+    #[getter]
+    fn eps0(&self) -> f64 {
+        self.actuator.eps0()
+    }
+
+    /// The modelled length Lx (mm).
+    #[getter]
+    fn length(&self) -> f64 {
+        self.actuator.geometry().lx
+    }
+
+    /// True when the ribs are modelled.
+    #[getter]
+    fn ribs(&self) -> bool {
+        self.ribs
+    }
+
+    /// The number of elements, or ``"auto"``.
+    #[getter]
+    fn elements<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        Ok(match &self.split {
+            Split::Fixed { finger, .. } => finger.len().into_pyobject(py)?.into_any(),
+            Split::Auto => PyString::new(py, "auto").into_any(),
+        })
+    }
+
+    /// Undeformed element lengths (mm), root to tip; None for ``"auto"``.
+    #[getter]
+    fn element_lengths<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray1<f64>>> {
+        match &self.split {
+            Split::Fixed { finger, .. } => Some(array1(py, finger.element_lengths().to_vec())),
+            Split::Auto => None,
+        }
+    }
+
+    /// Notes on the actuator and the model's law (a prestrain outside the
+    /// fitted range, ...), as ``{kind, message, ...}`` dicts; every solution
+    /// carries them too.
+    #[getter]
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, &fpc::input_warnings(self.model, &self.actuator))
+    }
+
+    fn __repr__(&self) -> String {
+        let elements = match &self.split {
+            Split::Fixed { finger, .. } => finger.len().to_string(),
+            Split::Auto => "'auto'".into(),
+        };
+        format!(
+            "fpc.Finger(eps0={}, elements={elements}, model='{}', ribs={})",
+            self.actuator.eps0(),
+            self.model.name(),
+            if self.ribs { "True" } else { "False" }
+        )
+    }
+}
+
+impl Finger {
+    /// A starting guess from an array-like of elements x unknowns.
+    fn guess(&self, py: Python<'_>, g: &Bound<'_, PyAny>, refined: bool) -> PyResult<Coefficients> {
+        let Split::Fixed { finger, .. } = &self.split else {
+            return Err(input_error(
+                py,
+                "guess",
+                "guess: needs a fixed partition (not elements=\"auto\")".into(),
+            ));
+        };
+        if refined {
+            return Err(input_error(
+                py,
+                "guess",
+                "guess: not used with tip_tol_mm (the refinement starts each level itself)".into(),
+            ));
+        }
+        let np = py.import("numpy")?;
+        let arr = np.call_method1("asarray", (g, "float64"))?;
+        // a fresh C-ordered copy: aligned, whatever the input
+        let arr = np
+            .call_method1("atleast_2d", (arr,))?
+            .call_method1("copy", ("C",))?;
+        let arr: PyReadonlyArray2<'_, f64> = arr.extract()?;
+        let view = arr.as_array();
+        let (rows, cols) = (view.shape()[0], view.shape()[1]);
+        let per = finger.unknowns_per_element();
+        if rows != finger.len() || cols != per {
+            return Err(input_error(
+                py,
+                "guess",
+                format!(
+                    "guess: has shape ({rows}, {cols}), expected ({}, {per}) (elements x unknowns)",
+                    finger.len()
+                ),
+            ));
+        }
+        let values: Vec<f64> = view.iter().copied().collect();
+        Coefficients::new(per, values).map_err(|e| from_input(py, &e))
+    }
+}
+
+/// ``models()``: the element models, as ``{name, spec, description, unknowns}``.
+#[pyfunction]
+pub fn models<'py>(py: Python<'py>) -> PyResult<Vec<Bound<'py, PyDict>>> {
+    ModelId::names()
+        .into_iter()
+        .map(|n| {
+            let info = ModelId::from_name(n).expect("listed").info();
+            let d = PyDict::new(py);
+            d.set_item("name", info.name)?;
+            d.set_item("spec", info.spec)?;
+            d.set_item("description", info.description)?;
+            d.set_item("unknowns", info.unknowns.to_vec())?;
+            Ok(d)
+        })
+        .collect()
+}

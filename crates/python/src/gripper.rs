@@ -1,0 +1,630 @@
+//! `fpc.Gripper`: a gripper of identical fingers, its geometry and its
+//! grasp solves (size, cuboid, sphere), one at a time or as warm-started
+//! sweeps.
+
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
+use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions, GRIPPER_SAMPLES_PER_ELEMENT};
+
+use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
+use crate::errors::{detached, from_input, from_solve, guarded, input_error, renamed};
+use crate::finger::{read_scene, Finger, Split};
+use crate::scene::{GraspJson, GripperJson};
+
+/// A gripper: identical, synchronised fingers on a palm (one finger is
+/// analysed), with the geometry its unloaded finger fixes.
+///
+/// ``Gripper(finger=None, *, mounting_angle_deg=60, overlap_mm=None,
+/// palm_mm=None, fingers=3, mu=0.6, strict=False, stability=False)``
+///
+/// ``finger``: an ``fpc.Finger`` (default: the paper's, eps0 = 0.25, 8
+/// elements; ``elements="auto"`` is chosen at the unloaded state). The palm
+/// is given by the overlap of the fingers at rest (default 20 mm) or by its
+/// diameter ``palm_mm``. ``strict``: a grasp that bends an element
+/// backwards is invalid, not only flagged. ``stability``: count the
+/// Hessian's negative eigenvalues of every grasp. Errors name the scene's
+/// keys (``gripper.overlap_mm``, ...).
+#[pyclass(module = "fpc", frozen)]
+pub struct Gripper {
+    inner: fpc::Gripper,
+    /// A scene's grasp (``Gripper.from_scene``), solved by ``solve()``.
+    scene_grasp: Option<GraspSpec>,
+}
+
+/// The finger a gripper is built on.
+fn gripper_finger(py: Python<'_>, f: &Finger) -> PyResult<fpc::Finger> {
+    match &f.split {
+        Split::Fixed { finger, .. } => Ok(finger.clone()),
+        Split::Auto => {
+            let opts = SolveOptions {
+                samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+                stability: false,
+                ..SolveOptions::default()
+            };
+            let (model, act, ribs) = (f.model, f.actuator.clone(), f.ribs);
+            detached(py, move || {
+                fpc::solve_auto(model, &act, ribs, &Load::unloaded(), &opts).map(|a| a.finger)
+            })?
+            .map_err(|e| from_solve(py, &e))
+        }
+    }
+}
+
+/// One grasp's outcome as a dict: the keys of `solution.json`'s `grasp`,
+/// and `solution` (the finger's equilibrium, as `Finger.solve` returns
+/// it), `points_gripper` (n x 2, gripper frame) and `warnings`.
+fn grasp_dict<'py>(
+    py: Python<'py>,
+    gripper: &fpc::Gripper,
+    o: &fpc::GraspOutcome,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = to_py(py, &GraspJson::of(gripper, o))?.cast_into::<PyDict>()?;
+    let sol = &o.grasp.solution;
+    d.set_item("solution", solution_dict(py, sol)?)?;
+    let g: Vec<[f64; 2]> = sol.points.iter().map(|&p| gripper.to_gripper(p)).collect();
+    d.set_item("points_gripper", points(py, &g)?)?;
+    d.set_item("warnings", to_py(py, &o.grasp.warnings)?)?;
+    d.set_item("reversed", o.grasp.is_reversed())?;
+    Ok(d)
+}
+
+/// The library's grasp fields and the Python arguments they are (the same
+/// units; the angles are checked in degrees before the library sees them).
+const GRASP_FIELDS: [(&str, &str); 6] = [
+    ("grasp.size", "d_mm"),
+    ("grasp.friction", "friction_n"),
+    ("grasp.pressure_kpa", "pressure_kpa"),
+    ("sphere.radius", "r_mm"),
+    ("sphere.lift", "lift_n"),
+    ("sphere.samples", "samples"),
+];
+
+/// A grasp error in the terms of the Python arguments.
+fn in_python_terms(e: SolveError) -> SolveError {
+    match e {
+        SolveError::TargetNotReached {
+            target,
+            value,
+            reached,
+            detail,
+        } => SolveError::TargetNotReached {
+            target: GRASP_FIELDS
+                .iter()
+                .find(|f| f.0 == target)
+                .map_or(target, |f| f.1.to_string()),
+            value,
+            reached,
+            detail,
+        },
+        e => GRASP_FIELDS
+            .iter()
+            .fold(e, |e, (from, to)| renamed(e, from, to)),
+    }
+}
+
+/// `beta_deg`: finite, in [-90, 90] degrees (open: (-90, 90) for a sphere).
+fn check_beta_deg(beta_deg: f64, open: bool) -> Result<(), fpc::InputError> {
+    let field = "beta_deg".to_string();
+    if !beta_deg.is_finite() {
+        return Err(fpc::InputError::NotFinite {
+            field,
+            value: beta_deg,
+        });
+    }
+    let inside = if open {
+        beta_deg.abs() < 90.0
+    } else {
+        beta_deg.abs() <= 90.0
+    };
+    if inside {
+        Ok(())
+    } else {
+        Err(fpc::InputError::OutOfRange {
+            field,
+            value: beta_deg,
+            rule: if open {
+                "must lie in (-90, 90) degrees".into()
+            } else {
+                "must lie in [-90, 90] degrees".into()
+            },
+        })
+    }
+}
+
+/// [`solve_spec`] with the errors in the terms of the Python arguments.
+fn solve_py(
+    g: &fpc::Gripper,
+    spec: GraspSpec,
+    warm: Option<&Grasp>,
+) -> Result<fpc::GraspOutcome, SolveError> {
+    match spec {
+        GraspSpec::Size { beta_deg, .. } => check_beta_deg(beta_deg, false)?,
+        GraspSpec::Sphere { beta_deg, .. } => check_beta_deg(beta_deg, true)?,
+        GraspSpec::Cuboid { .. } => {}
+    }
+    solve_spec(g, spec, warm).map_err(in_python_terms)
+}
+
+/// Solves one grasp as `fpc solve` does (a sphere's validity adds the
+/// contact's geometry).
+fn solve_spec(
+    g: &fpc::Gripper,
+    spec: GraspSpec,
+    warm: Option<&Grasp>,
+) -> Result<fpc::GraspOutcome, SolveError> {
+    Ok(match spec {
+        GraspSpec::Size {
+            pressure_kpa,
+            d_mm,
+            beta_deg,
+        } => {
+            let grasp = g.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), warm)?;
+            fpc::GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
+        GraspSpec::Cuboid {
+            pressure_kpa,
+            d_mm,
+            friction_n,
+        } => {
+            let grasp = g.force_control(pressure_kpa, d_mm, friction_n, warm)?;
+            fpc::GraspOutcome {
+                spec,
+                invalid: grasp.invalid,
+                grasp,
+                sphere: None,
+            }
+        }
+        GraspSpec::Sphere {
+            pressure_kpa,
+            r_mm,
+            lift_n,
+            beta_deg,
+        } => {
+            let sg = g.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), warm)?;
+            let contact = g.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
+            fpc::GraspOutcome {
+                spec,
+                invalid: sg.invalid,
+                grasp: sg.grasp,
+                sphere: Some(contact),
+            }
+        }
+    })
+}
+
+/// The validated design from Python's arguments, through the scene's
+/// `[gripper]` checks (errors name `gripper.<key>`).
+fn params(py: Python<'_>, section: GripperSection) -> PyResult<(GripperParams, Option<GraspSpec>)> {
+    let file = SceneFile {
+        gripper: Some(section),
+        ..SceneFile::default()
+    };
+    let scene = file.resolve().map_err(|e| from_input(py, &e))?;
+    let g = scene
+        .gripper
+        .expect("a gripper section resolves to a gripper");
+    Ok((g.params, g.grasp))
+}
+
+impl Gripper {
+    fn solve_one<'py>(&self, py: Python<'py>, spec: GraspSpec) -> PyResult<Bound<'py, PyDict>> {
+        let g = &self.inner;
+        let out = detached(py, || solve_py(g, spec, None))?.map_err(|e| from_solve(py, &e))?;
+        grasp_dict(py, g, &out)
+    }
+}
+
+#[pymethods]
+impl Gripper {
+    #[new]
+    #[pyo3(signature = (finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=false))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        py: Python<'_>,
+        finger: Option<PyRef<'_, Finger>>,
+        mounting_angle_deg: Option<f64>,
+        overlap_mm: Option<f64>,
+        palm_mm: Option<f64>,
+        fingers: Option<usize>,
+        mu: Option<f64>,
+        strict: Option<bool>,
+        stability: bool,
+    ) -> PyResult<Gripper> {
+        for (field, v) in [
+            ("gripper.mounting_angle_deg", mounting_angle_deg),
+            ("gripper.overlap_mm", overlap_mm),
+            ("gripper.palm_mm", palm_mm),
+            ("gripper.mu", mu),
+        ] {
+            if let Some(x) = v.filter(|x| !x.is_finite()) {
+                return Err(from_input(
+                    py,
+                    &fpc::InputError::NotFinite {
+                        field: field.into(),
+                        value: x,
+                    },
+                ));
+            }
+        }
+        let (params, _) = self::params(
+            py,
+            GripperSection {
+                mounting_angle_deg,
+                overlap_mm,
+                palm_mm,
+                fingers,
+                mu,
+                strict,
+                grasp: None,
+            },
+        )?;
+        let default;
+        let finger = match &finger {
+            Some(f) => &**f,
+            None => {
+                default = Finger::build(
+                    py,
+                    fpc::ModelId::default(),
+                    fpc::Actuator::default(),
+                    true,
+                    crate::finger::ElementsArg::Default,
+                )?;
+                &default
+            }
+        };
+        let f = gripper_finger(py, finger)?;
+        let inner = detached(py, move || fpc::Gripper::new(f, params))?
+            .map_err(|e| {
+                let e = renamed(e, "gripper.overlap", "gripper.overlap_mm");
+                from_solve(py, &e)
+            })?
+            .with_stability(stability);
+        Ok(Gripper {
+            inner,
+            scene_grasp: None,
+        })
+    }
+
+    /// The gripper of a scene file with a ``[gripper]`` section (TOML text
+    /// or a path). Its ``[gripper.grasp]``, if any, is solved by
+    /// :meth:`solve`.
+    #[staticmethod]
+    fn from_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Gripper> {
+        let (scene, _) = read_scene(scene)?;
+        let Some(g) = scene.gripper else {
+            return Err(input_error(
+                py,
+                "gripper",
+                "gripper: the scene has no [gripper] section".into(),
+            ));
+        };
+        let finger = match &scene.partition {
+            PartitionPlan::Fixed(part) => {
+                fpc::Finger::with_model(scene.model, &scene.actuator, part, true)
+            }
+            _ => gripper_finger(py, &Finger::of_scene(&scene))?,
+        };
+        let params = g.params;
+        let inner = detached(py, move || fpc::Gripper::new(finger, params))?
+            .map_err(|e| from_solve(py, &e))?
+            .with_stability(g.stability);
+        Ok(Gripper {
+            inner,
+            scene_grasp: g.grasp,
+        })
+    }
+
+    /// Solves the scene's grasp (``Gripper.from_scene``) and returns its
+    /// dict (see :meth:`grasp_cuboid`); None when the scene asks for none.
+    fn solve<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        self.scene_grasp
+            .map(|spec| self.solve_one(py, spec))
+            .transpose()
+    }
+
+    /// (a) The normal force F that gives grasping size ``d_mm`` at grasping
+    /// angle ``beta_deg`` with full friction f = mu F, at a channel pressure.
+    /// Returns the grasp dict (see :meth:`grasp_cuboid`).
+    #[pyo3(signature = (d_mm, beta_deg=0.0, pressure_kpa=0.0))]
+    fn grasp_size<'py>(
+        &self,
+        py: Python<'py>,
+        d_mm: f64,
+        beta_deg: f64,
+        pressure_kpa: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.solve_one(
+            py,
+            GraspSpec::Size {
+                pressure_kpa,
+                d_mm,
+                beta_deg,
+            },
+        )
+    }
+
+    /// (b) Force control by pressure: the normal force F (grasping angle 0)
+    /// that holds a cuboid of size ``d_mm`` with friction ``friction_n`` per
+    /// finger, at a channel pressure. Returns a dict with the keys of
+    /// ``solution.json``'s ``grasp`` (``kind``, ``pressure_kpa``,
+    /// ``beta_deg``, ``normal_force_n``, ``friction_n``,
+    /// ``friction_limit_n``, ``lift_n``, ``size_mm``, ``tip_gap_mm``,
+    /// ``height_mm``, ``tip_gripper_mm``, ``tip_load_finger_n``, ``valid``,
+    /// ``invalid``; for a sphere ``sphere_radius_mm`` and
+    /// ``sphere_center_gripper_mm``), and ``solution`` (the finger's
+    /// equilibrium as ``Finger.solve`` returns it), ``points_gripper``
+    /// (n x 2, gripper frame, mm), ``warnings`` and ``reversed``.
+    #[pyo3(signature = (d_mm=100.0, friction_n=0.3, pressure_kpa=0.0))]
+    fn grasp_cuboid<'py>(
+        &self,
+        py: Python<'py>,
+        d_mm: f64,
+        friction_n: f64,
+        pressure_kpa: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.solve_one(
+            py,
+            GraspSpec::Cuboid {
+                pressure_kpa,
+                d_mm,
+                friction_n,
+            },
+        )
+    }
+
+    /// (c) A sphere of radius ``r_mm`` held with lifting force ``lift_n``
+    /// per finger at grasping angle ``beta_deg``; F and f are solved for.
+    /// Returns the grasp dict (see :meth:`grasp_cuboid`).
+    #[pyo3(signature = (r_mm=50.0, lift_n=0.5, beta_deg=20.0, pressure_kpa=0.0))]
+    fn grasp_sphere<'py>(
+        &self,
+        py: Python<'py>,
+        r_mm: f64,
+        lift_n: f64,
+        beta_deg: f64,
+        pressure_kpa: f64,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        self.solve_one(
+            py,
+            GraspSpec::Sphere {
+                pressure_kpa,
+                r_mm,
+                lift_n,
+                beta_deg,
+            },
+        )
+    }
+
+    /// A sweep of grasps of one ``kind`` (``"size"``, ``"cuboid"`` or
+    /// ``"sphere"``): the keyword arguments of that kind's method
+    /// (``d_mm``, ``beta_deg``, ``friction_n``, ``r_mm``, ``lift_n``,
+    /// ``pressure_kpa``) broadcast like numpy arrays; the points are solved
+    /// in order, each warm-started from the previous success (the GIL is
+    /// released). A failed point does not stop the sweep. Returns a dict of
+    /// arrays over the points: ``inputs`` (a dict of the broadcast inputs,
+    /// flattened), ``normal_force_n``,
+    /// ``friction_n``, ``lift_n``, ``size_mm``, ``tip_gap_mm``,
+    /// ``height_mm``, ``tip_gripper`` (n x 2), ``valid``, ``reversed``,
+    /// ``ok`` (solved) and ``error`` (list of messages, "" when solved).
+    #[pyo3(signature = (kind, **params))]
+    fn sweep<'py>(
+        &self,
+        py: Python<'py>,
+        kind: &str,
+        params: Option<&Bound<'py, PyDict>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (names, defaults): (&[&str], &[f64]) = match kind {
+            "size" => (&["d_mm", "beta_deg", "pressure_kpa"], &[100.0, 0.0, 0.0]),
+            "cuboid" => (&["d_mm", "friction_n", "pressure_kpa"], &[100.0, 0.3, 0.0]),
+            "sphere" => (
+                &["r_mm", "lift_n", "beta_deg", "pressure_kpa"],
+                &[50.0, 0.5, 20.0, 0.0],
+            ),
+            _ => {
+                return Err(input_error(
+                    py,
+                    "kind",
+                    format!("kind = `{kind}`: must be size, cuboid or sphere"),
+                ))
+            }
+        };
+        if let Some(p) = params {
+            for k in p.keys() {
+                let k: String = k.extract()?;
+                if !names.contains(&k.as_str()) {
+                    return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                        "unexpected keyword argument '{k}' for a {kind} sweep (takes {})",
+                        names.join(", ")
+                    )));
+                }
+            }
+        }
+        let np = py.import("numpy")?;
+        let mut arrays = Vec::new();
+        for (name, default) in names.iter().zip(defaults) {
+            let v = match params.map(|p| p.get_item(name)).transpose()?.flatten() {
+                Some(v) if !v.is_none() => v,
+                _ => default.into_pyobject(py)?.into_any(),
+            };
+            arrays.push(np.call_method1("asarray", (v, "float64"))?);
+        }
+        let b = np.call_method1("broadcast_arrays", PyList::new(py, &arrays)?.to_tuple())?;
+        let mut cols: Vec<Vec<f64>> = Vec::new();
+        for a in b.try_iter()? {
+            // a fresh C-ordered copy: aligned, whatever the input
+            let flat = a?.call_method1("flatten", ("C",))?;
+            let flat: PyReadonlyArray1<'_, f64> = flat.extract()?;
+            cols.push(flat.as_slice()?.to_vec());
+        }
+        let n = cols.first().map_or(0, Vec::len);
+        let specs: Vec<GraspSpec> = (0..n)
+            .map(|i| match kind {
+                "size" => GraspSpec::Size {
+                    d_mm: cols[0][i],
+                    beta_deg: cols[1][i],
+                    pressure_kpa: cols[2][i],
+                },
+                "cuboid" => GraspSpec::Cuboid {
+                    d_mm: cols[0][i],
+                    friction_n: cols[1][i],
+                    pressure_kpa: cols[2][i],
+                },
+                _ => GraspSpec::Sphere {
+                    r_mm: cols[0][i],
+                    lift_n: cols[1][i],
+                    beta_deg: cols[2][i],
+                    pressure_kpa: cols[3][i],
+                },
+            })
+            .collect();
+        let g = &self.inner;
+        let results: Vec<Result<fpc::GraspOutcome, String>> = py.detach(|| {
+            let mut warm: Option<Grasp> = None;
+            specs
+                .iter()
+                .map(|&spec| {
+                    let r = guarded(|| solve_py(g, spec, warm.as_ref()))
+                        .map_err(|m| format!("internal error (a bug): {m}"))
+                        .and_then(|r| r.map_err(|e| e.to_string()));
+                    if let Ok(o) = &r {
+                        warm = Some(o.grasp.clone());
+                    }
+                    r
+                })
+                .collect()
+        });
+        let d = PyDict::new(py);
+        let inputs = PyDict::new(py);
+        for (name, col) in names.iter().zip(&cols) {
+            inputs.set_item(*name, array1(py, col.clone()))?;
+        }
+        d.set_item("inputs", inputs)?;
+        let pick = |f: &dyn Fn(&fpc::GraspOutcome) -> f64| -> Bound<'py, PyArray1<f64>> {
+            array1(
+                py,
+                results
+                    .iter()
+                    .map(|r| r.as_ref().map_or(f64::NAN, f))
+                    .collect(),
+            )
+        };
+        d.set_item("normal_force_n", pick(&|o| o.grasp.normal))?;
+        d.set_item("friction_n", pick(&|o| o.grasp.friction))?;
+        d.set_item("lift_n", pick(&|o| o.grasp.lift))?;
+        d.set_item("size_mm", pick(&|o| o.grasp.size))?;
+        d.set_item("tip_gap_mm", pick(&|o| o.grasp.tip_gap))?;
+        d.set_item("height_mm", pick(&|o| o.grasp.height))?;
+        let tips: Vec<[f64; 2]> = results
+            .iter()
+            .map(|r| r.as_ref().map_or([f64::NAN; 2], |o| o.grasp.tip))
+            .collect();
+        d.set_item("tip_gripper", points(py, &tips)?)?;
+        let flags = |f: &dyn Fn(&fpc::GraspOutcome) -> bool| -> Vec<bool> {
+            results.iter().map(|r| r.as_ref().is_ok_and(f)).collect()
+        };
+        d.set_item("valid", PyArray1::from_vec(py, flags(&|o| o.is_valid())))?;
+        d.set_item(
+            "reversed",
+            PyArray1::from_vec(py, flags(&|o| o.grasp.is_reversed())),
+        )?;
+        d.set_item("ok", PyArray1::from_vec(py, flags(&|_| true)))?;
+        let errors: Vec<String> = results
+            .iter()
+            .map(|r| r.as_ref().err().cloned().unwrap_or_default())
+            .collect();
+        d.set_item("error", errors)?;
+        Ok(d)
+    }
+
+    /// The design and the geometry its rest state fixes, as
+    /// ``solution.json``'s ``gripper``: ``mounting_angle_deg``, ``mu``,
+    /// ``fingers``, ``params``, ``model``, ``elements``, ``l0_mm``,
+    /// ``palm_mm``, ``overlap_mm``, ``d_min_mm``, ``d_max_mm``, ``r_max_mm``,
+    /// ``tip_is_innermost``, ``rest_tip_gripper_mm``, ``warnings``.
+    fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let v = serde_json::to_value(GripperJson::of(&self.inner))
+            .map_err(|e| crate::errors::InternalError::new_err(format!("serialization: {e}")))?;
+        json_to_py(py, &v)
+    }
+
+    /// The unloaded finger at zero pressure (the reference state), as
+    /// ``Finger.solve`` returns it, with ``points_gripper`` (gripper frame).
+    fn rest<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let d = solution_dict(py, self.inner.reference())?;
+        d.set_item("points_gripper", points(py, &self.inner.rest_shape())?)?;
+        Ok(d)
+    }
+
+    /// ``l0``: the largest inward reach of the rest mid-plane (mm).
+    #[getter]
+    fn l0(&self) -> f64 {
+        self.inner.l0()
+    }
+
+    /// Palm diameter (mm).
+    #[getter]
+    fn palm(&self) -> f64 {
+        self.inner.palm()
+    }
+
+    /// Overlap of the fingers at rest, ``g = l0 - palm / 2`` (mm).
+    #[getter]
+    fn overlap(&self) -> f64 {
+        self.inner.overlap()
+    }
+
+    /// Smallest grasping size ``max(0, palm - 2 l0)`` (mm).
+    #[getter]
+    fn d_min(&self) -> f64 {
+        self.inner.d_min()
+    }
+
+    /// Largest grasping size: the fingers pressed flat (mm).
+    #[getter]
+    fn d_max(&self) -> f64 {
+        self.inner.d_max()
+    }
+
+    /// Largest sphere radius (mm).
+    #[getter]
+    fn r_max(&self) -> f64 {
+        self.inner.r_max()
+    }
+
+    /// The mounting angle (deg).
+    #[getter]
+    fn mounting_angle_deg(&self) -> f64 {
+        self.inner.mounting_angle().to_degrees()
+    }
+
+    /// Friction coefficient between object and tip.
+    #[getter]
+    fn mu(&self) -> f64 {
+        self.inner.mu()
+    }
+
+    /// Notes on the finger and the design, as ``{kind, message, ...}`` dicts.
+    #[getter]
+    fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_py(py, self.inner.warnings())
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "fpc.Gripper(mounting_angle_deg={}, palm_mm={:.3}, overlap_mm={:.3}, mu={}, elements={})",
+            self.inner.mounting_angle().to_degrees(),
+            self.inner.palm(),
+            self.inner.overlap(),
+            self.inner.mu(),
+            self.inner.finger().len()
+        )
+    }
+}

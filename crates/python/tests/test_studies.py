@@ -1,0 +1,44 @@
+"""`fpc.run_study`: the registry's studies as dicts of numpy arrays."""
+
+import numpy as np
+import pytest
+
+import fpc
+
+
+def test_the_registry():
+    s = fpc.studies()
+    assert [x["number"] for x in s] == list(range(1, 9))
+    assert all(x["key"] and x["title"] and x["description"] for x in s)
+
+
+@pytest.mark.parametrize("study", [7, "prestrain_angle"])
+def test_a_study_as_arrays(study):
+    out = fpc.run_study(study, coarse=True)
+    assert out["tables"], out
+    main = f"study{out['number']}"
+    assert main in out["tables"]
+    for name, table in out["tables"].items():
+        cols = out["columns"][name]
+        assert list(table) == cols and cols[-2:] == ["status", "note"]
+        n = {len(v) for v in table.values()}
+        assert len(n) == 1, f"{name}: columns of different lengths"
+        assert table["status"].dtype.kind == "U"
+        assert set(out["units"][name]) == set(cols)
+        for c, v in table.items():
+            assert isinstance(v, np.ndarray), (name, c)
+    assert out["figure"]["rows"]
+    assert isinstance(out["summary"], dict) and out["points"] > 0
+    assert set(out["warnings_by_kind"]) >= {"element_slope", "strain_range"}
+
+
+def test_study7_curvature_rises_with_pressure_for_every_prestrain():
+    out = fpc.run_study("curvature", pressure_points=5)
+    t = out["tables"]["study7"]
+    assert t["pressure_kpa"].dtype == np.float64
+    ok = t["status"] == "ok"
+    assert ok.all()
+    for e in np.unique(t["eps0"]):
+        rows = t["eps0"] == e
+        order = np.argsort(t["pressure_kpa"][rows])
+        assert len(order) == 5
