@@ -291,17 +291,14 @@ fn figure(curves: &[CurvatureCurve]) -> Figure {
     let mut k = Panel::new(
         "Signed curvature (> 0: curls to the prestressed side)",
         PlotAxis::new("pressure P", "kPa"),
-        PlotAxis::new("curvature 1/R", "1/m"),
+        PlotAxis::new("curvature 1/R", "1/mm"),
     );
     for c in curves {
         k.series.push(
             Series::new(
                 eps0_key(c.eps0),
                 SeriesKind::LinePoints,
-                pts(c
-                    .rows
-                    .iter()
-                    .map(|r| (r.pressure_kpa, 1000.0 * r.curvature))),
+                pts(c.rows.iter().map(|r| (r.pressure_kpa, r.curvature))),
             )
             .label(format!("ε0 = {}", c.eps0)),
         );

@@ -295,7 +295,8 @@ pub struct StudyInfo {
     pub title: &'static str,
     /// One-line description.
     pub description: &'static str,
-    /// Runs the study and turns its result into outputs.
+    /// Runs the study and turns its result into outputs (call
+    /// [`StudyInfo::output`], which also marks the folds in the figure).
     pub run: fn(&Actuator, &StudyOptions) -> Result<StudyOutput, SolveError>,
     /// The outputs of a study that produced nothing: its tables with their
     /// columns and no rows, an empty figure, and its summary keys with
@@ -304,6 +305,18 @@ pub struct StudyInfo {
 }
 
 impl StudyInfo {
+    /// Runs the study into its outputs, with every fold its sweeps met
+    /// marked in its figure ([`StudyOutput::mark_folds`]).
+    pub fn output(
+        &self,
+        actuator: &Actuator,
+        opts: &StudyOptions,
+    ) -> Result<StudyOutput, SolveError> {
+        let mut out = (self.run)(actuator, opts)?;
+        out.mark_folds();
+        Ok(out)
+    }
+
     /// The stem of its figure and main table: `study<number>`.
     pub fn stem(&self) -> String {
         format!("study{}", self.number)
@@ -345,7 +358,7 @@ mod tests {
         let mut names = Vec::new();
         for s in STUDIES {
             let empty = (s.empty)();
-            let out = (s.run)(&act, &opts).unwrap();
+            let out = s.output(&act, &opts).unwrap();
             assert_eq!(out.tables.len(), empty.tables.len(), "study {}", s.number);
             assert_eq!(out.tables[0].name, s.stem());
             for (t, e) in out.tables.iter().zip(&empty.tables) {

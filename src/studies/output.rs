@@ -580,6 +580,49 @@ pub struct StudyOutput {
 }
 
 impl StudyOutput {
+    /// Marks every fold its sweeps met (a natural end that is a limit
+    /// point, [`SweepEnd::Fold`]) in its figure: a vertical line at the
+    /// fold's grasping size on every panel over the grasping size (an x
+    /// axis named `... d` in mm), and a note with the fold's force on the
+    /// first panel.
+    pub(crate) fn mark_folds(&mut self) {
+        let folds: Vec<(&str, f64, f64)> = self
+            .stops
+            .iter()
+            .filter_map(|s| match &s.end {
+                Some(SweepEnd::Fold {
+                    force_n, size_mm, ..
+                }) => Some((s.case.as_str(), *size_mm, *force_n)),
+                _ => None,
+            })
+            .collect();
+        if folds.is_empty() {
+            return;
+        }
+        let over_size = |p: &Panel| p.x.unit == "mm" && p.x.label.ends_with(" d");
+        for p in self
+            .figure
+            .rows
+            .iter_mut()
+            .flatten()
+            .filter(|p| over_size(p))
+        {
+            for &(case, size, force) in &folds {
+                p.vlines.push(RefLine {
+                    at: size,
+                    label: format!("fold ({case}): F = {force:.3} N"),
+                });
+            }
+        }
+        if let Some(p) = self.figure.rows.iter_mut().flatten().next() {
+            for &(case, size, force) in &folds {
+                p.notes.push(format!(
+                    "{case}: snaps through at F = {force:.3} N, d = {size:.2} mm (fold)"
+                ));
+            }
+        }
+    }
+
     /// An output with these tables, figure and summary entries, and
     /// nothing else yet.
     pub(crate) fn new(tables: Vec<Table>, figure: Figure, summary: Vec<(String, Value)>) -> Self {
@@ -776,6 +819,59 @@ mod tests {
             serde_json::to_value(e).unwrap(),
             serde_json::json!({"at_mm": 5.5, "reason": "why"})
         );
+    }
+
+    #[test]
+    fn folds_are_marked_on_the_panels_over_the_grasping_size() {
+        let size = Panel::new(
+            "",
+            PlotAxis::new("grasping size d", "mm"),
+            PlotAxis::new("f", "N"),
+        );
+        let other = Panel::new(
+            "",
+            PlotAxis::new("pressure P", "kPa"),
+            PlotAxis::new("F", "N"),
+        );
+        let mut out = StudyOutput::new(
+            Vec::new(),
+            Figure::row("t", [800, 400], vec![other, size]),
+            Vec::new(),
+        );
+        let end = |end| Stop {
+            case: "b = 0.5 rad".into(),
+            at: StopAt::Mm(80.0),
+            reason: "r".into(),
+            end,
+        };
+        out.stops = vec![
+            end(Some(SweepEnd::Fold {
+                force_n: 2.5,
+                size_mm: 81.25,
+                tip_mm: [1.0, 2.0],
+            })),
+            end(Some(SweepEnd::ForceBound {
+                force_n: 100.0,
+                size_mm: 90.0,
+            })),
+            end(None),
+        ];
+        out.mark_folds();
+        let [p0, p1] = &out.figure.rows[0][..] else {
+            panic!("two panels")
+        };
+        // only the fold, only on the panel over d; the note on the first
+        assert!(p0.vlines.is_empty());
+        assert_eq!(p1.vlines.len(), 1);
+        assert_eq!(p1.vlines[0].at, 81.25);
+        assert!(p1.vlines[0].label.contains("F = 2.500 N"));
+        assert_eq!(p0.notes.len(), 1);
+        assert!(p0.notes[0].contains("snaps through at F = 2.500 N, d = 81.25 mm"));
+        // nothing to mark: nothing changes
+        let before = out.figure.clone();
+        out.stops.remove(0);
+        out.mark_folds();
+        assert_eq!(out.figure, before);
     }
 
     #[test]

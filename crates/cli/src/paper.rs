@@ -131,7 +131,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for info in STUDIES {
         bar.set_message(format!("study {}: {}", info.number, info.title));
         let t = Instant::now();
-        let result = (info.run)(&act, &opts);
+        let result = info.output(&act, &opts);
         out.finish(info, t.elapsed(), result, &bar)?;
         bar.inc(1);
     }
@@ -591,7 +591,7 @@ mod tests {
         let opts = StudyOptions::coarse();
         let mut seen: BTreeMap<String, String> = BTreeMap::new();
         for info in STUDIES {
-            let out = (info.run)(&act, &opts).unwrap();
+            let out = info.output(&act, &opts).unwrap();
             let svg = render::svg(&out.figure).unwrap();
             for s in out.figure.panels().flat_map(|p| &p.series) {
                 let c = render::hex(render::color_of(&s.color));

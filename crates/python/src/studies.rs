@@ -149,8 +149,7 @@ pub fn run_study<'py>(
     opts.strict = strict.unwrap_or(base.strict);
     opts.validate().map_err(|e| from_input(py, &e))?;
     let act = actuator_from_kwargs(py, None, actuator)?;
-    let run = info.run;
-    let out = detached(py, move || run(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
+    let out = detached(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
 
     let d = info_dict(py, info)?;
     let tables = PyDict::new(py);
