@@ -1,0 +1,111 @@
+//! `fpc solve SCENE.toml`: solve the finger, or the gripper grasp, that a
+//! scene file describes, and write `solution.json`, `shape.csv` and
+//! `shape.svg` into the output directory (default `./<stem>-out/`).
+
+use std::fs;
+use std::io::{Read as _, Write as _};
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use fpc::scene::{warning_text, SceneFile};
+
+mod figure;
+mod render;
+mod report;
+#[cfg(test)]
+mod tests;
+
+use figure::shape_svg;
+use report::{shape_csv, solution_file, summary};
+
+/// Flags of `fpc solve`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The scene file (TOML; see scenes/ and the README for the keys).
+    scene: PathBuf,
+    /// Output directory, created if missing. Default: `<stem>-out` in the
+    /// current directory, where `<stem>` is the scene file's name without
+    /// its extension.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let shown = args.scene.display().to_string();
+    let text = read_scene(&args.scene, &shown)?;
+    // a syntax error is rejected input, its position as file:line:col
+    let file =
+        SceneFile::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    let scene = file.resolve().with_context(|| shown.clone())?;
+    // notes on the input first: they hold even when the solve fails
+    for w in scene.warnings() {
+        crate::report::warning(&warning_text(w));
+    }
+    let solved = scene.solve().with_context(|| shown.clone())?;
+    for w in solved
+        .warnings()
+        .iter()
+        .filter(|w| !scene.warnings().contains(w))
+    {
+        crate::report::warning(&warning_text(w));
+    }
+
+    let stem = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("{stem}-out")));
+    // every file is made before any is written
+    let json = serde_json::to_string_pretty(&solution_file(&stem, scene.file(), &solved))? + "\n";
+    let csv = shape_csv(&solved)?;
+    let svg = shape_svg(&stem, &solved)?;
+    crate::output::prepare_dir(&out)?;
+    write_atomic(&out, "solution.json", json.as_bytes())?;
+    write_atomic(&out, "shape.csv", &csv)?;
+    write_atomic(&out, "shape.svg", svg.as_bytes())?;
+
+    let mut stdout = crate::output::stdout();
+    summary(&mut stdout, &stem, scene.file(), &solved)?;
+    writeln!(
+        stdout,
+        "wrote          {}",
+        ["solution.json", "shape.csv", "shape.svg"]
+            .map(|f| out.join(f).display().to_string())
+            .join(", ")
+    )?;
+    Ok(())
+}
+
+use crate::output::write_atomic;
+
+/// The largest scene file `fpc solve` reads: 4 MiB. The example scenes are
+/// a few hundred bytes; the limit keeps a wrong path (a disk image, a
+/// device, an endless pipe) from being read into memory whole.
+pub const MAX_SCENE_BYTES: u64 = 4 * 1024 * 1024;
+
+/// The text of the scene file at `path` (`shown` in messages), read
+/// through a bounded reader. Missing, unreadable, a directory, larger than
+/// [`MAX_SCENE_BYTES`] or not UTF-8: rejected input, one line naming the
+/// path.
+pub(crate) fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
+    let cannot = |why: String| crate::status::rejected(format!("cannot read {shown}: {why}"));
+    let file = fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| cannot(e.to_string()))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(cannot(format!(
+            "larger than {} MiB ({MAX_SCENE_BYTES} bytes), the limit for a scene file",
+            MAX_SCENE_BYTES >> 20
+        )));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        cannot(format!("not UTF-8 text (invalid byte at offset {at})"))
+    })
+}
