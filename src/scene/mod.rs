@@ -56,6 +56,7 @@
 //! grasp.
 
 mod fields;
+mod record;
 mod resolve;
 mod schema;
 mod solve;
@@ -71,6 +72,7 @@ use crate::finger::{Load, SolveOptions};
 use crate::model::ModelId;
 
 pub use fields::warning_text;
+pub use record::{degrees, GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{
     GraspSpec, GripperScene, PartitionPlan, DEFAULT_CUBOID_FRICTION_N, DEFAULT_ELEMENTS,
     DEFAULT_GRASP_SIZE_MM, DEFAULT_MOUNTING_ANGLE_DEG, DEFAULT_OVERLAP_MM, DEFAULT_SPHERE_BETA_DEG,

@@ -306,7 +306,7 @@ pub struct StudyInfo {
 
 impl StudyInfo {
     /// Runs the study into its outputs, with every fold its sweeps met
-    /// marked in its figure ([`StudyOutput::mark_folds`]).
+    /// marked in its figure (a line at each fold's grasping size, its force in a note).
     pub fn output(
         &self,
         actuator: &Actuator,

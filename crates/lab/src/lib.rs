@@ -1,5 +1,5 @@
 //! Experiments on the `fpc` library, kept out of its user API: the seeded
-//! numerical stress test ([`stress`]) and the accuracy-time front of every
+//! numerical stress test ([`stress`](mod@stress)) and the accuracy-time front of every
 //! element model, partition kind and extrapolation ([`accuracy`]). Both use
 //! only `fpc`'s public API, as a user's own experiment would; the `fpc`
 //! binary runs them (`fpc stress`, `fpc accuracy`).

@@ -12,7 +12,7 @@ use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions, GRIPPER_SAMPLES_
 use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
 use crate::errors::{detached, from_input, from_solve, guarded, input_error, renamed};
 use crate::finger::{read_scene, Finger, Split};
-use crate::scene::{GraspJson, GripperJson};
+use fpc::scene::{GraspJson, GripperJson};
 
 /// A gripper: identical, synchronised fingers on a palm (one finger is
 /// analysed), with the geometry its unloaded finger fixes.

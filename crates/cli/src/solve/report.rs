@@ -1,154 +1,19 @@
 //! The text outputs of `fpc solve`: `solution.json`, `shape.csv` and the
 //! terminal summary.
 
-use fpc::scene::{warning_text, GraspOutcome, SceneFile, SceneSolution};
-use fpc::{Coefficients, Gripper, Invalid, Solution, SolveReport, Warning};
+use fpc::scene::{degrees, SceneFile, SceneSolution, SolutionRecord};
+use fpc::Solution;
 use serde::Serialize;
 
 // ------------------------------------------------------------ solution.json
 
-/// `solution.json`: the finger's equilibrium under the keys of
-/// `fpc finger --json`, the run's keys, every finding typed, and in a
-/// gripper scene the gripper and its grasp.
+/// `solution.json`: the scene's record and how the file was made.
 #[derive(Serialize)]
 pub(super) struct SolutionFile<'a> {
-    /// The scene file's name without its extension.
-    scene_name: &'a str,
-    /// `finger`, `gripper` (no grasp asked) or `grasp`.
-    kind: &'static str,
-    /// The number of elements used.
-    elements: usize,
-    /// With `tip_tol_mm`: the estimated tip error (mm); null otherwise.
-    tip_error_estimate_mm: Option<f64>,
-    /// The finger's equilibrium: the grasp's, or the gripper's rest state.
     #[serde(flatten)]
-    solution: SolutionKeys<'a>,
-    /// True when no finding puts the answer outside the model
-    /// ([`Warning::is_validity`]) and the grasp, if one was asked, breaks
-    /// no rule.
-    validity: bool,
-    /// Every warning once ([`SceneSolution::warnings`]), as
-    /// `{kind, message, element?, value?, limit?}`.
-    warnings: Vec<Warning>,
-    /// The same warnings as text naming the scene's keys (as on stderr).
-    warning_messages: Vec<String>,
-    /// The scene with every default written out.
-    scene: &'a SceneFile,
-    /// A gripper scene's keys (absent in a finger scene).
-    #[serde(flatten)]
-    gripper: Option<GripperKeys<'a>>,
+    record: SolutionRecord<'a>,
     /// The command, fpc's version and the git commit.
     provenance: crate::provenance::Provenance,
-}
-
-/// The keys of a [`Solution`] but its `warnings` (the scene's
-/// [`SolutionFile::warnings`] hold them with the gripper's and the
-/// grasp's). A test keeps the two key lists in step.
-#[derive(Serialize)]
-pub(super) struct SolutionKeys<'a> {
-    /// Tip (X, Z) in the finger frame (mm).
-    tip_mm: &'a [f64; 2],
-    /// Tip tangent angle from the X axis (rad).
-    end_angle_rad: f64,
-    /// Least-squares circle radius (mm); null when straight or not sampled.
-    radius_mm: Option<f64>,
-    /// Total potential energy (N mm).
-    energy_nmm: f64,
-    /// Negative Hessian eigenvalues; null when not computed.
-    negative_eigenvalues: Option<usize>,
-    /// `negative_eigenvalues == 0`; null when not computed.
-    stable: Option<bool>,
-    /// The element unknowns, one array per element.
-    coefficients: &'a Coefficients,
-    /// Mid-plane samples, root to tip, in the finger frame (mm).
-    points_mm: &'a [[f64; 2]],
-    /// Undeformed element lengths, root to tip (mm).
-    element_lengths_mm: &'a [f64],
-    /// How the solve went.
-    report: &'a SolveReport,
-}
-
-impl<'a> SolutionKeys<'a> {
-    pub(super) fn of(s: &'a Solution) -> SolutionKeys<'a> {
-        SolutionKeys {
-            tip_mm: &s.tip,
-            end_angle_rad: s.end_angle,
-            radius_mm: s.radius,
-            energy_nmm: s.energy,
-            negative_eigenvalues: s.negative_eigenvalues,
-            stable: s.stable,
-            coefficients: &s.coefficients,
-            points_mm: &s.points,
-            element_lengths_mm: &s.element_lengths,
-            report: &s.report,
-        }
-    }
-}
-
-/// The keys only a gripper scene has.
-#[derive(Serialize)]
-struct GripperKeys<'a> {
-    /// The design and the geometry its rest state fixes.
-    gripper: GripperJson<'a>,
-    /// The grasp; null when none was asked.
-    grasp: Option<GraspJson<'a>>,
-    /// `points_mm` in the gripper frame (mm; Zg down).
-    points_gripper_mm: Vec<[f64; 2]>,
-}
-
-/// The gripper: the library's keys (`params`, `model`, `elements`,
-/// `l0_mm`, `palm_mm`, `overlap_mm`, `d_min_mm`, `d_max_mm`, `r_max_mm`,
-/// `tip_is_innermost`, `rest_tip_gripper_mm`, `warnings`) and three of its
-/// design's at the top.
-#[derive(Serialize)]
-struct GripperJson<'a> {
-    /// The mounting angle `a` (deg).
-    mounting_angle_deg: f64,
-    /// Friction coefficient between object and tip.
-    mu: f64,
-    /// Number of fingers.
-    fingers: usize,
-    #[serde(flatten)]
-    gripper: &'a Gripper,
-}
-
-/// A solved grasp, per finger.
-#[derive(Serialize)]
-struct GraspJson<'a> {
-    /// `cuboid`, `size` or `sphere`.
-    kind: &'static str,
-    /// Channel pressure (kPa).
-    pressure_kpa: f64,
-    /// Grasping angle `b` (deg).
-    beta_deg: f64,
-    /// Normal force `F` on the finger (N).
-    normal_force_n: f64,
-    /// Friction `f` on the finger (N).
-    friction_n: f64,
-    /// The friction cone's limit `mu F` (N).
-    friction_limit_n: f64,
-    /// Lifting force `f_v` (N).
-    lift_n: f64,
-    /// Grasping size `d` (mm).
-    size_mm: f64,
-    /// Gap between the tips (mm).
-    tip_gap_mm: f64,
-    /// Finger height `h`, the tip's Zg (mm).
-    height_mm: f64,
-    /// Tip in the gripper frame (mm).
-    tip_gripper_mm: [f64; 2],
-    /// The contact load on the tip, (Fx, Fz) in the finger frame (N).
-    tip_load_finger_n: [f64; 2],
-    /// True when the grasp breaks no rule.
-    valid: bool,
-    /// The first rule broken, `{kind, message}`; null when valid.
-    invalid: Option<&'a Invalid>,
-    /// A sphere's radius (mm).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    sphere_radius_mm: Option<f64>,
-    /// A sphere's centre in the gripper frame (mm).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    sphere_center_gripper_mm: Option<[f64; 2]>,
 }
 
 /// The contents of `solution.json` for the solved scene.
@@ -157,85 +22,10 @@ pub(super) fn solution_file<'a>(
     file: &'a SceneFile,
     solved: &'a SceneSolution,
 ) -> SolutionFile<'a> {
-    let warnings = solved.warnings();
-    let (kind, tip_error_estimate_mm, gripper) = match solved {
-        SceneSolution::Finger {
-            tip_error_estimate_mm,
-            ..
-        } => ("finger", *tip_error_estimate_mm, None),
-        SceneSolution::Gripper { gripper, grasp } => (
-            if grasp.is_some() { "grasp" } else { "gripper" },
-            None,
-            Some(gripper_keys(gripper, grasp.as_deref(), solved.solution())),
-        ),
-    };
     SolutionFile {
-        scene_name: stem,
-        kind,
-        elements: solved.elements(),
-        tip_error_estimate_mm,
-        solution: SolutionKeys::of(solved.solution()),
-        validity: is_valid(solved, &warnings),
-        warning_messages: warnings.iter().map(warning_text).collect(),
-        warnings,
-        scene: file,
-        gripper,
+        record: SolutionRecord::new(stem, file, solved),
         provenance: crate::provenance::Provenance::now(),
     }
-}
-
-/// True when no warning is a validity finding and the grasp, if any, is
-/// valid.
-fn is_valid(solved: &SceneSolution, warnings: &[Warning]) -> bool {
-    let grasp_valid = match solved {
-        SceneSolution::Gripper { grasp: Some(g), .. } => g.is_valid(),
-        _ => true,
-    };
-    grasp_valid && !warnings.iter().any(Warning::is_validity)
-}
-
-fn gripper_keys<'a>(
-    gripper: &'a Gripper,
-    grasp: Option<&'a GraspOutcome>,
-    sol: &Solution,
-) -> GripperKeys<'a> {
-    GripperKeys {
-        gripper: GripperJson {
-            mounting_angle_deg: degrees(gripper.mounting_angle()),
-            mu: gripper.mu(),
-            fingers: gripper.params().fingers,
-            gripper,
-        },
-        grasp: grasp.map(|o| grasp_json(gripper, o)),
-        points_gripper_mm: sol.points.iter().map(|&p| gripper.to_gripper(p)).collect(),
-    }
-}
-
-fn grasp_json<'a>(gripper: &Gripper, o: &'a GraspOutcome) -> GraspJson<'a> {
-    let g = &o.grasp;
-    GraspJson {
-        kind: o.spec.name(),
-        pressure_kpa: g.pressure_kpa,
-        beta_deg: degrees(g.beta),
-        normal_force_n: g.normal,
-        friction_n: g.friction,
-        friction_limit_n: gripper.mu() * g.normal,
-        lift_n: g.lift,
-        size_mm: g.size,
-        tip_gap_mm: g.tip_gap,
-        height_mm: g.height,
-        tip_gripper_mm: g.tip,
-        tip_load_finger_n: [g.load.fx, g.load.fz],
-        valid: o.is_valid(),
-        invalid: o.invalid.as_ref(),
-        sphere_radius_mm: o.sphere.map(|s| s.radius),
-        sphere_center_gripper_mm: o.sphere.map(|s| s.center),
-    }
-}
-
-/// Radians in degrees, rounded to 1e-9 deg (60 deg prints as 60).
-pub(super) fn degrees(rad: f64) -> f64 {
-    (rad.to_degrees() * 1e9).round() / 1e9
 }
 
 // ------------------------------------------------------------ shape.csv
