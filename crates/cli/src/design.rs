@@ -4,7 +4,8 @@
 //! margin and its sensitivities, and writes `design.json`, one scene file
 //! per object (which `fpc solve` runs to reproduce the claimed grasp; each
 //! is run here through the ordinary scene path and compared), and
-//! `design.svg` (the finger at rest, the lift curves and the requirements).
+//! `design.svg` (the fingers at rest and holding each object, the lift
+//! curves and the requirements).
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -78,8 +79,9 @@ fn claimed_lift(d: &Designed, requirement: &str) -> Option<f64> {
         .value
 }
 
-/// Solves every scene through the ordinary path and compares its lift.
-fn check_scenes(d: &Designed, req: &Requirements) -> Vec<SceneCheck> {
+/// Solves every scene through the ordinary path and compares its lift;
+/// also returns each solved scene (for the figure).
+fn check_scenes(d: &Designed, req: &Requirements) -> Vec<(SceneCheck, Option<SceneSolution>)> {
     d.scenes(req)
         .into_iter()
         .enumerate()
@@ -123,42 +125,115 @@ fn check_scenes(d: &Designed, req: &Requirements) -> Vec<SceneCheck> {
                 (None, _) => solved.is_ok(),
                 _ => false,
             };
-            SceneCheck {
+            let check = SceneCheck {
                 file,
                 requirement: hardest,
                 claimed_lift_n: claimed,
                 solved_lift_n: solved_lift,
                 reproduced,
                 detail,
-            }
+            };
+            (check, solved.ok())
         })
         .collect()
 }
 
-/// The figure: the finger at rest in the gripper frame, and per object
-/// the design's lift against size (cuboids) or radius (spheres) with the
-/// required region.
-fn figure(req: &Requirements, e: &Evaluation) -> Figure {
+/// The figure: the finger at rest in the gripper frame with each object's
+/// reproduced grasp drawn in (the grasped finger, its mirror image and the
+/// object's outline), and per object the design's lift against size
+/// (cuboids) or radius (spheres) with the required region.
+fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) -> Figure {
     let mut shape = Panel::new(
-        "The designed finger at rest (gripper frame)",
+        "The designed fingers at rest and holding each object (gripper frame)",
         PlotAxis::new("Xg", "mm"),
-        PlotAxis::new("Zg (down)", "mm"),
+        PlotAxis::new("−Zg (the gripper points down)", "mm"),
     );
     shape.equal_aspect = true;
     shape.legend = Corner::UpperRight;
+    // the gripper frame's Zg points down: drawn as -Zg
+    let up = |p: [f64; 2]| [p[0], -p[1]];
+    let pair = |label: String, color: &str, kind: SeriesKind, pts: Vec<[f64; 2]>| {
+        let mirrored = pts.iter().map(|p| [-p[0], p[1]]).collect();
+        [
+            Series {
+                label: Some(label),
+                color: color.into(),
+                kind,
+                points: pts,
+            },
+            Series {
+                label: None,
+                color: color.into(),
+                kind,
+                points: mirrored,
+            },
+        ]
+    };
     if let Ok(g) = gripper(req, e.design) {
-        let pts: Vec<[f64; 2]> = g.rest_shape().iter().map(|p| [p[0], -p[1]]).collect();
+        let rest: Vec<[f64; 2]> = g.rest_shape().iter().map(|&p| up(p)).collect();
+        shape.series.extend(pair(
+            "fingers at rest".into(),
+            "reference",
+            SeriesKind::Dashed,
+            rest,
+        ));
+    }
+    for (i, s) in solved.iter().enumerate() {
+        let Some(SceneSolution::Gripper {
+            gripper: g,
+            grasp: Some(o),
+        }) = s
+        else {
+            continue;
+        };
+        let color = format!("object{i}");
+        let held: Vec<[f64; 2]> = s
+            .as_ref()
+            .map(|s| {
+                s.solution()
+                    .points
+                    .iter()
+                    .map(|&p| up(g.to_gripper(p)))
+                    .collect()
+            })
+            .unwrap_or_default();
+        shape.series.extend(pair(
+            format!("holding object {i}"),
+            &color,
+            SeriesKind::Line,
+            held,
+        ));
+        let outline: Vec<[f64; 2]> = match o.sphere {
+            Some(sp) => (0..=72)
+                .map(|k| {
+                    let t = std::f64::consts::TAU * k as f64 / 72.0;
+                    up([
+                        sp.center[0] + sp.radius * t.cos(),
+                        sp.center[1] + sp.radius * t.sin(),
+                    ])
+                })
+                .collect(),
+            None => {
+                // a cuboid of the grasped width, its faces touching the tips
+                // at mid-height
+                let (w, h) = (o.grasp.size / 2.0, o.grasp.height);
+                [
+                    [-w, h - w],
+                    [w, h - w],
+                    [w, h + w],
+                    [-w, h + w],
+                    [-w, h - w],
+                ]
+                .into_iter()
+                .map(up)
+                .collect()
+            }
+        };
         shape.series.push(Series {
-            label: Some("finger".into()),
-            color: "finger".into(),
-            kind: SeriesKind::Line,
-            points: pts.clone(),
-        });
-        shape.series.push(Series {
-            label: Some("opposite finger".into()),
-            color: "opposite finger".into(),
-            kind: SeriesKind::Line,
-            points: pts.iter().map(|p| [-p[0], p[1]]).collect(),
+            label: Some(format!("object {i}")),
+            color,
+            kind: SeriesKind::Dashed,
+            points: outline,
         });
     }
     let mut lift = Panel::new(
@@ -166,7 +241,8 @@ fn figure(req: &Requirements, e: &Evaluation) -> Figure {
         PlotAxis::new("object size (width d or radius r)", "mm"),
         PlotAxis::new("lift f_v", "N"),
     );
-    lift.legend = Corner::UpperRight;
+    lift.legend = Corner::LowerLeft;
+    lift.y.include_zero = true;
     for (i, o) in req.objects.iter().enumerate() {
         let (kind, need) = match o {
             ObjectRequirement::Cuboid { lift_n, .. } => ("cuboid", *lift_n),
@@ -242,11 +318,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         again.worst,
         d.best.worst
     );
-    let scenes = check_scenes(&d, &req);
+    let (scenes, solved): (Vec<SceneCheck>, Vec<Option<SceneSolution>>) =
+        check_scenes(&d, &req).into_iter().unzip();
     for (file, text) in d.scenes(&req) {
         crate::output::write_atomic(&out, &file, text.as_bytes())?;
     }
-    let svg = crate::paper::render::svg(&figure(&req, &d.best))?;
+    let svg = crate::paper::render::svg(&figure(&req, &d.best, &solved))?;
     crate::output::write_atomic(&out, "design.svg", svg.as_bytes())?;
     let b = req.bounds();
     let report = Report {
