@@ -26,9 +26,16 @@
 //! ([`Finger::unknown_scales`]); `dK/dp` is returned in raw coefficients.
 
 mod compute;
+mod envelope;
+mod gripper;
 mod params;
 
 pub(crate) use compute::{compute, Request, State};
+pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
+pub use gripper::{
+    GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
+    SizeSensitivity,
+};
 pub use params::{ActuatorParam, Elastic, Lamina, Param};
 
 use crate::actuator::Actuator;
