@@ -63,8 +63,9 @@ pub struct Designed {
     /// The best design's evaluation (every margin).
     pub best: Evaluation,
     /// d margin / d variable at the best design, per margin, for each
-    /// varied variable (`VARIABLES` order; fixed ones are 0), by central
-    /// differences of full re-solves.
+    /// varied variable (`VARIABLES` order; fixed ones are 0): exact, from
+    /// the gripper-output sensitivities, where they cover the margin;
+    /// otherwise by central differences of full re-solves.
     pub sensitivities: Vec<MarginSensitivity>,
     /// Design evaluations spent.
     pub evaluations: usize,
@@ -249,7 +250,11 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
         }
     }
     let (u, e) = best.unwrap_or_else(|| (Vec::new(), c.eval(&[])));
-    // sensitivities of every margin at the best design
+    // sensitivities of every margin at the best design: exact where the
+    // gripper-output sensitivities cover them, central differences for
+    // the rest
+    c.evaluations += 1;
+    let (_, exact) = evaluate_with_gradients(req, e.design);
     let mut sens: Vec<MarginSensitivity> = e
         .margins
         .iter()
@@ -259,13 +264,24 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
         })
         .collect();
     for (j, &(i, lo, hi)) in act.iter().enumerate() {
+        let covered = exact.len() == sens.len() && exact.iter().all(|g| g[i].is_some());
+        if covered {
+            for (s, g) in sens.iter_mut().zip(&exact) {
+                s.gradient[i] = g[i].unwrap_or(0.0);
+            }
+            continue;
+        }
         let h = opts.step;
         let (mut a, mut b) = (u.clone(), u.clone());
         a[j] = (u[j] + h).min(1.0);
         b[j] = (u[j] - h).max(0.0);
         let (ea, eb) = (c.eval(&a), c.eval(&b));
         let dx = (a[j] - b[j]) * (hi - lo);
-        for (s, m) in sens.iter_mut().zip(&e.margins) {
+        for (k, (s, m)) in sens.iter_mut().zip(&e.margins).enumerate() {
+            if let Some(v) = exact.get(k).and_then(|g| g[i]) {
+                s.gradient[i] = v;
+                continue;
+            }
             let ma = ea.margins.iter().find(|x| x.requirement == m.requirement);
             let mb = eb.margins.iter().find(|x| x.requirement == m.requirement);
             if let (Some(ma), Some(mb)) = (ma, mb) {
