@@ -14,7 +14,7 @@
 //! (`--nocapture`).
 
 use fpc::{
-    contact_force_to_gripper, gripper_force_to_contact, Actuator, ActuatorParam, GraspKind,
+    contact_force_to_gripper, gripper_force_to_contact, Actuator, ActuatorParam, Grasp, GraspKind,
     Gripper, GripperParam, GripperParams, Load, PalmSpec, Partition, SolveError, SolveOptions,
     Solver,
 };
@@ -108,8 +108,16 @@ fn perturbed(base: &Design, act: &Actuator, p: GripperParam, v: f64) -> (Actuato
         GripperParam::MountingAngle => d.params.mounting_angle = v,
         GripperParam::Overlap => d.params.geometry = PalmSpec::Overlap(v),
         GripperParam::Palm => d.params.geometry = PalmSpec::Palm(v),
-        GripperParam::Size => d.kind = GraspKind::Size { d: v },
-        GripperParam::Radius => d.kind = GraspKind::SphereAtFrictionLimit { radius: v },
+        GripperParam::Size => match &mut d.kind {
+            GraspKind::Size { d } | GraspKind::ForceControl { d, .. } => *d = v,
+            _ => unreachable!(),
+        },
+        GripperParam::Radius => match &mut d.kind {
+            GraspKind::SphereAtFrictionLimit { radius } | GraspKind::Sphere { radius, .. } => {
+                *radius = v
+            }
+            _ => unreachable!(),
+        },
         GripperParam::Beta => d.beta = v,
     }
     (a, d)
@@ -118,6 +126,25 @@ fn perturbed(base: &Design, act: &Actuator, p: GripperParam, v: f64) -> (Actuato
 const GRASP_OUTPUTS: [&str; 9] = [
     "normal", "friction", "lift", "lambda", "size", "tip_gap", "height", "tip_xg", "tip_zg",
 ];
+
+/// The grasp of a design through the ordinary gripper path.
+fn solve_grasp(g: &Gripper, d: &Design) -> Grasp {
+    let p = d.pressure_kpa;
+    match d.kind {
+        GraspKind::Size { d: size } => g.grasp_load_for_size(p, size, d.beta, None).unwrap(),
+        GraspKind::SphereAtFrictionLimit { radius } => {
+            g.sphere_grasp_at_friction_limit(p, radius, d.beta, None)
+                .unwrap()
+                .grasp
+        }
+        GraspKind::Sphere { radius, lift } => {
+            g.sphere_grasp(p, radius, lift, d.beta, None).unwrap().grasp
+        }
+        GraspKind::ForceControl { d: size, friction } => {
+            g.force_control(p, size, friction, None).unwrap()
+        }
+    }
+}
 
 /// The grasp's outputs through the ordinary gripper path: the gripper
 /// builds and solves the grasp; its target problem is then solved once
@@ -128,16 +155,7 @@ const GRASP_OUTPUTS: [&str; 9] = [
 /// (`size_of`, `to_gripper`) and the contact force `lambda (n + mu t)`.
 fn grasp_outputs(act: &Actuator, d: &Design) -> Vec<f64> {
     let g = gripper(act, d.params);
-    let gr = match d.kind {
-        GraspKind::Size { d: size } => g
-            .grasp_load_for_size(d.pressure_kpa, size, d.beta, None)
-            .unwrap(),
-        GraspKind::SphereAtFrictionLimit { radius } => {
-            g.sphere_grasp_at_friction_limit(d.pressure_kpa, radius, d.beta, None)
-                .unwrap()
-                .grasp
-        }
-    };
+    let gr = solve_grasp(&g, d);
     let opts = SolveOptions {
         rtol: 1e-13,
         ..SolveOptions::default().tip_only()
@@ -151,8 +169,16 @@ fn grasp_outputs(act: &Actuator, d: &Design) -> Vec<f64> {
             &opts,
         )
         .unwrap();
-    let u = contact_force_to_gripper(1.0, d.params.mu, d.beta);
-    let force = [lambda * u[0], lambda * u[1]];
+    // the contact force: fixed part plus lambda times the direction
+    let (base, u) = match d.kind {
+        GraspKind::Size { .. } | GraspKind::SphereAtFrictionLimit { .. } => (
+            [0.0, 0.0],
+            contact_force_to_gripper(1.0, d.params.mu, d.beta),
+        ),
+        GraspKind::Sphere { lift, .. } => ([0.0, lift], [1.0, 0.0]),
+        GraspKind::ForceControl { friction, .. } => ([0.0, friction], [1.0, 0.0]),
+    };
+    let force = [base[0] + lambda * u[0], base[1] + lambda * u[1]];
     let (normal, friction) = gripper_force_to_contact(force, d.beta);
     let tip = g.to_gripper(sol.tip);
     vec![
@@ -171,16 +197,7 @@ fn grasp_outputs(act: &Actuator, d: &Design) -> Vec<f64> {
 fn check_grasp(name: &str, d: Design, params: &[GripperParam]) -> f64 {
     let act = actuator(d.actuator_eps0);
     let g = gripper(&act, d.params);
-    let gr = match d.kind {
-        GraspKind::Size { d: size } => g
-            .grasp_load_for_size(d.pressure_kpa, size, d.beta, None)
-            .unwrap(),
-        GraspKind::SphereAtFrictionLimit { radius } => {
-            g.sphere_grasp_at_friction_limit(d.pressure_kpa, radius, d.beta, None)
-                .unwrap()
-                .grasp
-        }
-    };
+    let gr = solve_grasp(&g, &d);
     let sens = g.grasp_sensitivities(&act, &gr, d.kind, params).unwrap();
     let base = grasp_outputs(&act, &d);
     let mut worst = 0.0f64;
@@ -203,9 +220,15 @@ fn check_grasp(name: &str, d: Design, params: &[GripperParam]) -> f64 {
             row.tip[1],
         ];
         // the friction is mu F at the friction limit: the exact rows agree
-        assert!(
-            (row.friction - d.params.mu * row.normal).abs() <= 1e-12 * row.normal.abs().max(1.0)
-        );
+        if matches!(
+            d.kind,
+            GraspKind::Size { .. } | GraspKind::SphereAtFrictionLimit { .. }
+        ) {
+            assert!(
+                (row.friction - d.params.mu * row.normal).abs()
+                    <= 1e-12 * row.normal.abs().max(1.0)
+            );
+        }
         let scale = row.value.abs().max(100.0 * h);
         let e = agreement(
             &format!("{name} / {}", row.param),
@@ -287,6 +310,54 @@ fn sphere_grasp_sensitivities_match_re_solves() {
     ];
     let w = check_grasp("sphere grasp", d, &params);
     println!("sphere grasp: worst {w:.2e}");
+}
+
+#[test]
+fn fixed_lift_sphere_grasp_sensitivities_match_re_solves() {
+    let d = Design {
+        actuator_eps0: 0.25,
+        params: GripperParams::default(),
+        pressure_kpa: 10.0,
+        beta: 0.4,
+        kind: GraspKind::Sphere {
+            radius: 45.0,
+            lift: 0.5,
+        },
+    };
+    let params = [
+        eps0(),
+        GripperParam::Pressure,
+        GripperParam::MountingAngle,
+        GripperParam::Overlap,
+        GripperParam::Radius,
+        GripperParam::Beta,
+    ];
+    let w = check_grasp("fixed-lift sphere grasp", d, &params);
+    println!("fixed-lift sphere grasp: worst {w:.2e}");
+}
+
+#[test]
+fn force_control_sensitivities_match_re_solves() {
+    let d = Design {
+        actuator_eps0: 0.25,
+        params: GripperParams::default(),
+        pressure_kpa: 20.0,
+        beta: 0.0,
+        kind: GraspKind::ForceControl {
+            d: 100.0,
+            friction: 0.3,
+        },
+    };
+    let params = [
+        eps0(),
+        h1(),
+        GripperParam::Pressure,
+        GripperParam::MountingAngle,
+        GripperParam::Overlap,
+        GripperParam::Size,
+    ];
+    let w = check_grasp("force control", d, &params);
+    println!("force control: worst {w:.2e}");
 }
 
 const GEOMETRY_OUTPUTS: [&str; 6] = ["l0", "overlap", "palm", "d_max", "r_max", "rest_size"];
@@ -470,7 +541,7 @@ fn envelope_sensitivities_match_re_solved_maxima() {
     let best_of = |act: &Actuator, d: &Design| {
         let r = match d.kind {
             GraspKind::SphereAtFrictionLimit { radius } => radius,
-            GraspKind::Size { .. } => unreachable!(),
+            _ => unreachable!(),
         };
         gripper(act, d.params)
             .max_sphere_lift(d.pressure_kpa, r, SAMPLES)
@@ -598,6 +669,20 @@ fn mismatched_grasps_and_parameters_are_rejected() {
             &[GripperParam::Palm]
         )),
         "gripper.palm_mm"
+    );
+    // force control holds the grasping angle at 0
+    let fc = g.force_control(0.0, 90.0, 0.2, None).unwrap();
+    assert_eq!(
+        field(g.grasp_sensitivities(
+            &act,
+            &fc,
+            GraspKind::ForceControl {
+                d: 90.0,
+                friction: 0.2
+            },
+            &[GripperParam::Beta]
+        )),
+        "grasp.beta_rad"
     );
     // another actuator than the finger's
     let other = actuator(0.3);

@@ -3,9 +3,9 @@
 //! way the gripper builds its geometry and its target solves.
 //!
 //! A grasp is a finger target solve whose problem the gripper builds from
-//! its design: weights `w = (cos a, sin a)`, a finger-frame load direction
-//! `u_f = R(a) u_g` (the contact direction `u_g = n + mu t` in the gripper
-//! frame), and a target `T` that depends on the reference tip `r`, the
+//! its design: weights `w = (cos a, sin a)`, a finger-frame fixed force
+//! `R(a) F0_g` and load direction `u_f = R(a) u_g` (at the friction limit
+//! `F0_g = 0` and `u_g = n + mu t`), and a target `T` that depends on the reference tip `r`, the
 //! overlap or the palm, the grasp size or the sphere. A change `dw` of the
 //! weights acts on the target equation `w . tip - T = 0` like a change
 //! `-dw . tip` of the target, and a change `du_f` of the direction acts on
@@ -14,7 +14,7 @@
 //! [`Param::Fx`], [`Param::Fz`], [`Param::Pressure`] and actuator rows:
 //!
 //! ```text
-//! dy/dp = S_y(p) + S_y(P) dP/dp + lambda (S_y(Fx), S_y(Fz)) . du_f/dp
+//! dy/dp = S_y(p) + S_y(P) dP/dp + (S_y(Fx), S_y(Fz)) . (d(R(a) F0_g)/dp + lambda du_f/dp)
 //!         + S_y(Target) (dT/dp - dw/dp . tip)          y = tip X, tip Z, lambda
 //! ```
 //!
@@ -123,6 +123,58 @@ pub enum GraspKind {
         /// The sphere's radius (mm).
         radius: f64,
     },
+    /// [`Gripper::sphere_grasp`] of a sphere of radius `radius` (mm) with
+    /// lifting force `lift` (N).
+    Sphere {
+        /// The sphere's radius (mm).
+        radius: f64,
+        /// The lifting force per finger (N).
+        lift: f64,
+    },
+    /// [`Gripper::force_control`] at grasping size `d` (mm) with friction
+    /// `friction` (N).
+    ForceControl {
+        /// The grasping size (mm).
+        d: f64,
+        /// The friction per finger (N).
+        friction: f64,
+    },
+}
+
+impl GraspKind {
+    /// The load of the kind's scene in the gripper frame: the fixed force
+    /// and the force per unit lambda at grasping angle `beta`, and the
+    /// latter's derivative in `beta`.
+    fn scene(self, mu: f64, beta: f64) -> ([f64; 2], [f64; 2], [f64; 2]) {
+        let (sb, cb) = beta.sin_cos();
+        match self {
+            GraspKind::Size { .. } | GraspKind::SphereAtFrictionLimit { .. } => (
+                [0.0, 0.0],
+                contact_force_to_gripper(1.0, mu, beta),
+                [-sb - mu * cb, cb - mu * sb],
+            ),
+            GraspKind::Sphere { lift, .. } => ([0.0, lift], [1.0, 0.0], [0.0, 0.0]),
+            GraspKind::ForceControl { friction, .. } => ([0.0, friction], [1.0, 0.0], [0.0, 0.0]),
+        }
+    }
+
+    /// The sphere's radius, for the sphere kinds.
+    fn radius(self) -> Option<f64> {
+        match self {
+            GraspKind::SphereAtFrictionLimit { radius } | GraspKind::Sphere { radius, .. } => {
+                Some(radius)
+            }
+            _ => None,
+        }
+    }
+
+    /// The grasping size, for the size kinds.
+    fn size(self) -> Option<f64> {
+        match self {
+            GraspKind::Size { d } | GraspKind::ForceControl { d, .. } => Some(d),
+            _ => None,
+        }
+    }
 }
 
 /// The derivatives of the gripper's geometry with respect to one parameter.
@@ -273,8 +325,8 @@ impl Gripper {
             (GripperParam::MountingAngle, _) => self.mounting_angle(),
             (GripperParam::Overlap, _) => self.overlap(),
             (GripperParam::Palm, _) => self.palm(),
-            (GripperParam::Size, Some(GraspKind::Size { d })) => d,
-            (GripperParam::Radius, Some(GraspKind::SphereAtFrictionLimit { radius })) => radius,
+            (GripperParam::Size, Some(k)) => k.size().unwrap_or(f64::NAN),
+            (GripperParam::Radius, Some(k)) => k.radius().unwrap_or(f64::NAN),
             (GripperParam::Beta, _) => beta,
             _ => f64::NAN,
         }
@@ -458,10 +510,13 @@ impl Gripper {
     /// lifting force, load factor, size, tip gap, height, tip) with respect
     /// to `params`: the finger's target sensitivities at the grasp, chained
     /// through how the gripper builds the target problem from its design
-    /// (module docs of `src/sensitivity/gripper.rs`, docs/model.md). `kind`
-    /// says which solve gave `grasp` (checked against its problem);
+    /// (module docs of `src/sensitivity/gripper.rs`, docs/model.md): size
+    /// and sphere grasps at the friction limit, sphere grasps at a given
+    /// lift, force control. `kind` says which solve gave `grasp` (checked
+    /// against its problem);
     /// `actuator` must be the finger's. [`GripperParam::Size`] belongs to
-    /// size grasps, [`GripperParam::Radius`] to sphere grasps.
+    /// size grasps and force control, [`GripperParam::Radius`] to sphere
+    /// grasps; force control has no [`GripperParam::Beta`].
     pub fn grasp_sensitivities(
         &self,
         actuator: &Actuator,
@@ -489,17 +544,23 @@ impl Gripper {
         let r = self.reference().tip;
         // the problem the gripper builds for this kind, checked
         let target = match kind {
-            GraspKind::Size { d } => {
+            GraspKind::Size { d } | GraspKind::ForceControl { d, .. } => {
                 crate::error::finite("grasp.size", d)?;
                 c * r[0] + s * r[1] + 0.5 * d + self.overlap()
             }
-            GraspKind::SphereAtFrictionLimit { radius } => {
+            GraspKind::SphereAtFrictionLimit { radius } | GraspKind::Sphere { radius, .. } => {
                 crate::error::positive("sphere.radius", radius)?;
                 radius * cb - 0.5 * self.palm()
             }
         };
-        let u_g = contact_force_to_gripper(1.0, mu, b);
+        if let GraspKind::Sphere { lift: f, .. } | GraspKind::ForceControl { friction: f, .. } =
+            kind
+        {
+            crate::error::finite("grasp.force", f)?;
+        }
+        let (base_g, u_g, du_g_db) = kind.scene(mu, b);
         let u_f = gripper_force_to_finger(u_g, a);
+        let base_f = gripper_force_to_finger(base_g, a);
         let pb = &grasp.problem;
         let near = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
         let same = near(pb.target, target)
@@ -507,8 +568,8 @@ impl Gripper {
             && near(pb.weights[1], s)
             && near(pb.direction[0], u_f[0])
             && near(pb.direction[1], u_f[1])
-            && pb.base.fx == 0.0
-            && pb.base.fz == 0.0
+            && near(pb.base.fx, base_f[0])
+            && near(pb.base.fz, base_f[1])
             && near(pb.base.pressure * 1e3, grasp.pressure_kpa);
         if !same {
             return Err(inconsistent(
@@ -517,12 +578,15 @@ impl Gripper {
             ));
         }
         for &p in params {
-            let wrong = match (p, kind) {
-                (GripperParam::Size, GraspKind::SphereAtFrictionLimit { .. }) => {
+            let wrong = match p {
+                GripperParam::Size if kind.size().is_none() => {
                     Some("is a parameter of size grasps")
                 }
-                (GripperParam::Radius, GraspKind::Size { .. }) => {
+                GripperParam::Radius if kind.radius().is_none() => {
                     Some("is a parameter of sphere grasps")
+                }
+                GripperParam::Beta if matches!(kind, GraspKind::ForceControl { .. }) => {
+                    Some("is not a parameter of force control (its grasping angle is 0)")
                 }
                 _ => None,
             };
@@ -579,26 +643,30 @@ impl Gripper {
             let d_radius = f64::from(u8::from(p == GripperParam::Radius));
             let da = geo.da;
             // the contact direction, gripper then finger frame
-            let du_g = [(-sb - mu * cb) * db, (cb - mu * sb) * db];
+            let du_g = [du_g_db[0] * db, du_g_db[1] * db];
             let du_f = [
                 (-s * u_g[0] + c * u_g[1]) * da + c * du_g[0] + s * du_g[1],
                 (c * u_g[0] + s * u_g[1]) * da + s * du_g[0] - c * du_g[1],
             ];
+            // the fixed force is constant in the gripper frame
+            let dbase_f = [
+                (-s * base_g[0] + c * base_g[1]) * da,
+                (c * base_g[0] + s * base_g[1]) * da,
+            ];
             let dw = [-s * da, c * da];
-            let dt = match kind {
-                GraspKind::Size { .. } => {
+            let dt = match kind.radius() {
+                None => {
                     dw[0] * r[0] + dw[1] * r[1] + c * geo.dr[0] + s * geo.dr[1] + 0.5 * dd + geo.dg
                 }
-                GraspKind::SphereAtFrictionLimit { radius } => {
-                    d_radius * cb - radius * sb * db - 0.5 * geo.dpalm
-                }
+                Some(radius) => d_radius * cb - radius * sb * db - 0.5 * geo.dpalm,
             };
             let dt_eff = dt - (dw[0] * tip[0] + dw[1] * tip[1]);
             let mut dy = [0.0; 3];
             for (k, v) in dy.iter_mut().enumerate() {
                 *v = sa[k]
                     + sp[k] * dp
-                    + lambda * (sx[k] * du_f[0] + sz[k] * du_f[1])
+                    + sx[k] * (lambda * du_f[0] + dbase_f[0])
+                    + sz[k] * (lambda * du_f[1] + dbase_f[1])
                     + st[k] * dt_eff;
             }
             let (dtip, dl) = ([dy[0], dy[1]], dy[2]);
@@ -606,13 +674,14 @@ impl Gripper {
                 .map(|i| {
                     ka.map_or(0.0, |k| k[i])
                         + kp[i] * dp
-                        + lambda * (kx[i] * du_f[0] + kz[i] * du_f[1])
+                        + kx[i] * (lambda * du_f[0] + dbase_f[0])
+                        + kz[i] * (lambda * du_f[1] + dbase_f[1])
                         + kt[i] * dt_eff
                 })
                 .collect();
             dks.push(dk);
-            // the contact force lambda u_g and its components
-            let force = [lambda * u_g[0], lambda * u_g[1]];
+            // the contact force base + lambda u_g and its components
+            let force = [base_g[0] + lambda * u_g[0], base_g[1] + lambda * u_g[1]];
             let dforce = [
                 dl * u_g[0] + lambda * du_g[0],
                 dl * u_g[1] + lambda * du_g[1],
