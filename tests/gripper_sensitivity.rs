@@ -670,6 +670,13 @@ fn mismatched_grasps_and_parameters_are_rejected() {
         )),
         "gripper.palm_mm"
     );
+    // the grasp's parameters are not the geometry's
+    for p in [GripperParam::Size, GripperParam::Pressure] {
+        match g.geometry_sensitivities(&act, &[p]) {
+            Err(SolveError::Input(e)) => assert_eq!(e.field(), p.name()),
+            other => panic!("expected an input error, got {other:?}"),
+        }
+    }
     // force control holds the grasping angle at 0
     let fc = g.force_control(0.0, 90.0, 0.2, None).unwrap();
     assert_eq!(

@@ -292,7 +292,26 @@ pub(super) struct Geo {
     pub dpalm: f64,
 }
 
-/// The finger row of a parameter, or zeros.
+/// An error for the grasp parameters among `params` (and the pressure,
+/// when `pressure`): they are not parameters of the geometry or of a free
+/// equilibrium's measures.
+fn reject_grasp_params(params: &[GripperParam], pressure: bool) -> Result<(), SolveError> {
+    for &p in params {
+        let grasp = matches!(
+            p,
+            GripperParam::Size | GripperParam::Radius | GripperParam::Beta
+        ) || (pressure && p == GripperParam::Pressure);
+        if grasp {
+            return Err(inconsistent(
+                p.name(),
+                "is a parameter of a grasp, not of the gripper's geometry or of a free equilibrium (use Gripper::grasp_sensitivities)".into(),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The finger row of a parameter.
 fn finger_row(s: &Sensitivities, p: Param) -> Option<&Sensitivity> {
     s.rows.iter().find(|r| r.param == p)
 }
@@ -424,12 +443,14 @@ impl Gripper {
     /// sensitivities; covered when the tip is the rest shape's innermost
     /// point, or l0 = 0), the mounting angle, and the overlap or the palm.
     /// The grasp parameters (pressure, size, radius, angle) do not move the
-    /// geometry: their rows are 0. `actuator` must be the finger's.
+    /// geometry and are not parameters here. `actuator` must be the
+    /// finger's.
     pub fn geometry_sensitivities(
         &self,
         actuator: &Actuator,
         params: &[GripperParam],
     ) -> Result<Vec<GeometrySensitivity>, SolveError> {
+        reject_grasp_params(params, true)?;
         let geos = self.geometry_derivatives(actuator, params)?;
         let a = self.mounting_angle();
         let (s, c) = a.sin_cos();
@@ -461,7 +482,8 @@ impl Gripper {
     /// gripper's geometry. `d = 2 (w . (tip - r) - g)` with `r` the
     /// reference tip, so both the equilibrium's and the reference state's
     /// sensitivities enter. [`GripperParam::Size`], [`GripperParam::Radius`]
-    /// and [`GripperParam::Beta`] give 0.
+    /// and [`GripperParam::Beta`] belong to grasps and are not parameters
+    /// here.
     pub fn size_sensitivities(
         &self,
         actuator: &Actuator,
@@ -469,6 +491,7 @@ impl Gripper {
         load: &Load,
         params: &[GripperParam],
     ) -> Result<Vec<SizeSensitivity>, SolveError> {
+        reject_grasp_params(params, false)?;
         let geos = self.geometry_derivatives(actuator, params)?;
         let mut fparams = Gripper::actuator_params(params);
         fparams.push(Param::Pressure);
