@@ -12,6 +12,14 @@
 //! - "FD / sens": central differences of every parameter (two re-solves
 //!   each) over the sensitivities.
 //!
+//! A second table does the same for gripper outputs (src/sensitivity/gripper.rs,
+//! the Sec. 5 gripper): a size grasp's sensitivities
+//! (`Gripper::grasp_sensitivities`: eps0, pressure, mounting angle,
+//! overlap) against one re-solve (the gripper rebuilt with eps0 changed by
+//! 1e-4, its rest state solved, the grasp solved warm from the old one),
+//! and the best sphere lift's (`Gripper::max_sphere_lift_sensitivities`)
+//! against one `max_sphere_lift` (scan and Brent search).
+//!
 //! ```sh
 //! cargo bench --bench sensitivity
 //! cargo bench --bench sensitivity -- --quick     # fewer repetitions
@@ -19,7 +27,10 @@
 
 use std::time::Instant;
 
-use fpc::{Actuator, ActuatorParam, Finger, Load, ModelId, Param, Partition, SolveOptions};
+use fpc::{
+    Actuator, ActuatorParam, Finger, GraspKind, Gripper, GripperParam, GripperParams, Load,
+    ModelId, Param, Partition, SolveOptions,
+};
 
 const FX: f64 = 0.939782;
 const FZ: f64 = 0.521707;
@@ -106,4 +117,70 @@ fn main() {
         "(\"sens/resolve\": all {} sensitivities over one re-solve; \"FD / sens\": two re-solves per parameter over all sensitivities)",
         params.len()
     );
+    gripper_table(quick, &act, &moved);
+}
+
+/// The gripper outputs' sensitivities against re-solves (module docs).
+fn gripper_table(quick: bool, act: &Actuator, moved: &Actuator) {
+    let params = [
+        GripperParam::Actuator(ActuatorParam::Eps0),
+        GripperParam::Pressure,
+        GripperParam::MountingAngle,
+        GripperParam::Overlap,
+    ];
+    println!();
+    println!(
+        "gripper outputs (Sec. 5 gripper, size grasp d = 40 mm at 20 kPa; sphere r = 50 mm), {} parameters, release build",
+        params.len()
+    );
+    println!(
+        "{:>6} {:>16} {:>14} {:>12} {:>10}",
+        "N", "output", "sens. (us)", "re-solve (us)", "FD / sens"
+    );
+    let gp = GripperParams::default();
+    for n in [8usize, 64] {
+        let part = Partition::equal(act.geometry().lx, n).expect("a partition");
+        let g = Gripper::from_actuator(act, &part, gp).expect("the gripper");
+        let kind = GraspKind::Size { d: 40.0 };
+        let grasp = g
+            .grasp_load_for_size(20.0, 40.0, 0.0, None)
+            .expect("the grasp");
+        let t_sens = median_s(reps(quick, 1e-5 * n as f64), || {
+            std::hint::black_box(g.grasp_sensitivities(act, &grasp, kind, &params).ok());
+        });
+        let t_resolve = median_s(reps(quick, 1e-4 * n as f64), || {
+            let g2 = Gripper::from_actuator(moved, &part, gp).expect("the gripper");
+            std::hint::black_box(g2.grasp_load_for_size(20.0, 40.0, 0.0, Some(&grasp)).ok());
+        });
+        let p = params.len() as f64;
+        println!(
+            "{n:>6} {:>16} {:>14.1} {:>12.1} {:>10.1}",
+            "size grasp",
+            t_sens * 1e6,
+            t_resolve * 1e6,
+            2.0 * p * t_resolve / t_sens
+        );
+        let best = g
+            .max_sphere_lift(0.0, 50.0, 8)
+            .expect("the scan")
+            .expect("a valid grasp");
+        let t_sens = median_s(reps(quick, 1e-4 * n as f64), || {
+            std::hint::black_box(
+                g.max_sphere_lift_sensitivities(act, 0.0, &best, &params)
+                    .ok(),
+            );
+        });
+        let t_resolve = median_s(reps(quick, 1e-2 * n as f64), || {
+            let g2 = Gripper::from_actuator(moved, &part, gp).expect("the gripper");
+            std::hint::black_box(g2.max_sphere_lift(0.0, 50.0, 8).ok());
+        });
+        println!(
+            "{n:>6} {:>16} {:>14.1} {:>12.1} {:>10.1}",
+            "sphere envelope",
+            t_sens * 1e6,
+            t_resolve * 1e6,
+            2.0 * p * t_resolve / t_sens
+        );
+    }
+    println!("(\"FD / sens\": two re-solves per parameter over all the sensitivities)");
 }

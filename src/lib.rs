@@ -54,8 +54,9 @@ pub use refine::{
     MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
 };
 pub use sensitivity::{
-    ActuatorParam, Elastic, Lamina, Param, Sensitivities, Sensitivity, EQUILIBRIUM_TOLERANCE,
-    TARGET_TOLERANCE,
+    ActuatorParam, Elastic, EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity,
+    GraspKind, GraspSensitivities, GraspSensitivity, GripperParam, Lamina, Param, Sensitivities,
+    Sensitivity, SizeSensitivity, ENVELOPE_STATIONARITY, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE,
 };
 pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
 pub mod gripper;

@@ -40,6 +40,7 @@ use crate::blocks::Partition;
 use crate::error::SolveError;
 use crate::finger::{Finger, Load, SolveOptions};
 use crate::gripper::{Gripper, GripperParams, PalmSpec};
+use crate::sensitivity::{ActuatorParam, GraspKind, GripperParam};
 
 /// Widths sampled per cuboid requirement.
 pub const CUBOID_SAMPLES: usize = 5;
@@ -131,16 +132,83 @@ fn samples(range: [f64; 2], n: usize) -> Vec<f64> {
 /// be built gets [`UNBUILDABLE_MARGIN`] for every requirement; a grasp
 /// that cannot be solved counts as not held.
 pub fn evaluate(req: &Requirements, x: [f64; 3]) -> Evaluation {
-    let mut margins = Vec::new();
+    evaluate_inner(req, x, false).0
+}
+
+/// d margin / d (eps0, mounting angle in degrees, overlap in mm) of one
+/// margin, from the exact sensitivities of the gripper's outputs
+/// (`Gripper::geometry_sensitivities`, `grasp_sensitivities`,
+/// `size_sensitivities`, `max_sphere_lift_sensitivities`); `None` where
+/// they do not cover the margin (the caller falls back to central
+/// differences for that variable).
+pub(crate) type MarginGradient = [Option<f64>; 3];
+
+/// [`evaluate`] with every margin's [`MarginGradient`], in the same order.
+pub(crate) fn evaluate_with_gradients(
+    req: &Requirements,
+    x: [f64; 3],
+) -> (Evaluation, Vec<MarginGradient>) {
+    evaluate_inner(req, x, true)
+}
+
+/// The design variables as gripper parameters.
+const DESIGN_PARAMS: [GripperParam; 3] = [
+    GripperParam::Actuator(ActuatorParam::Eps0),
+    GripperParam::MountingAngle,
+    GripperParam::Overlap,
+];
+
+/// A gradient over [`DESIGN_PARAMS`] (per rad of the angle) as one over the
+/// design variables (per degree), scaled by `factor`.
+fn design_gradient(rows: [f64; 3], factor: f64) -> MarginGradient {
+    let per = [1.0, std::f64::consts::PI / 180.0, 1.0];
+    let mut g = [None; 3];
+    for i in 0..3 {
+        let v = rows[i] * per[i] * factor;
+        g[i] = v.is_finite().then_some(v);
+    }
+    g
+}
+
+/// What the margin functions collect: the margins, and, when asked for,
+/// their gradients (the actuator the gripper was built from).
+struct Collect<'a> {
+    margins: Vec<Margin>,
+    grads: Vec<MarginGradient>,
+    actuator: Option<&'a Actuator>,
+}
+
+impl Collect<'_> {
+    fn push(&mut self, m: Margin, g: impl FnOnce(&Actuator) -> Option<MarginGradient>) {
+        let grad = self.actuator.and_then(g).unwrap_or([None; 3]);
+        self.margins.push(m);
+        self.grads.push(grad);
+    }
+}
+
+fn evaluate_inner(
+    req: &Requirements,
+    x: [f64; 3],
+    gradients: bool,
+) -> (Evaluation, Vec<MarginGradient>) {
+    let act = Actuator::paper(x[0]).ok();
+    let mut c = Collect {
+        margins: Vec::new(),
+        grads: Vec::new(),
+        actuator: if gradients { act.as_ref() } else { None },
+    };
     match gripper(req, x) {
-        Err(e) => margins.push(Margin {
-            requirement: "buildable".into(),
-            margin: UNBUILDABLE_MARGIN,
-            detail: e.to_string(),
-            at_mm: None,
-            beta_deg: None,
-            value: None,
-        }),
+        Err(e) => c.push(
+            Margin {
+                requirement: "buildable".into(),
+                margin: UNBUILDABLE_MARGIN,
+                detail: e.to_string(),
+                at_mm: None,
+                beta_deg: None,
+                value: None,
+            },
+            |_| Some([Some(0.0); 3]),
+        ),
         Ok(g) => {
             for (i, o) in req.objects.iter().enumerate() {
                 match o {
@@ -148,28 +216,32 @@ pub fn evaluate(req: &Requirements, x: [f64; 3]) -> Evaluation {
                         size_mm,
                         lift_n,
                         max_normal_n,
-                    } => cuboid_margins(&g, i, *size_mm, *lift_n, *max_normal_n, &mut margins),
+                    } => cuboid_margins(&g, i, *size_mm, *lift_n, *max_normal_n, &mut c),
                     ObjectRequirement::Sphere {
                         radius_mm,
                         lift_n,
                         max_normal_n,
-                    } => sphere_margins(&g, i, *radius_mm, *lift_n, *max_normal_n, &mut margins),
+                    } => sphere_margins(&g, i, *radius_mm, *lift_n, *max_normal_n, &mut c),
                 }
             }
             if let Some(open) = &req.open {
-                margins.push(open_margin(&g, open));
+                open_margin(&g, open, &mut c);
             }
         }
     }
-    let worst = margins
+    let worst = c
+        .margins
         .iter()
         .map(|m| m.margin)
         .fold(f64::INFINITY, f64::min);
-    Evaluation {
-        design: x,
-        margins,
-        worst,
-    }
+    (
+        Evaluation {
+            design: x,
+            margins: c.margins,
+            worst,
+        },
+        c.grads,
+    )
 }
 
 fn cuboid_margins(
@@ -178,21 +250,30 @@ fn cuboid_margins(
     size: [f64; 2],
     lift: f64,
     max_normal: Option<f64>,
-    out: &mut Vec<Margin>,
+    out: &mut Collect<'_>,
 ) {
     let mut warm = None;
     for d in samples(size, CUBOID_SAMPLES) {
         let name = |what: &str| format!("object[{i}] cuboid d = {d:.1} mm: {what}");
         let d_max = g.d_max();
         if d > d_max {
-            out.push(Margin {
-                requirement: name("fits"),
-                margin: (d_max - d) / d,
-                detail: format!("d_max = {d_max:.2} mm"),
-                at_mm: Some(d),
-                beta_deg: None,
-                value: Some(d_max),
-            });
+            out.push(
+                Margin {
+                    requirement: name("fits"),
+                    margin: (d_max - d) / d,
+                    detail: format!("d_max = {d_max:.2} mm"),
+                    at_mm: Some(d),
+                    beta_deg: None,
+                    value: Some(d_max),
+                },
+                |act| {
+                    let rows = g.geometry_sensitivities(act, &DESIGN_PARAMS).ok()?;
+                    Some(design_gradient(
+                        [rows[0].d_max, rows[1].d_max, rows[2].d_max],
+                        1.0 / d,
+                    ))
+                },
+            );
             continue;
         }
         match g.grasp_load_for_size(0.0, d, 0.0, warm.as_ref()) {
@@ -200,40 +281,72 @@ fn cuboid_margins(
                 let held = gr.lift;
                 let mut m = (held - lift) / lift;
                 let mut detail = format!("f_v = {held:.4} N for {lift} N (F = {:.4} N)", gr.normal);
+                let mut clamped = false;
                 if let Some(inv) = &gr.invalid {
                     // an invalid grasp holds nothing, whatever its force
+                    clamped = m > -0.1;
                     m = m.min(-0.1);
                     detail = format!("{detail}; invalid: {inv}");
                 }
-                out.push(Margin {
-                    requirement: name("lift"),
-                    margin: m,
-                    detail,
-                    at_mm: Some(d),
-                    beta_deg: Some(0.0),
-                    value: Some(held),
-                });
-                if let Some(fmax) = max_normal {
-                    out.push(Margin {
-                        requirement: name("gentle"),
-                        margin: (fmax - gr.normal) / fmax,
-                        detail: format!("F = {:.4} N, at most {fmax} N", gr.normal),
+                let sens = |act: &Actuator| {
+                    g.grasp_sensitivities(act, &gr, GraspKind::Size { d }, &DESIGN_PARAMS)
+                        .ok()
+                };
+                out.push(
+                    Margin {
+                        requirement: name("lift"),
+                        margin: m,
+                        detail,
                         at_mm: Some(d),
                         beta_deg: Some(0.0),
-                        value: Some(gr.normal),
-                    });
+                        value: Some(held),
+                    },
+                    |act| {
+                        if clamped {
+                            return Some([Some(0.0); 3]);
+                        }
+                        let s = sens(act)?;
+                        let r = &s.rows;
+                        Some(design_gradient(
+                            [r[0].lift, r[1].lift, r[2].lift],
+                            1.0 / lift,
+                        ))
+                    },
+                );
+                if let Some(fmax) = max_normal {
+                    out.push(
+                        Margin {
+                            requirement: name("gentle"),
+                            margin: (fmax - gr.normal) / fmax,
+                            detail: format!("F = {:.4} N, at most {fmax} N", gr.normal),
+                            at_mm: Some(d),
+                            beta_deg: Some(0.0),
+                            value: Some(gr.normal),
+                        },
+                        |act| {
+                            let s = sens(act)?;
+                            let r = &s.rows;
+                            Some(design_gradient(
+                                [r[0].normal, r[1].normal, r[2].normal],
+                                -1.0 / fmax,
+                            ))
+                        },
+                    );
                 }
                 warm = Some(gr);
             }
             Err(e) => {
-                out.push(Margin {
-                    requirement: name("lift"),
-                    margin: -1.0,
-                    detail: format!("no grasp: {e}"),
-                    at_mm: Some(d),
-                    beta_deg: Some(0.0),
-                    value: None,
-                });
+                out.push(
+                    Margin {
+                        requirement: name("lift"),
+                        margin: -1.0,
+                        detail: format!("no grasp: {e}"),
+                        at_mm: Some(d),
+                        beta_deg: Some(0.0),
+                        value: None,
+                    },
+                    |_| Some([Some(0.0); 3]),
+                );
                 warm = None;
             }
         }
@@ -246,80 +359,124 @@ fn sphere_margins(
     radius: [f64; 2],
     lift: f64,
     max_normal: Option<f64>,
-    out: &mut Vec<Margin>,
+    out: &mut Collect<'_>,
 ) {
     for r in samples(radius, SPHERE_SAMPLES) {
         let name = |what: &str| format!("object[{i}] sphere r = {r:.1} mm: {what}");
         match g.max_sphere_lift(0.0, r, SPHERE_ANGLE_SAMPLES) {
             Ok(Some(best)) => {
-                out.push(Margin {
-                    requirement: name("lift"),
-                    margin: (best.lift - lift) / lift,
-                    detail: format!(
-                        "best f_v = {:.4} N at b = {:.2} deg for {lift} N",
-                        best.lift,
-                        best.beta.to_degrees()
-                    ),
-                    at_mm: Some(r),
-                    beta_deg: Some(best.beta.to_degrees()),
-                    value: Some(best.lift),
-                });
-                if let Some(fmax) = max_normal {
-                    out.push(Margin {
-                        requirement: name("gentle"),
-                        margin: (fmax - best.normal) / fmax,
-                        detail: format!("F = {:.4} N, at most {fmax} N", best.normal),
+                let sens = |act: &Actuator| {
+                    g.max_sphere_lift_sensitivities(act, 0.0, &best, &DESIGN_PARAMS)
+                        .ok()
+                };
+                out.push(
+                    Margin {
+                        requirement: name("lift"),
+                        margin: (best.lift - lift) / lift,
+                        detail: format!(
+                            "best f_v = {:.4} N at b = {:.2} deg for {lift} N",
+                            best.lift,
+                            best.beta.to_degrees()
+                        ),
                         at_mm: Some(r),
                         beta_deg: Some(best.beta.to_degrees()),
-                        value: Some(best.normal),
-                    });
+                        value: Some(best.lift),
+                    },
+                    |act| {
+                        let s = sens(act)?;
+                        let w = &s.rows;
+                        Some(design_gradient(
+                            [w[0].lift, w[1].lift, w[2].lift],
+                            1.0 / lift,
+                        ))
+                    },
+                );
+                if let Some(fmax) = max_normal {
+                    out.push(
+                        Margin {
+                            requirement: name("gentle"),
+                            margin: (fmax - best.normal) / fmax,
+                            detail: format!("F = {:.4} N, at most {fmax} N", best.normal),
+                            at_mm: Some(r),
+                            beta_deg: Some(best.beta.to_degrees()),
+                            value: Some(best.normal),
+                        },
+                        |act| {
+                            let s = sens(act)?;
+                            let w = &s.rows;
+                            Some(design_gradient(
+                                [w[0].normal, w[1].normal, w[2].normal],
+                                -1.0 / fmax,
+                            ))
+                        },
+                    );
                 }
             }
-            Ok(None) => out.push(Margin {
-                requirement: name("lift"),
-                margin: -1.0,
-                detail: "no valid grasp at any angle".into(),
-                at_mm: Some(r),
-                beta_deg: None,
-                value: None,
-            }),
-            Err(e) => out.push(Margin {
-                requirement: name("lift"),
-                margin: -1.0,
-                detail: format!("no grasp: {e}"),
-                at_mm: Some(r),
-                beta_deg: None,
-                value: None,
-            }),
+            Ok(None) => out.push(
+                Margin {
+                    requirement: name("lift"),
+                    margin: -1.0,
+                    detail: "no valid grasp at any angle".into(),
+                    at_mm: Some(r),
+                    beta_deg: None,
+                    value: None,
+                },
+                |_| Some([Some(0.0); 3]),
+            ),
+            Err(e) => out.push(
+                Margin {
+                    requirement: name("lift"),
+                    margin: -1.0,
+                    detail: format!("no grasp: {e}"),
+                    at_mm: Some(r),
+                    beta_deg: None,
+                    value: None,
+                },
+                |_| Some([Some(0.0); 3]),
+            ),
         }
     }
 }
 
-fn open_margin(g: &Gripper, open: &OpenRequirement) -> Margin {
+fn open_margin(g: &Gripper, open: &OpenRequirement, out: &mut Collect<'_>) {
     let load = Load::unloaded().with_pressure_kpa(open.pressure_kpa);
     let opts = SolveOptions::default().tip_only();
     match g.finger().solve(&load, &opts) {
         Ok(sol) => {
             let size = g.size_of(sol.tip);
+            out.push(
+                Margin {
+                    requirement: "open".into(),
+                    margin: (size - open.size_mm) / open.size_mm,
+                    detail: format!(
+                        "opens to d = {size:.2} mm at {} kPa, {} mm needed",
+                        open.pressure_kpa, open.size_mm
+                    ),
+                    at_mm: None,
+                    beta_deg: None,
+                    value: Some(size),
+                },
+                |act| {
+                    let r = g
+                        .size_sensitivities(act, &sol, &load, &DESIGN_PARAMS)
+                        .ok()?;
+                    Some(design_gradient(
+                        [r[0].size, r[1].size, r[2].size],
+                        1.0 / open.size_mm,
+                    ))
+                },
+            );
+        }
+        Err(e) => out.push(
             Margin {
                 requirement: "open".into(),
-                margin: (size - open.size_mm) / open.size_mm,
-                detail: format!(
-                    "opens to d = {size:.2} mm at {} kPa, {} mm needed",
-                    open.pressure_kpa, open.size_mm
-                ),
+                margin: -1.0,
+                detail: format!("no solution at {} kPa: {e}", open.pressure_kpa),
                 at_mm: None,
                 beta_deg: None,
-                value: Some(size),
-            }
-        }
-        Err(e) => Margin {
-            requirement: "open".into(),
-            margin: -1.0,
-            detail: format!("no solution at {} kPa: {e}", open.pressure_kpa),
-            at_mm: None,
-            beta_deg: None,
-            value: None,
-        },
+                value: None,
+            },
+            |_| Some([Some(0.0); 3]),
+        ),
     }
 }

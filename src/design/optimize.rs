@@ -4,16 +4,27 @@
 //! The optimiser works on the varied variables scaled to `[0, 1]` and
 //! maximises a smooth minimum of the margins,
 //! `S = -(1/k) ln sum_i exp(-k m_i)` (within `ln(n) / k` below the true
-//! minimum), by projected gradient ascent with backtracking: the gradient
-//! of S from central differences of the margins (each a set of full
-//! re-solves through the gripper path), steps projected onto the bounds,
-//! halved until S increases. It starts from the box's centre, its corners
-//! (up to 8) and seeded random points, and returns the best design by its
-//! true worst margin, with the margins' sensitivities to each variable.
+//! minimum), by projected gradient ascent with backtracking: steps
+//! projected onto the bounds, halved until S increases. It starts from the
+//! box's centre, its corners (up to 8) and seeded random points, and
+//! returns the best design by its true worst margin, with the margins'
+//! sensitivities to each variable.
+//!
+//! The gradient of S is `sum_i w_i grad m_i` with the smooth minimum's
+//! weights `w_i = exp(-k m_i) / sum_j exp(-k m_j)` and each margin's exact
+//! gradient from the sensitivities of the gripper's outputs
+//! (`Gripper::geometry_sensitivities`, `grasp_sensitivities`,
+//! `size_sensitivities`, `max_sphere_lift_sensitivities`: one
+//! factorisation and a few solves per grasp, no re-solve). A variable that
+//! some margin's sensitivities do not cover (an actuator parameter of a
+//! finger whose innermost rest point is not its tip, a sphere whose best
+//! angle lies on a boundary other than a second contact) falls back to
+//! central differences of the margins (each a set of full re-solves
+//! through the gripper path), for that variable only.
 
 use serde::Serialize;
 
-use super::{evaluate, Evaluation, ObjectRequirement, Requirements};
+use super::{evaluate, evaluate_with_gradients, Evaluation, ObjectRequirement, Requirements};
 
 /// Settings of [`optimize`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,7 +33,9 @@ pub struct DesignOptions {
     pub random_starts: usize,
     /// Iterations per start.
     pub max_iterations: usize,
-    /// Central-difference step, as a fraction of each variable's range.
+    /// Central-difference step, as a fraction of each variable's range (for
+    /// the variables the exact gradients do not cover, and the reported
+    /// sensitivities).
     pub step: f64,
     /// Sharpness `k` of the smooth minimum.
     pub sharpness: f64,
@@ -50,8 +63,9 @@ pub struct Designed {
     /// The best design's evaluation (every margin).
     pub best: Evaluation,
     /// d margin / d variable at the best design, per margin, for each
-    /// varied variable (`VARIABLES` order; fixed ones are 0), by central
-    /// differences of full re-solves.
+    /// varied variable (`VARIABLES` order; fixed ones are 0): exact, from
+    /// the gripper-output sensitivities, where they cover the margin;
+    /// otherwise by central differences of full re-solves.
     pub sensitivities: Vec<MarginSensitivity>,
     /// Design evaluations spent.
     pub evaluations: usize,
@@ -120,15 +134,43 @@ impl Counter<'_> {
     }
 }
 
-/// The gradient of the smooth minimum at `u` (central differences).
+/// The gradient of the smooth minimum at `u` (module docs): exact where
+/// every margin's sensitivities cover the variable, central differences
+/// otherwise.
 fn gradient(c: &mut Counter<'_>, u: &[f64], h: f64, k: f64) -> Vec<f64> {
+    c.evaluations += 1;
+    let (e, grads) = evaluate_with_gradients(c.req, design_of(c.req, u));
+    let act = active(c.req);
+    let m = e.worst;
+    let weights: Vec<f64> = if m.is_finite() {
+        let w: Vec<f64> = e
+            .margins
+            .iter()
+            .map(|g| (-k * (g.margin - m)).exp())
+            .collect();
+        let sum: f64 = w.iter().sum();
+        w.iter().map(|v| v / sum).collect()
+    } else {
+        vec![0.0; e.margins.len()]
+    };
     (0..u.len())
         .map(|j| {
-            let (mut a, mut b) = (u.to_vec(), u.to_vec());
-            a[j] = (u[j] + h).min(1.0);
-            b[j] = (u[j] - h).max(0.0);
-            let (fa, fb) = (smooth_min(&c.eval(&a), k), smooth_min(&c.eval(&b), k));
-            (fa - fb) / (a[j] - b[j])
+            let (i, lo, hi) = act[j];
+            let exact: Option<f64> = grads
+                .iter()
+                .zip(&weights)
+                .map(|(g, w)| g[i].map(|v| w * v))
+                .sum();
+            match exact {
+                Some(v) if v.is_finite() => v * (hi - lo),
+                _ => {
+                    let (mut a, mut b) = (u.to_vec(), u.to_vec());
+                    a[j] = (u[j] + h).min(1.0);
+                    b[j] = (u[j] - h).max(0.0);
+                    let (fa, fb) = (smooth_min(&c.eval(&a), k), smooth_min(&c.eval(&b), k));
+                    (fa - fb) / (a[j] - b[j])
+                }
+            }
         })
         .collect()
 }
@@ -208,7 +250,11 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
         }
     }
     let (u, e) = best.unwrap_or_else(|| (Vec::new(), c.eval(&[])));
-    // sensitivities of every margin at the best design
+    // sensitivities of every margin at the best design: exact where the
+    // gripper-output sensitivities cover them, central differences for
+    // the rest
+    c.evaluations += 1;
+    let (_, exact) = evaluate_with_gradients(req, e.design);
     let mut sens: Vec<MarginSensitivity> = e
         .margins
         .iter()
@@ -218,13 +264,24 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
         })
         .collect();
     for (j, &(i, lo, hi)) in act.iter().enumerate() {
+        let covered = exact.len() == sens.len() && exact.iter().all(|g| g[i].is_some());
+        if covered {
+            for (s, g) in sens.iter_mut().zip(&exact) {
+                s.gradient[i] = g[i].unwrap_or(0.0);
+            }
+            continue;
+        }
         let h = opts.step;
         let (mut a, mut b) = (u.clone(), u.clone());
         a[j] = (u[j] + h).min(1.0);
         b[j] = (u[j] - h).max(0.0);
         let (ea, eb) = (c.eval(&a), c.eval(&b));
         let dx = (a[j] - b[j]) * (hi - lo);
-        for (s, m) in sens.iter_mut().zip(&e.margins) {
+        for (k, (s, m)) in sens.iter_mut().zip(&e.margins).enumerate() {
+            if let Some(v) = exact.get(k).and_then(|g| g[i]) {
+                s.gradient[i] = v;
+                continue;
+            }
             let ma = ea.margins.iter().find(|x| x.requirement == m.requirement);
             let mb = eb.margins.iter().find(|x| x.requirement == m.requirement);
             if let (Some(ma), Some(mb)) = (ma, mb) {
@@ -324,5 +381,68 @@ impl Designed {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::{evaluate, evaluate_with_gradients, Requirements};
+
+    /// The exact margin gradients the optimiser ascends against central
+    /// differences of `evaluate` (full re-solves through the gripper path;
+    /// plain differences, so agreement to 1e-3: the gripper's solve
+    /// tolerances and, for spheres, the best angle's 1e-9 rad limit what
+    /// the differences resolve; a wrong unit, factor or sign would be off by
+    /// far more). tests/gripper_sensitivity.rs checks the underlying
+    /// sensitivities to 1e-6.
+    #[test]
+    fn exact_margin_gradients_match_central_differences() {
+        let req = Requirements::parse(
+            r#"
+elements = 6
+[[object]]
+kind = "cuboid"
+size_mm = [60.0, 90.0]
+lift_n = 0.6
+max_normal_n = 5.0
+[[object]]
+kind = "sphere"
+radius_mm = [45.0, 50.0]
+lift_n = 1.0
+max_normal_n = 5.0
+[open]
+size_mm = 100.0
+pressure_kpa = 60.0
+[vary]
+eps0 = [0.1, 0.3]
+mounting_angle_deg = [55.0, 90.0]
+overlap_mm = [10.0, 30.0]
+"#,
+        )
+        .unwrap();
+        let x = [0.2, 62.0, 18.0];
+        let (e, grads) = evaluate_with_gradients(&req, x);
+        assert_eq!(grads.len(), e.margins.len());
+        let steps = [1e-4, 1e-3, 1e-3];
+        let mut covered = 0;
+        for (i, &h) in steps.iter().enumerate() {
+            let (mut a, mut b) = (x, x);
+            a[i] += h;
+            b[i] -= h;
+            let (ea, eb) = (evaluate(&req, a), evaluate(&req, b));
+            for (k, m) in e.margins.iter().enumerate() {
+                let Some(exact) = grads[k][i] else { continue };
+                covered += 1;
+                let fd = (ea.margins[k].margin - eb.margins[k].margin) / (2.0 * h);
+                let scale = exact.abs().max(fd.abs()).max(1e-2);
+                assert!(
+                    (exact - fd).abs() <= 1e-3 * scale,
+                    "{} / variable {i}: exact {exact:.9e}, central differences {fd:.9e}",
+                    m.requirement
+                );
+            }
+        }
+        // every margin is covered here
+        assert_eq!(covered, 3 * e.margins.len());
     }
 }

@@ -1,0 +1,146 @@
+//! Exact sensitivities of an equilibrium with respect to design and load
+//! parameters (docs/model.md, "Sensitivities").
+//!
+//! At an equilibrium `grad Pi(K*, p) = 0` the implicit function theorem
+//! gives `dK/dp = -H^-1 d(grad Pi)/dp`, with `H` the Hessian the solver
+//! factorises anyway (the chain's [`fpc_newton::Semiseparable`]): one
+//! factorisation, then one `O(N)` solve per parameter. The right-hand
+//! sides are exact:
+//!
+//! - an actuator parameter moves the blocks (`src/blocks.rs`,
+//!   [`element_block_tangents`]); each integral family's energy is linear
+//!   in its moments, so `d(grad Pi)/dp` is the model's own gradient kernel
+//!   evaluated at the moments' derivative, which the generated
+//!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangent`], ...);
+//! - the pressure and `kappa` enter through `kp = kappa P`, which
+//!   multiplies the gas family ([`ElementModel::scalars_tangent`]);
+//! - a tip force `F` enters through `-F . tip`: `d(grad Pi)/dF = -grad tip`.
+//!
+//! A target solve ([`crate::Solver::solve_target`]) adds the load factor
+//! `lambda` and the target equation `c = w . tip - target = 0`; its
+//! sensitivities solve the bordered system
+//! `[[H, g_lambda], [c_x^T, c_lambda]] (dK, dlambda) = -(dg/dp, dc/dp)` by
+//! block elimination on the same factorisation.
+//!
+//! Everything runs in the solver's scaled unknowns
+//! ([`Finger::unknown_scales`]); `dK/dp` is returned in raw coefficients.
+
+mod compute;
+mod envelope;
+mod gripper;
+mod params;
+
+pub(crate) use compute::{compute, Request, State};
+pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
+pub use gripper::{
+    GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
+    SizeSensitivity,
+};
+pub use params::{ActuatorParam, Elastic, Lamina, Param};
+
+use crate::actuator::Actuator;
+use crate::error::SolveError;
+use crate::finger::{Coefficients, Finger, Load, Solution, TargetProblem};
+
+/// The derivatives of an equilibrium's outputs with respect to one
+/// parameter, per unit of the parameter's key.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Sensitivity {
+    /// The parameter.
+    pub param: Param,
+    /// Its value at the equilibrium (in its key's unit).
+    pub value: f64,
+    /// d(tip X, tip Z)/dp (mm per unit).
+    #[serde(rename = "tip_mm")]
+    pub tip: [f64; 2],
+    /// d(end angle)/dp (rad per unit).
+    #[serde(rename = "end_angle_rad")]
+    pub end_angle: f64,
+    /// d(Pi)/dp (N mm per unit), the total potential's total derivative.
+    #[serde(rename = "energy_nmm")]
+    pub energy: f64,
+    /// d(lambda)/dp for a target solve (`None` otherwise).
+    pub lambda: Option<f64>,
+    /// dK/dp: the derivative of the raw element unknowns.
+    pub coefficients: Coefficients,
+}
+
+/// The sensitivities of one equilibrium ([`Finger::sensitivities`],
+/// [`Finger::target_sensitivities`]), one row per parameter asked for, in
+/// that order.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Sensitivities {
+    /// Tip position (X, Z) at the equilibrium (mm).
+    #[serde(rename = "tip_mm")]
+    pub tip: [f64; 2],
+    /// End angle at the equilibrium (rad).
+    #[serde(rename = "end_angle_rad")]
+    pub end_angle: f64,
+    /// Total potential at the equilibrium (N mm).
+    #[serde(rename = "energy_nmm")]
+    pub energy: f64,
+    /// The load factor of a target solve (`None` otherwise).
+    pub lambda: Option<f64>,
+    /// One row per parameter.
+    pub rows: Vec<Sensitivity>,
+}
+
+impl Sensitivities {
+    /// The row of a parameter.
+    pub fn get(&self, param: Param) -> Option<&Sensitivity> {
+        self.rows.iter().find(|r| r.param == param)
+    }
+}
+
+/// Largest relative residual `||grad Pi||_inf / stiffness` accepted as an
+/// equilibrium (the solver's default tolerance is 1e-11).
+pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
+
+/// Largest target residual accepted, relative to the finger's length.
+pub const TARGET_TOLERANCE: f64 = 1e-6;
+
+impl Finger {
+    /// The sensitivities of the equilibrium `solution` under `load` with
+    /// respect to `params`: d(tip, end angle, energy, K)/dp by the implicit
+    /// function theorem, one factorisation of the Hessian and one solve per
+    /// parameter. `actuator` must be the one the finger was built from
+    /// (checked: its blocks must give the finger's moments, with or without
+    /// ribs); [`Param::Target`] is not a parameter here.
+    pub fn sensitivities(
+        &self,
+        actuator: &Actuator,
+        solution: &Solution,
+        load: &Load,
+        params: &[Param],
+    ) -> Result<Sensitivities, SolveError> {
+        self.core().sensitivities(&Request {
+            actuator,
+            coefficients: &solution.coefficients,
+            state: State::Load(load),
+            params,
+        })
+    }
+
+    /// The sensitivities of a target solve's equilibrium ([`crate::Solver::solve_target`]
+    /// returned `solution` and `lambda`): the load factor moves with the
+    /// parameters to keep the target, so every derivative, d(lambda)/dp
+    /// included, comes from the bordered system
+    /// `[[H, g_lambda], [c_x^T, c_lambda]]`. [`Param::Fx`] and [`Param::Fz`]
+    /// are the fixed part of the load (`problem.base`), [`Param::Target`]
+    /// the target value.
+    pub fn target_sensitivities(
+        &self,
+        actuator: &Actuator,
+        solution: &Solution,
+        problem: &TargetProblem,
+        lambda: f64,
+        params: &[Param],
+    ) -> Result<Sensitivities, SolveError> {
+        self.core().sensitivities(&Request {
+            actuator,
+            coefficients: &solution.coefficients,
+            state: State::Target { problem, lambda },
+            params,
+        })
+    }
+}
