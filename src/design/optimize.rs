@@ -5,10 +5,12 @@
 //! maximises a smooth minimum of the margins,
 //! `S = -(1/k) ln sum_i exp(-k m_i)` (within `ln(n) / k` below the true
 //! minimum), by projected gradient ascent with backtracking: steps
-//! projected onto the bounds, halved until S increases. It starts from the
-//! box's centre, its corners (up to 8) and seeded random points, and
-//! returns the best design by its true worst margin, with the margins'
-//! sensitivities to each variable.
+//! projected onto the bounds, halved until S increases. Its starts are the
+//! box's centre, its corners (up to 8) and seeded random points; each is
+//! evaluated once, the best few by S (`DesignOptions::ascents`) are
+//! ascended until S stops improving, and the best design by its true
+//! worst margin is returned with the margins' sensitivities to each
+//! variable.
 //!
 //! The gradient of S is `sum_i w_i grad m_i` with the smooth minimum's
 //! weights `w_i = exp(-k m_i) / sum_j exp(-k m_j)` and each margin's exact
@@ -24,14 +26,19 @@
 
 use serde::Serialize;
 
-use super::{evaluate, evaluate_with_gradients, Evaluation, ObjectRequirement, Requirements};
+use super::{
+    evaluate, evaluate_with_gradients, Evaluation, MarginGradient, ObjectRequirement, Requirements,
+};
 
 /// Settings of [`optimize`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DesignOptions {
     /// Random starts besides the centre and the corners.
     pub random_starts: usize,
-    /// Iterations per start.
+    /// Starts ascended: the best by the smooth minimum of their margins
+    /// (every start costs one evaluation; the others stop there).
+    pub ascents: usize,
+    /// Iterations per ascent.
     pub max_iterations: usize,
     /// Central-difference step, as a fraction of each variable's range (for
     /// the variables the exact gradients do not cover, and the reported
@@ -47,6 +54,7 @@ impl Default for DesignOptions {
     fn default() -> DesignOptions {
         DesignOptions {
             random_starts: 2,
+            ascents: 3,
             max_iterations: 25,
             step: 2e-3,
             sharpness: 40.0,
@@ -134,12 +142,25 @@ impl Counter<'_> {
     }
 }
 
-/// The gradient of the smooth minimum at `u` (module docs): exact where
-/// every margin's sensitivities cover the variable, central differences
+impl Counter<'_> {
+    /// The evaluation at `u` with every margin's exact gradient.
+    fn eval_with_gradients(&mut self, u: &[f64]) -> (Evaluation, Vec<MarginGradient>) {
+        self.evaluations += 1;
+        evaluate_with_gradients(self.req, design_of(self.req, u))
+    }
+}
+
+/// The gradient of the smooth minimum at `u`, whose evaluation `e` and
+/// margin gradients `grads` are given (module docs): exact where every
+/// margin's sensitivities cover the variable, central differences
 /// otherwise.
-fn gradient(c: &mut Counter<'_>, u: &[f64], h: f64, k: f64) -> Vec<f64> {
-    c.evaluations += 1;
-    let (e, grads) = evaluate_with_gradients(c.req, design_of(c.req, u));
+fn gradient(
+    c: &mut Counter<'_>,
+    u: &[f64],
+    (e, grads): (&Evaluation, &[MarginGradient]),
+    h: f64,
+    k: f64,
+) -> Vec<f64> {
     let act = active(c.req);
     let m = e.worst;
     let weights: Vec<f64> = if m.is_finite() {
@@ -175,15 +196,24 @@ fn gradient(c: &mut Counter<'_>, u: &[f64], h: f64, k: f64) -> Vec<f64> {
         .collect()
 }
 
-/// Projected gradient ascent from `u0`.
-fn ascend(c: &mut Counter<'_>, u0: Vec<f64>, opts: &DesignOptions) -> (Vec<f64>, Evaluation) {
+/// Projected gradient ascent from `u0`. Every trial point is evaluated
+/// with its margins' gradients, so an accepted step brings the next
+/// gradient along.
+fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, Evaluation) {
     let k = opts.sharpness;
-    let mut u = u0;
-    let mut e = c.eval(&u);
+    let mut u = u0.to_vec();
+    let (mut e, mut grads) = c.eval_with_gradients(&u);
     let mut f = smooth_min(&e, k);
     let mut alpha = 0.25;
     for _ in 0..opts.max_iterations {
-        let g = gradient(c, &u, opts.step, k);
+        let mut g = gradient(c, &u, (&e, &grads), opts.step, k);
+        // projected: a component that pushes against an active bound
+        // cannot move, and must not shrink the steps of the others
+        for (gi, ui) in g.iter_mut().zip(&u) {
+            if (*ui >= 1.0 && *gi > 0.0) || (*ui <= 0.0 && *gi < 0.0) {
+                *gi = 0.0;
+            }
+        }
         let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
         if norm.is_nan() || norm <= 1e-9 {
             break;
@@ -198,12 +228,13 @@ fn ascend(c: &mut Counter<'_>, u0: Vec<f64>, opts: &DesignOptions) -> (Vec<f64>,
             if trial == u {
                 break;
             }
-            let et = c.eval(&trial);
+            let (et, gt) = c.eval_with_gradients(&trial);
             let ft = smooth_min(&et, k);
             if ft > f {
-                (u, e, f) = (trial, et, ft);
+                // converged: S no longer moves beyond rounding
+                improved = ft - f > 1e-9 * (1.0 + f.abs());
+                (u, e, grads, f) = (trial, et, gt, ft);
                 alpha = (alpha * 1.5).min(0.5);
-                improved = true;
                 break;
             }
             alpha *= 0.5;
@@ -243,8 +274,14 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
     };
     let mut best: Option<(Vec<f64>, Evaluation)> = None;
     let list = starts(dim, opts);
-    for u0 in &list {
-        let (u, e) = ascend(&mut c, u0.clone(), opts);
+    // screen every start by one evaluation; ascend from the best few
+    let mut screened: Vec<(&Vec<f64>, f64)> = list
+        .iter()
+        .map(|u0| (u0, smooth_min(&c.eval(u0), opts.sharpness)))
+        .collect();
+    screened.sort_by(|a, b| b.1.total_cmp(&a.1));
+    for (u0, _) in screened.into_iter().take(opts.ascents.max(1)) {
+        let (u, e) = ascend(&mut c, u0, opts);
         if best.as_ref().is_none_or(|(_, b)| e.worst > b.worst) {
             best = Some((u, e));
         }
