@@ -191,3 +191,55 @@ fn a_size_sweep_that_cannot_reach_a_size_ends_where_the_finger_leaves_the_model(
     let before = g.finger().solve(&contact(force_n * 0.9), &opts).unwrap();
     assert!(before.is_within_model(), "{:?}", before.warnings);
 }
+
+#[test]
+fn a_cold_grasp_that_jumps_to_an_unstable_branch_is_followed_along_its_path() {
+    // eps0 = 0.4, a = 60 deg, g = 20 mm, d = 150 mm at b = 0: one Newton
+    // jump from the rest state lands on a coiled, self-crossing equilibrium
+    // that is unstable with the object holding the tip
+    let params = GripperParams {
+        mounting_angle: std::f64::consts::FRAC_PI_3,
+        geometry: PalmSpec::Overlap(20.0),
+        ..GripperParams::default()
+    };
+    let g = Gripper::paper(0.4, 8, params).unwrap();
+    let d = 150.0;
+    let cold = g.grasp_load_for_size(0.0, d, 0.0, None).unwrap();
+    // independently, the path: a sweep of sizes from the rest state, each
+    // warm-started from the one before
+    let mut warm: Option<fpc::Grasp> = None;
+    let n = 60;
+    for i in 1..=n {
+        let di = g.d_min() + (d - g.d_min()) * i as f64 / n as f64;
+        let gr = g.grasp_load_for_size(0.0, di, 0.0, warm.as_ref()).unwrap();
+        assert_eq!(gr.solution.negative_eigenvalues, Some(0), "d = {di}");
+        warm = Some(gr);
+    }
+    let path = warm.unwrap();
+    // the cold answer is the path's: the same stable equilibrium
+    assert_eq!(cold.solution.negative_eigenvalues, Some(0));
+    assert!(
+        (cold.lift - path.lift).abs() <= 1e-6 * path.lift,
+        "cold f_v = {} N, along the path {} N",
+        cold.lift,
+        path.lift
+    );
+    let (kc, kp) = (
+        cold.solution.coefficients.as_slice(),
+        path.solution.coefficients.as_slice(),
+    );
+    assert!(
+        norm_inf(&kc.iter().zip(kp).map(|(a, b)| a - b).collect::<Vec<_>>()) < 1e-6 * norm_inf(kp)
+    );
+    // without the stability judgement nothing tells the branches apart:
+    // the direct jump's answer is another equilibrium at the same size
+    let blind = g.clone().with_stability(false);
+    let jump = blind.grasp_load_for_size(0.0, d, 0.0, None).unwrap();
+    assert!((jump.size - d).abs() < 1e-6);
+    assert!(
+        (jump.lift - path.lift).abs() > 1.0,
+        "{} {}",
+        jump.lift,
+        path.lift
+    );
+}

@@ -184,7 +184,7 @@ class Gripper:
         fingers: Optional[int] = None,
         mu: Optional[float] = None,
         strict: Optional[bool] = None,
-        stability: bool = False,
+        stability: bool = True,
     ) -> None: ...
     @staticmethod
     def from_scene(scene: Scene) -> "Gripper":

@@ -55,6 +55,10 @@ const MIN_HOMOTOPY_STEP: f64 = 1.0 / 512.0;
 /// ever smaller steps).
 const MAX_HOMOTOPY_ATTEMPTS: usize = 16;
 
+/// The largest homotopy step when a grasp is followed along its path from
+/// the rest state (after a direct step landed on an unstable equilibrium).
+const PATH_STEP: f64 = 1.0 / 32.0;
+
 /// Newton iteration budget of the intermediate homotopy solves.
 const MAX_INTERMEDIATE_ITERATIONS: usize = 30;
 
@@ -577,14 +581,33 @@ impl Gripper {
                         + problem.weights[1] * self.reference.tip[1],
                     ..problem
                 };
-                follow(
+                let direct = follow(
                     &mut solver,
                     &self.reference.coefficients,
                     0.0,
                     &start,
                     &problem,
                     &opts,
-                )
+                );
+                match direct {
+                    // a direct step may jump to another branch: follow the
+                    // target's path from the rest state in small steps, and
+                    // keep the direct answer (reported unstable) only if the
+                    // path cannot be followed
+                    Ok((ref sol, _)) if sol.negative_eigenvalues.is_some_and(|n| n > 0) => {
+                        follow_steps(
+                            &mut solver,
+                            &self.reference.coefficients,
+                            0.0,
+                            &start,
+                            &problem,
+                            &opts,
+                            PATH_STEP,
+                        )
+                        .or(direct)
+                    }
+                    other => other,
+                }
             }
         };
         let (sol, lambda) = followed.map_err(|e| e.for_target(scene.target.0, scene.target.1))?;
@@ -693,6 +716,21 @@ pub(crate) fn follow(
     p1: &TargetProblem,
     opts: &SolveOptions,
 ) -> Result<(Solution, f64), FollowError> {
+    follow_steps(solver, k0, lambda0, p0, p1, opts, 1.0)
+}
+
+/// [`follow`] with steps of at most `max_step` of the path (and as many
+/// more attempts as that takes): a path, where `follow` first tries the
+/// whole way in one step.
+fn follow_steps(
+    solver: &mut Solver<'_>,
+    k0: &Coefficients,
+    lambda0: f64,
+    p0: &TargetProblem,
+    p1: &TargetProblem,
+    opts: &SolveOptions,
+    max_step: f64,
+) -> Result<(Solution, f64), FollowError> {
     // intermediate states: tip only, and a tighter iteration budget (from
     // a nearby state Newton converges in a handful of iterations)
     let tip_only = SolveOptions {
@@ -700,12 +738,12 @@ pub(crate) fn follow(
         ..opts.tip_only()
     };
     let copts = fpc_newton::ContinuationOptions {
-        initial_step: 1.0,
+        initial_step: max_step,
         min_step: MIN_HOMOTOPY_STEP,
-        max_step: 1.0,
+        max_step,
         grow: 2.0,
         shrink: 0.5,
-        max_steps: MAX_HOMOTOPY_ATTEMPTS,
+        max_steps: MAX_HOMOTOPY_ATTEMPTS + (1.0 / max_step).ceil() as usize,
         easy_iterations: usize::MAX,
         predictor: true,
     };

@@ -108,7 +108,8 @@ impl GraspSpec {
 pub struct GripperScene {
     /// The design (mounting angle in rad).
     pub params: GripperParams,
-    /// Count the negative eigenvalues of the grasp's Hessian (`solve.stability`).
+    /// Judge the grasp's stability: the restricted Hessian's inertia, an
+    /// unstable grasp is invalid (`solve.stability`, default true).
     pub stability: bool,
     /// The grasp to solve; `None`: the gripper at rest.
     pub grasp: Option<GraspSpec>,
@@ -246,7 +247,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
             ],
             "not used in a gripper scene: grasps are solved with the gripper's own settings (only solve.stability applies)",
         )?;
-        file.solve.stability = Some(s.stability.unwrap_or(false));
+        file.solve.stability = Some(s.stability.unwrap_or(true));
         d
     } else {
         let o = SolveOptions {
@@ -296,7 +297,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let gripper = match &f.gripper {
         None => None,
         Some(g) => {
-            let (scene, echo) = resolve_gripper(g, s.stability.unwrap_or(false))?;
+            let (scene, echo) = resolve_gripper(g, s.stability.unwrap_or(true))?;
             file.gripper = Some(echo);
             Some(scene)
         }

@@ -18,14 +18,17 @@ use fpc::scene::{GraspJson, GripperJson};
 /// analysed), with the geometry its unloaded finger fixes.
 ///
 /// ``Gripper(finger=None, *, mounting_angle_deg=60, overlap_mm=None,
-/// palm_mm=None, fingers=3, mu=0.6, strict=False, stability=False)``
+/// palm_mm=None, fingers=3, mu=0.6, strict=False, stability=True)``
 ///
 /// ``finger``: an ``fpc.Finger`` (default: the paper's, eps0 = 0.25, 8
 /// elements; ``elements="auto"`` is chosen at the unloaded state). The palm
 /// is given by the overlap of the fingers at rest (default 20 mm) or by its
 /// diameter ``palm_mm``. ``strict``: a grasp that bends an element
-/// backwards is invalid, not only flagged. ``stability``: count the
-/// Hessian's negative eigenvalues of every grasp. Errors name the scene's
+/// backwards is invalid, not only flagged. ``stability``: judge every
+/// grasp's stability with the object holding the tip (the restricted
+/// Hessian's inertia; an unstable grasp is invalid, and a grasp that a
+/// direct solve finds unstable is followed along its path from the rest
+/// state). Errors name the scene's
 /// keys (``gripper.overlap_mm``, ...).
 #[pyclass(module = "fpc", frozen)]
 pub struct Gripper {
@@ -225,7 +228,7 @@ impl Gripper {
 #[pymethods]
 impl Gripper {
     #[new]
-    #[pyo3(signature = (finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=false))]
+    #[pyo3(signature = (finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=true))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
