@@ -743,7 +743,13 @@ fn follow_steps(
         max_step,
         grow: 2.0,
         shrink: 0.5,
-        max_steps: MAX_HOMOTOPY_ATTEMPTS + (1.0 / max_step).ceil() as usize,
+        // a path of small steps gets the steps it needs on top
+        max_steps: MAX_HOMOTOPY_ATTEMPTS
+            + if max_step < 1.0 {
+                (1.0 / max_step).ceil() as usize
+            } else {
+                0
+            },
         easy_iterations: usize::MAX,
         predictor: true,
     };
