@@ -51,6 +51,16 @@ pub enum SweepEnd {
 }
 
 impl SweepEnd {
+    /// Its JSON `kind`: `force_bound`, `validity`, `fold` or `numerical`.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            SweepEnd::ForceBound { .. } => "force_bound",
+            SweepEnd::Validity { .. } => "validity",
+            SweepEnd::Fold { .. } => "fold",
+            SweepEnd::Numerical { .. } => "numerical",
+        }
+    }
+
     /// True for a numerical end (not a property of the gripper).
     pub fn is_numerical(&self) -> bool {
         matches!(self, SweepEnd::Numerical { .. })
@@ -229,4 +239,36 @@ impl Gripper {
 
 fn termination_text(t: PathTermination) -> String {
     format!("{t:?}")
+}
+
+#[cfg(test)]
+mod kind_tests {
+    use super::*;
+
+    #[test]
+    fn the_kind_is_the_json_tag() {
+        for e in [
+            SweepEnd::ForceBound {
+                force_n: 1.0,
+                size_mm: 2.0,
+            },
+            SweepEnd::Validity {
+                force_n: 1.0,
+                size_mm: 2.0,
+                finding: "f".into(),
+            },
+            SweepEnd::Fold {
+                force_n: 1.0,
+                size_mm: 2.0,
+                tip_mm: [0.0, 0.0],
+            },
+            SweepEnd::Numerical {
+                force_n: 1.0,
+                size_mm: 2.0,
+                reason: "r".into(),
+            },
+        ] {
+            assert_eq!(serde_json::to_value(&e).unwrap()["kind"], e.kind());
+        }
+    }
 }

@@ -375,10 +375,27 @@ fn figure(region: &SphereRegion) -> Figure {
     }
     p.notes
         .push(format!("{} invalid grasps dropped", region.dropped));
-    if !region.stopped.is_empty() {
+    // natural ends, counted by kind ("7 angle sweeps end at the validity limit")
+    let mut natural = 0;
+    for (kind, what) in [
+        ("fold", "a fold"),
+        ("validity", "the validity limit"),
+        ("force_bound", "the force bound"),
+    ] {
+        let n = region
+            .stopped
+            .iter()
+            .filter(|(_, s)| s.end.as_ref().is_some_and(|e| e.kind() == kind))
+            .count();
+        if n > 0 {
+            natural += n;
+            p.notes.push(format!("{n} angle sweeps end at {what}"));
+        }
+    }
+    if region.stopped.len() > natural {
         p.notes.push(format!(
-            "{} of the angle sweeps stopped early",
-            region.stopped.len()
+            "{} of the angle sweeps stopped early (failed solves)",
+            region.stopped.len() - natural
         ));
     }
     Figure::row(
