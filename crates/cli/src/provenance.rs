@@ -71,10 +71,10 @@ mod tests {
     #[test]
     fn the_command_names_no_path_of_the_machine() {
         let args = [
-            "/home/x/bin/fpc",
+            "/opt/x/bin/fpc",
             "paper",
             "--out",
-            "/tmp/r",
+            "/srv/r",
             "--strict",
             "--out=/a",
         ];
