@@ -1,0 +1,444 @@
+//! Tests of the Newton minimiser: convergence, backends, safeguards, timing.
+
+use super::*;
+
+#[test]
+fn newton_convex_quadratic_takes_one_step() {
+    let mut rng = Lcg::new(42);
+    for &n in &[1usize, 3, 10, 33] {
+        let mut q = QuadQuartic::random(n, false, &mut rng);
+        let mut newton = Newton::new(n, NewtonOptions::default());
+        let mut x = vec![0.0; n];
+        let r = newton.minimize(&mut Dense::new(&mut q), &mut x);
+        assert!(r.converged(), "n = {n}: {r}");
+        assert_eq!(r.iterations, 1, "n = {n}: {r}");
+        assert_eq!(r.max_shift, 0.0);
+        assert_eq!(r.hessian_evals, 2);
+        // Independent: nalgebra LU solve of A x = b.
+        let a = nalgebra::DMatrix::from_column_slice(n, n, &q.a);
+        let xs = a
+            .lu()
+            .solve(&nalgebra::DVector::from_column_slice(&q.b))
+            .unwrap();
+        let d = max_abs_diff(&x, xs.as_slice());
+        assert!(d < 1e-8 * (1.0 + xs.amax()), "n = {n}: differs by {d}");
+    }
+}
+
+#[test]
+fn newton_rosenbrock_2_and_10() {
+    for &n in &[2usize, 10] {
+        let mut p = Dense::new(Rosenbrock { n });
+        let careful = NewtonOptions {
+            eager_full_steps: false,
+            ..NewtonOptions::default()
+        };
+        let mut newton = Newton::new(n, careful);
+        let mut x = rosenbrock_start(n);
+        let r = newton.minimize(&mut p, &mut x);
+        assert!(r.converged(), "n = {n}: {r}");
+        assert!(r.residual_norm <= 1e-10);
+        assert!(max_abs_diff(&x, &vec![1.0; n]) < 1e-9, "n = {n}: {x:?}");
+        // Without eager full steps the Hessian is only evaluated at accepted points.
+        assert_eq!(r.hessian_evals, r.iterations + 1);
+        assert!(r.energy < 1e-18);
+        // Eager full steps reach the same minimiser with fewer evaluations.
+        let mut eager = Newton::new(n, NewtonOptions::default());
+        let mut xe = rosenbrock_start(n);
+        let re = eager.minimize(&mut p, &mut xe);
+        assert!(re.converged(), "n = {n}: {re}");
+        assert!(max_abs_diff(&xe, &vec![1.0; n]) < 1e-9, "n = {n}: {xe:?}");
+        assert!(
+            re.energy_evals + re.hessian_evals < r.energy_evals + r.hessian_evals,
+            "n = {n}: eager {re:?} vs careful {r:?}"
+        );
+    }
+}
+
+#[test]
+fn newton_backends_agree() {
+    let n = 10;
+    let mut a = Newton::new(n, NewtonOptions::default());
+    let mut b = Newton::new(n, NewtonOptions::default());
+    let mut pa = Dense::with_backend(Rosenbrock { n }, LinearBackend::Dense);
+    let mut pb = Dense::with_backend(Rosenbrock { n }, LinearBackend::Faer);
+    assert_eq!(pa.matrix.backend(), LinearBackend::Dense);
+    assert_eq!(pb.matrix.backend(), LinearBackend::Faer);
+    let mut xa = rosenbrock_start(n);
+    let mut xb = rosenbrock_start(n);
+    let ra = a.minimize(&mut pa, &mut xa);
+    let rb = b.minimize(&mut pb, &mut xb);
+    assert!(ra.converged() && rb.converged());
+    assert!(max_abs_diff(&xa, &xb) < 1e-10);
+    // Indefinite starts too (the shift loop runs through faer).
+    let mut dw = DoubleWell {
+        n,
+        kappa: 0.1,
+        tilt: 0.5,
+        accepted: vec![],
+    };
+    let mut xa = vec![0.05; n];
+    let mut xb = vec![0.05; n];
+    assert!(a
+        .minimize(
+            &mut Dense::with_backend(&mut dw, LinearBackend::Dense),
+            &mut xa
+        )
+        .converged());
+    assert!(b
+        .minimize(
+            &mut Dense::with_backend(&mut dw, LinearBackend::Faer),
+            &mut xb
+        )
+        .converged());
+    assert!(max_abs_diff(&xa, &xb) < 1e-9);
+}
+
+#[test]
+fn newton_indefinite_start_reaches_a_minimum_monotonically() {
+    let n = 12;
+    let mut p = DoubleWell {
+        n,
+        kappa: 0.1,
+        tilt: 0.5,
+        accepted: vec![],
+    };
+    let mut x: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
+    // The start Hessian is indefinite.
+    let mut g = vec![0.0; n];
+    let mut h = vec![0.0; n * n];
+    p.hessian(&x, &mut g, &mut h);
+    assert!(min_eigenvalue(n, &h) < -0.5);
+    p.accepted.clear();
+
+    // Hessians only at accepted points, so the problem's record is the path
+    let careful = NewtonOptions {
+        eager_full_steps: false,
+        ..NewtonOptions::default()
+    };
+    let mut newton = Newton::new(n, careful);
+    let mut dp = Dense::new(&mut p);
+    let r = newton.minimize(&mut dp, &mut x);
+    assert!(r.converged(), "{r}");
+    assert!(r.max_shift > 0.0, "a shift was needed: {r}");
+    // A minimum, not a saddle: the final Hessian is positive definite.
+    assert!(min_eigenvalue(n, dp.matrix.matrix()) > 0.0);
+    // Energy decreases monotonically along accepted iterates.
+    assert_eq!(p.accepted.len(), r.iterations + 1);
+    for w in p.accepted.windows(2) {
+        assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
+    }
+    // The wells are tilted past their fold: the minimum is x_i = root of
+    // x^3 - x - 0.5 (coupling vanishes at a uniform state).
+    let root = {
+        let mut t = 1.2f64;
+        for _ in 0..50 {
+            t -= (t * t * t - t - 0.5) / (3.0 * t * t - 1.0);
+        }
+        t
+    };
+    assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
+    // BFGS (never sees a Hessian) reaches the same minimiser.
+    let mut xb: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
+    let rb = Bfgs::new(n, bfgs_tight()).minimize(&mut p, &mut xb);
+    assert!(rb.converged(), "{rb}");
+    assert!(max_abs_diff(&x, &xb) < 1e-6);
+}
+
+#[test]
+fn newton_stationary_start_reports_converged() {
+    // Untilted wells at x = 0: g = 0 exactly (a saddle/maximum).
+    let n = 3;
+    let mut p = DoubleWell {
+        n,
+        kappa: 0.0,
+        tilt: 0.0,
+        accepted: vec![],
+    };
+    let mut x = vec![0.0; n];
+    let mut newton = Newton::new(n, NewtonOptions::default());
+    let mut dp = Dense::new(&mut p);
+    let r = newton.minimize(&mut dp, &mut x);
+    assert!(r.converged());
+    assert!(
+        min_eigenvalue(n, dp.matrix.matrix()) < 0.0,
+        "documented: stability must be checked"
+    );
+}
+
+#[test]
+fn newton_recovers_from_nan_region_by_backtracking() {
+    let n = 4;
+    let mut p = Huber {
+        n,
+        c: 1.0,
+        radius: 5.0,
+    };
+    let mut x = vec![3.0, -2.0, 4.0, 0.0];
+    let mut newton = Newton::new(n, NewtonOptions::default());
+    let r = newton.minimize(&mut Dense::new(&mut p), &mut x);
+    assert!(r.converged(), "{r}");
+    assert!(max_abs_diff(&x, &[1.0; 4]) < 1e-9);
+    assert!(r.energy.is_finite());
+    let mut xb = vec![3.0, -2.0, 4.0, 0.0];
+    let rb = Bfgs::new(n, bfgs_tight()).minimize(&mut p, &mut xb);
+    assert!(rb.converged(), "{rb}");
+    assert!(max_abs_diff(&x, &xb) < 1e-6);
+}
+
+#[test]
+fn newton_never_returns_nan() {
+    // The minimiser (c = 10) lies in the undefined region (radius 5).
+    let n = 2;
+    let mut p = Huber {
+        n,
+        c: 10.0,
+        radius: 5.0,
+    };
+    let mut x = vec![0.0, 1.0];
+    let mut newton = Newton::new(n, NewtonOptions::default());
+    let r = newton.minimize(&mut Dense::new(&mut p), &mut x);
+    assert!(!r.converged());
+    assert!(
+        matches!(
+            r.reason,
+            Termination::LineSearchFailed | Termination::NonFinite | Termination::StepTolerance
+        ),
+        "{r}"
+    );
+    assert!(x.iter().all(|v| v.is_finite() && v.abs() <= 5.0), "{x:?}");
+    assert!(r.energy.is_finite() && r.residual_norm.is_finite());
+    let mut xb = vec![0.0, 1.0];
+    let rb = Bfgs::new(n, BfgsOptions::default()).minimize(&mut p, &mut xb);
+    assert!(!rb.converged());
+    assert!(xb.iter().all(|v| v.is_finite() && v.abs() <= 5.0), "{xb:?}");
+
+    // A start in the undefined region is reported, x untouched.
+    let mut x = vec![7.0, 0.0];
+    let r = newton.minimize(&mut Dense::new(&mut p), &mut x);
+    assert_eq!(r.reason, Termination::NonFinite);
+    assert_eq!(x, vec![7.0, 0.0]);
+    assert_eq!(r.energy, f64::INFINITY);
+    let rb = Bfgs::new(n, BfgsOptions::default()).minimize(&mut p, &mut x);
+    assert_eq!(rb.reason, Termination::NonFinite);
+}
+
+/// A Hessian that goes non-finite at an accepted point.
+#[test]
+fn newton_nonfinite_hessian_is_reported() {
+    struct BadH(Rosenbrock);
+    impl Energy for BadH {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn energy(&mut self, x: &[f64]) -> f64 {
+            self.0.energy(x)
+        }
+    }
+    impl Gradient for BadH {
+        fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+            self.0.gradient(x, g)
+        }
+    }
+    impl DenseHessian for BadH {
+        fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+            let f = self.0.hessian(x, g, h);
+            if x[0] > -1.0 {
+                h[1] = f64::INFINITY;
+            }
+            f
+        }
+    }
+    // The bad Hessian is caught when it is factorised: x stays at that
+    // iterate, whose energy and gradient are finite.
+    let mut x = rosenbrock_start(2);
+    let r = Newton::new(2, NewtonOptions::default())
+        .minimize(&mut Dense::new(BadH(Rosenbrock { n: 2 })), &mut x);
+    assert_eq!(r.reason, Termination::NonFinite);
+    assert!(x[0] > -1.0 && x.iter().all(|v| v.is_finite()));
+    assert!(r.energy.is_finite() && r.residual_norm.is_finite());
+    assert_eq!(r.energy, Rosenbrock { n: 2 }.energy(&x));
+    // A Hessian with NaN only in the (never read) upper triangle is harmless.
+    struct UpperNan(Rosenbrock);
+    impl Energy for UpperNan {
+        fn dim(&self) -> usize {
+            2
+        }
+        fn energy(&mut self, x: &[f64]) -> f64 {
+            self.0.energy(x)
+        }
+    }
+    impl Gradient for UpperNan {
+        fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+            self.0.gradient(x, g)
+        }
+    }
+    impl DenseHessian for UpperNan {
+        fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+            let f = self.0.hessian(x, g, h);
+            h[2] = f64::NAN;
+            f
+        }
+    }
+    let mut x = rosenbrock_start(2);
+    let r = Newton::new(2, NewtonOptions::default())
+        .minimize(&mut Dense::new(UpperNan(Rosenbrock { n: 2 })), &mut x);
+    assert!(r.converged(), "{r}");
+}
+
+#[test]
+fn newton_max_iterations() {
+    let mut newton = Newton::new(2, NewtonOptions::default().with_max_iter(3));
+    let mut x = rosenbrock_start(2);
+    let f0 = Rosenbrock { n: 2 }.energy(&x);
+    let r = newton.minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
+    assert_eq!(r.reason, Termination::MaxIterations);
+    assert_eq!(r.iterations, 3);
+    assert!(!r.converged());
+    assert!(r.energy < f0);
+    assert_eq!(Rosenbrock { n: 2 }.energy(&x), r.energy);
+    // max_iter = 0 only evaluates the start.
+    let mut newton = Newton::new(2, NewtonOptions::default().with_max_iter(0));
+    let r = newton.minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
+    assert_eq!(
+        (r.reason, r.iterations, r.hessian_evals),
+        (Termination::MaxIterations, 0, 1)
+    );
+}
+
+#[test]
+fn newton_step_tolerance() {
+    // gtol = 0 cannot be met in floating point: the solve stalls on xtol.
+    let opts = NewtonOptions::default()
+        .with_gtol(0.0)
+        .unwrap()
+        .with_xtol(1e-6)
+        .unwrap();
+    let mut x = rosenbrock_start(2);
+    let r = Newton::new(2, opts).minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
+    assert!(
+        matches!(
+            r.reason,
+            Termination::StepTolerance | Termination::Converged | Termination::LineSearchFailed
+        ),
+        "{r}"
+    );
+    assert!(max_abs_diff(&x, &[1.0, 1.0]) < 1e-6);
+}
+
+#[test]
+fn invalid_options_do_not_panic() {
+    let bad = NewtonOptions {
+        gtol: f64::NAN,
+        ..Default::default()
+    };
+    assert_eq!(Newton::try_new(2, bad).unwrap_err().name, "gtol");
+    let mut newton = Newton::new(2, bad);
+    let mut x = rosenbrock_start(2);
+    let r = newton.minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
+    assert_eq!(r.reason, Termination::InvalidInput);
+    assert_eq!(r.hessian_evals, 0);
+    assert!(newton.set_options(NewtonOptions::default()).is_ok());
+    assert!(newton
+        .minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x)
+        .converged());
+    let bad_b = BfgsOptions {
+        c2: f64::NAN,
+        ..Default::default()
+    };
+    assert!(Bfgs::try_new(2, bad_b).is_err());
+    assert_eq!(
+        Bfgs::new(2, bad_b)
+            .minimize(&mut Rosenbrock { n: 2 }, &mut x)
+            .reason,
+        Termination::InvalidInput
+    );
+}
+
+#[test]
+fn zero_dimensional_problem() {
+    let mut q = QuadQuartic {
+        n: 0,
+        a: vec![],
+        b: vec![],
+        w: vec![],
+    };
+    let r = Newton::new(0, NewtonOptions::default()).minimize(&mut Dense::new(&mut q), &mut []);
+    assert!(r.converged());
+    let r = Bfgs::new(0, BfgsOptions::default()).minimize(&mut q, &mut []);
+    assert!(r.converged());
+}
+
+#[test]
+#[should_panic(expected = "x.len() must equal")]
+fn dimension_mismatch_is_a_programmer_error() {
+    let mut x = vec![0.0; 3];
+    Newton::new(2, NewtonOptions::default()).minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
+}
+
+#[test]
+fn workspace_is_reusable() {
+    let mut rng = Lcg::new(9);
+    let mut newton = Newton::new(6, NewtonOptions::default());
+    for _ in 0..5 {
+        let mut q = QuadQuartic::random(6, true, &mut rng);
+        let mut x = vec![0.0; 6];
+        let r = newton.minimize(&mut Dense::new(&mut q), &mut x);
+        assert!(r.converged());
+        let mut g = vec![0.0; 6];
+        q.gradient(&x, &mut g);
+        assert!(g.iter().all(|v| v.abs() <= 1e-10));
+        assert_eq!(newton.gradient(), &g[..]);
+    }
+}
+
+/// Timing of complete Newton solves. Run with
+/// `cargo test -p fpc-newton --release -- --ignored --nocapture newton_timing`.
+#[test]
+#[ignore]
+fn newton_timing() {
+    use std::time::Instant;
+    for &n in &[8usize, 16, 32, 64, 128] {
+        let mut rng = Lcg::new(n as u64);
+        let mut q = QuadQuartic::random(n, true, &mut rng);
+        let x0: Vec<f64> = (0..n).map(|_| rng.sym()).collect();
+        let mut newton = Newton::new(n, NewtonOptions::default());
+        let mut dq = Dense::new(q.clone());
+        let mut x = x0.clone();
+        let r = newton.minimize(&mut dq, &mut x);
+        assert!(r.converged());
+        let reps = (2_000_000 / (n * n)).max(50);
+        let mut best = f64::INFINITY;
+        for _ in 0..5 {
+            let t = Instant::now();
+            for _ in 0..reps {
+                x.copy_from_slice(&x0);
+                std::hint::black_box(newton.minimize(&mut dq, &mut x));
+            }
+            best = best.min(t.elapsed().as_secs_f64() / reps as f64);
+        }
+        // The same objective calls without the solver.
+        let (mut g, mut h) = (vec![0.0; n], vec![0.0; n * n]);
+        let mut best_eval = f64::INFINITY;
+        for _ in 0..5 {
+            let t = Instant::now();
+            for _ in 0..reps {
+                for _ in 0..r.hessian_evals {
+                    std::hint::black_box(q.hessian(&x0, &mut g, &mut h));
+                }
+                for _ in 0..r.energy_evals {
+                    std::hint::black_box(q.energy(&x0));
+                }
+            }
+            best_eval = best_eval.min(t.elapsed().as_secs_f64() / reps as f64);
+        }
+        println!(
+            "n = {n:3}: {} iterations, total {:.2} us, objective calls {:.2} us, solver {:.2} us ({:.2} us/iteration)",
+            r.iterations,
+            best * 1e6,
+            best_eval * 1e6,
+            (best - best_eval) * 1e6,
+            (best - best_eval) * 1e6 / r.iterations as f64
+        );
+    }
+}
