@@ -101,6 +101,48 @@ fn check_nonneg(name: &'static str, v: f64) -> Result<(), OptionsError> {
     }
 }
 
+/// Whether a continuation's largest step may be infinite.
+#[derive(Clone, Copy, PartialEq)]
+enum Max {
+    MayBeInfinite,
+    Finite,
+}
+
+/// The step bounds of a continuation: `0 < min <= initial <= max`, all
+/// finite (`max` too unless it [`Max::MayBeInfinite`]).
+fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<(), OptionsError> {
+    if !(min.is_finite() && min > 0.0) {
+        return Err(OptionsError::new("min_step", min, "must be finite and > 0"));
+    }
+    let (max_ok, max_rule_text) = match max_rule {
+        Max::MayBeInfinite => (!max.is_nan() && max >= min, "must be >= min_step"),
+        Max::Finite => (
+            max.is_finite() && max >= min,
+            "must be finite and >= min_step",
+        ),
+    };
+    if !max_ok {
+        return Err(OptionsError::new("max_step", max, max_rule_text));
+    }
+    if !(initial.is_finite() && initial >= min && initial <= max) {
+        let rule = match max_rule {
+            Max::MayBeInfinite => "must be finite and lie in [min_step, max_step]",
+            Max::Finite => "must lie in [min_step, max_step]",
+        };
+        return Err(OptionsError::new("initial_step", initial, rule));
+    }
+    Ok(())
+}
+
+/// A continuation's step growth factor: finite and at least 1.
+fn check_grow(grow: f64) -> Result<(), OptionsError> {
+    if grow.is_finite() && grow >= 1.0 {
+        Ok(())
+    } else {
+        Err(OptionsError::new("grow", grow, "must be finite and >= 1"))
+    }
+}
+
 fn check_open_unit(name: &'static str, v: f64) -> Result<(), OptionsError> {
     if v > 0.0 && v < 1.0 {
         Ok(())
@@ -348,50 +390,25 @@ impl Default for ContinuationOptions {
 }
 
 impl ContinuationOptions {
+    /// The rule on `max_step` (infinity: no largest step).
+    const MAX_STEP: Max = Max::MayBeInfinite;
+
     /// Checks every field against its rule.
     pub fn validate(&self) -> Result<(), OptionsError> {
-        if !(self.min_step.is_finite() && self.min_step > 0.0) {
-            return Err(OptionsError::new(
-                "min_step",
-                self.min_step,
-                "must be finite and > 0",
-            ));
-        }
-        if self.max_step.is_nan() || self.max_step < self.min_step {
-            return Err(OptionsError::new(
-                "max_step",
-                self.max_step,
-                "must be >= min_step",
-            ));
-        }
-        if !(self.initial_step.is_finite()
-            && self.initial_step >= self.min_step
-            && self.initial_step <= self.max_step)
-        {
-            return Err(OptionsError::new(
-                "initial_step",
-                self.initial_step,
-                "must be finite and lie in [min_step, max_step]",
-            ));
-        }
-        if !(self.grow.is_finite() && self.grow >= 1.0) {
-            return Err(OptionsError::new(
-                "grow",
-                self.grow,
-                "must be finite and >= 1",
-            ));
-        }
+        check_steps(
+            self.initial_step,
+            self.min_step,
+            self.max_step,
+            Self::MAX_STEP,
+        )?;
+        check_grow(self.grow)?;
         check_open_unit("shrink", self.shrink)?;
         Ok(())
     }
 
     /// Sets the step bounds and the initial step (`0 < min <= initial <= max`).
     pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        let mut o = self;
-        o.initial_step = initial;
-        o.min_step = min;
-        o.max_step = max;
-        o.validate()?;
+        check_steps(initial, min, max, Self::MAX_STEP)?;
         self.initial_step = initial;
         self.min_step = min;
         self.max_step = max;
@@ -400,9 +417,7 @@ impl ContinuationOptions {
 
     /// Sets [`grow`](Self::grow) (finite, >= 1).
     pub fn with_grow(mut self, grow: f64) -> Result<Self, OptionsError> {
-        if !(grow.is_finite() && grow >= 1.0) {
-            return Err(OptionsError::new("grow", grow, "must be finite and >= 1"));
-        }
+        check_grow(grow)?;
         self.grow = grow;
         Ok(self)
     }
@@ -507,36 +522,18 @@ impl Default for PalcOptions {
 }
 
 impl PalcOptions {
+    /// The rule on `max_step`.
+    const MAX_STEP: Max = Max::Finite;
+
     /// Checks every field against its rule.
     pub fn validate(&self) -> Result<(), OptionsError> {
-        if !(self.min_step.is_finite() && self.min_step > 0.0) {
-            return Err(OptionsError::new(
-                "min_step",
-                self.min_step,
-                "must be finite and > 0",
-            ));
-        }
-        if !(self.max_step.is_finite() && self.max_step >= self.min_step) {
-            return Err(OptionsError::new(
-                "max_step",
-                self.max_step,
-                "must be finite and >= min_step",
-            ));
-        }
-        if !(self.initial_step >= self.min_step && self.initial_step <= self.max_step) {
-            return Err(OptionsError::new(
-                "initial_step",
-                self.initial_step,
-                "must lie in [min_step, max_step]",
-            ));
-        }
-        if !(self.grow.is_finite() && self.grow >= 1.0) {
-            return Err(OptionsError::new(
-                "grow",
-                self.grow,
-                "must be finite and >= 1",
-            ));
-        }
+        check_steps(
+            self.initial_step,
+            self.min_step,
+            self.max_step,
+            Self::MAX_STEP,
+        )?;
+        check_grow(self.grow)?;
         check_open_unit("shrink", self.shrink)?;
         if !(self.theta.is_finite() && self.theta > 0.0) {
             return Err(OptionsError::new(
@@ -579,11 +576,7 @@ impl PalcOptions {
 
     /// Sets the step bounds and the initial step (`0 < min <= initial <= max`, finite).
     pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        let mut o = self;
-        o.initial_step = initial;
-        o.min_step = min;
-        o.max_step = max;
-        o.validate()?;
+        check_steps(initial, min, max, Self::MAX_STEP)?;
         self.initial_step = initial;
         self.min_step = min;
         self.max_step = max;
