@@ -167,7 +167,7 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
             v += vi;
             g[n * i..n * i + n].copy_from_slice(gi.as_ref());
             if loaded {
-                self.end_g[i] = e.end_gradient(&self.k[i]).1;
+                self.end_g[i] = e.end_derivatives(&self.k[i]).0;
             }
         }
         if loaded {
