@@ -9,8 +9,9 @@ pub const UNKNOWNS: usize = 4;
 pub const HESSIAN_ENTRIES: usize = 10;
 ///The solver's unknowns are `a1 * (1)`, `a3 * (L^2)`, `b1 * (1)`, `c2 * (L)`; this gives, per unknown, the raw value of one scaled unit (`raw = scaled * unscale`).
 pub fn unscale(L: f64) -> [f64; 4] {
-    let tmp0 = L * L;
-    [1.0, 1.0 / tmp0, 1.0, 1.0 / L]
+    let tmp0 = 1.0 / L;
+    let tmp1 = tmp0 * tmp0;
+    [1.0, tmp1, 1.0, tmp0]
 }
 ///Positions of the unknowns local to their element (`b1`): they couple only within the element and can be condensed out of a coupled system.
 pub const LOCAL: &[usize] = &[2];
@@ -2104,17 +2105,17 @@ pub fn end_gradient(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3]) {
     let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
-    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp5 = 1.0 / (tmp3 + 4.0 * tmp0 * tmp4);
     (
         [L + a1 * L + a3 * tmp1, tmp0 * c2, (2.0 * L * c2).atan2(tmp2)],
         [
             [L, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp5),
+                -(6.0 * tmp1 * c2 * tmp5),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp5,
             ],
         ],
     )
@@ -2135,34 +2136,35 @@ pub fn end_derivatives(k: &[f64; 4], L: f64) -> ([[f64; 4]; 3], [[f64; 10]; 3]) 
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
     let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp0 * tmp0;
-    let tmp8 = tmp7 * L;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
     (
         [
             [L, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp6,
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                4.0 * L * c2 * tmp2 / tmp6,
-                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                4.0 * L * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
                 0.0,
-                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
-                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
                 0.0,
-                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
                 0.0,
                 0.0,
-                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
             ],
         ],
     )
@@ -2183,35 +2185,36 @@ pub fn end_hessian(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
     let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp0 * tmp0;
-    let tmp8 = tmp7 * L;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
     (
         [L + a1 * L + a3 * tmp1, tmp0 * c2, (2.0 * L * c2).atan2(tmp2)],
         [
             [L, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp6,
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                4.0 * L * c2 * tmp2 / tmp6,
-                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                4.0 * L * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
                 0.0,
-                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
-                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
                 0.0,
-                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
                 0.0,
                 0.0,
-                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
             ],
         ],
     )
@@ -2460,18 +2463,19 @@ pub fn curvature_gradient(k: &[f64; 4], x: f64) -> ([f64; 1], [[f64; 4]; 1]) {
     let tmp3 = c2 * c2;
     let tmp4 = tmp1 * tmp1;
     let tmp5 = (4.0 * tmp3 * tmp0 + tmp4).sqrt();
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp6 * tmp5;
-    let tmp8 = tmp6 * tmp6;
-    let tmp9 = tmp8 * tmp5;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp7 * tmp6;
+    let tmp9 = tmp7 * tmp7;
+    let tmp10 = tmp9 * tmp6;
     (
-        [tmp2 / tmp7],
+        [tmp2 * tmp8],
         [
             [
-                2.0 * c2 / tmp7 - 3.0 * tmp1 * tmp2 / tmp9,
-                -6.0 * c2 * tmp0 / tmp7 - 9.0 * tmp0 * tmp1 * tmp2 / tmp9,
+                2.0 * c2 * tmp8 - 3.0 * tmp1 * tmp2 * tmp10,
+                -6.0 * c2 * tmp0 * tmp8 - 9.0 * tmp0 * tmp1 * tmp2 * tmp10,
                 0.0,
-                (-12.0 * a3 * tmp0 + 2.0 * tmp1) / tmp7 - 12.0 * c2 * tmp0 * tmp2 / tmp9,
+                tmp8 * (-12.0 * a3 * tmp0 + 2.0 * tmp1) - 12.0 * c2 * tmp0 * tmp2 * tmp10,
             ],
         ],
     )
@@ -2489,42 +2493,43 @@ pub fn curvature_derivatives(k: &[f64; 4], x: f64) -> ([[f64; 4]; 1], [[f64; 10]
     let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp1;
     let tmp3 = tmp2 * tmp2;
     let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
-    let tmp5 = tmp4 * tmp4;
-    let tmp6 = tmp5 * tmp4;
-    let tmp7 = 2.0 * c2 * tmp2 - 12.0 * a3 * c2 * tmp1;
-    let tmp8 = tmp5 * tmp5;
-    let tmp9 = tmp8 * tmp4;
-    let tmp10 = -12.0 * a3 * tmp1 + 2.0 * tmp2;
-    let tmp11 = tmp6 * tmp6;
-    let tmp12 = tmp11 * tmp4;
-    let tmp13 = tmp1 * tmp1;
+    let tmp5 = 1.0 / tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp6 * tmp5;
+    let tmp8 = 2.0 * c2 * tmp2 - 12.0 * a3 * c2 * tmp1;
+    let tmp9 = tmp6 * tmp6;
+    let tmp10 = tmp9 * tmp5;
+    let tmp11 = -12.0 * a3 * tmp1 + 2.0 * tmp2;
+    let tmp12 = tmp7 * tmp7;
+    let tmp13 = tmp12 * tmp5;
+    let tmp14 = tmp1 * tmp1;
     (
         [
             [
-                2.0 * c2 / tmp6 - 3.0 * tmp2 * tmp7 / tmp9,
-                -6.0 * c2 * tmp1 / tmp6 - 9.0 * tmp1 * tmp2 * tmp7 / tmp9,
+                2.0 * c2 * tmp7 - 3.0 * tmp2 * tmp8 * tmp10,
+                -6.0 * c2 * tmp1 * tmp7 - 9.0 * tmp1 * tmp2 * tmp8 * tmp10,
                 0.0,
-                tmp10 / tmp6 - 12.0 * c2 * tmp1 * tmp7 / tmp9,
+                tmp7 * tmp11 - 12.0 * c2 * tmp1 * tmp8 * tmp10,
             ],
         ],
         [
             [
-                -12.0 * c2 * tmp2 / tmp9 - 3.0 * tmp7 / tmp9
-                    + 15.0 * tmp3 * tmp7 / tmp12,
-                -9.0 * tmp1 * tmp7 / tmp9 + 45.0 * tmp1 * tmp3 * tmp7 / tmp12,
+                -12.0 * c2 * tmp2 * tmp10 - 3.0 * tmp8 * tmp10
+                    + 15.0 * tmp3 * tmp8 * tmp13,
+                -9.0 * tmp1 * tmp8 * tmp10 + 45.0 * tmp1 * tmp3 * tmp8 * tmp13,
                 0.0,
-                2.0 / tmp6 - 24.0 * tmp0 * tmp1 / tmp9 - 3.0 * tmp2 * tmp10 / tmp9
-                    + 60.0 * c2 * tmp1 * tmp2 * tmp7 / tmp12,
-                108.0 * c2 * tmp13 * tmp2 / tmp9 - 27.0 * tmp13 * tmp7 / tmp9
-                    + 135.0 * tmp13 * tmp3 * tmp7 / tmp12,
+                2.0 * tmp7 - 24.0 * tmp0 * tmp1 * tmp10 - 3.0 * tmp2 * tmp10 * tmp11
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp8 * tmp13,
+                108.0 * c2 * tmp14 * tmp2 * tmp10 - 27.0 * tmp14 * tmp8 * tmp10
+                    + 135.0 * tmp14 * tmp3 * tmp8 * tmp13,
                 0.0,
-                -6.0 * tmp1 / tmp6 + 72.0 * tmp0 * tmp13 / tmp9
-                    - 9.0 * tmp1 * tmp2 * tmp10 / tmp9
-                    + 180.0 * c2 * tmp13 * tmp2 * tmp7 / tmp12,
+                -6.0 * tmp1 * tmp7 + 72.0 * tmp0 * tmp14 * tmp10
+                    - 9.0 * tmp1 * tmp2 * tmp10 * tmp11
+                    + 180.0 * c2 * tmp14 * tmp2 * tmp8 * tmp13,
                 0.0,
                 0.0,
-                -12.0 * tmp1 * tmp7 / tmp9 - 24.0 * c2 * tmp1 * tmp10 / tmp9
-                    + 240.0 * tmp0 * tmp13 * tmp7 / tmp12,
+                -12.0 * tmp1 * tmp8 * tmp10 - 24.0 * c2 * tmp1 * tmp10 * tmp11
+                    + 240.0 * tmp0 * tmp14 * tmp8 * tmp13,
             ],
         ],
     )
@@ -2546,42 +2551,43 @@ pub fn curvature_hessian(
     let tmp3 = c2 * c2;
     let tmp4 = tmp1 * tmp1;
     let tmp5 = (4.0 * tmp3 * tmp0 + tmp4).sqrt();
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp6 * tmp5;
-    let tmp8 = tmp6 * tmp6;
-    let tmp9 = tmp8 * tmp5;
-    let tmp10 = -12.0 * a3 * tmp0 + 2.0 * tmp1;
-    let tmp11 = tmp7 * tmp7;
-    let tmp12 = tmp11 * tmp5;
-    let tmp13 = tmp0 * tmp0;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp7 * tmp6;
+    let tmp9 = tmp7 * tmp7;
+    let tmp10 = tmp9 * tmp6;
+    let tmp11 = -12.0 * a3 * tmp0 + 2.0 * tmp1;
+    let tmp12 = tmp8 * tmp8;
+    let tmp13 = tmp12 * tmp6;
+    let tmp14 = tmp0 * tmp0;
     (
-        [tmp2 / tmp7],
+        [tmp2 * tmp8],
         [
             [
-                2.0 * c2 / tmp7 - 3.0 * tmp1 * tmp2 / tmp9,
-                -6.0 * c2 * tmp0 / tmp7 - 9.0 * tmp0 * tmp1 * tmp2 / tmp9,
+                2.0 * c2 * tmp8 - 3.0 * tmp1 * tmp2 * tmp10,
+                -6.0 * c2 * tmp0 * tmp8 - 9.0 * tmp0 * tmp1 * tmp2 * tmp10,
                 0.0,
-                tmp10 / tmp7 - 12.0 * c2 * tmp0 * tmp2 / tmp9,
+                tmp8 * tmp11 - 12.0 * c2 * tmp0 * tmp2 * tmp10,
             ],
         ],
         [
             [
-                -12.0 * c2 * tmp1 / tmp9 - 3.0 * tmp2 / tmp9
-                    + 15.0 * tmp4 * tmp2 / tmp12,
-                -9.0 * tmp0 * tmp2 / tmp9 + 45.0 * tmp0 * tmp4 * tmp2 / tmp12,
+                -12.0 * c2 * tmp1 * tmp10 - 3.0 * tmp2 * tmp10
+                    + 15.0 * tmp4 * tmp2 * tmp13,
+                -9.0 * tmp0 * tmp2 * tmp10 + 45.0 * tmp0 * tmp4 * tmp2 * tmp13,
                 0.0,
-                2.0 / tmp7 - 24.0 * tmp3 * tmp0 / tmp9 - 3.0 * tmp1 * tmp10 / tmp9
-                    + 60.0 * c2 * tmp0 * tmp1 * tmp2 / tmp12,
-                108.0 * c2 * tmp13 * tmp1 / tmp9 - 27.0 * tmp13 * tmp2 / tmp9
-                    + 135.0 * tmp13 * tmp4 * tmp2 / tmp12,
+                2.0 * tmp8 - 24.0 * tmp3 * tmp0 * tmp10 - 3.0 * tmp1 * tmp10 * tmp11
+                    + 60.0 * c2 * tmp0 * tmp1 * tmp2 * tmp13,
+                108.0 * c2 * tmp14 * tmp1 * tmp10 - 27.0 * tmp14 * tmp2 * tmp10
+                    + 135.0 * tmp14 * tmp4 * tmp2 * tmp13,
                 0.0,
-                -6.0 * tmp0 / tmp7 + 72.0 * tmp3 * tmp13 / tmp9
-                    - 9.0 * tmp0 * tmp1 * tmp10 / tmp9
-                    + 180.0 * c2 * tmp13 * tmp1 * tmp2 / tmp12,
+                -6.0 * tmp0 * tmp8 + 72.0 * tmp3 * tmp14 * tmp10
+                    - 9.0 * tmp0 * tmp1 * tmp10 * tmp11
+                    + 180.0 * c2 * tmp14 * tmp1 * tmp2 * tmp13,
                 0.0,
                 0.0,
-                -12.0 * tmp0 * tmp2 / tmp9 - 24.0 * c2 * tmp0 * tmp10 / tmp9
-                    + 240.0 * tmp3 * tmp13 * tmp2 / tmp12,
+                -12.0 * tmp0 * tmp2 * tmp10 - 24.0 * c2 * tmp0 * tmp10 * tmp11
+                    + 240.0 * tmp3 * tmp14 * tmp2 * tmp13,
             ],
         ],
     )

@@ -10,8 +10,8 @@ pub const HESSIAN_ENTRIES: usize = 15;
 ///The solver's unknowns are `a1 * (1)`, `a2 * (L)`, `a3 * (L^2)`, `b1 * (1)`, `c2 * (L)`; this gives, per unknown, the raw value of one scaled unit (`raw = scaled * unscale`).
 pub fn unscale(L: f64) -> [f64; 5] {
     let tmp0 = 1.0 / L;
-    let tmp1 = L * L;
-    [1.0, tmp0, 1.0 / tmp1, 1.0, tmp0]
+    let tmp1 = tmp0 * tmp0;
+    [1.0, tmp0, tmp1, 1.0, tmp0]
 }
 ///Positions of the unknowns local to their element (`b1`): they couple only within the element and can be condensed out of a coupled system.
 pub const LOCAL: &[usize] = &[3];
@@ -3969,18 +3969,18 @@ pub fn end_gradient(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3]) {
     let tmp2 = 1.0 + a1 + 2.0 * a2 * L + 3.0 * tmp0 * a3;
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
-    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp5 = 1.0 / (tmp3 + 4.0 * tmp0 * tmp4);
     (
         [L + a1 * L + a2 * tmp0 + tmp1 * a3, tmp0 * c2, (2.0 * L * c2).atan2(tmp2)],
         [
             [L, tmp0, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(4.0 * tmp0 * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp5),
+                -(4.0 * tmp0 * c2 * tmp5),
+                -(6.0 * tmp1 * c2 * tmp5),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp5,
             ],
         ],
     )
@@ -4002,40 +4002,41 @@ pub fn end_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) 
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
     let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp0 * tmp0;
-    let tmp8 = tmp7 * L;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
     (
         [
             [L, tmp0, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(4.0 * tmp0 * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp6),
+                -(4.0 * tmp0 * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp6,
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                4.0 * L * c2 * tmp2 / tmp6,
-                8.0 * tmp0 * c2 * tmp2 / tmp6,
-                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                4.0 * L * c2 * tmp2 * tmp7,
+                8.0 * tmp0 * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
                 0.0,
-                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
-                16.0 * tmp1 * c2 * tmp2 / tmp6,
-                24.0 * tmp7 * c2 * tmp2 / tmp6,
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                16.0 * tmp1 * c2 * tmp2 * tmp7,
+                24.0 * tmp8 * c2 * tmp2 * tmp7,
                 0.0,
-                -4.0 * tmp0 / tmp5 + 32.0 * tmp7 * tmp4 / tmp6,
-                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                -4.0 * tmp0 * tmp6 + 32.0 * tmp8 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
                 0.0,
-                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
                 0.0,
                 0.0,
-                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
             ],
         ],
     )
@@ -4057,41 +4058,42 @@ pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]
     let tmp3 = tmp2 * tmp2;
     let tmp4 = c2 * c2;
     let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp0 * tmp0;
-    let tmp8 = tmp7 * L;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
     (
         [L + a1 * L + a2 * tmp0 + tmp1 * a3, tmp0 * c2, (2.0 * L * c2).atan2(tmp2)],
         [
             [L, tmp0, tmp1, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, tmp0],
             [
-                -(2.0 * L * c2 / tmp5),
-                -(4.0 * tmp0 * c2 / tmp5),
-                -(6.0 * tmp1 * c2 / tmp5),
+                -(2.0 * L * c2 * tmp6),
+                -(4.0 * tmp0 * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
                 0.0,
-                2.0 * L * tmp2 / tmp5,
+                2.0 * L * tmp2 * tmp6,
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                4.0 * L * c2 * tmp2 / tmp6,
-                8.0 * tmp0 * c2 * tmp2 / tmp6,
-                12.0 * tmp1 * c2 * tmp2 / tmp6,
+                4.0 * L * c2 * tmp2 * tmp7,
+                8.0 * tmp0 * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
                 0.0,
-                -2.0 * L / tmp5 + 16.0 * tmp1 * tmp4 / tmp6,
-                16.0 * tmp1 * c2 * tmp2 / tmp6,
-                24.0 * tmp7 * c2 * tmp2 / tmp6,
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                16.0 * tmp1 * c2 * tmp2 * tmp7,
+                24.0 * tmp8 * c2 * tmp2 * tmp7,
                 0.0,
-                -4.0 * tmp0 / tmp5 + 32.0 * tmp7 * tmp4 / tmp6,
-                36.0 * tmp8 * c2 * tmp2 / tmp6,
+                -4.0 * tmp0 * tmp6 + 32.0 * tmp8 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
                 0.0,
-                -6.0 * tmp1 / tmp5 + 48.0 * tmp8 * tmp4 / tmp6,
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
                 0.0,
                 0.0,
-                -(16.0 * tmp1 * c2 * tmp2 / tmp6),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
             ],
         ],
     )
@@ -4376,19 +4378,20 @@ pub fn curvature_gradient(k: &[f64; 5], x: f64) -> ([f64; 1], [[f64; 5]; 1]) {
     let tmp4 = c2 * c2;
     let tmp5 = tmp1 * tmp1;
     let tmp6 = (4.0 * tmp4 * tmp0 + tmp5).sqrt();
-    let tmp7 = tmp6 * tmp6;
-    let tmp8 = tmp7 * tmp6;
-    let tmp9 = tmp7 * tmp7;
-    let tmp10 = tmp9 * tmp6;
+    let tmp7 = 1.0 / tmp6;
+    let tmp8 = tmp7 * tmp7;
+    let tmp9 = tmp8 * tmp7;
+    let tmp10 = tmp8 * tmp8;
+    let tmp11 = tmp10 * tmp7;
     (
-        [tmp3 / tmp8],
+        [tmp3 * tmp9],
         [
             [
-                2.0 * c2 / tmp8 - 3.0 * tmp1 * tmp3 / tmp10,
-                -(6.0 * x * tmp1 * tmp3 / tmp10),
-                -6.0 * c2 * tmp0 / tmp8 - 9.0 * tmp0 * tmp1 * tmp3 / tmp10,
+                2.0 * c2 * tmp9 - 3.0 * tmp1 * tmp3 * tmp11,
+                -(6.0 * x * tmp1 * tmp3 * tmp11),
+                -6.0 * c2 * tmp0 * tmp9 - 9.0 * tmp0 * tmp1 * tmp3 * tmp11,
                 0.0,
-                (2.0 * tmp1 - 2.0 * x * tmp2) / tmp8 - 12.0 * c2 * tmp0 * tmp3 / tmp10,
+                tmp9 * (2.0 * tmp1 - 2.0 * x * tmp2) - 12.0 * c2 * tmp0 * tmp3 * tmp11,
             ],
         ],
     )
@@ -4407,54 +4410,55 @@ pub fn curvature_derivatives(k: &[f64; 5], x: f64) -> ([[f64; 5]; 1], [[f64; 15]
     let tmp2 = 1.0 + a1 + 2.0 * a2 * x + 3.0 * a3 * tmp1;
     let tmp3 = tmp2 * tmp2;
     let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
-    let tmp5 = tmp4 * tmp4;
-    let tmp6 = tmp5 * tmp4;
-    let tmp7 = 2.0 * a2 + 6.0 * a3 * x;
-    let tmp8 = 2.0 * c2 * tmp2 - 2.0 * c2 * x * tmp7;
-    let tmp9 = tmp5 * tmp5;
-    let tmp10 = tmp9 * tmp4;
-    let tmp11 = 2.0 * tmp2 - 2.0 * x * tmp7;
-    let tmp12 = tmp6 * tmp6;
-    let tmp13 = tmp12 * tmp4;
-    let tmp14 = -(12.0 * tmp1 * tmp8 / tmp10);
-    let tmp15 = tmp1 * x;
-    let tmp16 = tmp1 * tmp1;
+    let tmp5 = 1.0 / tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp6 * tmp5;
+    let tmp8 = 2.0 * a2 + 6.0 * a3 * x;
+    let tmp9 = 2.0 * c2 * tmp2 - 2.0 * c2 * x * tmp8;
+    let tmp10 = tmp6 * tmp6;
+    let tmp11 = tmp10 * tmp5;
+    let tmp12 = 2.0 * tmp2 - 2.0 * x * tmp8;
+    let tmp13 = tmp7 * tmp7;
+    let tmp14 = tmp13 * tmp5;
+    let tmp15 = -(12.0 * tmp1 * tmp9 * tmp11);
+    let tmp16 = tmp1 * x;
+    let tmp17 = tmp1 * tmp1;
     (
         [
             [
-                2.0 * c2 / tmp6 - 3.0 * tmp2 * tmp8 / tmp10,
-                -(6.0 * x * tmp2 * tmp8 / tmp10),
-                -6.0 * c2 * tmp1 / tmp6 - 9.0 * tmp1 * tmp2 * tmp8 / tmp10,
+                2.0 * c2 * tmp7 - 3.0 * tmp2 * tmp9 * tmp11,
+                -(6.0 * x * tmp2 * tmp9 * tmp11),
+                -6.0 * c2 * tmp1 * tmp7 - 9.0 * tmp1 * tmp2 * tmp9 * tmp11,
                 0.0,
-                tmp11 / tmp6 - 12.0 * c2 * tmp1 * tmp8 / tmp10,
+                tmp7 * tmp12 - 12.0 * c2 * tmp1 * tmp9 * tmp11,
             ],
         ],
         [
             [
-                -12.0 * c2 * tmp2 / tmp10 - 3.0 * tmp8 / tmp10
-                    + 15.0 * tmp3 * tmp8 / tmp13,
-                -12.0 * c2 * x * tmp2 / tmp10 - 6.0 * x * tmp8 / tmp10
-                    + 30.0 * x * tmp3 * tmp8 / tmp13,
-                -9.0 * tmp1 * tmp8 / tmp10 + 45.0 * tmp1 * tmp3 * tmp8 / tmp13,
+                -12.0 * c2 * tmp2 * tmp11 - 3.0 * tmp9 * tmp11
+                    + 15.0 * tmp3 * tmp9 * tmp14,
+                -12.0 * c2 * x * tmp2 * tmp11 - 6.0 * x * tmp9 * tmp11
+                    + 30.0 * x * tmp3 * tmp9 * tmp14,
+                -9.0 * tmp1 * tmp9 * tmp11 + 45.0 * tmp1 * tmp3 * tmp9 * tmp14,
                 0.0,
-                2.0 / tmp6 - 24.0 * tmp0 * tmp1 / tmp10 - 3.0 * tmp2 * tmp11 / tmp10
-                    + 60.0 * c2 * tmp1 * tmp2 * tmp8 / tmp13,
-                tmp14 + 60.0 * tmp1 * tmp3 * tmp8 / tmp13,
-                -18.0 * tmp15 * tmp8 / tmp10 + 36.0 * c2 * tmp15 * tmp2 / tmp10
-                    + 90.0 * tmp15 * tmp3 * tmp8 / tmp13,
+                2.0 * tmp7 - 24.0 * tmp0 * tmp1 * tmp11 - 3.0 * tmp2 * tmp11 * tmp12
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp9 * tmp14,
+                tmp15 + 60.0 * tmp1 * tmp3 * tmp9 * tmp14,
+                -18.0 * tmp16 * tmp9 * tmp11 + 36.0 * c2 * tmp16 * tmp2 * tmp11
+                    + 90.0 * tmp16 * tmp3 * tmp9 * tmp14,
                 0.0,
-                -6.0 * x * tmp2 * tmp11 / tmp10
-                    + 120.0 * c2 * tmp15 * tmp2 * tmp8 / tmp13,
-                108.0 * c2 * tmp16 * tmp2 / tmp10 - 27.0 * tmp16 * tmp8 / tmp10
-                    + 135.0 * tmp16 * tmp3 * tmp8 / tmp13,
+                -6.0 * x * tmp2 * tmp11 * tmp12
+                    + 120.0 * c2 * tmp16 * tmp2 * tmp9 * tmp14,
+                108.0 * c2 * tmp17 * tmp2 * tmp11 - 27.0 * tmp17 * tmp9 * tmp11
+                    + 135.0 * tmp17 * tmp3 * tmp9 * tmp14,
                 0.0,
-                -6.0 * tmp1 / tmp6 + 72.0 * tmp0 * tmp16 / tmp10
-                    - 9.0 * tmp1 * tmp2 * tmp11 / tmp10
-                    + 180.0 * c2 * tmp16 * tmp2 * tmp8 / tmp13,
+                -6.0 * tmp1 * tmp7 + 72.0 * tmp0 * tmp17 * tmp11
+                    - 9.0 * tmp1 * tmp2 * tmp11 * tmp12
+                    + 180.0 * c2 * tmp17 * tmp2 * tmp9 * tmp14,
                 0.0,
                 0.0,
-                tmp14 - 24.0 * c2 * tmp1 * tmp11 / tmp10
-                    + 240.0 * tmp0 * tmp16 * tmp8 / tmp13,
+                tmp15 - 24.0 * c2 * tmp1 * tmp11 * tmp12
+                    + 240.0 * tmp0 * tmp17 * tmp9 * tmp14,
             ],
         ],
     )
@@ -4478,53 +4482,54 @@ pub fn curvature_hessian(
     let tmp4 = c2 * c2;
     let tmp5 = tmp1 * tmp1;
     let tmp6 = (4.0 * tmp4 * tmp0 + tmp5).sqrt();
-    let tmp7 = tmp6 * tmp6;
-    let tmp8 = tmp7 * tmp6;
-    let tmp9 = tmp7 * tmp7;
-    let tmp10 = tmp9 * tmp6;
-    let tmp11 = 2.0 * tmp1 - 2.0 * x * tmp2;
-    let tmp12 = tmp8 * tmp8;
-    let tmp13 = tmp12 * tmp6;
-    let tmp14 = -(12.0 * tmp0 * tmp3 / tmp10);
-    let tmp15 = tmp0 * x;
-    let tmp16 = tmp0 * tmp0;
+    let tmp7 = 1.0 / tmp6;
+    let tmp8 = tmp7 * tmp7;
+    let tmp9 = tmp8 * tmp7;
+    let tmp10 = tmp8 * tmp8;
+    let tmp11 = tmp10 * tmp7;
+    let tmp12 = 2.0 * tmp1 - 2.0 * x * tmp2;
+    let tmp13 = tmp9 * tmp9;
+    let tmp14 = tmp13 * tmp7;
+    let tmp15 = -(12.0 * tmp0 * tmp3 * tmp11);
+    let tmp16 = tmp0 * x;
+    let tmp17 = tmp0 * tmp0;
     (
-        [tmp3 / tmp8],
+        [tmp3 * tmp9],
         [
             [
-                2.0 * c2 / tmp8 - 3.0 * tmp1 * tmp3 / tmp10,
-                -(6.0 * x * tmp1 * tmp3 / tmp10),
-                -6.0 * c2 * tmp0 / tmp8 - 9.0 * tmp0 * tmp1 * tmp3 / tmp10,
+                2.0 * c2 * tmp9 - 3.0 * tmp1 * tmp3 * tmp11,
+                -(6.0 * x * tmp1 * tmp3 * tmp11),
+                -6.0 * c2 * tmp0 * tmp9 - 9.0 * tmp0 * tmp1 * tmp3 * tmp11,
                 0.0,
-                tmp11 / tmp8 - 12.0 * c2 * tmp0 * tmp3 / tmp10,
+                tmp9 * tmp12 - 12.0 * c2 * tmp0 * tmp3 * tmp11,
             ],
         ],
         [
             [
-                -12.0 * c2 * tmp1 / tmp10 - 3.0 * tmp3 / tmp10
-                    + 15.0 * tmp5 * tmp3 / tmp13,
-                -12.0 * c2 * x * tmp1 / tmp10 - 6.0 * x * tmp3 / tmp10
-                    + 30.0 * x * tmp5 * tmp3 / tmp13,
-                -9.0 * tmp0 * tmp3 / tmp10 + 45.0 * tmp0 * tmp5 * tmp3 / tmp13,
+                -12.0 * c2 * tmp1 * tmp11 - 3.0 * tmp3 * tmp11
+                    + 15.0 * tmp5 * tmp3 * tmp14,
+                -12.0 * c2 * x * tmp1 * tmp11 - 6.0 * x * tmp3 * tmp11
+                    + 30.0 * x * tmp5 * tmp3 * tmp14,
+                -9.0 * tmp0 * tmp3 * tmp11 + 45.0 * tmp0 * tmp5 * tmp3 * tmp14,
                 0.0,
-                2.0 / tmp8 - 24.0 * tmp4 * tmp0 / tmp10 - 3.0 * tmp1 * tmp11 / tmp10
-                    + 60.0 * c2 * tmp0 * tmp1 * tmp3 / tmp13,
-                tmp14 + 60.0 * tmp0 * tmp5 * tmp3 / tmp13,
-                -18.0 * tmp15 * tmp3 / tmp10 + 36.0 * c2 * tmp15 * tmp1 / tmp10
-                    + 90.0 * tmp15 * tmp5 * tmp3 / tmp13,
+                2.0 * tmp9 - 24.0 * tmp4 * tmp0 * tmp11 - 3.0 * tmp1 * tmp11 * tmp12
+                    + 60.0 * c2 * tmp0 * tmp1 * tmp3 * tmp14,
+                tmp15 + 60.0 * tmp0 * tmp5 * tmp3 * tmp14,
+                -18.0 * tmp16 * tmp3 * tmp11 + 36.0 * c2 * tmp16 * tmp1 * tmp11
+                    + 90.0 * tmp16 * tmp5 * tmp3 * tmp14,
                 0.0,
-                -6.0 * x * tmp1 * tmp11 / tmp10
-                    + 120.0 * c2 * tmp15 * tmp1 * tmp3 / tmp13,
-                108.0 * c2 * tmp16 * tmp1 / tmp10 - 27.0 * tmp16 * tmp3 / tmp10
-                    + 135.0 * tmp16 * tmp5 * tmp3 / tmp13,
+                -6.0 * x * tmp1 * tmp11 * tmp12
+                    + 120.0 * c2 * tmp16 * tmp1 * tmp3 * tmp14,
+                108.0 * c2 * tmp17 * tmp1 * tmp11 - 27.0 * tmp17 * tmp3 * tmp11
+                    + 135.0 * tmp17 * tmp5 * tmp3 * tmp14,
                 0.0,
-                -6.0 * tmp0 / tmp8 + 72.0 * tmp4 * tmp16 / tmp10
-                    - 9.0 * tmp0 * tmp1 * tmp11 / tmp10
-                    + 180.0 * c2 * tmp16 * tmp1 * tmp3 / tmp13,
+                -6.0 * tmp0 * tmp9 + 72.0 * tmp4 * tmp17 * tmp11
+                    - 9.0 * tmp0 * tmp1 * tmp11 * tmp12
+                    + 180.0 * c2 * tmp17 * tmp1 * tmp3 * tmp14,
                 0.0,
                 0.0,
-                tmp14 - 24.0 * c2 * tmp0 * tmp11 / tmp10
-                    + 240.0 * tmp4 * tmp16 * tmp3 / tmp13,
+                tmp15 - 24.0 * c2 * tmp0 * tmp11 * tmp12
+                    + 240.0 * tmp4 * tmp17 * tmp3 * tmp14,
             ],
         ],
     )

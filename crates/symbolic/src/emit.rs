@@ -3,7 +3,9 @@
 //! The arena already stores each distinct sub-expression once; emission
 //! binds every node used more than once to a `let` and inlines the rest.
 //! Integer powers become multiplications through a per-base power cache
-//! (`x^5 = x^4 * x`, `x^4 = x^2 * x^2`), negative powers become divisions.
+//! (`x^5 = x^4 * x`, `x^4 = x^2 * x^2`), negative powers become divisions;
+//! a base that divides in several places is inverted once (`r = 1 / x`) and
+//! its negative powers become multiplications by powers of `r`.
 //! The output has no loops and no allocation.
 
 use std::collections::HashMap;
@@ -135,6 +137,10 @@ pub struct Emitter<'a> {
     bound: HashMap<ExprId, Piece>,
     symbols: HashMap<Sym, TokenStream>,
     powers: HashMap<(ExprId, u32), Piece>,
+    /// Bases that divide more than once: their reciprocal is computed once.
+    inverted: std::collections::HashSet<ExprId>,
+    /// `base^-n` for the inverted bases, through their reciprocal.
+    reciprocals: HashMap<(ExprId, u32), Piece>,
     /// Expressions already bound to a `let` name.
     named: std::collections::HashSet<ExprId>,
     stmts: Vec<TokenStream>,
@@ -162,12 +168,29 @@ impl<'a> Emitter<'a> {
                 stack.push(c);
             }
         }
+        // a base whose negative powers are used twice or more (one power in
+        // two places, or two powers) is inverted once
+        let mut divides: HashMap<ExprId, usize> = HashMap::new();
+        for &n in &seen {
+            if let Node::Pow(b, k) = arena.node(n) {
+                if *k < 0 {
+                    *divides.entry(*b).or_default() += uses.get(&n).copied().unwrap_or(0);
+                }
+            }
+        }
+        let inverted = divides
+            .into_iter()
+            .filter(|&(_, count)| count > 1)
+            .map(|(b, _)| b)
+            .collect();
         Emitter {
             arena,
             uses,
             bound: HashMap::new(),
             symbols: HashMap::new(),
             powers: HashMap::new(),
+            inverted,
+            reciprocals: HashMap::new(),
             named: std::collections::HashSet::new(),
             stmts: Vec::new(),
             next: 0,
@@ -282,6 +305,37 @@ impl<'a> Emitter<'a> {
         p
     }
 
+    /// `base^-n` for n >= 1 and an inverted base: `r = 1 / base` once, then
+    /// powers of `r` through multiplications.
+    fn reciprocal(&mut self, base: ExprId, n: u32) -> Piece {
+        if let Some(p) = self.reciprocals.get(&(base, n)) {
+            return p.clone();
+        }
+        let p = if n == 1 {
+            let d = self.piece(base).at_least(Prec::Atom);
+            self.ops.div += 1;
+            self.bind(Piece {
+                tokens: quote! { 1.0 / #d },
+                prec: Prec::Product,
+            })
+        } else {
+            let (a, b) = if n.is_multiple_of(2) {
+                (n / 2, n / 2)
+            } else {
+                (n - 1, 1)
+            };
+            let a = self.reciprocal(base, a).at_least(Prec::Atom);
+            let b = self.reciprocal(base, b).at_least(Prec::Atom);
+            self.ops.mul += 1;
+            self.bind(Piece {
+                tokens: quote! { #a * #b },
+                prec: Prec::Product,
+            })
+        };
+        self.reciprocals.insert((base, n), p.clone());
+        p
+    }
+
     fn render(&mut self, e: ExprId) -> Piece {
         match self.arena.node(e).clone() {
             Node::Num(r) => {
@@ -344,6 +398,9 @@ impl<'a> Emitter<'a> {
                     body
                 }
             }
+            Node::Pow(b, k) if k < 0 && self.inverted.contains(&b) => {
+                self.reciprocal(b, k.unsigned_abs())
+            }
             Node::Pow(b, k) => {
                 let p = self.power(b, k.unsigned_abs());
                 if k < 0 {
@@ -393,6 +450,9 @@ impl<'a> Emitter<'a> {
                 continue;
             }
             match self.arena.node(f).clone() {
+                Node::Pow(b, k) if k < 0 && self.inverted.contains(&b) => {
+                    num.push(self.reciprocal(b, k.unsigned_abs()))
+                }
                 Node::Pow(b, k) if k < 0 && !self.bound.contains_key(&f) => {
                     // a divisor shared by several terms is computed once
                     if self.uses.get(&f).copied().unwrap_or(0) > 1 {
@@ -483,6 +543,13 @@ mod tests {
             1,
             "{code}"
         );
+    }
+
+    #[test]
+    fn a_base_dividing_twice_is_inverted_once() {
+        let (code, ops) = emit_one("x/(1 + y^2) + z/(1 + y^2)^2 + x*z/(1 + y^2)");
+        assert_eq!(ops.div, 1, "{code}");
+        assert_eq!(code.matches('/').count(), 1, "{code}");
     }
 
     #[test]
