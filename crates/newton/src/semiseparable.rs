@@ -25,7 +25,27 @@
 //!
 //! `H + tau I` is congruent to `blockdiag(P_m)`, so its inertia is the sum
 //! of the pivots' inertias (Sylvester's law) and it is positive definite
-//! exactly when every pivot is. A solve is a forward sweep (`z_k = b_k + w_k
+//! exactly when every pivot is.
+//!
+//! Written this way, each block's factorisation waits for the previous
+//! one's (through `Gamma_m`): a chain of small dependent factorisations,
+//! whose latency, not their arithmetic, sets the time. For Cholesky pivots
+//! the work is reordered so that it does not: `Gamma_m >= 0` (it only
+//! grows), so `P_m = B'_m - Gamma_m w_m w_m^T` (`B'_m = B_m + tau I`) is
+//! positive definite exactly when `B'_m` is and `d_m = 1 - Gamma_m beta_m >
+//! 0`, with `b_m = B'_m^-1 w_m` and `beta_m = w_m^T b_m`; and Sherman-Morrison
+//! gives `P_m^-1 = B'_m^-1 + c_m b_m b_m^T` with `c_m = Gamma_m / d_m`. Every
+//! block's Cholesky factorisation of `B'_m` and its solves for `b_m` and
+//! `a_m = B'_m^-1 u_m` are then independent of the others, and only scalars
+//! run along the chain:
+//!
+//! ```text
+//! kappa_m = Gamma_m + c_m (alpha_m + Gamma_m beta_m),   alpha_m = u_m^T b_m
+//! q_m = a_m + kappa_m b_m
+//! Gamma_{m+1} = Gamma_m + u_m^T a_m + (kappa_m + Gamma_m) alpha_m + Gamma_m kappa_m beta_m
+//! ```
+//!
+//! and likewise in the solves (`omega_m = w_m^T q_m`). A solve is a forward sweep (`z_k = b_k + w_k
 //! sigma_k`, `sigma_{k+1} = sigma_k + q_k^T z_k`), the pivot solves, and a
 //! backward sweep (`x_m = y_m + q_m rho_m`, `rho_{m-1} = rho_m + w_m^T x_m`).
 //! Work and storage are `O(N n^3)` and `O(N n^2)`.
@@ -35,8 +55,9 @@ use crate::linear::{FactorError, Inertia};
 /// How the pivots are factorised.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PivotKind {
-    /// Cholesky: fails unless every pivot is positive definite (Newton's
-    /// minimisation, where that is the test for a descent direction).
+    /// Cholesky (square-root-free, `L D L^T`): fails unless every pivot is
+    /// positive definite (Newton's minimisation, where that is the test for
+    /// a descent direction).
     Cholesky,
     /// Symmetric eigendecomposition: any nonsingular pivot, with its inertia
     /// (bordered solves, stability).
@@ -55,8 +76,13 @@ pub struct Semiseparable {
     w: Vec<f64>,
     // factorisation
     kind: PivotKind,
-    /// Cholesky factor (lower) or eigenvectors, per block.
+    /// `L D L^T` factor of `B_k + tau I` (see [`cholesky`]) or the
+    /// eigenvectors of the pivot `P_k`, per block.
     f: Vec<f64>,
+    /// Cholesky pivots: `(B_k + tau I)^-1 w_k` per block.
+    bw: Vec<f64>,
+    /// Cholesky pivots: `[beta_k, c_k, omega_k]` per block (module docs).
+    sm: Vec<[f64; 3]>,
     /// Eigenvalues per block (symmetric pivots).
     lambda: Vec<f64>,
     q: Vec<f64>,
@@ -81,6 +107,8 @@ impl Semiseparable {
             w: vec![0.0; n * blocks],
             kind: PivotKind::Cholesky,
             f: vec![0.0; n * n * blocks],
+            bw: vec![0.0; n * blocks],
+            sm: vec![[0.0; 3]; blocks],
             lambda: vec![0.0; n * blocks],
             q: vec![0.0; n * blocks],
             factored: false,
@@ -267,6 +295,14 @@ impl Semiseparable {
     ) -> Result<Inertia, FactorError> {
         self.factored = false;
         self.kind = kind;
+        if kind == PivotKind::Cholesky {
+            self.factor_cholesky::<N>(tau)?;
+            self.factored = true;
+            return Ok(Inertia {
+                positive: self.dim(),
+                negative: 0,
+            });
+        }
         let n = if N > 0 { N } else { self.n };
         let nn = n * n;
         let mut gamma = 0.0;
@@ -288,44 +324,24 @@ impl Semiseparable {
                     qm[i] = um[i] + gamma * wm[i];
                 }
             }
-            match kind {
-                PivotKind::Cholesky => {
-                    cholesky(n, p).map_err(|index| FactorError::NotPositiveDefinite {
-                        index: m * n + index,
-                    })?;
-                    inertia.positive += n;
-                    if coupled {
-                        // q_m = P^-1 v_m (qm holds v_m)
-                        let s = &mut self.scratch[..n];
-                        s.copy_from_slice(qm);
-                        cholesky_solve(n, p, qm);
-                        gamma += dot(s, qm);
-                    }
+            let lam = &mut self.lambda[m * n..(m + 1) * n];
+            jacobi(n, p, lam, &mut self.scratch).ok_or(FactorError::NoConvergence { block: m })?;
+            let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
+            for &l in lam.iter() {
+                if l.abs().partial_cmp(&(1e-14 * scale)) != Some(core::cmp::Ordering::Greater) {
+                    return Err(FactorError::Singular { block: m });
                 }
-                PivotKind::Symmetric => {
-                    let lam = &mut self.lambda[m * n..(m + 1) * n];
-                    jacobi(n, p, lam, &mut self.scratch)
-                        .ok_or(FactorError::NoConvergence { block: m })?;
-                    let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
-                    for &l in lam.iter() {
-                        if l.abs().partial_cmp(&(1e-14 * scale))
-                            != Some(core::cmp::Ordering::Greater)
-                        {
-                            return Err(FactorError::Singular { block: m });
-                        }
-                        if l > 0.0 {
-                            inertia.positive += 1;
-                        } else {
-                            inertia.negative += 1;
-                        }
-                    }
-                    if coupled {
-                        let (s, rest) = self.scratch.split_at_mut(n);
-                        s.copy_from_slice(qm);
-                        eigen_solve(n, p, lam, qm, rest);
-                        gamma += dot(s, qm);
-                    }
+                if l > 0.0 {
+                    inertia.positive += 1;
+                } else {
+                    inertia.negative += 1;
                 }
+            }
+            if coupled {
+                let (s, rest) = self.scratch.split_at_mut(n);
+                s.copy_from_slice(qm);
+                eigen_solve(n, p, lam, qm, rest);
+                gamma += dot(s, qm);
             }
             if !gamma.is_finite() {
                 return Err(FactorError::NonFinite { block: m });
@@ -333,6 +349,60 @@ impl Semiseparable {
         }
         self.factored = true;
         Ok(inertia)
+    }
+
+    /// The Cholesky factorisation of `H + tau I` in the reordered form of
+    /// the module docs: block `m` fails with the index of its first
+    /// non-positive pivot when `B'_m` is not positive definite, and with
+    /// its last row when the chain's update makes `P_m` indefinite
+    /// (`d_m <= 0`).
+    fn factor_cholesky<const N: usize>(&mut self, tau: f64) -> Result<(), FactorError> {
+        let n = if N > 0 { N } else { self.n };
+        let nn = n * n;
+        let coupled = self.coupled;
+        let mut gamma = 0.0;
+        for m in 0..self.blocks {
+            let f = &mut self.f[m * nn..(m + 1) * nn];
+            f.copy_from_slice(&self.b[m * nn..(m + 1) * nn]);
+            for c in 0..n {
+                f[c + n * c] += tau;
+            }
+            cholesky::<N>(n, f).map_err(|index| FactorError::NotPositiveDefinite {
+                index: m * n + index,
+            })?;
+            if !coupled {
+                continue;
+            }
+            let (um, wm) = (&self.u[m * n..(m + 1) * n], &self.w[m * n..(m + 1) * n]);
+            let (a, b) = (
+                &mut self.q[m * n..(m + 1) * n],
+                &mut self.bw[m * n..(m + 1) * n],
+            );
+            a.copy_from_slice(um);
+            b.copy_from_slice(wm);
+            cholesky_solve::<N>(n, f, a);
+            cholesky_solve::<N>(n, f, b);
+            let (beta, alpha, uu) = (dot(wm, b), dot(um, b), dot(um, a));
+            // the chain: scalars only
+            let d = 1.0 - gamma * beta;
+            // (a NaN fails too)
+            if d.is_nan() || d <= 0.0 {
+                return Err(FactorError::NotPositiveDefinite {
+                    index: m * n + n - 1,
+                });
+            }
+            let c = gamma / d;
+            let kappa = gamma + c * (alpha + gamma * beta);
+            for (ai, bi) in a.iter_mut().zip(b.iter()) {
+                *ai += kappa * bi;
+            }
+            self.sm[m] = [beta, c, alpha + kappa * beta];
+            gamma += uu + (kappa + gamma) * alpha + gamma * kappa * beta;
+            if !gamma.is_finite() {
+                return Err(FactorError::NonFinite { block: m });
+            }
+        }
+        Ok(())
     }
 
     /// Solves `(H + tau I) x = b` in place with the last successful
@@ -363,7 +433,7 @@ impl Semiseparable {
                 let fk = &self.f[k * nn..(k + 1) * nn];
                 let bk = &mut b[k * n..(k + 1) * n];
                 match self.kind {
-                    PivotKind::Cholesky => cholesky_solve(n, fk, bk),
+                    PivotKind::Cholesky => cholesky_solve::<N>(n, fk, bk),
                     PivotKind::Symmetric => eigen_solve(
                         n,
                         fk,
@@ -373,6 +443,10 @@ impl Semiseparable {
                     ),
                 }
             }
+            return;
+        }
+        if self.kind == PivotKind::Cholesky {
+            self.solve_cholesky::<N>(b);
             return;
         }
         // forward sweep and pivot solves
@@ -387,7 +461,7 @@ impl Semiseparable {
             sigma += dot(qk, zk);
             let fk = &self.f[k * nn..(k + 1) * nn];
             match self.kind {
-                PivotKind::Cholesky => cholesky_solve(n, fk, zk),
+                PivotKind::Cholesky => cholesky_solve::<N>(n, fk, zk),
                 PivotKind::Symmetric => eigen_solve(
                     n,
                     fk,
@@ -410,110 +484,106 @@ impl Semiseparable {
     }
 }
 
+impl Semiseparable {
+    /// [`Semiseparable::solve`] of a coupled Cholesky factorisation: the
+    /// sweeps of the module docs with `P_k^-1 = B'_k^-1 + c_k b_k b_k^T`, so
+    /// that each block's solve is independent of the running sums.
+    fn solve_cholesky<const N: usize>(&self, x: &mut [f64]) {
+        let n = if N > 0 { N } else { self.n };
+        let nn = n * n;
+        // forward: z_k = b_k + sigma_k w_k, y_k = P_k^-1 z_k,
+        // sigma_{k+1} = sigma_k + q_k^T z_k = sigma_k (1 + omega_k) + q_k^T b_k
+        let mut sigma = 0.0;
+        for k in 0..self.blocks {
+            let xk = &mut x[k * n..(k + 1) * n];
+            let (qk, bk) = (&self.q[k * n..(k + 1) * n], &self.bw[k * n..(k + 1) * n]);
+            let [beta, c, omega] = self.sm[k];
+            let (s1, s2) = (dot(bk, xk), dot(qk, xk));
+            cholesky_solve::<N>(n, &self.f[k * nn..(k + 1) * nn], xk);
+            let t = sigma + c * (s1 + sigma * beta);
+            for (xi, bi) in xk.iter_mut().zip(bk) {
+                *xi += t * bi;
+            }
+            sigma = sigma * (1.0 + omega) + s2;
+        }
+        // backward: x_m = y_m + rho_m q_m,
+        // rho_{m-1} = rho_m + w_m^T x_m = rho_m (1 + omega_m) + w_m^T y_m
+        let mut rho = 0.0;
+        for m in (0..self.blocks).rev() {
+            let xm = &mut x[m * n..(m + 1) * n];
+            let (qm, wm) = (&self.q[m * n..(m + 1) * n], &self.w[m * n..(m + 1) * n]);
+            let wy = dot(wm, xm);
+            for (xi, qi) in xm.iter_mut().zip(qm) {
+                *xi += rho * qi;
+            }
+            rho = rho * (1.0 + self.sm[m][2]) + wy;
+        }
+    }
+}
+
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// In-place Cholesky of a column-major `n x n` matrix (lower triangle);
-/// the index of the first non-positive pivot on failure. The common block
-/// sizes run unrolled (a const-generic copy).
-fn cholesky(n: usize, a: &mut [f64]) -> Result<(), usize> {
-    match n {
-        3 => cholesky_fixed::<3>(a),
-        4 => cholesky_fixed::<4>(a),
-        5 => cholesky_fixed::<5>(a),
-        6 => cholesky_fixed::<6>(a),
-        _ => cholesky_any(n, a),
-    }
-}
-
-fn cholesky_fixed<const N: usize>(a: &mut [f64]) -> Result<(), usize> {
-    let a = &mut a[..N * N];
-    for j in 0..N {
-        let mut d = a[j + N * j];
-        for k in 0..j {
-            d -= a[j + N * k] * a[j + N * k];
-        }
-        if !(d > 0.0 && d.is_finite()) {
-            return Err(j);
-        }
-        let d = d.sqrt();
-        a[j + N * j] = d;
-        for i in j + 1..N {
-            let mut v = a[i + N * j];
-            for k in 0..j {
-                v -= a[i + N * k] * a[j + N * k];
-            }
-            a[i + N * j] = v / d;
-        }
-    }
-    Ok(())
-}
-
-fn cholesky_any(n: usize, a: &mut [f64]) -> Result<(), usize> {
+/// In-place square-root-free Cholesky factorisation `A = L D L^T` of a
+/// column-major symmetric `N x N` matrix (0: `n x n`; the callers pass the
+/// common block sizes at compile time, which unrolls the loops), reading
+/// the lower triangle: afterwards the strict lower triangle holds the unit
+/// lower `L`, the diagonal `1 / D_jj` (the solves multiply by it), and the
+/// strict upper triangle `D_kk L_jk` at `(k, j)` (the products the later
+/// columns need). No square roots, and one division per column: the
+/// column-to-column dependency that sets the time of such small
+/// factorisations is half that of `L L^T` with `1 / sqrt`. `A` is
+/// positive definite exactly when every `D_jj > 0`; the index of the first
+/// that is not (or is not finite) on failure.
+#[inline]
+fn cholesky<const N: usize>(n: usize, a: &mut [f64]) -> Result<(), usize> {
+    let n = if N > 0 { N } else { n };
+    let a = &mut a[..n * n];
     for j in 0..n {
         let mut d = a[j + n * j];
         for k in 0..j {
-            d -= a[j + n * k] * a[j + n * k];
+            d -= a[j + n * k] * a[k + n * j];
         }
         if !(d > 0.0 && d.is_finite()) {
             return Err(j);
         }
-        let d = d.sqrt();
-        a[j + n * j] = d;
+        let r = 1.0 / d;
+        a[j + n * j] = r;
         for i in j + 1..n {
             let mut v = a[i + n * j];
             for k in 0..j {
-                v -= a[i + n * k] * a[j + n * k];
+                v -= a[i + n * k] * a[k + n * j];
             }
-            a[i + n * j] = v / d;
+            a[j + n * i] = v;
+            a[i + n * j] = v * r;
         }
     }
     Ok(())
 }
 
-fn cholesky_solve(n: usize, l: &[f64], b: &mut [f64]) {
-    match n {
-        3 => cholesky_solve_fixed::<3>(l, b),
-        4 => cholesky_solve_fixed::<4>(l, b),
-        5 => cholesky_solve_fixed::<5>(l, b),
-        6 => cholesky_solve_fixed::<6>(l, b),
-        _ => cholesky_solve_any(n, l, b),
-    }
-}
-
-fn cholesky_solve_fixed<const N: usize>(l: &[f64], b: &mut [f64]) {
-    let (l, b) = (&l[..N * N], &mut b[..N]);
-    for i in 0..N {
-        let mut v = b[i];
-        for k in 0..i {
-            v -= l[i + N * k] * b[k];
-        }
-        b[i] = v / l[i + N * i];
-    }
-    for i in (0..N).rev() {
-        let mut v = b[i];
-        for k in i + 1..N {
-            v -= l[k + N * i] * b[k];
-        }
-        b[i] = v / l[i + N * i];
-    }
-}
-
-fn cholesky_solve_any(n: usize, l: &[f64], b: &mut [f64]) {
+/// Solves `L D L^T x = b` in place with a factor from [`cholesky`] (`N` as
+/// there).
+#[inline]
+fn cholesky_solve<const N: usize>(n: usize, l: &[f64], b: &mut [f64]) {
+    let n = if N > 0 { N } else { n };
+    let (l, b) = (&l[..n * n], &mut b[..n]);
     for i in 0..n {
         let mut v = b[i];
         for k in 0..i {
             v -= l[i + n * k] * b[k];
         }
-        b[i] = v / l[i + n * i];
+        b[i] = v;
+    }
+    for i in 0..n {
+        b[i] *= l[i + n * i];
     }
     for i in (0..n).rev() {
         let mut v = b[i];
         for k in i + 1..n {
             v -= l[k + n * i] * b[k];
         }
-        b[i] = v / l[i + n * i];
+        b[i] = v;
     }
 }
 
@@ -690,6 +760,74 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The Cholesky path decides definiteness from the blocks and the
+    /// chain's scalars (module docs): it must say yes exactly when the
+    /// whole matrix is positive definite, also when every block is
+    /// positive definite and the coupling alone makes it indefinite, and
+    /// then solve like a dense elimination.
+    #[test]
+    fn cholesky_succeeds_exactly_when_positive_definite() {
+        let (mut checked, mut by_coupling) = (0, 0);
+        for seed in 0..60u64 {
+            let (n, nb) = [(2, 3), (4, 8), (5, 4), (3, 12)][seed as usize % 4];
+            // definite blocks (shift 1.5 > the random part's reach for
+            // small n), coupling from weak to dominant
+            let (mut m, _) = random(n, nb, 100 + seed, 1.5 + 0.5 * n as f64);
+            let grow = [1.0, 4.0, 8.0, 16.0][(seed / 4) as usize % 4];
+            for k in 0..nb {
+                let (u, w) = m.coupling_mut(k);
+                u.iter_mut().for_each(|v| *v *= grow);
+                w.iter_mut().for_each(|v| *v *= grow);
+            }
+            let dim = n * nb;
+            let mut h = vec![0.0; dim * dim];
+            m.dense(&mut h);
+            let mut v = h.clone();
+            let mut lam = vec![0.0; dim];
+            let mut scratch = vec![0.0; dim * dim + 4 * dim];
+            jacobi(dim, &mut v, &mut lam, &mut scratch).unwrap();
+            let lo = lam.iter().fold(f64::INFINITY, |a, &l| a.min(l));
+            let hi = lam.iter().fold(0.0f64, |a, &l| a.max(l.abs()));
+            if lo.abs() <= 1e-9 * hi {
+                continue; // too close to call
+            }
+            checked += 1;
+            let blocks_definite = (0..nb).all(|k| {
+                let mut b = m.b[k * n * n..(k + 1) * n * n].to_vec();
+                cholesky::<0>(n, &mut b).is_ok()
+            });
+            assert!(
+                blocks_definite,
+                "seed {seed}: the blocks are meant to be definite"
+            );
+            match m.factor(0.0, PivotKind::Cholesky) {
+                Ok(inertia) => {
+                    assert!(lo > 0.0, "seed {seed}: accepted with eigenvalue {lo}");
+                    assert_eq!(inertia.positive, dim);
+                    let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.3).cos()).collect();
+                    let mut x = b.clone();
+                    m.solve(&mut x);
+                    let want = dense_solve(dim, &h, &b);
+                    let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                    for i in 0..dim {
+                        assert!((x[i] - want[i]).abs() <= 1e-10 * scale, "seed {seed}: {i}");
+                    }
+                }
+                Err(FactorError::NotPositiveDefinite { index }) => {
+                    assert!(lo < 0.0, "seed {seed}: refused with eigenvalue {lo}");
+                    assert!(index < dim);
+                    by_coupling += 1;
+                }
+                Err(e) => panic!("seed {seed}: {e:?}"),
+            }
+        }
+        assert!(checked >= 40, "{checked}");
+        assert!(
+            by_coupling >= 5,
+            "only {by_coupling} indefinite by the coupling"
+        );
     }
 
     #[test]
