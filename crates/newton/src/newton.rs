@@ -16,6 +16,31 @@ const MAX_SHIFT_TRIES: usize = 64;
 /// round-off (see [`Newton::minimize`]).
 const ROUNDOFF_FACTOR: f64 = 1e3;
 
+/// A chord step is tried only while the last step reduced the gradient
+/// norm by at least this factor (see [`NewtonOptions::chord_steps`]).
+const CHORD_RATIO: f64 = 0.1;
+
+/// Chord steps continue while at most this many more are expected to reach
+/// `gtol` (a chord step costs about half a Newton step here); the
+/// gradient-only landing of a predicted full step is tried when at most
+/// one more is expected beyond it.
+const CHORD_STEPS_AHEAD: f64 = 2.0;
+
+/// At most this many chord steps follow one Hessian.
+const MAX_CHORD_STEPS: usize = 4;
+
+/// Steps expected from gradient norm `g` to `gtol` when each multiplies it
+/// by `r` (infinite unless `0 < r < 1`).
+fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
+    if g <= gtol {
+        0.0
+    } else if r > 0.0 && r < 1.0 {
+        (gtol / g).ln() / r.ln()
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Newton minimiser and its reusable workspace.
 ///
 /// `Newton::new(n, ..)` allocates the `O(n)` vectors a solve of dimension
@@ -43,6 +68,17 @@ const ROUNDOFF_FACTOR: f64 = 1e3;
 /// quadratic interpolation (`alpha` shrinks by 0.1..0.5 per trial; by 0.25
 /// after a non-finite trial value). The Hessian is evaluated only at
 /// accepted points.
+///
+/// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
+/// quadratic phase, when the quadratic model predicts that the full step
+/// cuts the gradient norm at least tenfold and that a few more such cuts
+/// reach `gtol`, only the gradient is evaluated where it lands; then the
+/// next steps solve with the factorisation already at hand (`p = -H_old^-1
+/// g`, a gradient and a solve each) for as long as the last cut was at
+/// least tenfold and at most two more steps at that rate reach `gtol` (and
+/// at most four in all), and the Hessian is evaluated at the last accepted
+/// point only if they stop short of convergence. A chord step is accepted like the round-off rule
+/// below or by Armijo, and only if it reduces the gradient norm.
 ///
 /// Accepted steps therefore strictly decrease the energy, with one
 /// documented exception for the round-off regime close to a minimum, where
@@ -136,8 +172,8 @@ impl Newton {
         Ok(())
     }
 
-    /// Gradient from the last Hessian evaluation of [`Newton::minimize`]
-    /// (at the returned `x` unless the solve ended `NonFinite`).
+    /// The gradient at the `x` [`Newton::minimize`] returned (unless the
+    /// solve ended `NonFinite`).
     pub fn gradient(&self) -> &[f64] {
         &self.g
     }
@@ -227,6 +263,42 @@ impl Newton {
                         rep.reason = Termination::Converged;
                         break;
                     }
+                } else if o.chord_steps
+                    && predicted <= CHORD_RATIO * gnorm
+                    && steps_to(predicted, predicted / gnorm, o.gtol) <= CHORD_STEPS_AHEAD + 1.0
+                {
+                    let ft = p.gradient(&self.xt, &mut self.gt);
+                    rep.gradient_evals += 1;
+                    if ft.is_finite() && all_finite(&self.gt) && ft <= f + o.c1 * gtp {
+                        x.copy_from_slice(&self.xt);
+                        self.g.copy_from_slice(&self.gt);
+                        rep.iterations += 1;
+                        rep.step_norm = norm_inf(&self.p);
+                        quadratic_prev = gnorm;
+                        f = ft;
+                        gnorm = norm_inf(&self.g);
+                        if gnorm > o.gtol {
+                            (f, gnorm, quadratic_prev) =
+                                self.chord(p, x, f, gnorm, quadratic_prev, &mut rep);
+                        }
+                        if gnorm <= o.gtol {
+                            continue;
+                        }
+                        // the Hessian where the chord steps stopped
+                        let fh = p.hessian(x, &mut self.g);
+                        rep.hessian_evals += 1;
+                        if !(fh.is_finite() && all_finite(&self.g)) {
+                            rep.energy = f;
+                            rep.residual_norm = gnorm;
+                            rep.reason = Termination::NonFinite;
+                            break;
+                        }
+                        f = fh;
+                        gnorm = norm_inf(&self.g);
+                        continue;
+                    }
+                    // rejected: x, f and g are the current iterate's; the
+                    // line search below starts from them
                 } else {
                     let ft = p.hessian(&self.xt, &mut self.g);
                     rep.hessian_evals += 1;
@@ -277,6 +349,63 @@ impl Newton {
             }
         }
         rep
+    }
+
+    /// Chord steps from `x` (gradient `self.g`, norm `gnorm`, the norm
+    /// before the last step `prev`) with the last factorisation, while each
+    /// cuts the gradient norm by [`CHORD_RATIO`] (type-level docs). Leaves
+    /// the last accepted point in `x` and `self.g`; returns its value,
+    /// gradient norm and the norm before it.
+    fn chord<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &mut [f64],
+        mut f: f64,
+        mut gnorm: f64,
+        mut prev: f64,
+        rep: &mut Report,
+    ) -> (f64, f64, f64) {
+        let o = self.opts;
+        for _ in 0..MAX_CHORD_STEPS {
+            let r = gnorm / prev;
+            if gnorm <= o.gtol
+                || r > CHORD_RATIO
+                || steps_to(gnorm, r, o.gtol) > CHORD_STEPS_AHEAD
+                || rep.iterations >= o.max_iter
+            {
+                break;
+            }
+            for (pi, gi) in self.p.iter_mut().zip(&self.g) {
+                *pi = -gi;
+            }
+            p.solve(&mut self.p);
+            let gtp = dot(&self.g, &self.p);
+            if !(all_finite(&self.p) && gtp < 0.0) {
+                break;
+            }
+            let len = norm_inf(&self.p);
+            if len > o.max_step {
+                let s = o.max_step / len;
+                self.p.iter_mut().for_each(|v| *v *= s);
+            }
+            for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
+                *xt = xi + pi;
+            }
+            let ft = p.gradient(&self.xt, &mut self.gt);
+            rep.gradient_evals += 1;
+            let gt = norm_inf(&self.gt);
+            let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
+            let decrease = ft <= f + o.c1 * gtp || (ft - f).abs() <= noise;
+            if !(ft.is_finite() && all_finite(&self.gt) && decrease && gt < gnorm) {
+                break;
+            }
+            x.copy_from_slice(&self.xt);
+            self.g.copy_from_slice(&self.gt);
+            rep.iterations += 1;
+            rep.step_norm = norm_inf(&self.p);
+            (f, prev, gnorm) = (ft, gnorm, gt);
+        }
+        (f, gnorm, prev)
     }
 
     /// Computes the (shifted) Newton direction into `self.p`; returns the

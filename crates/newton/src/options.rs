@@ -185,6 +185,19 @@ pub struct NewtonOptions {
     /// the final Hessian; the price is that a rejected trial point has had
     /// its Hessian evaluated. Default true.
     pub eager_full_steps: bool,
+    /// With [`eager_full_steps`](Self::eager_full_steps), in the quadratic
+    /// phase: when the quadratic model predicts that the full step reduces
+    /// the gradient at least tenfold and a few more such steps converge,
+    /// evaluate only the gradient where it lands, and take chord steps (the
+    /// last factorised Hessian again, with a fresh gradient) while the last
+    /// step cut the gradient tenfold and at most two more at that rate
+    /// reach `gtol` (at most four in all); the Hessian is evaluated when
+    /// they stop short of convergence. Close to a minimum a chord step
+    /// costs a gradient and a solve instead of a Hessian, a factorisation
+    /// and a solve. Needs problems whose [`energy`](crate::Energy::energy)
+    /// and [`gradient`](crate::Gradient::gradient) leave the Hessian and
+    /// its factorisation alone. Default true.
+    pub chord_steps: bool,
 }
 
 impl Default for NewtonOptions {
@@ -198,6 +211,7 @@ impl Default for NewtonOptions {
             min_step_fraction: 1e-10,
             max_step: f64::INFINITY,
             eager_full_steps: true,
+            chord_steps: true,
         }
     }
 }

@@ -51,7 +51,10 @@ pub trait LinearSystem {
 }
 
 /// Value, gradient and the Hessian, which the problem keeps (see
-/// [`LinearSystem`]) until the next evaluation.
+/// [`LinearSystem`]) until the next `hessian` call: `energy` and
+/// `gradient` calls leave the Hessian and its factorisation alone (Newton's
+/// chord steps solve with it at later points,
+/// [`NewtonOptions::chord_steps`](crate::NewtonOptions::chord_steps)).
 pub trait Hessian: Gradient + LinearSystem {
     /// Writes the gradient into `g`, keeps the Hessian at `x`, and returns
     /// the value.

@@ -55,6 +55,46 @@ fn newton_rosenbrock_2_and_10() {
     }
 }
 
+/// Chord steps (the default) reach the minimiser Newton without them
+/// reaches, to the tolerance, with no more Hessians, and they do save some
+/// across random mildly quartic problems started from zero.
+#[test]
+fn chord_steps_save_hessians_and_keep_the_minimiser() {
+    let mut rng = Lcg::new(7);
+    let (mut with, mut without) = (0, 0);
+    for &n in &[3usize, 10, 33] {
+        for _ in 0..8 {
+            let mut q = QuadQuartic::random(n, true, &mut rng);
+            let no_chord = NewtonOptions {
+                chord_steps: false,
+                ..NewtonOptions::default()
+            };
+            let mut xa = vec![0.0; n];
+            let ra =
+                Newton::new(n, NewtonOptions::default()).minimize(&mut Dense::new(&mut q), &mut xa);
+            let mut xb = vec![0.0; n];
+            let rb = Newton::new(n, no_chord).minimize(&mut Dense::new(&mut q), &mut xb);
+            assert!(ra.converged() && rb.converged(), "n = {n}: {ra} / {rb}");
+            assert!(ra.residual_norm <= NewtonOptions::default().gtol);
+            // the gradient the report gives is the one at the returned x
+            let mut g = vec![0.0; n];
+            q.gradient(&xa, &mut g);
+            assert_eq!(norm_inf_of(&g), ra.residual_norm);
+            let scale = 1.0 + xb.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            assert!(max_abs_diff(&xa, &xb) <= 1e-8 * scale, "n = {n}");
+            assert!(ra.hessian_evals <= rb.hessian_evals, "n = {n}: {ra} / {rb}");
+            // a chord step factorises nothing
+            assert!(ra.factorizations <= ra.hessian_evals, "{ra}");
+            with += ra.hessian_evals;
+            without += rb.hessian_evals;
+        }
+    }
+    assert!(
+        with < without,
+        "chord steps saved no Hessian: {with} vs {without}"
+    );
+}
+
 #[test]
 fn newton_backends_agree() {
     let n = 10;
