@@ -1062,9 +1062,12 @@ fn coarse_fingers_solve_promptly() {
                     failures.push(format!("{what}: residual {r:e}"));
                 }
                 if !load.has_tip_load() {
+                    // the same equilibrium: two solves to the default
+                    // tolerance differ by about 1e-6 mm here (Newton stops
+                    // near gtol), other equilibria by millimetres
                     let t = ramp_tip.expect("the pressure ramp converges");
                     assert!(
-                        dist(t, sol.tip) < 1e-6,
+                        dist(t, sol.tip) < 1e-4,
                         "{what}: ramp {t:?} vs {:?}",
                         sol.tip
                     );

@@ -26,6 +26,11 @@ const CHORD_RATIO: f64 = 0.1;
 /// one more is expected beyond it.
 const CHORD_STEPS_AHEAD: f64 = 2.0;
 
+/// A full line-search step starts chord steps when its actual decrease is
+/// within this fraction of the quadratic model's (see
+/// [`NewtonOptions::chord_steps`]).
+const MODEL_FIT: f64 = 1e-2;
+
 /// At most this many chord steps follow one Hessian.
 const MAX_CHORD_STEPS: usize = 4;
 
@@ -72,7 +77,9 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
 /// quadratic phase, when the quadratic model predicts that the full step
 /// cuts the gradient norm at least tenfold and that a few more such cuts
-/// reach `gtol`, only the gradient is evaluated where it lands; then the
+/// reach `gtol`, and after a full unshifted step of the line search whose
+/// energy decrease matched the quadratic model's to 1 %, only the gradient
+/// is evaluated where it lands; then the
 /// next steps solve with the factorisation already at hand (`p = -H_old^-1
 /// g`, a gradient and a solve each) for as long as the last cut was at
 /// least tenfold and at most two more steps at that rate reach `gtol` (and
@@ -265,7 +272,7 @@ impl Newton {
                     }
                 } else if o.chord_steps
                     && predicted <= CHORD_RATIO * gnorm
-                    && steps_to(predicted, predicted / gnorm, o.gtol) <= CHORD_STEPS_AHEAD + 1.0
+                    && steps_to(predicted, predicted / gnorm, o.gtol) <= CHORD_STEPS_AHEAD + 2.0
                 {
                     let ft = p.gradient(&self.xt, &mut self.gt);
                     rep.gradient_evals += 1;
@@ -274,27 +281,10 @@ impl Newton {
                         self.g.copy_from_slice(&self.gt);
                         rep.iterations += 1;
                         rep.step_norm = norm_inf(&self.p);
-                        quadratic_prev = gnorm;
-                        f = ft;
-                        gnorm = norm_inf(&self.g);
-                        if gnorm > o.gtol {
-                            (f, gnorm, quadratic_prev) =
-                                self.chord(p, x, f, gnorm, quadratic_prev, &mut rep);
+                        match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
+                            Some(next) => (f, gnorm, quadratic_prev) = next,
+                            None => break,
                         }
-                        if gnorm <= o.gtol {
-                            continue;
-                        }
-                        // the Hessian where the chord steps stopped
-                        let fh = p.hessian(x, &mut self.g);
-                        rep.hessian_evals += 1;
-                        if !(fh.is_finite() && all_finite(&self.g)) {
-                            rep.energy = f;
-                            rep.residual_norm = gnorm;
-                            rep.reason = Termination::NonFinite;
-                            break;
-                        }
-                        f = fh;
-                        gnorm = norm_inf(&self.g);
                         continue;
                     }
                     // rejected: x, f and g are the current iterate's; the
@@ -316,13 +306,33 @@ impl Newton {
                     // the Hessian is re-evaluated where it lands
                 }
             }
-            let alpha = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
-                Ok(alpha) => alpha,
+            let (alpha, ft) = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
+                Ok(found) => found,
                 Err(reason) => {
                     rep.reason = reason;
                     break;
                 }
             };
+            // a full Newton step that the quadratic model predicted to 1 %
+            // (the actual decrease over 1/2 g^T p): close to the minimum,
+            // where chord steps may follow it
+            let fit = (ft - f) / (0.5 * gtp);
+            let chord = o.eager_full_steps && o.chord_steps;
+            if chord && alpha == 1.0 && tau == 0.0 && (fit - 1.0).abs() <= MODEL_FIT {
+                let fg = p.gradient(&self.xt, &mut self.gt);
+                rep.gradient_evals += 1;
+                if fg.is_finite() && all_finite(&self.gt) {
+                    x.copy_from_slice(&self.xt);
+                    self.g.copy_from_slice(&self.gt);
+                    rep.iterations += 1;
+                    rep.step_norm = norm_inf(&self.p);
+                    match self.chord_then_hessian(p, x, fg, gnorm, &mut rep) {
+                        Some(next) => (f, gnorm, quadratic_prev) = next,
+                        None => break,
+                    }
+                    continue;
+                }
+            }
             self.xprev.copy_from_slice(x);
             x.copy_from_slice(&self.xt);
             let fnew = p.hessian(x, &mut self.g);
@@ -349,6 +359,36 @@ impl Newton {
             }
         }
         rep
+    }
+
+    /// After a step to `x` whose gradient alone was evaluated (in
+    /// `self.g`; value `f`, the gradient norm before the step `prev`):
+    /// chord steps while they pay ([`Newton::chord`]), then the Hessian at
+    /// the last accepted point unless they converged. Returns the value,
+    /// gradient norm and the norm before the last step, or `None` (the
+    /// report says `NonFinite`) when that Hessian is not finite.
+    fn chord_then_hessian<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &mut [f64],
+        f: f64,
+        prev: f64,
+        rep: &mut Report,
+    ) -> Option<(f64, f64, f64)> {
+        let gnorm = norm_inf(&self.g);
+        let (f, gnorm, prev) = self.chord(p, x, f, gnorm, prev, rep);
+        if gnorm <= self.opts.gtol {
+            return Some((f, gnorm, prev));
+        }
+        let fh = p.hessian(x, &mut self.g);
+        rep.hessian_evals += 1;
+        if !(fh.is_finite() && all_finite(&self.g)) {
+            rep.energy = f;
+            rep.residual_norm = gnorm;
+            rep.reason = Termination::NonFinite;
+            return None;
+        }
+        Some((fh, norm_inf(&self.g), prev))
     }
 
     /// Chord steps from `x` (gradient `self.g`, norm `gnorm`, the norm
@@ -453,7 +493,7 @@ impl Newton {
     }
 
     /// Backtracking Armijo search along `self.p`; leaves the accepted point
-    /// in `self.xt` and returns the step fraction.
+    /// in `self.xt` and returns the step fraction and the value there.
     fn line_search<P: Hessian + ?Sized>(
         &mut self,
         p: &mut P,
@@ -462,7 +502,7 @@ impl Newton {
         gtp: f64,
         gnorm: f64,
         rep: &mut Report,
-    ) -> Result<f64, Termination> {
+    ) -> Result<(f64, f64), Termination> {
         let o = &self.opts;
         let mut alpha = 1.0f64;
         let mut any_finite = false;
@@ -475,14 +515,14 @@ impl Newton {
             if ft.is_finite() {
                 any_finite = true;
                 if ft <= f + o.c1 * alpha * gtp {
-                    return Ok(alpha);
+                    return Ok((alpha, ft));
                 }
                 let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
                 if (ft - f).abs() <= noise {
                     let fg = p.gradient(&self.xt, &mut self.gt);
                     rep.gradient_evals += 1;
                     if fg.is_finite() && all_finite(&self.gt) && norm_inf(&self.gt) <= 0.5 * gnorm {
-                        return Ok(alpha);
+                        return Ok((alpha, ft));
                     }
                 }
                 // Minimiser of the quadratic through f, f'(0) = gtp, f(alpha) = ft.

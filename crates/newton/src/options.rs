@@ -187,8 +187,10 @@ pub struct NewtonOptions {
     pub eager_full_steps: bool,
     /// With [`eager_full_steps`](Self::eager_full_steps), in the quadratic
     /// phase: when the quadratic model predicts that the full step reduces
-    /// the gradient at least tenfold and a few more such steps converge,
-    /// evaluate only the gradient where it lands, and take chord steps (the
+    /// the gradient at least tenfold and a few more such steps converge
+    /// (or, after a line search, when a full unshifted step decreased the
+    /// energy as the quadratic model said to 1 %), evaluate only the
+    /// gradient where it lands, and take chord steps (the
     /// last factorised Hessian again, with a fresh gradient) while the last
     /// step cut the gradient tenfold and at most two more at that rate
     /// reach `gtol` (at most four in all); the Hessian is evaluated when

@@ -13,7 +13,9 @@ fn newton_convex_quadratic_takes_one_step() {
         assert!(r.converged(), "n = {n}: {r}");
         assert_eq!(r.iterations, 1, "n = {n}: {r}");
         assert_eq!(r.max_shift, 0.0);
-        assert_eq!(r.hessian_evals, 2);
+        // the step's decrease is the quadratic model's, so where it lands
+        // only the gradient is evaluated (chord steps, the default)
+        assert_eq!((r.hessian_evals, r.gradient_evals), (1, 1));
         // Independent: nalgebra LU solve of A x = b.
         let a = nalgebra::DMatrix::from_column_slice(n, n, &q.a);
         let xs = a
