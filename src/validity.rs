@@ -29,7 +29,9 @@ pub const PRESTRESSED_STRAIN_RANGE: (f64, f64) = (0.0, 0.6);
 const TURNING_FOR_CONTACT: f64 = std::f64::consts::PI - 0.05;
 
 /// The findings of state `k` (raw coefficients) of `finger`, checking each
-/// element at `samples` points (`x = L/samples .. L`, and the root).
+/// element at `samples` points (`x = L/samples .. L`, and the root), and
+/// the end tangent's angle (rad, the sum of the elements' turns), which the
+/// check needs anyway.
 ///
 /// Cheap on purpose (it runs after every solve): the slope test compares
 /// the tangent's components (an angle is computed only for an element that
@@ -40,7 +42,7 @@ pub(crate) fn check<M: ElementModel>(
     finger: &FingerCore<M>,
     k: &[f64],
     samples: usize,
-) -> Vec<Warning> {
+) -> (Vec<Warning>, f64) {
     let samples = samples.max(1);
     let mut out = Vec::new();
     let (pz0, pz1) = finger.pemc_z;
@@ -120,7 +122,7 @@ pub(crate) fn check<M: ElementModel>(
             });
         }
     }
-    out
+    (out, theta)
 }
 
 /// [`first_crossing`] for a polyline of `per` segments per element: only

@@ -256,7 +256,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
     }
 
     fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
-        crate::validity::check(self, k.as_slice(), samples)
+        crate::validity::check(self, k.as_slice(), samples).0
     }
 
     fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {

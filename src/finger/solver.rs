@@ -26,10 +26,12 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     pub warnings: &'a [Warning],
     pub chain: Chain<'a, M>,
     pub newton: Newton,
-    pub bordered: BorderedNewton,
-    local: Newton,
-    /// The Hessian of one element (decoupled solves), reused.
-    local_matrix: Semiseparable,
+    /// The bordered solver's workspace, made by the first target solve.
+    pub bordered: Option<BorderedNewton>,
+    /// One element's Newton and Hessian (decoupled solves), made when first
+    /// needed: a solver that only runs coupled solves (a refinement level)
+    /// allocates neither.
+    local: Option<Local>,
     /// Scaled unknowns.
     pub y: Vec<f64>,
     /// The start of a coupled solve, kept for a continuation restart.
@@ -61,10 +63,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             warnings,
             chain: Chain::new(finger),
             newton: Newton::new(dim, NewtonOptions::default()),
-            bordered: BorderedNewton::new(dim, NewtonOptions::default())
-                .expect("the default options are valid"),
-            local: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
-            local_matrix: Semiseparable::new(M::Coeffs::LEN, 1),
+            bordered: None,
+            local: None,
             y: vec![0.0; dim],
             start: vec![0.0; dim],
             final_energy: None,
@@ -87,7 +87,6 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let nopts = newton_options(opts.rtol * f.stiffness, opts)?;
         // validated above: setting cannot fail
         let _ = self.newton.set_options(nopts);
-        let _ = self.local.set_options(nopts);
         let decoupled = !load.has_tip_load() && opts.strategy == Strategy::Auto;
         let mut report = if decoupled {
             self.solve_decoupled(load, guess, opts.continuation)?
@@ -129,7 +128,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 b[..n].copy_from_slice(&a[n * d..n * d + n]);
                 continue;
             }
-            let mut p = Single::<M>::new(f, i, load.scalars(), &mut self.local_matrix);
+            let local = local_workspace::<M>(&mut self.local, &self.newton);
+            let mut p = Single::<M>::new(f, i, load.scalars(), &mut local.matrix);
             let warm = guess.is_none() && i > 0;
             if warm {
                 // neighbouring elements strain and curve alike: start from
@@ -142,7 +142,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 }
             }
             let y = &mut self.y[n * i..n * i + n];
-            let r = solve_element(&mut self.local, &mut p, y, warm, continuation, &mut rep);
+            let r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
             rep.residual_norm = rep.residual_norm.max(r.residual_norm);
             if !r.reason.is_converged() {
                 return Err(self.not_converged(&r, Some(i)));
@@ -254,8 +254,9 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         if decoupled {
             let mut negative = 0;
             let mut g = vec![0.0; n];
+            let local = local_workspace::<M>(&mut self.local, &self.newton);
             for i in 0..f.len() {
-                let mut p = Single::<M>::new(f, i, load.scalars(), &mut self.local_matrix);
+                let mut p = Single::<M>::new(f, i, load.scalars(), &mut local.matrix);
                 p.hessian(&self.y[n * i..n * i + n], &mut g);
                 // equal elements have equal Hessians
                 let count = f.distinct.iter().filter(|&&d| d == f.distinct[i]).count();
@@ -285,9 +286,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let f = self.finger;
         let k = self.coefficients();
         let tip = f.tip_position(k.as_slice());
-        let end_angle: f64 = (0..f.len())
-            .map(|i| f.elements[i].end(&FingerCore::<M>::element_coeffs(k.as_slice(), i))[2])
-            .sum();
+        let (found, end_angle) = crate::validity::check(f, k.as_slice(), VALIDITY_SAMPLES);
         // a coupled Newton solve already knows Pi at its final point
         let energy = self
             .final_energy
@@ -317,7 +316,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             });
         }
         let mut warnings = self.warnings.to_vec();
-        warnings.extend(crate::validity::check(f, k.as_slice(), VALIDITY_SAMPLES));
+        warnings.extend(found);
         Ok(Solution {
             coefficients: k,
             tip,
@@ -332,6 +331,27 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             report,
         })
     }
+}
+
+/// One element's Newton workspace and Hessian (decoupled solves).
+struct Local {
+    newton: Newton,
+    matrix: Semiseparable,
+}
+
+/// The decoupled solves' workspace in `slot`, made on first use, with the
+/// coupled solver's options.
+fn local_workspace<'s, M: ElementModel>(
+    slot: &'s mut Option<Local>,
+    coupled: &Newton,
+) -> &'s mut Local {
+    let local = slot.get_or_insert_with(|| Local {
+        newton: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
+        matrix: Semiseparable::new(M::Coeffs::LEN, 1),
+    });
+    // the options were validated for the coupled solver: this cannot fail
+    let _ = local.newton.set_options(*coupled.options());
+    local
 }
 
 /// Minimises one element's energy from `y` (the decoupled scenes). When

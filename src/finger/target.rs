@@ -4,7 +4,8 @@
 //! equation, solved by fpc-newton's bordered Newton).
 
 use fpc_newton::{
-    Bordered, BorderedEval, FactorError, Hessian, Inertia, LinearSystem, NewtonOptions, PivotKind,
+    Bordered, BorderedEval, BorderedNewton, FactorError, Hessian, Inertia, LinearSystem,
+    NewtonOptions, PivotKind,
 };
 
 use crate::error::{finite, positive, InputError, SolveError};
@@ -178,7 +179,12 @@ impl<M: ElementModel> SolverCore<'_, M> {
             ctol: ctol_mm * c_scale,
             ..newton_options(opts.rtol * f.stiffness, opts)?
         };
+        let dim = self.y.len();
         self.bordered
+            .get_or_insert_with(|| {
+                BorderedNewton::new(dim, NewtonOptions::default())
+                    .expect("the default options are valid")
+            })
             .set_options(nopts)
             .map_err(|e| InputError::OutOfRange {
                 field: "target.ctol_mm".into(),
@@ -187,7 +193,8 @@ impl<M: ElementModel> SolverCore<'_, M> {
             })?;
         let mut lambda = lambda0;
         let mut bc = BorderedChain::new(&mut self.chain, *problem, c_scale);
-        let r = self.bordered.solve(&mut bc, &mut self.y, &mut lambda);
+        let bordered = self.bordered.as_mut().expect("made above");
+        let r = bordered.solve(&mut bc, &mut self.y, &mut lambda);
         if !r.reason.is_converged() || !lambda.is_finite() {
             return Err(self.not_converged(&r, None));
         }
@@ -196,7 +203,10 @@ impl<M: ElementModel> SolverCore<'_, M> {
         // H is singular there, so the count is not known)
         let restricted = opts
             .stability
-            .then(|| self.bordered.last_restricted_inertia(&mut bc).ok())
+            .then(|| {
+                let bordered = self.bordered.as_mut().expect("made above");
+                bordered.last_restricted_inertia(&mut bc).ok()
+            })
             .flatten();
         let report = SolveReport {
             reason: r.reason,
