@@ -335,9 +335,17 @@ pub const INTERMEDIATE_ELEMENTS: usize = 27;
 fn coarse_options(opts: &SolveOptions, elements: usize) -> SolveOptions {
     let scale = (INTERMEDIATE_ELEMENTS as f64 / elements.max(1) as f64).min(1.0);
     SolveOptions {
+        rtol: opts.rtol.max(INTERMEDIATE_RTOL * scale),
+        ..tip_options(opts)
+    }
+}
+
+/// The options of a level that may turn out to be the last: the caller's
+/// tolerance, only the tip.
+fn tip_options(opts: &SolveOptions) -> SolveOptions {
+    SolveOptions {
         shape: false,
         stability: false,
-        rtol: opts.rtol.max(INTERMEDIATE_RTOL * scale),
         ..*opts
     }
 }
@@ -413,29 +421,27 @@ impl Refiner {
     ) -> Result<Refined, SolveError> {
         let mut run = Run::default();
         for level in 0..self.plan.levels {
-            let finest = level + 1 == self.plan.levels;
-            self.solve_level(&mut run, load, level, guess, finest, opts)?;
+            let level_opts = if level + 1 == self.plan.levels {
+                *opts
+            } else {
+                coarse_options(opts, self.finger(level)?.len())
+            };
+            self.solve_level(&mut run, load, level, guess, &level_opts)?;
         }
         Ok(self.finish(run))
     }
 
-    /// Solves `level`, from the previous level's solution when there is
-    /// one (else from `guess`).
+    /// Solves `level` with `level_opts`, from the previous level's solution
+    /// when there is one (else from `guess`).
     fn solve_level(
         &mut self,
         run: &mut Run,
         load: &Load,
         level: usize,
         guess: Option<&Coefficients>,
-        finest: bool,
-        opts: &SolveOptions,
+        level_opts: &SolveOptions,
     ) -> Result<(), SolveError> {
         let finger = self.finger(level)?;
-        let level_opts = if finest {
-            *opts
-        } else {
-            coarse_options(opts, finger.len())
-        };
         let sol = match &run.last {
             // nested iteration; a failed warm start falls back to a cold one
             Some(prev) if prev.coefficients.elements() * 2 == finger.len() => {
@@ -459,8 +465,8 @@ impl Refiner {
         Ok(())
     }
 
-    /// Re-solves the finest level with the caller's options (a level solved
-    /// as an intermediate one computed the tip only, to a looser tolerance).
+    /// Re-solves the finest level with the caller's options when they ask
+    /// for more than the tip (the level was solved as [`tip_options`]).
     fn finalise(
         &mut self,
         run: &mut Run,
@@ -470,11 +476,10 @@ impl Refiner {
         let Some(prev) = &run.last else {
             return Ok(());
         };
-        let finger = self.finger(run.levels.len() - 1)?;
-        let solved = coarse_options(opts, finger.len());
-        if (opts.shape, opts.stability, opts.rtol) == (false, false, solved.rtol) {
+        if (opts.shape, opts.stability) == (false, false) {
             return Ok(());
         }
+        let finger = self.finger(run.levels.len() - 1)?;
         let sol = finger.solve_from(load, &prev.coefficients, opts)?;
         run.last = Some(sol);
         Ok(())
@@ -563,7 +568,14 @@ pub fn solve_to_tip_tolerance(
     let mut run = Run::default();
     let mut level = 0;
     loop {
-        refiner.solve_level(&mut run, load, level, None, false, opts)?;
+        // one level never has an estimate, so the first is intermediate;
+        // any later one may be the last: the caller's tolerance, tip only
+        let level_opts = if level == 0 {
+            coarse_options(opts, refiner.finger(0)?.len())
+        } else {
+            tip_options(opts)
+        };
+        refiner.solve_level(&mut run, load, level, None, &level_opts)?;
         let plan = Refinement {
             levels: run.levels.len(),
             ..refiner.plan
