@@ -243,6 +243,44 @@ impl Newton {
             rep.max_shift = rep.max_shift.max(tau);
             last_tau = tau;
             let gtp = dot(&self.g, &self.p);
+            // A start known to be close (trusted_start): the first full step
+            // is evaluated with its gradient, and if it decreased the energy
+            // as the quadratic model said, chord steps follow at once.
+            let chord = o.eager_full_steps && o.chord_steps;
+            if chord && o.trusted_start && rep.iterations == 0 && tau == 0.0 {
+                for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
+                    *xt = xi + pi;
+                }
+                let ft = p.gradient(&self.xt, &mut self.gt);
+                rep.gradient_evals += 1;
+                if ft.is_finite() && all_finite(&self.gt) && ft <= f + o.c1 * gtp {
+                    x.copy_from_slice(&self.xt);
+                    self.g.copy_from_slice(&self.gt);
+                    rep.iterations += 1;
+                    rep.step_norm = norm_inf(&self.p);
+                    let fit = (ft - f) / (0.5 * gtp);
+                    if (fit - 1.0).abs() <= MODEL_FIT {
+                        match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
+                            Some(next) => (f, gnorm, quadratic_prev) = next,
+                            None => break,
+                        }
+                    } else {
+                        let fh = p.hessian(x, &mut self.g);
+                        rep.hessian_evals += 1;
+                        if !(fh.is_finite() && all_finite(&self.g)) {
+                            rep.energy = ft;
+                            rep.residual_norm = norm_inf(&self.gt);
+                            rep.reason = Termination::NonFinite;
+                            break;
+                        }
+                        quadratic_prev = gnorm;
+                        f = fh;
+                        gnorm = norm_inf(&self.g);
+                    }
+                    continue;
+                }
+                // rejected: the line search below starts from x
+            }
             // In the quadratic phase the full step is almost always accepted:
             // evaluate the point it lands on with the derivatives the next
             // iteration needs, instead of an energy first and the Hessian
@@ -317,7 +355,6 @@ impl Newton {
             // (the actual decrease over 1/2 g^T p): close to the minimum,
             // where chord steps may follow it
             let fit = (ft - f) / (0.5 * gtp);
-            let chord = o.eager_full_steps && o.chord_steps;
             if chord && alpha == 1.0 && tau == 0.0 && (fit - 1.0).abs() <= MODEL_FIT {
                 let fg = p.gradient(&self.xt, &mut self.gt);
                 rep.gradient_evals += 1;

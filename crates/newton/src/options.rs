@@ -200,6 +200,13 @@ pub struct NewtonOptions {
     /// and [`gradient`](crate::Gradient::gradient) leave the Hessian and
     /// its factorisation alone. Default true.
     pub chord_steps: bool,
+    /// The start is known to lie close to the minimum (a nested
+    /// iteration's prolongated state): with
+    /// [`chord_steps`](Self::chord_steps), the first full step is
+    /// evaluated with its gradient instead of its energy, so that chord
+    /// steps can follow it without another evaluation. A rejected first
+    /// step then costs a gradient instead of an energy. Default false.
+    pub trusted_start: bool,
 }
 
 impl Default for NewtonOptions {
@@ -214,6 +221,7 @@ impl Default for NewtonOptions {
             max_step: f64::INFINITY,
             eager_full_steps: true,
             chord_steps: true,
+            trusted_start: false,
         }
     }
 }

@@ -97,6 +97,48 @@ fn chord_steps_save_hessians_and_keep_the_minimiser() {
     );
 }
 
+/// A trusted start (nested iteration) evaluates the first full step with
+/// its gradient: from close to the minimum that replaces the energy
+/// evaluation; from far away the step is rejected and the solve goes on as
+/// without it. The minimiser is the same either way.
+#[test]
+fn trusted_starts_skip_the_first_energy_and_keep_the_minimiser() {
+    let mut rng = Lcg::new(11);
+    for &n in &[4usize, 12] {
+        let mut q = QuadQuartic::random(n, true, &mut rng);
+        let mut x_ref = vec![0.0; n];
+        let r =
+            Newton::new(n, NewtonOptions::default()).minimize(&mut Dense::new(&mut q), &mut x_ref);
+        assert!(r.converged());
+        let trusted = NewtonOptions {
+            trusted_start: true,
+            ..NewtonOptions::default()
+        };
+        for (offset, near) in [(1e-3, true), (3.0, false)] {
+            let start: Vec<f64> = x_ref
+                .iter()
+                .enumerate()
+                .map(|(i, v)| v + offset * ((i as f64) + 1.0).sin())
+                .collect();
+            let mut xa = start.clone();
+            let ra = Newton::new(n, trusted).minimize(&mut Dense::new(&mut q), &mut xa);
+            let mut xb = start.clone();
+            let rb =
+                Newton::new(n, NewtonOptions::default()).minimize(&mut Dense::new(&mut q), &mut xb);
+            assert!(ra.converged() && rb.converged(), "n = {n}: {ra} / {rb}");
+            assert!(
+                max_abs_diff(&xa, &x_ref) <= 1e-8 * (1.0 + norm_inf_of(&x_ref)),
+                "n = {n}"
+            );
+            if near {
+                assert_eq!(ra.energy_evals, 0, "n = {n}: {ra}");
+                assert!(rb.energy_evals >= 1, "n = {n}: {rb}");
+                assert!(ra.hessian_evals <= rb.hessian_evals, "n = {n}: {ra} / {rb}");
+            }
+        }
+    }
+}
+
 #[test]
 fn newton_backends_agree() {
     let n = 10;
