@@ -426,7 +426,8 @@ impl Refiner {
             } else {
                 coarse_options(opts, self.finger(level)?.len())
             };
-            self.solve_level(&mut run, load, level, guess, &level_opts)?;
+            let intermediate = level + 1 < self.plan.levels;
+            self.solve_level(&mut run, load, level, guess, &level_opts, intermediate)?;
         }
         Ok(self.finish(run))
     }
@@ -440,47 +441,73 @@ impl Refiner {
         level: usize,
         guess: Option<&Coefficients>,
         level_opts: &SolveOptions,
+        intermediate: bool,
     ) -> Result<(), SolveError> {
         let finger = self.finger(level)?;
-        let sol = match &run.last {
-            // nested iteration; a failed warm start falls back to a cold one
-            Some(prev) if prev.coefficients.elements() * 2 == finger.len() => {
-                let guess = halved_guess(&prev.coefficients)?;
-                finger
-                    .solve_from(load, &guess, &level_opts)
-                    .or_else(|_| finger.solve(load, &level_opts))?
-            }
-            _ => match guess {
-                Some(g) => finger.solve_from(load, g, &level_opts)?,
-                None => finger.solve(load, &level_opts)?,
-            },
+        // nested iteration from the previous level (a failed warm start
+        // falls back to a cold one), else from `guess`
+        let nested = match &run.state {
+            Some(prev) if prev.elements() * 2 == finger.len() => Some(halved_guess(prev)?),
+            _ => None,
         };
-        run.levels.push(Level {
-            elements: finger.len(),
-            tip: sol.tip,
-            end_angle: sol.end_angle,
-            iterations: sol.report.iterations,
-        });
-        run.last = Some(sol);
+        let start = nested.as_ref().or(guess);
+        let trusted = nested.is_some();
+        let (state, level) = if intermediate {
+            // only the state and the tip: no Solution for a level nobody sees
+            let t = match finger.solve_tip(load, start, level_opts, trusted) {
+                Err(_) if trusted => finger.solve_tip(load, None, level_opts, false),
+                r => r,
+            }?;
+            run.last = None;
+            let level = Level {
+                elements: finger.len(),
+                tip: t.tip,
+                end_angle: t.end_angle,
+                iterations: t.iterations,
+            };
+            (t.coefficients, level)
+        } else {
+            let solve = |g: Option<&Coefficients>| match g {
+                Some(g) if trusted => finger.solve_trusted(load, g, level_opts),
+                Some(g) => finger.solve_from(load, g, level_opts),
+                None => finger.solve(load, level_opts),
+            };
+            let sol = match solve(start) {
+                Err(_) if trusted => solve(None),
+                r => r,
+            }?;
+            let level = Level {
+                elements: finger.len(),
+                tip: sol.tip,
+                end_angle: sol.end_angle,
+                iterations: sol.report.iterations,
+            };
+            let state = sol.coefficients.clone();
+            run.last = Some(sol);
+            (state, level)
+        };
+        run.levels.push(level);
+        run.state = Some(state);
         Ok(())
     }
 
     /// Re-solves the finest level with the caller's options when they ask
-    /// for more than the tip (the level was solved as [`tip_options`]).
+    /// for more than the tip (the level was solved as [`tip_options`]), or
+    /// when it was solved as an intermediate one.
     fn finalise(
         &mut self,
         run: &mut Run,
         load: &Load,
         opts: &SolveOptions,
     ) -> Result<(), SolveError> {
-        let Some(prev) = &run.last else {
+        let Some(state) = &run.state else {
             return Ok(());
         };
-        if (opts.shape, opts.stability) == (false, false) {
+        if run.last.is_some() && (opts.shape, opts.stability) == (false, false) {
             return Ok(());
         }
         let finger = self.finger(run.levels.len() - 1)?;
-        let sol = finger.solve_from(load, &prev.coefficients, opts)?;
+        let sol = finger.solve_from(load, state, opts)?;
         run.last = Some(sol);
         Ok(())
     }
@@ -511,6 +538,9 @@ impl Refiner {
 #[derive(Default)]
 struct Run {
     levels: Vec<Level>,
+    /// The last level's state (raw coefficients).
+    state: Option<Coefficients>,
+    /// The last level's solution, when it was solved as one.
     last: Option<Solution>,
 }
 
@@ -575,7 +605,7 @@ pub fn solve_to_tip_tolerance(
         } else {
             tip_options(opts)
         };
-        refiner.solve_level(&mut run, load, level, None, &level_opts)?;
+        refiner.solve_level(&mut run, load, level, None, &level_opts, level == 0)?;
         let plan = Refinement {
             levels: run.levels.len(),
             ..refiner.plan

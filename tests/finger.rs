@@ -1077,3 +1077,26 @@ fn coarse_fingers_solve_promptly() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// A solver hands its buffers to the next solver of the same finger
+/// (`Finger::solve` builds one per call): what a solve leaves in them must
+/// not change the next answer. The same scene after others (a decoupled
+/// one, a coupled one from elsewhere) gives bit-identical coefficients, and
+/// so does a copy of the finger.
+#[test]
+fn reused_solver_buffers_do_not_change_answers() {
+    let f = Finger::paper(0.25, 8).unwrap();
+    let opts = SolveOptions::default();
+    let tip = Load::unloaded().with_tip_force(FX, FZ);
+    let first = f.solve(&tip, &opts).unwrap();
+    let _ = f.solve(&pressure(200.0), &opts).unwrap();
+    let _ = f
+        .solve(&Load::unloaded().with_tip_force(-2.0, 3.0), &opts)
+        .unwrap();
+    let again = f.solve(&tip, &opts).unwrap();
+    assert_eq!(first.coefficients, again.coefficients);
+    assert_eq!(first.tip, again.tip);
+    let copy = f.clone();
+    let on_copy = copy.solve(&tip, &opts).unwrap();
+    assert_eq!(first.coefficients, on_copy.coefficients);
+}

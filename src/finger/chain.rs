@@ -49,14 +49,24 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     pub matrix: Semiseparable,
 }
 
-impl<'a, M: ElementModel> Chain<'a, M> {
-    /// The problem for `finger` with no load (see [`Chain::set_load`]).
-    pub fn new(finger: &'a FingerCore<M>) -> Chain<'a, M> {
-        let n = finger.len();
-        Chain {
-            finger,
-            scalars: Load::unloaded().scalars(),
-            f: [0.0, 0.0],
+/// A chain's buffers without its finger, kept between solvers
+/// ([`Chain::take_parts`], [`Chain::with_parts`]).
+pub(crate) struct ChainParts<M: ElementModel> {
+    k: Vec<M::Coeffs>,
+    end_g: Vec<[M::Coeffs; 3]>,
+    end_h: Vec<[M::Upper; 3]>,
+    rot: Vec<[f64; 2]>,
+    q: Vec<[f64; 2]>,
+    u: Vec<M::Coeffs>,
+    w: Vec<M::Coeffs>,
+    blk: Vec<M::Upper>,
+    matrix: Semiseparable,
+}
+
+impl<M: ElementModel> ChainParts<M> {
+    /// Buffers for `n` elements.
+    fn new(n: usize) -> ChainParts<M> {
+        ChainParts {
             k: vec![M::Coeffs::zero(); n],
             end_g: vec![[M::Coeffs::zero(); 3]; n],
             end_h: vec![[M::Upper::zero(); 3]; n],
@@ -65,9 +75,62 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             u: vec![M::Coeffs::zero(); n],
             w: vec![M::Coeffs::zero(); n],
             blk: vec![M::Upper::zero(); n],
+            matrix: Semiseparable::new(M::Coeffs::LEN, n),
+        }
+    }
+
+    /// The number of elements they are for.
+    pub fn len(&self) -> usize {
+        self.k.len()
+    }
+}
+
+impl<'a, M: ElementModel> Chain<'a, M> {
+    /// The problem for `finger` with no load (see [`Chain::set_load`]).
+    pub fn new(finger: &'a FingerCore<M>) -> Chain<'a, M> {
+        Chain::with_parts(finger, None)
+    }
+
+    /// [`Chain::new`], in `parts` when they are for as many elements
+    /// (every buffer is written before it is read, so their contents do
+    /// not matter).
+    pub fn with_parts(finger: &'a FingerCore<M>, parts: Option<ChainParts<M>>) -> Chain<'a, M> {
+        let n = finger.len();
+        let p = parts
+            .filter(|p| p.len() == n)
+            .unwrap_or_else(|| ChainParts::new(n));
+        Chain {
+            finger,
+            scalars: Load::unloaded().scalars(),
+            f: [0.0, 0.0],
+            k: p.k,
+            end_g: p.end_g,
+            end_h: p.end_h,
+            rot: p.rot,
+            q: p.q,
+            u: p.u,
+            w: p.w,
+            blk: p.blk,
             tip: [0.0, 0.0],
             force_chain: false,
-            matrix: Semiseparable::new(M::Coeffs::LEN, n),
+            matrix: p.matrix,
+        }
+    }
+
+    /// Moves the buffers out, leaving empty ones (the chain is unusable
+    /// afterwards).
+    pub fn take_parts(&mut self) -> ChainParts<M> {
+        use std::mem::take;
+        ChainParts {
+            k: take(&mut self.k),
+            end_g: take(&mut self.end_g),
+            end_h: take(&mut self.end_h),
+            rot: take(&mut self.rot),
+            q: take(&mut self.q),
+            u: take(&mut self.u),
+            w: take(&mut self.w),
+            blk: take(&mut self.blk),
+            matrix: std::mem::replace(&mut self.matrix, Semiseparable::new(0, 0)),
         }
     }
 

@@ -384,6 +384,15 @@ pub(crate) trait SolverDyn {
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError>;
+    fn solve_tip(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<solver::TipSolve, SolveError>;
+    /// Says that the guesses are close to the equilibrium (nested
+    /// iteration).
+    fn trust_start(&mut self, on: bool);
     fn solve_target(
         &mut self,
         problem: &TargetProblem,
@@ -652,6 +661,34 @@ impl Finger {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         Solver::new(self).solve(load, Some(guess), opts)
+    }
+
+    /// Solves a scene for its state, tip and end angle only (no energy,
+    /// stability, shape or validity findings): for intermediate results
+    /// that are not handed to users.
+    pub(crate) fn solve_tip(
+        &self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+        trusted: bool,
+    ) -> Result<solver::TipSolve, SolveError> {
+        let mut s = self.core.solver(&self.warnings);
+        s.trust_start(trusted);
+        s.solve_tip(load, guess, opts)
+    }
+
+    /// [`Finger::solve_from`] from a guess known to be close to the
+    /// equilibrium (a nested refinement level's prolongated state).
+    pub(crate) fn solve_trusted(
+        &self,
+        load: &Load,
+        guess: &Coefficients,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        let mut s = self.core.solver(&self.warnings);
+        s.trust_start(true);
+        s.solve(load, Some(guess), opts)
     }
 }
 

@@ -30,6 +30,8 @@ pub(crate) struct FingerCore<M: ElementModel> {
     /// The prestressed layer's z range and prestrain (validity checks).
     pub pemc_z: (f64, f64),
     pub eps0: f64,
+    /// A dropped solver's buffers, for the next solver.
+    pub workspaces: super::solver::WorkspacePool<M>,
 }
 
 impl<M: ElementModel> FingerCore<M> {
@@ -58,6 +60,7 @@ impl<M: ElementModel> FingerCore<M> {
             stiffness: stiffness.max(f64::MIN_POSITIVE),
             pemc_z: actuator.pemc_z(),
             eps0: actuator.eps0(),
+            workspaces: Default::default(),
         }
     }
 
@@ -297,6 +300,19 @@ impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         SolverCore::solve(self, load, guess, opts)
+    }
+
+    fn solve_tip(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<super::solver::TipSolve, SolveError> {
+        SolverCore::solve_tip(self, load, guess, opts)
+    }
+
+    fn trust_start(&mut self, on: bool) {
+        self.trusted_start = on;
     }
 
     fn solve_target(

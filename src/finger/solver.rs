@@ -11,13 +11,41 @@ use crate::error::{InputError, SolveError, Warning};
 use crate::fit::fit_circle;
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
-use super::chain::Chain;
+use std::sync::Mutex;
+
+use super::chain::{Chain, ChainParts};
 use super::problem::FingerCore;
 use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport, Strategy};
 
 /// Validity checks per element (the ends of 4 equal sub-intervals; the
 /// paper's element is monotone in x, so its extremes are at the ends).
 pub(crate) const VALIDITY_SAMPLES: usize = 4;
+
+/// Hands the buffers to the next solver of the finger.
+impl<M: ElementModel> Drop for SolverCore<'_, M> {
+    fn drop(&mut self) {
+        let spare = Spare {
+            chain: self.chain.take_parts(),
+            newton: std::mem::replace(&mut self.newton, Newton::new(0, NewtonOptions::default())),
+            y: std::mem::take(&mut self.y),
+            start: std::mem::take(&mut self.start),
+        };
+        self.finger.workspaces.put(spare);
+    }
+}
+
+/// The state of a tip-only solve ([`SolverCore::solve_tip`]).
+#[derive(Debug, Clone)]
+pub(crate) struct TipSolve {
+    /// Raw coefficients.
+    pub coefficients: Coefficients,
+    /// Tip (mm, finger frame).
+    pub tip: [f64; 2],
+    /// End tangent angle (rad).
+    pub end_angle: f64,
+    /// Newton iterations.
+    pub iterations: usize,
+}
 
 /// A reusable solver workspace for model `M`.
 pub(crate) struct SolverCore<'a, M: ElementModel> {
@@ -38,6 +66,9 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     start: Vec<f64>,
     /// Pi at the end of the last coupled Newton solve (taken by `finish`).
     final_energy: Option<f64>,
+    /// The guesses are close to the equilibrium (a nested refinement
+    /// level's prolongated state): Newton's `trusted_start`.
+    pub trusted_start: bool,
 }
 
 pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOptions, InputError> {
@@ -55,19 +86,76 @@ pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOpt
     Ok(nopts)
 }
 
+/// The buffers of a dropped solver, which the next solver of the same
+/// finger takes instead of allocating its own ([`WorkspacePool`]).
+pub(crate) struct Spare<M: ElementModel> {
+    chain: ChainParts<M>,
+    newton: Newton,
+    y: Vec<f64>,
+    start: Vec<f64>,
+}
+
+/// One spare solver workspace per finger: `Finger::solve` builds a solver
+/// per call, and a refinement one per level, and each would otherwise
+/// allocate some twenty buffers. Solvers of the same finger on other
+/// threads at the same time allocate their own.
+pub(crate) struct WorkspacePool<M: ElementModel>(Mutex<Option<Spare<M>>>);
+
+impl<M: ElementModel> WorkspacePool<M> {
+    fn take(&self) -> Option<Spare<M>> {
+        self.0.try_lock().ok().and_then(|mut s| s.take())
+    }
+
+    fn put(&self, spare: Spare<M>) {
+        if let Ok(mut s) = self.0.try_lock() {
+            *s = Some(spare);
+        }
+    }
+}
+
+impl<M: ElementModel> Default for WorkspacePool<M> {
+    fn default() -> Self {
+        WorkspacePool(Mutex::new(None))
+    }
+}
+
+/// A copy of a finger starts without a spare workspace.
+impl<M: ElementModel> Clone for WorkspacePool<M> {
+    fn clone(&self) -> Self {
+        WorkspacePool::default()
+    }
+}
+
+impl<M: ElementModel> std::fmt::Debug for WorkspacePool<M> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("WorkspacePool")
+    }
+}
+
 impl<'a, M: ElementModel> SolverCore<'a, M> {
     pub fn new(finger: &'a FingerCore<M>, warnings: &'a [Warning]) -> SolverCore<'a, M> {
         let dim = M::Coeffs::LEN * finger.len();
+        let spare = finger.workspaces.take().filter(|s| s.y.len() == dim);
+        let (chain, newton, y, start) = match spare {
+            Some(s) => (Some(s.chain), s.newton, s.y, s.start),
+            None => (
+                None,
+                Newton::new(dim, NewtonOptions::default()),
+                vec![0.0; dim],
+                vec![0.0; dim],
+            ),
+        };
         SolverCore {
             finger,
             warnings,
-            chain: Chain::new(finger),
-            newton: Newton::new(dim, NewtonOptions::default()),
+            chain: Chain::with_parts(finger, chain),
+            newton,
             bordered: None,
             local: None,
-            y: vec![0.0; dim],
-            start: vec![0.0; dim],
+            y,
+            start,
             final_energy: None,
+            trusted_start: false,
         }
     }
 
@@ -78,13 +166,64 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
+        let (report, decoupled) = self.equilibrium(load, guess, opts)?;
+        self.finish(load, opts, report, decoupled)
+    }
+
+    /// Solves a scene for the tip alone: the state, its tip and end angle,
+    /// without the energy, stability, shape or validity findings of a
+    /// [`Solution`] (a refinement's intermediate level, whose state only
+    /// starts the next one).
+    pub fn solve_tip(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<TipSolve, SolveError> {
+        let (report, _) = self.equilibrium(load, guess, opts)?;
+        self.final_energy = None;
+        let f = self.finger;
+        let coefficients = self.coefficients();
+        let k = coefficients.as_slice();
+        let tip = f.tip_position(k);
+        let end_angle: f64 = (0..f.len())
+            .map(|i| f.elements[i].end(&FingerCore::<M>::element_coeffs(k, i))[2])
+            .sum();
+        if !(tip.iter().all(|v| v.is_finite()) && end_angle.is_finite()) {
+            return Err(SolveError::NotConverged {
+                reason: Termination::NonFinite,
+                iterations: report.iterations,
+                relative_residual: f64::INFINITY,
+                element: None,
+                last: coefficients,
+            });
+        }
+        Ok(TipSolve {
+            coefficients,
+            tip,
+            end_angle,
+            iterations: report.iterations,
+        })
+    }
+
+    /// The equilibrium of a scene in `self.y`, with its report and whether
+    /// it was solved element by element.
+    fn equilibrium(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<(SolveReport, bool), SolveError> {
         load.validate()?;
         opts.validate()?;
         let f = self.finger;
         if let Some(g) = guess {
             check_guess(g, f.len(), M::Coeffs::LEN)?;
         }
-        let nopts = newton_options(opts.rtol * f.stiffness, opts)?;
+        let nopts = NewtonOptions {
+            trusted_start: self.trusted_start && guess.is_some(),
+            ..newton_options(opts.rtol * f.stiffness, opts)?
+        };
         // validated above: setting cannot fail
         let _ = self.newton.set_options(nopts);
         let decoupled = !load.has_tip_load() && opts.strategy == Strategy::Auto;
@@ -94,7 +233,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             self.solve_coupled(load, guess, opts)?
         };
         report.residual_norm /= f.stiffness;
-        self.finish(load, opts, report, decoupled)
+        Ok((report, decoupled))
     }
 
     pub fn load_guess(&mut self, guess: Option<&Coefficients>) {
