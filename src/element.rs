@@ -97,7 +97,8 @@ impl<M: ElementModel> Element<M> {
         // the tangent is of order 1: no overflow for hypot to guard against
         let r = (dx * dx + dz * dz).sqrt();
         if r > 0.0 {
-            [xe, ze, dx / r, dz / r]
+            let inv = 1.0 / r;
+            [xe, ze, dx * inv, dz * inv]
         } else {
             [xe, ze, 1.0, 0.0]
         }
