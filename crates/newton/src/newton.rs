@@ -23,7 +23,7 @@ const CHORD_RATIO: f64 = 0.1;
 /// Chord steps continue while at most this many more are expected to reach
 /// `gtol` (a chord step costs about half a Newton step here); the
 /// gradient-only landing of a predicted full step is tried when at most
-/// one more is expected beyond it.
+/// two more are expected beyond it (the prediction is pessimistic).
 const CHORD_STEPS_AHEAD: f64 = 2.0;
 
 /// A full line-search step starts chord steps when its actual decrease is
@@ -77,15 +77,17 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
 /// quadratic phase, when the quadratic model predicts that the full step
 /// cuts the gradient norm at least tenfold and that a few more such cuts
-/// reach `gtol`, and after a full unshifted step of the line search whose
-/// energy decrease matched the quadratic model's to 1 %, only the gradient
-/// is evaluated where it lands; then the
-/// next steps solve with the factorisation already at hand (`p = -H_old^-1
-/// g`, a gradient and a solve each) for as long as the last cut was at
-/// least tenfold and at most two more steps at that rate reach `gtol` (and
-/// at most four in all), and the Hessian is evaluated at the last accepted
-/// point only if they stop short of convergence. A chord step is accepted like the round-off rule
-/// below or by Armijo, and only if it reduces the gradient norm.
+/// reach `gtol`; after a full unshifted step of the line search whose
+/// energy decrease matched the quadratic model's to 1 %; and for the first
+/// full step from a trusted start ([`NewtonOptions::trusted_start`]): only
+/// the gradient is evaluated where the step lands. Then the next steps
+/// solve with the factorisation already at hand (`p = -H_old^-1 g`, a
+/// gradient and a solve each) for as long as the last cut was at least
+/// tenfold and at most two more steps at that rate reach `gtol` (at most
+/// four in all), and the Hessian is evaluated at the last accepted point
+/// only if they stop short of convergence. A chord step is accepted by
+/// Armijo or by the round-off rule below, and only if it reduces the
+/// gradient norm.
 ///
 /// Accepted steps therefore strictly decrease the energy, with one
 /// documented exception for the round-off regime close to a minimum, where
@@ -244,8 +246,8 @@ impl Newton {
             last_tau = tau;
             let gtp = dot(&self.g, &self.p);
             // A start known to be close (trusted_start): the first full step
-            // is evaluated with its gradient, and if it decreased the energy
-            // as the quadratic model said, chord steps follow at once.
+            // is evaluated with its gradient, and chord steps follow at once
+            // if it cut the gradient enough (else the Hessian there).
             let chord = o.eager_full_steps && o.chord_steps;
             if chord && o.trusted_start && rep.iterations == 0 && tau == 0.0 {
                 for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
@@ -258,24 +260,9 @@ impl Newton {
                     self.g.copy_from_slice(&self.gt);
                     rep.iterations += 1;
                     rep.step_norm = norm_inf(&self.p);
-                    let fit = (ft - f) / (0.5 * gtp);
-                    if (fit - 1.0).abs() <= MODEL_FIT {
-                        match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
-                            Some(next) => (f, gnorm, quadratic_prev) = next,
-                            None => break,
-                        }
-                    } else {
-                        let fh = p.hessian(x, &mut self.g);
-                        rep.hessian_evals += 1;
-                        if !(fh.is_finite() && all_finite(&self.g)) {
-                            rep.energy = ft;
-                            rep.residual_norm = norm_inf(&self.gt);
-                            rep.reason = Termination::NonFinite;
-                            break;
-                        }
-                        quadratic_prev = gnorm;
-                        f = fh;
-                        gnorm = norm_inf(&self.g);
+                    match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
+                        Some(next) => (f, gnorm, quadratic_prev) = next,
+                        None => break,
                     }
                     continue;
                 }
