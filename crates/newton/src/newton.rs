@@ -34,6 +34,18 @@ const MODEL_FIT: f64 = 1e-2;
 /// At most this many chord steps follow one Hessian.
 const MAX_CHORD_STEPS: usize = 4;
 
+/// What [`Newton::land_with_gradient`] made of a full step.
+enum Landing {
+    /// Not accepted: the iterate is unchanged.
+    Rejected,
+    /// Accepted (and chord steps taken): value, gradient norm and the norm
+    /// before the last step.
+    Next((f64, f64, f64)),
+    /// A non-finite Hessian where the chord steps stopped (the report says
+    /// why).
+    Failed,
+}
+
 /// Steps expected from gradient norm `g` to `gtol` when each multiplies it
 /// by `r` (infinite unless `0 < r < 1`).
 fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
@@ -250,23 +262,16 @@ impl Newton {
             // if it cut the gradient enough (else the Hessian there).
             let chord = o.eager_full_steps && o.chord_steps;
             if chord && o.trusted_start && rep.iterations == 0 && tau == 0.0 {
-                for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
-                    *xt = xi + pi;
-                }
-                let ft = p.gradient(&self.xt, &mut self.gt);
-                rep.gradient_evals += 1;
-                if ft.is_finite() && all_finite(&self.gt) && ft <= f + o.c1 * gtp {
-                    x.copy_from_slice(&self.xt);
-                    self.g.copy_from_slice(&self.gt);
-                    rep.iterations += 1;
-                    rep.step_norm = norm_inf(&self.p);
-                    match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
-                        Some(next) => (f, gnorm, quadratic_prev) = next,
-                        None => break,
+                self.full_step(x);
+                match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
+                    Landing::Next(next) => {
+                        (f, gnorm, quadratic_prev) = next;
+                        continue;
                     }
-                    continue;
+                    Landing::Failed => break,
+                    // the line search below starts from x
+                    Landing::Rejected => {}
                 }
-                // rejected: the line search below starts from x
             }
             // In the quadratic phase the full step is almost always accepted:
             // evaluate the point it lands on with the derivatives the next
@@ -274,9 +279,7 @@ impl Newton {
             // after. When the quadratic model predicts convergence there,
             // the gradient alone decides (no Hessian for the last step).
             if o.eager_full_steps && tau == 0.0 && quadratic_prev.is_finite() {
-                for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
-                    *xt = xi + pi;
-                }
+                self.full_step(x);
                 let predicted = gnorm * gnorm * gnorm / (quadratic_prev * quadratic_prev);
                 if predicted < 0.1 * o.gtol {
                     let ft = p.gradient(&self.xt, &mut self.gt);
@@ -299,21 +302,16 @@ impl Newton {
                     && predicted <= CHORD_RATIO * gnorm
                     && steps_to(predicted, predicted / gnorm, o.gtol) <= CHORD_STEPS_AHEAD + 2.0
                 {
-                    let ft = p.gradient(&self.xt, &mut self.gt);
-                    rep.gradient_evals += 1;
-                    if ft.is_finite() && all_finite(&self.gt) && ft <= f + o.c1 * gtp {
-                        x.copy_from_slice(&self.xt);
-                        self.g.copy_from_slice(&self.gt);
-                        rep.iterations += 1;
-                        rep.step_norm = norm_inf(&self.p);
-                        match self.chord_then_hessian(p, x, ft, gnorm, &mut rep) {
-                            Some(next) => (f, gnorm, quadratic_prev) = next,
-                            None => break,
+                    match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
+                        Landing::Next(next) => {
+                            (f, gnorm, quadratic_prev) = next;
+                            continue;
                         }
-                        continue;
+                        Landing::Failed => break,
+                        // x, f and g are the current iterate's; the line
+                        // search below starts from them
+                        Landing::Rejected => {}
                     }
-                    // rejected: x, f and g are the current iterate's; the
-                    // line search below starts from them
                 } else {
                     let ft = p.hessian(&self.xt, &mut self.g);
                     rep.hessian_evals += 1;
@@ -343,18 +341,15 @@ impl Newton {
             // where chord steps may follow it
             let fit = (ft - f) / (0.5 * gtp);
             if chord && alpha == 1.0 && tau == 0.0 && (fit - 1.0).abs() <= MODEL_FIT {
-                let fg = p.gradient(&self.xt, &mut self.gt);
-                rep.gradient_evals += 1;
-                if fg.is_finite() && all_finite(&self.gt) {
-                    x.copy_from_slice(&self.xt);
-                    self.g.copy_from_slice(&self.gt);
-                    rep.iterations += 1;
-                    rep.step_norm = norm_inf(&self.p);
-                    match self.chord_then_hessian(p, x, fg, gnorm, &mut rep) {
-                        Some(next) => (f, gnorm, quadratic_prev) = next,
-                        None => break,
+                match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
+                    Landing::Next(next) => {
+                        (f, gnorm, quadratic_prev) = next;
+                        continue;
                     }
-                    continue;
+                    Landing::Failed => break,
+                    // (only if the gradient's value disagrees with the
+                    // energy's): the Hessian at the accepted point below
+                    Landing::Rejected => {}
                 }
             }
             self.xprev.copy_from_slice(x);
@@ -383,6 +378,41 @@ impl Newton {
             }
         }
         rep
+    }
+
+    /// `self.xt = x + self.p`, the full step.
+    fn full_step(&mut self, x: &[f64]) {
+        for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
+            *xt = xi + pi;
+        }
+    }
+
+    /// Evaluates only the gradient at the full step `self.xt` from `x`
+    /// (value `f`, `g^T p = gtp`, gradient norm `gnorm`); if it is finite
+    /// and passes Armijo it becomes the iterate and chord steps follow
+    /// ([`Newton::chord_then_hessian`]).
+    fn land_with_gradient<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &mut [f64],
+        f: f64,
+        gtp: f64,
+        gnorm: f64,
+        rep: &mut Report,
+    ) -> Landing {
+        let ft = p.gradient(&self.xt, &mut self.gt);
+        rep.gradient_evals += 1;
+        if !(ft.is_finite() && all_finite(&self.gt) && ft <= f + self.opts.c1 * gtp) {
+            return Landing::Rejected;
+        }
+        x.copy_from_slice(&self.xt);
+        self.g.copy_from_slice(&self.gt);
+        rep.iterations += 1;
+        rep.step_norm = norm_inf(&self.p);
+        match self.chord_then_hessian(p, x, ft, gnorm, rep) {
+            Some(next) => Landing::Next(next),
+            None => Landing::Failed,
+        }
     }
 
     /// After a step to `x` whose gradient alone was evaluated (in
@@ -452,9 +482,7 @@ impl Newton {
                 let s = o.max_step / len;
                 self.p.iter_mut().for_each(|v| *v *= s);
             }
-            for ((xt, xi), pi) in self.xt.iter_mut().zip(x.iter()).zip(&self.p) {
-                *xt = xi + pi;
-            }
+            self.full_step(x);
             let ft = p.gradient(&self.xt, &mut self.gt);
             rep.gradient_evals += 1;
             let gt = norm_inf(&self.gt);
