@@ -849,7 +849,7 @@ mod tests {
 
     #[test]
     fn equal_elements_without_ribs_have_equal_blocks() {
-        // tests/finger.rs checks the same fingers through the public API
+        // tests/finger/paths.rs checks the same fingers through the public API
         // (equal element energies, equal solutions); here the blocks
         // themselves: N = 8, the last element holds the channel's end;
         // N = 22, 5 mm elements, the last one is the solid wall.

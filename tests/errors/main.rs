@@ -8,7 +8,7 @@
 //! The actuator's and the partition's rules are in
 //! tests/actuator_validation.rs, the scene keys in src/scene/, and which
 //! field the load and guess errors of `Finger::solve` name in
-//! tests/finger.rs; these modules cover the rest, one per subject.
+//! tests/finger/input.rs; these modules cover the rest, one per subject.
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 use std::fmt::{Debug, Display};

@@ -1,0 +1,111 @@
+//! Convergence of the tip in the number of elements.
+
+use super::*;
+
+// ------------------------------------------------------- 5. convergence in N
+
+/// Tip positions for the partitions, the successive differences and the
+/// observed orders `log2(d_k / d_{k+1})`; prints the table.
+fn refinement(title: &str, fingers: &[Finger], load: &Load) -> (Vec<f64>, Vec<f64>) {
+    let opts = SolveOptions::default().tip_only();
+    let sols: Vec<Solution> = fingers
+        .iter()
+        .map(|f| {
+            solve_within(f, *load, opts, 10)
+                .unwrap_or_else(|e| panic!("{title}, N {}: {e}", f.len()))
+        })
+        .collect();
+    let diffs: Vec<f64> = sols.windows(2).map(|w| dist(w[0].tip, w[1].tip)).collect();
+    let orders: Vec<f64> = diffs.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
+    eprintln!("{title}");
+    eprintln!("     N        tip X        tip Z    end angle   |t_N - t_N/2|   order");
+    for (i, (f, s)) in fingers.iter().zip(&sols).enumerate() {
+        let d = if i > 0 {
+            format!("{:.4e}", diffs[i - 1])
+        } else {
+            String::new()
+        };
+        let p = if i > 1 {
+            format!("{:.3}", orders[i - 2])
+        } else {
+            String::new()
+        };
+        eprintln!(
+            "  {:4}  {:11.6}  {:11.6}  {:11.8}  {d:>14}  {p:>6}",
+            f.len(),
+            s.tip[0],
+            s.tip[1],
+            s.end_angle
+        );
+    }
+    (diffs, orders)
+}
+
+#[test]
+fn tip_converges_at_second_order_where_elements_resolve_the_material() {
+    // Without ribs and with element ends on the channel's end (x = 105 mm),
+    // every element is homogeneous along x: the only error is the element's
+    // polynomial kinematics, and the order is 2. Partition: 4m elements over
+    // the channel and m over the 5 mm solid wall.
+    let act = Actuator::paper(0.25).unwrap();
+    let fingers: Vec<Finger> = [1usize, 2, 4, 8]
+        .iter()
+        .map(|&m| {
+            let mut lengths = vec![105.0 / (4 * m) as f64; 4 * m];
+            lengths.extend(vec![5.0 / m as f64; m]);
+            Finger::new(&act, &Partition::custom(lengths, 110.0).unwrap(), false)
+        })
+        .collect();
+    for (name, load) in [
+        ("unloaded", Load::unloaded()),
+        ("tip load", Load::unloaded().with_tip_force(FX, FZ)),
+        ("100 kPa", pressure(100.0)),
+    ] {
+        let title = format!("eps0 0.25, no ribs, channel-aligned elements, {name}");
+        let (diffs, orders) = refinement(&title, &fingers, &load);
+        assert!(diffs.windows(2).all(|w| w[1] < w[0]), "{title}: {diffs:?}");
+        for p in &orders {
+            assert!((1.5..=3.0).contains(p), "{title}: observed order {p}");
+        }
+    }
+}
+
+#[test]
+fn tip_converges_in_n_for_the_default_finger() {
+    // The default finger (ribs, N equal elements): N = 4, 8, 16, 32.
+    // Unloaded, the order is near 2 over this range (1.68, 2.24), but that
+    // is pre-asymptotic: refined further (N = 64, 128) the differences stall
+    // (1.5e-2, 1.7e-2) because of the cut ribs explained below.
+    let fingers: Vec<Finger> = [4usize, 8, 16, 32]
+        .iter()
+        .map(|&n| Finger::paper(0.25, n).unwrap())
+        .collect();
+    let (diffs, orders) = refinement(
+        "eps0 0.25, default finger (ribs, equal elements), unloaded",
+        &fingers,
+        &Load::unloaded(),
+    );
+    assert!(diffs.windows(2).all(|w| w[1] < w[0]), "{diffs:?}");
+    for p in &orders {
+        assert!((1.5..=3.0).contains(p), "unloaded: observed order {p}");
+    }
+    // Loaded, the rib edges (every 8 mm) and the channel's end fall inside
+    // elements. An element has one curvature, the stiffness-weighted mean of
+    // its parts rather than their length-weighted mean, which costs O(L) in
+    // turning per cut element, and the number of cut rib edges does not
+    // grow with N: the observed order drops towards 1 (tip load 1.15, 1.42;
+    // 100 kPa 1.59, 1.27) and varies with where the cuts fall (see the
+    // channel-aligned study for the element's own order 2). Asserted: at
+    // least first-order shrinkage.
+    for (name, load) in [
+        ("tip load", Load::unloaded().with_tip_force(FX, FZ)),
+        ("100 kPa", pressure(100.0)),
+    ] {
+        let title = format!("eps0 0.25, default finger (ribs, equal elements), {name}");
+        let (diffs, orders) = refinement(&title, &fingers, &load);
+        assert!(diffs.windows(2).all(|w| w[1] < w[0]), "{title}: {diffs:?}");
+        for p in &orders {
+            assert!(*p >= 1.0, "{title}: observed order {p}");
+        }
+    }
+}
