@@ -452,6 +452,12 @@ impl Refiner {
         };
         let start = nested.as_ref().or(guess);
         let trusted = nested.is_some();
+        let level = |tip, end_angle, iterations| Level {
+            elements: finger.len(),
+            tip,
+            end_angle,
+            iterations,
+        };
         let (state, level) = if intermediate {
             // only the state and the tip: no Solution for a level nobody sees
             let t = match finger.solve_tip(load, start, level_opts, trusted) {
@@ -459,13 +465,7 @@ impl Refiner {
                 r => r,
             }?;
             run.last = None;
-            let level = Level {
-                elements: finger.len(),
-                tip: t.tip,
-                end_angle: t.end_angle,
-                iterations: t.iterations,
-            };
-            (t.coefficients, level)
+            (t.coefficients, level(t.tip, t.end_angle, t.iterations))
         } else {
             let solve = |g: Option<&Coefficients>| match g {
                 Some(g) if trusted => finger.solve_trusted(load, g, level_opts),
@@ -476,15 +476,10 @@ impl Refiner {
                 Err(_) if trusted => solve(None),
                 r => r,
             }?;
-            let level = Level {
-                elements: finger.len(),
-                tip: sol.tip,
-                end_angle: sol.end_angle,
-                iterations: sol.report.iterations,
-            };
+            let done = level(sol.tip, sol.end_angle, sol.report.iterations);
             let state = sol.coefficients.clone();
             run.last = Some(sol);
-            (state, level)
+            (state, done)
         };
         run.levels.push(level);
         run.state = Some(state);
