@@ -369,8 +369,8 @@ impl Default for Actuator {
 
 impl Actuator {
     /// Validates `params`. Non-fatal findings (a prestrain outside the
-    /// fitted range, ...) do not fail; they are kept and returned by
-    /// [`Actuator::warnings`].
+    /// fitted range, a laminate too thick for laminate theory, ...) do not
+    /// fail; they are kept and returned by [`Actuator::warnings`].
     pub fn new(params: ActuatorParams) -> Result<Actuator, InputError> {
         let g = &params.geometry;
         positive("actuator.geometry.lx", g.lx)?;
@@ -466,6 +466,8 @@ impl Actuator {
                 hi,
             });
         }
+        // a validity finding, not an error: the strip may still be solved
+        warnings.extend(crate::validity::thickness(g));
         Ok(Actuator {
             params,
             ribs,
@@ -560,7 +562,10 @@ impl Actuator {
         (-c.h3b, c.h3a)
     }
 
-    /// Non-fatal notes found by validation.
+    /// Non-fatal findings of validation: notes on the input
+    /// (`eps0_outside_fit`) and the laminate's `thickness_ratio`, a
+    /// validity finding ([`Warning::is_validity`]) that every finger,
+    /// solution, grasp and gripper built from this actuator carries.
     pub fn warnings(&self) -> &[Warning] {
         &self.warnings
     }

@@ -86,8 +86,46 @@ pub(crate) fn require(ok: bool, field: &str, value: f64, rule: String) -> Result
     }
 }
 
-/// A non-fatal note about an accepted input: the model runs, but the
-/// result may be outside what the model was fitted or meant for.
+/// Which in-plane dimension of the strip a [`Warning::ThicknessRatio`]
+/// compares the thickness with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StripDimension {
+    /// The modelled length Lx (`actuator.geometry.lx`).
+    Length,
+    /// The width Ly (`actuator.geometry.ly`).
+    Width,
+}
+
+impl StripDimension {
+    /// `length` or `width`.
+    pub fn name(self) -> &'static str {
+        match self {
+            StripDimension::Length => "length",
+            StripDimension::Width => "width",
+        }
+    }
+
+    /// The field's path in the input.
+    pub fn field(self) -> &'static str {
+        match self {
+            StripDimension::Length => "actuator.geometry.lx",
+            StripDimension::Width => "actuator.geometry.ly",
+        }
+    }
+
+    /// `lx` or `ly`.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            StripDimension::Length => "lx",
+            StripDimension::Width => "ly",
+        }
+    }
+}
+
+/// A non-fatal note about an accepted input (the model runs, but the
+/// result may be outside what the model was fitted or meant for), or a
+/// finding that an answer lies outside the model's assumptions
+/// ([`Warning::is_validity`], docs/model.md section 8).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Warning {
     /// The prestrain lies outside [`lo`, `hi`], the strain range of the
@@ -106,6 +144,16 @@ pub enum Warning {
     /// (`palm > 2 l0`, a negative overlap): the fingers leave a gap at rest,
     /// and objects smaller than `palm - 2 l0` cannot be grasped.
     PalmGapAtRest { palm: f64, reach: f64 },
+    /// A grasp on a scene's fixed partition of `elements` elements turns
+    /// an element beyond the slope limit. `clears_with`: the fewest
+    /// elements (the partition halved once or twice) at which the same
+    /// grasp has no `element_slope` finding; `None` when `tried` elements
+    /// still have one (the grasp itself leaves the model). A note.
+    PartitionAdvice {
+        elements: usize,
+        clears_with: Option<usize>,
+        tried: usize,
+    },
     /// An element's mid-plane turns further than the CCM's small-slope
     /// limit from the element's root tangent (`degrees`, limit `limit`).
     ElementSlope {
@@ -127,9 +175,27 @@ pub enum Warning {
         strain: f64,
         range: (f64, f64),
     },
-    /// The mid-plane crosses itself: element `element` passes through
-    /// element `other` (or touches it).
-    SelfContact { element: usize, other: usize },
+    /// The finger's surfaces meet: the mid-plane of element `element`
+    /// comes within the laminate's thickness H (`thickness`, mm) of the
+    /// mid-plane of element `other`, an earlier part at least pi H / 2
+    /// away along the finger (`distance` in mm, 0 where the mid-plane
+    /// crosses itself; docs/model.md section 8).
+    SelfContact {
+        element: usize,
+        other: usize,
+        distance: f64,
+        thickness: f64,
+    },
+    /// The laminate is too thick for classical laminate theory against the
+    /// strip's length or width: `thickness / extent` (H over Lx or Ly)
+    /// exceeds `limit`. A finding about the actuator, carried by every
+    /// solution built from it.
+    ThicknessRatio {
+        dimension: StripDimension,
+        thickness: f64,
+        extent: f64,
+        limit: f64,
+    },
     /// A grasp bends an element backwards (its curvature, in 1/mm, has the
     /// opposite sign to the unloaded finger's), which the paper's grasp
     /// analysis assumes away.
@@ -140,8 +206,9 @@ pub enum Warning {
 
 impl Warning {
     /// A short, stable name of the warning's kind (`element_slope`,
-    /// `strain_range`, `self_contact`, `curvature_reversal`, `beyond_flat`
-    /// for the model's validity; `eps0_outside_fit`,
+    /// `strain_range`, `self_contact`, `thickness_ratio`, `beyond_flat` for
+    /// the model's validity; `curvature_reversal` for the paper's grasp
+    /// assumption, a rule only in strict mode; `eps0_outside_fit`,
     /// `softening_prestress_law`, `mounting_angle_outside_design_space`,
     /// `palm_gap_at_rest` for notes on the input).
     pub fn kind(&self) -> &'static str {
@@ -152,16 +219,20 @@ impl Warning {
                 "mounting_angle_outside_design_space"
             }
             Warning::PalmGapAtRest { .. } => "palm_gap_at_rest",
+            Warning::PartitionAdvice { .. } => "partition_advice",
             Warning::ElementSlope { .. } => "element_slope",
             Warning::MidplaneStrain { .. } | Warning::PrestressedStrain { .. } => "strain_range",
             Warning::SelfContact { .. } => "self_contact",
+            Warning::ThicknessRatio { .. } => "thickness_ratio",
             Warning::CurvatureReversal { .. } => "curvature_reversal",
             Warning::BeyondFlat { .. } => "beyond_flat",
         }
     }
 
     /// True for a finding that the answer lies outside the model's
-    /// assumptions (as opposed to a note on the input).
+    /// assumptions (as opposed to a note on the input, or a reversal: the
+    /// CCM models a finger bent backwards; the paper's grasp analysis
+    /// assumes it away, which strict mode makes a rule).
     pub fn is_validity(&self) -> bool {
         matches!(
             self,
@@ -169,7 +240,7 @@ impl Warning {
                 | Warning::MidplaneStrain { .. }
                 | Warning::PrestressedStrain { .. }
                 | Warning::SelfContact { .. }
-                | Warning::CurvatureReversal { .. }
+                | Warning::ThicknessRatio { .. }
                 | Warning::BeyondFlat { .. }
         )
     }
@@ -194,11 +265,15 @@ impl Warning {
             }
             Warning::MountingAngleOutsideDesignSpace { angle, .. } => Some(angle),
             Warning::PalmGapAtRest { palm, .. } => Some(palm),
+            Warning::PartitionAdvice { elements, .. } => Some(elements as f64),
             Warning::ElementSlope { degrees, .. } => Some(degrees),
             Warning::MidplaneStrain { strain, .. } | Warning::PrestressedStrain { strain, .. } => {
                 Some(strain)
             }
-            Warning::SelfContact { .. } => None,
+            Warning::SelfContact { distance, .. } => Some(distance),
+            Warning::ThicknessRatio {
+                thickness, extent, ..
+            } => Some(thickness / extent),
             Warning::CurvatureReversal { curvature, .. } => Some(curvature),
             Warning::BeyondFlat { size, .. } => Some(size),
         }
@@ -213,6 +288,9 @@ impl Warning {
                 Some(if angle < lo { lo } else { hi })
             }
             Warning::PalmGapAtRest { reach, .. } => Some(2.0 * reach),
+            Warning::PartitionAdvice {
+                clears_with, tried, ..
+            } => Some(clears_with.unwrap_or(tried) as f64),
             Warning::ElementSlope { limit, .. } => Some(limit),
             Warning::MidplaneStrain { strain, limit, .. } => {
                 Some(if strain < 0.0 { -limit } else { limit })
@@ -220,7 +298,8 @@ impl Warning {
             Warning::PrestressedStrain { strain, range, .. } => {
                 Some(if strain < range.0 { range.0 } else { range.1 })
             }
-            Warning::SelfContact { .. } => None,
+            Warning::SelfContact { thickness, .. } => Some(thickness),
+            Warning::ThicknessRatio { limit, .. } => Some(limit),
             Warning::CurvatureReversal { .. } => Some(0.0),
             Warning::BeyondFlat { d_max, .. } => Some(d_max),
         }
@@ -245,6 +324,22 @@ impl fmt::Display for Warning {
             Warning::PalmGapAtRest { palm, reach } => write!(
                 f,
                 "gripper.palm = {palm}: wider than twice the finger's inward reach l0 = {reach} mm, the fingers leave a gap at rest"
+            ),
+            Warning::PartitionAdvice {
+                elements,
+                clears_with: Some(n),
+                ..
+            } => write!(
+                f,
+                "partition.elements = {elements}: the grasp turns an element beyond the slope limit; with partition.elements = {n} it does not (set it to {n})"
+            ),
+            Warning::PartitionAdvice {
+                elements,
+                clears_with: None,
+                tried,
+            } => write!(
+                f,
+                "partition.elements = {elements}: the grasp turns an element beyond the slope limit, and still does with {tried} elements: the grasp itself leaves the model, more elements do not fix it"
             ),
             Warning::ElementSlope {
                 element,
@@ -271,9 +366,36 @@ impl fmt::Display for Warning {
                 "element {element}: the prestressed layer's strain reaches {strain:.3}, outside [{}, {}] where its law was fitted",
                 range.0, range.1
             ),
-            Warning::SelfContact { element, other } => write!(
+            Warning::SelfContact {
+                element,
+                other,
+                distance,
+                thickness,
+            } => {
+                if *distance == 0.0 {
+                    write!(
+                        f,
+                        "the mid-plane crosses itself: element {element} passes through element {other} (the finger is H = {thickness} mm thick)"
+                    )
+                } else {
+                    write!(
+                        f,
+                        "the finger's surfaces meet: element {element}'s mid-plane comes within {distance:.3} mm of element {other}'s, less than the thickness H = {thickness} mm"
+                    )
+                }
+            }
+            Warning::ThicknessRatio {
+                dimension,
+                thickness,
+                extent,
+                limit,
+            } => write!(
                 f,
-                "the mid-plane crosses itself: element {element} passes through element {other}"
+                "actuator.geometry.h = {thickness} mm against the {} {} = {extent} mm: H / {} = {:.4} exceeds {limit}, too thick for classical laminate theory",
+                dimension.name(),
+                dimension.field(),
+                dimension.symbol(),
+                thickness / extent
             ),
             Warning::CurvatureReversal { element, curvature } => write!(
                 f,
@@ -310,6 +432,19 @@ pub enum SolveError {
         element: Option<usize>,
         /// The last iterate's coefficients.
         last: crate::finger::Coefficients,
+    },
+    /// The target lies beyond a fold of the path that reaches it from rest
+    /// (closing a gripper on an object, or pushing a tip): the equilibrium
+    /// there belongs to another branch, which that path does not reach;
+    /// `detail` says where the path turns back.
+    #[error("{target} = {value}: not reached on the path from rest: {detail}")]
+    NotOnPath {
+        /// The target's field path.
+        target: String,
+        /// The target's value.
+        value: f64,
+        /// Where and how the path turns back.
+        detail: String,
     },
     /// A target solve (a grasp size, a force, a displacement) did not
     /// reach its target: the path from the reference state stopped short.

@@ -39,34 +39,38 @@ pub use actuator::{
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
 };
 pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
-pub use error::{InputError, SolveError, Warning};
+pub use error::{InputError, SolveError, StripDimension, Warning};
 pub use finger::{
-    input_warnings, Coefficients, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint, Problem,
-    Solution, SolveOptions, SolveReport, Solver, Strategy, TargetProblem, MAX_SAMPLES_PER_ELEMENT,
-    VACUUM_GAUGE_MPA,
+    input_warnings, Affine2, Coefficients, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint,
+    PolyCurve, Problem, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetFold,
+    TargetProblem, Traced, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
 };
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use refine::{
     refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
-    Refinement, Refiner, EQUAL_PARTITION_TOLERANCE_MM, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
-    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
+    Refinement, Refiner, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
+    MAX_REFINED_ELEMENTS,
 };
 pub use sensitivity::{
     ActuatorParam, Elastic, EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity,
     GraspKind, GraspSensitivities, GraspSensitivity, GripperParam, Lamina, Param, Sensitivities,
     Sensitivity, SizeSensitivity, ENVELOPE_STATIONARITY, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE,
 };
-pub use validity::{MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE, SLOPE_LIMIT_DEG};
+pub use validity::{
+    CONTACT_SPACING, MAX_CONTACT_SAMPLES, MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE,
+    SLOPE_LIMIT_DEG, THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT,
+};
 pub mod gripper;
+pub mod report;
 pub mod studies;
 pub use gripper::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
     finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
     gripper_force_to_contact, gripper_force_to_finger, lifting_force, AngleSample, Grasp, Gripper,
-    GripperParams, Invalid, PalmSpec, SphereContact, SphereGrasp, SphereLift, ViableAngles,
-    GRIPPER_SAMPLES_PER_ELEMENT,
+    GripperParams, Invalid, PalmSpec, PathRecord, SphereContact, SphereGrasp, SphereLift,
+    Stability, Verdict, ViableAngles, GRIPPER_SAMPLES_PER_ELEMENT,
 };
 pub use studies::{
     run_all, section5_gripper, study1_prestrain_angle, study2_overlap, study3_cuboid_region,

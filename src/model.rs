@@ -72,6 +72,9 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     const LOCAL: &'static [usize];
     /// The integral families, in [`ElementModel::family_hessian`]'s order.
     const FAMILIES: &'static [&'static str];
+    /// The degree in `x` of the mid-plane (the generator checks that the
+    /// spec's `point midplane(x)` is a polynomial in `x`).
+    const MIDPLANE_DEGREE: usize;
 
     /// The raw value of one unit of each scaled unknown (`raw = scaled * unscale`)
     /// for an element of length `length`.
@@ -118,6 +121,11 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     fn frame(k: &Self::Coeffs, length: f64) -> [f64; 4];
     /// The mid-plane point at local `x`, in the element's frame.
     fn midplane(k: &Self::Coeffs, x: f64) -> [f64; 2];
+    /// The mid-plane as a polynomial curve in local `x`: `out[j] = [X_j,
+    /// Z_j]`, the coefficients of `x^j`, so that `midplane(k, x) = sum_j
+    /// out[j] x^j`. Fills the first [`ElementModel::MIDPLANE_DEGREE`]` + 1`
+    /// entries of `out` (all of a shorter slice).
+    fn midplane_coefficients(k: &Self::Coeffs, out: &mut [[f64; 2]]);
     /// The mid-plane's tangent `(dX/dx, dZ/dx)` at local `x`.
     fn tangent(k: &Self::Coeffs, x: f64) -> [f64; 2];
     /// Axial strain at local `x` and height `z`.

@@ -1,27 +1,50 @@
 //! Choosing the discretisation for an accuracy: partitions, refinement by
-//! doubling, nested iteration and Richardson extrapolation.
+//! doubling, nested iteration and extrapolation of the tip.
 //!
-//! With equal elements the CCM converges at first order in the element
-//! length, because rib edges fall inside elements; with element boundaries
-//! on every material change ([`PartitionKind::Material`]) it converges at
-//! second order (docs/performance.md shows both). A [`Refinement`] solves a
+//! With equal elements the CCM converges irregularly at first order in the
+//! element length, because rib edges and the channel's end fall inside
+//! elements. With element boundaries on every material change
+//! ([`PartitionKind::Material`]) the tip error of the CCM follows the
+//! expansion `c1 h + c2 h^2 + c3 h^3 + ...` in the element length `h`: the
+//! second-order term dominates on coarse partitions, and a small
+//! first-order term, present whenever a tip load bends the elements, takes
+//! over at a few hundred elements (docs/performance.md, "Why the tip
+//! converges at first order": the end slope of decision D2 couples each
+//! element's end moment to its axial unknowns). A [`Refinement`] solves a
 //! sequence of partitions, each level halving every element of the one
 //! before and starting Newton from it (nested iteration: the halves of an
-//! element start from their parent's coefficients). Two levels give an
-//! error estimate; on material partitions they also give a Richardson
-//! extrapolation of the tip, which removes the leading error term.
+//! element start from their parent's coefficients).
 //!
-//! Error estimates (mm, distance of the tip from the N -> infinity limit):
-//! - first order (equal elements): the last change `|t_N - t_N/2|`;
-//! - second order (material): `|t_N - t_N/2| / 3`;
-//! - extrapolated from three or more levels: the change of the
-//!   extrapolation between the last two pairs, and from two levels the
-//!   second-order estimate of the finer level (both over-estimate the
-//!   extrapolation's error when the convergence is regular).
+//! Extrapolation of material partitions (levels `t_0, t_1, ...` halving `h`):
+//! - from two levels, `R2 = t + (t - t_prev) / 3` removes the `h^2` term;
+//! - from three or more, `T3`, built from the last three levels, removes
+//!   the `h` and `h^2` terms: `(8 t_n - 6 t_n-1 + t_n-2) / 3`.
 //!
-//! [`solve_to_tip_tolerance`] picks the fastest configuration for an asked
-//! tolerance ([`Refinement::for_tolerance`], chosen from the measured
-//! accuracy-time front) and refines until the estimate meets it.
+//! Error estimates (mm, distance of the reported tip from the N -> infinity
+//! limit), with `D = |t_n - t_n-1|`:
+//! - extrapolated, two levels: `D / 3`. Two levels cannot separate the
+//!   first-order term; this bounds `R2`'s error while the first-order term
+//!   is at most the second-order one at the finer level (true on the 27 +
+//!   54 elements the tolerance-driven choice starts from by a factor of 8 or
+//!   more on every finger tested; not beyond a few hundred elements under a
+//!   tip load: use three or more levels there);
+//! - extrapolated, three levels: the larger of the first-order term the
+//!   third level removed, `|T3 - R2|`, and `D / 3` (a three-level
+//!   extrapolation is not trusted to beat the two-level one before a fourth
+//!   level confirms it: on coarse partitions the `h^3` term can dominate);
+//! - extrapolated, four or more levels: the change of `T3` from the
+//!   previous three levels, `|T3_n - T3_n-1|` (about 7 times `T3`'s error
+//!   once the `h^3` term leads);
+//! - material, not extrapolated: `D / 2` from two levels (the same
+//!   assumption as `D / 3` above), else `|t_n - T3|` plus `T3`'s estimate;
+//! - equal elements: `3 max(D, |t_n-1 - t_n-2| / 2)`, from three levels
+//!   (`None` with fewer). Their convergence is too irregular for two levels:
+//!   the error of the finer level reached 4.4 times `D` in the measurements
+//!   of docs/performance.md, and 0.67 times this estimate at most.
+//!
+//! [`solve_to_tip_tolerance`] uses the material partition with
+//! extrapolation for every tolerance ([`Refinement::for_tolerance`]) and
+//! refines until the estimate meets the tolerance.
 
 use serde::Serialize;
 
@@ -34,20 +57,15 @@ use crate::model::ModelId;
 /// Largest number of elements a refinement uses.
 pub const MAX_REFINED_ELEMENTS: usize = 1000;
 
-/// Tolerances at least this large (mm) are met fastest by equal elements
-/// without extrapolation; tighter ones by material partitions with
-/// Richardson extrapolation (docs/performance.md, "The front").
-pub const EQUAL_PARTITION_TOLERANCE_MM: f64 = 0.5;
-
 /// How a refinement places element boundaries.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PartitionKind {
-    /// `start` equal elements, doubled per level (first order).
+    /// `start` equal elements, doubled per level (irregular first order).
     Equal,
     /// Boundaries on the material changes ([`Partition::material`], pieces
     /// at most `lx / start` long), every element halved per level (second
-    /// order).
+    /// order with a small first-order term; module docs).
     Material,
 }
 
@@ -75,8 +93,10 @@ impl PartitionKind {
             })
     }
 
-    /// The observed order of convergence in the element length that the
-    /// error estimates assume.
+    /// The leading order of the tip error in the element length on coarse
+    /// partitions: 1 for equal elements, 2 for material partitions (whose
+    /// expansion also has a small first-order term that leads on fine ones;
+    /// the module docs give the estimates built on it).
     pub fn order(self) -> u32 {
         match self {
             PartitionKind::Equal => 1,
@@ -97,8 +117,10 @@ pub struct Refinement {
     pub start: usize,
     /// Number of solves: the coarsest level and `levels - 1` halvings.
     pub levels: usize,
-    /// Richardson-extrapolate the tip from the last two levels (needs
-    /// `levels >= 2` and a second-order partition).
+    /// Extrapolate the tip and end angle (needs `levels >= 2` and a
+    /// material partition): from the last two levels with two, removing the
+    /// `h^2` term, from the last three with more, removing `h` and `h^2`
+    /// (module docs).
     pub extrapolate: bool,
 }
 
@@ -114,28 +136,22 @@ impl Refinement {
         }
     }
 
-    /// The configuration that meets `tip_tol_mm` fastest on the standard
-    /// cases (docs/performance.md): equal elements from N = 4 for loose
-    /// tolerances, otherwise the material partition (pieces at most lx / 8)
-    /// on two levels with Richardson extrapolation. [`solve_to_tip_tolerance`]
-    /// adds levels while the estimate is above the tolerance.
-    pub fn for_tolerance(model: ModelId, tip_tol_mm: f64) -> Refinement {
-        if tip_tol_mm >= EQUAL_PARTITION_TOLERANCE_MM {
-            Refinement {
-                model,
-                partition: PartitionKind::Equal,
-                start: 4,
-                levels: 2,
-                extrapolate: false,
-            }
-        } else {
-            Refinement {
-                model,
-                partition: PartitionKind::Material,
-                start: 8,
-                levels: 2,
-                extrapolate: true,
-            }
+    /// The configuration [`solve_to_tip_tolerance`] starts from for any
+    /// tolerance: the material partition (pieces at most lx / 8) on two
+    /// levels with extrapolation, the fastest configuration whose error
+    /// estimate can be trusted (docs/performance.md, "The front"; equal
+    /// elements are faster for loose tolerances on the standard case, but
+    /// their irregular convergence needs three levels for an estimate, and
+    /// on a pressurised finger hundreds of elements).
+    /// [`solve_to_tip_tolerance`] adds levels while the estimate is above
+    /// the tolerance; `tip_tol_mm` does not change the start.
+    pub fn for_tolerance(model: ModelId, _tip_tol_mm: f64) -> Refinement {
+        Refinement {
+            model,
+            partition: PartitionKind::Material,
+            start: 8,
+            levels: 2,
+            extrapolate: true,
         }
     }
 
@@ -169,7 +185,7 @@ impl Refinement {
             !self.extrapolate || (self.levels >= 2 && self.partition == PartitionKind::Material),
             "refinement.extrapolate",
             1.0,
-            "needs at least two levels on a material partition (the extrapolation assumes second-order convergence)".to_string(),
+            "needs at least two levels on a material partition (the extrapolation assumes its error expansion)".to_string(),
         )?;
         let finest = self.partition(actuator, ribs, self.levels - 1)?.len();
         require(
@@ -265,39 +281,81 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
-/// Richardson extrapolation of a second-order sequence: `f + (f - c) / 3`.
-fn richardson(coarse: f64, fine: f64) -> f64 {
-    fine + (fine - coarse) / 3.0
+/// A level's extrapolated quantities: tip X, tip Z, end angle.
+type Values = [f64; 3];
+
+fn values(l: &Level) -> Values {
+    [l.tip[0], l.tip[1], l.end_angle]
 }
 
-fn extrapolated_tip(coarse: &Level, fine: &Level) -> [f64; 2] {
-    [
-        richardson(coarse.tip[0], fine.tip[0]),
-        richardson(coarse.tip[1], fine.tip[1]),
-    ]
+fn tip_dist(a: &Values, b: &Values) -> f64 {
+    dist([a[0], a[1]], [b[0], b[1]])
 }
 
-/// The best tip, end angle and error estimate from the levels solved so far.
+/// One Richardson step: removes the term of order `p` in the element
+/// length from a coarse value and the value at half its element length.
+fn eliminate(coarse: &Values, fine: &Values, p: i32) -> Values {
+    let f = 2f64.powi(p) - 1.0;
+    std::array::from_fn(|i| fine[i] + (fine[i] - coarse[i]) / f)
+}
+
+/// `R2`: the `h^2` term removed from the last two of `v`.
+fn r2(v: &[Values]) -> Values {
+    let n = v.len();
+    eliminate(&v[n - 2], &v[n - 1], 2)
+}
+
+/// `T3`: the `h` and `h^2` terms removed from the last three of `v`,
+/// `(8 t_n - 6 t_n-1 + t_n-2) / 3`.
+fn t3(v: &[Values]) -> Values {
+    let n = v.len();
+    let a = eliminate(&v[n - 3], &v[n - 2], 1);
+    let b = eliminate(&v[n - 2], &v[n - 1], 1);
+    eliminate(&a, &b, 2)
+}
+
+/// `T3` of the last three of `v` (at least three) and its estimated error
+/// (module docs).
+fn t3_estimate(v: &[Values]) -> (Values, f64) {
+    let n = v.len();
+    let t = t3(v);
+    let est = if n == 3 {
+        tip_dist(&t, &r2(v)).max(tip_dist(&v[n - 1], &v[n - 2]) / 3.0)
+    } else {
+        tip_dist(&t, &t3(&v[..n - 1]))
+    };
+    (t, est)
+}
+
+/// The best tip, end angle and error estimate from the levels solved so far
+/// (module docs).
 fn estimate(plan: &Refinement, levels: &[Level]) -> ([f64; 2], f64, Option<f64>) {
-    let last = levels[levels.len() - 1];
-    let n = levels.len();
-    if n < 2 {
-        return (last.tip, last.end_angle, None);
-    }
-    let prev = levels[n - 2];
-    let change = dist(last.tip, prev.tip);
-    if plan.extrapolate {
-        let tip = extrapolated_tip(&prev, &last);
-        let angle = richardson(prev.end_angle, last.end_angle);
-        let est = if n >= 3 {
-            dist(tip, extrapolated_tip(&levels[n - 3], &prev))
-        } else {
-            change / 3.0
-        };
-        return (tip, angle, Some(est));
-    }
-    let factor = f64::from((1u32 << plan.partition.order()) - 1);
-    (last.tip, last.end_angle, Some(change / factor))
+    let v: Vec<Values> = levels.iter().map(values).collect();
+    let n = v.len();
+    let last = v[n - 1];
+    let (best, est) = if n < 2 {
+        (last, None)
+    } else {
+        let change = tip_dist(&v[n - 1], &v[n - 2]);
+        match (plan.partition, plan.extrapolate, n) {
+            (PartitionKind::Equal, _, 2) => (last, None),
+            (PartitionKind::Equal, _, _) => {
+                let before = tip_dist(&v[n - 2], &v[n - 3]);
+                (last, Some(3.0 * change.max(before / 2.0)))
+            }
+            (PartitionKind::Material, true, 2) => (r2(&v), Some(change / 3.0)),
+            (PartitionKind::Material, true, _) => {
+                let (t, est) = t3_estimate(&v);
+                (t, Some(est))
+            }
+            (PartitionKind::Material, false, 2) => (last, Some(change / 2.0)),
+            (PartitionKind::Material, false, _) => {
+                let (t, est) = t3_estimate(&v);
+                (last, Some(tip_dist(&last, &t) + est))
+            }
+        }
+    };
+    ([best[0], best[1]], best[2], est)
 }
 
 /// A guess for the partition with every element halved: each half starts
@@ -318,10 +376,11 @@ fn halved_guess(k: &Coefficients) -> Result<Coefficients, InputError> {
 /// The same relative residual leaves a larger tip error on a finer
 /// partition (each element's share of the gradient shrinks with its
 /// length), hence the scaling: on the standard tip-loaded case the
-/// loosened levels move the extrapolated tip by 2.5e-6 mm (tests/refine.rs
-/// holds it to 1e-5 mm, a thousandth of the 0.01 mm the extrapolated
-/// configuration is chosen for) and save Newton steps on the coarsest
-/// level.
+/// loosened levels move the extrapolated tip by 2.5e-6 mm on two levels,
+/// 2.0e-6 mm on three and 7e-7 mm on four (tests/refine.rs holds the four
+/// to 1e-5 mm, a thousandth of the 0.01 mm the two-level configuration
+/// meets), well inside the error estimates, and save Newton steps on the
+/// coarsest level.
 pub const INTERMEDIATE_RTOL: f64 = 1e-9;
 
 /// The element count at which an intermediate level uses
@@ -541,12 +600,13 @@ struct Run {
 
 /// Solves `load` to an estimated tip error of at most `tip_tol_mm`.
 ///
-/// Without `start`, with the fastest configuration for the tolerance
+/// Without `start`, on the material partition with extrapolation
 /// ([`Refinement::for_tolerance`]); with `start`, on equal elements
 /// doubled from `start` (which must lie in [1, `MAX_REFINED_ELEMENTS` /
-/// 2]). Levels are added until the estimate meets the tolerance; fails
-/// with an input error naming `tip_tol_mm` when `MAX_REFINED_ELEMENTS`
-/// elements do not reach it.
+/// 2]; equal elements need three levels for an estimate). Levels are added
+/// until the estimate (module docs) meets the tolerance; fails with an
+/// input error naming `tip_tol_mm` when `MAX_REFINED_ELEMENTS` elements do
+/// not reach it.
 pub fn solve_to_tip_tolerance(
     model: ModelId,
     actuator: &Actuator,
@@ -592,15 +652,21 @@ pub fn solve_to_tip_tolerance(
     refiner.plan.extrapolate = plan.extrapolate;
     let mut run = Run::default();
     let mut level = 0;
+    // the levels before the first estimate are intermediate (equal
+    // elements need three, material partitions two); any later one may be
+    // the last: the caller's tolerance, tip only
+    let first_estimate = match plan.partition {
+        PartitionKind::Equal => 2,
+        PartitionKind::Material => 1,
+    };
     loop {
-        // one level never has an estimate, so the first is intermediate;
-        // any later one may be the last: the caller's tolerance, tip only
-        let level_opts = if level == 0 {
-            coarse_options(opts, refiner.finger(0)?.len())
+        let intermediate = level < first_estimate;
+        let level_opts = if intermediate {
+            coarse_options(opts, refiner.finger(level)?.len())
         } else {
             tip_options(opts)
         };
-        refiner.solve_level(&mut run, load, level, None, &level_opts, level == 0)?;
+        refiner.solve_level(&mut run, load, level, None, &level_opts, intermediate)?;
         let plan = Refinement {
             levels: run.levels.len(),
             ..refiner.plan
@@ -614,10 +680,14 @@ pub fn solve_to_tip_tolerance(
             return Err(InputError::OutOfRange {
                 field: "tip_tol_mm".into(),
                 value: tip_tol_mm,
-                rule: format!(
-                    "not reached with up to {MAX_REFINED_ELEMENTS} elements (estimated tip error there {:.3e} mm)",
-                    est.unwrap_or(f64::INFINITY)
-                ),
+                rule: match est {
+                    Some(e) => format!(
+                        "not reached with up to {MAX_REFINED_ELEMENTS} elements (estimated tip error there {e:.3e} mm)"
+                    ),
+                    None => format!(
+                        "not reached with up to {MAX_REFINED_ELEMENTS} elements (equal elements need three levels for an error estimate)"
+                    ),
+                },
             }
             .into());
         }
@@ -693,5 +763,87 @@ pub fn solve_auto(
             Err(_) => finger.solve(load, opts)?,
         };
         refinements += 1;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn level(elements: usize, tip: [f64; 2], end_angle: f64) -> Level {
+        Level {
+            elements,
+            tip,
+            end_angle,
+            iterations: 1,
+        }
+    }
+
+    /// Levels of `t(h) = T + c1 h + c2 h^2 (+ c3 h^3)`, h halving from 1.
+    fn levels(c: [f64; 4], n: usize) -> Vec<Level> {
+        (0..n)
+            .map(|k| {
+                let h = 0.5f64.powi(k as i32);
+                let t = c[0] + c[1] * h + c[2] * h * h + c[3] * h.powi(3);
+                level(27 << k, [t, -t], 0.1 * t)
+            })
+            .collect()
+    }
+
+    fn plan(partition: PartitionKind, extrapolate: bool) -> Refinement {
+        Refinement {
+            model: ModelId::default(),
+            partition,
+            start: 8,
+            levels: 1,
+            extrapolate,
+        }
+    }
+
+    #[test]
+    fn t3_removes_h_and_h2_and_r2_only_h2() {
+        let m = plan(PartitionKind::Material, true);
+        let v = levels([2.0, 0.3, -5.0, 0.0], 3);
+        let (tip, angle, est) = estimate(&m, &v);
+        assert!((tip[0] - 2.0).abs() < 1e-14 && (tip[1] + 2.0).abs() < 1e-14);
+        assert!((angle - 0.2).abs() < 1e-14);
+        // the estimate is the larger of R2's first-order error, (2/3) c1 h
+        // at h = 1/4, and the last change over 3 (both components: sqrt 2)
+        let r2_err = 2.0 / 3.0 * 0.3 * 0.25 * 2f64.sqrt();
+        let change = (0.3 * 0.25 - 5.0 * 3.0 / 16.0f64).abs() * 2f64.sqrt() / 3.0;
+        assert!((est.unwrap() - r2_err.max(change)).abs() < 1e-12, "{est:?}");
+        let (tip, _, _) = estimate(&m, &v[..2]);
+        assert!(((tip[0] - 2.0) - 2.0 / 3.0 * 0.3 * 0.5).abs() < 1e-14);
+    }
+
+    #[test]
+    fn four_levels_estimate_from_the_change_of_t3() {
+        // an h^3 term: T3's error is c3 h^3 / 8 at the coarsest of its three
+        // levels, and the change from the previous T3 is 7 times that
+        let m = plan(PartitionKind::Material, true);
+        let v = levels([1.0, 0.2, 3.0, -4.0], 4);
+        let (tip, _, est) = estimate(&m, &v);
+        let err = (tip[0] - 1.0).hypot(tip[1] + 1.0);
+        let est = est.unwrap();
+        assert!((est / err - 7.0).abs() < 1e-9, "{est} vs {err}");
+        // unextrapolated: the finest level's distance from T3 plus T3's
+        // estimate bounds its error
+        let (fine, _, e) = estimate(&plan(PartitionKind::Material, false), &v);
+        assert_eq!(fine, v[3].tip);
+        let err = (fine[0] - 1.0).hypot(fine[1] + 1.0);
+        assert!(e.unwrap() >= err);
+    }
+
+    #[test]
+    fn equal_elements_need_three_levels() {
+        let e = plan(PartitionKind::Equal, false);
+        let v = levels([1.0, 0.5, 0.0, 0.0], 3);
+        assert_eq!(estimate(&e, &v[..1]).2, None);
+        assert_eq!(estimate(&e, &v[..2]).2, None);
+        // regular first order: the finest level's error equals the last
+        // change, the estimate is three times it
+        let (tip, _, est) = estimate(&e, &v);
+        let err = (tip[0] - 1.0).hypot(tip[1] + 1.0);
+        assert!((est.unwrap() / err - 3.0).abs() < 1e-12);
     }
 }

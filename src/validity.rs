@@ -3,11 +3,15 @@
 //! The discrete CCM equations can be solved far outside the range where
 //! they predict anything: an element turned past its small-slope limit, a
 //! strain the laminate theory or the fitted law does not cover, a finger
-//! that passes through itself. A solution keeps its answer and says so,
-//! with one [`Warning`] per finding (the worst sample of each element, per
-//! kind).
+//! whose surfaces meet, a laminate too thick to be a plate. A solution keeps
+//! its answer and says so, with one [`Warning`] per finding (the worst
+//! sample of each element, per kind; the closest approach for self
+//! contact).
 
-use crate::error::Warning;
+use std::f64::consts::PI;
+
+use crate::actuator::Geometry;
+use crate::error::{StripDimension, Warning};
 use crate::finger::FingerCore;
 use crate::model::ElementModel;
 
@@ -23,10 +27,64 @@ pub const MIDPLANE_STRAIN_LIMIT: f64 = 0.20;
 /// the uniaxial fit of its law covers.
 pub const PRESTRESSED_STRAIN_RANGE: (f64, f64) = (0.0, 0.6);
 
-/// Total tangent turning (rad) below which a sampled mid-plane cannot cross
-/// itself (its tangent stays inside an open half-plane, so its projection on
-/// one direction is monotone); the pairwise segment test runs only above it.
-const TURNING_FOR_CONTACT: f64 = std::f64::consts::PI - 0.05;
+/// Largest thickness-to-length ratio `H / Lx` of classical laminate theory
+/// (the strip at least ten thicknesses long; docs/model.md section 8).
+pub const THICKNESS_TO_LENGTH_LIMIT: f64 = 0.1;
+
+/// Largest thickness-to-width ratio `H / Ly` of classical laminate theory
+/// (the strip at least two thicknesses wide; docs/model.md section 8).
+pub const THICKNESS_TO_WIDTH_LIMIT: f64 = 0.5;
+
+/// Largest spacing of the self-contact search's mid-plane samples, as a
+/// fraction of the thickness H (chord between neighbouring samples).
+pub const CONTACT_SPACING: f64 = 1.0 / 16.0;
+
+/// The most samples one self-contact search takes: a finger more than
+/// `MAX_CONTACT_SAMPLES * CONTACT_SPACING` (4096) thicknesses long is
+/// sampled more coarsely than [`CONTACT_SPACING`].
+pub const MAX_CONTACT_SAMPLES: usize = 1 << 16;
+
+/// Samples per block of the contact search's pruning (about one thickness
+/// of arc at the finest spacing).
+const CONTACT_BLOCK: usize = 16;
+
+/// Allowance (rad, 10 degrees) for the tangent turning further between the
+/// check points than at them: the contact search runs once the turning
+/// seen at the check points exceeds [`contact_turning`] less this.
+const TURNING_ALLOWANCE: f64 = 10.0 * PI / 180.0;
+
+/// The arc-length separation `l = pi H / 2` (mm) from which two parts of
+/// the mid-plane closer than the thickness `h` are in contact: half a turn
+/// of the tightest circle (radius H / 2) whose inner face does not fold.
+pub(crate) fn contact_separation(h: f64) -> f64 {
+    0.5 * PI * h
+}
+
+/// The total tangent turning `2 acos(2 / pi)` (rad, about 100.9 degrees)
+/// below which no two points `l` apart along the mid-plane come closer
+/// than H: with every tangent within half of it of one direction,
+/// `|p(s2) - p(s1)| >= (s2 - s1) cos(theta / 2) >= l 2 / pi = H`.
+pub(crate) fn contact_turning() -> f64 {
+    2.0 * (2.0 / PI).acos()
+}
+
+/// The thickness findings of a strip of dimensions `g`: the laminate too
+/// thick against its length or its width for classical laminate theory.
+pub(crate) fn thickness(g: &Geometry) -> Vec<Warning> {
+    [
+        (StripDimension::Length, g.lx, THICKNESS_TO_LENGTH_LIMIT),
+        (StripDimension::Width, g.ly, THICKNESS_TO_WIDTH_LIMIT),
+    ]
+    .into_iter()
+    .filter(|&(_, extent, limit)| g.h / extent > limit)
+    .map(|(dimension, extent, limit)| Warning::ThicknessRatio {
+        dimension,
+        thickness: g.h,
+        extent,
+        limit,
+    })
+    .collect()
+}
 
 /// The findings of state `k` (raw coefficients) of `finger`, checking each
 /// element at `samples` points (`x = L/samples .. L`, and the root), and
@@ -35,9 +93,10 @@ const TURNING_FOR_CONTACT: f64 = std::f64::consts::PI - 0.05;
 ///
 /// Cheap on purpose (it runs after every solve): the slope test compares
 /// the tangent's components (an angle is computed only for an element that
-/// fails); the tangent's turning comes from the element ends; and the
-/// self-crossing test, which only runs past half a turn, compares only
-/// elements whose bounding boxes overlap.
+/// fails, and two per element for the turning); and the self-contact
+/// search, which only runs past about 100 degrees of turning, samples the
+/// mid-plane at H / 16 and compares only blocks of samples whose bounding
+/// boxes come within H of each other.
 pub(crate) fn check<M: ElementModel>(
     finger: &FingerCore<M>,
     k: &[f64],
@@ -49,8 +108,12 @@ pub(crate) fn check<M: ElementModel>(
     let eps0 = finger.eps0;
     let (slo, shi) = PRESTRESSED_STRAIN_RANGE;
     let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
-    let mut theta_lo = 0.0f64;
-    let mut theta_hi = 0.0f64;
+    // the tangent's angle range over the check points, and whether it is
+    // known (every tangent points forwards in its element's frame)
+    let mut turn_lo = 0.0f64;
+    let mut turn_hi = 0.0f64;
+    let mut turn_known = true;
+    let mut stretch = Vec::with_capacity(finger.len());
     let mut theta = 0.0f64;
     for (i, e) in finger.elements.iter().enumerate() {
         let ki = FingerCore::<M>::element_coeffs(k, i);
@@ -58,12 +121,22 @@ pub(crate) fn check<M: ElementModel>(
         let mut steep = false;
         let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
         let mut pre: Option<(f64, f64)> = None; // (distance outside, s)
+        let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY); // dz/dx
+        let mut most_stretch = 0.0f64;
         for j in 0..=samples {
             let x = l * j as f64 / samples as f64;
+            let [dx, dz] = M::tangent(&ki, x);
             if j > 0 {
-                let [dx, dz] = M::tangent(&ki, x);
                 steep |= !(dx > 0.0 && dz.abs() <= limit_tan * dx);
             }
+            if dx > 0.0 {
+                let r = dz / dx;
+                rlo = rlo.min(r);
+                rhi = rhi.max(r);
+            } else {
+                turn_known = false;
+            }
+            most_stretch = most_stretch.max((dx * dx + dz * dz).sqrt());
             let m = M::strain(&ki, x, 0.0);
             if m.abs() > mid.0 {
                 mid = (m.abs(), m);
@@ -104,76 +177,234 @@ pub(crate) fn check<M: ElementModel>(
                 range: PRESTRESSED_STRAIN_RANGE,
             });
         }
-        // within an element that keeps its slope limit the tangent stays
-        // within 45 degrees of the element's ends
-        let eta = e.end(&ki)[2];
-        let margin = if steep { std::f64::consts::PI } else { 0.0 };
-        theta_lo = theta_lo.min(theta.min(theta + eta) - margin);
-        theta_hi = theta_hi.max(theta.max(theta + eta) + margin);
-        theta += eta;
-    }
-    if theta_hi - theta_lo > TURNING_FOR_CONTACT {
-        let pts = finger.shape_raw(k, samples);
-        if let Some((a, b)) = first_crossing_by_element(&pts, samples) {
-            let element = |seg: usize| (seg / samples).min(finger.len() - 1);
-            out.push(Warning::SelfContact {
-                element: element(b),
-                other: element(a),
-            });
+        // the tangent's angle is theta + atan(dz/dx) at each check point
+        if rlo <= rhi {
+            turn_lo = turn_lo.min(theta + rlo.atan());
+            turn_hi = turn_hi.max(theta + rhi.atan());
+        } else {
+            turn_known = false;
         }
+        stretch.push(most_stretch);
+        theta += e.end(&ki)[2];
+    }
+    if !turn_known || turn_hi - turn_lo > contact_turning() - TURNING_ALLOWANCE {
+        out.extend(self_contact(finger, k, &stretch));
     }
     (out, theta)
 }
 
-/// [`first_crossing`] for a polyline of `per` segments per element: only
-/// the segments of elements whose bounding boxes overlap are compared.
-fn first_crossing_by_element(pts: &[[f64; 2]], per: usize) -> Option<(usize, usize)> {
-    let segments = pts.len().checked_sub(1)?;
-    let elements = segments.div_ceil(per);
-    let bbox = |e: usize| {
-        let (a, b) = (e * per, ((e + 1) * per).min(segments));
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for p in &pts[a..=b] {
-            for c in 0..2 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
-            }
+/// The self-contact finding of state `k`: the closest approach of the
+/// sampled mid-plane to itself between parts at least
+/// [`contact_separation`] apart along it, if closer than the thickness,
+/// with the elements of the two nearest samples. `stretch[i]` is the
+/// largest `|d(X, Z)/dx|` seen in element `i` (sizes its sampling).
+fn self_contact<M: ElementModel>(
+    finger: &FingerCore<M>,
+    k: &[f64],
+    stretch: &[f64],
+) -> Option<Warning> {
+    let h = finger.thickness;
+    let (pts, ends) = contact_samples(finger, k, stretch, CONTACT_SPACING * h);
+    if pts.iter().flatten().any(|v| !v.is_finite()) {
+        return None;
+    }
+    // deformed arc length from the root, by chords, and the longest chord
+    let mut arc = Vec::with_capacity(pts.len());
+    let (mut s, mut spacing) = (0.0, 0.0f64);
+    arc.push(s);
+    for w in pts.windows(2) {
+        let d = dist(w[0], w[1]);
+        spacing = spacing.max(d);
+        s += d;
+        arc.push(s);
+    }
+    let (a, b, distance) = closest_pair(&pts, &arc, contact_separation(h), h, spacing)?;
+    let element = |j: usize| ends.partition_point(|&e| e < j).min(finger.len() - 1);
+    Some(Warning::SelfContact {
+        element: element(b),
+        other: element(a),
+        distance,
+        thickness: h,
+    })
+}
+
+/// Mid-plane samples from the root, chords at most `spacing` apart where
+/// the sample budget allows, and the index of each element's last sample.
+fn contact_samples<M: ElementModel>(
+    finger: &FingerCore<M>,
+    k: &[f64],
+    stretch: &[f64],
+    spacing: f64,
+) -> (Vec<[f64; 2]>, Vec<usize>) {
+    // the deformed length estimated from the check points' stretch, with
+    // a quarter more to spare; a long finger widens the spacing
+    let lengths: Vec<f64> = finger
+        .lengths
+        .iter()
+        .zip(stretch)
+        .map(|(l, s)| 1.25 * l * s)
+        .collect();
+    let total: f64 = lengths.iter().sum();
+    let spacing = spacing.max(total / MAX_CONTACT_SAMPLES as f64);
+    let count = |len: f64| {
+        let m = (len / spacing).ceil();
+        if m.is_finite() && m >= 1.0 {
+            (m as usize).min(MAX_CONTACT_SAMPLES)
+        } else {
+            1
         }
-        (lo, hi)
     };
-    let boxes: Vec<([f64; 2], [f64; 2])> = (0..elements).map(bbox).collect();
-    for eb in 0..elements {
-        for ea in 0..=eb {
-            let ((la, ha), (lb, hb)) = (boxes[ea], boxes[eb]);
-            if la[0] > hb[0] || lb[0] > ha[0] || la[1] > hb[1] || lb[1] > ha[1] {
+    let mut pts = Vec::with_capacity(2 + (total / spacing).min(1e6) as usize);
+    pts.push([0.0, 0.0]);
+    let mut ends = Vec::with_capacity(finger.len());
+    let mut local: Vec<[f64; 2]> = Vec::new();
+    for (i, (e, (p, [c, s]))) in finger.elements.iter().zip(finger.frames(k)).enumerate() {
+        let ki = FingerCore::<M>::element_coeffs(k, i);
+        let l = e.length();
+        let first = count(lengths[i]);
+        let mut m = first;
+        loop {
+            local.clear();
+            // the element's root is the previous element's last sample
+            let mut prev = M::midplane(&ki, 0.0);
+            let mut widest = 0.0f64;
+            for j in 1..=m {
+                let q = M::midplane(&ki, l * j as f64 / m as f64);
+                widest = widest.max(dist(prev, q));
+                prev = q;
+                local.push(q);
+            }
+            // twice at most: the stretch at the check points is a close guide
+            if widest <= spacing || m >= 4 * first || m >= MAX_CONTACT_SAMPLES {
+                break;
+            }
+            m *= 2;
+        }
+        for &[xl, zl] in &local {
+            pts.push([p[0] + c * xl - s * zl, p[1] + s * xl + c * zl]);
+        }
+        ends.push(pts.len() - 1);
+    }
+    (pts, ends)
+}
+
+fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
+    (p[0] - q[0]).hypot(p[1] - q[1])
+}
+
+/// The closest approach `(a, b, distance)` of the polyline `pts` to
+/// itself, if closer than `limit`: the smallest distance between two of its
+/// segments at least `sep` apart along it (from the end of the first to the
+/// start of the second, in `arc`, non-decreasing), 0 where two cross; `a <
+/// b` are vertices of the two segments.
+///
+/// Segments are compared only through a pair of their vertices within the
+/// best distance so far plus `spacing` (the longest segment: no point of
+/// two segments comes closer than their nearest vertices less that), in
+/// blocks of [`CONTACT_BLOCK`] vertices: a pair of blocks is skipped when
+/// their bounding boxes are that far apart, or when no two of their
+/// vertices are `sep` apart along the arc; blocks are swept in order of
+/// their boxes' lower X.
+fn closest_pair(
+    pts: &[[f64; 2]],
+    arc: &[f64],
+    sep: f64,
+    limit: f64,
+    spacing: f64,
+) -> Option<(usize, usize, f64)> {
+    let n = pts.len();
+    let blocks = n.div_ceil(CONTACT_BLOCK);
+    let range = |c: usize| c * CONTACT_BLOCK..((c + 1) * CONTACT_BLOCK).min(n);
+    let boxes: Vec<([f64; 2], [f64; 2])> = (0..blocks)
+        .map(|c| {
+            let mut lo = [f64::INFINITY; 2];
+            let mut hi = [f64::NEG_INFINITY; 2];
+            for p in &pts[range(c)] {
+                for d in 0..2 {
+                    lo[d] = lo[d].min(p[d]);
+                    hi[d] = hi[d].max(p[d]);
+                }
+            }
+            (lo, hi)
+        })
+        .collect();
+    let mut order: Vec<usize> = (0..blocks).collect();
+    order.sort_by(|&a, &b| boxes[a].0[0].total_cmp(&boxes[b].0[0]));
+    let mut best = limit;
+    let mut found = None;
+    for (o, &ca) in order.iter().enumerate() {
+        for &cb in &order[o..] {
+            let reach = best + spacing;
+            let ((la, ha), (lb, hb)) = (boxes[ca], boxes[cb]);
+            if lb[0] - ha[0] >= reach {
+                break; // and every later block in the order
+            }
+            if lb[1] - ha[1] >= reach || la[1] - hb[1] >= reach {
                 continue;
             }
-            for b in eb * per..((eb + 1) * per).min(segments) {
-                for a in ea * per..((ea + 1) * per).min(segments) {
-                    if a + 1 < b && segments_cross(pts[a], pts[a + 1], pts[b], pts[b + 1]) {
-                        return Some((a, b));
+            let (c1, c2) = (ca.min(cb), ca.max(cb));
+            let (r1, r2) = (range(c1), range(c2));
+            if arc[r2.end - 1] - arc[r1.start] < sep {
+                continue;
+            }
+            for a in r1 {
+                // the vertices of the second block at least sep beyond a
+                let beyond = r2.start + arc[r2.clone()].partition_point(|&s| s - arc[a] < sep);
+                for b in beyond.max(a + 1)..r2.end {
+                    let reach = best + spacing;
+                    let (dx, dz) = (pts[b][0] - pts[a][0], pts[b][1] - pts[a][1]);
+                    if dx * dx + dz * dz >= reach * reach {
+                        continue;
+                    }
+                    let d = segments_near(pts, arc, sep, a, b);
+                    if d < best {
+                        best = d;
+                        found = Some((a, b, d));
                     }
                 }
             }
         }
     }
-    None
+    found
 }
 
-/// The first pair of non-adjacent segments of a polyline that intersect
-/// (segment `i` joins points `i` and `i + 1`), by brute force.
-#[cfg(test)]
-fn first_crossing(pts: &[[f64; 2]]) -> Option<(usize, usize)> {
-    let n = pts.len().checked_sub(1)?;
-    for b in 2..n {
-        for a in 0..b - 1 {
-            if segments_cross(pts[a], pts[a + 1], pts[b], pts[b + 1]) {
-                return Some((a, b));
+/// The smallest distance between the polyline's segments next to vertices
+/// `a` and `b` (those ending or starting there) that are at least `sep`
+/// apart along it (0 where two cross), infinite when there are none.
+fn segments_near(pts: &[[f64; 2]], arc: &[f64], sep: f64, a: usize, b: usize) -> f64 {
+    let segments = |j: usize| [j.checked_sub(1), Some(j)].into_iter().flatten();
+    let mut best = f64::INFINITY;
+    for sa in segments(a) {
+        for sb in segments(b) {
+            if sb + 1 < pts.len() && arc[sb] - arc[sa + 1] >= sep {
+                best = best.min(segment_distance(pts[sa], pts[sa + 1], pts[sb], pts[sb + 1]));
             }
         }
     }
-    None
+    best
+}
+
+/// The distance between the closed segments `pq` and `rs`.
+fn segment_distance(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> f64 {
+    if segments_cross(p, q, r, s) {
+        return 0.0;
+    }
+    point_segment(p, r, s)
+        .min(point_segment(q, r, s))
+        .min(point_segment(r, p, q))
+        .min(point_segment(s, p, q))
+}
+
+/// The distance from `p` to the closed segment `ab`.
+fn point_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (ux, uz) = (b[0] - a[0], b[1] - a[1]);
+    let len2 = ux * ux + uz * uz;
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * ux + (p[1] - a[1]) * uz) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    dist(p, [a[0] + t * ux, a[1] + t * uz])
 }
 
 fn cross(o: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
@@ -207,53 +438,146 @@ fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
 mod tests {
     use super::*;
 
-    #[test]
-    fn crossings_by_element_agree_with_brute_force() {
-        let mut rng = fastrand::Rng::with_seed(7);
-        let mut next = || rng.f64();
-        for _ in 0..300 {
-            // a random walk with a random turning rate: coils and straights
-            let per = 1 + (next() * 5.0) as usize;
-            let n = per * (1 + (next() * 12.0) as usize);
-            let (mut p, mut a) = ([0.0, 0.0], 0.0);
-            let turn = next() * 0.8;
-            let mut pts = vec![p];
-            for _ in 0..n {
-                a += turn + 0.3 * (next() - 0.5);
-                p = [p[0] + a.cos(), p[1] + a.sin()];
-                pts.push(p);
-            }
-            assert_eq!(
-                first_crossing(&pts).is_some(),
-                first_crossing_by_element(&pts, per).is_some(),
-                "{pts:?}"
-            );
+    /// A random walk with a random turning rate (coils and straights):
+    /// `n` steps of length `step`.
+    fn walk(rng: &mut fastrand::Rng, n: usize, step: f64) -> Vec<[f64; 2]> {
+        let (mut p, mut a) = ([0.0, 0.0], 0.0f64);
+        let turn = rng.f64() * 0.5;
+        let mut pts = vec![p];
+        for _ in 0..n {
+            a += turn + 0.3 * (rng.f64() - 0.5);
+            p = [p[0] + step * a.cos(), p[1] + step * a.sin()];
+            pts.push(p);
         }
+        pts
+    }
+
+    fn chords(pts: &[[f64; 2]]) -> Vec<f64> {
+        let mut arc = vec![0.0];
+        for w in pts.windows(2) {
+            arc.push(arc.last().unwrap() + dist(w[0], w[1]));
+        }
+        arc
     }
 
     #[test]
-    fn crossings_of_hand_drawn_polylines() {
-        // a figure of eight crosses itself
-        let eight = [[0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]];
-        assert_eq!(first_crossing(&eight), Some((0, 2)));
-        // a spiral that never meets itself
-        let spiral: Vec<[f64; 2]> = (0..200)
-            .map(|i| {
-                let t = i as f64 * 0.1;
-                [(1.0 + 0.2 * t) * t.cos(), (1.0 + 0.2 * t) * t.sin()]
-            })
-            .collect();
-        assert_eq!(first_crossing(&spiral), None);
-        // a circle run past its start closes on itself
-        let circle: Vec<[f64; 2]> = (0..=80)
-            .map(|i| {
-                let t = i as f64 * 0.1;
-                [t.cos(), t.sin()]
-            })
-            .collect();
-        assert!(first_crossing(&circle).is_some());
+    fn the_pruned_search_finds_the_brute_force_closest_pair() {
+        let mut rng = fastrand::Rng::with_seed(11);
+        let mut hits = 0;
+        for _ in 0..400 {
+            let n = 1 + rng.usize(..300);
+            let step = 0.2 + rng.f64();
+            let pts = walk(&mut rng, n, step);
+            let arc = chords(&pts);
+            let limit = 0.5 + 4.0 * rng.f64();
+            let sep = 0.5 * PI * limit;
+            // every pair of segments, by brute force
+            let mut brute: Option<f64> = None;
+            for b in 1..pts.len() - 1 {
+                for a in 0..b - 1 {
+                    let d = segment_distance(pts[a], pts[a + 1], pts[b], pts[b + 1]);
+                    if arc[b] - arc[a + 1] >= sep && d < limit && brute.is_none_or(|e| d < e) {
+                        brute = Some(d);
+                    }
+                }
+            }
+            let spacing = pts.windows(2).map(|w| dist(w[0], w[1])).fold(0.0, f64::max);
+            let found = closest_pair(&pts, &arc, sep, limit, spacing);
+            assert_eq!(found.map(|f| f.2), brute, "n {n}, limit {limit}");
+            hits += usize::from(found.is_some());
+        }
+        assert!(
+            hits > 50 && hits < 350,
+            "{hits} of 400 walks meet themselves"
+        );
+    }
+
+    #[test]
+    fn segment_distances_agree_with_dense_sampling() {
+        let mut rng = fastrand::Rng::with_seed(5);
+        let mut point = || [4.0 * rng.f64() - 2.0, 4.0 * rng.f64() - 2.0];
+        for _ in 0..300 {
+            let (p, q, r, s) = (point(), point(), point(), point());
+            let along = |a: [f64; 2], b: [f64; 2], t: f64| {
+                [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+            };
+            let m = 400;
+            let mut dense = f64::INFINITY;
+            for i in 0..=m {
+                for j in 0..=m {
+                    let (t, u) = (i as f64 / m as f64, j as f64 / m as f64);
+                    dense = dense.min(dist(along(p, q, t), along(r, s, u)));
+                }
+            }
+            let d = segment_distance(p, q, r, s);
+            // dense sampling is within one step of either segment
+            let step = (dist(p, q) + dist(r, s)) / m as f64;
+            assert!(d <= dense + 1e-12 && dense <= d + step, "{d} vs {dense}");
+        }
+        // a figure of eight crosses itself: distance 0
+        assert_eq!(
+            segment_distance([0.0, 0.0], [2.0, 2.0], [2.0, 0.0], [0.0, 2.0]),
+            0.0
+        );
         // touching end to start counts
-        let touch = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [0.0, 0.0]];
-        assert_eq!(first_crossing(&touch), Some((0, 3)));
+        assert_eq!(
+            segment_distance([0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [0.0, 0.0]),
+            0.0
+        );
+        // parallel segments one apart
+        assert_eq!(
+            segment_distance([0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [3.0, 1.0]),
+            1.0
+        );
+    }
+
+    #[test]
+    fn a_curve_turning_less_than_the_bound_never_comes_within_h_of_itself() {
+        // 2 acos(2/pi), and the circle of radius H/2: half a turn is l long
+        // and its ends are exactly H apart
+        assert!((contact_turning().to_degrees() - 100.92).abs() < 0.005);
+        let h = 3.0;
+        let l = contact_separation(h);
+        assert!((l - PI * (h / 2.0)).abs() < 1e-12);
+        // random curves whose tangents stay within the bound's turning
+        let mut rng = fastrand::Rng::with_seed(3);
+        let theta = contact_turning() * 0.999;
+        let mut closest = f64::INFINITY;
+        for _ in 0..200 {
+            let n = 400;
+            let step = h / 16.0;
+            let (mut p, mut a) = ([0.0, 0.0], theta * (rng.f64() - 0.5));
+            let mut pts = vec![p];
+            for _ in 0..n {
+                // a tangent wandering inside [-theta/2, theta/2]
+                a = (a + 0.4 * (rng.f64() - 0.5)).clamp(-theta / 2.0, theta / 2.0);
+                p = [p[0] + step * a.cos(), p[1] + step * a.sin()];
+                pts.push(p);
+            }
+            let arc = chords(&pts);
+            assert_eq!(closest_pair(&pts, &arc, l, h, step), None);
+            for b in 0..pts.len() {
+                for a in 0..b {
+                    if arc[b] - arc[a] >= l {
+                        closest = closest.min(dist(pts[a], pts[b]));
+                    }
+                }
+            }
+        }
+        assert!(closest >= h, "{closest}");
+        // a circle of radius H/2 run one and a half turns: the search finds
+        // points l apart whose distance is about H, and more than that
+        // closes the circle on itself
+        let r = 0.6 * h;
+        let pts: Vec<[f64; 2]> = (0..=600)
+            .map(|i| {
+                let t = 3.0 * PI * i as f64 / 600.0;
+                [r * t.sin(), r - r * t.cos()]
+            })
+            .collect();
+        let arc = chords(&pts);
+        let (a, b, d) = closest_pair(&pts, &arc, l, h, 3.0 * PI * r / 600.0).unwrap();
+        assert_eq!(d, 0.0, "the circle crosses itself");
+        assert!((arc[b] - arc[a] - 2.0 * PI * r).abs() < 0.1, "{a} {b}");
     }
 }

@@ -57,37 +57,128 @@ fn every_claimed_grasp_is_reproduced_by_the_scene_path() {
     let req = Requirements::parse(&text).unwrap();
     // a fixed design (the paper's), so the check does not depend on the search
     let e = evaluate(&req, [0.25, 60.0, 20.0]);
-    let d = fpc::design::Designed {
+    let mut d = fpc::design::Designed {
         feasible: e.feasible(),
         best: e,
         sensitivities: Vec::new(),
         evaluations: 1,
         starts: 0,
+        reproductions: Vec::new(),
+        failure: None,
     };
     let scenes = d.scenes(&req);
     assert_eq!(scenes.len(), 2);
     for (i, (file, toml)) in scenes.iter().enumerate() {
-        let claimed = d
-            .best
-            .margins
-            .iter()
-            .filter(|m| {
-                m.requirement.starts_with(&format!("object[{i}] "))
-                    && m.requirement.ends_with("lift")
-            })
-            .min_by(|a, b| a.margin.total_cmp(&b.margin))
-            .and_then(|m| m.value)
-            .unwrap();
+        let claim = d.best.hardest_lift(i).unwrap();
         let solved = Scene::from_toml(toml).unwrap().solve().unwrap();
         let SceneSolution::Gripper { grasp: Some(g), .. } = solved else {
             panic!("{file}: no grasp")
         };
-        assert!(g.is_valid(), "{file}: {:?}", g.invalid);
-        assert!(
-            (g.grasp.lift - claimed).abs() <= 1e-6 * claimed,
-            "{file}: solved {} vs claimed {claimed}",
-            g.grasp.lift
-        );
+        assert_eq!(Some(g.is_valid()), claim.valid, "{file}: {:?}", g.invalid());
+        for (solved, claimed) in [
+            (g.grasp.lift, claim.value.unwrap()),
+            (g.grasp.normal, claim.normal_n.unwrap()),
+        ] {
+            assert!(
+                (solved - claimed).abs() <= 1e-6 * claimed,
+                "{file}: solved {solved} vs claimed {claimed}"
+            );
+        }
+    }
+    // the library's check agrees, scene by scene
+    let checks = fpc::design::reproduce(&d, &req);
+    assert_eq!(checks.len(), 2);
+    assert!(checks.iter().all(|c| c.reproduced), "{checks:?}");
+    // a claim its scene does not reproduce is caught: a lift 1 % too high
+    let i = d
+        .best
+        .margins
+        .iter()
+        .position(|m| m.requirement.starts_with("object[1] ") && m.requirement.ends_with("lift"))
+        .unwrap();
+    let hardest = d.best.hardest_lift(1).unwrap().requirement.clone();
+    for m in d
+        .best
+        .margins
+        .iter_mut()
+        .filter(|m| m.requirement == hardest)
+    {
+        m.value = m.value.map(|v| v * 1.01);
+    }
+    assert!(i < d.best.margins.len());
+    let checks = fpc::design::reproduce(&d, &req);
+    assert!(checks[0].reproduced && !checks[1].reproduced, "{checks:?}");
+}
+
+#[test]
+fn designs_keep_to_the_design_space_unless_the_file_widens_it() {
+    let base = "[[object]]\nkind = \"cuboid\"\nsize_mm = [60.0, 80.0]\nlift_n = 0.3\n[vary]\n";
+    // clamped to [arccot mu, 90] = [59.04, 90] degrees, with a note
+    let req = Requirements::parse(&format!("{base}mounting_angle_deg = [50.0, 90.0]\n")).unwrap();
+    let lo = (1.0f64 / 0.6).atan().to_degrees();
+    assert!(
+        (req.bounds()[1][0] - lo).abs() < 1e-12,
+        "{:?}",
+        req.bounds()
+    );
+    assert_eq!(req.bounds()[1][1], 90.0);
+    assert_eq!(req.notes().len(), 1, "{:?}", req.notes());
+    assert!(req.notes()[0].contains("searched within the design space"));
+    // inside it: no note
+    let req = Requirements::parse(&format!("{base}mounting_angle_deg = [60.0, 90.0]\n")).unwrap();
+    assert!(req.notes().is_empty());
+    assert_eq!(req.bounds()[1], [60.0, 90.0]);
+    // widened explicitly: the bounds as given, and a note that says so
+    let req = Requirements::parse(&format!(
+        "{base}mounting_angle_deg = [50.0, 90.0]\nallow_outside_design_space = true\n"
+    ))
+    .unwrap();
+    assert_eq!(req.bounds()[1], [50.0, 90.0]);
+    assert!(req.notes()[0].contains("reaches outside the design space"));
+    // nothing left inside it: an error naming the key
+    let e = Requirements::parse(&format!("{base}mounting_angle_deg = [40.0, 55.0]\n")).unwrap_err();
+    assert!(e.to_string().contains("vary.mounting_angle_deg"), "{e}");
+    // the search never leaves the design space
+    let req = Requirements::parse(&format!(
+        "mu = 0.6\n{base}mounting_angle_deg = [50.0, 90.0]\neps0 = [0.2, 0.3]\n"
+    ))
+    .unwrap();
+    let d = optimize(
+        &req,
+        &DesignOptions {
+            random_starts: 1,
+            max_iterations: 6,
+            ..DesignOptions::default()
+        },
+    );
+    assert!(d.best.design[1] >= lo - 1e-12, "{:?}", d.best.design);
+}
+
+#[test]
+fn a_design_far_outside_the_model_is_not_called_feasible_on_invalid_grasps() {
+    // the case: one cuboid, a light lift, eps0 free in [0.1, 0.5];
+    // at eps0 0.5 the grasps fold the finger through itself, far outside
+    // the model: every margin that counts a lift must come from a valid
+    // grasp, and the claimed grasps must reproduce through the scene path
+    let req = Requirements::parse(
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [90.0, 100.0]\nlift_n = 0.3\n[vary]\neps0 = [0.1, 0.5]\n",
+    )
+    .unwrap();
+    let d = optimize(&req, &DesignOptions::default());
+    for m in &d.best.margins {
+        if m.requirement.ends_with("lift") && m.margin >= 0.0 {
+            assert_eq!(m.valid, Some(true), "{m:?}");
+        }
+    }
+    assert!(
+        d.reproductions.iter().all(|r| r.reproduced),
+        "{:?}",
+        d.reproductions
+    );
+    if d.feasible {
+        assert!(d.reproductions.iter().all(|r| r.valid));
+        // a lift of about 28 N (margin +93) came from an invalid grasp
+        assert!(d.best.worst < 50.0, "{:?}", d.best);
     }
 }
 

@@ -279,7 +279,7 @@ fn palm_specified_size_grasp_sensitivities_match_re_solves() {
     let d = Design {
         actuator_eps0: 0.2,
         params: GripperParams {
-            geometry: PalmSpec::Palm(30.0),
+            geometry: PalmSpec::Palm(40.0),
             ..GripperParams::default()
         },
         pressure_kpa: 0.0,
@@ -435,7 +435,7 @@ fn geometry_sensitivities_match_rebuilt_grippers() {
     );
     let palm = Design {
         params: GripperParams {
-            geometry: PalmSpec::Palm(30.0),
+            geometry: PalmSpec::Palm(40.0),
             mounting_angle: 1.2,
             ..GripperParams::default()
         },
@@ -536,7 +536,9 @@ fn envelope_sensitivities_match_re_solved_maxima() {
         params: GripperParams::default(),
         pressure_kpa: 0.0,
         beta: 0.0,
-        kind: GraspKind::SphereAtFrictionLimit { radius: 50.0 },
+        // off the envelope's peak (about 49.2 mm), where d f_v^max / dr
+        // vanishes below the noise of differences of re-solved maxima
+        kind: GraspKind::SphereAtFrictionLimit { radius: 45.0 },
     };
     let best_of = |act: &Actuator, d: &Design| {
         let r = match d.kind {
@@ -595,19 +597,18 @@ fn envelope_sensitivities_match_re_solved_maxima() {
     let mut worst = 0.0f64;
     for row in &sens.rows {
         let value = row.value;
-        // The envelope is smooth only while the same mid-plane sample
-        // meets the sphere first; at this sampling another sample takes
-        // over within about 1e-4 in eps0, so a plain central difference
-        // with a small step (its O(h^2) error is far below 1e-6 here).
+        // The contact is exact (the continuous mid-plane), so the envelope
+        // is smooth in every parameter while the same boundary holds the
+        // angle: Richardson-extrapolated central differences.
         let h = match row.param {
-            GripperParam::Pressure => 0.1,
-            _ => step(row.param, value) / 25.0,
+            GripperParam::Pressure => 1.0,
+            _ => step(row.param, value),
         };
-        let f = |v: f64| {
+        let mut f = |v: f64| {
             let (a, dd) = perturbed(&d, &act, row.param, v);
-            pinned(&a, &dd)
+            vec![pinned(&a, &dd)]
         };
-        let fd = vec![(f(value + h) - f(value - h)) / (2.0 * h)];
+        let fd = richardson(&mut f, value, h);
         let scale = value.abs().max(100.0 * h);
         let e = agreement(
             &format!("envelope / {}", row.param),

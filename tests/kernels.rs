@@ -1349,6 +1349,75 @@ fn midplane_tangent_strain_and_curvature_match_closed_forms() {
     for_each_model!(point_kernels_vs_closed_forms);
 }
 
+/// The mid-plane's polynomial coefficients against the mid-plane point
+/// kernel: `sum_j c_j x^j` evaluated here (Horner) equals `midplane(k, x)`
+/// to rounding at random states and points, inside and beyond the element.
+fn midplane_polynomial_vs_point_kernel<M: Fields>() {
+    let mut rng = Rng::new(12);
+    let d = M::MIDPLANE_DEGREE;
+    let mut c = vec![[f64::NAN; 2]; d + 2];
+    let mut worst = 0.0f64;
+    for case in 0..2000 {
+        let l = rng.range(1.0, 110.0);
+        // typical states, and large ones (every coefficient matters)
+        let k: M::Coeffs = if case % 4 == 3 {
+            M::Coeffs::from_fn(|_| rng.range(-2.0, 2.0))
+        } else {
+            rng.within(&M::typical_at(l))
+        };
+        c.iter_mut().for_each(|e| *e = [f64::NAN; 2]);
+        M::midplane_coefficients(&k, &mut c);
+        assert!(
+            c[d + 1][0].is_nan(),
+            "{}: wrote beyond MIDPLANE_DEGREE + 1 entries",
+            M::NAME
+        );
+        let x = rng.range(-0.5 * l, 1.5 * l);
+        let want = M::midplane(&k, x);
+        for o in 0..2 {
+            let got = c[..=d].iter().rev().fold(0.0, |acc, cj| acc * x + cj[o]);
+            // rounding scale: the terms by absolute value
+            let scale = c[..=d]
+                .iter()
+                .enumerate()
+                .map(|(j, cj)| (cj[o] * x.powi(j as i32)).abs())
+                .sum::<f64>()
+                .max(l);
+            let err = (got - want[o]).abs() / scale;
+            worst = worst.max(err);
+            assert!(
+                err <= 4.0 * f64::EPSILON,
+                "{} case {case}: polynomial[{o}]({x}) = {got:e}, point kernel {:e} (K = {k:?})",
+                M::NAME,
+                want[o]
+            );
+        }
+    }
+    // the straight, unstrained element is X = x, Z = 0
+    M::midplane_coefficients(&M::Coeffs::zero(), &mut c);
+    for (j, cj) in c[..=d].iter().enumerate() {
+        assert_eq!(
+            *cj,
+            if j == 1 { [1.0, 0.0] } else { [0.0, 0.0] },
+            "{}",
+            M::NAME
+        );
+    }
+    // a shorter slice gets the lowest powers only
+    let mut short = [[f64::NAN; 2]; 1];
+    M::midplane_coefficients(&M::Coeffs::zero(), &mut short);
+    assert_eq!(short, [[0.0, 0.0]]);
+    eprintln!(
+        "{}: mid-plane polynomial (degree {d}) vs point kernel: worst {worst:e} of the term magnitude",
+        M::NAME
+    );
+}
+
+#[test]
+fn midplane_polynomial_matches_the_point_kernel() {
+    for_each_model!(midplane_polynomial_vs_point_kernel);
+}
+
 #[test]
 fn ccm_constant_curvature_is_twice_c2() {
     // an element with a1 = a3 = 0 bends as w = c2 x^2: curvature at the

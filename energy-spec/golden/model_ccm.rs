@@ -2653,6 +2653,13 @@ pub fn strain_hessian(
         [[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.0 * tmp0]],
     )
 }
+///Point kernel `midplane` as polynomials in `x` of degree 3: entry `[j][o]` is the coefficient of `x^j` in output `o` (`X`, `Z`).
+pub fn midplane_polynomial(k: &[f64; 4]) -> [[f64; 2]; 4] {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    [[0.0, 0.0], [1.0 + a1, 0.0], [0.0, c2], [a3, 0.0]]
+}
 /**The element model of `energy-spec/ccm.spec` (4 unknowns: `a1, a3, b1, c2`).
 
 The paper's element (chained composite model, CCM): u = a1 x + a3 x^3,
@@ -2675,6 +2682,7 @@ impl super::ElementModel for Ccm {
     const UNKNOWNS: &'static [&'static str] = &["a1", "a3", "b1", "c2"];
     const LOCAL: &'static [usize] = LOCAL;
     const FAMILIES: &'static [&'static str] = &["linear", "prestressed", "gas"];
+    const MIDPLANE_DEGREE: usize = 3;
     #[inline]
     fn unscale(length: f64) -> [f64; 4] {
         unscale(length)
@@ -2748,6 +2756,12 @@ impl super::ElementModel for Ccm {
     #[inline]
     fn midplane(k: &[f64; 4], x: f64) -> [f64; 2] {
         midplane_value(k, x)
+    }
+    #[inline]
+    fn midplane_coefficients(k: &[f64; 4], out: &mut [[f64; 2]]) {
+        for (o, c) in out.iter_mut().zip(midplane_polynomial(k)) {
+            *o = [c[0], c[1]];
+        }
     }
     #[inline]
     fn tangent(k: &[f64; 4], x: f64) -> [f64; 2] {

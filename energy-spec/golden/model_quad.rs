@@ -4634,6 +4634,14 @@ pub fn strain_hessian(
         ],
     )
 }
+///Point kernel `midplane` as polynomials in `x` of degree 3: entry `[j][o]` is the coefficient of `x^j` in output `o` (`X`, `Z`).
+pub fn midplane_polynomial(k: &[f64; 5]) -> [[f64; 2]; 4] {
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let c2 = k[4];
+    [[0.0, 0.0], [1.0 + a1, 0.0], [a2, c2], [a3, 0.0]]
+}
 /**The element model of `energy-spec/quad.spec` (5 unknowns: `a1, a2, a3, b1, c2`).
 
 A richer membrane for the chained composite model: u = a1 x + a2 x^2 +
@@ -4658,6 +4666,7 @@ impl super::ElementModel for Quad {
     const UNKNOWNS: &'static [&'static str] = &["a1", "a2", "a3", "b1", "c2"];
     const LOCAL: &'static [usize] = LOCAL;
     const FAMILIES: &'static [&'static str] = &["linear", "prestressed", "gas"];
+    const MIDPLANE_DEGREE: usize = 3;
     #[inline]
     fn unscale(length: f64) -> [f64; 5] {
         unscale(length)
@@ -4731,6 +4740,12 @@ impl super::ElementModel for Quad {
     #[inline]
     fn midplane(k: &[f64; 5], x: f64) -> [f64; 2] {
         midplane_value(k, x)
+    }
+    #[inline]
+    fn midplane_coefficients(k: &[f64; 5], out: &mut [[f64; 2]]) {
+        for (o, c) in out.iter_mut().zip(midplane_polynomial(k)) {
+            *o = [c[0], c[1]];
+        }
     }
     #[inline]
     fn tangent(k: &[f64; 5], x: f64) -> [f64; 2] {

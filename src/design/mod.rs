@@ -25,9 +25,11 @@
 //! runs to reproduce it.
 
 mod optimize;
+mod reproduce;
 mod requirements;
 
 pub use optimize::{grid_search, optimize, DesignOptions, Designed, GridResult, MarginSensitivity};
+pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
     ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary, DEFAULT_DESIGN,
     VARIABLES,
@@ -39,7 +41,7 @@ use crate::actuator::Actuator;
 use crate::blocks::Partition;
 use crate::error::SolveError;
 use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::{Gripper, GripperParams, PalmSpec};
+use crate::gripper::{Gripper, GripperParams, Object, PalmSpec};
 use crate::sensitivity::{ActuatorParam, GraspKind, GripperParam};
 
 /// Widths sampled per cuboid requirement.
@@ -74,6 +76,13 @@ pub struct Margin {
     /// opening in mm), where there is one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub value: Option<f64>,
+    /// The normal force of the grasp behind an object's margin (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub normal_n: Option<f64>,
+    /// Whether the grasp behind an object's margin is valid (the one
+    /// verdict); an invalid grasp holds nothing.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub valid: Option<bool>,
 }
 
 /// All margins of a design.
@@ -98,6 +107,16 @@ impl Evaluation {
     pub fn worst_margin(&self) -> Option<&Margin> {
         self.margins
             .iter()
+            .min_by(|a, b| a.margin.total_cmp(&b.margin))
+    }
+
+    /// Object `i`'s smallest lift margin: the hardest sample, whose grasp
+    /// its scene file reproduces ([`Designed::scenes`]).
+    pub fn hardest_lift(&self, i: usize) -> Option<&Margin> {
+        let prefix = format!("object[{i}] ");
+        self.margins
+            .iter()
+            .filter(|m| m.requirement.starts_with(&prefix) && m.requirement.ends_with("lift"))
             .min_by(|a, b| a.margin.total_cmp(&b.margin))
     }
 }
@@ -206,6 +225,8 @@ fn evaluate_inner(
                 at_mm: None,
                 beta_deg: None,
                 value: None,
+                normal_n: None,
+                valid: None,
             },
             |_| Some([Some(0.0); 3]),
         ),
@@ -265,6 +286,8 @@ fn cuboid_margins(
                     at_mm: Some(d),
                     beta_deg: None,
                     value: Some(d_max),
+                    normal_n: None,
+                    valid: None,
                 },
                 |act| {
                     let rows = g.geometry_sensitivities(act, &DESIGN_PARAMS).ok()?;
@@ -276,13 +299,13 @@ fn cuboid_margins(
             );
             continue;
         }
-        match g.grasp_load_for_size(0.0, d, 0.0, warm.as_ref()) {
+        match g.size_grasp(0.0, d, 0.0, Object::Face, warm.as_ref(), false) {
             Ok(gr) => {
                 let held = gr.lift;
                 let mut m = (held - lift) / lift;
                 let mut detail = format!("f_v = {held:.4} N for {lift} N (F = {:.4} N)", gr.normal);
                 let mut clamped = false;
-                if let Some(inv) = &gr.invalid {
+                if let Some(inv) = gr.invalid() {
                     // an invalid grasp holds nothing, whatever its force
                     clamped = m > -0.1;
                     m = m.min(-0.1);
@@ -300,6 +323,8 @@ fn cuboid_margins(
                         at_mm: Some(d),
                         beta_deg: Some(0.0),
                         value: Some(held),
+                        normal_n: Some(gr.normal),
+                        valid: Some(gr.is_valid()),
                     },
                     |act| {
                         if clamped {
@@ -322,6 +347,8 @@ fn cuboid_margins(
                             at_mm: Some(d),
                             beta_deg: Some(0.0),
                             value: Some(gr.normal),
+                            normal_n: None,
+                            valid: None,
                         },
                         |act| {
                             let s = sens(act)?;
@@ -344,6 +371,8 @@ fn cuboid_margins(
                         at_mm: Some(d),
                         beta_deg: Some(0.0),
                         value: None,
+                        normal_n: None,
+                        valid: None,
                     },
                     |_| Some([Some(0.0); 3]),
                 );
@@ -381,6 +410,8 @@ fn sphere_margins(
                         at_mm: Some(r),
                         beta_deg: Some(best.beta.to_degrees()),
                         value: Some(best.lift),
+                        normal_n: Some(best.normal),
+                        valid: Some(true),
                     },
                     |act| {
                         let s = sens(act)?;
@@ -400,6 +431,8 @@ fn sphere_margins(
                             at_mm: Some(r),
                             beta_deg: Some(best.beta.to_degrees()),
                             value: Some(best.normal),
+                            normal_n: None,
+                            valid: None,
                         },
                         |act| {
                             let s = sens(act)?;
@@ -420,6 +453,8 @@ fn sphere_margins(
                     at_mm: Some(r),
                     beta_deg: None,
                     value: None,
+                    normal_n: None,
+                    valid: None,
                 },
                 |_| Some([Some(0.0); 3]),
             ),
@@ -431,6 +466,8 @@ fn sphere_margins(
                     at_mm: Some(r),
                     beta_deg: None,
                     value: None,
+                    normal_n: None,
+                    valid: None,
                 },
                 |_| Some([Some(0.0); 3]),
             ),
@@ -444,19 +481,33 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, out: &mut Collect<'_>) {
     match g.finger().solve(&load, &opts) {
         Ok(sol) => {
             let size = g.size_of(sol.tip);
+            let mut margin = (size - open.size_mm) / open.size_mm;
+            let mut detail = format!(
+                "opens to d = {size:.2} mm at {} kPa, {} mm needed",
+                open.pressure_kpa, open.size_mm
+            );
+            // an opening outside the model is not one
+            let outside = sol.warnings.iter().find(|w| w.is_validity());
+            let clamped = outside.is_some() && margin > -0.1;
+            if let Some(w) = outside {
+                margin = margin.min(-0.1);
+                detail = format!("{detail}; outside the model: {w}");
+            }
             out.push(
                 Margin {
                     requirement: "open".into(),
-                    margin: (size - open.size_mm) / open.size_mm,
-                    detail: format!(
-                        "opens to d = {size:.2} mm at {} kPa, {} mm needed",
-                        open.pressure_kpa, open.size_mm
-                    ),
+                    margin,
+                    detail,
                     at_mm: None,
                     beta_deg: None,
                     value: Some(size),
+                    normal_n: None,
+                    valid: None,
                 },
                 |act| {
+                    if clamped {
+                        return Some([Some(0.0); 3]);
+                    }
                     let r = g
                         .size_sensitivities(act, &sol, &load, &DESIGN_PARAMS)
                         .ok()?;
@@ -475,6 +526,8 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, out: &mut Collect<'_>) {
                 at_mm: None,
                 beta_deg: None,
                 value: None,
+                normal_n: None,
+                valid: None,
             },
             |_| Some([Some(0.0); 3]),
         ),

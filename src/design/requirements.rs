@@ -74,9 +74,17 @@ pub enum ObjectRequirement {
 #[serde(deny_unknown_fields)]
 struct ObjectTable {
     kind: ObjectKind,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "pair::size_mm"
+    )]
     size_mm: Option<[f64; 2]>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "pair::radius_mm"
+    )]
     radius_mm: Option<[f64; 2]>,
     lift_n: f64,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -136,6 +144,50 @@ mod object_list {
     }
 }
 
+/// The two-number arrays of a requirements file, read whole: an array of
+/// any other length is an error naming the key (serde's fixed-size arrays
+/// would drop the extra entries silently).
+mod pair {
+    use serde::{de::Error as _, Deserialize, Deserializer};
+
+    fn two<'de, D: Deserializer<'de>>(
+        d: D,
+        key: &str,
+        form: &str,
+    ) -> Result<Option<[f64; 2]>, D::Error> {
+        let v = Vec::<f64>::deserialize(d)?;
+        match v[..] {
+            [a, b] => Ok(Some([a, b])),
+            _ => Err(D::Error::custom(format!(
+                "`{key}` has {} number(s): it must be two, {form}",
+                v.len()
+            ))),
+        }
+    }
+
+    pub fn size_mm<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+        two(d, "size_mm", "[smallest, largest]")
+    }
+
+    pub fn radius_mm<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+        two(d, "radius_mm", "[smallest, largest]")
+    }
+
+    pub fn eps0<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+        two(d, "eps0", "[low, high]")
+    }
+
+    pub fn mounting_angle_deg<'de, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[f64; 2]>, D::Error> {
+        two(d, "mounting_angle_deg", "[low, high]")
+    }
+
+    pub fn overlap_mm<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[f64; 2]>, D::Error> {
+        two(d, "overlap_mm", "[low, high]")
+    }
+}
+
 /// The gripper must open to at least `size_mm` at `pressure_kpa` or less.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -152,14 +204,19 @@ pub struct OpenRequirement {
 #[serde(deny_unknown_fields)]
 pub struct Vary {
     /// Prestrain of the prestressed layer, `[low, high]`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair::eps0")]
     pub eps0: Option<[f64; 2]>,
     /// Mounting angle (degrees), `[low, high]`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair::mounting_angle_deg")]
     pub mounting_angle_deg: Option<[f64; 2]>,
     /// Overlap (mm), `[low, high]`.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "pair::overlap_mm")]
     pub overlap_mm: Option<[f64; 2]>,
+    /// Search mounting angles outside the model's design space
+    /// `[arccot mu, 90]` degrees (default false: the bounds are clamped to
+    /// it); a design found there is reported with a note.
+    #[serde(default)]
+    pub allow_outside_design_space: bool,
 }
 
 /// The paper's Sec. 5 design: eps0 0.25, 60 degrees, 20 mm overlap.
@@ -264,6 +321,26 @@ impl Requirements {
             179.0,
         )?;
         bound("overlap_mm", self.vary.overlap_mm, -200.0, 200.0)?;
+        if !self.vary.allow_outside_design_space {
+            let [lo, hi] = self.design_space_deg();
+            let given = self
+                .vary
+                .mounting_angle_deg
+                .unwrap_or([DEFAULT_DESIGN[1]; 2]);
+            let (field, value) = match self.vary.mounting_angle_deg {
+                Some(_) => ("vary.mounting_angle_deg", given[1]),
+                // fixed at the paper's value, outside this mu's design space
+                None => ("mu", self.mu),
+            };
+            require(
+                given[1] >= lo && given[0] <= hi,
+                field,
+                value,
+                format!(
+                    "leaves no mounting angle in the design space [{lo:.3}, {hi}] deg (arccot mu to 90 deg); set vary.allow_outside_design_space = true to search outside it"
+                ),
+            )?;
+        }
         require(
             self.vary.eps0.is_some()
                 || self.vary.mounting_angle_deg.is_some()
@@ -276,14 +353,55 @@ impl Requirements {
     }
 
     /// The bounds of each design variable, `[low, high]` (equal ends for a
-    /// fixed one).
+    /// fixed one). The mounting angle's are clamped to the design space
+    /// [`Requirements::design_space_deg`] unless
+    /// `vary.allow_outside_design_space`.
     pub fn bounds(&self) -> [[f64; 2]; 3] {
         let or = |b: Option<[f64; 2]>, d: f64| b.unwrap_or([d, d]);
+        let mut angle = or(self.vary.mounting_angle_deg, DEFAULT_DESIGN[1]);
+        if !self.vary.allow_outside_design_space {
+            let [lo, hi] = self.design_space_deg();
+            angle = [angle[0].clamp(lo, hi), angle[1].clamp(lo, hi)];
+        }
         [
             or(self.vary.eps0, DEFAULT_DESIGN[0]),
-            or(self.vary.mounting_angle_deg, DEFAULT_DESIGN[1]),
+            angle,
             or(self.vary.overlap_mm, DEFAULT_DESIGN[2]),
         ]
+    }
+
+    /// The model's design space of mounting angles, `[arccot mu, 90]`
+    /// degrees (docs/model.md M25): with the fingers pressed flat, friction
+    /// at its limit must carry the object.
+    pub fn design_space_deg(&self) -> [f64; 2] {
+        let [lo, hi] = crate::gripper::design_space(self.mu);
+        [lo.to_degrees(), hi.to_degrees()]
+    }
+
+    /// Notes on the requirements as read: mounting-angle bounds clamped to
+    /// the design space, or, with `allow_outside_design_space`, bounds that
+    /// reach outside it.
+    pub fn notes(&self) -> Vec<String> {
+        let [lo, hi] = self.design_space_deg();
+        let given = self
+            .vary
+            .mounting_angle_deg
+            .unwrap_or([DEFAULT_DESIGN[1]; 2]);
+        if given[0] >= lo && given[1] <= hi {
+            return Vec::new();
+        }
+        vec![if self.vary.allow_outside_design_space {
+            format!(
+                "vary.mounting_angle_deg = [{}, {}] reaches outside the design space [{lo:.3}, {hi}] deg (arccot mu to 90 deg), as vary.allow_outside_design_space asks: fingers pressed flat there cannot hold an object by friction",
+                given[0], given[1]
+            )
+        } else {
+            let b = self.bounds()[1];
+            format!(
+                "vary.mounting_angle_deg = [{}, {}] is searched within the design space, [{:.3}, {:.3}] deg (arccot mu to 90 deg); set vary.allow_outside_design_space = true to search outside it",
+                given[0], given[1], b[0], b[1]
+            )
+        }]
     }
 }
 
@@ -350,5 +468,72 @@ mounting_angle_deg = [60.0, 90.0]
         }
         let e = Requirements::parse("[vary]\neps0 = [0.1, 0.2]\n").unwrap_err();
         assert!(e.to_string().contains("object"), "{e}");
+    }
+
+    #[test]
+    fn arrays_of_the_wrong_length_are_located_errors() {
+        // (replace, with, key, line, column of the array)
+        for (from, to, key, line, col) in [
+            (
+                "size_mm = [60.0, 120.0]",
+                "size_mm = [90.0, 100.0, 200.0, 5000.0]",
+                "size_mm",
+                6,
+                11,
+            ),
+            (
+                "size_mm = [60.0, 120.0]",
+                "size_mm = [60.0]",
+                "size_mm",
+                6,
+                11,
+            ),
+            ("size_mm = [60.0, 120.0]", "size_mm = []", "size_mm", 6, 11),
+            ("eps0 = [0.1, 0.5]", "eps0 = [0.1, 0.2, 0.5]", "eps0", 9, 8),
+            (
+                "mounting_angle_deg = [60.0, 90.0]",
+                "mounting_angle_deg = [60.0]",
+                "mounting_angle_deg",
+                10,
+                22,
+            ),
+            (
+                "mounting_angle_deg = [60.0, 90.0]",
+                "overlap_mm = [0.0, 10.0, 20.0]",
+                "overlap_mm",
+                10,
+                14,
+            ),
+        ] {
+            let text = PAPER.replace(from, to);
+            let e = Requirements::parse(&text).unwrap_err();
+            let RequirementsError::Syntax(s) = e else {
+                panic!("{to}: {e:?}")
+            };
+            assert!(s.message.contains(&format!("`{key}`")), "{to}: {s}");
+            assert!(s.message.contains("must be two"), "{to}: {s}");
+            assert_eq!((s.line, s.col), (line, col), "{to}: {s}");
+        }
+        // a sphere's radii likewise
+        let sphere = PAPER.replace(
+            "kind = \"cuboid\"\nsize_mm = [60.0, 120.0]",
+            "kind = \"sphere\"\nradius_mm = [20.0, 30.0, 40.0]",
+        );
+        let e = Requirements::parse(&sphere).unwrap_err();
+        assert!(e.to_string().contains("`radius_mm` has 3"), "{e}");
+        // two numbers still read as before
+        let ok = PAPER.replace(
+            "kind = \"cuboid\"\nsize_mm = [60.0, 120.0]",
+            "kind = \"sphere\"\nradius_mm = [20.0, 30.0]",
+        );
+        let r = Requirements::parse(&ok).unwrap();
+        assert!(matches!(
+            r.objects[0],
+            ObjectRequirement::Sphere {
+                radius_mm: [20.0, 30.0],
+                ..
+            }
+        ));
+        assert_eq!(r.vary.eps0, Some([0.1, 0.5]));
     }
 }

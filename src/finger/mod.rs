@@ -11,9 +11,11 @@
 //!   element-local unknowns;
 //! - [`solver`]: decoupled and coupled solves, continuation fallbacks,
 //!   stability and the validity checks of a solution;
-//! - [`target`]: bordered solves with one unknown load and one target.
+//! - [`target`]: bordered solves with one unknown load and one target;
+//! - [`curve`]: the mid-plane as exact polynomial curves, one per element.
 
 mod chain;
+mod curve;
 mod path;
 mod problem;
 mod solver;
@@ -26,8 +28,9 @@ use crate::blocks::Partition;
 use crate::error::{finite, positive, InputError, SolveError, Warning};
 use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
 
+pub use curve::{Affine2, PolyCurve};
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
-pub use target::TargetProblem;
+pub use target::{TargetFold, TargetProblem, Traced};
 
 pub(crate) use chain::Chain;
 pub(crate) use problem::FingerCore;
@@ -351,11 +354,13 @@ pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
     fn model(&self) -> ModelId;
     fn unknowns(&self) -> usize;
     fn lengths(&self) -> &[f64];
+    fn width(&self) -> f64;
     fn stiffness(&self) -> f64;
     fn unscale(&self) -> Vec<f64>;
     fn energy(&self, load: &Load, k: &Coefficients) -> f64;
     fn tip(&self, k: &Coefficients) -> ([f64; 2], f64);
     fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]>;
+    fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve>;
     fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>);
     fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>);
     fn element_hessian(
@@ -401,6 +406,14 @@ pub(crate) trait SolverDyn {
         ctol_mm: f64,
         opts: &SolveOptions,
     ) -> Result<(Solution, f64), SolveError>;
+    fn trace_target(
+        &mut self,
+        problem: &TargetProblem,
+        start: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<Traced, SolveError>;
     fn follow_load(
         &mut self,
         spec: &LoadPathSpec,
@@ -520,6 +533,11 @@ impl Finger {
         self.core.lengths()
     }
 
+    /// The strip's width `Ly` (mm).
+    pub fn width(&self) -> f64 {
+        self.core.width()
+    }
+
     /// The modelled length `Lx` (mm): the sum of the element lengths.
     pub fn length(&self) -> f64 {
         self.core.lengths().iter().sum()
@@ -577,6 +595,27 @@ impl Finger {
             });
         }
         Ok(self.core.shape(k, per_element))
+    }
+
+    /// The mid-plane as exact curves, one per element, root to tip, in the
+    /// finger frame (docs/model.md M14 in the frames of M10): element `i`'s
+    /// polynomial in its local `x` over `[0, L_i]`, rotated by the chain
+    /// angle `theta_i` and translated to the element's root `p_{i-1}`. The
+    /// curves meet end to start, the first starts at the root and the last
+    /// ends at [`Finger::tip`], and they agree with [`Finger::shape`]'s
+    /// samples (to rounding). An error names `coefficients` when the
+    /// state is so large that the curves overflow.
+    pub fn midplane_curves(&self, k: &Coefficients) -> Result<Vec<PolyCurve>, InputError> {
+        self.check(k)?;
+        let curves = self.core.midplane_curves(k);
+        if curves.iter().all(PolyCurve::is_finite) {
+            Ok(curves)
+        } else {
+            Err(InputError::Inconsistent {
+                field: "coefficients".into(),
+                rule: "the mid-plane's coefficients overflow".into(),
+            })
+        }
     }
 
     /// Total potential energy and its gradient with respect to the raw
@@ -801,6 +840,25 @@ impl<'a> Solver<'a> {
     ) -> Result<(Solution, f64), SolveError> {
         self.inner
             .solve_target(problem, guess, lambda0, ctol_mm, opts)
+    }
+
+    /// Traces the equilibria of `problem`'s load family from `start` (an
+    /// equilibrium of the family at `lambda0`) as the target moves from the
+    /// start's own `weights . tip` to `problem.target`, the way an object's
+    /// position is imposed when a gripper closes on it: each step a bordered
+    /// Newton solve from a predictor, accepted only when it stays on the
+    /// curve (see [`Traced`]); a fold in the target ends the trace short of
+    /// it ([`Traced::Fold`]). `ctol_mm` bounds the target residual.
+    pub fn trace_target(
+        &mut self,
+        problem: &TargetProblem,
+        start: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<Traced, SolveError> {
+        self.inner
+            .trace_target(problem, start, lambda0, ctol_mm, opts)
     }
 
     /// Follows the equilibrium path of a load family by pseudo-arclength

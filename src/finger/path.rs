@@ -32,6 +32,10 @@ pub struct LoadPoint<'a> {
     /// Negative eigenvalues of the Hessian at fixed load (0: stable under
     /// load control).
     pub negative_eigenvalues: usize,
+    /// Negative eigenvalues of the Hessian restricted to the family's
+    /// target (`weights . tip` held: 0 is stable with the object holding
+    /// the tip); `None` where that is not determined (singular).
+    pub restricted_negative: Option<usize>,
     /// `d lambda / ds` along the path: negative after a fold.
     pub lambda_slope: f64,
 }
@@ -66,6 +70,8 @@ pub struct LoadPath {
     pub folds: Vec<Fold>,
     /// Accepted steps.
     pub steps: usize,
+    /// Newton iterations of every corrector solve.
+    pub iterations: usize,
     /// The last accepted state (raw coefficients) and its load.
     pub last: (Coefficients, f64),
 }
@@ -85,22 +91,38 @@ pub struct LoadPathSpec {
     pub lambda_end: Option<f64>,
     /// The size of a typical load change (sets the arclength weight).
     pub lambda_scale: f64,
+    /// Locate folds and changes of stability along the way (reported in
+    /// [`LoadPath::folds`]); off, the path is only followed.
+    pub events: bool,
 }
 
 /// The default continuation settings for a finger: steps in the scaled
 /// unknowns (strains of order 0.01-0.1) and a load weight that makes one
 /// `lambda_scale` of load count like a strain of 0.1.
-fn palc_options(gtol: f64, lambda_scale: f64) -> PalcOptions {
+fn palc_options(gtol: f64, lambda_scale: f64, events: bool) -> PalcOptions {
     PalcOptions {
         gtol,
         theta: 0.1 / lambda_scale.max(1e-12),
-        initial_step: 0.02,
-        max_step: 0.2,
+        initial_step: if events { 0.02 } else { PATH_FIRST_STEP },
+        max_step: if events { 0.2 } else { PATH_MAX_STEP },
+        grow: if events { 1.5 } else { 2.0 },
         min_step: 1e-9,
         max_steps: 20_000,
+        detect_events: events,
+        // where the inertia changes, steps of at most PATH_EVENT_STEP: a
+        // branch passing close by is not jumped to
+        event_step: PATH_EVENT_STEP,
         ..PalcOptions::default()
     }
 }
+
+/// The first and the largest step (weighted arclength) of a path followed
+/// without locating events (a traced target): the corrector's contraction
+/// and the tangent's turn still shorten every step that would leave the
+/// branch.
+const PATH_FIRST_STEP: f64 = 0.08;
+const PATH_MAX_STEP: f64 = 0.4;
+const PATH_EVENT_STEP: f64 = 1e-3;
 
 struct Observer<'f, 'v, M: ElementModel> {
     finger: &'f FingerCore<M>,
@@ -130,6 +152,7 @@ impl<M: ElementModel> PathObserver for Observer<'_, '_, M> {
             coefficients: &self.raw,
             tip,
             negative_eigenvalues: p.inertia.negative,
+            restricted_negative: p.restricted.map(|i| i.negative),
             lambda_slope: p.tangent_lambda,
         };
         if (self.visit)(&point) {
@@ -172,6 +195,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             increasing,
             lambda_end,
             lambda_scale,
+            events,
         } = spec;
         let (lambda0, increasing, lambda_end, lambda_scale) =
             (*lambda0, *increasing, *lambda_end, *lambda_scale);
@@ -186,7 +210,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
         check_guess(guess, f.len(), M::Coeffs::LEN)?;
         self.load_guess(Some(guess));
         let n = self.y.len();
-        let popts = palc_options(opts.rtol * f.stiffness, lambda_scale.abs());
+        let popts = palc_options(opts.rtol * f.stiffness, lambda_scale.abs(), *events);
         let mut palc = Palc::new(n, popts).map_err(|e| InputError::OutOfRange {
             field: "path.lambda_scale".into(),
             value: lambda_scale,
@@ -226,6 +250,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             termination: report.termination,
             folds: observer.folds,
             steps: report.steps,
+            iterations: report.corrector_iterations,
             last: (last, lambda),
         })
     }

@@ -13,6 +13,7 @@ use crate::error::{SolveError, Warning};
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
 
 use super::chain::Chain;
+use super::curve::{Affine2, PolyCurve};
 use super::solver::SolverCore;
 use super::{Coefficients, FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
 
@@ -30,6 +31,10 @@ pub(crate) struct FingerCore<M: ElementModel> {
     /// The prestressed layer's z range and prestrain (validity checks).
     pub pemc_z: (f64, f64),
     pub eps0: f64,
+    /// The laminate's total thickness H (self contact).
+    pub thickness: f64,
+    /// The strip's width Ly (mm).
+    pub width: f64,
     /// A dropped solver's buffers, for the next solver.
     pub workspaces: super::solver::WorkspacePool<M>,
 }
@@ -60,6 +65,8 @@ impl<M: ElementModel> FingerCore<M> {
             stiffness: stiffness.max(f64::MIN_POSITIVE),
             pemc_z: actuator.pemc_z(),
             eps0: actuator.eps0(),
+            thickness: actuator.geometry().h,
+            width: actuator.geometry().ly,
             workspaces: Default::default(),
         }
     }
@@ -175,6 +182,10 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         &self.lengths
     }
 
+    fn width(&self) -> f64 {
+        self.width
+    }
+
     fn stiffness(&self) -> f64 {
         self.stiffness
     }
@@ -199,6 +210,19 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
 
     fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
         self.shape_raw(k.as_slice(), per_element)
+    }
+
+    fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve> {
+        let k = k.as_slice();
+        self.frames(k)
+            .into_iter()
+            .enumerate()
+            .map(|(i, (p, [c, s]))| {
+                let mut local = vec![[0.0; 2]; M::MIDPLANE_DEGREE + 1];
+                M::midplane_coefficients(&Self::element_coeffs(k, i), &mut local);
+                PolyCurve::from_parts(local, self.lengths[i]).map(Affine2::rotation_cs(c, s, p))
+            })
+            .collect()
     }
 
     fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
@@ -324,6 +348,17 @@ impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
         opts: &SolveOptions,
     ) -> Result<(Solution, f64), SolveError> {
         SolverCore::solve_target(self, problem, guess, lambda0, ctol_mm, opts)
+    }
+
+    fn trace_target(
+        &mut self,
+        problem: &TargetProblem,
+        start: &Coefficients,
+        lambda0: f64,
+        ctol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<super::Traced, SolveError> {
+        SolverCore::trace_target(self, problem, start, lambda0, ctol_mm, opts)
     }
 
     fn follow_load(

@@ -9,12 +9,26 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+use crate::error::{finite, InputError};
+use crate::finger::Affine2;
+
 /// A finger-frame point `(X, Z)` in the gripper frame, for mounting angle
 /// `a` and palm diameter `palm`: `Xg = l/2 + X cos a + Z sin a`,
 /// `Zg = X sin a - Z cos a`.
 pub fn finger_point_to_gripper(p: [f64; 2], a: f64, palm: f64) -> [f64; 2] {
     let (s, c) = a.sin_cos();
     [0.5 * palm + p[0] * c + p[1] * s, p[0] * s - p[1] * c]
+}
+
+/// The map of (M15) from the finger frame to the gripper frame for
+/// mounting angle `a` and palm diameter `palm`, as an affine map (for
+/// [`PolyCurve::map`](crate::PolyCurve::map): the mid-plane curves in the
+/// gripper frame); point by point the same as [`finger_point_to_gripper`].
+pub fn finger_to_gripper_map(a: f64, palm: f64) -> Result<Affine2, InputError> {
+    finite("mounting_angle", a)?;
+    finite("palm", palm)?;
+    let (s, c) = a.sin_cos();
+    Affine2::new([[c, s], [s, -c]], [0.5 * palm, 0.0])
 }
 
 /// A finger-frame displacement `(dX, dZ)` in the gripper frame (Eq. 25):

@@ -8,31 +8,39 @@
 //! - [`sphere`]: spheres touching the tip, the best lifting force and the
 //!   viable grasping angles.
 //!
-//! Target solves. Every grasp here is one bordered solve
-//! ([`Solver::solve_target`]): the tip load is affine in one unknown
-//! `lambda`, the target fixes the tip's Xg. A cold solve starts from the
-//! reference state (zero pressure, no load) and follows a homotopy from the
-//! reference problem to the requested one; a warm solve follows from the
-//! problem of a previous [`Grasp`]. Along a sweep, pass the previous point.
+//! Grasps. Every grasp here is the equilibrium the gripper reaches closing
+//! on the object from rest: the tip load is affine in one unknown `lambda`
+//! (the normal force, or a horizontal force), the target fixes the tip's
+//! Xg, and the target is traced from the rest state at the grasp's
+//! pressure (`lambda = 0`) to its value ([`Solver::trace_target`]), each
+//! step a bordered solve that must stay on the curve. A target beyond a
+//! fold of that path is refused ([`SolveError::NotOnPath`]) rather than
+//! answered from another branch. A warm solve continues the path of a
+//! previous [`Grasp`] of the same load family (a sweep's previous point).
 
+pub mod contact;
 pub mod frames;
 pub mod rules;
 pub mod sphere;
 mod tail;
 
+use fpc_newton::PathTermination;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
 use crate::error::{finite, positive, require, InputError, SolveError, Warning};
-use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
+use crate::finger::{
+    Coefficients, Finger, Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver,
+    TargetProblem, Traced,
+};
 
 pub use frames::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
     finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
     gripper_force_to_contact, gripper_force_to_finger, lifting_force,
 };
-pub use rules::Invalid;
+pub use rules::{Invalid, PathRecord, Stability, Verdict};
 pub use sphere::{AngleSample, SphereContact, SphereGrasp, SphereLift, ViableAngles};
 pub use tail::{SizeTail, SweepEnd, MAX_GRASP_FORCE_N};
 
@@ -46,21 +54,10 @@ const CURVATURE_SAMPLES: usize = 4;
 /// Target residual of the grasp solves (mm).
 const TARGET_TOL_MM: f64 = 1e-9;
 
-/// The smallest homotopy step (as a fraction of the whole path) before a
-/// target solve gives up.
-const MIN_HOMOTOPY_STEP: f64 = 1.0 / 512.0;
-
-/// Solves a homotopy may attempt before it gives up (a target beyond the
-/// reachable set, approached asymptotically, would otherwise cost many
-/// ever smaller steps).
-const MAX_HOMOTOPY_ATTEMPTS: usize = 16;
-
-/// The largest homotopy step when a grasp is followed along its path from
-/// the rest state (after a direct step landed on an unstable equilibrium).
-const PATH_STEP: f64 = 1.0 / 32.0;
-
-/// Newton iteration budget of the intermediate homotopy solves.
-const MAX_INTERMEDIATE_ITERATIONS: usize = 30;
+/// How far (mm) the object may reach into the finger's mid-plane before it
+/// counts as a second contact (rounding of the contact point itself, which
+/// the target puts on the object to within 1e-9 mm).
+pub const CONTACT_TOL_MM: f64 = 1e-9;
 
 /// How the palm is specified.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -146,12 +143,17 @@ pub struct Grasp {
     pub lambda: f64,
     /// The finger's equilibrium (mid-plane samples in the finger frame).
     pub solution: Solution,
-    /// Where the grasp leaves the model: the finger's findings
-    /// ([`Solution::warnings`]) and the grasp's own (`curvature_reversal`,
+    /// Every note and finding at the grasp: the finger's
+    /// ([`Solution::warnings`]: the actuator's notes and where the answer
+    /// leaves the model) and the grasp's own (`curvature_reversal`,
     /// `beyond_flat`).
     pub warnings: Vec<Warning>,
-    /// The first rule the grasp breaks (`None`: valid); see [`rules`].
-    pub invalid: Option<Invalid>,
+    /// The verdict: the rules, the findings, the stability and the path,
+    /// apart ([`Verdict`]); valid only when all hold.
+    pub verdict: Verdict,
+    /// The object touched (a sweep continues with the same object).
+    #[serde(skip)]
+    pub(crate) object: Object,
 }
 
 impl Grasp {
@@ -160,9 +162,16 @@ impl Grasp {
         rules::friction_ok(self.normal, self.friction, mu)
     }
 
-    /// True when the grasp breaks no rule.
+    /// True when the grasp is valid: the paper's rules hold, the finger is
+    /// inside the model, the grasp is stable and on the loading path
+    /// ([`Verdict`]).
     pub fn is_valid(&self) -> bool {
-        self.invalid.is_none()
+        self.verdict.is_valid()
+    }
+
+    /// The first reason the grasp is not valid (`None`: valid).
+    pub fn invalid(&self) -> Option<Invalid> {
+        self.verdict.first()
     }
 
     /// True when an element is bent backwards.
@@ -205,6 +214,26 @@ struct Scene {
     tip_xg: f64,
     /// The target's field and value, for errors.
     target: (&'static str, f64),
+    /// The object touched, for the contact check.
+    object: Object,
+    /// Sample the mid-plane of the answer (off for the grasps of a search,
+    /// which only need their verdict and forces: the contact is exact on
+    /// the continuous mid-plane).
+    shape: bool,
+}
+
+/// The shape of the object a grasp touches at the tip, for the check that
+/// it touches the finger nowhere else.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Object {
+    /// A flat face through the tip, normal to the contact direction `n`
+    /// (a cuboid's side at grasping angle 0), running from the contact
+    /// along `t = (-sin b, cos b)` (down, at b = 0): the object is the
+    /// region inside the face and below the contact, whose edge the tip
+    /// holds; the fingers come from the palm above it.
+    Face,
+    /// A sphere centred on the gripper axis through the tip.
+    Sphere,
 }
 
 impl Gripper {
@@ -270,6 +299,21 @@ impl Gripper {
                 (l, l0 - 0.5 * l)
             }
         };
+        // the fingers' roots sit on the palm's circle, 2 pi / n apart: the
+        // chord between neighbours must hold a finger's width
+        let (n, width) = (params.fingers, finger.width());
+        if n >= 3 {
+            let chord = palm * (PI / n as f64).sin();
+            require(
+                chord >= width,
+                "gripper.fingers",
+                n as f64,
+                format!(
+                    "do not fit around the palm: {n} fingers {width:.2} mm wide need a palm of at least {:.2} mm (neighbouring roots {chord:.2} mm apart on a palm of {palm:.2} mm)",
+                    width / (PI / n as f64).sin()
+                ),
+            )?;
+        }
         let mut warnings = finger.warnings().to_vec();
         let [lo, hi] = design_space(params.mu);
         if a < lo || a > hi {
@@ -444,8 +488,9 @@ impl Gripper {
         self.params.strict
     }
 
-    /// The grasp-level findings and the first rule a grasp breaks
-    /// (sphere geometry is checked in [`sphere`]).
+    /// The grasp-level notes and the verdict of an equilibrium holding
+    /// `object` at grasping angle `beta`.
+    #[allow(clippy::too_many_arguments)]
     fn judge(
         &self,
         solution: &Solution,
@@ -453,8 +498,10 @@ impl Gripper {
         friction: f64,
         size: f64,
         tip_gap: f64,
-        open: bool,
-    ) -> (Vec<Warning>, Option<Invalid>) {
+        beta: f64,
+        object: Object,
+        path: PathRecord,
+    ) -> (Vec<Warning>, Verdict) {
         let mut warnings = solution.warnings.clone();
         let d_max = self.d_max();
         let beyond = rules::flat_rule(size, d_max);
@@ -478,28 +525,46 @@ impl Gripper {
             _ => None,
         };
         warnings.extend(reversal);
-        let unstable = match solution.negative_eigenvalues {
-            Some(negative) if negative > 0 => Some(Invalid::Unstable { negative }),
-            _ => None,
-        };
-        let invalid = open
-            .then(|| rules::open_rule(size, tip_gap))
-            .flatten()
+        let rules = rules::open_rule(size, tip_gap)
             .or_else(|| rules::force_rule(normal, friction, self.params.mu))
             .or(beyond)
-            .or(unstable)
+            .or_else(|| self.object_contact(solution, beta, object).1)
             .or(strict_invalid);
-        (warnings, invalid)
+        // the model's own limits: the finger's findings (a reversal is the
+        // paper's grasp assumption, a rule in strict mode only; past flat
+        // is a rule)
+        let findings = solution
+            .warnings
+            .iter()
+            .filter(|w| w.is_validity() && !matches!(w, Warning::CurvatureReversal { .. }))
+            .cloned()
+            .collect();
+        let stability = match (self.stability, solution.negative_eigenvalues) {
+            (false, _) => Stability::NotJudged,
+            (true, Some(0)) => Stability::Stable,
+            (true, Some(negative)) => Stability::Unstable { negative },
+            (true, None) => Stability::Unknown,
+        };
+        (
+            warnings,
+            Verdict {
+                rules,
+                findings,
+                stability,
+                path,
+            },
+        )
     }
 
     /// The grasp measures of `solution`, the equilibrium of `problem` (built
-    /// from `scene`) at load parameter `lambda`.
+    /// from `scene`) at load parameter `lambda`, reached as `path` says.
     fn grasp_from(
         &self,
         solution: Solution,
         scene: &Scene,
         problem: TargetProblem,
         lambda: f64,
+        path: PathRecord,
     ) -> Grasp {
         let force = [
             scene.base[0] + lambda * scene.direction[0],
@@ -509,7 +574,16 @@ impl Gripper {
         let tip = self.to_gripper(solution.tip);
         let size = self.size_of(solution.tip);
         let tip_gap = 2.0 * tip[0];
-        let (warnings, invalid) = self.judge(&solution, normal, friction, size, tip_gap, true);
+        let (warnings, verdict) = self.judge(
+            &solution,
+            normal,
+            friction,
+            size,
+            tip_gap,
+            scene.beta,
+            scene.object,
+            path,
+        );
         Grasp {
             pressure_kpa: scene.pressure_kpa,
             beta: scene.beta,
@@ -525,9 +599,11 @@ impl Gripper {
             lambda,
             solution,
             warnings,
-            invalid,
+            verdict,
+            object: scene.object,
         }
     }
+
     fn problem(&self, scene: &Scene) -> TargetProblem {
         let a = self.params.mounting_angle;
         let base = gripper_force_to_finger(scene.base, a);
@@ -559,59 +635,236 @@ impl Gripper {
     fn solve_scene(&self, scene: &Scene, warm: Option<&Grasp>) -> Result<Grasp, SolveError> {
         finite("grasp.pressure_kpa", scene.pressure_kpa)?;
         let problem = self.problem(scene);
-        let mut solver = Solver::new(&self.finger);
         let opts = SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
             stability: self.stability,
+            shape: scene.shape,
             ..SolveOptions::default()
         };
-        let followed = match warm {
-            Some(w) => follow(
-                &mut solver,
-                &w.solution.coefficients,
-                w.lambda,
-                &w.problem,
-                &problem,
-                &opts,
-            ),
-            None => {
-                let start = TargetProblem {
-                    base: Load::unloaded(),
-                    target: problem.weights[0] * self.reference.tip[0]
-                        + problem.weights[1] * self.reference.tip[1],
-                    ..problem
-                };
-                let direct = follow(
-                    &mut solver,
-                    &self.reference.coefficients,
-                    0.0,
-                    &start,
-                    &problem,
-                    &opts,
-                );
-                match direct {
-                    // a direct step may jump to another branch: follow the
-                    // target's path from the rest state in small steps, and
-                    // keep the direct answer (reported unstable) only if the
-                    // path cannot be followed
-                    Ok((ref sol, _)) if sol.negative_eigenvalues.is_some_and(|n| n > 0) => {
-                        follow_steps(
-                            &mut solver,
-                            &self.reference.coefficients,
-                            0.0,
-                            &start,
-                            &problem,
-                            &opts,
-                            PATH_STEP,
-                        )
-                        .or(direct)
-                    }
-                    other => other,
+        let (sol, lambda, path) = self.close(&problem, warm, &opts, scene.target)?;
+        Ok(self.grasp_from(sol, scene, problem, lambda, path))
+    }
+
+    /// The object touching the tip of `solution` at grasping angle `beta`:
+    /// for a sphere its radius and centre (gripper frame), and the second
+    /// contact, if the object reaches into the finger anywhere by more than
+    /// [`CONTACT_TOL_MM`], or the finger reaches its tip from inside the
+    /// object ([`Invalid::TipEntry`]). Exact: the finger's mid-plane is a polynomial
+    /// curve per element ([`Finger::midplane_curves`]), and the deepest
+    /// point of the object in it is found on the continuous curves
+    /// ([`contact`]), not on samples. A sphere is the disc centred on the
+    /// gripper axis through the tip; a face (a cuboid's side) is the
+    /// half-plane through the tip normal to the contact direction, below
+    /// the contact along the face (the tip holds its edge).
+    pub(crate) fn object_contact(
+        &self,
+        solution: &Solution,
+        beta: f64,
+        object: Object,
+    ) -> (Option<(f64, [f64; 2])>, Option<Invalid>) {
+        let tip = self.to_gripper(solution.tip);
+        let (s, c) = beta.sin_cos();
+        let n = [c, s];
+        let sphere = match object {
+            Object::Face => None,
+            Object::Sphere => {
+                let r = tip[0] / c;
+                if !(r > 0.0 && r.is_finite()) {
+                    return (None, None);
                 }
+                Some((r, [tip[0] - r * c, tip[1] - r * s]))
             }
         };
-        let (sol, lambda) = followed.map_err(|e| e.for_target(scene.target.0, scene.target.1))?;
-        Ok(self.grasp_from(sol, scene, problem, lambda))
+        // the finger must come to its tip from outside the object: its
+        // tangent there (gripper frame, angle a - theta) against the
+        // object's outward normal n at the contact, and for a face against
+        // the face's direction t = (-sin b, cos b) (above the contact there
+        // is no object)
+        let (ts, tc) = (self.params.mounting_angle - solution.end_angle - beta).sin_cos();
+        let enters = match object {
+            Object::Sphere => tc > 0.0,
+            Object::Face => tc > 0.0 && ts < 0.0,
+        };
+        if enters {
+            return (sphere, Some(Invalid::TipEntry { angle: tc.asin() }));
+        }
+        let deepest = (|| -> Result<Option<contact::Deepest>, InputError> {
+            let map = frames::finger_to_gripper_map(self.params.mounting_angle, self.palm)?;
+            let curves: Vec<PolyCurve> = self
+                .finger
+                .midplane_curves(&solution.coefficients)?
+                .iter()
+                .map(|k| k.map(map))
+                .collect();
+            match sphere {
+                None => contact::deepest_below(&curves, tip, n, [-s, c]),
+                Some((r, centre)) => {
+                    contact::deepest(&curves, &contact::Obstacle::disc(centre, r)?).map(Some)
+                }
+            }
+        })();
+        let second = match deepest {
+            Ok(Some(d)) if d.depth > CONTACT_TOL_MM => Some(Invalid::SecondContact {
+                element: d.element,
+                x: d.x,
+                depth: d.depth,
+                point: d.point,
+            }),
+            Ok(_) => None,
+            Err(_) => Some(Invalid::ContactUnknown),
+        };
+        (sphere, second)
+    }
+
+    /// The state a grasp of `problem`'s load family starts from when the
+    /// gripper closes on the object: the finger at the grasp's pressure
+    /// under the family's fixed load alone (`lambda = 0`: no normal force
+    /// yet). The pressure alone is solved as any finger scene is (element
+    /// by element, from the straight element at zero pressure); the fixed
+    /// tip load (a friction or a lift given with the grasp) is then applied
+    /// along its own path from zero, by pseudo-arclength continuation, so
+    /// the start is the state that load reaches continuously. Where that
+    /// path folds or the finger loses its stability under the fixed load
+    /// before the load is whole, the grasp has no start on the path:
+    /// [`SolveError::NotOnPath`]. At zero pressure and no fixed load the
+    /// start is the reference state.
+    fn rest_state(&self, base: &Load, target: (&str, f64)) -> Result<Coefficients, SolveError> {
+        let pressed = Load {
+            fx: 0.0,
+            fz: 0.0,
+            ..*base
+        };
+        let at_pressure = if pressed.pressure == 0.0 {
+            self.reference.coefficients.clone()
+        } else {
+            let opts = SolveOptions {
+                stability: false,
+                ..SolveOptions::default().tip_only()
+            };
+            self.finger.solve(&pressed, &opts)?.coefficients
+        };
+        let size = base.fx.hypot(base.fz);
+        if size == 0.0 {
+            return Ok(at_pressure);
+        }
+        let spec = LoadPathSpec {
+            problem: TargetProblem {
+                base: pressed,
+                direction: [base.fx / size, base.fz / size],
+                weights: [1.0, 0.0],
+                target: 0.0,
+            },
+            lambda0: 0.0,
+            increasing: true,
+            lambda_end: Some(size),
+            lambda_scale: 1.0,
+            events: false,
+        };
+        // the first point past a fold or a loss of stability under the
+        // fixed load: (load reached, what happened)
+        let mut lost: Option<(f64, &str)> = None;
+        let opts = SolveOptions {
+            stability: true,
+            ..SolveOptions::default().tip_only()
+        };
+        let path = Solver::new(&self.finger).follow_load(&spec, &at_pressure, &opts, &mut |p| {
+            if p.lambda_slope < 0.0 {
+                lost = Some((p.lambda, "turns back (a fold: the finger snaps)"));
+            } else if p.negative_eigenvalues > 0 {
+                lost = Some((p.lambda, "loses its stability"));
+            }
+            lost.is_none()
+        })?;
+        let detail = match (lost, path.termination) {
+            (None, PathTermination::ReachedTarget) => return Ok(path.last.0),
+            (Some((load, what)), _) => format!(
+                "the finger under the grasp's fixed tip load of {size:.4} N {what} at {load:.4} N, before any normal force"
+            ),
+            (None, t) => format!(
+                "the finger under the grasp's fixed tip load of {size:.4} N could not be followed past {:.4} N ({t:?})",
+                path.last.1
+            ),
+        };
+        Err(SolveError::NotOnPath {
+            target: target.0.to_string(),
+            value: target.1,
+            detail,
+        })
+    }
+
+    /// The equilibrium the gripper reaches closing on the object: the path
+    /// of `problem`'s load family traced in the target from the rest state
+    /// at the grasp's pressure ([`Gripper::rest_state`], `lambda = 0`), or
+    /// from `warm` when it is a grasp of the same family (a point of the
+    /// same path, e.g. the previous point of a size sweep), to the target
+    /// ([`Solver::trace_target`]). A path that turns back before the target
+    /// (a fold: the fingers cannot be closed further on this branch) is
+    /// [`SolveError::NotOnPath`], naming where.
+    pub(crate) fn close(
+        &self,
+        problem: &TargetProblem,
+        warm: Option<&Grasp>,
+        opts: &SolveOptions,
+        target: (&str, f64),
+    ) -> Result<(Solution, f64, PathRecord), SolveError> {
+        let same_family = |w: &&Grasp| {
+            w.problem.base == problem.base
+                && w.problem.direction == problem.direction
+                && w.problem.weights == problem.weights
+                && w.solution.coefficients.elements() == self.finger.len()
+        };
+        let (start, lambda0, from) = match warm.filter(same_family) {
+            Some(w) => (w.solution.coefficients.clone(), w.lambda, "previous"),
+            None => (self.rest_state(&problem.base, target)?, 0.0, "rest"),
+        };
+        let mut solver = Solver::new(&self.finger);
+        let traced = solver
+            .trace_target(problem, &start, lambda0, TARGET_TOL_MM, opts)
+            .map_err(|e| for_target(e, target.0, target.1))?;
+        let fold = matches!(traced, Traced::Fold(_));
+        match traced {
+            Traced::Reached {
+                solution,
+                lambda,
+                steps,
+            } => Ok((solution, lambda, PathRecord { from, steps })),
+            Traced::Fold(end) | Traced::Unstable(end) => {
+                let (what, after) = if fold {
+                    (
+                        "the path turns back",
+                        " (a fold: the finger snaps to another shape)",
+                    )
+                } else {
+                    (
+                        "the finger held by the object loses its stability",
+                        ": past it the finger snaps off the path",
+                    )
+                };
+                let force = problem.load_at(end.lambda);
+                Err(SolveError::NotOnPath {
+                    target: target.0.to_string(),
+                    value: target.1,
+                    detail: format!(
+                        "closing the gripper on the object from rest, {what} at grasp size {:.4} mm with a tip load of {:.4} N{after}",
+                        self.size_of(end.tip),
+                        force.fx.hypot(force.fz)
+                    ),
+                })
+            }
+            Traced::Stalled { last, reached } => {
+                let force = problem.load_at(last.lambda);
+                Err(SolveError::TargetNotReached {
+                    target: target.0.to_string(),
+                    value: target.1,
+                    reached,
+                    detail: format!(
+                        "at grasp size {:.4} mm the tip load had grown to {:.4} N",
+                        self.size_of(last.tip),
+                        force.fx.hypot(force.fz)
+                    ),
+                })
+            }
+        }
     }
 
     /// (a) The normal force `F` that gives grasping size `d` at grasping
@@ -624,6 +877,21 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
+        self.size_grasp(pressure_kpa, d, beta, Object::Face, warm, true)
+    }
+
+    /// [`Gripper::grasp_load_for_size`] holding `object`, with the answer's
+    /// mid-plane sampled or not (`shape`: sweeps and searches need the
+    /// verdict and the forces only).
+    pub(crate) fn size_grasp(
+        &self,
+        pressure_kpa: f64,
+        d: f64,
+        beta: f64,
+        object: Object,
+        warm: Option<&Grasp>,
+        shape: bool,
+    ) -> Result<Grasp, SolveError> {
         self.check_size(d)?;
         check_beta(beta)?;
         let direction = contact_force_to_gripper(1.0, self.params.mu, beta);
@@ -635,6 +903,8 @@ impl Gripper {
                 direction,
                 tip_xg: self.tip_xg_for_size(d),
                 target: ("grasp.size", d),
+                object,
+                shape,
             },
             warm,
         )
@@ -660,6 +930,8 @@ impl Gripper {
                 direction: [1.0, 0.0],
                 tip_xg: self.tip_xg_for_size(d),
                 target: ("grasp.friction", friction),
+                object: Object::Face,
+                shape: true,
             },
             warm,
         )
@@ -676,142 +948,17 @@ fn check_beta(beta: f64) -> Result<(), InputError> {
     )
 }
 
-/// Why a homotopy stopped: how far it got, and the last failure.
-#[derive(Debug)]
-pub(crate) struct FollowError {
-    /// The last accepted homotopy parameter (0 to 1).
-    pub reached: f64,
-    /// The failure of the step that could not be taken.
-    pub error: SolveError,
-}
-
-impl FollowError {
-    /// The error in the target's terms: input errors stay as they are; a
-    /// path that stopped short says which target it did not reach.
-    pub fn for_target(self, target: &str, value: f64) -> SolveError {
-        match self.error {
-            SolveError::Input(_) => self.error,
-            e => SolveError::TargetNotReached {
-                target: target.to_string(),
-                value,
-                reached: self.reached,
-                detail: e.to_string(),
-            },
-        }
-    }
-}
-
-/// Solves `p1` from a state `(k0, lambda0)` that solves `p0`, following the
-/// straight homotopy between the two problems with fpc-newton's
-/// continuation driver (the state is the coefficients and `lambda`; steps
-/// double after each success and halve after a failure, with a secant
-/// predictor). Intermediate states are tip-only; the final solve uses
-/// `opts`. Gives up after [`MAX_HOMOTOPY_ATTEMPTS`] solves or below
-/// [`MIN_HOMOTOPY_STEP`].
-pub(crate) fn follow(
-    solver: &mut Solver<'_>,
-    k0: &Coefficients,
-    lambda0: f64,
-    p0: &TargetProblem,
-    p1: &TargetProblem,
-    opts: &SolveOptions,
-) -> Result<(Solution, f64), FollowError> {
-    follow_steps(solver, k0, lambda0, p0, p1, opts, 1.0)
-}
-
-/// [`follow`] with steps of at most `max_step` of the path (and as many
-/// more attempts as that takes): a path, where `follow` first tries the
-/// whole way in one step.
-fn follow_steps(
-    solver: &mut Solver<'_>,
-    k0: &Coefficients,
-    lambda0: f64,
-    p0: &TargetProblem,
-    p1: &TargetProblem,
-    opts: &SolveOptions,
-    max_step: f64,
-) -> Result<(Solution, f64), FollowError> {
-    // intermediate states: tip only, and a tighter iteration budget (from
-    // a nearby state Newton converges in a handful of iterations)
-    let tip_only = SolveOptions {
-        max_iter: opts.max_iter.min(MAX_INTERMEDIATE_ITERATIONS),
-        ..opts.tip_only()
-    };
-    let copts = fpc_newton::ContinuationOptions {
-        initial_step: max_step,
-        min_step: MIN_HOMOTOPY_STEP,
-        max_step,
-        grow: 2.0,
-        shrink: 0.5,
-        // a path of small steps gets the steps it needs on top
-        max_steps: MAX_HOMOTOPY_ATTEMPTS
-            + if max_step < 1.0 {
-                (1.0 / max_step).ceil() as usize
-            } else {
-                0
-            },
-        easy_iterations: usize::MAX,
-        predictor: true,
-    };
-    let n = k0.as_slice().len();
-    let per = k0.per_element();
-    let mut state: Vec<f64> = k0.as_slice().to_vec();
-    state.push(lambda0);
-    let mut done: Option<Solution> = None;
-    let mut last_error: Option<SolveError> = None;
-    let mut abort = false;
-    let report = fpc_newton::continuation(0.0, 1.0, &mut state, &copts, |t, x| {
-        if abort {
-            return fpc_newton::Report::empty(fpc_newton::Termination::InvalidInput);
-        }
-        let last = t == 1.0;
-        let p = if last { *p1 } else { p0.lerp(p1, t) };
-        let guess = match Coefficients::new(per, x[..n].to_vec()) {
-            Ok(g) => g,
-            Err(e) => {
-                last_error = Some(e.into());
-                return fpc_newton::Report::empty(fpc_newton::Termination::InvalidInput);
-            }
-        };
-        let o = if last { opts } else { &tip_only };
-        match solver.solve_target(&p, &guess, x[n], TARGET_TOL_MM, o) {
-            Ok((sol, l)) => {
-                x[..n].copy_from_slice(sol.coefficients.as_slice());
-                x[n] = l;
-                let mut r = fpc_newton::Report::empty(fpc_newton::Termination::Converged);
-                r.iterations = sol.report.iterations;
-                if last {
-                    done = Some(sol);
-                }
-                r
-            }
-            Err(e) => {
-                let reason = match &e {
-                    SolveError::NotConverged { reason, .. } => *reason,
-                    _ => fpc_newton::Termination::InvalidInput,
-                };
-                // an input error of the final problem will not go away
-                abort = last && matches!(e, SolveError::Input(_));
-                last_error = Some(e);
-                fpc_newton::Report::empty(reason)
-            }
-        }
-    });
-    match done {
-        Some(sol) if report.complete => {
-            let lambda = state[n];
-            Ok((sol, lambda))
-        }
-        _ => Err(FollowError {
-            reached: report.reached,
-            error: last_error.unwrap_or(SolveError::NotConverged {
-                reason: report.last.reason,
-                iterations: report.newton_iterations,
-                relative_residual: f64::NAN,
-                element: None,
-                last: k0.clone(),
-            }),
-        }),
+/// A failed grasp solve in the target's terms: input errors stay as they
+/// are; a solve that did not converge says which target it did not reach.
+pub(crate) fn for_target(e: SolveError, target: &str, value: f64) -> SolveError {
+    match e {
+        SolveError::NotConverged { .. } => SolveError::TargetNotReached {
+            target: target.to_string(),
+            value,
+            reached: 0.0,
+            detail: e.to_string(),
+        },
+        e => e,
     }
 }
 

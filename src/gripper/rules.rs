@@ -14,8 +14,8 @@ use crate::error::Warning;
 /// a reversal (a radius beyond 10 m).
 pub const CURVATURE_TOL: f64 = 1e-4;
 
-/// Why a grasp is not valid.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Why a grasp is not valid: the first reason its [`Verdict`] finds.
+#[derive(Debug, Clone, PartialEq)]
 pub enum Invalid {
     /// The fingers are not open: the grasping size or the tip gap is not
     /// positive.
@@ -24,67 +24,216 @@ pub enum Invalid {
     NegativeNormal { normal: f64 },
     /// The friction needed lies outside `[0, mu F]`.
     FrictionCone { friction: f64, limit: f64 },
-    /// The sphere crosses the finger's mid-plane at sample `point` (root =
-    /// 0), `depth` mm inside its surface: a second contact.
-    SecondContact { point: usize, depth: f64 },
+    /// The object reaches into the finger away from the tip (a second
+    /// contact): the deepest point of the mid-plane inside the object is
+    /// `depth` mm deep, in element `element` at `x` mm along it, at `point`
+    /// (gripper frame, mm).
+    SecondContact {
+        element: usize,
+        x: f64,
+        depth: f64,
+        point: [f64; 2],
+    },
+    /// The finger reaches its tip from inside the object: its tangent at
+    /// the tip points `angle` (rad) into it, so the object rests on the
+    /// finger's face just before the tip, not on the tip.
+    TipEntry { angle: f64 },
+    /// The object's contact with the finger could not be computed (the
+    /// mid-plane's polynomial coefficients overflow).
+    ContactUnknown,
     /// The grasp size exceeds `d_max`: the fingers are pressed past flat.
     BeyondFlat { size: f64, d_max: f64 },
     /// (Strict mode.) An element is bent backwards.
     CurvatureReversal { element: usize, curvature: f64 },
+    /// The finger's equilibrium leaves the model's assumptions (a validity
+    /// finding of docs/model.md section 8).
+    OutsideModel { finding: Warning },
     /// The equilibrium is unstable with the object holding the tip: the
     /// Hessian restricted to the grasp constraint has `negative` negative
     /// eigenvalues (the finger would snap away from this state).
     Unstable { negative: usize },
+    /// The stability with the object holding the tip could not be
+    /// determined (the restricted Hessian is singular there: the grasp sits
+    /// on a limit of stability).
+    StabilityUnknown,
 }
 
 impl Invalid {
     /// A short, stable name (`not_open`, `negative_normal`,
-    /// `friction_cone`, `second_contact`, `beyond_flat`,
-    /// `curvature_reversal`, `unstable`).
+    /// `friction_cone`, `tip_entry`, `second_contact`, `contact_unknown`,
+    /// `beyond_flat`,
+    /// `curvature_reversal`, `outside_model`, `unstable`,
+    /// `stability_unknown`).
     pub fn kind(&self) -> &'static str {
         match self {
             Invalid::NotOpen { .. } => "not_open",
             Invalid::NegativeNormal { .. } => "negative_normal",
             Invalid::FrictionCone { .. } => "friction_cone",
             Invalid::SecondContact { .. } => "second_contact",
+            Invalid::ContactUnknown => "contact_unknown",
+            Invalid::TipEntry { .. } => "tip_entry",
             Invalid::BeyondFlat { .. } => "beyond_flat",
             Invalid::CurvatureReversal { .. } => "curvature_reversal",
+            Invalid::OutsideModel { .. } => "outside_model",
             Invalid::Unstable { .. } => "unstable",
+            Invalid::StabilityUnknown => "stability_unknown",
         }
     }
 }
 
 impl std::fmt::Display for Invalid {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match *self {
-            Invalid::NotOpen { size, tip_gap } => write!(
+        match self {
+            &Invalid::NotOpen { size, tip_gap } => write!(
                 f,
                 "the fingers are not open (grasp size {size:.3} mm, tip gap {tip_gap:.3} mm)"
             ),
-            Invalid::NegativeNormal { normal } => {
+            &Invalid::NegativeNormal { normal } => {
                 write!(f, "the object would pull on the finger (F = {normal:.4} N)")
             }
-            Invalid::FrictionCone { friction, limit } => write!(
+            &Invalid::FrictionCone { friction, limit } => write!(
                 f,
                 "the friction needed, {friction:.4} N, lies outside [0, mu F] = [0, {limit:.4}] N"
             ),
-            Invalid::SecondContact { point, depth } => write!(
+            &Invalid::SecondContact {
+                element,
+                x,
+                depth,
+                point,
+            } => write!(
                 f,
-                "the sphere crosses the finger at mid-plane sample {point}, {depth:.3} mm deep (a second contact)"
+                "the object reaches {} mm into the finger at element {element}, {x:.3} mm along it (Xg {:.3} mm, Zg {:.3} mm): a second contact",
+                fmt_depth(depth),
+                point[0],
+                point[1]
             ),
-            Invalid::BeyondFlat { size, d_max } => write!(
+            &Invalid::TipEntry { angle } => write!(
+                f,
+                "the finger reaches its tip from inside the object (its tangent there points {:.4} degrees into it): the object rests on the finger's face, not on its tip",
+                angle.to_degrees()
+            ),
+            Invalid::ContactUnknown => write!(
+                f,
+                "the object's contact with the finger cannot be computed (the mid-plane is too large)"
+            ),
+            &Invalid::BeyondFlat { size, d_max } => write!(
                 f,
                 "grasp size {size:.2} mm exceeds d_max = {d_max:.2} mm (fingers pressed past flat)"
             ),
-            Invalid::CurvatureReversal { element, curvature } => write!(
+            &Invalid::CurvatureReversal { element, curvature } => write!(
                 f,
                 "element {element} is bent backwards (curvature {curvature:.3e} 1/mm; strict mode)"
             ),
-            Invalid::Unstable { negative } => write!(
+            Invalid::OutsideModel { finding } => {
+                write!(f, "the finger leaves the model: {finding}")
+            }
+            &Invalid::Unstable { negative } => write!(
                 f,
                 "the equilibrium is unstable with the object holding the tip ({negative} negative eigenvalue(s) of the constrained Hessian)"
             ),
+            Invalid::StabilityUnknown => write!(
+                f,
+                "the stability with the object holding the tip cannot be determined (the constrained Hessian is singular)"
+            ),
         }
+    }
+}
+
+/// A depth in mm with as many digits as it needs (a micrometre shows).
+fn fmt_depth(depth: f64) -> String {
+    if depth >= 0.01 {
+        format!("{depth:.3}")
+    } else {
+        format!("{depth:.2e}")
+    }
+}
+
+/// Stability of a grasp with the object holding the tip.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum Stability {
+    /// The Hessian restricted to the grasp constraint is positive definite.
+    Stable,
+    /// It has `negative` negative eigenvalues.
+    Unstable { negative: usize },
+    /// It is singular: not determined.
+    Unknown,
+    /// Not judged (stability switched off for this gripper).
+    NotJudged,
+}
+
+/// How a grasp's equilibrium was reached: by closing the gripper on the
+/// object from rest, traced in the target ([`crate::Solver::trace_target`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct PathRecord {
+    /// `rest` (traced from the rest state at the grasp's pressure) or
+    /// `previous` (continued along the same path from a previous grasp of
+    /// the same load family, itself reached from rest).
+    pub from: &'static str,
+    /// Accepted steps of the trace.
+    pub steps: usize,
+}
+
+/// A grasp's verdict, its reasons kept apart: the paper's rules, the
+/// finger's validity findings, the stability with the object holding the
+/// tip, and the path. A grasp is valid only when all four hold
+/// ([`Verdict::is_valid`]); `valid` means that everywhere (text, JSON, CSV,
+/// figures, Python). A grasp the library returns is always on the loading
+/// path (a target beyond a fold of that path is refused, not answered), so
+/// `path` records how it was reached.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Verdict {
+    /// The first of the paper's rules the grasp breaks (not open, `F < 0`,
+    /// the friction cone, past flat, a second contact, in strict mode a
+    /// reversed element).
+    pub rules: Option<Invalid>,
+    /// The finger's validity findings at the grasp (`Warning::is_validity`).
+    pub findings: Vec<Warning>,
+    /// Stability with the object holding the tip.
+    pub stability: Stability,
+    /// How the equilibrium was reached.
+    pub path: PathRecord,
+}
+
+impl Verdict {
+    /// The first reason the grasp is not valid, in the order rules,
+    /// findings, stability (`None`: valid).
+    pub fn first(&self) -> Option<Invalid> {
+        self.rules
+            .clone()
+            .or_else(|| {
+                self.findings
+                    .first()
+                    .map(|w| Invalid::OutsideModel { finding: w.clone() })
+            })
+            .or(match self.stability {
+                Stability::Unstable { negative } => Some(Invalid::Unstable { negative }),
+                Stability::Unknown => Some(Invalid::StabilityUnknown),
+                Stability::Stable | Stability::NotJudged => None,
+            })
+    }
+
+    /// True when the rules hold, the finger is inside the model, the grasp
+    /// is stable (or stability is not judged) and on the loading path.
+    pub fn is_valid(&self) -> bool {
+        self.first().is_none()
+    }
+}
+
+impl serde::Serialize for Verdict {
+    /// `{"valid", "invalid", "rules", "findings", "stability", "path"}`:
+    /// the verdict, its first reason (`{kind, message}` or null), then the
+    /// reasons apart.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(6))?;
+        m.serialize_entry("valid", &self.is_valid())?;
+        m.serialize_entry("invalid", &self.first())?;
+        m.serialize_entry("rules", &self.rules)?;
+        m.serialize_entry("findings", &self.findings)?;
+        m.serialize_entry("stability", &self.stability)?;
+        m.serialize_entry("path", &self.path)?;
+        m.end()
     }
 }
 

@@ -17,17 +17,20 @@ use crate::finger::Solution;
 
 use super::frames::{contact_force_to_gripper, grasping_angle_range};
 use super::rules::Invalid;
-use super::{check_beta, Grasp, Gripper, Scene, GRIPPER_SAMPLES_PER_ELEMENT};
+use super::{check_beta, Grasp, Gripper, Object, Scene};
 
 /// Tolerance (rad) on the best grasping angle of [`Gripper::max_sphere_lift`].
 pub const ENVELOPE_BETA_TOL: f64 = 1e-9;
+
+/// Tolerance (rad) on the bounds of [`Gripper::viable_angle_range`].
+pub const VIABLE_BETA_TOL: f64 = 1e-9;
 
 /// Target solves the search for the best grasping angle may spend beyond
 /// the scan.
 const ENVELOPE_MAX_EVALUATIONS: usize = 60;
 
 /// A sphere centred on the gripper axis touching the tip.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SphereContact {
     /// Radius `r = tip Xg / cos b` (mm); 0 when the fingers are not open.
     #[serde(rename = "radius_mm")]
@@ -39,7 +42,8 @@ pub struct SphereContact {
     pub invalid: Option<Invalid>,
 }
 
-/// A sphere grasp: the equilibrium and its validity.
+/// A sphere grasp: the sphere and the equilibrium holding it (its verdict
+/// includes the sphere's contact: a second contact is one of its rules).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SphereGrasp {
     /// Radius (mm).
@@ -50,14 +54,17 @@ pub struct SphereGrasp {
     pub center: [f64; 2],
     /// The equilibrium.
     pub grasp: Grasp,
-    /// The first violation found (geometry, then `F >= 0`, then friction).
-    pub invalid: Option<Invalid>,
 }
 
 impl SphereGrasp {
-    /// True when no rule is violated.
+    /// True when the grasp is valid ([`Grasp::is_valid`]).
     pub fn is_valid(&self) -> bool {
-        self.invalid.is_none()
+        self.grasp.is_valid()
+    }
+
+    /// The first reason the grasp is not valid (`None`: valid).
+    pub fn invalid(&self) -> Option<Invalid> {
+        self.grasp.invalid()
     }
 }
 
@@ -147,6 +154,20 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> Result<SphereGrasp, SolveError> {
+        self.sphere_lifted(pressure_kpa, r, lift, beta, warm, true)
+    }
+
+    /// [`Gripper::sphere_grasp`], with the answer's mid-plane sampled or
+    /// not (`shape`: a scan needs the verdict and the forces only).
+    fn sphere_lifted(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        lift: f64,
+        beta: f64,
+        warm: Option<&Grasp>,
+        shape: bool,
+    ) -> Result<SphereGrasp, SolveError> {
         self.check_sphere(r, beta)?;
         finite("sphere.lift", lift)?;
         let grasp = self.solve_scene(
@@ -157,6 +178,8 @@ impl Gripper {
                 direction: [1.0, 0.0],
                 tip_xg: r * beta.cos(),
                 target: ("sphere.lift", lift),
+                object: Object::Sphere,
+                shape,
             },
             warm,
         )?;
@@ -175,6 +198,20 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> Result<SphereGrasp, SolveError> {
+        self.sphere_at_limit(pressure_kpa, r, beta, warm, true)
+    }
+
+    /// [`Gripper::sphere_grasp_at_friction_limit`], with the answer's
+    /// mid-plane sampled or not (`shape`: a search needs the verdict and
+    /// the forces only).
+    fn sphere_at_limit(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        beta: f64,
+        warm: Option<&Grasp>,
+        shape: bool,
+    ) -> Result<SphereGrasp, SolveError> {
         self.check_sphere(r, beta)?;
         let grasp = self.solve_scene(
             &Scene {
@@ -184,6 +221,8 @@ impl Gripper {
                 direction: contact_force_to_gripper(1.0, self.params.mu, beta),
                 tip_xg: r * beta.cos(),
                 target: ("sphere.radius", r),
+                object: Object::Sphere,
+                shape,
             },
             warm,
         )?;
@@ -192,12 +231,10 @@ impl Gripper {
 
     fn sphere_result(&self, grasp: Grasp) -> SphereGrasp {
         let contact = self.sphere_contact(&grasp.solution, grasp.beta);
-        let invalid = contact.invalid.or(grasp.invalid);
         SphereGrasp {
             radius: contact.radius,
             center: contact.center,
             grasp,
-            invalid,
         }
     }
 
@@ -242,7 +279,7 @@ impl Gripper {
                 warm = None;
                 continue;
             }
-            match self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, warm.as_ref()) {
+            match self.sphere_at_limit(pressure_kpa, r, beta, warm.as_ref(), false) {
                 Ok(sg) => {
                     warm = Some(sg.grasp.clone());
                     consider(sg, &mut best);
@@ -264,8 +301,7 @@ impl Gripper {
                 if self.check_sphere(r, beta).is_err() {
                     return Ok(None);
                 }
-                let Ok(sg) =
-                    self.sphere_grasp_at_friction_limit(pressure_kpa, r, beta, Some(&start))
+                let Ok(sg) = self.sphere_at_limit(pressure_kpa, r, beta, Some(&start), false)
                 else {
                     return Ok(None);
                 };
@@ -289,54 +325,37 @@ impl Gripper {
     /// The sphere centred on the gripper axis that touches the tip of
     /// `solution` with contact normal `n = (cos b, sin b)`, and its
     /// geometric validity: not open when `d <= 0` or the tip gap is not
-    /// positive (or `cos b <= 0`); a second contact when any mid-plane
-    /// sample lies inside the sphere by more than a tolerance (`1e-6 (r +
-    /// Lx)`). A tip-only solution is sampled here from its coefficients
-    /// ([`GRIPPER_SAMPLES_PER_ELEMENT`] per element).
+    /// positive (or `cos b <= 0`); a second contact when the sphere reaches
+    /// into the finger's mid-plane anywhere by more than
+    /// [`super::CONTACT_TOL_MM`].
     pub fn sphere_contact(&self, solution: &Solution, beta: f64) -> SphereContact {
         let tip = self.to_gripper(solution.tip);
         let size = self.size_of(solution.tip);
         let tip_gap = 2.0 * tip[0];
-        let (s, c) = beta.sin_cos();
-        if !(size > 0.0 && tip_gap > 0.0 && c > 0.0 && beta.is_finite()) {
-            return SphereContact {
+        let open = size > 0.0 && tip_gap > 0.0 && beta.is_finite() && beta.cos() > 0.0;
+        let (sphere, second) = if open {
+            self.object_contact(solution, beta, Object::Sphere)
+        } else {
+            (None, None)
+        };
+        match sphere {
+            Some((radius, center)) => SphereContact {
+                radius,
+                center,
+                invalid: second,
+            },
+            None => SphereContact {
                 radius: 0.0,
                 center: tip,
                 invalid: Some(Invalid::NotOpen { size, tip_gap }),
-            };
-        }
-        let r = tip[0] / c;
-        let center = [tip[0] - r * c, tip[1] - r * s];
-        let tol = 1e-6 * (r + self.lx);
-        let sampled;
-        let points = if solution.points.is_empty() {
-            sampled = self
-                .finger
-                .shape(&solution.coefficients, GRIPPER_SAMPLES_PER_ELEMENT)
-                .unwrap_or_default();
-            &sampled
-        } else {
-            &solution.points
-        };
-        let mut worst: Option<(usize, f64)> = None;
-        for (i, p) in points.iter().enumerate() {
-            let q = self.to_gripper(*p);
-            let depth = r - (q[0] - center[0]).hypot(q[1] - center[1]);
-            if depth > tol && worst.is_none_or(|(_, w)| depth > w) {
-                worst = Some((i, depth));
-            }
-        }
-        SphereContact {
-            radius: r,
-            center,
-            invalid: worst.map(|(point, depth)| Invalid::SecondContact { point, depth }),
+            },
         }
     }
 
     /// (c) The grasping angles in `[-arctan mu, pi/2)` at which a sphere of
     /// radius `r` is held validly with lifting force `lift` per finger
     /// (some `F` with `0 <= f <= mu F`). Scans `samples` angles (at least
-    /// 4), then bisects each boundary to `1e-6` rad. Failed solves count as
+    /// 4), then bisects each boundary to [`VIABLE_BETA_TOL`]. Failed solves count as
     /// not viable and are recorded in the scan.
     pub fn viable_angle_range(
         &self,
@@ -404,14 +423,14 @@ impl Gripper {
         beta: f64,
         warm: Option<&Grasp>,
     ) -> (AngleSample, Option<Grasp>) {
-        match self.sphere_grasp(pressure_kpa, r, lift, beta, warm) {
+        match self.sphere_lifted(pressure_kpa, r, lift, beta, warm, false) {
             Ok(sg) => (
                 AngleSample {
                     beta,
                     normal: sg.grasp.normal,
                     friction: sg.grasp.friction,
                     viable: sg.is_valid(),
-                    invalid: sg.invalid,
+                    invalid: sg.invalid(),
                     failure: None,
                     reversed: sg.grasp.is_reversed(),
                     warnings: sg.grasp.warnings.clone(),
@@ -446,7 +465,7 @@ impl Gripper {
         warm: Option<&Grasp>,
     ) -> f64 {
         let mut warm = warm.cloned();
-        while (bad - good).abs() > 1e-6 {
+        while (bad - good).abs() > VIABLE_BETA_TOL {
             let mid = 0.5 * (good + bad);
             let (sample, grasp) = self.angle_sample(pressure_kpa, r, lift, mid, warm.as_ref());
             if sample.viable {

@@ -10,11 +10,13 @@
 use serde::Serialize;
 
 use crate::error::SolveError;
-use crate::finger::{Coefficients, LoadPathSpec, SolveOptions, Solver};
+use crate::finger::{Coefficients, LoadPathSpec, SolveOptions, Solver, Traced};
 use fpc_newton::PathTermination;
 
 use super::frames::contact_force_to_gripper;
-use super::{follow, Grasp, Gripper, Scene, TargetProblem, GRIPPER_SAMPLES_PER_ELEMENT};
+use super::{
+    Grasp, Gripper, Object, PathRecord, Scene, GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM,
+};
 
 /// The normal force (N) beyond which a sweep ends: forces far above what a
 /// soft gripper exerts; the grasping size then approaches its limit for
@@ -42,6 +44,10 @@ pub enum SweepEnd {
         size_mm: f64,
         tip_mm: [f64; 2],
     },
+    /// The next size is not reached on the path the grasps follow from
+    /// rest: the grasp size turns back, or the held finger loses its
+    /// stability (it would snap off the path), as `detail` says.
+    Path { size_mm: f64, detail: String },
     /// The path could not be continued (a numerical end).
     Numerical {
         force_n: f64,
@@ -57,6 +63,7 @@ impl SweepEnd {
             SweepEnd::ForceBound { .. } => "force_bound",
             SweepEnd::Validity { .. } => "validity",
             SweepEnd::Fold { .. } => "fold",
+            SweepEnd::Path { .. } => "path",
             SweepEnd::Numerical { .. } => "numerical",
         }
     }
@@ -88,6 +95,10 @@ impl std::fmt::Display for SweepEnd {
                 f,
                 "the finger snaps through at F = {force_n:.4} N (grasp size {size_mm:.4} mm)"
             ),
+            SweepEnd::Path { size_mm, detail } => write!(
+                f,
+                "grasp size {size_mm:.4} mm is not reached on the path from rest: {detail}"
+            ),
             SweepEnd::Numerical {
                 force_n,
                 size_mm,
@@ -114,6 +125,16 @@ impl Gripper {
     /// at `pressure_kpa` without contact force (`lambda = 0`), as a grasp of
     /// its own size, from which [`Gripper::size_tail`] can follow the load.
     pub fn size_sweep_start(&self, pressure_kpa: f64, beta: f64) -> Result<Grasp, SolveError> {
+        self.sweep_start(pressure_kpa, beta, Object::Face)
+    }
+
+    /// [`Gripper::size_sweep_start`] holding `object`.
+    pub(crate) fn sweep_start(
+        &self,
+        pressure_kpa: f64,
+        beta: f64,
+        object: Object,
+    ) -> Result<Grasp, SolveError> {
         let opts = SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
             stability: self.stability,
@@ -129,9 +150,15 @@ impl Gripper {
             direction: contact_force_to_gripper(1.0, self.params.mu, beta),
             tip_xg: self.tip_xg_for_size(size),
             target: ("grasp.size", size),
+            object,
+            shape: true,
         };
         let problem = self.problem(&scene);
-        Ok(self.grasp_from(sol, &scene, problem, 0.0))
+        let path = PathRecord {
+            from: "rest",
+            steps: 0,
+        };
+        Ok(self.grasp_from(sol, &scene, problem, 0.0, path))
     }
 
     /// From `last` (a grasp of a size sweep: [`Gripper::grasp_load_for_size`],
@@ -151,8 +178,10 @@ impl Gripper {
             lambda0: last.lambda,
             // a larger size needs a larger normal force
             increasing: true,
-            lambda_end: None,
+            // land on the force bound exactly
+            lambda_end: Some(MAX_GRASP_FORCE_N),
             lambda_scale: last.lambda.abs().max(0.1),
+            events: true,
         };
         let per = self.finger.unknowns_per_element();
         let mut end: Option<SweepEnd> = None;
@@ -160,12 +189,34 @@ impl Gripper {
         let mut at = (last.lambda, last.size);
         let path = solver.follow_load(&spec, &last.solution.coefficients, &opts, &mut |p| {
             let size = self.size_of(p.tip);
+            // the object holds the size: the path ends where the size turns
+            // back (a fold in the size) or the held finger loses stability
+            if size < at.1 && p.lambda != last.lambda {
+                end = Some(SweepEnd::Path {
+                    size_mm: at.1,
+                    detail: format!(
+                        "the grasp size turns back at {:.4} mm (F = {:.4} N)",
+                        at.1, at.0
+                    ),
+                });
+                return false;
+            }
+            if p.restricted_negative.is_some_and(|k| k > 0) {
+                end = Some(SweepEnd::Path {
+                    size_mm: size,
+                    detail: format!(
+                        "the finger held by the object loses its stability at {size:.4} mm (F = {:.4} N): past it the finger snaps off the path",
+                        p.lambda
+                    ),
+                });
+                return false;
+            }
             at = (p.lambda, size);
             if size >= d_next {
                 reached = Some((p.coefficients.to_vec(), p.lambda));
                 return false;
             }
-            if p.lambda > MAX_GRASP_FORCE_N {
+            if p.lambda >= MAX_GRASP_FORCE_N {
                 end = Some(SweepEnd::ForceBound {
                     force_n: p.lambda,
                     size_mm: size,
@@ -195,12 +246,9 @@ impl Gripper {
             }));
         }
         if let Some((k, lambda)) = reached {
+            // the path reached the size: trace the target from that point
+            // of the same path to the size itself
             let k = Coefficients::new(per, k)?;
-            let tip = self.finger.tip(&k)?.0;
-            let p0 = TargetProblem {
-                target: last.problem.weights[0] * tip[0] + last.problem.weights[1] * tip[1],
-                ..last.problem
-            };
             let scene = Scene {
                 pressure_kpa: last.pressure_kpa,
                 beta: last.beta,
@@ -208,6 +256,8 @@ impl Gripper {
                 direction: contact_force_to_gripper(1.0, self.params.mu, last.beta),
                 tip_xg: self.tip_xg_for_size(d_next),
                 target: ("grasp.size", d_next),
+                object: last.object,
+                shape: true,
             };
             let p1 = self.problem(&scene);
             let full = SolveOptions {
@@ -215,16 +265,36 @@ impl Gripper {
                 stability: self.stability,
                 ..SolveOptions::default()
             };
-            return match follow(&mut solver, &k, lambda, &p0, &p1, &full) {
-                Ok((sol, lambda)) => Ok(SizeTail::Reached(Box::new(
-                    self.grasp_from(sol, &scene, p1, lambda),
-                ))),
-                Err(e) => Ok(SizeTail::End(SweepEnd::Numerical {
+            let traced = solver.trace_target(&p1, &k, lambda, TARGET_TOL_MM, &full);
+            return Ok(SizeTail::End(match traced {
+                Ok(Traced::Reached {
+                    solution,
+                    lambda,
+                    steps,
+                }) => {
+                    // on the path of the previous grasp, which was reached
+                    // from rest
+                    let path = PathRecord {
+                        from: "previous",
+                        steps: last.verdict.path.steps + steps,
+                    };
+                    return Ok(SizeTail::Reached(Box::new(
+                        self.grasp_from(solution, &scene, p1, lambda, path),
+                    )));
+                }
+                Ok(Traced::Fold(f) | Traced::Unstable(f) | Traced::Stalled { last: f, .. }) => {
+                    SweepEnd::Numerical {
+                        force_n: f.lambda,
+                        size_mm: self.size_of(f.tip),
+                        reason: "the grasp size turns back before it is reached".into(),
+                    }
+                }
+                Err(e) => SweepEnd::Numerical {
                     force_n: lambda,
                     size_mm: at.1,
-                    reason: e.error.to_string(),
-                })),
-            };
+                    reason: e.to_string(),
+                },
+            }));
         }
         Ok(SizeTail::End(match (end, path.termination) {
             (Some(e), _) => e,
@@ -261,6 +331,10 @@ mod kind_tests {
                 force_n: 1.0,
                 size_mm: 2.0,
                 tip_mm: [0.0, 0.0],
+            },
+            SweepEnd::Path {
+                size_mm: 2.0,
+                detail: "d".into(),
             },
             SweepEnd::Numerical {
                 force_n: 1.0,

@@ -127,8 +127,9 @@ impl Scene {
         &self.file
     }
 
-    /// Non-fatal notes about the actuator, known before solving (the
-    /// solution repeats them with every other warning,
+    /// What validation found about the actuator, known before solving:
+    /// notes on the input and the laminate's `thickness_ratio` finding
+    /// (the solution repeats them with every other warning,
     /// [`SceneSolution::warnings`]).
     pub fn warnings(&self) -> &[Warning] {
         self.actuator.warnings()

@@ -7,7 +7,7 @@ use serde::Serialize;
 use super::{warning_text, GraspOutcome, SceneFile, SceneSolution};
 use crate::error::Warning;
 use crate::finger::{Coefficients, Solution, SolveReport};
-use crate::gripper::{Gripper, Invalid};
+use crate::gripper::{Gripper, Invalid, Verdict};
 
 /// What `fpc solve` writes to `solution.json` (without its provenance) and
 /// `fpc.solve_scene` returns: the finger's equilibrium under the keys of
@@ -27,9 +27,9 @@ pub struct SolutionRecord<'a> {
     /// The finger's equilibrium: the grasp's, or the gripper's rest state.
     #[serde(flatten)]
     solution: SolutionKeys<'a>,
-    /// True when no finding puts the answer outside the model
-    /// ([`Warning::is_validity`]) and the grasp, if one was asked, breaks
-    /// no rule.
+    /// The one verdict: for a grasp, the grasp's (`grasp.valid`); for a
+    /// finger or a gripper without a grasp, no finding puts the answer
+    /// outside the model ([`Warning::is_validity`]).
     validity: bool,
     /// Every warning once ([`SceneSolution::warnings`]), as
     /// `{kind, message, element?, value?, limit?}`.
@@ -141,10 +141,16 @@ pub struct GraspJson<'a> {
     tip_gripper_mm: [f64; 2],
     /// The contact load on the tip, (Fx, Fz) in the finger frame (N).
     tip_load_finger_n: [f64; 2],
-    /// True when the grasp breaks no rule.
+    /// The one verdict: the rules hold, the finger is inside the model, the
+    /// grasp is stable and on the loading path (`verdict` has the parts).
     valid: bool,
-    /// The first rule broken, `{kind, message}`; null when valid.
-    invalid: Option<&'a Invalid>,
+    /// The first reason it is not valid, `{kind, message}`; null when valid.
+    invalid: Option<Invalid>,
+    /// The verdict's parts: `rules` (the first rule broken or null),
+    /// `findings` (the finger's validity findings), `stability`
+    /// (`{kind: stable | unstable | unknown | not_judged}`) and `path`
+    /// (`{from, steps}`: how the equilibrium was reached from rest).
+    verdict: &'a Verdict,
     /// A sphere's radius (mm).
     #[serde(skip_serializing_if = "Option::is_none")]
     sphere_radius_mm: Option<f64>,
@@ -197,14 +203,12 @@ impl<'a> SolutionRecord<'a> {
     }
 }
 
-/// True when no warning is a validity finding and the grasp, if any, is
-/// valid.
+/// The one verdict: a grasp's own, else no validity finding.
 fn is_valid(solved: &SceneSolution, warnings: &[Warning]) -> bool {
-    let grasp_valid = match solved {
+    match solved {
         SceneSolution::Gripper { grasp: Some(g), .. } => g.is_valid(),
-        _ => true,
-    };
-    grasp_valid && !warnings.iter().any(Warning::is_validity)
+        _ => !warnings.iter().any(Warning::is_validity),
+    }
 }
 
 impl<'a> GripperJson<'a> {
@@ -237,9 +241,10 @@ impl<'a> GraspJson<'a> {
             tip_gripper_mm: g.tip,
             tip_load_finger_n: [g.load.fx, g.load.fz],
             valid: o.is_valid(),
-            invalid: o.invalid.as_ref(),
-            sphere_radius_mm: o.sphere.map(|s| s.radius),
-            sphere_center_gripper_mm: o.sphere.map(|s| s.center),
+            invalid: o.invalid(),
+            verdict: &g.verdict,
+            sphere_radius_mm: o.sphere.as_ref().map(|s| s.radius),
+            sphere_center_gripper_mm: o.sphere.as_ref().map(|s| s.center),
         }
     }
 }

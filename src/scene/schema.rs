@@ -168,12 +168,59 @@ pub struct RibsSection {
 }
 
 /// One rib of a list: X_ref in [x0, x1] (mm), total width across Y (mm).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// Written as a table `{ x0, x1, width }`; an array is read only when it
+/// holds exactly the three numbers `[x0, x1, width]` (serde would drop
+/// extra entries silently).
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RibEntry {
     pub x0: f64,
     pub x1: f64,
     pub width: f64,
+}
+
+impl<'de> Deserialize<'de> for RibEntry {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<RibEntry, D::Error> {
+        use serde::de::{self, MapAccess, SeqAccess, Visitor};
+
+        #[derive(Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Table {
+            x0: f64,
+            x1: f64,
+            width: f64,
+        }
+
+        struct Rib;
+        impl<'de> Visitor<'de> for Rib {
+            type Value = RibEntry;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a rib { x0, x1, width } (mm)")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RibEntry, A::Error> {
+                let t = Table::deserialize(de::value::MapAccessDeserializer::new(map))?;
+                Ok(RibEntry {
+                    x0: t.x0,
+                    x1: t.x1,
+                    width: t.width,
+                })
+            }
+            fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<RibEntry, A::Error> {
+                let mut v: Vec<f64> = Vec::new();
+                while let Some(x) = seq.next_element()? {
+                    v.push(x);
+                }
+                match v[..] {
+                    [x0, x1, width] => Ok(RibEntry { x0, x1, width }),
+                    _ => Err(de::Error::custom(format!(
+                        "a rib given as an array has {} number(s): it must be three, [x0, x1, width] (or a table {{ x0, x1, width }})",
+                        v.len()
+                    ))),
+                }
+            }
+        }
+        // a struct accepts a table or an array (TOML asks the visitor which)
+        d.deserialize_struct("RibEntry", &["x0", "x1", "width"], Rib)
+    }
 }
 
 /// A linear lamina's material model.
@@ -438,10 +485,41 @@ mod tests {
         let e = syntax_err("[actuator.ribs]\nlist = [\n  { x0 = 0, x1 = 5, widht = 2 },\n]\n");
         assert_eq!(e.line, 3, "{e}");
         assert!(e.message.contains("widht"), "{e}");
+        // a rib as an array of the wrong length, and a key missing
+        for (list, found) in [("[10, 20, 2, 99]", "4"), ("[10, 20]", "2")] {
+            let e = syntax_err(&format!("[actuator.ribs]\nlist = [\n  {list},\n]\n"));
+            assert_eq!((e.line, e.col), (3, 3), "{e}");
+            assert!(e.message.contains(&format!("has {found} number(s)")), "{e}");
+        }
+        let e = syntax_err("[actuator.ribs]\nlist = [{ x0 = 0, x1 = 5 }]\n");
+        assert!(e.message.contains("width"), "{e}");
         // a bad enumeration value
         let e = syntax_err("[gripper.grasp]\nkind = \"cube\"\n");
         assert_eq!(e.line, 2, "{e}");
         assert!(e.message.contains("cube"), "{e}");
+    }
+
+    #[test]
+    fn ribs_read_as_tables_or_arrays_of_three() {
+        let f = SceneFile::parse(
+            "[actuator.ribs]\nlist = [{ x0 = 0, x1 = 5, width = 2 }, [10, 20, 3]]\n",
+        )
+        .unwrap();
+        let list = f.actuator.ribs.list.unwrap();
+        assert_eq!((list[0].x0, list[0].x1, list[0].width), (0.0, 5.0, 2.0));
+        assert_eq!((list[1].x0, list[1].x1, list[1].width), (10.0, 20.0, 3.0));
+        // the table form round-trips
+        let text =
+            toml::to_string(&SceneFile::parse("[actuator.ribs]\nlist = [[1, 2, 3]]\n").unwrap())
+                .unwrap();
+        assert_eq!(
+            SceneFile::parse(&text).unwrap().actuator.ribs.list.unwrap()[0],
+            RibEntry {
+                x0: 1.0,
+                x1: 2.0,
+                width: 3.0
+            }
+        );
     }
 
     #[test]

@@ -33,11 +33,12 @@ impl Scene {
     }
 
     fn solve_inner(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
-        let finger = |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
+        let finger_on =
+            |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
         let Some(g) = &self.gripper else {
             return Ok(match &self.partition {
                 PartitionPlan::Fixed(part) => {
-                    let f = finger(part);
+                    let f = finger_on(part);
                     let solution = match warm {
                         Some(SceneSolution::Finger { solution: w, .. })
                             if w.coefficients.elements() == part.len()
@@ -82,7 +83,7 @@ impl Scene {
             });
         };
         let finger = match &self.partition {
-            PartitionPlan::Fixed(part) => finger(part),
+            PartitionPlan::Fixed(part) => finger_on(part),
             // chosen at the gripper's reference state, sampled as the
             // gripper samples it, so that state is within the slope limit
             PartitionPlan::Auto => {
@@ -110,7 +111,19 @@ impl Scene {
         };
         let grasp = match g.grasp {
             None => None,
-            Some(spec) => Some(Box::new(solve_grasp(&gripper, spec, warm_grasp)?)),
+            Some(spec) => {
+                let mut outcome = spec.solve(&gripper, warm_grasp)?;
+                if let PartitionPlan::Fixed(part) = &self.partition {
+                    if slope_finding(&outcome.grasp.warnings) {
+                        let advice = partition_advice(part, spec, |p| {
+                            Gripper::new(finger_on(p), g.params)
+                                .map(|gr| gr.with_stability(g.stability))
+                        });
+                        outcome.grasp.warnings.push(advice);
+                    }
+                }
+                Some(Box::new(outcome))
+            }
         };
         Ok(SceneSolution::Gripper {
             gripper: Box::new(gripper),
@@ -119,10 +132,65 @@ impl Scene {
     }
 }
 
-/// Solves the grasp `spec` asks for, following the path from `warm` (a
-/// grasp of a nearby scene) when given, else from the unloaded finger. Its
-/// validity is the gripper's verdict ([`Grasp::invalid`], for a sphere
-/// [`crate::SphereGrasp::invalid`], which adds the contact's geometry).
+/// How many times [`partition_advice`] halves a scene's partition.
+const ADVICE_HALVINGS: usize = 2;
+
+fn slope_finding(warnings: &[Warning]) -> bool {
+    warnings
+        .iter()
+        .any(|w| matches!(w, Warning::ElementSlope { .. }))
+}
+
+/// For a grasp whose fixed partition `part` turns an element beyond the
+/// slope limit: solves the same grasp from rest on `part` halved, then
+/// halved again (at most [`ADVICE_HALVINGS`] times, never past the
+/// scene's 1000 elements), and says at which count the
+/// finding clears, or that it does not. A refined solve that fails counts
+/// as not clearing.
+fn partition_advice(
+    part: &Partition,
+    spec: GraspSpec,
+    gripper: impl Fn(&Partition) -> Result<Gripper, SolveError>,
+) -> Warning {
+    let mut refined = part.clone();
+    for _ in 0..ADVICE_HALVINGS {
+        if 2 * refined.len() > super::resolve::MAX_ELEMENTS {
+            break;
+        }
+        refined = refined.halved();
+        let clears = gripper(&refined)
+            .and_then(|g| spec.solve(&g, None))
+            .is_ok_and(|o| !slope_finding(&o.grasp.warnings));
+        if clears {
+            return Warning::PartitionAdvice {
+                elements: part.len(),
+                clears_with: Some(refined.len()),
+                tried: refined.len(),
+            };
+        }
+    }
+    Warning::PartitionAdvice {
+        elements: part.len(),
+        clears_with: None,
+        tried: refined.len(),
+    }
+}
+
+impl GraspSpec {
+    /// Solves this grasp on `gripper`: closing the gripper on the object
+    /// from rest, or continuing the path of `warm` (a grasp of a nearby
+    /// scene of the same load family). Its validity is the gripper's
+    /// verdict ([`Grasp::verdict`]: for a sphere it includes the contact's
+    /// geometry). Scenes and the Python module solve grasps here.
+    pub fn solve(
+        &self,
+        gripper: &Gripper,
+        warm: Option<&Grasp>,
+    ) -> Result<GraspOutcome, SolveError> {
+        solve_grasp(gripper, *self, warm)
+    }
+}
+
 fn solve_grasp(
     gripper: &Gripper,
     spec: GraspSpec,
@@ -143,7 +211,6 @@ fn solve_grasp(
                 gripper.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), warm)?;
             GraspOutcome {
                 spec,
-                invalid: grasp.invalid,
                 grasp,
                 sphere: None,
             }
@@ -156,7 +223,6 @@ fn solve_grasp(
             let grasp = gripper.force_control(pressure_kpa, d_mm, friction_n, warm)?;
             GraspOutcome {
                 spec,
-                invalid: grasp.invalid,
                 grasp,
                 sphere: None,
             }
@@ -173,7 +239,6 @@ fn solve_grasp(
             let contact = gripper.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
             GraspOutcome {
                 spec,
-                invalid: sg.invalid,
                 grasp: sg.grasp,
                 sphere: Some(contact),
             }
@@ -191,17 +256,19 @@ pub struct GraspOutcome {
     /// For a sphere: its radius, centre (gripper frame) and geometric
     /// validity (not open, a second contact).
     pub sphere: Option<SphereContact>,
-    /// The first rule the grasp breaks (`None`: valid), as the gripper
-    /// judges it (`crate::gripper::rules`): the fingers open, `F >= 0`,
-    /// `0 <= f <= mu F`, not pressed past flat, for a sphere no second
-    /// contact, and in strict mode no element bent backwards.
-    pub invalid: Option<Invalid>,
 }
 
 impl GraspOutcome {
-    /// True when the grasp breaks no rule.
+    /// True when the grasp is valid: the gripper's one verdict
+    /// ([`Grasp::verdict`]: the rules, the finger inside the model, stable,
+    /// on the loading path).
     pub fn is_valid(&self) -> bool {
-        self.invalid.is_none()
+        self.grasp.is_valid()
+    }
+
+    /// The first reason the grasp is not valid (`None`: valid).
+    pub fn invalid(&self) -> Option<Invalid> {
+        self.grasp.invalid()
     }
 }
 
@@ -314,7 +381,7 @@ mod tests {
             assert!(s.tip.iter().all(|v| v.is_finite()), "{name}");
             assert!(!s.points.is_empty(), "{name}");
             if let SceneSolution::Gripper { grasp: Some(g), .. } = &sol {
-                assert!(g.is_valid(), "{name}: {:?}", g.invalid);
+                assert!(g.is_valid(), "{name}: {:?}", g.invalid());
             }
         }
     }
@@ -350,7 +417,7 @@ mod tests {
         assert_eq!(direct.normal, out.grasp.normal);
         assert!((out.grasp.size - d_mm).abs() < 1e-6);
         assert!((out.grasp.friction - friction_n).abs() < 1e-9);
-        assert_eq!(out.invalid, direct.invalid);
+        assert_eq!(out.invalid(), direct.invalid());
     }
 
     fn grasp_of(text: &str) -> (Gripper, GraspOutcome) {
@@ -442,7 +509,7 @@ mod tests {
         else {
             panic!()
         };
-        assert!(g.is_valid(), "{:?}", g.invalid);
+        assert!(g.is_valid(), "{:?}", g.invalid());
         assert_eq!(slope_findings(&sol.warnings()), 0, "{:?}", sol.warnings());
         assert_eq!(sol.elements(), gripper.finger().len());
         assert_eq!(sol.elements(), sol.solution().element_lengths.len());
@@ -466,29 +533,29 @@ mod tests {
         // friction beyond the cone
         let (_, out) = grasp_of("[gripper]\n[gripper.grasp]\nfriction_n = 50\n");
         assert!(
-            matches!(out.invalid, Some(Invalid::FrictionCone { .. })),
+            matches!(out.invalid(), Some(Invalid::FrictionCone { .. })),
             "{:?}",
-            out.invalid
+            out.invalid()
         );
-        assert_eq!(out.invalid, out.grasp.invalid);
+        assert_eq!(out.invalid(), out.grasp.invalid());
         // a wide cuboid bends the root element backwards: flagged, and
         // invalid only in strict mode
         let text = "[gripper]\n[gripper.grasp]\nd_mm = 140\n";
         let (_, out) = grasp_of(text);
-        assert_eq!(out.invalid, None);
+        assert_eq!(out.invalid(), None);
         assert!(out.grasp.is_reversed());
         let (gripper, strict) =
             grasp_of(&text.replace("[gripper]\n", "[gripper]\nstrict = true\n"));
         assert!(gripper.is_strict());
         assert!(
             matches!(
-                strict.invalid,
+                strict.invalid(),
                 Some(Invalid::CurvatureReversal { element: 0, .. })
             ),
             "{:?}",
-            strict.invalid
+            strict.invalid()
         );
-        assert_eq!(strict.invalid, strict.grasp.invalid);
+        assert_eq!(strict.invalid(), strict.grasp.invalid());
         assert!(!strict.is_valid());
     }
 
@@ -499,16 +566,21 @@ mod tests {
         let direct = gripper
             .sphere_grasp(0.0, 70.0, 2.0, 20f64.to_radians(), None)
             .unwrap();
-        assert_eq!(out.invalid, direct.invalid);
+        assert_eq!(out.invalid(), direct.invalid());
+        // the finger reaches its tip from inside the 70 mm sphere (its
+        // tangent points about 4.6 degrees into it)
         assert!(
-            matches!(out.invalid, Some(Invalid::SecondContact { .. })),
+            matches!(out.invalid(), Some(Invalid::TipEntry { angle }) if angle > 0.01),
             "{:?}",
-            out.invalid
+            out.invalid()
         );
-        // the contact carries the geometric verdict, the grasp's forces are fine
-        let contact = out.sphere.unwrap();
-        assert_eq!(contact.invalid, out.invalid);
-        assert_eq!(out.grasp.invalid, None);
+        // the contact's geometric verdict is the grasp's rule; its forces are
+        // fine
+        let contact = out.sphere.clone().unwrap();
+        assert_eq!(contact.invalid, out.invalid());
+        assert_eq!(out.grasp.verdict.rules, out.invalid());
+        let g = &out.grasp;
+        assert!(g.friction_ok(gripper.mu()));
         assert_eq!(
             (contact.radius, contact.center),
             (direct.radius, direct.center)
@@ -519,7 +591,7 @@ mod tests {
     fn warnings_are_every_warning_once() {
         // the actuator's note reaches the finger, the gripper and the grasp:
         // it is listed once, with the design note and the grasp's findings
-        let text = "[actuator.pemc]\neps0 = 0.62\n[gripper]\nmounting_angle_deg = 30\n[gripper.grasp]\nd_mm = 140\n";
+        let text = "[actuator.pemc]\neps0 = 0.62\n[gripper]\nmounting_angle_deg = 30\npalm_mm = 40\n[gripper.grasp]\nd_mm = 140\n";
         let scene = Scene::from_toml(text).unwrap();
         assert_eq!(scene.warnings().len(), 1);
         let sol = scene.solve().unwrap();

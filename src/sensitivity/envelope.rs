@@ -6,7 +6,7 @@
 use crate::actuator::Actuator;
 use crate::error::SolveError;
 use crate::finger::Coefficients;
-use crate::gripper::{Grasp, Gripper, SphereLift, GRIPPER_SAMPLES_PER_ELEMENT};
+use crate::gripper::{Grasp, Gripper, SphereLift, CONTACT_TOL_MM};
 
 use super::gripper::{inconsistent, GraspKind, GraspSensitivities, GripperParam};
 
@@ -14,6 +14,17 @@ use super::gripper::{inconsistent, GraspKind, GraspSensitivities, GripperParam};
 /// lift (per rad), for the envelope theorem to apply
 /// ([`Gripper::max_sphere_lift_sensitivities`]).
 pub const ENVELOPE_STATIONARITY: f64 = 1e-5;
+
+/// How close (mm) the deepest mid-plane point must be to the contact
+/// tolerance for the best angle to count as lying on the second-contact
+/// boundary: the angle is located to 1e-9 rad, and the depth moves by at
+/// most a few hundred mm per rad.
+const BOUNDARY_DEPTH_MM: f64 = 1e-6;
+
+/// How close (as the cosine `n . t`) the tip's tangent must be to the
+/// sphere's surface for the best angle to count as lying on the tip's
+/// boundary (the angle is located to 1e-9 rad).
+const BOUNDARY_TANGENT: f64 = 1e-6;
 
 /// One parameter's derivative of the best lifting force of a sphere.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -153,14 +164,25 @@ impl Gripper {
         })
     }
 
-    /// At a sphere grasp whose best angle lies on the second-contact
-    /// boundary: the derivatives, one per row of `gs` (with `dks`, the
-    /// rows' dK/dp), of `phi = depth(q) - 1e-6 (r + Lx)` at the mid-plane
-    /// sample `q` that reaches deepest into the sphere, the constraint that
-    /// holds the angle ([`Gripper::sphere_contact`]). The sample's
-    /// finger-frame derivative along dK/dp is a directional difference of
-    /// the explicit shape map (Richardson, no re-solve). An error when no
-    /// sample is at the tolerance (the maximum lies on another boundary).
+    /// At a sphere grasp whose best angle lies on the contact boundary: the
+    /// derivatives, one per row of `gs` (with `dks`, the rows' dK/dp), of the
+    /// function `phi` that holds the angle there, `phi <= 0` on the valid
+    /// side ([`Gripper::sphere_contact`]). Two boundaries can hold it, and
+    /// the one whose zero is nearest in `b` is taken:
+    ///
+    /// - the finger reaching its tip from inside the sphere: `phi = n . t`,
+    ///   the outward normal at the contact against the tip's tangent,
+    ///   `cos(a - theta - b)` with `theta` the finger's end angle;
+    /// - a second contact: `phi = depth(q) - CONTACT_TOL_MM` at the point
+    ///   `q` of the continuous mid-plane that reaches deepest into the
+    ///   sphere apart from the tip's own contact. By the envelope theorem
+    ///   the point's own motion along the curve does not count: it is
+    ///   differentiated at its fixed element and coordinate.
+    ///
+    /// The end angle's and the point's derivatives along dK/dp are
+    /// directional differences of the explicit maps (Richardson, no
+    /// re-solve). An error when neither function is at its zero (the
+    /// maximum lies on another boundary).
     fn second_contact_derivatives(
         &self,
         actuator: &Actuator,
@@ -171,78 +193,98 @@ impl Gripper {
     ) -> Result<Vec<f64>, SolveError> {
         let a = self.mounting_angle();
         let (s, c) = a.sin_cos();
-        let (sb, cb) = grasp.beta.sin_cos();
+        let b = grasp.beta;
+        let (sb, cb) = b.sin_cos();
         let sol = &grasp.solution;
         let finger = self.finger();
-        let per = GRIPPER_SAMPLES_PER_ELEMENT;
-        let points = finger.shape(&sol.coefficients, per)?;
         let tip = self.to_gripper(sol.tip);
         let r_s = tip[0] / cb;
         let center = [tip[0] - r_s * cb, tip[1] - r_s * sb];
-        let tol = 1e-6 * (r_s + self.length());
-        let depth = |q: [f64; 2]| r_s - (q[0] - center[0]).hypot(q[1] - center[1]);
-        // the deepest sample but the tip (which is on the sphere)
-        let Some((i, d)) = points
-            .iter()
-            .enumerate()
-            .take(points.len().saturating_sub(1))
-            .map(|(i, p)| (i, depth(self.to_gripper(*p))))
-            .max_by(|x, y| x.1.total_cmp(&y.1))
-        else {
-            return Err(inconsistent("best", "has no mid-plane samples".into()));
-        };
-        if (d - tol).abs().is_nan() || (d - tol).abs() > 1e-3 * tol {
-            return Err(inconsistent(
-                "best",
-                format!(
-                    "lies on a validity boundary other than a second contact (the deepest sample reaches {d:.3e} mm into the sphere, the tolerance is {tol:.3e} mm): not covered"
-                ),
-            ));
-        }
-        let pf = points[i];
-        let q = self.to_gripper(pf);
-        let dist = (q[0] - center[0]).hypot(q[1] - center[1]);
-        let e = [(q[0] - center[0]) / dist, (q[1] - center[1]) / dist];
+        let tol = CONTACT_TOL_MM;
         let geos = self.geometry_derivatives(actuator, params)?;
         let k = sol.coefficients.as_slice();
         let kmax = k.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-12);
-        let mut out = Vec::with_capacity(gs.rows.len());
-        for ((row, dk), geo) in gs.rows.iter().zip(dks).zip(geos) {
-            let da = geo.da;
-            let db = f64::from(u8::from(row.param == GripperParam::Beta));
-            // d(sample)/dp in the finger frame along dK/dp
+        // d f(K)/dp along dK/dp for an explicit map f of the state:
+        // Richardson-extrapolated central differences
+        let along = |dk: &[f64], f: &dyn Fn(&Coefficients) -> Result<[f64; 2], SolveError>| {
             let dmax = dk.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let dp = if dmax == 0.0 {
-                [0.0, 0.0]
-            } else {
-                let t = 1e-4 * kmax / dmax;
-                let at = |h: f64| -> Result<[f64; 2], SolveError> {
-                    let kk: Vec<f64> = k.iter().zip(dk).map(|(k, d)| k + h * d).collect();
-                    let kk = Coefficients::new(sol.coefficients.per_element(), kk)?;
-                    Ok(finger.shape(&kk, per)?[i])
-                };
-                let mut d1 = [0.0; 2];
-                let mut d2 = [0.0; 2];
-                let (a1, b1) = (at(t)?, at(-t)?);
-                let (a2, b2) = (at(0.5 * t)?, at(-0.5 * t)?);
-                for m in 0..2 {
-                    d1[m] = (a1[m] - b1[m]) / (2.0 * t);
-                    d2[m] = (a2[m] - b2[m]) / t;
-                }
-                [(4.0 * d2[0] - d1[0]) / 3.0, (4.0 * d2[1] - d1[1]) / 3.0]
+            if dmax == 0.0 {
+                return Ok([0.0, 0.0]);
+            }
+            let t = 1e-4 * kmax / dmax;
+            let at = |h: f64| -> Result<[f64; 2], SolveError> {
+                let kk: Vec<f64> = k.iter().zip(dk).map(|(k, d)| k + h * d).collect();
+                f(&Coefficients::new(sol.coefficients.per_element(), kk)?)
             };
-            let dq = [
-                0.5 * geo.dpalm + da * (-s * pf[0] + c * pf[1]) + c * dp[0] + s * dp[1],
-                da * (c * pf[0] + s * pf[1]) + s * dp[0] - c * dp[1],
-            ];
-            let dr_s = row.tip[0] / cb + tip[0] * sb * db / (cb * cb);
-            let dc = [
-                row.tip[0] - dr_s * cb + r_s * sb * db,
-                row.tip[1] - dr_s * sb - r_s * cb * db,
-            ];
-            let d_dist = e[0] * (dq[0] - dc[0]) + e[1] * (dq[1] - dc[1]);
-            out.push((1.0 - 1e-6) * dr_s - d_dist);
+            let (a1, b1) = (at(t)?, at(-t)?);
+            let (a2, b2) = (at(0.5 * t)?, at(-0.5 * t)?);
+            let mut d = [0.0; 2];
+            for m in 0..2 {
+                let d1 = (a1[m] - b1[m]) / (2.0 * t);
+                let d2 = (a2[m] - b2[m]) / t;
+                d[m] = (4.0 * d2 - d1) / 3.0;
+            }
+            Ok::<[f64; 2], SolveError>(d)
+        };
+        let is_beta = |row: &crate::sensitivity::GraspSensitivity| {
+            f64::from(u8::from(row.param == GripperParam::Beta))
+        };
+        // the tip's tangent against the outward normal
+        let psi = a - sol.end_angle - b;
+        let phi_tip = psi.cos();
+        let mut tip_rows = Vec::with_capacity(gs.rows.len());
+        for ((row, dk), geo) in gs.rows.iter().zip(dks).zip(&geos) {
+            let dtheta = along(dk, &|kk| Ok([finger.tip(kk)?.1, 0.0]))?[0];
+            tip_rows.push(-psi.sin() * (geo.da - dtheta - is_beta(row)));
         }
-        Ok(out)
+        // the deepest point apart from the tip's own contact
+        let curves = finger.midplane_curves(&sol.coefficients)?;
+        let last = curves.len() - 1;
+        let map = crate::gripper::frames::finger_to_gripper_map(a, self.palm())?;
+        let mapped: Vec<_> = curves.iter().map(|k| k.map(map)).collect();
+        let disc = crate::gripper::contact::Obstacle::disc(center, r_s)?;
+        let lx_last = mapped[last].length();
+        let deep = crate::gripper::contact::deepest_apart_from(&mapped, &disc, last, lx_last)?;
+        let mut second: Option<(f64, Vec<f64>)> = None;
+        if let Some(deep) = deep.filter(|d| (d.depth - tol).abs() <= BOUNDARY_DEPTH_MM) {
+            let (el, xl) = (deep.element, deep.x);
+            let pf = curves[el].point(xl);
+            let q = self.to_gripper(pf);
+            let dist = (q[0] - center[0]).hypot(q[1] - center[1]);
+            let e = [(q[0] - center[0]) / dist, (q[1] - center[1]) / dist];
+            let mut rows = Vec::with_capacity(gs.rows.len());
+            for ((row, dk), geo) in gs.rows.iter().zip(dks).zip(&geos) {
+                let da = geo.da;
+                let db = is_beta(row);
+                let dp = along(dk, &|kk| Ok(finger.midplane_curves(kk)?[el].point(xl)))?;
+                let dq = [
+                    0.5 * geo.dpalm + da * (-s * pf[0] + c * pf[1]) + c * dp[0] + s * dp[1],
+                    da * (c * pf[0] + s * pf[1]) + s * dp[0] - c * dp[1],
+                ];
+                let dr_s = row.tip[0] / cb + tip[0] * sb * db / (cb * cb);
+                let dc = [
+                    row.tip[0] - dr_s * cb + r_s * sb * db,
+                    row.tip[1] - dr_s * sb - r_s * cb * db,
+                ];
+                let d_dist = e[0] * (dq[0] - dc[0]) + e[1] * (dq[1] - dc[1]);
+                rows.push(dr_s - d_dist);
+            }
+            second = Some((deep.depth - tol, rows));
+        }
+        // the boundary whose zero lies nearest in b (the last row is b's)
+        let reach = |phi: f64, rows: &[f64]| (phi / rows[rows.len() - 1]).abs();
+        let tip_near = phi_tip.abs() <= BOUNDARY_TANGENT;
+        match (tip_near, second) {
+            (true, Some((phi, rows))) if reach(phi, &rows) < reach(phi_tip, &tip_rows) => Ok(rows),
+            (true, _) => Ok(tip_rows),
+            (false, Some((_, rows))) => Ok(rows),
+            (false, None) => Err(inconsistent(
+                "best",
+                format!(
+                    "lies on a validity boundary other than a contact (the tip's tangent is {:.3e} rad from the sphere's surface, and nothing else of the finger reaches it): not covered",
+                    phi_tip.asin()
+                ),
+            )),
+        }
     }
 }

@@ -2,12 +2,8 @@
 
 use serde::Serialize;
 
-use super::lift::{lift_curve, lift_points, LiftCurve};
-use super::output::{
-    entries, fmt, fmt_opt, pts, stop_entry, Cell, Column, Figure, Overview, Panel, PlotAxis,
-    RefLine, Series, SeriesKind, Stop, StopAt, StopEntry, StudyOutput, Table, Tally, NOTE,
-    REVERSED, STATUS, VALID, WARNINGS,
-};
+use super::lift::{add_lift_curve, lift_curve, LiftCurve};
+use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
 use crate::error::SolveError;
@@ -53,17 +49,12 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     empty: || output(None),
 };
 
-const COLUMNS: [Column; 10] = [
+const COLUMNS: [Column; 5] = [
     Column::new("d_mm", "mm"),
     Column::new("tip_gap_mm", "mm"),
     Column::new("F_n", "N"),
     Column::new("fv_max_n", "N"),
     Column::new("h_mm", "mm"),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 #[derive(Serialize)]
@@ -87,40 +78,24 @@ struct Summary {
 
 /// The outputs of study 3 (`None`: the empty outputs).
 pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
-    let mut t = Table::new("study3", &COLUMNS);
+    let mut a = Assembly::new(
+        &[("study3", &columns(&COLUMNS, &GRASP_TAIL))],
+        &["quantity", "value"],
+    );
     let Some(region) = region else {
         let summary = Summary {
             cuboid_region_contains: None,
             cuboid_region: None,
         };
-        return StudyOutput::new(
-            vec![t],
-            Figure::row("", [1000, 620], vec![]),
-            entries(&summary),
-        );
+        return a.empty(&summary);
     };
     let c = &region.curve;
-    let mut tally = Tally::default();
     for p in &c.points {
-        let [rev, valid, warn] = tally.grasp(p.reversed, p.valid, &p.warnings);
-        t.push(vec![
-            p.size.into(),
-            p.tip_gap.into(),
-            p.normal.into(),
-            p.lift.into(),
-            p.height.into(),
-            rev,
-            valid,
-            warn,
-            "ok".into(),
-            Cell::Empty,
-        ]);
+        let row = [p.size, p.tip_gap, p.normal, p.lift, p.height].map(Cell::from);
+        a.grasp(0, row.to_vec(), p.reversed, p.invalid.as_ref(), &p.warnings);
     }
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
     if let Some(s) = &c.stopped {
-        t.push_stop(vec![], "d_mm", s);
-        notes.push(format!("sweep stopped at d = {:.1} mm: {}", s.at, s.reason));
-        stops.push(Stop::of_sweep("cuboid region", StopAt::Mm, s));
+        a.stop(0, vec![], "d_mm", "cuboid region", StopAt::Mm, s, true);
     }
     let (d, fv) = CUBOID_TEST;
     let contains = region.contains(d, fv);
@@ -140,31 +115,26 @@ pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
             stopped: stop_entry(&c.stopped, StopAt::Mm),
         }),
     };
-    let mut overview = Overview::new(&["quantity", "value"]);
-    overview.push(vec![
+    a.overview.push(vec![
         format!("cuboid d = {d} mm, f_v = {fv} N inside the region"),
         if contains { "yes" } else { "no" }.into(),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         format!("max f_v at d = {d} mm (N)"),
         fmt_opt(at_test, 3),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "grasping sizes swept (mm)".into(),
         format!("{} to {}", fmt_opt(d_min, 1), fmt(c.reached(), 1)),
     ]);
-    overview.push(vec!["d_max (mm)".into(), fmt(c.d_max, 1)]);
-    overview.push(vec![
+    a.overview.push(vec!["d_max (mm)".into(), fmt(c.d_max, 1)]);
+    a.overview.push(vec![
         "palm l / reach l0 (mm)".into(),
         format!("{} / {}", fmt(c.palm, 1), fmt(c.l0, 1)),
     ]);
-    let mut out = StudyOutput::new(vec![t], figure(region), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.strict_dropped = c.dropped;
-    out.design(&c.warnings);
-    out.tallied(tally)
+    a.strict_dropped = c.dropped;
+    a.design(&c.warnings);
+    a.finish(figure(region), &summary)
 }
 
 /// The region under the curve and the test cuboid.
@@ -177,15 +147,8 @@ fn figure(region: &CuboidRegion) -> Figure {
         PlotAxis::new("lifting force f_v per finger", "N"),
     );
     p.y.include_zero = true;
-    let bent = pts(c
-        .points
-        .iter()
-        .filter(|q| q.reversed)
-        .map(|q| (q.size, q.lift)));
-    p.curve(
-        Series::new("region", SeriesKind::Area, lift_points(c)).label("grasping region"),
-        bent,
-    );
+    let (kind, label) = (SeriesKind::Area, "grasping region");
+    add_lift_curve(&mut p, c, kind, "region".into(), label.into());
     let inside = region.contains(d, fv);
     p.series.push(
         Series::new("cuboid", SeriesKind::Cross, vec![[d, fv]]).label(format!(

@@ -2,11 +2,7 @@
 
 use serde::Serialize;
 
-use super::output::{
-    entries, eps0_key, fmt_opt, pts, stop_entry, Cell, Column, Figure, Overview, Panel, PlotAxis,
-    RefLine, Series, SeriesKind, Stop, StopAt, StopEntry, StudyOutput, Table, Tally, NOTE, STATUS,
-    WARNINGS,
-};
+use super::output::*;
 use super::{StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::error::{SolveError, Warning};
@@ -123,7 +119,7 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
 /// Largest radius drawn in study 7 (mm): near flat the radius diverges.
 pub(crate) const STUDY7_RADIUS_CAP_MM: f64 = 1000.0;
 
-const COLUMNS: [Column; 11] = [
+const COLUMNS: [Column; 8] = [
     Column::new("eps0", ""),
     Column::new("pressure_kpa", "kPa"),
     Column::new("radius_mm", "mm"),
@@ -132,9 +128,6 @@ const COLUMNS: [Column; 11] = [
     Column::new("end_angle_rad", "rad"),
     Column::new("tip_x_mm", "mm"),
     Column::new("tip_z_mm", "mm"),
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 #[derive(Serialize)]
@@ -162,21 +155,20 @@ struct Summary {
 
 /// The outputs of study 7 from its curves.
 pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
-    let mut t = Table::new("study7", &COLUMNS);
-    let mut tally = Tally::default();
-    let mut overview = Overview::new(&[
-        "eps0",
-        "R at 0 kPa (mm)",
-        "R at the last pressure (mm)",
-        "last pressure (kPa)",
-        "curl reversed from (kPa)",
-    ]);
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    let mut a = Assembly::new(
+        &[("study7", &columns(&COLUMNS, &STATE_TAIL))],
+        &[
+            "eps0",
+            "R at 0 kPa (mm)",
+            "R at the last pressure (mm)",
+            "last pressure (kPa)",
+            "curl reversed from (kPa)",
+        ],
+    );
     let mut list = Vec::new();
     for c in curves {
         for r in &c.rows {
-            let warn = tally.point(&r.warnings);
-            t.push(vec![
+            let lead = vec![
                 c.eps0.into(),
                 r.pressure_kpa.into(),
                 r.radius.into(),
@@ -185,23 +177,25 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
                 r.end_angle.into(),
                 r.tip[0].into(),
                 r.tip[1].into(),
-                warn,
-                "ok".into(),
-                if r.radius.is_none() {
-                    "straight".into()
-                } else {
-                    Cell::Empty
-                },
-            ]);
+            ];
+            let note = if r.radius.is_none() {
+                "straight".into()
+            } else {
+                Cell::Empty
+            };
+            a.state(0, lead, &r.warnings, note);
         }
         if let Some(s) = &c.stopped {
-            t.push_stop(vec![("eps0", c.eps0.into())], "pressure_kpa", s);
             let case = format!("eps0 = {}", c.eps0);
-            notes.push(format!(
-                "{case}: pressure sweep stopped at {:.1} kPa: {}",
-                s.at, s.reason
-            ));
-            stops.push(Stop::of_sweep(case, StopAt::Kpa, s));
+            a.stop(
+                0,
+                vec![("eps0", c.eps0.into())],
+                "pressure_kpa",
+                &case,
+                StopAt::Kpa,
+                s,
+                true,
+            );
         }
         let reversed_from = c.rows.iter().find(|r| r.reversed()).map(|r| r.pressure_kpa);
         list.push(Curve {
@@ -221,7 +215,7 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
             stopped: stop_entry(&c.stopped, StopAt::Kpa),
         });
         let (first, last) = (c.rows.first(), c.rows.last());
-        overview.push(vec![
+        a.overview.push(vec![
             c.eps0.to_string(),
             fmt_opt(first.and_then(|r| r.radius), 1),
             match last {
@@ -236,11 +230,7 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
     let summary = Summary {
         radius_vs_pressure: list,
     };
-    let mut out = StudyOutput::new(vec![t], figure(curves), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.tallied(tally)
+    a.finish(figure(curves), &summary)
 }
 
 /// Radius and signed curvature against pressure.

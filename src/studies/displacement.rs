@@ -2,15 +2,13 @@
 
 use serde::Serialize;
 
-use super::output::{
-    entries, eps0_key, fmt_opt, pts, Cell, Column, Figure, Overview, Panel, PlotAxis, Series,
-    SeriesKind, Stop, StopAt, StudyOutput, Table, Tally, NOTE, STATUS, WARNINGS,
-};
+use super::output::*;
 use super::{StudyInfo, StudyOptions, STUDY8_PRESSURES_KPA};
 use crate::actuator::Actuator;
 use crate::error::{finite, SolveError, Warning};
-use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem};
-use crate::gripper::follow;
+use crate::finger::{
+    Finger, Load, Solution, SolveOptions, Solver, TargetFold, TargetProblem, Traced,
+};
 
 /// An axis of the finger frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,15 +67,40 @@ pub fn tip_force_for_displacement(
         target,
     };
     let s0 = u[0] * start.tip[0] + u[1] * start.tip[1];
-    let (solution, force) = follow(
-        &mut solver,
-        &start.coefficients,
-        0.0,
-        &at(s0),
-        &at(s0 + displacement),
-        &opts,
-    )
-    .map_err(|e| e.for_target("displacement.distance", displacement))?;
+    let value = displacement;
+    let not_on_path = |how: &str, f: TargetFold| SolveError::NotOnPath {
+        target: "displacement.distance".into(),
+        value,
+        detail: format!(
+            "pushing the tip from its unloaded position, {how} at {:.4} mm (force {:.4} N)",
+            f.target - s0,
+            f.lambda
+        ),
+    };
+    let (solution, force) = match solver
+        .trace_target(
+            &at(s0 + displacement),
+            &start.coefficients,
+            0.0,
+            1e-9,
+            &opts,
+        )
+        .map_err(|e| crate::gripper::for_target(e, "displacement.distance", value))?
+    {
+        Traced::Reached {
+            solution, lambda, ..
+        } => (solution, lambda),
+        Traced::Stalled { reached, .. } => {
+            return Err(SolveError::TargetNotReached {
+                target: "displacement.distance".into(),
+                value,
+                reached,
+                detail: "the path from the unloaded tip spent its step budget".into(),
+            })
+        }
+        Traced::Fold(f) => return Err(not_on_path("the path turns back", f)),
+        Traced::Unstable(f) => return Err(not_on_path("the finger loses its stability", f)),
+    };
     Ok(DisplacementForce {
         pressure_kpa,
         axis,
@@ -152,15 +175,12 @@ impl Axis {
     }
 }
 
-const COLUMNS: [Column; 8] = [
+const COLUMNS: [Column; 5] = [
     Column::new("eps0", ""),
     Column::new("axis", ""),
     Column::new("pressure_kpa", "kPa"),
     Column::new("displacement_mm", "mm"),
     Column::new("force_n", "N"),
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 /// One entry of `force_at_10mm`.
@@ -179,47 +199,39 @@ struct Summary {
 
 /// The outputs of study 8 from its rows.
 pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
-    let mut t = Table::new("study8", &COLUMNS);
-    let mut tally = Tally::default();
-    let mut overview = Overview::new(&["eps0", "axis", "P (kPa)", "force for 10 mm (N)"]);
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    let mut a = Assembly::new(
+        &[("study8", &columns(&COLUMNS, &STATE_TAIL))],
+        &["eps0", "axis", "P (kPa)", "force for 10 mm (N)"],
+    );
     for r in rows {
         let axis = r.axis.name();
-        let solved = r.force.is_some();
-        t.push(vec![
+        let lead = vec![
             r.eps0.into(),
             axis.into(),
             r.pressure_kpa.into(),
             DISPLACEMENT_MM.into(),
             r.force.into(),
-            if solved {
-                tally.point(&r.warnings)
-            } else {
-                Cell::Empty
-            },
-            if solved { "ok" } else { "failed" }.into(),
-            if solved {
-                Cell::Empty
-            } else {
-                "no solution".into()
-            },
-        ]);
-        overview.push(vec![
+        ];
+        a.overview.push(vec![
             r.eps0.to_string(),
             format!("+{axis}"),
             r.pressure_kpa.to_string(),
             fmt_opt(r.force, 4),
         ]);
-        if !solved {
-            let case = format!("eps0 = {}, axis {axis}", r.eps0);
-            notes.push(format!("{case}: no solution at {} kPa", r.pressure_kpa));
-            stops.push(Stop {
-                case,
-                at: StopAt::Kpa(r.pressure_kpa),
-                reason: "no solution".into(),
-                end: None,
-            });
+        if r.force.is_some() {
+            a.state(0, lead, &r.warnings, Cell::Empty);
+            continue;
         }
+        a.failed(0, lead, "no solution".into());
+        let case = format!("eps0 = {}, axis {axis}", r.eps0);
+        a.notes
+            .push(format!("{case}: no solution at {} kPa", r.pressure_kpa));
+        a.stop_record(Stop {
+            case,
+            at: StopAt::Kpa(r.pressure_kpa),
+            reason: "no solution".into(),
+            end: None,
+        });
     }
     let summary = Summary {
         force_at_10mm: rows
@@ -232,11 +244,7 @@ pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
             })
             .collect(),
     };
-    let mut out = StudyOutput::new(vec![t], figure(rows), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.tallied(tally)
+    a.finish(figure(rows), &summary)
 }
 
 /// Tip force for a 10 mm displacement against pressure, one curve per sample.

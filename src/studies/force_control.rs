@@ -2,11 +2,7 @@
 
 use serde::Serialize;
 
-use super::output::{
-    entries, fmt, pts, stop_entry, Cell, Column, Figure, Overview, Panel, PlotAxis, RefLine,
-    Series, SeriesKind, Stop, StopAt, StopEntry, StudyOutput, Table, Tally, NOTE, REVERSED, STATUS,
-    VALID, WARNINGS,
-};
+use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::error::{SolveError, Warning};
@@ -25,9 +21,10 @@ pub struct ForceControlRow {
     pub tip_gap: f64,
     /// True when `F >= 0` and `f <= mu F`.
     pub friction_ok: bool,
-    /// True when the grasp breaks no rule (see [`crate::gripper::rules`]).
+    /// True when the grasp is valid (the one verdict,
+    /// [`crate::gripper::Verdict`]).
     pub valid: bool,
-    /// The first rule the grasp breaks (`None`: valid).
+    /// The first reason it is not (`None`: valid).
     pub invalid: Option<Invalid>,
     /// An element is bent backwards.
     pub reversed: bool,
@@ -72,7 +69,7 @@ pub fn study4_force_control(
                     tip_gap: gr.tip_gap,
                     friction_ok: gr.friction_ok(g.mu()),
                     valid: gr.is_valid(),
-                    invalid: gr.invalid,
+                    invalid: gr.invalid(),
                     reversed: gr.is_reversed(),
                     warnings: gr.warnings.clone(),
                 });
@@ -101,17 +98,12 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     empty: || output(None, StudyOptions::default().mu),
 };
 
-const COLUMNS: [Column; 10] = [
+const COLUMNS: [Column; 5] = [
     Column::new("pressure_kpa", "kPa"),
     Column::new("F_n", "N"),
     Column::new("h_mm", "mm"),
     Column::new("tip_gap_mm", "mm"),
     Column::new("friction_ok", ""),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 /// One entry of `force_control`.
@@ -140,50 +132,45 @@ struct Summary {
 
 /// The outputs of study 4 (`None`: the empty outputs).
 pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
-    let mut t = Table::new("study4", &COLUMNS);
+    let mut a = Assembly::new(
+        &[("study4", &columns(&COLUMNS, &GRASP_TAIL))],
+        &["P (kPa)", "F (N)", "h (mm)", "f ≤ μF", "valid"],
+    );
     let Some(fc) = fc else {
         let summary = Summary {
             force_control: Vec::new(),
             force_control_case: None,
         };
-        return StudyOutput::new(
-            vec![t],
-            Figure::row("", [1200, 560], vec![]),
-            entries(&summary),
-        );
+        return a.empty(&summary);
     };
-    let mut tally = Tally::default();
-    let mut overview = Overview::new(&["P (kPa)", "F (N)", "h (mm)", "f ≤ μF", "valid"]);
+    let yes = |b: bool| if b { "yes" } else { "no" }.to_string();
     for r in &fc.rows {
-        let [rev, valid, warn] = tally.grasp(r.reversed, r.valid, &r.warnings);
-        t.push(vec![
+        let lead = vec![
             r.pressure_kpa.into(),
             r.normal.into(),
             r.height.into(),
             r.tip_gap.into(),
             r.friction_ok.into(),
-            rev,
-            valid,
-            warn,
-            "ok".into(),
-            Cell::Empty,
-        ]);
-        overview.push(vec![
+        ];
+        a.grasp(0, lead, r.reversed, r.invalid.as_ref(), &r.warnings);
+        a.overview.push(vec![
             fmt(r.pressure_kpa, 0),
             fmt(r.normal, 3),
             fmt(r.height, 1),
-            if r.friction_ok { "yes" } else { "no" }.into(),
-            if r.valid { "yes" } else { "no" }.into(),
+            yes(r.friction_ok),
+            yes(r.valid),
         ]);
     }
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
     if let Some(s) = &fc.stopped {
-        t.push_stop(vec![], "pressure_kpa", s);
-        notes.push(format!(
-            "pressure sweep stopped at {:.1} kPa: {}",
-            s.at, s.reason
-        ));
-        stops.push(Stop::of_sweep("force control", StopAt::Kpa, s));
+        a.stop(
+            0,
+            vec![],
+            "pressure_kpa",
+            "force control",
+            StopAt::Kpa,
+            s,
+            true,
+        );
     }
     let summary = Summary {
         force_control: fc
@@ -203,16 +190,12 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
             stopped: stop_entry(&fc.stopped, StopAt::Kpa),
         }),
     };
-    let mut out = StudyOutput::new(vec![t], figure(fc, mu), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.strict_dropped = fc
+    a.strict_dropped = fc
         .rows
         .iter()
         .filter(|r| matches!(r.invalid, Some(Invalid::CurvatureReversal { .. })))
         .count();
-    out.tallied(tally)
+    a.finish(figure(fc, mu), &summary)
 }
 
 /// Normal force and finger height against pressure.

@@ -6,12 +6,12 @@
 use serde::Serialize;
 
 use super::output::{
-    max_of, pts, stop_entry, Cell, Column, Panel, Series, SeriesKind, StopAt, StopEntry, Table,
-    Tally, NOTE, REVERSED, STATUS, VALID, WARNINGS,
+    columns, max_of, pts, stop_entry, Assembly, Cell, Column, Panel, Series, SeriesKind, StopAt,
+    StopEntry, GRASP_TAIL,
 };
 use super::{size_sweep, SweepStop};
 use crate::error::Warning;
-use crate::gripper::{Gripper, Invalid};
+use crate::gripper::{Gripper, Invalid, Object};
 
 /// One point of a lifting-force curve (grasping angle 0, `f = mu F`).
 #[derive(Debug, Clone, PartialEq)]
@@ -28,8 +28,9 @@ pub struct LiftPoint {
     pub height: f64,
     /// An element is bent backwards (dropped in strict mode).
     pub reversed: bool,
-    /// The grasp breaks no rule (see [`crate::gripper::rules`]).
-    pub valid: bool,
+    /// Why the grasp is not valid, the first reason of its verdict
+    /// (`None`: valid; [`crate::gripper::Verdict`]).
+    pub invalid: Option<Invalid>,
     /// The grasp's validity findings.
     pub warnings: Vec<Warning>,
 }
@@ -69,19 +70,24 @@ impl LiftCurve {
     }
 
     /// The max lifting force at grasping size `d`, interpolated linearly
-    /// (`None` outside the swept range).
+    /// between the two sweep points around it when both are valid grasps
+    /// (`None` outside the swept range, or next to an invalid grasp: only
+    /// valid grasps count).
     pub fn max_lift(&self, d: f64) -> Option<f64> {
         let pts = &self.points;
         if pts.is_empty() || !d.is_finite() {
             return None;
         }
         if pts.len() == 1 {
-            return (d == pts[0].size).then_some(pts[0].lift);
+            return (d == pts[0].size && pts[0].invalid.is_none()).then_some(pts[0].lift);
         }
         let i = pts
             .windows(2)
             .position(|w| d >= w[0].size && d <= w[1].size)?;
         let (p, q) = (&pts[i], &pts[i + 1]);
+        if p.invalid.is_some() || q.invalid.is_some() {
+            return None;
+        }
         let t = if q.size > p.size {
             (d - p.size) / (q.size - p.size)
         } else {
@@ -90,9 +96,14 @@ impl LiftCurve {
         Some(p.lift + t * (q.lift - p.lift))
     }
 
-    /// The largest lifting force of the sweep.
+    /// The largest lifting force of the sweep's valid grasps.
     pub(crate) fn peak_lift(&self) -> Option<f64> {
-        max_of(self.points.iter().map(|p| p.lift))
+        max_of(
+            self.points
+                .iter()
+                .filter(|p| p.invalid.is_none())
+                .map(|p| p.lift),
+        )
     }
 }
 
@@ -100,8 +111,8 @@ impl LiftCurve {
 pub(crate) fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
     let mut points = Vec::with_capacity(n + 1);
     let mut dropped = 0;
-    let stopped = size_sweep(g, 0.0, 0.0, g.d_min(), g.d_max(), n, |gr| {
-        if matches!(gr.invalid, Some(Invalid::CurvatureReversal { .. })) {
+    let stopped = size_sweep(g, 0.0, 0.0, Object::Face, g.d_min(), g.d_max(), n, |gr| {
+        if matches!(gr.invalid(), Some(Invalid::CurvatureReversal { .. })) {
             dropped += 1;
             return;
         }
@@ -112,7 +123,7 @@ pub(crate) fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
             lift: gr.lift,
             height: gr.height,
             reversed: gr.is_reversed(),
-            valid: gr.is_valid(),
+            invalid: gr.invalid(),
             warnings: gr.warnings.clone(),
         })
     });
@@ -133,8 +144,9 @@ pub(crate) fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
 
 // ------------------------------------------------------------ outputs
 
-/// The columns of a lift-curve table after its two leading ones.
-pub(crate) const LIFT_COLUMNS: [Column; 13] = [
+/// The columns of a lift-curve table after its two leading ones, before
+/// [`GRASP_TAIL`].
+const LIFT_COLUMNS: [Column; 8] = [
     Column::new("palm_mm", "mm"),
     Column::new("l0_mm", "mm"),
     Column::new("dmax_mm", "mm"),
@@ -143,70 +155,66 @@ pub(crate) const LIFT_COLUMNS: [Column; 13] = [
     Column::new("F_n", "N"),
     Column::new("fv_n", "N"),
     Column::new("h_mm", "mm"),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
-/// Two leading columns, then [`LIFT_COLUMNS`].
+/// Two leading columns, then [`LIFT_COLUMNS`] and [`GRASP_TAIL`].
 pub(crate) fn lift_columns(lead: [Column; 2]) -> Vec<Column> {
-    lead.into_iter().chain(LIFT_COLUMNS).collect()
+    columns(&columns(&lead, &LIFT_COLUMNS), &GRASP_TAIL)
 }
 
-/// Appends one row per point of `c` (the first two cells `lead`, e.g.
-/// eps0 and the angle), then the stop if the sweep stopped.
-pub(crate) fn lift_rows(t: &mut Table, c: &LiftCurve, lead: [Cell; 2], tally: &mut Tally) {
+/// Appends to table 0 one row per point of `c` (the first two cells
+/// `lead`, e.g. eps0 and the angle), then the stop of sweep `case` if it
+/// stopped; counts what strict mode dropped and the gripper's design
+/// warnings.
+pub(crate) fn lift_rows(a: &mut Assembly, c: &LiftCurve, lead: [Cell; 2], case: &str) {
     for p in &c.points {
-        let [x, y] = lead.clone();
-        let [rev, valid, warn] = tally.grasp(p.reversed, p.valid, &p.warnings);
-        t.push(vec![
-            x,
-            y,
-            c.palm.into(),
-            c.l0.into(),
-            c.d_max.into(),
-            p.size.into(),
-            p.tip_gap.into(),
-            p.normal.into(),
-            p.lift.into(),
-            p.height.into(),
-            rev,
-            valid,
-            warn,
-            "ok".into(),
-            Cell::Empty,
-        ]);
+        let mut row = lead.to_vec();
+        row.extend(
+            [
+                c.palm, c.l0, c.d_max, p.size, p.tip_gap, p.normal, p.lift, p.height,
+            ]
+            .map(Cell::from),
+        );
+        a.grasp(0, row, p.reversed, p.invalid.as_ref(), &p.warnings);
     }
     if let Some(s) = &c.stopped {
         let [x, y] = lead;
-        let (a, b) = (t.columns[0].name, t.columns[1].name);
-        t.push_stop(
-            vec![
-                (a, x),
-                (b, y),
-                ("palm_mm", c.palm.into()),
-                ("l0_mm", c.l0.into()),
-                ("dmax_mm", c.d_max.into()),
-            ],
-            "d_mm",
-            s,
-        );
+        let t = &a.tables[0];
+        let (first, second) = (t.columns[0].name, t.columns[1].name);
+        let named = vec![
+            (first, x),
+            (second, y),
+            ("palm_mm", c.palm.into()),
+            ("l0_mm", c.l0.into()),
+            ("dmax_mm", c.d_max.into()),
+        ];
+        a.stop(0, named, "d_mm", case, StopAt::Mm, s, true);
     }
+    a.strict_dropped += c.dropped;
+    a.design(&c.warnings);
 }
 
-/// The curve's max lifting force against the grasping size, with markers
-/// on the points bent backwards.
-pub(crate) fn add_lift_curve(p: &mut Panel, c: &LiftCurve, color: String, label: String) {
-    let bent = pts(c
-        .points
-        .iter()
-        .filter(|q| q.reversed)
-        .map(|q| (q.size, q.lift)));
-    p.curve(
-        Series::new(color, SeriesKind::Line, lift_points(c)).label(label),
-        bent,
+/// The curve's max lifting force against the grasping size, drawn as
+/// `kind`, with markers on the points bent backwards and on the grasps
+/// that are not valid.
+pub(crate) fn add_lift_curve(
+    p: &mut Panel,
+    c: &LiftCurve,
+    kind: SeriesKind,
+    color: String,
+    label: String,
+) {
+    let marked = |keep: &dyn Fn(&LiftPoint) -> bool| {
+        pts(c
+            .points
+            .iter()
+            .filter(|q| keep(q))
+            .map(|q| (q.size, q.lift)))
+    };
+    p.grasp_curve(
+        Series::new(color, kind, lift_points(c)).label(label),
+        marked(&|q| q.reversed),
+        marked(&|q| q.invalid.is_some()),
     );
 }
 
@@ -243,7 +251,8 @@ impl CurveSummary {
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use crate::studies::output::{PlotAxis, BENT_BACKWARDS};
+    use crate::studies::output::{PlotAxis, BENT_BACKWARDS, INVALID_GRASP};
+    use crate::studies::Cell;
 
     /// A curve of two points, the second bent backwards, stopped at 5.5 mm.
     pub fn curve() -> LiftCurve {
@@ -254,7 +263,10 @@ pub(crate) mod tests {
             lift: 0.24 + 0.6 * size,
             height: 78.0,
             reversed,
-            valid: size > 0.0,
+            invalid: (size <= 0.0).then_some(Invalid::NotOpen {
+                size,
+                tip_gap: size,
+            }),
             warnings: if reversed {
                 vec![Warning::CurvatureReversal {
                     element: 2,
@@ -285,17 +297,14 @@ pub(crate) mod tests {
     #[test]
     fn a_stopped_lift_sweep_is_a_row() {
         let c = curve();
-        let mut t = Table::new(
-            "t",
-            &lift_columns([Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")]),
+        let cols = lift_columns([Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")]);
+        let mut a = Assembly::new(&[("t", &cols)], &[]);
+        lift_rows(&mut a, &c, [c.mounting_angle.into(), 20.0.into()], "case");
+        let out = a.finish(
+            crate::report::Figure::row("", [1, 1], Vec::new()),
+            &serde_json::json!({}),
         );
-        let mut tally = Tally::default();
-        lift_rows(
-            &mut t,
-            &c,
-            [c.mounting_angle.into(), 20.0.into()],
-            &mut tally,
-        );
+        let t = &out.tables[0];
         // the points computed before the stop, then the stop
         assert_eq!(t.rows.len(), 3);
         assert_eq!(t.cell(0, "status"), Some(&Cell::from("ok")));
@@ -315,7 +324,13 @@ pub(crate) mod tests {
         );
         // a stopped row is no point: its findings are empty and not counted
         assert_eq!(t.cell(2, "reversed"), Some(&Cell::Empty));
-        assert_eq!(tally.point(&[]), Cell::Empty);
+        assert_eq!(out.points, 2);
+        assert_eq!(out.warnings_by_kind["curvature_reversal"], 1);
+        assert_eq!(
+            out.notes,
+            ["case: sweep stopped at d = 5.5 mm: solve failed: line search, test"]
+        );
+        assert_eq!(out.stops.len(), 1);
         let s = CurveSummary::of(&c);
         assert_eq!(s.reached_mm, 2.0);
         assert_eq!(
@@ -325,11 +340,21 @@ pub(crate) mod tests {
     }
 
     #[test]
-    fn bent_points_get_markers() {
+    fn bent_and_invalid_points_get_markers() {
         let c = curve();
         let mut p = Panel::new("", PlotAxis::new("d", "mm"), PlotAxis::new("f", "N"));
-        add_lift_curve(&mut p, &c, "a=pi/3".into(), "a = π/3".into());
-        assert_eq!(p.series.len(), 2);
+        add_lift_curve(
+            &mut p,
+            &c,
+            SeriesKind::Line,
+            "a=pi/3".into(),
+            "a = π/3".into(),
+        );
+        // the line, the bent point (d = 2) and the invalid one (d = 0)
+        assert_eq!(p.series.len(), 3);
+        assert_eq!(p.series[2].kind, SeriesKind::Invalid);
+        assert_eq!(p.series[2].points, vec![[0.0, 0.24]]);
+        assert_eq!(p.series[2].label.as_deref(), Some(INVALID_GRASP));
         assert_eq!(p.series[1].kind, SeriesKind::BentBackwards);
         assert_eq!(p.series[0].color, "a=pi/3");
         assert_eq!(p.series[1].color, BENT_BACKWARDS);

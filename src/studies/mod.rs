@@ -21,7 +21,9 @@ use crate::actuator::Actuator;
 use crate::blocks::Partition;
 use crate::error::{positive, require, InputError, SolveError};
 use crate::finger::Finger;
-use crate::gripper::{Grasp, Gripper, GripperParams, PalmSpec, SizeTail, SweepEnd, ViableAngles};
+use crate::gripper::{
+    Grasp, Gripper, GripperParams, Object, PalmSpec, SizeTail, SweepEnd, ViableAngles,
+};
 use crate::model::ModelId;
 
 mod cuboid;
@@ -44,9 +46,10 @@ pub use displacement::{
 pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
 pub use lift::{LiftCurve, LiftPoint};
 pub use output::{
-    angle_key, angle_name, eps0_key, overlap_key, validity_kinds, warnings_cell, Band, Cell,
-    Column, Corner, Figure, Overview, Panel, PlotAxis, RefLine, Series, SeriesKind, Stop, StopAt,
-    StudyOutput, Table, BENT_BACKWARDS, NOTE, REVERSED, STATUS, VALID, VALIDITY_KINDS, WARNINGS,
+    angle_key, angle_name, eps0_key, overlap_key, validity_kinds, warnings_cell, Band, Cell, Clip,
+    Clipped, Column, Corner, Figure, Overview, Panel, PlotAxis, RefLine, Series, SeriesKind, Stop,
+    StopAt, StudyOutput, Table, BENT_BACKWARDS, INVALID, INVALID_GRASP, NEUTRAL, NOTE, REVERSED,
+    STATUS, VALID, VALIDITY_KINDS, WARNINGS,
 };
 pub use overlap::study2_overlap;
 pub use prestrain_angle::study1_prestrain_angle;
@@ -185,10 +188,12 @@ impl SweepStop {
 /// is followed ([`Gripper::size_tail`]): the sweep goes on if it reaches
 /// the size, and otherwise ends at the path's natural end (or, if the path
 /// cannot be continued, at a numerical stop).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn size_sweep(
     g: &Gripper,
     pressure_kpa: f64,
     beta: f64,
+    object: Object,
     from: f64,
     to: f64,
     n: usize,
@@ -197,13 +202,13 @@ pub(crate) fn size_sweep(
     let mut warm: Option<Grasp> = None;
     for i in 0..=n {
         let d = from + (to - from) * i as f64 / n as f64;
-        let gr = match g.grasp_load_for_size(pressure_kpa, d, beta, warm.as_ref()) {
+        let gr = match g.size_grasp(pressure_kpa, d, beta, object, warm.as_ref(), false) {
             Ok(gr) => gr,
             Err(e) => {
                 // from the last grasp, or the finger without contact force
                 let start = match &warm {
                     Some(w) => Ok(w.clone()),
-                    None => g.size_sweep_start(pressure_kpa, beta),
+                    None => g.sweep_start(pressure_kpa, beta, object),
                 };
                 let last = match start {
                     Ok(l) => l,

@@ -1,7 +1,7 @@
-//! A study's outputs as data: named tables, a figure described panel by
-//! panel, its entries of a summary, a small overview table, notes, the
-//! sweeps that stopped, and how many of its points leave the model's
-//! validity (docs/model.md section 8).
+//! A study's outputs as data: its tables and figure (the model of
+//! [`crate::report`]), its entries of a summary, a small overview table,
+//! notes, the sweeps that stopped, and how many of its points leave the
+//! model's validity (docs/model.md section 8).
 //!
 //! Nothing here writes a file or draws: a front end (the CLI's `fpc paper`)
 //! writes every [`Table`] as CSV, renders every [`Figure`] and assembles the
@@ -15,30 +15,10 @@ use serde_json::Value;
 
 use super::SweepStop;
 use crate::error::Warning;
-use crate::gripper::SweepEnd;
+use crate::gripper::{Invalid, SweepEnd};
+pub use crate::report::*;
 
-// ------------------------------------------------------------ tables
-
-/// A column: its name as written in a CSV header (unit last, as in `d_mm`,
-/// `F_n`, `pressure_kpa`) and that unit on its own (`None`: a pure number,
-/// a flag or text).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-pub struct Column {
-    /// Header name, e.g. `d_mm`.
-    pub name: &'static str,
-    /// Unit, e.g. `mm`.
-    pub unit: Option<&'static str>,
-}
-
-impl Column {
-    /// A column with a unit (`""`: none).
-    pub const fn new(name: &'static str, unit: &'static str) -> Column {
-        Column {
-            name,
-            unit: if unit.is_empty() { None } else { Some(unit) },
-        }
-    }
-}
+// ------------------------------------------------------------ columns
 
 /// `status`: `ok`, `stopped` (a sweep that ended early), `failed`.
 pub const STATUS: Column = Column::new("status", "");
@@ -46,113 +26,17 @@ pub const STATUS: Column = Column::new("status", "");
 pub const NOTE: Column = Column::new("note", "");
 /// `reversed`: the grasp bends an element backwards (`curvature_reversal`).
 pub const REVERSED: Column = Column::new("reversed", "");
-/// `valid`: the grasp breaks no rule (`gripper::rules`).
+/// `valid`: the grasp's one verdict (`gripper::Verdict`): the paper's
+/// rules hold, the finger is inside the model, the grasp is stable and on
+/// the loading path.
 pub const VALID: Column = Column::new("valid", "");
+/// `invalid`: why not valid, the first reason's kind (`second_contact`,
+/// `outside_model`, `unstable`, ...); empty when valid.
+pub const INVALID: Column = Column::new("invalid", "");
 /// `warnings`: the validity kinds the point raises, `;`-separated.
 pub const WARNINGS: Column = Column::new("warnings", "");
 
-/// One cell of a table.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-#[serde(untagged)]
-pub enum Cell {
-    /// A number (written empty when not finite).
-    Num(f64),
-    /// Text.
-    Text(String),
-    /// A flag.
-    Bool(bool),
-    /// Nothing.
-    Empty,
-}
-
-impl From<f64> for Cell {
-    fn from(x: f64) -> Cell {
-        Cell::Num(x)
-    }
-}
-
-impl From<Option<f64>> for Cell {
-    fn from(x: Option<f64>) -> Cell {
-        x.map_or(Cell::Empty, Cell::Num)
-    }
-}
-
-impl From<bool> for Cell {
-    fn from(b: bool) -> Cell {
-        Cell::Bool(b)
-    }
-}
-
-impl From<&str> for Cell {
-    fn from(s: &str) -> Cell {
-        Cell::Text(s.to_string())
-    }
-}
-
-impl From<String> for Cell {
-    fn from(s: String) -> Cell {
-        Cell::Text(s)
-    }
-}
-
-/// A named table: `name` is the file stem (`study1`, `study1_shapes`).
-/// Every row has one cell per column; every table of the studies ends with
-/// the columns `status` and `note`.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Table {
-    /// File stem.
-    pub name: String,
-    /// The columns.
-    pub columns: Vec<Column>,
-    /// The rows, each as wide as `columns`.
-    pub rows: Vec<Vec<Cell>>,
-}
-
 impl Table {
-    /// An empty table.
-    pub fn new(name: impl Into<String>, columns: &[Column]) -> Table {
-        Table {
-            name: name.into(),
-            columns: columns.to_vec(),
-            rows: Vec::new(),
-        }
-    }
-
-    /// The index of the column called `name`.
-    pub fn column(&self, name: &str) -> Option<usize> {
-        self.columns.iter().position(|c| c.name == name)
-    }
-
-    /// The cell of row `row` in column `name`.
-    pub fn cell(&self, row: usize, name: &str) -> Option<&Cell> {
-        self.rows.get(row)?.get(self.column(name)?)
-    }
-
-    /// Appends a row; panics (a programming error) when it is not as wide
-    /// as the table.
-    pub fn push(&mut self, row: Vec<Cell>) {
-        assert_eq!(
-            row.len(),
-            self.columns.len(),
-            "row width of table {}",
-            self.name
-        );
-        self.rows.push(row);
-    }
-
-    /// Appends a row whose only filled cells are the named ones; panics on
-    /// an unknown column name.
-    pub fn push_named(&mut self, cells: Vec<(&str, Cell)>) {
-        let mut row = vec![Cell::Empty; self.columns.len()];
-        for (name, cell) in cells {
-            let i = self
-                .column(name)
-                .unwrap_or_else(|| panic!("table {} has no column {name}", self.name));
-            row[i] = cell;
-        }
-        self.rows.push(row);
-    }
-
     /// Appends the row of a sweep that stopped at `at` (in column `at_column`).
     pub(crate) fn push_stop(&mut self, lead: Vec<(&str, Cell)>, at_column: &str, s: &SweepStop) {
         let mut cells = lead;
@@ -169,18 +53,23 @@ impl Table {
 
 /// The validity kinds of [`Warning::kind`] (those with
 /// [`Warning::is_validity`]), in the order of docs/model.md section 8.
-pub const VALIDITY_KINDS: [&str; 5] = [
+pub const VALIDITY_KINDS: [&str; 6] = [
     "element_slope",
     "strain_range",
     "self_contact",
+    "thickness_ratio",
     "curvature_reversal",
     "beyond_flat",
 ];
 
-/// The validity kinds among `warnings`, each once, in order of appearance.
+/// The kinds of [`VALIDITY_KINDS`] among `warnings`, each once, in order
+/// of appearance.
 pub fn validity_kinds(warnings: &[Warning]) -> Vec<&'static str> {
     let mut kinds = Vec::new();
-    for w in warnings.iter().filter(|w| w.is_validity()) {
+    for w in warnings
+        .iter()
+        .filter(|w| VALIDITY_KINDS.contains(&w.kind()))
+    {
         if !kinds.contains(&w.kind()) {
             kinds.push(w.kind());
         }
@@ -224,266 +113,159 @@ impl Tally {
         }
         warnings_cell(warnings)
     }
-
-    /// The `reversed`, `valid` and `warnings` cells of a grasp, counted.
-    pub fn grasp(&mut self, reversed: bool, valid: bool, warnings: &[Warning]) -> [Cell; 3] {
-        [reversed.into(), valid.into(), self.point(warnings)]
-    }
 }
 
-// ------------------------------------------------------------ figures
+// ------------------------------------------------------------ assembly
 
-/// A figure: a title and rows of panels (each row split evenly across the
-/// width, the rows evenly down the height).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Figure {
-    /// Title over the whole figure.
-    pub title: String,
-    /// Width and height in pixels.
-    pub size: [u32; 2],
-    /// Rows of panels, top to bottom.
-    pub rows: Vec<Vec<Panel>>,
+/// The columns every table of grasps ends with.
+pub(crate) const GRASP_TAIL: [Column; 6] = [REVERSED, VALID, INVALID, WARNINGS, STATUS, NOTE];
+
+/// The columns every table of finger states ends with.
+pub(crate) const STATE_TAIL: [Column; 3] = [WARNINGS, STATUS, NOTE];
+
+/// `lead`, then `tail`: a table's columns.
+pub(crate) fn columns(lead: &[Column], tail: &[Column]) -> Vec<Column> {
+    lead.iter().chain(tail).copied().collect()
 }
 
-impl Figure {
-    /// A figure of one row of panels.
-    pub fn row(title: impl Into<String>, size: [u32; 2], panels: Vec<Panel>) -> Figure {
-        Figure {
-            title: title.into(),
-            size,
-            rows: vec![panels],
-        }
-    }
-
-    /// Every panel, row by row.
-    pub fn panels(&self) -> impl Iterator<Item = &Panel> {
-        self.rows.iter().flatten()
-    }
-}
-
-/// One axis of a panel.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PlotAxis {
-    /// What is plotted, e.g. `grasping size d`.
-    pub label: String,
-    /// Its unit, e.g. `mm` (empty: a pure number).
-    pub unit: String,
-    /// A fixed range (else fitted to the data).
-    pub range: Option<[f64; 2]>,
-    /// Include 0 in a fitted range.
-    pub include_zero: bool,
-    /// A logarithmic axis: positive values only, ticks at powers of ten.
-    pub log: bool,
-}
-
-impl PlotAxis {
-    /// An axis with a fitted range.
-    pub fn new(label: &str, unit: &str) -> PlotAxis {
-        PlotAxis {
-            label: label.into(),
-            unit: unit.into(),
-            range: None,
-            include_zero: false,
-            log: false,
-        }
-    }
-
-    /// A logarithmic axis (a renderer skips values that are not positive).
-    pub fn log(mut self) -> Self {
-        self.log = true;
-        self
-    }
-
-    /// The label with its unit, `label (unit)`.
-    pub fn text(&self) -> String {
-        if self.unit.is_empty() {
-            self.label.clone()
-        } else {
-            format!("{} ({})", self.label, self.unit)
-        }
-    }
-}
-
-/// How a series is drawn.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SeriesKind {
-    /// A solid line.
-    Line,
-    /// A dashed line.
-    Dashed,
-    /// A line with a marker at every point.
-    LinePoints,
-    /// Filled markers.
-    Points,
-    /// Small translucent markers (dense scatter).
-    Scatter,
-    /// Hollow markers.
-    Hollow,
-    /// Crosses.
-    Cross,
-    /// The area between the curve and y = 0.
-    Area,
-    /// Points whose grasp bends an element backwards (`curvature_reversal`):
-    /// hollow markers over the curve they belong to, one legend entry per
-    /// panel.
-    BentBackwards,
-}
-
-/// The legend entry and colour key of every [`SeriesKind::BentBackwards`]
-/// series.
-pub const BENT_BACKWARDS: &str = "bent backwards";
-
-/// One data series. `color` is a key naming the variable and its value
-/// (`eps0=0.25`, `a=pi/3`, `g=10mm`) or the quantity (`normal force`), so
-/// a renderer can give every key one colour across panels and studies.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Series {
-    /// Legend entry (`None`: not in the legend).
-    pub label: Option<String>,
-    /// Colour key.
-    pub color: String,
-    /// How it is drawn.
-    pub kind: SeriesKind,
-    /// The points (x, y); non-finite ones are skipped when drawn.
-    pub points: Vec<[f64; 2]>,
-}
-
-impl Series {
-    /// A series without a legend entry.
-    pub fn new(color: impl Into<String>, kind: SeriesKind, points: Vec<[f64; 2]>) -> Series {
-        Series {
-            label: None,
-            color: color.into(),
-            kind,
-            points,
-        }
-    }
-
-    /// With a legend entry.
-    pub fn label(mut self, label: impl Into<String>) -> Series {
-        self.label = Some(label.into());
-        self
-    }
-
-    /// The markers of the points that are bent backwards (colour key and
-    /// legend entry [`BENT_BACKWARDS`]); `None` when there is none.
-    pub fn bent_backwards(points: Vec<[f64; 2]>) -> Option<Series> {
-        (!points.is_empty()).then(|| {
-            Series::new(BENT_BACKWARDS, SeriesKind::BentBackwards, points).label(BENT_BACKWARDS)
-        })
-    }
-}
-
-/// A dashed grey reference line at a constant x or y.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RefLine {
-    /// Where.
-    pub at: f64,
-    /// Legend entry (empty: none).
-    pub label: String,
-}
-
-/// A shaded x range spanning the panel's height.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Band {
-    /// From x.
-    pub from: f64,
-    /// To x.
-    pub to: f64,
-    /// Colour key.
-    pub color: String,
-}
-
-/// A corner of a panel (where its legend goes).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Corner {
-    /// Top left.
-    UpperLeft,
-    /// Top right.
-    UpperRight,
-    /// Bottom left.
-    LowerLeft,
-    /// Bottom right.
-    LowerRight,
-}
-
-/// One chart.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Panel {
-    /// Title (may be empty).
-    pub title: String,
-    /// Horizontal axis.
-    pub x: PlotAxis,
-    /// Vertical axis.
-    pub y: PlotAxis,
-    /// Data series, drawn in order.
-    pub series: Vec<Series>,
-    /// Horizontal reference lines.
-    pub hlines: Vec<RefLine>,
-    /// Vertical reference lines.
-    pub vlines: Vec<RefLine>,
-    /// Shaded x ranges.
-    pub bands: Vec<Band>,
-    /// The bands' legend entry.
-    pub band_label: Option<String>,
-    /// Lines of text in the top-left corner.
+/// A study's outputs under assembly, the one path every study takes from
+/// its typed result to its [`StudyOutput`]: a row per grasp or finger state
+/// (counted in the validity tally), a row, a note and a stop record per
+/// sweep that stopped, then [`Assembly::finish`] with the figure and the
+/// summary.
+pub(crate) struct Assembly {
+    /// The tables, by index in the calls below.
+    pub tables: Vec<Table>,
+    /// The overview table.
+    pub overview: Overview,
+    /// Remarks.
     pub notes: Vec<String>,
-    /// Same scale on both axes (shapes).
-    pub equal_aspect: bool,
-    /// Where the legend goes.
-    pub legend: Corner,
+    /// Grasps strict mode ruled out.
+    pub strict_dropped: usize,
+    stops: Vec<Stop>,
+    design_warnings: Vec<String>,
+    tally: Tally,
 }
 
-impl Panel {
-    /// An empty panel.
-    pub fn new(title: impl Into<String>, x: PlotAxis, y: PlotAxis) -> Panel {
-        Panel {
-            title: title.into(),
-            x,
-            y,
-            series: Vec::new(),
-            hlines: Vec::new(),
-            vlines: Vec::new(),
-            bands: Vec::new(),
-            band_label: None,
+impl Assembly {
+    /// Empty tables of these names and columns, an overview with this header.
+    pub fn new(tables: &[(&str, &[Column])], overview: &[&str]) -> Assembly {
+        Assembly {
+            tables: tables.iter().map(|(n, c)| Table::new(*n, c)).collect(),
+            overview: Overview::new(overview),
             notes: Vec::new(),
-            equal_aspect: false,
-            legend: Corner::UpperRight,
+            strict_dropped: 0,
+            stops: Vec::new(),
+            design_warnings: Vec::new(),
+            tally: Tally::default(),
         }
     }
 
-    /// Adds a series, and the markers of its points bent backwards.
-    pub(crate) fn curve(&mut self, s: Series, bent: Vec<[f64; 2]>) {
-        self.series.push(s);
-        self.series.extend(Series::bent_backwards(bent));
+    /// A row of table `t` that is no point: `lead`, then `ok` and no note.
+    pub fn row(&mut self, t: usize, mut lead: Vec<Cell>) {
+        lead.extend(["ok".into(), Cell::Empty]);
+        self.tables[t].push(lead);
     }
-}
 
-// ------------------------------------------------------------ the output
+    /// A row of a grasp (a point of the tally): `lead`, then its
+    /// [`GRASP_TAIL`] cells, `ok` and no note.
+    pub fn grasp(
+        &mut self,
+        t: usize,
+        mut lead: Vec<Cell>,
+        reversed: bool,
+        invalid: Option<&Invalid>,
+        warnings: &[Warning],
+    ) {
+        lead.extend([
+            reversed.into(),
+            invalid.is_none().into(),
+            invalid.map_or(Cell::Empty, |i| i.kind().into()),
+        ]);
+        self.state(t, lead, warnings, Cell::Empty);
+    }
 
-/// The small table a report shows for a study: a header and rows of text.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Overview {
-    /// Column titles.
-    pub header: Vec<String>,
-    /// Rows, each as wide as the header.
-    pub rows: Vec<Vec<String>>,
-}
+    /// A row of a finger state (a point of the tally): `lead`, then its
+    /// `warnings` cell, `ok` and `note`.
+    pub fn state(&mut self, t: usize, mut lead: Vec<Cell>, warnings: &[Warning], note: Cell) {
+        lead.extend([self.tally.point(warnings), "ok".into(), note]);
+        self.tables[t].push(lead);
+    }
 
-impl Overview {
-    /// An empty overview with this header.
-    pub fn new(header: &[&str]) -> Overview {
-        Overview {
-            header: header.iter().map(|h| h.to_string()).collect(),
-            rows: Vec::new(),
+    /// A row of a point that did not solve: `lead`, the rest empty, status
+    /// `failed` and `note`.
+    pub fn failed(&mut self, t: usize, mut lead: Vec<Cell>, note: Cell) {
+        let table = &mut self.tables[t];
+        lead.resize(table.columns.len() - 2, Cell::Empty);
+        lead.extend(["failed".into(), note]);
+        table.push(lead);
+    }
+
+    /// A sweep `case` that stopped: its row in table `t` (the named `lead`
+    /// cells, where it stopped in `at_column`), its stop record and, when
+    /// `noted`, a note saying where and why.
+    #[allow(clippy::too_many_arguments)]
+    pub fn stop(
+        &mut self,
+        t: usize,
+        lead: Vec<(&str, Cell)>,
+        at_column: &str,
+        case: &str,
+        at: fn(f64) -> StopAt,
+        s: &SweepStop,
+        noted: bool,
+    ) {
+        self.tables[t].push_stop(lead, at_column, s);
+        if noted {
+            let place = match at(s.at) {
+                StopAt::Mm(d) => format!("sweep stopped at d = {d:.1} mm"),
+                StopAt::Kpa(p) => format!("pressure sweep stopped at {p:.1} kPa"),
+            };
+            let case = if case.is_empty() {
+                String::new()
+            } else {
+                format!("{case}: ")
+            };
+            self.notes.push(format!("{case}{place}: {}", s.reason));
+        }
+        self.stops.push(Stop::of_sweep(case, at, s));
+    }
+
+    /// A stop record that has no row of its own.
+    pub fn stop_record(&mut self, stop: Stop) {
+        self.stops.push(stop);
+    }
+
+    /// Adds the design warnings of a gripper, each once.
+    pub fn design(&mut self, warnings: &[Warning]) {
+        for w in warnings {
+            let w = w.to_string();
+            if !self.design_warnings.contains(&w) {
+                self.design_warnings.push(w);
+            }
         }
     }
 
-    /// Appends a row.
-    pub fn push(&mut self, row: Vec<String>) {
-        self.rows.push(row);
+    /// The outputs, with this figure and these summary entries.
+    pub fn finish<T: Serialize>(self, figure: Figure, summary: &T) -> StudyOutput {
+        StudyOutput {
+            tables: self.tables,
+            figure,
+            summary: entries(summary),
+            overview: self.overview,
+            notes: self.notes,
+            stops: self.stops,
+            design_warnings: self.design_warnings,
+            points: self.tally.points,
+            warnings_by_kind: self.tally.by_kind,
+            strict_dropped: self.strict_dropped,
+        }
+    }
+
+    /// The outputs of a study that has no result: its tables without rows,
+    /// an empty figure and these (empty) summary entries.
+    pub fn empty<T: Serialize>(self, summary: &T) -> StudyOutput {
+        self.finish(Figure::row("", [800, 600], Vec::new()), summary)
     }
 }
 
@@ -623,43 +405,9 @@ impl StudyOutput {
         }
     }
 
-    /// An output with these tables, figure and summary entries, and
-    /// nothing else yet.
-    pub(crate) fn new(tables: Vec<Table>, figure: Figure, summary: Vec<(String, Value)>) -> Self {
-        StudyOutput {
-            tables,
-            figure,
-            summary,
-            overview: Overview::default(),
-            notes: Vec::new(),
-            stops: Vec::new(),
-            design_warnings: Vec::new(),
-            points: 0,
-            warnings_by_kind: Tally::default().by_kind,
-            strict_dropped: 0,
-        }
-    }
-
-    /// Takes the counts of `tally`.
-    pub(crate) fn tallied(mut self, tally: Tally) -> Self {
-        self.points = tally.points;
-        self.warnings_by_kind = tally.by_kind;
-        self
-    }
-
     /// The table called `name`.
     pub fn table(&self, name: &str) -> Option<&Table> {
         self.tables.iter().find(|t| t.name == name)
-    }
-
-    /// Adds the design warnings of a gripper, each once.
-    pub(crate) fn design(&mut self, warnings: &[Warning]) {
-        for w in warnings {
-            let w = w.to_string();
-            if !self.design_warnings.contains(&w) {
-                self.design_warnings.push(w);
-            }
-        }
     }
 }
 
@@ -746,19 +494,6 @@ mod tests {
     use super::*;
 
     #[test]
-    fn tables_check_their_width() {
-        let mut t = Table::new("t", &[Column::new("d_mm", "mm"), STATUS, NOTE]);
-        assert_eq!(t.columns[0].unit, Some("mm"));
-        assert_eq!(t.columns[1].unit, None);
-        t.push(vec![1.0.into(), "ok".into(), Cell::Empty]);
-        t.push_named(vec![("status", "stopped".into())]);
-        assert_eq!(t.rows[1], [Cell::Empty, "stopped".into(), Cell::Empty]);
-        assert_eq!(t.cell(0, "d_mm"), Some(&Cell::Num(1.0)));
-        let wide = std::panic::catch_unwind(move || t.push(vec![Cell::Empty]));
-        assert!(wide.is_err(), "a short row is a programming error");
-    }
-
-    #[test]
     fn validity_kinds_are_listed_once_and_counted_per_point() {
         let w = [
             Warning::ElementSlope {
@@ -833,10 +568,9 @@ mod tests {
             PlotAxis::new("pressure P", "kPa"),
             PlotAxis::new("F", "N"),
         );
-        let mut out = StudyOutput::new(
-            Vec::new(),
+        let mut out = Assembly::new(&[], &[]).finish(
             Figure::row("t", [800, 400], vec![other, size]),
-            Vec::new(),
+            &serde_json::json!({}),
         );
         let end = |end| Stop {
             case: "b = 0.5 rad".into(),
@@ -874,6 +608,7 @@ mod tests {
         assert_eq!(out.figure, before);
     }
 
+    /// A panel over `d` (mm) of `f` (N) with one series through `ys` at
     #[test]
     fn keys_and_names() {
         assert_eq!(angle_key(FRAC_PI_3), "a=pi/3");

@@ -3,10 +3,7 @@
 use serde::Serialize;
 
 use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
-use super::output::{
-    angle_key, angle_name, entries, fmt, fmt_opt, overlap_key, pts, Column, Corner, Figure,
-    Overview, Panel, PlotAxis, Series, SeriesKind, Stop, StopAt, StudyOutput, Table, Tally,
-};
+use super::output::*;
 use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
 use crate::actuator::Actuator;
 use crate::error::SolveError;
@@ -56,25 +53,26 @@ struct Summary {
 
 /// The outputs of study 2 from its curves.
 pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
-    let mut t = Table::new("study2", &lift_columns(LEAD));
-    let mut tally = Tally::default();
-    let mut overview = Overview::new(&[
-        "a",
-        "g (mm)",
-        "l (mm)",
-        "d_max (mm)",
-        "swept to d (mm)",
-        "max f_v (N)",
-    ]);
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    let mut a = Assembly::new(
+        &[("study2", &lift_columns(LEAD))],
+        &[
+            "a",
+            "g (mm)",
+            "l (mm)",
+            "d_max (mm)",
+            "swept to d (mm)",
+            "max f_v (N)",
+        ],
+    );
     for c in curves {
+        let case = format!("a = {}, g = {} mm", angle_name(c.mounting_angle), c.overlap);
         lift_rows(
-            &mut t,
+            &mut a,
             c,
             [c.mounting_angle.into(), c.overlap.into()],
-            &mut tally,
+            &case,
         );
-        overview.push(vec![
+        a.overview.push(vec![
             angle_name(c.mounting_angle),
             fmt(c.overlap, 0),
             fmt(c.palm, 1),
@@ -82,14 +80,6 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             fmt(c.reached(), 1),
             fmt_opt(c.peak_lift(), 3),
         ]);
-        if let Some(s) = &c.stopped {
-            let case = format!("a = {}, g = {} mm", angle_name(c.mounting_angle), c.overlap);
-            notes.push(format!(
-                "{case}: sweep stopped at d = {:.1} mm: {}",
-                s.at, s.reason
-            ));
-            stops.push(Stop::of_sweep(case, StopAt::Mm, s));
-        }
     }
     let summary = Summary {
         overlap_dmax_mm: curves
@@ -101,15 +91,7 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             })
             .collect(),
     };
-    let mut out = StudyOutput::new(vec![t], figure(curves), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.strict_dropped = curves.iter().map(|c| c.dropped).sum();
-    for c in curves {
-        out.design(&c.warnings);
-    }
-    out.tallied(tally)
+    a.finish(figure(curves), &summary)
 }
 
 /// f_v against d per overlap (one panel per mounting angle), d_max against g.
@@ -127,6 +109,7 @@ fn figure(curves: &[LiftCurve]) -> Figure {
             add_lift_curve(
                 &mut p,
                 c,
+                SeriesKind::Line,
                 overlap_key(c.overlap),
                 format!("g = {} mm", c.overlap),
             );

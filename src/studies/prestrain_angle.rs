@@ -3,11 +3,7 @@
 use serde::Serialize;
 
 use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
-use super::output::{
-    angle_key, angle_name, entries, eps0_key, fmt, fmt_opt, pts, Cell, Column, Corner, Figure,
-    Overview, Panel, PlotAxis, RefLine, Series, SeriesKind, Stop, StopAt, StudyOutput, Table,
-    Tally, NOTE, STATUS,
-};
+use super::output::*;
 use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_EPS0};
 use crate::actuator::Actuator;
 use crate::error::SolveError;
@@ -41,8 +37,8 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
 
 const LEAD: [Column; 2] = [Column::new("eps0", ""), Column::new("angle_rad", "rad")];
 const SHAPE_COLUMNS: [Column; 6] = [
-    Column::new("eps0", ""),
-    Column::new("angle_rad", "rad"),
+    LEAD[0],
+    LEAD[1],
     Column::new("xg_mm", "mm"),
     Column::new("zg_mm", "mm"),
     STATUS,
@@ -65,37 +61,37 @@ struct Summary {
 
 /// The outputs of study 1 from its curves.
 pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
-    let mut t = Table::new("study1", &lift_columns(LEAD));
-    let mut shapes = Table::new("study1_shapes", &SHAPE_COLUMNS);
-    let mut tally = Tally::default();
-    let mut overview = Overview::new(&[
-        "eps0",
-        "a",
-        "l0 (mm)",
-        "l (mm)",
-        "d_max (mm)",
-        "swept to d (mm)",
-        "max f_v (N)",
-    ]);
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
+    let mut a = Assembly::new(
+        &[
+            ("study1", &lift_columns(LEAD)),
+            ("study1_shapes", &SHAPE_COLUMNS),
+        ],
+        &[
+            "eps0",
+            "a",
+            "l0 (mm)",
+            "l (mm)",
+            "d_max (mm)",
+            "swept to d (mm)",
+            "max f_v (N)",
+        ],
+    );
     for c in curves {
-        lift_rows(
-            &mut t,
-            c,
-            [c.eps0.into(), c.mounting_angle.into()],
-            &mut tally,
-        );
+        let (eps0, angle) = (c.eps0.into(), c.mounting_angle.into());
+        let case = format!("eps0 = {}, a = {}", c.eps0, angle_name(c.mounting_angle));
+        lift_rows(&mut a, c, [eps0, angle], &case);
         for q in &c.rest_shape {
-            shapes.push(vec![
-                c.eps0.into(),
-                c.mounting_angle.into(),
-                q[0].into(),
-                q[1].into(),
-                "ok".into(),
-                Cell::Empty,
-            ]);
+            a.row(
+                1,
+                vec![
+                    c.eps0.into(),
+                    c.mounting_angle.into(),
+                    q[0].into(),
+                    q[1].into(),
+                ],
+            );
         }
-        overview.push(vec![
+        a.overview.push(vec![
             c.eps0.to_string(),
             angle_name(c.mounting_angle),
             fmt(c.l0, 1),
@@ -104,14 +100,6 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             fmt(c.reached(), 1),
             fmt_opt(c.peak_lift(), 3),
         ]);
-        if let Some(s) = &c.stopped {
-            let case = format!("eps0 = {}, a = {}", c.eps0, angle_name(c.mounting_angle));
-            notes.push(format!(
-                "{case}: sweep stopped at d = {:.1} mm: {}",
-                s.at, s.reason
-            ));
-            stops.push(Stop::of_sweep(case, StopAt::Mm, s));
-        }
     }
     let summary = Summary {
         dmax_mm: curves
@@ -123,15 +111,7 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             })
             .collect(),
     };
-    let mut out = StudyOutput::new(vec![t, shapes], figure(curves), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.strict_dropped = curves.iter().map(|c| c.dropped).sum();
-    for c in curves {
-        out.design(&c.warnings);
-    }
-    out.tallied(tally)
+    a.finish(figure(curves), &summary)
 }
 
 /// Finger shapes per mounting angle, max f_v against d per prestrain,
@@ -161,6 +141,15 @@ fn figure(curves: &[LiftCurve]) -> Figure {
                 vec![[0.5 * c.palm, 0.0], [-0.5 * c.palm, 0.0]],
             ));
         }
+        // what the dashes and dots are: entries without data, in a
+        // neutral colour
+        p.series.push(
+            Series::new(NEUTRAL, SeriesKind::Dashed, Vec::new())
+                .label("opposite finger (mirror image)"),
+        );
+        p.series.push(
+            Series::new(NEUTRAL, SeriesKind::Points, Vec::new()).label("finger mount (palm end)"),
+        );
         p.hlines.push(RefLine {
             at: 0.0,
             label: String::new(),
@@ -175,12 +164,15 @@ fn figure(curves: &[LiftCurve]) -> Figure {
             PlotAxis::new("max f_v", "N"),
         );
         p.y.include_zero = true;
+        // a curve that shoots up at its last points must not squash the others
+        p.y_clip = Some(Clip::OUTLIERS);
         p.legend = Corner::UpperLeft;
         for c in curves.iter().filter(|c| c.eps0 == eps0) {
             let name = angle_name(c.mounting_angle);
             add_lift_curve(
                 &mut p,
                 c,
+                SeriesKind::Line,
                 angle_key(c.mounting_angle),
                 format!("a = {name}"),
             );

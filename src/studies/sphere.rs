@@ -2,15 +2,11 @@
 
 use serde::Serialize;
 
-use super::output::{
-    entries, fmt, fmt_opt, max_of, min_of, pts, Cell, Column, Figure, Overview, Panel, PlotAxis,
-    Series, SeriesKind, Stop, StopAt, StudyOutput, Table, Tally, NOTE, REVERSED, STATUS, VALID,
-    WARNINGS,
-};
+use super::output::*;
 use super::{section5_gripper, size_sweep, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::error::{SolveError, Warning};
-use crate::gripper::{grasping_angle_range, Gripper, Invalid, SphereLift};
+use crate::gripper::{grasping_angle_range, Gripper, Invalid, Object, SphereLift};
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
 #[derive(Debug, Clone, PartialEq)]
@@ -70,9 +66,10 @@ pub fn study5_sphere_region(
     for j in 0..opts.angle_samples {
         let beta = lo + (hi - lo) * j as f64 / opts.angle_samples as f64;
         let d_max = g.d_max();
-        let stop = size_sweep(&g, 0.0, beta, d_max / n as f64, d_max, n - 1, |gr| {
-            let c = g.sphere_contact(&gr.solution, beta);
-            if c.invalid.or(gr.invalid).is_none() {
+        let (from, to) = (d_max / n as f64, d_max);
+        let stop = size_sweep(&g, 0.0, beta, Object::Sphere, from, to, n - 1, |gr| {
+            if gr.is_valid() {
+                let c = g.sphere_contact(&gr.solution, beta);
                 points.push(SpherePoint {
                     beta,
                     radius: c.radius,
@@ -84,9 +81,7 @@ pub fn study5_sphere_region(
                 });
             } else {
                 dropped += 1;
-                if c.invalid.is_none()
-                    && matches!(gr.invalid, Some(Invalid::CurvatureReversal { .. }))
-                {
+                if matches!(gr.invalid(), Some(Invalid::CurvatureReversal { .. })) {
                     strict_dropped += 1;
                 }
             }
@@ -179,29 +174,19 @@ fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
     Ok(output(Some(&region), opts.angle_samples))
 }
 
-const COLUMNS: [Column; 10] = [
+const COLUMNS: [Column; 5] = [
     Column::new("beta_rad", "rad"),
     Column::new("r_mm", "mm"),
     Column::new("fv_n", "N"),
     Column::new("F_n", "N"),
     Column::new("d_mm", "mm"),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
-const ENVELOPE_COLUMNS: [Column; 9] = [
+const ENVELOPE_COLUMNS: [Column; 4] = [
     Column::new("r_mm", "mm"),
     Column::new("beta_rad", "rad"),
     Column::new("fv_n", "N"),
     Column::new("F_n", "N"),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 #[derive(Serialize)]
@@ -229,60 +214,46 @@ struct Summary {
 
 /// The outputs of study 5 (`None`: the empty outputs).
 pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> StudyOutput {
-    let mut t = Table::new("study5", &COLUMNS);
-    let mut env = Table::new("study5_envelope", &ENVELOPE_COLUMNS);
+    let mut a = Assembly::new(
+        &[
+            ("study5", &columns(&COLUMNS, &GRASP_TAIL)),
+            ("study5_envelope", &columns(&ENVELOPE_COLUMNS, &GRASP_TAIL)),
+        ],
+        &["quantity", "value"],
+    );
     let Some(region) = region else {
         let summary = Summary {
             sphere_envelope_peak_radius_mm: None,
             sphere_region: None,
         };
-        return StudyOutput::new(
-            vec![t, env],
-            Figure::row("", [1000, 640], vec![]),
-            entries(&summary),
-        );
+        return a.empty(&summary);
     };
-    let mut tally = Tally::default();
+    // the region and its envelope hold valid grasps only
     for p in &region.points {
-        let [rev, valid, warn] = tally.grasp(p.reversed, true, &p.warnings);
-        t.push(vec![
-            p.beta.into(),
-            p.radius.into(),
-            p.lift.into(),
-            p.normal.into(),
-            p.size.into(),
-            rev,
-            valid,
-            warn,
-            "ok".into(),
-            Cell::Empty,
-        ]);
+        let lead = [p.beta, p.radius, p.lift, p.normal, p.size].map(Cell::from);
+        a.grasp(0, lead.to_vec(), p.reversed, None, &p.warnings);
     }
-    let (mut notes, mut stops) = (Vec::new(), Vec::new());
     for (beta, s) in &region.stopped {
-        t.push_stop(vec![("beta_rad", (*beta).into())], "d_mm", s);
-        stops.push(Stop::of_sweep(format!("b = {beta:.6} rad"), StopAt::Mm, s));
+        let case = format!("b = {beta:.6} rad");
+        a.stop(
+            0,
+            vec![("beta_rad", (*beta).into())],
+            "d_mm",
+            &case,
+            StopAt::Mm,
+            s,
+            false,
+        );
     }
     if !region.stopped.is_empty() {
-        notes.push(format!(
+        a.notes.push(format!(
             "{} of the {angle_samples} grasping-angle sweeps stopped before d_max (rows with status 'stopped' in study5.csv)",
             region.stopped.len(),
         ));
     }
     for e in &region.envelope {
-        // the envelope holds valid grasps only
-        let [rev, valid, warn] = tally.grasp(e.reversed, true, &e.warnings);
-        env.push(vec![
-            e.radius.into(),
-            e.beta.into(),
-            e.lift.into(),
-            e.normal.into(),
-            rev,
-            valid,
-            warn,
-            "ok".into(),
-            Cell::Empty,
-        ]);
+        let lead = [e.radius, e.beta, e.lift, e.normal].map(Cell::from);
+        a.grasp(1, lead.to_vec(), e.reversed, None, &e.warnings);
     }
     let peak = region.peak.as_ref();
     let summary = Summary {
@@ -299,24 +270,23 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
             }),
         }),
     };
-    let mut overview = Overview::new(&["quantity", "value"]);
-    overview.push(vec![
+    a.overview.push(vec![
         "valid grasps / dropped".into(),
         format!("{} / {}", region.points.len(), region.dropped),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "envelope peak radius (mm)".into(),
         fmt_opt(peak.map(|p| p.radius), 2),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "envelope peak f_v (N)".into(),
         fmt_opt(peak.map(|p| p.lift), 3),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "grasping angle at the peak (deg)".into(),
         fmt_opt(peak.map(|p| p.beta.to_degrees()), 1),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "radii covered (mm)".into(),
         match (
             min_of(region.points.iter().map(|p| p.radius)),
@@ -326,12 +296,8 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
             _ => "–".into(),
         },
     ]);
-    let mut out = StudyOutput::new(vec![t, env], figure(region), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.stops = stops;
-    out.strict_dropped = region.strict_dropped;
-    out.tallied(tally)
+    a.strict_dropped = region.strict_dropped;
+    a.finish(figure(region), &summary)
 }
 
 /// Valid sphere grasps and the max-lift envelope.
@@ -379,6 +345,7 @@ fn figure(region: &SphereRegion) -> Figure {
     let mut natural = 0;
     for (kind, what) in [
         ("fold", "a fold"),
+        ("path", "the end of the path from rest (the size turns back or the held finger loses its stability)"),
         ("validity", "the validity limit"),
         ("force_bound", "the force bound"),
     ] {

@@ -2,10 +2,7 @@
 
 use serde::Serialize;
 
-use super::output::{
-    entries, fmt, pts, Band, Cell, Column, Figure, Overview, Panel, PlotAxis, RefLine, Series,
-    SeriesKind, StudyOutput, Table, Tally, NOTE, REVERSED, STATUS, VALID, WARNINGS,
-};
+use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
 use crate::error::SolveError;
@@ -38,18 +35,12 @@ fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
     Ok(output(Some(&v), opts.mu))
 }
 
-const COLUMNS: [Column; 11] = [
+const COLUMNS: [Column; 5] = [
     Column::new("beta_rad", "rad"),
     Column::new("F_n", "N"),
     Column::new("f_n", "N"),
     Column::new("f_over_F", ""),
     Column::new("viable", ""),
-    Column::new("invalid", ""),
-    REVERSED,
-    VALID,
-    WARNINGS,
-    STATUS,
-    NOTE,
 ];
 
 #[derive(Serialize)]
@@ -70,42 +61,40 @@ struct Summary {
 
 /// The outputs of study 6 (`None`: the empty outputs).
 pub(crate) fn output(v: Option<&ViableAngles>, mu: f64) -> StudyOutput {
-    let mut t = Table::new("study6", &COLUMNS);
+    let mut a = Assembly::new(
+        &[("study6", &columns(&COLUMNS, &GRASP_TAIL))],
+        &["quantity", "value"],
+    );
     let Some(v) = v else {
         let summary = Summary {
             sphere_beta_range_rad: None,
             sphere_viable_angles: None,
         };
-        return StudyOutput::new(
-            vec![t],
-            Figure::row("", [1200, 580], vec![]),
-            entries(&summary),
-        );
+        return a.empty(&summary);
     };
-    let mut tally = Tally::default();
     let mut failed = 0;
     for s in &v.scan {
-        let solved = s.failure.is_none();
-        failed += usize::from(!solved);
-        let ratio = (solved && s.normal != 0.0).then(|| s.friction / s.normal);
-        let solved_num = |x: f64| if solved { Cell::Num(x) } else { Cell::Empty };
-        let findings: [Cell; 3] = if solved {
-            tally.grasp(s.reversed, s.invalid.is_none(), &s.warnings)
-        } else {
-            [Cell::Empty, Cell::Empty, Cell::Empty]
+        let Some(why) = &s.failure else {
+            let ratio = (s.normal != 0.0).then(|| s.friction / s.normal);
+            let lead = vec![
+                s.beta.into(),
+                s.normal.into(),
+                s.friction.into(),
+                ratio.into(),
+                s.viable.into(),
+            ];
+            a.grasp(0, lead, s.reversed, s.invalid.as_ref(), &s.warnings);
+            continue;
         };
-        let mut row = vec![
+        failed += 1;
+        let lead = vec![
             s.beta.into(),
-            solved_num(s.normal),
-            solved_num(s.friction),
-            ratio.into(),
+            Cell::Empty,
+            Cell::Empty,
+            Cell::Empty,
             s.viable.into(),
-            s.invalid.as_ref().map_or(Cell::Empty, |i| i.kind().into()),
         ];
-        row.extend(findings);
-        row.push(if solved { "ok" } else { "failed" }.into());
-        row.push(s.failure.clone().map_or(Cell::Empty, Cell::Text));
-        t.push(row);
+        a.failed(0, lead, why.clone().into());
     }
     let range = v.range();
     let viable = v.scan.iter().filter(|s| s.viable).count();
@@ -120,42 +109,37 @@ pub(crate) fn output(v: Option<&ViableAngles>, mu: f64) -> StudyOutput {
             failed_samples: failed,
         }),
     };
-    let mut overview = Overview::new(&["quantity", "value"]);
-    overview.push(vec![
+    a.overview.push(vec![
         "viable b (rad)".into(),
         range.map_or("none".into(), |[a, b]| {
             format!("[{}, {}]", fmt(a, 4), fmt(b, 4))
         }),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "viable b (deg)".into(),
         range.map_or("none".into(), |[a, b]| {
             format!("[{}, {}]", fmt(a.to_degrees(), 1), fmt(b.to_degrees(), 1))
         }),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "separate intervals".into(),
         v.intervals.len().to_string(),
     ]);
-    overview.push(vec![
+    a.overview.push(vec![
         "angles scanned / viable".into(),
         format!("{} / {viable}", v.scan.len()),
     ]);
-    let mut notes = Vec::new();
     if failed > 0 {
-        notes.push(format!(
+        a.notes.push(format!(
             "{failed} scanned angles did not solve (status 'failed' in study6.csv)"
         ));
     }
-    let mut out = StudyOutput::new(vec![t], figure(v, mu), entries(&summary));
-    out.overview = overview;
-    out.notes = notes;
-    out.strict_dropped = v
+    a.strict_dropped = v
         .scan
         .iter()
         .filter(|s| matches!(s.invalid, Some(Invalid::CurvatureReversal { .. })))
         .count();
-    out.tallied(tally)
+    a.finish(figure(v, mu), &summary)
 }
 
 /// Friction needed against the grasping angle, with the viable band; the

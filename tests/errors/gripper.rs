@@ -89,10 +89,13 @@ fn a_mounting_angle_outside_the_design_space_is_a_warning() {
     let mu = 0.6;
     let [lo, hi] = design_space(mu);
     assert!((lo - (1.0 / mu).atan()).abs() < 1e-15 && hi == FRAC_PI_2);
+    // two fingers face each other across any palm (three or more need a
+    // palm wide enough for their roots: a_gripper_s_fingers_must_fit_its_palm)
     let params = |a: f64| GripperParams {
         mounting_angle: a,
         geometry: PalmSpec::Overlap(0.0),
         mu,
+        fingers: 2,
         ..GripperParams::default()
     };
     // the design space [arccot mu, pi/2], ends included
@@ -137,6 +140,7 @@ fn a_prestrain_outside_the_fitted_range_is_a_gripper_warning() {
     let params = |a: f64| GripperParams {
         mounting_angle: a,
         geometry: PalmSpec::Overlap(0.0),
+        fingers: 2,
         ..GripperParams::default()
     };
     for eps0 in [lo, 0.25, hi] {
@@ -174,4 +178,40 @@ fn a_prestrain_outside_the_fitted_range_is_a_gripper_warning() {
     let part = Partition::equal(act.geometry().lx, 4).unwrap();
     let g = Gripper::from_actuator(&act, &part, params(FRAC_PI_3)).unwrap();
     assert_eq!(g.warnings(), act.warnings());
+}
+
+#[test]
+fn a_gripper_s_fingers_must_fit_its_palm() {
+    // the Sec. 5 palm (2 (l0 - g) = 66.4 mm) holds 3 fingers 31.75 mm wide
+    // (neighbouring roots 57.5 mm apart) and 6 (33.2 mm), not 7 (28.8 mm)
+    let params = |fingers: usize| GripperParams {
+        fingers,
+        ..GripperParams::default()
+    };
+    for n in [1, 2, 3, 4, 6] {
+        Gripper::paper(0.25, 8, params(n)).unwrap_or_else(|e| panic!("{n}: {e}"));
+    }
+    for n in [7, 100] {
+        match Gripper::paper(0.25, 8, params(n)) {
+            Err(SolveError::Input(e)) => {
+                assert_eq!(e.field(), "gripper.fingers", "{n}: {e}");
+                assert!(e.to_string().contains("do not fit around the palm"), "{e}");
+            }
+            other => panic!("{n}: {other:?}"),
+        }
+    }
+    // by the chord: l sin(pi / n) >= Ly, here l >= 31.75 / sin(pi / 7)
+    let g = Gripper::paper(0.25, 8, params(3)).unwrap();
+    let need = 31.75 / (std::f64::consts::PI / 7.0).sin();
+    let wide = GripperParams {
+        fingers: 7,
+        geometry: PalmSpec::Palm(need + 1e-9),
+        ..GripperParams::default()
+    };
+    Gripper::new(g.finger().clone(), wide).unwrap();
+    let narrow = GripperParams {
+        geometry: PalmSpec::Palm(need - 1e-6),
+        ..wide
+    };
+    assert!(Gripper::new(g.finger().clone(), narrow).is_err());
 }

@@ -35,8 +35,9 @@ fn tip_tolerance_refinement_is_checked() {
             &format!("must lie in [1, {most}] to refine to a tip tolerance"),
         );
     }
-    // reachable from either end of the range
-    for start in [1, most] {
+    // equal elements need three levels for an estimate: reachable from 1
+    // to a quarter of the largest count
+    for start in [1, MAX_REFINED_ELEMENTS / 4] {
         let r = solve_to_tip_tolerance(
             ModelId::default(),
             &act,
@@ -48,7 +49,17 @@ fn tip_tolerance_refinement_is_checked() {
         )
         .unwrap();
         assert!(r.elements <= MAX_REFINED_ELEMENTS);
+        assert!(r.levels.len() >= 3);
         assert!(r.estimated_tip_error_mm.is_some_and(|e| e <= 1.0));
+    }
+    // above it, two levels fit and none estimates: the tolerance is named
+    for start in [MAX_REFINED_ELEMENTS / 4 + 1, most] {
+        names(
+            &refine(1.0, start),
+            "tip_tol_mm",
+            1.0,
+            "equal elements need three levels for an error estimate",
+        );
     }
 }
 

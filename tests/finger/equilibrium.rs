@@ -1,5 +1,8 @@
 //! Equilibria: residuals and definite Hessians, the assembled derivatives against finite differences, and an independent gradient-only minimiser.
 
+use argmin::core::{CostFunction, Executor};
+use argmin::solver::{linesearch::MoreThuenteLineSearch, quasinewton::LBFGS};
+
 use super::*;
 
 // -------------------------------------------------------- 1. residual, PD
@@ -184,38 +187,40 @@ fn assembled_gradient_and_hessian_match_finite_differences() {
 
 // ------------------------------------------------ 3. independent minimiser
 
-/// The finger's energy in scaled unknowns, through the public raw-coefficient
-/// API only (no Hessian: BFGS never sees one).
+/// The finger's energy in scaled unknowns over its stiffness scale (a
+/// gradient of order one, whose tolerance is the solver's relative one),
+/// through the public raw-coefficient API only (no Hessian: L-BFGS never
+/// sees one).
 struct ScaledFinger<'a> {
     finger: &'a Finger,
     load: Load,
     s: Vec<Coeffs>,
 }
 
-impl Energy for ScaledFinger<'_> {
-    fn dim(&self) -> usize {
-        4 * self.finger.len()
-    }
-    fn energy(&mut self, y: &[f64]) -> f64 {
-        self.finger.energy(&self.load, &to_raw(&self.s, y)).unwrap()
+impl CostFunction for ScaledFinger<'_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, y: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        let e = self.finger.energy(&self.load, &to_raw(&self.s, y))?;
+        Ok(e / self.finger.stiffness_scale())
     }
 }
 
-impl Gradient for ScaledFinger<'_> {
-    fn gradient(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
-        let (v, gk) = self
-            .finger
-            .gradient(&self.load, &to_raw(&self.s, y))
-            .unwrap();
-        for (i, (g, gk)) in g.iter_mut().zip(gk).enumerate() {
-            *g = gk * self.s[i / 4][i % 4];
-        }
-        v
+impl argmin::core::Gradient for ScaledFinger<'_> {
+    type Param = Vec<f64>;
+    type Gradient = Vec<f64>;
+    fn gradient(&self, y: &Vec<f64>) -> Result<Vec<f64>, argmin::core::Error> {
+        let (_, gk) = self.finger.gradient(&self.load, &to_raw(&self.s, y))?;
+        Ok(gk
+            .iter()
+            .enumerate()
+            .map(|(i, g)| g * self.s[i / 4][i % 4] / self.finger.stiffness_scale())
+            .collect())
     }
 }
 
 #[test]
-fn bfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
+fn lbfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
     for (n_el, load) in [
         (8, Load::unloaded()),
         (8, Load::unloaded().with_tip_force(FX, FZ)),
@@ -223,29 +228,45 @@ fn bfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
     ] {
         let f = Finger::paper(0.25, n_el).unwrap();
         let newton = solve(&f, &load);
-        let mut p = ScaledFinger {
+        let s = finger_scales(&f);
+        let p = ScaledFinger {
             finger: &f,
             load,
-            s: finger_scales(&f),
+            s: s.clone(),
         };
-        let n = 4 * n_el;
-        let opts = BfgsOptions {
-            gtol: 1e-11 * f.stiffness_scale(),
-            max_iter: 5000,
-            ..BfgsOptions::default()
-        };
-        let mut y = vec![0.0; n];
-        let rep = Bfgs::new(n, opts).minimize(&mut p, &mut y);
+        // steps bounded away from the energy's far, unphysical reaches
+        let search = MoreThuenteLineSearch::new()
+            .with_bounds(f64::EPSILON.sqrt(), 1e2)
+            .unwrap();
+        let solver = LBFGS::new(search, 10)
+            .with_tolerance_grad(1e-11)
+            .and_then(|s| s.with_tolerance_cost(0.0))
+            .unwrap();
+        let result = Executor::new(p, solver)
+            .configure(|s| s.param(vec![0.0; 4 * n_el]).max_iters(5000))
+            .run()
+            .unwrap();
         let what = format!("N {n_el}, {load:?}");
-        assert_eq!(rep.reason, Termination::Converged, "{what}: {rep:?}");
-        let k = to_raw(&p.s, &y);
+        let state = result.state;
+        // converged (the last point), or stopped where its line search
+        // meets round-off (the best point)
+        let (y, cost) = match state.param {
+            Some(y) => (y, state.cost),
+            None => (state.best_param.unwrap(), state.best_cost),
+        };
+        let energy = cost * f.stiffness_scale();
+        let k = to_raw(&s, &y);
+        let (_, g) = f.gradient(&load, &k).unwrap();
+        let gy: Vec<f64> = (0..g.len()).map(|i| g[i] * s[i / 4][i % 4]).collect();
+        let g_rel = norm_inf(&gy) / f.stiffness_scale();
+        assert!(g_rel <= 1e-10, "{what}: |g| / stiffness {g_rel:e}");
         let (tip, angle) = f.tip(&k).unwrap();
         let dtip = dist(tip, newton.tip);
-        let yn = to_scaled(&p.s, &newton.coefficients);
+        let yn = to_scaled(&s, &newton.coefficients);
         let dy = norm_inf(&y.iter().zip(&yn).map(|(a, b)| a - b).collect::<Vec<f64>>());
         eprintln!(
-            "{what}: BFGS {} iterations, |tip - newton| = {dtip:.2e} mm, max |dy| = {dy:.2e}",
-            rep.iterations
+            "{what}: L-BFGS {} iterations, |g| / stiffness {g_rel:.1e}, |tip - newton| = {dtip:.2e} mm, max |dy| = {dy:.2e}",
+            state.iter
         );
         assert!(
             dtip <= 1e-6,
@@ -255,9 +276,8 @@ fn bfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
         assert!(dy <= 1e-7, "{what}: scaled coefficients differ by {dy:e}");
         assert!((angle - newton.end_angle).abs() <= 1e-8, "{what}");
         assert!(
-            (rep.energy - newton.energy).abs() <= 1e-12 * newton.energy.abs().max(1.0),
-            "{what}: energy {} vs {}",
-            rep.energy,
+            (energy - newton.energy).abs() <= 1e-12 * newton.energy.abs().max(1.0),
+            "{what}: energy {energy} vs {}",
             newton.energy
         );
     }

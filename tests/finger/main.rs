@@ -1,6 +1,7 @@
 //! Validation of the CCM finger (docs/model.md section 4) against methods that do
 //! not share the solver's code path: finite differences of the energy, an
-//! independent Cholesky and eigen-solver, a gradient-only BFGS minimiser,
+//! independent Cholesky and eigen-solver, a gradient-only quasi-Newton
+//! minimiser (argmin's L-BFGS),
 //! physical and variational inequalities, and refinement in N.
 //!
 //! Randomness is fastrand seeded with fixed seeds, so every run sees the same numbers.
@@ -12,7 +13,6 @@ use fpc::{
     Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition, Solution, SolveError,
     SolveOptions, Solver, Strategy, Termination,
 };
-use fpc_newton::{Bfgs, BfgsOptions, Energy, Gradient};
 
 mod convergence;
 mod equilibrium;

@@ -11,8 +11,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::design::{
-    evaluate, gripper, optimize, DesignOptions, Designed, Evaluation, ObjectRequirement,
-    Requirements, VARIABLES,
+    evaluate, gripper, optimize, DesignOptions, Evaluation, ObjectRequirement, Requirements,
+    VARIABLES,
 };
 use fpc::scene::{Scene, SceneSolution};
 use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
@@ -35,18 +35,6 @@ pub struct Args {
     starts: usize,
 }
 
-/// A scene written for an object, and whether `fpc solve`'s path
-/// reproduces the claimed grasp.
-#[derive(Serialize)]
-struct SceneCheck {
-    file: String,
-    requirement: String,
-    claimed_lift_n: Option<f64>,
-    solved_lift_n: Option<f64>,
-    reproduced: bool,
-    detail: String,
-}
-
 #[derive(Serialize)]
 struct Report<'a> {
     feasible: bool,
@@ -58,7 +46,13 @@ struct Report<'a> {
     sensitivities: &'a [fpc::design::MarginSensitivity],
     evaluations: usize,
     starts: usize,
-    scenes: Vec<SceneCheck>,
+    /// Why the design does not meet its requirements (null when it does).
+    failure: Option<&'a str>,
+    /// Every object's scene solved again through the ordinary scene path.
+    scenes: &'a [fpc::design::Reproduction],
+    /// Notes on the requirements (bounds clamped to the design space, or
+    /// widened beyond it).
+    notes: Vec<String>,
     provenance: crate::provenance::Provenance,
 }
 
@@ -68,74 +62,6 @@ struct DesignJson {
     mounting_angle_deg: f64,
     overlap_mm: f64,
     varied: Vec<&'static str>,
-}
-
-/// The claimed lift of the margin a scene reproduces.
-fn claimed_lift(d: &Designed, requirement: &str) -> Option<f64> {
-    d.best
-        .margins
-        .iter()
-        .find(|m| m.requirement == requirement)?
-        .value
-}
-
-/// Solves every scene through the ordinary path and compares its lift;
-/// also returns each solved scene (for the figure).
-fn check_scenes(d: &Designed, req: &Requirements) -> Vec<(SceneCheck, Option<SceneSolution>)> {
-    d.scenes(req)
-        .into_iter()
-        .enumerate()
-        .map(|(i, (file, text))| {
-            let hardest = d
-                .best
-                .margins
-                .iter()
-                .filter(|m| {
-                    m.requirement.starts_with(&format!("object[{i}] "))
-                        && m.requirement.ends_with("lift")
-                })
-                .min_by(|a, b| a.margin.total_cmp(&b.margin))
-                .map(|m| m.requirement.clone())
-                .unwrap_or_default();
-            let claimed = claimed_lift(d, &hardest);
-            let solved = Scene::from_toml(&text)
-                .map_err(|e| e.to_string())
-                .and_then(|s| s.solve().map_err(|e| e.to_string()));
-            let (solved_lift, detail) = match &solved {
-                Ok(SceneSolution::Gripper { grasp: Some(g), .. }) => (
-                    Some(g.grasp.lift),
-                    if g.is_valid() {
-                        "valid".to_string()
-                    } else {
-                        format!(
-                            "invalid: {}",
-                            g.invalid
-                                .as_ref()
-                                .map(|i| i.to_string())
-                                .unwrap_or_default()
-                        )
-                    },
-                ),
-                Ok(_) => (None, "no grasp in the scene".into()),
-                Err(e) => (None, e.clone()),
-            };
-            let reproduced = match (claimed, solved_lift) {
-                // the same grasp solved again: to the solver's tolerance
-                (Some(c), Some(s)) => (c - s).abs() <= 1e-6 * (1.0 + c.abs()),
-                (None, _) => solved.is_ok(),
-                _ => false,
-            };
-            let check = SceneCheck {
-                file,
-                requirement: hardest,
-                claimed_lift_n: claimed,
-                solved_lift_n: solved_lift,
-                reproduced,
-                detail,
-            };
-            (check, solved.ok())
-        })
-        .collect()
 }
 
 /// The figure: the finger at rest in the gripper frame with each object's
@@ -203,7 +129,7 @@ fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) 
             SeriesKind::Line,
             held,
         ));
-        let outline: Vec<[f64; 2]> = match o.sphere {
+        let outline: Vec<[f64; 2]> = match &o.sphere {
             Some(sp) => (0..=72)
                 .map(|k| {
                     let t = std::f64::consts::TAU * k as f64 / 72.0;
@@ -318,11 +244,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         again.worst,
         d.best.worst
     );
-    let (scenes, solved): (Vec<SceneCheck>, Vec<Option<SceneSolution>>) =
-        check_scenes(&d, &req).into_iter().unzip();
-    for (file, text) in d.scenes(&req) {
-        crate::output::write_atomic(&out, &file, text.as_bytes())?;
+    for r in &d.reproductions {
+        crate::output::write_atomic(&out, &r.file, r.text.as_bytes())?;
     }
+    // the scenes solved once more, for the figure
+    let solved: Vec<Option<SceneSolution>> = d
+        .reproductions
+        .iter()
+        .map(|r| Scene::from_toml(&r.text).ok().and_then(|s| s.solve().ok()))
+        .collect();
     let svg = crate::paper::render::svg(&figure(&req, &d.best, &solved))?;
     crate::output::write_atomic(&out, "design.svg", svg.as_bytes())?;
     let b = req.bounds();
@@ -345,7 +275,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         sensitivities: &d.sensitivities,
         evaluations: d.evaluations,
         starts: d.starts,
-        scenes,
+        failure: d.failure.as_deref(),
+        scenes: &d.reproductions,
+        notes: req.notes(),
         provenance: crate::provenance::Provenance::now(),
     };
     let json = serde_json::to_string_pretty(&report)? + "\n";
@@ -385,18 +317,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             m.margin, m.requirement, s.gradient[0], s.gradient[1], s.gradient[2], m.detail
         )?;
     }
-    for s in &report.scenes {
+    for s in report.scenes {
         writeln!(
             w,
             "scene          {}: {} ({})",
             out.join(&s.file).display(),
             if s.reproduced {
-                "fpc solve reproduces the grasp"
+                "fpc solve reproduces the claim"
             } else {
                 "NOT reproduced"
             },
             s.detail
         )?;
+    }
+    if let Some(f) = &d.failure {
+        writeln!(w, "not met        {f}")?;
     }
     writeln!(
         w,

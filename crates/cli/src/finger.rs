@@ -52,23 +52,25 @@ pub struct Args {
     fz: f64,
     /// Number of elements N, or `auto`: boundaries on the material
     /// changes, refined until every element is within the slope limit
-    /// (with --tip-tol-mm: the fastest configuration for the tolerance).
+    /// (with --tip-tol-mm: material partitions with extrapolation).
     /// With `--partition material`, N sets the longest piece to lx / N.
     /// [default: 8]
     #[arg(long, value_parser = parse_elements, allow_hyphen_values = true)]
     elements: Option<Elements>,
     /// Where element boundaries go: `equal` elements, or `material`
     /// (boundaries on the rib edges and the channel end, second-order
-    /// convergence).
+    /// convergence with a small first-order term under a tip load).
     #[arg(long, default_value = "equal")]
     partition: String,
     /// Solve on this many partitions, each halving the elements of the one
     /// before and starting from it (nested iteration); the answer is the
-    /// finest level's, with an error estimate.
+    /// finest level's, with an error estimate (from three levels on equal
+    /// elements).
     #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     levels: usize,
-    /// Richardson-extrapolate the tip from the last two levels (needs
-    /// `--partition material` and `--levels` of at least 2).
+    /// Extrapolate the tip: from two levels removing the h^2 term, from
+    /// three or more removing h and h^2 (needs `--partition material` and
+    /// `--levels` of at least 2).
     #[arg(long)]
     extrapolate: bool,
     /// The element model (`fpc models` lists them).
@@ -81,9 +83,9 @@ pub struct Args {
     #[arg(long, default_value_t = 2.5, allow_hyphen_values = true)]
     kappa: f64,
     /// Refine until the estimated tip error is at most this many
-    /// millimetres: with --elements N, equal elements doubled from N (the
-    /// estimate is the tip's change from N/2); otherwise the fastest
-    /// configuration for the tolerance (docs/performance.md).
+    /// millimetres: with --elements N, equal elements doubled from N (three
+    /// levels at least); otherwise material partitions from 27 + 54
+    /// elements with extrapolation (docs/performance.md).
     #[arg(long = "tip-tol-mm", allow_hyphen_values = true)]
     tip_tol_mm: Option<f64>,
     /// Print one JSON object instead of a summary.
@@ -103,7 +105,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let opts = SolveOptions::default();
     let ribs = !args.no_ribs;
     // notes on the input first: they hold even when the solve fails
-    for w in fpc::input_warnings(model, &act) {
+    let input = fpc::input_warnings(model, &act);
+    for w in &input {
         crate::report::warning(&w.to_string());
     }
     let partition = PartitionKind::parse("partition", &args.partition)?;
@@ -166,7 +169,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         }
     };
     let sol = &run.solution;
-    for w in sol.warnings.iter().filter(|w| w.is_validity()) {
+    // the solution's own findings (the input's were printed above)
+    for w in sol
+        .warnings
+        .iter()
+        .filter(|w| w.is_validity() && !input.contains(w))
+    {
         crate::report::warning(&w.to_string());
     }
     let mut out = crate::output::stdout();

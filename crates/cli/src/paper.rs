@@ -11,21 +11,22 @@
 //! `summary.json` lists it under `failures`, and the command exits non-zero
 //! at the end.
 
-mod files;
 mod index;
-pub(crate) mod render;
+/// The SVG writer, where `fpc design` calls it.
+pub(crate) use fpc_cli::render::svg as render;
 
 use std::collections::BTreeMap;
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use fpc::studies::{Cell, Overview, NOTE, STATUS};
+use fpc::report::{Cell, Overview};
+use fpc::studies::{NOTE, STATUS};
 use fpc::{Actuator, ModelId, SolveError, StudyInfo, StudyOptions, StudyOutput, STUDIES};
-use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Map, Value};
 
-use files::write_atomic;
+use crate::output::write_atomic;
+use crate::render::csv;
 
 /// Flags of `fpc paper`.
 #[derive(clap::Args, Debug)]
@@ -127,15 +128,20 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut out = Output::new(args.out.clone(), opts, args.coarse, source);
     out.style = style;
 
-    let bar = progress_bar(STUDIES.len() as u64);
-    for info in STUDIES {
-        bar.set_message(format!("study {}: {}", info.number, info.title));
+    // progress on a terminal only
+    let terminal = crate::report::is_terminal();
+    for (i, info) in STUDIES.iter().enumerate() {
+        if terminal {
+            let total = STUDIES.len();
+            crate::report::progress(&format!("fpc paper: {i}/{total} studies; {}", info.title));
+        }
         let t = Instant::now();
         let result = info.output(&act, &opts);
-        out.finish(info, t.elapsed(), result, &bar)?;
-        bar.inc(1);
+        out.finish(info, t.elapsed(), result)?;
     }
-    bar.finish_and_clear();
+    if terminal {
+        crate::report::end_progress();
+    }
 
     let elapsed = started.elapsed().as_secs_f64();
     out.write_summary(elapsed)?;
@@ -173,23 +179,15 @@ fn title(n: usize) -> &'static str {
         .map_or("unknown", |s| s.title)
 }
 
-fn progress_bar(len: u64) -> ProgressBar {
-    // draws on stderr, and not at all when stderr is not a terminal
-    let bar = ProgressBar::new(len);
-    let style = ProgressStyle::with_template("{spinner} [{elapsed}] [{bar:24}] {pos}/{len} {msg}")
-        .map(|s| s.progress_chars("=> "))
-        .unwrap_or_else(|_| ProgressStyle::default_bar());
-    bar.set_style(style);
-    bar.enable_steady_tick(Duration::from_millis(120));
-    bar
-}
-
 /// One study's part of index.html and summary.json.
 struct Section {
     info: &'static StudyInfo,
     ok: bool,
     overview: Overview,
     notes: Vec<String>,
+    /// What the figure's caption says about its panels (title, note):
+    /// axes clipped.
+    figure_notes: Vec<(String, String)>,
     csvs: Vec<String>,
     seconds: f64,
     points: usize,
@@ -282,15 +280,15 @@ impl Output {
         info: &'static StudyInfo,
         time: Duration,
         result: Result<StudyOutput, SolveError>,
-        bar: &ProgressBar,
     ) -> anyhow::Result<()> {
         let n = info.number;
         let (ok, out) = match result {
             Ok(out) => (true, out),
             Err(e) => {
-                bar.suspend(|| {
-                    crate::report::note(&format!("study {n} ({}) failed: {e}", info.title))
-                });
+                if crate::report::is_terminal() {
+                    crate::report::end_progress(); // the note on a line of its own
+                }
+                crate::report::note(&format!("study {n} ({}) failed: {e}", info.title));
                 let msg = e.to_string();
                 let mut empty = (info.empty)();
                 for t in &mut empty.tables {
@@ -312,7 +310,7 @@ impl Output {
         let mut csvs = Vec::new();
         for t in &out.tables {
             let name = format!("{}.csv", t.name);
-            self.write(&name, &files::csv(t)?)?;
+            self.write(&name, &csv::csv(t)?)?;
             csvs.push(name);
         }
         if ok {
@@ -344,6 +342,11 @@ impl Output {
                 Overview::default()
             },
             notes: out.notes,
+            figure_notes: if ok {
+                out.figure.clip_notes()
+            } else {
+                Vec::new()
+            },
             csvs,
             seconds: time.as_secs_f64(),
             points: out.points,
@@ -436,7 +439,7 @@ impl Output {
                 "pressure_points": self.opts.pressure_points,
                 "strict": self.opts.strict,
                 "coarse": self.coarse,
-                "csv_significant_digits": files::CSV_DIGITS,
+                "csv_significant_digits": csv::CSV_DIGITS,
             }),
         );
         s.insert("fpc_version".into(), json!(env!("CARGO_PKG_VERSION")));
@@ -459,9 +462,16 @@ impl Output {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fpc::studies::{Figure, SeriesKind, Stop, StopAt};
+    use fpc::report::{Figure, Panel, PlotAxis, Series, SeriesKind};
+    use fpc::studies::{Stop, StopAt};
     use fpc::InputError;
     use std::path::Path;
+
+    /// A colour as the SVG writes it (the renderer's own `hex` is compiled
+    /// for its unit tests only, in the fpc_cli library).
+    fn hex(c: plotters::style::RGBColor) -> String {
+        format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
+    }
 
     fn scratch(name: &str) -> PathBuf {
         let dir =
@@ -479,13 +489,11 @@ mod tests {
     fn a_failed_study_is_recorded_and_the_others_go_on() {
         let dir = scratch("failed");
         let mut out = Output::new(dir.clone(), StudyOptions::coarse(), true, "default".into());
-        let bar = ProgressBar::hidden();
         let err = SolveError::Input(InputError::NotFinite {
             field: "test.value".into(),
             value: f64::NAN,
         });
-        out.finish(&STUDIES[2], Duration::ZERO, Err(err), &bar)
-            .unwrap();
+        out.finish(&STUDIES[2], Duration::ZERO, Err(err)).unwrap();
         // a study whose sweep stopped keeps the rows computed before the stop
         let mut partial = (STUDIES[3].empty)();
         let t = &mut partial.tables[0];
@@ -508,21 +516,19 @@ mod tests {
         partial.figure = Figure::row(
             "partial <&>",
             [400, 300],
-            vec![fpc::studies::Panel::new(
+            vec![Panel::new(
                 "p",
-                fpc::studies::PlotAxis::new("pressure P", "kPa"),
-                fpc::studies::PlotAxis::new("F", "N"),
+                PlotAxis::new("pressure P", "kPa"),
+                PlotAxis::new("F", "N"),
             )],
         );
-        partial.figure.rows[0][0]
-            .series
-            .push(fpc::studies::Series::new(
-                "normal force",
-                SeriesKind::LinePoints,
-                vec![[0.0, 1.0], [10.0, 0.9]],
-            ));
+        partial.figure.rows[0][0].series.push(Series::new(
+            "normal force",
+            SeriesKind::LinePoints,
+            vec![[0.0, 1.0], [10.0, 0.9]],
+        ));
         partial.overview = Overview::new(&["it's \"quoted\""]);
-        out.finish(&STUDIES[3], Duration::ZERO, Ok(partial), &bar)
+        out.finish(&STUDIES[3], Duration::ZERO, Ok(partial))
             .unwrap();
         out.figure(&STUDIES[7], Err(anyhow::anyhow!("boom")))
             .unwrap();
@@ -542,7 +548,7 @@ mod tests {
         let csv4 = read(&dir, "study4.csv");
         let lines: Vec<&str> = csv4.lines().collect();
         assert_eq!(lines.len(), 3, "{csv4}");
-        assert!(lines[0].ends_with(",reversed,valid,warnings,status,note"));
+        assert!(lines[0].ends_with(",reversed,valid,invalid,warnings,status,note"));
         assert!(
             lines[1].starts_with("0,1,") && lines[1].contains(",ok,"),
             "{csv4}"
@@ -594,7 +600,7 @@ mod tests {
             let out = info.output(&act, &opts).unwrap();
             let svg = render::svg(&out.figure).unwrap();
             for s in out.figure.panels().flat_map(|p| &p.series) {
-                let c = render::hex(render::color_of(&s.color));
+                let c = hex(render::color_of(&s.color));
                 if let Some(prev) = seen.insert(s.color.clone(), c.clone()) {
                     assert_eq!(prev, c, "key {}", s.color);
                 }
@@ -632,10 +638,7 @@ mod tests {
             "g=10mm",
             "g=20mm",
         ];
-        let mut colours: Vec<_> = keys
-            .iter()
-            .map(|k| render::hex(render::color_of(k)))
-            .collect();
+        let mut colours: Vec<_> = keys.iter().map(|k| hex(render::color_of(k))).collect();
         colours.sort();
         colours.dedup();
         assert_eq!(colours.len(), keys.len(), "a colour per variable value");

@@ -1,7 +1,7 @@
 //! Where a result came from: the command line, fpc's version and the git
 //! commit it was built from (`unknown` outside a checkout; `+modified`
 //! when built from a working tree with changes). Written into every JSON
-//! file and index.html. The program is recorded as `fpc` and the value of
+//! file and index.html. The program is recorded by name (`fpc`) and the value of
 //! `--out` as `<out>` (the directory the file is in), so the files name no
 //! path of the machine they were made on.
 
@@ -39,7 +39,7 @@ impl Provenance {
     }
 }
 
-/// The command line as recorded: `fpc`, then the arguments with the value
+/// The command line as recorded: the program's name, then the arguments with the value
 /// of `--out` (`--out DIR` or `--out=DIR`) replaced by `<out>`, control
 /// characters escaped.
 fn command(args: impl Iterator<Item = String>) -> Vec<String> {
@@ -47,7 +47,7 @@ fn command(args: impl Iterator<Item = String>) -> Vec<String> {
     let mut redact_next = false;
     for (i, a) in args.enumerate() {
         let a = if i == 0 {
-            "fpc".to_string()
+            crate::report::program().to_string()
         } else if redact_next {
             redact_next = false;
             "<out>".to_string()

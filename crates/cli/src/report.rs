@@ -1,4 +1,5 @@
-//! Every line `fpc` writes on standard error goes through here: errors
+//! Every line `fpc` (and `fpc-lab`) writes on standard error goes through
+//! here, prefixed with the program's name ([`set_program`]): errors
 //! (the library's, clap's usage errors, the CLI's own), warnings, notes
 //! and progress. Such a line echoes input (a value, a key, a path, a whole
 //! argument), so it is made safe and short before it is written:
@@ -35,22 +36,34 @@ const WORD_TAIL: usize = 20;
 /// [`MAX_LINE`] goes to the marker and the tail).
 const LINE_HEAD: usize = 200;
 
+static PROGRAM: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+
+/// Names the program in the prefix of every line (once; `fpc` unless set).
+pub fn set_program(name: &str) {
+    let _ = PROGRAM.set(name.to_owned());
+}
+
+/// The program's name.
+pub fn program() -> &'static str {
+    PROGRAM.get().map_or("fpc", String::as_str)
+}
+
 /// `fpc: error: ` and the error with its causes, on one line.
 pub fn error(e: &anyhow::Error) {
-    line("fpc: error: ", &format!("{e:#}"));
+    line(&format!("{}: error: ", program()), &format!("{e:#}"));
 }
 
 /// `fpc: warning: ` and the warning.
 pub fn warning(msg: &str) {
-    line("fpc: warning: ", msg);
+    line(&format!("{}: warning: ", program()), msg);
 }
 
 /// `fpc: ` and a note (a study that failed while the others go on).
 pub fn note(msg: &str) {
-    line("fpc: ", msg);
+    line(&format!("{}: ", program()), msg);
 }
 
-/// A line as it is (bounded), no prefix: the plain progress of `fpc stress`.
+/// A line as it is (bounded), no prefix: the plain progress of `fpc-lab stress`.
 pub fn plain(msg: &str) {
     line("", msg);
 }

@@ -80,7 +80,6 @@ fn every_rejected_input_is_2() {
         &["finger", "--kappa", "0"][..],
         &["finger", "--elements", "0"][..],
         &["kernels", "--model", "nope"][..],
-        &["stress", "--budget-s", "-1"][..],
         &["solve"][..],
     ] {
         status(&format!("fpc {args:?}"), fpc().args(args), 2);

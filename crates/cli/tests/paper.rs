@@ -68,6 +68,26 @@ fn fields(line: &str) -> Vec<String> {
     out
 }
 
+/// The attributes and the trimmed text of every `<text>` element of an
+/// SVG.
+fn svg_text_elements(svg: &str) -> Vec<(String, String)> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| {
+            let (attrs, body) = t.split_once('>')?;
+            Some((
+                attrs.to_string(),
+                body.split("</text>").next()?.trim().to_string(),
+            ))
+        })
+        .collect()
+}
+
+/// The trimmed text of every `<text>` element of an SVG.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg_text_elements(svg).into_iter().map(|(_, t)| t).collect()
+}
+
 fn number(v: &Value, what: &str) -> f64 {
     let x = v
         .as_f64()
@@ -235,8 +255,8 @@ fn paper_writes_every_file() {
         let h = header(f);
         let n = h.len();
         assert_eq!(
-            h[n - 5..],
-            ["reversed", "valid", "warnings", "status", "note"],
+            h[n - 6..],
+            ["reversed", "valid", "invalid", "warnings", "status", "note"],
             "{f}"
         );
     }
@@ -247,6 +267,7 @@ fn paper_writes_every_file() {
         "element_slope",
         "strain_range",
         "self_contact",
+        "thickness_ratio",
         "curvature_reversal",
         "beyond_flat",
     ];
@@ -255,9 +276,21 @@ fn paper_writes_every_file() {
     let h = fields(lines.next().unwrap());
     let col = |name: &str| h.iter().position(|c| c == name).unwrap();
     let (rev, warn) = (col("reversed"), col("warnings"));
+    let (valid, invalid, status) = (col("valid"), col("invalid"), col("status"));
     let mut reversed = 0;
     for line in lines {
         let f = fields(line);
+        // one verdict: valid exactly when no reason is given, and never
+        // with a finding outside the model (a reversal is not one)
+        if f[status] == "ok" {
+            assert_eq!(f[valid] == "true", f[invalid].is_empty(), "{line}");
+            let outside = f[warn]
+                .split(';')
+                .any(|k| !k.is_empty() && k != "curvature_reversal");
+            if outside {
+                assert_eq!(f[valid], "false", "{line}");
+            }
+        }
         if f[warn].is_empty() {
             continue;
         }
@@ -327,6 +360,97 @@ fn paper_writes_every_file() {
     }
     assert!(html.contains("<table>"));
     assert!(html.trim_end().ends_with("</html>"));
+
+    // tick labels without needless decimals: along one axis (the labels
+    // right-aligned at one x, or centred at one y), a label ending in
+    // zeros after the point only beside one with as many decimals that
+    // needs them (0.5, 1.0)
+    for n in 1..=8 {
+        let svg = std::fs::read_to_string(dir.join(format!("study{n}.svg"))).unwrap();
+        let mut axes: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+        for (attrs, text) in svg_text_elements(&svg) {
+            if text.parse::<f64>().is_err() {
+                continue;
+            }
+            let attr = |name: &str| {
+                attrs
+                    .split(&format!(" {name}=\""))
+                    .nth(1)
+                    .and_then(|r| r.split('"').next())
+                    .unwrap_or("")
+                    .to_string()
+            };
+            let axis = if attr("text-anchor") == "end" {
+                format!("y axis at x = {}", attr("x"))
+            } else {
+                format!("x axis at y = {}", attr("y"))
+            };
+            axes.entry(axis).or_default().push(text);
+        }
+        assert!(axes.len() >= 2, "study{n}.svg: {axes:?}");
+        let decimals = |t: &str| t.split_once('.').map_or(0, |(_, d)| d.len());
+        for (axis, labels) in &axes {
+            for t in labels
+                .iter()
+                .filter(|t| t.contains('.') && t.ends_with('0'))
+            {
+                assert!(
+                    labels
+                        .iter()
+                        .any(|u| decimals(u) == decimals(t) && !u.ends_with('0')),
+                    "study{n}.svg, {axis}: tick label {t} among {labels:?}"
+                );
+            }
+        }
+    }
+    let svg1 = std::fs::read_to_string(dir.join("study1.svg")).unwrap();
+    let texts1 = svg_texts(&svg1);
+    for t in ["0", "50", "100", "150"] {
+        assert!(texts1.iter().any(|x| x == t), "study1.svg: no tick {t}");
+    }
+
+    // study 1: the shape panels say what the dashed fingers are
+    let mirrored = texts1
+        .iter()
+        .filter(|t| *t == "opposite finger (mirror image)")
+        .count();
+    assert_eq!(mirrored, 3, "one legend entry per shape panel");
+    // and the eps0 = 0.4 lift panel is clipped below its largest value,
+    // which the note names with its grasping size (from study1.csv)
+    let csv = std::fs::read_to_string(dir.join("study1.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header = fields(lines.next().unwrap());
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (eps0, d, fv) = (col("eps0"), col("d_mm"), col("fv_n"));
+    let (d_max, fv_max) = lines
+        .map(fields)
+        .filter(|f| f[eps0] == "0.4" && !f[fv].is_empty())
+        .map(|f| (f[d].parse::<f64>().unwrap(), f[fv].parse::<f64>().unwrap()))
+        .fold(
+            (0.0, f64::NEG_INFINITY),
+            |a, b| if b.1 > a.1 { b } else { a },
+        );
+    assert!(fv_max > 20.0, "the outlier of the issue: {fv_max}");
+    let three = |v: f64| {
+        let d = (2 - v.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.d$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    };
+    let largest = format!(
+        "{} N at grasping size d = {} mm",
+        three(fv_max),
+        three(d_max)
+    );
+    let notes: String = texts1.join(" ");
+    assert!(notes.contains("axis clipped at"), "{notes}");
+    assert!(notes.contains(&largest), "{largest} not in {notes}");
+    let caption = "Panel “Max lifting force, ε0 = 0.4”: axis clipped at";
+    assert!(html.contains(caption), "index.html lacks the clip caption");
+    assert!(html.contains(&largest), "index.html lacks {largest}");
 
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -118,3 +118,75 @@ fn models_are_listed_and_chosen_by_name() {
     let out = fpc(&["kernels", "--model", "quad", "--report"]);
     assert!(text(&out.stdout).contains("prestressed_hessian"));
 }
+
+#[test]
+fn a_finger_curled_onto_its_root_is_outside_the_model() {
+    // the finger: 371 degrees on the automatic partition, the tip
+    // 3.6 mm from the root of a finger 8.2 mm thick
+    let out = fpc(&["finger", "--eps0", "0.6", "--elements", "auto"]);
+    assert!(out.status.success());
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(
+        stdout.contains("validity       OUTSIDE the model's limits: 1 finding(s)"),
+        "{stdout}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("fpc: warning: the finger's surfaces meet"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("H = 8.2 mm"), "{stderr}");
+    let (v, _) = json(&["finger", "--eps0", "0.6", "--elements", "auto", "--json"]);
+    assert_eq!(kinds(&v), ["self_contact"]);
+    let w = &v["warnings"][0];
+    let n = v["elements"].as_u64().unwrap();
+    assert_eq!(w["element"], n - 1, "the tip's element: {w}");
+    assert_eq!(w["limit"], 8.2);
+    let d = w["value"].as_f64().unwrap();
+    assert!((0.0..1.0).contains(&d), "{w}");
+}
+
+#[test]
+fn a_scene_too_thick_for_laminate_theory_says_so_once() {
+    let dir = std::env::temp_dir().join(format!("fpc-validity-{}-thick", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("thick.toml");
+    std::fs::write(
+        &scene,
+        "[actuator.geometry]\nh = 200\nh1 = 90\nh2 = 44\nh3 = 54\n[actuator.channel]\nh3a = 19\nh3b = 29\n",
+    )
+    .unwrap();
+    let out_dir = dir.join("out");
+    let out = fpc(&[
+        "solve",
+        scene.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+    ]);
+    let stderr = text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    // against the length and against the width, each printed once
+    assert_eq!(
+        stderr
+            .matches("too thick for classical laminate theory")
+            .count(),
+        2,
+        "{stderr}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out_dir.join("solution.json")).unwrap()).unwrap();
+    assert_eq!(v["validity"], false);
+    let thick: Vec<&serde_json::Value> = v["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["kind"] == "thickness_ratio")
+        .collect();
+    assert_eq!(thick.len(), 2, "{v}");
+    assert!((thick[0]["value"].as_f64().unwrap() - 200.0 / 110.0).abs() < 1e-12);
+    assert_eq!(thick[0]["limit"], 0.1);
+    assert!((thick[1]["value"].as_f64().unwrap() - 200.0 / 31.75).abs() < 1e-12);
+    assert_eq!(thick[1]["limit"], 0.5);
+    let _ = std::fs::remove_dir_all(&dir);
+}

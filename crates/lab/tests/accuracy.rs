@@ -24,26 +24,46 @@ fn study() -> AccuracyStudy {
 fn the_quick_study_reproduces_the_front() {
     let s = study();
     assert_eq!(s.references.len(), ModelId::ALL.len());
+    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     for r in &s.references {
         let m = r.model.name();
+        // two partition families agree on the limit
+        assert!(r.families_agree, "{m}: {:?}", r.families);
         assert!(
-            r.uncertainty_mm < 1e-4,
+            r.uncertainty_mm < 1e-7,
             "{m}: reference uncertainty {:.3e} mm",
             r.uncertainty_mm
         );
+        let [a, b] = [&r.families[0], &r.families[1]];
+        assert_eq!(a.elements, [27, 54, 108, 216, 432, 864], "{m}");
+        assert_eq!(b.elements, [40, 80, 160, 320, 640], "{m}");
+        assert!(dist(a.limit, b.limit) <= a.uncertainty_mm + b.uncertainty_mm);
         assert_eq!(r.material.elements.first(), Some(&27), "{m}");
         assert_eq!(r.material.elements.last(), Some(&864), "{m}");
-        assert!(!r.material.orders.is_empty());
-        for &o in &r.material.orders {
-            assert!((1.7..=2.3).contains(&o), "{m}: material order {o}");
+        // X at second order; Z's orders fall below 2 as the first-order
+        // term takes over (docs/performance.md)
+        assert_eq!(r.material.orders_x.len(), 4);
+        for &o in &r.material.orders_x {
+            assert!((1.9..=2.1).contains(&o), "{m}: X order {o}");
         }
+        let z = &r.material.orders_z;
+        assert!(z.windows(2).all(|w| w[1] < w[0]), "{m}: Z orders {z:?}");
+        assert!(z[0] > 1.9 && z[3] < 1.7, "{m}: Z orders {z:?}");
+        // the fitted first-order term of Z at 864 elements, about 1e-5 mm
+        let c1 = a.terms_mm[0];
+        assert!((5e-6..5e-5).contains(&-c1[1]), "{m}: c1 h {c1:?}");
         assert_eq!(r.equal.partition, PartitionKind::Equal);
         assert!(!r.equal.orders.is_empty());
+        // the library's six-level extrapolation and its estimate
+        let est = r.refiner_estimate_mm.unwrap();
+        assert!(
+            r.refiner_offset_mm + r.uncertainty_mm <= est,
+            "{m}: {est:e}"
+        );
     }
     let ccm = s.ccm_reference();
-    let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     assert!(
-        dist(ccm.tip, [83.937465, -47.611843]) < 1e-5,
+        dist(ccm.tip, [83.93746494, -47.61183456]) < 1e-7,
         "CCM reference {:?}",
         ccm.tip
     );

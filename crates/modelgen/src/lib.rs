@@ -17,6 +17,12 @@
 //!   `end(L)` `{Xe, Ze, eta}`, `frame(L)` `{Xe, Ze, dx, dz}`,
 //!   `midplane(x)` `{X, Z}`, `tangent(x)` `{dx, dz}`, `strain(x, z)`
 //!   `{eps_x}`, `curvature(x)` `{kappa}`;
+//! - the mid-plane as exact curves: `midplane(x)` must be a polynomial in
+//!   `x` (its coefficients any expressions of the unknowns), and the model
+//!   gets `midplane_polynomial`, the coefficients of `X(x)` and `Z(x)` in
+//!   ascending powers (`ElementModel::MIDPLANE_DEGREE`,
+//!   `ElementModel::midplane_coefficients`), for contacts computed on the
+//!   continuous mid-plane;
 //! - `law psi(s);`, the prestressed layer's material law (`PsiParams`).
 //!
 //! Every rule is checked here, so a spec that breaks the contract fails the
@@ -26,7 +32,10 @@
 
 use std::fmt;
 
-use fpc_symbolic::codegen::{format_file, generate_with, param_structs, report_table, Options};
+use fpc_symbolic::codegen::{
+    format_file, generate_with, param_structs, point_polynomial, report_table, GenError, Options,
+    PolynomialKernel,
+};
 use fpc_symbolic::emit::Emitter;
 use fpc_symbolic::spec::{parse_spec, PointDef, Spec};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -74,6 +83,9 @@ pub const POINT_ROLES: [(&str, &[&str], &[&str]); 6] = [
     ("curvature", &["x"], &["kappa"]),
 ];
 
+/// The point kernel the runtime also reads as polynomials, and its variable.
+pub const POLYNOMIAL_ROLE: (&str, &str) = ("midplane", "x");
+
 /// The prestressed layer's law.
 pub const LAW: (&str, &str) = ("psi", "s");
 
@@ -108,6 +120,8 @@ struct Checked {
     model: String,
     module: String,
     spec: Spec,
+    /// The mid-plane's coefficient kernel.
+    midplane: PolynomialKernel,
 }
 
 fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
@@ -115,7 +129,7 @@ fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
         spec: file.path.clone(),
         message,
     };
-    let spec = parse_spec(&file.text).map_err(|e| fail(e.to_string()))?;
+    let mut spec = parse_spec(&file.text).map_err(|e| fail(e.to_string()))?;
     let model = spec.model.clone().ok_or_else(|| {
         fail("needs a `model NAME;` statement (the Rust type of the model)".into())
     })?;
@@ -217,10 +231,22 @@ fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
             LAW.0, LAW.1
         )));
     }
+    let (role, var) = POLYNOMIAL_ROLE;
+    let midplane = point_polynomial(&mut spec, role, var).map_err(|e| {
+        let why = match e {
+            GenError::Algebra { source, line, .. } => format!("line {line}: {source}"),
+            other => other.to_string(),
+        };
+        fail(format!(
+            "`point {role}({var})` must be a polynomial in `{var}` (contacts are computed \
+             on the exact mid-plane curve, from its coefficients): {why}"
+        ))
+    })?;
     Ok(Checked {
         model,
         module,
         spec,
+        midplane,
     })
 }
 
@@ -269,7 +295,9 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
     let options = Options {
         shared_params: Some(quote! { super }),
     };
-    let generated = generate_with(&file.text, &options).map_err(|e| fail(e.to_string()))?;
+    let mut generated = generate_with(&file.text, &options).map_err(|e| fail(e.to_string()))?;
+    let midplane_kernel = &c.midplane.tokens;
+    generated.report.push(c.midplane.report.clone());
     let kernels = generated.tokens;
     let spec = &c.spec;
     let n = spec.unknowns.len();
@@ -349,6 +377,12 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
     let (end_d, _) = role_call(spec, "end", "derivatives");
     let (frame_v, frame_o) = role_call(spec, "frame", "value");
     let (mid_v, mid_o) = role_call(spec, "midplane", "value");
+    let mid_poly = ident(&c.midplane.function);
+    let mid_degree = Literal::usize_unsuffixed(c.midplane.degree);
+    let mid_poly_idx: Vec<Literal> = mid_o
+        .iter()
+        .map(|&j| Literal::usize_unsuffixed(j))
+        .collect();
     let (tan_v, tan_o) = role_call(spec, "tangent", "value");
     let (strain_v, strain_o) = role_call(spec, "strain", "value");
     let (curv_v, curv_o) = role_call(spec, "curvature", "value");
@@ -370,6 +404,8 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
     let tokens = quote! {
         #kernels
 
+        #midplane_kernel
+
         #[doc = #model_doc]
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
         pub struct #model;
@@ -385,6 +421,7 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             const UNKNOWNS: &'static [&'static str] = &[#(#unknowns),*];
             const LOCAL: &'static [usize] = LOCAL;
             const FAMILIES: &'static [&'static str] = &[#(#family_names),*];
+            const MIDPLANE_DEGREE: usize = #mid_degree;
 
             #[inline]
             fn unscale(length: f64) -> [f64; #nu] {
@@ -454,6 +491,13 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             #[inline]
             fn midplane(k: &[f64; #nu], x: f64) -> [f64; 2] {
                 #mid_value
+            }
+
+            #[inline]
+            fn midplane_coefficients(k: &[f64; #nu], out: &mut [[f64; 2]]) {
+                for (o, c) in out.iter_mut().zip(#mid_poly(k)) {
+                    *o = [#(c[#mid_poly_idx]),*];
+                }
             }
 
             #[inline]
@@ -709,5 +753,67 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
 impl fmt::Display for GeneratedFile {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} ({} bytes)", self.name, self.text.len())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CCM: &str = include_str!("../../../energy-spec/ccm.spec");
+    const MIDPLANE: &str = "point midplane(x) {\n    X = x + u;\n    Z = w;\n}";
+
+    fn spec(text: String) -> Vec<SpecFile> {
+        vec![SpecFile {
+            path: "energy-spec/ccm.spec".into(),
+            text,
+        }]
+    }
+
+    #[test]
+    fn the_shipped_spec_generates_the_midplane_coefficients() {
+        assert!(CCM.contains(MIDPLANE));
+        let files = generate(&spec(CCM.into()), "ccm").unwrap();
+        let model = files.iter().find(|f| f.name == "model_ccm.rs").unwrap();
+        assert!(model.text.contains("const MIDPLANE_DEGREE: usize = 3;"));
+        assert!(model
+            .text
+            .contains("pub fn midplane_polynomial(k: &[f64; 4]) -> [[f64; 2]; 4]"));
+    }
+
+    #[test]
+    fn a_midplane_not_polynomial_in_x_is_a_generation_error() {
+        for (z, culprit) in [
+            ("sqrt(1 + w)", "sqrt"),
+            ("w/(1 + x)", "1 + x"),
+            ("sin(c2*x)", "sin"),
+        ] {
+            let text = CCM.replace(
+                MIDPLANE,
+                &format!("point midplane(x) {{\n    X = x + u;\n    Z = {z};\n}}"),
+            );
+            let e = generate(&spec(text), "ccm").unwrap_err();
+            assert_eq!(e.spec, "energy-spec/ccm.spec");
+            assert!(
+                e.message
+                    .starts_with("`point midplane(x)` must be a polynomial in `x`"),
+                "{e}"
+            );
+            assert!(e.message.contains("not a polynomial in x"), "{e}");
+            assert!(e.message.contains(culprit), "{e}");
+        }
+    }
+
+    #[test]
+    fn coefficients_may_be_any_expression_of_the_unknowns() {
+        // X's linear coefficient through a square root of the unknowns: still
+        // a polynomial in x
+        let text = CCM.replace(
+            MIDPLANE,
+            "point midplane(x) {\n    X = sqrt(1 + a1)*x + a3*x^3;\n    Z = w;\n}",
+        );
+        let files = generate(&spec(text), "ccm").unwrap();
+        let model = files.iter().find(|f| f.name == "model_ccm.rs").unwrap();
+        assert!(model.text.contains("const MIDPLANE_DEGREE: usize = 3;"));
     }
 }

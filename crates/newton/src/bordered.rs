@@ -12,8 +12,9 @@
 //! ```
 //!
 //! by block elimination on the problem's own factorisation of `H`
-//! ([`LinearSystem`], symmetric pivots, so `H` may be indefinite, as past a
-//! limit point in load, which a displacement target passes smoothly):
+//! ([`LinearSystem`]: Cholesky where `H` is positive definite, the common
+//! case, and symmetric pivots where it is not, so `H` may be indefinite, as
+//! past a limit point in load, which a displacement target passes smoothly):
 //! `a = -H^-1 g`, `b = -H^-1 g_lambda`,
 //! `dlambda = -(c + c_x.a) / (c_lambda + c_x.b)`, `dx = a + b dlambda`, followed by one step of iterative
 //! refinement on the whole bordered system (with `H` applied exactly), which
@@ -21,12 +22,10 @@
 //! The solver holds no `n x n` matrix: work and storage are those of the
 //! problem's factorisation.
 
-use crate::dense::{all_finite, norm_inf};
-use crate::linear::Inertia;
+use crate::linear::{all_finite, dot, norm_inf, Inertia};
 use crate::options::{NewtonOptions, OptionsError};
-use crate::problem::{DenseMatrix, LinearSystem};
+use crate::problem::LinearSystem;
 use crate::report::{Report, Termination};
-use crate::semiseparable::PivotKind;
 
 /// One evaluation of a [`Bordered`] problem at `(x, lambda)`, besides the
 /// Hessian the problem keeps; reused across evaluations.
@@ -99,60 +98,6 @@ impl<P: Bordered + ?Sized> Bordered for &mut P {
     }
 }
 
-/// A bordered problem that writes its Hessian densely (wrap it in
-/// [`DenseBordered`]).
-pub trait DenseBorderedProblem {
-    /// Number of state unknowns `n`.
-    fn dim(&self) -> usize;
-    /// As [`Bordered::eval`], with `H` written into `h` (column-major,
-    /// `n * n`, at least the lower triangle).
-    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval, h: &mut [f64]) -> bool;
-}
-
-/// A [`DenseBorderedProblem`] as a [`Bordered`] problem (dense LU and
-/// eigenvalues for its Hessian).
-pub struct DenseBordered<P> {
-    /// The wrapped problem.
-    pub problem: P,
-    /// Its Hessian and factorisation.
-    pub matrix: DenseMatrix,
-}
-
-impl<P: DenseBorderedProblem> DenseBordered<P> {
-    /// Wraps `problem`.
-    pub fn new(problem: P) -> DenseBordered<P> {
-        let n = problem.dim();
-        DenseBordered {
-            problem,
-            matrix: DenseMatrix::new(n, crate::LinearBackend::Auto),
-        }
-    }
-}
-
-impl<P: DenseBorderedProblem> Bordered for DenseBordered<P> {
-    fn dim(&self) -> usize {
-        self.problem.dim()
-    }
-    fn eval(&mut self, x: &[f64], lambda: f64, out: &mut BorderedEval) -> bool {
-        self.problem.eval(x, lambda, out, self.matrix.matrix_mut())
-    }
-}
-
-impl<P> LinearSystem for DenseBordered<P> {
-    fn diagonal_range(&self) -> (f64, f64) {
-        self.matrix.diagonal_range()
-    }
-    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, crate::FactorError> {
-        self.matrix.factor(tau, kind)
-    }
-    fn solve(&mut self, b: &mut [f64]) {
-        self.matrix.solve(b)
-    }
-    fn apply(&self, x: &[f64], out: &mut [f64]) {
-        self.matrix.apply(x, out)
-    }
-}
-
 /// The bordered Newton solver and its workspace (all `O(n)`).
 #[derive(Debug, Clone)]
 pub struct BorderedNewton {
@@ -167,6 +112,52 @@ pub struct BorderedNewton {
     cur: BorderedEval,
     trial: BorderedEval,
     inertia: Option<Inertia>,
+    /// The Schur complement `c_lambda - c_x . H^-1 g_lambda` of the last
+    /// factorisation (its sign with that of `det H` orients the solution
+    /// curve in the target).
+    den: Option<f64>,
+}
+
+/// Factorises `H`: Cholesky first (a positive definite `H`, the common
+/// case, costs no symmetric pivoting), symmetric pivots when it is not
+/// positive definite; maps failures to the solver's terminations.
+fn factor_h<P: LinearSystem + ?Sized>(p: &mut P) -> Result<Inertia, Termination> {
+    crate::problem::factor_cholesky_first(p).map_err(|e| match e {
+        crate::FactorError::NonFinite { .. } => Termination::NonFinite,
+        _ => Termination::Singular,
+    })
+}
+
+/// The tangent of the solution curve of a bordered problem with respect to
+/// its target (see [`BorderedNewton::target_tangent`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TargetTangent {
+    /// `d lambda / d s` for the target equation `c(x, lambda) = s`.
+    pub dlambda: f64,
+    /// The inertia of `H` at the point.
+    pub inertia: Inertia,
+    /// The orientation of the curve: the sign (+1 or -1) of the bordered
+    /// Jacobian's determinant, `sign(det H) * sign(c_lambda - c_x . H^-1
+    /// g_lambda)`. It is constant along a curve parametrised by the target
+    /// and changes sign at a fold in the target (where the target turns
+    /// back); a limit point in `lambda` leaves it unchanged (`det H` and
+    /// the Schur complement change sign together there).
+    pub orientation: f64,
+}
+
+impl TargetTangent {
+    fn new(den: f64, inertia: Inertia) -> TargetTangent {
+        let det_h = if inertia.negative.is_multiple_of(2) {
+            1.0
+        } else {
+            -1.0
+        };
+        TargetTangent {
+            dlambda: 1.0 / den,
+            inertia,
+            orientation: det_h * den.signum(),
+        }
+    }
 }
 
 fn evaluate<P: Bordered + ?Sized>(
@@ -194,6 +185,7 @@ impl BorderedNewton {
             cur: BorderedEval::new(n),
             trial: BorderedEval::new(n),
             inertia: None,
+            den: None,
         })
     }
 
@@ -215,6 +207,92 @@ impl BorderedNewton {
         self.inertia
     }
 
+    /// The curve's orientation and `d lambda / d s` at the last
+    /// factorisation (the last Newton step, one evaluation before the
+    /// returned point), if a step was taken ([`TargetTangent`]).
+    pub fn last_tangent(&self) -> Option<TargetTangent> {
+        Some(TargetTangent::new(self.den?, self.inertia?))
+    }
+
+    /// The tangent `dx/ds` of the solution curve (the target equation
+    /// shifted to `c(x, lambda) = s`) at the last factorisation (the last
+    /// Newton step, one evaluation before the returned point), into `dx`;
+    /// `d lambda / d s` is [`TargetTangent::dlambda`] of
+    /// [`BorderedNewton::last_tangent`]. A predictor for the next point of a
+    /// continuation in the target, at no extra cost. `false` (and `dx`
+    /// untouched) when no step was taken.
+    ///
+    /// # Panics
+    /// If `dx.len()` differs from the dimension (programmer error).
+    pub fn last_tangent_dx(&self, dx: &mut [f64]) -> bool {
+        assert_eq!(
+            dx.len(),
+            self.n,
+            "BorderedNewton::last_tangent_dx: dx.len()"
+        );
+        match self.den {
+            Some(den) if den != 0.0 && den.is_finite() => {
+                for (d, b) in dx.iter_mut().zip(&self.b) {
+                    *d = b / den;
+                }
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The tangent of the solution curve at `(x, lambda)` with respect to
+    /// the target: with the target equation shifted to `c(x, lambda) = s`,
+    /// `dx/ds` is written to `dx` and `d lambda / d s`, the inertia of `H`
+    /// and the curve's orientation are returned. One evaluation and one
+    /// factorisation (Cholesky first), two solves with one step of
+    /// refinement each. `Err` when the point cannot be evaluated
+    /// (`NonFinite`) or `H` or the bordered matrix is singular there.
+    ///
+    /// # Panics
+    /// If `x.len()`, `dx.len()` or `p.dim()` differ from the dimension given
+    /// to [`BorderedNewton::new`] (programmer error).
+    pub fn target_tangent<P: Bordered + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &[f64],
+        lambda: f64,
+        dx: &mut [f64],
+    ) -> Result<TargetTangent, Termination> {
+        let n = self.n;
+        assert!(
+            x.len() == n && dx.len() == n && p.dim() == n,
+            "BorderedNewton::target_tangent: dimensions must equal the one given to BorderedNewton::new"
+        );
+        if !lambda.is_finite() || !evaluate(p, x, lambda, &mut self.cur) {
+            return Err(Termination::NonFinite);
+        }
+        let inertia = factor_h(p)?;
+        // b = -H^-1 g_lambda, refined once
+        for (b, g) in self.b.iter_mut().zip(&self.cur.g_lambda) {
+            *b = -g;
+        }
+        p.solve(&mut self.b);
+        p.apply(&self.b, &mut self.hx);
+        for i in 0..n {
+            self.r[i] = -self.cur.g_lambda[i] - self.hx[i];
+        }
+        p.solve(&mut self.r);
+        for (b, r) in self.b.iter_mut().zip(&self.r) {
+            *b += r;
+        }
+        let den = self.cur.c_lambda + dot(&self.cur.c_x, &self.b);
+        if !(den.is_finite() && den != 0.0 && all_finite(&self.b)) {
+            return Err(Termination::Singular);
+        }
+        for (d, b) in dx.iter_mut().zip(&self.b) {
+            *d = b / den;
+        }
+        self.inertia = Some(inertia);
+        self.den = Some(den);
+        Ok(TargetTangent::new(den, inertia))
+    }
+
     /// The inertia of `H` restricted to the tangent space `{v : c_x . v =
     /// 0}` of the target equation at the returned point: the stability of
     /// the target-constrained equilibrium (no negative count: a strict
@@ -224,18 +302,18 @@ impl BorderedNewton {
     ///
     /// Call it right after a converged [`BorderedNewton::solve`] with the
     /// problem just solved: its Hessian is then the one at the returned
-    /// point (the last evaluation), which this factorises once more with
-    /// symmetric pivots (one factorisation, not counted in the solve's
-    /// report; a problem may invalidate its factorisation on evaluation,
-    /// and the solve's last factorisation is one Newton step before the
-    /// returned point). `c_x` is that of [`BorderedNewton::last`].
+    /// point (the last evaluation), which this factorises once more
+    /// (Cholesky first, symmetric pivots when `H` is not positive definite;
+    /// not counted in the solve's report: a problem may invalidate its
+    /// factorisation on evaluation, and the solve's last factorisation is
+    /// one Newton step before the returned point). `c_x` is that of
+    /// [`BorderedNewton::last`].
     /// Allocates nothing.
     pub fn last_restricted_inertia<P: LinearSystem + ?Sized>(
         &mut self,
         p: &mut P,
     ) -> Result<Inertia, crate::RestrictedInertiaError> {
-        let inertia = p
-            .factor(0.0, PivotKind::Symmetric)
+        let inertia = crate::problem::factor_cholesky_first(p)
             .map_err(crate::RestrictedInertiaError::Hessian)?;
         crate::palc::restricted_inertia_with(p, inertia, &self.cur.c_x, &mut self.r, &mut self.hx)
     }
@@ -251,10 +329,7 @@ impl BorderedNewton {
         rep: &mut Report,
     ) -> Result<f64, Termination> {
         rep.factorizations += 1;
-        self.inertia = Some(p.factor(0.0, PivotKind::Symmetric).map_err(|e| match e {
-            crate::FactorError::NonFinite { .. } => Termination::NonFinite,
-            _ => Termination::Singular,
-        })?);
+        self.inertia = Some(factor_h(p)?);
         let e = &self.cur;
         for (a, g) in self.a.iter_mut().zip(&e.g) {
             *a = -g;
@@ -264,8 +339,8 @@ impl BorderedNewton {
             *b = -g;
         }
         p.solve(&mut self.b);
-        let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
         let den = e.c_lambda + dot(&e.c_x, &self.b);
+        self.den = Some(den);
         let mut dl = -(e.c + dot(&e.c_x, &self.a)) / den;
         for ((d, a), b) in self.dx.iter_mut().zip(&self.a).zip(&self.b) {
             *d = a + b * dl;
@@ -336,6 +411,7 @@ impl BorderedNewton {
         let o = self.opts;
         let mut rep = Report::empty(Termination::Converged);
         self.inertia = None;
+        self.den = None;
 
         rep.hessian_evals += 1;
         if !lambda.is_finite() || !evaluate(p, x, *lambda, &mut self.cur) {

@@ -48,3 +48,48 @@ pub enum FactorError {
         block: usize,
     },
 }
+
+/// `max_i |v_i|` (0 for an empty slice; NaN entries propagate as NaN).
+pub(crate) fn norm_inf(v: &[f64]) -> f64 {
+    let mut m = 0.0f64;
+    for &x in v {
+        let a = x.abs();
+        if a.is_nan() {
+            return f64::NAN;
+        }
+        if a > m {
+            m = a;
+        }
+    }
+    m
+}
+
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+pub(crate) fn all_finite(v: &[f64]) -> bool {
+    // Branch-free OR of per-element tests: vectorises (an integer
+    // reduction), unlike a short-circuiting `all` or a float sum.
+    let mut bad = false;
+    for &x in v {
+        bad |= !x.is_finite();
+    }
+    !bad
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vector_helpers() {
+        assert_eq!(norm_inf(&[1.0, -3.0, 2.0]), 3.0);
+        assert!(norm_inf(&[1.0, f64::NAN]).is_nan());
+        assert!(norm_inf(&[f64::NAN, 1.0]).is_nan());
+        assert_eq!(dot(&[1.0, 2.0], &[3.0, -1.0]), 1.0);
+        assert!(all_finite(&[1.0, 2.0]));
+        assert!(!all_finite(&[1.0, f64::INFINITY]));
+        assert!(!all_finite(&[f64::NAN]));
+    }
+}

@@ -1,7 +1,6 @@
 //! Newton's method with a shifted Cholesky and Armijo backtracking.
 
-use crate::dense::{all_finite, dot, norm_inf};
-use crate::linear::FactorError;
+use crate::linear::{all_finite, dot, norm_inf, FactorError};
 use crate::options::{NewtonOptions, OptionsError};
 use crate::problem::Hessian;
 use crate::report::{Report, Termination};

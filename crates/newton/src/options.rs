@@ -28,71 +28,6 @@ impl OptionsError {
     }
 }
 
-/// Largest dimension for which [`LinearBackend::Auto`] uses the in-house
-/// dense Cholesky; above it faer is used. See [`LinearBackend`] for the
-/// measurements behind this value.
-pub const AUTO_DENSE_MAX_DIM: usize = 192;
-
-/// Which dense symmetric factorisation [`Dense`](crate::Dense) uses for the
-/// (shifted) Hessian.
-///
-/// Both backends run without heap allocation inside the iterations (their
-/// buffers live in the `Newton` workspace).
-///
-/// Measured cost in microseconds of one Cholesky factorisation of a dense
-/// SPD matrix plus one forward/backward solve (including the copy of the
-/// matrix into the work buffer), release build, this project's 2-core
-/// Xeon VM (2.6 GHz, AVX2/FMA/AVX-512), best of 7 batches, from `cargo test
-/// -p fpc-newton --release -- --ignored --nocapture cholesky_timing`:
-///
-/// | n   | in-house (AVX2 kernel) | faer `llt::factor::cholesky_in_place` + solve (no alloc) | faer `Mat::llt` + solve (allocating) |
-/// |-----|--------|--------|--------|
-/// | 8   | 0.16   | 0.24   | 0.49   |
-/// | 16  | 0.37   | 0.66   | 1.03   |
-/// | 32  | 1.05   | 2.26   | 2.64   |
-/// | 64  | 4.04   | 8.68   | 9.32   |
-/// | 96  | 11.0   | 18.5   | 19.9   |
-/// | 128 | 26.4   | 38.7   | 38.5   |
-/// | 160 | 41.2   | 55.2   | 57.8   |
-/// | 192 | 78.6   | 83.9   | 87.0   |
-/// | 224 | 114    | 114    | 119    |
-/// | 256 | 194    | 171    | 170    |
-/// | 384 | 678    | 449    | 438    |
-/// | 512 | 1863   | 1049   | 1020   |
-///
-/// The in-house kernel wins by 2x at the typical sizes (n = 16..64) where
-/// faer's dispatch and blocking overheads dominate; faer's cache blocking
-/// wins from n ~ 240 on. Hence `Auto` uses the in-house kernel for
-/// `n <= AUTO_DENSE_MAX_DIM` (= 192) and faer above. (Without AVX2+FMA the
-/// in-house kernel falls back to portable scalar code, roughly 2x slower
-/// at n = 32.)
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum LinearBackend {
-    /// In-house kernel for `n <= AUTO_DENSE_MAX_DIM`, faer above.
-    #[default]
-    Auto,
-    /// Always the in-house left-looking dense Cholesky ([`crate::cholesky_in_place`]).
-    Dense,
-    /// Always faer's blocked Cholesky (`faer::linalg::cholesky::llt`).
-    Faer,
-}
-
-impl LinearBackend {
-    /// The concrete backend (`Dense` or `Faer`) used for dimension `n`.
-    pub fn resolve(self, n: usize) -> LinearBackend {
-        match self {
-            LinearBackend::Auto => {
-                if n <= AUTO_DENSE_MAX_DIM {
-                    LinearBackend::Dense
-                } else {
-                    LinearBackend::Faer
-                }
-            }
-            other => other,
-        }
-    }
-}
-
 fn check_nonneg(name: &'static str, v: f64) -> Result<(), OptionsError> {
     if v.is_finite() && v >= 0.0 {
         Ok(())
@@ -286,93 +221,6 @@ impl NewtonOptions {
     }
 }
 
-/// Options of [`Bfgs`](crate::Bfgs).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BfgsOptions {
-    /// Convergence: `||g||_inf <= gtol` (absolute). Default 1e-8.
-    pub gtol: f64,
-    /// Step tolerance, as in [`NewtonOptions::xtol`]. Default 1e-14.
-    pub xtol: f64,
-    /// Maximum number of iterations. Default 2000.
-    pub max_iter: usize,
-    /// Sufficient-decrease (Armijo) constant, `0 < c1 < c2`. Default 1e-4.
-    pub c1: f64,
-    /// Strong-Wolfe curvature constant, `c1 < c2 < 1`. Default 0.9.
-    pub c2: f64,
-    /// Maximum objective evaluations per line search (>= 1). Default 60.
-    pub max_line_search: usize,
-}
-
-impl Default for BfgsOptions {
-    fn default() -> Self {
-        Self {
-            gtol: 1e-8,
-            xtol: 1e-14,
-            max_iter: 2000,
-            c1: 1e-4,
-            c2: 0.9,
-            max_line_search: 60,
-        }
-    }
-}
-
-impl BfgsOptions {
-    /// Checks every field against its rule.
-    pub fn validate(&self) -> Result<(), OptionsError> {
-        check_nonneg("gtol", self.gtol)?;
-        check_nonneg("xtol", self.xtol)?;
-        check_open_unit("c1", self.c1)?;
-        check_open_unit("c2", self.c2)?;
-        if self.c1 >= self.c2 {
-            return Err(OptionsError::new("c2", self.c2, "must be greater than c1"));
-        }
-        if self.max_line_search == 0 {
-            return Err(OptionsError::new("max_line_search", 0.0, "must be >= 1"));
-        }
-        Ok(())
-    }
-
-    /// Sets [`gtol`](Self::gtol) (finite, >= 0).
-    pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("gtol", gtol)?;
-        self.gtol = gtol;
-        Ok(self)
-    }
-
-    /// Sets [`xtol`](Self::xtol) (finite, >= 0).
-    pub fn with_xtol(mut self, xtol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("xtol", xtol)?;
-        self.xtol = xtol;
-        Ok(self)
-    }
-
-    /// Sets [`max_iter`](Self::max_iter).
-    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
-        self.max_iter = max_iter;
-        self
-    }
-
-    /// Sets the line-search constants `c1` and `c2` (`0 < c1 < c2 < 1`).
-    pub fn with_wolfe(mut self, c1: f64, c2: f64) -> Result<Self, OptionsError> {
-        let mut o = self;
-        o.c1 = c1;
-        o.c2 = c2;
-        o.validate()?;
-        self.c1 = c1;
-        self.c2 = c2;
-        Ok(self)
-    }
-
-    /// Sets [`max_line_search`](Self::max_line_search) (>= 1).
-    pub fn with_max_line_search(mut self, m: usize) -> Result<Self, OptionsError> {
-        if m == 0 {
-            return Err(OptionsError::new("max_line_search", 0.0, "must be >= 1"));
-        }
-        self.max_line_search = m;
-        Ok(self)
-    }
-}
-
 /// Options of the [`continuation`](crate::continuation()) driver.
 ///
 /// Step lengths are absolute, in units of the continuation parameter.
@@ -521,6 +369,13 @@ pub struct PalcOptions {
     /// Corrector solves allowed to locate one event (0: events are reported
     /// at the accepted point after them, unlocated). Default 100.
     pub max_locate_iterations: usize,
+    /// A step across which the inertia of `H`, or its inertia restricted
+    /// to the problem's constraint ([`crate::Path::constraint`]), changes
+    /// is retried shorter until it is at most this long (finite, >= 0; 0:
+    /// no such check). A change seen across a long step may be a jump to
+    /// another branch passing close by rather than an event of this one;
+    /// across a step this short it is this branch's. Default 0.
+    pub event_step: f64,
 }
 
 impl Default for PalcOptions {
@@ -541,6 +396,7 @@ impl Default for PalcOptions {
             detect_events: true,
             event_tol: 1e-10,
             max_locate_iterations: 100,
+            event_step: 0.0,
         }
     }
 }
@@ -595,6 +451,7 @@ impl PalcOptions {
                 "must be finite and > 0",
             ));
         }
+        check_nonneg("event_step", self.event_step)?;
         Ok(())
     }
 
@@ -656,7 +513,6 @@ mod tests {
     #[test]
     fn defaults_are_valid() {
         NewtonOptions::default().validate().unwrap();
-        BfgsOptions::default().validate().unwrap();
         ContinuationOptions::default().validate().unwrap();
         PalcOptions::default().validate().unwrap();
     }
@@ -675,14 +531,6 @@ mod tests {
         assert!(NewtonOptions::default()
             .with_min_step_fraction(0.0)
             .is_err());
-        assert_eq!(
-            BfgsOptions::default()
-                .with_wolfe(0.5, 0.4)
-                .unwrap_err()
-                .name,
-            "c2"
-        );
-        assert!(BfgsOptions::default().with_max_line_search(0).is_err());
         let e = ContinuationOptions::default()
             .with_steps(f64::NAN, 1e-6, 1.0)
             .unwrap_err();
@@ -694,16 +542,5 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(o.validate().unwrap_err().name, "gtol");
-    }
-
-    #[test]
-    fn backend_resolution() {
-        assert_eq!(LinearBackend::Auto.resolve(8), LinearBackend::Dense);
-        assert_eq!(
-            LinearBackend::Auto.resolve(AUTO_DENSE_MAX_DIM + 1),
-            LinearBackend::Faer
-        );
-        assert_eq!(LinearBackend::Faer.resolve(2), LinearBackend::Faer);
-        assert_eq!(LinearBackend::Dense.resolve(1000), LinearBackend::Dense);
     }
 }

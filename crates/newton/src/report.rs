@@ -79,10 +79,10 @@ pub struct Report {
     /// Final objective value (bordered solves: the merit `||F||^2 / 2`).
     pub energy: f64,
     /// Number of matrix factorisations (Newton: one per shift tried;
-    /// bordered: one LU per iteration; BFGS: 0).
+    /// bordered: one per iteration).
     pub factorizations: usize,
     /// Largest Hessian shift `tau` used (0 when every Newton step used the
-    /// unmodified Hessian; always 0 for BFGS and bordered solves).
+    /// unmodified Hessian; always 0 for bordered solves).
     pub max_shift: f64,
 }
 

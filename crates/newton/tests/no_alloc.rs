@@ -1,14 +1,14 @@
 //! The solvers' iterations must not touch the heap: after the workspace is
 //! built and a warm-up solve, repeated `Newton::minimize` and
 //! `BorderedNewton::solve` calls perform zero allocations, for a problem
-//! wrapped in `Dense` / `DenseBordered` and for one that keeps its Hessian
+//! wrapped in `Dense` (faer's dense factorisations) and for one that keeps its Hessian
 //! as a `Semiseparable`. Checked with a counting global allocator that
 //! counts per thread, so the tests of this file may run concurrently.
 
 use fpc_newton::{
-    Bordered, BorderedEval, BorderedNewton, Dense, DenseBordered, DenseBorderedProblem,
-    DenseHessian, Energy, FactorError, Gradient, Hessian, Inertia, LinearBackend, LinearSystem,
-    Newton, NewtonOptions, PivotKind, Semiseparable,
+    Bordered, BorderedEval, BorderedNewton, Dense, DenseBorderedProblem, DenseHessian, Energy,
+    FactorError, Gradient, Hessian, Inertia, LinearSystem, Newton, NewtonOptions, PivotKind,
+    Semiseparable,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -139,21 +139,17 @@ impl DenseBorderedProblem for ChainTarget {
     }
 }
 
-const DENSE_CASES: [(usize, LinearBackend); 3] = [
-    (32, LinearBackend::Auto),
-    (32, LinearBackend::Faer),
-    (200, LinearBackend::Auto),
-];
+const DENSE_CASES: [usize; 2] = [32, 200];
 
 #[test]
 fn dense_minimize_does_not_allocate() {
-    for (n, backend) in DENSE_CASES {
+    for n in DENSE_CASES {
         let mut newton = Newton::new(n, NewtonOptions::default());
-        let mut p = Dense::with_backend(Chain { n, tilt: 0.5 }, backend);
+        let mut p = Dense::new(Chain { n, tilt: 0.5 });
         let start: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
         let mut x = start.clone();
         let r = newton.minimize(&mut p, &mut x);
-        assert!(r.converged(), "n = {n}, {backend:?}: {r}");
+        assert!(r.converged(), "n = {n}: {r}");
 
         let mut shifted = 0.0f64;
         let allocs = allocations_in(|| {
@@ -165,17 +161,14 @@ fn dense_minimize_does_not_allocate() {
                 shifted = shifted.max(r.max_shift);
             }
         });
-        assert_eq!(
-            allocs, 0,
-            "n = {n}, {backend:?}: allocations inside minimize"
-        );
+        assert_eq!(allocs, 0, "n = {n}: allocations inside minimize");
         assert!(shifted > 0.0, "the shifted-Cholesky path was exercised");
     }
 }
 
 #[test]
 fn dense_bordered_solve_does_not_allocate() {
-    for (n, _) in DENSE_CASES {
+    for n in DENSE_CASES {
         let mut newton = Newton::new(n, NewtonOptions::default());
         let mut x: Vec<f64> = (0..n).map(|i| 0.1 + 0.01 * (i as f64).sin()).collect();
         assert!(newton
@@ -185,7 +178,7 @@ fn dense_bordered_solve_does_not_allocate() {
         // Bordered solves warm-started from the equilibrium at tilt 0.5,
         // with the last coordinate prescribed a little further.
         let mut bordered = BorderedNewton::new(n, NewtonOptions::default()).unwrap();
-        let mut bt = DenseBordered::new(ChainTarget {
+        let mut bt = Dense::bordered(ChainTarget {
             chain: Chain { n, tilt: 0.0 },
             t: eq[n - 1] + 0.05,
         });

@@ -1,12 +1,13 @@
 """Speed of the Python module against the Rust library.
 
-    python crates/python/bench/bench.py [--fpc PATH] [--points N] [--json]
+    python crates/python/bench/bench.py [--fpc-lab PATH] [--points N] [--json]
 
-1. Per-call overhead of a single solve: the standard cases of `fpc timing`
+1. Per-call overhead of a single solve: the standard cases of `fpc-lab timing`
    (default actuator, N = 8, tip-only output) timed from Python through
    `Finger.solve(..., shape=False, stability=False)`, against the Rust
-   medians that `fpc timing --json` measures in-process. Needs the `fpc`
-   binary (--fpc or FPC_BIN); without it only the Python side is timed.
+   medians that `fpc-lab timing --json` measures in-process. Needs the
+   `fpc-lab` binary (--fpc-lab or FPC_LAB_BIN); without it only the Python
+   side is timed.
 2. Batch throughput on all cores: `fpc.batch_solve` over N tip-loaded
    points (cold solves, as `Finger.solve` does them) against
    `fpc._batch_reference`, the same points solved by a plain rayon loop in
@@ -26,7 +27,7 @@ import numpy as np
 
 import fpc
 
-FX, FZ = 0.939782, 0.521707  # the tip load of `fpc timing`'s loaded cases (N)
+FX, FZ = 0.939782, 0.521707  # the tip load of `fpc-lab timing`'s loaded cases (N)
 
 
 def median_call_us(f, budget_s=0.4, min_runs=31):
@@ -113,17 +114,17 @@ def cpu():
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--fpc", default=os.environ.get("FPC_BIN"), help="the fpc binary (for `fpc timing`)")
+    ap.add_argument("--fpc-lab", default=os.environ.get("FPC_LAB_BIN"), help="the fpc-lab binary (for `fpc-lab timing`)")
     ap.add_argument("--points", type=int, default=20000)
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
-    rust = rust_timing(args.fpc)
+    rust = rust_timing(args.fpc_lab)
     result = {"cpu": cpu(), "rust_build": rust and rust.get("build"), "per_call": per_call(rust), "batch": batch(args.points)}
     if args.json:
         print(json.dumps(result, indent=2))
         return
     c = result["cpu"]
-    print(f"CPU: {c['model']}, {c['cores']} cores; fpc timing build: {result['rust_build']}")
+    print(f"CPU: {c['model']}, {c['cores']} cores; fpc-lab timing build: {result['rust_build']}")
     print("\nsingle solve, tip-only output (median per call)")
     print(f"{'case':<20}{'python us':>11}{'rust us':>10}{'overhead us':>13}")
     for name, r in result["per_call"].items():

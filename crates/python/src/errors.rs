@@ -5,7 +5,7 @@
 //! |---|---|
 //! | [`fpc::InputError`] (also inside [`fpc::SolveError::Input`]) | `fpc.InputError`, a `ValueError`: message starts with the field, `.field` |
 //! | [`fpc::scene::SceneError`] (TOML syntax, unknown key) | `fpc.SceneError`, a `ValueError`: `.line`, `.col` |
-//! | [`fpc::SolveError::NotConverged`], [`fpc::SolveError::TargetNotReached`] | `fpc.SolveError`, a `RuntimeError`: `.kind` and the details |
+//! | [`fpc::SolveError::NotConverged`], [`fpc::SolveError::TargetNotReached`], [`fpc::SolveError::NotOnPath`] | `fpc.SolveError`, a `RuntimeError`: `.kind` and the details |
 //! | a panic inside the library | `fpc.InternalError`, a `RuntimeError` |
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -88,6 +88,14 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
             let _ = v.setattr("target", target.as_str());
             let _ = v.setattr("value", *value);
             let _ = v.setattr("reached", *reached);
+            err
+        }
+        fpc::SolveError::NotOnPath { target, value, .. } => {
+            let err = SolveError::new_err(e.to_string());
+            let v = err.value(py);
+            let _ = v.setattr("kind", "not_on_path");
+            let _ = v.setattr("target", target.as_str());
+            let _ = v.setattr("value", *value);
             err
         }
     }

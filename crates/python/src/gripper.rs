@@ -102,6 +102,18 @@ fn in_python_terms(e: SolveError) -> SolveError {
             reached,
             detail,
         },
+        SolveError::NotOnPath {
+            target,
+            value,
+            detail,
+        } => SolveError::NotOnPath {
+            target: GRASP_FIELDS
+                .iter()
+                .find(|f| f.0 == target)
+                .map_or(target, |f| f.1.to_string()),
+            value,
+            detail,
+        },
         e => GRASP_FIELDS
             .iter()
             .fold(e, |e, (from, to)| renamed(e, from, to)),
@@ -151,56 +163,13 @@ fn solve_py(
     solve_spec(g, spec, warm).map_err(in_python_terms)
 }
 
-/// Solves one grasp as `fpc solve` does (a sphere's validity adds the
-/// contact's geometry).
+/// Solves one grasp as `fpc solve` does (the library's one grasp solve).
 fn solve_spec(
     g: &fpc::Gripper,
     spec: GraspSpec,
     warm: Option<&Grasp>,
 ) -> Result<fpc::GraspOutcome, SolveError> {
-    Ok(match spec {
-        GraspSpec::Size {
-            pressure_kpa,
-            d_mm,
-            beta_deg,
-        } => {
-            let grasp = g.grasp_load_for_size(pressure_kpa, d_mm, beta_deg.to_radians(), warm)?;
-            fpc::GraspOutcome {
-                spec,
-                invalid: grasp.invalid,
-                grasp,
-                sphere: None,
-            }
-        }
-        GraspSpec::Cuboid {
-            pressure_kpa,
-            d_mm,
-            friction_n,
-        } => {
-            let grasp = g.force_control(pressure_kpa, d_mm, friction_n, warm)?;
-            fpc::GraspOutcome {
-                spec,
-                invalid: grasp.invalid,
-                grasp,
-                sphere: None,
-            }
-        }
-        GraspSpec::Sphere {
-            pressure_kpa,
-            r_mm,
-            lift_n,
-            beta_deg,
-        } => {
-            let sg = g.sphere_grasp(pressure_kpa, r_mm, lift_n, beta_deg.to_radians(), warm)?;
-            let contact = g.sphere_contact(&sg.grasp.solution, sg.grasp.beta);
-            fpc::GraspOutcome {
-                spec,
-                invalid: sg.invalid,
-                grasp: sg.grasp,
-                sphere: Some(contact),
-            }
-        }
-    })
+    spec.solve(g, warm)
 }
 
 /// The validated design from Python's arguments, through the scene's

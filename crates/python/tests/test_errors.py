@@ -77,14 +77,22 @@ def test_a_failed_solve_is_a_solve_error():
     assert str(err).startswith("solve failed")
 
 
-def test_a_target_not_reached_is_a_solve_error():
+def test_a_grasp_off_the_path_from_rest_is_a_solve_error():
     g = fpc.Gripper()
+    # a friction of 5 kN folds the finger before the object is touched
     with pytest.raises(fpc.SolveError) as e:
-        g.grasp_cuboid(d_mm=100.0, friction_n=-50.0)
+        g.grasp_cuboid(d_mm=100.0, friction_n=5000.0)
     err = e.value
-    assert err.kind == "target_not_reached", str(err)
-    assert err.target == "friction_n" and err.value == -50.0
-    assert 0.0 <= err.reached < 1.0
+    assert err.kind == "not_on_path", str(err)
+    assert err.target == "friction_n" and err.value == 5000.0
+    assert "fold" in str(err)
+
+
+def test_a_grasp_outside_the_rules_is_returned_invalid_with_its_reason():
+    # a friction pulling the object out is reached from rest, and broken
+    grasp = fpc.Gripper().grasp_cuboid(d_mm=100.0, friction_n=-50.0)
+    assert grasp["valid"] is False
+    assert "friction" in str(grasp["invalid"])
 
 
 def test_scene_errors():

@@ -585,6 +585,22 @@ pub(super) fn scene_solve(e: SolveError) -> SolveError {
                 detail,
             },
         },
+        SolveError::NotOnPath {
+            target,
+            value,
+            detail,
+        } => match LibField::from_name(&target) {
+            Some(f) => SolveError::NotOnPath {
+                target: f.scene_key().to_string(),
+                value: f.scene_value(value),
+                detail,
+            },
+            None => SolveError::NotOnPath {
+                target,
+                value,
+                detail,
+            },
+        },
         other => other,
     }
 }

@@ -252,7 +252,7 @@ fn library_values_in_scene_units() {
 
 #[test]
 fn warnings_use_scene_keys() {
-    let s = Scene::from_toml("[gripper]\nmounting_angle_deg = 30\n").unwrap();
+    let s = Scene::from_toml("[gripper]\nmounting_angle_deg = 30\npalm_mm = 40\n").unwrap();
     let sol = s.solve().unwrap();
     let texts: Vec<String> = sol.warnings().iter().map(warning_text).collect();
     assert!(

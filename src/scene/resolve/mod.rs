@@ -27,7 +27,7 @@ pub use gripper::{GraspSpec, GripperScene};
 /// Default number of equal elements (the paper's N).
 pub const DEFAULT_ELEMENTS: usize = 8;
 /// Most elements of a partition: 1 / [`MIN_ELEMENT_FRACTION`].
-const MAX_ELEMENTS: usize = 1000;
+pub(super) const MAX_ELEMENTS: usize = 1000;
 /// Default mounting angle of `[gripper]` (deg; the paper's Sec. 5).
 pub const DEFAULT_MOUNTING_ANGLE_DEG: f64 = 60.0;
 /// Default overlap of `[gripper]` (mm; the paper's Sec. 5).

@@ -10,12 +10,11 @@ use anyhow::Context;
 use fpc::scene::{warning_text, SceneFile};
 
 mod figure;
-mod render;
 mod report;
 #[cfg(test)]
 mod tests;
 
-use figure::shape_svg;
+use figure::shape_figure;
 use report::{shape_csv, solution_file, summary};
 
 /// Flags of `fpc solve`.
@@ -62,7 +61,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     // every file is made before any is written
     let json = serde_json::to_string_pretty(&solution_file(&stem, scene.file(), &solved))? + "\n";
     let csv = shape_csv(&solved)?;
-    let svg = shape_svg(&stem, &solved)?;
+    let svg = crate::render::svg::svg(&shape_figure(&stem, &solved))?;
     crate::output::prepare_dir(&out)?;
     write_atomic(&out, "solution.json", json.as_bytes())?;
     write_atomic(&out, "shape.csv", &csv)?;

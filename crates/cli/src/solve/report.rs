@@ -142,10 +142,11 @@ pub(super) fn summary(
                         s.radius, s.center[0], s.center[1]
                     )?;
                 }
-                match &o.invalid {
+                match &o.invalid() {
                     None => writeln!(out, "valid          yes")?,
                     Some(i) => writeln!(out, "valid          NO: {i}")?,
                 }
+                writeln!(out, "verdict        {}", verdict_parts(&g.verdict))?;
             }
         }
     }
@@ -155,4 +156,33 @@ pub(super) fn summary(
         sol.report.iterations, sol.report.residual_norm
     )?;
     Ok(())
+}
+
+/// The verdict's four parts in one line: the rules, the findings, the
+/// stability and the path.
+fn verdict_parts(v: &fpc::gripper::Verdict) -> String {
+    use fpc::gripper::Stability;
+    let rules = match &v.rules {
+        None => "rules hold".to_string(),
+        Some(r) => format!("rule broken ({})", r.kind()),
+    };
+    let findings = match v.findings.len() {
+        0 => "inside the model".to_string(),
+        n => {
+            let mut kinds: Vec<&str> = v.findings.iter().map(|w| w.kind()).collect();
+            kinds.dedup();
+            format!("{n} finding(s) outside the model ({})", kinds.join(", "))
+        }
+    };
+    let stability = match v.stability {
+        Stability::Stable => "stable".to_string(),
+        Stability::Unstable { negative } => format!("unstable ({negative} negative)"),
+        Stability::Unknown => "stability unknown".to_string(),
+        Stability::NotJudged => "stability not judged".to_string(),
+    };
+    let path = match v.path.from {
+        "rest" => format!("closed on from rest in {} step(s)", v.path.steps),
+        _ => "continued from the previous grasp".to_string(),
+    };
+    format!("{rules}; {findings}; {stability}; {path}")
 }

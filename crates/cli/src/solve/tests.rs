@@ -2,8 +2,9 @@
 //! geometry and its text.
 
 use super::figure::*;
-use super::render::*;
 use super::report::*;
+use crate::render::svg::svg;
+use fpc::report::{Figure, Panel, PlotAxis, Series, SeriesKind};
 use fpc::scene::SceneSolution;
 
 fn solved(text: &str) -> SceneSolution {
@@ -61,22 +62,6 @@ fn solution_json_has_no_key_twice() {
     }
 }
 
-#[test]
-fn equal_aspect_gives_one_scale() {
-    for (lo, hi, px) in [
-        ([0.0, -80.0], [110.0, 5.0], (734, 600)),
-        ([-60.0, -150.0], [60.0, 5.0], (734, 760)),
-        ([0.0, 0.0], [10.0, 1000.0], (300, 220)),
-        ([-1.0, -1.0], [1.0, 1.0], (2, 2)),
-    ] {
-        let (x, y) = equal_aspect(lo, hi, px);
-        let sx = (x.1 - x.0) / f64::from(px.0 - 1);
-        let sy = (y.1 - y.0) / f64::from(px.1 - 1);
-        assert!((sx - sy).abs() <= 1e-12 * sx, "{sx} {sy}");
-        assert!(x.0 <= lo[0] && x.1 >= hi[0] && y.0 <= lo[1] && y.1 >= hi[1]);
-    }
-}
-
 /// The corners (px) of the first `<polygon>` of an SVG.
 fn polygon_px(svg: &str) -> Vec<(f64, f64)> {
     let tag = &svg[svg.find("<polygon").unwrap()..];
@@ -93,15 +78,26 @@ fn polygon_px(svg: &str) -> Vec<(f64, f64)> {
 
 #[test]
 fn a_square_is_drawn_square() {
-    for (y_down, wide) in [(false, 300.0), (true, 20.0), (false, 5.0)] {
-        let mut p = Plot::new("t".into(), "X (mm)", "Z (mm)", y_down);
-        p.add(
-            Look::Object,
-            "square",
-            [[0.0, 0.0], [40.0, 0.0], [40.0, 40.0], [0.0, 40.0]],
-        );
-        p.add(Look::Finger, "line", [[-wide, 0.0], [wide, 10.0]]);
-        let corners = polygon_px(&render(&p).unwrap());
+    for (down, wide) in [(false, 300.0), (true, 20.0), (false, 5.0)] {
+        let mut p = Panel::new("", PlotAxis::new("X", "mm"), PlotAxis::new("Z", "mm"));
+        p.equal_aspect = true;
+        p.y.down = down;
+        let square = vec![
+            [0.0, 0.0],
+            [40.0, 0.0],
+            [40.0, 40.0],
+            [0.0, 40.0],
+            [0.0, 0.0],
+        ];
+        p.series
+            .push(Series::new("object", SeriesKind::Outline, square).label("square"));
+        p.series.push(Series::new(
+            "finger",
+            SeriesKind::Line,
+            vec![[-wide, 0.0], [wide, 10.0]],
+        ));
+        p.caption.push("a caption under the chart".into());
+        let corners = polygon_px(&svg(&Figure::row("t", [820, 600], vec![p])).unwrap());
         let span = |f: fn(&(f64, f64)) -> f64| {
             let v: Vec<f64> = corners.iter().map(f).collect();
             v.iter().cloned().fold(f64::MIN, f64::max) - v.iter().cloned().fold(f64::MAX, f64::min)
@@ -121,36 +117,46 @@ fn non_finite_values_draw_nothing_and_print_no_nan() {
     solution.end_angle = f64::NAN;
     solution.points[3] = [f64::NAN, 1.0];
     solution.points[4] = [1e300, -1e300];
-    let svg = shape_svg("t", &s).unwrap();
+    let svg = svg(&shape_figure("t", &s)).unwrap();
     assert!(!svg.contains("NaN") && !svg.contains("inf"), "{svg}");
     assert!(svg.contains("tip X = n/a mm"));
-    // nothing drawable at all still gives axes around the origin
-    let mut p = Plot::new("t".into(), "X (mm)", "Z (mm)", false);
-    p.add(Look::Finger, "f", [[f64::NAN, 0.0], [f64::INFINITY, 1.0]]);
-    p.add(Look::Tip, "tip", [[f64::NAN, f64::NAN]]);
-    assert!(p.items.is_empty());
-    let svg = render(&p).unwrap();
-    assert!(svg.contains("X (mm)") && !svg.contains("NaN"));
+    assert!(drawable([[f64::NAN, 0.0], [f64::INFINITY, 1.0], [1e300, 0.0]]).is_empty());
 }
 
 #[test]
-fn ticks_and_text() {
-    assert_eq!(tick(-0.0), "0");
-    assert_eq!(tick(-1e-9), "0");
-    assert_eq!(tick(20.000000000004), "20");
-    assert_eq!(tick(-12.5), "-12.5");
-    assert_eq!(nice_step(16.0), 20.0);
-    assert_eq!(nice_step(20.0), 20.0);
-    assert_eq!(nice_step(0.3), 0.5);
-    assert_eq!(nice_step(7.0), 10.0);
-    assert_eq!(multiples((-5.0, 105.0), 20.0), 6);
+fn numbers_in_the_caption() {
     assert_eq!(num(f64::NAN, 2), "n/a");
     assert_eq!(num(1.23456, 2), "1.23");
-    let text = "outside the model: element_slope at element 1: element 1 turns 64.9 degrees";
-    let lines = wrap(text, 30);
-    assert!(lines.len() > 1);
-    assert!(lines.iter().all(|l| l.chars().count() <= 30), "{lines:?}");
-    assert_eq!(lines.join(" "), text);
-    assert_eq!(wrap("", 10), [""]);
-    assert_eq!(wrap(&"x".repeat(50), 10), ["x".repeat(50)]);
+}
+
+/// Downward axes show the frame's values: a gripper's tip below the palm
+/// (Zg > 0) has positive Zg ticks, and the palm line sits at the top.
+#[test]
+fn the_gripper_frame_points_down() {
+    let s = solved("[gripper]\n");
+    let f = shape_figure("g", &s);
+    let p = &f.rows[0][0];
+    assert!(p.y.down && p.equal_aspect);
+    let text = svg(&f).unwrap();
+    for part in [
+        "Xg (mm)",
+        "Zg (mm, pointing down)",
+        "gripper axis (Xg = 0)",
+        "fingers at rest",
+    ] {
+        assert!(text.contains(part), "{part}");
+    }
+    let ticks: Vec<f64> = text
+        .split("<text")
+        .filter_map(|t| {
+            t.split_once('>')?
+                .1
+                .split("</text>")
+                .next()?
+                .trim()
+                .parse()
+                .ok()
+        })
+        .collect();
+    assert!(ticks.iter().any(|&t| t >= 40.0), "{ticks:?}");
 }

@@ -7,31 +7,32 @@
 //! force Fx = 0.939782 N, Fz = 0.521707 N (finger frame), tip-only output
 //! at the default Newton tolerance ([`STANDARD_LOAD_N`]).
 //!
-//! **References.** Per model: the material partition (pieces at most lx /
-//! 8; 27 elements for the default actuator) halved [`REFERENCE_LEVELS`] - 1
-//! times (27 -> 864 elements), every level solved to a relative residual
-//! of [`REFERENCE_RTOL`] by nested iteration, and the tip Richardson-
-//! extrapolated from the last two levels, `R(5,6) = t6 + (t6 - t5) / 3`.
-//! Every level is converged fully here, independently of how tightly a
-//! [`Refiner`](fpc::Refiner) solves its intermediate levels (see
-//! [`fpc::INTERMEDIATE_RTOL`]); the refiner's own result for the same plan
-//! is reported next to the reference
-//! ([`ModelReference::refiner_offset_mm`]). The uncertainty
-//! reported, [`ModelReference::uncertainty_mm`], is the library's
-//! three-level estimate of an extrapolated refinement applied to the fully
-//! converged levels: the distance between the extrapolations from levels
-//! (4,5) and (5,6), `|R(5,6) - R(4,5)|`. (The refinement's own
-//! `estimated_tip_error_mm` is that same distance computed from its less
-//! converged levels; it is reported as
-//! [`ModelReference::refiner_estimate_mm`].) The change before it,
-//! `|R(4,5) - R(3,4)|`, is reported too: their ratio shows how regularly
-//! the extrapolations converge (1/2: the distance is the sum of the
-//! remaining geometric series).
+//! **References.** Per model, from two families of material partitions:
+//! pieces at most lx / [`REFERENCE_START`] (27 elements for the default
+//! actuator) halved [`REFERENCE_LEVELS`] - 1 times (27 -> 864 elements),
+//! and pieces at most lx / [`SECOND_FAMILY_START`] (40 elements) halved
+//! [`SECOND_FAMILY_LEVELS`] - 1 times (40 -> 640). Every level is solved
+//! to a relative residual of [`REFERENCE_RTOL`] (rounding) by nested
+//! iteration, independently of how tightly a [`Refiner`](fpc::Refiner)
+//! solves its intermediate levels (see [`fpc::INTERMEDIATE_RTOL`]). The
+//! tip error of material partitions follows `c1 h + c2 h^2 + c3 h^3 + ...`
+//! (a first-order term under a tip load, docs/performance.md), so each
+//! family's limit removes the terms h to h^4 from its [`LIMIT_LEVELS`]
+//! finest levels ([`FamilyLimit::limit`]), with as its uncertainty the
+//! distance from the limit through the four finest levels and the terms h
+//! to h^3 ([`FamilyLimit::uncertainty_mm`]; the h^4 term's share, an
+//! over-estimate once it leads). The reference is the midpoint of the two
+//! limits, its uncertainty the larger of their uncertainties and their
+//! distance; the families must agree within the sum of their
+//! uncertainties ([`ModelReference::families_agree`]). The library's own
+//! result for the first family's plan with extrapolation is reported next
+//! to it ([`ModelReference::refiner_offset_mm`],
+//! [`ModelReference::refiner_estimate_mm`]).
 //!
 //! **Orders.** Per model and partition kind, the observed orders
-//! `log2(|t_l - t_{l-1}| / |t_{l+1} - t_l|)` of successive levels: the
-//! reference's material levels, and equal elements from N = 8 doubled to
-//! 512, both fully converged.
+//! `log2(|t_l - t_{l-1}| / |t_{l+1} - t_l|)` of successive levels, of the
+//! tip and of its X and Z alone: the first family's levels, and equal
+//! elements from N = 8 doubled to 512, both fully converged.
 //!
 //! **Configurations** ([`CONFIGURATIONS`], one table applied to every
 //! model): each is built once ([`Refiner::new`](fpc::Refiner::new), outside the timed region),
@@ -45,7 +46,7 @@
 //! comes and goes for tens to hundreds of milliseconds and only ever adds
 //! time; the fastest round is the estimate of the time on a quiet
 //! machine). The N = 8 equal cold solve (the
-//! `loaded_cold` case of `fpc timing`) is measured the same way in a batch
+//! `loaded_cold` case of `fpc-lab timing`) is measured the same way in a batch
 //! right before every batch of a configuration (and once at the end), so
 //! that its batches are spread over the whole run; its time `t8` is the
 //! fastest of those batch medians, the same estimator as the rows', and
@@ -79,8 +80,9 @@ use serde::Serialize;
 pub use config::{Plan, StudyConfig, CONFIGURATIONS, QUICK_CONFIGURATIONS};
 pub use front::{AccuracyRow, Fastest, FrontPoint, LibraryChoice, TIME_RESOLUTION, TOLERANCES_MM};
 pub use reference::{
-    Convergence, ModelGap, ModelReference, EQUAL_ORDER_LEVELS, EQUAL_ORDER_START, REFERENCE_LEVELS,
-    REFERENCE_RTOL, REFERENCE_START,
+    Convergence, FamilyLimit, ModelGap, ModelReference, EQUAL_ORDER_LEVELS, EQUAL_ORDER_START,
+    LIMIT_LEVELS, REFERENCE_LEVELS, REFERENCE_RTOL, REFERENCE_START, SECOND_FAMILY_LEVELS,
+    SECOND_FAMILY_START,
 };
 pub use timing::TimingReference;
 

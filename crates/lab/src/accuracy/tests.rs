@@ -1,6 +1,6 @@
 //! Unit tests of the front, the orders and the extrapolation.
 
-use super::reference::{order, richardson};
+use super::reference::{order, richardson_table, terms};
 use super::*;
 
 fn row(time_us: f64, error: f64) -> AccuracyRow {
@@ -62,10 +62,31 @@ fn a_slightly_slower_more_accurate_row_dominates() {
 fn orders_and_extrapolation() {
     assert!((order(4.0, 1.0) - 2.0).abs() < 1e-15);
     assert!(order(0.0, 1.0).is_nan());
-    // exact for a second-order sequence t(h) = t* + c h^2
-    let t = |h: f64| [1.0 + 3.0 * h * h, -2.0 - h * h];
-    let r = richardson(t(0.2), t(0.1));
-    assert!(dist(r, [1.0, -2.0]) < 1e-14);
+    // exact for t(h) = t* + c1 h + ... + c4 h^4 with h halving
+    let t = |h: f64| {
+        [
+            1.0 + 0.5 * h + 3.0 * h * h - 2.0 * h.powi(3) + h.powi(4),
+            -2.0 - 0.1 * h - h * h + 0.3 * h.powi(4),
+        ]
+    };
+    let tips: Vec<[f64; 2]> = (0..5).map(|k| t(0.4 / 2f64.powi(k))).collect();
+    let limit = richardson_table(&tips, &[1, 2, 3, 4]);
+    assert!(dist(limit, [1.0, -2.0]) < 1e-13, "{limit:?}");
+    // a second-order sequence needs only its h^2 term removed
+    let r = richardson_table(&[[1.0 + 3.0 * 0.04, 0.0], [1.0 + 3.0 * 0.01, 0.0]], &[2]);
+    assert!(dist(r, [1.0, 0.0]) < 1e-14);
+    // the terms at the finest level (h = 0.025)
+    let got = terms(&tips, limit);
+    let h: f64 = 0.025;
+    let want = [
+        [0.5 * h, -0.1 * h],
+        [3.0 * h * h, -h * h],
+        [-2.0 * h.powi(3), 0.0],
+        [h.powi(4), 0.3 * h.powi(4)],
+    ];
+    for (g, w) in got.iter().zip(&want) {
+        assert!(dist(*g, *w) < 1e-12, "{got:?}");
+    }
     let mut v = [3.0, 1.0, 2.0];
     assert_eq!(median(&mut v), 2.0);
 }

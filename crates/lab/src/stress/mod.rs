@@ -294,7 +294,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
                 relative_residual,
             };
         }
-        Ok(Err(e @ SolveError::TargetNotReached { .. })) => {
+        Ok(Err(e @ (SolveError::TargetNotReached { .. } | SolveError::NotOnPath { .. }))) => {
             c.outcome = StressOutcome::SilentlyWrong {
                 what: format!("a plain solve reported a target: {e}"),
             };

@@ -4,11 +4,9 @@
 
 use super::output::PathReport;
 use super::path::Path;
-use crate::dense::{all_finite, dot, norm_inf};
-use crate::linear::{FactorError, Inertia};
+use crate::linear::{all_finite, dot, norm_inf, FactorError, Inertia};
 use crate::options::PalcOptions;
 use crate::problem::LinearSystem;
-use crate::semiseparable::PivotKind;
 
 /// A point of the branch with its tangent and inertia.
 #[derive(Clone, Debug)]
@@ -18,6 +16,9 @@ pub(super) struct State {
     pub(super) tx: Vec<f64>,
     pub(super) tl: f64,
     pub(super) inertia: Inertia,
+    /// The inertia of `H` on the tangent space of the path problem's
+    /// constraint, if it has one ([`super::Path::constraint`]).
+    pub(super) restricted: Option<Inertia>,
     pub(super) iterations: usize,
 }
 
@@ -29,6 +30,7 @@ impl State {
             tx: vec![0.0; n],
             tl: 0.0,
             inertia: Inertia::default(),
+            restricted: None,
             iterations: 0,
         }
     }
@@ -47,6 +49,31 @@ pub(super) struct Work {
     pub(super) r: Vec<f64>,
     pub(super) hx: Vec<f64>,
     pub(super) start: Vec<f64>,
+    /// The constraint's gradient and scratch for its restricted inertia.
+    pub(super) cx: Vec<f64>,
+    pub(super) cw: Vec<f64>,
+    pub(super) cr: Vec<f64>,
+}
+
+impl Work {
+    /// Zeroed buffers for `n` unknowns and the load weight `theta`.
+    pub(super) fn new(n: usize, theta: f64) -> Work {
+        let z = || vec![0.0; n];
+        Work {
+            theta2: theta * theta,
+            g: z(),
+            gl: z(),
+            w: z(),
+            rx: z(),
+            dx: z(),
+            r: z(),
+            hx: z(),
+            start: z(),
+            cx: z(),
+            cw: z(),
+            cr: z(),
+        }
+    }
 }
 
 /// Why a corrector (or a step) failed.
@@ -144,7 +171,7 @@ pub(super) fn correct<P: Path + ?Sized>(
             return Err(Failure::NonFinite);
         }
         rep.factorizations += 1;
-        out.inertia = p.factor(0.0, PivotKind::Symmetric).map_err(|e| match e {
+        out.inertia = crate::problem::factor_cholesky_first(p).map_err(|e| match e {
             FactorError::NonFinite { .. } => Failure::NonFinite,
             _ => Failure::Singular,
         })?;

@@ -1,10 +1,8 @@
 //! The inertia of a Hessian restricted to a constraint's tangent space
 //! (Haynsworth), from a symmetric factorisation.
 
-use crate::dense::{all_finite, dot};
-use crate::linear::{FactorError, Inertia};
+use crate::linear::{all_finite, dot, FactorError, Inertia};
 use crate::problem::LinearSystem;
-use crate::semiseparable::PivotKind;
 
 /// Why the restricted inertia could not be computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -32,7 +30,7 @@ pub enum RestrictedInertiaError {
 /// space (dimension `n - 1`), from a symmetric factorisation of `H`.
 ///
 /// `h` must hold a successful factorisation of `H` itself (`tau = 0`,
-/// typically [`PivotKind::Symmetric`]) with inertia `inertia`, and `apply`
+/// typically [`PivotKind::Symmetric`](crate::PivotKind::Symmetric)) with inertia `inertia`, and `apply`
 /// the same `H` (used for one step of iterative refinement of
 /// `w = H^-1 c_x`). By Haynsworth's inertia additivity on the bordered
 /// matrix `K = [[H, c_x], [c_x^T, 0]]`,
@@ -122,8 +120,7 @@ pub fn factor_restricted_inertia<L: LinearSystem + ?Sized>(
     c_x: &[f64],
     work: &mut [f64],
 ) -> Result<Inertia, RestrictedInertiaError> {
-    let inertia = h
-        .factor(0.0, PivotKind::Symmetric)
-        .map_err(RestrictedInertiaError::Hessian)?;
+    let inertia =
+        crate::problem::factor_cholesky_first(h).map_err(RestrictedInertiaError::Hessian)?;
     restricted_inertia(h, inertia, c_x, work)
 }

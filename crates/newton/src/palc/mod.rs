@@ -18,9 +18,9 @@ pub use output::{
     Branch, BranchEvent, BranchPoint, Control, Direction, EventKind, PathEvent, PathObserver,
     PathPoint, PathReport, PathTermination,
 };
-pub use path::{BorderedPath, DensePath, DensePathProblem, Path};
+pub use path::{BorderedPath, Path};
 
-use crate::dense::dot;
+use crate::linear::dot;
 use crate::options::{OptionsError, PalcOptions};
 use corrector::{correct, distance, step_to, tangent, Border, Failure, Row, State, Work};
 use output::Collect;
@@ -34,9 +34,7 @@ use output::Collect;
 /// to `x`, `x` in `R^n`) and `g_lambda = d g / d lambda` at `(x, lambda)`,
 /// and keeps the Hessian `H = d g / d x` there as its [`LinearSystem`](crate::LinearSystem)
 /// (symmetric, possibly indefinite). [`BorderedPath`] turns any
-/// [`Bordered`](crate::Bordered) problem into a `Path` (its target equation is ignored), and
-/// [`DensePath`] wraps a problem that writes `H` densely
-/// ([`DensePathProblem`]).
+/// [`Bordered`](crate::Bordered) problem into a `Path` (its target equation is ignored).
 ///
 /// # The method
 ///
@@ -136,24 +134,52 @@ use output::Collect;
 /// # Example
 ///
 /// ```
-/// use fpc_newton::{Control, DensePath, DensePathProblem, Direction, EventKind, Palc, PalcOptions};
+/// use fpc_newton::{
+///     Control, Direction, EventKind, FactorError, Inertia, LinearSystem, Palc, PalcOptions, Path,
+///     PivotKind,
+/// };
 ///
-/// /// E = x^4/4 - x^2/2 - lambda x: g = x^3 - x - lambda, a snap-through.
-/// struct Snap;
-/// impl DensePathProblem for Snap {
+/// /// E = x^4/4 - x^2/2 - lambda x: g = x^3 - x - lambda, a snap-through;
+/// /// `h` is its 1 x 1 Hessian and `f` the factor of `h + tau`.
+/// struct Snap {
+///     h: f64,
+///     f: f64,
+/// }
+/// impl Path for Snap {
 ///     fn dim(&self) -> usize {
 ///         1
 ///     }
-///     fn eval(&mut self, x: &[f64], l: f64, g: &mut [f64], gl: &mut [f64], h: &mut [f64]) -> bool {
+///     fn eval(&mut self, x: &[f64], l: f64, g: &mut [f64], gl: &mut [f64]) -> bool {
 ///         g[0] = x[0].powi(3) - x[0] - l;
 ///         gl[0] = -1.0;
-///         h[0] = 3.0 * x[0] * x[0] - 1.0;
+///         self.h = 3.0 * x[0] * x[0] - 1.0;
 ///         true
+///     }
+/// }
+/// impl LinearSystem for Snap {
+///     fn diagonal_range(&self) -> (f64, f64) {
+///         (self.h, self.h.abs())
+///     }
+///     fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+///         self.f = self.h + tau;
+///         match self.f {
+///             f if f > 0.0 => Ok(Inertia { positive: 1, negative: 0 }),
+///             f if f < 0.0 && kind == PivotKind::Symmetric => Ok(Inertia { positive: 0, negative: 1 }),
+///             f if f < 0.0 => Err(FactorError::NotPositiveDefinite { index: 0 }),
+///             f if f == 0.0 => Err(FactorError::Singular { block: 0 }),
+///             _ => Err(FactorError::NonFinite { block: 0 }),
+///         }
+///     }
+///     fn solve(&mut self, b: &mut [f64]) {
+///         b[0] /= self.f;
+///     }
+///     fn apply(&self, x: &[f64], out: &mut [f64]) {
+///         out[0] = self.h * x[0];
 ///     }
 /// }
 ///
 /// let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-/// let mut p = DensePath::new(Snap);
+/// let mut p = Snap { h: 0.0, f: 0.0 };
 /// // from the equilibrium near x = -1.32 at lambda = -1 up to lambda = +1
 /// let branch = palc.branch(&mut p, &[-1.3], -1.0, Direction::Increasing, Some(1.0), |_| {
 ///     Control::Continue
@@ -190,17 +216,7 @@ impl Palc {
             next: State::new(n),
             trial: State::new(n),
             event_x: vec![0.0; n],
-            ws: Work {
-                theta2: opts.theta * opts.theta,
-                g: vec![0.0; n],
-                gl: vec![0.0; n],
-                w: vec![0.0; n],
-                rx: vec![0.0; n],
-                dx: vec![0.0; n],
-                r: vec![0.0; n],
-                hx: vec![0.0; n],
-                start: vec![0.0; n],
-            },
+            ws: Work::new(n, opts.theta),
             started: false,
         })
     }
@@ -237,9 +253,22 @@ impl Palc {
             tangent_x: &self.cur.tx,
             tangent_lambda: self.cur.tl,
             inertia: self.cur.inertia,
+            restricted: self.cur.restricted,
             arclength,
             corrector_iterations: self.cur.iterations,
         }
+    }
+
+    /// The inertia of `H` (factorised at the point, of inertia `inertia`)
+    /// on the tangent space of the problem's constraint, if it has one
+    /// (`None` too when it is not determined: singular there).
+    fn restricted<P: Path + ?Sized>(
+        p: &mut P,
+        ws: &mut Work,
+        inertia: crate::Inertia,
+    ) -> Option<crate::Inertia> {
+        ws.cx.copy_from_slice(p.constraint()?);
+        inertia::restricted_inertia_with(p, inertia, &ws.cx, &mut ws.cw, &mut ws.cr).ok()
     }
 
     /// Follows the branch of `g(x, lambda) = 0` through `(x0, lambda0)`,
@@ -315,6 +344,7 @@ impl Palc {
             };
             return rep;
         }
+        self.cur.restricted = Self::restricted(p, &mut self.ws, self.cur.inertia);
         self.started = true;
         let mut arc = 0.0;
         if observer.point(&self.view(0, arc)) == Control::Stop {
@@ -359,6 +389,19 @@ impl Palc {
                     )?;
                     tangent(p, &mut self.ws, Border::Tangent(&self.cur), &mut self.next)?;
                     landed = true;
+                    Ok(())
+                })
+                .and_then(|()| {
+                    // the problem's factorisation is at the new point
+                    self.next.restricted = Self::restricted(p, &mut self.ws, self.next.inertia);
+                    // an inertia change across a long step: shorter, to
+                    // tell this branch's event from a jump to another
+                    let changed = self.next.inertia != self.cur.inertia
+                        || self.next.restricted.map(|i| i.negative)
+                            != self.cur.restricted.map(|i| i.negative);
+                    if changed && ds > o.event_step && o.event_step > 0.0 && ds > o.min_step {
+                        return Err(Failure::Events);
+                    }
                     Ok(())
                 })
                 .and_then(|()| {

@@ -39,6 +39,11 @@ pub struct PathPoint<'a> {
     pub tangent_lambda: f64,
     /// Inertia of `H` here (`negative == 0`: stable at fixed load).
     pub inertia: Inertia,
+    /// For a path problem with a constraint ([`Path::constraint`](super::Path::constraint)):
+    /// the inertia of `H` restricted to the constraint's tangent space
+    /// (`negative == 0`: stable with the constraint held); `None` without
+    /// a constraint or where it is not determined (singular).
+    pub restricted: Option<Inertia>,
     /// Pseudo-arclength from the start: the sum of the weighted chord
     /// lengths between accepted points.
     pub arclength: f64,

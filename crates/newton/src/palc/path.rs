@@ -1,10 +1,9 @@
 //! The problems a [`Palc`](super::Palc) follows: the [`Path`] trait and its
-//! [`Bordered`] and dense adapters.
+//! [`Bordered`] adapter.
 
 use crate::bordered::{Bordered, BorderedEval};
 use crate::linear::{FactorError, Inertia};
-use crate::options::LinearBackend;
-use crate::problem::{DenseMatrix, LinearSystem};
+use crate::problem::LinearSystem;
 use crate::semiseparable::PivotKind;
 
 /// A parametrised equilibrium `g(x, lambda) = 0` to follow: the Hessian
@@ -22,6 +21,15 @@ pub trait Path: LinearSystem {
     /// when the point cannot be evaluated; non-finite entries are detected
     /// by the driver. Either way the step is shortened and retried.
     fn eval(&mut self, x: &[f64], lambda: f64, g: &mut [f64], g_lambda: &mut [f64]) -> bool;
+
+    /// The gradient `c_x` of a scalar constraint at the last evaluation,
+    /// if the problem has one: the driver then reports, at every accepted
+    /// point, the inertia of `H` on `{v : c_x . v = 0}` (the stability of
+    /// the equilibrium with the constraint held, [`crate::restricted_inertia`]).
+    /// None by default.
+    fn constraint(&self) -> Option<&[f64]> {
+        None
+    }
 }
 
 impl<P: Path + ?Sized> Path for &mut P {
@@ -31,11 +39,15 @@ impl<P: Path + ?Sized> Path for &mut P {
     fn eval(&mut self, x: &[f64], lambda: f64, g: &mut [f64], g_lambda: &mut [f64]) -> bool {
         (**self).eval(x, lambda, g, g_lambda)
     }
+    fn constraint(&self) -> Option<&[f64]> {
+        (**self).constraint()
+    }
 }
 
 /// A [`Bordered`] problem as a [`Path`]: its `g`, `g_lambda` and `H` are
-/// used, its target equation (`c`, `c_x`, `c_lambda`) is ignored (the
-/// arclength equation replaces it). Holds one [`BorderedEval`] (allocated
+/// used, its target equation (`c`, `c_x`, `c_lambda`) is not imposed (the
+/// arclength equation replaces it); its `c_x` is the path's constraint, so
+/// every point reports its stability with the target held. Holds one [`BorderedEval`] (allocated
 /// once).
 pub struct BorderedPath<P> {
     /// The wrapped problem.
@@ -70,6 +82,11 @@ impl<P: Bordered> Path for BorderedPath<P> {
         g_lambda.copy_from_slice(&self.eval.g_lambda);
         ok
     }
+
+    /// The target equation's `c_x`: the stability with the target held.
+    fn constraint(&self) -> Option<&[f64]> {
+        Some(&self.eval.c_x)
+    }
 }
 
 impl<P: LinearSystem> LinearSystem for BorderedPath<P> {
@@ -84,83 +101,5 @@ impl<P: LinearSystem> LinearSystem for BorderedPath<P> {
     }
     fn apply(&self, x: &[f64], out: &mut [f64]) {
         self.problem.apply(x, out)
-    }
-}
-
-/// A path problem that writes its Hessian densely (wrap it in
-/// [`DensePath`]).
-pub trait DensePathProblem {
-    /// Number of state unknowns `n`.
-    fn dim(&self) -> usize;
-    /// As [`Path::eval`], with `H` written into `h` (column-major `n * n`,
-    /// at least the lower triangle).
-    fn eval(
-        &mut self,
-        x: &[f64],
-        lambda: f64,
-        g: &mut [f64],
-        g_lambda: &mut [f64],
-        h: &mut [f64],
-    ) -> bool;
-}
-
-impl<P: DensePathProblem + ?Sized> DensePathProblem for &mut P {
-    fn dim(&self) -> usize {
-        (**self).dim()
-    }
-    fn eval(
-        &mut self,
-        x: &[f64],
-        lambda: f64,
-        g: &mut [f64],
-        g_lambda: &mut [f64],
-        h: &mut [f64],
-    ) -> bool {
-        (**self).eval(x, lambda, g, g_lambda, h)
-    }
-}
-
-/// A [`DensePathProblem`] as a [`Path`] (dense Bunch-Kaufman for its
-/// Hessian, allocated once, factorising without allocation).
-pub struct DensePath<P> {
-    /// The wrapped problem.
-    pub problem: P,
-    /// Its Hessian and factorisation.
-    pub matrix: DenseMatrix,
-}
-
-impl<P: DensePathProblem> DensePath<P> {
-    /// Wraps `problem` (its `dim()` fixes the size).
-    pub fn new(problem: P) -> DensePath<P> {
-        let n = problem.dim();
-        DensePath {
-            problem,
-            matrix: DenseMatrix::new(n, LinearBackend::Auto),
-        }
-    }
-}
-
-impl<P: DensePathProblem> Path for DensePath<P> {
-    fn dim(&self) -> usize {
-        self.problem.dim()
-    }
-    fn eval(&mut self, x: &[f64], lambda: f64, g: &mut [f64], g_lambda: &mut [f64]) -> bool {
-        self.problem
-            .eval(x, lambda, g, g_lambda, self.matrix.matrix_mut())
-    }
-}
-
-impl<P> LinearSystem for DensePath<P> {
-    fn diagonal_range(&self) -> (f64, f64) {
-        self.matrix.diagonal_range()
-    }
-    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
-        self.matrix.factor(tau, kind)
-    }
-    fn solve(&mut self, b: &mut [f64]) {
-        self.matrix.solve(b)
-    }
-    fn apply(&self, x: &[f64], out: &mut [f64]) {
-        self.matrix.apply(x, out)
     }
 }

@@ -4,10 +4,10 @@
 use super::corrector::*;
 use super::*;
 use crate::linear::Inertia;
-use crate::options::LinearBackend;
-use crate::problem::{DenseMatrix, LinearSystem};
+use crate::problem::LinearSystem;
 use crate::semiseparable::PivotKind;
 use crate::testutil::Lcg;
+use crate::{Dense, DenseMatrix, DensePathProblem};
 
 /// `E = x^4/4 - x^2/2 - lambda x`: `g = x^3 - x - lambda`.
 struct Snap;
@@ -24,24 +24,14 @@ impl DensePathProblem for Snap {
 }
 
 fn work(n: usize, theta: f64) -> Work {
-    Work {
-        theta2: theta * theta,
-        g: vec![0.0; n],
-        gl: vec![0.0; n],
-        w: vec![0.0; n],
-        rx: vec![0.0; n],
-        dx: vec![0.0; n],
-        r: vec![0.0; n],
-        hx: vec![0.0; n],
-        start: vec![0.0; n],
-    }
+    Work::new(n, theta)
 }
 
 #[test]
 fn bordered_solve_is_accurate_next_to_a_singular_h() {
     // H = diag(eps, 1, 2), g_l = (1, 1, 1), border c = (1, 0, 1), cl = 0.5
     for eps in [1e-3, 1e-8, 1e-13] {
-        let mut m = DenseMatrix::new(3, LinearBackend::Auto);
+        let mut m = DenseMatrix::new(3);
         let h = m.matrix_mut();
         h.fill(0.0);
         h[0] = eps;
@@ -70,7 +60,7 @@ fn bordered_solve_is_accurate_next_to_a_singular_h() {
 
 #[test]
 fn tangent_is_unit_and_oriented() {
-    let mut p = DensePath::new(Snap);
+    let mut p = Dense::path(Snap);
     let o = PalcOptions {
         theta: 2.0,
         ..Default::default()
@@ -103,7 +93,7 @@ fn tangent_is_unit_and_oriented() {
 fn corrector_passes_a_fold_where_natural_continuation_cannot() {
     // from x slightly below -1/sqrt 3 (just before the fold at lambda = 2/(3 sqrt 3)),
     // a step along the tangent lands past the fold
-    let mut p = DensePath::new(Snap);
+    let mut p = Dense::path(Snap);
     let o = PalcOptions::default();
     let mut ws = work(1, 1.0);
     let mut rep = PathReport::new(0.0, 0.0);
@@ -132,7 +122,7 @@ fn corrector_passes_a_fold_where_natural_continuation_cannot() {
 
 #[test]
 fn restricted_inertia_small_cases() {
-    let mut m = DenseMatrix::new(3, LinearBackend::Auto);
+    let mut m = DenseMatrix::new(3);
     let mut work = [0.0; 6];
     // H = diag(-1, 2, 3): constraint along the negative direction
     // removes it; along a positive one keeps it
@@ -250,7 +240,7 @@ fn reduce(n: usize, a: &[f64], z: &[f64]) -> Vec<f64> {
 
 #[test]
 fn invalid_input_evaluates_nothing() {
-    let mut p = DensePath::new(Snap);
+    let mut p = Dense::path(Snap);
     let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
     let r = palc.follow(
         &mut p,

@@ -65,7 +65,7 @@ fn bordered_linear_matches_closed_form() {
     for &n in &[1usize, 4, 12] {
         let q = QuadQuartic::random(n, false, &mut rng);
         let e: Vec<f64> = (0..n).map(|_| rng.sym()).collect();
-        let mut p = DenseBordered::new(BorderedQQ { q, e, t: 0.7 });
+        let mut p = Dense::bordered(BorderedQQ { q, e, t: 0.7 });
         let mut x = vec![0.0; n];
         let mut lambda = 0.0;
         let mut newton = BorderedNewton::new(n, NewtonOptions::default()).unwrap();
@@ -74,11 +74,7 @@ fn bordered_linear_matches_closed_form() {
         assert_eq!(r.iterations, 1, "linear problem: one step");
         let p = &p.problem;
         // Closed form: x = lambda A^{-1} b, e^T x = t.
-        let a = nalgebra::DMatrix::from_column_slice(n, n, &p.q.a);
-        let z = a
-            .lu()
-            .solve(&nalgebra::DVector::from_column_slice(&p.q.b))
-            .unwrap();
+        let z = lu_solve(n, &p.q.a, &p.q.b);
         let ez: f64 = (0..n).map(|i| p.e[i] * z[i]).sum();
         let lam = p.t / ez;
         assert!(
@@ -97,7 +93,7 @@ fn bordered_nonlinear_agrees_with_plain_newton() {
     let n = 8;
     let q = QuadQuartic::random(n, true, &mut rng);
     let e: Vec<f64> = (0..n).map(|i| if i == n - 1 { 1.0 } else { 0.1 }).collect();
-    let mut p = DenseBordered::new(BorderedQQ { q, e, t: 2.5 });
+    let mut p = Dense::bordered(BorderedQQ { q, e, t: 2.5 });
     let mut x = vec![0.0; n];
     let mut lambda = 0.0;
     let mut newton = BorderedNewton::new(n, NewtonOptions::default()).unwrap();
@@ -143,7 +139,7 @@ fn bordered_passes_limit_point() {
         let mut lambda = 0.0;
         let r = BorderedNewton::new(1, NewtonOptions::default())
             .unwrap()
-            .solve(&mut DenseBordered::new(Snap { t }), &mut x, &mut lambda);
+            .solve(&mut Dense::bordered(Snap { t }), &mut x, &mut lambda);
         assert!(r.converged(), "t = {t}: {r}");
         assert!((x[0] - t).abs() < 1e-12);
         assert!((lambda - (t * t * t - t)).abs() < 1e-12);
@@ -171,7 +167,7 @@ fn bordered_singular_and_nonfinite() {
     let mut x = [0.0];
     let mut lambda = 0.0;
     let mut newton = BorderedNewton::new(1, NewtonOptions::default()).unwrap();
-    let mut flat = DenseBordered::new(Flat);
+    let mut flat = Dense::bordered(Flat);
     let r = newton.solve(&mut flat, &mut x, &mut lambda);
     assert_eq!(r.reason, Termination::Singular);
     // H itself was factorised: the step, not H, was singular.
@@ -207,7 +203,7 @@ fn bordered_singular_and_nonfinite() {
     }
     let mut x = [0.0];
     let mut lambda = 0.5;
-    let r = newton.solve(&mut DenseBordered::new(Inflection), &mut x, &mut lambda);
+    let r = newton.solve(&mut Dense::bordered(Inflection), &mut x, &mut lambda);
     assert_eq!(r.reason, Termination::Singular, "{r}");
     assert_eq!((x[0], lambda), (0.0, 0.5), "the start is kept");
     assert_eq!(newton.last_inertia(), None);
@@ -232,7 +228,7 @@ fn bordered_nonfinite_hessian_is_reported() {
             true
         }
     }
-    let mut p = DenseBordered::new(InfH);
+    let mut p = Dense::bordered(InfH);
     let mut solver = BorderedNewton::new(1, NewtonOptions::default()).unwrap();
     let (mut x, mut lambda) = ([0.0], 0.0);
     let rep = solver.solve(&mut p, &mut x, &mut lambda);

@@ -1,6 +1,6 @@
 //! Solver tests. Every check compares against an independent method
-//! (closed forms, nalgebra's LU, BFGS vs Newton, Newton vs the bordered
-//! solve); randomness is seeded.
+//! (closed forms, faer's LU, argmin's L-BFGS vs Newton, Newton vs the
+//! bordered solve); randomness is seeded.
 
 #![allow(clippy::needless_range_loop)]
 
@@ -8,7 +8,6 @@ use crate::testutil::Lcg;
 use crate::*;
 
 mod algebra;
-mod bfgs;
 mod bordered;
 mod chain;
 mod continuation;
@@ -251,8 +250,69 @@ fn norm_inf_of(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
-fn bfgs_tight() -> BfgsOptions {
-    BfgsOptions::default().with_gtol(1e-9).unwrap()
+/// `A x = b` by faer's LU with partial pivoting (an elimination
+/// independent of the factorisations under test).
+fn lu_solve(n: usize, a: &[f64], b: &[f64]) -> Vec<f64> {
+    use faer::linalg::solvers::Solve as _;
+    let a = faer::MatRef::from_column_major_slice(a, n, n);
+    let b = faer::MatRef::from_column_major_slice(b, n, 1);
+    let x = a.partial_piv_lu().solve(b);
+    (0..n).map(|i| x[(i, 0)]).collect()
+}
+
+/// An independent, gradient-only minimiser of `p` from `x0`: argmin's
+/// L-BFGS with the More-Thuente line search, until the gradient's 2-norm
+/// is below `gtol` (which bounds its largest entry too).
+fn lbfgs<P: Gradient>(p: P, x0: &[f64], gtol: f64) -> Vec<f64> {
+    use argmin::core::{CostFunction, Error, Executor};
+    use argmin::solver::{linesearch::MoreThuenteLineSearch, quasinewton::LBFGS};
+    use std::cell::RefCell;
+
+    struct Objective<'a, P>(&'a RefCell<P>);
+    impl<P: Gradient> CostFunction for Objective<'_, P> {
+        type Param = Vec<f64>;
+        type Output = f64;
+        fn cost(&self, x: &Vec<f64>) -> Result<f64, Error> {
+            // a step of NaNs (L-BFGS's update at a standstill) ends the run
+            if !x.iter().all(|v| v.is_finite()) {
+                return Err(argmin::core::ArgminError::InvalidParameter {
+                    text: "a non-finite point".into(),
+                }
+                .into());
+            }
+            Ok(self.0.borrow_mut().energy(x))
+        }
+    }
+    impl<P: Gradient> argmin::core::Gradient for Objective<'_, P> {
+        type Param = Vec<f64>;
+        type Gradient = Vec<f64>;
+        fn gradient(&self, x: &Vec<f64>) -> Result<Vec<f64>, Error> {
+            let mut g = vec![0.0; x.len()];
+            self.0.borrow_mut().gradient(x, &mut g);
+            Ok(g)
+        }
+    }
+    // a bounded step: extrapolation never overflows the objective
+    let search = MoreThuenteLineSearch::new()
+        .with_bounds(f64::EPSILON.sqrt(), 1e3)
+        .expect("valid bounds");
+    let solver = LBFGS::new(search, 10)
+        .with_tolerance_grad(gtol)
+        .and_then(|s| s.with_tolerance_cost(0.0))
+        .expect("valid tolerances");
+    let p = RefCell::new(p);
+    let result = Executor::new(Objective(&p), solver)
+        .configure(|s| s.param(x0.to_vec()).max_iters(10_000))
+        .run()
+        .expect("L-BFGS runs");
+    let mut g = vec![0.0; x0.len()];
+    // the last point (whose gradient met the test), else the best one
+    let state = result.state;
+    let x = state.param.or(state.best_param).expect("a point");
+    p.into_inner().gradient(&x, &mut g);
+    let g2 = g.iter().map(|v| v * v).sum::<f64>().sqrt();
+    assert!(g2 < gtol, "L-BFGS stopped at |g| = {g2:e}");
+    x
 }
 
 // ------------------------------------------------------- path comparison

@@ -11,7 +11,7 @@ fn accepted_steps_and_events_do_not_allocate() {
     // dense 1-D, dense n-D, semiseparable chain: a warm-up run, then the
     // same run counted (the Palc workspace and the problems exist already)
     let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-    let mut p = DensePath::new(Snap::new());
+    let mut p = Dense::path(Snap::new());
     let mut tally = Tally {
         points: 0,
         events: 0,
@@ -74,7 +74,7 @@ fn accepted_steps_and_events_do_not_allocate() {
     assert!(steps > 5 && tally.folds == 2 && tally.events == 2);
 
     // a closure observer, dense chain
-    let mut dense = DensePath::new(m);
+    let mut dense = Dense::path(m);
     let mut palc = Palc::new(dim, PalcOptions::default()).unwrap();
     let mut lowest = f64::INFINITY;
     let mut obs = |pt: &PathPoint<'_>| {

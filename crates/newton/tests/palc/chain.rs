@@ -1,5 +1,5 @@
 //! A chain whose Hessian is a `Semiseparable`, past a fold, against the
-//! same chain through `DensePath`.
+//! same chain through the dense reference path.
 
 use super::*;
 
@@ -292,7 +292,7 @@ fn semiseparable_chain_passes_a_fold_like_the_dense_path() {
             Some(target),
             |_| Control::Continue,
         );
-        let mut dense = DensePath::new(m.clone());
+        let mut dense = Dense::path(m.clone());
         let bd = Palc::new(dim, opts).unwrap().branch(
             &mut dense,
             &x0,

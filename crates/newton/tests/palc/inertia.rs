@@ -49,7 +49,7 @@ fn restricted_inertia_matches_the_reduced_hessian() {
             }
         }
         let c: Vec<f64> = (0..n).map(|_| 2.0 * rng.f64() - 1.0).collect();
-        let mut m = DenseMatrix::new(n, LinearBackend::Auto);
+        let mut m = DenseMatrix::new(n);
         m.matrix_mut().copy_from_slice(&a);
         let mut work = vec![0.0; 2 * n];
         let inertia = m.factor(0.0, PivotKind::Symmetric).unwrap();
@@ -98,7 +98,7 @@ fn restricted_inertia_matches_the_reduced_hessian() {
     }
 
     // H singular but the bordered matrix regular: an error, documented
-    let mut m = DenseMatrix::new(2, LinearBackend::Auto);
+    let mut m = DenseMatrix::new(2);
     m.matrix_mut().copy_from_slice(&[0.0, 0.0, 0.0, 1.0]);
     let mut work = [0.0; 4];
     assert!(matches!(
@@ -117,7 +117,7 @@ fn bordered_newton_restricted_inertia_of_a_tip_controlled_chain() {
     for (n, blocks, seed) in [(3, 6, 5), (2, 8, 6), (1, 16, 3)] {
         let m = chain(n, blocks, seed);
         let dim = m.size();
-        let mut p = DenseBordered::new(TipTarget {
+        let mut p = Dense::bordered(TipTarget {
             m: m.clone(),
             t: 0.0,
         });

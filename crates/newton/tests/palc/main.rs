@@ -6,7 +6,7 @@
 //!   unstable) decoupled directions: folds to 1e-9, inertia at every point
 //!   against dense eigenvalue counts;
 //! * a chain whose Hessian is a [`Semiseparable`], past a fold, against the
-//!   same chain through [`DensePath`];
+//!   same chain through the dense reference path ([`Dense`]);
 //! * step control: landing on the target, a stop predicate, non-finite
 //!   evaluations, the step limit, a failed start;
 //! * [`restricted_inertia`] against eigenvalues of `Z^T H Z`, and
@@ -15,10 +15,10 @@
 
 use fpc_newton::{
     factor_restricted_inertia, negative_eigenvalues, restricted_inertia, Bordered, BorderedEval,
-    BorderedNewton, BorderedPath, Control, DenseBordered, DenseBorderedProblem, DenseMatrix,
-    DensePath, DensePathProblem, Direction, EventKind, FactorError, Inertia, LinearBackend,
-    LinearSystem, NewtonOptions, Palc, PalcOptions, Path, PathEvent, PathObserver, PathPoint,
-    PathTermination, PivotKind, RestrictedInertiaError, Semiseparable,
+    BorderedNewton, BorderedPath, Control, Dense, DenseBorderedProblem, DenseMatrix,
+    DensePathProblem, Direction, EventKind, FactorError, Inertia, LinearSystem, NewtonOptions,
+    Palc, PalcOptions, Path, PathEvent, PathObserver, PathPoint, PathTermination, PivotKind,
+    RestrictedInertiaError, Semiseparable,
 };
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;

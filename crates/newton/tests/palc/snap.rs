@@ -59,7 +59,7 @@ fn snap_through_passes_both_folds_and_the_unstable_middle() {
     for theta in [1.0, 0.3, 3.0] {
         let opts = PalcOptions::default().with_theta(theta).unwrap();
         let mut palc = Palc::new(1, opts).unwrap();
-        let mut p = DensePath::new(Snap::new());
+        let mut p = Dense::path(Snap::new());
         let b = palc.branch(
             &mut p,
             &[-1.3],
@@ -122,7 +122,7 @@ fn snap_through_passes_both_folds_and_the_unstable_middle() {
 fn snap_through_backwards_and_natural_end() {
     // from lambda = +1 downwards to -1: the same folds in reverse order
     let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-    let mut p = DensePath::new(Snap::new());
+    let mut p = Dense::path(Snap::new());
     let b = palc.branch(
         &mut p,
         &[1.3],
@@ -175,7 +175,7 @@ fn target_is_landed_on_exactly_whatever_the_steps() {
             .with_steps(initial, 1e-8, max)
             .unwrap();
         let mut palc = Palc::new(1, opts).unwrap();
-        let mut p = DensePath::new(Snap::new());
+        let mut p = Dense::path(Snap::new());
         let b = palc.branch(
             &mut p,
             &[-1.3],
@@ -205,7 +205,7 @@ fn target_is_landed_on_exactly_whatever_the_steps() {
     }
     // a target reached on the unstable middle part
     let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-    let mut p = DensePath::new(Snap::new());
+    let mut p = Dense::path(Snap::new());
     let b = palc.branch(
         &mut p,
         &[0.0],
@@ -223,7 +223,7 @@ fn target_is_landed_on_exactly_whatever_the_steps() {
 #[test]
 fn step_limit_non_finite_and_failed_starts_are_reported() {
     let mut palc = Palc::new(1, PalcOptions::default().with_max_steps(3)).unwrap();
-    let mut p = DensePath::new(Snap::new());
+    let mut p = Dense::path(Snap::new());
     let b = palc.branch(
         &mut p,
         &[-1.3],
@@ -240,7 +240,7 @@ fn step_limit_non_finite_and_failed_starts_are_reported() {
     // NonFinite; nothing non-finite is accepted
     for refuse in [false, true] {
         let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-        let mut p = DensePath::new(Snap { x_max: 0.9, refuse });
+        let mut p = Dense::path(Snap { x_max: 0.9, refuse });
         let b = palc.branch(
             &mut p,
             &[-1.3],
@@ -269,7 +269,7 @@ fn step_limit_non_finite_and_failed_starts_are_reported() {
 
     // a non-finite start
     let mut palc = Palc::new(1, PalcOptions::default()).unwrap();
-    let mut p = DensePath::new(Snap::new());
+    let mut p = Dense::path(Snap::new());
     let b = palc.branch(
         &mut p,
         &[f64::NAN],
@@ -313,7 +313,7 @@ impl DensePathProblem for Pitchfork {
 #[test]
 fn a_branch_point_is_reported_as_a_possible_bifurcation() {
     let mut palc = Palc::new(2, PalcOptions::default()).unwrap();
-    let mut p = DensePath::new(Pitchfork);
+    let mut p = Dense::path(Pitchfork);
     let b = palc.branch(
         &mut p,
         &[0.0, -0.1],

@@ -21,6 +21,8 @@
 //! emitted in Horner form; shared sub-expressions are bound once.
 //!
 //! **Point kernels** (end kinematics) are differentiated directly on the DAG.
+//! On request ([`point_polynomial`]), a point kernel's outputs are also
+//! expanded as polynomials in one parameter and their coefficients emitted.
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
@@ -34,12 +36,15 @@ mod energy;
 mod integral;
 mod moments;
 mod point;
+mod polynomial;
 mod scalar;
 
 use energy::energy_fns;
 use integral::integral_kernel;
 use point::point_kernel;
 use scalar::{law_fn, unscale_fn};
+
+pub use polynomial::{point_polynomial, PolynomialKernel};
 
 /// Why generation failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -56,6 +61,12 @@ pub enum GenError {
         line: usize,
         /// the failure
         source: SymError,
+    },
+    /// A kernel or parameter asked for is not in the spec.
+    #[error("energy spec has no {what}")]
+    Missing {
+        /// what was asked for
+        what: String,
     },
     /// The generated tokens did not form a Rust file (a generator bug).
     #[error("generated code does not parse as Rust: {0}")]

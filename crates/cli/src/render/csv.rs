@@ -1,9 +1,8 @@
-//! Output plumbing of `fpc paper`: tables as CSV (the `csv` crate), numbers
-//! as text, HTML escaping, atomic writes.
+//! The CSV writer: a [`Table`] with a header of its column names, one line
+//! per row, numbers to [`CSV_DIGITS`] significant digits (the `csv` crate
+//! quotes what needs it).
 
-use fpc::studies::{Cell, Table};
-
-pub use crate::output::write_atomic;
+use fpc::report::{Cell, Table};
 
 /// Significant digits of a number in a CSV file: 10, well above what the
 /// model's tolerances resolve and short enough to read.
@@ -69,26 +68,10 @@ pub fn csv(table: &Table) -> anyhow::Result<Vec<u8>> {
     Ok(w.into_inner().map_err(|e| e.into_error())?)
 }
 
-/// Escapes text for HTML and SVG (`&`, `<`, `>`, both quotes).
-pub fn escape(s: &str) -> String {
-    let mut out = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            _ => out.push(c),
-        }
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use fpc::studies::{Column, NOTE, STATUS};
+    use fpc::report::Column;
 
     #[test]
     fn numbers_have_ten_significant_digits() {
@@ -116,21 +99,14 @@ mod tests {
 
     #[test]
     fn csv_quotes_and_blanks() {
-        let mut t = Table::new("t", &[Column::new("d_mm", "mm"), STATUS, NOTE]);
+        let columns = ["d_mm", "status", "note"].map(|n| Column::new(n, ""));
+        let mut t = Table::new("t", &columns);
         t.push(vec![f64::NAN.into(), "ok".into(), "a, \"b\"".into()]);
         t.push_named(vec![("status", "stopped".into())]);
         t.push(vec![Cell::Bool(true), Cell::Empty, "two\nlines".into()]);
         assert_eq!(
             String::from_utf8(csv(&t).unwrap()).unwrap(),
             "d_mm,status,note\n,ok,\"a, \"\"b\"\"\"\n,stopped,\ntrue,,two lines\n"
-        );
-    }
-
-    #[test]
-    fn escaping_covers_quotes() {
-        assert_eq!(
-            escape(r#"<a href="x">'&'</a>"#),
-            "&lt;a href=&quot;x&quot;&gt;&#39;&amp;&#39;&lt;/a&gt;"
         );
     }
 }

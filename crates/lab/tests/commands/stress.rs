@@ -1,27 +1,9 @@
-//! `fpc stress`: the JSON report's keys (the inside and outside of the
+//! `fpc-lab stress`: the JSON report's keys (the inside and outside of the
 //! validity envelope among them), the text summary, and `--case`.
-
-use std::process::{Command, Output};
 
 use serde_json::Value;
 
-fn fpc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-fn ok(what: &str, out: &Output) -> String {
-    let stderr = text(&out.stderr);
-    assert!(out.status.success(), "{what}: {:?}\n{stderr}", out.status);
-    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
-    text(&out.stdout)
-}
+use super::{lab, ok};
 
 fn count(v: &Value, key: &str) -> u64 {
     v[key]
@@ -41,7 +23,7 @@ fn json_reports_the_envelope_and_the_stable_keys() {
         "16",
         "--json",
     ];
-    let out = ok("fpc stress --json", &fpc(&args));
+    let out = ok("fpc-lab stress --json", &lab(&args));
     let v: Value = serde_json::from_str(out.trim()).expect("one JSON object");
     for key in [
         "seed",
@@ -125,7 +107,7 @@ fn json_reports_the_envelope_and_the_stable_keys() {
     // --all-cases lists every case with its classification
     let mut all = args.to_vec();
     all.push("--all-cases");
-    let out = ok("fpc stress --json --all-cases", &fpc(&all));
+    let out = ok("fpc-lab stress --json --all-cases", &lab(&all));
     let w: Value = serde_json::from_str(out.trim()).unwrap();
     let cases = w["cases"].as_array().unwrap();
     assert_eq!(cases.len(), 40);
@@ -144,18 +126,16 @@ fn json_reports_the_envelope_and_the_stable_keys() {
 
 #[test]
 fn text_shows_inside_and_outside_and_a_case_reproduces() {
-    let out = ok(
-        "fpc stress",
-        &fpc(&[
-            "stress",
-            "--seed",
-            "2",
-            "--cases",
-            "12",
-            "--max-elements",
-            "8",
-        ]),
-    );
+    let run = [
+        "stress",
+        "--seed",
+        "2",
+        "--cases",
+        "12",
+        "--max-elements",
+        "8",
+    ];
+    let out = ok("fpc-lab stress", &lab(&run));
     assert!(out.contains("validity envelope"), "{out}");
     assert!(out.contains("  inside: "), "{out}");
     assert!(out.contains("  outside: "), "{out}");
@@ -163,26 +143,16 @@ fn text_shows_inside_and_outside_and_a_case_reproduces() {
     // --case runs one case of the seed, as the run drew it
     let all: Value = serde_json::from_str(
         ok(
-            "fpc stress --json --all-cases",
-            &fpc(&[
-                "stress",
-                "--seed",
-                "2",
-                "--cases",
-                "12",
-                "--max-elements",
-                "8",
-                "--json",
-                "--all-cases",
-            ]),
+            "fpc-lab stress --json --all-cases",
+            &lab(&[&run[..], &["--json", "--all-cases"]].concat()),
         )
         .trim(),
     )
     .unwrap();
     let one: Value = serde_json::from_str(
         ok(
-            "fpc stress --case 5 --json",
-            &fpc(&[
+            "fpc-lab stress --case 5 --json",
+            &lab(&[
                 "stress",
                 "--seed",
                 "2",

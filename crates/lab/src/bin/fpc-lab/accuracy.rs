@@ -1,4 +1,4 @@
-//! `fpc accuracy`: the accuracy-time front of the standard tip-loaded
+//! `fpc-lab accuracy`: the accuracy-time front of the standard tip-loaded
 //! finger over every element model, partition kind and extrapolation
 //! ([`fpc_lab::accuracy`]). Writes accuracy.csv (one row per
 //! configuration), accuracy.json (the whole study) and accuracy.svg (error
@@ -10,12 +10,12 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
-use fpc::studies::{Corner, Figure, Panel, PlotAxis, RefLine, Series, SeriesKind};
+use fpc::report::{Corner, Figure, Panel, PlotAxis, RefLine, Series, SeriesKind};
 use fpc::{ModelId, PartitionKind};
 use fpc_lab::{accuracy_study, AccuracyRow, AccuracyStudy, Convergence, FrontPoint, StudyConfig};
 
-/// Flags of `fpc accuracy`. The budget takes `allow_hyphen_values` (see
-/// `finger::Args`): `-1` is a value for the parser to reject.
+/// Flags of `fpc-lab accuracy`. The budget takes `allow_hyphen_values` (see
+/// the `fpc` binary's `finger` flags): `-1` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Directory for accuracy.csv, accuracy.json and accuracy.svg (created
@@ -189,23 +189,26 @@ fn sci(x: f64) -> String {
 }
 
 fn orders(c: &Convergence) -> String {
-    let o: Vec<String> = c
-        .orders
-        .iter()
-        .map(|x| {
-            if x.is_finite() {
-                format!("{x:.2}")
-            } else {
-                "–".into()
-            }
-        })
-        .collect();
+    let list = |v: &[f64]| -> String {
+        v.iter()
+            .map(|x| {
+                if x.is_finite() {
+                    format!("{x:.2}")
+                } else {
+                    "–".into()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
     format!(
-        "{} {}->{}: {}",
+        "{} {}->{}: {} (X {}; Z {})",
         c.partition.name(),
         c.elements.first().copied().unwrap_or(0),
         c.elements.last().copied().unwrap_or(0),
-        o.join(" ")
+        list(&c.orders),
+        list(&c.orders_x),
+        list(&c.orders_z)
     )
 }
 
@@ -213,25 +216,37 @@ fn orders(c: &Convergence) -> String {
 fn print_tables(study: &AccuracyStudy, out: &mut impl std::io::Write) -> std::io::Result<()> {
     writeln!(
         out,
-        "fpc accuracy ({} build): tip-loaded finger, eps0 = {}, Fx = {} N, Fz = {} N, tip-only, rtol {:e}",
+        "fpc-lab accuracy ({} build): tip-loaded finger, eps0 = {}, Fx = {} N, Fz = {} N, tip-only, rtol {:e}",
         study.build, study.eps0, study.tip_force_n[0], study.tip_force_n[1], study.rtol
     )?;
+    let families: Vec<String> = study
+        .ccm_reference()
+        .families
+        .iter()
+        .map(|f| {
+            format!(
+                "{} -> {} elements",
+                f.elements.first().copied().unwrap_or(0),
+                f.elements.last().copied().unwrap_or(0)
+            )
+        })
+        .collect();
     writeln!(
         out,
-        "references: material partition, {} -> {} elements, every level to rtol {:e}, Richardson from the last two; uncertainty |R(5,6) - R(4,5)|",
-        study.ccm_reference().material.elements.first().copied().unwrap_or(0),
-        study.ccm_reference().material.elements.last().copied().unwrap_or(0),
+        "references: material partition, {}, every level to rtol {:e}, terms h to h^4 removed from the five finest levels of each family; the midpoint, uncertainty the larger of the families' and their gap",
+        families.join(" and "),
         fpc_lab::accuracy::REFERENCE_RTOL
     )?;
     for r in &study.references {
         writeln!(
             out,
-            "  {:<5} tip ({:.6}, {:.6}) mm  uncertainty {} mm (change before: {} mm)  refiner: estimate {} mm, {} mm from the reference",
+            "  {:<5} tip ({:.8}, {:.8}) mm  uncertainty {} mm (families {} mm apart{})  refiner: estimate {} mm, {} mm from the reference",
             r.model.name(),
             r.tip[0],
             r.tip[1],
             sci(r.uncertainty_mm),
-            sci(r.previous_change_mm),
+            sci(r.family_gap_mm),
+            if r.families_agree { "" } else { ", DISAGREEING" },
             r.refiner_estimate_mm.map_or("–".into(), sci),
             sci(r.refiner_offset_mm)
         )?;
@@ -366,7 +381,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     .with_budget(Duration::from_millis(args.budget_ms));
     crate::output::prepare_dir(&args.out)?;
     let study = accuracy_study(&config, |done, total| {
-        crate::report::progress(&format!("fpc accuracy: {done}/{total} steps"));
+        crate::report::progress(&format!("fpc-lab accuracy: {done}/{total} steps"));
     });
     crate::report::end_progress();
     let study = study?;
@@ -377,7 +392,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ));
     }
     let json = serde_json::to_string_pretty(&study)?;
-    let svg = crate::paper::render::svg(&figure(&study))?;
+    let svg = fpc_cli::render::svg::svg(&figure(&study))?;
     crate::output::write_atomic(&args.out, "accuracy.csv", &csv(&study)?)?;
     crate::output::write_atomic(&args.out, "accuracy.json", format!("{json}\n").as_bytes())?;
     crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;

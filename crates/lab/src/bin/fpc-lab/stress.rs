@@ -1,4 +1,4 @@
-//! `fpc stress`: seeded random scenes over a domain wider than the model's
+//! `fpc-lab stress`: seeded random scenes over a domain wider than the model's
 //! validity, each solved, checked independently and classified inside or
 //! outside the validity envelope (`fpc_lab::stress`).
 
@@ -9,8 +9,8 @@ use fpc_lab::{StressCase, StressConfig, StressOutcome, StressReport, Tally};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde_json::{json, Value};
 
-/// Flags of `fpc stress`. Numeric flags take `allow_hyphen_values` (see
-/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
+/// Flags of `fpc-lab stress`. Numeric flags take `allow_hyphen_values` (see
+/// the `fpc` binary's `finger` flags): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Seed of the case generator.
@@ -96,7 +96,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let report = fpc_lab::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
-            crate::report::plain(&format!("fpc stress: {done}/{total} cases"));
+            crate::report::plain(&format!("fpc-lab stress: {done}/{total} cases"));
         }
     });
     bar.finish_and_clear();
@@ -340,7 +340,7 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
     let cfg = &r.config;
     writeln!(
         out,
-        "fpc stress: seed {}, {} of {} cases in {:.1} s (budget {:.0} s{}), fixed N up to {} or auto",
+        "fpc-lab stress: seed {}, {} of {} cases in {:.1} s (budget {:.0} s{}), fixed N up to {} or auto",
         cfg.seed,
         r.cases_run(),
         cfg.cases,
@@ -442,50 +442,45 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
         fpc_lab::FINE_VALIDITY_SAMPLES,
         r.missed_findings()
     )?;
+    let converged = |t: &Tally| format!("{}/{}", t.converged, t.cases);
     let by_n: Vec<String> = r
         .by_elements()
         .iter()
-        .map(|(n, t)| format!("N={n} {}/{}", t.converged, t.cases))
+        .map(|(n, t)| format!("N={n} {}", converged(t)))
         .collect();
-    writeln!(
-        out,
-        "  converged by N                    {}",
-        by_n.join(", ")
-    )?;
     let by_model: Vec<String> = r
         .by_model()
         .iter()
-        .map(|(m, t)| format!("{m} {}/{}", t.converged, t.cases))
+        .map(|(m, t)| format!("{m} {}", converged(t)))
         .collect();
-    writeln!(
-        out,
-        "  converged by model                {}",
-        by_model.join(", ")
-    )?;
-    let defects: Vec<&StressCase> = r.inside_defects().collect();
-    if !defects.is_empty() {
-        writeln!(out)?;
-        writeln!(out, "inside the envelope, not converged cleanly:")?;
-        for c in defects {
-            writeln!(
-                out,
-                "  case {:>4}: {} [{}] | {} | {:.2} s",
-                c.index,
-                c.outcome,
-                c.findings.join(", "),
-                c.inputs,
-                c.seconds
-            )?;
-        }
+    for (by, list) in [("N", by_n), ("model", by_model)] {
+        writeln!(
+            out,
+            "  {:<33} {}",
+            format!("converged by {by}"),
+            list.join(", ")
+        )?;
     }
-    let failures: Vec<&StressCase> = r.failures().filter(|c| !c.inside_envelope).collect();
-    if !failures.is_empty() {
+    let inside: Vec<&StressCase> = r.inside_defects().collect();
+    let outside: Vec<&StressCase> = r.failures().filter(|c| !c.inside_envelope).collect();
+    for (title, cases, with_findings) in [
+        ("inside the envelope, not converged cleanly:", inside, true),
+        ("failures outside the envelope:", outside, false),
+    ] {
+        if cases.is_empty() {
+            continue;
+        }
         writeln!(out)?;
-        writeln!(out, "failures outside the envelope:")?;
-        for c in failures {
+        writeln!(out, "{title}")?;
+        for c in cases {
+            let findings = if with_findings {
+                format!(" [{}]", c.findings.join(", "))
+            } else {
+                String::new()
+            };
             writeln!(
                 out,
-                "  case {:>4}: {} | {} | {:.2} s",
+                "  case {:>4}: {}{findings} | {} | {:.2} s",
                 c.index, c.outcome, c.inputs, c.seconds
             )?;
         }

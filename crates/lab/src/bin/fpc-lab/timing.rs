@@ -1,4 +1,4 @@
-//! `fpc timing`: in-process median solve times for the standard cases
+//! `fpc-lab timing`: in-process median solve times for the standard cases
 //! (default actuator, N = 8, tip-only output), how the tip-loaded solve
 //! scales with N, the time to a tip within 0.01 mm of the N -> infinity
 //! limit, and (with `--peer DIR`) the same cases of an external peer run
@@ -15,8 +15,8 @@ use fpc::{
 };
 use serde::Serialize;
 
-/// Flags of `fpc timing`. Numeric flags take `allow_hyphen_values` (see
-/// `finger::Args`): `-1` or `-inf` is a value for the parser to reject.
+/// Flags of `fpc-lab timing`. Numeric flags take `allow_hyphen_values` (see
+/// the `fpc` binary's `finger` flags): `-1` or `-inf` is a value for the parser to reject.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Print one JSON object instead of tables.
@@ -338,7 +338,7 @@ struct PeerComparison {
     ratio_cold: f64,
     ratio_warm: f64,
     /// The same from each side's fastest round: both in the machine's fast
-    /// phase (the estimator of `fpc accuracy`; docs/performance.md).
+    /// phase (the estimator of `fpc-lab accuracy`; docs/performance.md).
     ratio_cold_fastest: f64,
     ratio_warm_fastest: f64,
     peer_cold_samples_us: Vec<f64>,
@@ -401,7 +401,10 @@ fn peer(dir: &Path, rounds: u32, budget: Duration) -> anyhow::Result<PeerCompari
         fpc_warm_samples_us: Vec::new(),
     };
     for round in 0..rounds {
-        crate::report::progress(&format!("fpc timing --peer: round {}/{rounds}", round + 1));
+        crate::report::progress(&format!(
+            "fpc-lab timing --peer: round {}/{rounds}",
+            round + 1
+        ));
         let (pc, pw) = run_peer(dir)?;
         s.peer_cold_samples_us.push(pc);
         s.peer_warm_samples_us.push(pw);

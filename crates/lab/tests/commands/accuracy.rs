@@ -1,37 +1,30 @@
-//! `fpc accuracy`: runs the built binary and checks what it writes. The
+//! `fpc-lab accuracy`: runs the built binary and checks what it writes. The
 //! full configuration list takes half a minute in a debug build, so the
 //! runs use the hidden `--quick` flag (the reduced list, 2 rounds of 3
 //! runs) and no time budget.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Command, Stdio};
 
 use serde_json::Value;
 
-fn fpc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use super::{lab, ok, text};
 
 /// A fresh directory under the target directory's scratch space.
 fn scratch(name: &str) -> PathBuf {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-accuracy-{name}-{}", std::process::id()));
+        .join(format!("fpc-lab-accuracy-{name}-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     dir
 }
 
-fn ok(what: &str, out: &Output) -> String {
-    let stderr = text(&out.stderr);
-    assert!(out.status.success(), "{what}: {:?}\n{stderr}", out.status);
-    assert!(!stderr.contains("panicked"), "{what}: {stderr}");
-    text(&out.stdout)
+/// The stdout of `fpc-lab accuracy --quick --budget-ms 0 --out DIR` and
+/// `extra` flags.
+fn quick(dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec!["accuracy", "--quick", "--budget-ms", "0", "--out"];
+    args.push(dir.to_str().unwrap());
+    args.extend(extra);
+    ok(&format!("{args:?}"), &lab(&args))
 }
 
 /// Rows per model of the reduced list.
@@ -40,11 +33,7 @@ const ROWS_PER_MODEL: usize = fpc_lab::QUICK_CONFIGURATIONS.len();
 #[test]
 fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
     let dir = scratch("table");
-    let d = dir.to_str().unwrap();
-    let stdout = ok(
-        "accuracy",
-        &fpc(&["accuracy", "--quick", "--budget-ms", "0", "--out", d]),
-    );
+    let stdout = quick(&dir, &[]);
     for part in [
         "references: material partition, 27 -> 864 elements",
         "observed orders",
@@ -107,19 +96,7 @@ fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
 #[test]
 fn accuracy_json_prints_the_study() {
     let dir = scratch("json");
-    let d = dir.to_str().unwrap();
-    let stdout = ok(
-        "accuracy --json",
-        &fpc(&[
-            "accuracy",
-            "--quick",
-            "--json",
-            "--budget-ms",
-            "0",
-            "--out",
-            d,
-        ]),
-    );
+    let stdout = quick(&dir, &["--json"]);
     let printed: Value = serde_json::from_str(&stdout).unwrap();
     let written: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("accuracy.json")).unwrap()).unwrap();
@@ -130,7 +107,7 @@ fn accuracy_json_prints_the_study() {
 
 #[test]
 fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
-    let out = fpc(&["accuracy", "--budget-ms", "-1"]);
+    let out = lab(&["accuracy", "--budget-ms", "-1"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains("--budget-ms"));
 
@@ -139,7 +116,7 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join("x");
     std::fs::write(&file, "x").unwrap();
-    let out = fpc(&["accuracy", "--out", file.to_str().unwrap()]);
+    let out = lab(&["accuracy", "--out", file.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains("not a directory"));
 
@@ -147,7 +124,7 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
     let out = Command::new("sh")
         .arg("-c")
         .arg("exec \"$0\" \"$@\" >&-")
-        .arg(env!("CARGO_BIN_EXE_fpc"))
+        .arg(env!("CARGO_BIN_EXE_fpc-lab"))
         .args(["accuracy", "--quick", "--budget-ms", "0", "--out"])
         .arg(dir.join("out"))
         .stdin(Stdio::null())

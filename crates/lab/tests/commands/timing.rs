@@ -1,23 +1,18 @@
-//! `fpc timing --json`: the keys the issue tracker and docs/performance.md
-//! rely on, and their consistency with each other (times are not checked:
-//! they are measured by benches, not by tests).
-
-use std::process::Command;
+//! `fpc-lab timing --json`: the keys the issue tracker and
+//! docs/performance.md rely on, and their consistency with each other
+//! (times are not checked: they are measured by benches, not by tests).
 
 use serde_json::Value;
 
+use super::{lab, ok};
+
 #[test]
 fn the_json_report_has_the_scaling_and_the_0p01mm_entries() {
-    let out = Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(["timing", "--json", "--budget-ms", "1"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = ok(
+        "fpc-lab timing --json",
+        &lab(&["timing", "--json", "--budget-ms", "1"]),
     );
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v: Value = serde_json::from_str(&out).unwrap();
     // scaling: one row per N, per-iteration time = time / iterations
     let rows = v["scaling"].as_array().unwrap();
     let ns: Vec<u64> = rows
@@ -50,5 +45,6 @@ fn the_json_report_has_the_scaling_and_the_0p01mm_entries() {
     // the N = 8 tip of the standard case (docs/performance.md)
     let t8: Vec<f64> = serde_json::from_value(v["loaded_cold_tip_mm"].clone()).unwrap();
     assert!((t8[0] - 84.182361).abs() < 1e-6 && (t8[1] + 47.566866).abs() < 1e-6);
+    assert_eq!(v["provenance"]["command"][0], "fpc-lab");
     assert_eq!(v["provenance"]["command"][1], "timing");
 }
