@@ -148,7 +148,7 @@ pub enum Warning {
     /// an element beyond the slope limit. `clears_with`: the fewest
     /// elements (the partition halved once or twice) at which the same
     /// grasp has no `element_slope` finding; `None` when `tried` elements
-    /// still have one (the grasp itself leaves the model). A note.
+    /// still have one. A note.
     PartitionAdvice {
         elements: usize,
         clears_with: Option<usize>,
@@ -339,7 +339,7 @@ impl fmt::Display for Warning {
                 tried,
             } => write!(
                 f,
-                "partition.elements = {elements}: the grasp turns an element beyond the slope limit, and still does with {tried} elements: the grasp itself leaves the model, more elements do not fix it"
+                "partition.elements = {elements}: the grasp turns an element beyond the slope limit, and still does with {tried} elements (the most tried): it needs a much finer partition, or bends beyond the model at any"
             ),
             Warning::ElementSlope {
                 element,

@@ -474,6 +474,66 @@ mod tests {
         assert_eq!(sol.elements(), sol.solution().element_lengths.len());
     }
 
+    fn advice(w: &[Warning]) -> Vec<(usize, Option<usize>, usize)> {
+        w.iter()
+            .filter_map(|w| match *w {
+                Warning::PartitionAdvice {
+                    elements,
+                    clears_with,
+                    tried,
+                } => Some((elements, clears_with, tried)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_grasp_too_coarse_for_its_partition_says_how_many_elements_clear_it() {
+        let grasp = |elements: usize| {
+            format!(
+                "[actuator.pemc]\neps0 = 0.4\n[partition]\nelements = {elements}\n[gripper]\nmounting_angle_deg = 70\n\
+                 [gripper.grasp]\nkind = \"cuboid\"\npressure_kpa = 60\nd_mm = 60\nfriction_n = 0.2\n"
+            )
+        };
+        // the default 8 elements turn beyond the slope limit at this grasp
+        let (_, coarse) = grasp_of(&grasp(8));
+        assert!(slope_findings(&coarse.grasp.warnings) > 0);
+        assert_eq!(advice(&coarse.grasp.warnings), [(8, Some(16), 16)]);
+        // the advice holds: the scene solved on its own with 16 elements
+        // has no slope finding (and so no advice)
+        let (_, fine) = grasp_of(&grasp(16));
+        assert_eq!(
+            slope_findings(&fine.grasp.warnings),
+            0,
+            "{:?}",
+            fine.grasp.warnings
+        );
+        assert!(advice(&fine.grasp.warnings).is_empty());
+        // the advice is a note: the grasp reported is the scene's own
+        assert!(!coarse.is_valid());
+        assert!(!Warning::PartitionAdvice {
+            elements: 8,
+            clears_with: None,
+            tried: 32
+        }
+        .is_validity());
+
+        // a 300 mm finger on 4 elements still turns beyond the limit on 16:
+        // the advice says so, and the scene on 16 confirms it
+        let long = |n: usize| {
+            format!(
+                "{LONG}[partition]\nelements = {n}\n[gripper]\n[gripper.grasp]\nkind = \"size\"\npressure_kpa = 0\nd_mm = 100\n"
+            )
+        };
+        let (_, four) = grasp_of(&long(4));
+        assert_eq!(advice(&four.grasp.warnings), [(4, None, 16)]);
+        let (_, sixteen) = grasp_of(&long(16));
+        assert!(slope_findings(&sixteen.grasp.warnings) > 0);
+        // no advice without the finding, nor on an automatic partition
+        let (_, auto) = grasp_of("[partition]\nelements = \"auto\"\n[gripper]\n[gripper.grasp]\n");
+        assert!(advice(&auto.grasp.warnings).is_empty());
+    }
+
     #[test]
     fn auto_partition_of_a_gripper_scene() {
         let fixed = solve(&format!("{LONG}[partition]\nelements = 9\n[gripper]\n"));

@@ -169,8 +169,7 @@ fn verdict_parts(v: &fpc::gripper::Verdict) -> String {
     let findings = match v.findings.len() {
         0 => "inside the model".to_string(),
         n => {
-            let mut kinds: Vec<&str> = v.findings.iter().map(|w| w.kind()).collect();
-            kinds.dedup();
+            let kinds = fpc::studies::validity_kinds(&v.findings);
             format!("{n} finding(s) outside the model ({})", kinds.join(", "))
         }
     };
