@@ -33,8 +33,11 @@ pub fn main<C: clap::Parser>(run: impl FnOnce(C) -> anyhow::Result<()>) -> ! {
         Ok(cli) => run(cli).and_then(|()| output::stdout().flush().map_err(Into::into)),
         Err(e) => usage::<C>(e),
     };
-    if let Err(e) = &result {
-        report::error(e);
+    match &result {
+        // the reader went away (`fpc ... | head`): stop quietly
+        Err(e) if status::reader_gone(e) => {}
+        Err(e) => report::error(e),
+        Ok(()) => {}
     }
     std::process::exit(status::exit_code(&result));
 }
@@ -44,8 +47,7 @@ fn usage<C: clap::Parser>(e: clap::Error) -> anyhow::Result<()> {
     match e.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => {
             output::usable()?;
-            e.print()
-                .map_err(|e| anyhow::anyhow!("cannot write to standard output: {e}"))
+            e.print().map_err(|e| output::cannot_write(e).into())
         }
         ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
             let _ = e.print();

@@ -37,7 +37,7 @@ impl std::io::Write for Stdout {
     }
 }
 
-fn cannot_write(e: std::io::Error) -> std::io::Error {
+pub(crate) fn cannot_write(e: std::io::Error) -> std::io::Error {
     std::io::Error::new(e.kind(), format!("cannot write to standard output: {e}"))
 }
 

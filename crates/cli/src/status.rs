@@ -2,7 +2,7 @@
 //!
 //! | status | when |
 //! | --- | --- |
-//! | 0 | success (help and version included) |
+//! | 0 | success (help and version included); also when the reader of standard output went away (`fpc kernels \| head`): the command stops quietly, as a Unix tool does |
 //! | 1 | a failed solve, a failed study, an I/O failure writing output (a file, stdout), anything else |
 //! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file |
 
@@ -40,9 +40,19 @@ pub fn rejected(msg: impl Into<String>) -> anyhow::Error {
 pub fn exit_code(result: &anyhow::Result<()>) -> i32 {
     match result {
         Ok(()) => SUCCESS,
+        Err(e) if reader_gone(e) => SUCCESS,
         Err(e) if is_rejected_input(e) => REJECTED,
         Err(_) => FAILURE,
     }
+}
+
+/// Whether the run ended because the reader of a pipe went away (EPIPE on
+/// standard output): not an error to report.
+pub fn reader_gone(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// Whether any error in the chain is one of the rejected-input kinds.
@@ -74,7 +84,9 @@ mod tests {
         let wrapped = Err::<(), _>(SolveError::Input(input)).context("scene.toml");
         assert_eq!(exit_code(&wrapped.map_err(|e| e.context("more"))), 2);
         let io = std::io::Error::new(std::io::ErrorKind::BrokenPipe, "closed");
-        assert_eq!(exit_code(&Err(anyhow::Error::new(io))), 1);
+        assert_eq!(exit_code(&Err(anyhow::Error::new(io))), 0);
+        let full = std::io::Error::new(std::io::ErrorKind::StorageFull, "full");
+        assert_eq!(exit_code(&Err(anyhow::Error::new(full))), 1);
         assert_eq!(exit_code(&Err(anyhow::anyhow!("anything else"))), 1);
     }
 }
