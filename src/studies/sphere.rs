@@ -202,6 +202,10 @@ struct Peak {
 struct RegionSummary {
     valid_points: usize,
     dropped_points: usize,
+    /// Sweeps that ended before d_max at the gripper's own limit (status
+    /// `ended` in study5.csv).
+    ended_sweeps: usize,
+    /// Sweeps stopped by a failed solve (status `stopped`).
     stopped_sweeps: usize,
     peak: Option<Peak>,
 }
@@ -245,10 +249,20 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
             false,
         );
     }
-    if !region.stopped.is_empty() {
+    let ended = region
+        .stopped
+        .iter()
+        .filter(|(_, s)| s.is_natural())
+        .count();
+    let failed = region.stopped.len() - ended;
+    if ended > 0 {
         a.notes.push(format!(
-            "{} of the {angle_samples} grasping-angle sweeps stopped before d_max (rows with status 'stopped' in study5.csv)",
-            region.stopped.len(),
+            "{ended} of the {angle_samples} grasping-angle sweeps ended before d_max at the gripper's own limit (rows with status 'ended' in study5.csv)",
+        ));
+    }
+    if failed > 0 {
+        a.notes.push(format!(
+            "{failed} of the {angle_samples} grasping-angle sweeps stopped on a failed solve (rows with status 'stopped' in study5.csv)",
         ));
     }
     for e in &region.envelope {
@@ -261,7 +275,8 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
         sphere_region: Some(RegionSummary {
             valid_points: region.points.len(),
             dropped_points: region.dropped,
-            stopped_sweeps: region.stopped.len(),
+            ended_sweeps: ended,
+            stopped_sweeps: failed,
             peak: peak.map(|p| Peak {
                 r_mm: p.radius,
                 beta_rad: p.beta,

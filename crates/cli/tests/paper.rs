@@ -237,6 +237,58 @@ fn paper_writes_every_file() {
         assert!(rows > 0, "{f} has no rows");
     }
 
+    // the words agree with the data: the sweeps that ended or stopped
+    // early, counted from the CSV rows, are the summary's, the closing
+    // line's and index.html's
+    let mut ended = 0;
+    let mut stopped = 0;
+    let mut ended_study5 = 0;
+    for f in expected_files().iter().filter(|f| f.ends_with(".csv")) {
+        let text = std::fs::read_to_string(dir.join(f)).unwrap();
+        let mut lines = text.lines();
+        let header = fields(lines.next().unwrap());
+        let Some(col) = header.iter().position(|c| c == "status") else {
+            continue;
+        };
+        for line in lines {
+            match fields(line)[col].as_str() {
+                "ended" => {
+                    ended += 1;
+                    ended_study5 += usize::from(f == "study5.csv");
+                }
+                "stopped" => stopped += 1,
+                _ => {}
+            }
+        }
+    }
+    assert_eq!(s["sweep_ends"].as_array().unwrap().len(), ended);
+    assert_eq!(s["sweeps_stopped"].as_array().unwrap().len(), stopped);
+    let region = &s["sphere_region"];
+    assert_eq!(region["ended_sweeps"], ended_study5);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains(&format!(
+            "{ended} sweeps ended at a natural end, {stopped} stopped early"
+        )),
+        "{stdout}"
+    );
+    let index = std::fs::read_to_string(dir.join("index.html")).unwrap();
+    let said = index
+        .split("grasping-angle sweeps ended before d_max")
+        .next()
+        .filter(|_| ended_study5 > 0)
+        .map(|before| before.rsplit('>').next().unwrap().trim().to_string());
+    if let Some(said) = said {
+        assert!(
+            said.starts_with(&format!("{ended_study5} of the ")),
+            "index.html says {said:?}, study5.csv has {ended_study5} ended sweeps"
+        );
+    }
+    assert_eq!(
+        index.contains("grasping-angle sweeps stopped"),
+        region["stopped_sweeps"].as_u64().unwrap() > 0
+    );
+
     // every row that is a grasp says whether it is bent backwards and
     // valid, every grasp or finger state which validity kinds it raises
     let header = |f: &str| {
