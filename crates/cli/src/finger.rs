@@ -170,13 +170,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     };
     let sol = &run.solution;
     // the solution's own findings (the input's were printed above)
-    for w in sol
-        .warnings
-        .iter()
-        .filter(|w| w.is_validity() && !input.contains(w))
-    {
-        crate::report::warning(&w.to_string());
-    }
+    crate::report::warnings(
+        sol.warnings
+            .iter()
+            .filter(|w| w.is_validity() && !input.contains(w)),
+        |w| w.to_string(),
+        "the --json output",
+    );
     let mut out = crate::output::stdout();
     if args.json {
         let v = Json {
@@ -319,13 +319,7 @@ fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std:
         None => writeln!(out, "radius (fit)   none: the finger is straight")?,
     }
     writeln!(out, "energy         {:.6} N mm", sol.energy)?;
-    if let Some(k) = sol.negative_eigenvalues {
-        let verdict = if k == 0 { "stable" } else { "NOT stable" };
-        writeln!(
-            out,
-            "stability      {k} negative Hessian eigenvalue(s) ({verdict})"
-        )?;
-    }
+    crate::solve::stability_line(out, sol)?;
     writeln!(
         out,
         "solver         {} iterations, relative residual {:.2e}, {}",
@@ -337,14 +331,5 @@ fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std:
             "decoupled elements"
         }
     )?;
-    let findings = sol.warnings.iter().filter(|w| w.is_validity()).count();
-    if findings == 0 {
-        writeln!(out, "validity       within the model's limits")?;
-    } else {
-        writeln!(
-            out,
-            "validity       OUTSIDE the model's limits: {findings} finding(s), see the warnings"
-        )?;
-    }
-    Ok(())
+    crate::solve::validity_line(out, sol)
 }

@@ -58,6 +58,62 @@ pub fn warning(msg: &str) {
     line(&format!("{}: warning: ", program()), msg);
 }
 
+/// Findings of one kind beyond this many are summed up in one line.
+pub const WARNINGS_PER_KIND: usize = 2;
+
+/// The warnings, `fpc: warning: ` each, summarised: of a kind with more
+/// than [`WARNINGS_PER_KIND`] findings (one per element, say) only the
+/// worst (furthest past its limit) is written, with how many more there
+/// are; `where_all` says where every one is (the JSON output). `text`
+/// words each warning (the scene's keys, or the library's names).
+pub fn warnings<'a>(
+    all: impl IntoIterator<Item = &'a fpc::Warning>,
+    text: impl Fn(&fpc::Warning) -> String,
+    where_all: &str,
+) {
+    for line in warning_lines(all, text, where_all) {
+        warning(&line);
+    }
+}
+
+fn warning_lines<'a>(
+    all: impl IntoIterator<Item = &'a fpc::Warning>,
+    text: impl Fn(&fpc::Warning) -> String,
+    where_all: &str,
+) -> Vec<String> {
+    let all: Vec<&fpc::Warning> = all.into_iter().collect();
+    let mut kinds: Vec<&str> = Vec::new();
+    for w in &all {
+        if !kinds.contains(&w.kind()) {
+            kinds.push(w.kind());
+        }
+    }
+    let excess = |w: &fpc::Warning| match (w.value(), w.limit()) {
+        (Some(v), Some(l)) => (v - l).abs(),
+        _ => 0.0,
+    };
+    let mut lines = Vec::new();
+    for kind in kinds {
+        let of_kind: Vec<&fpc::Warning> =
+            all.iter().copied().filter(|w| w.kind() == kind).collect();
+        if of_kind.len() <= WARNINGS_PER_KIND {
+            lines.extend(of_kind.iter().map(|w| text(w)));
+            continue;
+        }
+        let worst = of_kind
+            .iter()
+            .copied()
+            .reduce(|a, b| if excess(b) > excess(a) { b } else { a })
+            .unwrap_or(of_kind[0]);
+        lines.push(format!(
+            "{} (the worst of {} {kind} findings; every one in {where_all})",
+            text(worst),
+            of_kind.len()
+        ));
+    }
+    lines
+}
+
 /// `fpc: ` and a note (a study that failed while the others go on).
 pub fn note(msg: &str) {
     line(&format!("{}: ", program()), msg);
@@ -172,6 +228,32 @@ mod tests {
 
     fn len(s: &str) -> usize {
         s.chars().count()
+    }
+
+    #[test]
+    fn many_findings_of_a_kind_are_summed_up_by_the_worst() {
+        let slope = |element, degrees| fpc::Warning::ElementSlope {
+            element,
+            degrees,
+            limit: 45.0,
+        };
+        let fit = fpc::Warning::Eps0OutsideFit {
+            eps0: 0.9,
+            lo: 0.0,
+            hi: 0.6,
+        };
+        let few = [fit.clone(), slope(0, 50.0), slope(1, 47.0)];
+        let lines = warning_lines(&few, |w| w.to_string(), "x.json");
+        assert_eq!(lines.len(), 3);
+        let many = [slope(0, 50.0), fit.clone(), slope(1, 61.0), slope(2, 47.0)];
+        let lines = warning_lines(&many, |w| w.to_string(), "x.json");
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert!(
+            lines[0].starts_with("element 1 turns 61.0 degrees"),
+            "{lines:?}"
+        );
+        assert!(lines[0].ends_with("(the worst of 3 element_slope findings; every one in x.json)"));
+        assert_eq!(lines[1], fit.to_string());
     }
 
     #[test]

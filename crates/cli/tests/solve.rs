@@ -553,3 +553,62 @@ fn a_failed_solve_exits_1() {
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("solve failed"), "{err}");
 }
+
+/// A finger scene says whether it is stable and inside the model, as
+/// `fpc finger` does, and sums up many findings of one kind in one line
+/// while solution.json keeps every one.
+#[test]
+fn a_finger_scene_prints_its_validity_and_sums_up_its_findings() {
+    let tmp = TempDir::new("finger-validity");
+    let scene = tmp.0.join("far.toml");
+    std::fs::write(
+        &scene,
+        "[actuator.pemc]\neps0 = 0.9\n[load]\npressure_kpa = 100\n[solve]\nstability = true\n",
+    )
+    .unwrap();
+    let out = run_ok(fpc().arg("solve").arg(&scene).arg("--out").arg(&tmp.0));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("\nstability      0 negative"), "{stdout}");
+    assert!(
+        stdout.contains("\nvalidity       OUTSIDE the model's limits"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(tmp.0.join("solution.json")).unwrap()).unwrap();
+    let kinds: Vec<&str> = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w["kind"].as_str().unwrap())
+        .collect();
+    let slopes = kinds.iter().filter(|k| **k == "element_slope").count();
+    assert!(slopes > 2, "{kinds:?}");
+    let stderr = text(&out.stderr);
+    let slope_lines: Vec<&str> = stderr.lines().filter(|l| l.contains("degrees")).collect();
+    assert_eq!(slope_lines.len(), 1, "{stderr}");
+    assert!(
+        slope_lines[0].contains(&format!("the worst of {slopes} element_slope findings")),
+        "{stderr}"
+    );
+    // the worst is the largest turn of all
+    let worst = json["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["kind"] == "element_slope")
+        .map(|w| w["value"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    assert!(
+        slope_lines[0].contains(&format!("turns {worst:.1} degrees")),
+        "{stderr}"
+    );
+
+    let plain = run_ok(
+        fpc()
+            .arg("solve")
+            .arg(scenes_dir().join("pressurised.toml"))
+            .arg("--out")
+            .arg(tmp.0.join("p")),
+    );
+    assert!(text(&plain.stdout).contains("\nvalidity       within the model's limits"));
+}

@@ -16,6 +16,7 @@ mod tests;
 
 use figure::shape_figure;
 use report::{shape_csv, solution_file, summary};
+pub(crate) use report::{stability_line, validity_line};
 
 /// Flags of `fpc solve`.
 #[derive(clap::Args, Debug)]
@@ -37,17 +38,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         SceneFile::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let scene = file.resolve().with_context(|| shown.clone())?;
     // notes on the input first: they hold even when the solve fails
-    for w in scene.warnings() {
-        crate::report::warning(&warning_text(w));
-    }
+    crate::report::warnings(scene.warnings(), warning_text, "solution.json");
     let solved = scene.solve().with_context(|| shown.clone())?;
-    for w in solved
-        .warnings()
-        .iter()
-        .filter(|w| !scene.warnings().contains(w))
-    {
-        crate::report::warning(&warning_text(w));
-    }
+    let found = solved.warnings();
+    crate::report::warnings(
+        found.iter().filter(|w| !scene.warnings().contains(w)),
+        warning_text,
+        "solution.json",
+    );
 
     let stem = args
         .scene

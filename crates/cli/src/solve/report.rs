@@ -99,6 +99,8 @@ pub(super) fn summary(
                 None if sol.points.is_empty() => {}
                 None => writeln!(out, "radius (fit)   none: the finger is straight")?,
             }
+            stability_line(out, sol)?;
+            validity_line(out, sol)?;
         }
         SceneSolution::Gripper { gripper, grasp } => {
             writeln!(
@@ -184,4 +186,29 @@ fn verdict_parts(v: &fpc::gripper::Verdict) -> String {
         _ => "continued from the previous grasp".to_string(),
     };
     format!("{rules}; {findings}; {stability}; {path}")
+}
+
+/// `stability` and the count of negative Hessian eigenvalues, when judged.
+pub(crate) fn stability_line(out: &mut impl std::io::Write, sol: &Solution) -> std::io::Result<()> {
+    if let Some(k) = sol.negative_eigenvalues {
+        let verdict = if k == 0 { "stable" } else { "NOT stable" };
+        writeln!(
+            out,
+            "stability      {k} negative Hessian eigenvalue(s) ({verdict})"
+        )?;
+    }
+    Ok(())
+}
+
+/// `validity`: within the model's limits, or how many findings say not.
+pub(crate) fn validity_line(out: &mut impl std::io::Write, sol: &Solution) -> std::io::Result<()> {
+    let findings = sol.warnings.iter().filter(|w| w.is_validity()).count();
+    if findings == 0 {
+        writeln!(out, "validity       within the model's limits")
+    } else {
+        writeln!(
+            out,
+            "validity       OUTSIDE the model's limits: {findings} finding(s), see the warnings"
+        )
+    }
 }
