@@ -154,12 +154,26 @@ fn bad_flags_are_rejected() {
         ("load.fx", "expected KEY=FROM:TO:COUNT"),
         ("load.fx=1:2", "FROM:TO:COUNT"),
         ("load.fx=a", "is not a number"),
-        ("load.nonsense=1,2", "unknown field"),
+        (
+            "load.nonsense=1,2",
+            "--vary load.nonsense: not a numeric scene key: unknown field",
+        ),
+        (
+            "model.name=0:1:3",
+            "--vary model.name: not a numeric scene key: invalid type",
+        ),
+        ("load.fx.y=1,2", "--vary load.fx.y: not a numeric scene key"),
     ] {
         let o = sweep(&scene, &out, &[vary]);
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{vary}: {err}");
         assert!(err.contains(part), "{vary}: {err}");
+        // no line:column of the document fpc wrote for the point
+        assert!(
+            !err.contains(": 1:") && !err.contains(": 5:"),
+            "{vary}: {err}"
+        );
+        assert!(!out.join("sweep.csv").exists(), "{vary}");
     }
     let o = sweep(&scene, &out, &["load.fx=1,2", "load.fx=3"]);
     assert_eq!(o.status.code(), Some(2));
