@@ -28,10 +28,10 @@ fn main() {
     let per_axis = if quick { 41 } else { 101 };
     let req = Requirements::parse(REQUIREMENTS).expect("the bench's requirements parse");
     let t = Instant::now();
-    let d = optimize(&req, &DesignOptions::default());
+    let d = optimize(&req, &DesignOptions::default()).unwrap();
     let t_opt = t.elapsed().as_secs_f64();
     let t = Instant::now();
-    let g = grid_search(&req, per_axis);
+    let g = grid_search(&req, per_axis).unwrap();
     let t_grid = t.elapsed().as_secs_f64();
     println!("inverse design: cuboid 70-100 mm, 0.6 N per finger; eps0 x mounting angle");
     println!(

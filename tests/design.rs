@@ -20,8 +20,8 @@ mounting_angle_deg = [55.0, 90.0]
 #[test]
 fn no_grid_point_beats_the_optimiser_beyond_the_grid_resolution() {
     let req = Requirements::parse(CUBOID).unwrap();
-    let d = optimize(&req, &DesignOptions::default());
-    let grid = grid_search(&req, 11);
+    let d = optimize(&req, &DesignOptions::default()).unwrap();
+    let grid = grid_search(&req, 11).unwrap();
     assert_eq!(grid.evaluated, 121);
     // how much the worst margin can change over one grid step, from the
     // margins' sensitivities at the grid's best point
@@ -150,7 +150,8 @@ fn designs_keep_to_the_design_space_unless_the_file_widens_it() {
             max_iterations: 6,
             ..DesignOptions::default()
         },
-    );
+    )
+    .unwrap();
     assert!(d.best.design[1] >= lo - 1e-12, "{:?}", d.best.design);
 }
 
@@ -164,7 +165,7 @@ fn a_design_far_outside_the_model_is_not_called_feasible_on_invalid_grasps() {
         "[[object]]\nkind = \"cuboid\"\nsize_mm = [90.0, 100.0]\nlift_n = 0.3\n[vary]\neps0 = [0.1, 0.5]\n",
     )
     .unwrap();
-    let d = optimize(&req, &DesignOptions::default());
+    let d = optimize(&req, &DesignOptions::default()).unwrap();
     for m in &d.best.margins {
         if m.requirement.ends_with("lift") && m.margin >= 0.0 {
             assert_eq!(m.valid, Some(true), "{m:?}");
@@ -183,6 +184,46 @@ fn a_design_far_outside_the_model_is_not_called_feasible_on_invalid_grasps() {
 }
 
 #[test]
+fn design_work_is_bounded_before_it_starts() {
+    let req = Requirements::parse(
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [90.0, 100.0]\nlift_n = 0.3\n[vary]\neps0 = [0.1, 0.5]\nmounting_angle_deg = [60.0, 90.0]\noverlap_mm = [0.0, 20.0]\n",
+    )
+    .unwrap();
+    // refused at once: an unbounded run would not return
+    for (opts, field) in [
+        (
+            DesignOptions {
+                random_starts: 100_000_000,
+                ..DesignOptions::default()
+            },
+            "design.random_starts",
+        ),
+        (
+            DesignOptions {
+                ascents: usize::MAX,
+                ..DesignOptions::default()
+            },
+            "design.ascents",
+        ),
+        (
+            DesignOptions {
+                step: f64::NAN,
+                ..DesignOptions::default()
+            },
+            "design.step",
+        ),
+    ] {
+        let e = optimize(&req, &opts).unwrap_err();
+        assert_eq!(e.field(), field, "{e}");
+    }
+    // 3 variables: 101^3 points pass the bound, usize::MAX overflows
+    for per_axis in [101, usize::MAX] {
+        let e = grid_search(&req, per_axis).unwrap_err();
+        assert_eq!(e.field(), "grid.per_axis", "{e}");
+    }
+}
+
+#[test]
 fn an_infeasible_request_names_what_fails() {
     let text = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
@@ -197,7 +238,8 @@ fn an_infeasible_request_names_what_fails() {
             max_iterations: 8,
             ..DesignOptions::default()
         },
-    );
+    )
+    .unwrap();
     assert!(!d.feasible);
     let w = d.best.worst_margin().unwrap();
     assert!(w.margin < 0.0);

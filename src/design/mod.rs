@@ -28,7 +28,10 @@ mod optimize;
 mod reproduce;
 mod requirements;
 
-pub use optimize::{grid_search, optimize, DesignOptions, Designed, GridResult, MarginSensitivity};
+pub use optimize::{
+    grid_search, optimize, DesignOptions, Designed, GridResult, MarginSensitivity, MAX_ASCENTS,
+    MAX_ASCENT_ITERATIONS, MAX_GRID_POINTS, MAX_RANDOM_STARTS,
+};
 pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
     ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary, DEFAULT_DESIGN,

@@ -26,6 +26,8 @@
 
 use serde::Serialize;
 
+use crate::error::{positive, require, InputError};
+
 use super::{
     evaluate, evaluate_with_gradients, Evaluation, MarginGradient, ObjectRequirement, Reproduction,
     Requirements,
@@ -49,6 +51,45 @@ pub struct DesignOptions {
     pub sharpness: f64,
     /// Seed of the random starts.
     pub seed: u64,
+}
+
+/// The most random starts of [`optimize`] (each costs a design evaluation,
+/// a few milliseconds to a second).
+pub const MAX_RANDOM_STARTS: usize = 10_000;
+/// The most ascents of [`optimize`].
+pub const MAX_ASCENTS: usize = 100;
+/// The most iterations per ascent.
+pub const MAX_ASCENT_ITERATIONS: usize = 1_000;
+/// The most grid points of [`grid_search`] in all.
+pub const MAX_GRID_POINTS: usize = 1_000_000;
+
+impl DesignOptions {
+    /// Checks every field against its bound, before any work.
+    pub fn validate(&self) -> Result<(), InputError> {
+        let at_most = |field: &str, v: usize, max: usize| {
+            require(v <= max, field, v as f64, format!("must be at most {max}"))
+        };
+        at_most(
+            "design.random_starts",
+            self.random_starts,
+            MAX_RANDOM_STARTS,
+        )?;
+        at_most("design.ascents", self.ascents, MAX_ASCENTS)?;
+        at_most(
+            "design.max_iterations",
+            self.max_iterations,
+            MAX_ASCENT_ITERATIONS,
+        )?;
+        positive("design.step", self.step)?;
+        require(
+            self.step <= 0.5,
+            "design.step",
+            self.step,
+            "must be at most 0.5 (a fraction of each variable's range)".into(),
+        )?;
+        positive("design.sharpness", self.sharpness)?;
+        Ok(())
+    }
 }
 
 impl Default for DesignOptions {
@@ -274,7 +315,8 @@ fn starts(dim: usize, opts: &DesignOptions) -> Vec<Vec<f64>> {
 }
 
 /// The design with the largest worst-case margin (module docs).
-pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
+pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, InputError> {
+    opts.validate()?;
     let act = active(req);
     let dim = act.len();
     let mut c = Counter {
@@ -362,19 +404,32 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Designed {
         _ => None,
     };
     d.feasible = d.failure.is_none() && d.best.feasible();
-    d
+    Ok(d)
 }
 
 /// Every point of a grid of `per_axis` values per varied variable (both
 /// bounds included); the best by worst margin.
-pub fn grid_search(req: &Requirements, per_axis: usize) -> GridResult {
+pub fn grid_search(req: &Requirements, per_axis: usize) -> Result<GridResult, InputError> {
     let act = active(req);
     let n = per_axis.max(2);
+    let total = u32::try_from(act.len())
+        .ok()
+        .and_then(|k| n.checked_pow(k))
+        .filter(|&t| t <= MAX_GRID_POINTS);
+    let Some(total) = total else {
+        return Err(InputError::OutOfRange {
+            field: "grid.per_axis".into(),
+            value: per_axis as f64,
+            rule: format!(
+                "gives more than {MAX_GRID_POINTS} points over {} variables",
+                act.len()
+            ),
+        });
+    };
     let mut c = Counter {
         req,
         evaluations: 0,
     };
-    let total = n.pow(act.len() as u32);
     let mut best: Option<Evaluation> = None;
     for idx in 0..total {
         let mut r = idx;
@@ -394,11 +449,11 @@ pub fn grid_search(req: &Requirements, per_axis: usize) -> GridResult {
     for &(i, lo, hi) in &act {
         resolution[i] = (hi - lo) / (n - 1) as f64;
     }
-    GridResult {
+    Ok(GridResult {
         best: best.unwrap_or_else(|| c.eval(&[])),
         evaluated: c.evaluations,
         resolution,
-    }
+    })
 }
 
 impl Designed {

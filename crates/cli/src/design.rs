@@ -30,7 +30,8 @@ pub struct Args {
     /// Print one JSON object instead of the summary.
     #[arg(long)]
     json: bool,
-    /// Random starts of the optimiser besides the centre and the corners.
+    /// Random starts of the optimiser besides the centre and the corners
+    /// (at most 10000).
     #[arg(long, default_value_t = 2)]
     starts: usize,
 }
@@ -228,13 +229,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-design")));
-    crate::output::prepare_dir(&out)?;
-    crate::report::progress("fpc design: optimising");
     let opts = DesignOptions {
         random_starts: args.starts,
         ..DesignOptions::default()
     };
-    let d = optimize(&req, &opts);
+    // bounded before the output directory or any work
+    opts.validate().map_err(|e| {
+        crate::status::rejected(format!(
+            "--starts = {}: {}",
+            args.starts,
+            e.to_string().split_once(": ").map_or("", |(_, r)| r)
+        ))
+    })?;
+    crate::output::prepare_dir(&out)?;
+    crate::report::progress("fpc design: optimising");
+    let d = optimize(&req, &opts)?;
     crate::report::end_progress();
     // the claim, evaluated once more from scratch
     let again = evaluate(&req, d.best.design);

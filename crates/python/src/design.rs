@@ -18,7 +18,8 @@ use crate::finger::scene_text;
 /// - ``requirements``: TOML text or a path to a requirements file (the keys
 ///   of ``fpc design``, README "Inverse design");
 /// - ``starts``: random starts of the optimiser besides the centre and the
-///   corners of the bounds; ``seed`` seeds them.
+///   corners of the bounds (at most 10000, else ``InputError``); ``seed``
+///   seeds them.
 ///
 /// Returns a dict: ``feasible``, ``best`` (``design`` as ``[eps0,
 /// mounting_angle_deg, overlap_mm]``, ``margins`` per requirement with
@@ -50,10 +51,11 @@ pub fn design<'py>(
         ..DesignOptions::default()
     };
     let (found, scenes) = detached(py, || {
-        let found = optimize(&req, &opts);
+        let found = optimize(&req, &opts)?;
         let scenes = found.scenes(&req);
-        (found, scenes)
-    })?;
+        Ok::<_, fpc::InputError>((found, scenes))
+    })?
+    .map_err(|e| from_input(py, &e))?;
     let d = to_py(py, &found)?.cast_into::<PyDict>()?;
     let list = pyo3::types::PyList::empty(py);
     for (name, toml) in scenes {

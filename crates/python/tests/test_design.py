@@ -50,3 +50,7 @@ def test_bad_requirements_raise_the_documented_errors(tmp_path):
     with pytest.raises(fpc.InputError) as e:
         fpc.design(p)
     assert "lift_n" in e.value.field
+    # bounded before any work: 10**8 starts would run for days
+    with pytest.raises(fpc.InputError) as e:
+        fpc.design(CUBOID, starts=10**8)
+    assert e.value.field == "design.random_starts"
