@@ -39,10 +39,10 @@ use serde::Serialize;
 
 use crate::actuator::Actuator;
 use crate::blocks::Partition;
-use crate::error::SolveError;
 use crate::finger::{Finger, Load, SolveOptions};
 use crate::gripper::{Gripper, GripperParams, Object, PalmSpec};
 use crate::sensitivity::{ActuatorParam, GraspKind, GripperParam};
+use crate::solve_error::SolveError;
 
 /// Widths sampled per cuboid requirement.
 pub const CUBOID_SAMPLES: usize = 5;

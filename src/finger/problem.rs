@@ -9,13 +9,15 @@
 use crate::actuator::Actuator;
 use crate::blocks::{distinct_elements, element_blocks, Partition};
 use crate::element::Element;
-use crate::error::{SolveError, Warning};
+use crate::error::Warning;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
+use crate::solve_error::SolveError;
 
 use super::chain::Chain;
 use super::curve::{Affine2, PolyCurve};
 use super::solver::SolverCore;
-use super::{Coefficients, FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
+use super::{FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
+use crate::coefficients::Coefficients;
 
 /// The elements of a finger for model `M`.
 #[derive(Debug, Clone)]
@@ -162,10 +164,7 @@ impl<M: ElementModel> FingerCore<M> {
             .enumerate()
             .map(|(i, v)| v * self.unscale[i / n][i % n])
             .collect();
-        Coefficients {
-            per_element: n,
-            values,
-        }
+        Coefficients::from_parts(n, values)
     }
 }
 

@@ -33,9 +33,10 @@
 use std::fmt;
 
 use crate::actuator::Actuator;
-use crate::error::{InputError, SolveError};
+use crate::error::InputError;
 use crate::finger::{Load, Solution};
 use crate::gripper::{contact_force_to_gripper, gripper_force_to_finger, Grasp, Gripper, PalmSpec};
+use crate::solve_error::SolveError;
 
 use super::{ActuatorParam, Param, Sensitivities, Sensitivity};
 

@@ -39,8 +39,9 @@ pub use gripper::{
 pub use params::{ActuatorParam, Elastic, Lamina, Param};
 
 use crate::actuator::Actuator;
-use crate::error::SolveError;
-use crate::finger::{Coefficients, Finger, Load, Solution, TargetProblem};
+use crate::coefficients::Coefficients;
+use crate::finger::{Finger, Load, Solution, TargetProblem};
+use crate::solve_error::SolveError;
 
 /// The derivatives of an equilibrium's outputs with respect to one
 /// parameter, per unit of the parameter's key.
