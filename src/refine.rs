@@ -49,11 +49,11 @@
 use serde::Serialize;
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
 use crate::coefficients::Coefficients;
 use crate::error::{positive, require, InputError, Warning};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
+use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
 /// Largest number of elements a refinement uses.

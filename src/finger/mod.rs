@@ -24,10 +24,10 @@ mod target;
 use std::sync::Arc;
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
 use crate::coefficients::Coefficients;
 use crate::error::{finite, positive, InputError, Warning};
 use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
+use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
 pub use curve::{Affine2, PolyCurve};

@@ -6,11 +6,13 @@
 //! the Newton system sees dimensionless strains; `unscale[i]` holds, per
 //! element, the raw value of one scaled unit of each unknown.
 
+use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
-use crate::blocks::{distinct_elements, element_blocks, Partition};
+use crate::element::distinct_elements;
 use crate::element::Element;
 use crate::error::Warning;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
+use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
 use super::chain::Chain;

@@ -28,12 +28,12 @@ use fpc_newton::PathTermination;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
 use crate::coefficients::Coefficients;
 use crate::error::{finite, positive, require, InputError, Warning};
 use crate::finger::{
     Finger, Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
 };
+use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
 pub use frames::{

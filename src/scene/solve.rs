@@ -3,11 +3,11 @@
 //! gripper and solves its grasp. [`SceneSolution`] and [`GraspOutcome`]
 //! hold the results.
 
-use crate::blocks::Partition;
 use crate::error::Warning;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
+use crate::partition::Partition;
 use crate::refine::{solve_auto, solve_to_tip_tolerance};
 use crate::solve_error::SolveError;
 

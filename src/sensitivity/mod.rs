@@ -36,7 +36,7 @@ pub use gripper::{
     GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
     SizeSensitivity,
 };
-pub use params::{ActuatorParam, Elastic, Lamina, Param};
+pub use params::Param;
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
