@@ -5,7 +5,9 @@
 //! so they are accumulated once; each Newton iteration then costs one call
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
-use crate::model::{ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams};
+use crate::model::{
+    ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector,
+};
 
 /// The blocks of one element, each in the parameter struct of the model's
 /// integral family it feeds (a negative width subtracts a box: the channel
@@ -136,4 +138,31 @@ impl<M: ElementModel> Element<M> {
             [xe, ze, 1.0, 0.0]
         }
     }
+}
+
+/// Element `i`'s raw unknowns from the flat unknowns `k` of a finger.
+#[inline]
+pub(crate) fn coeffs<M: ElementModel>(k: &[f64], i: usize) -> M::Coeffs {
+    let n = M::Coeffs::LEN;
+    M::Coeffs::from_fn(|j| k[n * i + j])
+}
+
+/// Each element's frame at its root: its position and (cos, sin) of its
+/// angle, for the raw unknowns `k` of the chain of `elements` (chained by
+/// rotation, no trigonometric calls).
+pub(crate) fn frames<M: ElementModel>(
+    elements: &[Element<M>],
+    k: &[f64],
+) -> Vec<([f64; 2], [f64; 2])> {
+    let mut out = Vec::with_capacity(elements.len());
+    let mut p = [0.0, 0.0];
+    let (mut c, mut s) = (1.0, 0.0);
+    for (i, e) in elements.iter().enumerate() {
+        out.push((p, [c, s]));
+        let [xe, ze, ce, se] = e.frame(&coeffs::<M>(k, i));
+        p[0] += c * xe - s * ze;
+        p[1] += s * xe + c * ze;
+        (c, s) = (c * ce - s * se, s * ce + c * se);
+    }
+    out
 }

@@ -481,7 +481,7 @@ impl Actuator {
             });
         }
         // a validity finding, not an error: the strip may still be solved
-        warnings.extend(crate::validity::thickness(g));
+        warnings.extend(crate::validity::thickness(g.h, g.lx, g.ly));
         Ok(Actuator {
             params,
             ribs,

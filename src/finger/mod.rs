@@ -303,10 +303,18 @@ pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
     fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64>;
     fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
     fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a>;
-    fn sensitivities(
-        &self,
-        request: &crate::sensitivity::Request<'_>,
-    ) -> Result<crate::sensitivity::Sensitivities, SolveError>;
+    /// The typed core ([`Finger::visit_core`]).
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+/// Something done with a finger's model-typed core (the way
+/// [`Finger::visit_core`] hands it to generic code above the finger, such
+/// as the sensitivities).
+pub(crate) trait CoreVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Runs with the core of model `M`.
+    fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> Self::Output;
 }
 
 /// A model-specific solver workspace, behind a trait object.
@@ -431,9 +439,26 @@ impl Finger {
         Ok(Finger::new(&act, &part, true))
     }
 
-    /// The model-specific core (for `crate::sensitivity`).
-    pub(crate) fn core(&self) -> &dyn FingerDyn {
-        &*self.core
+    /// Runs `visitor` with the finger's model-typed core.
+    pub(crate) fn visit_core<V: CoreVisitor>(&self, visitor: V) -> V::Output {
+        struct Typed<'a, V> {
+            core: &'a dyn std::any::Any,
+            visitor: V,
+        }
+        impl<V: CoreVisitor> ModelVisitor for Typed<'_, V> {
+            type Output = V::Output;
+            fn visit<M: ElementModel>(self) -> V::Output {
+                let core = self
+                    .core
+                    .downcast_ref::<FingerCore<M>>()
+                    .expect("a finger's core is of the finger's model");
+                self.visitor.visit(core)
+            }
+        }
+        self.core.model().visit(Typed {
+            core: self.core.as_any(),
+            visitor,
+        })
     }
 
     /// The element model.

@@ -79,11 +79,19 @@ impl<M: ElementModel> FingerCore<M> {
         self.elements.len()
     }
 
+    /// The cross-section the validity checks read.
+    pub fn laminate(&self) -> crate::validity::Laminate {
+        crate::validity::Laminate {
+            pemc_z: self.pemc_z,
+            eps0: self.eps0,
+            thickness: self.thickness,
+        }
+    }
+
     /// Element `i`'s raw unknowns from a flat slice.
     #[inline]
     pub fn element_coeffs(k: &[f64], i: usize) -> M::Coeffs {
-        let n = M::Coeffs::LEN;
-        M::Coeffs::from_fn(|j| k[n * i + j])
+        crate::element::coeffs::<M>(k, i)
     }
 
     /// Tip position at raw coefficients, chaining element frames by
@@ -119,17 +127,7 @@ impl<M: ElementModel> FingerCore<M> {
     /// Element `i`'s frame at the root: its position and (cos, sin) of
     /// its angle, for every element, from raw coefficients.
     pub fn frames(&self, k: &[f64]) -> Vec<([f64; 2], [f64; 2])> {
-        let mut out = Vec::with_capacity(self.len());
-        let mut p = [0.0, 0.0];
-        let (mut c, mut s) = (1.0, 0.0);
-        for (i, e) in self.elements.iter().enumerate() {
-            out.push((p, [c, s]));
-            let [xe, ze, ce, se] = e.frame(&Self::element_coeffs(k, i));
-            p[0] += c * xe - s * ze;
-            p[1] += s * xe + c * ze;
-            (c, s) = (c * ce - s * se, s * ce + c * se);
-        }
-        out
+        crate::element::frames(&self.elements, k)
     }
 
     /// Mid-plane samples from the root (included) to the tip.
@@ -284,7 +282,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
     }
 
     fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
-        crate::validity::check(self, k.as_slice(), samples).0
+        crate::validity::check(&self.elements, &self.laminate(), k.as_slice(), samples).0
     }
 
     fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
@@ -309,11 +307,8 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         Box::new(SolverCore::new(self, warnings))
     }
 
-    fn sensitivities(
-        &self,
-        request: &crate::sensitivity::Request<'_>,
-    ) -> Result<crate::sensitivity::Sensitivities, SolveError> {
-        crate::sensitivity::compute(self, request)
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

@@ -428,7 +428,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let f = self.finger;
         let k = self.coefficients();
         let tip = f.tip_position(k.as_slice());
-        let (found, end_angle) = crate::validity::check(f, k.as_slice(), VALIDITY_SAMPLES);
+        let (found, end_angle) =
+            crate::validity::check(&f.elements, &f.laminate(), k.as_slice(), VALIDITY_SAMPLES);
         // a coupled Newton solve already knows Pi at its final point
         let energy = self
             .final_energy

@@ -30,7 +30,7 @@ mod envelope;
 mod gripper;
 mod params;
 
-pub(crate) use compute::{compute, Request, State};
+use compute::{compute, Request, State};
 pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
 pub use gripper::{
     GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
@@ -40,7 +40,8 @@ pub use params::Param;
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
-use crate::finger::{Finger, Load, Solution, TargetProblem};
+use crate::finger::{CoreVisitor, Finger, FingerCore, Load, Solution, TargetProblem};
+use crate::model::ElementModel;
 use crate::solve_error::SolveError;
 
 /// The derivatives of an equilibrium's outputs with respect to one
@@ -93,6 +94,16 @@ impl Sensitivities {
     }
 }
 
+/// The sensitivities of a request, with the finger's typed core.
+struct Compute<'a>(&'a Request<'a>);
+
+impl CoreVisitor for Compute<'_> {
+    type Output = Result<Sensitivities, SolveError>;
+    fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> Self::Output {
+        compute(core, self.0)
+    }
+}
+
 /// Largest relative residual `||grad Pi||_inf / stiffness` accepted as an
 /// equilibrium (the solver's default tolerance is 1e-11).
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
@@ -114,12 +125,12 @@ impl Finger {
         load: &Load,
         params: &[Param],
     ) -> Result<Sensitivities, SolveError> {
-        self.core().sensitivities(&Request {
+        self.visit_core(Compute(&Request {
             actuator,
             coefficients: &solution.coefficients,
             state: State::Load(load),
             params,
-        })
+        }))
     }
 
     /// The sensitivities of a target solve's equilibrium ([`crate::Solver::solve_target`]
@@ -137,11 +148,11 @@ impl Finger {
         lambda: f64,
         params: &[Param],
     ) -> Result<Sensitivities, SolveError> {
-        self.core().sensitivities(&Request {
+        self.visit_core(Compute(&Request {
             actuator,
             coefficients: &solution.coefficients,
             state: State::Target { problem, lambda },
             params,
-        })
+        }))
     }
 }
