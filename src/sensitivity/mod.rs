@@ -7,8 +7,8 @@
 //! factorisation, then one `O(N)` solve per parameter. The right-hand
 //! sides are exact:
 //!
-//! - an actuator parameter moves the blocks (`src/blocks.rs`,
-//!   [`element_block_tangents`]); each integral family's energy is linear
+//! - an actuator parameter moves the blocks (`src/actuator/tangent.rs`,
+//!   `element_block_tangents`); each integral family's energy is linear
 //!   in its moments, so `d(grad Pi)/dp` is the model's own gradient kernel
 //!   evaluated at the moments' derivative, which the generated
 //!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangent`], ...);
