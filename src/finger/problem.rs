@@ -1,6 +1,6 @@
 //! The elements of one finger, for one element model: energy, tip, shape
-//! and the raw-coefficient derivatives, and the bridge to the erased
-//! [`Finger`](super::Finger).
+//! and the raw-coefficient derivatives, and what a
+//! [`Finger`](super::Finger) asks of them for its model.
 //!
 //! Unknowns are scaled per element by the model (`scaled` in the spec), so
 //! the Newton system sees dimensionless strains; `unscale[i]` holds, per
@@ -13,12 +13,10 @@ use crate::element::Element;
 use crate::error::Warning;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
 use crate::partition::Partition;
-use crate::solve_error::SolveError;
 
 use super::chain::Chain;
 use super::curve::{Affine2, PolyCurve};
-use super::solver::SolverCore;
-use super::{FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
+use super::Load;
 use crate::coefficients::Coefficients;
 
 /// The elements of a finger for model `M`.
@@ -168,50 +166,51 @@ impl<M: ElementModel> FingerCore<M> {
     }
 }
 
-impl<M: ElementModel> FingerDyn for FingerCore<M> {
-    fn model(&self) -> ModelId {
+/// What a [`Finger`](super::Finger) asks of its core, for its model.
+impl<M: ElementModel> FingerCore<M> {
+    pub fn model(&self) -> ModelId {
         ModelId::from_name(M::NAME).unwrap_or_default()
     }
 
-    fn unknowns(&self) -> usize {
+    pub fn unknowns(&self) -> usize {
         M::Coeffs::LEN
     }
 
-    fn lengths(&self) -> &[f64] {
+    pub fn lengths(&self) -> &[f64] {
         &self.lengths
     }
 
-    fn width(&self) -> f64 {
+    pub fn width(&self) -> f64 {
         self.width
     }
 
-    fn stiffness(&self) -> f64 {
+    pub fn stiffness(&self) -> f64 {
         self.stiffness
     }
 
-    fn unscale(&self) -> Vec<f64> {
+    pub fn unscale(&self) -> Vec<f64> {
         self.unscale
             .iter()
             .flat_map(|s| s.as_ref().to_vec())
             .collect()
     }
 
-    fn energy(&self, load: &Load, k: &Coefficients) -> f64 {
+    pub fn energy(&self, load: &Load, k: &Coefficients) -> f64 {
         self.energy_raw(load, k.as_slice())
     }
 
-    fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
+    pub fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
         let angle = (0..self.len())
             .map(|i| self.elements[i].end(&Self::element_coeffs(k.as_slice(), i))[2])
             .sum();
         (self.tip_position(k.as_slice()), angle)
     }
 
-    fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
+    pub fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
         self.shape_raw(k.as_slice(), per_element)
     }
 
-    fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve> {
+    pub fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve> {
         let k = k.as_slice();
         self.frames(k)
             .into_iter()
@@ -224,7 +223,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
             .collect()
     }
 
-    fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
+    pub fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         let y = self.scaled(k.as_slice());
@@ -237,7 +236,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         (v, g)
     }
 
-    fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
+    pub fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         let y = self.scaled(k.as_slice());
@@ -257,7 +256,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         (v, g, h)
     }
 
-    fn element_hessian(
+    pub fn element_hessian(
         &self,
         element: usize,
         family: Option<usize>,
@@ -276,16 +275,16 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         Some((v, g.as_ref().to_vec(), h.as_ref().to_vec()))
     }
 
-    fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
+    pub fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
         let e = self.elements.get(element)?;
         (k.len() == M::Coeffs::LEN).then(|| e.end(&Self::element_coeffs(k, 0)))
     }
 
-    fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
+    pub fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
         crate::validity::check(&self.elements, &self.laminate(), k.as_slice(), samples).0
     }
 
-    fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
+    pub fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.len() * per_element);
         for (i, e) in self.elements.iter().enumerate() {
             let ki = Self::element_coeffs(k.as_slice(), i);
@@ -297,73 +296,9 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         out
     }
 
-    fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
+    pub fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         Box::new(chain)
-    }
-
-    fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
-        Box::new(SolverCore::new(self, warnings))
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-}
-
-impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
-    fn solve(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<Solution, SolveError> {
-        SolverCore::solve(self, load, guess, opts)
-    }
-
-    fn solve_tip(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<super::solver::TipSolve, SolveError> {
-        SolverCore::solve_tip(self, load, guess, opts)
-    }
-
-    fn trust_start(&mut self, on: bool) {
-        self.trusted_start = on;
-    }
-
-    fn solve_target(
-        &mut self,
-        problem: &TargetProblem,
-        guess: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<(Solution, f64), SolveError> {
-        SolverCore::solve_target(self, problem, guess, lambda0, ctol_mm, opts)
-    }
-
-    fn trace_target(
-        &mut self,
-        problem: &TargetProblem,
-        start: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<super::Traced, SolveError> {
-        SolverCore::trace_target(self, problem, start, lambda0, ctol_mm, opts)
-    }
-
-    fn follow_load(
-        &mut self,
-        spec: &super::LoadPathSpec,
-        guess: &Coefficients,
-        opts: &SolveOptions,
-        visit: &mut dyn FnMut(&super::LoadPoint<'_>) -> bool,
-    ) -> Result<super::LoadPath, SolveError> {
-        SolverCore::follow_load(self, spec, guess, opts, visit)
     }
 }
