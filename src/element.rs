@@ -1,11 +1,46 @@
-//! One element of a finger: its blocks folded into the model's moments.
+//! One element of a finger: its integration blocks (docs/model.md section
+//! 4.4) folded into the model's moments.
 //!
 //! The moments depend only on the scene (geometry, materials, prestrain),
 //! so they are accumulated once; each Newton iteration then costs one call
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
-use crate::blocks::ElementBlocks;
-use crate::model::{ElementModel, EnergyScalars};
+use crate::model::{
+    ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector,
+};
+
+/// The blocks of one element, each in the parameter struct of the model's
+/// integral family it feeds (a negative width subtracts a box: the channel
+/// from the fluidic layer, a rib from the gas volume). Two elements with
+/// equal `ElementBlocks` (compared exactly) have the same energy function.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct ElementBlocks {
+    /// Undeformed length L_i.
+    pub length: f64,
+    /// CL, regular EMC, whole fluidic layer, then the channel (negative
+    /// width), then the ribs (fluidic material) if enabled.
+    pub linear: Vec<LinearParams>,
+    /// The prestressed layer.
+    pub prestressed: Vec<PrestressedParams>,
+    /// The channel (positive width), then the ribs (negative width) if
+    /// enabled. Empty where the element has no channel.
+    pub gas: Vec<GasParams>,
+}
+
+/// For each element, the index of the first element with identical
+/// blocks (itself if none before it matches). Elements that map to the
+/// same index have the same energy and, without tip loads, the same
+/// equilibrium, so they can be solved once.
+pub(crate) fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
+    let mut first = Vec::with_capacity(blocks.len());
+    for (i, b) in blocks.iter().enumerate() {
+        let j = (0..i)
+            .find(|&j| first[j] == j && blocks[j] == *b)
+            .unwrap_or(i);
+        first.push(j);
+    }
+    first
+}
 
 /// An element ready for evaluation with model `M`.
 #[derive(Debug, Clone, PartialEq)]
@@ -103,4 +138,31 @@ impl<M: ElementModel> Element<M> {
             [xe, ze, 1.0, 0.0]
         }
     }
+}
+
+/// Element `i`'s raw unknowns from the flat unknowns `k` of a finger.
+#[inline]
+pub(crate) fn coeffs<M: ElementModel>(k: &[f64], i: usize) -> M::Coeffs {
+    let n = M::Coeffs::LEN;
+    M::Coeffs::from_fn(|j| k[n * i + j])
+}
+
+/// Each element's frame at its root: its position and (cos, sin) of its
+/// angle, for the raw unknowns `k` of the chain of `elements` (chained by
+/// rotation, no trigonometric calls).
+pub(crate) fn frames<M: ElementModel>(
+    elements: &[Element<M>],
+    k: &[f64],
+) -> Vec<([f64; 2], [f64; 2])> {
+    let mut out = Vec::with_capacity(elements.len());
+    let mut p = [0.0, 0.0];
+    let (mut c, mut s) = (1.0, 0.0);
+    for (i, e) in elements.iter().enumerate() {
+        out.push((p, [c, s]));
+        let [xe, ze, ce, se] = e.frame(&coeffs::<M>(k, i));
+        p[0] += c * xe - s * ze;
+        p[1] += s * xe + c * ze;
+        (c, s) = (c * ce - s * se, s * ce + c * se);
+    }
+    out
 }

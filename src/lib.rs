@@ -21,43 +21,47 @@
 //! ```
 
 mod actuator;
-mod blocks;
+mod brent;
+mod circle_fit;
+mod coefficients;
 pub mod design;
 mod element;
 mod error;
 mod finger;
-mod fit;
 pub mod model;
+mod partition;
 mod refine;
-mod search;
 mod sensitivity;
-mod ser;
+mod solve_error;
 mod validity;
 
 pub use actuator::{
-    Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
-    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_GENERATED_RIBS,
+    Actuator, ActuatorParam, ActuatorParams, Channel, Elastic, Geometry, Isotropic, Lamina, Layer,
+    Material, Orthotropic, PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE,
+    MAX_GENERATED_RIBS,
 };
-pub use blocks::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
-pub use error::{InputError, SolveError, StripDimension, Warning};
+pub use circle_fit::{fit_circle, Circle};
+pub use coefficients::Coefficients;
+pub use error::{InputError, StripDimension, Warning};
 pub use finger::{
-    input_warnings, Affine2, Coefficients, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint,
-    PolyCurve, Problem, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetFold,
-    TargetProblem, Traced, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
+    input_warnings, Affine2, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint, PolyCurve,
+    Problem, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetFold, TargetProblem,
+    Traced, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
 };
-pub use fit::{fit_circle, Circle};
 pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
+pub use partition::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
 pub use refine::{
     refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
     Refinement, Refiner, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
     MAX_REFINED_ELEMENTS,
 };
 pub use sensitivity::{
-    ActuatorParam, Elastic, EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity,
-    GraspKind, GraspSensitivities, GraspSensitivity, GripperParam, Lamina, Param, Sensitivities,
-    Sensitivity, SizeSensitivity, ENVELOPE_STATIONARITY, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE,
+    EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity, GraspKind, GraspSensitivities,
+    GraspSensitivity, GripperParam, Param, Sensitivities, Sensitivity, SizeSensitivity,
+    ENVELOPE_STATIONARITY, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE,
 };
+pub use solve_error::SolveError;
 pub use validity::{
     CONTACT_SPACING, MAX_CONTACT_SAMPLES, MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE,
     SLOPE_LIMIT_DEG, THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT,

@@ -253,4 +253,11 @@ impl std::fmt::Display for ModelId {
     }
 }
 
+impl serde::Serialize for ModelId {
+    /// The model's name (`ccm`, `quad`, ...).
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
 include!(concat!(env!("OUT_DIR"), "/models.rs"));

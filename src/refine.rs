@@ -49,10 +49,12 @@
 use serde::Serialize;
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::{positive, require, InputError, SolveError, Warning};
-use crate::finger::{Coefficients, Finger, Load, Solution, SolveOptions};
+use crate::coefficients::Coefficients;
+use crate::error::{positive, require, InputError, Warning};
+use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
 
 /// Largest number of elements a refinement uses.
 pub const MAX_REFINED_ELEMENTS: usize = 1000;

@@ -10,10 +10,21 @@
 
 use std::f64::consts::PI;
 
-use crate::actuator::Geometry;
+use crate::element::{self, Element};
 use crate::error::{StripDimension, Warning};
-use crate::finger::FingerCore;
 use crate::model::ElementModel;
+
+/// What the checks read of a finger besides its elements: the laminate's
+/// cross-section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Laminate {
+    /// The prestressed layer's z range (mm).
+    pub pemc_z: (f64, f64),
+    /// The prestressed layer's prestrain.
+    pub eps0: f64,
+    /// The total thickness H (mm; self contact).
+    pub thickness: f64,
+}
 
 /// The CCM's small-slope limit: `|dw/dx| < 1` in the element's frame, a
 /// tangent turned at most 45 degrees from the element's root tangent.
@@ -68,25 +79,27 @@ pub(crate) fn contact_turning() -> f64 {
     2.0 * (2.0 / PI).acos()
 }
 
-/// The thickness findings of a strip of dimensions `g`: the laminate too
-/// thick against its length or its width for classical laminate theory.
-pub(crate) fn thickness(g: &Geometry) -> Vec<Warning> {
+/// The thickness findings of a strip `h` thick, `lx` long and `ly` wide:
+/// the laminate too thick against its length or its width for classical
+/// laminate theory.
+pub(crate) fn thickness(h: f64, lx: f64, ly: f64) -> Vec<Warning> {
     [
-        (StripDimension::Length, g.lx, THICKNESS_TO_LENGTH_LIMIT),
-        (StripDimension::Width, g.ly, THICKNESS_TO_WIDTH_LIMIT),
+        (StripDimension::Length, lx, THICKNESS_TO_LENGTH_LIMIT),
+        (StripDimension::Width, ly, THICKNESS_TO_WIDTH_LIMIT),
     ]
     .into_iter()
-    .filter(|&(_, extent, limit)| g.h / extent > limit)
+    .filter(|&(_, extent, limit)| h / extent > limit)
     .map(|(dimension, extent, limit)| Warning::ThicknessRatio {
         dimension,
-        thickness: g.h,
+        thickness: h,
         extent,
         limit,
     })
     .collect()
 }
 
-/// The findings of state `k` (raw coefficients) of `finger`, checking each
+/// The findings of state `k` (raw coefficients) of a finger of `elements`
+/// with the cross-section `laminate`, checking each
 /// element at `samples` points (`x = L/samples .. L`, and the root), and
 /// the end tangent's angle (rad, the sum of the elements' turns), which the
 /// check needs anyway.
@@ -98,14 +111,15 @@ pub(crate) fn thickness(g: &Geometry) -> Vec<Warning> {
 /// mid-plane at H / 16 and compares only blocks of samples whose bounding
 /// boxes come within H of each other.
 pub(crate) fn check<M: ElementModel>(
-    finger: &FingerCore<M>,
+    elements: &[Element<M>],
+    laminate: &Laminate,
     k: &[f64],
     samples: usize,
 ) -> (Vec<Warning>, f64) {
     let samples = samples.max(1);
     let mut out = Vec::new();
-    let (pz0, pz1) = finger.pemc_z;
-    let eps0 = finger.eps0;
+    let (pz0, pz1) = laminate.pemc_z;
+    let eps0 = laminate.eps0;
     let (slo, shi) = PRESTRESSED_STRAIN_RANGE;
     let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
     // the tangent's angle range over the check points, and whether it is
@@ -113,10 +127,10 @@ pub(crate) fn check<M: ElementModel>(
     let mut turn_lo = 0.0f64;
     let mut turn_hi = 0.0f64;
     let mut turn_known = true;
-    let mut stretch = Vec::with_capacity(finger.len());
+    let mut stretch = Vec::with_capacity(elements.len());
     let mut theta = 0.0f64;
-    for (i, e) in finger.elements.iter().enumerate() {
-        let ki = FingerCore::<M>::element_coeffs(k, i);
+    for (i, e) in elements.iter().enumerate() {
+        let ki = element::coeffs::<M>(k, i);
         let l = e.length();
         let mut steep = false;
         let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
@@ -188,7 +202,7 @@ pub(crate) fn check<M: ElementModel>(
         theta += e.end(&ki)[2];
     }
     if !turn_known || turn_hi - turn_lo > contact_turning() - TURNING_ALLOWANCE {
-        out.extend(self_contact(finger, k, &stretch));
+        out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
 }
@@ -199,12 +213,12 @@ pub(crate) fn check<M: ElementModel>(
 /// with the elements of the two nearest samples. `stretch[i]` is the
 /// largest `|d(X, Z)/dx|` seen in element `i` (sizes its sampling).
 fn self_contact<M: ElementModel>(
-    finger: &FingerCore<M>,
+    elements: &[Element<M>],
+    h: f64,
     k: &[f64],
     stretch: &[f64],
 ) -> Option<Warning> {
-    let h = finger.thickness;
-    let (pts, ends) = contact_samples(finger, k, stretch, CONTACT_SPACING * h);
+    let (pts, ends) = contact_samples(elements, k, stretch, CONTACT_SPACING * h);
     if pts.iter().flatten().any(|v| !v.is_finite()) {
         return None;
     }
@@ -219,7 +233,7 @@ fn self_contact<M: ElementModel>(
         arc.push(s);
     }
     let (a, b, distance) = closest_pair(&pts, &arc, contact_separation(h), h, spacing)?;
-    let element = |j: usize| ends.partition_point(|&e| e < j).min(finger.len() - 1);
+    let element = |j: usize| ends.partition_point(|&e| e < j).min(elements.len() - 1);
     Some(Warning::SelfContact {
         element: element(b),
         other: element(a),
@@ -231,18 +245,17 @@ fn self_contact<M: ElementModel>(
 /// Mid-plane samples from the root, chords at most `spacing` apart where
 /// the sample budget allows, and the index of each element's last sample.
 fn contact_samples<M: ElementModel>(
-    finger: &FingerCore<M>,
+    elements: &[Element<M>],
     k: &[f64],
     stretch: &[f64],
     spacing: f64,
 ) -> (Vec<[f64; 2]>, Vec<usize>) {
     // the deformed length estimated from the check points' stretch, with
     // a quarter more to spare; a long finger widens the spacing
-    let lengths: Vec<f64> = finger
-        .lengths
+    let lengths: Vec<f64> = elements
         .iter()
         .zip(stretch)
-        .map(|(l, s)| 1.25 * l * s)
+        .map(|(e, s)| 1.25 * e.length() * s)
         .collect();
     let total: f64 = lengths.iter().sum();
     let spacing = spacing.max(total / MAX_CONTACT_SAMPLES as f64);
@@ -256,10 +269,14 @@ fn contact_samples<M: ElementModel>(
     };
     let mut pts = Vec::with_capacity(2 + (total / spacing).min(1e6) as usize);
     pts.push([0.0, 0.0]);
-    let mut ends = Vec::with_capacity(finger.len());
+    let mut ends = Vec::with_capacity(elements.len());
     let mut local: Vec<[f64; 2]> = Vec::new();
-    for (i, (e, (p, [c, s]))) in finger.elements.iter().zip(finger.frames(k)).enumerate() {
-        let ki = FingerCore::<M>::element_coeffs(k, i);
+    for (i, (e, (p, [c, s]))) in elements
+        .iter()
+        .zip(element::frames(elements, k))
+        .enumerate()
+    {
+        let ki = element::coeffs::<M>(k, i);
         let l = e.length();
         let first = count(lengths[i]);
         let mut m = first;

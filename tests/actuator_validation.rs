@@ -1,6 +1,6 @@
 //! The actuator's defaults and validation rules and the partition, checked
 //! against values computed here by hand. (The integration blocks are
-//! crate-private; their checks live in `src/blocks.rs`'s test module.)
+//! crate-private; their checks live in `src/actuator/blocks.rs`'s test module.)
 
 use fpc::model::ccm::Ccm;
 use fpc::model::PsiParams;

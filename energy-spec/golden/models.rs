@@ -302,3 +302,39 @@ impl Default for ModelId {
         ModelId::Ccm
     }
 }
+///`model_enum! { enum Name = Alias }` (or `enum Name<'a> = Alias`): an enum with one variant per model, named as in `ModelId`, each holding `Alias<Model>` (`Alias<'a, Model>`): static dispatch over the models (`match_model!`, `map_model!`, `model_of_id!`). The models are `crate::model`'s.
+macro_rules! model_enum {
+    ($(#[$attr:meta])* $vis:vis enum $name:ident = $alias:ident) => {
+        $(#[$attr])* $vis enum $name { Ccm($alias < $crate::model::ccm::Ccm >),
+        Quad($alias < $crate::model::quad::Quad >), }
+    };
+    ($(#[$attr:meta])* $vis:vis enum $name:ident < $lt:lifetime > = $alias:ident) => {
+        $(#[$attr])* $vis enum $name < $lt > { Ccm($alias < $lt, $crate::model::ccm::Ccm
+        >), Quad($alias < $lt, $crate::model::quad::Quad >), }
+    };
+}
+pub(crate) use model_enum;
+///`match_model!(value, Enum(binding) => body)`: `body`, with `binding` the content of the variant `value` holds, whatever the model (`Enum` made by `model_enum!`).
+macro_rules! match_model {
+    ($value:expr, $enum:ident ($binding:ident) => $body:expr) => {
+        match $value { $enum ::Ccm($binding) => $body, $enum ::Quad($binding) => $body, }
+    };
+}
+pub(crate) use match_model;
+///`map_model!(value, Enum(binding) => Out(body))`: the variant of `Out` of the model `value` holds, with `body` in it (`binding` as in `match_model!`).
+macro_rules! map_model {
+    ($value:expr, $enum:ident ($binding:ident) => $out:ident ($body:expr)) => {
+        match $value { $enum ::Ccm($binding) => $out ::Ccm($body), $enum ::Quad($binding)
+        => $out ::Quad($body), }
+    };
+}
+pub(crate) use map_model;
+///`model_of_id!(id, M => Out(body))`: the variant of `Out` of the model `id` names, with `body` in it, evaluated with `M` the model's type.
+macro_rules! model_of_id {
+    ($id:expr, $model:ident => $out:ident ($body:expr)) => {
+        match $id { $crate::model::ModelId::Ccm => { type $model =
+        $crate::model::ccm::Ccm; $out ::Ccm($body) } $crate::model::ModelId::Quad => {
+        type $model = $crate::model::quad::Quad; $out ::Quad($body) } }
+    };
+}
+pub(crate) use model_of_id;

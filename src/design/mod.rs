@@ -41,11 +41,12 @@ pub use requirements::{
 use serde::Serialize;
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::SolveError;
+use crate::actuator::ActuatorParam;
 use crate::finger::{Finger, Load, SolveOptions};
 use crate::gripper::{Gripper, GripperParams, Object, PalmSpec};
-use crate::sensitivity::{ActuatorParam, GraspKind, GripperParam};
+use crate::partition::Partition;
+use crate::sensitivity::{GraspKind, GripperParam};
+use crate::solve_error::SolveError;
 
 /// Widths sampled per cuboid requirement.
 pub const CUBOID_SAMPLES: usize = 5;

@@ -2,8 +2,10 @@
 //! (docs/model.md section 4).
 //!
 //! The public types here do not depend on the model: a [`Finger`] holds
-//! its elements behind a trait object, so the model is a run-time choice
-//! ([`ModelId`]) while every solve runs monomorphised code.
+//! its elements in an enum with one variant per generated model (static
+//! dispatch, `model_enum!` and `match_model!` of the generated
+//! `models.rs`), so the model is a run-time choice ([`ModelId`]) while
+//! every solve runs monomorphised code.
 //!
 //! - [`problem`]: the elements of one finger and its energy, tip and shape;
 //! - [`chain`]: the coupled Newton problem in scaled unknowns, with the
@@ -24,9 +26,11 @@ mod target;
 use std::sync::Arc;
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::{finite, positive, InputError, SolveError, Warning};
+use crate::coefficients::Coefficients;
+use crate::error::{finite, positive, InputError, Warning};
 use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
 
 pub use curve::{Affine2, PolyCurve};
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
@@ -34,6 +38,7 @@ pub use target::{TargetFold, TargetProblem, Traced};
 
 pub(crate) use chain::Chain;
 pub(crate) use problem::FingerCore;
+use solver::SolverCore;
 
 /// Pressure and tip loads of a scene.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
@@ -209,7 +214,7 @@ impl SolveOptions {
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SolveReport {
     /// Why it stopped (always converged in a returned solution).
-    #[serde(serialize_with = "crate::ser::display")]
+    #[serde(serialize_with = "serialize_display")]
     pub reason: fpc_newton::Termination,
     /// Newton iterations (summed over element solves and continuation steps).
     pub iterations: usize,
@@ -221,88 +226,6 @@ pub struct SolveReport {
     pub coupled: bool,
     /// Continuation steps taken (0: Newton from the guess sufficed).
     pub continuation_steps: usize,
-}
-
-/// The unknowns of every element, element by element (`per_element` values
-/// each, in the model's order: `a1, a3, b1, c2` for the paper's element).
-#[derive(Debug, Clone, PartialEq)]
-pub struct Coefficients {
-    per_element: usize,
-    values: Vec<f64>,
-}
-
-impl Coefficients {
-    /// Coefficients from their values, `per_element` per element.
-    pub fn new(per_element: usize, values: Vec<f64>) -> Result<Coefficients, InputError> {
-        if per_element == 0 || values.is_empty() || !values.len().is_multiple_of(per_element) {
-            return Err(InputError::Inconsistent {
-                field: "coefficients".into(),
-                rule: format!(
-                    "{} values do not split into elements of {per_element} unknowns",
-                    values.len()
-                ),
-            });
-        }
-        Ok(Coefficients {
-            per_element,
-            values,
-        })
-    }
-
-    /// Zeros: the straight, unstrained finger.
-    pub fn zeros(elements: usize, per_element: usize) -> Coefficients {
-        Coefficients {
-            per_element,
-            values: vec![0.0; elements * per_element],
-        }
-    }
-
-    /// Number of elements.
-    pub fn elements(&self) -> usize {
-        self.values.len() / self.per_element
-    }
-
-    /// Unknowns per element.
-    pub fn per_element(&self) -> usize {
-        self.per_element
-    }
-
-    /// Element `i`'s unknowns.
-    pub fn element(&self, i: usize) -> &[f64] {
-        &self.values[i * self.per_element..(i + 1) * self.per_element]
-    }
-
-    /// Element by element.
-    pub fn iter(&self) -> std::slice::ChunksExact<'_, f64> {
-        self.values.chunks_exact(self.per_element)
-    }
-
-    /// Every value, element by element.
-    pub fn as_slice(&self) -> &[f64] {
-        &self.values
-    }
-
-    /// Every value, element by element, to change in place.
-    pub fn as_mut_slice(&mut self) -> &mut [f64] {
-        &mut self.values
-    }
-
-    /// One `Vec` per element.
-    pub fn to_nested(&self) -> Vec<Vec<f64>> {
-        self.iter().map(<[f64]>::to_vec).collect()
-    }
-}
-
-impl serde::Serialize for Coefficients {
-    /// One array of unknowns per element.
-    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeSeq;
-        let mut seq = serializer.serialize_seq(Some(self.elements()))?;
-        for e in self.iter() {
-            seq.serialize_element(e)?;
-        }
-        seq.end()
-    }
 }
 
 /// An equilibrium of one finger. Serializes with the units in the keys
@@ -349,102 +272,53 @@ impl Solution {
     }
 }
 
-/// The model-specific core of a finger, behind a trait object.
-pub(crate) trait FingerDyn: std::fmt::Debug + Send + Sync {
-    fn model(&self) -> ModelId;
-    fn unknowns(&self) -> usize;
-    fn lengths(&self) -> &[f64];
-    fn width(&self) -> f64;
-    fn stiffness(&self) -> f64;
-    fn unscale(&self) -> Vec<f64>;
-    fn energy(&self, load: &Load, k: &Coefficients) -> f64;
-    fn tip(&self, k: &Coefficients) -> ([f64; 2], f64);
-    fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]>;
-    fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve>;
-    fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>);
-    fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>);
-    fn element_hessian(
-        &self,
-        element: usize,
-        family: Option<usize>,
-        load: &Load,
-        k: &[f64],
-    ) -> Option<(f64, Vec<f64>, Vec<f64>)>;
-    fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]>;
-    fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning>;
-    fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64>;
-    fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a>;
-    fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a>;
-    fn sensitivities(
-        &self,
-        request: &crate::sensitivity::Request<'_>,
-    ) -> Result<crate::sensitivity::Sensitivities, SolveError>;
+/// Serializes a value by its `Display` text.
+fn serialize_display<T: std::fmt::Display, S: serde::Serializer>(
+    v: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_str(v)
 }
 
-/// A model-specific solver workspace, behind a trait object.
-pub(crate) trait SolverDyn {
-    fn solve(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<Solution, SolveError>;
-    fn solve_tip(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<solver::TipSolve, SolveError>;
-    /// Says that the guesses are close to the equilibrium (nested
-    /// iteration).
-    fn trust_start(&mut self, on: bool);
-    fn solve_target(
-        &mut self,
-        problem: &TargetProblem,
-        guess: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<(Solution, f64), SolveError>;
-    fn trace_target(
-        &mut self,
-        problem: &TargetProblem,
-        start: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<Traced, SolveError>;
-    fn follow_load(
-        &mut self,
-        spec: &LoadPathSpec,
-        guess: &Coefficients,
-        opts: &SolveOptions,
-        visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
-    ) -> Result<LoadPath, SolveError>;
+/// A finger's shared core for model `M`.
+type Shared<M> = Arc<FingerCore<M>>;
+
+crate::model::model_enum! {
+    /// A finger's elements for its model, one variant per generated model:
+    /// every call on a [`Finger`] is a `match` on the model, then
+    /// monomorphised code (no trait object).
+    #[derive(Debug, Clone)]
+    pub(crate) enum Core = Shared
+}
+
+crate::model::model_enum! {
+    /// A solver workspace for a finger's model ([`Solver`]).
+    pub(crate) enum Solvers<'a> = SolverCore
+}
+
+/// `with_core!(finger, c => body)`: `body` with `c` the finger's typed
+/// core (`&Arc<FingerCore<M>>` for the finger's model `M`).
+macro_rules! with_core {
+    ($finger:expr, $c:ident => $body:expr) => {
+        crate::model::match_model!(&$finger.core, Core($c) => $body)
+    };
+}
+
+/// Something done with a finger's model-typed core (the way
+/// [`Finger::visit_core`] hands it to generic code above the finger, such
+/// as the sensitivities).
+pub(crate) trait CoreVisitor {
+    /// What the visit returns.
+    type Output;
+    /// Runs with the core of model `M`.
+    fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> Self::Output;
 }
 
 /// A finger: elements with their moments, ready to solve.
 #[derive(Debug, Clone)]
 pub struct Finger {
-    core: Arc<dyn FingerDyn>,
+    core: Core,
     warnings: Vec<Warning>,
-}
-
-struct Build<'a> {
-    actuator: &'a Actuator,
-    partition: &'a Partition,
-    ribs: bool,
-}
-
-impl ModelVisitor for Build<'_> {
-    type Output = Arc<dyn FingerDyn>;
-    fn visit<M: ElementModel>(self) -> Self::Output {
-        Arc::new(FingerCore::<M>::new(
-            self.actuator,
-            self.partition,
-            self.ribs,
-        ))
-    }
 }
 
 struct LawCheck<'a>(&'a Actuator);
@@ -485,11 +359,10 @@ impl Finger {
         partition: &Partition,
         ribs: bool,
     ) -> Finger {
-        let core = model.visit(Build {
-            actuator,
-            partition,
-            ribs,
-        });
+        let core = crate::model::model_of_id!(
+            model,
+            M => Core(Arc::new(FingerCore::<M>::new(actuator, partition, ribs)))
+        );
         Finger {
             core,
             warnings: input_warnings(model, actuator),
@@ -503,24 +376,24 @@ impl Finger {
         Ok(Finger::new(&act, &part, true))
     }
 
-    /// The model-specific core (for `crate::sensitivity`).
-    pub(crate) fn core(&self) -> &dyn FingerDyn {
-        &*self.core
+    /// Runs `visitor` with the finger's model-typed core.
+    pub(crate) fn visit_core<V: CoreVisitor>(&self, visitor: V) -> V::Output {
+        with_core!(self, c => visitor.visit(&**c))
     }
 
     /// The element model.
     pub fn model(&self) -> ModelId {
-        self.core.model()
+        with_core!(self, c => c.model())
     }
 
     /// Unknowns per element.
     pub fn unknowns_per_element(&self) -> usize {
-        self.core.unknowns()
+        with_core!(self, c => c.unknowns())
     }
 
     /// Number of elements.
     pub fn len(&self) -> usize {
-        self.core.lengths().len()
+        with_core!(self, c => c.lengths()).len()
     }
 
     /// True for a finger without elements (never built by the constructors).
@@ -530,17 +403,17 @@ impl Finger {
 
     /// Undeformed element lengths (mm), root to tip.
     pub fn element_lengths(&self) -> &[f64] {
-        self.core.lengths()
+        with_core!(self, c => c.lengths())
     }
 
     /// The strip's width `Ly` (mm).
     pub fn width(&self) -> f64 {
-        self.core.width()
+        with_core!(self, c => c.width())
     }
 
     /// The modelled length `Lx` (mm): the sum of the element lengths.
     pub fn length(&self) -> f64 {
-        self.core.lengths().iter().sum()
+        with_core!(self, c => c.lengths()).iter().sum()
     }
 
     /// Notes about the actuator and the model's law (a prestrain outside
@@ -551,7 +424,7 @@ impl Finger {
 
     /// Stiffness scale (N mm) that makes residuals relative.
     pub fn stiffness_scale(&self) -> f64 {
-        self.core.stiffness()
+        with_core!(self, c => c.stiffness())
     }
 
     /// The raw value of one unit of each of the solver's scaled unknowns,
@@ -559,7 +432,7 @@ impl Finger {
     /// residual is the raw gradient times these, over
     /// [`Finger::stiffness_scale`].
     pub fn unknown_scales(&self) -> Vec<f64> {
-        self.core.unscale()
+        with_core!(self, c => c.unscale())
     }
 
     /// Zero coefficients (the straight finger) of the right shape.
@@ -574,13 +447,13 @@ impl Finger {
     /// Total potential energy at raw coefficients.
     pub fn energy(&self, load: &Load, k: &Coefficients) -> Result<f64, InputError> {
         self.check(k)?;
-        Ok(self.core.energy(load, k))
+        Ok(with_core!(self, c => c.energy(load, k)))
     }
 
     /// Tip position and end angle at raw coefficients.
     pub fn tip(&self, k: &Coefficients) -> Result<([f64; 2], f64), InputError> {
         self.check(k)?;
-        Ok(self.core.tip(k))
+        Ok(with_core!(self, c => c.tip(k)))
     }
 
     /// Mid-plane samples from the root (included) to the tip, `per_element`
@@ -594,7 +467,7 @@ impl Finger {
                 rule: format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
             });
         }
-        Ok(self.core.shape(k, per_element))
+        Ok(with_core!(self, c => c.shape(k, per_element)))
     }
 
     /// The mid-plane as exact curves, one per element, root to tip, in the
@@ -607,7 +480,7 @@ impl Finger {
     /// state is so large that the curves overflow.
     pub fn midplane_curves(&self, k: &Coefficients) -> Result<Vec<PolyCurve>, InputError> {
         self.check(k)?;
-        let curves = self.core.midplane_curves(k);
+        let curves = with_core!(self, c => c.midplane_curves(k));
         if curves.iter().all(PolyCurve::is_finite) {
             Ok(curves)
         } else {
@@ -622,7 +495,7 @@ impl Finger {
     /// coefficients (element by element).
     pub fn gradient(&self, load: &Load, k: &Coefficients) -> Result<(f64, Vec<f64>), InputError> {
         self.check(k)?;
-        Ok(self.core.gradient(load, k))
+        Ok(with_core!(self, c => c.gradient(load, k)))
     }
 
     /// Total potential energy, gradient and full Hessian (column-major,
@@ -633,7 +506,7 @@ impl Finger {
         k: &Coefficients,
     ) -> Result<(f64, Vec<f64>, Vec<f64>), InputError> {
         self.check(k)?;
-        Ok(self.core.hessian(load, k))
+        Ok(with_core!(self, c => c.hessian(load, k)))
     }
 
     /// One element's potential (or, with `family`, one integral family of
@@ -647,21 +520,19 @@ impl Finger {
         load: &Load,
         k: &[f64],
     ) -> Option<(f64, Vec<f64>, Vec<f64>)> {
-        self.core.element_hessian(element, family, load, k)
+        with_core!(self, c => c.element_hessian(element, family, load, k))
     }
 
     /// One element's end `[Xe, Ze, eta]` in its own frame.
     pub fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
-        self.core.element_end(element, k)
+        with_core!(self, c => c.element_end(element, k))
     }
 
     /// The validity findings of a state (docs/model.md section 8), with
     /// `samples` checks per element.
     pub fn validity(&self, k: &Coefficients, samples: usize) -> Result<Vec<Warning>, InputError> {
         self.check(k)?;
-        Ok(self
-            .core
-            .validity(k, samples.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
+        Ok(with_core!(self, c => c.validity(k, samples.clamp(1, MAX_SAMPLES_PER_ELEMENT))))
     }
 
     /// The mid-plane's signed curvature (1/mm; negative curls towards -Z)
@@ -669,9 +540,7 @@ impl Finger {
     /// of equal sub-intervals.
     pub fn curvatures(&self, k: &Coefficients, per_element: usize) -> Result<Vec<f64>, InputError> {
         self.check(k)?;
-        Ok(self
-            .core
-            .curvatures(k, per_element.clamp(1, MAX_SAMPLES_PER_ELEMENT)))
+        Ok(with_core!(self, c => c.curvatures(k, per_element.clamp(1, MAX_SAMPLES_PER_ELEMENT))))
     }
 
     /// The coupled finger as a Newton problem in the solver's scaled
@@ -682,7 +551,7 @@ impl Finger {
     /// and benchmarks.
     pub fn problem(&self, load: &Load) -> Problem<'_> {
         Problem {
-            inner: self.core.problem(load),
+            inner: with_core!(self, c => c.problem(load)),
         }
     }
 
@@ -712,7 +581,7 @@ impl Finger {
         opts: &SolveOptions,
         trusted: bool,
     ) -> Result<solver::TipSolve, SolveError> {
-        let mut s = self.core.solver(&self.warnings);
+        let mut s = Solver::new(self);
         s.trust_start(trusted);
         s.solve_tip(load, guess, opts)
     }
@@ -725,7 +594,7 @@ impl Finger {
         guess: &Coefficients,
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
-        let mut s = self.core.solver(&self.warnings);
+        let mut s = Solver::new(self);
         s.trust_start(true);
         s.solve(load, Some(guess), opts)
     }
@@ -805,14 +674,25 @@ pub(crate) fn check_guess(
 /// A reusable solver workspace (no allocation per Newton iteration; reuse
 /// it across the points of a sweep).
 pub struct Solver<'a> {
-    inner: Box<dyn SolverDyn + 'a>,
+    inner: Solvers<'a>,
+}
+
+/// `with_solver!(solver, s => body)`: `body` with `s` the solver's typed
+/// workspace (`&mut SolverCore<M>`).
+macro_rules! with_solver {
+    ($solver:expr, $s:ident => $body:expr) => {
+        crate::model::match_model!(&mut $solver.inner, Solvers($s) => $body)
+    };
 }
 
 impl<'a> Solver<'a> {
     /// A workspace for `finger`.
     pub fn new(finger: &'a Finger) -> Solver<'a> {
         Solver {
-            inner: finger.core.solver(&finger.warnings),
+            inner: crate::model::map_model!(
+                &finger.core,
+                Core(c) => Solvers(SolverCore::new(c, &finger.warnings))
+            ),
         }
     }
 
@@ -823,7 +703,23 @@ impl<'a> Solver<'a> {
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
-        self.inner.solve(load, guess, opts)
+        with_solver!(self, s => s.solve(load, guess, opts))
+    }
+
+    /// Solves for the state, tip and end angle only ([`Finger::solve_tip`]).
+    pub(crate) fn solve_tip(
+        &mut self,
+        load: &Load,
+        guess: Option<&Coefficients>,
+        opts: &SolveOptions,
+    ) -> Result<solver::TipSolve, SolveError> {
+        with_solver!(self, s => s.solve_tip(load, guess, opts))
+    }
+
+    /// Says that the guesses are close to the equilibrium (nested
+    /// iteration).
+    pub(crate) fn trust_start(&mut self, on: bool) {
+        with_solver!(self, s => s.trusted_start = on)
     }
 
     /// Solves a [`TargetProblem`] from `guess` (raw coefficients, ideally a
@@ -838,8 +734,7 @@ impl<'a> Solver<'a> {
         ctol_mm: f64,
         opts: &SolveOptions,
     ) -> Result<(Solution, f64), SolveError> {
-        self.inner
-            .solve_target(problem, guess, lambda0, ctol_mm, opts)
+        with_solver!(self, s => s.solve_target(problem, guess, lambda0, ctol_mm, opts))
     }
 
     /// Traces the equilibria of `problem`'s load family from `start` (an
@@ -857,8 +752,7 @@ impl<'a> Solver<'a> {
         ctol_mm: f64,
         opts: &SolveOptions,
     ) -> Result<Traced, SolveError> {
-        self.inner
-            .trace_target(problem, start, lambda0, ctol_mm, opts)
+        with_solver!(self, s => s.trace_target(problem, start, lambda0, ctol_mm, opts))
     }
 
     /// Follows the equilibrium path of a load family by pseudo-arclength
@@ -872,6 +766,6 @@ impl<'a> Solver<'a> {
         opts: &SolveOptions,
         visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
     ) -> Result<LoadPath, SolveError> {
-        self.inner.follow_load(spec, guess, opts, visit)
+        with_solver!(self, s => s.follow_load(spec, guess, opts, visit))
     }
 }

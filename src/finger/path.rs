@@ -12,13 +12,16 @@ use fpc_newton::{
 };
 use serde::Serialize;
 
-use crate::error::{finite, InputError, SolveError};
+use crate::error::{finite, InputError};
+
 use crate::model::{ElementModel, Vector};
+use crate::solve_error::SolveError;
 
 use super::problem::FingerCore;
 use super::solver::SolverCore;
 use super::target::{BorderedChain, TargetProblem};
-use super::{check_guess, Coefficients, SolveOptions};
+use super::{check_guess, SolveOptions};
+use crate::coefficients::Coefficients;
 
 /// An accepted point of a load path.
 #[derive(Debug, Clone, Copy)]

@@ -1,21 +1,23 @@
 //! The elements of one finger, for one element model: energy, tip, shape
-//! and the raw-coefficient derivatives, and the bridge to the erased
-//! [`Finger`](super::Finger).
+//! and the raw-coefficient derivatives, and what a
+//! [`Finger`](super::Finger) asks of them for its model.
 //!
 //! Unknowns are scaled per element by the model (`scaled` in the spec), so
 //! the Newton system sees dimensionless strains; `unscale[i]` holds, per
 //! element, the raw value of one scaled unit of each unknown.
 
+use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
-use crate::blocks::{distinct_elements, element_blocks, Partition};
+use crate::element::distinct_elements;
 use crate::element::Element;
-use crate::error::{SolveError, Warning};
+use crate::error::Warning;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
+use crate::partition::Partition;
 
 use super::chain::Chain;
 use super::curve::{Affine2, PolyCurve};
-use super::solver::SolverCore;
-use super::{Coefficients, FingerDyn, Load, Solution, SolveOptions, SolverDyn, TargetProblem};
+use super::Load;
+use crate::coefficients::Coefficients;
 
 /// The elements of a finger for model `M`.
 #[derive(Debug, Clone)]
@@ -75,11 +77,19 @@ impl<M: ElementModel> FingerCore<M> {
         self.elements.len()
     }
 
+    /// The cross-section the validity checks read.
+    pub fn laminate(&self) -> crate::validity::Laminate {
+        crate::validity::Laminate {
+            pemc_z: self.pemc_z,
+            eps0: self.eps0,
+            thickness: self.thickness,
+        }
+    }
+
     /// Element `i`'s raw unknowns from a flat slice.
     #[inline]
     pub fn element_coeffs(k: &[f64], i: usize) -> M::Coeffs {
-        let n = M::Coeffs::LEN;
-        M::Coeffs::from_fn(|j| k[n * i + j])
+        crate::element::coeffs::<M>(k, i)
     }
 
     /// Tip position at raw coefficients, chaining element frames by
@@ -115,17 +125,7 @@ impl<M: ElementModel> FingerCore<M> {
     /// Element `i`'s frame at the root: its position and (cos, sin) of
     /// its angle, for every element, from raw coefficients.
     pub fn frames(&self, k: &[f64]) -> Vec<([f64; 2], [f64; 2])> {
-        let mut out = Vec::with_capacity(self.len());
-        let mut p = [0.0, 0.0];
-        let (mut c, mut s) = (1.0, 0.0);
-        for (i, e) in self.elements.iter().enumerate() {
-            out.push((p, [c, s]));
-            let [xe, ze, ce, se] = e.frame(&Self::element_coeffs(k, i));
-            p[0] += c * xe - s * ze;
-            p[1] += s * xe + c * ze;
-            (c, s) = (c * ce - s * se, s * ce + c * se);
-        }
-        out
+        crate::element::frames(&self.elements, k)
     }
 
     /// Mid-plane samples from the root (included) to the tip.
@@ -162,57 +162,55 @@ impl<M: ElementModel> FingerCore<M> {
             .enumerate()
             .map(|(i, v)| v * self.unscale[i / n][i % n])
             .collect();
-        Coefficients {
-            per_element: n,
-            values,
-        }
+        Coefficients::from_parts(n, values)
     }
 }
 
-impl<M: ElementModel> FingerDyn for FingerCore<M> {
-    fn model(&self) -> ModelId {
+/// What a [`Finger`](super::Finger) asks of its core, for its model.
+impl<M: ElementModel> FingerCore<M> {
+    pub fn model(&self) -> ModelId {
         ModelId::from_name(M::NAME).unwrap_or_default()
     }
 
-    fn unknowns(&self) -> usize {
+    pub fn unknowns(&self) -> usize {
         M::Coeffs::LEN
     }
 
-    fn lengths(&self) -> &[f64] {
+    pub fn lengths(&self) -> &[f64] {
         &self.lengths
     }
 
-    fn width(&self) -> f64 {
+    pub fn width(&self) -> f64 {
         self.width
     }
 
-    fn stiffness(&self) -> f64 {
+    pub fn stiffness(&self) -> f64 {
         self.stiffness
     }
 
-    fn unscale(&self) -> Vec<f64> {
+    pub fn unscale(&self) -> Vec<f64> {
         self.unscale
             .iter()
             .flat_map(|s| s.as_ref().to_vec())
             .collect()
     }
 
-    fn energy(&self, load: &Load, k: &Coefficients) -> f64 {
+    pub fn energy(&self, load: &Load, k: &Coefficients) -> f64 {
         self.energy_raw(load, k.as_slice())
     }
 
-    fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
+    pub fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
         let angle = (0..self.len())
             .map(|i| self.elements[i].end(&Self::element_coeffs(k.as_slice(), i))[2])
             .sum();
         (self.tip_position(k.as_slice()), angle)
     }
 
-    fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
+    pub fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
         self.shape_raw(k.as_slice(), per_element)
     }
 
-    fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve> {
+    pub fn midplane_curves(&self, k: &Coefficients) -> Vec<PolyCurve> {
         let k = k.as_slice();
         self.frames(k)
             .into_iter()
@@ -225,7 +223,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
             .collect()
     }
 
-    fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
+    pub fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         let y = self.scaled(k.as_slice());
@@ -238,7 +236,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         (v, g)
     }
 
-    fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
+    pub fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         let y = self.scaled(k.as_slice());
@@ -258,7 +256,7 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         (v, g, h)
     }
 
-    fn element_hessian(
+    pub fn element_hessian(
         &self,
         element: usize,
         family: Option<usize>,
@@ -277,16 +275,16 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         Some((v, g.as_ref().to_vec(), h.as_ref().to_vec()))
     }
 
-    fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
+    pub fn element_end(&self, element: usize, k: &[f64]) -> Option<[f64; 3]> {
         let e = self.elements.get(element)?;
         (k.len() == M::Coeffs::LEN).then(|| e.end(&Self::element_coeffs(k, 0)))
     }
 
-    fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
-        crate::validity::check(self, k.as_slice(), samples).0
+    pub fn validity(&self, k: &Coefficients, samples: usize) -> Vec<Warning> {
+        crate::validity::check(&self.elements, &self.laminate(), k.as_slice(), samples).0
     }
 
-    fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
+    pub fn curvatures(&self, k: &Coefficients, per_element: usize) -> Vec<f64> {
         let mut out = Vec::with_capacity(self.len() * per_element);
         for (i, e) in self.elements.iter().enumerate() {
             let ki = Self::element_coeffs(k.as_slice(), i);
@@ -298,76 +296,9 @@ impl<M: ElementModel> FingerDyn for FingerCore<M> {
         out
     }
 
-    fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
+    pub fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
         let mut chain = Chain::new(self);
         chain.set_load(load);
         Box::new(chain)
-    }
-
-    fn solver<'a>(&'a self, warnings: &'a [Warning]) -> Box<dyn SolverDyn + 'a> {
-        Box::new(SolverCore::new(self, warnings))
-    }
-
-    fn sensitivities(
-        &self,
-        request: &crate::sensitivity::Request<'_>,
-    ) -> Result<crate::sensitivity::Sensitivities, SolveError> {
-        crate::sensitivity::compute(self, request)
-    }
-}
-
-impl<M: ElementModel> SolverDyn for SolverCore<'_, M> {
-    fn solve(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<Solution, SolveError> {
-        SolverCore::solve(self, load, guess, opts)
-    }
-
-    fn solve_tip(
-        &mut self,
-        load: &Load,
-        guess: Option<&Coefficients>,
-        opts: &SolveOptions,
-    ) -> Result<super::solver::TipSolve, SolveError> {
-        SolverCore::solve_tip(self, load, guess, opts)
-    }
-
-    fn trust_start(&mut self, on: bool) {
-        self.trusted_start = on;
-    }
-
-    fn solve_target(
-        &mut self,
-        problem: &TargetProblem,
-        guess: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<(Solution, f64), SolveError> {
-        SolverCore::solve_target(self, problem, guess, lambda0, ctol_mm, opts)
-    }
-
-    fn trace_target(
-        &mut self,
-        problem: &TargetProblem,
-        start: &Coefficients,
-        lambda0: f64,
-        ctol_mm: f64,
-        opts: &SolveOptions,
-    ) -> Result<super::Traced, SolveError> {
-        SolverCore::trace_target(self, problem, start, lambda0, ctol_mm, opts)
-    }
-
-    fn follow_load(
-        &mut self,
-        spec: &super::LoadPathSpec,
-        guess: &Coefficients,
-        opts: &SolveOptions,
-        visit: &mut dyn FnMut(&super::LoadPoint<'_>) -> bool,
-    ) -> Result<super::LoadPath, SolveError> {
-        SolverCore::follow_load(self, spec, guess, opts, visit)
     }
 }

@@ -7,15 +7,18 @@ use fpc_newton::{
     NewtonOptions, PivotKind, Report, Semiseparable, Termination,
 };
 
-use crate::error::{InputError, SolveError, Warning};
-use crate::fit::fit_circle;
+use crate::error::{InputError, Warning};
+
+use crate::circle_fit::fit_circle;
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
+use crate::solve_error::SolveError;
 
 use std::sync::Mutex;
 
 use super::chain::{Chain, ChainParts};
 use super::problem::FingerCore;
-use super::{check_guess, Coefficients, Load, Solution, SolveOptions, SolveReport, Strategy};
+use super::{check_guess, Load, Solution, SolveOptions, SolveReport, Strategy};
+use crate::coefficients::Coefficients;
 
 /// Validity checks per element (the ends of 4 equal sub-intervals; the
 /// paper's element is monotone in x, so its extremes are at the ends).
@@ -425,7 +428,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let f = self.finger;
         let k = self.coefficients();
         let tip = f.tip_position(k.as_slice());
-        let (found, end_angle) = crate::validity::check(f, k.as_slice(), VALIDITY_SAMPLES);
+        let (found, end_angle) =
+            crate::validity::check(&f.elements, &f.laminate(), k.as_slice(), VALIDITY_SAMPLES);
         // a coupled Newton solve already knows Pi at its final point
         let energy = self
             .final_energy

@@ -8,12 +8,15 @@ use fpc_newton::{
     NewtonOptions, PivotKind,
 };
 
-use crate::error::{finite, positive, InputError, SolveError};
+use crate::error::{finite, positive, InputError};
+
 use crate::model::{ElementModel, Vector};
+use crate::solve_error::SolveError;
 
 use super::chain::Chain;
 use super::solver::{newton_options, SolverCore};
-use super::{check_guess, Coefficients, Load, LoadPathSpec, Solution, SolveOptions, SolveReport};
+use super::{check_guess, Load, LoadPathSpec, Solution, SolveOptions, SolveReport};
+use crate::coefficients::Coefficients;
 
 /// A scene whose tip load depends on one unknown scalar `lambda`,
 /// `F = base + lambda * direction`, fixed by one target on the tip position:

@@ -28,12 +28,13 @@ use fpc_newton::PathTermination;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::{finite, positive, require, InputError, SolveError, Warning};
+use crate::coefficients::Coefficients;
+use crate::error::{finite, positive, require, InputError, Warning};
 use crate::finger::{
-    Coefficients, Finger, Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver,
-    TargetProblem, Traced,
+    Finger, Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
 };
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
 
 pub use frames::{
     contact_force_to_finger, contact_force_to_gripper, design_space,

@@ -295,6 +295,17 @@ pub fn curvature_reversal(
     })
 }
 
+impl serde::Serialize for Invalid {
+    /// `{"kind", "message"}`.
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let mut m = s.serialize_map(Some(2))?;
+        m.serialize_entry("kind", self.kind())?;
+        m.serialize_entry("message", &self.to_string())?;
+        m.end()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

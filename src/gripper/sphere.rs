@@ -12,8 +12,10 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use crate::error::{finite, positive, require, InputError, SolveError};
+use crate::error::{finite, positive, require, InputError};
+
 use crate::finger::Solution;
+use crate::solve_error::SolveError;
 
 use super::frames::{contact_force_to_gripper, grasping_angle_range};
 use super::rules::Invalid;
@@ -309,7 +311,7 @@ impl Gripper {
                 consider(sg, &mut best);
                 Ok(lift)
             };
-            crate::search::brent_max(
+            crate::brent::brent_max(
                 &mut eval,
                 a,
                 centre,

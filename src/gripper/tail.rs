@@ -9,8 +9,9 @@
 
 use serde::Serialize;
 
-use crate::error::SolveError;
-use crate::finger::{Coefficients, LoadPathSpec, SolveOptions, Solver, Traced};
+use crate::coefficients::Coefficients;
+use crate::finger::{LoadPathSpec, SolveOptions, Solver, Traced};
+use crate::solve_error::SolveError;
 use fpc_newton::PathTermination;
 
 use super::frames::contact_force_to_gripper;

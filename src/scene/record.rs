@@ -5,8 +5,9 @@
 use serde::Serialize;
 
 use super::{warning_text, GraspOutcome, SceneFile, SceneSolution};
+use crate::coefficients::Coefficients;
 use crate::error::Warning;
-use crate::finger::{Coefficients, Solution, SolveReport};
+use crate::finger::{Solution, SolveReport};
 use crate::gripper::{Gripper, Invalid, Verdict};
 
 /// What `fpc solve` writes to `solution.json` (without its provenance) and

@@ -3,12 +3,13 @@
 //! gripper and solves its grasp. [`SceneSolution`] and [`GraspOutcome`]
 //! hold the results.
 
-use crate::blocks::Partition;
-use crate::error::{SolveError, Warning};
+use crate::error::Warning;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
+use crate::partition::Partition;
 use crate::refine::{solve_auto, solve_to_tip_tolerance};
+use crate::solve_error::SolveError;
 
 use super::fields::{inconsistent, scene_solve, PartitionKey};
 use super::resolve::{GraspSpec, PartitionPlan};
@@ -341,10 +342,10 @@ impl SceneSolution {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::error::SolveError;
     use crate::gripper::PalmSpec;
     use crate::scene::testing::SCENES;
     use crate::scene::Scene;
+    use crate::solve_error::SolveError;
 
     #[test]
     fn solve_errors_name_the_toml_path() {

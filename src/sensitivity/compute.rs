@@ -5,15 +5,17 @@
 use fpc_newton::{Hessian, LinearSystem, PivotKind, Termination};
 
 use crate::actuator::Actuator;
-use crate::blocks::{
-    element_block_tangent_into, element_blocks, ActuatorTangent, ElementBlocks, Partition,
-};
+use crate::actuator::{element_block_tangent_into, element_blocks, ActuatorTangent};
+use crate::coefficients::Coefficients;
 use crate::element::Element;
-use crate::error::{InputError, SolveError};
-use crate::finger::{Chain, Coefficients, FingerCore, Load, TargetProblem};
+use crate::element::ElementBlocks;
+use crate::error::InputError;
+use crate::finger::{Chain, FingerCore, Load, TargetProblem};
 use crate::model::{
     ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector,
 };
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
 
 use super::{Param, Sensitivities, Sensitivity, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE};
 

@@ -4,9 +4,9 @@
 //! otherwise (docs/model.md, "Sensitivities").
 
 use crate::actuator::Actuator;
-use crate::error::SolveError;
-use crate::finger::Coefficients;
+use crate::coefficients::Coefficients;
 use crate::gripper::{Grasp, Gripper, SphereLift, CONTACT_TOL_MM};
+use crate::solve_error::SolveError;
 
 use super::gripper::{inconsistent, GraspKind, GraspSensitivities, GripperParam};
 

@@ -33,11 +33,13 @@
 use std::fmt;
 
 use crate::actuator::Actuator;
-use crate::error::{InputError, SolveError};
+use crate::error::InputError;
 use crate::finger::{Load, Solution};
 use crate::gripper::{contact_force_to_gripper, gripper_force_to_finger, Grasp, Gripper, PalmSpec};
+use crate::solve_error::SolveError;
 
-use super::{ActuatorParam, Param, Sensitivities, Sensitivity};
+use super::{Param, Sensitivities, Sensitivity};
+use crate::actuator::ActuatorParam;
 
 /// A parameter of a gripper-output sensitivity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -7,8 +7,8 @@
 //! factorisation, then one `O(N)` solve per parameter. The right-hand
 //! sides are exact:
 //!
-//! - an actuator parameter moves the blocks (`src/blocks.rs`,
-//!   [`element_block_tangents`]); each integral family's energy is linear
+//! - an actuator parameter moves the blocks (`src/actuator/tangent.rs`,
+//!   `element_block_tangents`); each integral family's energy is linear
 //!   in its moments, so `d(grad Pi)/dp` is the model's own gradient kernel
 //!   evaluated at the moments' derivative, which the generated
 //!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangent`], ...);
@@ -30,17 +30,19 @@ mod envelope;
 mod gripper;
 mod params;
 
-pub(crate) use compute::{compute, Request, State};
+use compute::{compute, Request, State};
 pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
 pub use gripper::{
     GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
     SizeSensitivity,
 };
-pub use params::{ActuatorParam, Elastic, Lamina, Param};
+pub use params::Param;
 
 use crate::actuator::Actuator;
-use crate::error::SolveError;
-use crate::finger::{Coefficients, Finger, Load, Solution, TargetProblem};
+use crate::coefficients::Coefficients;
+use crate::finger::{CoreVisitor, Finger, FingerCore, Load, Solution, TargetProblem};
+use crate::model::ElementModel;
+use crate::solve_error::SolveError;
 
 /// The derivatives of an equilibrium's outputs with respect to one
 /// parameter, per unit of the parameter's key.
@@ -92,6 +94,16 @@ impl Sensitivities {
     }
 }
 
+/// The sensitivities of a request, with the finger's typed core.
+struct Compute<'a>(&'a Request<'a>);
+
+impl CoreVisitor for Compute<'_> {
+    type Output = Result<Sensitivities, SolveError>;
+    fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> Self::Output {
+        compute(core, self.0)
+    }
+}
+
 /// Largest relative residual `||grad Pi||_inf / stiffness` accepted as an
 /// equilibrium (the solver's default tolerance is 1e-11).
 pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
@@ -113,12 +125,12 @@ impl Finger {
         load: &Load,
         params: &[Param],
     ) -> Result<Sensitivities, SolveError> {
-        self.core().sensitivities(&Request {
+        self.visit_core(Compute(&Request {
             actuator,
             coefficients: &solution.coefficients,
             state: State::Load(load),
             params,
-        })
+        }))
     }
 
     /// The sensitivities of a target solve's equilibrium ([`crate::Solver::solve_target`]
@@ -136,11 +148,11 @@ impl Finger {
         lambda: f64,
         params: &[Param],
     ) -> Result<Sensitivities, SolveError> {
-        self.core().sensitivities(&Request {
+        self.visit_core(Compute(&Request {
             actuator,
             coefficients: &solution.coefficients,
             state: State::Target { problem, lambda },
             params,
-        })
+        }))
     }
 }

@@ -6,7 +6,7 @@ use super::lift::{add_lift_curve, lift_curve, LiftCurve};
 use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
-use crate::error::SolveError;
+use crate::solve_error::SolveError;
 
 /// Study 3 result: the cuboid grasping region, under the max lifting force
 /// versus grasping size curve.

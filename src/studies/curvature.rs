@@ -5,9 +5,11 @@ use serde::Serialize;
 use super::output::*;
 use super::{StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
-use crate::error::{SolveError, Warning};
-use crate::finger::{Coefficients, Load, Solution, SolveOptions, Solver};
-use crate::fit::fit_circle;
+use crate::circle_fit::fit_circle;
+use crate::coefficients::Coefficients;
+use crate::error::Warning;
+use crate::finger::{Load, Solution, SolveOptions, Solver};
+use crate::solve_error::SolveError;
 
 /// One pressure of the curvature study.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,10 +5,11 @@ use serde::Serialize;
 use super::output::*;
 use super::{StudyInfo, StudyOptions, STUDY8_PRESSURES_KPA};
 use crate::actuator::Actuator;
-use crate::error::{finite, SolveError, Warning};
+use crate::error::{finite, Warning};
 use crate::finger::{
     Finger, Load, Solution, SolveOptions, Solver, TargetFold, TargetProblem, Traced,
 };
+use crate::solve_error::SolveError;
 
 /// An axis of the finger frame.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

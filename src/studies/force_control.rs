@@ -5,8 +5,9 @@ use serde::Serialize;
 use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
-use crate::error::{SolveError, Warning};
+use crate::error::Warning;
 use crate::gripper::{Grasp, Invalid};
+use crate::solve_error::SolveError;
 
 /// One pressure of the force-control study.
 #[derive(Debug, Clone, PartialEq)]

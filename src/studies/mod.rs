@@ -18,13 +18,14 @@
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 
 use crate::actuator::Actuator;
-use crate::blocks::Partition;
-use crate::error::{positive, require, InputError, SolveError};
+use crate::error::{positive, require, InputError};
 use crate::finger::Finger;
 use crate::gripper::{
     Grasp, Gripper, GripperParams, Object, PalmSpec, SizeTail, SweepEnd, ViableAngles,
 };
 use crate::model::ModelId;
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
 
 mod cuboid;
 mod curvature;

@@ -6,7 +6,7 @@ use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSumm
 use super::output::*;
 use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
 use crate::actuator::Actuator;
-use crate::error::SolveError;
+use crate::solve_error::SolveError;
 
 /// Study 2 (Sec. 4.2): overlap, eps0 = 0.25: one curve per (a in
 /// [`PAPER_ANGLES`], g in [`PAPER_OVERLAPS`]), angle-major. Each curve's

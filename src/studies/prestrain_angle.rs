@@ -6,7 +6,7 @@ use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSumm
 use super::output::*;
 use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_EPS0};
 use crate::actuator::Actuator;
-use crate::error::SolveError;
+use crate::solve_error::SolveError;
 
 /// Study 1 (Sec. 4.1): prestrain x mounting angle, overlap 0, grasping
 /// angle 0, `f = mu F`: one curve per (eps0 in [`PAPER_EPS0`], a in

@@ -5,8 +5,9 @@ use serde::Serialize;
 use super::output::*;
 use super::{section5_gripper, size_sweep, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
-use crate::error::{SolveError, Warning};
+use crate::error::Warning;
 use crate::gripper::{grasping_angle_range, Gripper, Invalid, Object, SphereLift};
+use crate::solve_error::SolveError;
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
 #[derive(Debug, Clone, PartialEq)]
@@ -151,7 +152,7 @@ fn sphere_envelope(
         }
         Ok(lift)
     };
-    crate::search::brent_max(&mut eval, a, centre, b, fb, PEAK_RADIUS_TOL_MM, 40)?;
+    crate::brent::brent_max(&mut eval, a, centre, b, fb, PEAK_RADIUS_TOL_MM, 40)?;
     Ok((envelope, Some(peak)))
 }
 

@@ -5,8 +5,8 @@ use serde::Serialize;
 use super::output::*;
 use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
-use crate::error::SolveError;
 use crate::gripper::{grasping_angle_range, AngleSample, Invalid, ViableAngles};
+use crate::solve_error::SolveError;
 
 /// The sphere of study 6: radius (mm) and lifting force per finger (N).
 const SPHERE: (f64, f64) = (50.0, 0.5);

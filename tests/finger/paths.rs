@@ -86,7 +86,7 @@ fn equal_elements_without_ribs_have_equal_solutions() {
         let lengths = f.element_lengths();
         // Equal elements have the same energy function: every family's
         // value, gradient and Hessian agree bit for bit at random states
-        // (the blocks themselves are compared in src/blocks.rs's tests).
+        // (the blocks themselves are compared in src/actuator/blocks.rs's tests).
         let load = pressure(100.0);
         let states = random_coeffs(&mut rng, &f);
         for probe in states.iter().chain(std::iter::once(&[0.0; 4][..])) {

@@ -731,6 +731,58 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
                 ModelId::#default_variant
             }
         }
+
+        #[doc = "`model_enum! { enum Name = Alias }` (or `enum Name<'a> = Alias`): an enum with one variant per model, named as in `ModelId`, each holding `Alias<Model>` (`Alias<'a, Model>`): static dispatch over the models (`match_model!`, `map_model!`, `model_of_id!`). The models are `crate::model`'s."]
+        macro_rules! model_enum {
+            ($(#[$attr:meta])* $vis:vis enum $name:ident = $alias:ident) => {
+                $(#[$attr])*
+                $vis enum $name {
+                    #( #variants($alias<$crate::model::#modules::#variants>), )*
+                }
+            };
+            ($(#[$attr:meta])* $vis:vis enum $name:ident<$lt:lifetime> = $alias:ident) => {
+                $(#[$attr])*
+                $vis enum $name<$lt> {
+                    #( #variants($alias<$lt, $crate::model::#modules::#variants>), )*
+                }
+            };
+        }
+        pub(crate) use model_enum;
+
+        #[doc = "`match_model!(value, Enum(binding) => body)`: `body`, with `binding` the content of the variant `value` holds, whatever the model (`Enum` made by `model_enum!`)."]
+        macro_rules! match_model {
+            ($value:expr, $enum:ident($binding:ident) => $body:expr) => {
+                match $value {
+                    #( $enum::#variants($binding) => $body, )*
+                }
+            };
+        }
+        pub(crate) use match_model;
+
+        #[doc = "`map_model!(value, Enum(binding) => Out(body))`: the variant of `Out` of the model `value` holds, with `body` in it (`binding` as in `match_model!`)."]
+        macro_rules! map_model {
+            ($value:expr, $enum:ident($binding:ident) => $out:ident($body:expr)) => {
+                match $value {
+                    #( $enum::#variants($binding) => $out::#variants($body), )*
+                }
+            };
+        }
+        pub(crate) use map_model;
+
+        #[doc = "`model_of_id!(id, M => Out(body))`: the variant of `Out` of the model `id` names, with `body` in it, evaluated with `M` the model's type."]
+        macro_rules! model_of_id {
+            ($id:expr, $model:ident => $out:ident($body:expr)) => {
+                match $id {
+                    #(
+                        $crate::model::ModelId::#variants => {
+                            type $model = $crate::model::#modules::#variants;
+                            $out::#variants($body)
+                        }
+                    )*
+                }
+            };
+        }
+        pub(crate) use model_of_id;
     };
     let body = format_file(&tokens).map_err(|e| ModelGenError {
         spec: "energy-spec/".into(),

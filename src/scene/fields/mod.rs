@@ -12,7 +12,8 @@
 use std::fmt;
 
 use super::record::degrees;
-use crate::error::{self, InputError, SolveError, Warning};
+use crate::error::{self, InputError, Warning};
+use crate::solve_error::SolveError;
 
 /// Defines an enum of leaf names with `ALL` and `name()` (the key as
 /// written in the file).

@@ -84,9 +84,9 @@ fn scene_keys_are_the_schema() {
 #[test]
 fn the_library_spells_its_fields_as_the_enum_does() {
     use crate::actuator::{Actuator, ActuatorParams, Rib, RibLayout};
-    use crate::blocks::Partition;
     use crate::finger::{Finger, Load, SolveOptions};
     use crate::gripper::{Gripper, GripperParams, PalmSpec};
+    use crate::partition::Partition;
     use crate::refine::solve_to_tip_tolerance;
 
     fn field<T: std::fmt::Debug, E: Into<SolveError>>(r: Result<T, E>) -> String {

@@ -6,10 +6,10 @@ mod gripper;
 #[cfg(test)]
 mod tests;
 
-use crate::blocks::{Partition, MIN_ELEMENT_FRACTION};
 use crate::error::InputError;
 use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::model::ModelId;
+use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
 use super::fields::{
     finite, forbid, inconsistent, positive, require, scene_input, LoadKey, ModelKey, PartitionKey,

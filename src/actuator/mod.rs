@@ -14,9 +14,23 @@
 //! | regular EMC | [h2, h1] |
 //! | fluidic layer (FL), with the channel z in [-h3b, h3a] | [-h3, h2] |
 //! | prestressed EMC (PEMC) | [-H/2, -h3] |
+//!
+//! - [`param`]: the actuator's parameters by their scene keys;
+//! - [`blocks`]: the actuator cut into integration blocks per element, and
+//!   the partition on its material changes;
+//! - [`tangent`]: the tangent of the actuator and of its blocks along one
+//!   parameter (the design sensitivities' right-hand sides).
+
+mod blocks;
+mod param;
+mod tangent;
 
 use crate::error::{finite, positive, require, InputError, Warning};
 use crate::model::PsiParams;
+
+pub(crate) use blocks::element_blocks;
+pub use param::{ActuatorParam, Elastic, Lamina};
+pub(crate) use tangent::{element_block_tangent_into, ActuatorTangent};
 
 /// Strain range of the uniaxial test the prestressed law was fitted to;
 /// a prestrain outside it is accepted with a [`Warning`].
@@ -467,7 +481,7 @@ impl Actuator {
             });
         }
         // a validity finding, not an error: the strip may still be solved
-        warnings.extend(crate::validity::thickness(g));
+        warnings.extend(crate::validity::thickness(g.h, g.lx, g.ly));
         Ok(Actuator {
             params,
             ribs,

@@ -1,7 +1,7 @@
-//! One-dimensional searches over solves: the maximum of a function that may
-//! be undefined (an invalid grasp, a failed solve) at some points, and the
-//! boundary between two sets. Both take a closure that runs a solve, so
-//! each evaluation is expensive and counted.
+//! Brent's one-dimensional maximiser over solves: the maximum of a function
+//! that may be undefined (an invalid grasp, a failed solve) at some points.
+//! It takes a closure that runs a solve, so each evaluation is expensive
+//! and counted.
 
 /// Where a maximum search ended.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,0 +1,296 @@
+//! The actuator's parameters by their scene keys: the ones its integration
+//! blocks depend on smoothly ([`ActuatorParam`]), with the laminae and the
+//! elastic constants they name ([`Lamina`], [`Elastic`]). The design
+//! sensitivities differentiate along them.
+
+use crate::error::InputError;
+
+use super::{Actuator, ActuatorParams, Material, RibLayout};
+
+/// A linear lamina with its own material table (`actuator.<layer>`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Lamina {
+    /// The constraining layer, `actuator.cl`.
+    Cl,
+    /// The regular EMC, `actuator.emc`.
+    Emc,
+    /// The fluidic layer (and the ribs), `actuator.fluidic`.
+    Fluidic,
+}
+
+impl Lamina {
+    /// Every lamina, top to bottom.
+    pub const ALL: [Lamina; 3] = [Lamina::Cl, Lamina::Emc, Lamina::Fluidic];
+
+    /// The scene table's name (`cl`, `emc`, `fluidic`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Lamina::Cl => "cl",
+            Lamina::Emc => "emc",
+            Lamina::Fluidic => "fluidic",
+        }
+    }
+}
+
+/// An elastic constant of a lamina's material: `e`, `nu` of an isotropic
+/// material, `e1`, `e2`, `nu12` of an orthotropic one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Elastic {
+    /// Young's modulus of an isotropic material (MPa).
+    E,
+    /// Poisson's ratio of an isotropic material.
+    Nu,
+    /// Young's modulus along X of an orthotropic material (MPa).
+    E1,
+    /// Young's modulus along Y of an orthotropic material (MPa).
+    E2,
+    /// Major Poisson's ratio of an orthotropic material.
+    Nu12,
+}
+
+impl Elastic {
+    /// Every constant, isotropic first.
+    pub const ALL: [Elastic; 5] = [
+        Elastic::E,
+        Elastic::Nu,
+        Elastic::E1,
+        Elastic::E2,
+        Elastic::Nu12,
+    ];
+
+    /// The scene key's last part (`e`, `nu`, `e1`, `e2`, `nu12`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Elastic::E => "e",
+            Elastic::Nu => "nu",
+            Elastic::E1 => "e1",
+            Elastic::E2 => "e2",
+            Elastic::Nu12 => "nu12",
+        }
+    }
+
+    /// The constant's value in `material`, if it has it.
+    pub fn value(self, material: &Material) -> Option<f64> {
+        match (material, self) {
+            (Material::Isotropic(m), Elastic::E) => Some(m.e),
+            (Material::Isotropic(m), Elastic::Nu) => Some(m.nu),
+            (Material::Orthotropic(m), Elastic::E1) => Some(m.e1),
+            (Material::Orthotropic(m), Elastic::E2) => Some(m.e2),
+            (Material::Orthotropic(m), Elastic::Nu12) => Some(m.nu12),
+            _ => None,
+        }
+    }
+
+    fn slot(self, material: &mut Material) -> Option<&mut f64> {
+        match (material, self) {
+            (Material::Isotropic(m), Elastic::E) => Some(&mut m.e),
+            (Material::Isotropic(m), Elastic::Nu) => Some(&mut m.nu),
+            (Material::Orthotropic(m), Elastic::E1) => Some(&mut m.e1),
+            (Material::Orthotropic(m), Elastic::E2) => Some(&mut m.e2),
+            (Material::Orthotropic(m), Elastic::Nu12) => Some(&mut m.nu12),
+            _ => None,
+        }
+    }
+}
+
+/// An actuator parameter the blocks depend on smoothly, named by its scene
+/// key ([`ActuatorParam::name`]). Not covered: the lengths `lx` and `cx`,
+/// and the rib layout's `w1` and `t`, which move element boundaries or the
+/// clipping of a rib (and at the paper's layout the last rib ends exactly
+/// at the channel's end, where the blocks are not differentiable).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ActuatorParam {
+    /// `actuator.pemc.eps0`, the prestrain.
+    Eps0,
+    /// `actuator.pemc.e2` (MPa), the prestressed layer's Y modulus (its Q22).
+    PemcE2,
+    /// `actuator.pemc.p1` (MPa), the psi law's coefficients.
+    PsiP1,
+    /// `actuator.pemc.p2` (MPa).
+    PsiP2,
+    /// `actuator.pemc.p3` (MPa).
+    PsiP3,
+    /// `actuator.pemc.p4` (MPa).
+    PsiP4,
+    /// `actuator.geometry.h` (mm), the total thickness H.
+    H,
+    /// `actuator.geometry.h1` (mm): the CL / EMC interface.
+    H1,
+    /// `actuator.geometry.h2` (mm): the EMC / fluidic interface.
+    H2,
+    /// `actuator.geometry.h3` (mm): the fluidic / PEMC interface is at -h3.
+    H3,
+    /// `actuator.geometry.ly` (mm), the width.
+    Ly,
+    /// `actuator.channel.cy` (mm), the channel's width.
+    ChannelCy,
+    /// `actuator.channel.h3a` (mm): the channel's top at z = h3a.
+    ChannelH3a,
+    /// `actuator.channel.h3b` (mm): the channel's bottom at z = -h3b.
+    ChannelH3b,
+    /// `actuator.<layer>.<constant>`: an elastic constant of a linear lamina.
+    Elastic(Lamina, Elastic),
+    /// `actuator.ribs.w2` (mm): the transverse ribs' half width (paper layout).
+    RibsW2,
+}
+
+const ELASTIC_NAMES: [[&str; 5]; 3] = [
+    [
+        "actuator.cl.e",
+        "actuator.cl.nu",
+        "actuator.cl.e1",
+        "actuator.cl.e2",
+        "actuator.cl.nu12",
+    ],
+    [
+        "actuator.emc.e",
+        "actuator.emc.nu",
+        "actuator.emc.e1",
+        "actuator.emc.e2",
+        "actuator.emc.nu12",
+    ],
+    [
+        "actuator.fluidic.e",
+        "actuator.fluidic.nu",
+        "actuator.fluidic.e1",
+        "actuator.fluidic.e2",
+        "actuator.fluidic.nu12",
+    ],
+];
+
+impl ActuatorParam {
+    /// Every actuator parameter (elastic constants of both kinds).
+    pub fn all() -> Vec<ActuatorParam> {
+        let mut v = vec![
+            ActuatorParam::Eps0,
+            ActuatorParam::PemcE2,
+            ActuatorParam::PsiP1,
+            ActuatorParam::PsiP2,
+            ActuatorParam::PsiP3,
+            ActuatorParam::PsiP4,
+            ActuatorParam::H,
+            ActuatorParam::H1,
+            ActuatorParam::H2,
+            ActuatorParam::H3,
+            ActuatorParam::Ly,
+            ActuatorParam::ChannelCy,
+            ActuatorParam::ChannelH3a,
+            ActuatorParam::ChannelH3b,
+        ];
+        for l in Lamina::ALL {
+            for k in Elastic::ALL {
+                v.push(ActuatorParam::Elastic(l, k));
+            }
+        }
+        v.push(ActuatorParam::RibsW2);
+        v
+    }
+
+    /// The parameters `actuator` has (its materials' constants, `w2` only
+    /// with the paper's rib layout).
+    pub fn for_actuator(actuator: &Actuator) -> Vec<ActuatorParam> {
+        ActuatorParam::all()
+            .into_iter()
+            .filter(|p| p.value(actuator).is_some())
+            .collect()
+    }
+
+    /// The scene key (`actuator.pemc.eps0`, `actuator.cl.e`, ...).
+    pub fn name(self) -> &'static str {
+        match self {
+            ActuatorParam::Eps0 => "actuator.pemc.eps0",
+            ActuatorParam::PemcE2 => "actuator.pemc.e2",
+            ActuatorParam::PsiP1 => "actuator.pemc.p1",
+            ActuatorParam::PsiP2 => "actuator.pemc.p2",
+            ActuatorParam::PsiP3 => "actuator.pemc.p3",
+            ActuatorParam::PsiP4 => "actuator.pemc.p4",
+            ActuatorParam::H => "actuator.geometry.h",
+            ActuatorParam::H1 => "actuator.geometry.h1",
+            ActuatorParam::H2 => "actuator.geometry.h2",
+            ActuatorParam::H3 => "actuator.geometry.h3",
+            ActuatorParam::Ly => "actuator.geometry.ly",
+            ActuatorParam::ChannelCy => "actuator.channel.cy",
+            ActuatorParam::ChannelH3a => "actuator.channel.h3a",
+            ActuatorParam::ChannelH3b => "actuator.channel.h3b",
+            ActuatorParam::Elastic(l, k) => ELASTIC_NAMES[l as usize][k as usize],
+            ActuatorParam::RibsW2 => "actuator.ribs.w2",
+        }
+    }
+
+    /// The parameter's value in `actuator` (`None`: it has no such
+    /// parameter, as `e1` of an isotropic layer).
+    pub fn value(self, actuator: &Actuator) -> Option<f64> {
+        let p = actuator.params();
+        let g = &p.geometry;
+        let c = &p.channel;
+        let law = &p.pemc.law;
+        Some(match self {
+            ActuatorParam::Eps0 => p.pemc.eps0,
+            ActuatorParam::PemcE2 => p.pemc.e2,
+            ActuatorParam::PsiP1 => law.p1,
+            ActuatorParam::PsiP2 => law.p2,
+            ActuatorParam::PsiP3 => law.p3,
+            ActuatorParam::PsiP4 => law.p4,
+            ActuatorParam::H => g.h,
+            ActuatorParam::H1 => g.h1,
+            ActuatorParam::H2 => g.h2,
+            ActuatorParam::H3 => g.h3,
+            ActuatorParam::Ly => g.ly,
+            ActuatorParam::ChannelCy => c.cy,
+            ActuatorParam::ChannelH3a => c.h3a,
+            ActuatorParam::ChannelH3b => c.h3b,
+            ActuatorParam::Elastic(l, k) => k.value(material(p, l))?,
+            ActuatorParam::RibsW2 => match p.ribs {
+                RibLayout::Paper { w2, .. } => w2,
+                _ => return None,
+            },
+        })
+    }
+
+    /// `actuator` with this parameter set to `value`, validated again.
+    pub fn with_value(self, actuator: &Actuator, value: f64) -> Result<Actuator, InputError> {
+        let mut p = actuator.params().clone();
+        let missing = || InputError::Inconsistent {
+            field: self.name().into(),
+            rule: "the actuator has no such parameter".into(),
+        };
+        let slot: &mut f64 = match self {
+            ActuatorParam::Eps0 => &mut p.pemc.eps0,
+            ActuatorParam::PemcE2 => &mut p.pemc.e2,
+            ActuatorParam::PsiP1 => &mut p.pemc.law.p1,
+            ActuatorParam::PsiP2 => &mut p.pemc.law.p2,
+            ActuatorParam::PsiP3 => &mut p.pemc.law.p3,
+            ActuatorParam::PsiP4 => &mut p.pemc.law.p4,
+            ActuatorParam::H => &mut p.geometry.h,
+            ActuatorParam::H1 => &mut p.geometry.h1,
+            ActuatorParam::H2 => &mut p.geometry.h2,
+            ActuatorParam::H3 => &mut p.geometry.h3,
+            ActuatorParam::Ly => &mut p.geometry.ly,
+            ActuatorParam::ChannelCy => &mut p.channel.cy,
+            ActuatorParam::ChannelH3a => &mut p.channel.h3a,
+            ActuatorParam::ChannelH3b => &mut p.channel.h3b,
+            ActuatorParam::Elastic(l, k) => {
+                let m = match l {
+                    Lamina::Cl => &mut p.cl,
+                    Lamina::Emc => &mut p.emc,
+                    Lamina::Fluidic => &mut p.fluidic,
+                };
+                k.slot(m).ok_or_else(missing)?
+            }
+            ActuatorParam::RibsW2 => match &mut p.ribs {
+                RibLayout::Paper { w2, .. } => w2,
+                _ => return Err(missing()),
+            },
+        };
+        *slot = value;
+        Actuator::new(p)
+    }
+}
+
+fn material(p: &ActuatorParams, l: Lamina) -> &Material {
+    match l {
+        Lamina::Cl => &p.cl,
+        Lamina::Emc => &p.emc,
+        Lamina::Fluidic => &p.fluidic,
+    }
+}

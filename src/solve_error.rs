@@ -1,0 +1,60 @@
+//! Why a solve failed: a rejected input, Newton short of the tolerance
+//! (with the last iterate), or a target the path does not reach.
+
+use crate::coefficients::Coefficients;
+use crate::error::InputError;
+
+/// A scene that could not be solved: the input was rejected, or Newton
+/// (with continuation where enabled) did not reach the tolerance.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// A rejected input value.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The solver stopped without meeting the residual tolerance.
+    #[error(
+        "solve failed{}: {reason} after {iterations} iterations (relative residual {relative_residual:.3e})",
+        element.map(|e| format!(" for element {e}")).unwrap_or_default()
+    )]
+    NotConverged {
+        /// Why Newton stopped.
+        reason: fpc_newton::Termination,
+        /// Iterations spent.
+        iterations: usize,
+        /// Last residual over the finger's stiffness scale.
+        relative_residual: f64,
+        /// The element whose decoupled solve failed, if any.
+        element: Option<usize>,
+        /// The last iterate's coefficients.
+        last: Coefficients,
+    },
+    /// The target lies beyond a fold of the path that reaches it from rest
+    /// (closing a gripper on an object, or pushing a tip): the equilibrium
+    /// there belongs to another branch, which that path does not reach;
+    /// `detail` says where the path turns back.
+    #[error("{target} = {value}: not reached on the path from rest: {detail}")]
+    NotOnPath {
+        /// The target's field path.
+        target: String,
+        /// The target's value.
+        value: f64,
+        /// Where and how the path turns back.
+        detail: String,
+    },
+    /// A target solve (a grasp size, a force, a displacement) did not
+    /// reach its target: the path from the reference state stopped short.
+    #[error(
+        "{target} = {value}: not reached; the path from the unloaded finger stopped at {percent:.0} % of the way ({detail})",
+        percent = 100.0 * reached
+    )]
+    TargetNotReached {
+        /// The target's field path.
+        target: String,
+        /// The target's value.
+        value: f64,
+        /// How far along the path the last accepted state was (0 to 1).
+        reached: f64,
+        /// The failure at the step that could not be taken.
+        detail: String,
+    },
+}
