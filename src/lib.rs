@@ -28,6 +28,7 @@ mod error;
 mod finger;
 mod fit;
 pub mod model;
+mod plan;
 mod refine;
 mod search;
 mod sensitivity;
@@ -48,10 +49,10 @@ pub use finger::{
 pub use fit::{fit_circle, Circle};
 pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
+pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved, DEFAULT_PLAN_ELEMENTS};
 pub use refine::{
-    refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
-    Refinement, Refiner, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
-    MAX_REFINED_ELEMENTS,
+    Level, PartitionKind, Refinement, RefinementRecord, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
+    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
 };
 pub use sensitivity::{
     ActuatorParam, Elastic, EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity,

@@ -3,8 +3,8 @@
 use std::io::Write;
 
 use fpc::{
-    refine, solve_auto, solve_to_tip_tolerance, Actuator, Finger, InputError, Load, ModelId,
-    Partition, PartitionKind, Refined, Refinement, Solution, SolveOptions,
+    Actuator, InputError, Load, ModelId, PartitionKind, Plan, PlannedFinger, Solution,
+    SolveOptions, Solved,
 };
 
 /// `--elements`: a count, or `auto`.
@@ -12,7 +12,7 @@ use fpc::{
 pub enum Elements {
     /// N equal elements.
     Equal(usize),
-    /// The automatic partition ([`fpc::solve_auto`]).
+    /// The automatic partition ([`fpc::Plan::Auto`]).
     Auto,
 }
 
@@ -110,17 +110,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         crate::report::warning(&w.to_string());
     }
     let partition = PartitionKind::parse("partition", &args.partition)?;
-    let refinement = |r: Refined| Run {
-        best_tip: r.tip,
-        best_end_angle: r.end_angle,
-        estimate: r.estimated_tip_error_mm,
-        configuration: Some(r.plan.label()),
-        level_elements: r.levels.iter().map(|l| l.elements).collect(),
-        extrapolated: r.is_extrapolated(),
-        solution: r.solution,
-    };
-    let run = match (args.tip_tol_mm, args.elements) {
-        (Some(tol), elements) => {
+    let plan = match (args.tip_tol_mm, args.elements) {
+        (Some(tip_tol_mm), elements) => {
             let start = match elements {
                 Some(Elements::Equal(n)) => Some(n),
                 None | Some(Elements::Auto) => None,
@@ -132,9 +123,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 .into());
             }
-            refinement(solve_to_tip_tolerance(
-                model, &act, ribs, &load, tol, start, &opts,
-            )?)
+            Plan::TipTolerance { tip_tol_mm, start }
         }
         (None, Some(Elements::Auto)) => {
             if args.levels != 1 || args.extrapolate {
@@ -145,7 +134,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 .into());
             }
-            Run::single(solve_auto(model, &act, ribs, &load, &opts)?.solution)
+            Plan::Auto
         }
         (None, elements) => {
             let n = match elements {
@@ -153,21 +142,24 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 _ => DEFAULT_ELEMENTS,
             };
             if args.levels == 1 && !args.extrapolate && partition == PartitionKind::Equal {
-                let part = Partition::equal(act.geometry().lx, n)?;
-                let finger = Finger::with_model(model, &act, &part, ribs);
-                Run::single(finger.solve(&load, &opts)?)
+                Plan::Equal(n)
             } else {
-                let plan = Refinement {
-                    model,
+                Plan::Levels {
                     partition,
                     start: n,
                     levels: args.levels,
                     extrapolate: args.extrapolate,
-                };
-                refinement(refine(&act, ribs, &load, &plan, &opts)?)
+                }
             }
         }
     };
+    let solved = PlannedFinger::builder(&act)
+        .model(model)
+        .ribs(ribs)
+        .plan(plan)
+        .build()?
+        .solve(&load, &opts)?;
+    let run = Run::of(solved);
     let sol = &run.solution;
     // the solution's own findings (the input's were printed above)
     for w in sol
@@ -211,15 +203,18 @@ struct Run {
 }
 
 impl Run {
-    fn single(solution: Solution) -> Run {
+    fn of(s: Solved) -> Run {
         Run {
-            best_tip: solution.tip,
-            best_end_angle: solution.end_angle,
-            estimate: None,
-            configuration: None,
-            level_elements: vec![solution.element_lengths.len()],
-            extrapolated: false,
-            solution,
+            best_tip: s.tip(),
+            best_end_angle: s.end_angle(),
+            estimate: s.estimated_tip_error_mm(),
+            extrapolated: s.is_extrapolated(),
+            configuration: s.refinement.as_ref().map(|r| r.plan.label()),
+            level_elements: match &s.refinement {
+                Some(r) => r.levels.iter().map(|l| l.elements).collect(),
+                None => vec![s.elements()],
+            },
+            solution: s.solution,
         }
     }
 
