@@ -310,7 +310,9 @@ impl Solved {
     /// The best tip (mm, finger frame): extrapolated when the refinement
     /// extrapolates, else the solution's.
     pub fn tip(&self) -> [f64; 2] {
-        self.refinement.as_ref().map_or(self.solution.tip, |r| r.tip)
+        self.refinement
+            .as_ref()
+            .map_or(self.solution.tip, |r| r.tip)
     }
 
     /// The best end angle (rad), like [`Solved::tip`].

@@ -407,7 +407,11 @@ fn the_tolerance_choice_estimates_at_or_above_the_true_error() {
             let r =
                 solve_to_tip_tolerance(ModelId::default(), &act, true, &load, tol, None, &opts())
                     .unwrap();
-            assert_eq!(record(&r).plan.partition, PartitionKind::Material, "{name}, {tol}");
+            assert_eq!(
+                record(&r).plan.partition,
+                PartitionKind::Material,
+                "{name}, {tol}"
+            );
             assert!(r.is_extrapolated());
             let est = r.estimated_tip_error_mm().unwrap();
             assert!(est <= tol, "{name}, tol {tol}: estimate {est:e}");

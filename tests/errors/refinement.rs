@@ -52,11 +52,20 @@ fn plans_are_checked_when_built() {
         levels,
         extrapolate,
     };
-    assert_eq!(input(build(levels(0, 1, false))).field(), "refinement.start");
-    assert_eq!(input(build(levels(8, 0, false))).field(), "refinement.levels");
+    assert_eq!(
+        input(build(levels(0, 1, false))).field(),
+        "refinement.start"
+    );
+    assert_eq!(
+        input(build(levels(8, 0, false))).field(),
+        "refinement.levels"
+    );
     // 8 doubled six times is 512, seven times 1024
     assert!(build(levels(8, 7, false)).is_ok());
-    assert_eq!(input(build(levels(8, 8, false))).field(), "refinement.levels");
+    assert_eq!(
+        input(build(levels(8, 8, false))).field(),
+        "refinement.levels"
+    );
     assert_eq!(
         input(build(levels(8, 2, true))).field(),
         "refinement.extrapolate"
