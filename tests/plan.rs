@@ -217,3 +217,125 @@ fn guesses_start_only_fixed_partitions_and_levels() {
         }
     }
 }
+
+/// What the entry points before the front door (`solve_auto`,
+/// `solve_to_tip_tolerance`, `refine`) gave on the paper's finger at 20 kPa
+/// under a tip force of (0.4, 0.3) N, recorded from that code: the finest
+/// solution's tip, the best tip, the best end angle, the estimate, the
+/// elements and each level's elements and Newton iterations.
+#[test]
+fn refined_plans_give_what_the_former_entry_points_gave() {
+    let act = Actuator::paper(0.25).unwrap();
+    let load = Load::unloaded()
+        .with_pressure_kpa(20.0)
+        .with_tip_force(0.4, 0.3);
+    let opts = SolveOptions::default();
+    let solve = |plan: Plan| {
+        planned(&act, ModelId::default(), plan)
+            .solve(&load, &opts)
+            .unwrap()
+    };
+    type Record = (
+        [f64; 2],
+        [f64; 2],
+        f64,
+        Option<f64>,
+        usize,
+        Vec<(usize, usize)>,
+    );
+    let record = |s: &Solved| -> Record {
+        let r = s.refinement.as_ref().unwrap();
+        (
+            s.solution.tip,
+            s.tip(),
+            s.end_angle(),
+            s.estimated_tip_error_mm(),
+            s.elements(),
+            r.levels
+                .iter()
+                .map(|l| (l.elements, l.iterations))
+                .collect(),
+        )
+    };
+
+    let auto = solve(Plan::Auto);
+    assert_eq!(auto.solution.tip, [59.46226076354199, -65.57264978966606]);
+    assert_eq!(auto.solution.end_angle, -1.8795195192997696);
+    assert_eq!((auto.elements(), auto.splits), (27, 0));
+
+    let tol = |start| Plan::TipTolerance {
+        tip_tol_mm: 0.05,
+        start,
+    };
+    assert_eq!(
+        record(&solve(tol(None))),
+        (
+            [59.47203316587682, -65.56323918838721],
+            [59.475285959704415, -65.56010425174806],
+            -1.878633428751768,
+            Some(0.004517576276758651),
+            54,
+            vec![(27, 15), (54, 3)]
+        )
+    );
+    assert_eq!(
+        record(&solve(tol(Some(8)))),
+        (
+            [59.491307002598354, -65.55579025243762],
+            [59.491307002598354, -65.55579025243762],
+            -1.8782518442538638,
+            Some(0.042924450799599),
+            128,
+            vec![(8, 22), (16, 3), (32, 3), (64, 3), (128, 3)]
+        )
+    );
+
+    let levels = |partition, extrapolate| Plan::Levels {
+        partition,
+        start: 8,
+        levels: 3,
+        extrapolate,
+    };
+    assert_eq!(
+        record(&solve(levels(PartitionKind::Material, true))),
+        (
+            [59.47469144774879, -65.56070347977516],
+            [59.47586740258202, -65.55961293381253],
+            -1.878634615716295,
+            Some(0.001224288242920775),
+            108,
+            vec![(27, 15), (54, 2), (108, 2)]
+        )
+    );
+    assert_eq!(
+        record(&solve(levels(PartitionKind::Material, false))),
+        (
+            [59.47469144774879, -65.56070347977516],
+            [59.47469144774879, -65.56070347977516],
+            -1.8786892251936398,
+            Some(0.0028280838241576114),
+            108,
+            vec![(27, 15), (54, 2), (108, 2)]
+        )
+    );
+    assert_eq!(
+        record(&solve(levels(PartitionKind::Equal, false))),
+        (
+            [59.529402178093875, -65.55103563660496],
+            [59.529402178093875, -65.55103563660496],
+            -1.877509578200763,
+            Some(0.10715786619376647),
+            32,
+            vec![(8, 22), (16, 3), (32, 3)]
+        )
+    );
+    // the extrapolated tip is T3 of the levels' tips, computed here:
+    // (8 t2 - 6 t1 + t0) / 3
+    let s = solve(levels(PartitionKind::Material, true));
+    let t = &s.refinement.as_ref().unwrap().levels;
+    for i in 0..2 {
+        let t3 = (8.0 * t[2].tip[i] - 6.0 * t[1].tip[i] + t[0].tip[i]) / 3.0;
+        assert!((s.tip()[i] - t3).abs() < 1e-10, "{:?} vs {t3}", s.tip());
+    }
+    assert!(s.is_extrapolated());
+}
