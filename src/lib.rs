@@ -30,6 +30,7 @@ mod error;
 mod finger;
 pub mod model;
 mod partition;
+mod plan;
 mod refine;
 mod sensitivity;
 mod solve_error;
@@ -51,10 +52,10 @@ pub use finger::{
 pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use partition::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
+pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved, DEFAULT_PLAN_ELEMENTS};
 pub use refine::{
-    refine, solve_auto, solve_to_tip_tolerance, AutoSolved, Level, PartitionKind, Refined,
-    Refinement, Refiner, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
-    MAX_REFINED_ELEMENTS,
+    Level, PartitionKind, Refinement, RefinementRecord, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
+    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
 };
 pub use sensitivity::{
     EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity, GraspKind, GraspSensitivities,

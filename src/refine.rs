@@ -42,9 +42,11 @@
 //!   the error of the finer level reached 4.4 times `D` in the measurements
 //!   of docs/performance.md, and 0.67 times this estimate at most.
 //!
-//! [`solve_to_tip_tolerance`] uses the material partition with
-//! extrapolation for every tolerance ([`Refinement::for_tolerance`]) and
-//! refines until the estimate meets the tolerance.
+//! A tip tolerance ([`crate::Plan::TipTolerance`]) uses the material
+//! partition with extrapolation for every tolerance
+//! ([`Refinement::for_tolerance`]) and refines until the estimate meets
+//! the tolerance. [`crate::PlannedFinger`] is the front door to every
+//! plan; this module holds the refinements behind it.
 
 use serde::Serialize;
 
@@ -54,6 +56,7 @@ use crate::error::{positive, require, InputError, Warning};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
+use crate::plan::Solved;
 use crate::solve_error::SolveError;
 
 /// Largest number of elements a refinement uses.
@@ -138,15 +141,16 @@ impl Refinement {
         }
     }
 
-    /// The configuration [`solve_to_tip_tolerance`] starts from for any
+    /// The configuration a tip tolerance ([`crate::Plan::TipTolerance`])
+    /// starts from for any
     /// tolerance: the material partition (pieces at most lx / 8) on two
     /// levels with extrapolation, the fastest configuration whose error
     /// estimate can be trusted (docs/performance.md, "The front"; equal
     /// elements are faster for loose tolerances on the standard case, but
     /// their irregular convergence needs three levels for an estimate, and
     /// on a pressurised finger hundreds of elements).
-    /// [`solve_to_tip_tolerance`] adds levels while the estimate is above
-    /// the tolerance; `tip_tol_mm` does not change the start.
+    /// The tolerance's solve adds levels while the estimate is above the
+    /// tolerance; `tip_tol_mm` does not change the start.
     pub fn for_tolerance(model: ModelId, _tip_tol_mm: f64) -> Refinement {
         Refinement {
             model,
@@ -251,20 +255,18 @@ pub struct Level {
     pub iterations: usize,
 }
 
-/// The result of [`refine`] and [`solve_to_tip_tolerance`].
+/// The record of a refinement: its levels and the best tip estimate
+/// ([`crate::Solved::refinement`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Refined {
-    /// The solution on the finest partition.
-    pub solution: Solution,
-    /// Elements of the finest partition.
-    pub elements: usize,
+pub struct RefinementRecord {
     /// The best tip estimate: extrapolated when the plan extrapolates,
     /// else the finest level's.
     pub tip: [f64; 2],
     /// The best end-angle estimate (rad), extrapolated like the tip.
     pub end_angle: f64,
     /// Estimated distance of `tip` from the N -> infinity limit (mm;
-    /// module docs); `None` with a single level.
+    /// module docs); `None` with a single level (and with fewer than three
+    /// levels of equal elements).
     pub estimated_tip_error_mm: Option<f64>,
     /// Every level, coarsest first.
     pub levels: Vec<Level>,
@@ -272,7 +274,7 @@ pub struct Refined {
     pub plan: Refinement,
 }
 
-impl Refined {
+impl RefinementRecord {
     /// True when the tip is extrapolated.
     pub fn is_extrapolated(&self) -> bool {
         self.plan.extrapolate && self.levels.len() >= 2
@@ -411,24 +413,11 @@ fn tip_options(opts: &SolveOptions) -> SolveOptions {
     }
 }
 
-/// Solves `load` on every level of `plan`, coarse to fine, each level
-/// starting from the one before (nested iteration); the finest level uses
-/// `opts`, the others only compute the tip. See [`Refiner`] to reuse the
-/// fingers over many loads.
-pub fn refine(
-    actuator: &Actuator,
-    ribs: bool,
-    load: &Load,
-    plan: &Refinement,
-    opts: &SolveOptions,
-) -> Result<Refined, SolveError> {
-    Refiner::new(actuator, ribs, plan)?.solve(load, None, opts)
-}
-
 /// A refinement's fingers, built once (one per level) and reused for any
-/// number of loads.
+/// number of loads: the implementation of the nested-levels and
+/// tip-tolerance plans of [`crate::PlannedFinger`].
 #[derive(Debug, Clone)]
-pub struct Refiner {
+pub(crate) struct Refiner {
     plan: Refinement,
     fingers: Vec<Finger>,
     actuator: Actuator,
@@ -437,7 +426,11 @@ pub struct Refiner {
 
 impl Refiner {
     /// Builds the fingers of every level of `plan`.
-    pub fn new(actuator: &Actuator, ribs: bool, plan: &Refinement) -> Result<Refiner, InputError> {
+    pub(crate) fn new(
+        actuator: &Actuator,
+        ribs: bool,
+        plan: &Refinement,
+    ) -> Result<Refiner, InputError> {
         plan.validate(actuator, ribs)?;
         let mut r = Refiner {
             plan: *plan,
@@ -451,13 +444,13 @@ impl Refiner {
         Ok(r)
     }
 
-    /// The plan.
-    pub fn plan(&self) -> &Refinement {
-        &self.plan
+    /// The fingers built so far, coarsest first.
+    pub(crate) fn fingers(&self) -> &[Finger] {
+        &self.fingers
     }
 
     /// The finger of `level`, built when first asked for.
-    pub fn finger(&mut self, level: usize) -> Result<&Finger, InputError> {
+    fn finger(&mut self, level: usize) -> Result<&Finger, InputError> {
         while self.fingers.len() <= level {
             let part = self
                 .plan
@@ -472,103 +465,102 @@ impl Refiner {
         Ok(&self.fingers[level])
     }
 
-    /// Solves `load` on every level of the plan; `guess` (raw coefficients
-    /// on the coarsest partition) starts the coarsest solve.
-    pub fn solve(
-        &mut self,
+    /// Solves `load` on every level of the plan, coarse to fine, each level
+    /// starting from the one before (nested iteration); the finest level
+    /// uses `opts`, the others only compute the tip. `guess` (raw
+    /// coefficients on the coarsest partition) starts the coarsest solve.
+    pub(crate) fn solve(
+        &self,
         load: &Load,
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
-    ) -> Result<Refined, SolveError> {
+    ) -> Result<Solved, SolveError> {
         let mut run = Run::default();
-        for level in 0..self.plan.levels {
-            let level_opts = if level + 1 == self.plan.levels {
+        for (level, finger) in self.fingers.iter().enumerate().take(self.plan.levels) {
+            let last = level + 1 == self.plan.levels;
+            let level_opts = if last {
                 *opts
             } else {
-                coarse_options(opts, self.finger(level)?.len())
+                coarse_options(opts, finger.len())
             };
-            let intermediate = level + 1 < self.plan.levels;
-            self.solve_level(&mut run, load, level, guess, &level_opts, intermediate)?;
+            solve_level(finger, &mut run, load, guess, &level_opts, !last)?;
         }
         Ok(self.finish(run))
     }
 
-    /// Solves `level` with `level_opts`, from the previous level's solution
-    /// when there is one (else from `guess`).
-    fn solve_level(
+    /// Solves `load` to an estimated tip error of at most `tip_tol_mm`,
+    /// adding levels (built when first needed) until the estimate meets
+    /// it. The plan of a tolerance ([`TipTolerance::refiner`]).
+    fn solve_to(
         &mut self,
-        run: &mut Run,
         load: &Load,
-        level: usize,
-        guess: Option<&Coefficients>,
-        level_opts: &SolveOptions,
-        intermediate: bool,
-    ) -> Result<(), SolveError> {
-        let finger = self.finger(level)?;
-        // nested iteration from the previous level (a failed warm start
-        // falls back to a cold one), else from `guess`
-        let nested = match &run.state {
-            Some(prev) if prev.elements() * 2 == finger.len() => Some(halved_guess(prev)?),
-            _ => None,
+        tip_tol_mm: f64,
+        opts: &SolveOptions,
+    ) -> Result<Solved, SolveError> {
+        let mut run = Run::default();
+        let mut level = 0;
+        // the levels before the first estimate are intermediate (equal
+        // elements need three, material partitions two); any later one may be
+        // the last: the caller's tolerance, tip only
+        let first_estimate = match self.plan.partition {
+            PartitionKind::Equal => 2,
+            PartitionKind::Material => 1,
         };
-        let start = nested.as_ref().or(guess);
-        let trusted = nested.is_some();
-        let level = |tip, end_angle, iterations| Level {
-            elements: finger.len(),
-            tip,
-            end_angle,
-            iterations,
-        };
-        let (state, level) = if intermediate {
-            // only the state and the tip: no Solution for a level nobody sees
-            let t = match finger.solve_tip(load, start, level_opts, trusted) {
-                Err(_) if trusted => finger.solve_tip(load, None, level_opts, false),
-                r => r,
-            }?;
-            run.last = None;
-            (t.coefficients, level(t.tip, t.end_angle, t.iterations))
-        } else {
-            let solve = |g: Option<&Coefficients>| match g {
-                Some(g) if trusted => finger.solve_trusted(load, g, level_opts),
-                Some(g) => finger.solve_from(load, g, level_opts),
-                None => finger.solve(load, level_opts),
+        loop {
+            let intermediate = level < first_estimate;
+            let finger = self.finger(level)?;
+            let level_opts = if intermediate {
+                coarse_options(opts, finger.len())
+            } else {
+                tip_options(opts)
             };
-            let sol = match solve(start) {
-                Err(_) if trusted => solve(None),
-                r => r,
-            }?;
-            let done = level(sol.tip, sol.end_angle, sol.report.iterations);
-            let state = sol.coefficients.clone();
-            run.last = Some(sol);
-            (state, done)
-        };
-        run.levels.push(level);
-        run.state = Some(state);
-        Ok(())
+            solve_level(finger, &mut run, load, None, &level_opts, intermediate)?;
+            let plan = Refinement {
+                levels: run.levels.len(),
+                ..self.plan
+            };
+            let (_, _, est) = estimate(&plan, &run.levels);
+            if est.is_some_and(|e| e <= tip_tol_mm) {
+                break;
+            }
+            level += 1;
+            if self.finger(level).is_err() {
+                return Err(InputError::OutOfRange {
+                    field: "tip_tol_mm".into(),
+                    value: tip_tol_mm,
+                    rule: match est {
+                        Some(e) => format!(
+                            "not reached with up to {MAX_REFINED_ELEMENTS} elements (estimated tip error there {e:.3e} mm)"
+                        ),
+                        None => format!(
+                            "not reached with up to {MAX_REFINED_ELEMENTS} elements (equal elements need three levels for an error estimate)"
+                        ),
+                    },
+                }
+                .into());
+            }
+        }
+        self.finalise(&mut run, load, opts)?;
+        Ok(self.finish(run))
     }
 
     /// Re-solves the finest level with the caller's options when they ask
     /// for more than the tip (the level was solved as [`tip_options`]), or
     /// when it was solved as an intermediate one.
-    fn finalise(
-        &mut self,
-        run: &mut Run,
-        load: &Load,
-        opts: &SolveOptions,
-    ) -> Result<(), SolveError> {
+    fn finalise(&self, run: &mut Run, load: &Load, opts: &SolveOptions) -> Result<(), SolveError> {
         let Some(state) = &run.state else {
             return Ok(());
         };
         if run.last.is_some() && (opts.shape, opts.stability) == (false, false) {
             return Ok(());
         }
-        let finger = self.finger(run.levels.len() - 1)?;
+        let finger = &self.fingers[run.levels.len() - 1];
         let sol = finger.solve_from(load, state, opts)?;
         run.last = Some(sol);
         Ok(())
     }
 
-    fn finish(&self, mut run: Run) -> Refined {
+    fn finish(&self, mut run: Run) -> Solved {
         let plan = Refinement {
             levels: run.levels.len(),
             ..self.plan
@@ -578,16 +570,71 @@ impl Refiner {
             .last
             .take()
             .expect("a refinement solves at least one level");
-        Refined {
-            elements: solution.element_lengths.len(),
+        Solved {
             solution,
-            tip,
-            end_angle,
-            estimated_tip_error_mm: est,
-            levels: run.levels,
-            plan,
+            finger: self.fingers[run.levels.len() - 1].clone(),
+            refinement: Some(RefinementRecord {
+                tip,
+                end_angle,
+                estimated_tip_error_mm: est,
+                levels: run.levels,
+                plan,
+            }),
+            splits: 0,
         }
     }
+}
+
+/// Solves one level on `finger` with `level_opts`, from the previous
+/// level's solution when there is one (else from `guess`).
+fn solve_level(
+    finger: &Finger,
+    run: &mut Run,
+    load: &Load,
+    guess: Option<&Coefficients>,
+    level_opts: &SolveOptions,
+    intermediate: bool,
+) -> Result<(), SolveError> {
+    // nested iteration from the previous level (a failed warm start
+    // falls back to a cold one), else from `guess`
+    let nested = match &run.state {
+        Some(prev) if prev.elements() * 2 == finger.len() => Some(halved_guess(prev)?),
+        _ => None,
+    };
+    let start = nested.as_ref().or(guess);
+    let trusted = nested.is_some();
+    let level = |tip, end_angle, iterations| Level {
+        elements: finger.len(),
+        tip,
+        end_angle,
+        iterations,
+    };
+    let (state, level) = if intermediate {
+        // only the state and the tip: no Solution for a level nobody sees
+        let t = match finger.solve_tip(load, start, level_opts, trusted) {
+            Err(_) if trusted => finger.solve_tip(load, None, level_opts, false),
+            r => r,
+        }?;
+        run.last = None;
+        (t.coefficients, level(t.tip, t.end_angle, t.iterations))
+    } else {
+        let solve = |g: Option<&Coefficients>| match g {
+            Some(g) if trusted => finger.solve_trusted(load, g, level_opts),
+            Some(g) => finger.solve_from(load, g, level_opts),
+            None => finger.solve(load, level_opts),
+        };
+        let sol = match solve(start) {
+            Err(_) if trusted => solve(None),
+            r => r,
+        }?;
+        let done = level(sol.tip, sol.end_angle, sol.report.iterations);
+        let state = sol.coefficients.clone();
+        run.last = Some(sol);
+        (state, done)
+    };
+    run.levels.push(level);
+    run.state = Some(state);
+    Ok(())
 }
 
 /// The levels solved so far.
@@ -600,171 +647,162 @@ struct Run {
     last: Option<Solution>,
 }
 
-/// Solves `load` to an estimated tip error of at most `tip_tol_mm`.
-///
-/// Without `start`, on the material partition with extrapolation
-/// ([`Refinement::for_tolerance`]); with `start`, on equal elements
-/// doubled from `start` (which must lie in [1, `MAX_REFINED_ELEMENTS` /
-/// 2]; equal elements need three levels for an estimate). Levels are added
-/// until the estimate (module docs) meets the tolerance; fails with an
-/// input error naming `tip_tol_mm` when `MAX_REFINED_ELEMENTS` elements do
-/// not reach it.
-pub fn solve_to_tip_tolerance(
-    model: ModelId,
-    actuator: &Actuator,
-    ribs: bool,
-    load: &Load,
+/// A tip tolerance, checked, with the fingers of its first level: the
+/// implementation of [`crate::Plan::TipTolerance`].
+#[derive(Debug, Clone)]
+pub(crate) struct TipTolerance {
     tip_tol_mm: f64,
-    start: Option<usize>,
-    opts: &SolveOptions,
-) -> Result<Refined, SolveError> {
-    positive("tip_tol_mm", tip_tol_mm)?;
-    let plan = match start {
-        None => Refinement {
-            levels: 1,
-            ..Refinement::for_tolerance(model, tip_tol_mm)
-        },
-        Some(start) => {
-            let most = MAX_REFINED_ELEMENTS / 2;
-            require(
-                (1..=most).contains(&start),
-                "partition.n",
-                start as f64,
-                format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
-            )?;
-            Refinement {
-                model,
-                partition: PartitionKind::Equal,
-                start,
-                levels: 1,
-                extrapolate: false,
-            }
-        }
-    };
-    // a single level cannot be extrapolated yet: validate without, then
-    // extrapolate once there are two
-    let mut refiner = Refiner::new(
-        actuator,
-        ribs,
-        &Refinement {
-            extrapolate: false,
-            ..plan
-        },
-    )?;
-    refiner.plan.extrapolate = plan.extrapolate;
-    let mut run = Run::default();
-    let mut level = 0;
-    // the levels before the first estimate are intermediate (equal
-    // elements need three, material partitions two); any later one may be
-    // the last: the caller's tolerance, tip only
-    let first_estimate = match plan.partition {
-        PartitionKind::Equal => 2,
-        PartitionKind::Material => 1,
-    };
-    loop {
-        let intermediate = level < first_estimate;
-        let level_opts = if intermediate {
-            coarse_options(opts, refiner.finger(level)?.len())
-        } else {
-            tip_options(opts)
-        };
-        refiner.solve_level(&mut run, load, level, None, &level_opts, intermediate)?;
-        let plan = Refinement {
-            levels: run.levels.len(),
-            ..refiner.plan
-        };
-        let (_, _, est) = estimate(&plan, &run.levels);
-        if est.is_some_and(|e| e <= tip_tol_mm) {
-            break;
-        }
-        level += 1;
-        if refiner.finger(level).is_err() {
-            return Err(InputError::OutOfRange {
-                field: "tip_tol_mm".into(),
-                value: tip_tol_mm,
-                rule: match est {
-                    Some(e) => format!(
-                        "not reached with up to {MAX_REFINED_ELEMENTS} elements (estimated tip error there {e:.3e} mm)"
-                    ),
-                    None => format!(
-                        "not reached with up to {MAX_REFINED_ELEMENTS} elements (equal elements need three levels for an error estimate)"
-                    ),
-                },
-            }
-            .into());
-        }
-    }
-    refiner.finalise(&mut run, load, opts)?;
-    Ok(refiner.finish(run))
+    refiner: Refiner,
 }
 
-/// The automatic partition's result.
-#[derive(Debug, Clone)]
-pub struct AutoSolved {
-    /// The solution on the chosen partition.
-    pub solution: Solution,
-    /// The partition chosen.
-    pub partition: Partition,
-    /// The finger built on it.
-    pub finger: Finger,
-    /// How many times elements were split after a solve.
-    pub refinements: usize,
+impl TipTolerance {
+    /// Checks `tip_tol_mm` and `start` and builds the first level.
+    ///
+    /// Without `start`, on the material partition with extrapolation
+    /// ([`Refinement::for_tolerance`]); with `start`, on equal elements
+    /// doubled from `start` (which must lie in [1, `MAX_REFINED_ELEMENTS` /
+    /// 2]; equal elements need three levels for an estimate).
+    pub(crate) fn new(
+        model: ModelId,
+        actuator: &Actuator,
+        ribs: bool,
+        tip_tol_mm: f64,
+        start: Option<usize>,
+    ) -> Result<TipTolerance, InputError> {
+        positive("tip_tol_mm", tip_tol_mm)?;
+        let plan = match start {
+            None => Refinement {
+                levels: 1,
+                ..Refinement::for_tolerance(model, tip_tol_mm)
+            },
+            Some(start) => {
+                let most = MAX_REFINED_ELEMENTS / 2;
+                require(
+                    (1..=most).contains(&start),
+                    "partition.n",
+                    start as f64,
+                    format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
+                )?;
+                Refinement {
+                    model,
+                    partition: PartitionKind::Equal,
+                    start,
+                    levels: 1,
+                    extrapolate: false,
+                }
+            }
+        };
+        // a single level cannot be extrapolated yet: validate without, then
+        // extrapolate once there are two
+        let mut refiner = Refiner::new(
+            actuator,
+            ribs,
+            &Refinement {
+                extrapolate: false,
+                ..plan
+            },
+        )?;
+        refiner.plan.extrapolate = plan.extrapolate;
+        Ok(TipTolerance {
+            tip_tol_mm,
+            refiner,
+        })
+    }
+
+    /// The fingers built before any solve (the first level's).
+    pub(crate) fn fingers(&self) -> &[Finger] {
+        self.refiner.fingers()
+    }
+
+    /// Solves `load`, adding levels until the estimate (module docs) meets
+    /// the tolerance; fails with an input error naming `tip_tol_mm` when
+    /// `MAX_REFINED_ELEMENTS` elements do not reach it.
+    pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        // the finer levels are built per solve, as they are needed
+        self.refiner.clone().solve_to(load, self.tip_tol_mm, opts)
+    }
 }
 
 /// Largest number of elements the automatic partition uses.
 pub const MAX_AUTO_ELEMENTS: usize = 1000;
 
-/// Solves `load` on an automatic partition: element boundaries on the
-/// material changes ([`Partition::material`], pieces at most `Lx / 8`),
-/// then, while an element turns beyond the CCM's small-slope limit at the
-/// solved state, that element is split in two and the finger solved again
-/// from the previous state. Stops with the remaining findings on the
-/// solution when [`MAX_AUTO_ELEMENTS`] would be exceeded.
-pub fn solve_auto(
+/// The automatic partition's start, built: the implementation of
+/// [`crate::Plan::Auto`].
+#[derive(Debug, Clone)]
+pub(crate) struct Auto {
     model: ModelId,
-    actuator: &Actuator,
+    actuator: Actuator,
     ribs: bool,
-    load: &Load,
-    opts: &SolveOptions,
-) -> Result<AutoSolved, SolveError> {
-    let lx = actuator.geometry().lx;
-    let mut partition = Partition::material(actuator, ribs, lx / 8.0)?;
-    let mut finger = Finger::with_model(model, actuator, &partition, ribs);
-    let mut solution = finger.solve(load, opts)?;
-    let mut refinements = 0;
-    loop {
-        let mut split = vec![false; partition.len()];
-        for w in &solution.warnings {
-            if let Warning::ElementSlope { element, .. } = w {
-                split[*element] = true;
+    partition: Partition,
+    finger: Finger,
+}
+
+impl Auto {
+    /// Element boundaries on the material changes
+    /// ([`Partition::material`], pieces at most `Lx / 8`).
+    pub(crate) fn new(model: ModelId, actuator: &Actuator, ribs: bool) -> Result<Auto, InputError> {
+        let lx = actuator.geometry().lx;
+        let partition = Partition::material(actuator, ribs, lx / 8.0)?;
+        let finger = Finger::with_model(model, actuator, &partition, ribs);
+        Ok(Auto {
+            model,
+            actuator: actuator.clone(),
+            ribs,
+            partition,
+            finger,
+        })
+    }
+
+    /// The finger of the starting partition.
+    pub(crate) fn finger(&self) -> &Finger {
+        &self.finger
+    }
+
+    /// Solves `load` on the starting partition, then, while an element
+    /// turns beyond the CCM's small-slope limit at the solved state, that
+    /// element is split in two and the finger solved again from the
+    /// previous state. Stops with the remaining findings on the solution
+    /// when [`MAX_AUTO_ELEMENTS`] would be exceeded.
+    pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        let (model, actuator, ribs) = (self.model, &self.actuator, self.ribs);
+        let mut partition = self.partition.clone();
+        let mut finger = self.finger.clone();
+        let mut solution = finger.solve(load, opts)?;
+        let mut refinements = 0;
+        loop {
+            let mut split = vec![false; partition.len()];
+            for w in &solution.warnings {
+                if let Warning::ElementSlope { element, .. } = w {
+                    split[*element] = true;
+                }
             }
-        }
-        let extra = split.iter().filter(|&&s| s).count();
-        if extra == 0 || partition.len() + extra > MAX_AUTO_ELEMENTS {
-            return Ok(AutoSolved {
-                solution,
-                partition,
-                finger,
-                refinements,
-            });
-        }
-        // each half starts from its parent's raw coefficients
-        let per = solution.coefficients.per_element();
-        let mut guess = Vec::with_capacity((partition.len() + extra) * per);
-        for (i, k) in solution.coefficients.iter().enumerate() {
-            guess.extend_from_slice(k);
-            if split[i] {
+            let extra = split.iter().filter(|&&s| s).count();
+            if extra == 0 || partition.len() + extra > MAX_AUTO_ELEMENTS {
+                return Ok(Solved {
+                    solution,
+                    finger,
+                    refinement: None,
+                    splits: refinements,
+                });
+            }
+            // each half starts from its parent's raw coefficients
+            let per = solution.coefficients.per_element();
+            let mut guess = Vec::with_capacity((partition.len() + extra) * per);
+            for (i, k) in solution.coefficients.iter().enumerate() {
                 guess.extend_from_slice(k);
+                if split[i] {
+                    guess.extend_from_slice(k);
+                }
             }
+            partition = partition.split(&split);
+            finger = Finger::with_model(model, actuator, &partition, ribs);
+            let guess = Coefficients::new(per, guess)?;
+            solution = match finger.solve_from(load, &guess, opts) {
+                Ok(s) => s,
+                Err(_) => finger.solve(load, opts)?,
+            };
+            refinements += 1;
         }
-        partition = partition.split(&split);
-        finger = Finger::with_model(model, actuator, &partition, ribs);
-        let guess = Coefficients::new(per, guess)?;
-        solution = match finger.solve_from(load, &guess, opts) {
-            Ok(s) => s,
-            Err(_) => finger.solve(load, opts)?,
-        };
-        refinements += 1;
     }
 }
 

@@ -5,9 +5,47 @@
 //! from two partition families.
 
 use fpc::{
-    refine, solve_to_tip_tolerance, Actuator, Coefficients, Finger, Load, ModelId, Partition,
-    PartitionKind, Refinement, SolveError, SolveOptions,
+    Actuator, Coefficients, Finger, Load, ModelId, Partition, PartitionKind, Plan, PlannedFinger,
+    Refinement, RefinementRecord, SolveError, SolveOptions, Solved,
 };
+
+/// `plan` solved through the front door.
+fn refine(
+    act: &Actuator,
+    ribs: bool,
+    load: &Load,
+    plan: &Refinement,
+    opts: &SolveOptions,
+) -> Result<Solved, SolveError> {
+    PlannedFinger::builder(act)
+        .ribs(ribs)
+        .refinement(plan)
+        .build()?
+        .solve(load, opts)
+}
+
+/// `load` solved to `tip_tol_mm` through the front door.
+fn solve_to_tip_tolerance(
+    model: ModelId,
+    act: &Actuator,
+    ribs: bool,
+    load: &Load,
+    tip_tol_mm: f64,
+    start: Option<usize>,
+    opts: &SolveOptions,
+) -> Result<Solved, SolveError> {
+    PlannedFinger::builder(act)
+        .model(model)
+        .ribs(ribs)
+        .plan(Plan::TipTolerance { tip_tol_mm, start })
+        .build()?
+        .solve(load, opts)
+}
+
+/// The refinement record of a refined solve.
+fn record(s: &Solved) -> &RefinementRecord {
+    s.refinement.as_ref().expect("a refinement")
+}
 
 fn tip_load() -> Load {
     Load::unloaded().with_tip_force(0.939782, 0.521707)
@@ -259,9 +297,9 @@ fn the_extrapolations_remove_their_terms() {
     let out = refine(&act, true, &load, &material(2, true), &opts()).unwrap();
     assert!(out.is_extrapolated());
     let fine = dist(out.solution.tip, reference);
-    let r2 = dist(out.tip, reference);
+    let r2 = dist(out.tip(), reference);
     assert!(r2 * 10.0 <= fine, "R2 {r2:e} mm vs fine {fine:e} mm");
-    let est = out.estimated_tip_error_mm.unwrap();
+    let est = out.estimated_tip_error_mm().unwrap();
     assert!(r2 + unc <= est, "{r2:e} > estimate {est:e}");
 
     // four levels: T3 removes the h term too, which R2 of the same levels
@@ -269,19 +307,19 @@ fn the_extrapolations_remove_their_terms() {
     let tips = cold_tips(&material(1, false), &load, 4);
     let r2_4 = richardson_table(&tips[2..], &[2]);
     let out = refine(&act, true, &load, &material(4, true), &opts()).unwrap();
-    let t3 = dist(out.tip, reference);
+    let t3 = dist(out.tip(), reference);
     assert!(
         2.0 * t3 <= dist(r2_4, reference),
         "T3 {t3:e} mm vs R2 {:e} mm",
         dist(r2_4, reference)
     );
-    let est = out.estimated_tip_error_mm.unwrap();
+    let est = out.estimated_tip_error_mm().unwrap();
     assert!(t3 + unc <= est, "{t3:e} > estimate {est:e}");
     // and agrees with the cold sequence's own T3, although the refiner
     // solves its intermediate levels to a looser tolerance
     // (INTERMEDIATE_RTOL)
     let cold = richardson_table(&tips[1..], &[1, 2]);
-    let offset = dist(out.tip, cold);
+    let offset = dist(out.tip(), cold);
     assert!(offset <= 1e-5, "{offset:e}");
 }
 
@@ -321,7 +359,7 @@ fn nested_iteration_reaches_the_cold_equilibrium_in_fewer_iterations() {
     // the refinement does the same
     let out = refine(&act, true, &load, &plan, &opts()).unwrap();
     assert!(dist(out.solution.tip, cold.tip) <= 1e-6);
-    assert_eq!(out.levels[1].iterations, warm.report.iterations);
+    assert_eq!(record(&out).levels[1].iterations, warm.report.iterations);
 }
 
 /// The fingers the tolerance-driven choice is checked on: eps0 0.15, 0.25
@@ -369,16 +407,20 @@ fn the_tolerance_choice_estimates_at_or_above_the_true_error() {
             let r =
                 solve_to_tip_tolerance(ModelId::default(), &act, true, &load, tol, None, &opts())
                     .unwrap();
-            assert_eq!(r.plan.partition, PartitionKind::Material, "{name}, {tol}");
+            assert_eq!(
+                record(&r).plan.partition,
+                PartitionKind::Material,
+                "{name}, {tol}"
+            );
             assert!(r.is_extrapolated());
-            let est = r.estimated_tip_error_mm.unwrap();
+            let est = r.estimated_tip_error_mm().unwrap();
             assert!(est <= tol, "{name}, tol {tol}: estimate {est:e}");
             // the worst the error can be, given the reference's uncertainty
-            let err = dist(r.tip, reference) + unc;
+            let err = dist(r.tip(), reference) + unc;
             assert!(
                 err <= est,
                 "{name}, tol {tol}: {err:e} mm from the reference, estimate {est:e} ({} levels)",
-                r.levels.len()
+                record(&r).levels.len()
             );
             // the finest level is solved with the caller's options
             assert!(r.solution.report.residual_norm <= RTOL);
@@ -400,9 +442,9 @@ fn the_tolerance_choice_estimates_at_or_above_the_true_error() {
                 // elements to reach 0.1 mm within 1000 of them
                 continue;
             };
-            assert!(r.levels.len() >= 3);
-            let est = r.estimated_tip_error_mm.unwrap();
-            let err = dist(r.tip, reference) + unc;
+            assert!(record(&r).levels.len() >= 3);
+            let est = r.estimated_tip_error_mm().unwrap();
+            let err = dist(r.tip(), reference) + unc;
             assert!(
                 err <= est && est <= tol,
                 "{name}, equal from {start}, tol {tol}: {err:e} mm, estimate {est:e}"

@@ -10,12 +10,29 @@ use fpc::{
     STUDY8_PRESSURES_KPA,
 };
 use fpc::{
-    solve_auto, Actuator, Finger, Gripper, GripperParams, InputError, Invalid, Load, ModelId,
-    Partition, SolveError, SolveOptions, Warning, MIDPLANE_STRAIN_LIMIT, SLOPE_LIMIT_DEG,
+    Actuator, Finger, Gripper, GripperParams, InputError, Invalid, Load, ModelId, Partition, Plan,
+    PlannedFinger, SolveError, SolveOptions, Solved, Warning, MIDPLANE_STRAIN_LIMIT,
+    SLOPE_LIMIT_DEG,
 };
 use fpc::{
     ActuatorParams, RibLayout, StripDimension, THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT,
 };
+
+/// A solve on the automatic partition.
+fn solve_auto(
+    model: ModelId,
+    act: &Actuator,
+    ribs: bool,
+    load: &Load,
+    opts: &SolveOptions,
+) -> Result<Solved, SolveError> {
+    PlannedFinger::builder(act)
+        .model(model)
+        .ribs(ribs)
+        .plan(Plan::Auto)
+        .build()?
+        .solve(load, opts)
+}
 
 fn kinds(w: &[Warning]) -> Vec<&'static str> {
     w.iter()
@@ -446,10 +463,10 @@ fn the_automatic_partition_keeps_every_element_within_the_slope_limit() {
                     &SolveOptions::default(),
                 )
                 .unwrap_or_else(|e| panic!("eps0 {eps0}, {load:?}: {e}"));
-                let what = format!("eps0 {eps0}, {load:?}, N = {}", auto.partition.len());
+                let what = format!("eps0 {eps0}, {load:?}, N = {}", auto.elements());
                 // independently: every element's slope by the closed form
                 for (i, k) in auto.solution.coefficients.iter().enumerate() {
-                    let l = auto.partition.lengths()[i];
+                    let l = auto.finger.element_lengths()[i];
                     for j in 0..=32 {
                         let s = ccm_slope_deg(k, l * j as f64 / 32.0).abs();
                         assert!(
@@ -462,14 +479,16 @@ fn the_automatic_partition_keeps_every_element_within_the_slope_limit() {
                     !kinds(&auto.solution.warnings).contains(&"element_slope"),
                     "{what}"
                 );
-                assert_eq!(auto.solution.element_lengths, auto.partition.lengths());
+                assert_eq!(auto.solution.element_lengths, auto.finger.element_lengths());
                 // element ends on the channel's end and the rib edges
                 let ends: Vec<f64> = auto
-                    .partition
-                    .starts()
+                    .finger
+                    .element_lengths()
                     .iter()
-                    .zip(auto.partition.lengths())
-                    .map(|(s, l)| s + l)
+                    .scan(0.0, |end, l| {
+                        *end += l;
+                        Some(*end)
+                    })
                     .collect();
                 for x in [act.channel().cx, act.ribs()[1].x0, act.ribs()[1].x1] {
                     assert!(

@@ -24,7 +24,7 @@ impl Partition {
     /// every piece split into equal parts no longer than `max_length`.
     /// Boundaries closer than [`MIN_ELEMENT_FRACTION`] `lx` to another are
     /// merged. This is the starting partition of the automatic choice
-    /// ([`crate::solve_auto`]); with element ends on material changes the
+    /// ([`crate::Plan::Auto`]); with element ends on material changes the
     /// CCM converges at second order in the element length, with a small
     /// first-order term under a tip load (src/refine.rs).
     pub fn material(

@@ -39,7 +39,7 @@
 //! with `[gripper] strict = true` it is invalid too.
 //!
 //! `[partition] elements = "auto"` asks for the automatic partition
-//! ([`crate::solve_auto`]): element boundaries on the material changes,
+//! ([`crate::Plan::Auto`]): element boundaries on the material changes,
 //! and elements split until every one turns within the CCM's slope limit.
 //! A finger scene chooses it at its load; a gripper scene at the unloaded,
 //! zero-pressure state, and builds the gripper on it (a grasp far from

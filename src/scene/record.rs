@@ -170,10 +170,7 @@ impl<'a> SolutionRecord<'a> {
     ) -> SolutionRecord<'a> {
         let warnings = solved.warnings();
         let (kind, tip_error_estimate_mm, gripper) = match solved {
-            SceneSolution::Finger {
-                tip_error_estimate_mm,
-                ..
-            } => ("finger", *tip_error_estimate_mm, None),
+            SceneSolution::Finger(s) => ("finger", s.estimated_tip_error_mm(), None),
             SceneSolution::Gripper { gripper, grasp } => (
                 if grasp.is_some() { "grasp" } else { "gripper" },
                 None,

@@ -293,7 +293,7 @@ pub enum Elements {
     Count(usize),
     /// `"auto"`: element boundaries on the material changes, elements
     /// split until each turns within the CCM's slope limit
-    /// ([`crate::solve_auto`]).
+    /// ([`crate::Plan::Auto`]).
     Auto,
 }
 

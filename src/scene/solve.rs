@@ -8,12 +8,25 @@ use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
 use crate::partition::Partition;
-use crate::refine::{solve_auto, solve_to_tip_tolerance};
+use crate::plan::{Plan, PlannedFinger, Solved};
 use crate::solve_error::SolveError;
 
 use super::fields::{inconsistent, scene_solve, PartitionKey};
 use super::resolve::{GraspSpec, PartitionPlan};
 use super::Scene;
+
+impl PartitionPlan {
+    /// The solve plan of a finger on this partition.
+    pub fn plan(&self) -> Plan {
+        match self {
+            PartitionPlan::Fixed(part) => Plan::Fixed(part.clone()),
+            PartitionPlan::Auto => Plan::Auto,
+            &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
+                Plan::TipTolerance { tip_tol_mm, start }
+            }
+        }
+    }
+}
 
 impl Scene {
     /// Solves the finger, or builds the gripper and solves its grasp.
@@ -36,52 +49,32 @@ impl Scene {
     fn solve_inner(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
         let finger_on =
             |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
+        let planned = |plan: Plan| {
+            PlannedFinger::builder(&self.actuator)
+                .model(self.model)
+                .plan(plan)
+                .build()
+        };
         let Some(g) = &self.gripper else {
-            return Ok(match &self.partition {
-                PartitionPlan::Fixed(part) => {
-                    let f = finger_on(part);
-                    let solution = match warm {
-                        Some(SceneSolution::Finger { solution: w, .. })
-                            if w.coefficients.elements() == part.len()
-                                && w.coefficients.per_element() == f.unknowns_per_element() =>
-                        {
-                            f.solve_from(&self.load, &w.coefficients, &self.options)
-                                .or_else(|_| f.solve(&self.load, &self.options))?
-                        }
-                        _ => f.solve(&self.load, &self.options)?,
-                    };
-                    SceneSolution::Finger {
-                        solution,
-                        elements: part.len(),
-                        tip_error_estimate_mm: None,
-                    }
+            let finger = planned(self.partition.plan())?;
+            // a fixed partition starts from a nearby scene's solution when
+            // the element counts match (a failed warm start solves cold)
+            let warm = match (warm, finger.fixed()) {
+                (Some(SceneSolution::Finger(w)), Some(f))
+                    if w.solution.coefficients.elements() == f.len()
+                        && w.solution.coefficients.per_element() == f.unknowns_per_element() =>
+                {
+                    Some(&w.solution.coefficients)
                 }
-                &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
-                    let r = solve_to_tip_tolerance(
-                        self.model,
-                        &self.actuator,
-                        true,
-                        &self.load,
-                        tip_tol_mm,
-                        start,
-                        &self.options,
-                    )?;
-                    SceneSolution::Finger {
-                        solution: r.solution,
-                        elements: r.elements,
-                        tip_error_estimate_mm: r.estimated_tip_error_mm,
-                    }
-                }
-                PartitionPlan::Auto => {
-                    let r =
-                        solve_auto(self.model, &self.actuator, true, &self.load, &self.options)?;
-                    SceneSolution::Finger {
-                        elements: r.partition.len(),
-                        solution: r.solution,
-                        tip_error_estimate_mm: None,
-                    }
-                }
-            });
+                _ => None,
+            };
+            let solved = match warm {
+                Some(w) => finger
+                    .solve_from(&self.load, w, &self.options)
+                    .or_else(|_| finger.solve(&self.load, &self.options))?,
+                None => finger.solve(&self.load, &self.options)?,
+            };
+            return Ok(SceneSolution::Finger(solved));
         };
         let finger = match &self.partition {
             PartitionPlan::Fixed(part) => finger_on(part),
@@ -94,7 +87,7 @@ impl Scene {
                     ..SolveOptions::default()
                 };
                 let unloaded = Load::unloaded();
-                solve_auto(self.model, &self.actuator, true, &unloaded, &opts)?.finger
+                planned(Plan::Auto)?.solve(&unloaded, &opts)?.finger
             }
             PartitionPlan::TipTolerance { .. } => {
                 // resolve() rejects tip_tol_mm with a gripper
@@ -279,14 +272,10 @@ impl GraspOutcome {
 #[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone)]
 pub enum SceneSolution {
-    /// A finger scene.
-    Finger {
-        solution: Solution,
-        /// The number of elements used.
-        elements: usize,
-        /// With `tip_tol_mm`: the estimated tip error (mm).
-        tip_error_estimate_mm: Option<f64>,
-    },
+    /// A finger scene: the solve of its plan ([`PartitionPlan::plan`];
+    /// with `tip_tol_mm`, [`Solved::estimated_tip_error_mm`] is the
+    /// estimated tip error).
+    Finger(Solved),
     /// A gripper scene: the gripper (its reference state, l0, palm,
     /// overlap) and the grasp, if one was asked.
     Gripper {
@@ -300,7 +289,7 @@ impl SceneSolution {
     /// state when there is no grasp.
     pub fn solution(&self) -> &Solution {
         match self {
-            SceneSolution::Finger { solution, .. } => solution,
+            SceneSolution::Finger(s) => &s.solution,
             SceneSolution::Gripper { grasp: Some(g), .. } => &g.grasp.solution,
             SceneSolution::Gripper { gripper, .. } => gripper.reference(),
         }
@@ -309,7 +298,7 @@ impl SceneSolution {
     /// The number of elements used.
     pub fn elements(&self) -> usize {
         match self {
-            SceneSolution::Finger { elements, .. } => *elements,
+            SceneSolution::Finger(s) => s.elements(),
             SceneSolution::Gripper { gripper, .. } => gripper.finger().len(),
         }
     }
@@ -320,7 +309,7 @@ impl SceneSolution {
     /// `beyond_flat`).
     pub fn warnings(&self) -> Vec<Warning> {
         let sources: [&[Warning]; 2] = match self {
-            SceneSolution::Finger { solution, .. } => [&solution.warnings, &[]],
+            SceneSolution::Finger(s) => [&s.solution.warnings, &[]],
             SceneSolution::Gripper { gripper, grasp } => [
                 gripper.warnings(),
                 match grasp {
@@ -459,15 +448,14 @@ mod tests {
         assert!(sol.elements() > 9, "{}", sol.elements());
         assert_eq!(sol.elements(), sol.solution().element_lengths.len());
         // the library's automatic partition at the scene's load
-        let direct = solve_auto(
-            scene.model,
-            &scene.actuator,
-            true,
-            &scene.load,
-            &scene.options,
-        )
-        .unwrap();
-        assert_eq!(sol.elements(), direct.partition.len());
+        let direct = PlannedFinger::builder(&scene.actuator)
+            .model(scene.model)
+            .plan(Plan::Auto)
+            .build()
+            .unwrap()
+            .solve(&scene.load, &scene.options)
+            .unwrap();
+        assert_eq!(sol.elements(), direct.finger.len());
         assert_eq!(sol.solution().tip, direct.solution.tip);
         // the paper's finger under pressure
         let sol = solve("[partition]\nelements = \"auto\"\n[load]\npressure_kpa = 100\n");
@@ -555,11 +543,16 @@ mod tests {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
             ..SolveOptions::default()
         };
-        let direct =
-            solve_auto(scene.model, &scene.actuator, true, &Load::unloaded(), &opts).unwrap();
+        let direct = PlannedFinger::builder(&scene.actuator)
+            .model(scene.model)
+            .plan(Plan::Auto)
+            .build()
+            .unwrap()
+            .solve(&Load::unloaded(), &opts)
+            .unwrap();
         assert_eq!(
             gripper.finger().element_lengths(),
-            direct.partition.lengths()
+            direct.finger.element_lengths()
         );
         // the paper's gripper holding the default cuboid
         let sol = solve("[partition]\nelements = \"auto\"\n[gripper]\n[gripper.grasp]\n");

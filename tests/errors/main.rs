@@ -15,10 +15,10 @@ use std::fmt::{Debug, Display};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use fpc::{
-    design_space, solve_to_tip_tolerance, study7_curvature, Actuator, ActuatorParams, Coefficients,
-    Finger, Gripper, GripperParams, InputError, Load, ModelId, PalmSpec, Partition, Prestressed,
-    PsiLaw, Solution, SolveError, SolveOptions, Solver, Strategy, StudyOptions, TargetProblem,
-    Termination, Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
+    design_space, study7_curvature, Actuator, ActuatorParams, Coefficients, Finger, Gripper,
+    GripperParams, InputError, Load, ModelId, PalmSpec, Partition, Plan, PlannedFinger,
+    Prestressed, PsiLaw, Solution, SolveError, SolveOptions, Solved, Solver, Strategy,
+    StudyOptions, TargetProblem, Termination, Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
 };
 
 // ---------------------------------------------------------------- helpers

@@ -2,6 +2,77 @@
 
 use super::*;
 
+/// `load` solved to `tip_tol_mm` through the front door.
+fn solve_to_tip_tolerance(
+    model: ModelId,
+    act: &Actuator,
+    ribs: bool,
+    load: &Load,
+    tip_tol_mm: f64,
+    start: Option<usize>,
+    opts: &SolveOptions,
+) -> Result<Solved, SolveError> {
+    PlannedFinger::builder(act)
+        .model(model)
+        .ribs(ribs)
+        .plan(Plan::TipTolerance { tip_tol_mm, start })
+        .build()?
+        .solve(load, opts)
+}
+
+/// The plan's bounds are checked when the finger is built, before any
+/// solve.
+#[test]
+fn plans_are_checked_when_built() {
+    let act = Actuator::default();
+    let build = |plan: Plan| {
+        PlannedFinger::builder(&act)
+            .plan(plan)
+            .build()
+            .map(|_| ())
+            .map_err(SolveError::from)
+    };
+    let tol = |tip_tol_mm: f64, start: Option<usize>| Plan::TipTolerance { tip_tol_mm, start };
+    names(
+        &input(build(tol(0.0, None))),
+        "tip_tol_mm",
+        0.0,
+        "must be positive",
+    );
+    let most = MAX_REFINED_ELEMENTS / 2;
+    names(
+        &input(build(tol(0.1, Some(most + 1)))),
+        "partition.n",
+        (most + 1) as f64,
+        &format!("must lie in [1, {most}] to refine to a tip tolerance"),
+    );
+    let levels = |start: usize, levels: usize, extrapolate: bool| Plan::Levels {
+        partition: fpc::PartitionKind::Equal,
+        start,
+        levels,
+        extrapolate,
+    };
+    assert_eq!(
+        input(build(levels(0, 1, false))).field(),
+        "refinement.start"
+    );
+    assert_eq!(
+        input(build(levels(8, 0, false))).field(),
+        "refinement.levels"
+    );
+    // 8 doubled six times is 512, seven times 1024
+    assert!(build(levels(8, 7, false)).is_ok());
+    assert_eq!(
+        input(build(levels(8, 8, false))).field(),
+        "refinement.levels"
+    );
+    assert_eq!(
+        input(build(levels(8, 2, true))).field(),
+        "refinement.extrapolate"
+    );
+    assert!(input(build(Plan::Equal(0))).field().contains('n'));
+}
+
 // ------------------------------------------------------------- refinement
 
 #[test]
@@ -48,9 +119,9 @@ fn tip_tolerance_refinement_is_checked() {
             &opts,
         )
         .unwrap();
-        assert!(r.elements <= MAX_REFINED_ELEMENTS);
-        assert!(r.levels.len() >= 3);
-        assert!(r.estimated_tip_error_mm.is_some_and(|e| e <= 1.0));
+        assert!(r.elements() <= MAX_REFINED_ELEMENTS);
+        assert!(r.refinement.as_ref().unwrap().levels.len() >= 3);
+        assert!(r.estimated_tip_error_mm().is_some_and(|e| e <= 1.0));
     }
     // above it, two levels fit and none estimates: the tolerance is named
     for start in [MAX_REFINED_ELEMENTS / 4 + 1, most] {

@@ -3,8 +3,8 @@
 use std::io::Write;
 
 use fpc::{
-    refine, solve_auto, solve_to_tip_tolerance, Actuator, Finger, InputError, Load, ModelId,
-    Partition, PartitionKind, Refined, Refinement, Solution, SolveOptions,
+    Actuator, InputError, Load, ModelId, PartitionKind, Plan, PlannedFinger, RefinementRecord,
+    Solution, SolveOptions, Solved,
 };
 
 /// `--elements`: a count, or `auto`.
@@ -12,7 +12,7 @@ use fpc::{
 pub enum Elements {
     /// N equal elements.
     Equal(usize),
-    /// The automatic partition ([`fpc::solve_auto`]).
+    /// The automatic partition ([`fpc::Plan::Auto`]).
     Auto,
 }
 
@@ -110,17 +110,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         crate::report::warning(&w.to_string());
     }
     let partition = PartitionKind::parse("partition", &args.partition)?;
-    let refinement = |r: Refined| Run {
-        best_tip: r.tip,
-        best_end_angle: r.end_angle,
-        estimate: r.estimated_tip_error_mm,
-        configuration: Some(r.plan.label()),
-        level_elements: r.levels.iter().map(|l| l.elements).collect(),
-        extrapolated: r.is_extrapolated(),
-        solution: r.solution,
-    };
-    let run = match (args.tip_tol_mm, args.elements) {
-        (Some(tol), elements) => {
+    let plan = match (args.tip_tol_mm, args.elements) {
+        (Some(tip_tol_mm), elements) => {
             let start = match elements {
                 Some(Elements::Equal(n)) => Some(n),
                 None | Some(Elements::Auto) => None,
@@ -132,9 +123,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 .into());
             }
-            refinement(solve_to_tip_tolerance(
-                model, &act, ribs, &load, tol, start, &opts,
-            )?)
+            Plan::TipTolerance { tip_tol_mm, start }
         }
         (None, Some(Elements::Auto)) => {
             if args.levels != 1 || args.extrapolate {
@@ -145,7 +134,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 }
                 .into());
             }
-            Run::single(solve_auto(model, &act, ribs, &load, &opts)?.solution)
+            Plan::Auto
         }
         (None, elements) => {
             let n = match elements {
@@ -153,22 +142,24 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 _ => DEFAULT_ELEMENTS,
             };
             if args.levels == 1 && !args.extrapolate && partition == PartitionKind::Equal {
-                let part = Partition::equal(act.geometry().lx, n)?;
-                let finger = Finger::with_model(model, &act, &part, ribs);
-                Run::single(finger.solve(&load, &opts)?)
+                Plan::Equal(n)
             } else {
-                let plan = Refinement {
-                    model,
+                Plan::Levels {
                     partition,
                     start: n,
                     levels: args.levels,
                     extrapolate: args.extrapolate,
-                };
-                refinement(refine(&act, ribs, &load, &plan, &opts)?)
+                }
             }
         }
     };
-    let sol = &run.solution;
+    let solved = PlannedFinger::builder(&act)
+        .model(model)
+        .ribs(ribs)
+        .plan(plan)
+        .build()?
+        .solve(&load, &opts)?;
+    let sol = &solved.solution;
     // the solution's own findings (the input's were printed above)
     crate::report::warnings(
         sol.warnings
@@ -182,57 +173,20 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         let v = Json {
             model: model.name(),
             elements: sol.element_lengths.len(),
-            tip_error_estimate_mm: run.estimate,
-            refinement: run.refinement(),
+            tip_error_estimate_mm: solved.estimated_tip_error_mm(),
+            refinement: solved.refinement.as_ref().map(RefinementJson::of),
             solution: sol,
             provenance: crate::provenance::Provenance::now(),
         };
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
     } else {
-        summary(&mut out, args, model, &run)?;
+        summary(&mut out, args, model, &solved)?;
     }
     Ok(())
 }
 
 /// The default `--elements`.
 const DEFAULT_ELEMENTS: usize = 8;
-
-/// A solve, or a refinement and its finest solve.
-struct Run {
-    solution: Solution,
-    /// The best tip (extrapolated when `extrapolated`).
-    best_tip: [f64; 2],
-    best_end_angle: f64,
-    estimate: Option<f64>,
-    /// The refinement's label, `None` for a single solve.
-    configuration: Option<String>,
-    level_elements: Vec<usize>,
-    extrapolated: bool,
-}
-
-impl Run {
-    fn single(solution: Solution) -> Run {
-        Run {
-            best_tip: solution.tip,
-            best_end_angle: solution.end_angle,
-            estimate: None,
-            configuration: None,
-            level_elements: vec![solution.element_lengths.len()],
-            extrapolated: false,
-            solution,
-        }
-    }
-
-    fn refinement(&self) -> Option<RefinementJson<'_>> {
-        self.configuration.as_deref().map(|c| RefinementJson {
-            configuration: c,
-            levels: &self.level_elements,
-            extrapolated: self.extrapolated,
-            tip_mm: self.best_tip,
-            end_angle_rad: self.best_end_angle,
-        })
-    }
-}
 
 /// `fpc finger --json`: the solution's keys (README) and the run's.
 #[derive(serde::Serialize)]
@@ -243,7 +197,7 @@ struct Json<'a> {
     /// With a refinement: its levels and best tip (extrapolated or the
     /// finest level's); the solution below is the finest level's.
     #[serde(skip_serializing_if = "Option::is_none")]
-    refinement: Option<RefinementJson<'a>>,
+    refinement: Option<RefinementJson>,
     #[serde(flatten)]
     solution: &'a Solution,
     /// The command, fpc's version and the git commit.
@@ -251,17 +205,34 @@ struct Json<'a> {
 }
 
 #[derive(serde::Serialize)]
-struct RefinementJson<'a> {
-    configuration: &'a str,
+struct RefinementJson {
+    configuration: String,
     /// Elements of each level, coarse to fine.
-    levels: &'a [usize],
+    levels: Vec<usize>,
     extrapolated: bool,
     tip_mm: [f64; 2],
     end_angle_rad: f64,
 }
 
-fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std::io::Result<()> {
-    let sol = &run.solution;
+impl RefinementJson {
+    fn of(r: &RefinementRecord) -> RefinementJson {
+        RefinementJson {
+            configuration: r.plan.label(),
+            levels: r.levels.iter().map(|l| l.elements).collect(),
+            extrapolated: r.is_extrapolated(),
+            tip_mm: r.tip,
+            end_angle_rad: r.end_angle,
+        }
+    }
+}
+
+fn summary(
+    out: &mut impl Write,
+    args: &Args,
+    model: ModelId,
+    solved: &Solved,
+) -> std::io::Result<()> {
+    let sol = &solved.solution;
     let elements = sol.element_lengths.len();
     writeln!(
         out,
@@ -278,11 +249,12 @@ fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std:
         args.fx,
         args.fz
     )?;
-    if let Some(c) = &run.configuration {
+    if let Some(r) = &solved.refinement {
+        let levels: Vec<usize> = r.levels.iter().map(|l| l.elements).collect();
         writeln!(
             out,
-            "refinement     {c}: levels of {:?} elements",
-            run.level_elements
+            "refinement     {}: levels of {levels:?} elements",
+            r.plan.label()
         )?;
     }
     writeln!(
@@ -290,18 +262,19 @@ fn summary(out: &mut impl Write, args: &Args, model: ModelId, run: &Run) -> std:
         "tip            X = {:.4} mm, Z = {:.4} mm",
         sol.tip[0], sol.tip[1]
     )?;
-    if run.extrapolated {
+    if solved.is_extrapolated() {
         writeln!(
             out,
             "tip (extrap.)  X = {:.4} mm, Z = {:.4} mm (Richardson, last two levels)",
-            run.best_tip[0], run.best_tip[1]
+            solved.tip()[0],
+            solved.tip()[1]
         )?;
     }
-    if let Some(e) = run.estimate {
+    if let Some(e) = solved.estimated_tip_error_mm() {
         writeln!(
             out,
             "tip accuracy   estimated error {e:.2e} mm ({})",
-            if run.extrapolated {
+            if solved.is_extrapolated() {
                 "of the extrapolated tip"
             } else {
                 "of the finest level's tip"

@@ -17,7 +17,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use rayon::prelude::*;
 
-use fpc::{Actuator, Coefficients, Load, ModelId, Partition, SolveError, SolveOptions, Solver};
+use fpc::{
+    Actuator, Coefficients, InputError, Load, ModelId, Plan, PlannedFinger, SolveError,
+    SolveOptions, Solver,
+};
 
 use crate::convert::{array1, array2};
 use crate::errors::{from_input, guarded, input_error, panic_message};
@@ -43,12 +46,9 @@ pub struct Config {
     pub actuator: Actuator,
     pub model: ModelId,
     pub ribs: bool,
-    /// Equal elements (`Some(n)`) or the automatic partition (`None`).
-    pub elements: Option<usize>,
-    /// Refine each point to this tip tolerance (mm).
-    pub tip_tol_mm: Option<f64>,
-    /// `Some(n)` with `tip_tol_mm`: equal elements doubled from `n`.
-    pub tip_tol_start: Option<usize>,
+    /// How every point's finger is solved: equal elements, the automatic
+    /// partition, or refined to a tip tolerance.
+    pub plan: Plan,
     pub warm_start: bool,
     pub options: SolveOptions,
 }
@@ -130,7 +130,9 @@ pub fn run(points: &[Point], cfg: &Config, threads: Option<usize>) -> Result<Vec
 struct Group {
     eps0: f64,
     actuator: Result<Actuator, String>,
-    finger: Option<fpc::Finger>,
+    /// The prestrain's finger and plan (a build error of the automatic
+    /// partition or a tip tolerance is each point's, after its load's).
+    finger: Option<Result<PlannedFinger, InputError>>,
     members: Vec<usize>,
 }
 
@@ -152,16 +154,20 @@ fn run_in_pool(points: &[Point], cfg: &Config) -> Vec<Outcome> {
     }
     // one finger per prestrain, built in parallel
     groups.par_iter_mut().for_each(|g| {
-        let built = guarded(|| -> Result<(Actuator, Option<fpc::Finger>), String> {
+        type Built = Result<PlannedFinger, InputError>;
+        let built = guarded(|| -> Result<(Actuator, Option<Built>), String> {
             let act = cfg.actuator.with_eps0(g.eps0).map_err(|e| e.to_string())?;
-            let finger = match (cfg.elements, cfg.tip_tol_mm) {
-                (Some(n), None) => {
-                    let part = Partition::equal(act.geometry().lx, n).map_err(|e| e.to_string())?;
-                    Some(fpc::Finger::with_model(cfg.model, &act, &part, cfg.ribs))
-                }
-                _ => None,
+            let finger = PlannedFinger::builder(&act)
+                .model(cfg.model)
+                .ribs(cfg.ribs)
+                .plan(cfg.plan.clone())
+                .build();
+            // a fixed partition that does not build fails the prestrain
+            let finger = match (&cfg.plan, finger) {
+                (Plan::Equal(_), Err(e)) => return Err(e.to_string()),
+                (_, f) => f,
             };
-            Ok((act, finger))
+            Ok((act, Some(finger)))
         });
         match built {
             Ok(Ok((act, finger))) => {
@@ -208,26 +214,24 @@ fn solve_chunk(
     g: &Group,
     members: &[usize],
 ) -> Vec<(usize, Outcome)> {
-    let act = match &g.actuator {
-        Ok(a) => a,
-        Err(e) => {
-            let status = if e.starts_with("internal error") {
-                3
-            } else {
-                1
-            };
-            return members
-                .iter()
-                .map(|&i| (i, Outcome::failed(status, e.clone())))
-                .collect();
-        }
-    };
+    if let Err(e) = &g.actuator {
+        let status = if e.starts_with("internal error") {
+            3
+        } else {
+            1
+        };
+        return members
+            .iter()
+            .map(|&i| (i, Outcome::failed(status, e.clone())))
+            .collect();
+    }
     let mut out = Vec::with_capacity(members.len());
     let mut loads = members.iter().map(|&i| {
         let p = &points[i];
         (i, load(p.pressure_kpa, p.kappa, p.fx, p.fz))
     });
-    match &g.finger {
+    let planned = g.finger.as_ref().expect("built with the actuator");
+    match planned.as_ref().ok().and_then(PlannedFinger::fixed) {
         Some(finger) => {
             let mut solver = Solver::new(finger);
             let mut prev: Option<Coefficients> = None;
@@ -272,19 +276,9 @@ fn solve_chunk(
                         continue;
                     }
                 };
-                let r = guarded(|| match cfg.tip_tol_mm {
-                    Some(tol) => fpc::solve_to_tip_tolerance(
-                        cfg.model,
-                        act,
-                        cfg.ribs,
-                        &l,
-                        tol,
-                        cfg.tip_tol_start,
-                        &cfg.options,
-                    )
-                    .map(|r| r.solution),
-                    None => fpc::solve_auto(cfg.model, act, cfg.ribs, &l, &cfg.options)
-                        .map(|a| a.solution),
+                let r = guarded(|| match planned {
+                    Ok(f) => f.solve(&l, &cfg.options).map(|s| s.solution),
+                    Err(e) => Err(e.clone().into()),
                 });
                 out.push((
                     i,
@@ -375,14 +369,17 @@ fn config(
         }
         ElementsArg::Auto => (None, None),
     };
+    let plan = match (tip_tol_mm, count) {
+        (Some(tip_tol_mm), _) => Plan::TipTolerance { tip_tol_mm, start },
+        (None, Some(n)) => Plan::Equal(n),
+        (None, None) => Plan::Auto,
+    };
     let options = SolveOptions::default().tip_only();
     Ok(Config {
         actuator,
         model,
         ribs,
-        elements: count,
-        tip_tol_mm,
-        tip_tol_start: start,
+        plan,
         warm_start,
         options,
     })

@@ -10,7 +10,10 @@ use pyo3::types::{PyDict, PyString};
 use serde_json::{Map, Value};
 
 use fpc::scene::{ActuatorSection, PartitionPlan, SceneFile};
-use fpc::{Actuator, Coefficients, InputError, Load, ModelId, Partition, Refined, SolveOptions};
+use fpc::{
+    Actuator, Coefficients, InputError, Load, ModelId, Partition, Plan, PlannedFinger,
+    RefinementRecord, SolveOptions, Solved,
+};
 
 use crate::convert::{array1, solution_dict, to_py};
 use crate::errors::{detached, from_input, from_scene_read, from_solve, input_error};
@@ -320,18 +323,6 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 
 // ------------------------------------------------------------ the class
 
-/// How the finger is split.
-#[derive(Debug, Clone)]
-pub enum Split {
-    /// A fixed partition: built once. `count` is N for equal elements.
-    Fixed {
-        finger: fpc::Finger,
-        count: Option<usize>,
-    },
-    /// The automatic partition, chosen at each solve's load.
-    Auto,
-}
-
 /// A finger: the actuator (the paper's by default), an element model and
 /// a partition, ready to solve.
 ///
@@ -357,7 +348,11 @@ pub struct Finger {
     pub model: ModelId,
     pub actuator: Actuator,
     pub ribs: bool,
-    pub split: Split,
+    /// The finger and its plan: a fixed partition (built once) or the
+    /// automatic partition (chosen at each solve's load).
+    pub planned: PlannedFinger,
+    /// N for equal elements given as a count (a tip tolerance doubles it).
+    pub count: Option<usize>,
     /// The load of `solve()` without arguments (a scene's; else unloaded).
     pub load: Load,
     /// A scene's tip tolerance.
@@ -374,25 +369,32 @@ impl Finger {
         ribs: bool,
         elements: ElementsArg,
     ) -> PyResult<Finger> {
-        let split = match elements {
-            ElementsArg::Auto => Split::Auto,
+        let (plan, count) = match elements {
+            ElementsArg::Auto => (Plan::Auto, None),
             ElementsArg::Default | ElementsArg::Count(_) => {
                 let n = match elements {
                     ElementsArg::Count(n) => n,
                     _ => DEFAULT_ELEMENTS,
                 };
                 let part = equal_partition(py, actuator.geometry().lx, n)?;
-                Split::Fixed {
-                    finger: fpc::Finger::with_model(model, &actuator, &part, ribs),
-                    count: matches!(elements, ElementsArg::Count(_)).then_some(n),
-                }
+                (
+                    Plan::Fixed(part),
+                    matches!(elements, ElementsArg::Count(_)).then_some(n),
+                )
             }
         };
+        let planned = PlannedFinger::builder(&actuator)
+            .model(model)
+            .ribs(ribs)
+            .plan(plan)
+            .build()
+            .map_err(|e| from_input(py, &e))?;
         Ok(Finger {
             model,
             actuator,
             ribs,
-            split,
+            planned,
+            count,
             load: Load::unloaded(),
             tip_tol_mm: None,
             options: SolveOptions::default(),
@@ -408,82 +410,64 @@ impl Finger {
             }
             _ => None,
         };
-        let (split, tip_tol_mm) = match &scene.partition {
-            PartitionPlan::Fixed(part) => (
-                Split::Fixed {
-                    finger: fpc::Finger::with_model(scene.model, &scene.actuator, part, true),
-                    count,
-                },
-                None,
-            ),
-            PartitionPlan::Auto => (Split::Auto, None),
+        // a tip tolerance is the default of solve(): the finger itself is
+        // on the equal elements it starts from
+        let (plan, count, tip_tol_mm) = match &scene.partition {
             &PartitionPlan::TipTolerance { tip_tol_mm, start } => {
                 let n = start.unwrap_or(DEFAULT_ELEMENTS);
                 let part = Partition::equal(scene.actuator.geometry().lx, n)
                     .expect("the scene checked its partition");
-                (
-                    Split::Fixed {
-                        finger: fpc::Finger::with_model(scene.model, &scene.actuator, &part, true),
-                        count: start,
-                    },
-                    Some(tip_tol_mm),
-                )
+                (Plan::Fixed(part), start, Some(tip_tol_mm))
             }
+            other => (other.plan(), count, None),
         };
+        let planned = PlannedFinger::builder(&scene.actuator)
+            .model(scene.model)
+            .plan(plan)
+            .build()
+            .expect("the scene checked its partition");
         Finger {
             model: scene.model,
             actuator: scene.actuator.clone(),
             ribs: true,
-            split,
+            planned,
+            count,
             load: scene.load,
             tip_tol_mm,
             options: scene.options,
         }
     }
 
-    /// The solve: fixed partition, automatic partition, or refined to a tip
-    /// tolerance. Returns the solution and the refinement, if any.
+    /// The solve: the finger's plan, or refined to a tip tolerance (from
+    /// its count of equal elements, if given).
     pub fn run(
         &self,
         load: &Load,
         tip_tol_mm: Option<f64>,
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
-    ) -> Result<(fpc::Solution, Option<Refined>), fpc::SolveError> {
-        if let Some(tol) = tip_tol_mm {
-            let start = match &self.split {
-                Split::Fixed { count, .. } => *count,
-                Split::Auto => None,
+    ) -> Result<Solved, fpc::SolveError> {
+        if let Some(tip_tol_mm) = tip_tol_mm {
+            let start = match self.planned.fixed() {
+                Some(_) => self.count,
+                None => None,
             };
-            let r = fpc::solve_to_tip_tolerance(
-                self.model,
-                &self.actuator,
-                self.ribs,
-                load,
-                tol,
-                start,
-                opts,
-            )?;
-            return Ok((r.solution.clone(), Some(r)));
+            return PlannedFinger::builder(&self.actuator)
+                .model(self.model)
+                .ribs(self.ribs)
+                .plan(Plan::TipTolerance { tip_tol_mm, start })
+                .build()?
+                .solve(load, opts);
         }
-        match &self.split {
-            Split::Fixed { finger, .. } => Ok((
-                match guess {
-                    Some(g) => finger.solve_from(load, g, opts)?,
-                    None => finger.solve(load, opts)?,
-                },
-                None,
-            )),
-            Split::Auto => Ok((
-                fpc::solve_auto(self.model, &self.actuator, self.ribs, load, opts)?.solution,
-                None,
-            )),
+        match guess {
+            Some(g) => self.planned.solve_from(load, g, opts),
+            None => self.planned.solve(load, opts),
         }
     }
 }
 
 /// A refinement as the dict of `fpc finger --json`'s `refinement`.
-fn refinement_dict<'py>(py: Python<'py>, r: &Refined) -> PyResult<Bound<'py, PyDict>> {
+fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("configuration", r.plan.label())?;
     d.set_item(
@@ -584,15 +568,12 @@ impl Finger {
             None => None,
             Some(g) => Some(self.guess(py, g, tip_tol.is_some())?),
         };
-        let (sol, refined) = detached(py, || self.run(&load, tip_tol, guess.as_ref(), &opts))?
+        let solved = detached(py, || self.run(&load, tip_tol, guess.as_ref(), &opts))?
             .map_err(|e| from_solve(py, &e))?;
-        let d = solution_dict(py, &sol)?;
+        let d = solution_dict(py, &solved.solution)?;
         d.set_item("model", self.model.name())?;
-        d.set_item(
-            "tip_error_estimate",
-            refined.as_ref().and_then(|r| r.estimated_tip_error_mm),
-        )?;
-        match &refined {
+        d.set_item("tip_error_estimate", solved.estimated_tip_error_mm())?;
+        match &solved.refinement {
             Some(r) => d.set_item("refinement", refinement_dict(py, r)?)?,
             None => d.set_item("refinement", py.None())?,
         }
@@ -632,19 +613,18 @@ impl Finger {
     /// The number of elements, or ``"auto"``.
     #[getter]
     fn elements<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(match &self.split {
-            Split::Fixed { finger, .. } => finger.len().into_pyobject(py)?.into_any(),
-            Split::Auto => PyString::new(py, "auto").into_any(),
+        Ok(match self.planned.fixed() {
+            Some(finger) => finger.len().into_pyobject(py)?.into_any(),
+            None => PyString::new(py, "auto").into_any(),
         })
     }
 
     /// Undeformed element lengths (mm), root to tip; None for ``"auto"``.
     #[getter]
     fn element_lengths<'py>(&self, py: Python<'py>) -> Option<Bound<'py, numpy::PyArray1<f64>>> {
-        match &self.split {
-            Split::Fixed { finger, .. } => Some(array1(py, finger.element_lengths().to_vec())),
-            Split::Auto => None,
-        }
+        self.planned
+            .fixed()
+            .map(|finger| array1(py, finger.element_lengths().to_vec()))
     }
 
     /// Notes on the actuator and the model's law (a prestrain outside the
@@ -656,9 +636,9 @@ impl Finger {
     }
 
     fn __repr__(&self) -> String {
-        let elements = match &self.split {
-            Split::Fixed { finger, .. } => finger.len().to_string(),
-            Split::Auto => "'auto'".into(),
+        let elements = match self.planned.fixed() {
+            Some(finger) => finger.len().to_string(),
+            None => "'auto'".into(),
         };
         format!(
             "fpc.Finger(eps0={}, elements={elements}, model='{}', ribs={})",
@@ -672,7 +652,7 @@ impl Finger {
 impl Finger {
     /// A starting guess from an array-like of elements x unknowns.
     fn guess(&self, py: Python<'_>, g: &Bound<'_, PyAny>, refined: bool) -> PyResult<Coefficients> {
-        let Split::Fixed { finger, .. } = &self.split else {
+        let Some(finger) = self.planned.fixed() else {
             return Err(input_error(
                 py,
                 "guess",

@@ -11,7 +11,7 @@ use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions, GRIPPER_SAMPLES_
 
 use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
 use crate::errors::{detached, from_input, from_solve, guarded, input_error, renamed};
-use crate::finger::{read_scene, Finger, Split};
+use crate::finger::{read_scene, Finger};
 use fpc::scene::{GraspJson, GripperJson};
 
 /// A gripper: identical, synchronised fingers on a palm (one finger is
@@ -39,17 +39,17 @@ pub struct Gripper {
 
 /// The finger a gripper is built on.
 fn gripper_finger(py: Python<'_>, f: &Finger) -> PyResult<fpc::Finger> {
-    match &f.split {
-        Split::Fixed { finger, .. } => Ok(finger.clone()),
-        Split::Auto => {
+    match f.planned.fixed() {
+        Some(finger) => Ok(finger.clone()),
+        None => {
             let opts = SolveOptions {
                 samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
                 stability: false,
                 ..SolveOptions::default()
             };
-            let (model, act, ribs) = (f.model, f.actuator.clone(), f.ribs);
+            let planned = f.planned.clone();
             detached(py, move || {
-                fpc::solve_auto(model, &act, ribs, &Load::unloaded(), &opts).map(|a| a.finger)
+                planned.solve(&Load::unloaded(), &opts).map(|a| a.finger)
             })?
             .map_err(|e| from_solve(py, &e))
         }

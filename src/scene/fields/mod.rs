@@ -300,7 +300,7 @@ pub(crate) enum LibField {
     Material(Layer, ElasticKey),
     /// `actuator.pemc.eps0`, `actuator.pemc.e2`, `actuator.pemc.law.p1..p4`.
     Pemc(PemcKey),
-    /// `partition.n` ([`crate::Partition::equal`], [`crate::solve_to_tip_tolerance`]).
+    /// `partition.n` ([`crate::Partition::equal`], [`crate::Plan::TipTolerance`]).
     PartitionN,
     /// `partition.lx`.
     PartitionLx,
@@ -312,7 +312,7 @@ pub(crate) enum LibField {
     PartitionLength(usize),
     /// `partition.max_length` ([`crate::Partition::material`], the automatic partition).
     PartitionMaxLength,
-    /// `tip_tol_mm` ([`crate::solve_to_tip_tolerance`]).
+    /// `tip_tol_mm` ([`crate::Plan::TipTolerance`]).
     TipTolMm,
     /// `load.pressure` (MPa).
     LoadPressure,

@@ -84,10 +84,9 @@ fn scene_keys_are_the_schema() {
 #[test]
 fn the_library_spells_its_fields_as_the_enum_does() {
     use crate::actuator::{Actuator, ActuatorParams, Rib, RibLayout};
-    use crate::finger::{Finger, Load, SolveOptions};
+    use crate::finger::{Finger, Load};
     use crate::gripper::{Gripper, GripperParams, PalmSpec};
     use crate::partition::Partition;
-    use crate::refine::solve_to_tip_tolerance;
 
     fn field<T: std::fmt::Debug, E: Into<SolveError>>(r: Result<T, E>) -> String {
         match r.map_err(Into::into) {
@@ -149,15 +148,14 @@ fn the_library_spells_its_fields_as_the_enum_does() {
             LibField::Rib(0, RibEntryKey::X1),
         ),
         (
-            field(solve_to_tip_tolerance(
-                crate::ModelId::default(),
-                &act,
-                true,
-                &Load::unloaded(),
-                0.0,
-                Some(8),
-                &SolveOptions::default(),
-            )),
+            field(
+                crate::PlannedFinger::builder(&act)
+                    .plan(crate::Plan::TipTolerance {
+                        tip_tol_mm: 0.0,
+                        start: Some(8),
+                    })
+                    .build(),
+            ),
             LibField::TipTolMm,
         ),
         (

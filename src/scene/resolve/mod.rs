@@ -51,13 +51,13 @@ pub enum PartitionPlan {
     /// A fixed partition (equal or custom elements).
     Fixed(Partition),
     /// Refined until the estimated tip error is at most `tip_tol_mm`
-    /// ([`crate::solve_to_tip_tolerance`]): equal elements doubled from
+    /// ([`crate::Plan::TipTolerance`]): equal elements doubled from
     /// `start`, or without it the fastest configuration for the tolerance.
     TipTolerance {
         tip_tol_mm: f64,
         start: Option<usize>,
     },
-    /// The automatic partition ([`crate::solve_auto`]): boundaries on the
+    /// The automatic partition ([`crate::Plan::Auto`]): boundaries on the
     /// material changes, elements split until every one turns within the
     /// CCM's slope limit. A finger scene chooses it at its load, a gripper
     /// scene at the unloaded, zero-pressure state (the gripper's reference).

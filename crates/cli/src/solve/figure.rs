@@ -44,7 +44,7 @@ pub(super) fn shape_figure(stem: &str, solved: &SceneSolution) -> Figure {
     let stem = crate::report::sanitize(stem);
     let warnings = solved.warnings();
     let (title, mut p) = match solved {
-        SceneSolution::Finger { solution, .. } => finger_panel(&stem, solution),
+        SceneSolution::Finger(s) => finger_panel(&stem, &s.solution),
         SceneSolution::Gripper { gripper, grasp } => {
             gripper_panel(&stem, gripper, grasp.as_deref(), solved.solution())
         }

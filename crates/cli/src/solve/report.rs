@@ -39,7 +39,7 @@ pub(super) fn shape_csv(solved: &SceneSolution) -> anyhow::Result<Vec<u8>> {
         .from_writer(Vec::new());
     let points = &solved.solution().points;
     match solved {
-        SceneSolution::Finger { .. } => {
+        SceneSolution::Finger(_) => {
             w.write_record(["x_mm", "z_mm"])?;
             for p in points {
                 w.write_record(p.map(|v| v.to_string()))?;
@@ -68,11 +68,8 @@ pub(super) fn summary(
     let sol: &Solution = solved.solution();
     let eps0 = file.actuator.pemc.eps0.unwrap_or(f64::NAN);
     match solved {
-        SceneSolution::Finger {
-            elements,
-            tip_error_estimate_mm,
-            ..
-        } => {
+        SceneSolution::Finger(solved) => {
+            let elements = solved.elements();
             let l = &file.load;
             writeln!(
                 out,
@@ -88,7 +85,7 @@ pub(super) fn summary(
                 sol.tip[1],
                 sol.end_angle.to_degrees()
             )?;
-            if let Some(e) = tip_error_estimate_mm {
+            if let Some(e) = solved.estimated_tip_error_mm() {
                 writeln!(
                     out,
                     "tip accuracy   estimated error {e:.2e} mm at N = {elements}"

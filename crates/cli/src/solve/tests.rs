@@ -110,9 +110,10 @@ fn a_square_is_drawn_square() {
 #[test]
 fn non_finite_values_draw_nothing_and_print_no_nan() {
     let mut s = solved("");
-    let SceneSolution::Finger { solution, .. } = &mut s else {
+    let SceneSolution::Finger(solved) = &mut s else {
         panic!()
     };
+    let solution = &mut solved.solution;
     solution.tip = [f64::NAN, f64::INFINITY];
     solution.end_angle = f64::NAN;
     solution.points[3] = [f64::NAN, 1.0];

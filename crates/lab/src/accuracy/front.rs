@@ -65,7 +65,7 @@ pub struct FrontPoint {
 /// What the library picks for a tolerance, measured like the rows.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LibraryChoice {
-    /// `Refinement::for_tolerance` as `solve_to_tip_tolerance` ran it
+    /// `Refinement::for_tolerance` as a tip tolerance (`fpc::Plan::TipTolerance`) ran it
     /// (levels as solved).
     pub plan: Refinement,
     /// Its label.
@@ -92,7 +92,7 @@ pub struct Fastest {
     pub fastest: Option<FrontPoint>,
     /// The fastest row within it whose own error estimate is within it too
     /// (a refinement that knows it met the tolerance, as
-    /// `solve_to_tip_tolerance` must).
+    /// a tip tolerance must).
     pub fastest_estimated: Option<FrontPoint>,
     /// The library's choice (`None`: it failed).
     pub library: Option<LibraryChoice>,

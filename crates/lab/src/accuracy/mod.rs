@@ -13,7 +13,7 @@
 //! and pieces at most lx / [`SECOND_FAMILY_START`] (40 elements) halved
 //! [`SECOND_FAMILY_LEVELS`] - 1 times (40 -> 640). Every level is solved
 //! to a relative residual of [`REFERENCE_RTOL`] (rounding) by nested
-//! iteration, independently of how tightly a [`Refiner`](fpc::Refiner)
+//! iteration, independently of how tightly a [`PlannedFinger`](fpc::PlannedFinger)
 //! solves its intermediate levels (see [`fpc::INTERMEDIATE_RTOL`]). The
 //! tip error of material partitions follows `c1 h + c2 h^2 + c3 h^3 + ...`
 //! (a first-order term under a tip load, docs/performance.md), so each
@@ -35,9 +35,9 @@
 //! elements from N = 8 doubled to 512, both fully converged.
 //!
 //! **Configurations** ([`CONFIGURATIONS`], one table applied to every
-//! model): each is built once ([`Refiner::new`](fpc::Refiner::new), outside the timed region),
+//! model): each is built once ([`FingerBuilder::build`](fpc::FingerBuilder::build), outside the timed region),
 //! its coarsest finger's unloaded equilibrium is solved (outside too), and
-//! the timed call is `refiner.solve(&load, Some(&unloaded.coefficients),
+//! the timed call is `finger.solve_from(&load, &unloaded.coefficients,
 //! &opts)`. Every configuration is timed in [`StudyConfig::rounds`]
 //! rounds over all configurations; in each round one batch of calls runs
 //! until both [`StudyConfig::min_runs`] calls and its share of
@@ -64,7 +64,7 @@
 //! CCM reference (one of the two strictly); for each of [`TOLERANCES_MM`]
 //! the fastest row within it is reported, the fastest whose own estimate
 //! is within it too, and what the library picks for that tolerance
-//! (`fpc::solve_to_tip_tolerance`, the plan as it ran, timed the same
+//! (`fpc::Plan::TipTolerance`, the plan as it ran, timed the same
 //! way).
 
 mod config;
@@ -74,7 +74,7 @@ mod reference;
 mod tests;
 mod timing;
 
-use fpc::{solve_to_tip_tolerance, Actuator, Load, ModelId, Refinement, SolveError, SolveOptions};
+use fpc::{Actuator, Load, ModelId, PlannedFinger, Refinement, SolveError, SolveOptions};
 use serde::Serialize;
 
 pub use config::{Plan, StudyConfig, CONFIGURATIONS, QUICK_CONFIGURATIONS};
@@ -189,7 +189,7 @@ pub fn accuracy_study(
         .collect();
 
     // every configuration, then the library's choice per tolerance (as
-    // solve_to_tip_tolerance ran it), built and solved once
+    // a tip tolerance ran it), built and solved once
     let mut points = Vec::with_capacity(models.len() * config.plans.len());
     for &m in &models {
         for p in &config.plans {
@@ -199,7 +199,17 @@ pub fn accuracy_study(
     let rows_len = points.len();
     let mut library = Vec::with_capacity(TOLERANCES_MM.len());
     for &tol in &TOLERANCES_MM {
-        let solved = solve_to_tip_tolerance(ccm, &act, true, &load, tol, None, &opts).ok();
+        let solved = PlannedFinger::builder(&act)
+            .model(ccm)
+            .plan(fpc::Plan::TipTolerance {
+                tip_tol_mm: tol,
+                start: None,
+            })
+            .build()
+            .map_err(SolveError::from)
+            .and_then(|f| f.solve(&load, &opts))
+            .ok()
+            .and_then(|s| s.refinement);
         if let Some(r) = &solved {
             points.push(Point::new(&act, &r.plan, &load, &opts)?);
         }
@@ -233,7 +243,8 @@ pub fn accuracy_study(
     let mut rows: Vec<AccuracyRow> = points
         .iter()
         .map(|t| {
-            let r = &t.result;
+            let elements = t.result.elements();
+            let r = t.result.refinement.as_ref().expect("a refinement's record");
             let own = references
                 .iter()
                 .find(|x| x.model == r.plan.model)
@@ -241,7 +252,7 @@ pub fn accuracy_study(
             AccuracyRow {
                 label: r.plan.label(),
                 plan: r.plan,
-                elements: r.elements,
+                elements,
                 elements_per_level: r.levels.iter().map(|l| l.elements).collect(),
                 iterations: r.levels.iter().map(|l| l.iterations).collect(),
                 tip: r.tip,
@@ -272,7 +283,7 @@ pub fn accuracy_study(
             let library = lib.map(|(solved, i)| {
                 let point = &library_points[i - rows_len];
                 let time_us = point.time_us();
-                let error = dist(point.result.tip, ccm_ref.tip);
+                let error = dist(point.result.tip(), ccm_ref.tip);
                 LibraryChoice {
                     plan: solved.plan,
                     label: solved.plan.label(),
@@ -314,7 +325,13 @@ pub fn accuracy_study(
         n8: TimingReference {
             label: n8_plan.label(),
             time_us: t8,
-            iterations: n8.result.levels[0].iterations,
+            iterations: n8
+                .result
+                .refinement
+                .as_ref()
+                .expect("a refinement's record")
+                .levels[0]
+                .iterations,
             all_batches_median_us: median(&mut n8.rounds_us.clone()),
             paired_median_us,
             batches_us: n8.rounds_us,

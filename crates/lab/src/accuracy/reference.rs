@@ -3,8 +3,8 @@
 //! the observed orders of both partition kinds.
 
 use fpc::{
-    Actuator, Coefficients, Level, Load, ModelId, PartitionKind, Refinement, Refiner, SolveError,
-    SolveOptions,
+    Actuator, Coefficients, Level, Load, ModelId, PartitionKind, PlannedFinger, Refinement,
+    SolveError, SolveOptions,
 };
 use serde::Serialize;
 
@@ -170,7 +170,7 @@ pub struct ModelReference {
     pub material: Convergence,
     /// Equal elements from N = 8 and their orders.
     pub equal: Convergence,
-    /// The first family's plan run by [`Refiner::solve`] with
+    /// The first family's plan run by [`fpc::PlannedFinger::solve`] with
     /// extrapolation (intermediate levels to `INTERMEDIATE_RTOL`): its tip
     /// (mm).
     pub refiner_tip_mm: [f64; 2],
@@ -273,11 +273,10 @@ fn converged_levels(
     plan: &Refinement,
     opts: &SolveOptions,
 ) -> Result<Vec<Level>, SolveError> {
-    let mut refiner = Refiner::new(act, true, plan)?;
+    let refiner = PlannedFinger::builder(act).refinement(plan).build()?;
     let mut levels = Vec::with_capacity(plan.levels);
     let mut prev: Option<Coefficients> = None;
-    for level in 0..plan.levels {
-        let finger = refiner.finger(level)?;
+    for finger in refiner.fingers() {
         let sol = match &prev {
             Some(k) if 2 * k.elements() == finger.len() => finger
                 .solve_from(load, &halved(k)?, opts)
@@ -336,7 +335,10 @@ pub(super) fn reference(
         PartitionKind::Equal,
         &converged_levels(act, load, &equal_plan, &opts)?,
     );
-    let refined = Refiner::new(act, true, &plan)?.solve(load, None, &opts)?;
+    let refined = PlannedFinger::builder(act)
+        .refinement(&plan)
+        .build()?
+        .solve(load, &opts)?;
     Ok(ModelReference {
         model,
         plan,
@@ -347,8 +349,8 @@ pub(super) fn reference(
         families,
         material,
         equal,
-        refiner_tip_mm: refined.tip,
-        refiner_estimate_mm: refined.estimated_tip_error_mm,
-        refiner_offset_mm: dist(refined.tip, tip),
+        refiner_tip_mm: refined.tip(),
+        refiner_estimate_mm: refined.estimated_tip_error_mm(),
+        refiner_offset_mm: dist(refined.tip(), tip),
     })
 }

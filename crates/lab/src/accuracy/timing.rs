@@ -3,7 +3,9 @@
 
 use std::time::{Duration, Instant};
 
-use fpc::{Actuator, Coefficients, Load, Refined, Refinement, Refiner, SolveError, SolveOptions};
+use fpc::{
+    Actuator, Coefficients, Load, PlannedFinger, Refinement, SolveError, SolveOptions, Solved,
+};
 use serde::Serialize;
 
 /// The N = 8 equal cold solve, measured in batches spread over the run.
@@ -35,23 +37,22 @@ pub(super) fn median(v: &mut [f64]) -> f64 {
 /// A configuration ready to be timed: fingers built, the coarsest level's
 /// unloaded equilibrium solved.
 pub(super) struct Prepared {
-    refiner: Refiner,
+    finger: PlannedFinger,
     unloaded: Coefficients,
 }
 
 impl Prepared {
     fn new(act: &Actuator, plan: &Refinement, opts: &SolveOptions) -> Result<Prepared, SolveError> {
-        let mut refiner = Refiner::new(act, true, plan)?;
-        let unloaded = refiner
-            .finger(0)?
+        let finger = PlannedFinger::builder(act).refinement(plan).build()?;
+        let unloaded = finger.fingers()[0]
             .solve(&Load::unloaded(), opts)?
             .coefficients;
-        Ok(Prepared { refiner, unloaded })
+        Ok(Prepared { finger, unloaded })
     }
 
     /// The result of one call (untimed; it also warms the caches).
-    fn result(&mut self, load: &Load, opts: &SolveOptions) -> Result<Refined, SolveError> {
-        self.refiner.solve(load, Some(&self.unloaded), opts)
+    fn result(&mut self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        self.finger.solve_from(load, &self.unloaded, opts)
     }
 
     /// One batch: the median time (us) of repeated calls until both
@@ -71,7 +72,7 @@ impl Prepared {
             && samples.len() < MAX_RUNS
         {
             let t = Instant::now();
-            let r = self.refiner.solve(load, Some(&self.unloaded), opts)?;
+            let r = self.finger.solve_from(load, &self.unloaded, opts)?;
             samples.push(t.elapsed().as_secs_f64() * 1e6);
             std::hint::black_box(r);
         }
@@ -83,7 +84,7 @@ impl Prepared {
 /// A configuration being timed over the rounds.
 pub(super) struct Point {
     pub(super) prepared: Prepared,
-    pub(super) result: Refined,
+    pub(super) result: Solved,
     pub(super) rounds_us: Vec<f64>,
     /// The N = 8 batch measured right before each round's.
     pub(super) n8_us: Vec<f64>,

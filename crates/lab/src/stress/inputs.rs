@@ -56,7 +56,7 @@ pub struct StressInputs {
     /// The force scale `F_ref` (N) of the stack ([`force_scale`]; 0 when
     /// no draw was accepted).
     pub force_scale: f64,
-    /// Solved on the automatic partition ([`fpc::solve_auto`]).
+    /// Solved on the automatic partition ([`fpc::Plan::Auto`]).
     pub auto_partition: bool,
     /// Element count N drawn (0 for the automatic partition).
     pub elements: usize,
@@ -165,7 +165,7 @@ impl fmt::Display for StressInputs {
 pub enum PartitionKey {
     /// N drawn elements.
     Count(usize),
-    /// [`fpc::solve_auto`].
+    /// [`fpc::Plan::Auto`].
     Auto,
 }
 

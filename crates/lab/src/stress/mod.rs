@@ -17,7 +17,7 @@
 //!   is along +-X one time in seven, along +-Z one time in seven, and
 //!   uniform otherwise (positive `Fx` pulls the finger straight, negative
 //!   compresses it towards buckling, `Fz` folds it);
-//! - the partition: automatic ([`fpc::solve_auto`]: boundaries on material
+//! - the partition: automatic ([`fpc::Plan::Auto`]: boundaries on material
 //!   changes, elements split until each is within the slope limit) in
 //!   [`AUTO_FRACTION`] of the cases; otherwise N from
 //!   [`STRESS_ELEMENT_COUNTS`] with weights that fall for the large counts,
@@ -219,8 +219,13 @@ fn solve(inputs: &StressInputs, act: &Actuator) -> Result<(Finger, Solution, usi
     let load = inputs.load();
     let opts = solve_options();
     if inputs.auto_partition {
-        let a = fpc::solve_auto(inputs.model, act, inputs.ribs, &load, &opts)?;
-        Ok((a.finger, a.solution, a.refinements))
+        let a = fpc::PlannedFinger::builder(act)
+            .model(inputs.model)
+            .ribs(inputs.ribs)
+            .plan(fpc::Plan::Auto)
+            .build()?
+            .solve(&load, &opts)?;
+        Ok((a.finger, a.solution, a.splits))
     } else {
         let part = Partition::custom(inputs.lengths.clone(), inputs.geometry.lx)?;
         let finger = Finger::with_model(inputs.model, act, &part, inputs.ribs);

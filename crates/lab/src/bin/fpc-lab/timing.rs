@@ -10,8 +10,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
 use fpc::{
-    Actuator, Coefficients, Finger, Load, ModelId, PartitionKind, Refinement, Refiner, Solution,
-    SolveOptions, Solver,
+    Actuator, Coefficients, Finger, Load, ModelId, PartitionKind, Plan, PlannedFinger, Refinement,
+    Solution, SolveOptions, Solved, Solver,
 };
 use serde::Serialize;
 
@@ -265,7 +265,7 @@ struct ToTolerance {
 /// The N -> infinity reference of the standard tip-loaded case: the
 /// material partition at six levels (27 to 864 elements by default),
 /// extrapolated, Newton to a relative residual of 1e-13.
-fn reference(actuator: &Actuator) -> anyhow::Result<fpc::Refined> {
+fn reference(actuator: &Actuator) -> anyhow::Result<Solved> {
     let plan = Refinement {
         model: ModelId::default(),
         partition: PartitionKind::Material,
@@ -277,7 +277,10 @@ fn reference(actuator: &Actuator) -> anyhow::Result<fpc::Refined> {
         rtol: 1e-13,
         ..tip_only()
     };
-    Ok(fpc::refine(actuator, true, &tip_load(), &plan, &opts)?)
+    Ok(PlannedFinger::builder(actuator)
+        .refinement(&plan)
+        .build()?
+        .solve(&tip_load(), &opts)?)
 }
 
 fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
@@ -285,19 +288,23 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
     let opts = tip_only();
     let model = ModelId::default();
     // the library's choice for the tolerance, with the levels it needed
-    let chosen = fpc::solve_to_tip_tolerance(
-        model,
-        &act,
-        true,
-        &tip_load(),
-        TIP_TOLERANCE_MM,
-        None,
-        &opts,
-    )?;
-    let mut refiner = Refiner::new(&act, true, &chosen.plan)?;
-    let unloaded = refiner.finger(0)?.solve(&Load::unloaded(), &opts)?;
+    let chosen = PlannedFinger::builder(&act)
+        .model(model)
+        .plan(Plan::TipTolerance {
+            tip_tol_mm: TIP_TOLERANCE_MM,
+            start: None,
+        })
+        .build()?
+        .solve(&tip_load(), &opts)?;
+    let chosen = chosen
+        .refinement
+        .context("a tip tolerance records its refinement")?;
+    let refiner = PlannedFinger::builder(&act)
+        .refinement(&chosen.plan)
+        .build()?;
+    let unloaded = refiner.fingers()[0].solve(&Load::unloaded(), &opts)?;
     let (us, _, r) = median_us(budget, || {
-        Ok(refiner.solve(&tip_load(), Some(&unloaded.coefficients), &opts)?)
+        Ok(refiner.solve_from(&tip_load(), &unloaded.coefficients, &opts)?)
     })?;
     let n8 = Finger::paper(0.25, 8)?;
     let n8_unloaded = n8.solve(&Load::unloaded(), &opts)?;
@@ -305,23 +312,28 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
     let ratio_to_n8_cold = paired_ratio(
         budget,
         || Ok(n8_solver.solve(&tip_load(), Some(&n8_unloaded.coefficients), &opts)?),
-        || Ok(refiner.solve(&tip_load(), Some(&unloaded.coefficients), &opts)?),
+        || Ok(refiner.solve_from(&tip_load(), &unloaded.coefficients, &opts)?),
     )?;
     let reference = reference(&act)?;
-    let error_mm = (r.tip[0] - reference.tip[0]).hypot(r.tip[1] - reference.tip[1]);
+    let (tip, reference_tip) = (r.tip(), reference.tip());
+    let error_mm = (tip[0] - reference_tip[0]).hypot(tip[1] - reference_tip[1]);
+    let record = r
+        .refinement
+        .as_ref()
+        .context("a refinement records its levels")?;
     Ok(ToTolerance {
         us,
-        elements: r.elements,
+        elements: r.elements(),
         model,
-        tip_mm: r.tip,
-        configuration: r.plan.label(),
-        partition: r.plan.partition,
-        levels: r.levels.iter().map(|l| l.elements).collect(),
+        tip_mm: tip,
+        configuration: record.plan.label(),
+        partition: record.plan.partition,
+        levels: record.levels.iter().map(|l| l.elements).collect(),
         extrapolated: r.is_extrapolated(),
-        estimated_error_mm: r.estimated_tip_error_mm,
+        estimated_error_mm: r.estimated_tip_error_mm(),
         error_mm,
-        reference_tip_mm: reference.tip,
-        reference_uncertainty_mm: reference.estimated_tip_error_mm,
+        reference_tip_mm: reference_tip,
+        reference_uncertainty_mm: reference.estimated_tip_error_mm(),
         ratio_to_n8_cold,
     })
 }
