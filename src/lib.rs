@@ -31,7 +31,6 @@ mod finger;
 pub mod model;
 mod partition;
 mod plan;
-mod refine;
 mod sensitivity;
 mod solve_error;
 mod validity;
@@ -52,11 +51,11 @@ pub use finger::{
 pub use fpc_newton::{PathTermination, Termination};
 pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
 pub use partition::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
-pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved, DEFAULT_PLAN_ELEMENTS};
-pub use refine::{
+pub use plan::refine::{
     Level, PartitionKind, Refinement, RefinementRecord, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
     MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
 };
+pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved, DEFAULT_PLAN_ELEMENTS};
 pub use sensitivity::{
     EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity, GraspKind, GraspSensitivities,
     GraspSensitivity, GripperParam, Param, Sensitivities, Sensitivity, SizeSensitivity,

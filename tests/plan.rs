@@ -1,4 +1,4 @@
-//! The front door (src/plan.rs): every plan solved through
+//! The front door (src/plan/): every plan solved through
 //! `PlannedFinger::solve` gives what the low-level `Finger::solve` gives on
 //! the partition built here, independently of the plan's implementation;
 //! the refined plans keep the values the separate entry points gave

@@ -1,6 +1,6 @@
 //! Refinement: the error expansion of material partitions (second order
 //! with a first-order term under a tip load), the extrapolations, nested
-//! iteration and the tolerance-driven choice (src/refine.rs), checked
+//! iteration and the tolerance-driven choice (src/plan/refine.rs), checked
 //! against independently computed sequences and N -> infinity references
 //! from two partition families.
 

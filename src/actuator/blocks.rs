@@ -26,7 +26,7 @@ impl Partition {
     /// merged. This is the starting partition of the automatic choice
     /// ([`crate::Plan::Auto`]); with element ends on material changes the
     /// CCM converges at second order in the element length, with a small
-    /// first-order term under a tip load (src/refine.rs).
+    /// first-order term under a tip load (src/plan/refine.rs).
     pub fn material(
         actuator: &Actuator,
         ribs: bool,

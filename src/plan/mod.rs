@@ -23,14 +23,16 @@
 //! [`RefinementRecord`]); [`Finger::solve`] stays the low-level solve on one
 //! partition.
 
+pub(crate) mod refine;
+
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{InputError, Warning};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
-use crate::refine::{Auto, PartitionKind, Refinement, RefinementRecord, Refiner, TipTolerance};
 use crate::solve_error::SolveError;
+use refine::{Auto, PartitionKind, Refinement, RefinementRecord, Refiner, TipTolerance};
 
 /// Elements of the default plan ([`Plan::default`]).
 pub const DEFAULT_PLAN_ELEMENTS: usize = 8;

@@ -50,13 +50,13 @@
 
 use serde::Serialize;
 
+use super::Solved;
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{positive, require, InputError, Warning};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
-use crate::plan::Solved;
 use crate::solve_error::SolveError;
 
 /// Largest number of elements a refinement uses.
