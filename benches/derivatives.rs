@@ -8,7 +8,7 @@
 //! tip load (Fx, Fz) = (0.939782, 0.521707) N, no pressure, Newton from the
 //! unloaded equilibrium, in the solver's scaled unknowns
 //! `y = (a1, a3 L^2, b1, c2 L)` per element. One `fpc_newton::Newton`
-//! configuration (the one `fpc::Solver` uses: `gtol = 1e-11` times the
+//! configuration (the one `fpc::finger::Solver` uses: `gtol = 1e-11` times the
 //! stiffness scale, at most 60 iterations) minimises the total potential
 //! energy given three ways:
 //!

@@ -18,7 +18,8 @@
 
 use std::time::Instant;
 
-use fpc::{Finger, Load, SolveOptions, Solver};
+use fpc::finger::Solver;
+use fpc::{Finger, Load, SolveOptions};
 use fpc_newton::NewtonOptions;
 
 #[path = "common/dense.rs"]

@@ -27,10 +27,9 @@
 
 use std::time::Instant;
 
-use fpc::{
-    Actuator, ActuatorParam, Finger, GraspKind, Gripper, GripperParam, GripperParams, Load,
-    ModelId, Param, Partition, SolveOptions,
-};
+use fpc::actuator::ActuatorParam;
+use fpc::sensitivity::{GraspKind, GripperParam, Param};
+use fpc::{Actuator, Finger, Gripper, GripperParams, Load, ModelId, Partition, SolveOptions};
 
 const FX: f64 = 0.939782;
 const FZ: f64 = 0.521707;

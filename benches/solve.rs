@@ -31,12 +31,11 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use fpc::finger::{Solver, Strategy, TargetProblem};
 use fpc::model::ccm::Ccm;
+use fpc::model::ElementModel;
 use fpc::model::EnergyScalars;
-use fpc::{
-    Actuator, Coefficients, ElementModel, Finger, Load, Partition, Solution, SolveOptions, Solver,
-    Strategy, TargetProblem,
-};
+use fpc::{Actuator, Coefficients, Finger, Load, Partition, Solution, SolveOptions};
 use fpc_newton::{Energy, Gradient, Hessian};
 
 #[path = "common/blocks.rs"]

@@ -36,6 +36,34 @@ pub enum InputError {
 }
 
 impl InputError {
+    /// The same error about the same field under another name (a scene
+    /// key, a command-line flag), its value converted to that name's unit
+    /// by `value` (for example MPa to kPa).
+    pub fn renamed(self, field: impl Into<String>, value: impl Fn(f64) -> f64) -> InputError {
+        let field = field.into();
+        match self {
+            InputError::NotFinite { value: v, .. } => InputError::NotFinite {
+                field,
+                value: value(v),
+            },
+            InputError::NotPositive { value: v, .. } => InputError::NotPositive {
+                field,
+                value: value(v),
+            },
+            InputError::OutOfRange { value: v, rule, .. } => InputError::OutOfRange {
+                field,
+                value: value(v),
+                rule,
+            },
+            InputError::Inconsistent { rule, .. } => InputError::Inconsistent { field, rule },
+            InputError::Unrecognised { value: v, rule, .. } => InputError::Unrecognised {
+                field,
+                value: v,
+                rule,
+            },
+        }
+    }
+
     /// The path of the offending field.
     pub fn field(&self) -> &str {
         match self {

@@ -1,8 +1,38 @@
 //! fpc: the chained composite model (CCM) of fluidic prestressed composite
-//! fingers, and the analysis of soft grippers built from them.
+//! (FPC) fingers, and the analysis of soft grippers built from them: how a
+//! finger bends under pressure and tip loads, which objects a gripper of
+//! such fingers holds, with which forces, and which gripper to build.
 //!
-//! The element models are generated at build time from the specs in
-//! `energy-spec/` by the in-house symbolic crate; see [`model`].
+//! The model is stated in `docs/model.md` (its source of truth; section
+//! numbers below refer to it). Units everywhere: millimetres, newtons,
+//! N/mm^2 = MPa for moduli, and radians; the scene files and the CLI take
+//! pressures in kPa and angles in degrees, the library converts once.
+//!
+//! # How the pieces fit
+//!
+//! - An [`Actuator`] is the laminate: geometry, layers, channel, ribs and
+//!   the prestrain (`fpc::actuator` holds its parts).
+//! - A [`Finger`] is an actuator on a [`Partition`] into elements, solved by
+//!   Newton on generated element kernels ([`model`]; section 3): a
+//!   [`Load`] (pressure, tip force) and [`SolveOptions`] give a
+//!   [`Solution`] (coefficients, tip, mid-plane samples, stability, the
+//!   [`Warning`]s that say where the answer leaves the model).
+//! - The front door for a finger is [`PlannedFinger`]: an actuator with a
+//!   solve [`Plan`] (fixed elements, automatic partition, a tip tolerance,
+//!   refinement levels), built once by a [`FingerBuilder`] and solved by
+//!   one method into one result, [`Solved`] ([`plan`]).
+//! - A [`Gripper`] is a finger mounted on a palm ([`GripperParams`],
+//!   [`PalmSpec`]); its grasps ([`Grasp`], [`GraspSpec`]) are the equilibria
+//!   reached by closing the gripper on the object from rest, each with one
+//!   [`Verdict`] (the paper's rules, the model's limits, stability, the
+//!   path; section 5).
+//! - A [`Scene`] is a TOML file's finger or gripper, solved into a
+//!   [`SceneSolution`] ([`scene`]); [`studies`] runs the paper's eight
+//!   studies ([`StudyOptions`]); [`design`] searches for the gripper that
+//!   holds a set of objects; [`sensitivity`] gives exact derivatives of
+//!   every answer; [`report`] is the data model of every table and figure.
+//! - Bad input is an [`InputError`] naming the field; a failed solve a
+//!   [`SolveError`] saying why. Nothing panics on user input.
 //!
 //! ```
 //! use fpc::{Finger, Load, SolveOptions};
@@ -19,76 +49,41 @@
 //! assert_eq!(loaded.stable, Some(true)); // no negative Hessian eigenvalue
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! The element models are generated at build time from the specs in
+//! `energy-spec/` by the in-house symbolic crate; see [`model`].
 
-mod actuator;
+pub mod actuator;
 mod brent;
-mod circle_fit;
+pub mod circle_fit;
 mod coefficients;
 pub mod design;
 mod element;
-mod error;
-mod finger;
-pub mod model;
-mod partition;
-mod plan;
-mod sensitivity;
-mod solve_error;
-mod validity;
-
-pub use actuator::{
-    Actuator, ActuatorParam, ActuatorParams, Channel, Elastic, Geometry, Isotropic, Lamina, Layer,
-    Material, Orthotropic, PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE,
-    MAX_GENERATED_RIBS,
-};
-pub use circle_fit::{fit_circle, Circle};
-pub use coefficients::Coefficients;
-pub use error::{InputError, StripDimension, Warning};
-pub use finger::{
-    input_warnings, Affine2, Finger, Fold, Load, LoadPath, LoadPathSpec, LoadPoint, PolyCurve,
-    Problem, Solution, SolveOptions, SolveReport, Solver, Strategy, TargetFold, TargetProblem,
-    Traced, MAX_SAMPLES_PER_ELEMENT, VACUUM_GAUGE_MPA,
-};
-pub use fpc_newton::{PathTermination, Termination};
-pub use model::{ElementModel, ModelId, ModelInfo, ModelVisitor};
-pub use partition::{Partition, LENGTH_SUM_TOLERANCE, MIN_ELEMENT_FRACTION};
-pub use plan::refine::{
-    Level, PartitionKind, Refinement, RefinementRecord, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
-    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
-};
-pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved, DEFAULT_PLAN_ELEMENTS};
-pub use sensitivity::{
-    EnvelopeSensitivities, EnvelopeSensitivity, GeometrySensitivity, GraspKind, GraspSensitivities,
-    GraspSensitivity, GripperParam, Param, Sensitivities, Sensitivity, SizeSensitivity,
-    ENVELOPE_STATIONARITY, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE,
-};
-pub use solve_error::SolveError;
-pub use validity::{
-    CONTACT_SPACING, MAX_CONTACT_SAMPLES, MIDPLANE_STRAIN_LIMIT, PRESTRESSED_STRAIN_RANGE,
-    SLOPE_LIMIT_DEG, THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT,
-};
+pub mod error;
+pub mod finger;
 pub mod gripper;
+pub mod model;
+pub mod partition;
+pub mod plan;
 pub mod report;
-pub mod studies;
-pub use gripper::{
-    contact_force_to_finger, contact_force_to_gripper, design_space,
-    finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
-    gripper_force_to_contact, gripper_force_to_finger, lifting_force, AngleSample, Grasp, Gripper,
-    GripperParams, Invalid, PalmSpec, PathRecord, SphereContact, SphereGrasp, SphereLift,
-    Stability, Verdict, ViableAngles, GRIPPER_SAMPLES_PER_ELEMENT,
-};
-pub use studies::{
-    run_all, section5_gripper, study1_prestrain_angle, study2_overlap, study3_cuboid_region,
-    study4_force_control, study5_sphere_region, study6_viable_angles, study7_curvature,
-    study8_force_at_displacement, tip_force_for_displacement, Axis, CuboidRegion, CurvatureCurve,
-    CurvatureRow, DisplacementForce, DisplacementForceRow, ForceControl, ForceControlRow,
-    LiftCurve, LiftPoint, SpherePoint, SphereRegion, Studies, StudyInfo, StudyOptions, StudyOutput,
-    SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS, STUDIES, STUDY8_PRESSURES_KPA,
-};
 pub mod scene;
-pub use scene::{
-    GraspOutcome, GraspSpec, GripperScene, PartitionPlan, Scene, SceneError, SceneFile,
-    SceneReadError, SceneSolution,
-};
+pub mod sensitivity;
+mod solve_error;
+pub mod studies;
+pub mod validity;
+
+pub use actuator::{Actuator, ActuatorParams};
+pub use coefficients::Coefficients;
+pub use error::{InputError, Warning};
+pub use finger::{Finger, Load, Solution, SolveOptions};
+pub use fpc_newton::Termination;
+pub use gripper::{Grasp, Gripper, GripperParams, PalmSpec, Verdict};
+pub use model::ModelId;
+pub use partition::Partition;
+pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved};
+pub use scene::{GraspSpec, Scene, SceneSolution};
+pub use solve_error::SolveError;
+pub use studies::StudyOptions;
 
 /// The README's Rust examples, compiled and run as doctests.
 #[cfg(doctest)]

@@ -2,12 +2,11 @@
 //! against values computed here by hand. (The integration blocks are
 //! crate-private; their checks live in `src/actuator/blocks.rs`'s test module.)
 
+use fpc::actuator::{Isotropic, Material, Orthotropic, Rib, RibLayout};
 use fpc::model::ccm::Ccm;
+use fpc::model::ElementModel;
 use fpc::model::PsiParams;
-use fpc::{
-    Actuator, ActuatorParams, ElementModel, Finger, InputError, Isotropic, Material, Orthotropic,
-    Partition, Rib, RibLayout, Warning,
-};
+use fpc::{Actuator, ActuatorParams, Finger, InputError, Partition, Warning};
 
 fn close(a: f64, b: f64, tol: f64) -> bool {
     (a - b).abs() <= tol * (1.0 + a.abs().max(b.abs()))

@@ -17,12 +17,11 @@
 //! with tip loads (solved), and random perturbations of solved states;
 //! fastrand with fixed seeds.
 
+use fpc::finger::{Affine2, PolyCurve};
 use fpc::gripper::contact::{deepest, deepest_apart_from, Deepest, Obstacle, DEPTH_TOLERANCE_MM};
+use fpc::gripper::finger_point_to_gripper;
 use fpc::gripper::frames::finger_to_gripper_map;
-use fpc::{
-    finger_point_to_gripper, Actuator, Affine2, Coefficients, Finger, Load, ModelId, Partition,
-    PolyCurve, SolveOptions,
-};
+use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition, SolveOptions};
 
 const SAMPLES: usize = 100_000;
 
@@ -847,14 +846,17 @@ fn sphere_grasps_of_the_section5_gripper() {
         // (a second contact, or the finger entering the sphere at its tip)
         let rules = &sg.grasp.verdict.rules;
         let deep = all.depth > fpc::gripper::CONTACT_TOL_MM;
-        if matches!(rules, Some(fpc::Invalid::SecondContact { .. })) {
+        if matches!(rules, Some(fpc::gripper::Invalid::SecondContact { .. })) {
             assert!(deep, "{label}: deepest {:e}", all.depth);
         }
         if deep {
             assert!(
                 matches!(
                     rules,
-                    Some(fpc::Invalid::SecondContact { .. } | fpc::Invalid::TipEntry { .. })
+                    Some(
+                        fpc::gripper::Invalid::SecondContact { .. }
+                            | fpc::gripper::Invalid::TipEntry { .. }
+                    )
                 ),
                 "{label}: deepest {:e}",
                 all.depth

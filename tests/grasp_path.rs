@@ -10,11 +10,9 @@
 //! the library's grasp must be the same equilibrium; where it cannot (the
 //! target turns back), the library must refuse.
 
+use fpc::finger::{Solver, TargetProblem};
 use fpc::gripper::{contact_force_to_gripper, gripper_force_to_finger};
-use fpc::{
-    Coefficients, Gripper, GripperParams, Load, PalmSpec, SolveError, SolveOptions, Solver,
-    TargetProblem,
-};
+use fpc::{Coefficients, Gripper, GripperParams, Load, PalmSpec, SolveError, SolveOptions};
 
 const STEPS: usize = 200;
 
@@ -69,7 +67,7 @@ fn library(g: &Gripper, kind: Kind) -> Result<(Coefficients, f64, bool), SolveEr
         Kind::SphereLimit { r, b } => g.sphere_grasp_at_friction_limit(0.0, r, b, None)?.grasp,
         Kind::SphereLift { r, b, lift } => g.sphere_grasp(0.0, r, lift, b, None)?.grasp,
     };
-    let stable = gr.verdict.stability == fpc::Stability::Stable;
+    let stable = gr.verdict.stability == fpc::gripper::Stability::Stable;
     Ok((gr.solution.coefficients.clone(), gr.lambda, stable))
 }
 

@@ -5,11 +5,14 @@
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, FRAC_PI_4, FRAC_PI_6};
 
-use fpc::{
+use fpc::gripper::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
     finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,
-    gripper_force_to_contact, gripper_force_to_finger, lifting_force, Finger, Grasp, Gripper,
-    GripperParams, InputError, Invalid, Load, PalmSpec, SolveError, SolveOptions, Warning,
+    gripper_force_to_contact, gripper_force_to_finger, lifting_force, Invalid,
+};
+use fpc::{
+    Finger, Grasp, Gripper, GripperParams, InputError, Load, PalmSpec, SolveError, SolveOptions,
+    Warning,
 };
 
 const MU: f64 = 0.6;

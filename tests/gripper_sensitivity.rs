@@ -13,10 +13,12 @@
 //! Every check must reach 1e-6. Each test prints its worst agreement
 //! (`--nocapture`).
 
+use fpc::actuator::ActuatorParam;
+use fpc::finger::Solver;
+use fpc::gripper::{contact_force_to_gripper, gripper_force_to_contact};
+use fpc::sensitivity::{GraspKind, GripperParam};
 use fpc::{
-    contact_force_to_gripper, gripper_force_to_contact, Actuator, ActuatorParam, Grasp, GraspKind,
-    Gripper, GripperParam, GripperParams, Load, PalmSpec, Partition, SolveError, SolveOptions,
-    Solver,
+    Actuator, Grasp, Gripper, GripperParams, Load, PalmSpec, Partition, SolveError, SolveOptions,
 };
 
 const ELEMENTS: usize = 6;
@@ -633,7 +635,7 @@ fn mismatched_grasps_and_parameters_are_rejected() {
     let act = actuator(0.25);
     let g = gripper(&act, GripperParams::default());
     let gr = g.grasp_load_for_size(0.0, 40.0, 0.0, None).unwrap();
-    let field = |r: Result<fpc::GraspSensitivities, SolveError>| match r {
+    let field = |r: Result<fpc::sensitivity::GraspSensitivities, SolveError>| match r {
         Err(SolveError::Input(e)) => e.field().to_string(),
         other => panic!("expected an input error, got {other:?}"),
     };

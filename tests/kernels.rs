@@ -25,10 +25,11 @@
 
 use fpc::model::ccm::Ccm;
 use fpc::model::quad::Quad as QuadModel;
+use fpc::model::ElementModel;
 use fpc::model::{
     upper_index, EnergyScalars, GasParams, LinearParams, PrestressedParams, PsiParams, Vector,
 };
-use fpc::{Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition};
+use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;
 
@@ -1825,7 +1826,7 @@ fn element_family(f: &Finger, i: usize, kind: usize, k: &[f64]) -> (f64, Vec<f64
 /// The position of a family in a model's `FAMILIES`, for a run-time model.
 struct FamilyPosition(&'static str);
 
-impl fpc::ModelVisitor for FamilyPosition {
+impl fpc::model::ModelVisitor for FamilyPosition {
     type Output = usize;
     fn visit<M: ElementModel>(self) -> usize {
         M::FAMILIES

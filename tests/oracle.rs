@@ -11,7 +11,8 @@
 
 use fpc::model::ccm::Ccm;
 use fpc::model::upper_index;
-use fpc::{Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition};
+use fpc::model::ElementModel;
+use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition};
 use serde_json::Value;
 
 const TOL: f64 = 1e-10;

@@ -6,11 +6,9 @@
 //! constraint; a size sweep that cannot reach its next size ends where the
 //! finger really leaves the model.
 
+use fpc::finger::{LoadPathSpec, PathTermination, Solver, TargetProblem};
 use fpc::gripper::{grasping_angle_range, SizeTail, SweepEnd};
-use fpc::{
-    Coefficients, Finger, Gripper, GripperParams, Load, LoadPathSpec, PalmSpec, PathTermination,
-    SolveOptions, Solver, TargetProblem,
-};
+use fpc::{Coefficients, Finger, Gripper, GripperParams, Load, PalmSpec, SolveOptions};
 use nalgebra::{DMatrix, SymmetricEigen};
 
 fn norm_inf(v: &[f64]) -> f64 {
@@ -253,5 +251,5 @@ fn a_cold_grasp_that_a_jump_would_take_to_another_branch_is_the_path_s() {
         traced.lift,
         path.lift
     );
-    assert_eq!(traced.verdict.stability, fpc::Stability::NotJudged);
+    assert_eq!(traced.verdict.stability, fpc::gripper::Stability::NotJudged);
 }

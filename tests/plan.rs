@@ -4,9 +4,10 @@
 //! the refined plans keep the values the separate entry points gave
 //! before the front door replaced them (recorded from that code).
 
+use fpc::plan::{PartitionKind, MAX_AUTO_ELEMENTS};
 use fpc::{
-    Actuator, Coefficients, Finger, Load, ModelId, Partition, PartitionKind, Plan, PlannedFinger,
-    SolveOptions, Solved, Warning, MAX_AUTO_ELEMENTS,
+    Actuator, Coefficients, Finger, Load, ModelId, Partition, Plan, PlannedFinger, SolveOptions,
+    Solved, Warning,
 };
 
 fn loads() -> Vec<Load> {

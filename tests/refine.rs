@@ -4,9 +4,10 @@
 //! against independently computed sequences and N -> infinity references
 //! from two partition families.
 
+use fpc::plan::{PartitionKind, Refinement, RefinementRecord};
 use fpc::{
-    Actuator, Coefficients, Finger, Load, ModelId, Partition, PartitionKind, Plan, PlannedFinger,
-    Refinement, RefinementRecord, SolveError, SolveOptions, Solved,
+    Actuator, Coefficients, Finger, Load, ModelId, Partition, Plan, PlannedFinger, SolveError,
+    SolveOptions, Solved,
 };
 
 /// `plan` solved through the front door.

@@ -14,11 +14,13 @@
 //! Random inputs come from fastrand with fixed seeds. Each test prints its
 //! worst agreement per group (`--nocapture`).
 
+use fpc::actuator::ActuatorParam;
+use fpc::finger::{Solver, TargetProblem};
+use fpc::model::ElementModel;
 use fpc::model::{ccm, quad, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector};
-use fpc::{
-    tip_force_for_displacement, Actuator, ActuatorParam, Axis, Coefficients, ElementModel, Finger,
-    Load, ModelId, Param, Partition, Sensitivities, SolveOptions, Solver, TargetProblem,
-};
+use fpc::sensitivity::{Param, Sensitivities};
+use fpc::studies::{tip_force_for_displacement, Axis};
+use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition, SolveOptions};
 
 // ---------------------------------------------------------------------------
 // Central differences.
@@ -680,8 +682,8 @@ fn a_wrong_actuator_or_state_is_rejected() {
             &sol,
             &load,
             &[Param::Actuator(ActuatorParam::Elastic(
-                fpc::Lamina::Cl,
-                fpc::Elastic::E1,
+                fpc::actuator::Lamina::Cl,
+                fpc::actuator::Elastic::E1,
             ))],
         )
         .unwrap_err();

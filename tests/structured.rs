@@ -61,7 +61,7 @@ fn max_diff(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The dense matrix of the structured Hessian at `x` (column by column).
-fn dense_matrix(p: &mut fpc::Problem<'_>, x: &[f64]) -> Vec<f64> {
+fn dense_matrix(p: &mut fpc::finger::Problem<'_>, x: &[f64]) -> Vec<f64> {
     let n = x.len();
     let mut g = vec![0.0; n];
     p.hessian(x, &mut g);

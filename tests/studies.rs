@@ -4,13 +4,14 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use fpc::{
-    grasping_angle_range, study1_prestrain_angle, study2_overlap, study3_cuboid_region,
-    study4_force_control, study5_sphere_region, study6_viable_angles, study7_curvature,
-    study8_force_at_displacement, tip_force_for_displacement, Actuator, Axis, Finger, LiftCurve,
-    Load, SolveError, SolveOptions, StudyOptions, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
+use fpc::gripper::grasping_angle_range;
+use fpc::studies::{
+    study1_prestrain_angle, study2_overlap, study3_cuboid_region, study4_force_control,
+    study5_sphere_region, study6_viable_angles, study7_curvature, study8_force_at_displacement,
+    tip_force_for_displacement, Axis, LiftCurve, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
     STUDY8_PRESSURES_KPA,
 };
+use fpc::{Actuator, Finger, Load, SolveError, SolveOptions, StudyOptions};
 
 fn paper() -> Actuator {
     Actuator::paper(0.25).unwrap()

@@ -3,19 +3,21 @@
 //! the coefficients (the paper's element's closed forms, a segment
 //! intersection written here), and their absence where the model holds.
 
+use fpc::actuator::RibLayout;
+use fpc::error::StripDimension;
 use fpc::gripper::rules;
+use fpc::gripper::Invalid;
 use fpc::scene::{Scene, SolutionRecord};
-use fpc::{
-    section5_gripper, tip_force_for_displacement, Axis, StudyOptions, PAPER_EPS0,
-    STUDY8_PRESSURES_KPA,
+use fpc::studies::{
+    section5_gripper, tip_force_for_displacement, Axis, PAPER_EPS0, STUDY8_PRESSURES_KPA,
 };
+use fpc::validity::{MIDPLANE_STRAIN_LIMIT, SLOPE_LIMIT_DEG};
+use fpc::validity::{THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT};
+use fpc::ActuatorParams;
+use fpc::StudyOptions;
 use fpc::{
-    Actuator, Finger, Gripper, GripperParams, InputError, Invalid, Load, ModelId, Partition, Plan,
-    PlannedFinger, SolveError, SolveOptions, Solved, Warning, MIDPLANE_STRAIN_LIMIT,
-    SLOPE_LIMIT_DEG,
-};
-use fpc::{
-    ActuatorParams, RibLayout, StripDimension, THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT,
+    Actuator, Finger, Gripper, GripperParams, InputError, Load, ModelId, Partition, Plan,
+    PlannedFinger, SolveError, SolveOptions, Solved, Warning,
 };
 
 /// A solve on the automatic partition.

@@ -12,8 +12,10 @@
 
 #![allow(dead_code)] // each bench uses part of this
 
+use fpc::actuator::Rib;
+use fpc::model::ElementModel;
 use fpc::model::{EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector};
-use fpc::{Actuator, ElementModel, Finger, Load, Partition, Rib};
+use fpc::{Actuator, Finger, Load, Partition};
 
 /// Clipped boxes shorter than this fraction of the element are dropped
 /// (the library's rule).

@@ -8,7 +8,8 @@
 
 #![allow(dead_code)]
 
-use fpc::{Finger, Load, Problem};
+use fpc::finger::Problem;
+use fpc::{Finger, Load};
 use fpc_newton::{
     Dense, DenseHessian, Energy, Gradient, Hessian, LinearSystem, Newton, NewtonOptions, Report,
 };

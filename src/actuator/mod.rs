@@ -15,10 +15,10 @@
 //! | fluidic layer (FL), with the channel z in [-h3b, h3a] | [-h3, h2] |
 //! | prestressed EMC (PEMC) | [-H/2, -h3] |
 //!
-//! - [`param`]: the actuator's parameters by their scene keys;
-//! - [`blocks`]: the actuator cut into integration blocks per element, and
+//! - `param.rs`: the actuator's parameters by their scene keys;
+//! - `blocks.rs`: the actuator cut into integration blocks per element, and
 //!   the partition on its material changes;
-//! - [`tangent`]: the tangent of the actuator and of its blocks along one
+//! - `tangent.rs`: the tangent of the actuator and of its blocks along one
 //!   parameter (the design sensitivities' right-hand sides).
 
 mod blocks;
@@ -167,7 +167,7 @@ impl From<Orthotropic> for Material {
 /// `law psi(s)` (for the paper's element,
 /// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 in MPa, a fit of a
 /// uniaxial test; psi'(s) is the axial stress). The law itself, and its
-/// derivatives, are generated from the spec ([`crate::ElementModel::psi`]).
+/// derivatives, are generated from the spec ([`crate::model::ElementModel::psi`]).
 pub type PsiLaw = PsiParams;
 
 impl Default for PsiParams {

@@ -7,14 +7,14 @@
 //! `models.rs`), so the model is a run-time choice ([`ModelId`]) while
 //! every solve runs monomorphised code.
 //!
-//! - [`problem`]: the elements of one finger and its energy, tip and shape;
-//! - [`chain`]: the coupled Newton problem in scaled unknowns, with the
+//! - `problem.rs`: the elements of one finger and its energy, tip and shape;
+//! - `chain.rs`: the coupled Newton problem in scaled unknowns, with the
 //!   exact chain derivatives of the tip load and the condensation of the
 //!   element-local unknowns;
-//! - [`solver`]: decoupled and coupled solves, continuation fallbacks,
+//! - `solver.rs`: decoupled and coupled solves, continuation fallbacks,
 //!   stability and the validity checks of a solution;
-//! - [`target`]: bordered solves with one unknown load and one target;
-//! - [`curve`]: the mid-plane as exact polynomial curves, one per element.
+//! - `target.rs`: bordered solves with one unknown load and one target;
+//! - `curve.rs`: the mid-plane as exact polynomial curves, one per element.
 
 mod chain;
 mod curve;
@@ -33,6 +33,7 @@ use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
 pub use curve::{Affine2, PolyCurve};
+pub use fpc_newton::PathTermination;
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
 pub use target::{TargetFold, TargetProblem, Traced};
 

@@ -22,7 +22,7 @@ pub fn finger_point_to_gripper(p: [f64; 2], a: f64, palm: f64) -> [f64; 2] {
 
 /// The map of (M15) from the finger frame to the gripper frame for
 /// mounting angle `a` and palm diameter `palm`, as an affine map (for
-/// [`PolyCurve::map`](crate::PolyCurve::map): the mid-plane curves in the
+/// [`PolyCurve::map`](crate::finger::PolyCurve::map): the mid-plane curves in the
 /// gripper frame); point by point the same as [`finger_point_to_gripper`].
 pub fn finger_to_gripper_map(a: f64, palm: f64) -> Result<Affine2, InputError> {
     finite("mounting_angle", a)?;

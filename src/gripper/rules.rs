@@ -163,7 +163,7 @@ pub enum Stability {
 }
 
 /// How a grasp's equilibrium was reached: by closing the gripper on the
-/// object from rest, traced in the target ([`crate::Solver::trace_target`]).
+/// object from rest, traced in the target ([`crate::finger::Solver::trace_target`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub struct PathRecord {
     /// `rest` (traced from the rest state at the grasp's pressure) or

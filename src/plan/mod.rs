@@ -32,7 +32,11 @@ use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
-use refine::{Auto, PartitionKind, Refinement, RefinementRecord, Refiner, TipTolerance};
+use refine::{Auto, Refiner, TipTolerance};
+pub use refine::{
+    Level, PartitionKind, Refinement, RefinementRecord, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
+    MAX_AUTO_ELEMENTS, MAX_REFINED_ELEMENTS,
+};
 
 /// Elements of the default plan ([`Plan::default`]).
 pub const DEFAULT_PLAN_ELEMENTS: usize = 8;
@@ -48,11 +52,11 @@ pub enum Plan {
     /// ([`Partition::material`], pieces at most `lx / 8`), then every
     /// element that turns beyond the CCM's small-slope limit at the solved
     /// state split in two and the finger solved again, up to
-    /// [`crate::MAX_AUTO_ELEMENTS`] elements.
+    /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements.
     Auto,
     /// Refined until the estimated tip error is at most `tip_tol_mm`:
     /// equal elements doubled from `start` (in [1,
-    /// [`crate::MAX_REFINED_ELEMENTS`] / 2]; three levels at least), or
+    /// [`crate::plan::MAX_REFINED_ELEMENTS`] / 2]; three levels at least), or
     /// without it the material partition with extrapolation
     /// ([`Refinement::for_tolerance`]).
     TipTolerance {

@@ -45,8 +45,8 @@
 //! zero-pressure state, and builds the gripper on it (a grasp far from
 //! rest may still find elements beyond the limit). The number of elements
 //! used is [`SceneSolution::elements`]. `partition.lengths` holds at most
-//! 1000 entries (1 / [`crate::MIN_ELEMENT_FRACTION`]) and
-//! `solve.samples_per_element` is at most [`crate::MAX_SAMPLES_PER_ELEMENT`].
+//! 1000 entries (1 / [`crate::partition::MIN_ELEMENT_FRACTION`]) and
+//! `solve.samples_per_element` is at most [`crate::finger::MAX_SAMPLES_PER_ELEMENT`].
 //!
 //! Reading is two steps: [`SceneFile::parse`] checks the TOML and its keys
 //! and types ([`SceneError`] with line and column), [`SceneFile::resolve`]
@@ -71,7 +71,7 @@ use crate::error::{InputError, Warning};
 use crate::finger::{Load, SolveOptions};
 use crate::model::ModelId;
 
-pub use fields::warning_text;
+pub use fields::{scene_input, scene_solve, warning_text};
 pub use record::{degrees, GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{
     GraspSpec, GripperScene, PartitionPlan, DEFAULT_CUBOID_FRICTION_N, DEFAULT_ELEMENTS,

@@ -11,12 +11,12 @@
 //!   `element_block_tangents`); each integral family's energy is linear
 //!   in its moments, so `d(grad Pi)/dp` is the model's own gradient kernel
 //!   evaluated at the moments' derivative, which the generated
-//!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangent`], ...);
+//!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangents`], ...);
 //! - the pressure and `kappa` enter through `kp = kappa P`, which
 //!   multiplies the gas family ([`ElementModel::scalars_tangent`]);
 //! - a tip force `F` enters through `-F . tip`: `d(grad Pi)/dF = -grad tip`.
 //!
-//! A target solve ([`crate::Solver::solve_target`]) adds the load factor
+//! A target solve ([`crate::finger::Solver::solve_target`]) adds the load factor
 //! `lambda` and the target equation `c = w . tip - target = 0`; its
 //! sensitivities solve the bordered system
 //! `[[H, g_lambda], [c_x^T, c_lambda]] (dK, dlambda) = -(dg/dp, dc/dp)` by
@@ -133,7 +133,7 @@ impl Finger {
         }))
     }
 
-    /// The sensitivities of a target solve's equilibrium ([`crate::Solver::solve_target`]
+    /// The sensitivities of a target solve's equilibrium ([`crate::finger::Solver::solve_target`]
     /// returned `solution` and `lambda`): the load factor moves with the
     /// parameters to keep the target, so every derivative, d(lambda)/dp
     /// included, comes from the bordered system

@@ -14,11 +14,15 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 use std::fmt::{Debug, Display};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
+use fpc::actuator::{Prestressed, PsiLaw, EPS0_FIT_RANGE};
+use fpc::finger::{Solver, Strategy, TargetProblem};
+use fpc::gripper::design_space;
+use fpc::plan::MAX_REFINED_ELEMENTS;
+use fpc::studies::study7_curvature;
 use fpc::{
-    design_space, study7_curvature, Actuator, ActuatorParams, Coefficients, Finger, Gripper,
-    GripperParams, InputError, Load, ModelId, PalmSpec, Partition, Plan, PlannedFinger,
-    Prestressed, PsiLaw, Solution, SolveError, SolveOptions, Solved, Solver, Strategy,
-    StudyOptions, TargetProblem, Termination, Warning, EPS0_FIT_RANGE, MAX_REFINED_ELEMENTS,
+    Actuator, ActuatorParams, Coefficients, Finger, Gripper, GripperParams, InputError, Load,
+    ModelId, PalmSpec, Partition, Plan, PlannedFinger, Solution, SolveError, SolveOptions, Solved,
+    StudyOptions, Termination, Warning,
 };
 
 // ---------------------------------------------------------------- helpers

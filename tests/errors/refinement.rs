@@ -47,7 +47,7 @@ fn plans_are_checked_when_built() {
         &format!("must lie in [1, {most}] to refine to a tip tolerance"),
     );
     let levels = |start: usize, levels: usize, extrapolate: bool| Plan::Levels {
-        partition: fpc::PartitionKind::Equal,
+        partition: fpc::plan::PartitionKind::Equal,
         start,
         levels,
         extrapolate,

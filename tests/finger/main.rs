@@ -8,10 +8,12 @@
 //!
 //! One module per subject; the shared helpers are here.
 
+use fpc::finger::{Solver, Strategy};
 use fpc::model::ccm::Ccm;
+use fpc::model::ElementModel;
 use fpc::{
-    Actuator, Coefficients, ElementModel, Finger, Load, ModelId, Partition, Solution, SolveError,
-    SolveOptions, Solver, Strategy, Termination,
+    Actuator, Coefficients, Finger, Load, ModelId, Partition, Solution, SolveError, SolveOptions,
+    Termination,
 };
 
 mod convergence;

@@ -2,9 +2,10 @@
 
 use std::io::Write;
 
+use fpc::plan::{PartitionKind, RefinementRecord};
 use fpc::{
-    Actuator, InputError, Load, ModelId, PartitionKind, Plan, PlannedFinger, RefinementRecord,
-    Solution, SolveOptions, Solved,
+    Actuator, InputError, Load, ModelId, Plan, PlannedFinger, Solution, SolveError, SolveOptions,
+    Solved,
 };
 
 /// `--elements`: a count, or `auto`.
@@ -93,7 +94,49 @@ pub struct Args {
     json: bool,
 }
 
+/// The flag a field of the library or a scene key is set by, for the
+/// fields `fpc finger` sets (values are already in the flag's unit once in
+/// scene terms: kPa, mm, N).
+const FLAGS: [(&str, &str); 14] = [
+    ("load.pressure_kpa", "--pressure-kpa"),
+    ("load.kappa", "--kappa"),
+    ("load.fx", "--fx"),
+    ("load.fz", "--fz"),
+    ("actuator.pemc.eps0", "--eps0"),
+    ("partition.elements", "--elements"),
+    ("partition.tip_tol_mm", "--tip-tol-mm"),
+    ("tip_tol_mm", "--tip-tol-mm"),
+    ("elements", "--elements"),
+    ("refinement.start", "--elements"),
+    ("refinement.levels", "--levels"),
+    ("refinement.extrapolate", "--extrapolate"),
+    ("partition", "--partition"),
+    ("model", "--model"),
+];
+
+/// An error of the library in the terms the user wrote: the flag, its
+/// value in the flag's unit.
+fn in_flag_terms(e: anyhow::Error) -> anyhow::Error {
+    let flag = |i: InputError| match FLAGS.iter().find(|(k, _)| *k == i.field()) {
+        Some((_, f)) => i.renamed(*f, |v| v),
+        None => i,
+    };
+    let e = match e.downcast::<InputError>() {
+        Ok(i) => return flag(fpc::scene::scene_input(i)).into(),
+        Err(e) => e,
+    };
+    match e.downcast::<SolveError>() {
+        Ok(SolveError::Input(i)) => SolveError::Input(flag(fpc::scene::scene_input(i))).into(),
+        Ok(s) => fpc::scene::scene_solve(s).into(),
+        Err(e) => e,
+    }
+}
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
+    solve_finger(args).map_err(in_flag_terms)
+}
+
+fn solve_finger(args: &Args) -> anyhow::Result<()> {
     let model = ModelId::parse("model", &args.model)?;
     let act = Actuator::paper(args.eps0)?;
     let load = Load {
@@ -105,7 +148,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let opts = SolveOptions::default();
     let ribs = !args.no_ribs;
     // notes on the input first: they hold even when the solve fails
-    let input = fpc::input_warnings(model, &act);
+    let input = fpc::finger::input_warnings(model, &act);
     for w in &input {
         crate::report::warning(&w.to_string());
     }

@@ -1,11 +1,11 @@
 //! `fpc paper`: run every study of the library's registry
-//! ([`fpc::STUDIES`], docs/model.md section 6) with the default actuator and
+//! ([`fpc::studies::STUDIES`], docs/model.md section 6) with the default actuator and
 //! write, into one directory, each study's tables as CSV and its figure as
 //! SVG, `summary.json` with the key numbers and validity counts, and
 //! `index.html` showing every figure.
 //!
 //! Nothing here knows a particular study: each one hands back its outputs
-//! as data ([`fpc::StudyOutput`]) and this module writes them all the same
+//! as data ([`fpc::studies::StudyOutput`]) and this module writes them all the same
 //! way. Every file is written atomically (temporary file, then rename). A
 //! study that fails does not stop the others: its files say so,
 //! `summary.json` lists it under `failures`, and the command exits non-zero
@@ -21,8 +21,9 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use fpc::report::{Cell, Overview};
+use fpc::studies::{StudyInfo, StudyOutput, STUDIES};
 use fpc::studies::{NOTE, STATUS};
-use fpc::{Actuator, ModelId, SolveError, StudyInfo, StudyOptions, StudyOutput, STUDIES};
+use fpc::{Actuator, ModelId, SolveError, StudyOptions};
 use serde_json::{json, Map, Value};
 
 use crate::output::write_atomic;

@@ -55,21 +55,21 @@ fn rejected(args: &[&str], parts: &[&str]) {
 fn a_bad_prestrain_exits_2_naming_eps0() {
     rejected(
         &["finger", "--eps0", "nan"],
-        &["fpc: error: actuator.pemc.eps0 = NaN: must be finite"],
+        &["fpc: error: --eps0 = NaN: must be finite"],
     );
     // attached with `=` or separate (tests/numbers.rs), a value either way
     rejected(
         &["finger", "--eps0=-inf"],
-        &["actuator.pemc.eps0 = -inf: must be finite"],
+        &["--eps0 = -inf: must be finite"],
     );
 }
 
 #[test]
-fn a_bad_element_count_exits_2_naming_the_partition() {
+fn a_bad_element_count_exits_2_naming_the_flag() {
     for n in ["0", "1001"] {
         rejected(
             &["finger", "--elements", n],
-            &[&format!("partition.n = {n}: must lie in [1, 1000]")],
+            &[&format!("--elements = {n}: must lie in [1, 1000]")],
         );
     }
     // not a count at all: clap's message, in the same form
@@ -77,28 +77,25 @@ fn a_bad_element_count_exits_2_naming_the_partition() {
 }
 
 #[test]
-fn bad_loads_exit_2_naming_the_load() {
+fn bad_loads_exit_2_naming_the_flag() {
     rejected(
         &["finger", "--pressure-kpa", "inf"],
-        &["load.pressure = inf: must be finite"],
+        &["--pressure-kpa = inf: must be finite"],
     );
     rejected(
         &["finger", "--pressure-kpa", "NaN"],
-        &["load.pressure = NaN: must be finite"],
+        &["--pressure-kpa = NaN: must be finite"],
     );
     for k in ["0", "-1"] {
         rejected(
             &["finger", "--kappa", k],
-            &[&format!("load.kappa = {k}: must be positive")],
+            &[&format!("--kappa = {k}: must be positive")],
         );
     }
-    rejected(
-        &["finger", "--fx", "nan"],
-        &["load.fx = NaN: must be finite"],
-    );
+    rejected(&["finger", "--fx", "nan"], &["--fx = NaN: must be finite"]);
     rejected(
         &["finger", "--fz=-inf", "--json"],
-        &["load.fz = -inf: must be finite"],
+        &["--fz = -inf: must be finite"],
     );
 }
 
@@ -107,24 +104,24 @@ fn a_bad_tip_tolerance_exits_2_naming_it() {
     for t in ["0", "-1"] {
         rejected(
             &["finger", "--tip-tol-mm", t],
-            &[&format!("tip_tol_mm = {t}: must be positive")],
+            &[&format!("--tip-tol-mm = {t}: must be positive")],
         );
     }
     rejected(
         &["finger", "--tip-tol-mm", "nan"],
-        &["tip_tol_mm = NaN: must be finite"],
+        &["--tip-tol-mm = NaN: must be finite"],
     );
     // refinement doubles N up to 1000: it must start at 1 to 500 elements
     for n in ["0", "600"] {
         rejected(
             &["finger", "--tip-tol-mm", "0.1", "--elements", n],
-            &[&format!("partition.n = {n}: must lie in [1, 500]")],
+            &[&format!("--elements = {n}: must lie in [1, 500]")],
         );
     }
     // the tolerance chooses the partition, levels and extrapolation
     rejected(
         &["finger", "--tip-tol-mm", "0.1", "--levels", "2"],
-        &["tip_tol_mm: chooses the partition, levels and extrapolation itself"],
+        &["--tip-tol-mm: chooses the partition, levels and extrapolation itself"],
     );
 }
 
@@ -138,7 +135,7 @@ fn an_unreachable_tip_tolerance_exits_2() {
         rejected(
             &args,
             &[
-                "tip_tol_mm = 0.000000000001: not reached with up to 1000 elements",
+                "--tip-tol-mm = 0.000000000001: not reached with up to 1000 elements",
                 "estimated tip error there",
             ],
         );

@@ -33,15 +33,15 @@ fn rejected_with(args: &[&str], part: &str) {
     );
 }
 
-/// The floating-point flags of `fpc finger` and the library field that
-/// validates each.
+/// The floating-point flags of `fpc finger` and the name a rejection uses
+/// (the flag itself: messages name what the user wrote).
 const FINGER_FLOATS: [(&str, &str); 6] = [
-    ("--eps0", "actuator.pemc.eps0"),
-    ("--pressure-kpa", "load.pressure"),
-    ("--fx", "load.fx"),
-    ("--fz", "load.fz"),
-    ("--kappa", "load.kappa"),
-    ("--tip-tol-mm", "tip_tol_mm"),
+    ("--eps0", "--eps0"),
+    ("--pressure-kpa", "--pressure-kpa"),
+    ("--fx", "--fx"),
+    ("--fz", "--fz"),
+    ("--kappa", "--kappa"),
+    ("--tip-tol-mm", "--tip-tol-mm"),
 ];
 
 #[test]
@@ -64,7 +64,7 @@ fn non_finite_values_reach_the_library_as_separate_arguments() {
     // --json after the value stays a flag
     rejected_with(
         &["finger", "--eps0", "-inf", "--json"],
-        "actuator.pemc.eps0 = -inf: must be finite",
+        "--eps0 = -inf: must be finite",
     );
 }
 
@@ -91,15 +91,16 @@ fn negative_finite_values_reach_the_library() {
     // rejected by the library's rules
     rejected_with(
         &["finger", "--pressure-kpa", "-1e3"],
-        "load.pressure = -1: is below absolute vacuum",
+        // in the flag's unit (kPa), not the library's MPa
+        "--pressure-kpa = -1000: is below absolute vacuum",
     );
     rejected_with(
         &["finger", "--kappa", "-1"],
-        "load.kappa = -1: must be positive",
+        "--kappa = -1: must be positive",
     );
     rejected_with(
         &["finger", "--tip-tol-mm", "-1e-3"],
-        "tip_tol_mm = -0.001: must be positive",
+        "--tip-tol-mm = -0.001: must be positive",
     );
 }
 

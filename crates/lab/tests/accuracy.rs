@@ -4,7 +4,8 @@
 
 use std::time::Duration;
 
-use fpc::{ModelId, PartitionKind};
+use fpc::plan::PartitionKind;
+use fpc::ModelId;
 use fpc_lab::{accuracy_study, AccuracyStudy, StudyConfig, TIME_RESOLUTION, TOLERANCES_MM};
 
 fn study() -> AccuracyStudy {

@@ -221,7 +221,7 @@ fn the_force_scale_is_the_laminate_bending_stiffness_over_lx_squared() {
 /// 1e-12 of the stiffness scale, capped at 0.25 in the scaled
 /// unknowns but without a line search: unlike the library's minimiser, it
 /// converges to saddles too.
-fn newton_root(problem: &mut fpc::Problem<'_>, y: &mut [f64], stiffness: f64) -> bool {
+fn newton_root(problem: &mut fpc::finger::Problem<'_>, y: &mut [f64], stiffness: f64) -> bool {
     use fpc_newton::{Hessian, LinearSystem, PivotKind};
     let mut g = vec![0.0; y.len()];
     for _ in 0..200 {

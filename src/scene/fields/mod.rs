@@ -536,35 +536,17 @@ impl LibField {
 /// A library error in the scene's terms: the field named by its scene
 /// key, the value in the key's unit. Errors on fields the scene cannot
 /// trigger stay as they are.
-pub(super) fn scene_input(e: InputError) -> InputError {
+pub fn scene_input(e: InputError) -> InputError {
     let Some(f) = LibField::from_name(e.field()) else {
         return e;
     };
-    let field = f.scene_key().to_string();
-    match e {
-        InputError::NotFinite { value, .. } => InputError::NotFinite {
-            field,
-            value: f.scene_value(value),
-        },
-        InputError::NotPositive { value, .. } => InputError::NotPositive {
-            field,
-            value: f.scene_value(value),
-        },
-        InputError::OutOfRange { value, rule, .. } => InputError::OutOfRange {
-            field,
-            value: f.scene_value(value),
-            rule,
-        },
-        InputError::Inconsistent { rule, .. } => InputError::Inconsistent { field, rule },
-        InputError::Unrecognised { value, rule, .. } => {
-            InputError::Unrecognised { field, value, rule }
-        }
-    }
+    e.renamed(f.scene_key().to_string(), |v| f.scene_value(v))
 }
 
 /// A library solve error in the scene's terms: input errors as in
-/// [`scene_input`], and the target of a target not reached.
-pub(super) fn scene_solve(e: SolveError) -> SolveError {
+/// [`scene_input`], and the target of a target not reached. Front ends
+/// whose own names follow the scene keys (the CLI's flags) start from it.
+pub fn scene_solve(e: SolveError) -> SolveError {
     match e {
         SolveError::Input(i) => SolveError::Input(scene_input(i)),
         SolveError::TargetNotReached {

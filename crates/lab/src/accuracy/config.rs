@@ -3,7 +3,8 @@
 
 use std::time::Duration;
 
-use fpc::{ModelId, PartitionKind, Refinement};
+use fpc::plan::{PartitionKind, Refinement};
+use fpc::ModelId;
 use serde::Serialize;
 
 use super::{EQUAL_ORDER_LEVELS, REFERENCE_START};

@@ -1,7 +1,7 @@
 //! The Pareto front of time against accuracy and the fastest configuration
 //! per tolerance.
 
-use fpc::Refinement;
+use fpc::plan::Refinement;
 use serde::Serialize;
 
 /// Relative difference of times taken as equal on the front and for the

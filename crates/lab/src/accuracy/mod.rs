@@ -1,7 +1,7 @@
 //! The accuracy-time front: how far the tip of the standard tip-loaded
 //! finger is from its N -> infinity limit, against the run time, for every
 //! element model, partition kind and extrapolation the library offers
-//! (`fpc::Refinement`).
+//! (`fpc::plan::Refinement`).
 //!
 //! Scene: the default actuator with ribs, eps0 = 0.25, no pressure, tip
 //! force Fx = 0.939782 N, Fz = 0.521707 N (finger frame), tip-only output
@@ -13,8 +13,8 @@
 //! and pieces at most lx / [`SECOND_FAMILY_START`] (40 elements) halved
 //! [`SECOND_FAMILY_LEVELS`] - 1 times (40 -> 640). Every level is solved
 //! to a relative residual of [`REFERENCE_RTOL`] (rounding) by nested
-//! iteration, independently of how tightly a [`PlannedFinger`](fpc::PlannedFinger)
-//! solves its intermediate levels (see [`fpc::INTERMEDIATE_RTOL`]). The
+//! iteration, independently of how tightly a [`PlannedFinger`]
+//! solves its intermediate levels (see [`fpc::plan::INTERMEDIATE_RTOL`]). The
 //! tip error of material partitions follows `c1 h + c2 h^2 + c3 h^3 + ...`
 //! (a first-order term under a tip load, docs/performance.md), so each
 //! family's limit removes the terms h to h^4 from its [`LIMIT_LEVELS`]
@@ -74,7 +74,8 @@ mod reference;
 mod tests;
 mod timing;
 
-use fpc::{Actuator, Load, ModelId, PlannedFinger, Refinement, SolveError, SolveOptions};
+use fpc::plan::Refinement;
+use fpc::{Actuator, Load, ModelId, PlannedFinger, SolveError, SolveOptions};
 use serde::Serialize;
 
 pub use config::{Plan, StudyConfig, CONFIGURATIONS, QUICK_CONFIGURATIONS};

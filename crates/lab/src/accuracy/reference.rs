@@ -2,10 +2,8 @@
 //! solved to rounding and extrapolated through its five finest levels, and
 //! the observed orders of both partition kinds.
 
-use fpc::{
-    Actuator, Coefficients, Level, Load, ModelId, PartitionKind, PlannedFinger, Refinement,
-    SolveError, SolveOptions,
-};
+use fpc::plan::{Level, PartitionKind, Refinement};
+use fpc::{Actuator, Coefficients, Load, ModelId, PlannedFinger, SolveError, SolveOptions};
 use serde::Serialize;
 
 use super::{dist, Plan};

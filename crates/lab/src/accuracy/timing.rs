@@ -3,9 +3,8 @@
 
 use std::time::{Duration, Instant};
 
-use fpc::{
-    Actuator, Coefficients, Load, PlannedFinger, Refinement, SolveError, SolveOptions, Solved,
-};
+use fpc::plan::Refinement;
+use fpc::{Actuator, Coefficients, Load, PlannedFinger, SolveError, SolveOptions, Solved};
 use serde::Serialize;
 
 /// The N = 8 equal cold solve, measured in batches spread over the run.

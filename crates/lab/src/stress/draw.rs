@@ -3,7 +3,8 @@
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
-use fpc::{Actuator, Channel, Geometry, InputError, ModelId};
+use fpc::actuator::{Channel, Geometry};
+use fpc::{Actuator, InputError, ModelId};
 
 use super::inputs::{force_scale, StressInputs};
 use super::{panic_message, AUTO_FRACTION, ELEMENT_WEIGHTS, MAX_DRAWS, STRESS_ELEMENT_COUNTS};

@@ -3,7 +3,8 @@
 
 use std::fmt;
 
-use fpc::{Actuator, ActuatorParams, Channel, Geometry, InputError, Load, ModelId, Partition};
+use fpc::actuator::{Channel, Geometry};
+use fpc::{Actuator, ActuatorParams, InputError, Load, ModelId, Partition};
 
 use super::envelope;
 
@@ -33,8 +34,8 @@ pub fn inside_envelope(i: &StressInputs) -> bool {
         && i.pressure_kpa <= MAX_PRESSURE_KPA
         && i.curl().abs() <= MAX_CURL
         && i.load_strain() <= MAX_LOAD_STRAIN_OVER_EPS0 * i.eps0
-        && i.geometry.h <= fpc::THICKNESS_TO_LENGTH_LIMIT * i.geometry.lx
-        && i.geometry.h <= fpc::THICKNESS_TO_WIDTH_LIMIT * i.geometry.ly
+        && i.geometry.h <= fpc::validity::THICKNESS_TO_LENGTH_LIMIT * i.geometry.lx
+        && i.geometry.h <= fpc::validity::THICKNESS_TO_WIDTH_LIMIT * i.geometry.ly
         && partition_ok
 }
 

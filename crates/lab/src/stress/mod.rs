@@ -34,7 +34,7 @@
 //!
 //! A draw that [`Actuator::new`] or [`Partition::custom`] rejects (the
 //! mid-plane outside the fluidic layer, an element shorter than
-//! [`MIN_ELEMENT_FRACTION`](fpc::MIN_ELEMENT_FRACTION) `lx`) is an
+//! [`MIN_ELEMENT_FRACTION`](fpc::partition::MIN_ELEMENT_FRACTION) `lx`) is an
 //! expected outcome, not a failure: it is counted and the whole case is
 //! drawn again, up to [`MAX_DRAWS`] times; a case whose every draw was
 //! rejected is reported as rejected input.

@@ -10,8 +10,9 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::time::Duration;
 
+use fpc::plan::PartitionKind;
 use fpc::report::{Corner, Figure, Panel, PlotAxis, RefLine, Series, SeriesKind};
-use fpc::{ModelId, PartitionKind};
+use fpc::ModelId;
 use fpc_lab::{accuracy_study, AccuracyRow, AccuracyStudy, Convergence, FrontPoint, StudyConfig};
 
 /// Flags of `fpc-lab accuracy`. The budget takes `allow_hyphen_values` (see

@@ -9,9 +9,11 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
+use fpc::finger::Solver;
+use fpc::plan::{PartitionKind, Refinement};
 use fpc::{
-    Actuator, Coefficients, Finger, Load, ModelId, PartitionKind, Plan, PlannedFinger, Refinement,
-    Solution, SolveOptions, Solved, Solver,
+    Actuator, Coefficients, Finger, Load, ModelId, Plan, PlannedFinger, Solution, SolveOptions,
+    Solved,
 };
 use serde::Serialize;
 
