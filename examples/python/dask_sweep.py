@@ -1,6 +1,7 @@
 """A parameter sweep with Dask: `fpc.batch_solve` is the unit of work.
 
     python examples/python/dask_sweep.py [--points N] [--workers W] [--threads-in-process]
+    python examples/python/dask_sweep.py --scheduler tcp://HOST:8786   # a running cluster
 
 The sweep (prestrain x pressure x tip force) is cut into chunks; each chunk
 is one `fpc.batch_solve` call on a Dask worker, which solves its points in
@@ -10,11 +11,14 @@ the result independent of how the sweep is cut: it equals one
 `batch_solve` over every point, which the script checks.
 
 The cluster is local (dask.distributed.LocalCluster on 127.0.0.1, no
-dashboard). Needs dask[distributed]; without it the script says so and
-exits 0.
+dashboard) unless --scheduler names a running one: the same code then runs
+on its workers (each needs this fpc module installed). Needs
+dask[distributed]; without it the script says so and exits 0, or 1 with
+--require-dask (CI).
 """
 
 import argparse
+import contextlib
 import sys
 import time
 
@@ -22,7 +26,7 @@ try:
     from dask.distributed import Client, LocalCluster
 except ImportError:
     print("dask_sweep.py: dask.distributed is not installed; skipped (pip install 'dask[distributed]')")
-    sys.exit(0)
+    sys.exit(1 if "--require-dask" in sys.argv else 0)
 
 import numpy as np
 
@@ -59,20 +63,27 @@ def main():
         action="store_true",
         help="thread workers in this process (batch_solve releases the GIL) instead of processes",
     )
+    ap.add_argument("--scheduler", help="address of a running Dask scheduler (default: a local cluster)")
+    ap.add_argument("--require-dask", action="store_true", help="fail (status 1) when dask is not installed")
     args = ap.parse_args()
 
     sweep = grid(args.points)
     m = len(sweep["eps0"])
     chunks = [{k: v[i : i + args.chunk] for k, v in sweep.items()} for i in range(0, m, args.chunk)]
 
-    cluster = LocalCluster(
-        n_workers=1 if args.threads_in_process else args.workers,
-        threads_per_worker=args.workers if args.threads_in_process else 1,
-        processes=not args.threads_in_process,
-        host="127.0.0.1",
-        dashboard_address=None,
-    )
-    with cluster, Client(cluster) as client:
+    if args.scheduler:
+        cluster = contextlib.nullcontext()
+        client = Client(args.scheduler, timeout=30)
+    else:
+        cluster = LocalCluster(
+            n_workers=1 if args.threads_in_process else args.workers,
+            threads_per_worker=args.workers if args.threads_in_process else 1,
+            processes=not args.threads_in_process,
+            host="127.0.0.1",
+            dashboard_address=None,
+        )
+        client = Client(cluster)
+    with cluster, client:
         # one rayon thread per task: Dask runs the tasks side by side
         client.map(solve_chunk, chunks[:1], threads=1)[0].result()  # warm up the workers
         start = time.perf_counter()
@@ -90,8 +101,11 @@ def main():
     whole = fpc.batch_solve(**sweep)
     one = time.perf_counter() - start
     print(f"one batch_solve over every point: {one:.2f} s, {m / one:,.0f} solves/s")
-    np.testing.assert_array_equal(result["tip"], whole["tip"])
-    print("the Dask result equals the single batch exactly")
+    # point by point: the same answer, status, verdict and work
+    for key in ("tip", "end_angle", "status", "iterations", "valid"):
+        np.testing.assert_array_equal(result[key], whole[key], err_msg=key)
+    assert list(result["error"]) == list(whole["error"])
+    print("the Dask result equals the single batch exactly, point by point")
 
     i = np.argmax(np.where(ok, -result["tip"][:, 1], -np.inf))
     print(
