@@ -87,6 +87,9 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
 pub const MAX_SWEEP_POINTS: usize = 2_000;
 /// The most `angle_samples` of a study (grasping angles per sphere size).
 pub const MAX_ANGLE_SAMPLES: usize = 200;
+/// The most `sweep_points` x `angle_samples` of a study that uses both
+/// (study 5: about a minute at the bound).
+pub const MAX_SWEEP_BY_ANGLE: usize = 100_000;
 /// The most `pressure_points` of a study (finger solves per prestrain).
 pub const MAX_PRESSURE_POINTS: usize = 10_000;
 
@@ -161,8 +164,9 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// studies 1, 2, 3, 5; ``angle_samples``: 5, 6; ``pressure_points``: 7;
 /// ``mu`` and ``strict``: 1 to 6). The work is bounded before it starts
 /// (``fpc.InputError`` beyond): ``sweep_points`` <= 2000,
-/// ``angle_samples`` <= 200, ``pressure_points`` <= 10000, ``elements``
-/// as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
+/// ``angle_samples`` <= 200, and for study 5 ``sweep_points *
+/// angle_samples`` <= 100000 (about a minute), ``pressure_points`` <= 10000,
+/// ``elements`` as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
 /// interrupted study finishes on its own thread and is dropped).
 #[pyfunction]
 #[pyo3(signature = (study, *, elements=None, mu=None, sweep_points=None, angle_samples=None, pressure_points=None, strict=None, coarse=false, **actuator))]
@@ -222,6 +226,23 @@ pub fn run_study<'py>(
         opts.pressure_points,
         MAX_PRESSURE_POINTS,
     )?;
+    let uses = |name: &str| {
+        STUDY_OPTIONS
+            .iter()
+            .any(|o| o.0 == name && o.1.contains(&info.number))
+    };
+    let product = opts.sweep_points.saturating_mul(opts.angle_samples);
+    if uses("sweep_points") && uses("angle_samples") && product > MAX_SWEEP_BY_ANGLE {
+        return Err(input_error(
+            py,
+            "study.sweep_points",
+            format!(
+                "study.sweep_points x study.angle_samples = {} x {} = {product}: must be at \
+                 most {MAX_SWEEP_BY_ANGLE} (a bound on the work of one call)",
+                opts.sweep_points, opts.angle_samples
+            ),
+        ));
+    }
     let act = actuator_from_kwargs(py, None, actuator)?;
     let out =
         interruptible(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
