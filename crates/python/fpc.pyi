@@ -276,7 +276,8 @@ def run_study(
     """Runs one study: ``tables`` ({table: {column: numpy array}}),
     ``units``, ``columns``, ``figure``, ``summary``, ``overview``, ``notes``,
     ``stops``, ``design_warnings``, ``points``, ``warnings_by_kind``,
-    ``strict_dropped``. An option the study does not use is a
+    ``strict_dropped``. An option the study does not use (or
+    ``pemc={"eps0": ...}``: each study sets its prestrain) is a
     ``TypeError``; bounds (``InputError`` beyond): ``sweep_points`` <= 2000,
     ``angle_samples`` <= 200 (study 5: their product <= 100000),
     ``pressure_points`` <= 10000. Ctrl-C
@@ -316,7 +317,8 @@ def batch_solve(
     """Many finger solves in parallel (rayon, the GIL released) over the
     broadcast inputs; equal to a loop of `Finger.solve` unless
     ``warm_start``. At most 1000000 points and 1024 threads (``InputError``
-    beyond); complex inputs are a ``TypeError``; Ctrl-C stops it."""
+    beyond); complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is the
+    ``eps0`` argument), are a ``TypeError``; Ctrl-C stops it."""
 
 def _batch_reference(
     eps0: float,

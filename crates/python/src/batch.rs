@@ -398,6 +398,10 @@ fn config(
             ));
         }
     }
+    crate::finger::refuse_pemc_eps0(
+        actuator,
+        "every point's prestrain is batch_solve's eps0 argument",
+    )?;
     let actuator = actuator_from_kwargs(py, None, actuator)?;
     let (count, start) = match elements {
         ElementsArg::Default => (Some(crate::finger::DEFAULT_ELEMENTS), None),
@@ -452,7 +456,8 @@ fn config(
 ///
 /// Bounds, checked before any work: at most 1000000 points (the broadcast
 /// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``.
-/// Complex inputs are a ``TypeError``. Ctrl-C stops the batch within one
+/// Complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is ``eps0``),
+/// are a ``TypeError``. Ctrl-C stops the batch within one
 /// solve per thread and raises ``KeyboardInterrupt``.
 #[pyfunction]
 #[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model="ccm", ribs=true, tip_tol_mm=None, warm_start=false, threads=None, **actuator))]

@@ -181,6 +181,29 @@ pub fn actuator_section(
     Ok(out)
 }
 
+/// True when the keyword arguments hold `pemc={"eps0": ...}`.
+pub fn has_pemc_eps0(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<bool> {
+    Ok(
+        match kwargs.map(|a| a.get_item("pemc")).transpose()?.flatten() {
+            Some(p) => p
+                .cast::<PyDict>()
+                .is_ok_and(|p| p.contains("eps0").unwrap_or(false)),
+            None => false,
+        },
+    )
+}
+
+/// `TypeError` for `pemc={"eps0": ...}` where the call sets the prestrain
+/// itself (`why`), instead of ignoring it.
+pub fn refuse_pemc_eps0(kwargs: Option<&Bound<'_, PyDict>>, why: &str) -> PyResult<()> {
+    if has_pemc_eps0(kwargs)? {
+        return Err(PyTypeError::new_err(format!(
+            "pemc={{\"eps0\": ...}} is not used here: {why}"
+        )));
+    }
+    Ok(())
+}
+
 /// A validated actuator from the keyword arguments (errors name the
 /// scene's keys: `actuator.geometry.h1`, `actuator.pemc.eps0`, ...).
 pub fn actuator_from_kwargs(

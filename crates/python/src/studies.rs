@@ -162,7 +162,8 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 ///
 /// An option the study does not use is a ``TypeError`` (``sweep_points``:
 /// studies 1, 2, 3, 5; ``angle_samples``: 5, 6; ``pressure_points``: 7;
-/// ``mu`` and ``strict``: 1 to 6). The work is bounded before it starts
+/// ``mu`` and ``strict``: 1 to 6), as is ``pemc={"eps0": ...}`` (each
+/// study sets the prestrain it needs). The work is bounded before it starts
 /// (``fpc.InputError`` beyond): ``sweep_points`` <= 2000,
 /// ``angle_samples`` <= 200, and for study 5 ``sweep_points *
 /// angle_samples`` <= 100000 (about a minute), ``pressure_points`` <= 10000,
@@ -243,6 +244,7 @@ pub fn run_study<'py>(
             ),
         ));
     }
+    crate::finger::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
     let act = actuator_from_kwargs(py, None, actuator)?;
     let out =
         interruptible(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;

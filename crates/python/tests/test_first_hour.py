@@ -138,6 +138,16 @@ def test_eps0_given_twice_is_a_type_error():
         fpc.batch_solve(lx=100.0, geometry={"lx": 90.0})
 
 
+def test_a_prestrain_the_call_would_ignore_is_a_type_error():
+    # batch_solve's points and each study set the prestrain themselves
+    with pytest.raises(TypeError) as e:
+        fpc.batch_solve(pemc={"eps0": 0.4})
+    assert "eps0" in str(e.value)
+    with pytest.raises(TypeError) as e:
+        fpc.run_study(7, coarse=True, pemc={"eps0": 0.4})
+    assert "eps0" in str(e.value)
+
+
 def test_eps0_in_pemc_alone_is_used():
     assert fpc.Finger(pemc={"eps0": 0.4}).eps0 == 0.4
     assert fpc.Finger().eps0 == 0.25

@@ -16,7 +16,7 @@ HERE = pathlib.Path(__file__).resolve().parent
 @pytest.mark.parametrize("seed", [1, 2])
 def test_extreme_arguments_give_answers_or_clean_exceptions(seed):
     p = subprocess.run(
-        [sys.executable, str(HERE / "fuzz_calls.py"), str(seed), "150"],
+        [sys.executable, str(HERE / "fuzz_calls.py"), str(seed), "600"],
         capture_output=True,
         text=True,
         timeout=900,
