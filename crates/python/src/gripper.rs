@@ -270,8 +270,10 @@ impl Gripper {
     }
 
     /// The gripper of a scene file with a ``[gripper]`` section (TOML text
-    /// or a path). Its ``[gripper.grasp]``, if any, is solved by
-    /// :meth:`solve`.
+    /// or a path, as for ``Finger.from_scene``: an ``os.PathLike`` or a
+    /// one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
+    /// file is ``FileNotFoundError``). Its ``[gripper.grasp]``, if any, is
+    /// solved by :meth:`solve`.
     #[staticmethod]
     fn from_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Gripper> {
         let (scene, _) = read_scene(scene)?;
