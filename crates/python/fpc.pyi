@@ -100,12 +100,14 @@ class Finger:
     ``**actuator``: the scene file's ``[actuator.*]`` keys: ``lx``, ``ly``,
     ``lc``, ``h``, ``h1``, ``h2``, ``h3``, ``cx``, ``cy``, ``h3a``, ``h3b``
     (mm), or whole sections as dicts: ``geometry``, ``channel``,
-    ``rib_layout``, ``cl``, ``emc``, ``fluidic``, ``pemc``.
+    ``rib_layout``, ``cl``, ``emc``, ``fluidic``, ``pemc``. ``eps0`` is 0.25
+    unless given, as ``eps0=`` or ``pemc={"eps0": ...}``; a key given twice
+    (also ``h1=`` with ``geometry={"h1": ...}``) is a ``TypeError``.
     """
 
     def __init__(
         self,
-        eps0: float = 0.25,
+        eps0: Optional[float] = None,
         elements: Elements = None,
         model: str = "ccm",
         ribs: bool = True,
@@ -113,8 +115,10 @@ class Finger:
     ) -> None: ...
     @staticmethod
     def from_scene(scene: Scene) -> "Finger":
-        """The finger of a scene (TOML text or a path); the scene's load,
-        tip tolerance and solver settings become the defaults of `solve`."""
+        """The finger of a scene (TOML text or a path: an ``os.PathLike``, or
+        a one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
+        file is ``FileNotFoundError``); the scene's load, tip tolerance and
+        solver settings become the defaults of `solve`."""
     def solve(
         self,
         pressure_kpa: Optional[float] = None,
@@ -209,7 +213,8 @@ class Gripper:
         """Grasps of one kind over broadcast parameters, warm-started in order:
         ``inputs``, ``normal_force_n``, ``friction_n``, ``lift_n``,
         ``size_mm``, ``tip_gap_mm``, ``height_mm``, ``tip_gripper`` (n x 2),
-        ``valid``, ``reversed``, ``ok``, ``error``."""
+        ``valid``, ``reversed``, ``ok``, ``error``. At most 100000 points;
+        complex inputs are a ``TypeError``; Ctrl-C stops it."""
     def info(self) -> dict[str, Any]:
         """``solution.json``'s ``gripper``: design and geometry."""
     def rest(self) -> FingerSolution:
@@ -239,15 +244,19 @@ def models() -> list[dict[str, Any]]:
 def solve_scene(scene: Scene, name: Optional[str] = None) -> dict[str, Any]:
     """A scene solved as ``fpc solve`` solves it: the keys of its
     ``solution.json``, with ``tip_mm``, ``coefficients``, ``points_mm``,
-    ``element_lengths_mm`` (and ``points_gripper_mm``) as numpy arrays."""
+    ``element_lengths_mm`` (and ``points_gripper_mm``) as numpy arrays.
+    ``scene``: TOML text or a path (as for ``Finger.from_scene``)."""
 
 def design(requirements: Scene, starts: int = 2, seed: int = 1) -> dict[str, Any]:
     """The gripper to build for a requirements TOML (text or path), as
     ``fpc design`` finds it: ``feasible``, ``best`` (``design`` =
-    ``[eps0, mounting_angle_deg, overlap_mm]``, ``margins``, ``worst``),
-    ``sensitivities``, ``evaluations``, ``starts`` and ``scenes``
-    (``{name, toml}`` per object, for ``solve_scene``). Raises
-    ``SceneError`` or ``InputError`` for bad requirements."""
+    ``{eps0, mounting_angle_deg, overlap_mm, varied}`` as in design.json,
+    ``margins``, ``worst``), ``sensitivities`` (``{requirement, gradient}``,
+    the gradient as ``{eps0, mounting_angle_deg, overlap_mm}``),
+    ``evaluations``, ``starts`` and ``scenes`` (``{name, toml}`` per
+    object, for ``solve_scene``). ``starts`` <= 10000. Raises
+    ``SceneError`` or ``InputError`` for bad requirements,
+    ``FileNotFoundError`` for a missing path; Ctrl-C interrupts."""
 
 def studies() -> list[dict[str, Any]]:
     """The paper's studies: ``{number, key, title, description}``."""
@@ -267,7 +276,12 @@ def run_study(
     """Runs one study: ``tables`` ({table: {column: numpy array}}),
     ``units``, ``columns``, ``figure``, ``summary``, ``overview``, ``notes``,
     ``stops``, ``design_warnings``, ``points``, ``warnings_by_kind``,
-    ``strict_dropped``."""
+    ``strict_dropped``. An option the study does not use (or
+    ``pemc={"eps0": ...}``: each study sets its prestrain) is a
+    ``TypeError``; bounds (``InputError`` beyond): ``sweep_points`` <= 2000,
+    ``angle_samples`` <= 200 (study 5: their product <= 100000),
+    ``pressure_points`` <= 10000. Ctrl-C
+    interrupts."""
 
 class BatchResult(TypedDict):
     shape: Tuple[int, ...]
@@ -302,7 +316,9 @@ def batch_solve(
 ) -> BatchResult:
     """Many finger solves in parallel (rayon, the GIL released) over the
     broadcast inputs; equal to a loop of `Finger.solve` unless
-    ``warm_start``."""
+    ``warm_start``. At most 1000000 points and 1024 threads (``InputError``
+    beyond); complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is the
+    ``eps0`` argument), are a ``TypeError``; Ctrl-C stops it."""
 
 def _batch_reference(
     eps0: float,

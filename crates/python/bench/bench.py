@@ -21,6 +21,7 @@ import os
 import platform
 import statistics
 import subprocess
+import sys
 import time
 
 import numpy as np
@@ -28,6 +29,12 @@ import numpy as np
 import fpc
 
 FX, FZ = 0.939782, 0.521707  # the tip load of `fpc-lab timing`'s loaded cases (N)
+
+
+def fail(message):
+    """One line on stderr and exit status 2 (a usage error), no traceback."""
+    print(message, file=sys.stderr)
+    sys.exit(2)
 
 
 def median_call_us(f, budget_s=0.4, min_runs=31):
@@ -118,7 +125,14 @@ def main():
     ap.add_argument("--points", type=int, default=20000)
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
-    rust = rust_timing(args.fpc_lab)
+    if args.fpc_lab and not (os.path.isfile(args.fpc_lab) and os.access(args.fpc_lab, os.X_OK)):
+        fail(f"bench.py: the fpc-lab binary {args.fpc_lab!r} (--fpc-lab or FPC_LAB_BIN) is not an executable file")
+    if args.points < 1:
+        fail(f"bench.py: --points must be at least 1, got {args.points}")
+    try:
+        rust = rust_timing(args.fpc_lab)
+    except (OSError, subprocess.CalledProcessError, ValueError) as e:
+        fail(f"bench.py: `{args.fpc_lab} timing --json` failed: {str(e).splitlines()[0] if str(e) else type(e).__name__}")
     result = {"cpu": cpu(), "rust_build": rust and rust.get("build"), "per_call": per_call(rust), "batch": batch(args.points)}
     if args.json:
         print(json.dumps(result, indent=2))

@@ -22,8 +22,16 @@ use fpc::{
     SolveOptions, Solver,
 };
 
-use crate::convert::{array1, array2};
-use crate::errors::{from_input, guarded, input_error, panic_message};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crate::convert::{array1, array2, real_array};
+use crate::errors::{at_most, cancellable, from_input, guarded, input_error};
+
+/// The most points of one `batch_solve` (the broadcast size), checked
+/// before the inputs are flattened.
+pub const MAX_BATCH_POINTS: usize = 1_000_000;
+/// The most `threads` of one `batch_solve`.
+pub const MAX_THREADS: usize = 1024;
 use crate::finger::{actuator_from_kwargs, elements_arg, load, model, ElementsArg};
 
 /// `status` codes of a batch point, by index: 0 ok, 1 input_error,
@@ -115,14 +123,21 @@ impl Outcome {
 }
 
 /// Solves every point; `threads` (None: rayon's global pool, all cores).
-pub fn run(points: &[Point], cfg: &Config, threads: Option<usize>) -> Result<Vec<Outcome>, String> {
+/// Points not yet started when `cancel` is set fail with status 3 and
+/// the error "cancelled".
+pub fn run(
+    points: &[Point],
+    cfg: &Config,
+    threads: Option<usize>,
+    cancel: &AtomicBool,
+) -> Result<Vec<Outcome>, String> {
     match threads {
-        None => Ok(run_in_pool(points, cfg)),
+        None => Ok(run_in_pool(points, cfg, cancel)),
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
             .map_err(|e| e.to_string())
-            .map(|pool| pool.install(|| run_in_pool(points, cfg))),
+            .map(|pool| pool.install(|| run_in_pool(points, cfg, cancel))),
     }
 }
 
@@ -136,7 +151,7 @@ struct Group {
     members: Vec<usize>,
 }
 
-fn run_in_pool(points: &[Point], cfg: &Config) -> Vec<Outcome> {
+fn run_in_pool(points: &[Point], cfg: &Config, cancel: &AtomicBool) -> Vec<Outcome> {
     // distinct prestrains, in order of first appearance
     let mut order: Vec<usize> = (0..points.len()).collect();
     order.sort_by(|&a, &b| points[a].eps0.total_cmp(&points[b].eps0).then(a.cmp(&b)));
@@ -198,7 +213,7 @@ fn run_in_pool(points: &[Point], cfg: &Config) -> Vec<Outcome> {
         .collect();
     let solved: Vec<Vec<(usize, Outcome)>> = tasks
         .par_iter()
-        .map(|&(g, members)| solve_chunk(points, cfg, g, members))
+        .map(|&(g, members)| solve_chunk(points, cfg, g, members, cancel))
         .collect();
     let mut out = vec![Outcome::failed(3, String::new()); points.len()];
     for (i, o) in solved.into_iter().flatten() {
@@ -213,6 +228,7 @@ fn solve_chunk(
     cfg: &Config,
     g: &Group,
     members: &[usize],
+    cancel: &AtomicBool,
 ) -> Vec<(usize, Outcome)> {
     if let Err(e) = &g.actuator {
         let status = if e.starts_with("internal error") {
@@ -226,9 +242,15 @@ fn solve_chunk(
             .collect();
     }
     let mut out = Vec::with_capacity(members.len());
+    // once cancelled, the remaining points are not solved
     let mut loads = members.iter().map(|&i| {
         let p = &points[i];
-        (i, load(p.pressure_kpa, p.kappa, p.fx, p.fz))
+        let l = if cancel.load(Ordering::Relaxed) {
+            Err(None)
+        } else {
+            load(p.pressure_kpa, p.kappa, p.fx, p.fz).map_err(Some)
+        };
+        (i, l)
     });
     let planned = g.finger.as_ref().expect("built with the actuator");
     match planned.as_ref().ok().and_then(PlannedFinger::fixed) {
@@ -238,8 +260,12 @@ fn solve_chunk(
             for (i, l) in loads.by_ref() {
                 let l = match l {
                     Ok(l) => l,
-                    Err(e) => {
+                    Err(Some(e)) => {
                         out.push((i, Outcome::failed(1, e.to_string())));
+                        continue;
+                    }
+                    Err(None) => {
+                        out.push((i, Outcome::failed(3, "cancelled".into())));
                         continue;
                     }
                 };
@@ -271,8 +297,12 @@ fn solve_chunk(
             for (i, l) in loads {
                 let l = match l {
                     Ok(l) => l,
-                    Err(e) => {
+                    Err(Some(e)) => {
                         out.push((i, Outcome::failed(1, e.to_string())));
+                        continue;
+                    }
+                    Err(None) => {
+                        out.push((i, Outcome::failed(3, "cancelled".into())));
                         continue;
                     }
                 };
@@ -307,9 +337,13 @@ fn broadcast<'py>(
             Some(v) if !v.is_none() => (*v).clone(),
             _ => default.into_pyobject(py)?.into_any(),
         };
-        let a = np
-            .call_method1("asarray", (v, "float64"))
-            .map_err(|e| input_error(py, name, format!("{name}: not an array of numbers ({e})")))?;
+        let a = real_array(py, name, &v).map_err(|e| {
+            if e.is_instance_of::<pyo3::exceptions::PyTypeError>(py) {
+                e
+            } else {
+                input_error(py, name, format!("{name}: not an array of numbers ({e})"))
+            }
+        })?;
         arrays.push(a);
     }
     let b = np
@@ -322,6 +356,10 @@ fn broadcast<'py>(
                 format!("{}: shapes do not broadcast ({e})", names.join(", ")),
             )
         })?;
+    // the size before any copy: the broadcast arrays are views
+    let first = b.get_item(0)?;
+    let size: usize = first.getattr("size")?.extract()?;
+    at_most(py, "points", size, MAX_BATCH_POINTS)?;
     let mut shape: Vec<usize> = Vec::new();
     let mut cols = Vec::new();
     for a in b.try_iter()? {
@@ -360,6 +398,10 @@ fn config(
             ));
         }
     }
+    crate::finger::refuse_pemc_eps0(
+        actuator,
+        "every point's prestrain is batch_solve's eps0 argument",
+    )?;
     let actuator = actuator_from_kwargs(py, None, actuator)?;
     let (count, start) = match elements {
         ElementsArg::Default => (Some(crate::finger::DEFAULT_ELEMENTS), None),
@@ -411,6 +453,12 @@ fn config(
 /// ``residual`` (relative, also for not_converged), ``iterations``,
 /// ``valid`` (solved and within the model), ``elements`` and ``error``
 /// (list of messages, "" where solved). Failed points have NaN tips.
+///
+/// Bounds, checked before any work: at most 1000000 points (the broadcast
+/// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``.
+/// Complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is ``eps0``),
+/// are a ``TypeError``. Ctrl-C stops the batch within one
+/// solve per thread and raises ``KeyboardInterrupt``.
 #[pyfunction]
 #[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model="ccm", ribs=true, tip_tol_mm=None, warm_start=false, threads=None, **actuator))]
 #[allow(clippy::too_many_arguments)]
@@ -436,6 +484,9 @@ pub fn batch_solve<'py>(
             "threads = 0: must be at least 1".into(),
         ));
     }
+    if let Some(t) = threads {
+        at_most(py, "threads", t, MAX_THREADS)?;
+    }
     let cfg = config(py, elements, model, ribs, tip_tol_mm, warm_start, actuator)?;
     let (dims, cols) = broadcast(
         py,
@@ -456,12 +507,7 @@ pub fn batch_solve<'py>(
             kappa: cols[4][i],
         })
         .collect();
-    let outcomes = py
-        .detach(|| {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| run(&points, &cfg, threads)))
-                .map_err(|p| format!("internal error (a bug): {}", panic_message(&*p)))
-                .and_then(|r| r)
-        })
+    let outcomes = cancellable(py, |cancel| run(&points, &cfg, threads, cancel))?
         .map_err(crate::errors::InternalError::new_err)?;
 
     let d = PyDict::new(py);

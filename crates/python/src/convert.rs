@@ -172,3 +172,25 @@ pub fn report_dict<'py>(py: Python<'py>, r: &fpc::SolveReport) -> PyResult<Bound
     d.set_item("continuation_steps", r.continuation_steps)?;
     Ok(d)
 }
+
+/// `v` as a float64 numpy array for the argument `name`; a complex input
+/// (Python complex, complex numpy dtype, or a list holding one) is a
+/// `TypeError` rather than losing its imaginary part.
+pub fn real_array<'py>(
+    py: Python<'py>,
+    name: &str,
+    v: &Bound<'py, PyAny>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let np = py.import("numpy")?;
+    let complex = v.is_instance_of::<pyo3::types::PyComplex>()
+        || np
+            .call_method1("iscomplexobj", (v,))
+            .and_then(|c| c.is_truthy())
+            .unwrap_or(false);
+    if complex {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: complex values are not accepted (real numbers only)"
+        )));
+    }
+    np.call_method1("asarray", (v, "float64"))
+}

@@ -4,10 +4,10 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError};
+use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError, VARIABLES};
 
 use crate::convert::to_py;
-use crate::errors::{detached, from_input, from_syntax};
+use crate::errors::{from_input, from_syntax, interruptible};
 use crate::finger::scene_text;
 
 /// The design that meets every requirement with the largest worst-case
@@ -21,17 +21,25 @@ use crate::finger::scene_text;
 ///   corners of the bounds (at most 10000, else ``InputError``); ``seed``
 ///   seeds them.
 ///
-/// Returns a dict: ``feasible``, ``best`` (``design`` as ``[eps0,
-/// mounting_angle_deg, overlap_mm]``, ``margins`` per requirement with
-/// ``requirement``, ``margin`` (normalised; >= 0 is met), ``detail``...,
-/// and ``worst``), ``sensitivities`` (d margin / d variable per
-/// requirement), ``evaluations``, ``starts`` and ``scenes``: one
-/// ``{"name", "toml"}`` per object, a scene that ``fpc solve`` or
-/// ``solve_scene`` runs to reproduce the claimed grasp.
+/// Returns a dict: ``feasible``, ``best`` (``design``: ``{"eps0",
+/// "mounting_angle_deg", "overlap_mm", "varied"}`` as in ``fpc design``'s
+/// design.json; ``margins`` per requirement with ``requirement``,
+/// ``margin`` (normalised; >= 0 is met), ``detail``..., and ``worst``),
+/// ``sensitivities`` (per requirement: ``requirement`` and ``gradient``,
+/// d margin / d variable as ``{"eps0", "mounting_angle_deg",
+/// "overlap_mm"}``, per unit of each), ``evaluations``, ``starts``,
+/// ``failure`` and ``scenes``: one ``{"name", "toml"}`` per object, a
+/// scene that ``fpc solve`` or ``solve_scene`` runs to reproduce the
+/// claimed grasp.
 ///
-/// Raises ``fpc.SceneError`` (with ``line`` and ``col``) for a syntax error
-/// or an unknown key, and ``fpc.InputError`` naming the field of a rejected
-/// value.
+/// ``requirements`` is read as a path when it is an ``os.PathLike`` or a
+/// one-line ``str`` ending in ``.toml`` or containing ``/`` (a missing file
+/// is ``FileNotFoundError``), else as TOML text. Raises ``fpc.SceneError``
+/// (with ``line`` and ``col``) for a syntax error or an unknown key, and
+/// ``fpc.InputError`` naming the field of a rejected value (``starts``
+/// beyond 10000: ``design.random_starts``). Ctrl-C returns at once with
+/// ``KeyboardInterrupt`` (the search finishes on its own thread and is
+/// dropped).
 #[pyfunction]
 #[pyo3(signature = (requirements, starts=2, seed=1))]
 pub fn design<'py>(
@@ -50,13 +58,42 @@ pub fn design<'py>(
         seed,
         ..DesignOptions::default()
     };
-    let (found, scenes) = detached(py, || {
+    opts.validate().map_err(|e| from_input(py, &e))?;
+    let bounds = req.bounds();
+    let (found, scenes) = interruptible(py, move || {
         let found = optimize(&req, &opts)?;
         let scenes = found.scenes(&req);
         Ok::<_, fpc::InputError>((found, scenes))
     })?
     .map_err(|e| from_input(py, &e))?;
     let d = to_py(py, &found)?.cast_into::<PyDict>()?;
+    // the design variables by name, as design.json has them
+    let named = |x: [f64; 3]| -> PyResult<Bound<'py, PyDict>> {
+        let v = PyDict::new(py);
+        for (name, value) in VARIABLES.iter().zip(x) {
+            v.set_item(*name, value)?;
+        }
+        Ok(v)
+    };
+    let design = named(found.best.design)?;
+    let varied: Vec<&str> = VARIABLES
+        .iter()
+        .zip(bounds)
+        .filter(|(_, b)| b[1] > b[0])
+        .map(|(n, _)| *n)
+        .collect();
+    design.set_item("varied", varied)?;
+    d.get_item("best")?
+        .ok_or_else(|| crate::errors::InternalError::new_err("design: no best"))?
+        .set_item("design", design)?;
+    let sens = pyo3::types::PyList::empty(py);
+    for s in &found.sensitivities {
+        let e = PyDict::new(py);
+        e.set_item("requirement", &s.requirement)?;
+        e.set_item("gradient", named(s.gradient)?)?;
+        sens.append(e)?;
+    }
+    d.set_item("sensitivities", sens)?;
     let list = pyo3::types::PyList::empty(py);
     for (name, toml) in scenes {
         let s = PyDict::new(py);

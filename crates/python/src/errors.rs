@@ -166,3 +166,111 @@ pub fn detached<T: Send>(py: Python<'_>, f: impl FnOnce() -> T + Send) -> PyResu
     py.detach(|| guarded(f))
         .map_err(|m| InternalError::new_err(format!("internal error (a bug): {m}")))
 }
+
+/// How often a long call re-takes the GIL to look for Ctrl-C.
+const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
+
+/// Runs `f` on a worker thread with the GIL released, re-taking the GIL
+/// every 50 ms to run Python's signal handlers: Ctrl-C (or any handler
+/// that raises) returns at once with its exception (`KeyboardInterrupt`).
+/// The library cannot be stopped mid-computation, so an interrupted `f`
+/// runs to its end on its thread (its work is bounded by the checked
+/// input limits) and its result is dropped. A panic is `fpc.InternalError`.
+pub fn interruptible<T: Send + 'static>(
+    py: Python<'_>,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> PyResult<T> {
+    use std::sync::mpsc::{channel, RecvTimeoutError};
+    let (tx, rx) = channel();
+    std::thread::Builder::new()
+        .name("fpc-work".into())
+        .stack_size(8 << 20)
+        .spawn(move || {
+            let _ = tx.send(guarded(f));
+        })
+        .map_err(|e| InternalError::new_err(format!("cannot start a worker thread: {e}")))?;
+    let mut rx = rx;
+    loop {
+        let (back, got) = py.detach(move || {
+            let got = rx.recv_timeout(SIGNAL_POLL);
+            (rx, got)
+        });
+        rx = back;
+        match got {
+            Ok(r) => {
+                return r
+                    .map_err(|m| InternalError::new_err(format!("internal error (a bug): {m}")))
+            }
+            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(InternalError::new_err(
+                    "internal error (a bug): the worker thread ended without a result",
+                ))
+            }
+        }
+    }
+}
+
+/// Runs `f(cancel)` on a scoped worker thread with the GIL released,
+/// re-taking the GIL every 50 ms to run Python's signal handlers; when one
+/// raises (Ctrl-C), sets `cancel`, waits for `f` to notice it and return,
+/// and returns the exception. `f` should look at `cancel` between small
+/// pieces of work. A panic is `fpc.InternalError`.
+pub fn cancellable<T: Send>(
+    py: Python<'_>,
+    f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
+) -> PyResult<T> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::mpsc::{channel, RecvTimeoutError};
+    let cancel = AtomicBool::new(false);
+    let (tx, rx) = channel();
+    std::thread::scope(|s| {
+        let cancel = &cancel;
+        s.spawn(move || {
+            let _ = tx.send(guarded(|| f(cancel)));
+        });
+        let mut rx = rx;
+        loop {
+            let (back, got) = py.detach(move || {
+                let got = rx.recv_timeout(SIGNAL_POLL);
+                (rx, got)
+            });
+            rx = back;
+            match got {
+                Ok(r) => {
+                    return r.map_err(|m| {
+                        InternalError::new_err(format!("internal error (a bug): {m}"))
+                    })
+                }
+                Err(RecvTimeoutError::Timeout) => {
+                    if let Err(e) = py.check_signals() {
+                        cancel.store(true, Ordering::Relaxed);
+                        // the scope joins the worker, which stops at its next check
+                        py.detach(move || {
+                            let _ = rx.recv();
+                        });
+                        return Err(e);
+                    }
+                }
+                Err(RecvTimeoutError::Disconnected) => {
+                    return Err(InternalError::new_err(
+                        "internal error (a bug): the worker thread ended without a result",
+                    ))
+                }
+            }
+        }
+    })
+}
+
+/// `fpc.InputError` unless `value <= max`: a count the caller controls,
+/// checked before any work or allocation.
+pub fn at_most(py: Python<'_>, field: &str, value: usize, max: usize) -> PyResult<()> {
+    if value > max {
+        return Err(input_error(
+            py,
+            field,
+            format!("{field} = {value}: must be at most {max} (a bound on the work of one call)"),
+        ));
+    }
+    Ok(())
+}

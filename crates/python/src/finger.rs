@@ -87,20 +87,31 @@ fn value_at(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
 }
 
 /// The `[actuator]` section of the keyword arguments: `eps0`, the geometry
-/// and channel keys on their own, and whole sections as dicts.
+/// and channel keys on their own, and whole sections as dicts. A key given
+/// twice (`h1=` and `geometry={"h1": ...}`, `eps0=` and
+/// `pemc={"eps0": ...}`) is a `TypeError` naming both.
 pub fn actuator_section(
     py: Python<'_>,
     eps0: Option<f64>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<ActuatorSection> {
     let mut sections: Map<String, Value> = Map::new();
-    let mut put = |section: &str, key: &str, v: Value| {
+    // where each (section, key) came from, for the message on a repeat
+    let mut given: Vec<(String, String, String)> = Vec::new();
+    let mut put = |section: &str, key: &str, v: Value, source: String| -> PyResult<()> {
+        if let Some((_, _, first)) = given.iter().find(|g| g.0 == section && g.1 == key) {
+            return Err(PyTypeError::new_err(format!(
+                "actuator.{section}.{key} given twice: as {first} and as {source}"
+            )));
+        }
+        given.push((section.to_string(), key.to_string(), source));
         let s = sections
             .entry(section.to_string())
             .or_insert_with(|| Value::Object(Map::new()));
         if let Value::Object(m) = s {
             m.insert(key.to_string(), v);
         }
+        Ok(())
     };
     if let Some(kw) = kwargs {
         for (k, v) in kw.iter() {
@@ -113,13 +124,15 @@ pub fn actuator_section(
                     "geometry",
                     &k,
                     value_at(&v, &format!("actuator.geometry.{k}"))?,
-                );
+                    format!("{k}="),
+                )?;
             } else if CHANNEL_KEYS.contains(&k.as_str()) {
                 put(
                     "channel",
                     &k,
                     value_at(&v, &format!("actuator.channel.{k}"))?,
-                );
+                    format!("{k}="),
+                )?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
                 let path = format!("actuator.{section}");
                 let Value::Object(m) = value_at(&v, &path)? else {
@@ -128,7 +141,8 @@ pub fn actuator_section(
                     )));
                 };
                 for (key, x) in m {
-                    put(section, &key, x);
+                    let source = format!("{k}[{key:?}]");
+                    put(section, &key, x, source)?;
                 }
             } else {
                 return Err(PyTypeError::new_err(format!(
@@ -141,7 +155,7 @@ pub fn actuator_section(
     if let Some(e) = eps0 {
         let path = "actuator.pemc.eps0";
         let v = value_at(&e.into_pyobject(py)?.into_any(), path)?;
-        put("pemc", "eps0", v);
+        put("pemc", "eps0", v, "eps0=".into())?;
     }
     // each section on its own, so that a serde error names its section
     let mut out = ActuatorSection::default();
@@ -165,6 +179,29 @@ pub fn actuator_section(
         }
     }
     Ok(out)
+}
+
+/// True when the keyword arguments hold `pemc={"eps0": ...}`.
+pub fn has_pemc_eps0(kwargs: Option<&Bound<'_, PyDict>>) -> PyResult<bool> {
+    Ok(
+        match kwargs.map(|a| a.get_item("pemc")).transpose()?.flatten() {
+            Some(p) => p
+                .cast::<PyDict>()
+                .is_ok_and(|p| p.contains("eps0").unwrap_or(false)),
+            None => false,
+        },
+    )
+}
+
+/// `TypeError` for `pemc={"eps0": ...}` where the call sets the prestrain
+/// itself (`why`), instead of ignoring it.
+pub fn refuse_pemc_eps0(kwargs: Option<&Bound<'_, PyDict>>, why: &str) -> PyResult<()> {
+    if has_pemc_eps0(kwargs)? {
+        return Err(PyTypeError::new_err(format!(
+            "pemc={{\"eps0\": ...}} is not used here: {why}"
+        )));
+    }
+    Ok(())
 }
 
 /// A validated actuator from the keyword arguments (errors name the
@@ -199,6 +236,9 @@ pub enum ElementsArg {
     /// The automatic partition (with a tip tolerance: the fastest configuration).
     Auto,
 }
+
+/// The prestrain of `Finger()` when none is given.
+pub const DEFAULT_EPS0: f64 = 0.25;
 
 /// The number of elements when none is given.
 pub const DEFAULT_ELEMENTS: usize = 8;
@@ -288,25 +328,60 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
     .with_tip_force(fx, fz))
 }
 
-/// A scene argument: TOML text, or a path to a scene file (a `str` naming
-/// an existing file without a newline, or any `os.PathLike`). Returns the
-/// text and the path shown in messages (empty for text).
+/// True when a `str` scene argument is meant as a path, not TOML text: a
+/// single line that ends in `.toml` or contains a path separator (`/`, or
+/// `\\` on Windows). TOML text of one line has a `=` or a `[` before any
+/// of these (`a = "x/y.toml"`), so those stay text.
+pub fn looks_like_path(s: &str) -> bool {
+    if s.is_empty() || s.contains('\n') {
+        return false;
+    }
+    let t = s.trim();
+    let sep = t.contains('/') || (cfg!(windows) && t.contains('\\'));
+    let toml_like = t.starts_with('[') || t.contains('=');
+    (t.to_ascii_lowercase().ends_with(".toml") || sep) && !toml_like
+}
+
+/// A scene argument: TOML text, or a path to a scene file (any
+/// `os.PathLike`, or a `str` that [`looks_like_path`]). Returns the text
+/// and the path shown in messages (empty for text). A path that does not
+/// exist is `FileNotFoundError` naming it (never parsed as TOML).
 pub fn scene_text(obj: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
     let py = obj.py();
     let os = py.import("os")?;
     let is_pathlike = obj.is_instance(&os.getattr("PathLike")?)?;
     let path: Option<String> = if is_pathlike {
-        Some(os.call_method1("fspath", (obj,))?.extract()?)
+        Some(
+            os.call_method1("fspath", (obj,))?
+                .extract()
+                .map_err(|_| PyTypeError::new_err("a scene path must be a str path, not bytes"))?,
+        )
     } else {
-        let s: String = obj
-            .extract()
-            .map_err(|_| PyTypeError::new_err("a scene is TOML text or a path to a scene file"))?;
-        (!s.contains('\n') && !s.is_empty() && Path::new(&s).is_file()).then_some(s)
+        let s: String = obj.extract().map_err(|_| {
+            PyTypeError::new_err(format!(
+                "a scene is TOML text or a path to a scene file (str or os.PathLike), not {}",
+                obj.get_type()
+                    .name()
+                    .map(|n| n.to_string())
+                    .unwrap_or_default()
+            ))
+        })?;
+        (looks_like_path(&s) || (!s.contains('\n') && !s.is_empty() && Path::new(&s).is_file()))
+            .then_some(s)
     };
     match path {
         Some(p) => {
             let text = std::fs::read_to_string(&p).map_err(|e| {
-                pyo3::exceptions::PyOSError::new_err(format!("cannot read {p}: {e}"))
+                let message = format!("cannot read the scene file {p}: {e}");
+                match e.kind() {
+                    std::io::ErrorKind::NotFound => {
+                        pyo3::exceptions::PyFileNotFoundError::new_err((2, message, p.clone()))
+                    }
+                    std::io::ErrorKind::PermissionDenied => {
+                        pyo3::exceptions::PyPermissionError::new_err((13, message, p.clone()))
+                    }
+                    _ => pyo3::exceptions::PyOSError::new_err(message),
+                }
             })?;
             Ok((text, p))
         }
@@ -326,9 +401,10 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 /// A finger: the actuator (the paper's by default), an element model and
 /// a partition, ready to solve.
 ///
-/// ``Finger(eps0=0.25, elements=None, model="ccm", ribs=True, **actuator)``
+/// ``Finger(eps0=None, elements=None, model="ccm", ribs=True, **actuator)``
 ///
-/// - ``eps0``: prestrain of the prestressed layer;
+/// - ``eps0``: prestrain of the prestressed layer (0.25 unless given here
+///   or as ``pemc={"eps0": ...}``; both at once is a ``TypeError``);
 /// - ``elements``: a number of equal elements (default 8), or ``"auto"``
 ///   (boundaries on the material changes, split until every element is
 ///   within the slope limit, chosen at each solve's load);
@@ -341,7 +417,8 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 ///   ``pemc``.
 ///
 /// Invalid values raise ``fpc.InputError`` (a ``ValueError``) naming the
-/// field, e.g. ``actuator.geometry.h1``.
+/// field, e.g. ``actuator.geometry.h1``; an unknown keyword, or a key given
+/// twice (``h1=`` and ``geometry={"h1": ...}``), a ``TypeError``.
 #[pyclass(module = "fpc", frozen)]
 #[derive(Debug, Clone)]
 pub struct Finger {
@@ -483,10 +560,10 @@ fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound
 #[pymethods]
 impl Finger {
     #[new]
-    #[pyo3(signature = (eps0=0.25, elements=None, model="ccm", ribs=true, **actuator))]
+    #[pyo3(signature = (eps0=None, elements=None, model="ccm", ribs=true, **actuator))]
     fn new(
         py: Python<'_>,
-        eps0: f64,
+        eps0: Option<f64>,
         elements: Option<&Bound<'_, PyAny>>,
         model: &str,
         ribs: bool,
@@ -494,11 +571,21 @@ impl Finger {
     ) -> PyResult<Finger> {
         let model = self::model(py, model)?;
         let elements = elements_arg(elements)?;
-        let act = actuator_from_kwargs(py, Some(eps0), actuator)?;
+        // 0.25 unless given, as eps0= or as pemc={"eps0": ...} (not both)
+        let in_pemc = match actuator.map(|a| a.get_item("pemc")).transpose()?.flatten() {
+            Some(p) => p
+                .cast::<PyDict>()
+                .is_ok_and(|p| p.contains("eps0").unwrap_or(false)),
+            None => false,
+        };
+        let eps0 = eps0.or((!in_pemc).then_some(DEFAULT_EPS0));
+        let act = actuator_from_kwargs(py, eps0, actuator)?;
         Finger::build(py, model, act, ribs, elements)
     }
 
-    /// The finger of a scene file: TOML text, or a path to a ``.toml`` file.
+    /// The finger of a scene file: TOML text, or a path to a ``.toml`` file
+    /// (an ``os.PathLike``, or a one-line ``str`` that ends in ``.toml`` or
+    /// contains ``/``; a missing file is ``FileNotFoundError``).
     /// The scene's model, actuator and partition make the finger; its load,
     /// ``partition.tip_tol_mm`` and ``[solve]`` settings become the defaults
     /// of :meth:`solve` (so ``Finger.from_scene(s).solve()`` solves the
@@ -667,7 +754,7 @@ impl Finger {
             ));
         }
         let np = py.import("numpy")?;
-        let arr = np.call_method1("asarray", (g, "float64"))?;
+        let arr = crate::convert::real_array(py, "guess", g)?;
         // a fresh C-ordered copy: aligned, whatever the input
         let arr = np
             .call_method1("atleast_2d", (arr,))?

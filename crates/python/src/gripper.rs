@@ -10,7 +10,7 @@ use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
 use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions, GRIPPER_SAMPLES_PER_ELEMENT};
 
 use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
-use crate::errors::{detached, from_input, from_solve, guarded, input_error, renamed};
+use crate::errors::{cancellable, detached, from_input, from_solve, guarded, input_error, renamed};
 use crate::finger::{read_scene, Finger};
 use fpc::scene::{GraspJson, GripperJson};
 
@@ -76,6 +76,10 @@ fn grasp_dict<'py>(
 
 /// The library's grasp fields and the Python arguments they are (the same
 /// units; the angles are checked in degrees before the library sees them).
+/// The most points of one `Gripper.sweep` (the broadcast size), checked
+/// before the inputs are flattened.
+pub const MAX_SWEEP_POINTS: usize = 100_000;
+
 const GRASP_FIELDS: [(&str, &str); 6] = [
     ("grasp.size", "d_mm"),
     ("grasp.friction", "friction_n"),
@@ -266,8 +270,10 @@ impl Gripper {
     }
 
     /// The gripper of a scene file with a ``[gripper]`` section (TOML text
-    /// or a path). Its ``[gripper.grasp]``, if any, is solved by
-    /// :meth:`solve`.
+    /// or a path, as for ``Finger.from_scene``: an ``os.PathLike`` or a
+    /// one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
+    /// file is ``FileNotFoundError``). Its ``[gripper.grasp]``, if any, is
+    /// solved by :meth:`solve`.
     #[staticmethod]
     fn from_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Gripper> {
         let (scene, _) = read_scene(scene)?;
@@ -386,6 +392,9 @@ impl Gripper {
     /// ``friction_n``, ``lift_n``, ``size_mm``, ``tip_gap_mm``,
     /// ``height_mm``, ``tip_gripper`` (n x 2), ``valid``, ``reversed``,
     /// ``ok`` (solved) and ``error`` (list of messages, "" when solved).
+    /// At most 100000 points (``fpc.InputError`` for ``points`` beyond);
+    /// complex inputs are a ``TypeError``; Ctrl-C stops the sweep between
+    /// points and raises ``KeyboardInterrupt``.
     #[pyo3(signature = (kind, **params))]
     fn sweep<'py>(
         &self,
@@ -426,9 +435,12 @@ impl Gripper {
                 Some(v) if !v.is_none() => v,
                 _ => default.into_pyobject(py)?.into_any(),
             };
-            arrays.push(np.call_method1("asarray", (v, "float64"))?);
+            arrays.push(crate::convert::real_array(py, name, &v)?);
         }
         let b = np.call_method1("broadcast_arrays", PyList::new(py, &arrays)?.to_tuple())?;
+        // the size before any copy: the broadcast arrays are views
+        let size: usize = b.get_item(0)?.getattr("size")?.extract()?;
+        crate::errors::at_most(py, "points", size, MAX_SWEEP_POINTS)?;
         let mut cols: Vec<Vec<f64>> = Vec::new();
         for a in b.try_iter()? {
             // a fresh C-ordered copy: aligned, whatever the input
@@ -458,21 +470,24 @@ impl Gripper {
             })
             .collect();
         let g = &self.inner;
-        let results: Vec<Result<fpc::GraspOutcome, String>> = py.detach(|| {
+        let results: Vec<Result<fpc::GraspOutcome, String>> = cancellable(py, |cancel| {
             let mut warm: Option<Grasp> = None;
             specs
                 .iter()
-                .map(|&spec| {
+                .map_while(|&spec| {
+                    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                        return None;
+                    }
                     let r = guarded(|| solve_py(g, spec, warm.as_ref()))
                         .map_err(|m| format!("internal error (a bug): {m}"))
                         .and_then(|r| r.map_err(|e| e.to_string()));
                     if let Ok(o) = &r {
                         warm = Some(o.grasp.clone());
                     }
-                    r
+                    Some(r)
                 })
                 .collect()
-        });
+        })?;
         let d = PyDict::new(py);
         let inputs = PyDict::new(py);
         for (name, col) in names.iter().zip(&cols) {

@@ -22,7 +22,9 @@ use crate::finger::read_scene;
 /// ``warnings``, ``warning_messages``, ``scene`` (every default written
 /// out) and, in a gripper scene, ``gripper`` and ``grasp``.
 ///
-/// ``scene``: TOML text or a path to a scene file. ``name``: the
+/// ``scene``: TOML text or a path to a scene file (an ``os.PathLike``, or
+/// a one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
+/// file is ``FileNotFoundError``). ``name``: the
 /// ``scene_name`` (default: the file's stem, ``"scene"`` for text).
 /// Raises ``fpc.SceneError`` for a syntax error or unknown key,
 /// ``fpc.InputError`` naming the scene key of a rejected value, and

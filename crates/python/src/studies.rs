@@ -9,7 +9,7 @@ use fpc::studies::{Cell, Table};
 use fpc::{StudyInfo, StudyOptions, STUDIES};
 
 use crate::convert::{json_to_py, to_py};
-use crate::errors::{detached, from_input, from_solve, input_error};
+use crate::errors::{at_most, from_input, from_solve, input_error, interruptible};
 use crate::finger::actuator_from_kwargs;
 
 /// The study `study` names: its number (1 to 8) or its key.
@@ -83,6 +83,47 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
     np.call_method1("array", (PyList::new(py, items)?, "object"))
 }
 
+/// The most `sweep_points` of a study (a sweep of grasp solves per curve).
+pub const MAX_SWEEP_POINTS: usize = 2_000;
+/// The most `angle_samples` of a study (grasping angles per sphere size).
+pub const MAX_ANGLE_SAMPLES: usize = 200;
+/// The most `sweep_points` x `angle_samples` of a study that uses both
+/// (study 5: about a minute at the bound).
+pub const MAX_SWEEP_BY_ANGLE: usize = 100_000;
+/// The most `pressure_points` of a study (finger solves per prestrain).
+pub const MAX_PRESSURE_POINTS: usize = 10_000;
+
+/// The options of `run_study` that only some studies use, and the studies
+/// (by number) that use each: any other study refuses them.
+const STUDY_OPTIONS: [(&str, &[usize]); 5] = [
+    ("sweep_points", &[1, 2, 3, 5]),
+    ("angle_samples", &[5, 6]),
+    ("pressure_points", &[7]),
+    ("mu", &[1, 2, 3, 4, 5, 6]),
+    ("strict", &[1, 2, 3, 4, 5, 6]),
+];
+
+/// `TypeError` for an option given to a study that does not use it.
+fn check_used(info: &StudyInfo, given: &[(&str, bool)]) -> PyResult<()> {
+    for &(name, is_given) in given {
+        let Some((_, users)) = STUDY_OPTIONS.iter().find(|o| o.0 == name) else {
+            continue;
+        };
+        if is_given && !users.contains(&info.number) {
+            let users: Vec<String> = users.iter().map(|n| n.to_string()).collect();
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "run_study({}): study {} ({}) does not use the keyword argument '{name}' \
+                 (studies that do: {})",
+                info.number,
+                info.number,
+                info.key,
+                users.join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// A study's registry entry as a dict.
 fn info_dict<'py>(py: Python<'py>, s: &StudyInfo) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -118,6 +159,16 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// ``sweep_points`` (32), ``angle_samples`` (24), ``pressure_points`` (21),
 /// ``strict`` (False). ``**actuator``: the base actuator's keywords (as
 /// for ``fpc.Finger``; each study sets the prestrain it needs).
+///
+/// An option the study does not use is a ``TypeError`` (``sweep_points``:
+/// studies 1, 2, 3, 5; ``angle_samples``: 5, 6; ``pressure_points``: 7;
+/// ``mu`` and ``strict``: 1 to 6), as is ``pemc={"eps0": ...}`` (each
+/// study sets the prestrain it needs). The work is bounded before it starts
+/// (``fpc.InputError`` beyond): ``sweep_points`` <= 2000,
+/// ``angle_samples`` <= 200, and for study 5 ``sweep_points *
+/// angle_samples`` <= 100000 (about a minute), ``pressure_points`` <= 10000,
+/// ``elements`` as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
+/// interrupted study finishes on its own thread and is dropped).
 #[pyfunction]
 #[pyo3(signature = (study, *, elements=None, mu=None, sweep_points=None, angle_samples=None, pressure_points=None, strict=None, coarse=false, **actuator))]
 #[allow(clippy::too_many_arguments)]
@@ -134,6 +185,16 @@ pub fn run_study<'py>(
     actuator: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let info = find(py, study)?;
+    check_used(
+        info,
+        &[
+            ("sweep_points", sweep_points.is_some()),
+            ("angle_samples", angle_samples.is_some()),
+            ("pressure_points", pressure_points.is_some()),
+            ("mu", mu.is_some()),
+            ("strict", strict.is_some()),
+        ],
+    )?;
     let base = if coarse {
         StudyOptions::coarse()
     } else {
@@ -148,8 +209,45 @@ pub fn run_study<'py>(
     opts.pressure_points = pressure_points.unwrap_or(base.pressure_points);
     opts.strict = strict.unwrap_or(base.strict);
     opts.validate().map_err(|e| from_input(py, &e))?;
+    at_most(
+        py,
+        "study.sweep_points",
+        opts.sweep_points,
+        MAX_SWEEP_POINTS,
+    )?;
+    at_most(
+        py,
+        "study.angle_samples",
+        opts.angle_samples,
+        MAX_ANGLE_SAMPLES,
+    )?;
+    at_most(
+        py,
+        "study.pressure_points",
+        opts.pressure_points,
+        MAX_PRESSURE_POINTS,
+    )?;
+    let uses = |name: &str| {
+        STUDY_OPTIONS
+            .iter()
+            .any(|o| o.0 == name && o.1.contains(&info.number))
+    };
+    let product = opts.sweep_points.saturating_mul(opts.angle_samples);
+    if uses("sweep_points") && uses("angle_samples") && product > MAX_SWEEP_BY_ANGLE {
+        return Err(input_error(
+            py,
+            "study.sweep_points",
+            format!(
+                "study.sweep_points x study.angle_samples = {} x {} = {product}: must be at \
+                 most {MAX_SWEEP_BY_ANGLE} (a bound on the work of one call)",
+                opts.sweep_points, opts.angle_samples
+            ),
+        ));
+    }
+    crate::finger::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
     let act = actuator_from_kwargs(py, None, actuator)?;
-    let out = detached(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
+    let out =
+        interruptible(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
 
     let d = info_dict(py, info)?;
     let tables = PyDict::new(py);

@@ -19,7 +19,8 @@ eps0 = [0.1, 0.45]
 def test_a_feasible_design_and_its_scenes_reproduce_the_grasps():
     d = fpc.design(CUBOID, starts=0)
     assert d["feasible"] is True
-    eps0, angle, overlap = d["best"]["design"]
+    design = d["best"]["design"]
+    eps0, angle, overlap = design["eps0"], design["mounting_angle_deg"], design["overlap_mm"]
     assert 0.1 <= eps0 <= 0.45
     # only eps0 is varied: the other variables stay at the paper's defaults
     assert (angle, overlap) == (60.0, 20.0)
