@@ -3,7 +3,7 @@
 //!
 //! The points are grouped by prestrain (one finger built per distinct
 //! `eps0`), each group split into chunks, and each chunk solved on one
-//! thread with one reused [`fpc::Solver`] workspace. By default every
+//! thread with one reused [`fpc::finger::Solver`] workspace. By default every
 //! point is solved cold, exactly as `Finger.solve` solves it (the batch
 //! equals a loop of single solves bit for bit, whatever the number of
 //! threads); `warm_start` sorts each group by load and starts each solve
@@ -17,9 +17,10 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 use rayon::prelude::*;
 
+use fpc::finger::Solver;
 use fpc::{
     Actuator, Coefficients, InputError, Load, ModelId, Plan, PlannedFinger, SolveError,
-    SolveOptions, Solver,
+    SolveOptions,
 };
 
 use std::sync::atomic::{AtomicBool, Ordering};

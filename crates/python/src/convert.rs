@@ -162,7 +162,10 @@ pub fn solution_dict<'py>(py: Python<'py>, s: &fpc::Solution) -> PyResult<Bound<
 
 /// A solve report as a dict (`reason`, `iterations`, `residual_norm`,
 /// `evaluations`, `coupled`, `continuation_steps`).
-pub fn report_dict<'py>(py: Python<'py>, r: &fpc::SolveReport) -> PyResult<Bound<'py, PyDict>> {
+pub fn report_dict<'py>(
+    py: Python<'py>,
+    r: &fpc::finger::SolveReport,
+) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("reason", r.reason.to_string())?;
     d.set_item("iterations", r.iterations)?;

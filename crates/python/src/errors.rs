@@ -123,16 +123,16 @@ pub fn renamed(e: fpc::SolveError, from: &str, to: &str) -> fpc::SolveError {
 
 /// A scene read error as `fpc.SceneError` or `fpc.InputError`; `shown`
 /// (a path, or empty) prefixes a syntax error's position.
-pub fn from_scene_read(py: Python<'_>, e: &fpc::SceneReadError, shown: &str) -> PyErr {
+pub fn from_scene_read(py: Python<'_>, e: &fpc::scene::SceneReadError, shown: &str) -> PyErr {
     match e {
-        fpc::SceneReadError::Input(i) => from_input(py, i),
-        fpc::SceneReadError::Syntax(s) => from_syntax(py, s, shown),
+        fpc::scene::SceneReadError::Input(i) => from_input(py, i),
+        fpc::scene::SceneReadError::Syntax(s) => from_syntax(py, s, shown),
     }
 }
 
 /// A TOML syntax error or unknown key as `fpc.SceneError`, with `line` and
 /// `col`; `shown` (a path, or empty) prefixes the position.
-pub fn from_syntax(py: Python<'_>, s: &fpc::SceneError, shown: &str) -> PyErr {
+pub fn from_syntax(py: Python<'_>, s: &fpc::scene::SceneError, shown: &str) -> PyErr {
     let message = if shown.is_empty() {
         s.to_string()
     } else {

@@ -9,10 +9,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use serde_json::{Map, Value};
 
+use fpc::plan::RefinementRecord;
 use fpc::scene::{ActuatorSection, PartitionPlan, SceneFile};
 use fpc::{
     Actuator, Coefficients, InputError, Load, ModelId, Partition, Plan, PlannedFinger,
-    RefinementRecord, SolveOptions, Solved,
+    SolveOptions, Solved,
 };
 
 use crate::convert::{array1, solution_dict, to_py};
@@ -303,7 +304,7 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
         }
     };
     finite("pressure_kpa", pressure_kpa)?;
-    let vacuum_kpa = fpc::VACUUM_GAUGE_MPA * 1e3;
+    let vacuum_kpa = fpc::finger::VACUUM_GAUGE_MPA * 1e3;
     if pressure_kpa < vacuum_kpa {
         return Err(InputError::OutOfRange {
             field: "pressure_kpa".into(),
@@ -719,7 +720,7 @@ impl Finger {
     /// carries them too.
     #[getter]
     fn warnings<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        to_py(py, &fpc::input_warnings(self.model, &self.actuator))
+        to_py(py, &fpc::finger::input_warnings(self.model, &self.actuator))
     }
 
     fn __repr__(&self) -> String {

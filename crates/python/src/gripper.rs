@@ -6,8 +6,9 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use fpc::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
-use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions, GRIPPER_SAMPLES_PER_ELEMENT};
+use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions};
 
 use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
 use crate::errors::{cancellable, detached, from_input, from_solve, guarded, input_error, renamed};
@@ -62,7 +63,7 @@ fn gripper_finger(py: Python<'_>, f: &Finger) -> PyResult<fpc::Finger> {
 fn grasp_dict<'py>(
     py: Python<'py>,
     gripper: &fpc::Gripper,
-    o: &fpc::GraspOutcome,
+    o: &fpc::scene::GraspOutcome,
 ) -> PyResult<Bound<'py, PyDict>> {
     let d = to_py(py, &GraspJson::of(gripper, o))?.cast_into::<PyDict>()?;
     let sol = &o.grasp.solution;
@@ -158,7 +159,7 @@ fn solve_py(
     g: &fpc::Gripper,
     spec: GraspSpec,
     warm: Option<&Grasp>,
-) -> Result<fpc::GraspOutcome, SolveError> {
+) -> Result<fpc::scene::GraspOutcome, SolveError> {
     match spec {
         GraspSpec::Size { beta_deg, .. } => check_beta_deg(beta_deg, false)?,
         GraspSpec::Sphere { beta_deg, .. } => check_beta_deg(beta_deg, true)?,
@@ -172,7 +173,7 @@ fn solve_spec(
     g: &fpc::Gripper,
     spec: GraspSpec,
     warm: Option<&Grasp>,
-) -> Result<fpc::GraspOutcome, SolveError> {
+) -> Result<fpc::scene::GraspOutcome, SolveError> {
     spec.solve(g, warm)
 }
 
@@ -470,7 +471,7 @@ impl Gripper {
             })
             .collect();
         let g = &self.inner;
-        let results: Vec<Result<fpc::GraspOutcome, String>> = cancellable(py, |cancel| {
+        let results: Vec<Result<fpc::scene::GraspOutcome, String>> = cancellable(py, |cancel| {
             let mut warm: Option<Grasp> = None;
             specs
                 .iter()
@@ -494,7 +495,7 @@ impl Gripper {
             inputs.set_item(*name, array1(py, col.clone()))?;
         }
         d.set_item("inputs", inputs)?;
-        let pick = |f: &dyn Fn(&fpc::GraspOutcome) -> f64| -> Bound<'py, PyArray1<f64>> {
+        let pick = |f: &dyn Fn(&fpc::scene::GraspOutcome) -> f64| -> Bound<'py, PyArray1<f64>> {
             array1(
                 py,
                 results
@@ -514,7 +515,7 @@ impl Gripper {
             .map(|r| r.as_ref().map_or([f64::NAN; 2], |o| o.grasp.tip))
             .collect();
         d.set_item("tip_gripper", points(py, &tips)?)?;
-        let flags = |f: &dyn Fn(&fpc::GraspOutcome) -> bool| -> Vec<bool> {
+        let flags = |f: &dyn Fn(&fpc::scene::GraspOutcome) -> bool| -> Vec<bool> {
             results.iter().map(|r| r.as_ref().is_ok_and(f)).collect()
         };
         d.set_item("valid", PyArray1::from_vec(py, flags(&|o| o.is_valid())))?;

@@ -59,7 +59,7 @@ fn fpc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     )?;
     m.add(
         "PAPER_EPS0",
-        pyo3::types::PyTuple::new(py, fpc::PAPER_EPS0)?,
+        pyo3::types::PyTuple::new(py, fpc::studies::PAPER_EPS0)?,
     )?;
     Ok(())
 }

@@ -6,7 +6,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
 use fpc::studies::{Cell, Table};
-use fpc::{StudyInfo, StudyOptions, STUDIES};
+use fpc::studies::{StudyInfo, STUDIES};
+use fpc::StudyOptions;
 
 use crate::convert::{json_to_py, to_py};
 use crate::errors::{at_most, from_input, from_solve, input_error, interruptible};
