@@ -31,10 +31,27 @@ fn main() {
         commit
     };
     println!("cargo:rustc-env=FPC_GIT_COMMIT={commit}");
-    // rebuild when HEAD moves (a commit or a checkout)
+    // run again when HEAD moves (a commit or a checkout) or a source the
+    // binary is built from changes (the `+modified` mark); not on
+    // .git/index, which every `git status` rewrites: that recompiled the
+    // CLI for nothing
     let git = root.join(".git");
-    for f in ["HEAD", "index"] {
-        let p = git.join(f);
+    let p = git.join("HEAD");
+    if p.exists() {
+        println!("cargo:rerun-if-changed={}", p.display());
+    }
+    for source in [
+        "src",
+        "energy-spec",
+        "build.rs",
+        "Cargo.toml",
+        "Cargo.lock",
+        "crates/cli/src",
+        "crates/newton/src",
+        "crates/symbolic/src",
+        "crates/modelgen/src",
+    ] {
+        let p = root.join(source);
         if p.exists() {
             println!("cargo:rerun-if-changed={}", p.display());
         }

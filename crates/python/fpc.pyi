@@ -68,6 +68,7 @@ class Report(TypedDict):
 class Refinement(TypedDict):
     configuration: str
     levels: list[int]
+    level_iterations: list[int]
     extrapolated: bool
     tip: FloatArray
     end_angle: float

@@ -252,6 +252,8 @@ struct RefinementJson {
     configuration: String,
     /// Elements of each level, coarse to fine.
     levels: Vec<usize>,
+    /// Newton iterations of each level's solve.
+    level_iterations: Vec<usize>,
     extrapolated: bool,
     tip_mm: [f64; 2],
     end_angle_rad: f64,
@@ -262,6 +264,7 @@ impl RefinementJson {
         RefinementJson {
             configuration: r.plan.label(),
             levels: r.levels.iter().map(|l| l.elements).collect(),
+            level_iterations: r.levels.iter().map(|l| l.iterations).collect(),
             extrapolated: r.is_extrapolated(),
             tip_mm: r.tip,
             end_angle_rad: r.end_angle,
@@ -336,10 +339,20 @@ fn summary(
     }
     writeln!(out, "energy         {:.6} N mm", sol.energy)?;
     crate::solve::stability_line(out, sol)?;
+    // a refinement's finest level often starts converged (0 iterations):
+    // the work is the levels' together
+    let iterations = match &solved.refinement {
+        Some(r) if r.levels.len() > 1 => format!(
+            "{} iterations over {} levels ({} at the finest)",
+            r.levels.iter().map(|l| l.iterations).sum::<usize>(),
+            r.levels.len(),
+            sol.report.iterations
+        ),
+        _ => format!("{} iterations", sol.report.iterations),
+    };
     writeln!(
         out,
-        "solver         {} iterations, relative residual {:.2e}, {}",
-        sol.report.iterations,
+        "solver         {iterations}, relative residual {:.2e}, {}",
         sol.report.residual_norm,
         if sol.report.coupled {
             "coupled system"

@@ -104,7 +104,6 @@ fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, Strin
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let started = Instant::now();
-    crate::output::prepare_dir(&args.out)?;
     let base = if args.coarse {
         StudyOptions::coarse()
     } else {
@@ -123,6 +122,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ..base
     };
     opts.validate()?;
+    // every input checked: only now the output directory
+    crate::output::prepare_dir(&args.out)?;
     for w in act.warnings() {
         crate::report::warning(&w.to_string());
     }

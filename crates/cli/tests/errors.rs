@@ -225,3 +225,25 @@ fn help_is_not_an_error() {
     assert!(text(&out.stdout).contains("Usage: fpc finger"));
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
 }
+
+#[test]
+fn bad_figure_sizes_exit_2_before_any_directory_is_made() {
+    let out = std::env::temp_dir().join(format!("fpc-errors-style-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let dir = out.to_str().unwrap();
+    for (flag, v) in [
+        ("--width-in", "0"),
+        ("--width-in", "nan"),
+        ("--width-in", "1e300"),
+        ("--font-pt", "-1"),
+    ] {
+        rejected(
+            &["paper", "--coarse", "--out", dir, flag, v],
+            &[
+                &format!("{flag} = "),
+                "must be a positive number of at most 1000",
+            ],
+        );
+        assert!(!out.exists(), "{flag} {v}: {out:?} was made");
+    }
+}

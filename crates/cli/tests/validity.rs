@@ -190,3 +190,23 @@ fn a_scene_too_thick_for_laminate_theory_says_so_once() {
     assert_eq!(thick[1]["limit"], 0.5);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_refined_solve_counts_the_iterations_of_every_level() {
+    let (v, _) = json(&["finger", "--tip-tol-mm", "0.01", "--json"]);
+    let levels = v["refinement"]["level_iterations"].as_array().unwrap();
+    assert!(levels.len() > 1, "{v}");
+    assert_eq!(
+        levels.len(),
+        v["refinement"]["levels"].as_array().unwrap().len()
+    );
+    let total: u64 = levels.iter().map(|l| l.as_u64().unwrap()).sum();
+    assert!(total > 0);
+    let out = fpc(&["finger", "--tip-tol-mm", "0.01"]);
+    let stdout = text(&out.stdout);
+    let line = stdout.lines().find(|l| l.starts_with("solver")).unwrap();
+    assert!(
+        line.contains(&format!("{total} iterations over {} levels", levels.len())),
+        "{line}"
+    );
+}

@@ -552,6 +552,10 @@ fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound
         "levels",
         r.levels.iter().map(|l| l.elements).collect::<Vec<_>>(),
     )?;
+    d.set_item(
+        "level_iterations",
+        r.levels.iter().map(|l| l.iterations).collect::<Vec<_>>(),
+    )?;
     d.set_item("extrapolated", r.is_extrapolated())?;
     d.set_item("tip", array1(py, r.tip.to_vec()))?;
     d.set_item("end_angle", r.end_angle)?;

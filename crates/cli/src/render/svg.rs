@@ -101,14 +101,15 @@ pub struct Style {
 const LABEL_FONT: f64 = 13.0;
 
 impl Style {
-    /// Checks the options (positive and finite).
+    /// Checks the options (positive and finite): rejected input otherwise.
     pub fn validate(&self) -> anyhow::Result<()> {
         for (name, v) in [("--width-in", self.width_in), ("--font-pt", self.font_pt)] {
             if let Some(v) = v {
-                anyhow::ensure!(
-                    v.is_finite() && v > 0.0 && v <= 1000.0,
-                    "{name} = {v}: must be a positive number of at most 1000"
-                );
+                if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
+                    return Err(crate::status::rejected(format!(
+                        "{name} = {v}: must be a positive number of at most 1000"
+                    )));
+                }
             }
         }
         Ok(())

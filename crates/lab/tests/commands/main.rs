@@ -71,8 +71,37 @@ fn numbers_reach_their_parsers_and_rules() {
     ] {
         rejected_with(
             &["stress", "--budget-s", v],
-            &format!("--budget-s = {shown}: must be positive"),
+            &format!("--budget-s = {shown}: must lie in (0, 86400]"),
         );
+    }
+}
+
+/// Counts and budgets are bounded before any case is drawn or allocated:
+/// 2^64 - 1 cases once panicked (capacity overflow), 10^9 aborted
+/// allocating 528 GB.
+#[test]
+fn counts_and_budgets_are_bounded_before_any_work() {
+    for (args, part) in [
+        (
+            &["stress", "--cases", "18446744073709551615"][..],
+            "--cases = 18446744073709552000: must lie in [1, 1000000]",
+        ),
+        (
+            &["stress", "--cases", "1000000000", "--budget-s", "1"][..],
+            "--cases = 1000000000: must lie in [1, 1000000]",
+        ),
+        (&["stress", "--cases", "0"][..], "--cases = 0: must lie in"),
+        (
+            &["stress", "--max-elements", "0"][..],
+            "--max-elements = 0: must lie in [1, 1000]",
+        ),
+        (
+            &["stress", "--budget-s", "1e300"][..],
+            // (the huge value shortened on the line, the rule kept)
+            "must lie in (0, 86400]",
+        ),
+    ] {
+        rejected_with(args, part);
     }
 }
 

@@ -16,14 +16,16 @@ pub struct Args {
     /// Seed of the case generator.
     #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     seed: u64,
-    /// Number of cases.
+    /// Number of cases (at most 1000000).
     #[arg(long, default_value_t = 200, allow_hyphen_values = true)]
     cases: usize,
-    /// Wall-clock budget in seconds; no case starts after it is spent.
+    /// Wall-clock budget in seconds (at most 86400); no case starts after
+    /// it is spent.
     #[arg(long = "budget-s", default_value_t = 60.0, allow_hyphen_values = true)]
     budget_s: f64,
     /// Largest fixed element count drawn (from 1, 2, 3, 4, 8, 16, 32, 64,
-    /// 128, 256); the automatic partition is drawn whatever it is.
+    /// 128, 256; from 1 to 1000); the automatic partition is drawn whatever
+    /// it is.
     #[arg(
         long = "max-elements",
         default_value_t = 256,
@@ -41,15 +43,45 @@ pub struct Args {
     json: bool,
 }
 
+/// The most cases of one run (the report holds every case).
+const MAX_CASES: usize = 1_000_000;
+/// The longest budget, in seconds (a day).
+const MAX_BUDGET_S: f64 = 86_400.0;
+/// The largest fixed element count.
+const MAX_ELEMENTS: usize = 1000;
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    if !(args.budget_s.is_finite() && args.budget_s > 0.0) {
-        return Err(fpc::InputError::NotPositive {
-            field: "--budget-s".into(),
-            value: args.budget_s,
+    // every bound checked before any allocation or case
+    let out_of_range = |field: &str, value: f64, rule: String| -> anyhow::Error {
+        fpc::InputError::OutOfRange {
+            field: field.into(),
+            value,
+            rule,
         }
-        .into());
+        .into()
+    };
+    if !(args.budget_s.is_finite() && args.budget_s > 0.0 && args.budget_s <= MAX_BUDGET_S) {
+        return Err(out_of_range(
+            "--budget-s",
+            args.budget_s,
+            format!("must lie in (0, {MAX_BUDGET_S}]"),
+        ));
     }
-    let max_elements = args.max_elements.max(1);
+    if !(1..=MAX_CASES).contains(&args.cases) {
+        return Err(out_of_range(
+            "--cases",
+            args.cases as f64,
+            format!("must lie in [1, {MAX_CASES}]"),
+        ));
+    }
+    if !(1..=MAX_ELEMENTS).contains(&args.max_elements) {
+        return Err(out_of_range(
+            "--max-elements",
+            args.max_elements as f64,
+            format!("must lie in [1, {MAX_ELEMENTS}]"),
+        ));
+    }
+    let max_elements = args.max_elements;
     if let Some(index) = args.case {
         let c = fpc_lab::stress_case(args.seed, index, max_elements);
         let mut out = crate::output::stdout();
