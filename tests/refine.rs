@@ -4,44 +4,13 @@
 //! against independently computed sequences and N -> infinity references
 //! from two partition families.
 
+#[path = "common/plans.rs"]
+mod plans;
 use fpc::plan::{PartitionKind, Refinement, RefinementRecord};
 use fpc::{
-    Actuator, Coefficients, Finger, Load, ModelId, Partition, Plan, PlannedFinger, SolveError,
-    SolveOptions, Solved,
+    Actuator, Coefficients, Finger, Load, ModelId, Partition, SolveError, SolveOptions, Solved,
 };
-
-/// `plan` solved through the front door.
-fn refine(
-    act: &Actuator,
-    ribs: bool,
-    load: &Load,
-    plan: &Refinement,
-    opts: &SolveOptions,
-) -> Result<Solved, SolveError> {
-    PlannedFinger::builder(act)
-        .ribs(ribs)
-        .refinement(plan)
-        .build()?
-        .solve(load, opts)
-}
-
-/// `load` solved to `tip_tol_mm` through the front door.
-fn solve_to_tip_tolerance(
-    model: ModelId,
-    act: &Actuator,
-    ribs: bool,
-    load: &Load,
-    tip_tol_mm: f64,
-    start: Option<usize>,
-    opts: &SolveOptions,
-) -> Result<Solved, SolveError> {
-    PlannedFinger::builder(act)
-        .model(model)
-        .ribs(ribs)
-        .plan(Plan::TipTolerance { tip_tol_mm, start })
-        .build()?
-        .solve(load, opts)
-}
+use plans::{refine, solve_to_tip_tolerance};
 
 /// The refinement record of a refined solve.
 fn record(s: &Solved) -> &RefinementRecord {

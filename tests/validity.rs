@@ -3,6 +3,8 @@
 //! the coefficients (the paper's element's closed forms, a segment
 //! intersection written here), and their absence where the model holds.
 
+#[path = "common/plans.rs"]
+mod plans;
 use fpc::actuator::RibLayout;
 use fpc::error::StripDimension;
 use fpc::gripper::rules;
@@ -16,25 +18,10 @@ use fpc::validity::{THICKNESS_TO_LENGTH_LIMIT, THICKNESS_TO_WIDTH_LIMIT};
 use fpc::ActuatorParams;
 use fpc::StudyOptions;
 use fpc::{
-    Actuator, Finger, Gripper, GripperParams, InputError, Load, ModelId, Partition, Plan,
-    PlannedFinger, SolveError, SolveOptions, Solved, Warning,
+    Actuator, Finger, Gripper, GripperParams, InputError, Load, ModelId, Partition, SolveError,
+    SolveOptions, Warning,
 };
-
-/// A solve on the automatic partition.
-fn solve_auto(
-    model: ModelId,
-    act: &Actuator,
-    ribs: bool,
-    load: &Load,
-    opts: &SolveOptions,
-) -> Result<Solved, SolveError> {
-    PlannedFinger::builder(act)
-        .model(model)
-        .ribs(ribs)
-        .plan(Plan::Auto)
-        .build()?
-        .solve(load, opts)
-}
+use plans::solve_auto;
 
 fn kinds(w: &[Warning]) -> Vec<&'static str> {
     w.iter()

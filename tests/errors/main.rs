@@ -10,6 +10,9 @@
 //! field the load and guess errors of `Finger::solve` name in
 //! tests/finger/input.rs; these modules cover the rest, one per subject.
 
+#[path = "../common/plans.rs"]
+mod plans;
+use plans::solve_to_tip_tolerance;
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_3};
 use std::fmt::{Debug, Display};
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -21,7 +24,7 @@ use fpc::plan::MAX_REFINED_ELEMENTS;
 use fpc::studies::study7_curvature;
 use fpc::{
     Actuator, ActuatorParams, Coefficients, Finger, Gripper, GripperParams, InputError, Load,
-    ModelId, PalmSpec, Partition, Plan, PlannedFinger, Solution, SolveError, SolveOptions, Solved,
+    ModelId, PalmSpec, Partition, Plan, PlannedFinger, Solution, SolveError, SolveOptions,
     StudyOptions, Termination, Warning,
 };
 

@@ -2,24 +2,6 @@
 
 use super::*;
 
-/// `load` solved to `tip_tol_mm` through the front door.
-fn solve_to_tip_tolerance(
-    model: ModelId,
-    act: &Actuator,
-    ribs: bool,
-    load: &Load,
-    tip_tol_mm: f64,
-    start: Option<usize>,
-    opts: &SolveOptions,
-) -> Result<Solved, SolveError> {
-    PlannedFinger::builder(act)
-        .model(model)
-        .ribs(ribs)
-        .plan(Plan::TipTolerance { tip_tol_mm, start })
-        .build()?
-        .solve(load, opts)
-}
-
 /// The plan's bounds are checked when the finger is built, before any
 /// solve.
 #[test]
