@@ -311,8 +311,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if let Some(m) = d.best.worst_margin() {
         writeln!(
             w,
-            "worst margin   {:+.4} ({}: {})",
-            m.margin, m.requirement, m.detail
+            "worst margin   {} ({}: {})",
+            signed(m.margin),
+            m.requirement,
+            m.detail
         )?;
     }
     writeln!(
@@ -322,8 +324,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for (m, s) in d.best.margins.iter().zip(&d.sensitivities) {
         writeln!(
             w,
-            "  {:+.4}  {:<44} [{:+.3e}, {:+.3e}, {:+.3e}]  {}",
-            m.margin, m.requirement, s.gradient[0], s.gradient[1], s.gradient[2], m.detail
+            "  {}  {:<44} [{:+.3e}, {:+.3e}, {:+.3e}]  {}",
+            signed(m.margin),
+            m.requirement,
+            s.gradient[0],
+            s.gradient[1],
+            s.gradient[2],
+            m.detail
         )?;
     }
     for s in report.scenes {
@@ -348,4 +355,32 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         d.evaluations, d.starts
     )?;
     Ok(())
+}
+
+/// A margin with its sign, never `-0.0000`: a margin too small for four
+/// decimals keeps its magnitude in scientific notation (a margin of
+/// -3e-6 is an unmet requirement, and says so), zero is `+0.0000`.
+fn signed(x: f64) -> String {
+    if x == 0.0 {
+        "+0.0000".into()
+    } else if x.abs() < 5e-5 {
+        format!("{x:+.2e}")
+    } else {
+        format!("{x:+.4}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::signed;
+
+    #[test]
+    fn margins_never_print_as_negative_zero() {
+        assert_eq!(signed(-3e-6), "-3.00e-6");
+        assert_eq!(signed(2e-7), "+2.00e-7");
+        assert_eq!(signed(0.0), "+0.0000");
+        assert_eq!(signed(-0.0), "+0.0000");
+        assert_eq!(signed(-0.12345), "-0.1235");
+        assert_eq!(signed(4.1), "+4.1000");
+    }
 }
