@@ -518,3 +518,16 @@ fn custom_partition() {
     // Rounding within the tolerance is accepted.
     assert!(Partition::custom(vec![110.0 / 3.0; 3], 110.0).is_ok());
 }
+
+/// Lengths beyond any actuator overflow the solver's scales: rejected by
+/// the actuator, naming the field, not later as an internal option.
+#[test]
+fn dimensions_beyond_any_actuator_are_rejected() {
+    let e = rejected(|p| p.geometry.lx = 1e308);
+    assert_eq!(e.field(), "actuator.geometry.lx", "{e}");
+    assert!(e.to_string().contains("must be at most 100000 mm"), "{e}");
+    let e = rejected(|p| p.geometry.ly = 2e5);
+    assert_eq!(e.field(), "actuator.geometry.ly", "{e}");
+    let e = rejected(|p| p.geometry.h = f64::MAX);
+    assert_eq!(e.field(), "actuator.geometry.h", "{e}");
+}

@@ -381,14 +381,28 @@ impl Default for Actuator {
     }
 }
 
+/// The largest length, width or thickness of an actuator (mm).
+pub const MAX_DIMENSION_MM: f64 = 1e5;
+
 impl Actuator {
     /// Validates `params`. Non-fatal findings (a prestrain outside the
     /// fitted range, a laminate too thick for laminate theory, ...) do not
     /// fail; they are kept and returned by [`Actuator::warnings`].
     pub fn new(params: ActuatorParams) -> Result<Actuator, InputError> {
         let g = &params.geometry;
-        positive("actuator.geometry.lx", g.lx)?;
-        positive("actuator.geometry.ly", g.ly)?;
+        for (field, v) in [
+            ("actuator.geometry.lx", g.lx),
+            ("actuator.geometry.ly", g.ly),
+            ("actuator.geometry.h", g.h),
+        ] {
+            positive(field, v)?;
+            require(
+                v <= MAX_DIMENSION_MM,
+                field,
+                v,
+                format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the solver's scales overflow; no FPC actuator is 100 m long)"),
+            )?;
+        }
         finite("actuator.geometry.lc", g.lc)?;
         require(
             g.lc >= 0.0,
@@ -396,7 +410,6 @@ impl Actuator {
             g.lc,
             "must not be negative".into(),
         )?;
-        positive("actuator.geometry.h", g.h)?;
         positive("actuator.geometry.h1", g.h1)?;
         positive("actuator.geometry.h2", g.h2)?;
         positive("actuator.geometry.h3", g.h3)?;
