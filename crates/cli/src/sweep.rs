@@ -40,7 +40,7 @@ pub struct Args {
     /// `<stem>-sweep` in the current directory.
     #[arg(long)]
     out: Option<PathBuf>,
-    /// Worker threads (default: every core).
+    /// Worker threads, 1 to 1024 (default: every core).
     #[arg(long)]
     threads: Option<usize>,
 }
@@ -385,7 +385,17 @@ struct AxisJson<'a> {
     values: &'a [f64],
 }
 
+/// The most worker threads of a sweep.
+const MAX_THREADS: usize = 1024;
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
+    if let Some(t) = args.threads {
+        if !(1..=MAX_THREADS).contains(&t) {
+            return Err(crate::status::rejected(format!(
+                "--threads = {t}: must lie in [1, {MAX_THREADS}]"
+            )));
+        }
+    }
     let axes: Vec<Axis> = args
         .vary
         .iter()
