@@ -33,8 +33,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use fpc::finger::{Solver, Strategy, TargetProblem};
 use fpc::model::ccm::Ccm;
-use fpc::model::ElementModel;
 use fpc::model::EnergyScalars;
+use fpc::model::{Energy as _, Kinematics as _, ModelCore as _};
 use fpc::{Actuator, Coefficients, Finger, Load, Partition, Solution, SolveOptions};
 use fpc_newton::{Energy, Gradient, Hessian};
 

@@ -6,7 +6,8 @@
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
 use crate::model::{
-    ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector,
+    Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore, PrestressedParams,
+    Vector,
 };
 
 /// The blocks of one element, each in the parameter struct of the model's
@@ -44,12 +45,19 @@ pub(crate) fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
 
 /// An element ready for evaluation with model `M`.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Element<M: ElementModel> {
+pub(crate) struct Element<M: ModelCore> {
     length: f64,
     moments: M::Moments,
 }
 
-impl<M: ElementModel> Element<M> {
+impl<M: ModelCore> Element<M> {
+    /// Undeformed length `L_i`.
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+}
+
+impl<M: Energy> Element<M> {
     /// Folds an element's blocks into moments.
     pub fn from_blocks(b: &ElementBlocks) -> Element<M> {
         let mut moments = M::zero_moments();
@@ -66,11 +74,6 @@ impl<M: ElementModel> Element<M> {
             length: b.length,
             moments,
         }
-    }
-
-    /// Undeformed length `L_i`.
-    pub fn length(&self) -> f64 {
-        self.length
     }
 
     /// The element's moments, summed over its blocks.
@@ -104,7 +107,9 @@ impl<M: ElementModel> Element<M> {
     ) -> Option<(f64, M::Coeffs, M::Upper)> {
         M::family_hessian(&self.moments, family, k)
     }
+}
 
+impl<M: Kinematics> Element<M> {
     /// End point and slope `[Xe, Ze, eta]` in the element frame.
     #[inline]
     pub fn end(&self, k: &M::Coeffs) -> [f64; 3] {
@@ -142,7 +147,7 @@ impl<M: ElementModel> Element<M> {
 
 /// Element `i`'s raw unknowns from the flat unknowns `k` of a finger.
 #[inline]
-pub(crate) fn coeffs<M: ElementModel>(k: &[f64], i: usize) -> M::Coeffs {
+pub(crate) fn coeffs<M: ModelCore>(k: &[f64], i: usize) -> M::Coeffs {
     let n = M::Coeffs::LEN;
     M::Coeffs::from_fn(|j| k[n * i + j])
 }
@@ -150,7 +155,7 @@ pub(crate) fn coeffs<M: ElementModel>(k: &[f64], i: usize) -> M::Coeffs {
 /// Each element's frame at its root: its position and (cos, sin) of its
 /// angle, for the raw unknowns `k` of the chain of `elements` (chained by
 /// rotation, no trigonometric calls).
-pub(crate) fn frames<M: ElementModel>(
+pub(crate) fn frames<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
 ) -> Vec<([f64; 2], [f64; 2])> {

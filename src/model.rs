@@ -44,15 +44,18 @@ impl<const N: usize> Vector for [f64; N] {
     }
 }
 
-/// An element model generated from an energy spec.
-///
-/// Kinematic outputs come in the runtime's order whatever the spec's:
-/// `end` is `[Xe, Ze, eta]` (the element's end in its own frame and the end
-/// tangent's angle), `frame` is `[Xe, Ze, dx, dz]` (the end and an
-/// unnormalised end tangent), `midplane` `[X, Z]` and `tangent` `[dx, dz]`
-/// at a local coordinate `x`. Hessians are upper triangles, row by row
-/// ([`upper_index`]).
-pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
+/// An element model generated from an energy spec: its [`ModelCore`] (the
+/// unknowns and names), its [`Energy`], its [`Kinematics`] and the
+/// [`Tangents`] the sensitivities use. The generated models implement the
+/// four; a caller bounds on the ones it uses (the validity checks need
+/// only [`Kinematics`]), or on this trait for all of them.
+pub trait ElementModel: Energy + Kinematics + Tangents {}
+
+impl<M: Energy + Kinematics + Tangents> ElementModel for M {}
+
+/// What every part of a model shares: the unknowns, their scaling, the
+/// names. Hessians are upper triangles, row by row ([`upper_index`]).
+pub trait ModelCore: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
     /// The element's unknowns.
     type Coeffs: Vector;
     /// The upper triangle of a Hessian over the unknowns.
@@ -70,7 +73,7 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     const UNKNOWNS: &'static [&'static str];
     /// Positions of the unknowns that couple only within their element.
     const LOCAL: &'static [usize];
-    /// The integral families, in [`ElementModel::family_hessian`]'s order.
+    /// The integral families, in [`Energy::family_hessian`]'s order.
     const FAMILIES: &'static [&'static str];
     /// The degree in `x` of the mid-plane (the generator checks that the
     /// spec's `point midplane(x)` is a polynomial in `x`).
@@ -79,6 +82,11 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     /// The raw value of one unit of each scaled unknown (`raw = scaled * unscale`)
     /// for an element of length `length`.
     fn unscale(length: f64) -> Self::Coeffs;
+}
+
+/// The element's energy: its moments built box by box, the potential with
+/// its gradient and Hessian, the families alone, the prestressed law.
+pub trait Energy: ModelCore {
     /// Moments of an element without blocks.
     fn zero_moments() -> Self::Moments;
     /// Adds a linear lamina's box.
@@ -103,6 +111,16 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
         family: usize,
         k: &Self::Coeffs,
     ) -> Option<(f64, Self::Coeffs, Self::Upper)>;
+    /// The prestressed law: `[psi, psi', psi'']` at strain `s`.
+    fn psi(s: f64, p: &PsiParams) -> [f64; 3];
+}
+
+/// The element's kinematics, in the runtime's order whatever the spec's:
+/// `end` is `[Xe, Ze, eta]` (the element's end in its own frame and the end
+/// tangent's angle), `frame` is `[Xe, Ze, dx, dz]` (the end and an
+/// unnormalised end tangent), `midplane` `[X, Z]` and `tangent` `[dx, dz]`
+/// at a local coordinate `x`.
+pub trait Kinematics: ModelCore {
     /// `[Xe, Ze, eta]`.
     fn end(k: &Self::Coeffs, length: f64) -> [f64; 3];
     /// `[Xe, Ze, eta]` and their gradients.
@@ -123,7 +141,7 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     fn midplane(k: &Self::Coeffs, x: f64) -> [f64; 2];
     /// The mid-plane as a polynomial curve in local `x`: `out[j] = [X_j,
     /// Z_j]`, the coefficients of `x^j`, so that `midplane(k, x) = sum_j
-    /// out[j] x^j`. Fills the first [`ElementModel::MIDPLANE_DEGREE`]` + 1`
+    /// out[j] x^j`. Fills the first [`ModelCore::MIDPLANE_DEGREE`]` + 1`
     /// entries of `out` (all of a shorter slice).
     fn midplane_coefficients(k: &Self::Coeffs, out: &mut [[f64; 2]]);
     /// The mid-plane's tangent `(dX/dx, dZ/dx)` at local `x`.
@@ -133,15 +151,17 @@ pub trait ElementModel: Copy + Debug + Default + PartialEq + Send + Sync + 'stat
     /// Signed curvature of the mid-plane at local `x` (1/mm; negative curls
     /// towards -Z).
     fn curvature(k: &Self::Coeffs, x: f64) -> f64;
-    /// The prestressed law: `[psi, psi', psi'']` at strain `s`.
-    fn psi(s: f64, p: &PsiParams) -> [f64; 3];
+}
 
+/// The tangents of the energy along the actuator's and the load's
+/// parameters (the exact sensitivities' right-hand sides).
+pub trait Tangents: Energy {
     /// For each direction `dp[d]` of a linear box's parameters, adds the
     /// derivative of the box's moments along it to `m[d]`:
     /// `m[d] += (d moments / d p) dp[d]`, from one evaluation of the
     /// generated Jacobian (`linear_dmoments`, straight-line code); zero
     /// entries of `dp[d]` cost nothing. A unit `dp` gives one column. The
-    /// energy is linear in the moments, so [`ElementModel::gradient`] at
+    /// energy is linear in the moments, so [`Energy::gradient`] at
     /// moments built this way is the gradient's derivative along `dp`.
     fn add_linear_tangents(m: &mut [Self::Moments], p: &LinearParams, dp: &[LinearParams]);
     /// The same for a prestressed box.

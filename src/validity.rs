@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 use crate::element::{self, Element};
 use crate::error::{StripDimension, Warning};
-use crate::model::ElementModel;
+use crate::model::Kinematics;
 
 /// What the checks read of a finger besides its elements: the laminate's
 /// cross-section.
@@ -110,7 +110,7 @@ pub(crate) fn thickness(h: f64, lx: f64, ly: f64) -> Vec<Warning> {
 /// search, which only runs past about 100 degrees of turning, samples the
 /// mid-plane at H / 16 and compares only blocks of samples whose bounding
 /// boxes come within H of each other.
-pub(crate) fn check<M: ElementModel>(
+pub(crate) fn check<M: Kinematics>(
     elements: &[Element<M>],
     laminate: &Laminate,
     k: &[f64],
@@ -212,7 +212,7 @@ pub(crate) fn check<M: ElementModel>(
 /// [`contact_separation`] apart along it, if closer than the thickness,
 /// with the elements of the two nearest samples. `stretch[i]` is the
 /// largest `|d(X, Z)/dx|` seen in element `i` (sizes its sampling).
-fn self_contact<M: ElementModel>(
+fn self_contact<M: Kinematics>(
     elements: &[Element<M>],
     h: f64,
     k: &[f64],
@@ -244,7 +244,7 @@ fn self_contact<M: ElementModel>(
 
 /// Mid-plane samples from the root, chords at most `spacing` apart where
 /// the sample budget allows, and the index of each element's last sample.
-fn contact_samples<M: ElementModel>(
+fn contact_samples<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
     stretch: &[f64],

@@ -4,7 +4,7 @@
 
 use fpc::actuator::{Isotropic, Material, Orthotropic, Rib, RibLayout};
 use fpc::model::ccm::Ccm;
-use fpc::model::ElementModel;
+use fpc::model::Energy;
 use fpc::model::PsiParams;
 use fpc::{Actuator, ActuatorParams, Finger, InputError, Partition, Warning};
 

@@ -25,10 +25,10 @@
 
 use fpc::model::ccm::Ccm;
 use fpc::model::quad::Quad as QuadModel;
-use fpc::model::ElementModel;
 use fpc::model::{
     upper_index, EnergyScalars, GasParams, LinearParams, PrestressedParams, PsiParams, Vector,
 };
+use fpc::model::{ElementModel, Energy, Kinematics, ModelCore};
 use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition};
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::sync::OnceLock;

@@ -7,11 +7,11 @@
 //! The element energies go through the public finger API
 //! (`Finger::element_hessian`: the whole potential, or one integral family
 //! alone), the end kinematics through the model's trait
-//! (`ElementModel::end_hessian`) at the finger's element length.
+//! (`Kinematics::end_hessian`) at the finger's element length.
 
 use fpc::model::ccm::Ccm;
 use fpc::model::upper_index;
-use fpc::model::ElementModel;
+use fpc::model::{Kinematics, ModelCore};
 use fpc::{Actuator, Coefficients, Finger, Load, ModelId, Partition};
 use serde_json::Value;
 

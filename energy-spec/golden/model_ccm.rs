@@ -2672,7 +2672,7 @@ the physics). Units: mm, N, MPa. Local element coordinates: 0 <= x <= L
 along the element, y across the width, z from the laminate mid-plane.*/
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Ccm;
-impl super::ElementModel for Ccm {
+impl super::ModelCore for Ccm {
     type Coeffs = [f64; 4];
     type Upper = [f64; 10];
     type Moments = Moments;
@@ -2687,6 +2687,8 @@ impl super::ElementModel for Ccm {
     fn unscale(length: f64) -> [f64; 4] {
         unscale(length)
     }
+}
+impl super::Energy for Ccm {
     fn zero_moments() -> Moments {
         Moments::ZERO
     }
@@ -2727,6 +2729,12 @@ impl super::ElementModel for Ccm {
             _ => None,
         }
     }
+    #[inline]
+    fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
+        psi(s, p)
+    }
+}
+impl super::Kinematics for Ccm {
     #[inline]
     fn end(k: &[f64; 4], length: f64) -> [f64; 3] {
         end_value(k, length)
@@ -2775,10 +2783,8 @@ impl super::ElementModel for Ccm {
     fn curvature(k: &[f64; 4], x: f64) -> f64 {
         curvature_value(k, x)[0]
     }
-    #[inline]
-    fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
-        psi(s, p)
-    }
+}
+impl super::Tangents for Ccm {
     fn add_linear_tangents(
         m: &mut [Moments],
         p: &super::LinearParams,

@@ -4656,7 +4656,7 @@ the physics). Units: mm, N, MPa. Local element coordinates: 0 <= x <= L
 along the element, y across the width, z from the laminate mid-plane.*/
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct Quad;
-impl super::ElementModel for Quad {
+impl super::ModelCore for Quad {
     type Coeffs = [f64; 5];
     type Upper = [f64; 15];
     type Moments = Moments;
@@ -4671,6 +4671,8 @@ impl super::ElementModel for Quad {
     fn unscale(length: f64) -> [f64; 5] {
         unscale(length)
     }
+}
+impl super::Energy for Quad {
     fn zero_moments() -> Moments {
         Moments::ZERO
     }
@@ -4711,6 +4713,12 @@ impl super::ElementModel for Quad {
             _ => None,
         }
     }
+    #[inline]
+    fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
+        psi(s, p)
+    }
+}
+impl super::Kinematics for Quad {
     #[inline]
     fn end(k: &[f64; 5], length: f64) -> [f64; 3] {
         end_value(k, length)
@@ -4759,10 +4767,8 @@ impl super::ElementModel for Quad {
     fn curvature(k: &[f64; 5], x: f64) -> f64 {
         curvature_value(k, x)[0]
     }
-    #[inline]
-    fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
-        psi(s, p)
-    }
+}
+impl super::Tangents for Quad {
     fn add_linear_tangents(
         m: &mut [Moments],
         p: &super::LinearParams,

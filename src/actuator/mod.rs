@@ -167,7 +167,7 @@ impl From<Orthotropic> for Material {
 /// `law psi(s)` (for the paper's element,
 /// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 in MPa, a fit of a
 /// uniaxial test; psi'(s) is the axial stress). The law itself, and its
-/// derivatives, are generated from the spec ([`crate::model::ElementModel::psi`]).
+/// derivatives, are generated from the spec ([`crate::model::Energy::psi`]).
 pub type PsiLaw = PsiParams;
 
 impl Default for PsiParams {

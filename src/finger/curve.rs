@@ -2,7 +2,7 @@
 //! (docs/model.md M14), and the affine maps between frames (M10, M15).
 //!
 //! The generator checks that every model's mid-plane is a polynomial in the
-//! element's local `x` (`ElementModel::midplane_coefficients`), so each
+//! element's local `x` (`Kinematics::midplane_coefficients`), so each
 //! element's piece of the finger is `q(x) = sum_j c_j x^j` for `x` in
 //! `[0, L]`, with `c_j` points of the plane. Rotating and translating a
 //! polynomial curve keeps it one: the map applies to the coefficients.

@@ -370,7 +370,7 @@ pub(crate) fn compute<M: ElementModel>(
 /// The right-hand sides `-d(grad Pi)/dp` (scaled) and `dPi/dp` at fixed K
 /// of the actuator parameters among `tangents` (the others are left as
 /// they are). Element by element, each box's moment Jacobian is evaluated
-/// once for all parameters ([`ElementModel::add_linear_tangents`], ...);
+/// once for all parameters ([`Tangents::add_linear_tangents`](crate::model::Tangents::add_linear_tangents), ...);
 /// the moments' derivatives then go through the model's own gradient
 /// kernels, family by family (a family no parameter moves costs nothing).
 #[allow(clippy::too_many_arguments)]

@@ -11,9 +11,9 @@
 //!   `element_block_tangents`); each integral family's energy is linear
 //!   in its moments, so `d(grad Pi)/dp` is the model's own gradient kernel
 //!   evaluated at the moments' derivative, which the generated
-//!   `*_dmoments` kernels add up box by box ([`ElementModel::add_linear_tangents`], ...);
+//!   `*_dmoments` kernels add up box by box ([`crate::model::Tangents::add_linear_tangents`], ...);
 //! - the pressure and `kappa` enter through `kp = kappa P`, which
-//!   multiplies the gas family ([`ElementModel::scalars_tangent`]);
+//!   multiplies the gas family ([`crate::model::Tangents::scalars_tangent`]);
 //! - a tip force `F` enters through `-F . tip`: `d(grad Pi)/dF = -grad tip`.
 //!
 //! A target solve ([`crate::finger::Solver::solve_target`]) adds the load factor

@@ -10,7 +10,7 @@
 
 use fpc::finger::{Solver, Strategy};
 use fpc::model::ccm::Ccm;
-use fpc::model::ElementModel;
+use fpc::model::ModelCore;
 use fpc::{
     Actuator, Coefficients, Finger, Load, ModelId, Partition, Solution, SolveError, SolveOptions,
     Termination,

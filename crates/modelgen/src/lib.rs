@@ -21,7 +21,7 @@
 //!   `x` (its coefficients any expressions of the unknowns), and the model
 //!   gets `midplane_polynomial`, the coefficients of `X(x)` and `Z(x)` in
 //!   ascending powers (`ElementModel::MIDPLANE_DEGREE`,
-//!   `ElementModel::midplane_coefficients`), for contacts computed on the
+//!   `Kinematics::midplane_coefficients`), for contacts computed on the
 //!   continuous mid-plane;
 //! - `law psi(s);`, the prestressed layer's material law (`PsiParams`).
 //!
@@ -410,7 +410,7 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
         pub struct #model;
 
-        impl super::ElementModel for #model {
+        impl super::ModelCore for #model {
             type Coeffs = [f64; #nu];
             type Upper = [f64; #nh];
             type Moments = Moments;
@@ -427,7 +427,9 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             fn unscale(length: f64) -> [f64; #nu] {
                 unscale(#(#scaled_params),*)
             }
+        }
 
+        impl super::Energy for #model {
             fn zero_moments() -> Moments {
                 Moments::ZERO
             }
@@ -460,6 +462,13 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
                 }
             }
 
+            #[inline]
+            fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
+                #law(s, p)
+            }
+        }
+
+        impl super::Kinematics for #model {
             #[inline]
             fn end(k: &[f64; #nu], length: f64) -> [f64; 3] {
                 #end_value
@@ -514,11 +523,9 @@ fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String), ModelGen
             fn curvature(k: &[f64; #nu], x: f64) -> f64 {
                 #curv_v[#c_idx]
             }
+        }
 
-            #[inline]
-            fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
-                #law(s, p)
-            }
+        impl super::Tangents for #model {
 
             #(
                 fn #tangent_add_fns(m: &mut [Moments], p: &super::#params_types, dp: &[super::#params_types]) {
