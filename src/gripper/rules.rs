@@ -84,10 +84,22 @@ impl Invalid {
 impl std::fmt::Display for Invalid {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            &Invalid::NotOpen { size, tip_gap } => write!(
-                f,
-                "the fingers are not open (grasp size {size:.3} mm, tip gap {tip_gap:.3} mm)"
-            ),
+            &Invalid::NotOpen { size, tip_gap } => {
+                // a size or gap below zero is an overlap, said as one (no
+                // negative sizes in the words; the numbers keep their sign
+                // in the data)
+                let size = if size < 0.0 {
+                    format!("the grasp points overlap by {:.3} mm", -size)
+                } else {
+                    format!("grasp size {size:.3} mm")
+                };
+                let gap = if tip_gap < 0.0 {
+                    format!("the tips overlap by {:.3} mm", -tip_gap)
+                } else {
+                    format!("tip gap {tip_gap:.3} mm")
+                };
+                write!(f, "the fingers are not open ({size}, {gap})")
+            }
             &Invalid::NegativeNormal { normal } => {
                 write!(f, "the object would pull on the finger (F = {normal:.4} N)")
             }
@@ -309,6 +321,21 @@ impl serde::Serialize for Invalid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_overlap_is_said_as_one_never_as_a_negative_size() {
+        let text = open_rule(-2.741, -1.5).unwrap().to_string();
+        assert_eq!(
+            text,
+            "the fingers are not open (the grasp points overlap by 2.741 mm, the tips overlap by 1.500 mm)"
+        );
+        assert!(!text.contains('-'), "{text}");
+        let text = open_rule(0.0, 3.0).unwrap().to_string();
+        assert_eq!(
+            text,
+            "the fingers are not open (grasp size 0.000 mm, tip gap 3.000 mm)"
+        );
+    }
 
     #[test]
     fn rules_on_constructed_cases() {
