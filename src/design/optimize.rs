@@ -136,8 +136,21 @@ pub struct Designed {
 pub struct MarginSensitivity {
     /// The requirement.
     pub requirement: String,
-    /// d margin / d (eps0, mounting angle deg, overlap mm).
+    /// d margin / d (eps0, mounting angle deg, overlap mm); serialised
+    /// with the variables' names (`eps0`, `mounting_angle_deg`,
+    /// `overlap_mm`), as design.json names the design.
+    #[serde(serialize_with = "by_variable")]
     pub gradient: [f64; 3],
+}
+
+/// `[eps0, angle, overlap]` as a map keyed by the variables' names.
+fn by_variable<S: serde::Serializer>(g: &[f64; 3], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeMap;
+    let mut m = s.serialize_map(Some(3))?;
+    m.serialize_entry("eps0", &g[0])?;
+    m.serialize_entry("mounting_angle_deg", &g[1])?;
+    m.serialize_entry("overlap_mm", &g[2])?;
+    m.end()
 }
 
 /// A brute-force grid over the varied variables.

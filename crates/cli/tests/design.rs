@@ -54,6 +54,15 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
         v["design"]["varied"],
         serde_json::json!(["mounting_angle_deg"])
     );
+    // each sensitivity names the variable it is taken by, as the design
+    // names its variables
+    for s in v["sensitivities"].as_array().unwrap() {
+        let g = s["gradient"].as_object().expect("a named gradient");
+        let mut names: Vec<&str> = g.keys().map(String::as_str).collect();
+        names.sort_unstable();
+        assert_eq!(names, ["eps0", "mounting_angle_deg", "overlap_mm"], "{s}");
+        assert!(g.values().all(|x| x.as_f64().is_some_and(f64::is_finite)));
+    }
     let scenes = v["scenes"].as_array().unwrap();
     assert_eq!(scenes.len(), 1);
     assert_eq!(scenes[0]["reproduced"], true, "{}", scenes[0]);
