@@ -180,8 +180,7 @@ pub fn interruptible<T: Send + 'static>(
     py: Python<'_>,
     f: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
-    use std::sync::mpsc::{channel, RecvTimeoutError};
-    let (tx, rx) = channel();
+    let (tx, rx) = std::sync::mpsc::channel();
     std::thread::Builder::new()
         .name("fpc-work".into())
         .stack_size(8 << 20)
@@ -189,26 +188,8 @@ pub fn interruptible<T: Send + 'static>(
             let _ = tx.send(guarded(f));
         })
         .map_err(|e| InternalError::new_err(format!("cannot start a worker thread: {e}")))?;
-    let mut rx = rx;
-    loop {
-        let (back, got) = py.detach(move || {
-            let got = rx.recv_timeout(SIGNAL_POLL);
-            (rx, got)
-        });
-        rx = back;
-        match got {
-            Ok(r) => {
-                return r
-                    .map_err(|m| InternalError::new_err(format!("internal error (a bug): {m}")))
-            }
-            Err(RecvTimeoutError::Timeout) => py.check_signals()?,
-            Err(RecvTimeoutError::Disconnected) => {
-                return Err(InternalError::new_err(
-                    "internal error (a bug): the worker thread ended without a result",
-                ))
-            }
-        }
-    }
+    // an interrupted f runs to its end on its own thread
+    wait_polling(py, rx, |_, _| {})
 }
 
 /// Runs `f(cancel)` on a scoped worker thread with the GIL released,
@@ -221,45 +202,58 @@ pub fn cancellable<T: Send>(
     f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
 ) -> PyResult<T> {
     use std::sync::atomic::{AtomicBool, Ordering};
-    use std::sync::mpsc::{channel, RecvTimeoutError};
     let cancel = AtomicBool::new(false);
-    let (tx, rx) = channel();
+    let (tx, rx) = std::sync::mpsc::channel();
     std::thread::scope(|s| {
         let cancel = &cancel;
         s.spawn(move || {
             let _ = tx.send(guarded(|| f(cancel)));
         });
-        let mut rx = rx;
-        loop {
-            let (back, got) = py.detach(move || {
-                let got = rx.recv_timeout(SIGNAL_POLL);
-                (rx, got)
+        wait_polling(py, rx, |py, rx| {
+            cancel.store(true, Ordering::Relaxed);
+            // the scope joins the worker, which stops at its next check
+            py.detach(move || {
+                let _ = rx.recv();
             });
-            rx = back;
-            match got {
-                Ok(r) => {
-                    return r.map_err(|m| {
-                        InternalError::new_err(format!("internal error (a bug): {m}"))
-                    })
-                }
-                Err(RecvTimeoutError::Timeout) => {
-                    if let Err(e) = py.check_signals() {
-                        cancel.store(true, Ordering::Relaxed);
-                        // the scope joins the worker, which stops at its next check
-                        py.detach(move || {
-                            let _ = rx.recv();
-                        });
-                        return Err(e);
-                    }
-                }
-                Err(RecvTimeoutError::Disconnected) => {
-                    return Err(InternalError::new_err(
-                        "internal error (a bug): the worker thread ended without a result",
-                    ))
+        })
+    })
+}
+
+/// Waits for a worker's result on `rx`, re-taking the GIL every
+/// [`SIGNAL_POLL`] to run Python's signal handlers. When one raises
+/// (Ctrl-C), `interrupted` runs with the receiver (to stop or abandon the
+/// worker) and the exception is returned. A panic, or a worker gone
+/// without a result, is `fpc.InternalError`.
+fn wait_polling<T: Send>(
+    py: Python<'_>,
+    mut rx: std::sync::mpsc::Receiver<Result<T, String>>,
+    interrupted: impl FnOnce(Python<'_>, std::sync::mpsc::Receiver<Result<T, String>>),
+) -> PyResult<T> {
+    use std::sync::mpsc::RecvTimeoutError;
+    loop {
+        let (back, got) = py.detach(move || {
+            let got = rx.recv_timeout(SIGNAL_POLL);
+            (rx, got)
+        });
+        rx = back;
+        match got {
+            Ok(r) => {
+                return r
+                    .map_err(|m| InternalError::new_err(format!("internal error (a bug): {m}")))
+            }
+            Err(RecvTimeoutError::Timeout) => {
+                if let Err(e) = py.check_signals() {
+                    interrupted(py, rx);
+                    return Err(e);
                 }
             }
+            Err(RecvTimeoutError::Disconnected) => {
+                return Err(InternalError::new_err(
+                    "internal error (a bug): the worker thread ended without a result",
+                ))
+            }
         }
-    })
+    }
 }
 
 /// `fpc.InputError` unless `value <= max`: a count the caller controls,
