@@ -132,6 +132,19 @@ fn in_flag_terms(e: anyhow::Error) -> anyhow::Error {
     }
 }
 
+/// A warning in the terms the user wrote: the scene's words
+/// ([`fpc::scene::warning_text`]) with a leading key that is one of the
+/// command's flags named as the flag (`--eps0 = 0.8: ...`).
+fn flag_text(w: &fpc::Warning) -> String {
+    let text = fpc::scene::warning_text(w);
+    for (key, flag) in FLAGS {
+        if let Some(rest) = text.strip_prefix(&format!("{key} = ")) {
+            return format!("{flag} = {rest}");
+        }
+    }
+    text
+}
+
 pub fn run(args: &Args) -> anyhow::Result<()> {
     solve_finger(args).map_err(in_flag_terms)
 }
@@ -150,7 +163,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
     // notes on the input first: they hold even when the solve fails
     let input = fpc::finger::input_warnings(model, &act);
     for w in &input {
-        crate::report::warning(&w.to_string());
+        crate::report::warning(&flag_text(w));
     }
     let partition = PartitionKind::parse("partition", &args.partition)?;
     let plan = match (args.tip_tol_mm, args.elements) {

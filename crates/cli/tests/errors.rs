@@ -208,7 +208,7 @@ fn warnings_do_not_fail() {
     let lines: Vec<&str> = stderr.lines().collect();
     assert_eq!(
         lines[0],
-        "fpc: warning: actuator.pemc.eps0 = 0.8: outside [0, 0.6], the range the prestressed law was fitted to"
+        "fpc: warning: --eps0 = 0.8: outside [0, 0.6], the range the prestressed law was fitted to"
     );
     // the coiled finger also leaves the model's limits, each on its own line
     assert!(

@@ -71,7 +71,7 @@ fn a_309_digit_number_is_not_echoed_whole() {
     let out = fpc().args(["finger", "--eps0", &digits]).output().unwrap();
     let stderr = bounded(&out, 1, &digits);
     assert!(
-        stderr.starts_with("fpc: warning: actuator.pemc.eps0 = 1000"),
+        stderr.starts_with("fpc: warning: --eps0 = 1000"),
         "{stderr}"
     );
     assert!(

@@ -85,7 +85,7 @@ fn negative_finite_values_reach_the_library() {
     // eps0 < 0 is outside the fitted law: the library's warning
     let stderr = text(&fpc(&["finger", "--eps0", "-0.1"]).stderr);
     assert!(
-        stderr.contains("fpc: warning: actuator.pemc.eps0 = -0.1: outside [0, 0.6]"),
+        stderr.contains("fpc: warning: --eps0 = -0.1: outside [0, 0.6]"),
         "{stderr}"
     );
     // rejected by the library's rules
