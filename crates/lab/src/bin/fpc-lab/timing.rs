@@ -27,9 +27,9 @@ pub struct Args {
     /// Wall-clock budget per measured case, in milliseconds.
     #[arg(long, default_value_t = 400, allow_hyphen_values = true)]
     budget_ms: u64,
-    /// A built performance peer (a directory holding `driver`, as the
-    /// CasADi peer's build step leaves it): run it and our cold and warm
-    /// cases alternately and print the ratios.
+    /// A built performance peer (a directory holding `driver`, as
+    /// `benches/peer/build_peer.py` leaves it): run it and our cold and
+    /// warm cases alternately and print the ratios.
     #[arg(long, value_name = "DIR")]
     peer: Option<PathBuf>,
     /// Alternating rounds against the peer.
