@@ -34,9 +34,9 @@ pub const PNG_MAX_SIDE: f32 = 16384.0;
 pub enum Format {
     /// The SVG as drawn.
     Svg,
-    /// A raster image at [`PNG_SCALE`] pixels per SVG pixel.
+    /// A raster image, 2 pixels per SVG pixel.
     Png,
-    /// A one-page vector PDF with the bundled font embedded.
+    /// A one-page vector PDF, the bundled font embedded.
     Pdf,
 }
 
