@@ -5,7 +5,8 @@
 //! per object (which `fpc solve` runs to reproduce the claimed grasp; each
 //! is run here through the ordinary scene path and compared), and
 //! `design.svg` (the fingers at rest and holding each object, the lift
-//! curves and the requirements).
+//! curves and the requirements; also or instead `design.png` and
+//! `design.pdf` with `--format`).
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -34,6 +35,8 @@ pub struct Args {
     /// (at most 10000).
     #[arg(long, default_value_t = 2)]
     starts: usize,
+    #[command(flatten)]
+    format: crate::render::formats::FormatArgs,
 }
 
 #[derive(Serialize)]
@@ -263,7 +266,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .map(|r| Scene::from_toml(&r.text).ok().and_then(|s| s.solve().ok()))
         .collect();
     let svg = crate::paper::render::svg(&figure(&req, &d.best, &solved))?;
-    crate::output::write_atomic(&out, "design.svg", svg.as_bytes())?;
+    let figures = args.format.write(&out, "design", &svg)?;
     let b = req.bounds();
     let report = Report {
         feasible: d.feasible,
@@ -351,8 +354,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     writeln!(
         w,
-        "search         {} evaluations from {} starts; wrote design.json, design.svg",
-        d.evaluations, d.starts
+        "search         {} evaluations from {} starts; wrote design.json, {}",
+        d.evaluations,
+        d.starts,
+        figures.join(", ")
     )?;
     Ok(())
 }

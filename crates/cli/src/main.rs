@@ -25,7 +25,7 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// The finger and gripper to build for a set of objects (REQUIREMENTS.toml); writes design.json, scenes, design.svg.
+    /// The finger and gripper to build for a set of objects (REQUIREMENTS.toml); writes design.json, scenes, design.svg (--format: png, pdf).
     Design(design::Args),
     /// Solve one finger of the default actuator (eps0, pressure, tip force, model, N or auto).
     Finger(finger::Args),
@@ -33,9 +33,9 @@ enum Command {
     Kernels(kernels::Args),
     /// List the element models: name, spec file, unknowns.
     Models(models::Args),
-    /// Solve the finger or gripper grasp of a TOML scene file; write solution.json, shape.csv, shape.svg.
+    /// Solve the finger or gripper grasp of a TOML scene file; write solution.json, shape.csv, shape.svg (--format: png, pdf).
     Solve(solve::Args),
-    /// Run the paper's eight studies; write CSV tables, SVG figures, summary.json and index.html.
+    /// Run the paper's eight studies; write CSV tables, SVG figures (also PNG, PDF with --format), summary.json and index.html.
     Paper(paper::Args),
     /// A grid over scene parameters, solved in parallel with warm starts; writes sweep.csv and sweep.json.
     Sweep(sweep::Args),

@@ -1,7 +1,7 @@
 //! `fpc paper`: run every study of the library's registry
 //! ([`fpc::studies::STUDIES`], docs/model.md section 6) with the default actuator and
 //! write, into one directory, each study's tables as CSV and its figure as
-//! SVG, `summary.json` with the key numbers and validity counts, and
+//! SVG (and PNG or PDF with `--format`), `summary.json` with the key numbers and validity counts, and
 //! `index.html` showing every figure.
 //!
 //! Nothing here knows a particular study: each one hands back its outputs
@@ -28,6 +28,7 @@ use serde_json::{json, Map, Value};
 
 use crate::output::write_atomic;
 use crate::render::csv;
+use crate::render::formats::FormatArgs;
 
 /// Flags of `fpc paper`.
 #[derive(clap::Args, Debug)]
@@ -61,6 +62,10 @@ pub struct Args {
     /// (every other text scales with it; default: as drawn).
     #[arg(long, value_name = "POINTS", allow_hyphen_values = true)]
     font_pt: Option<f64>,
+    // the SVG of every figure is written whatever is asked: index.html
+    // shows it
+    #[command(flatten)]
+    format: crate::render::formats::FormatArgs,
 }
 
 /// The actuator, model and element count the studies run on, and a
@@ -129,6 +134,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     let mut out = Output::new(args.out.clone(), opts, args.coarse, source);
     out.style = style;
+    out.formats = args.format.with_svg();
 
     // progress on a terminal only
     let terminal = crate::report::is_terminal();
@@ -204,6 +210,9 @@ struct Output {
     coarse: bool,
     /// Print sizing of the figures.
     style: render::Style,
+    /// The formats every figure is written in (svg among them, for
+    /// index.html).
+    formats: FormatArgs,
     /// Where the actuator came from (`default ...` or `scene PATH`).
     source: String,
     provenance: crate::provenance::Provenance,
@@ -230,6 +239,7 @@ impl Output {
             opts,
             coarse,
             style: render::Style::default(),
+            formats: FormatArgs::default(),
             source,
             provenance: crate::provenance::Provenance::now(),
             files: Vec::new(),
@@ -250,19 +260,33 @@ impl Output {
         Ok(())
     }
 
-    /// Writes a study's figure; a figure that cannot be drawn is replaced
-    /// by a placeholder and recorded as a failure.
+    /// Writes one figure from its SVG in every format asked for.
+    fn write_figure(&mut self, stem: &str, svg: &str) -> anyhow::Result<()> {
+        for (name, bytes) in self.formats.render(stem, svg)? {
+            self.write(&name, &bytes)?;
+        }
+        Ok(())
+    }
+
+    /// Writes a study's figure; a figure that cannot be drawn or rendered
+    /// is replaced by a placeholder and recorded as a failure.
     fn figure(&mut self, info: &StudyInfo, svg: anyhow::Result<String>) -> anyhow::Result<()> {
-        let name = format!("{}.svg", info.stem());
-        match svg {
-            Ok(text) => self.write(&name, text.as_bytes()),
+        let stem = info.stem();
+        let files = svg.and_then(|text| Ok(self.formats.render(&stem, &text)?));
+        match files {
+            Ok(files) => {
+                for (name, bytes) in files {
+                    self.write(&name, &bytes)?;
+                }
+                Ok(())
+            }
             Err(e) => {
                 let n = info.number;
                 let e = e.context(format!("cannot draw the figure of study {n}"));
                 let text =
                     render::placeholder(&format!("Study {n}: {}", info.title), &format!("{e:#}"));
                 self.failed.push((n, e));
-                self.write(&name, text.as_bytes())
+                self.write_figure(&stem, &text)
             }
         }
     }
@@ -304,7 +328,7 @@ impl Output {
                     &format!("Study {n}: {}", info.title),
                     &format!("failed: {msg}"),
                 );
-                self.write(&format!("{}.svg", info.stem()), svg.as_bytes())?;
+                self.write_figure(&info.stem(), &svg)?;
                 self.failed.push((n, anyhow::Error::new(e)));
                 (false, empty)
             }
@@ -404,6 +428,7 @@ impl Output {
                             "status": self.status(sec),
                             "seconds": sec.seconds,
                             "figure": format!("{}.svg", sec.info.stem()),
+                            "figures": self.formats.names(&sec.info.stem()),
                             "tables": sec.csvs,
                         })
                     })

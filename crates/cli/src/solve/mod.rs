@@ -1,6 +1,7 @@
 //! `fpc solve SCENE.toml`: solve the finger, or the gripper grasp, that a
 //! scene file describes, and write `solution.json`, `shape.csv` and
-//! `shape.svg` into the output directory (default `./<stem>-out/`).
+//! `shape.svg` (or the `--format`s asked for) into the output directory
+//! (default `./<stem>-out/`).
 
 use std::fs;
 use std::io::{Read as _, Write as _};
@@ -28,6 +29,8 @@ pub struct Args {
     /// its extension.
     #[arg(long)]
     out: Option<PathBuf>,
+    #[command(flatten)]
+    format: crate::render::formats::FormatArgs,
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -60,18 +63,25 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let json = serde_json::to_string_pretty(&solution_file(&stem, scene.file(), &solved))? + "\n";
     let csv = shape_csv(&solved)?;
     let svg = crate::render::svg::svg(&shape_figure(&stem, &solved))?;
+    let figures = args.format.render("shape", &svg)?;
     crate::output::prepare_dir(&out)?;
     write_atomic(&out, "solution.json", json.as_bytes())?;
     write_atomic(&out, "shape.csv", &csv)?;
-    write_atomic(&out, "shape.svg", svg.as_bytes())?;
+    let mut written = vec!["solution.json".to_string(), "shape.csv".to_string()];
+    for (name, bytes) in figures {
+        write_atomic(&out, &name, &bytes)?;
+        written.push(name);
+    }
 
     let mut stdout = crate::output::stdout();
     summary(&mut stdout, &stem, scene.file(), &solved)?;
     writeln!(
         stdout,
         "wrote          {}",
-        ["solution.json", "shape.csv", "shape.svg"]
+        written
+            .iter()
             .map(|f| out.join(f).display().to_string())
+            .collect::<Vec<_>>()
             .join(", ")
     )?;
     Ok(())

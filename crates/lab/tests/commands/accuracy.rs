@@ -96,12 +96,19 @@ fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
 #[test]
 fn accuracy_json_prints_the_study() {
     let dir = scratch("json");
-    let stdout = quick(&dir, &["--json"]);
+    // the figure as PNG and PDF only (the rendering itself: fpc-cli's
+    // tests/figures.rs)
+    let stdout = quick(&dir, &["--json", "--format", "png,pdf"]);
     let printed: Value = serde_json::from_str(&stdout).unwrap();
     let written: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("accuracy.json")).unwrap()).unwrap();
     assert_eq!(printed, written);
     assert_eq!(printed["n8"]["label"], "ccm/equal/8x1");
+    let png = std::fs::read(dir.join("accuracy.png")).unwrap();
+    assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+    let pdf = std::fs::read(dir.join("accuracy.pdf")).unwrap();
+    assert!(pdf.starts_with(b"%PDF-"));
+    assert!(!dir.join("accuracy.svg").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -110,6 +117,9 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
     let out = lab(&["accuracy", "--budget-ms", "-1"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains("--budget-ms"));
+    let out = lab(&["accuracy", "--format", "tiff"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("'tiff'"));
 
     // a file is not an output directory: rejected before any work
     let dir = scratch("file");

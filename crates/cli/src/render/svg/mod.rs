@@ -14,6 +14,7 @@ use plotters::prelude::*;
 use super::html::escape;
 
 mod clip;
+mod fine;
 mod legend;
 mod log_axes;
 #[cfg(test)]
@@ -21,6 +22,7 @@ mod tests;
 mod ticks;
 
 use clip::*;
+use fine::SUB;
 use legend::*;
 use log_axes::*;
 use ticks::*;
@@ -158,6 +160,8 @@ pub fn svg_styled(fig: &Figure, style: &Style) -> anyhow::Result<String> {
     );
     let k = style.font_scale(fig.size[0]);
     let mut buf = String::new();
+    // each panel's data, drawn finer than the layout (fine.rs)
+    let mut layers = Vec::new();
     {
         let root =
             SVGBackend::with_string(&mut buf, (fig.size[0], fig.size[1])).into_drawing_area();
@@ -167,11 +171,12 @@ pub fn svg_styled(fig: &Figure, style: &Style) -> anyhow::Result<String> {
         for (row, area) in fig.rows.iter().zip(&rows) {
             let cells = area.split_evenly((1, row.len()));
             for (p, cell) in row.iter().zip(&cells) {
-                draw(p, cell, k)?;
+                draw(p, cell, k, &mut layers)?;
             }
         }
         root.present()?;
     }
+    buf = fine::put_layers(&buf, &layers)?;
     if let Some(w) = style.width_in {
         let h = w * f64::from(fig.size[1]) / f64::from(fig.size[0].max(1));
         let from = format!("<svg width=\"{}\" height=\"{}\"", fig.size[0], fig.size[1]);
@@ -348,8 +353,9 @@ fn legend_entries(p: &Panel, top: Option<f64>) -> Vec<String> {
     entries
 }
 
-/// Draws one panel into `area`.
-fn draw(p: &Panel, area: &Area, k: f64) -> anyhow::Result<()> {
+/// Draws one panel into `area`; its data goes to a layer of its own,
+/// pushed onto `layers` ([`fine`]).
+fn draw(p: &Panel, area: &Area, k: f64, layers: &mut Vec<String>) -> anyhow::Result<()> {
     // label areas grow with the fonts they hold
     let grown = |px: f64| (px * k.max(0.5)).round() as u32;
     let (x_labels, y_labels) = (grown(42.0), grown(62.0));
@@ -495,80 +501,30 @@ fn draw(p: &Panel, area: &Area, k: f64) -> anyhow::Result<()> {
     }
     mesh.draw()?;
     draw_log_minor_lines(&mut chart, p, (x0, x1), (y0, y1))?;
-    let mut legend: Vec<&str> = Vec::new();
-    for (i, b) in p.bands.iter().enumerate() {
-        let color = color_of(&b.color);
-        let (a, z) = (b.from.max(x0), b.to.min(x1));
-        if z > a {
-            let anno = chart.draw_series(std::iter::once(Rectangle::new(
-                [(a, y0), (z, y1)],
-                color.mix(0.18).filled(),
-            )))?;
-            if let (0, Some(l)) = (i, &p.band_label) {
-                anno.label(l.as_str()).legend(move |(x, y)| {
-                    Rectangle::new([(x, y - 5), (x + 18, y + 5)], color.mix(0.3).filled())
-                });
-            }
-        }
+    // the data, SUB times finer than the layout, over the same plotting
+    // area; the legend entries stay on the layout's chart
+    let (px, py) = chart.plotting_area().get_pixel_range();
+    let whole = |v: i32| u32::try_from(v).unwrap_or(0);
+    let mut layer = String::new();
+    {
+        let fine_root =
+            SVGBackend::with_string(&mut layer, (SUB * whole(px.end), SUB * whole(py.end)))
+                .into_drawing_area();
+        let mut fine = ChartBuilder::on(&fine_root)
+            .margin_left(SUB * whole(px.start))
+            .margin_top(SUB * whole(py.start))
+            .margin_right(SUB - 1)
+            .margin_bottom(SUB - 1)
+            .build_cartesian_2d(x0..x1, y0..y1)?;
+        draw_data(&mut fine, &mut chart, p, &shown, top, (x0, x1, y0, y1))?;
+        fine_root.present()?;
     }
-    for line in p.hlines.iter().filter(|l| top.is_none_or(|t| l.at <= t)) {
-        let anno = chart.draw_series(DashedLineSeries::new(
-            [(x0, line.at), (x1, line.at)],
-            6,
-            4,
-            GREY.stroke_width(1),
-        ))?;
-        if !line.label.is_empty() {
-            anno.label(line.label.as_str())
-                .legend(|(x, y)| legend_mark(x, y, GREY, SeriesKind::Dashed));
-        }
-    }
-    for line in &p.vlines {
-        let anno = chart.draw_series(DashedLineSeries::new(
-            [(line.at, y0), (line.at, y1)],
-            3,
-            3,
-            GREY.stroke_width(1),
-        ))?;
-        if !line.label.is_empty() {
-            anno.label(line.label.as_str()).legend(|(x, y)| {
-                PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], GREY.stroke_width(1))
-            });
-        }
-    }
-    let order: Vec<(&Series, &Shown)> = drawing_order(p)
-        .into_iter()
-        .map(|i| (&p.series[i], &shown[i]))
-        .collect();
-    for &(s, sh) in &order {
-        let anno = draw_series(&mut chart, s, sh)?;
-        // one legend entry per label (the bent-backwards markers of
-        // several curves share one)
-        if let Some(l) = s.label.as_deref().filter(|l| !legend.contains(l)) {
-            legend.push(l);
-            let (c, kind) = (color_of(&s.color), s.kind);
-            anno.label(l)
-                .legend(move |(x, y)| legend_mark(x, y, c, kind));
-        }
-    }
-    // where a curve leaves a clipped axis, and points above it: a triangle
-    // on the top edge
-    if let Some(t) = top {
-        for &(s, sh) in &order {
-            let c = color_of(&s.color);
-            let style = match s.kind {
-                SeriesKind::Hollow | SeriesKind::BentBackwards | SeriesKind::Invalid => {
-                    c.stroke_width(2)
-                }
-                _ => c.filled(),
-            };
-            chart.draw_series(
-                sh.off
-                    .iter()
-                    .map(|&x| TriangleMarker::new((x, t), 6, style)),
-            )?;
-        }
-    }
+    layers.push(fine::layer_body(&layer)?);
+    body.draw(&Text::new(
+        fine::marker(layers.len() - 1),
+        (0, 0),
+        ("sans-serif", 1.0).into_font(),
+    ))?;
     if !p.notes.is_empty() {
         let style = font.color(&BLACK);
         chart.draw_series(p.notes.iter().enumerate().map(|(i, n)| {
@@ -584,6 +540,106 @@ fn draw(p: &Panel, area: &Area, k: f64) -> anyhow::Result<()> {
             .background_style(WHITE.mix(0.85))
             .border_style(RGBColor(190, 190, 190))
             .draw()?;
+    }
+    Ok(())
+}
+
+/// A legend entry on the layout's chart for data drawn elsewhere: an
+/// empty series to label.
+fn entry<'a, 'b, 'c>(
+    chart: &'c mut Chart<'a, 'b>,
+) -> anyhow::Result<&'c mut plotters::chart::SeriesAnno<'a, SVGBackend<'b>>> {
+    Ok(chart.draw_series(std::iter::empty::<EmptyElement<(f64, f64), SVGBackend<'b>>>())?)
+}
+
+/// Draws a panel's data (bands, reference lines, series, clip markers)
+/// into `fine`, a chart [`SUB`] times finer than the layout's `chart`,
+/// and their legend entries into `chart`.
+fn draw_data<'a, 'b: 'a>(
+    fine: &mut Chart,
+    chart: &mut Chart<'a, 'b>,
+    p: &Panel,
+    shown: &[Shown],
+    top: Option<f64>,
+    (x0, x1, y0, y1): (f64, f64, f64, f64),
+) -> anyhow::Result<()> {
+    let sub = SUB as i32;
+    let mut legend: Vec<&str> = Vec::new();
+    for (i, b) in p.bands.iter().enumerate() {
+        let color = color_of(&b.color);
+        let (a, z) = (b.from.max(x0), b.to.min(x1));
+        if z > a {
+            fine.draw_series(std::iter::once(Rectangle::new(
+                [(a, y0), (z, y1)],
+                color.mix(0.18).filled(),
+            )))?;
+            if let (0, Some(l)) = (i, &p.band_label) {
+                entry(chart)?.label(l.as_str()).legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 18, y + 5)], color.mix(0.3).filled())
+                });
+            }
+        }
+    }
+    let thin = GREY.stroke_width(SUB);
+    for line in p.hlines.iter().filter(|l| top.is_none_or(|t| l.at <= t)) {
+        fine.draw_series(DashedLineSeries::new(
+            [(x0, line.at), (x1, line.at)],
+            6 * SUB,
+            4 * SUB,
+            thin,
+        ))?;
+        if !line.label.is_empty() {
+            entry(chart)?
+                .label(line.label.as_str())
+                .legend(|(x, y)| legend_mark(x, y, GREY, SeriesKind::Dashed));
+        }
+    }
+    for line in &p.vlines {
+        fine.draw_series(DashedLineSeries::new(
+            [(line.at, y0), (line.at, y1)],
+            3 * SUB,
+            3 * SUB,
+            thin,
+        ))?;
+        if !line.label.is_empty() {
+            entry(chart)?.label(line.label.as_str()).legend(|(x, y)| {
+                PathElement::new(vec![(x + 9, y - 6), (x + 9, y + 6)], GREY.stroke_width(1))
+            });
+        }
+    }
+    let order: Vec<(&Series, &Shown)> = drawing_order(p)
+        .into_iter()
+        .map(|i| (&p.series[i], &shown[i]))
+        .collect();
+    for &(s, sh) in &order {
+        draw_series(fine, s, sh)?;
+        // one legend entry per label (the bent-backwards markers of
+        // several curves share one)
+        if let Some(l) = s.label.as_deref().filter(|l| !legend.contains(l)) {
+            legend.push(l);
+            let (c, kind) = (color_of(&s.color), s.kind);
+            entry(chart)?
+                .label(l)
+                .legend(move |(x, y)| legend_mark(x, y, c, kind));
+        }
+    }
+    // where a curve leaves a clipped axis, and points above it: a triangle
+    // on the top edge
+    if let Some(t) = top {
+        for &(s, sh) in &order {
+            let c = color_of(&s.color);
+            let style = match s.kind {
+                SeriesKind::Hollow | SeriesKind::BentBackwards | SeriesKind::Invalid => {
+                    c.stroke_width(2 * SUB)
+                }
+                _ => c.filled(),
+            };
+            fine.draw_series(
+                sh.off
+                    .iter()
+                    .map(|&x| TriangleMarker::new((x, t), 6 * sub, style)),
+            )?;
+        }
     }
     Ok(())
 }
@@ -666,43 +722,45 @@ fn draw_series<'a, 'b, 'c>(
     shown: &Shown,
 ) -> anyhow::Result<&'c mut plotters::chart::SeriesAnno<'a, SVGBackend<'b>>> {
     let c = color_of(&s.color);
+    // pens and markers in the fine layer's units
+    let (w1, w2, r) = (SUB, 2 * SUB, |px: u32| px * SUB);
     let runs = shown.runs.iter().filter(|r| !r.is_empty()).cloned();
     let marks = shown.marks.iter().copied();
     Ok(match s.kind {
         SeriesKind::Line => {
-            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(2))))?
+            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(w2))))?
         }
-        SeriesKind::Dashed => chart.draw_series(
-            runs.map(|r| plotters::element::DashedPathElement::new(r, 5, 5, c.stroke_width(2))),
-        )?,
+        SeriesKind::Dashed => chart.draw_series(runs.map(|r| {
+            plotters::element::DashedPathElement::new(r, 5 * SUB, 5 * SUB, c.stroke_width(w2))
+        }))?,
         SeriesKind::LinePoints => {
-            chart.draw_series(marks.map(|p| Circle::new(p, 3, c.filled())))?;
-            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(2))))?
+            chart.draw_series(marks.map(|p| Circle::new(p, r(3), c.filled())))?;
+            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(w2))))?
         }
-        SeriesKind::Points => chart.draw_series(marks.map(|p| Circle::new(p, 3, c.filled())))?,
+        SeriesKind::Points => chart.draw_series(marks.map(|p| Circle::new(p, r(3), c.filled())))?,
         SeriesKind::Scatter => {
-            chart.draw_series(marks.map(|p| Circle::new(p, 2, c.mix(0.55).filled())))?
+            chart.draw_series(marks.map(|p| Circle::new(p, r(2), c.mix(0.55).filled())))?
         }
         SeriesKind::Hollow => {
-            chart.draw_series(marks.map(|p| Circle::new(p, 4, c.stroke_width(1))))?
+            chart.draw_series(marks.map(|p| Circle::new(p, r(4), c.stroke_width(w1))))?
         }
         SeriesKind::Cross => {
-            chart.draw_series(marks.map(|p| Cross::new(p, 4, c.stroke_width(2))))?
+            chart.draw_series(marks.map(|p| Cross::new(p, r(4), c.stroke_width(w2))))?
         }
         SeriesKind::Area => chart.draw_series(
             AreaSeries::new(runs.flatten().collect::<Vec<_>>(), 0.0, c.mix(0.25))
-                .border_style(c.stroke_width(2)),
+                .border_style(c.stroke_width(w2)),
         )?,
         SeriesKind::BentBackwards => {
-            chart.draw_series(marks.map(|p| Circle::new(p, 6, c.stroke_width(2))))?
+            chart.draw_series(marks.map(|p| Circle::new(p, r(6), c.stroke_width(w2))))?
         }
         SeriesKind::Invalid => {
-            chart.draw_series(marks.map(|p| Cross::new(p, 5, c.stroke_width(2))))?
+            chart.draw_series(marks.map(|p| Cross::new(p, r(5), c.stroke_width(w2))))?
         }
         SeriesKind::Outline => {
             let fill = runs.clone().map(|r| Polygon::new(r, c.mix(0.22).filled()));
             chart.draw_series(fill)?;
-            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(1))))?
+            chart.draw_series(runs.map(|r| PathElement::new(r, c.stroke_width(w1))))?
         }
     })
 }

@@ -2,7 +2,8 @@
 //! finger over every element model, partition kind and extrapolation
 //! ([`fpc_lab::accuracy`]). Writes accuracy.csv (one row per
 //! configuration), accuracy.json (the whole study) and accuracy.svg (error
-//! against time, log-log, with the Pareto front), and prints the
+//! against time, log-log, with the Pareto front; `--format` adds or
+//! replaces it with accuracy.png and accuracy.pdf), and prints the
 //! references, the observed orders, every configuration and the fastest
 //! configuration per tolerance (or the JSON document with `--json`).
 
@@ -34,6 +35,8 @@ pub struct Args {
     /// The reduced configuration list, 2 rounds, 3 runs (tests, previews).
     #[arg(long, hide = true)]
     quick: bool,
+    #[command(flatten)]
+    format: fpc_cli::render::formats::FormatArgs,
 }
 
 /// One row of accuracy.csv: flat, units in the column names.
@@ -394,17 +397,22 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     let json = serde_json::to_string_pretty(&study)?;
     let svg = fpc_cli::render::svg::svg(&figure(&study))?;
+    let figures = args.format.render("accuracy", &svg)?;
     crate::output::write_atomic(&args.out, "accuracy.csv", &csv(&study)?)?;
     crate::output::write_atomic(&args.out, "accuracy.json", format!("{json}\n").as_bytes())?;
-    crate::output::write_atomic(&args.out, "accuracy.svg", svg.as_bytes())?;
+    for (name, bytes) in &figures {
+        crate::output::write_atomic(&args.out, name, bytes)?;
+    }
     let mut out = crate::output::stdout();
     if args.json {
         writeln!(out, "{json}")?;
     } else {
         print_tables(&study, &mut out)?;
+        let names: Vec<&str> = figures.iter().map(|(n, _)| n.as_str()).collect();
         writeln!(
             out,
-            "wrote accuracy.csv, accuracy.json and accuracy.svg in {}",
+            "wrote accuracy.csv, accuracy.json and {} in {}",
+            names.join(", "),
             args.out.display()
         )?;
     }
