@@ -260,12 +260,18 @@ impl Output {
         Ok(())
     }
 
-    /// Writes one figure from its SVG in every format asked for.
-    fn write_figure(&mut self, stem: &str, svg: &str) -> anyhow::Result<()> {
-        for (name, bytes) in self.formats.render(stem, svg)? {
+    /// Writes one figure's rendered files.
+    fn write_files(&mut self, files: Vec<(String, Vec<u8>)>) -> anyhow::Result<()> {
+        for (name, bytes) in files {
             self.write(&name, &bytes)?;
         }
         Ok(())
+    }
+
+    /// Writes one figure from its SVG in every format asked for.
+    fn write_figure(&mut self, stem: &str, svg: &str) -> anyhow::Result<()> {
+        let files = self.formats.render(stem, svg)?;
+        self.write_files(files)
     }
 
     /// Writes a study's figure; a figure that cannot be drawn or rendered
@@ -274,12 +280,7 @@ impl Output {
         let stem = info.stem();
         let files = svg.and_then(|text| Ok(self.formats.render(&stem, &text)?));
         match files {
-            Ok(files) => {
-                for (name, bytes) in files {
-                    self.write(&name, &bytes)?;
-                }
-                Ok(())
-            }
+            Ok(files) => self.write_files(files),
             Err(e) => {
                 let n = info.number;
                 let e = e.context(format!("cannot draw the figure of study {n}"));

@@ -126,11 +126,11 @@ impl FormatArgs {
             let bytes = match format {
                 Format::Svg => svg.as_bytes().to_vec(),
                 Format::Png | Format::Pdf => {
-                    if tree.is_none() {
-                        tree = Some(parse(svg).map_err(|why| RenderError::new(&name, why))?);
-                    }
-                    let Some(t) = tree.as_ref() else {
-                        continue;
+                    let t = match tree {
+                        Some(ref t) => t,
+                        None => {
+                            tree.insert(parse(svg).map_err(|why| RenderError::new(&name, why))?)
+                        }
                     };
                     let out = if format == Format::Png {
                         png(t)
