@@ -458,3 +458,10 @@ fn a_path_resolves_through_re_exports() {
         Some(s(&["b", "Y"]))
     );
 }
+
+#[test]
+fn every_module_points_one_way() {
+    let krate = Crate::read();
+    let graph = krate.graph(|m| Some(m.join("::")));
+    check("module", &graph);
+}

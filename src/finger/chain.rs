@@ -20,10 +20,11 @@ use fpc_newton::{
     Energy, FactorError, Gradient, Hessian, Inertia, LinearSystem, PivotKind, Semiseparable,
 };
 
+use crate::coefficients::Coefficients;
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
+use super::load::Load;
 use super::problem::FingerCore;
-use super::Load;
 
 /// The coupled finger: all elements plus the tip-load chain, with exact
 /// gradient and structured Hessian. It reuses its buffers, so evaluations
@@ -354,4 +355,59 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         }
         v
     }
+}
+
+/// The finger's energy and gradient in raw unknowns (the scaled chain's,
+/// unscaled).
+pub(crate) fn gradient<M: ElementModel>(
+    core: &FingerCore<M>,
+    load: &Load,
+    k: &Coefficients,
+) -> (f64, Vec<f64>) {
+    let mut chain = Chain::new(core);
+    chain.set_load(load);
+    let y = core.scaled(k.as_slice());
+    let mut g = vec![0.0; y.len()];
+    let v = fpc_newton::Gradient::gradient(&mut chain, &y, &mut g);
+    let n = M::Coeffs::LEN;
+    for (i, gi) in g.iter_mut().enumerate() {
+        *gi /= core.unscale[i / n][i % n];
+    }
+    (v, g)
+}
+
+/// The finger's energy, gradient and dense (column-major) Hessian in raw
+/// unknowns.
+pub(crate) fn hessian<M: ElementModel>(
+    core: &FingerCore<M>,
+    load: &Load,
+    k: &Coefficients,
+) -> (f64, Vec<f64>, Vec<f64>) {
+    let mut chain = Chain::new(core);
+    chain.set_load(load);
+    let y = core.scaled(k.as_slice());
+    let dim = y.len();
+    let mut g = vec![0.0; dim];
+    let mut h = vec![0.0; dim * dim];
+    let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g);
+    chain.matrix.dense(&mut h);
+    let n = M::Coeffs::LEN;
+    let s = |i: usize| core.unscale[i / n][i % n];
+    for i in 0..dim {
+        g[i] /= s(i);
+        for j in 0..dim {
+            h[i + dim * j] /= s(i) * s(j);
+        }
+    }
+    (v, g, h)
+}
+
+/// The chain as a boxed Newton problem at `load`.
+pub(crate) fn problem<'a, M: ElementModel>(
+    core: &'a FingerCore<M>,
+    load: &Load,
+) -> Box<dyn fpc_newton::Hessian + 'a> {
+    let mut chain = Chain::new(core);
+    chain.set_load(load);
+    Box::new(chain)
 }

@@ -7,17 +7,29 @@
 //! `models.rs`), so the model is a run-time choice ([`ModelId`]) while
 //! every solve runs monomorphised code.
 //!
+//! The files, lowest first (each uses only those above it; `tests/layers.rs`
+//! checks that no file imports in a circle):
+//!
+//! - `load.rs`: pressure, pressure factor and tip force;
+//! - `options.rs`: what a solve is asked and what it answers;
+//! - `curve.rs`: the mid-plane as exact polynomial curves, one per element;
 //! - `problem.rs`: the elements of one finger and its energy, tip and shape;
 //! - `chain.rs`: the coupled Newton problem in scaled unknowns, with the
 //!   exact chain derivatives of the tip load and the condensation of the
 //!   element-local unknowns;
+//! - `bordered.rs`: the chain with one unknown load fixed by one target;
 //! - `solver.rs`: decoupled and coupled solves, continuation fallbacks,
-//!   stability and the validity checks of a solution;
-//! - `target.rs`: bordered solves with one unknown load and one target;
-//! - `curve.rs`: the mid-plane as exact polynomial curves, one per element.
+//!   stability and the validity checks of a solution, and the spare
+//!   workspace a finger keeps for its next solver;
+//! - `path.rs`: load paths by pseudo-arclength continuation;
+//! - `target.rs`: target solves and target paths;
+//! - this file: [`Finger`], the public face over every model.
 
+mod bordered;
 mod chain;
 mod curve;
+mod load;
+mod options;
 mod path;
 mod problem;
 mod solver;
@@ -27,262 +39,27 @@ use std::sync::Arc;
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
-use crate::error::{finite, positive, InputError, Warning};
-use crate::model::{ElementModel, EnergyScalars, ModelId, ModelVisitor};
+use crate::error::{InputError, Warning};
+use crate::model::{ElementModel, ModelId, ModelVisitor};
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
+pub use bordered::TargetProblem;
 pub use curve::{Affine2, PolyCurve};
 pub use fpc_newton::PathTermination;
+pub use load::{Load, VACUUM_GAUGE_MPA};
+pub use options::{Solution, SolveOptions, SolveReport, Strategy, MAX_SAMPLES_PER_ELEMENT};
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
-pub use target::{TargetFold, TargetProblem, Traced};
+pub use target::{TargetFold, Traced};
+
+use options::check_guess;
 
 pub(crate) use chain::Chain;
 pub(crate) use problem::FingerCore;
-use solver::SolverCore;
-
-/// Pressure and tip loads of a scene.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Load {
-    /// Channel pressure (MPa; 1 kPa = 0.001 MPa).
-    pub pressure: f64,
-    /// Pressure factor `kappa = 1/(gamma - 1)` (2.5 by default; 1 is plain `P dV` work).
-    pub kappa: f64,
-    /// Tip force along the finger's X axis (N).
-    pub fx: f64,
-    /// Tip force along the finger's Z axis (N).
-    pub fz: f64,
-}
-
-impl Default for Load {
-    fn default() -> Load {
-        Load {
-            pressure: 0.0,
-            kappa: 2.5,
-            fx: 0.0,
-            fz: 0.0,
-        }
-    }
-}
-
-/// Absolute vacuum relative to the atmosphere (MPa): a channel pressure
-/// (gauge) below it is not physical.
-pub const VACUUM_GAUGE_MPA: f64 = -0.101_325;
-
-impl Load {
-    /// No pressure, no tip load.
-    pub fn unloaded() -> Load {
-        Load::default()
-    }
-
-    /// The same load with a pressure given in kPa.
-    pub fn with_pressure_kpa(mut self, kpa: f64) -> Load {
-        self.pressure = kpa * 1e-3;
-        self
-    }
-
-    /// The same load with a tip force (N, finger frame).
-    pub fn with_tip_force(mut self, fx: f64, fz: f64) -> Load {
-        self.fx = fx;
-        self.fz = fz;
-        self
-    }
-
-    /// True when a tip force acts.
-    pub fn has_tip_load(&self) -> bool {
-        self.fx != 0.0 || self.fz != 0.0
-    }
-
-    /// Checks that every value is finite, kappa positive and the pressure
-    /// (gauge) not below absolute vacuum.
-    pub fn validate(&self) -> Result<(), InputError> {
-        finite("load.pressure", self.pressure)?;
-        if self.pressure < VACUUM_GAUGE_MPA {
-            return Err(InputError::OutOfRange {
-                field: "load.pressure".into(),
-                value: self.pressure,
-                rule: format!(
-                    "is below absolute vacuum ({} kPa gauge)",
-                    VACUUM_GAUGE_MPA * 1e3
-                ),
-            });
-        }
-        positive("load.kappa", self.kappa)?;
-        finite("load.fx", self.fx)?;
-        finite("load.fz", self.fz)?;
-        Ok(())
-    }
-
-    /// The energy's runtime scalars.
-    pub(crate) fn scalars(&self) -> EnergyScalars {
-        EnergyScalars {
-            kp: self.kappa * self.pressure,
-        }
-    }
-}
-
-/// How a scene is solved.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Strategy {
-    /// Decoupled element solves when there is no tip load, the coupled
-    /// system otherwise.
-    #[default]
-    Auto,
-    /// Always the coupled system (for checks and benchmarks).
-    Coupled,
-}
-
-/// Largest number of mid-plane samples per element.
-pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
-
-/// Solver settings.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SolveOptions {
-    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
-    pub rtol: f64,
-    /// Newton iteration limit per solve.
-    pub max_iter: usize,
-    /// Decoupled or coupled path.
-    pub strategy: Strategy,
-    /// Sample the mid-plane and fit a circle (off for tip-only output).
-    pub shape: bool,
-    /// Count the Hessian's negative eigenvalues from its factorisation (off
-    /// for tip-only output, then `Solution::negative_eigenvalues` is `None`).
-    pub stability: bool,
-    /// Mid-plane samples per element when `shape` is on (at most
-    /// [`MAX_SAMPLES_PER_ELEMENT`]).
-    pub samples_per_element: usize,
-    /// Fall back to continuation when Newton fails from the guess: load
-    /// continuation for tip loads; per element, pressure continuation from
-    /// the straight element at zero pressure; and, when no unloaded
-    /// equilibrium is found to start a loaded solve from, Newton from the
-    /// straight finger.
-    pub continuation: bool,
-    /// Largest Newton step in the scaled unknowns (dimensionless strains).
-    /// The prestressed law's quintic makes the energy unbounded below at
-    /// large stretch, so an uncapped step from a poor guess can leave the
-    /// physical basin for good; 0.25 never limits a step near equilibrium.
-    pub max_step: f64,
-}
-
-impl Default for SolveOptions {
-    fn default() -> SolveOptions {
-        SolveOptions {
-            rtol: 1e-11,
-            max_iter: 60,
-            strategy: Strategy::Auto,
-            shape: true,
-            stability: true,
-            samples_per_element: 16,
-            continuation: true,
-            max_step: 0.25,
-        }
-    }
-}
-
-impl SolveOptions {
-    /// Tip-only output: no shape sampling, no circle fit, no eigenvalue.
-    pub fn tip_only(mut self) -> SolveOptions {
-        self.shape = false;
-        self.stability = false;
-        self
-    }
-
-    pub(crate) fn validate(&self) -> Result<(), InputError> {
-        positive("solve.rtol", self.rtol)?;
-        positive("solve.max_step", self.max_step)?;
-        if self.max_iter == 0 {
-            return Err(InputError::OutOfRange {
-                field: "solve.max_iter".into(),
-                value: 0.0,
-                rule: "must be at least 1".into(),
-            });
-        }
-        if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {
-            return Err(InputError::OutOfRange {
-                field: "solve.samples_per_element".into(),
-                value: self.samples_per_element as f64,
-                rule: format!(
-                    "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}] when the shape is sampled"
-                ),
-            });
-        }
-        Ok(())
-    }
-}
-
-/// How a solve went.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct SolveReport {
-    /// Why it stopped (always converged in a returned solution).
-    #[serde(serialize_with = "serialize_display")]
-    pub reason: fpc_newton::Termination,
-    /// Newton iterations (summed over element solves and continuation steps).
-    pub iterations: usize,
-    /// `||grad Pi||_inf` in scaled units over the stiffness scale.
-    pub residual_norm: f64,
-    /// Kernel evaluations: energy, gradient and Hessian calls.
-    pub evaluations: usize,
-    /// True when the coupled system was solved (false: decoupled elements).
-    pub coupled: bool,
-    /// Continuation steps taken (0: Newton from the guess sufficed).
-    pub continuation_steps: usize,
-}
-
-/// An equilibrium of one finger. Serializes with the units in the keys
-/// (`tip_mm`, `end_angle_rad`, ...; the README lists them).
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Solution {
-    /// Tip position (X, Z) in the finger frame (mm).
-    #[serde(rename = "tip_mm")]
-    pub tip: [f64; 2],
-    /// Angle of the tip tangent from the X axis (rad).
-    #[serde(rename = "end_angle_rad")]
-    pub end_angle: f64,
-    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
-    #[serde(rename = "radius_mm")]
-    pub radius: Option<f64>,
-    /// Total potential energy `Pi` (N mm).
-    #[serde(rename = "energy_nmm")]
-    pub energy: f64,
-    /// Negative eigenvalues of the Hessian (its inertia, from the
-    /// structured factorisation; 0: a stable equilibrium); `None` when not
-    /// computed (`SolveOptions::stability` off).
-    pub negative_eigenvalues: Option<usize>,
-    /// `negative_eigenvalues == 0` when computed.
-    pub stable: Option<bool>,
-    /// The element unknowns.
-    pub coefficients: Coefficients,
-    /// Mid-plane samples from root to tip (empty for tip-only output).
-    #[serde(rename = "points_mm")]
-    pub points: Vec<[f64; 2]>,
-    /// Undeformed element lengths (mm), root to tip.
-    #[serde(rename = "element_lengths_mm")]
-    pub element_lengths: Vec<f64>,
-    /// Where the answer leaves the model's assumptions, and the actuator's
-    /// notes: empty when every assumption holds (docs/model.md section 8).
-    pub warnings: Vec<Warning>,
-    /// Solver report.
-    pub report: SolveReport,
-}
-
-impl Solution {
-    /// True when no warning says the answer is outside the model.
-    pub fn is_within_model(&self) -> bool {
-        !self.warnings.iter().any(Warning::is_validity)
-    }
-}
-
-/// Serializes a value by its `Display` text.
-fn serialize_display<T: std::fmt::Display, S: serde::Serializer>(
-    v: &T,
-    s: S,
-) -> Result<S::Ok, S::Error> {
-    s.collect_str(v)
-}
+use solver::{Pooled, SolverCore};
 
 /// A finger's shared core for model `M`.
-type Shared<M> = Arc<FingerCore<M>>;
+type Shared<M> = Arc<Pooled<M>>;
 
 crate::model::model_enum! {
     /// A finger's elements for its model, one variant per generated model:
@@ -298,7 +75,7 @@ crate::model::model_enum! {
 }
 
 /// `with_core!(finger, c => body)`: `body` with `c` the finger's typed
-/// core (`&Arc<FingerCore<M>>` for the finger's model `M`).
+/// core (`&Arc<Pooled<M>>`, which derefs to `FingerCore<M>`, for the finger's model `M`).
 macro_rules! with_core {
     ($finger:expr, $c:ident => $body:expr) => {
         crate::model::match_model!(&$finger.core, Core($c) => $body)
@@ -362,7 +139,7 @@ impl Finger {
     ) -> Finger {
         let core = crate::model::model_of_id!(
             model,
-            M => Core(Arc::new(FingerCore::<M>::new(actuator, partition, ribs)))
+            M => Core(Arc::new(Pooled::new(FingerCore::<M>::new(actuator, partition, ribs))))
         );
         Finger {
             core,
@@ -496,7 +273,7 @@ impl Finger {
     /// coefficients (element by element).
     pub fn gradient(&self, load: &Load, k: &Coefficients) -> Result<(f64, Vec<f64>), InputError> {
         self.check(k)?;
-        Ok(with_core!(self, c => c.gradient(load, k)))
+        Ok(with_core!(self, c => chain::gradient(c, load, k)))
     }
 
     /// Total potential energy, gradient and full Hessian (column-major,
@@ -507,7 +284,7 @@ impl Finger {
         k: &Coefficients,
     ) -> Result<(f64, Vec<f64>, Vec<f64>), InputError> {
         self.check(k)?;
-        Ok(with_core!(self, c => c.hessian(load, k)))
+        Ok(with_core!(self, c => chain::hessian(c, load, k)))
     }
 
     /// One element's potential (or, with `family`, one integral family of
@@ -552,7 +329,7 @@ impl Finger {
     /// and benchmarks.
     pub fn problem(&self, load: &Load) -> Problem<'_> {
         Problem {
-            inner: with_core!(self, c => c.problem(load)),
+            inner: with_core!(self, c => chain::problem(c, load)),
         }
     }
 
@@ -643,32 +420,6 @@ impl fpc_newton::LinearSystem for Problem<'_> {
     }
     fn apply(&self, x: &[f64], out: &mut [f64]) {
         self.inner.apply(x, out)
-    }
-}
-
-/// Checks a starting guess: one coefficient set per element, every value finite.
-pub(crate) fn check_guess(
-    guess: &Coefficients,
-    elements: usize,
-    per_element: usize,
-) -> Result<(), InputError> {
-    if guess.elements() != elements || guess.per_element() != per_element {
-        return Err(InputError::OutOfRange {
-            field: "guess".into(),
-            value: guess.elements() as f64,
-            rule: format!(
-                "must hold one set of {per_element} coefficients per element ({elements}); it holds {} of {}",
-                guess.elements(),
-                guess.per_element()
-            ),
-        });
-    }
-    match guess.as_slice().iter().find(|v| !v.is_finite()) {
-        Some(&value) => Err(InputError::NotFinite {
-            field: "guess".into(),
-            value,
-        }),
-        None => Ok(()),
     }
 }
 

@@ -17,10 +17,10 @@ use crate::error::{finite, InputError};
 use crate::model::{ElementModel, Vector};
 use crate::solve_error::SolveError;
 
+use super::bordered::{BorderedChain, TargetProblem};
+use super::options::{check_guess, SolveOptions};
 use super::problem::FingerCore;
 use super::solver::SolverCore;
-use super::target::{BorderedChain, TargetProblem};
-use super::{check_guess, SolveOptions};
 use crate::coefficients::Coefficients;
 
 /// An accepted point of a load path.

@@ -14,9 +14,8 @@ use crate::error::Warning;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
 use crate::partition::Partition;
 
-use super::chain::Chain;
 use super::curve::{Affine2, PolyCurve};
-use super::Load;
+use super::load::Load;
 use crate::coefficients::Coefficients;
 
 /// The elements of a finger for model `M`.
@@ -37,8 +36,6 @@ pub(crate) struct FingerCore<M: ElementModel> {
     pub thickness: f64,
     /// The strip's width Ly (mm).
     pub width: f64,
-    /// A dropped solver's buffers, for the next solver.
-    pub workspaces: super::solver::WorkspacePool<M>,
 }
 
 impl<M: ElementModel> FingerCore<M> {
@@ -69,7 +66,6 @@ impl<M: ElementModel> FingerCore<M> {
             eps0: actuator.eps0(),
             thickness: actuator.geometry().h,
             width: actuator.geometry().ly,
-            workspaces: Default::default(),
         }
     }
 
@@ -223,39 +219,6 @@ impl<M: ElementModel> FingerCore<M> {
             .collect()
     }
 
-    pub fn gradient(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>) {
-        let mut chain = Chain::new(self);
-        chain.set_load(load);
-        let y = self.scaled(k.as_slice());
-        let mut g = vec![0.0; y.len()];
-        let v = fpc_newton::Gradient::gradient(&mut chain, &y, &mut g);
-        let n = M::Coeffs::LEN;
-        for (i, gi) in g.iter_mut().enumerate() {
-            *gi /= self.unscale[i / n][i % n];
-        }
-        (v, g)
-    }
-
-    pub fn hessian(&self, load: &Load, k: &Coefficients) -> (f64, Vec<f64>, Vec<f64>) {
-        let mut chain = Chain::new(self);
-        chain.set_load(load);
-        let y = self.scaled(k.as_slice());
-        let dim = y.len();
-        let mut g = vec![0.0; dim];
-        let mut h = vec![0.0; dim * dim];
-        let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g);
-        chain.matrix.dense(&mut h);
-        let n = M::Coeffs::LEN;
-        let s = |i: usize| self.unscale[i / n][i % n];
-        for i in 0..dim {
-            g[i] /= s(i);
-            for j in 0..dim {
-                h[i + dim * j] /= s(i) * s(j);
-            }
-        }
-        (v, g, h)
-    }
-
     pub fn element_hessian(
         &self,
         element: usize,
@@ -294,11 +257,5 @@ impl<M: ElementModel> FingerCore<M> {
             }
         }
         out
-    }
-
-    pub fn problem<'a>(&'a self, load: &Load) -> Box<dyn fpc_newton::Hessian + 'a> {
-        let mut chain = Chain::new(self);
-        chain.set_load(load);
-        Box::new(chain)
     }
 }

@@ -16,8 +16,9 @@ use crate::solve_error::SolveError;
 use std::sync::Mutex;
 
 use super::chain::{Chain, ChainParts};
+use super::load::Load;
+use super::options::{check_guess, Solution, SolveOptions, SolveReport, Strategy};
 use super::problem::FingerCore;
-use super::{check_guess, Load, Solution, SolveOptions, SolveReport, Strategy};
 use crate::coefficients::Coefficients;
 
 /// Validity checks per element (the ends of 4 equal sub-intervals; the
@@ -33,7 +34,7 @@ impl<M: ElementModel> Drop for SolverCore<'_, M> {
             y: std::mem::take(&mut self.y),
             start: std::mem::take(&mut self.start),
         };
-        self.finger.workspaces.put(spare);
+        self.pool.put(spare);
     }
 }
 
@@ -53,6 +54,8 @@ pub(crate) struct TipSolve {
 /// A reusable solver workspace for model `M`.
 pub(crate) struct SolverCore<'a, M: ElementModel> {
     pub finger: &'a FingerCore<M>,
+    /// Where the buffers go when the solver is dropped.
+    pool: &'a WorkspacePool<M>,
     /// The finger's warnings (actuator, law), copied into every solution.
     pub warnings: &'a [Warning],
     pub chain: Chain<'a, M>,
@@ -129,6 +132,30 @@ impl<M: ElementModel> Clone for WorkspacePool<M> {
     }
 }
 
+/// A finger's elements with the spare workspace of its solvers.
+#[derive(Debug, Clone)]
+pub(crate) struct Pooled<M: ElementModel> {
+    pub core: FingerCore<M>,
+    pool: WorkspacePool<M>,
+}
+
+impl<M: ElementModel> Pooled<M> {
+    pub fn new(core: FingerCore<M>) -> Pooled<M> {
+        Pooled {
+            core,
+            pool: WorkspacePool::default(),
+        }
+    }
+}
+
+impl<M: ElementModel> std::ops::Deref for Pooled<M> {
+    type Target = FingerCore<M>;
+
+    fn deref(&self) -> &FingerCore<M> {
+        &self.core
+    }
+}
+
 impl<M: ElementModel> std::fmt::Debug for WorkspacePool<M> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str("WorkspacePool")
@@ -136,9 +163,10 @@ impl<M: ElementModel> std::fmt::Debug for WorkspacePool<M> {
 }
 
 impl<'a, M: ElementModel> SolverCore<'a, M> {
-    pub fn new(finger: &'a FingerCore<M>, warnings: &'a [Warning]) -> SolverCore<'a, M> {
+    pub fn new(pooled: &'a Pooled<M>, warnings: &'a [Warning]) -> SolverCore<'a, M> {
+        let Pooled { core: finger, pool } = pooled;
         let dim = M::Coeffs::LEN * finger.len();
-        let spare = finger.workspaces.take().filter(|s| s.y.len() == dim);
+        let spare = pool.take().filter(|s| s.y.len() == dim);
         let (chain, newton, y, start) = match spare {
             Some(s) => (Some(s.chain), s.newton, s.y, s.start),
             None => (
@@ -150,6 +178,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         };
         SolverCore {
             finger,
+            pool,
             warnings,
             chain: Chain::with_parts(finger, chain),
             newton,

@@ -1,0 +1,191 @@
+//! What a finger solve is asked (its options, a starting guess) and what
+//! it answers (the solution and its report).
+
+use crate::coefficients::Coefficients;
+use crate::error::{positive, InputError, Warning};
+
+/// How a scene is solved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Strategy {
+    /// Decoupled element solves when there is no tip load, the coupled
+    /// system otherwise.
+    #[default]
+    Auto,
+    /// Always the coupled system (for checks and benchmarks).
+    Coupled,
+}
+
+/// Largest number of mid-plane samples per element.
+pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
+
+/// Solver settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolveOptions {
+    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
+    pub rtol: f64,
+    /// Newton iteration limit per solve.
+    pub max_iter: usize,
+    /// Decoupled or coupled path.
+    pub strategy: Strategy,
+    /// Sample the mid-plane and fit a circle (off for tip-only output).
+    pub shape: bool,
+    /// Count the Hessian's negative eigenvalues from its factorisation (off
+    /// for tip-only output, then `Solution::negative_eigenvalues` is `None`).
+    pub stability: bool,
+    /// Mid-plane samples per element when `shape` is on (at most
+    /// [`MAX_SAMPLES_PER_ELEMENT`]).
+    pub samples_per_element: usize,
+    /// Fall back to continuation when Newton fails from the guess: load
+    /// continuation for tip loads; per element, pressure continuation from
+    /// the straight element at zero pressure; and, when no unloaded
+    /// equilibrium is found to start a loaded solve from, Newton from the
+    /// straight finger.
+    pub continuation: bool,
+    /// Largest Newton step in the scaled unknowns (dimensionless strains).
+    /// The prestressed law's quintic makes the energy unbounded below at
+    /// large stretch, so an uncapped step from a poor guess can leave the
+    /// physical basin for good; 0.25 never limits a step near equilibrium.
+    pub max_step: f64,
+}
+
+impl Default for SolveOptions {
+    fn default() -> SolveOptions {
+        SolveOptions {
+            rtol: 1e-11,
+            max_iter: 60,
+            strategy: Strategy::Auto,
+            shape: true,
+            stability: true,
+            samples_per_element: 16,
+            continuation: true,
+            max_step: 0.25,
+        }
+    }
+}
+
+impl SolveOptions {
+    /// Tip-only output: no shape sampling, no circle fit, no eigenvalue.
+    pub fn tip_only(mut self) -> SolveOptions {
+        self.shape = false;
+        self.stability = false;
+        self
+    }
+
+    pub(crate) fn validate(&self) -> Result<(), InputError> {
+        positive("solve.rtol", self.rtol)?;
+        positive("solve.max_step", self.max_step)?;
+        if self.max_iter == 0 {
+            return Err(InputError::OutOfRange {
+                field: "solve.max_iter".into(),
+                value: 0.0,
+                rule: "must be at least 1".into(),
+            });
+        }
+        if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {
+            return Err(InputError::OutOfRange {
+                field: "solve.samples_per_element".into(),
+                value: self.samples_per_element as f64,
+                rule: format!(
+                    "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}] when the shape is sampled"
+                ),
+            });
+        }
+        Ok(())
+    }
+}
+
+/// How a solve went.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct SolveReport {
+    /// Why it stopped (always converged in a returned solution).
+    #[serde(serialize_with = "serialize_display")]
+    pub reason: fpc_newton::Termination,
+    /// Newton iterations (summed over element solves and continuation steps).
+    pub iterations: usize,
+    /// `||grad Pi||_inf` in scaled units over the stiffness scale.
+    pub residual_norm: f64,
+    /// Kernel evaluations: energy, gradient and Hessian calls.
+    pub evaluations: usize,
+    /// True when the coupled system was solved (false: decoupled elements).
+    pub coupled: bool,
+    /// Continuation steps taken (0: Newton from the guess sufficed).
+    pub continuation_steps: usize,
+}
+
+/// An equilibrium of one finger. Serializes with the units in the keys
+/// (`tip_mm`, `end_angle_rad`, ...; the README lists them).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Solution {
+    /// Tip position (X, Z) in the finger frame (mm).
+    #[serde(rename = "tip_mm")]
+    pub tip: [f64; 2],
+    /// Angle of the tip tangent from the X axis (rad).
+    #[serde(rename = "end_angle_rad")]
+    pub end_angle: f64,
+    /// Least-squares circle radius of the samples (`None`: nearly straight or not sampled).
+    #[serde(rename = "radius_mm")]
+    pub radius: Option<f64>,
+    /// Total potential energy `Pi` (N mm).
+    #[serde(rename = "energy_nmm")]
+    pub energy: f64,
+    /// Negative eigenvalues of the Hessian (its inertia, from the
+    /// structured factorisation; 0: a stable equilibrium); `None` when not
+    /// computed (`SolveOptions::stability` off).
+    pub negative_eigenvalues: Option<usize>,
+    /// `negative_eigenvalues == 0` when computed.
+    pub stable: Option<bool>,
+    /// The element unknowns.
+    pub coefficients: Coefficients,
+    /// Mid-plane samples from root to tip (empty for tip-only output).
+    #[serde(rename = "points_mm")]
+    pub points: Vec<[f64; 2]>,
+    /// Undeformed element lengths (mm), root to tip.
+    #[serde(rename = "element_lengths_mm")]
+    pub element_lengths: Vec<f64>,
+    /// Where the answer leaves the model's assumptions, and the actuator's
+    /// notes: empty when every assumption holds (docs/model.md section 8).
+    pub warnings: Vec<Warning>,
+    /// Solver report.
+    pub report: SolveReport,
+}
+
+impl Solution {
+    /// True when no warning says the answer is outside the model.
+    pub fn is_within_model(&self) -> bool {
+        !self.warnings.iter().any(Warning::is_validity)
+    }
+}
+
+/// Serializes a value by its `Display` text.
+fn serialize_display<T: std::fmt::Display, S: serde::Serializer>(
+    v: &T,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    s.collect_str(v)
+}
+
+/// Checks a starting guess: one coefficient set per element, every value finite.
+pub(crate) fn check_guess(
+    guess: &Coefficients,
+    elements: usize,
+    per_element: usize,
+) -> Result<(), InputError> {
+    if guess.elements() != elements || guess.per_element() != per_element {
+        return Err(InputError::OutOfRange {
+            field: "guess".into(),
+            value: guess.elements() as f64,
+            rule: format!(
+                "must hold one set of {per_element} coefficients per element ({elements}); it holds {} of {}",
+                guess.elements(),
+                guess.per_element()
+            ),
+        });
+    }
+    match guess.as_slice().iter().find(|v| !v.is_finite()) {
+        Some(&value) => Err(InputError::NotFinite {
+            field: "guess".into(),
+            value,
+        }),
+        None => Ok(()),
+    }
+}
