@@ -6,7 +6,8 @@
 
 use serde::Serialize;
 
-use super::{Designed, Requirements};
+use super::evaluate::Evaluation;
+use super::requirements::Requirements;
 use crate::scene::{Scene, SceneSolution};
 
 /// The relative agreement a re-solved scene must show with the claim.
@@ -44,14 +45,14 @@ fn agrees(claimed: f64, solved: f64) -> bool {
     (claimed - solved).abs() <= REPRODUCE_RTOL * claimed.abs().max(solved.abs()).max(1e-9)
 }
 
-/// Solves every scene of `d` through the ordinary scene path and compares
-/// it with the claim.
-pub fn reproduce(d: &Designed, req: &Requirements) -> Vec<Reproduction> {
-    d.scenes(req)
+/// Solves every scene of the design `best` ([`Evaluation::scenes`])
+/// through the ordinary scene path and compares it with the claim.
+pub fn reproduce(best: &Evaluation, req: &Requirements) -> Vec<Reproduction> {
+    best.scenes(req)
         .into_iter()
         .enumerate()
         .map(|(i, (file, text))| {
-            let claim = d.best.hardest_lift(i);
+            let claim = best.hardest_lift(i);
             let requirement = claim.map(|m| m.requirement.clone()).unwrap_or_default();
             let claimed_lift_n = claim.and_then(|m| m.value);
             let claimed_normal_n = claim.and_then(|m| m.normal_n);

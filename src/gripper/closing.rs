@@ -3,7 +3,25 @@
 //! tip load applied along its own path, the path in the normal force from
 //! rest to the target, and the size and force-control solves built on it.
 
-use super::*;
+use fpc_newton::PathTermination;
+use std::f64::consts::FRAC_PI_2;
+
+use crate::coefficients::Coefficients;
+use crate::error::{finite, require, InputError, Warning};
+use crate::finger::{
+    Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
+};
+use crate::solve_error::SolveError;
+
+use super::contact;
+use super::frames::{
+    self, contact_force_to_gripper, gripper_force_to_contact, gripper_force_to_finger,
+};
+use super::rules::{self, Invalid, PathRecord, Stability, Verdict};
+use super::setup::{
+    Grasp, Gripper, Object, Scene, CONTACT_TOL_MM, CURVATURE_SAMPLES, GRIPPER_SAMPLES_PER_ELEMENT,
+    TARGET_TOL_MM,
+};
 
 impl Gripper {
     /// The grasp-level notes and the verdict of an equilibrium holding

@@ -17,9 +17,10 @@ use crate::error::{finite, positive, require, InputError};
 use crate::finger::Solution;
 use crate::solve_error::SolveError;
 
+use super::closing::check_beta;
 use super::frames::{contact_force_to_gripper, grasping_angle_range};
 use super::rules::Invalid;
-use super::{check_beta, Grasp, Gripper, Object, Scene};
+use super::setup::{Grasp, Gripper, Object, Scene};
 
 /// Tolerance (rad) on the best grasping angle of [`Gripper::max_sphere_lift`].
 pub const ENVELOPE_BETA_TOL: f64 = 1e-9;

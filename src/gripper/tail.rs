@@ -15,9 +15,8 @@ use crate::solve_error::SolveError;
 use fpc_newton::PathTermination;
 
 use super::frames::contact_force_to_gripper;
-use super::{
-    Grasp, Gripper, Object, PathRecord, Scene, GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM,
-};
+use super::rules::PathRecord;
+use super::setup::{Grasp, Gripper, Object, Scene, GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM};
 
 /// The normal force (N) beyond which a sweep ends: forces far above what a
 /// soft gripper exerts; the grasping size then approaches its limit for

@@ -17,7 +17,15 @@ use crate::model::{
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
 
-use super::{Param, Sensitivities, Sensitivity, EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE};
+use super::params::Param;
+use super::record::{Sensitivities, Sensitivity};
+
+/// Largest relative residual `||grad Pi||_inf / stiffness` accepted as an
+/// equilibrium (the solver's default tolerance is 1e-11).
+pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
+
+/// Largest target residual accepted, relative to the finger's length.
+pub const TARGET_TOLERANCE: f64 = 1e-6;
 
 /// What [`Finger::sensitivities`] hands to the model's core.
 pub(crate) struct Request<'a> {

@@ -38,7 +38,8 @@ use crate::finger::{Load, Solution};
 use crate::gripper::{contact_force_to_gripper, gripper_force_to_finger, Grasp, Gripper, PalmSpec};
 use crate::solve_error::SolveError;
 
-use super::{Param, Sensitivities, Sensitivity};
+use super::params::Param;
+use super::record::{Sensitivities, Sensitivity};
 use crate::actuator::ActuatorParam;
 
 /// A parameter of a gripper-output sensitivity.

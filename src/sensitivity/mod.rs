@@ -29,70 +29,22 @@ mod compute;
 mod envelope;
 mod gripper;
 mod params;
+mod record;
 
 use compute::{compute, Request, State};
+pub use compute::{EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE};
 pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
 pub use gripper::{
     GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
     SizeSensitivity,
 };
 pub use params::Param;
+pub use record::{Sensitivities, Sensitivity};
 
 use crate::actuator::Actuator;
-use crate::coefficients::Coefficients;
 use crate::finger::{CoreVisitor, Finger, FingerCore, Load, Solution, TargetProblem};
 use crate::model::ElementModel;
 use crate::solve_error::SolveError;
-
-/// The derivatives of an equilibrium's outputs with respect to one
-/// parameter, per unit of the parameter's key.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Sensitivity {
-    /// The parameter.
-    pub param: Param,
-    /// Its value at the equilibrium (in its key's unit).
-    pub value: f64,
-    /// d(tip X, tip Z)/dp (mm per unit).
-    #[serde(rename = "tip_mm")]
-    pub tip: [f64; 2],
-    /// d(end angle)/dp (rad per unit).
-    #[serde(rename = "end_angle_rad")]
-    pub end_angle: f64,
-    /// d(Pi)/dp (N mm per unit), the total potential's total derivative.
-    #[serde(rename = "energy_nmm")]
-    pub energy: f64,
-    /// d(lambda)/dp for a target solve (`None` otherwise).
-    pub lambda: Option<f64>,
-    /// dK/dp: the derivative of the raw element unknowns.
-    pub coefficients: Coefficients,
-}
-
-/// The sensitivities of one equilibrium ([`Finger::sensitivities`],
-/// [`Finger::target_sensitivities`]), one row per parameter asked for, in
-/// that order.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Sensitivities {
-    /// Tip position (X, Z) at the equilibrium (mm).
-    #[serde(rename = "tip_mm")]
-    pub tip: [f64; 2],
-    /// End angle at the equilibrium (rad).
-    #[serde(rename = "end_angle_rad")]
-    pub end_angle: f64,
-    /// Total potential at the equilibrium (N mm).
-    #[serde(rename = "energy_nmm")]
-    pub energy: f64,
-    /// The load factor of a target solve (`None` otherwise).
-    pub lambda: Option<f64>,
-    /// One row per parameter.
-    pub rows: Vec<Sensitivity>,
-}
-
-impl Sensitivities {
-    /// The row of a parameter.
-    pub fn get(&self, param: Param) -> Option<&Sensitivity> {
-        self.rows.iter().find(|r| r.param == param)
-    }
-}
 
 /// The sensitivities of a request, with the finger's typed core.
 struct Compute<'a>(&'a Request<'a>);
@@ -103,13 +55,6 @@ impl CoreVisitor for Compute<'_> {
         compute(core, self.0)
     }
 }
-
-/// Largest relative residual `||grad Pi||_inf / stiffness` accepted as an
-/// equilibrium (the solver's default tolerance is 1e-11).
-pub const EQUILIBRIUM_TOLERANCE: f64 = 1e-6;
-
-/// Largest target residual accepted, relative to the finger's length.
-pub const TARGET_TOLERANCE: f64 = 1e-6;
 
 impl Finger {
     /// The sensitivities of the equilibrium `solution` under `load` with

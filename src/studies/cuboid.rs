@@ -2,9 +2,10 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
 use super::lift::{add_lift_curve, lift_curve, LiftCurve};
+use super::options::{section5_gripper, StudyOptions};
 use super::output::*;
-use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
 use crate::solve_error::SolveError;
 

@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
+use super::options::{StudyOptions, SweepStop};
 use super::output::*;
-use super::{StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::circle_fit::fit_circle;
 use crate::coefficients::Coefficients;

@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
+use super::options::{StudyOptions, STUDY8_PRESSURES_KPA};
 use super::output::*;
-use super::{StudyInfo, StudyOptions, STUDY8_PRESSURES_KPA};
 use crate::actuator::Actuator;
 use crate::error::{finite, Warning};
 use crate::finger::{

@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
+use super::options::{section5_gripper, StudyOptions, SweepStop};
 use super::output::*;
-use super::{section5_gripper, StudyInfo, StudyOptions, SweepStop};
 use crate::actuator::Actuator;
 use crate::error::Warning;
 use crate::gripper::{Grasp, Invalid};

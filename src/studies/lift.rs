@@ -5,11 +5,12 @@
 
 use serde::Serialize;
 
+use super::options::SweepStop;
 use super::output::{
     columns, max_of, pts, stop_entry, Assembly, Cell, Column, Panel, Series, SeriesKind, StopAt,
     StopEntry, GRASP_TAIL,
 };
-use super::{size_sweep, SweepStop};
+use super::sweep::size_sweep;
 use crate::error::Warning;
 use crate::gripper::{Gripper, Invalid, Object};
 

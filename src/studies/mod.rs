@@ -15,28 +15,23 @@
 //! is one module and one entry of [`STUDIES`]; front ends (`fpc paper`) run
 //! the registry and need no change.
 
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
-
-use crate::actuator::Actuator;
-use crate::error::{positive, require, InputError};
-use crate::finger::Finger;
-use crate::gripper::{
-    Grasp, Gripper, GripperParams, Object, PalmSpec, SizeTail, SweepEnd, ViableAngles,
-};
-use crate::model::ModelId;
-use crate::partition::Partition;
-use crate::solve_error::SolveError;
-
 mod cuboid;
 mod curvature;
 mod displacement;
 mod force_control;
+mod info;
 mod lift;
+mod options;
 mod output;
 mod overlap;
 mod prestrain_angle;
 mod sphere;
+mod sweep;
 mod viable;
+
+use crate::actuator::Actuator;
+use crate::gripper::ViableAngles;
+use crate::solve_error::SolveError;
 
 pub use cuboid::{study3_cuboid_region, CuboidRegion, CUBOID_TEST};
 pub use curvature::{study7_curvature, CurvatureCurve, CurvatureRow};
@@ -45,7 +40,12 @@ pub use displacement::{
     DisplacementForceRow,
 };
 pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
+pub use info::StudyInfo;
 pub use lift::{LiftCurve, LiftPoint};
+pub use options::{
+    section5_gripper, StudyOptions, SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
+    STUDY8_PRESSURES_KPA,
+};
 pub use output::{
     angle_key, angle_name, eps0_key, overlap_key, validity_kinds, warnings_cell, Band, Cell, Clip,
     Clipped, Column, Corner, Figure, Overview, Panel, PlotAxis, RefLine, Series, SeriesKind, Stop,
@@ -56,199 +56,6 @@ pub use overlap::study2_overlap;
 pub use prestrain_angle::study1_prestrain_angle;
 pub use sphere::{study5_sphere_region, SpherePoint, SphereRegion};
 pub use viable::study6_viable_angles;
-
-/// Prestrains of the paper's samples.
-pub const PAPER_EPS0: [f64; 3] = [0.4, 0.25, 0.15];
-
-/// Mounting angles of studies 1 and 2: pi/2, pi/2.5, pi/3.
-pub const PAPER_ANGLES: [f64; 3] = [FRAC_PI_2, PI / 2.5, FRAC_PI_3];
-
-/// Overlaps of study 2 (mm).
-pub const PAPER_OVERLAPS: [f64; 3] = [0.0, 10.0, 20.0];
-
-/// Pressures of study 8 (kPa).
-pub const STUDY8_PRESSURES_KPA: [f64; 4] = [0.0, 27.6, 55.2, 82.7];
-
-/// Resolution and shared settings of the studies.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StudyOptions {
-    /// The element model of the fingers (the paper's CCM by default).
-    pub model: ModelId,
-    /// Elements per finger (the paper uses 8).
-    pub elements: usize,
-    /// Friction coefficient.
-    pub mu: f64,
-    /// Points per grasping-size sweep (studies 1, 2, 3, 5), at least 2.
-    pub sweep_points: usize,
-    /// Grasping angles scanned (studies 5 and 6), at least 4.
-    pub angle_samples: usize,
-    /// Pressures in study 7 (0 to 400 kPa inclusive), at least 2.
-    pub pressure_points: usize,
-    /// Strict mode: grasps that bend an element backwards are invalid and
-    /// dropped, as the paper's analysis assumes.
-    pub strict: bool,
-}
-
-impl Default for StudyOptions {
-    fn default() -> StudyOptions {
-        StudyOptions {
-            model: ModelId::default(),
-            elements: 8,
-            mu: 0.6,
-            sweep_points: 32,
-            angle_samples: 24,
-            pressure_points: 21,
-            strict: false,
-        }
-    }
-}
-
-impl StudyOptions {
-    /// Coarse sweeps (for tests and previews).
-    pub fn coarse() -> StudyOptions {
-        StudyOptions {
-            sweep_points: 6,
-            angle_samples: 8,
-            pressure_points: 5,
-            ..StudyOptions::default()
-        }
-    }
-
-    /// Checks every field.
-    pub fn validate(&self) -> Result<(), InputError> {
-        let at_least = |field: &str, v: usize, min: usize| {
-            require(v >= min, field, v as f64, format!("must be at least {min}"))
-        };
-        at_least("study.elements", self.elements, 1)?;
-        positive("study.mu", self.mu)?;
-        at_least("study.sweep_points", self.sweep_points, 2)?;
-        at_least("study.angle_samples", self.angle_samples, 4)?;
-        at_least("study.pressure_points", self.pressure_points, 2)?;
-        Ok(())
-    }
-
-    pub(crate) fn finger(&self, actuator: &Actuator, eps0: f64) -> Result<Finger, InputError> {
-        let act = actuator.with_eps0(eps0)?;
-        let part = Partition::equal(act.geometry().lx, self.elements)?;
-        Ok(Finger::with_model(self.model, &act, &part, true))
-    }
-
-    pub(crate) fn gripper(
-        &self,
-        actuator: &Actuator,
-        eps0: f64,
-        mounting_angle: f64,
-        overlap: f64,
-    ) -> Result<Gripper, SolveError> {
-        Gripper::new(
-            self.finger(actuator, eps0)?,
-            GripperParams {
-                mounting_angle,
-                geometry: PalmSpec::Overlap(overlap),
-                fingers: 3,
-                mu: self.mu,
-                strict: self.strict,
-            },
-        )
-    }
-}
-
-/// Where and why a sweep stopped before its end.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SweepStop {
-    /// The sweep parameter that failed (grasping size in mm, or pressure in kPa).
-    pub at: f64,
-    /// Why, in words.
-    pub reason: String,
-    /// The sweep's natural end (a fold, the validity limit, a force beyond
-    /// [`crate::gripper::MAX_GRASP_FORCE_N`]), when it is one; `None` for a
-    /// numerical stop.
-    pub end: Option<SweepEnd>,
-}
-
-impl SweepStop {
-    /// A numerical stop (a failed solve).
-    pub(crate) fn failed(at: f64, reason: String) -> SweepStop {
-        SweepStop {
-            at,
-            reason,
-            end: None,
-        }
-    }
-
-    /// True when the sweep ended for a reason of the gripper's, not a
-    /// failed solve.
-    pub fn is_natural(&self) -> bool {
-        self.end.as_ref().is_some_and(|e| !e.is_numerical())
-    }
-}
-
-/// Sweeps the grasping size over `n + 1` points from `from` to `to`
-/// (grasping angle `beta`, `f = mu F`), each solve warm-started from the
-/// previous. Where a target solve fails, the load path from the last grasp
-/// is followed ([`Gripper::size_tail`]): the sweep goes on if it reaches
-/// the size, and otherwise ends at the path's natural end (or, if the path
-/// cannot be continued, at a numerical stop).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn size_sweep(
-    g: &Gripper,
-    pressure_kpa: f64,
-    beta: f64,
-    object: Object,
-    from: f64,
-    to: f64,
-    n: usize,
-    mut visit: impl FnMut(&Grasp),
-) -> Option<SweepStop> {
-    let mut warm: Option<Grasp> = None;
-    for i in 0..=n {
-        let d = from + (to - from) * i as f64 / n as f64;
-        let gr = match g.size_grasp(pressure_kpa, d, beta, object, warm.as_ref(), false) {
-            Ok(gr) => gr,
-            Err(e) => {
-                // from the last grasp, or the finger without contact force
-                let start = match &warm {
-                    Some(w) => Ok(w.clone()),
-                    None => g.sweep_start(pressure_kpa, beta, object),
-                };
-                let last = match start {
-                    Ok(l) => l,
-                    Err(e2) => {
-                        return Some(SweepStop::failed(
-                            d,
-                            format!("{e}; and the start of the load path: {e2}"),
-                        ))
-                    }
-                };
-                match g.size_tail(&last, d) {
-                    Ok(SizeTail::Reached(gr)) => *gr,
-                    Ok(SizeTail::End(end)) => {
-                        return Some(SweepStop {
-                            at: d,
-                            reason: end.to_string(),
-                            end: Some(end),
-                        })
-                    }
-                    Err(e2) => {
-                        return Some(SweepStop::failed(
-                            d,
-                            format!("{e}; following the load path: {e2}"),
-                        ))
-                    }
-                }
-            }
-        };
-        visit(&gr);
-        warm = Some(gr);
-    }
-    None
-}
-
-/// The gripper of the paper's Sec. 5: eps0 = 0.25, a = pi/3, g = 20 mm.
-pub fn section5_gripper(actuator: &Actuator, opts: &StudyOptions) -> Result<Gripper, SolveError> {
-    opts.validate()?;
-    opts.gripper(actuator, 0.25, FRAC_PI_3, 20.0)
-}
 
 // ------------------------------------------------------------ all
 
@@ -288,46 +95,6 @@ pub fn run_all(actuator: &Actuator, opts: &StudyOptions) -> Result<Studies, Solv
 }
 
 // ------------------------------------------------------------ registry
-
-/// One study of the registry: what it is, and how to run it into its
-/// outputs.
-#[derive(Debug, Clone, Copy)]
-pub struct StudyInfo {
-    /// Its number in docs/model.md section 6 (1 to 8).
-    pub number: usize,
-    /// A short stable name (`prestrain_angle`).
-    pub key: &'static str,
-    /// Title.
-    pub title: &'static str,
-    /// One-line description.
-    pub description: &'static str,
-    /// Runs the study and turns its result into outputs (call
-    /// [`StudyInfo::output`], which also marks the folds in the figure).
-    pub run: fn(&Actuator, &StudyOptions) -> Result<StudyOutput, SolveError>,
-    /// The outputs of a study that produced nothing: its tables with their
-    /// columns and no rows, an empty figure, and its summary keys with
-    /// empty values (`[]` or `null`).
-    pub empty: fn() -> StudyOutput,
-}
-
-impl StudyInfo {
-    /// Runs the study into its outputs, with every fold its sweeps met
-    /// marked in its figure (a line at each fold's grasping size, its force in a note).
-    pub fn output(
-        &self,
-        actuator: &Actuator,
-        opts: &StudyOptions,
-    ) -> Result<StudyOutput, SolveError> {
-        let mut out = (self.run)(actuator, opts)?;
-        out.mark_folds();
-        Ok(out)
-    }
-
-    /// The stem of its figure and main table: `study<number>`.
-    pub fn stem(&self) -> String {
-        format!("study{}", self.number)
-    }
-}
 
 /// The paper's studies, in order.
 pub const STUDIES: &[StudyInfo] = &[

@@ -13,7 +13,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 use serde::Serialize;
 use serde_json::Value;
 
-use super::SweepStop;
+use super::options::SweepStop;
 use crate::error::Warning;
 use crate::gripper::{Invalid, SweepEnd};
 pub use crate::report::*;

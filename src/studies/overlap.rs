@@ -2,9 +2,10 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
 use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
+use super::options::{StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
 use super::output::*;
-use super::{StudyInfo, StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
 use crate::actuator::Actuator;
 use crate::solve_error::SolveError;
 

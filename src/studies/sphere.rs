@@ -2,8 +2,10 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
+use super::options::{section5_gripper, StudyOptions, SweepStop};
 use super::output::*;
-use super::{section5_gripper, size_sweep, StudyInfo, StudyOptions, SweepStop};
+use super::sweep::size_sweep;
 use crate::actuator::Actuator;
 use crate::error::Warning;
 use crate::gripper::{grasping_angle_range, Gripper, Invalid, Object, SphereLift};

@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 
+use super::info::StudyInfo;
+use super::options::{section5_gripper, StudyOptions};
 use super::output::*;
-use super::{section5_gripper, StudyInfo, StudyOptions};
 use crate::actuator::Actuator;
 use crate::gripper::{grasping_angle_range, AngleSample, Invalid, ViableAngles};
 use crate::solve_error::SolveError;
