@@ -55,6 +55,7 @@
 
 pub mod actuator;
 mod brent;
+pub mod cancel;
 pub mod circle_fit;
 mod coefficients;
 pub mod design;

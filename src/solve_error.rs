@@ -1,5 +1,6 @@
 //! Why a solve failed: a rejected input, Newton short of the tolerance
-//! (with the last iterate), or a target the path does not reach.
+//! (with the last iterate), a target the path does not reach, or work the
+//! caller stopped.
 
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
@@ -57,4 +58,7 @@ pub enum SolveError {
         /// The failure at the step that could not be taken.
         detail: String,
     },
+    /// The caller stopped the work ([`crate::cancel`]): no solve was tried.
+    #[error("cancelled: the caller asked the work to stop")]
+    Cancelled,
 }

@@ -469,6 +469,9 @@ fn every_module_points_one_way() {
         _ => Some(m.join("::")),
     });
     // the check sees the files: the finger's solver uses its chain
-    assert!(graph["finger::solver"].contains_key("finger::chain"), "{graph:?}");
+    assert!(
+        graph["finger::solver"].contains_key("finger::chain"),
+        "{graph:?}"
+    );
     check("module", &graph);
 }

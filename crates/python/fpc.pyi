@@ -39,8 +39,9 @@ class SceneError(ValueError):
 
 class SolveError(RuntimeError):
     """A failed solve. ``kind`` is ``"not_converged"`` (with ``reason``,
-    ``iterations``, ``relative_residual``, ``element``) or
-    ``"target_not_reached"`` (with ``target``, ``value``, ``reached``)."""
+    ``iterations``, ``relative_residual``, ``element``),
+    ``"target_not_reached"`` (with ``target``, ``value``, ``reached``),
+    ``"not_on_path"`` (with ``target``, ``value``) or ``"cancelled"``."""
 
     kind: str
 

@@ -192,6 +192,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
         opts: &SolveOptions,
         visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
     ) -> Result<LoadPath, SolveError> {
+        crate::cancel::check()?;
         let LoadPathSpec {
             problem,
             lambda0,

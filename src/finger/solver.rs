@@ -246,6 +246,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         guess: Option<&Coefficients>,
         opts: &SolveOptions,
     ) -> Result<(SolveReport, bool), SolveError> {
+        crate::cancel::check()?;
         load.validate()?;
         opts.validate()?;
         let f = self.finger;

@@ -166,6 +166,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
         ctol_mm: f64,
         opts: &SolveOptions,
     ) -> Result<(), SolveError> {
+        crate::cancel::check()?;
         problem.validate()?;
         opts.validate()?;
         finite("target.lambda0", lambda0)?;

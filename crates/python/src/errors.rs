@@ -98,6 +98,11 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
             let _ = v.setattr("value", *value);
             err
         }
+        fpc::SolveError::Cancelled => {
+            let err = SolveError::new_err(e.to_string());
+            let _ = err.value(py).setattr("kind", "cancelled");
+            err
+        }
     }
 }
 
@@ -172,24 +177,28 @@ const SIGNAL_POLL: std::time::Duration = std::time::Duration::from_millis(50);
 
 /// Runs `f` on a worker thread with the GIL released, re-taking the GIL
 /// every 50 ms to run Python's signal handlers: Ctrl-C (or any handler
-/// that raises) returns at once with its exception (`KeyboardInterrupt`).
-/// The library cannot be stopped mid-computation, so an interrupted `f`
-/// runs to its end on its thread (its work is bounded by the checked
-/// input limits) and its result is dropped. A panic is `fpc.InternalError`.
+/// that raises) returns at once with its exception (`KeyboardInterrupt`)
+/// and sets the worker's [`fpc::cancel`] flag, so every solve `f` starts
+/// from then on fails at once and `f` winds down within milliseconds on
+/// its thread; its result is dropped. A panic is `fpc.InternalError`.
 pub fn interruptible<T: Send + 'static>(
     py: Python<'_>,
     f: impl FnOnce() -> T + Send + 'static,
 ) -> PyResult<T> {
     let (tx, rx) = std::sync::mpsc::channel();
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let worker_flag = flag.clone();
     std::thread::Builder::new()
         .name("fpc-work".into())
         .stack_size(8 << 20)
         .spawn(move || {
-            let _ = tx.send(guarded(f));
+            let _ = tx.send(guarded(|| fpc::cancel::with_flag(worker_flag, f)));
         })
         .map_err(|e| InternalError::new_err(format!("cannot start a worker thread: {e}")))?;
-    // an interrupted f runs to its end on its own thread
-    wait_polling(py, rx, |_, _| {})
+    // an interrupted f winds down on its own thread
+    wait_polling(py, rx, move |_, _| {
+        flag.store(true, std::sync::atomic::Ordering::Relaxed)
+    })
 }
 
 /// Runs `f(cancel)` on a scoped worker thread with the GIL released,

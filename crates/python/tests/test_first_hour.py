@@ -234,7 +234,9 @@ def test_huge_and_negative_counts_are_clean_errors():
 
 def _interrupted(code, after_s=1.0, timeout=120):
     """Runs `code` in a fresh interpreter that gets SIGINT `after_s` into
-    it; returns (seconds from the signal to KeyboardInterrupt, output)."""
+    it. Prints "INTERRUPTED", the seconds from the signal to
+    KeyboardInterrupt, and the CPU seconds the process spends in the next
+    second (about 1 or more while an abandoned computation still runs)."""
     script = textwrap.dedent(
         f"""
         import os, signal, threading, time
@@ -249,7 +251,11 @@ def _interrupted(code, after_s=1.0, timeout=120):
             {code}
             print("FINISHED")
         except KeyboardInterrupt:
-            print("INTERRUPTED", time.perf_counter() - t["sent"])
+            latency = time.perf_counter() - t["sent"]
+            time.sleep(0.2)
+            c0 = time.process_time()
+            time.sleep(1.0)
+            print("INTERRUPTED", latency, time.process_time() - c0)
         """
     )
     p = subprocess.run(
@@ -271,6 +277,15 @@ def test_ctrl_c_stops_a_study():
     out = _interrupted("fpc.run_study(5, sweep_points=500, angle_samples=200)")
     assert out.startswith("INTERRUPTED"), out
     assert float(out.split()[1]) < 5, out
+    # the study itself stopped: no CPU is spent after the interrupt
+    assert float(out.split()[2]) < 0.3, out
+
+
+def test_ctrl_c_stops_a_design():
+    out = _interrupted(f"fpc.design({CUBOID!r}, starts=2000)")
+    assert out.startswith("INTERRUPTED"), out
+    assert float(out.split()[1]) < 5, out
+    assert float(out.split()[2]) < 0.3, out
 
 
 # ------------------------------------------------ 6. the bench script

@@ -299,9 +299,14 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
                 relative_residual,
             };
         }
-        Ok(Err(e @ (SolveError::TargetNotReached { .. } | SolveError::NotOnPath { .. }))) => {
+        Ok(Err(
+            e @ (SolveError::TargetNotReached { .. }
+            | SolveError::NotOnPath { .. }
+            | SolveError::Cancelled),
+        )) => {
+            // the stress run never cancels
             c.outcome = StressOutcome::SilentlyWrong {
-                what: format!("a plain solve reported a target: {e}"),
+                what: format!("a plain solve reported a target or a cancellation: {e}"),
             };
         }
         Ok(Err(SolveError::Input(e))) => {

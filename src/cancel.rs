@@ -1,0 +1,87 @@
+//! Stopping long work from another thread.
+//!
+//! A caller that may want to stop a long computation (a study, a design, a
+//! sweep) runs it under a flag with [`with_flag`]. Once another thread sets
+//! the flag, every finger solve the computation starts on that thread
+//! fails at once with [`SolveError::Cancelled`]; the studies and designs
+//! treat that like any failed solve, so the computation winds down in
+//! microseconds and returns (its result incomplete, to be dropped). The
+//! Python module sets the flag on Ctrl-C.
+//!
+//! The flag is per thread: work that the computation hands to other threads
+//! does not see it.
+
+use std::cell::RefCell;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+use crate::solve_error::SolveError;
+
+thread_local! {
+    static FLAG: RefCell<Option<Arc<AtomicBool>>> = const { RefCell::new(None) };
+}
+
+/// Restores the thread's previous flag when dropped (also on a panic).
+struct Restore(Option<Arc<AtomicBool>>);
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        let previous = self.0.take();
+        FLAG.with(|f| *f.borrow_mut() = previous);
+    }
+}
+
+/// Runs `f` on this thread with `flag` as its cancellation flag (module
+/// docs); the previous flag, if any, is restored afterwards.
+pub fn with_flag<T>(flag: Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
+    let previous = FLAG.with(|cell| cell.borrow_mut().replace(flag));
+    let _restore = Restore(previous);
+    f()
+}
+
+/// True when this thread runs under a flag that has been set.
+pub fn is_cancelled() -> bool {
+    FLAG.with(|f| {
+        f.borrow()
+            .as_ref()
+            .is_some_and(|flag| flag.load(Ordering::Relaxed))
+    })
+}
+
+/// Fails with [`SolveError::Cancelled`] once this thread's flag is set.
+pub(crate) fn check() -> Result<(), SolveError> {
+    if is_cancelled() {
+        Err(SolveError::Cancelled)
+    } else {
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_the_flagged_thread_sees_its_flag() {
+        let flag = Arc::new(AtomicBool::new(false));
+        assert!(!is_cancelled());
+        with_flag(flag.clone(), || {
+            assert!(!is_cancelled());
+            flag.store(true, Ordering::Relaxed);
+            assert!(is_cancelled());
+            assert_eq!(check(), Err(SolveError::Cancelled));
+            // another thread runs without it
+            assert!(!std::thread::scope(|s| s
+                .spawn(is_cancelled)
+                .join()
+                .unwrap()));
+            // a nested flag takes over, and the outer one comes back
+            with_flag(
+                Arc::new(AtomicBool::new(false)),
+                || assert!(!is_cancelled()),
+            );
+            assert!(is_cancelled());
+        });
+        assert!(!is_cancelled());
+    }
+}
