@@ -461,13 +461,8 @@ fn a_path_resolves_through_re_exports() {
 
 #[test]
 fn every_module_points_one_way() {
-    // modules whose files are not layered yet count as one node each
-    const WHOLE: [&str; 2] = ["actuator", "scene"];
     let krate = Crate::read();
-    let graph = krate.graph(|m| match m.first() {
-        Some(top) if WHOLE.contains(&top.as_str()) => Some(top.clone()),
-        _ => Some(m.join("::")),
-    });
+    let graph = krate.graph(|m| Some(m.join("::")));
     // the check sees the files: the finger's solver uses its chain
     assert!(
         graph["finger::solver"].contains_key("finger::chain"),

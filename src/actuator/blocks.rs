@@ -13,7 +13,7 @@ use crate::error::{positive, require, InputError};
 use crate::model::{GasParams, LinearParams, PrestressedParams};
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
-use super::{Actuator, Rib};
+use super::laminate::{Actuator, Rib};
 
 /// Clipped blocks shorter than this fraction of the element are dropped.
 const MIN_BLOCK_FRACTION: f64 = 1e-12;

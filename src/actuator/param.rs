@@ -5,7 +5,7 @@
 
 use crate::error::InputError;
 
-use super::{Actuator, ActuatorParams, Material, RibLayout};
+use super::laminate::{Actuator, ActuatorParams, Material, RibLayout};
 
 /// A linear lamina with its own material table (`actuator.<layer>`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -8,8 +8,8 @@ use crate::model::{GasParams, LinearParams, PrestressedParams, PsiParams};
 use crate::partition::Partition;
 
 use super::blocks::clip;
+use super::laminate::{Actuator, Material, PlaneStress, Rib, RibLayout};
 use super::param::{ActuatorParam, Elastic, Lamina};
-use super::{Actuator, Material, PlaneStress, Rib, RibLayout};
 
 /// The change of every actuator quantity the blocks read, per unit change
 /// of one design parameter: a tangent of the actuator (docs/model.md,

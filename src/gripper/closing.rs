@@ -19,8 +19,8 @@ use super::frames::{
 };
 use super::rules::{self, Invalid, PathRecord, Stability, Verdict};
 use super::setup::{
-    Grasp, Gripper, Object, Scene, CONTACT_TOL_MM, CURVATURE_SAMPLES, GRIPPER_SAMPLES_PER_ELEMENT,
-    TARGET_TOL_MM,
+    Grasp, GraspLoad, Gripper, Object, CONTACT_TOL_MM, CURVATURE_SAMPLES,
+    GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM,
 };
 
 impl Gripper {
@@ -97,7 +97,7 @@ impl Gripper {
     pub(super) fn grasp_from(
         &self,
         solution: Solution,
-        scene: &Scene,
+        scene: &GraspLoad,
         problem: TargetProblem,
         lambda: f64,
         path: PathRecord,
@@ -140,7 +140,7 @@ impl Gripper {
         }
     }
 
-    pub(super) fn problem(&self, scene: &Scene) -> TargetProblem {
+    pub(super) fn problem(&self, scene: &GraspLoad) -> TargetProblem {
         let a = self.params.mounting_angle;
         let base = gripper_force_to_finger(scene.base, a);
         let (s, c) = a.sin_cos();
@@ -170,7 +170,7 @@ impl Gripper {
 
     pub(super) fn solve_scene(
         &self,
-        scene: &Scene,
+        scene: &GraspLoad,
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
         finite("grasp.pressure_kpa", scene.pressure_kpa)?;
@@ -440,7 +440,7 @@ impl Gripper {
         check_beta(beta)?;
         let direction = contact_force_to_gripper(1.0, self.params.mu, beta);
         self.solve_scene(
-            &Scene {
+            &GraspLoad {
                 pressure_kpa,
                 beta,
                 base: [0.0, 0.0],
@@ -467,7 +467,7 @@ impl Gripper {
         self.check_size(d)?;
         finite("grasp.friction", friction)?;
         self.solve_scene(
-            &Scene {
+            &GraspLoad {
                 pressure_kpa,
                 beta: 0.0,
                 base: [0.0, friction],

@@ -171,7 +171,7 @@ pub struct Gripper {
 }
 
 /// How the tip load depends on `lambda`, in the gripper frame.
-pub(super) struct Scene {
+pub(super) struct GraspLoad {
     pub(super) pressure_kpa: f64,
     pub(super) beta: f64,
     /// Fixed gripper-frame force (N).

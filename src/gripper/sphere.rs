@@ -20,7 +20,7 @@ use crate::solve_error::SolveError;
 use super::closing::check_beta;
 use super::frames::{contact_force_to_gripper, grasping_angle_range};
 use super::rules::Invalid;
-use super::setup::{Grasp, Gripper, Object, Scene};
+use super::setup::{Grasp, GraspLoad, Gripper, Object};
 
 /// Tolerance (rad) on the best grasping angle of [`Gripper::max_sphere_lift`].
 pub const ENVELOPE_BETA_TOL: f64 = 1e-9;
@@ -174,7 +174,7 @@ impl Gripper {
         self.check_sphere(r, beta)?;
         finite("sphere.lift", lift)?;
         let grasp = self.solve_scene(
-            &Scene {
+            &GraspLoad {
                 pressure_kpa,
                 beta,
                 base: [0.0, lift],
@@ -217,7 +217,7 @@ impl Gripper {
     ) -> Result<SphereGrasp, SolveError> {
         self.check_sphere(r, beta)?;
         let grasp = self.solve_scene(
-            &Scene {
+            &GraspLoad {
                 pressure_kpa,
                 beta,
                 base: [0.0, 0.0],

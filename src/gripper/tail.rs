@@ -16,7 +16,7 @@ use fpc_newton::PathTermination;
 
 use super::frames::contact_force_to_gripper;
 use super::rules::PathRecord;
-use super::setup::{Grasp, Gripper, Object, Scene, GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM};
+use super::setup::{Grasp, GraspLoad, Gripper, Object, GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM};
 
 /// The normal force (N) beyond which a sweep ends: forces far above what a
 /// soft gripper exerts; the grasping size then approaches its limit for
@@ -143,7 +143,7 @@ impl Gripper {
         let load = crate::finger::Load::unloaded().with_pressure_kpa(pressure_kpa);
         let sol = self.finger.solve(&load, &opts)?;
         let size = self.size_of(sol.tip);
-        let scene = Scene {
+        let scene = GraspLoad {
             pressure_kpa,
             beta,
             base: [0.0, 0.0],
@@ -249,7 +249,7 @@ impl Gripper {
             // the path reached the size: trace the target from that point
             // of the same path to the size itself
             let k = Coefficients::new(per, k)?;
-            let scene = Scene {
+            let scene = GraspLoad {
                 pressure_kpa: last.pressure_kpa,
                 beta: last.beta,
                 base: [0.0, 0.0],

@@ -66,17 +66,12 @@ mod fuzz;
 #[cfg(test)]
 mod testing;
 
-use crate::actuator::Actuator;
-use crate::error::{InputError, Warning};
-use crate::finger::{Load, SolveOptions};
-use crate::model::ModelId;
-
-pub use fields::{scene_input, scene_solve, warning_text};
-pub use record::{degrees, GraspJson, GripperJson, SolutionRecord};
+pub use fields::{degrees, scene_input, scene_solve, warning_text};
+pub use record::{GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{
-    GraspSpec, GripperScene, PartitionPlan, DEFAULT_CUBOID_FRICTION_N, DEFAULT_ELEMENTS,
-    DEFAULT_GRASP_SIZE_MM, DEFAULT_MOUNTING_ANGLE_DEG, DEFAULT_OVERLAP_MM, DEFAULT_SPHERE_BETA_DEG,
-    DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
+    GraspSpec, GripperScene, PartitionPlan, Scene, SceneReadError, DEFAULT_CUBOID_FRICTION_N,
+    DEFAULT_ELEMENTS, DEFAULT_GRASP_SIZE_MM, DEFAULT_MOUNTING_ANGLE_DEG, DEFAULT_OVERLAP_MM,
+    DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
     line_col, ActuatorSection, ChannelSection, Elements, GeometrySection, GraspKind, GraspSection,
@@ -85,53 +80,3 @@ pub use schema::{
     SolveSection,
 };
 pub use solve::{GraspOutcome, SceneSolution};
-
-/// Why a scene document could not be read.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum SceneReadError {
-    /// Not TOML, an unknown key, or a value of the wrong type.
-    #[error(transparent)]
-    Syntax(#[from] SceneError),
-    /// A value the model rejects (named by its TOML path).
-    #[error(transparent)]
-    Input(#[from] InputError),
-}
-
-/// A validated scene, ready to solve.
-#[derive(Debug, Clone)]
-pub struct Scene {
-    /// The element model of the finger.
-    pub model: ModelId,
-    /// The validated actuator.
-    pub actuator: Actuator,
-    /// The partition.
-    pub partition: PartitionPlan,
-    /// Pressure and tip load (unloaded in gripper scenes).
-    pub load: Load,
-    /// Solver settings of a finger scene.
-    pub options: SolveOptions,
-    /// The gripper, if the scene has one.
-    pub gripper: Option<GripperScene>,
-    file: SceneFile,
-}
-
-impl Scene {
-    /// Parses and resolves a scene document.
-    pub fn from_toml(text: &str) -> Result<Scene, SceneReadError> {
-        Ok(SceneFile::parse(text)?.resolve()?)
-    }
-
-    /// The scene with every default written out: the keys that apply, with
-    /// the values used (resolving it again gives the same scene).
-    pub fn file(&self) -> &SceneFile {
-        &self.file
-    }
-
-    /// What validation found about the actuator, known before solving:
-    /// notes on the input and the laminate's `thickness_ratio` finding
-    /// (the solution repeats them with every other warning,
-    /// [`SceneSolution::warnings`]).
-    pub fn warnings(&self) -> &[Warning] {
-        self.actuator.warnings()
-    }
-}

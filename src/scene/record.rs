@@ -4,7 +4,9 @@
 
 use serde::Serialize;
 
-use super::{warning_text, GraspOutcome, SceneFile, SceneSolution};
+use super::fields::{degrees, warning_text};
+use super::schema::SceneFile;
+use super::solve::{GraspOutcome, SceneSolution};
 use crate::coefficients::Coefficients;
 use crate::error::Warning;
 use crate::finger::{Solution, SolveReport};
@@ -245,11 +247,6 @@ impl<'a> GraspJson<'a> {
             sphere_center_gripper_mm: o.sphere.as_ref().map(|s| s.center),
         }
     }
-}
-
-/// Radians in degrees, rounded to 1e-9 deg (60 deg prints as 60).
-pub fn degrees(rad: f64) -> f64 {
-    (rad.to_degrees() * 1e9).round() / 1e9
 }
 
 #[cfg(test)]

@@ -12,8 +12,8 @@ use crate::plan::{Plan, PlannedFinger, Solved};
 use crate::solve_error::SolveError;
 
 use super::fields::{inconsistent, scene_solve, PartitionKey};
+use super::resolve::Scene;
 use super::resolve::{GraspSpec, PartitionPlan};
-use super::Scene;
 
 impl PartitionPlan {
     /// The solve plan of a finger on this partition.

@@ -11,7 +11,6 @@
 
 use std::fmt;
 
-use super::record::degrees;
 use crate::error::{self, InputError, Warning};
 use crate::solve_error::SolveError;
 
@@ -586,6 +585,11 @@ pub fn scene_solve(e: SolveError) -> SolveError {
         },
         other => other,
     }
+}
+
+/// Radians in degrees, rounded to 1e-9 deg (60 deg prints as 60).
+pub fn degrees(rad: f64) -> f64 {
+    (rad.to_degrees() * 1e9).round() / 1e9
 }
 
 // ------------------------------------------------------------ warnings

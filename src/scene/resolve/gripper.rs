@@ -7,10 +7,22 @@ use crate::gripper::{GripperParams, PalmSpec};
 use crate::scene::fields::{finite, forbid, inconsistent, positive, require, GraspKey, GripperKey};
 use crate::scene::schema::*;
 
-use super::{
-    DEFAULT_CUBOID_FRICTION_N, DEFAULT_GRASP_SIZE_MM, DEFAULT_MOUNTING_ANGLE_DEG,
-    DEFAULT_OVERLAP_MM, DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
-};
+// ------------------------------------------------------------ defaults
+
+/// Default mounting angle of `[gripper]` (deg; the paper's Sec. 5).
+pub const DEFAULT_MOUNTING_ANGLE_DEG: f64 = 60.0;
+/// Default overlap of `[gripper]` (mm; the paper's Sec. 5).
+pub const DEFAULT_OVERLAP_MM: f64 = 20.0;
+/// Default grasping size of kinds "size" and "cuboid" (mm; Sec. 5.1.2).
+pub const DEFAULT_GRASP_SIZE_MM: f64 = 100.0;
+/// Default friction of kind "cuboid" (N per finger; Sec. 5.1.2).
+pub const DEFAULT_CUBOID_FRICTION_N: f64 = 0.3;
+/// Default sphere radius (mm; Sec. 5.2.2).
+pub const DEFAULT_SPHERE_RADIUS_MM: f64 = 50.0;
+/// Default lifting force of kind "sphere" (N per finger; Sec. 5.2.2).
+pub const DEFAULT_SPHERE_LIFT_N: f64 = 0.5;
+/// Default grasping angle of kind "sphere" (deg).
+pub const DEFAULT_SPHERE_BETA_DEG: f64 = 20.0;
 
 /// A resolved grasp (angles in degrees, as in the file).
 #[derive(Debug, Clone, Copy, PartialEq)]

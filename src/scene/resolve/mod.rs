@@ -6,7 +6,8 @@ mod gripper;
 #[cfg(test)]
 mod tests;
 
-use crate::error::InputError;
+use crate::actuator::Actuator;
+use crate::error::{InputError, Warning};
 use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::model::ModelId;
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
@@ -16,11 +17,14 @@ use super::fields::{
     SolveKey,
 };
 use super::schema::*;
-use super::Scene;
 
 use actuator::resolve_actuator;
 use gripper::resolve_gripper;
-pub use gripper::{GraspSpec, GripperScene};
+pub use gripper::{
+    GraspSpec, GripperScene, DEFAULT_CUBOID_FRICTION_N, DEFAULT_GRASP_SIZE_MM,
+    DEFAULT_MOUNTING_ANGLE_DEG, DEFAULT_OVERLAP_MM, DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N,
+    DEFAULT_SPHERE_RADIUS_MM,
+};
 
 // ------------------------------------------------------------ defaults
 
@@ -28,22 +32,58 @@ pub use gripper::{GraspSpec, GripperScene};
 pub const DEFAULT_ELEMENTS: usize = 8;
 /// Most elements of a partition: 1 / [`MIN_ELEMENT_FRACTION`].
 pub(super) const MAX_ELEMENTS: usize = 1000;
-/// Default mounting angle of `[gripper]` (deg; the paper's Sec. 5).
-pub const DEFAULT_MOUNTING_ANGLE_DEG: f64 = 60.0;
-/// Default overlap of `[gripper]` (mm; the paper's Sec. 5).
-pub const DEFAULT_OVERLAP_MM: f64 = 20.0;
-/// Default grasping size of kinds "size" and "cuboid" (mm; Sec. 5.1.2).
-pub const DEFAULT_GRASP_SIZE_MM: f64 = 100.0;
-/// Default friction of kind "cuboid" (N per finger; Sec. 5.1.2).
-pub const DEFAULT_CUBOID_FRICTION_N: f64 = 0.3;
-/// Default sphere radius (mm; Sec. 5.2.2).
-pub const DEFAULT_SPHERE_RADIUS_MM: f64 = 50.0;
-/// Default lifting force of kind "sphere" (N per finger; Sec. 5.2.2).
-pub const DEFAULT_SPHERE_LIFT_N: f64 = 0.5;
-/// Default grasping angle of kind "sphere" (deg).
-pub const DEFAULT_SPHERE_BETA_DEG: f64 = 20.0;
 
 // ------------------------------------------------------------ the resolved scene
+
+/// Why a scene document could not be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SceneReadError {
+    /// Not TOML, an unknown key, or a value of the wrong type.
+    #[error(transparent)]
+    Syntax(#[from] SceneError),
+    /// A value the model rejects (named by its TOML path).
+    #[error(transparent)]
+    Input(#[from] InputError),
+}
+
+/// A validated scene, ready to solve.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// The element model of the finger.
+    pub model: ModelId,
+    /// The validated actuator.
+    pub actuator: Actuator,
+    /// The partition.
+    pub partition: PartitionPlan,
+    /// Pressure and tip load (unloaded in gripper scenes).
+    pub load: Load,
+    /// Solver settings of a finger scene.
+    pub options: SolveOptions,
+    /// The gripper, if the scene has one.
+    pub gripper: Option<GripperScene>,
+    file: SceneFile,
+}
+
+impl Scene {
+    /// Parses and resolves a scene document.
+    pub fn from_toml(text: &str) -> Result<Scene, SceneReadError> {
+        Ok(SceneFile::parse(text)?.resolve()?)
+    }
+
+    /// The scene with every default written out: the keys that apply, with
+    /// the values used (resolving it again gives the same scene).
+    pub fn file(&self) -> &SceneFile {
+        &self.file
+    }
+
+    /// What validation found about the actuator, known before solving:
+    /// notes on the input and the laminate's `thickness_ratio` finding
+    /// (the solution repeats them with every other warning,
+    /// [`SceneSolution::warnings`]).
+    pub fn warnings(&self) -> &[Warning] {
+        self.actuator.warnings()
+    }
+}
 
 /// How the finger is split, resolved.
 #[derive(Debug, Clone, PartialEq)]

@@ -1,0 +1,683 @@
+//! The laminate and its validated [`Actuator`]: materials and their Q's,
+//! the prestressed layer's law, dimensions, channel and ribs, with the
+//! paper's defaults (the table of laminae is in the module docs of
+//! [`crate::actuator`]).
+
+use crate::error::{finite, positive, require, InputError, Warning};
+use crate::model::PsiParams;
+
+/// Strain range of the uniaxial test the prestressed law was fitted to;
+/// a prestrain outside it is accepted with a [`Warning`].
+pub const EPS0_FIT_RANGE: (f64, f64) = (0.0, 0.6);
+
+/// Upper bound on the number of ribs a [`RibLayout::Paper`] may generate
+/// (guards against a tiny pitch allocating without bound).
+pub const MAX_GENERATED_RIBS: usize = 10_000;
+
+/// Plane-stress reduced stiffnesses (MPa) of a lamina, with X = 1, Y = 2.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlaneStress {
+    pub q11: f64,
+    pub q12: f64,
+    pub q22: f64,
+}
+
+/// An isotropic linear-elastic material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Isotropic {
+    /// Young's modulus (MPa).
+    pub e: f64,
+    /// Poisson's ratio, in [0, 0.5).
+    pub nu: f64,
+}
+
+impl Isotropic {
+    /// Q11 = Q22 = E/(1-nu^2), Q12 = nu E/(1-nu^2): the orthotropic
+    /// formulas with E1 = E2.
+    pub fn q(&self) -> PlaneStress {
+        Orthotropic {
+            e1: self.e,
+            e2: self.e,
+            nu12: self.nu,
+        }
+        .q()
+    }
+
+    fn validate(&self, path: &str) -> Result<(), InputError> {
+        positive(&format!("{path}.e"), self.e)?;
+        let field = format!("{path}.nu");
+        finite(&field, self.nu)?;
+        require(
+            (0.0..0.5).contains(&self.nu),
+            &field,
+            self.nu,
+            "must lie in [0, 0.5)".into(),
+        )
+    }
+}
+
+/// An orthotropic linear-elastic lamina with axes X (1) and Y (2).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orthotropic {
+    /// Young's modulus along X (MPa).
+    pub e1: f64,
+    /// Young's modulus along Y (MPa).
+    pub e2: f64,
+    /// Major Poisson's ratio (strain in Y from stress in X).
+    pub nu12: f64,
+}
+
+impl Orthotropic {
+    /// Minor Poisson's ratio nu21 = nu12 E2 / E1.
+    pub fn nu21(&self) -> f64 {
+        self.nu12 * self.e2 / self.e1
+    }
+
+    /// Q11 = E1/D, Q22 = E2/D, Q12 = nu12 E2/D with D = 1 - nu12 nu21.
+    pub fn q(&self) -> PlaneStress {
+        let d = 1.0 - self.nu12 * self.nu21();
+        PlaneStress {
+            q11: self.e1 / d,
+            q12: self.nu12 * self.e2 / d,
+            q22: self.e2 / d,
+        }
+    }
+
+    fn validate(&self, path: &str) -> Result<(), InputError> {
+        positive(&format!("{path}.e1"), self.e1)?;
+        positive(&format!("{path}.e2"), self.e2)?;
+        let field = format!("{path}.nu12");
+        finite(&field, self.nu12)?;
+        let d = 1.0 - self.nu12 * self.nu21();
+        require(
+            d > 0.0,
+            &field,
+            self.nu12,
+            format!(
+                "1 - nu12 nu21 = {d} must be positive (nu21 = nu12 E2/E1 = {})",
+                self.nu21()
+            ),
+        )
+    }
+}
+
+/// The material of a linear lamina.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Material {
+    Isotropic(Isotropic),
+    Orthotropic(Orthotropic),
+}
+
+impl Material {
+    /// The plane-stress reduced stiffnesses.
+    pub fn q(&self) -> PlaneStress {
+        match self {
+            Material::Isotropic(m) => m.q(),
+            Material::Orthotropic(m) => m.q(),
+        }
+    }
+
+    fn validate(&self, path: &str) -> Result<(), InputError> {
+        match self {
+            Material::Isotropic(m) => m.validate(path),
+            Material::Orthotropic(m) => m.validate(path),
+        }
+    }
+}
+
+impl From<Isotropic> for Material {
+    fn from(m: Isotropic) -> Self {
+        Material::Isotropic(m)
+    }
+}
+
+impl From<Orthotropic> for Material {
+    fn from(m: Orthotropic) -> Self {
+        Material::Orthotropic(m)
+    }
+}
+
+/// The prestressed layer's axial law: the constants of the spec's
+/// `law psi(s)` (for the paper's element,
+/// psi(s) = p1/2 s^2 - p2/3 s^3 + p3/4 s^4 - p4/5 s^5 in MPa, a fit of a
+/// uniaxial test; psi'(s) is the axial stress). The law itself, and its
+/// derivatives, are generated from the spec ([`crate::model::Energy::psi`]).
+pub type PsiLaw = PsiParams;
+
+impl Default for PsiParams {
+    /// The paper's fit (printed in Pa as 1.598e6, ...).
+    fn default() -> Self {
+        PsiParams {
+            p1: 1.598,
+            p2: 2.306,
+            p3: 2.29,
+            p4: 0.698,
+        }
+    }
+}
+
+impl PsiParams {
+    /// The constants, in order.
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.p1, self.p2, self.p3, self.p4]
+    }
+
+    fn validate(&self, path: &str) -> Result<(), InputError> {
+        for (k, pk) in self.to_array().into_iter().enumerate() {
+            finite(&format!("{path}.p{}", k + 1), pk)?;
+        }
+        positive(&format!("{path}.p1"), self.p1)?;
+        Ok(())
+    }
+}
+
+/// The prestressed EMC: nonlinear along X (stretched by `eps0` before
+/// bonding), linear along Y.
+///
+/// There is no Poisson coupling: the law only defines the X response, so
+/// the layer stores W = psi(eps0 + eps_x) + 1/2 Q22 eps_y^2 with
+/// Q22 = E2 (the paper's nu = 0).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Prestressed {
+    /// Young's modulus along Y (MPa).
+    pub e2: f64,
+    /// Axial law along X.
+    pub law: PsiLaw,
+    /// Prestrain along X.
+    pub eps0: f64,
+}
+
+impl Prestressed {
+    /// The Y stiffness of the 1/2 Q22 eps_y^2 term: E2 (no coupling).
+    pub fn q22(&self) -> f64 {
+        self.e2
+    }
+}
+
+impl Default for Prestressed {
+    /// E2 = 250 MPa, the paper's law, eps0 = 0.25.
+    fn default() -> Self {
+        Prestressed {
+            e2: 250.0,
+            law: PsiLaw::default(),
+            eps0: 0.25,
+        }
+    }
+}
+
+/// Dimensions of the strip (mm); z values are measured from the mid-plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// Modelled length, root (clamp exit) to tip.
+    pub lx: f64,
+    /// Width.
+    pub ly: f64,
+    /// Clamped length: informational only, not modelled.
+    pub lc: f64,
+    /// Total thickness H.
+    pub h: f64,
+    /// Bottom of the constraining layer (top of the regular EMC).
+    pub h1: f64,
+    /// Bottom of the regular EMC (top of the fluidic layer).
+    pub h2: f64,
+    /// The fluidic layer's bottom is at z = -h3.
+    pub h3: f64,
+}
+
+impl Default for Geometry {
+    fn default() -> Self {
+        Geometry {
+            lx: 110.0,
+            ly: 31.75,
+            lc: 20.0,
+            h: 8.2,
+            h1: 3.7,
+            h2: 1.8,
+            h3: 2.2,
+        }
+    }
+}
+
+/// The channel: X_ref in [0, cx], z in [-h3b, h3a], width cy (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Channel {
+    pub cx: f64,
+    pub cy: f64,
+    pub h3a: f64,
+    pub h3b: f64,
+}
+
+impl Default for Channel {
+    fn default() -> Self {
+        Channel {
+            cx: 105.0,
+            cy: 26.0,
+            h3a: 0.8,
+            h3b: 1.2,
+        }
+    }
+}
+
+/// A rib inside the channel: X_ref in [x0, x1], total width `width`
+/// across Y, filling the channel's height. Only its X range and total
+/// width matter, since the energy density does not depend on y.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rib {
+    pub x0: f64,
+    pub x1: f64,
+    pub width: f64,
+}
+
+/// How the ribs inside the channel are laid out.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RibLayout {
+    /// The default layout of docs/model.md decision D5: one longitudinal rib of
+    /// width `t` over the whole channel, and transverse ribs `t` long in X,
+    /// centred at X_ref = k w1 (k = 1, 2, ... while k w1 + t/2 <= cx),
+    /// each of total width 2 w2 beside the longitudinal rib.
+    Paper { w1: f64, w2: f64, t: f64 },
+    /// An explicit list of ribs.
+    Explicit(Vec<Rib>),
+    /// No ribs.
+    None,
+}
+
+impl Default for RibLayout {
+    /// D5 with w1 = 8, w2 = 6, t = 2 (13 transverse ribs in the default channel).
+    fn default() -> Self {
+        RibLayout::Paper {
+            w1: 8.0,
+            w2: 6.0,
+            t: 2.0,
+        }
+    }
+}
+
+/// Everything that describes one finger, as plain editable data.
+/// `Default` gives the paper's actuator with eps0 = 0.25.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ActuatorParams {
+    pub geometry: Geometry,
+    pub channel: Channel,
+    pub ribs: RibLayout,
+    /// Constraining layer, z in [h1, H/2].
+    pub cl: Material,
+    /// Regular EMC, z in [h2, h1].
+    pub emc: Material,
+    /// Fluidic layer and ribs, z in [-h3, h2].
+    pub fluidic: Material,
+    /// Prestressed EMC, z in [-H/2, -h3].
+    pub pemc: Prestressed,
+}
+
+impl Default for ActuatorParams {
+    fn default() -> Self {
+        ActuatorParams {
+            geometry: Geometry::default(),
+            channel: Channel::default(),
+            ribs: RibLayout::default(),
+            cl: Isotropic { e: 305.0, nu: 0.43 }.into(),
+            emc: Orthotropic {
+                e1: 1.5,
+                e2: 250.0,
+                nu12: 0.0,
+            }
+            .into(),
+            fluidic: Isotropic { e: 1.2, nu: 0.48 }.into(),
+            pemc: Prestressed::default(),
+        }
+    }
+}
+
+/// A linear lamina of the validated stack.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layer {
+    pub name: &'static str,
+    pub z0: f64,
+    pub z1: f64,
+    pub q: PlaneStress,
+}
+
+/// A validated actuator. Its content cannot change after
+/// [`Actuator::new`]; to vary a parameter, edit [`Actuator::params`]'s
+/// clone and validate again (or use [`Actuator::with_eps0`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Actuator {
+    params: ActuatorParams,
+    ribs: Vec<Rib>,
+    warnings: Vec<Warning>,
+}
+
+impl Default for Actuator {
+    /// The paper's actuator with eps0 = 0.25.
+    fn default() -> Self {
+        Actuator::new(ActuatorParams::default()).expect("the paper's defaults are valid")
+    }
+}
+
+/// The largest length, width or thickness of an actuator (mm).
+pub const MAX_DIMENSION_MM: f64 = 1e5;
+
+impl Actuator {
+    /// Validates `params`. Non-fatal findings (a prestrain outside the
+    /// fitted range, a laminate too thick for laminate theory, ...) do not
+    /// fail; they are kept and returned by [`Actuator::warnings`].
+    pub fn new(params: ActuatorParams) -> Result<Actuator, InputError> {
+        let g = &params.geometry;
+        for (field, v) in [
+            ("actuator.geometry.lx", g.lx),
+            ("actuator.geometry.ly", g.ly),
+            ("actuator.geometry.h", g.h),
+        ] {
+            positive(field, v)?;
+            require(
+                v <= MAX_DIMENSION_MM,
+                field,
+                v,
+                format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the solver's scales overflow; no FPC actuator is 100 m long)"),
+            )?;
+        }
+        finite("actuator.geometry.lc", g.lc)?;
+        require(
+            g.lc >= 0.0,
+            "actuator.geometry.lc",
+            g.lc,
+            "must not be negative".into(),
+        )?;
+        positive("actuator.geometry.h1", g.h1)?;
+        positive("actuator.geometry.h2", g.h2)?;
+        positive("actuator.geometry.h3", g.h3)?;
+        let half = g.h / 2.0;
+        require(
+            g.h1 < half,
+            "actuator.geometry.h1",
+            g.h1,
+            format!("must be below H/2 = {half} (the constraining layer [h1, H/2] needs a positive thickness)"),
+        )?;
+        require(
+            g.h2 < g.h1,
+            "actuator.geometry.h2",
+            g.h2,
+            format!(
+                "must be below h1 = {} (the regular EMC [h2, h1] needs a positive thickness)",
+                g.h1
+            ),
+        )?;
+        require(
+            g.h3 < half,
+            "actuator.geometry.h3",
+            g.h3,
+            format!("must be below H/2 = {half} (the prestressed EMC [-H/2, -h3] needs a positive thickness)"),
+        )?;
+
+        let c = &params.channel;
+        positive("actuator.channel.cx", c.cx)?;
+        require(
+            c.cx <= g.lx,
+            "actuator.channel.cx",
+            c.cx,
+            format!("must not exceed the length lx = {}", g.lx),
+        )?;
+        positive("actuator.channel.cy", c.cy)?;
+        require(
+            c.cy < g.ly,
+            "actuator.channel.cy",
+            c.cy,
+            format!("must be below the width ly = {}", g.ly),
+        )?;
+        positive("actuator.channel.h3a", c.h3a)?;
+        require(
+            c.h3a < g.h2,
+            "actuator.channel.h3a",
+            c.h3a,
+            format!(
+                "must be below h2 = {} (the channel lies inside the fluidic layer)",
+                g.h2
+            ),
+        )?;
+        positive("actuator.channel.h3b", c.h3b)?;
+        require(
+            c.h3b < g.h3,
+            "actuator.channel.h3b",
+            c.h3b,
+            format!(
+                "must be below h3 = {} (the channel lies inside the fluidic layer)",
+                g.h3
+            ),
+        )?;
+
+        let ribs = resolve_ribs(&params.ribs, c)?;
+        check_rib_overlap(&ribs, c.cy)?;
+
+        params.cl.validate("actuator.cl")?;
+        params.emc.validate("actuator.emc")?;
+        params.fluidic.validate("actuator.fluidic")?;
+
+        let pemc = &params.pemc;
+        positive("actuator.pemc.e2", pemc.e2)?;
+        pemc.law.validate("actuator.pemc.law")?;
+        finite("actuator.pemc.eps0", pemc.eps0)?;
+
+        let mut warnings = Vec::new();
+        let (lo, hi) = EPS0_FIT_RANGE;
+        if !(lo..=hi).contains(&pemc.eps0) {
+            warnings.push(Warning::Eps0OutsideFit {
+                eps0: pemc.eps0,
+                lo,
+                hi,
+            });
+        }
+        // a validity finding, not an error: the strip may still be solved
+        warnings.extend(crate::validity::thickness(g.h, g.lx, g.ly));
+        Ok(Actuator {
+            params,
+            ribs,
+            warnings,
+        })
+    }
+
+    /// The paper's actuator with prestrain `eps0` (fails only if `eps0` is
+    /// not finite).
+    pub fn paper(eps0: f64) -> Result<Actuator, InputError> {
+        let mut params = ActuatorParams::default();
+        params.pemc.eps0 = eps0;
+        Actuator::new(params)
+    }
+
+    /// This actuator with another prestrain, validated again.
+    pub fn with_eps0(&self, eps0: f64) -> Result<Actuator, InputError> {
+        let mut params = self.params.clone();
+        params.pemc.eps0 = eps0;
+        Actuator::new(params)
+    }
+
+    /// The validated input.
+    pub fn params(&self) -> &ActuatorParams {
+        &self.params
+    }
+
+    pub fn geometry(&self) -> &Geometry {
+        &self.params.geometry
+    }
+
+    pub fn channel(&self) -> &Channel {
+        &self.params.channel
+    }
+
+    /// The ribs resolved from the layout, in X_ref (empty for
+    /// [`RibLayout::None`]). For [`RibLayout::Paper`] the longitudinal rib
+    /// comes first, then the transverse ribs by increasing X.
+    pub fn ribs(&self) -> &[Rib] {
+        &self.ribs
+    }
+
+    /// The prestressed layer.
+    pub fn pemc(&self) -> &Prestressed {
+        &self.params.pemc
+    }
+
+    pub fn eps0(&self) -> f64 {
+        self.params.pemc.eps0
+    }
+
+    /// The fluidic layer's stiffnesses (also the ribs' material).
+    pub fn fluidic_q(&self) -> PlaneStress {
+        self.params.fluidic.q()
+    }
+
+    /// The linear laminae, top to bottom: CL, regular EMC, fluidic layer
+    /// (whole, without the channel).
+    pub fn linear_layers(&self) -> [Layer; 3] {
+        let g = &self.params.geometry;
+        [
+            Layer {
+                name: "cl",
+                z0: g.h1,
+                z1: g.h / 2.0,
+                q: self.params.cl.q(),
+            },
+            Layer {
+                name: "emc",
+                z0: g.h2,
+                z1: g.h1,
+                q: self.params.emc.q(),
+            },
+            Layer {
+                name: "fluidic",
+                z0: -g.h3,
+                z1: g.h2,
+                q: self.params.fluidic.q(),
+            },
+        ]
+    }
+
+    /// The prestressed layer's z range [-H/2, -h3].
+    pub fn pemc_z(&self) -> (f64, f64) {
+        let g = &self.params.geometry;
+        (-g.h / 2.0, -g.h3)
+    }
+
+    /// The channel's z range [-h3b, h3a].
+    pub fn channel_z(&self) -> (f64, f64) {
+        let c = &self.params.channel;
+        (-c.h3b, c.h3a)
+    }
+
+    /// Non-fatal findings of validation: notes on the input
+    /// (`eps0_outside_fit`) and the laminate's `thickness_ratio`, a
+    /// validity finding ([`Warning::is_validity`]) that every finger,
+    /// solution, grasp and gripper built from this actuator carries.
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+}
+
+/// Checks the layout and lists its ribs in X_ref.
+fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError> {
+    match layout {
+        RibLayout::None => Ok(Vec::new()),
+        RibLayout::Explicit(ribs) => {
+            for (k, r) in ribs.iter().enumerate() {
+                let path = format!("actuator.ribs[{k}]");
+                let f0 = format!("{path}.x0");
+                finite(&f0, r.x0)?;
+                require(r.x0 >= 0.0, &f0, r.x0, "must not be negative".into())?;
+                let f1 = format!("{path}.x1");
+                finite(&f1, r.x1)?;
+                require(r.x1 > r.x0, &f1, r.x1, format!("must exceed x0 = {}", r.x0))?;
+                require(
+                    r.x1 <= c.cx,
+                    &f1,
+                    r.x1,
+                    format!(
+                        "must not exceed the channel's end cx = {} (ribs lie inside the channel)",
+                        c.cx
+                    ),
+                )?;
+                let fw = format!("{path}.width");
+                positive(&fw, r.width)?;
+                require(
+                    r.width <= c.cy,
+                    &fw,
+                    r.width,
+                    format!("must not exceed the channel width cy = {}", c.cy),
+                )?;
+            }
+            Ok(ribs.clone())
+        }
+        &RibLayout::Paper { w1, w2, t } => {
+            positive("actuator.ribs.w1", w1)?;
+            positive("actuator.ribs.w2", w2)?;
+            positive("actuator.ribs.t", t)?;
+            require(
+                t + 2.0 * w2 <= c.cy,
+                "actuator.ribs.w2",
+                w2,
+                format!(
+                    "t + 2 w2 = {} must not exceed the channel width cy = {}",
+                    t + 2.0 * w2,
+                    c.cy
+                ),
+            )?;
+            require(
+                w1 >= t,
+                "actuator.ribs.w1",
+                w1,
+                format!("must be at least t = {t} (transverse ribs must not overlap)"),
+            )?;
+            // Tolerance so that a rib meant to touch the channel's end is
+            // kept despite rounding in k * w1.
+            let end = c.cx + 1e-12 * c.cx;
+            let count = ((end - t / 2.0) / w1).floor().max(0.0);
+            require(
+                count <= MAX_GENERATED_RIBS as f64,
+                "actuator.ribs.w1",
+                w1,
+                format!("gives {count} transverse ribs, more than {MAX_GENERATED_RIBS}"),
+            )?;
+            let mut ribs = vec![Rib {
+                x0: 0.0,
+                x1: c.cx,
+                width: t,
+            }];
+            let mut k = 1u32;
+            loop {
+                let centre = f64::from(k) * w1;
+                if centre + t / 2.0 > end {
+                    break;
+                }
+                ribs.push(Rib {
+                    x0: centre - t / 2.0,
+                    x1: (centre + t / 2.0).min(c.cx),
+                    width: 2.0 * w2,
+                });
+                k += 1;
+            }
+            Ok(ribs)
+        }
+    }
+}
+
+/// The ribs' summed width at any X must fit in the channel.
+fn check_rib_overlap(ribs: &[Rib], cy: f64) -> Result<(), InputError> {
+    // Sweep over the rib ends; at equal X a rib ending is processed before
+    // one starting, so ribs that only touch do not add up.
+    let mut events: Vec<(f64, f64)> = ribs
+        .iter()
+        .flat_map(|r| [(r.x0, r.width), (r.x1, -r.width)])
+        .collect();
+    events.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let mut sum = 0.0;
+    for (x, dw) in events {
+        sum += dw;
+        if sum > cy * (1.0 + 1e-12) {
+            return Err(InputError::Inconsistent {
+                field: "actuator.ribs".into(),
+                rule: format!(
+                    "the ribs at X_ref = {x} add up to width {sum}, more than the channel width cy = {cy}"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
