@@ -349,16 +349,7 @@ fn cuboid_margins(
                 );
                 if let Some(fmax) = max_normal {
                     out.push(
-                        Margin {
-                            requirement: name("gentle"),
-                            margin: (fmax - gr.normal) / fmax,
-                            detail: format!("F = {:.4} N, at most {fmax} N", gr.normal),
-                            at_mm: Some(d),
-                            beta_deg: Some(0.0),
-                            value: Some(gr.normal),
-                            normal_n: None,
-                            valid: None,
-                        },
+                        gentle_margin(name("gentle"), fmax, gr.normal, d, 0.0),
                         |act| {
                             let s = sens(act)?;
                             let r = &s.rows;
@@ -433,16 +424,7 @@ fn sphere_margins(
                 );
                 if let Some(fmax) = max_normal {
                     out.push(
-                        Margin {
-                            requirement: name("gentle"),
-                            margin: (fmax - best.normal) / fmax,
-                            detail: format!("F = {:.4} N, at most {fmax} N", best.normal),
-                            at_mm: Some(r),
-                            beta_deg: Some(best.beta.to_degrees()),
-                            value: Some(best.normal),
-                            normal_n: None,
-                            valid: None,
-                        },
+                        gentle_margin(name("gentle"), fmax, best.normal, r, best.beta.to_degrees()),
                         |act| {
                             let s = sens(act)?;
                             let w = &s.rows;
@@ -481,6 +463,21 @@ fn sphere_margins(
                 |_| Some([Some(0.0); 3]),
             ),
         }
+    }
+}
+
+/// The margin of a normal force `normal` against its limit `fmax` (N), at
+/// size or radius `at_mm` and grasping angle `beta_deg`.
+fn gentle_margin(requirement: String, fmax: f64, normal: f64, at_mm: f64, beta_deg: f64) -> Margin {
+    Margin {
+        requirement,
+        margin: (fmax - normal) / fmax,
+        detail: format!("F = {normal:.4} N, at most {fmax} N"),
+        at_mm: Some(at_mm),
+        beta_deg: Some(beta_deg),
+        value: Some(normal),
+        normal_n: None,
+        valid: None,
     }
 }
 
