@@ -12,7 +12,7 @@
 //!   must be valid, and `(mu F - L) / L >= 0`; with `max_normal_n` also
 //!   `(F_max - F) / F_max >= 0`;
 //! - a sphere of radii `[r0, r1]` with lift `L`: at `SPHERE_SAMPLES` radii,
-//!   the best valid grasping angle's lift ([`Gripper::max_sphere_lift`])
+//!   the best valid grasping angle's lift ([`Gripper::max_sphere_lift`](crate::Gripper::max_sphere_lift))
 //!   gives `(f_v - L) / L`;
 //! - opening: the unloaded finger at `pressure_kpa` gives a grasp size of
 //!   at least `size_mm`: `(d(P) - size) / size`.

@@ -18,9 +18,9 @@
 //! on the object from rest: the tip load is affine in one unknown `lambda`
 //! (the normal force, or a horizontal force), the target fixes the tip's
 //! Xg, and the target is traced from the rest state at the grasp's
-//! pressure (`lambda = 0`) to its value ([`Solver::trace_target`]), each
+//! pressure (`lambda = 0`) to its value ([`Solver::trace_target`](crate::finger::Solver::trace_target)), each
 //! step a bordered solve that must stay on the curve. A target beyond a
-//! fold of that path is refused ([`SolveError::NotOnPath`]) rather than
+//! fold of that path is refused ([`SolveError::NotOnPath`](crate::SolveError::NotOnPath)) rather than
 //! answered from another branch. A warm solve continues the path of a
 //! previous [`Grasp`] of the same load family (a sweep's previous point).
 

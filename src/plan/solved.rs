@@ -6,7 +6,7 @@ use crate::finger::{Finger, Solution};
 
 use super::refinement::RefinementRecord;
 
-/// A solve of a [`PlannedFinger`], whatever its plan.
+/// A solve of a [`PlannedFinger`](crate::PlannedFinger), whatever its plan.
 #[derive(Debug, Clone)]
 pub struct Solved {
     /// The solution (on the finest partition of a refinement).

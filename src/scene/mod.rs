@@ -51,7 +51,7 @@
 //! Reading is two steps: [`SceneFile::parse`] checks the TOML and its keys
 //! and types ([`SceneError`] with line and column), [`SceneFile::resolve`]
 //! checks the values through the library's validating constructors
-//! ([`InputError`] naming the key by its TOML path, e.g.
+//! ([`InputError`](crate::InputError) naming the key by its TOML path, e.g.
 //! `actuator.geometry.h1`). [`Scene::solve`] then solves the finger or the
 //! grasp.
 

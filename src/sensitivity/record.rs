@@ -27,8 +27,8 @@ pub struct Sensitivity {
     pub coefficients: Coefficients,
 }
 
-/// The sensitivities of one equilibrium ([`Finger::sensitivities`],
-/// [`Finger::target_sensitivities`]), one row per parameter asked for, in
+/// The sensitivities of one equilibrium ([`Finger::sensitivities`](crate::Finger::sensitivities),
+/// [`Finger::target_sensitivities`](crate::Finger::target_sensitivities)), one row per parameter asked for, in
 /// that order.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Sensitivities {

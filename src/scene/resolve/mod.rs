@@ -79,7 +79,7 @@ impl Scene {
     /// What validation found about the actuator, known before solving:
     /// notes on the input and the laminate's `thickness_ratio` finding
     /// (the solution repeats them with every other warning,
-    /// [`SceneSolution::warnings`]).
+    /// [`SceneSolution::warnings`](crate::SceneSolution::warnings)).
     pub fn warnings(&self) -> &[Warning] {
         self.actuator.warnings()
     }
