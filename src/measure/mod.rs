@@ -143,3 +143,6 @@ pub(crate) fn read_text(path: &Path, shown: &str, limit: u64) -> Result<String, 
         )
     })
 }
+
+#[cfg(test)]
+mod tests;

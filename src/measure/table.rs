@@ -255,7 +255,12 @@ pub(crate) fn read<R>(
         .flexible(true)
         .from_reader(text.as_bytes());
     let header = rdr.headers().map_err(|e| csv_error(ctx.file, &e))?.clone();
-    let header_line = header.position().map_or(1, |p| p.line() as usize);
+    // the header's line, after leading comments and blank lines (the
+    // reader's own position of the header does not count them)
+    let header_line = text
+        .lines()
+        .position(|l| !l.trim().is_empty() && !l.starts_with('#'))
+        .map_or(1, |i| i + 1);
     let known = columns(kind);
     let mut at: HashMap<&'static str, usize> = HashMap::new();
     for (i, name) in header.iter().enumerate() {
