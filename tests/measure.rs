@@ -1,7 +1,7 @@
 //! `fpc::compare` against independent paths of the library: radii against
 //! study 7, a marker at the tip against an ordinary solve's tip (also
 //! through a camera frame), forces against study 8, noise-free synthetic
-//! data (examples/make_calibration_data.rs) at chi-square ~ 0 and a wrong
+//! data (examples/calibration/make_data.rs) at chi-square ~ 0 and a wrong
 //! prestrain far from it, and the validity verdict on every prediction.
 
 use std::path::{Path, PathBuf};
@@ -10,7 +10,7 @@ use fpc::measure::{Comparison, Manifest, Prediction};
 use fpc::studies::{study7_curvature, study8_force_at_displacement, Axis};
 use fpc::{Finger, Load, SolveOptions, StudyOptions};
 
-#[path = "../examples/make_calibration_data.rs"]
+#[path = "../examples/calibration/make_data.rs"]
 mod synthetic;
 
 fn dir(tag: &str) -> PathBuf {
@@ -184,7 +184,27 @@ fn noise_free_data_fit_and_a_wrong_prestrain_does_not() {
         "{}",
         wrong.chi_square
     );
-    // the shipped noisy set: chi-square of the order of its points
+    // the shipped noisy set is the generator's output, and its chi-square
+    // is of the order of its points
+    let again = dir("again");
+    synthetic::generate(
+        &again,
+        synthetic::Options {
+            noise: true,
+            manifest_eps0_shift: 0.0,
+        },
+    )
+    .unwrap();
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration");
+    for e in std::fs::read_dir(&again).unwrap() {
+        let name = e.unwrap().file_name();
+        let made = std::fs::read_to_string(again.join(&name)).unwrap();
+        let shipped = std::fs::read_to_string(ours.join(&name)).unwrap();
+        assert_eq!(
+            made, shipped,
+            "examples/calibration/{name:?} is not the generator's"
+        );
+    }
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration/manifest.toml");
     let c = fpc::compare(&Manifest::load(&shipped).unwrap()).unwrap();
     let per = c.chi_square / c.points as f64;

@@ -66,7 +66,7 @@ fn normal(rng: &mut fastrand::Rng) -> f64 {
 pub fn generate(dir: &Path, o: Options) -> Result<(), Box<dyn Error>> {
     let mut rng = fastrand::Rng::with_seed(SEED);
     let mut noise = |sd: f64| if o.noise { sd * normal(&mut rng) } else { 0.0 };
-    let header = "# SYNTHETIC data from examples/make_calibration_data.rs (the model plus seeded noise), not measurements\n";
+    let header = "# SYNTHETIC data from examples/calibration/make_data.rs (the model plus seeded noise), not measurements\n";
     let study = StudyOptions {
         pressure_points: 17, // 0, 25, ..., 400 kPa
         ..StudyOptions::default()
