@@ -31,6 +31,10 @@
 //!   studies ([`StudyOptions`]); [`design`] searches for the gripper that
 //!   holds a set of objects; [`sensitivity`] gives exact derivatives of
 //!   every answer; [`report`] is the data model of every table and figure.
+//! - [`measure`] reads measurements of real fingers (a manifest of
+//!   specimens with marker, radius and force tests in CSV files), and
+//!   [`compare`] holds the model against them with no fitting
+//!   (docs/measurements.md).
 //! - Bad input is an [`InputError`] naming the field; a failed solve a
 //!   [`SolveError`] saying why. Nothing panics on user input.
 //!

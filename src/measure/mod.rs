@@ -27,6 +27,18 @@
 //! specimen's own parameters ([`Specimen::own`]) and which are shared
 //! ([`Manifest::shared`]), and a camera frame's transform as values a fit
 //! may treat as nuisance parameters.
+//!
+//! ```
+//! use fpc::measure::Manifest;
+//!
+//! // the synthetic set of examples/calibration/ (the model plus noise)
+//! let manifest = Manifest::load("examples/calibration/manifest.toml".as_ref())?;
+//! assert_eq!(manifest.specimens[0].own, ["actuator.pemc.eps0"]);
+//! let c = fpc::compare(&manifest)?;
+//! // right model, right standard deviations: about one per residual
+//! assert!(c.chi_square < 2.0 * c.points as f64);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod comparison;
 mod manifest;
