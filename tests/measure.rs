@@ -260,3 +260,19 @@ fn a_row_the_model_cannot_predict_keeps_its_data_and_says_why() {
     assert_eq!(p.residuals[0].residual_sd, None);
     assert_eq!((c.failed, c.points, c.chi_square), (1, 0, 0.0));
 }
+
+#[test]
+fn a_test_without_rows_predicts_nothing_and_draws_nothing() {
+    let c = compare_one(
+        "empty",
+        0.25,
+        "",
+        "radius",
+        "",
+        "pressure_kpa,radius_mm,sd_mm\n",
+    );
+    let t = &c.specimens[0].tests[0];
+    assert!(t.predictions.is_empty() && t.model_curve.is_empty());
+    assert_eq!((c.points, c.chi_square), (0, 0.0));
+    assert!(fpc::measure::figures(&c).is_empty());
+}

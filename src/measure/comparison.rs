@@ -271,8 +271,12 @@ fn predicted(
     }
 }
 
-/// `n` points from `lo` to `hi` (both included; one point when equal).
+/// `n` points from `lo` to `hi` (both included; one point when equal,
+/// none for the empty range of no rows).
 fn grid(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite()) {
+        return Vec::new();
+    }
     if hi <= lo {
         return vec![lo];
     }
@@ -543,7 +547,7 @@ pub fn figures(c: &Comparison) -> Vec<(&'static str, Figure)> {
     force.y.include_zero = true;
     for s in &c.specimens {
         let key = eps0_key(s.eps0);
-        for t in &s.tests {
+        for t in s.tests.iter().filter(|t| !t.predictions.is_empty()) {
             match t.kind {
                 TestKind::Radius => {
                     measured(

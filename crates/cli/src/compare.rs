@@ -50,9 +50,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("{stem}-compare")));
     crate::output::prepare_dir(&out)?;
-    crate::report::progress("fpc compare: predicting");
     let c = fpc::compare(&manifest)?;
-    crate::report::end_progress();
     crate::output::write_atomic(&out, "compare.csv", &crate::render::csv::csv(&table(&c))?)?;
     let mut written = Vec::new();
     for (stem, fig) in figures(&c) {
