@@ -40,15 +40,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     // every file is read and checked before anything is computed
     let manifest =
         Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
-    let stem = args
-        .manifest
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "manifest".into());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-compare")));
+    let (_, out) =
+        crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "compare");
     crate::output::prepare_dir(&out)?;
     let c = fpc::compare(&manifest)?;
     crate::output::write_atomic(&out, "compare.csv", &crate::render::csv::csv(&table(&c))?)?;
