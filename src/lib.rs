@@ -31,6 +31,10 @@
 //!   studies ([`StudyOptions`]); [`design`] searches for the gripper that
 //!   holds a set of objects; [`sensitivity`] gives exact derivatives of
 //!   every answer; [`report`] is the data model of every table and figure.
+//! - [`measure`] reads measurements of real fingers (a manifest of
+//!   specimens with marker, radius and force tests in CSV files), and
+//!   [`compare`] holds the model against them with no fitting
+//!   (docs/measurements.md).
 //! - Bad input is an [`InputError`] naming the field; a failed solve a
 //!   [`SolveError`] saying why. Nothing panics on user input.
 //!
@@ -63,6 +67,7 @@ mod element;
 pub mod error;
 pub mod finger;
 pub mod gripper;
+pub mod measure;
 pub mod model;
 pub mod partition;
 pub mod plan;
@@ -79,6 +84,7 @@ pub use error::{InputError, Warning};
 pub use finger::{Finger, Load, Solution, SolveOptions};
 pub use fpc_newton::Termination;
 pub use gripper::{Grasp, Gripper, GripperParams, PalmSpec, Verdict};
+pub use measure::compare;
 pub use model::ModelId;
 pub use partition::Partition;
 pub use plan::{FingerBuilder, Plan, PlannedFinger, Solved};

@@ -223,15 +223,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let text = crate::solve::read_scene(&args.requirements, &shown)?;
     let req =
         Requirements::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
-    let stem = args
-        .requirements
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "requirements".into());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-design")));
+    let (_, out) = crate::output::stem_and_dir(
+        &args.requirements,
+        args.out.as_deref(),
+        "requirements",
+        "design",
+    );
     let opts = DesignOptions {
         random_starts: args.starts,
         ..DesignOptions::default()

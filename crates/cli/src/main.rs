@@ -7,6 +7,7 @@
 use clap::{Parser, Subcommand};
 use fpc_cli::{output, provenance, render, report, status};
 
+mod compare;
 mod design;
 mod finger;
 mod kernels;
@@ -25,6 +26,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// The model against measurements, no fitting (MANIFEST.toml of specimens and CSV tests); writes compare.csv, compare.json, figures (--format).
+    Compare(compare::Args),
     /// The finger and gripper to build for a set of objects (REQUIREMENTS.toml); writes design.json, scenes, design.svg (--format: png, pdf).
     Design(design::Args),
     /// Solve one finger of the default actuator (eps0, pressure, tip force, model, N or auto).
@@ -43,6 +46,7 @@ enum Command {
 
 fn main() {
     fpc_cli::main(|cli: Cli| match cli.command {
+        Command::Compare(a) => compare::run(&a),
         Command::Design(a) => design::run(&a),
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),

@@ -132,6 +132,23 @@ fn temp_file(dir: &Path) -> std::io::Result<tempfile::NamedTempFile> {
     b.tempfile_in(dir)
 }
 
+/// The stem of a command's input file (`fallback` when it has none) and
+/// its output directory: `out` when given, else `<stem>-<suffix>` in the
+/// current directory.
+pub fn stem_and_dir(
+    input: &Path,
+    out: Option<&Path>,
+    fallback: &str,
+    suffix: &str,
+) -> (String, std::path::PathBuf) {
+    let stem = input.file_stem().map_or_else(
+        || fallback.to_string(),
+        |s| s.to_string_lossy().into_owned(),
+    );
+    let dir = out.map_or_else(|| format!("{stem}-{suffix}").into(), Path::to_path_buf);
+    (stem, dir)
+}
+
 /// Makes `out` ready for output files before any work is done: creates it
 /// if missing (rejecting an empty path, or a path that exists and is not
 /// a directory, as input), removes stale temporary files ([`STALE_AFTER`])

@@ -4,7 +4,7 @@
 //! | --- | --- |
 //! | 0 | success (help and version included); also when the reader of standard output went away (`fpc kernels \| head`): the command stops quietly, as a Unix tool does |
 //! | 1 | a failed solve, a failed study, an I/O failure writing output (a file, stdout), anything else |
-//! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file |
+//! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file or measurement file |
 
 use std::fmt;
 
@@ -62,6 +62,7 @@ fn is_rejected_input(e: &anyhow::Error) -> bool {
             || c.is::<InputError>()
             || c.is::<SceneError>()
             || c.is::<SceneReadError>()
+            || c.is::<fpc::measure::MeasureError>()
             || matches!(c.downcast_ref::<SolveError>(), Some(SolveError::Input(_)))
     })
 }

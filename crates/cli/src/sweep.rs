@@ -428,15 +428,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     for a in &axes {
         vary_key_is_numeric(&base, a).map_err(crate::status::rejected)?;
     }
-    let stem = args
-        .scene
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-sweep")));
+    let (_, out) = crate::output::stem_and_dir(&args.scene, args.out.as_deref(), "scene", "sweep");
     crate::output::prepare_dir(&out)?;
 
     let pool = rayon::ThreadPoolBuilder::new()

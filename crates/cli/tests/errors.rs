@@ -8,48 +8,9 @@
 //! `fpc solve` on bad scene files is in tests/solve.rs, `fpc paper`'s
 //! output directory in tests/paper.rs.
 
-use std::process::{Command, Output};
+mod common;
 
-fn fpc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// Runs `fpc args`, which must fail with `code`, print nothing on stdout
-/// and one `fpc: error:` line on stderr; returns that line.
-fn fails(args: &[&str], code: i32) -> String {
-    let out = fpc(args);
-    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
-    assert_eq!(
-        out.status.code(),
-        Some(code),
-        "fpc {args:?}: status {:?}\nstderr: {stderr}",
-        out.status
-    );
-    assert!(stdout.is_empty(), "fpc {args:?}: stdout: {stdout}");
-    assert!(stderr.ends_with('\n'), "fpc {args:?}: {stderr:?}");
-    let lines: Vec<&str> = stderr.lines().collect();
-    assert_eq!(lines.len(), 1, "fpc {args:?}: not one line: {stderr}");
-    assert!(
-        lines[0].starts_with("fpc: error: "),
-        "fpc {args:?}: {stderr}"
-    );
-    lines[0].to_string()
-}
-
-/// `fpc args` is rejected input (status 2) and its message contains each of `parts`.
-fn rejected(args: &[&str], parts: &[&str]) {
-    let line = fails(args, 2);
-    for p in parts {
-        assert!(line.contains(p), "fpc {args:?}: {line} lacks {p:?}");
-    }
-}
+use common::{fails, fpc, rejected, text};
 
 #[test]
 fn a_bad_prestrain_exits_2_naming_eps0() {

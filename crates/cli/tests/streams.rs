@@ -117,6 +117,25 @@ fn finger_json_and_kernels_fail_with_status_1_on_a_broken_stdout() {
 }
 
 #[test]
+fn compare_writes_its_files_and_stops_quietly_on_a_dead_pipe() {
+    let manifest = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calibration/manifest.toml");
+    let d = scratch("compare");
+    let args = [
+        "compare",
+        manifest.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ];
+    let out = spawn(fpc(&args), dead_pipe()).wait_with_output().unwrap();
+    stops_quietly("compare | dead pipe", out);
+    assert!(d.join("compare.json").is_file());
+    let out = with_stdout_closed(&args).output().unwrap();
+    fails_writing("compare >&-", out, "it was closed");
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
 fn paper_fails_with_status_1_on_a_broken_stdout() {
     // all at once (a coarse paper takes seconds in a debug build)
     let dirs: Vec<PathBuf> = ["closed", "pipe", "full"].map(scratch).into();

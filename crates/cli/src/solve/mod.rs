@@ -50,15 +50,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         "solution.json",
     );
 
-    let stem = args
-        .scene
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(format!("{stem}-out")));
+    let (stem, out) = crate::output::stem_and_dir(&args.scene, args.out.as_deref(), "scene", "out");
     // every file is made before any is written
     let json = serde_json::to_string_pretty(&solution_file(&stem, scene.file(), &solved))? + "\n";
     let csv = shape_csv(&solved)?;

@@ -1,0 +1,106 @@
+//! `fpc compare MANIFEST`: the model against measurements, with no
+//! fitting (`fpc::compare`; docs/measurements.md). Prints the chi-square
+//! per test and in all, and writes `compare.csv` (a row per measured
+//! quantity), `compare.json` (every prediction with its residuals and the
+//! model's validity verdict) and the figures `compare_radius` and
+//! `compare_force` (`--format`).
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use fpc::measure::{figures, table, Comparison, Manifest};
+use serde::Serialize;
+
+/// Flags of `fpc compare`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The measurement manifest (TOML; docs/measurements.md, examples in
+    /// examples/calibration/).
+    manifest: PathBuf,
+    /// Output directory (default `<stem>-compare`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print compare.json's object instead of the summary.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    format: crate::render::formats::FormatArgs,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    #[serde(flatten)]
+    comparison: &'a Comparison,
+    /// The figure files written.
+    figures: Vec<String>,
+    provenance: crate::provenance::Provenance,
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    // every file is read and checked before anything is computed
+    let manifest =
+        Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
+    let (_, out) =
+        crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "compare");
+    crate::output::prepare_dir(&out)?;
+    let c = fpc::compare(&manifest)?;
+    crate::output::write_atomic(&out, "compare.csv", &crate::render::csv::csv(&table(&c))?)?;
+    let mut written = Vec::new();
+    for (stem, fig) in figures(&c) {
+        let svg = crate::paper::render::svg(&fig)?;
+        written.extend(args.format.write(&out, stem, &svg)?);
+    }
+    let report = Report {
+        comparison: &c,
+        figures: written,
+        provenance: crate::provenance::Provenance::now(),
+    };
+    let json = serde_json::to_string_pretty(&report)? + "\n";
+    crate::output::write_atomic(&out, "compare.json", json.as_bytes())?;
+    let mut w = crate::output::stdout();
+    if args.json {
+        writeln!(w, "{}", serde_json::to_string(&report)?)?;
+        return Ok(());
+    }
+    for s in &c.specimens {
+        for t in &s.tests {
+            writeln!(
+                w,
+                "{:<12} {:<8} {:<40} chi2 {:>12.4} over {:>3} residuals{}{}",
+                s.name,
+                t.kind.name(),
+                t.file,
+                t.chi_square,
+                t.points,
+                counted(t.failed, "without a prediction"),
+                counted(t.outside_model, "outside the model"),
+            )?;
+        }
+    }
+    writeln!(
+        w,
+        "total        chi2 {:.4} over {} residuals (per residual {:.4}){}{}",
+        c.chi_square,
+        c.points,
+        if c.points > 0 {
+            c.chi_square / c.points as f64
+        } else {
+            0.0
+        },
+        counted(c.failed, "rows without a prediction"),
+        counted(c.outside_model, "rows predicted outside the model"),
+    )?;
+    let mut files = vec!["compare.csv".to_string(), "compare.json".to_string()];
+    files.extend(report.figures);
+    writeln!(w, "wrote        {}: {}", out.display(), files.join(", "))?;
+    Ok(())
+}
+
+/// `; N what` when N > 0.
+fn counted(n: usize, what: &str) -> String {
+    if n == 0 {
+        String::new()
+    } else {
+        format!("; {n} {what}")
+    }
+}

@@ -1,0 +1,47 @@
+//! What the tests of the `fpc` binary share: running it, and the shape of
+//! a failed run (a status, nothing on stdout, one `fpc: error:` line on
+//! stderr). Each test file that uses it says `mod common;`.
+#![allow(dead_code)] // each test file uses its part
+
+use std::process::{Command, Output};
+
+pub fn fpc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+pub fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+/// Runs `fpc args`, which must fail with `code`, print nothing on stdout
+/// and one `fpc: error:` line on stderr; returns that line.
+pub fn fails(args: &[&str], code: i32) -> String {
+    let out = fpc(args);
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(code),
+        "fpc {args:?}: status {:?}\nstderr: {stderr}",
+        out.status
+    );
+    assert!(stdout.is_empty(), "fpc {args:?}: stdout: {stdout}");
+    assert!(stderr.ends_with('\n'), "fpc {args:?}: {stderr:?}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "fpc {args:?}: not one line: {stderr}");
+    assert!(
+        lines[0].starts_with("fpc: error: "),
+        "fpc {args:?}: {stderr}"
+    );
+    lines[0].to_string()
+}
+
+/// `fpc args` is rejected input (status 2) and its message contains each of `parts`.
+pub fn rejected(args: &[&str], parts: &[&str]) {
+    let line = fails(args, 2);
+    for p in parts {
+        assert!(line.contains(p), "fpc {args:?}: {line} lacks {p:?}");
+    }
+}

@@ -1,0 +1,462 @@
+//! The manifest: specimens, their actuators as scene tables (shared and
+//! own), and their tests (CSV files).
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+use toml::{Spanned, Table, Value};
+
+use super::table::{self, bits, Context, Record};
+use super::{
+    read_text, ForceRow, MarkerRow, MeasureError, RadiusRow, MAX_DATA_BYTES, MAX_MANIFEST_BYTES,
+    MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS, MAX_TOTAL_ROWS,
+};
+use crate::scene::{line_col, Scene, SceneError, SceneReadError};
+
+/// The kind of a test (its CSV columns: docs/measurements.md).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum TestKind {
+    /// Marker points of the mid-plane.
+    Markers,
+    /// The circle-fit radius of the mid-plane.
+    Radius,
+    /// The tip force for a tip displacement.
+    Force,
+}
+
+impl TestKind {
+    /// `markers`, `radius` or `force`.
+    pub fn name(self) -> &'static str {
+        match self {
+            TestKind::Markers => "markers",
+            TestKind::Radius => "radius",
+            TestKind::Force => "force",
+        }
+    }
+}
+
+/// The rigid transform from a camera frame to the finger frame:
+/// `finger = R(angle) camera + offset`, `R` the rotation by `angle`
+/// (from X towards Z). Known values for a comparison; a calibrator may fit
+/// them as nuisance parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CameraFrame {
+    /// The rotation (degrees).
+    pub angle_deg: f64,
+    /// The camera origin's X in the finger frame (mm).
+    pub x_mm: f64,
+    /// The camera origin's Z in the finger frame (mm).
+    pub z_mm: f64,
+}
+
+impl CameraFrame {
+    fn rotate(angle: f64, p: [f64; 2]) -> [f64; 2] {
+        let (s, c) = angle.sin_cos();
+        [c * p[0] - s * p[1], s * p[0] + c * p[1]]
+    }
+
+    /// A camera point in the finger frame.
+    pub fn to_finger(&self, p: [f64; 2]) -> [f64; 2] {
+        let q = Self::rotate(self.angle_deg.to_radians(), p);
+        [q[0] + self.x_mm, q[1] + self.z_mm]
+    }
+
+    /// A finger point in the camera frame.
+    pub fn to_camera(&self, p: [f64; 2]) -> [f64; 2] {
+        let q = [p[0] - self.x_mm, p[1] - self.z_mm];
+        Self::rotate(-self.angle_deg.to_radians(), q)
+    }
+}
+
+/// A test's rows, by kind.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TestData {
+    /// Marker points, in the finger frame or in a camera frame.
+    Markers {
+        /// The camera frame the points are in (`None`: the finger frame).
+        camera: Option<CameraFrame>,
+        /// The rows.
+        rows: Vec<MarkerRow>,
+    },
+    /// Radii of curvature.
+    Radius(Vec<RadiusRow>),
+    /// Tip forces.
+    Force(Vec<ForceRow>),
+}
+
+impl TestData {
+    /// The kind.
+    pub fn kind(&self) -> TestKind {
+        match self {
+            TestData::Markers { .. } => TestKind::Markers,
+            TestData::Radius(_) => TestKind::Radius,
+            TestData::Force(_) => TestKind::Force,
+        }
+    }
+
+    /// How many data rows.
+    pub fn len(&self) -> usize {
+        match self {
+            TestData::Markers { rows, .. } => rows.len(),
+            TestData::Radius(r) => r.len(),
+            TestData::Force(r) => r.len(),
+        }
+    }
+
+    /// True without rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// One test of a specimen: its file and its rows.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Test {
+    /// The CSV file as shown in messages (the manifest's directory joined
+    /// with the name the manifest gives).
+    pub file: String,
+    /// The rows.
+    pub data: TestData,
+}
+
+/// A specimen: a finger with its actuator and its tests.
+#[derive(Debug, Clone)]
+pub struct Specimen {
+    /// Its name (unique in the manifest).
+    pub name: String,
+    /// The finger, resolved from the scene tables: the scene file, then
+    /// `[shared]`, then the specimen's `own` tables.
+    pub scene: Scene,
+    /// The scene keys that are this specimen's own parameters (dotted
+    /// paths, e.g. `actuator.pemc.eps0`).
+    pub own: Vec<String>,
+    /// Its tests.
+    pub tests: Vec<Test>,
+}
+
+/// A measurement manifest, read and checked ([`Manifest::load`]).
+#[derive(Debug, Clone)]
+pub struct Manifest {
+    /// The manifest file as shown in messages.
+    pub file: String,
+    /// The scene keys every specimen shares (dotted paths of the
+    /// `[shared]` tables and the shared scene file).
+    pub shared: Vec<String>,
+    /// The specimens, in the manifest's order.
+    pub specimens: Vec<Specimen>,
+}
+
+// ------------------------------------------------------------ the document
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Doc {
+    #[serde(default)]
+    shared: Option<Spanned<Table>>,
+    #[serde(default)]
+    specimen: Vec<Spanned<SpecimenDoc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SpecimenDoc {
+    name: Spanned<String>,
+    #[serde(default)]
+    scene: Option<Spanned<String>>,
+    #[serde(default)]
+    own: Option<Spanned<Table>>,
+    #[serde(default)]
+    test: Vec<Spanned<TestDoc>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TestDoc {
+    kind: TestKind,
+    file: Spanned<String>,
+    #[serde(default)]
+    sd_mm: Option<Spanned<f64>>,
+    #[serde(default)]
+    camera: Option<Spanned<CameraFrame>>,
+}
+
+/// The manifest's text and name, for errors at a span.
+struct Source<'a> {
+    text: &'a str,
+    file: &'a str,
+    dir: &'a Path,
+}
+
+impl Source<'_> {
+    fn err<T>(&self, s: &Spanned<T>, field: &str, reason: impl Into<String>) -> MeasureError {
+        let (row, col) = line_col(self.text, s.span().start);
+        MeasureError::at(self.file, row, col, field, reason)
+    }
+
+    /// A file named in the manifest: its path and how it is shown.
+    fn path(&self, name: &str) -> (PathBuf, String) {
+        let p = self.dir.join(name);
+        let shown = p.display().to_string();
+        (p, shown)
+    }
+}
+
+/// Every leaf of a table as a dotted path.
+fn leaves(t: &Table, prefix: &str, out: &mut Vec<String>) {
+    for (k, v) in t {
+        let path = if prefix.is_empty() {
+            k.clone()
+        } else {
+            format!("{prefix}.{k}")
+        };
+        match v {
+            Value::Table(inner) => leaves(inner, &path, out),
+            _ => out.push(path),
+        }
+    }
+}
+
+/// `from` laid over `into`, tables merged key by key.
+fn merge(into: &mut Table, from: &Table) {
+    for (k, v) in from {
+        match (into.get_mut(k), v) {
+            (Some(Value::Table(a)), Value::Table(b)) => merge(a, b),
+            _ => {
+                into.insert(k.clone(), v.clone());
+            }
+        }
+    }
+}
+
+/// The tables of a scene file.
+fn scene_file(path: &Path, shown: &str) -> Result<Table, MeasureError> {
+    let text = read_text(path, shown, MAX_SCENE_BYTES)?;
+    text.parse::<Table>().map_err(|e| {
+        let s = SceneError::from_toml(&text, &e);
+        MeasureError::at(shown, s.line, s.col, "scene", s.message)
+    })
+}
+
+impl Manifest {
+    /// Reads a manifest and every file it names, relative to its
+    /// directory. Nothing is computed: every error is input.
+    pub fn load(path: &Path) -> Result<Manifest, MeasureError> {
+        let file = path.display().to_string();
+        let text = read_text(path, &file, MAX_MANIFEST_BYTES)?;
+        let dir = path.parent().unwrap_or(Path::new(""));
+        Manifest::parse(&text, &file, dir)
+    }
+
+    /// A manifest from its text: `file` is its name in messages and `dir`
+    /// the directory the files it names are relative to.
+    pub fn parse(text: &str, file: &str, dir: &Path) -> Result<Manifest, MeasureError> {
+        let src = Source { text, file, dir };
+        let doc: Doc = toml::from_str(text).map_err(|e| {
+            let s = SceneError::from_toml(text, &e);
+            MeasureError::at(file, s.line, s.col, "manifest", s.message)
+        })?;
+        if let Some(extra) = doc.specimen.get(MAX_SPECIMENS) {
+            return Err(src.err(
+                extra,
+                "specimen",
+                format!("more than {MAX_SPECIMENS} specimens, the limit of a manifest"),
+            ));
+        }
+        if doc.specimen.is_empty() {
+            return Err(MeasureError::at(
+                file,
+                1,
+                1,
+                "specimen",
+                "no [[specimen]]: a manifest lists at least one",
+            ));
+        }
+        // the shared tables: a scene file, then inline tables
+        let mut shared = Table::new();
+        if let Some(s) = &doc.shared {
+            let mut inline = s.get_ref().clone();
+            match inline.remove("scene") {
+                None => {}
+                Some(Value::String(name)) => {
+                    let (p, shown) = src.path(&name);
+                    shared = scene_file(&p, &shown)?;
+                }
+                Some(_) => return Err(src.err(s, "shared.scene", "must be a file name")),
+            }
+            merge(&mut shared, &inline);
+        }
+        let mut shared_keys = Vec::new();
+        leaves(&shared, "", &mut shared_keys);
+        let mut specimens: Vec<Specimen> = Vec::new();
+        let mut rows_left = MAX_TOTAL_ROWS;
+        for sp in &doc.specimen {
+            let s = sp.get_ref();
+            let name = s.name.get_ref().trim().to_string();
+            if name.is_empty() {
+                return Err(src.err(&s.name, "name", "must not be empty"));
+            }
+            if specimens.iter().any(|o| o.name == name) {
+                return Err(src.err(&s.name, "name", format!("a second specimen {name:?}")));
+            }
+            if let Some(extra) = s.test.get(MAX_TESTS) {
+                return Err(src.err(
+                    extra,
+                    "test",
+                    format!("more than {MAX_TESTS} tests, the limit of a specimen"),
+                ));
+            }
+            let mut doc_tables = match &s.scene {
+                Some(f) => {
+                    let (p, shown) = src.path(f.get_ref());
+                    scene_file(&p, &shown)?
+                }
+                None => Table::new(),
+            };
+            merge(&mut doc_tables, &shared);
+            let mut own = Vec::new();
+            if let Some(o) = &s.own {
+                merge(&mut doc_tables, o.get_ref());
+                leaves(o.get_ref(), "", &mut own);
+            }
+            let at_own = |field: &str, reason: String| match &s.own {
+                Some(o) => src.err(o, field, reason),
+                None => src.err(&s.name, field, reason),
+            };
+            for forbidden in ["load", "gripper"] {
+                if doc_tables.contains_key(forbidden) {
+                    return Err(at_own(
+                        forbidden,
+                        format!(
+                            "specimen {name:?}: a measured specimen is a finger whose tests set its loads; remove [{forbidden}] from its scene tables"
+                        ),
+                    ));
+                }
+            }
+            let scene_text = toml::to_string(&doc_tables)
+                .map_err(|e| at_own("own", format!("specimen {name:?}: {e}")))?;
+            let scene = Scene::from_toml(&scene_text).map_err(|e| match e {
+                SceneReadError::Syntax(s) => {
+                    at_own("own", format!("specimen {name:?}: {}", s.message))
+                }
+                SceneReadError::Input(i) => at_own(i.field(), format!("specimen {name:?}: {i}")),
+            })?;
+            let length_mm = scene.actuator.geometry().lx;
+            let mut tests = Vec::new();
+            for t in &s.test {
+                let test = read_test(&src, t, length_mm, &mut rows_left)?;
+                tests.push(test);
+            }
+            specimens.push(Specimen {
+                name,
+                scene,
+                own,
+                tests,
+            });
+        }
+        Ok(Manifest {
+            file: file.to_string(),
+            shared: shared_keys,
+            specimens,
+        })
+    }
+}
+
+/// Reads one test's file, checking the keys that belong to its kind.
+fn read_test(
+    src: &Source,
+    t: &Spanned<TestDoc>,
+    length_mm: f64,
+    rows_left: &mut usize,
+) -> Result<Test, MeasureError> {
+    let d = t.get_ref();
+    let kind = d.kind;
+    let markers_only = |key: &str| {
+        src.err(
+            t,
+            key,
+            format!(
+                "only a markers test has this key, not a {} test",
+                kind.name()
+            ),
+        )
+    };
+    if kind != TestKind::Markers {
+        if d.sd_mm.is_some() {
+            return Err(markers_only("sd_mm"));
+        }
+        if d.camera.is_some() {
+            return Err(markers_only("camera"));
+        }
+    }
+    if let Some(sd) = &d.sd_mm {
+        let x = *sd.get_ref();
+        if !(x.is_finite() && x > 0.0) {
+            return Err(src.err(sd, "sd_mm", format!("{x} must be a positive number")));
+        }
+    }
+    if let Some(c) = &d.camera {
+        let f = c.get_ref();
+        for (key, x) in [
+            ("camera.angle_deg", f.angle_deg),
+            ("camera.x_mm", f.x_mm),
+            ("camera.z_mm", f.z_mm),
+        ] {
+            if !x.is_finite() {
+                return Err(src.err(c, key, format!("{x} is not a finite number")));
+            }
+        }
+    }
+    let (path, shown) = src.path(d.file.get_ref());
+    let text = read_text(&path, &shown, MAX_DATA_BYTES)?;
+    let ctx = Context {
+        file: &shown,
+        length_mm,
+        default_sd_mm: d.sd_mm.as_ref().map(|s| *s.get_ref()),
+        max_rows: (*rows_left).min(MAX_ROWS),
+    };
+    let data = match kind {
+        TestKind::Markers => TestData::Markers {
+            camera: d.camera.as_ref().map(|c| *c.get_ref()),
+            rows: table::read(
+                kind,
+                &text,
+                &ctx,
+                |r: &Record| r.marker(),
+                |r: &MarkerRow| {
+                    (
+                        format!("{} {}", bits(r.pressure_kpa), r.marker),
+                        "pressure_kpa and marker",
+                    )
+                },
+            )?,
+        },
+        TestKind::Radius => TestData::Radius(table::read(
+            kind,
+            &text,
+            &ctx,
+            |r: &Record| r.radius(),
+            |r: &RadiusRow| (bits(r.pressure_kpa).to_string(), "pressure_kpa"),
+        )?),
+        TestKind::Force => TestData::Force(table::read(
+            kind,
+            &text,
+            &ctx,
+            |r: &Record| r.force(),
+            |r: &ForceRow| {
+                (
+                    format!(
+                        "{} {} {}",
+                        bits(r.pressure_kpa),
+                        r.axis.name(),
+                        bits(r.displacement_mm)
+                    ),
+                    "pressure_kpa, axis and displacement_mm",
+                )
+            },
+        )?),
+    };
+    *rows_left -= data.len();
+    Ok(Test { file: shown, data })
+}

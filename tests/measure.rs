@@ -1,0 +1,278 @@
+//! `fpc::compare` against independent paths of the library: radii against
+//! study 7, a marker at the tip against an ordinary solve's tip (also
+//! through a camera frame), forces against study 8, noise-free synthetic
+//! data (examples/calibration/make_data.rs) at chi-square ~ 0 and a wrong
+//! prestrain far from it, and the validity verdict on every prediction.
+
+use std::path::{Path, PathBuf};
+
+use fpc::measure::{Comparison, Manifest, Prediction};
+use fpc::studies::{study7_curvature, study8_force_at_displacement, Axis};
+use fpc::{Finger, Load, SolveOptions, StudyOptions};
+
+#[path = "../examples/calibration/make_data.rs"]
+mod synthetic;
+
+fn dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fpc-compare-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A manifest of one specimen at `eps0` (with `own` added to its own
+/// tables) and one test of `kind` holding `csv`; compared.
+fn compare_one(tag: &str, eps0: f64, own: &str, kind: &str, test: &str, csv: &str) -> Comparison {
+    let d = dir(tag);
+    std::fs::write(d.join("data.csv"), csv).unwrap();
+    let m = format!(
+        "[[specimen]]\nname = \"{tag}\"\n[specimen.own.actuator.pemc]\neps0 = {eps0}\n{own}\n[[specimen.test]]\nkind = \"{kind}\"\nfile = \"data.csv\"\n{test}"
+    );
+    std::fs::write(d.join("m.toml"), m).unwrap();
+    let manifest = Manifest::load(&d.join("m.toml")).unwrap();
+    fpc::compare(&manifest).unwrap()
+}
+
+fn predictions(c: &Comparison) -> &[Prediction] {
+    &c.specimens[0].tests[0].predictions
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * (1.0 + b.abs())
+}
+
+#[test]
+fn radii_are_study_7s() {
+    let study = StudyOptions {
+        pressure_points: 9, // 0, 50, ..., 400 kPa
+        ..StudyOptions::default()
+    };
+    let curves = study7_curvature(&fpc::Actuator::default(), &study).unwrap();
+    for curve in &curves {
+        let rows: Vec<_> = curve
+            .rows
+            .iter()
+            // nearly flat, the radius is ill-conditioned in the shape
+            .filter(|r| r.radius.is_some_and(|x| x < 1000.0))
+            .take(5)
+            .collect();
+        assert!(rows.len() >= 3, "eps0 {}", curve.eps0);
+        let csv: String = rows
+            .iter()
+            .map(|r| format!("{},100,5\n", r.pressure_kpa))
+            .collect();
+        let tag = format!("radius{}", curve.eps0);
+        let c = compare_one(
+            &tag,
+            curve.eps0,
+            "",
+            "radius",
+            "",
+            &format!("pressure_kpa,radius_mm,sd_mm\n{csv}"),
+        );
+        for (p, r) in predictions(&c).iter().zip(&rows) {
+            let want = r.radius.unwrap();
+            let res = &p.residuals[0];
+            let got = res.predicted.unwrap();
+            // study 7 warm-starts along its pressures, compare solves each
+            // pressure on its own: the same equilibrium to Newton's tolerance
+            assert!(
+                close(got, want, 1e-7),
+                "eps0 {}: {got} vs {want}",
+                curve.eps0
+            );
+            assert!(close(res.residual.unwrap(), 100.0 - want, 1e-7));
+            assert!(close(res.residual_sd.unwrap(), (100.0 - want) / 5.0, 1e-7));
+            assert_eq!(p.valid, r.warnings.iter().all(|w| !w.is_validity()));
+        }
+        let chi: f64 = rows
+            .iter()
+            .map(|r| ((100.0 - r.radius.unwrap()) / 5.0).powi(2))
+            .sum();
+        assert!(close(c.chi_square, chi, 1e-6), "{} vs {chi}", c.chi_square);
+        assert_eq!(c.points, rows.len());
+    }
+}
+
+#[test]
+fn a_marker_at_the_tip_is_the_solved_tip_in_either_frame() {
+    let (eps0, p) = (0.4, 35.0);
+    let tip = Finger::paper(eps0, 8)
+        .unwrap()
+        .solve(
+            &Load::unloaded().with_pressure_kpa(p),
+            &SolveOptions::default(),
+        )
+        .unwrap()
+        .tip;
+    let csv = format!("pressure_kpa,marker,s_mm,x_mm,z_mm\n{p},tip,110,0,0\n{p},root,0,0,0\n");
+    let c = compare_one("tip", eps0, "", "markers", "sd_mm = 0.5", &csv);
+    let [at_tip, at_root] = predictions(&c) else {
+        panic!("two rows")
+    };
+    assert!(close(at_tip.residuals[0].predicted.unwrap(), tip[0], 1e-9));
+    assert!(close(at_tip.residuals[1].predicted.unwrap(), tip[1], 1e-9));
+    assert_eq!(at_tip.residuals[1].sd, 0.5);
+    assert_eq!(at_root.residuals[0].predicted, Some(0.0));
+    // a camera turned by 90 degrees with its origin at (10, 20) in the
+    // finger frame sees the finger point q at (q_z - 20, 10 - q_x)
+    let c = compare_one(
+        "camera",
+        eps0,
+        "",
+        "markers",
+        "sd_mm = 0.5\ncamera = { angle_deg = 90.0, x_mm = 10.0, z_mm = 20.0 }",
+        &csv,
+    );
+    let t = &c.specimens[0].tests[0];
+    assert_eq!(t.frame, "camera");
+    let r = &t.predictions[0].residuals;
+    assert!(close(r[0].predicted.unwrap(), tip[1] - 20.0, 1e-9), "{r:?}");
+    assert!(close(r[1].predicted.unwrap(), 10.0 - tip[0], 1e-9), "{r:?}");
+}
+
+#[test]
+fn forces_are_study_8s() {
+    let rows =
+        study8_force_at_displacement(&fpc::Actuator::default(), &StudyOptions::default()).unwrap();
+    for want in rows.iter().filter(|r| r.pressure_kpa == 27.6) {
+        let axis = if want.axis == Axis::X { "X" } else { "Z" };
+        let csv = format!(
+            "pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n27.6,{axis},10,1.0,0.2,4\n"
+        );
+        let c = compare_one(&format!("force{axis}"), want.eps0, "", "force", "", &csv);
+        let p = &predictions(&c)[0];
+        let f = want.force.unwrap();
+        let res = &p.residuals[0];
+        assert!(close(res.predicted.unwrap(), f, 1e-7), "{res:?} vs {f}");
+        // the sd of the mean of 4 repeats
+        assert_eq!(res.sd, 0.1);
+        assert!(close(res.residual_sd.unwrap(), (1.0 - f) / 0.1, 1e-6));
+        assert_eq!(p.axis, Some(axis));
+    }
+}
+
+fn synthetic_chi_square(tag: &str, shift: f64) -> Comparison {
+    let d = dir(tag);
+    synthetic::generate(
+        &d,
+        synthetic::Options {
+            noise: false,
+            manifest_eps0_shift: shift,
+        },
+    )
+    .unwrap();
+    fpc::compare(&Manifest::load(&d.join("manifest.toml")).unwrap()).unwrap()
+}
+
+#[test]
+fn noise_free_data_fit_and_a_wrong_prestrain_does_not() {
+    let exact = synthetic_chi_square("exact", 0.0);
+    // markers, radii and forces of every specimen, none failed
+    assert!(exact.points > 100, "{}", exact.points);
+    assert_eq!(exact.failed, 0);
+    // the files round to 4 decimals of a marker's 0.3 mm sd and of a
+    // radius: far below one sd
+    assert!(
+        exact.chi_square < 1e-3 * exact.points as f64,
+        "{}",
+        exact.chi_square
+    );
+    let wrong = synthetic_chi_square("wrong", 0.05);
+    assert!(
+        wrong.chi_square > 100.0 * exact.points as f64,
+        "{}",
+        wrong.chi_square
+    );
+    // the shipped noisy set is the generator's output, and its chi-square
+    // is of the order of its points
+    let again = dir("again");
+    synthetic::generate(
+        &again,
+        synthetic::Options {
+            noise: true,
+            manifest_eps0_shift: 0.0,
+        },
+    )
+    .unwrap();
+    let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration");
+    for e in std::fs::read_dir(&again).unwrap() {
+        let name = e.unwrap().file_name();
+        let made = std::fs::read_to_string(again.join(&name)).unwrap();
+        let shipped = std::fs::read_to_string(ours.join(&name)).unwrap();
+        assert_eq!(
+            made, shipped,
+            "examples/calibration/{name:?} is not the generator's"
+        );
+    }
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration/manifest.toml");
+    let c = fpc::compare(&Manifest::load(&shipped).unwrap()).unwrap();
+    let per = c.chi_square / c.points as f64;
+    assert!((0.5..2.0).contains(&per), "chi-square per residual {per}");
+}
+
+#[test]
+fn a_prediction_outside_the_model_says_so() {
+    // four elements over a strongly curled finger turn beyond the CCM's
+    // slope limit
+    let c = compare_one(
+        "outside",
+        0.4,
+        "[specimen.own.partition]\nelements = 4",
+        "radius",
+        "",
+        "pressure_kpa,radius_mm,sd_mm\n0,30,1\n",
+    );
+    let p = &predictions(&c)[0];
+    assert!(!p.valid, "{p:?}");
+    assert!(
+        p.warnings.iter().any(|w| w.kind() == "element_slope"),
+        "{p:?}"
+    );
+    assert!(!p.warning_messages.is_empty());
+    assert_eq!(c.outside_model, 1);
+    let json = serde_json::to_value(&c).unwrap();
+    let jp = &json["specimens"][0]["tests"][0]["predictions"][0];
+    assert_eq!(jp["valid"], false);
+    assert_eq!(jp["warnings"][0]["kind"], "element_slope");
+    let t = fpc::measure::table(&c);
+    assert_eq!(t.cell(0, "valid"), Some(&fpc::report::Cell::Bool(false)));
+    assert_eq!(
+        t.cell(0, "warnings"),
+        Some(&fpc::report::Cell::Text("element_slope".into()))
+    );
+}
+
+#[test]
+fn a_row_the_model_cannot_predict_keeps_its_data_and_says_why() {
+    // one element cannot hold the curl of eps0 = 0.4: its solve fails
+    let c = compare_one(
+        "failed",
+        0.4,
+        "[specimen.own.partition]\nelements = 1",
+        "radius",
+        "",
+        "pressure_kpa,radius_mm,sd_mm\n0,30,1\n",
+    );
+    let p = &predictions(&c)[0];
+    assert!(!p.valid && p.failure.is_some(), "{p:?}");
+    assert_eq!(p.residuals[0].measured, 30.0);
+    assert_eq!(p.residuals[0].residual_sd, None);
+    assert_eq!((c.failed, c.points, c.chi_square), (1, 0, 0.0));
+}
+
+#[test]
+fn a_test_without_rows_predicts_nothing_and_draws_nothing() {
+    let c = compare_one(
+        "empty",
+        0.25,
+        "",
+        "radius",
+        "",
+        "pressure_kpa,radius_mm,sd_mm\n",
+    );
+    let t = &c.specimens[0].tests[0];
+    assert!(t.predictions.is_empty() && t.model_curve.is_empty());
+    assert_eq!((c.points, c.chi_square), (0, 0.0));
+    assert!(fpc::measure::figures(&c).is_empty());
+}
