@@ -8,8 +8,9 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
+use super::input::TestKind;
+use super::manifest::{Manifest, Specimen, Test, TestData};
 use super::table::bits;
-use super::{Manifest, Specimen, Test, TestData, TestKind};
 use crate::circle_fit::fit_circle;
 use crate::error::Warning;
 use crate::finger::{Load, SolveOptions};

@@ -6,37 +6,14 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 use toml::{Spanned, Table, Value};
 
-use super::table::{self, bits, Context, Record};
-use super::{
-    read_text, ForceRow, MarkerRow, MeasureError, RadiusRow, MAX_DATA_BYTES, MAX_MANIFEST_BYTES,
-    MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS, MAX_TOTAL_ROWS,
+use super::input::{
+    read_text, MeasureError, TestKind, MAX_DATA_BYTES, MAX_MANIFEST_BYTES, MAX_ROWS,
+    MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS, MAX_TOTAL_ROWS,
 };
+use super::table::{self, bits, Context, Record};
+use super::table::{ForceRow, MarkerRow, RadiusRow};
 use crate::scene::{line_col, Scene, SceneError, SceneReadError};
 
-/// The kind of a test (its CSV columns: docs/measurements.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum TestKind {
-    /// Marker points of the mid-plane.
-    Markers,
-    /// The circle-fit radius of the mid-plane.
-    Radius,
-    /// The tip force for a tip displacement.
-    Force,
-}
-
-impl TestKind {
-    /// `markers`, `radius` or `force`.
-    pub fn name(self) -> &'static str {
-        match self {
-            TestKind::Markers => "markers",
-            TestKind::Radius => "radius",
-            TestKind::Force => "force",
-        }
-    }
-}
-
-/// The rigid transform from a camera frame to the finger frame:
 /// `finger = R(angle) camera + offset`, `R` the rotation by `angle`
 /// (from X towards Z). Known values for a comparison; a calibrator may fit
 /// them as nuisance parameters.

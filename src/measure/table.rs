@@ -7,7 +7,7 @@ use std::collections::HashMap;
 
 use serde::Serialize;
 
-use super::{MeasureError, TestKind, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA};
+use super::input::{MeasureError, TestKind, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA};
 use crate::studies::Axis;
 
 /// One marker at one pressure.
