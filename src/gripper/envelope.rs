@@ -5,19 +5,23 @@
 //! The best grasping angle `b*(r)` is either the validity boundary where a
 //! contact rule becomes active (the usual case: the lift grows with `b`
 //! until the sphere touches the finger a second time, or the finger
-//! reaches its tip from inside the sphere), or an interior point where
-//! `d f_v / d b = 0`. Both move smoothly with `r`, so from the radii
+//! reaches its tip from inside the sphere), the edge of the angles the
+//! flat fingers reach (`r cos b = d_max / 2`, large spheres), or an
+//! interior point where `d f_v / d b = 0`. Each moves smoothly with `r`
+//! while it holds the optimum, so from the radii
 //! already solved `b*` is predicted by interpolating them (a secant, or a
 //! parabola through three), then corrected:
 //!
 //! - on a boundary, by Brent's root search on the contact function `phi`
 //!   whose zero the boundary is (the larger of the tip's tangent against
 //!   the sphere's normal and the deepest second contact less the
-//!   tolerance), bracketed by steps from the prediction;
+//!   tolerance), bracketed from the prediction by a Newton step with the
+//!   slope the last radius's bracket measured, then growing steps;
+//! - at the reach, by the edge itself;
 //! - inside, by Brent's maximiser on a bracket around the prediction.
 //!
-//! The regime of the nearest solved radius is tried first, the other when
-//! it fails, and where both fail (a solve fails, another rule binds, the
+//! The regime of the nearest solved radius is tried first, the others when
+//! it fails (where the regimes meet), and where all fail (a solve fails, another rule binds, the
 //! corrector leaves its bracket) the radius is searched afresh with
 //! [`Gripper::max_sphere_lift`]. Every grasp answered is an ordinary
 //! sphere grasp traced from rest with its full verdict.
