@@ -23,7 +23,11 @@
 //!   what the solver iterates on);
 //! - `solves`: whole solves at N = 8 (see the ids), all through a reused
 //!   `Solver` workspace;
-//! - `sweep`: a 50-point force sweep, throughput in solves per second.
+//! - `sweep`: a 50-point force sweep, throughput in solves per second;
+//! - `envelope`: study 5's sphere envelope (the best lifting force per
+//!   radius) on 16 radii of the Sec. 5 gripper, followed along the radius
+//!   (`SphereEnvelope`) against a fresh search per radius
+//!   (`Gripper::max_sphere_lift`); and study 5 whole.
 //!
 //! Before each solve benchmark its iteration count is printed once, so
 //! that time differences can be told apart from work differences.
@@ -444,5 +448,40 @@ fn sweep(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kernels, assembly, solves, sweep);
+fn envelope(c: &mut Criterion) {
+    use fpc::gripper::SphereEnvelope;
+    use fpc::studies::{section5_gripper, study5_sphere_region};
+    use fpc::StudyOptions;
+    let act = Actuator::paper(0.25).unwrap();
+    let opts = StudyOptions::default();
+    let gripper = section5_gripper(&act, &opts).unwrap();
+    let radii: Vec<f64> = (0..16).map(|i| 20.0 + 3.0 * i as f64).collect();
+    let mut g = c.benchmark_group("envelope");
+    g.sample_size(10);
+    g.bench_function("followed_16", |bch| {
+        bch.iter(|| {
+            let mut env = SphereEnvelope::new(&gripper, 0.0, opts.angle_samples);
+            for &r in &radii {
+                black_box(env.at(black_box(r)).unwrap());
+            }
+        })
+    });
+    g.bench_function("searched_16", |bch| {
+        bch.iter(|| {
+            for &r in &radii {
+                black_box(
+                    gripper
+                        .max_sphere_lift(0.0, black_box(r), opts.angle_samples)
+                        .unwrap(),
+                );
+            }
+        })
+    });
+    g.bench_function("study5", |bch| {
+        bch.iter(|| black_box(study5_sphere_region(&act, &opts).unwrap()))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, kernels, assembly, solves, sweep, envelope);
 criterion_main!(benches);

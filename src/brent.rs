@@ -110,6 +110,104 @@ pub(crate) fn brent_max<E>(
     })
 }
 
+/// Where a root search ended: the bracket `[x, other]` around the root's
+/// sign change (`x` on the side of `f(x) <= 0`, `other` on `f > 0`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Root {
+    /// The end of the final bracket where `f <= 0`.
+    pub x: f64,
+    /// The end where `f > 0`.
+    pub other: f64,
+    /// Evaluations made (the two given ends not counted).
+    pub evaluations: usize,
+}
+
+/// Brent's method (Dekker's secant and inverse quadratic steps,
+/// bisection where they do not shrink the bracket fast enough) for the
+/// sign change of `f` between `a` (with `f(a) = fa <= 0`) and `b` (`fb >
+/// 0`): stops when the bracket is shorter than `2 (tol + 1e-12 |x|)`, or
+/// after `max_evaluations` (`None`: the bracket was not closed). A point
+/// where `f` is undefined (`None`) ends the search with `None`.
+pub(crate) fn brent_root<E>(
+    mut f: impl FnMut(f64) -> Result<Option<f64>, E>,
+    a: f64,
+    fa: f64,
+    b: f64,
+    fb: f64,
+    tol: f64,
+    max_evaluations: usize,
+) -> Result<Option<Root>, E> {
+    if !(fa <= 0.0 && fb > 0.0) {
+        return Ok(None);
+    }
+    // b: the latest estimate; c: the other end of the bracket; a: the
+    // previous b (Brent's 1973 notation)
+    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    for evaluations in 0..=max_evaluations {
+        if (fb > 0.0) == (fc > 0.0) {
+            (c, fc) = (a, fa);
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            (a, fa) = (b, fb);
+            (b, fb) = (c, fc);
+            (c, fc) = (a, fa);
+        }
+        let tol1 = tol + 1e-12 * b.abs();
+        let m = 0.5 * (c - b);
+        if m.abs() <= tol1 || fb == 0.0 {
+            let (x, other) = if fb > 0.0 { (c, b) } else { (b, c) };
+            // a root hit exactly: the other end is the bracket's
+            return Ok(Some(Root {
+                x,
+                other,
+                evaluations,
+            }));
+        }
+        if evaluations == max_evaluations {
+            break;
+        }
+        if e.abs() >= tol1 && fa.abs() > fb.abs() {
+            let s = fb / fa;
+            let (mut p, mut q) = if a == c {
+                (2.0 * m * s, 1.0 - s)
+            } else {
+                let (qa, r) = (fa / fc, fb / fc);
+                (
+                    s * (2.0 * m * qa * (qa - r) - (b - a) * (r - 1.0)),
+                    (qa - 1.0) * (r - 1.0) * (s - 1.0),
+                )
+            };
+            if p > 0.0 {
+                q = -q;
+            } else {
+                p = -p;
+            }
+            if 2.0 * p < (3.0 * m * q - (tol1 * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = m;
+                e = m;
+            }
+        } else {
+            d = m;
+            e = m;
+        }
+        (a, fa) = (b, fb);
+        b += if d.abs() > tol1 { d } else { tol1.copysign(m) };
+        let Some(v) = f(b)?.filter(|v| v.is_finite()) else {
+            return Ok(None);
+        };
+        fb = v;
+    }
+    Ok(None)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,5 +255,41 @@ mod tests {
             50,
         );
         assert_eq!(e, Err("solve failed"));
+    }
+
+    #[test]
+    fn brackets_a_root_to_the_tolerance_in_few_steps() {
+        // a smooth root (cube root of 2), the bracket's sides kept apart
+        let mut n = 0;
+        let f = |x: f64| {
+            n += 1;
+            Ok::<_, ()>(Some(x * x * x - 2.0))
+        };
+        let r = brent_root(f, 0.0, -2.0, 3.0, 25.0, 1e-12, 100)
+            .unwrap()
+            .unwrap();
+        let root = 2f64.cbrt();
+        assert!(r.x <= root && root < r.other + 1e-15, "{r:?}");
+        assert!((r.other - r.x).abs() < 3e-12, "{r:?}");
+        assert!(r.evaluations < 15 && r.evaluations == n, "{r:?}");
+        // a kink at the root (the max of two lines) is still bracketed
+        let g = |x: f64| Ok::<_, ()>(Some((2.0 * (x - 0.3)).max(0.1 * (x - 0.3))));
+        let r = brent_root(g, -1.0, -0.13, 1.0, 1.4, 1e-10, 100)
+            .unwrap()
+            .unwrap();
+        assert!(
+            r.x <= 0.3 && r.other > 0.3 && r.other - r.x < 3e-10,
+            "{r:?}"
+        );
+    }
+
+    #[test]
+    fn a_root_search_needs_a_sign_change_and_stops_on_an_undefined_point() {
+        let f = |x: f64| Ok::<_, ()>(Some(x));
+        assert_eq!(brent_root(f, 1.0, 1.0, 2.0, 2.0, 1e-9, 50), Ok(None));
+        let g = |x: f64| Ok::<_, ()>((x < 0.5).then_some(x - 0.7));
+        assert_eq!(brent_root(g, 0.0, -0.7, 1.0, 0.3, 1e-9, 50), Ok(None));
+        let h = |x: f64| Ok::<_, ()>(Some(x * x * x - 2.0));
+        assert_eq!(brent_root(h, 0.0, -2.0, 3.0, 25.0, 1e-12, 2), Ok(None));
     }
 }

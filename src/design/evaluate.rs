@@ -7,7 +7,7 @@ use serde::Serialize;
 use crate::actuator::Actuator;
 use crate::actuator::ActuatorParam;
 use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::{Gripper, GripperParams, Object, PalmSpec};
+use crate::gripper::{Gripper, GripperParams, Object, PalmSpec, SphereEnvelope};
 use crate::partition::Partition;
 use crate::sensitivity::{GraspKind, GripperParam};
 use crate::solve_error::SolveError;
@@ -390,9 +390,11 @@ fn sphere_margins(
     max_normal: Option<f64>,
     out: &mut Collect<'_>,
 ) {
+    // the radii after the first continued from those before
+    let mut follower = SphereEnvelope::new(g, 0.0, SPHERE_ANGLE_SAMPLES);
     for r in samples(radius, SPHERE_SAMPLES) {
         let name = |what: &str| format!("object[{i}] sphere r = {r:.1} mm: {what}");
-        match g.max_sphere_lift(0.0, r, SPHERE_ANGLE_SAMPLES) {
+        match follower.at(r) {
             Ok(Some(best)) => {
                 let sens = |act: &Actuator| {
                     g.max_sphere_lift_sensitivities(act, 0.0, &best, &DESIGN_PARAMS)

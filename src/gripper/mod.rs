@@ -26,6 +26,7 @@
 
 mod closing;
 pub mod contact;
+mod envelope;
 pub mod frames;
 pub mod rules;
 mod setup;
@@ -38,6 +39,7 @@ pub use setup::{
     Grasp, Gripper, GripperParams, PalmSpec, CONTACT_TOL_MM, GRIPPER_SAMPLES_PER_ELEMENT,
 };
 
+pub use envelope::{EnvelopeCounts, SphereEnvelope};
 pub use frames::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
     finger_displacement_to_gripper, finger_point_to_gripper, grasping_angle_range,

@@ -207,7 +207,7 @@ impl Gripper {
     /// [`Gripper::sphere_grasp_at_friction_limit`], with the answer's
     /// mid-plane sampled or not (`shape`: a search needs the verdict and
     /// the forces only).
-    fn sphere_at_limit(
+    pub(crate) fn sphere_at_limit(
         &self,
         pressure_kpa: f64,
         r: f64,

@@ -8,7 +8,9 @@ use super::output::*;
 use super::sweep::size_sweep;
 use crate::actuator::Actuator;
 use crate::error::Warning;
-use crate::gripper::{grasping_angle_range, Gripper, Invalid, Object, SphereLift};
+use crate::gripper::{
+    grasping_angle_range, EnvelopeCounts, Gripper, Invalid, Object, SphereEnvelope, SphereLift,
+};
 use crate::solve_error::SolveError;
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
@@ -41,20 +43,26 @@ pub struct SphereRegion {
     /// (strict mode; 0 otherwise).
     pub strict_dropped: usize,
     /// Max lifting force versus radius on a radius grid over the swept
-    /// radii, each the best valid grasping angle ([`Gripper::max_sphere_lift`]).
+    /// radii, each the best valid grasping angle ([`Gripper::max_sphere_lift`]),
+    /// followed from radius to radius ([`SphereEnvelope`]).
     pub envelope: Vec<SphereLift>,
     /// The envelope's highest point, refined by Brent's method in the
     /// radius to 1e-6 mm (`None`: no valid grasp).
     pub peak: Option<SphereLift>,
     /// Sweeps that stopped early: (grasping angle, where and why).
     pub stopped: Vec<(f64, SweepStop)>,
+    /// How the envelope's radii (the peak's search included) were
+    /// answered: continued on a boundary or inside, or searched afresh.
+    pub envelope_counts: EnvelopeCounts,
 }
 
 /// Study 5 (Sec. 5.2.1): the Sec. 5 gripper; grasping angles over
 /// `[-arctan mu, pi/2)`, at each a sweep of the grasping size (so of `F`)
 /// with `f = mu F`, `r = tip gap / (2 cos b)`; invalid grasps dropped. The
 /// envelope is solved directly on a grid of `2 sweep_points` radii over the
-/// swept ones: at each radius, the best valid grasping angle.
+/// swept ones: at each radius, the best valid grasping angle, continued
+/// from the radii before it ([`SphereEnvelope`]: a fresh search only
+/// where the continuation fails).
 pub fn study5_sphere_region(
     actuator: &Actuator,
     opts: &StudyOptions,
@@ -93,7 +101,8 @@ pub fn study5_sphere_region(
             stopped.push((beta, s));
         }
     }
-    let (envelope, peak) = sphere_envelope(&g, &points, 2 * n, opts.angle_samples)?;
+    let (envelope, peak, envelope_counts) =
+        sphere_envelope(&g, &points, 2 * n, opts.angle_samples)?;
     Ok(SphereRegion {
         points,
         dropped,
@@ -101,6 +110,7 @@ pub fn study5_sphere_region(
         envelope,
         peak,
         stopped,
+        envelope_counts,
     })
 }
 
@@ -111,23 +121,24 @@ fn sphere_envelope(
     points: &[SpherePoint],
     m: usize,
     samples: usize,
-) -> Result<(Vec<SphereLift>, Option<SphereLift>), SolveError> {
+) -> Result<(Vec<SphereLift>, Option<SphereLift>, EnvelopeCounts), SolveError> {
     let rmin = points
         .iter()
         .map(|p| p.radius)
         .fold(f64::INFINITY, f64::min);
     let rmax = points.iter().map(|p| p.radius).fold(0.0, f64::max);
     if !(rmin.is_finite() && rmax > rmin) {
-        return Ok((Vec::new(), None));
+        return Ok((Vec::new(), None, EnvelopeCounts::default()));
     }
-    let at = |r: f64| g.max_sphere_lift(0.0, r, samples);
+    // each radius continued from those answered before it
+    let mut follower = SphereEnvelope::new(g, 0.0, samples);
     let radii: Vec<f64> = (0..m)
         .map(|i| rmin + (rmax - rmin) * i as f64 / (m - 1) as f64)
         .collect();
     let mut envelope = Vec::with_capacity(m);
     let mut best: Option<(usize, SphereLift)> = None;
     for &r in &radii {
-        if let Some(e) = at(r)? {
+        if let Some(e) = follower.at(r)? {
             if best.as_ref().is_none_or(|(_, b)| e.lift > b.lift) {
                 best = Some((envelope.len(), e.clone()));
             }
@@ -135,7 +146,7 @@ fn sphere_envelope(
         }
     }
     let Some((i, mut peak)) = best else {
-        return Ok((envelope, None));
+        return Ok((envelope, None, follower.counts()));
     };
     // Brent's method on the neighbours' bracket (a radius without a valid
     // grasp counts as -inf): the peak's optimality condition in r
@@ -145,7 +156,7 @@ fn sphere_envelope(
     );
     let (centre, fb) = (peak.radius, peak.lift);
     let mut eval = |r: f64| -> Result<Option<f64>, SolveError> {
-        let e = at(r)?;
+        let e = follower.at(r)?;
         let lift = e.as_ref().map(|e| e.lift);
         if let Some(e) = e {
             if e.lift > peak.lift {
@@ -155,7 +166,7 @@ fn sphere_envelope(
         Ok(lift)
     };
     crate::brent::brent_max(&mut eval, a, centre, b, fb, PEAK_RADIUS_TOL_MM, 40)?;
-    Ok((envelope, Some(peak)))
+    Ok((envelope, Some(peak), follower.counts()))
 }
 
 /// Tolerance (mm) on the radius of the study-5 envelope's peak.

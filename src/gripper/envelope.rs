@@ -1,0 +1,467 @@
+//! The best lifting force of a sphere followed along the radius: the
+//! optimum of [`Gripper::max_sphere_lift`] continued from the radii
+//! already answered instead of searched afresh (docs/model.md, study 5).
+//!
+//! The best grasping angle `b*(r)` is either the validity boundary where a
+//! contact rule becomes active (the usual case: the lift grows with `b`
+//! until the sphere touches the finger a second time, or the finger
+//! reaches its tip from inside the sphere), the edge of the angles the
+//! flat fingers reach (`r cos b = d_max / 2`, large spheres), or an
+//! interior point where `d f_v / d b = 0`. Each moves smoothly with `r`
+//! while it holds the optimum, so from the radii
+//! already solved `b*` is predicted by interpolating them (a secant, or a
+//! parabola through three), then corrected:
+//!
+//! - on a boundary, by Brent's root search on the contact function `phi`
+//!   whose zero the boundary is (the larger of the tip's tangent against
+//!   the sphere's normal and the deepest second contact less the
+//!   tolerance), bracketed from the prediction by a Newton step with the
+//!   slope the last radius's bracket measured, then growing steps;
+//! - at the reach, by the edge itself;
+//! - inside, by Brent's maximiser on a bracket around the prediction.
+//!
+//! The regime of the nearest solved radius is tried first, the others when
+//! it fails (where the regimes meet), and where all fail (a solve fails, another rule binds, the
+//! corrector leaves its bracket) the radius is searched afresh with
+//! [`Gripper::max_sphere_lift`]. Every grasp answered is an ordinary
+//! sphere grasp traced from rest with its full verdict.
+
+use super::frames::{finger_to_gripper_map, grasping_angle_range};
+use super::setup::{Grasp, Gripper, CONTACT_TOL_MM};
+use super::sphere::{SphereLift, ENVELOPE_BETA_TOL};
+use crate::brent::{brent_max, brent_root};
+use crate::solve_error::SolveError;
+
+/// Solves the corrector may spend on one radius before the radius is
+/// searched afresh.
+const FOLLOW_MAX_EVALUATIONS: usize = 40;
+
+/// Tolerance (rad) on a boundary optimum: the lift changes there at its
+/// full slope in the angle, so the boundary is located well within
+/// [`ENVELOPE_BETA_TOL`] (a root search converges fast enough for that).
+const BOUNDARY_BETA_TOL: f64 = 1e-11;
+
+/// Bracket expansions (each step four times the last) before a corrector
+/// gives up.
+const MAX_EXPANSIONS: usize = 8;
+
+/// The first step (rad) from the prediction when nothing says how good it
+/// is, and the bounds of any step.
+const DEFAULT_STEP: f64 = 1e-4;
+const MIN_STEP: f64 = 1e-8;
+const MAX_STEP: f64 = 0.05;
+
+/// One solved radius.
+#[derive(Debug, Clone)]
+struct Known {
+    radius: f64,
+    beta: f64,
+    /// The optimum's regime (`None`: searched afresh, not known).
+    regime: Option<Regime>,
+    /// How far the corrector moved the prediction (rad; `None`: searched).
+    correction: Option<f64>,
+}
+
+/// Where a followed optimum lies.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Regime {
+    /// On a validity boundary: the side its invalid grasps lie on (+1
+    /// above, -1 below) and the contact function's slope in the angle
+    /// there (per rad; a secant over the bracket that located it).
+    Boundary { side: f64, slope: f64 },
+    /// Inside, where `d f_v / d b = 0`.
+    Interior,
+    /// At the fingers' reach: the tip at `Xg = r cos b = d_max / 2`, the
+    /// contact the flat fingers just reach.
+    Reach,
+}
+
+/// One grasping angle evaluated by a corrector.
+#[derive(Debug, Clone)]
+struct Point {
+    beta: f64,
+    lift: f64,
+    valid: bool,
+    /// The contact function: `<= 0` where the contact rules hold.
+    phi: f64,
+    grasp: Grasp,
+}
+
+/// How a radius of a [`SphereEnvelope`] was answered, counted.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct EnvelopeCounts {
+    /// Radii answered on a validity boundary by continuation.
+    pub boundary: usize,
+    /// Radii answered at an interior optimum by continuation.
+    pub interior: usize,
+    /// Radii answered at the fingers' reach by continuation.
+    pub reach: usize,
+    /// Radii searched afresh ([`Gripper::max_sphere_lift`]): the first, and
+    /// those where the continuation failed.
+    pub searched: usize,
+    /// Solves the continuation made (the fresh searches' not counted).
+    pub solves: usize,
+}
+
+/// The best lifting force of a sphere against its radius, each radius
+/// continued from those already answered (module documentation).
+#[derive(Debug, Clone)]
+pub struct SphereEnvelope<'g> {
+    gripper: &'g Gripper,
+    pressure_kpa: f64,
+    samples: usize,
+    known: Vec<Known>,
+    counts: EnvelopeCounts,
+}
+
+impl<'g> SphereEnvelope<'g> {
+    /// A follower of `gripper`'s best sphere lift at `pressure_kpa`; a fresh
+    /// search scans `samples` angles ([`Gripper::max_sphere_lift`]).
+    pub fn new(gripper: &'g Gripper, pressure_kpa: f64, samples: usize) -> Self {
+        SphereEnvelope {
+            gripper,
+            pressure_kpa,
+            samples,
+            known: Vec::new(),
+            counts: EnvelopeCounts::default(),
+        }
+    }
+
+    /// How the radii so far were answered.
+    pub fn counts(&self) -> EnvelopeCounts {
+        self.counts
+    }
+
+    /// The largest lifting force per finger that holds a sphere of radius
+    /// `r` validly, as [`Gripper::max_sphere_lift`] (`None`: no valid grasp
+    /// found), continued from the radii answered before where it can be.
+    pub fn at(&mut self, r: f64) -> Result<Option<SphereLift>, SolveError> {
+        if let Some(found) = self.follow(r) {
+            return Ok(Some(found));
+        }
+        self.counts.searched += 1;
+        let best = self
+            .gripper
+            .max_sphere_lift(self.pressure_kpa, r, self.samples)?;
+        Ok(best.inspect(|lift| {
+            self.known.push(Known {
+                radius: r,
+                beta: lift.beta,
+                regime: None,
+                correction: None,
+            });
+        }))
+    }
+
+    /// The prediction of `b*(r)` from the (up to three) nearest solved
+    /// radii, the index of the nearest, and the first step to take.
+    fn predict(&self, r: f64) -> Option<(f64, usize, f64)> {
+        let mut near: Vec<usize> = (0..self.known.len()).collect();
+        near.sort_by(|&i, &j| {
+            let (di, dj) = (self.known[i].radius - r, self.known[j].radius - r);
+            di.abs().total_cmp(&dj.abs())
+        });
+        let nearest = *near.first()?;
+        // distinct radii only (a repeated radius adds nothing)
+        let mut nodes: Vec<(f64, f64)> = Vec::with_capacity(3);
+        for &i in &near {
+            let k = &self.known[i];
+            if nodes
+                .iter()
+                .all(|(x, _)| (x - k.radius).abs() > 1e-9 * r.abs().max(1.0))
+            {
+                nodes.push((k.radius, k.beta));
+            }
+            if nodes.len() == 3 {
+                break;
+            }
+        }
+        // Lagrange's interpolation through the nodes
+        let mut beta = 0.0;
+        for (i, &(xi, yi)) in nodes.iter().enumerate() {
+            let mut w = 1.0;
+            for (j, &(xj, _)) in nodes.iter().enumerate() {
+                if i != j {
+                    w *= (r - xj) / (xi - xj);
+                }
+            }
+            beta += w * yi;
+        }
+        let step = self.known[nearest]
+            .correction
+            .map_or(DEFAULT_STEP, |c| 4.0 * c)
+            .clamp(MIN_STEP, MAX_STEP);
+        beta.is_finite().then_some((beta, nearest, step))
+    }
+
+    fn follow(&mut self, r: f64) -> Option<SphereLift> {
+        let (beta, nearest, step) = self.predict(r)?;
+        let [lo, hi] = grasping_angle_range(self.gripper.mu());
+        if !(beta > lo && beta < hi) {
+            return None;
+        }
+        let regime = self.known[nearest].regime;
+        let mut c = Corrector {
+            gripper: self.gripper,
+            pressure_kpa: self.pressure_kpa,
+            radius: r,
+            points: Vec::new(),
+            failed: Vec::new(),
+            spent: 0,
+        };
+        // the nearest radius's regime first, the other where it fails
+        let interior = |c: &mut Corrector| c.interior(beta, step).map(|p| (p, Regime::Interior));
+        let found = match regime {
+            Some(Regime::Reach) => c.reach(beta, step),
+            Some(Regime::Boundary { side, slope }) => c
+                .boundary(beta, step, side, Some(slope))
+                .or_else(|| interior(&mut c)),
+            Some(Regime::Interior) => interior(&mut c)
+                .or_else(|| c.boundary(beta, step, 1.0, None))
+                .or_else(|| c.boundary(beta, step, -1.0, None)),
+            // a searched optimum: the usual case first
+            None => c
+                .boundary(beta, step, 1.0, None)
+                .or_else(|| interior(&mut c))
+                .or_else(|| c.boundary(beta, step, -1.0, None)),
+        }
+        .or_else(|| match regime {
+            Some(Regime::Reach) => None,
+            _ => c.reach(beta, step),
+        });
+        self.counts.solves += c.spent;
+        let (p, regime) = found?;
+        match regime {
+            Regime::Boundary { .. } => self.counts.boundary += 1,
+            Regime::Interior => self.counts.interior += 1,
+            Regime::Reach => self.counts.reach += 1,
+        }
+        let lift = SphereLift {
+            radius: r,
+            beta: p.beta,
+            lift: p.lift,
+            normal: p.grasp.normal,
+            reversed: p.grasp.is_reversed(),
+            warnings: p.grasp.warnings.clone(),
+        };
+        self.known.push(Known {
+            radius: r,
+            beta: p.beta,
+            regime: Some(regime),
+            correction: Some((p.beta - beta).abs()),
+        });
+        Some(lift)
+    }
+}
+
+/// The grasps of one radius a corrector has solved.
+struct Corrector<'g> {
+    gripper: &'g Gripper,
+    pressure_kpa: f64,
+    radius: f64,
+    points: Vec<Point>,
+    /// Angles whose solve failed or that are out of reach.
+    failed: Vec<f64>,
+    /// Solves made.
+    spent: usize,
+}
+
+impl Corrector<'_> {
+    /// The grasp at angle `beta` (solved once; `None` when the angle is out
+    /// of reach, the solve fails, or the corrector has spent its solves).
+    fn eval(&mut self, beta: f64) -> Option<Point> {
+        if let Some(p) = self.points.iter().find(|p| p.beta == beta) {
+            return Some(p.clone());
+        }
+        if self.spent >= FOLLOW_MAX_EVALUATIONS || self.failed.contains(&beta) {
+            return None;
+        }
+        self.spent += 1;
+        let g = self.gripper;
+        let r = self.radius;
+        let sg = g.check_sphere(r, beta).ok().and_then(|()| {
+            // the verdict and the forces only, as a fresh search
+            g.sphere_at_limit(self.pressure_kpa, r, beta, None, false)
+                .ok()
+        });
+        let Some(sg) = sg else {
+            self.failed.push(beta);
+            return None;
+        };
+        let phi = g.contact_function(&sg.grasp).unwrap_or(f64::NAN);
+        let p = Point {
+            beta,
+            lift: sg.grasp.lift,
+            valid: sg.is_valid(),
+            phi,
+            grasp: sg.grasp,
+        };
+        self.points.push(p.clone());
+        Some(p)
+    }
+
+    /// The best valid grasp among those solved.
+    fn best(&self) -> Option<&Point> {
+        self.points
+            .iter()
+            .filter(|p| p.valid)
+            .max_by(|a, b| a.lift.total_cmp(&b.lift))
+    }
+
+    /// The optimum on the boundary whose invalid side lies at `side` (+1:
+    /// above), from the prediction `b0`: a bracket of the contact
+    /// function's sign change by growing steps, Brent's root search in it,
+    /// and a check that the lift falls away from the boundary on the valid
+    /// side (else the optimum is not there).
+    fn boundary(
+        &mut self,
+        b0: f64,
+        step: f64,
+        side: f64,
+        slope: Option<f64>,
+    ) -> Option<(Point, Regime)> {
+        let mut prev = self.eval(b0)?;
+        if !prev.phi.is_finite() {
+            return None;
+        }
+        // towards the boundary from the valid side, away from it otherwise;
+        // the first step a Newton step on the contact function with the
+        // last radius's slope, a little past the zero to bracket it
+        let dir = if prev.phi <= 0.0 { side } else { -side };
+        let newton = slope
+            .map(|k| 1.01 * (prev.phi / k).abs() + 1e-10)
+            .filter(|h| h.is_finite() && *h < MAX_STEP);
+        let mut h = newton.unwrap_or(step);
+        let mut bracket = None;
+        for _ in 0..MAX_EXPANSIONS {
+            let p = self.eval(prev.beta + dir * h)?;
+            if !p.phi.is_finite() {
+                return None;
+            }
+            if (p.phi <= 0.0) != (prev.phi <= 0.0) {
+                bracket = Some(if p.phi <= 0.0 { (p, prev) } else { (prev, p) });
+                break;
+            }
+            prev = p;
+            h *= 4.0;
+        }
+        let (inside, outside) = bracket?;
+        let slope = (outside.phi - inside.phi) / (outside.beta - inside.beta);
+        let Ok(root) = brent_root(
+            |b| Ok::<_, std::convert::Infallible>(self.eval(b).map(|p| p.phi)),
+            inside.beta,
+            inside.phi,
+            outside.beta,
+            outside.phi,
+            BOUNDARY_BETA_TOL,
+            FOLLOW_MAX_EVALUATIONS,
+        );
+        let x = self.eval(root?.x)?;
+        // valid by the verdict, and the best of the valid side, with a
+        // valid grasp some way off the boundary lifting less
+        let below = |p: &Point| p.valid && (x.beta - p.beta) * side > 10.0 * ENVELOPE_BETA_TOL;
+        if !self.points.iter().any(below) {
+            self.eval(x.beta - side * step.max(1e-6))?;
+        }
+        let best = self.best()?;
+        let falls = self.points.iter().any(|p| below(p) && p.lift < x.lift);
+        let regime = Regime::Boundary { side, slope };
+        (x.valid && best.beta == x.beta && falls).then_some((x, regime))
+    }
+
+    /// The optimum at the fingers' reach (`r cos b = d_max / 2`, the
+    /// edge of the angles the flat fingers reach, `|b| >= arccos(d_max / 2
+    /// r)`) on the side of the prediction `b0`: valid, the best solved,
+    /// and lifting more than a grasp `step` further into the reach.
+    fn reach(&mut self, b0: f64, step: f64) -> Option<(Point, Regime)> {
+        let reach = 0.5 * self.gripper.d_max();
+        if self.radius <= reach || !reach.is_finite() {
+            return None;
+        }
+        let edge = (reach / self.radius).acos().copysign(b0);
+        let x = self.eval(edge)?;
+        let off = self.eval(edge + step.max(1e-6).copysign(b0))?;
+        let best = self.best()?;
+        (x.valid && off.valid && off.lift < x.lift && best.beta == x.beta)
+            .then_some((x, Regime::Reach))
+    }
+
+    /// The interior optimum near the prediction `b0`: a bracket whose ends
+    /// lift less than its middle (moved and widened by growing steps),
+    /// then Brent's maximiser in it.
+    fn interior(&mut self, b0: f64, step: f64) -> Option<Point> {
+        let mut mid = self.eval(b0)?;
+        let mut h = step;
+        let mut bracket = None;
+        for _ in 0..MAX_EXPANSIONS {
+            if !mid.valid {
+                return None;
+            }
+            let lo = self.eval(mid.beta - h);
+            let hi = self.eval(mid.beta + h);
+            let lift = |p: &Option<Point>| p.as_ref().filter(|p| p.valid).map(|p| p.lift);
+            match (lift(&lo), lift(&hi)) {
+                (Some(a), Some(c)) if a < mid.lift && c < mid.lift => {
+                    bracket = Some((mid.beta - h, mid.beta + h));
+                    break;
+                }
+                // a boundary next to the middle: not an interior optimum
+                (None, _) | (_, None) => return None,
+                (Some(a), Some(c)) => mid = if a > c { lo? } else { hi? },
+            }
+            h *= 4.0;
+        }
+        let (a, c) = bracket?;
+        let Ok(m) = brent_max(
+            |b| Ok::<_, std::convert::Infallible>(self.eval(b).filter(|p| p.valid).map(|p| p.lift)),
+            a,
+            mid.beta,
+            c,
+            mid.lift,
+            ENVELOPE_BETA_TOL,
+            FOLLOW_MAX_EVALUATIONS,
+        );
+        let x = self.eval(m.x)?;
+        let inside = x.beta > a && x.beta < c && (x.beta - a).min(c - x.beta) > ENVELOPE_BETA_TOL;
+        let best = self.best()?;
+        (x.valid && inside && best.beta == x.beta).then_some(x)
+    }
+}
+
+impl Gripper {
+    /// The contact function of a sphere grasp: the larger of the cosine
+    /// between the finger's tangent at the tip and the sphere's outward
+    /// normal there (positive: the finger reaches its tip from inside the
+    /// sphere) and the depth (mm) of the deepest point of the mid-plane in
+    /// the sphere apart from the tip's own contact, less
+    /// [`CONTACT_TOL_MM`] (positive: a second contact). Non-positive where
+    /// both contact rules hold; continuous in the grasping angle while the
+    /// same point meets the sphere first. `None` where the sphere or its
+    /// contact cannot be computed.
+    pub(crate) fn contact_function(&self, grasp: &Grasp) -> Option<f64> {
+        let sol = &grasp.solution;
+        let a = self.mounting_angle();
+        let tangent = (a - sol.end_angle - grasp.beta).cos();
+        let (sb, cb) = grasp.beta.sin_cos();
+        let tip = self.to_gripper(sol.tip);
+        let r = tip[0] / cb;
+        if !(r > 0.0 && r.is_finite()) {
+            return None;
+        }
+        let map = finger_to_gripper_map(a, self.palm()).ok()?;
+        let curves: Vec<_> = self
+            .finger()
+            .midplane_curves(&sol.coefficients)
+            .ok()?
+            .iter()
+            .map(|k| k.map(map))
+            .collect();
+        let last = curves.len().checked_sub(1)?;
+        let disc = super::contact::Obstacle::disc([tip[0] - r * cb, tip[1] - r * sb], r).ok()?;
+        let deep =
+            super::contact::deepest_apart_from(&curves, &disc, last, curves[last].length()).ok()?;
+        // nothing apart from the tip: the whole finger falls away from it
+        let second = deep.map_or(-r, |d| d.depth - CONTACT_TOL_MM);
+        Some(tangent.max(second))
+    }
+}
