@@ -3,6 +3,7 @@
 
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
+use crate::field::Field;
 
 /// A scene that could not be solved: the input was rejected, or Newton
 /// (with continuation where enabled) did not reach the tolerance.
@@ -35,7 +36,7 @@ pub enum SolveError {
     #[error("{target} = {value}: not reached on the path from rest: {detail}")]
     NotOnPath {
         /// The target's field path.
-        target: String,
+        target: Field,
         /// The target's value.
         value: f64,
         /// Where and how the path turns back.
@@ -49,7 +50,7 @@ pub enum SolveError {
     )]
     TargetNotReached {
         /// The target's field path.
-        target: String,
+        target: Field,
         /// The target's value.
         value: f64,
         /// How far along the path the last accepted state was (0 to 1).

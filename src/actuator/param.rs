@@ -4,71 +4,11 @@
 //! sensitivities differentiate along them.
 
 use crate::error::InputError;
+use crate::field::{ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey};
 
 use super::{Actuator, ActuatorParams, Material, RibLayout};
 
-/// A linear lamina with its own material table (`actuator.<layer>`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Lamina {
-    /// The constraining layer, `actuator.cl`.
-    Cl,
-    /// The regular EMC, `actuator.emc`.
-    Emc,
-    /// The fluidic layer (and the ribs), `actuator.fluidic`.
-    Fluidic,
-}
-
-impl Lamina {
-    /// Every lamina, top to bottom.
-    pub const ALL: [Lamina; 3] = [Lamina::Cl, Lamina::Emc, Lamina::Fluidic];
-
-    /// The scene table's name (`cl`, `emc`, `fluidic`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Lamina::Cl => "cl",
-            Lamina::Emc => "emc",
-            Lamina::Fluidic => "fluidic",
-        }
-    }
-}
-
-/// An elastic constant of a lamina's material: `e`, `nu` of an isotropic
-/// material, `e1`, `e2`, `nu12` of an orthotropic one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Elastic {
-    /// Young's modulus of an isotropic material (MPa).
-    E,
-    /// Poisson's ratio of an isotropic material.
-    Nu,
-    /// Young's modulus along X of an orthotropic material (MPa).
-    E1,
-    /// Young's modulus along Y of an orthotropic material (MPa).
-    E2,
-    /// Major Poisson's ratio of an orthotropic material.
-    Nu12,
-}
-
 impl Elastic {
-    /// Every constant, isotropic first.
-    pub const ALL: [Elastic; 5] = [
-        Elastic::E,
-        Elastic::Nu,
-        Elastic::E1,
-        Elastic::E2,
-        Elastic::Nu12,
-    ];
-
-    /// The scene key's last part (`e`, `nu`, `e1`, `e2`, `nu12`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Elastic::E => "e",
-            Elastic::Nu => "nu",
-            Elastic::E1 => "e1",
-            Elastic::E2 => "e2",
-            Elastic::Nu12 => "nu12",
-        }
-    }
-
     /// The constant's value in `material`, if it has it.
     pub fn value(self, material: &Material) -> Option<f64> {
         match (material, self) {
@@ -177,8 +117,8 @@ impl ActuatorParam {
             ActuatorParam::ChannelH3a,
             ActuatorParam::ChannelH3b,
         ];
-        for l in Lamina::ALL {
-            for k in Elastic::ALL {
+        for &l in Lamina::ALL {
+            for &k in Elastic::ALL {
                 v.push(ActuatorParam::Elastic(l, k));
             }
         }
@@ -217,6 +157,29 @@ impl ActuatorParam {
         }
     }
 
+    /// The field the library names it by (`actuator.pemc.law.p1` for
+    /// [`ActuatorParam::PsiP1`]).
+    pub fn field(self) -> Field {
+        match self {
+            ActuatorParam::Eps0 => Field::Pemc(PemcKey::Eps0),
+            ActuatorParam::PemcE2 => Field::Pemc(PemcKey::E2),
+            ActuatorParam::PsiP1 => Field::Pemc(PemcKey::P1),
+            ActuatorParam::PsiP2 => Field::Pemc(PemcKey::P2),
+            ActuatorParam::PsiP3 => Field::Pemc(PemcKey::P3),
+            ActuatorParam::PsiP4 => Field::Pemc(PemcKey::P4),
+            ActuatorParam::H => Field::Geometry(GeometryKey::H),
+            ActuatorParam::H1 => Field::Geometry(GeometryKey::H1),
+            ActuatorParam::H2 => Field::Geometry(GeometryKey::H2),
+            ActuatorParam::H3 => Field::Geometry(GeometryKey::H3),
+            ActuatorParam::Ly => Field::Geometry(GeometryKey::Ly),
+            ActuatorParam::ChannelCy => Field::Channel(ChannelKey::Cy),
+            ActuatorParam::ChannelH3a => Field::Channel(ChannelKey::H3a),
+            ActuatorParam::ChannelH3b => Field::Channel(ChannelKey::H3b),
+            ActuatorParam::Elastic(l, k) => Field::Material(l, k),
+            ActuatorParam::RibsW2 => Field::PaperRib(PaperRibKey::W2),
+        }
+    }
+
     /// The parameter's value in `actuator` (`None`: it has no such
     /// parameter, as `e1` of an isotropic layer).
     pub fn value(self, actuator: &Actuator) -> Option<f64> {
@@ -251,7 +214,7 @@ impl ActuatorParam {
     pub fn with_value(self, actuator: &Actuator, value: f64) -> Result<Actuator, InputError> {
         let mut p = actuator.params().clone();
         let missing = || InputError::Inconsistent {
-            field: self.name().into(),
+            field: self.field(),
             rule: "the actuator has no such parameter".into(),
         };
         let slot: &mut f64 = match self {

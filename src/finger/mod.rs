@@ -96,10 +96,10 @@ impl Load {
     /// Checks that every value is finite, kappa positive and the pressure
     /// (gauge) not below absolute vacuum.
     pub fn validate(&self) -> Result<(), InputError> {
-        finite("load.pressure", self.pressure)?;
+        finite(crate::Field::LoadPressure, self.pressure)?;
         if self.pressure < VACUUM_GAUGE_MPA {
             return Err(InputError::OutOfRange {
-                field: "load.pressure".into(),
+                field: crate::Field::LoadPressure,
                 value: self.pressure,
                 rule: format!(
                     "is below absolute vacuum ({} kPa gauge)",
@@ -107,9 +107,9 @@ impl Load {
                 ),
             });
         }
-        positive("load.kappa", self.kappa)?;
-        finite("load.fx", self.fx)?;
-        finite("load.fz", self.fz)?;
+        positive(crate::Field::LoadKappa, self.kappa)?;
+        finite(crate::Field::LoadFx, self.fx)?;
+        finite(crate::Field::LoadFz, self.fz)?;
         Ok(())
     }
 
@@ -189,18 +189,18 @@ impl SolveOptions {
     }
 
     pub(crate) fn validate(&self) -> Result<(), InputError> {
-        positive("solve.rtol", self.rtol)?;
-        positive("solve.max_step", self.max_step)?;
+        positive(crate::Field::SolveRtol, self.rtol)?;
+        positive(crate::Field::SolveMaxStep, self.max_step)?;
         if self.max_iter == 0 {
             return Err(InputError::OutOfRange {
-                field: "solve.max_iter".into(),
+                field: crate::Field::SolveMaxIter,
                 value: 0.0,
                 rule: "must be at least 1".into(),
             });
         }
         if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {
             return Err(InputError::OutOfRange {
-                field: "solve.samples_per_element".into(),
+                field: crate::Field::SolveSamplesPerElement,
                 value: self.samples_per_element as f64,
                 rule: format!(
                     "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}] when the shape is sampled"
@@ -463,7 +463,7 @@ impl Finger {
         self.check(k)?;
         if !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&per_element) {
             return Err(InputError::OutOfRange {
-                field: "samples_per_element".into(),
+                field: crate::Field::SamplesPerElement,
                 value: per_element as f64,
                 rule: format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
             });
@@ -486,7 +486,7 @@ impl Finger {
             Ok(curves)
         } else {
             Err(InputError::Inconsistent {
-                field: "coefficients".into(),
+                field: crate::Field::Coefficients,
                 rule: "the mid-plane's coefficients overflow".into(),
             })
         }
@@ -654,7 +654,7 @@ pub(crate) fn check_guess(
 ) -> Result<(), InputError> {
     if guess.elements() != elements || guess.per_element() != per_element {
         return Err(InputError::OutOfRange {
-            field: "guess".into(),
+            field: crate::Field::Guess,
             value: guess.elements() as f64,
             rule: format!(
                 "must hold one set of {per_element} coefficients per element ({elements}); it holds {} of {}",
@@ -665,7 +665,7 @@ pub(crate) fn check_guess(
     }
     match guess.as_slice().iter().find(|v| !v.is_finite()) {
         Some(&value) => Err(InputError::NotFinite {
-            field: "guess".into(),
+            field: crate::Field::Guess,
             value,
         }),
         None => Ok(()),

@@ -67,14 +67,14 @@ impl TargetProblem {
 
     pub(crate) fn validate(&self) -> Result<(), InputError> {
         self.base.validate()?;
-        finite("target.direction[0]", self.direction[0])?;
-        finite("target.direction[1]", self.direction[1])?;
-        finite("target.weights[0]", self.weights[0])?;
-        finite("target.weights[1]", self.weights[1])?;
-        finite("target.value", self.target)?;
+        finite(crate::Field::key("target.direction[0]"), self.direction[0])?;
+        finite(crate::Field::key("target.direction[1]"), self.direction[1])?;
+        finite(crate::Field::key("target.weights[0]"), self.weights[0])?;
+        finite(crate::Field::key("target.weights[1]"), self.weights[1])?;
+        finite(crate::Field::key("target.value"), self.target)?;
         if self.direction == [0.0, 0.0] || self.weights == [0.0, 0.0] {
             return Err(InputError::Inconsistent {
-                field: "target".into(),
+                field: crate::Field::key("target"),
                 rule: "the load direction and the target weights must not be zero".into(),
             });
         }
@@ -245,7 +245,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             })
             .set_options(nopts)
             .map_err(|e| InputError::OutOfRange {
-                field: "target.ctol_mm".into(),
+                field: crate::Field::key("target.ctol_mm"),
                 value: ctol_mm,
                 rule: e.to_string(),
             })?;
@@ -308,8 +308,8 @@ impl<M: ElementModel> SolverCore<'_, M> {
     ) -> Result<(), SolveError> {
         problem.validate()?;
         opts.validate()?;
-        finite("target.lambda0", lambda0)?;
-        positive("target.ctol_mm", ctol_mm)?;
+        finite(crate::Field::key("target.lambda0"), lambda0)?;
+        positive(crate::Field::key("target.ctol_mm"), ctol_mm)?;
         check_guess(start, self.finger.len(), M::Coeffs::LEN)?;
         Ok(())
     }

@@ -4,6 +4,7 @@
 //! rest to the target, and the size and force-control solves built on it.
 
 use super::*;
+use crate::field::Field;
 
 impl Gripper {
     /// The grasp-level notes and the verdict of an equilibrium holding
@@ -140,11 +141,11 @@ impl Gripper {
     /// A grasp size the fingers can reach: finite and at most `d_max` (a
     /// wider object would need the fingers pressed past flat).
     pub(super) fn check_size(&self, d: f64) -> Result<(), InputError> {
-        finite("grasp.size", d)?;
+        finite(Field::GraspSize, d)?;
         let d_max = self.d_max();
         require(
             rules::flat_rule(d, d_max).is_none(),
-            "grasp.size",
+            Field::GraspSize,
             d,
             format!("exceeds d_max = {d_max:.3} mm: the fingers would be pressed past flat"),
         )
@@ -155,7 +156,7 @@ impl Gripper {
         scene: &Scene,
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
-        finite("grasp.pressure_kpa", scene.pressure_kpa)?;
+        finite(Field::GraspPressureKpa, scene.pressure_kpa)?;
         let problem = self.problem(scene);
         let opts = SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
@@ -163,7 +164,7 @@ impl Gripper {
             shape: scene.shape,
             ..SolveOptions::default()
         };
-        let (sol, lambda, path) = self.close(&problem, warm, &opts, scene.target)?;
+        let (sol, lambda, path) = self.close(&problem, warm, &opts, &scene.target)?;
         Ok(self.grasp_from(sol, scene, problem, lambda, path))
     }
 
@@ -253,7 +254,7 @@ impl Gripper {
     pub(super) fn rest_state(
         &self,
         base: &Load,
-        target: (&str, f64),
+        target: &(Field, f64),
     ) -> Result<Coefficients, SolveError> {
         let pressed = Load {
             fx: 0.0,
@@ -312,7 +313,7 @@ impl Gripper {
             ),
         };
         Err(SolveError::NotOnPath {
-            target: target.0.to_string(),
+            target: target.0.clone(),
             value: target.1,
             detail,
         })
@@ -331,7 +332,7 @@ impl Gripper {
         problem: &TargetProblem,
         warm: Option<&Grasp>,
         opts: &SolveOptions,
-        target: (&str, f64),
+        target: &(Field, f64),
     ) -> Result<(Solution, f64, PathRecord), SolveError> {
         let same_family = |w: &&Grasp| {
             w.problem.base == problem.base
@@ -346,7 +347,7 @@ impl Gripper {
         let mut solver = Solver::new(&self.finger);
         let traced = solver
             .trace_target(problem, &start, lambda0, TARGET_TOL_MM, opts)
-            .map_err(|e| for_target(e, target.0, target.1))?;
+            .map_err(|e| for_target(e, target.0.clone(), target.1))?;
         let fold = matches!(traced, Traced::Fold(_));
         match traced {
             Traced::Reached {
@@ -368,7 +369,7 @@ impl Gripper {
                 };
                 let force = problem.load_at(end.lambda);
                 Err(SolveError::NotOnPath {
-                    target: target.0.to_string(),
+                    target: target.0.clone(),
                     value: target.1,
                     detail: format!(
                         "closing the gripper on the object from rest, {what} at grasp size {:.4} mm with a tip load of {:.4} N{after}",
@@ -380,7 +381,7 @@ impl Gripper {
             Traced::Stalled { last, reached } => {
                 let force = problem.load_at(last.lambda);
                 Err(SolveError::TargetNotReached {
-                    target: target.0.to_string(),
+                    target: target.0.clone(),
                     value: target.1,
                     reached,
                     detail: format!(
@@ -428,7 +429,7 @@ impl Gripper {
                 base: [0.0, 0.0],
                 direction,
                 tip_xg: self.tip_xg_for_size(d),
-                target: ("grasp.size", d),
+                target: (Field::GraspSize, d),
                 object,
                 shape,
             },
@@ -447,7 +448,7 @@ impl Gripper {
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
         self.check_size(d)?;
-        finite("grasp.friction", friction)?;
+        finite(Field::GraspFriction, friction)?;
         self.solve_scene(
             &Scene {
                 pressure_kpa,
@@ -455,7 +456,7 @@ impl Gripper {
                 base: [0.0, friction],
                 direction: [1.0, 0.0],
                 tip_xg: self.tip_xg_for_size(d),
-                target: ("grasp.friction", friction),
+                target: (Field::GraspFriction, friction),
                 object: Object::Face,
                 shape: true,
             },
@@ -465,10 +466,10 @@ impl Gripper {
 }
 
 pub(crate) fn check_beta(beta: f64) -> Result<(), InputError> {
-    finite("grasp.beta", beta)?;
+    finite(Field::GraspBeta, beta)?;
     require(
         beta.abs() <= FRAC_PI_2,
-        "grasp.beta",
+        Field::GraspBeta,
         beta,
         "must lie in [-pi/2, pi/2]".into(),
     )
@@ -476,10 +477,10 @@ pub(crate) fn check_beta(beta: f64) -> Result<(), InputError> {
 
 /// A failed grasp solve in the target's terms: input errors stay as they
 /// are; a solve that did not converge says which target it did not reach.
-pub(crate) fn for_target(e: SolveError, target: &str, value: f64) -> SolveError {
+pub(crate) fn for_target(e: SolveError, target: Field, value: f64) -> SolveError {
     match e {
         SolveError::NotConverged { .. } => SolveError::TargetNotReached {
-            target: target.to_string(),
+            target,
             value,
             reached: 0.0,
             detail: e.to_string(),

@@ -32,6 +32,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{finite, positive, require, InputError, Warning};
+use crate::field::Field;
 use crate::finger::{
     Finger, Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
 };
@@ -216,7 +217,7 @@ struct Scene {
     /// Target tip Xg (mm).
     tip_xg: f64,
     /// The target's field and value, for errors.
-    target: (&'static str, f64),
+    target: (crate::Field, f64),
     /// The object touched, for the contact check.
     object: Object,
     /// Sample the mid-plane of the answer (off for the grasps of a search,
@@ -246,24 +247,24 @@ impl Gripper {
     /// is an error; outside the design space, a warning, as is a palm wider
     /// than `2 l0`. The finger's own warnings come first.
     pub fn new(finger: Finger, params: GripperParams) -> Result<Gripper, SolveError> {
-        let a = finite("gripper.mounting_angle", params.mounting_angle)?;
+        let a = finite(Field::GripperMountingAngle, params.mounting_angle)?;
         require(
             a > 0.0 && a < PI,
-            "gripper.mounting_angle",
+            Field::GripperMountingAngle,
             a,
             "must lie in (0, pi) rad, i.e. (0, 180) degrees: the finger points away from the palm"
                 .into(),
         )?;
-        positive("gripper.mu", params.mu)?;
+        positive(Field::GripperMu, params.mu)?;
         require(
             params.fingers >= 1,
-            "gripper.fingers",
+            Field::GripperFingers,
             params.fingers as f64,
             "must be at least 1".into(),
         )?;
         if finger.is_empty() {
             return Err(InputError::Inconsistent {
-                field: "gripper.finger".into(),
+                field: Field::GripperFinger,
                 rule: "the finger has no elements".into(),
             }
             .into());
@@ -287,18 +288,23 @@ impl Gripper {
         }
         let (palm, overlap) = match params.geometry {
             PalmSpec::Overlap(g) => {
-                finite("gripper.overlap", g)?;
+                finite(Field::GripperOverlap, g)?;
                 require(
                     g <= l0,
-                    "gripper.overlap",
+                    Field::GripperOverlap,
                     g,
                     format!("must not exceed the finger's inward reach l0 = {l0:.6} mm (the palm diameter 2 (l0 - g) would be negative)"),
                 )?;
                 (2.0 * (l0 - g), g)
             }
             PalmSpec::Palm(l) => {
-                finite("gripper.palm", l)?;
-                require(l >= 0.0, "gripper.palm", l, "must not be negative".into())?;
+                finite(Field::GripperPalm, l)?;
+                require(
+                    l >= 0.0,
+                    Field::GripperPalm,
+                    l,
+                    "must not be negative".into(),
+                )?;
                 (l, l0 - 0.5 * l)
             }
         };
@@ -309,7 +315,7 @@ impl Gripper {
             let chord = palm * (PI / n as f64).sin();
             require(
                 chord >= width,
-                "gripper.fingers",
+                Field::GripperFingers,
                 n as f64,
                 format!(
                     "do not fit around the palm: {n} fingers {width:.2} mm wide need a palm of at least {:.2} mm (neighbouring roots {chord:.2} mm apart on a palm of {palm:.2} mm)",

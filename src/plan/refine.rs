@@ -54,6 +54,7 @@ use super::Solved;
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{positive, require, InputError, Warning};
+use crate::field::{Field, RefinementKey};
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
@@ -87,7 +88,7 @@ impl PartitionKind {
     }
 
     /// The kind named `name`, or an input error naming `field`.
-    pub fn parse(field: &str, name: &str) -> Result<PartitionKind, InputError> {
+    pub fn parse(field: impl Into<Field>, name: &str) -> Result<PartitionKind, InputError> {
         PartitionKind::ALL
             .into_iter()
             .find(|k| k.name() == name)
@@ -177,26 +178,26 @@ impl Refinement {
     fn validate(&self, actuator: &Actuator, ribs: bool) -> Result<(), InputError> {
         require(
             self.start >= 1,
-            "refinement.start",
+            Field::Refinement(RefinementKey::Start),
             self.start as f64,
             "must be at least 1".to_string(),
         )?;
         require(
             self.levels >= 1,
-            "refinement.levels",
+            Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
             "must be at least 1".to_string(),
         )?;
         require(
             !self.extrapolate || (self.levels >= 2 && self.partition == PartitionKind::Material),
-            "refinement.extrapolate",
+            Field::Refinement(RefinementKey::Extrapolate),
             1.0,
             "needs at least two levels on a material partition (the extrapolation assumes its error expansion)".to_string(),
         )?;
         let finest = self.partition(actuator, ribs, self.levels - 1)?.len();
         require(
             finest <= MAX_REFINED_ELEMENTS,
-            "refinement.levels",
+            Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
             format!(
                 "gives {finest} elements at the finest level, more than {MAX_REFINED_ELEMENTS}"
@@ -213,7 +214,7 @@ impl Refinement {
     ) -> Result<Partition, InputError> {
         let lx = actuator.geometry().lx;
         let too_fine = || InputError::OutOfRange {
-            field: "refinement.levels".into(),
+            field: Field::Refinement(RefinementKey::Levels),
             value: (level + 1) as f64,
             rule: format!("more than {MAX_REFINED_ELEMENTS} elements"),
         };
@@ -526,7 +527,7 @@ impl Refiner {
             level += 1;
             if self.finger(level).is_err() {
                 return Err(InputError::OutOfRange {
-                    field: "tip_tol_mm".into(),
+                    field: Field::TipTolMm,
                     value: tip_tol_mm,
                     rule: match est {
                         Some(e) => format!(
@@ -669,7 +670,7 @@ impl TipTolerance {
         tip_tol_mm: f64,
         start: Option<usize>,
     ) -> Result<TipTolerance, InputError> {
-        positive("tip_tol_mm", tip_tol_mm)?;
+        positive(Field::TipTolMm, tip_tol_mm)?;
         let plan = match start {
             None => Refinement {
                 levels: 1,
@@ -679,7 +680,7 @@ impl TipTolerance {
                 let most = MAX_REFINED_ELEMENTS / 2;
                 require(
                     (1..=most).contains(&start),
-                    "partition.n",
+                    Field::PartitionN,
                     start as f64,
                     format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
                 )?;

@@ -34,6 +34,7 @@ use std::fmt;
 
 use crate::actuator::Actuator;
 use crate::error::InputError;
+use crate::field::Field;
 use crate::finger::{Load, Solution};
 use crate::gripper::{contact_force_to_gripper, gripper_force_to_finger, Grasp, Gripper, PalmSpec};
 use crate::solve_error::SolveError;
@@ -272,7 +273,7 @@ impl GraspSensitivities {
     }
 }
 
-pub(super) fn inconsistent(field: &str, rule: String) -> SolveError {
+pub(super) fn inconsistent(field: impl Into<Field>, rule: String) -> SolveError {
     SolveError::Input(InputError::Inconsistent {
         field: field.into(),
         rule,
@@ -570,18 +571,18 @@ impl Gripper {
         // the problem the gripper builds for this kind, checked
         let target = match kind {
             GraspKind::Size { d } | GraspKind::ForceControl { d, .. } => {
-                crate::error::finite("grasp.size", d)?;
+                crate::error::finite(Field::GraspSize, d)?;
                 c * r[0] + s * r[1] + 0.5 * d + self.overlap()
             }
             GraspKind::SphereAtFrictionLimit { radius } | GraspKind::Sphere { radius, .. } => {
-                crate::error::positive("sphere.radius", radius)?;
+                crate::error::positive(Field::SphereRadius, radius)?;
                 radius * cb - 0.5 * self.palm()
             }
         };
         if let GraspKind::Sphere { lift: f, .. } | GraspKind::ForceControl { friction: f, .. } =
             kind
         {
-            crate::error::finite("grasp.force", f)?;
+            crate::error::finite(Field::GraspForce, f)?;
         }
         let (base_g, u_g, du_g_db) = kind.scene(mu, b);
         let u_f = gripper_force_to_finger(u_g, a);
