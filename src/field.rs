@@ -99,25 +99,19 @@ names!(
 /// `load.pressure` in MPa, `grasp.beta` in rad).
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
 pub enum Field {
-    /// `actuator.geometry.<key>`.
     Geometry(GeometryKey),
-    /// `actuator.channel.<key>`.
     Channel(ChannelKey),
-    /// `actuator.ribs.w1`, `w2`, `t`.
     PaperRib(PaperRibKey),
     /// `actuator.ribs[i].<key>`: an explicit rib.
     Rib(usize, RibKey),
     /// `actuator.ribs`: the ribs together.
     Ribs,
-    /// `actuator.<layer>.<constant>`.
     Material(Lamina, Elastic),
     /// `actuator.pemc.eps0`, `actuator.pemc.e2`, `actuator.pemc.law.p1..p4`.
     Pemc(PemcKey),
     /// `partition.n`: the number of equal elements.
     PartitionN,
-    /// `partition.lx`.
     PartitionLx,
-    /// `partition.lengths`.
     PartitionLengths,
     /// `partition.lengths (sum)`.
     PartitionLengthsSum,
@@ -125,9 +119,7 @@ pub enum Field {
     PartitionLength(usize),
     /// `partition.max_length` (the material and automatic partitions).
     PartitionMaxLength,
-    /// `tip_tol_mm` (a tip tolerance).
     TipTolMm,
-    /// `refinement.<key>`.
     Refinement(RefinementKey),
     /// `samples_per_element` (of a solution's curve).
     SamplesPerElement,
@@ -249,11 +241,5 @@ impl fmt::Display for Field {
 impl PartialEq<str> for Field {
     fn eq(&self, name: &str) -> bool {
         self.to_string().as_str() == name
-    }
-}
-
-impl PartialEq<&str> for Field {
-    fn eq(&self, name: &&str) -> bool {
-        *self == **name
     }
 }

@@ -59,3 +59,55 @@ pub enum SolveError {
         detail: String,
     },
 }
+
+impl SolveError {
+    /// The same error with the field it names (an input error's, a
+    /// target's) renamed where `name` gives it another name, the value
+    /// converted to that name's unit by `value`; other errors unchanged.
+    pub fn renamed(
+        self,
+        name: impl Fn(&Field) -> Option<Field>,
+        value: impl Fn(&Field, f64) -> f64,
+    ) -> SolveError {
+        let rename = |f: Field, v: f64| match name(&f) {
+            Some(n) => (n, value(&f, v)),
+            None => (f, v),
+        };
+        match self {
+            SolveError::Input(i) => match name(i.field()) {
+                Some(n) => {
+                    let f = i.field().clone();
+                    SolveError::Input(i.renamed(n, |v| value(&f, v)))
+                }
+                None => SolveError::Input(i),
+            },
+            SolveError::TargetNotReached {
+                target,
+                value: v,
+                reached,
+                detail,
+            } => {
+                let (target, value) = rename(target, v);
+                SolveError::TargetNotReached {
+                    target,
+                    value,
+                    reached,
+                    detail,
+                }
+            }
+            SolveError::NotOnPath {
+                target,
+                value: v,
+                detail,
+            } => {
+                let (target, value) = rename(target, v);
+                SolveError::NotOnPath {
+                    target,
+                    value,
+                    detail,
+                }
+            }
+            e => e,
+        }
+    }
+}

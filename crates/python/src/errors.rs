@@ -134,32 +134,7 @@ pub fn input_in_python_terms(e: fpc::InputError) -> fpc::InputError {
 /// `e` in the terms of the Python arguments: its input error, or the
 /// target it did not reach.
 pub fn in_python_terms(e: fpc::SolveError) -> fpc::SolveError {
-    use fpc::SolveError as S;
-    let target = |t: Field| argument(&t).map_or(t, Field::from);
-    match e {
-        S::Input(i) => S::Input(input_in_python_terms(i)),
-        S::TargetNotReached {
-            target: t,
-            value,
-            reached,
-            detail,
-        } => S::TargetNotReached {
-            target: target(t),
-            value,
-            reached,
-            detail,
-        },
-        S::NotOnPath {
-            target: t,
-            value,
-            detail,
-        } => S::NotOnPath {
-            target: target(t),
-            value,
-            detail,
-        },
-        e => e,
-    }
+    e.renamed(|f| argument(f).map(Field::from), |_, v| v)
 }
 
 /// A scene read error as `fpc.SceneError` or `fpc.InputError`; `shown`

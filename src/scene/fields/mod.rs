@@ -301,40 +301,7 @@ pub fn scene_input(e: InputError) -> InputError {
 /// [`scene_input`], and the target of a target not reached. Front ends
 /// whose own names follow the scene keys (the CLI's flags) start from it.
 pub fn scene_solve(e: SolveError) -> SolveError {
-    let in_scene = |target: Field, value: f64| match scene_key(&target) {
-        Some(k) => (k.to_string().into(), scene_value(&target, value)),
-        None => (target, value),
-    };
-    match e {
-        SolveError::Input(i) => SolveError::Input(scene_input(i)),
-        SolveError::TargetNotReached {
-            target,
-            value,
-            reached,
-            detail,
-        } => {
-            let (target, value) = in_scene(target, value);
-            SolveError::TargetNotReached {
-                target,
-                value,
-                reached,
-                detail,
-            }
-        }
-        SolveError::NotOnPath {
-            target,
-            value,
-            detail,
-        } => {
-            let (target, value) = in_scene(target, value);
-            SolveError::NotOnPath {
-                target,
-                value,
-                detail,
-            }
-        }
-        other => other,
-    }
+    e.renamed(|f| scene_key(f).map(|k| k.to_string().into()), scene_value)
 }
 
 // ------------------------------------------------------------ warnings
