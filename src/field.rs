@@ -94,73 +94,85 @@ names!(
     pub RefinementKey { Start => "start", Levels => "levels", Extrapolate => "extrapolate" }
 );
 
-/// A field of the library's input, as errors name it. Displays as the
-/// library writes it (`actuator.geometry.h1`, `partition.lengths[2]`,
-/// `load.pressure` in MPa, `grasp.beta` in rad).
-#[derive(Debug, Clone, PartialEq, Eq, Hash)]
-pub enum Field {
-    Geometry(GeometryKey),
-    Channel(ChannelKey),
-    PaperRib(PaperRibKey),
-    /// `actuator.ribs[i].<key>`: an explicit rib.
-    Rib(usize, RibKey),
-    /// `actuator.ribs`: the ribs together.
-    Ribs,
-    Material(Lamina, Elastic),
-    /// `actuator.pemc.eps0`, `actuator.pemc.e2`, `actuator.pemc.law.p1..p4`.
-    Pemc(PemcKey),
-    /// `partition.n`: the number of equal elements.
-    PartitionN,
-    PartitionLx,
-    PartitionLengths,
-    /// `partition.lengths (sum)`.
-    PartitionLengthsSum,
-    /// `partition.lengths[i]`.
-    PartitionLength(usize),
-    /// `partition.max_length` (the material and automatic partitions).
-    PartitionMaxLength,
-    TipTolMm,
-    Refinement(RefinementKey),
-    /// `samples_per_element` (of a solution's curve).
-    SamplesPerElement,
-    /// `load.pressure` (MPa).
-    LoadPressure,
-    LoadKappa,
-    LoadFx,
-    LoadFz,
-    /// `solve`: the Newton settings together.
-    Solve,
-    SolveRtol,
-    SolveMaxIter,
-    SolveSamplesPerElement,
-    SolveMaxStep,
-    /// `gripper.mounting_angle` (rad).
-    GripperMountingAngle,
-    GripperMu,
-    GripperFingers,
-    /// `gripper.finger`: a finger without elements.
-    GripperFinger,
-    GripperOverlap,
-    GripperPalm,
-    GraspPressureKpa,
-    GraspSize,
-    /// `grasp.beta` (rad).
-    GraspBeta,
-    GraspFriction,
-    GraspForce,
-    SphereRadius,
-    /// `sphere.beta` (rad).
-    SphereBeta,
-    SphereLift,
-    SphereSamples,
-    /// `guess`: a solve's starting coefficients.
-    Guess,
-    /// `coefficients`: a solution's coefficients.
-    Coefficients,
-    /// A name written out: a front end's (a scene key, a command-line
-    /// flag, a Python argument), or a library argument no front end
-    /// renames (`affine.angle`, `design.step`, `target.value`).
-    Key(Cow<'static, str>),
+/// Defines [`Field`]: the variants with data, and the fixed ones with
+/// their text ([`Field::FIXED`] lists them).
+macro_rules! field {
+    ($($variant:ident => $text:literal),+ $(,)?) => {
+        /// A field of the library's input, as errors name it. Displays as
+        /// the library writes it (`actuator.geometry.h1`,
+        /// `partition.lengths[2]`, `partition.n` for the number of equal
+        /// elements, `load.pressure` in MPa, `grasp.beta`, `sphere.beta` and
+        /// `gripper.mounting_angle` in rad).
+        #[derive(Debug, Clone, PartialEq, Eq, Hash)]
+        pub enum Field {
+            Geometry(GeometryKey),
+            Channel(ChannelKey),
+            PaperRib(PaperRibKey),
+            /// `actuator.ribs[i].<key>`: an explicit rib.
+            Rib(usize, RibKey),
+            Material(Lamina, Elastic),
+            /// `actuator.pemc.eps0`, `e2`, `actuator.pemc.law.p1..p4`.
+            Pemc(PemcKey),
+            /// `partition.lengths[i]`.
+            PartitionLength(usize),
+            Refinement(RefinementKey),
+            /// A name written out: a front end's (a scene key, a
+            /// command-line flag, a Python argument), or a library
+            /// argument no front end renames (`affine.angle`,
+            /// `design.step`, `target.value`).
+            Key(Cow<'static, str>),
+            $(#[doc = concat!("`", $text, "`.")] $variant),+
+        }
+
+        impl Field {
+            /// Every field without data.
+            pub const FIXED: &'static [Field] = &[$(Field::$variant),+];
+
+            fn fixed_name(&self) -> &'static str {
+                match self {
+                    $(Field::$variant => $text,)+
+                    _ => "",
+                }
+            }
+        }
+    };
+}
+
+field! {
+    Ribs => "actuator.ribs",
+    PartitionN => "partition.n",
+    PartitionLx => "partition.lx",
+    PartitionLengths => "partition.lengths",
+    PartitionLengthsSum => "partition.lengths (sum)",
+    PartitionMaxLength => "partition.max_length",
+    TipTolMm => "tip_tol_mm",
+    SamplesPerElement => "samples_per_element",
+    LoadPressure => "load.pressure",
+    LoadKappa => "load.kappa",
+    LoadFx => "load.fx",
+    LoadFz => "load.fz",
+    Solve => "solve",
+    SolveRtol => "solve.rtol",
+    SolveMaxIter => "solve.max_iter",
+    SolveSamplesPerElement => "solve.samples_per_element",
+    SolveMaxStep => "solve.max_step",
+    GripperMountingAngle => "gripper.mounting_angle",
+    GripperMu => "gripper.mu",
+    GripperFingers => "gripper.fingers",
+    GripperFinger => "gripper.finger",
+    GripperOverlap => "gripper.overlap",
+    GripperPalm => "gripper.palm",
+    GraspPressureKpa => "grasp.pressure_kpa",
+    GraspSize => "grasp.size",
+    GraspBeta => "grasp.beta",
+    GraspFriction => "grasp.friction",
+    GraspForce => "grasp.force",
+    SphereRadius => "sphere.radius",
+    SphereBeta => "sphere.beta",
+    SphereLift => "sphere.lift",
+    SphereSamples => "sphere.samples",
+    Guess => "guess",
+    Coefficients => "coefficients",
 }
 
 impl Field {
@@ -184,55 +196,19 @@ impl From<String> for Field {
 
 impl fmt::Display for Field {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let text = match self {
-            Field::Geometry(k) => return write!(f, "actuator.geometry.{k}"),
-            Field::Channel(k) => return write!(f, "actuator.channel.{k}"),
-            Field::PaperRib(k) => return write!(f, "actuator.ribs.{k}"),
-            Field::Rib(i, k) => return write!(f, "actuator.ribs[{i}].{k}"),
-            Field::Material(l, k) => return write!(f, "actuator.{l}.{k}"),
-            Field::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => {
-                return write!(f, "actuator.pemc.{k}")
-            }
-            Field::Pemc(k) => return write!(f, "actuator.pemc.law.{k}"),
-            Field::PartitionLength(i) => return write!(f, "partition.lengths[{i}]"),
-            Field::Refinement(k) => return write!(f, "refinement.{k}"),
-            Field::Key(name) => name,
-            Field::Ribs => "actuator.ribs",
-            Field::PartitionN => "partition.n",
-            Field::PartitionLx => "partition.lx",
-            Field::PartitionLengths => "partition.lengths",
-            Field::PartitionLengthsSum => "partition.lengths (sum)",
-            Field::PartitionMaxLength => "partition.max_length",
-            Field::TipTolMm => "tip_tol_mm",
-            Field::SamplesPerElement => "samples_per_element",
-            Field::LoadPressure => "load.pressure",
-            Field::LoadKappa => "load.kappa",
-            Field::LoadFx => "load.fx",
-            Field::LoadFz => "load.fz",
-            Field::Solve => "solve",
-            Field::SolveRtol => "solve.rtol",
-            Field::SolveMaxIter => "solve.max_iter",
-            Field::SolveSamplesPerElement => "solve.samples_per_element",
-            Field::SolveMaxStep => "solve.max_step",
-            Field::GripperMountingAngle => "gripper.mounting_angle",
-            Field::GripperMu => "gripper.mu",
-            Field::GripperFingers => "gripper.fingers",
-            Field::GripperFinger => "gripper.finger",
-            Field::GripperOverlap => "gripper.overlap",
-            Field::GripperPalm => "gripper.palm",
-            Field::GraspPressureKpa => "grasp.pressure_kpa",
-            Field::GraspSize => "grasp.size",
-            Field::GraspBeta => "grasp.beta",
-            Field::GraspFriction => "grasp.friction",
-            Field::GraspForce => "grasp.force",
-            Field::SphereRadius => "sphere.radius",
-            Field::SphereBeta => "sphere.beta",
-            Field::SphereLift => "sphere.lift",
-            Field::SphereSamples => "sphere.samples",
-            Field::Guess => "guess",
-            Field::Coefficients => "coefficients",
-        };
-        f.write_str(text)
+        match self {
+            Field::Geometry(k) => write!(f, "actuator.geometry.{k}"),
+            Field::Channel(k) => write!(f, "actuator.channel.{k}"),
+            Field::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
+            Field::Rib(i, k) => write!(f, "actuator.ribs[{i}].{k}"),
+            Field::Material(l, k) => write!(f, "actuator.{l}.{k}"),
+            Field::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => write!(f, "actuator.pemc.{k}"),
+            Field::Pemc(k) => write!(f, "actuator.pemc.law.{k}"),
+            Field::PartitionLength(i) => write!(f, "partition.lengths[{i}]"),
+            Field::Refinement(k) => write!(f, "refinement.{k}"),
+            Field::Key(name) => f.write_str(name),
+            fixed => f.write_str(fixed.fixed_name()),
+        }
     }
 }
 

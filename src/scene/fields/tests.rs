@@ -30,42 +30,7 @@ fn library_fields(index: usize) -> Vec<Field> {
             .map(|&k| Field::Refinement(k)),
     );
     all.push(Field::PartitionLength(index));
-    all.extend([
-        Field::Ribs,
-        Field::PartitionN,
-        Field::PartitionLx,
-        Field::PartitionLengths,
-        Field::PartitionLengthsSum,
-        Field::PartitionMaxLength,
-        Field::TipTolMm,
-        Field::SamplesPerElement,
-        Field::LoadPressure,
-        Field::LoadKappa,
-        Field::LoadFx,
-        Field::LoadFz,
-        Field::Solve,
-        Field::SolveRtol,
-        Field::SolveMaxIter,
-        Field::SolveSamplesPerElement,
-        Field::SolveMaxStep,
-        Field::GripperMountingAngle,
-        Field::GripperMu,
-        Field::GripperFingers,
-        Field::GripperFinger,
-        Field::GripperOverlap,
-        Field::GripperPalm,
-        Field::GraspPressureKpa,
-        Field::GraspSize,
-        Field::GraspBeta,
-        Field::GraspFriction,
-        Field::GraspForce,
-        Field::SphereRadius,
-        Field::SphereBeta,
-        Field::SphereLift,
-        Field::SphereSamples,
-        Field::Guess,
-        Field::Coefficients,
-    ]);
+    all.extend_from_slice(Field::FIXED);
     all
 }
 
