@@ -74,30 +74,6 @@ pub enum ActuatorParam {
     RibsW2,
 }
 
-const ELASTIC_NAMES: [[&str; 5]; 3] = [
-    [
-        "actuator.cl.e",
-        "actuator.cl.nu",
-        "actuator.cl.e1",
-        "actuator.cl.e2",
-        "actuator.cl.nu12",
-    ],
-    [
-        "actuator.emc.e",
-        "actuator.emc.nu",
-        "actuator.emc.e1",
-        "actuator.emc.e2",
-        "actuator.emc.nu12",
-    ],
-    [
-        "actuator.fluidic.e",
-        "actuator.fluidic.nu",
-        "actuator.fluidic.e1",
-        "actuator.fluidic.e2",
-        "actuator.fluidic.nu12",
-    ],
-];
-
 impl ActuatorParam {
     /// Every actuator parameter (elastic constants of both kinds).
     pub fn all() -> Vec<ActuatorParam> {
@@ -135,25 +111,13 @@ impl ActuatorParam {
             .collect()
     }
 
-    /// The scene key (`actuator.pemc.eps0`, `actuator.cl.e`, ...).
-    pub fn name(self) -> &'static str {
-        match self {
-            ActuatorParam::Eps0 => "actuator.pemc.eps0",
-            ActuatorParam::PemcE2 => "actuator.pemc.e2",
-            ActuatorParam::PsiP1 => "actuator.pemc.p1",
-            ActuatorParam::PsiP2 => "actuator.pemc.p2",
-            ActuatorParam::PsiP3 => "actuator.pemc.p3",
-            ActuatorParam::PsiP4 => "actuator.pemc.p4",
-            ActuatorParam::H => "actuator.geometry.h",
-            ActuatorParam::H1 => "actuator.geometry.h1",
-            ActuatorParam::H2 => "actuator.geometry.h2",
-            ActuatorParam::H3 => "actuator.geometry.h3",
-            ActuatorParam::Ly => "actuator.geometry.ly",
-            ActuatorParam::ChannelCy => "actuator.channel.cy",
-            ActuatorParam::ChannelH3a => "actuator.channel.h3a",
-            ActuatorParam::ChannelH3b => "actuator.channel.h3b",
-            ActuatorParam::Elastic(l, k) => ELASTIC_NAMES[l as usize][k as usize],
-            ActuatorParam::RibsW2 => "actuator.ribs.w2",
+    /// The scene key (`actuator.pemc.eps0`, `actuator.pemc.p1`,
+    /// `actuator.cl.e`, ...): the library's field, the psi law's
+    /// coefficients without `law`.
+    pub fn name(self) -> String {
+        match self.field() {
+            Field::Pemc(k) => format!("actuator.pemc.{k}"),
+            f => f.to_string(),
         }
     }
 

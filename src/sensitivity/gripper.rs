@@ -69,16 +69,16 @@ impl GripperParam {
     /// The name (`actuator.pemc.eps0`, `grasp.pressure_kpa`,
     /// `gripper.mounting_angle_rad`, `gripper.overlap_mm`,
     /// `gripper.palm_mm`, `grasp.d_mm`, `sphere.r_mm`, `grasp.beta_rad`).
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> String {
         match self {
             GripperParam::Actuator(a) => a.name(),
-            GripperParam::Pressure => "grasp.pressure_kpa",
-            GripperParam::MountingAngle => "gripper.mounting_angle_rad",
-            GripperParam::Overlap => "gripper.overlap_mm",
-            GripperParam::Palm => "gripper.palm_mm",
-            GripperParam::Size => "grasp.d_mm",
-            GripperParam::Radius => "sphere.r_mm",
-            GripperParam::Beta => "grasp.beta_rad",
+            GripperParam::Pressure => "grasp.pressure_kpa".into(),
+            GripperParam::MountingAngle => "gripper.mounting_angle_rad".into(),
+            GripperParam::Overlap => "gripper.overlap_mm".into(),
+            GripperParam::Palm => "gripper.palm_mm".into(),
+            GripperParam::Size => "grasp.d_mm".into(),
+            GripperParam::Radius => "sphere.r_mm".into(),
+            GripperParam::Beta => "grasp.beta_rad".into(),
         }
     }
 
@@ -101,14 +101,14 @@ impl GripperParam {
 
 impl fmt::Display for GripperParam {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.write_str(&self.name())
     }
 }
 
 impl serde::Serialize for GripperParam {
     /// The name.
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
+        s.serialize_str(&self.name())
     }
 }
 

@@ -322,3 +322,13 @@ fn warnings_use_scene_keys() {
         "{texts:?}"
     );
 }
+
+#[test]
+fn sensitivity_parameters_are_named_by_the_scene_keys_of_their_fields() {
+    let schema = schema_keys();
+    for p in crate::actuator::ActuatorParam::all() {
+        let key = scene_key_of(p.field());
+        assert_eq!(p.name(), key);
+        assert!(schema.contains(&schema_path(&key)), "{key}");
+    }
+}
