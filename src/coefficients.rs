@@ -3,6 +3,7 @@
 //! ([`crate::SolveError`]).
 
 use crate::error::InputError;
+use crate::field::Field;
 
 /// The unknowns of every element, element by element (`per_element` values
 /// each, in the model's order: `a1, a3, b1, c2` for the paper's element).
@@ -17,7 +18,7 @@ impl Coefficients {
     pub fn new(per_element: usize, values: Vec<f64>) -> Result<Coefficients, InputError> {
         if per_element == 0 || values.is_empty() || !values.len().is_multiple_of(per_element) {
             return Err(InputError::Inconsistent {
-                field: "coefficients".into(),
+                field: Field::Coefficients,
                 rule: format!(
                     "{} values do not split into elements of {per_element} unknowns",
                     values.len()

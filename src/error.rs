@@ -6,30 +6,32 @@
 
 use std::fmt;
 
+use crate::field::Field;
+
 /// A rejected input: one field, its value where it has one, and the rule.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum InputError {
     /// The value is NaN or infinite.
     #[error("{field} = {value}: must be finite")]
-    NotFinite { field: String, value: f64 },
+    NotFinite { field: Field, value: f64 },
     /// The value must be strictly positive.
     #[error("{field} = {value}: must be positive")]
-    NotPositive { field: String, value: f64 },
+    NotPositive { field: Field, value: f64 },
     /// The value lies outside its admissible range; `rule` states the range.
     #[error("{field} = {value}: {rule}")]
     OutOfRange {
-        field: String,
+        field: Field,
         value: f64,
         rule: String,
     },
     /// Several fields together are inconsistent (the layer stack, a
     /// channel outside its layer, overlapping ribs); `rule` says how.
     #[error("{field}: {rule}")]
-    Inconsistent { field: String, rule: String },
+    Inconsistent { field: Field, rule: String },
     /// A name that is not one of the choices (a model, a kind).
     #[error("{field} = `{value}`: {rule}")]
     Unrecognised {
-        field: String,
+        field: Field,
         value: String,
         rule: String,
     },
@@ -39,7 +41,7 @@ impl InputError {
     /// The same error about the same field under another name (a scene
     /// key, a command-line flag), its value converted to that name's unit
     /// by `value` (for example MPa to kPa).
-    pub fn renamed(self, field: impl Into<String>, value: impl Fn(f64) -> f64) -> InputError {
+    pub fn renamed(self, field: impl Into<Field>, value: impl Fn(f64) -> f64) -> InputError {
         let field = field.into();
         match self {
             InputError::NotFinite { value: v, .. } => InputError::NotFinite {
@@ -64,8 +66,8 @@ impl InputError {
         }
     }
 
-    /// The path of the offending field.
-    pub fn field(&self) -> &str {
+    /// The offending field.
+    pub fn field(&self) -> &Field {
         match self {
             InputError::NotFinite { field, .. }
             | InputError::NotPositive { field, .. }
@@ -77,40 +79,31 @@ impl InputError {
 }
 
 /// Fails with [`InputError::NotFinite`] unless `value` is finite.
-pub(crate) fn finite(field: &str, value: f64) -> Result<f64, InputError> {
+pub(crate) fn finite(field: Field, value: f64) -> Result<f64, InputError> {
     if value.is_finite() {
         Ok(value)
     } else {
-        Err(InputError::NotFinite {
-            field: field.to_string(),
-            value,
-        })
+        Err(InputError::NotFinite { field, value })
     }
 }
 
 /// Fails unless `value` is finite and strictly positive.
-pub(crate) fn positive(field: &str, value: f64) -> Result<f64, InputError> {
-    finite(field, value)?;
-    if value > 0.0 {
+pub(crate) fn positive(field: Field, value: f64) -> Result<f64, InputError> {
+    if !value.is_finite() {
+        Err(InputError::NotFinite { field, value })
+    } else if value > 0.0 {
         Ok(value)
     } else {
-        Err(InputError::NotPositive {
-            field: field.to_string(),
-            value,
-        })
+        Err(InputError::NotPositive { field, value })
     }
 }
 
 /// Fails with [`InputError::OutOfRange`] unless `ok`.
-pub(crate) fn require(ok: bool, field: &str, value: f64, rule: String) -> Result<(), InputError> {
+pub(crate) fn require(ok: bool, field: Field, value: f64, rule: String) -> Result<(), InputError> {
     if ok {
         Ok(())
     } else {
-        Err(InputError::OutOfRange {
-            field: field.to_string(),
-            value,
-            rule,
-        })
+        Err(InputError::OutOfRange { field, value, rule })
     }
 }
 

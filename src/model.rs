@@ -253,7 +253,7 @@ impl ModelId {
 
     /// The model of a name, or an input error for `field` that lists the
     /// models.
-    pub fn parse(field: &str, name: &str) -> Result<ModelId, crate::InputError> {
+    pub fn parse(field: impl Into<crate::Field>, name: &str) -> Result<ModelId, crate::InputError> {
         ModelId::from_name(name).ok_or_else(|| crate::InputError::Unrecognised {
             field: field.into(),
             value: name.into(),

@@ -4,6 +4,7 @@
 //! next to the boxes it aligns the elements with.
 
 use crate::error::{finite, positive, require, InputError};
+use crate::field::Field;
 
 /// Shortest element allowed, as a fraction of the finger's length.
 pub const MIN_ELEMENT_FRACTION: f64 = 1e-3;
@@ -22,11 +23,11 @@ impl Partition {
     /// `n` equal elements of length `lx / n`; `n` at most
     /// 1 / [`MIN_ELEMENT_FRACTION`].
     pub fn equal(lx: f64, n: usize) -> Result<Partition, InputError> {
-        positive("partition.lx", lx)?;
+        positive(Field::PartitionLx, lx)?;
         let max = (1.0 / MIN_ELEMENT_FRACTION).round();
         require(
             n >= 1 && n as f64 <= max,
-            "partition.n",
+            Field::PartitionN,
             n as f64,
             format!(
                 "must lie in [1, {max}] (each element at least {MIN_ELEMENT_FRACTION} lx long)"
@@ -39,29 +40,28 @@ impl Partition {
     /// finite and at least [`MIN_ELEMENT_FRACTION`] `lx` long, and they must
     /// add up to `lx` within [`LENGTH_SUM_TOLERANCE`] `lx`.
     pub fn custom(lengths: Vec<f64>, lx: f64) -> Result<Partition, InputError> {
-        positive("partition.lx", lx)?;
+        positive(Field::PartitionLx, lx)?;
         if lengths.is_empty() {
             return Err(InputError::Inconsistent {
-                field: "partition.lengths".into(),
+                field: Field::PartitionLengths,
                 rule: "needs at least one element".into(),
             });
         }
         let min = MIN_ELEMENT_FRACTION * lx;
         for (i, &l) in lengths.iter().enumerate() {
-            let field = format!("partition.lengths[{i}]");
-            positive(&field, l)?;
+            positive(Field::PartitionLength(i), l)?;
             require(
                 l >= min,
-                &field,
+                Field::PartitionLength(i),
                 l,
                 format!("must be at least {MIN_ELEMENT_FRACTION} lx = {min}"),
             )?;
         }
         let sum: f64 = lengths.iter().sum();
-        finite("partition.lengths (sum)", sum)?;
+        finite(Field::PartitionLengthsSum, sum)?;
         if (sum - lx).abs() > LENGTH_SUM_TOLERANCE * lx {
             return Err(InputError::Inconsistent {
-                field: "partition.lengths".into(),
+                field: Field::PartitionLengths,
                 rule: format!("the lengths add up to {sum}, not to lx = {lx}"),
             });
         }

@@ -4,6 +4,7 @@
 
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
+use crate::field::Field;
 
 /// A scene that could not be solved: the input was rejected, or Newton
 /// (with continuation where enabled) did not reach the tolerance.
@@ -36,7 +37,7 @@ pub enum SolveError {
     #[error("{target} = {value}: not reached on the path from rest: {detail}")]
     NotOnPath {
         /// The target's field path.
-        target: String,
+        target: Field,
         /// The target's value.
         value: f64,
         /// Where and how the path turns back.
@@ -50,7 +51,7 @@ pub enum SolveError {
     )]
     TargetNotReached {
         /// The target's field path.
-        target: String,
+        target: Field,
         /// The target's value.
         value: f64,
         /// How far along the path the last accepted state was (0 to 1).
@@ -61,4 +62,56 @@ pub enum SolveError {
     /// The caller stopped the work ([`crate::cancel`]): no solve was tried.
     #[error("cancelled: the caller asked the work to stop")]
     Cancelled,
+}
+
+impl SolveError {
+    /// The same error with the field it names (an input error's, a
+    /// target's) renamed where `name` gives it another name, the value
+    /// converted to that name's unit by `value`; other errors unchanged.
+    pub fn renamed(
+        self,
+        name: impl Fn(&Field) -> Option<Field>,
+        value: impl Fn(&Field, f64) -> f64,
+    ) -> SolveError {
+        let rename = |f: Field, v: f64| match name(&f) {
+            Some(n) => (n, value(&f, v)),
+            None => (f, v),
+        };
+        match self {
+            SolveError::Input(i) => match name(i.field()) {
+                Some(n) => {
+                    let f = i.field().clone();
+                    SolveError::Input(i.renamed(n, |v| value(&f, v)))
+                }
+                None => SolveError::Input(i),
+            },
+            SolveError::TargetNotReached {
+                target,
+                value: v,
+                reached,
+                detail,
+            } => {
+                let (target, value) = rename(target, v);
+                SolveError::TargetNotReached {
+                    target,
+                    value,
+                    reached,
+                    detail,
+                }
+            }
+            SolveError::NotOnPath {
+                target,
+                value: v,
+                detail,
+            } => {
+                let (target, value) = rename(target, v);
+                SolveError::NotOnPath {
+                    target,
+                    value,
+                    detail,
+                }
+            }
+            e => e,
+        }
+    }
 }

@@ -606,7 +606,9 @@ fn unreachable_targets_fail_cleanly() {
     }
     // a friction the finger cannot carry: the path stops short, naming it
     match g.force_control(0.0, 100.0, 500.0, None) {
-        Err(SolveError::TargetNotReached { target, .. }) => assert_eq!(target, "grasp.friction"),
+        Err(SolveError::TargetNotReached { target, .. }) => {
+            assert_eq!(target, fpc::Field::GraspFriction)
+        }
         Ok(gr) => assert!(!gr.is_valid(), "{gr:?}"),
         Err(e) => panic!("unexpected error {e}"),
     }

@@ -676,7 +676,7 @@ fn mismatched_grasps_and_parameters_are_rejected() {
     // the grasp's parameters are not the geometry's
     for p in [GripperParam::Size, GripperParam::Pressure] {
         match g.geometry_sensitivities(&act, &[p]) {
-            Err(SolveError::Input(e)) => assert_eq!(e.field(), p.name()),
+            Err(SolveError::Input(e)) => assert_eq!(e.field().to_string(), p.name()),
             other => panic!("expected an input error, got {other:?}"),
         }
     }

@@ -419,7 +419,7 @@ fn grasps_beyond_flat_are_never_valid() {
     ] {
         match e {
             SolveError::Input(InputError::OutOfRange { field, rule, .. }) => {
-                assert_eq!(field, "grasp.size");
+                assert_eq!(field, fpc::Field::GraspSize);
                 assert!(rule.contains("d_max"), "{rule}");
             }
             e => panic!("{e:?}"),

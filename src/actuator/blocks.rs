@@ -10,6 +10,7 @@
 
 use crate::element::ElementBlocks;
 use crate::error::{positive, require, InputError};
+use crate::field::Field;
 use crate::model::{GasParams, LinearParams, PrestressedParams};
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
@@ -33,7 +34,7 @@ impl Partition {
         max_length: f64,
     ) -> Result<Partition, InputError> {
         let lx = actuator.geometry().lx;
-        positive("partition.max_length", max_length)?;
+        positive(Field::PartitionMaxLength, max_length)?;
         let min = MIN_ELEMENT_FRACTION * lx;
         let mut cuts: Vec<f64> = vec![0.0, lx, actuator.channel().cx];
         if ribs {
@@ -68,7 +69,7 @@ impl Partition {
         let max = (1.0 / MIN_ELEMENT_FRACTION).round() as usize;
         require(
             lengths.len() <= max,
-            "partition.max_length",
+            Field::PartitionMaxLength,
             max_length,
             format!("gives {} elements, more than {max}", lengths.len()),
         )?;

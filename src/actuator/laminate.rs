@@ -4,6 +4,7 @@
 //! [`crate::actuator`]).
 
 use crate::error::{finite, positive, require, InputError, Warning};
+use crate::field::{ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey, RibKey};
 use crate::model::PsiParams;
 
 /// Strain range of the uniaxial test the prestressed law was fitted to;
@@ -43,13 +44,13 @@ impl Isotropic {
         .q()
     }
 
-    fn validate(&self, path: &str) -> Result<(), InputError> {
-        positive(&format!("{path}.e"), self.e)?;
-        let field = format!("{path}.nu");
-        finite(&field, self.nu)?;
+    fn validate(&self, l: Lamina) -> Result<(), InputError> {
+        positive(Field::Material(l, Elastic::E), self.e)?;
+        let field = Field::Material(l, Elastic::Nu);
+        finite(field.clone(), self.nu)?;
         require(
             (0.0..0.5).contains(&self.nu),
-            &field,
+            field,
             self.nu,
             "must lie in [0, 0.5)".into(),
         )
@@ -83,15 +84,15 @@ impl Orthotropic {
         }
     }
 
-    fn validate(&self, path: &str) -> Result<(), InputError> {
-        positive(&format!("{path}.e1"), self.e1)?;
-        positive(&format!("{path}.e2"), self.e2)?;
-        let field = format!("{path}.nu12");
-        finite(&field, self.nu12)?;
+    fn validate(&self, l: Lamina) -> Result<(), InputError> {
+        positive(Field::Material(l, Elastic::E1), self.e1)?;
+        positive(Field::Material(l, Elastic::E2), self.e2)?;
+        let field = Field::Material(l, Elastic::Nu12);
+        finite(field.clone(), self.nu12)?;
         let d = 1.0 - self.nu12 * self.nu21();
         require(
             d > 0.0,
-            &field,
+            field,
             self.nu12,
             format!(
                 "1 - nu12 nu21 = {d} must be positive (nu21 = nu12 E2/E1 = {})",
@@ -117,10 +118,10 @@ impl Material {
         }
     }
 
-    fn validate(&self, path: &str) -> Result<(), InputError> {
+    fn validate(&self, l: Lamina) -> Result<(), InputError> {
         match self {
-            Material::Isotropic(m) => m.validate(path),
-            Material::Orthotropic(m) => m.validate(path),
+            Material::Isotropic(m) => m.validate(l),
+            Material::Orthotropic(m) => m.validate(l),
         }
     }
 }
@@ -162,11 +163,11 @@ impl PsiParams {
         [self.p1, self.p2, self.p3, self.p4]
     }
 
-    fn validate(&self, path: &str) -> Result<(), InputError> {
-        for (k, pk) in self.to_array().into_iter().enumerate() {
-            finite(&format!("{path}.p{}", k + 1), pk)?;
+    fn validate(&self) -> Result<(), InputError> {
+        for (&k, pk) in PemcKey::ALL[2..].iter().zip(self.to_array()) {
+            finite(Field::Pemc(k), pk)?;
         }
-        positive(&format!("{path}.p1"), self.p1)?;
+        positive(Field::Pemc(PemcKey::P1), self.p1)?;
         Ok(())
     }
 }
@@ -364,12 +365,13 @@ impl Actuator {
     /// fail; they are kept and returned by [`Actuator::warnings`].
     pub fn new(params: ActuatorParams) -> Result<Actuator, InputError> {
         let g = &params.geometry;
-        for (field, v) in [
-            ("actuator.geometry.lx", g.lx),
-            ("actuator.geometry.ly", g.ly),
-            ("actuator.geometry.h", g.h),
+        for (key, v) in [
+            (GeometryKey::Lx, g.lx),
+            (GeometryKey::Ly, g.ly),
+            (GeometryKey::H, g.h),
         ] {
-            positive(field, v)?;
+            let field = Field::Geometry(key);
+            positive(field.clone(), v)?;
             require(
                 v <= MAX_DIMENSION_MM,
                 field,
@@ -377,26 +379,26 @@ impl Actuator {
                 format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the solver's scales overflow; no FPC actuator is 100 m long)"),
             )?;
         }
-        finite("actuator.geometry.lc", g.lc)?;
+        finite(Field::Geometry(GeometryKey::Lc), g.lc)?;
         require(
             g.lc >= 0.0,
-            "actuator.geometry.lc",
+            Field::Geometry(GeometryKey::Lc),
             g.lc,
             "must not be negative".into(),
         )?;
-        positive("actuator.geometry.h1", g.h1)?;
-        positive("actuator.geometry.h2", g.h2)?;
-        positive("actuator.geometry.h3", g.h3)?;
+        positive(Field::Geometry(GeometryKey::H1), g.h1)?;
+        positive(Field::Geometry(GeometryKey::H2), g.h2)?;
+        positive(Field::Geometry(GeometryKey::H3), g.h3)?;
         let half = g.h / 2.0;
         require(
             g.h1 < half,
-            "actuator.geometry.h1",
+            Field::Geometry(GeometryKey::H1),
             g.h1,
             format!("must be below H/2 = {half} (the constraining layer [h1, H/2] needs a positive thickness)"),
         )?;
         require(
             g.h2 < g.h1,
-            "actuator.geometry.h2",
+            Field::Geometry(GeometryKey::H2),
             g.h2,
             format!(
                 "must be below h1 = {} (the regular EMC [h2, h1] needs a positive thickness)",
@@ -405,40 +407,40 @@ impl Actuator {
         )?;
         require(
             g.h3 < half,
-            "actuator.geometry.h3",
+            Field::Geometry(GeometryKey::H3),
             g.h3,
             format!("must be below H/2 = {half} (the prestressed EMC [-H/2, -h3] needs a positive thickness)"),
         )?;
 
         let c = &params.channel;
-        positive("actuator.channel.cx", c.cx)?;
+        positive(Field::Channel(ChannelKey::Cx), c.cx)?;
         require(
             c.cx <= g.lx,
-            "actuator.channel.cx",
+            Field::Channel(ChannelKey::Cx),
             c.cx,
             format!("must not exceed the length lx = {}", g.lx),
         )?;
-        positive("actuator.channel.cy", c.cy)?;
+        positive(Field::Channel(ChannelKey::Cy), c.cy)?;
         require(
             c.cy < g.ly,
-            "actuator.channel.cy",
+            Field::Channel(ChannelKey::Cy),
             c.cy,
             format!("must be below the width ly = {}", g.ly),
         )?;
-        positive("actuator.channel.h3a", c.h3a)?;
+        positive(Field::Channel(ChannelKey::H3a), c.h3a)?;
         require(
             c.h3a < g.h2,
-            "actuator.channel.h3a",
+            Field::Channel(ChannelKey::H3a),
             c.h3a,
             format!(
                 "must be below h2 = {} (the channel lies inside the fluidic layer)",
                 g.h2
             ),
         )?;
-        positive("actuator.channel.h3b", c.h3b)?;
+        positive(Field::Channel(ChannelKey::H3b), c.h3b)?;
         require(
             c.h3b < g.h3,
-            "actuator.channel.h3b",
+            Field::Channel(ChannelKey::H3b),
             c.h3b,
             format!(
                 "must be below h3 = {} (the channel lies inside the fluidic layer)",
@@ -449,14 +451,14 @@ impl Actuator {
         let ribs = resolve_ribs(&params.ribs, c)?;
         check_rib_overlap(&ribs, c.cy)?;
 
-        params.cl.validate("actuator.cl")?;
-        params.emc.validate("actuator.emc")?;
-        params.fluidic.validate("actuator.fluidic")?;
+        params.cl.validate(Lamina::Cl)?;
+        params.emc.validate(Lamina::Emc)?;
+        params.fluidic.validate(Lamina::Fluidic)?;
 
         let pemc = &params.pemc;
-        positive("actuator.pemc.e2", pemc.e2)?;
-        pemc.law.validate("actuator.pemc.law")?;
-        finite("actuator.pemc.eps0", pemc.eps0)?;
+        positive(Field::Pemc(PemcKey::E2), pemc.e2)?;
+        pemc.law.validate()?;
+        finite(Field::Pemc(PemcKey::Eps0), pemc.eps0)?;
 
         let mut warnings = Vec::new();
         let (lo, hi) = EPS0_FIT_RANGE;
@@ -578,27 +580,34 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
         RibLayout::None => Ok(Vec::new()),
         RibLayout::Explicit(ribs) => {
             for (k, r) in ribs.iter().enumerate() {
-                let path = format!("actuator.ribs[{k}]");
-                let f0 = format!("{path}.x0");
-                finite(&f0, r.x0)?;
-                require(r.x0 >= 0.0, &f0, r.x0, "must not be negative".into())?;
-                let f1 = format!("{path}.x1");
-                finite(&f1, r.x1)?;
-                require(r.x1 > r.x0, &f1, r.x1, format!("must exceed x0 = {}", r.x0))?;
+                let f = |key| Field::Rib(k, key);
+                finite(f(RibKey::X0), r.x0)?;
+                require(
+                    r.x0 >= 0.0,
+                    f(RibKey::X0),
+                    r.x0,
+                    "must not be negative".into(),
+                )?;
+                finite(f(RibKey::X1), r.x1)?;
+                require(
+                    r.x1 > r.x0,
+                    f(RibKey::X1),
+                    r.x1,
+                    format!("must exceed x0 = {}", r.x0),
+                )?;
                 require(
                     r.x1 <= c.cx,
-                    &f1,
+                    f(RibKey::X1),
                     r.x1,
                     format!(
                         "must not exceed the channel's end cx = {} (ribs lie inside the channel)",
                         c.cx
                     ),
                 )?;
-                let fw = format!("{path}.width");
-                positive(&fw, r.width)?;
+                positive(f(RibKey::Width), r.width)?;
                 require(
                     r.width <= c.cy,
-                    &fw,
+                    f(RibKey::Width),
                     r.width,
                     format!("must not exceed the channel width cy = {}", c.cy),
                 )?;
@@ -606,12 +615,12 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
             Ok(ribs.clone())
         }
         &RibLayout::Paper { w1, w2, t } => {
-            positive("actuator.ribs.w1", w1)?;
-            positive("actuator.ribs.w2", w2)?;
-            positive("actuator.ribs.t", t)?;
+            positive(Field::PaperRib(PaperRibKey::W1), w1)?;
+            positive(Field::PaperRib(PaperRibKey::W2), w2)?;
+            positive(Field::PaperRib(PaperRibKey::T), t)?;
             require(
                 t + 2.0 * w2 <= c.cy,
-                "actuator.ribs.w2",
+                Field::PaperRib(PaperRibKey::W2),
                 w2,
                 format!(
                     "t + 2 w2 = {} must not exceed the channel width cy = {}",
@@ -621,7 +630,7 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
             )?;
             require(
                 w1 >= t,
-                "actuator.ribs.w1",
+                Field::PaperRib(PaperRibKey::W1),
                 w1,
                 format!("must be at least t = {t} (transverse ribs must not overlap)"),
             )?;
@@ -631,7 +640,7 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
             let count = ((end - t / 2.0) / w1).floor().max(0.0);
             require(
                 count <= MAX_GENERATED_RIBS as f64,
-                "actuator.ribs.w1",
+                Field::PaperRib(PaperRibKey::W1),
                 w1,
                 format!("gives {count} transverse ribs, more than {MAX_GENERATED_RIBS}"),
             )?;
@@ -672,7 +681,7 @@ fn check_rib_overlap(ribs: &[Rib], cy: f64) -> Result<(), InputError> {
         sum += dw;
         if sum > cy * (1.0 + 1e-12) {
             return Err(InputError::Inconsistent {
-                field: "actuator.ribs".into(),
+                field: Field::Ribs,
                 rule: format!(
                     "the ribs at X_ref = {x} add up to width {sum}, more than the channel width cy = {cy}"
                 ),

@@ -28,11 +28,12 @@ mod laminate;
 mod param;
 mod tangent;
 
+pub use crate::field::{Elastic, Lamina};
 pub(crate) use blocks::element_blocks;
 pub use laminate::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_DIMENSION_MM,
     MAX_GENERATED_RIBS,
 };
-pub use param::{ActuatorParam, Elastic, Lamina};
+pub use param::ActuatorParam;
 pub(crate) use tangent::{element_block_tangent_into, ActuatorTangent};

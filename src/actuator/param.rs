@@ -4,71 +4,11 @@
 //! sensitivities differentiate along them.
 
 use crate::error::InputError;
+use crate::field::{ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey};
 
 use super::laminate::{Actuator, ActuatorParams, Material, RibLayout};
 
-/// A linear lamina with its own material table (`actuator.<layer>`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Lamina {
-    /// The constraining layer, `actuator.cl`.
-    Cl,
-    /// The regular EMC, `actuator.emc`.
-    Emc,
-    /// The fluidic layer (and the ribs), `actuator.fluidic`.
-    Fluidic,
-}
-
-impl Lamina {
-    /// Every lamina, top to bottom.
-    pub const ALL: [Lamina; 3] = [Lamina::Cl, Lamina::Emc, Lamina::Fluidic];
-
-    /// The scene table's name (`cl`, `emc`, `fluidic`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Lamina::Cl => "cl",
-            Lamina::Emc => "emc",
-            Lamina::Fluidic => "fluidic",
-        }
-    }
-}
-
-/// An elastic constant of a lamina's material: `e`, `nu` of an isotropic
-/// material, `e1`, `e2`, `nu12` of an orthotropic one.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum Elastic {
-    /// Young's modulus of an isotropic material (MPa).
-    E,
-    /// Poisson's ratio of an isotropic material.
-    Nu,
-    /// Young's modulus along X of an orthotropic material (MPa).
-    E1,
-    /// Young's modulus along Y of an orthotropic material (MPa).
-    E2,
-    /// Major Poisson's ratio of an orthotropic material.
-    Nu12,
-}
-
 impl Elastic {
-    /// Every constant, isotropic first.
-    pub const ALL: [Elastic; 5] = [
-        Elastic::E,
-        Elastic::Nu,
-        Elastic::E1,
-        Elastic::E2,
-        Elastic::Nu12,
-    ];
-
-    /// The scene key's last part (`e`, `nu`, `e1`, `e2`, `nu12`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Elastic::E => "e",
-            Elastic::Nu => "nu",
-            Elastic::E1 => "e1",
-            Elastic::E2 => "e2",
-            Elastic::Nu12 => "nu12",
-        }
-    }
-
     /// The constant's value in `material`, if it has it.
     pub fn value(self, material: &Material) -> Option<f64> {
         match (material, self) {
@@ -134,30 +74,6 @@ pub enum ActuatorParam {
     RibsW2,
 }
 
-const ELASTIC_NAMES: [[&str; 5]; 3] = [
-    [
-        "actuator.cl.e",
-        "actuator.cl.nu",
-        "actuator.cl.e1",
-        "actuator.cl.e2",
-        "actuator.cl.nu12",
-    ],
-    [
-        "actuator.emc.e",
-        "actuator.emc.nu",
-        "actuator.emc.e1",
-        "actuator.emc.e2",
-        "actuator.emc.nu12",
-    ],
-    [
-        "actuator.fluidic.e",
-        "actuator.fluidic.nu",
-        "actuator.fluidic.e1",
-        "actuator.fluidic.e2",
-        "actuator.fluidic.nu12",
-    ],
-];
-
 impl ActuatorParam {
     /// Every actuator parameter (elastic constants of both kinds).
     pub fn all() -> Vec<ActuatorParam> {
@@ -177,8 +93,8 @@ impl ActuatorParam {
             ActuatorParam::ChannelH3a,
             ActuatorParam::ChannelH3b,
         ];
-        for l in Lamina::ALL {
-            for k in Elastic::ALL {
+        for &l in Lamina::ALL {
+            for &k in Elastic::ALL {
                 v.push(ActuatorParam::Elastic(l, k));
             }
         }
@@ -195,25 +111,36 @@ impl ActuatorParam {
             .collect()
     }
 
-    /// The scene key (`actuator.pemc.eps0`, `actuator.cl.e`, ...).
-    pub fn name(self) -> &'static str {
+    /// The scene key (`actuator.pemc.eps0`, `actuator.pemc.p1`,
+    /// `actuator.cl.e`, ...): the library's field, the psi law's
+    /// coefficients without `law`.
+    pub fn name(self) -> String {
+        match self.field() {
+            Field::Pemc(k) => format!("actuator.pemc.{k}"),
+            f => f.to_string(),
+        }
+    }
+
+    /// The field the library names it by (`actuator.pemc.law.p1` for
+    /// [`ActuatorParam::PsiP1`]).
+    pub fn field(self) -> Field {
         match self {
-            ActuatorParam::Eps0 => "actuator.pemc.eps0",
-            ActuatorParam::PemcE2 => "actuator.pemc.e2",
-            ActuatorParam::PsiP1 => "actuator.pemc.p1",
-            ActuatorParam::PsiP2 => "actuator.pemc.p2",
-            ActuatorParam::PsiP3 => "actuator.pemc.p3",
-            ActuatorParam::PsiP4 => "actuator.pemc.p4",
-            ActuatorParam::H => "actuator.geometry.h",
-            ActuatorParam::H1 => "actuator.geometry.h1",
-            ActuatorParam::H2 => "actuator.geometry.h2",
-            ActuatorParam::H3 => "actuator.geometry.h3",
-            ActuatorParam::Ly => "actuator.geometry.ly",
-            ActuatorParam::ChannelCy => "actuator.channel.cy",
-            ActuatorParam::ChannelH3a => "actuator.channel.h3a",
-            ActuatorParam::ChannelH3b => "actuator.channel.h3b",
-            ActuatorParam::Elastic(l, k) => ELASTIC_NAMES[l as usize][k as usize],
-            ActuatorParam::RibsW2 => "actuator.ribs.w2",
+            ActuatorParam::Eps0 => Field::Pemc(PemcKey::Eps0),
+            ActuatorParam::PemcE2 => Field::Pemc(PemcKey::E2),
+            ActuatorParam::PsiP1 => Field::Pemc(PemcKey::P1),
+            ActuatorParam::PsiP2 => Field::Pemc(PemcKey::P2),
+            ActuatorParam::PsiP3 => Field::Pemc(PemcKey::P3),
+            ActuatorParam::PsiP4 => Field::Pemc(PemcKey::P4),
+            ActuatorParam::H => Field::Geometry(GeometryKey::H),
+            ActuatorParam::H1 => Field::Geometry(GeometryKey::H1),
+            ActuatorParam::H2 => Field::Geometry(GeometryKey::H2),
+            ActuatorParam::H3 => Field::Geometry(GeometryKey::H3),
+            ActuatorParam::Ly => Field::Geometry(GeometryKey::Ly),
+            ActuatorParam::ChannelCy => Field::Channel(ChannelKey::Cy),
+            ActuatorParam::ChannelH3a => Field::Channel(ChannelKey::H3a),
+            ActuatorParam::ChannelH3b => Field::Channel(ChannelKey::H3b),
+            ActuatorParam::Elastic(l, k) => Field::Material(l, k),
+            ActuatorParam::RibsW2 => Field::PaperRib(PaperRibKey::W2),
         }
     }
 
@@ -251,7 +178,7 @@ impl ActuatorParam {
     pub fn with_value(self, actuator: &Actuator, value: f64) -> Result<Actuator, InputError> {
         let mut p = actuator.params().clone();
         let missing = || InputError::Inconsistent {
-            field: self.name().into(),
+            field: self.field(),
             rule: "the actuator has no such parameter".into(),
         };
         let slot: &mut f64 = match self {

@@ -9,7 +9,8 @@ use crate::partition::Partition;
 
 use super::blocks::clip;
 use super::laminate::{Actuator, Material, PlaneStress, Rib, RibLayout};
-use super::param::{ActuatorParam, Elastic, Lamina};
+use super::param::ActuatorParam;
+use crate::field::{Elastic, Lamina};
 
 /// The change of every actuator quantity the blocks read, per unit change
 /// of one design parameter: a tangent of the actuator (docs/model.md,
@@ -107,7 +108,7 @@ impl ActuatorTangent {
                 };
                 let dq = plane_stress_tangent(material, key).ok_or_else(|| {
                     InputError::Inconsistent {
-                        field: ActuatorParam::Elastic(layer, key).name().into(),
+                        field: crate::Field::Material(layer, key),
                         rule: format!(
                             "the {} layer's material has no such constant ({})",
                             layer.name(),
@@ -127,7 +128,7 @@ impl ActuatorTangent {
             ActuatorParam::RibsW2 => {
                 if !matches!(act.params().ribs, RibLayout::Paper { .. }) {
                     return Err(InputError::Inconsistent {
-                        field: param.name().into(),
+                        field: param.field(),
                         rule: "needs the paper's rib layout (`kind = \"paper\"`)".into(),
                     });
                 }

@@ -27,6 +27,7 @@
 use serde::Serialize;
 
 use crate::error::{positive, require, InputError};
+use crate::field::Field;
 
 use super::evaluate::{evaluate, evaluate_with_gradients, Evaluation, MarginGradient};
 use super::reproduce::{reproduce, Reproduction};
@@ -65,8 +66,13 @@ pub const MAX_GRID_POINTS: usize = 1_000_000;
 impl DesignOptions {
     /// Checks every field against its bound, before any work.
     pub fn validate(&self) -> Result<(), InputError> {
-        let at_most = |field: &str, v: usize, max: usize| {
-            require(v <= max, field, v as f64, format!("must be at most {max}"))
+        let at_most = |field: &'static str, v: usize, max: usize| {
+            require(
+                v <= max,
+                Field::key(field),
+                v as f64,
+                format!("must be at most {max}"),
+            )
         };
         at_most(
             "design.random_starts",
@@ -79,14 +85,14 @@ impl DesignOptions {
             self.max_iterations,
             MAX_ASCENT_ITERATIONS,
         )?;
-        positive("design.step", self.step)?;
+        positive(Field::key("design.step"), self.step)?;
         require(
             self.step <= 0.5,
-            "design.step",
+            Field::key("design.step"),
             self.step,
             "must be at most 0.5 (a fraction of each variable's range)".into(),
         )?;
-        positive("design.sharpness", self.sharpness)?;
+        positive(Field::key("design.sharpness"), self.sharpness)?;
         Ok(())
     }
 }
@@ -430,7 +436,7 @@ pub fn grid_search(req: &Requirements, per_axis: usize) -> Result<GridResult, In
         .filter(|&t| t <= MAX_GRID_POINTS);
     let Some(total) = total else {
         return Err(InputError::OutOfRange {
-            field: "grid.per_axis".into(),
+            field: Field::key("grid.per_axis"),
             value: per_axis as f64,
             rule: format!(
                 "gives more than {MAX_GRID_POINTS} points over {} variables",

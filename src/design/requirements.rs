@@ -6,6 +6,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::{finite, positive, require, InputError};
+use crate::field::Field;
 use crate::scene::SceneError;
 
 /// A requirements document as written.
@@ -240,25 +241,25 @@ impl Requirements {
     pub fn validate(&self) -> Result<(), InputError> {
         require(
             (2..=12).contains(&self.fingers),
-            "fingers",
+            Field::key("fingers"),
             self.fingers as f64,
             "must lie in [2, 12]".into(),
         )?;
-        positive("mu", self.mu)?;
+        positive(Field::key("mu"), self.mu)?;
         require(
             (1..=256).contains(&self.elements),
-            "elements",
+            Field::key("elements"),
             self.elements as f64,
             "must lie in [1, 256]".into(),
         )?;
         require(
             !self.objects.is_empty() || self.open.is_some(),
-            "object",
+            Field::key("object"),
             0.0,
             "at least one [[object]] (or an [open] requirement) is needed".into(),
         )?;
         for (i, o) in self.objects.iter().enumerate() {
-            let field = |k: &str| format!("object[{i}].{k}");
+            let field = |k: &str| Field::from(format!("object[{i}].{k}"));
             let (range, range_key, lift, max_normal) = match o {
                 ObjectRequirement::Cuboid {
                     size_mm,
@@ -271,42 +272,42 @@ impl Requirements {
                     max_normal_n,
                 } => (radius_mm, "radius_mm", lift_n, max_normal_n),
             };
-            positive(&field(&format!("{range_key}[0]")), range[0])?;
-            positive(&field(&format!("{range_key}[1]")), range[1])?;
+            positive(field(&format!("{range_key}[0]")), range[0])?;
+            positive(field(&format!("{range_key}[1]")), range[1])?;
             require(
                 range[0] <= range[1],
-                &field(range_key),
+                field(range_key),
                 range[1],
                 "must be [smallest, largest]".into(),
             )?;
-            positive(&field("lift_n"), *lift)?;
+            positive(field("lift_n"), *lift)?;
             if let Some(m) = max_normal {
-                positive(&field("max_normal_n"), *m)?;
+                positive(field("max_normal_n"), *m)?;
             }
         }
         if let Some(o) = &self.open {
-            positive("open.size_mm", o.size_mm)?;
-            finite("open.pressure_kpa", o.pressure_kpa)?;
+            positive(Field::key("open.size_mm"), o.size_mm)?;
+            finite(Field::key("open.pressure_kpa"), o.pressure_kpa)?;
             require(
                 (0.0..=1000.0).contains(&o.pressure_kpa),
-                "open.pressure_kpa",
+                Field::key("open.pressure_kpa"),
                 o.pressure_kpa,
                 "must lie in [0, 1000] kPa".into(),
             )?;
         }
         let bound = |key: &str, b: Option<[f64; 2]>, lo: f64, hi: f64| -> Result<(), InputError> {
             if let Some([a, z]) = b {
-                finite(&format!("vary.{key}[0]"), a)?;
-                finite(&format!("vary.{key}[1]"), z)?;
+                finite(format!("vary.{key}[0]").into(), a)?;
+                finite(format!("vary.{key}[1]").into(), z)?;
                 require(
                     a <= z,
-                    &format!("vary.{key}"),
+                    format!("vary.{key}").into(),
                     z,
                     "must be [low, high]".into(),
                 )?;
                 require(
                     a >= lo && z <= hi,
-                    &format!("vary.{key}"),
+                    format!("vary.{key}").into(),
                     if a < lo { a } else { z },
                     format!("must lie within [{lo}, {hi}]"),
                 )?;
@@ -334,7 +335,7 @@ impl Requirements {
             };
             require(
                 given[1] >= lo && given[0] <= hi,
-                field,
+                Field::key(field),
                 value,
                 format!(
                     "leaves no mounting angle in the design space [{lo:.3}, {hi}] deg (arccot mu to 90 deg); set vary.allow_outside_design_space = true to search outside it"
@@ -345,7 +346,7 @@ impl Requirements {
             self.vary.eps0.is_some()
                 || self.vary.mounting_angle_deg.is_some()
                 || self.vary.overlap_mm.is_some(),
-            "vary",
+            Field::key("vary"),
             0.0,
             "must give at least one design variable".into(),
         )?;

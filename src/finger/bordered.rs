@@ -59,11 +59,11 @@ impl TargetProblem {
 
     pub(crate) fn validate(&self) -> Result<(), InputError> {
         self.base.validate()?;
-        finite("target.direction[0]", self.direction[0])?;
-        finite("target.direction[1]", self.direction[1])?;
-        finite("target.weights[0]", self.weights[0])?;
-        finite("target.weights[1]", self.weights[1])?;
-        finite("target.value", self.target)?;
+        finite(crate::Field::key("target.direction[0]"), self.direction[0])?;
+        finite(crate::Field::key("target.direction[1]"), self.direction[1])?;
+        finite(crate::Field::key("target.weights[0]"), self.weights[0])?;
+        finite(crate::Field::key("target.weights[1]"), self.weights[1])?;
+        finite(crate::Field::key("target.value"), self.target)?;
         if self.direction == [0.0, 0.0] || self.weights == [0.0, 0.0] {
             return Err(InputError::Inconsistent {
                 field: "target".into(),

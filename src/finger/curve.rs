@@ -30,18 +30,18 @@ impl Affine2 {
     pub fn new(matrix: [[f64; 2]; 2], offset: [f64; 2]) -> Result<Affine2, InputError> {
         for (i, row) in matrix.iter().enumerate() {
             for (j, &v) in row.iter().enumerate() {
-                finite(&format!("affine.matrix[{i}][{j}]"), v)?;
+                finite(format!("affine.matrix[{i}][{j}]").into(), v)?;
             }
         }
-        finite("affine.offset[0]", offset[0])?;
-        finite("affine.offset[1]", offset[1])?;
+        finite(crate::Field::key("affine.offset[0]"), offset[0])?;
+        finite(crate::Field::key("affine.offset[1]"), offset[1])?;
         Ok(Affine2 { matrix, offset })
     }
 
     /// A rotation by `angle` (rad, counter-clockwise from X towards Z)
     /// followed by a translation by `offset`.
     pub fn rotation(angle: f64, offset: [f64; 2]) -> Result<Affine2, InputError> {
-        finite("affine.angle", angle)?;
+        finite(crate::Field::key("affine.angle"), angle)?;
         let (s, c) = angle.sin_cos();
         Affine2::new([[c, -s], [s, c]], offset)
     }
@@ -120,16 +120,16 @@ impl PolyCurve {
     /// over `[0, length]`: at least one coefficient, all finite, and a
     /// positive, finite length.
     pub fn new(coefficients: Vec<[f64; 2]>, length: f64) -> Result<PolyCurve, InputError> {
-        positive("curve.length", length)?;
+        positive(crate::Field::key("curve.length"), length)?;
         if coefficients.is_empty() {
             return Err(InputError::Inconsistent {
-                field: "curve.coefficients".into(),
+                field: crate::Field::key("curve.coefficients"),
                 rule: "a curve needs at least one coefficient".into(),
             });
         }
         for (j, c) in coefficients.iter().enumerate() {
-            finite(&format!("curve.coefficients[{j}][0]"), c[0])?;
-            finite(&format!("curve.coefficients[{j}][1]"), c[1])?;
+            finite(format!("curve.coefficients[{j}][0]").into(), c[0])?;
+            finite(format!("curve.coefficients[{j}][1]").into(), c[1])?;
         }
         Ok(PolyCurve {
             coefficients,

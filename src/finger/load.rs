@@ -58,7 +58,7 @@ impl Load {
     /// Checks that every value is finite, kappa positive and the pressure
     /// (gauge) not below absolute vacuum.
     pub fn validate(&self) -> Result<(), InputError> {
-        finite("load.pressure", self.pressure)?;
+        finite(crate::Field::LoadPressure, self.pressure)?;
         if self.pressure < VACUUM_GAUGE_MPA {
             return Err(InputError::OutOfRange {
                 field: "load.pressure".into(),
@@ -69,9 +69,9 @@ impl Load {
                 ),
             });
         }
-        positive("load.kappa", self.kappa)?;
-        finite("load.fx", self.fx)?;
-        finite("load.fz", self.fz)?;
+        positive(crate::Field::LoadKappa, self.kappa)?;
+        finite(crate::Field::LoadFx, self.fx)?;
+        finite(crate::Field::LoadFz, self.fz)?;
         Ok(())
     }
 

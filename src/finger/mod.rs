@@ -240,7 +240,7 @@ impl Finger {
         self.check(k)?;
         if !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&per_element) {
             return Err(InputError::OutOfRange {
-                field: "samples_per_element".into(),
+                field: crate::Field::SamplesPerElement,
                 value: per_element as f64,
                 rule: format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
             });
@@ -263,7 +263,7 @@ impl Finger {
             Ok(curves)
         } else {
             Err(InputError::Inconsistent {
-                field: "coefficients".into(),
+                field: crate::Field::Coefficients,
                 rule: "the mid-plane's coefficients overflow".into(),
             })
         }

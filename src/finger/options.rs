@@ -72,8 +72,8 @@ impl SolveOptions {
     }
 
     pub(crate) fn validate(&self) -> Result<(), InputError> {
-        positive("solve.rtol", self.rtol)?;
-        positive("solve.max_step", self.max_step)?;
+        positive(crate::Field::SolveRtol, self.rtol)?;
+        positive(crate::Field::SolveMaxStep, self.max_step)?;
         if self.max_iter == 0 {
             return Err(InputError::OutOfRange {
                 field: "solve.max_iter".into(),

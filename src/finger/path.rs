@@ -205,10 +205,10 @@ impl<M: ElementModel> SolverCore<'_, M> {
             (*lambda0, *increasing, *lambda_end, *lambda_scale);
         problem.base.validate()?;
         opts.validate()?;
-        finite("path.lambda0", lambda0)?;
-        finite("path.lambda_scale", lambda_scale)?;
+        finite(crate::Field::key("path.lambda0"), lambda0)?;
+        finite(crate::Field::key("path.lambda_scale"), lambda_scale)?;
         if let Some(e) = lambda_end {
-            finite("path.lambda_end", e)?;
+            finite(crate::Field::key("path.lambda_end"), e)?;
         }
         let f = self.finger;
         check_guess(guess, f.len(), M::Coeffs::LEN)?;
@@ -216,7 +216,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
         let n = self.y.len();
         let popts = palc_options(opts.rtol * f.stiffness, lambda_scale.abs(), *events);
         let mut palc = Palc::new(n, popts).map_err(|e| InputError::OutOfRange {
-            field: "path.lambda_scale".into(),
+            field: crate::Field::key("path.lambda_scale"),
             value: lambda_scale,
             rule: e.to_string(),
         })?;

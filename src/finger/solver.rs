@@ -85,7 +85,7 @@ pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOpt
         ..NewtonOptions::default()
     };
     nopts.validate().map_err(|e| InputError::OutOfRange {
-        field: "solve".into(),
+        field: crate::Field::Solve,
         value: gtol,
         rule: e.to_string(),
     })?;

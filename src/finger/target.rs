@@ -105,7 +105,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             })
             .set_options(nopts)
             .map_err(|e| InputError::OutOfRange {
-                field: "target.ctol_mm".into(),
+                field: crate::Field::key("target.ctol_mm"),
                 value: ctol_mm,
                 rule: e.to_string(),
             })?;
@@ -169,8 +169,8 @@ impl<M: ElementModel> SolverCore<'_, M> {
         crate::cancel::check()?;
         problem.validate()?;
         opts.validate()?;
-        finite("target.lambda0", lambda0)?;
-        positive("target.ctol_mm", ctol_mm)?;
+        finite(crate::Field::key("target.lambda0"), lambda0)?;
+        positive(crate::Field::key("target.ctol_mm"), ctol_mm)?;
         check_guess(start, self.finger.len(), M::Coeffs::LEN)?;
         Ok(())
     }

@@ -8,6 +8,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::coefficients::Coefficients;
 use crate::error::{finite, require, InputError, Warning};
+use crate::field::Field;
 use crate::finger::{
     Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
 };
@@ -158,11 +159,11 @@ impl Gripper {
     /// A grasp size the fingers can reach: finite and at most `d_max` (a
     /// wider object would need the fingers pressed past flat).
     pub(super) fn check_size(&self, d: f64) -> Result<(), InputError> {
-        finite("grasp.size", d)?;
+        finite(Field::GraspSize, d)?;
         let d_max = self.d_max();
         require(
             rules::flat_rule(d, d_max).is_none(),
-            "grasp.size",
+            Field::GraspSize,
             d,
             format!("exceeds d_max = {d_max:.3} mm: the fingers would be pressed past flat"),
         )
@@ -173,7 +174,7 @@ impl Gripper {
         scene: &GraspLoad,
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
-        finite("grasp.pressure_kpa", scene.pressure_kpa)?;
+        finite(Field::GraspPressureKpa, scene.pressure_kpa)?;
         let problem = self.problem(scene);
         let opts = SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
@@ -181,7 +182,7 @@ impl Gripper {
             shape: scene.shape,
             ..SolveOptions::default()
         };
-        let (sol, lambda, path) = self.close(&problem, warm, &opts, scene.target)?;
+        let (sol, lambda, path) = self.close(&problem, warm, &opts, &scene.target)?;
         Ok(self.grasp_from(sol, scene, problem, lambda, path))
     }
 
@@ -271,7 +272,7 @@ impl Gripper {
     pub(super) fn rest_state(
         &self,
         base: &Load,
-        target: (&str, f64),
+        target: &(Field, f64),
     ) -> Result<Coefficients, SolveError> {
         let pressed = Load {
             fx: 0.0,
@@ -330,7 +331,7 @@ impl Gripper {
             ),
         };
         Err(SolveError::NotOnPath {
-            target: target.0.to_string(),
+            target: target.0.clone(),
             value: target.1,
             detail,
         })
@@ -349,7 +350,7 @@ impl Gripper {
         problem: &TargetProblem,
         warm: Option<&Grasp>,
         opts: &SolveOptions,
-        target: (&str, f64),
+        target: &(Field, f64),
     ) -> Result<(Solution, f64, PathRecord), SolveError> {
         let same_family = |w: &&Grasp| {
             w.problem.base == problem.base
@@ -364,7 +365,7 @@ impl Gripper {
         let mut solver = Solver::new(&self.finger);
         let traced = solver
             .trace_target(problem, &start, lambda0, TARGET_TOL_MM, opts)
-            .map_err(|e| for_target(e, target.0, target.1))?;
+            .map_err(|e| for_target(e, target.0.clone(), target.1))?;
         let fold = matches!(traced, Traced::Fold(_));
         match traced {
             Traced::Reached {
@@ -386,7 +387,7 @@ impl Gripper {
                 };
                 let force = problem.load_at(end.lambda);
                 Err(SolveError::NotOnPath {
-                    target: target.0.to_string(),
+                    target: target.0.clone(),
                     value: target.1,
                     detail: format!(
                         "closing the gripper on the object from rest, {what} at grasp size {:.4} mm with a tip load of {:.4} N{after}",
@@ -398,7 +399,7 @@ impl Gripper {
             Traced::Stalled { last, reached } => {
                 let force = problem.load_at(last.lambda);
                 Err(SolveError::TargetNotReached {
-                    target: target.0.to_string(),
+                    target: target.0.clone(),
                     value: target.1,
                     reached,
                     detail: format!(
@@ -446,7 +447,7 @@ impl Gripper {
                 base: [0.0, 0.0],
                 direction,
                 tip_xg: self.tip_xg_for_size(d),
-                target: ("grasp.size", d),
+                target: (Field::GraspSize, d),
                 object,
                 shape,
             },
@@ -465,7 +466,7 @@ impl Gripper {
         warm: Option<&Grasp>,
     ) -> Result<Grasp, SolveError> {
         self.check_size(d)?;
-        finite("grasp.friction", friction)?;
+        finite(Field::GraspFriction, friction)?;
         self.solve_scene(
             &GraspLoad {
                 pressure_kpa,
@@ -473,7 +474,7 @@ impl Gripper {
                 base: [0.0, friction],
                 direction: [1.0, 0.0],
                 tip_xg: self.tip_xg_for_size(d),
-                target: ("grasp.friction", friction),
+                target: (Field::GraspFriction, friction),
                 object: Object::Face,
                 shape: true,
             },
@@ -483,10 +484,10 @@ impl Gripper {
 }
 
 pub(crate) fn check_beta(beta: f64) -> Result<(), InputError> {
-    finite("grasp.beta", beta)?;
+    finite(Field::GraspBeta, beta)?;
     require(
         beta.abs() <= FRAC_PI_2,
-        "grasp.beta",
+        Field::GraspBeta,
         beta,
         "must lie in [-pi/2, pi/2]".into(),
     )
@@ -494,10 +495,10 @@ pub(crate) fn check_beta(beta: f64) -> Result<(), InputError> {
 
 /// A failed grasp solve in the target's terms: input errors stay as they
 /// are; a solve that did not converge says which target it did not reach.
-pub(crate) fn for_target(e: SolveError, target: &str, value: f64) -> SolveError {
+pub(crate) fn for_target(e: SolveError, target: Field, value: f64) -> SolveError {
     match e {
         SolveError::NotConverged { .. } => SolveError::TargetNotReached {
-            target: target.to_string(),
+            target,
             value,
             reached: 0.0,
             detail: e.to_string(),

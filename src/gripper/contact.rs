@@ -51,6 +51,7 @@
 mod bernstein;
 
 use crate::error::{finite, positive, InputError};
+use crate::field::Field;
 use crate::finger::PolyCurve;
 
 use bernstein::{derivatives, restrict, to_bernstein, Best, Search};
@@ -98,14 +99,14 @@ impl Obstacle {
     /// `normal` (any non-zero length; it is normalised), the object on the
     /// side `normal . (q - point) < 0`.
     pub fn half_plane(point: [f64; 2], normal: [f64; 2]) -> Result<Obstacle, InputError> {
-        finite("half_plane.point[0]", point[0])?;
-        finite("half_plane.point[1]", point[1])?;
-        finite("half_plane.normal[0]", normal[0])?;
-        finite("half_plane.normal[1]", normal[1])?;
+        finite(Field::key("half_plane.point[0]"), point[0])?;
+        finite(Field::key("half_plane.point[1]"), point[1])?;
+        finite(Field::key("half_plane.normal[0]"), normal[0])?;
+        finite(Field::key("half_plane.normal[1]"), normal[1])?;
         let len = normal[0].hypot(normal[1]);
         if !(len > 0.0 && len.is_finite()) {
             return Err(InputError::OutOfRange {
-                field: "half_plane.normal".into(),
+                field: Field::key("half_plane.normal"),
                 value: len,
                 rule: "must be a non-zero direction".into(),
             });
@@ -120,9 +121,9 @@ impl Obstacle {
 
     /// A sphere's section: the disc of `radius` (positive) about `center`.
     pub fn disc(center: [f64; 2], radius: f64) -> Result<Obstacle, InputError> {
-        finite("disc.center[0]", center[0])?;
-        finite("disc.center[1]", center[1])?;
-        positive("disc.radius", radius)?;
+        finite(Field::key("disc.center[0]"), center[0])?;
+        finite(Field::key("disc.center[1]"), center[1])?;
+        positive(Field::key("disc.radius"), radius)?;
         Ok(Obstacle {
             shape: Shape::Disc { center, radius },
         })
@@ -261,7 +262,7 @@ impl Work {
 
 fn overflow() -> InputError {
     InputError::Inconsistent {
-        field: "curves".into(),
+        field: Field::key("curves"),
         rule: "the curves are too large for their distance to the object to be computed".into(),
     }
 }
@@ -273,7 +274,7 @@ fn overflow() -> InputError {
 pub fn deepest(curves: &[PolyCurve], obstacle: &Obstacle) -> Result<Deepest, InputError> {
     let parts: Parts = vec![vec![(0.0, 1.0)]; curves.len()];
     search(curves, obstacle, &parts)?.ok_or_else(|| InputError::Inconsistent {
-        field: "curves".into(),
+        field: Field::key("curves"),
         rule: "there is no curve to measure".into(),
     })
 }
@@ -295,16 +296,16 @@ pub fn deepest_apart_from(
 ) -> Result<Option<Deepest>, InputError> {
     let Some(curve) = curves.get(element) else {
         return Err(InputError::OutOfRange {
-            field: "element".into(),
+            field: Field::key("element"),
             value: element as f64,
             rule: format!("must be below the number of curves ({})", curves.len()),
         });
     };
-    finite("x", x)?;
+    finite(Field::key("x"), x)?;
     let l = curve.length();
     if !(0.0..=l).contains(&x) {
         return Err(InputError::OutOfRange {
-            field: "x".into(),
+            field: Field::key("x"),
             value: x,
             rule: format!("must lie in the curve's range [0, {l}]"),
         });
@@ -379,8 +380,8 @@ pub fn deepest_below(
     along: [f64; 2],
 ) -> Result<Option<Deepest>, InputError> {
     let face = Obstacle::half_plane(point, normal)?;
-    finite("along[0]", along[0])?;
-    finite("along[1]", along[1])?;
+    finite(Field::key("along[0]"), along[0])?;
+    finite(Field::key("along[1]"), along[1])?;
     let mut parts: Parts = Vec::with_capacity(curves.len());
     for curve in curves {
         let l = curve.length();

@@ -10,6 +10,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use crate::error::{finite, InputError};
+use crate::field::Field;
 use crate::finger::Affine2;
 
 /// A finger-frame point `(X, Z)` in the gripper frame, for mounting angle
@@ -25,8 +26,8 @@ pub fn finger_point_to_gripper(p: [f64; 2], a: f64, palm: f64) -> [f64; 2] {
 /// [`PolyCurve::map`](crate::finger::PolyCurve::map): the mid-plane curves in the
 /// gripper frame); point by point the same as [`finger_point_to_gripper`].
 pub fn finger_to_gripper_map(a: f64, palm: f64) -> Result<Affine2, InputError> {
-    finite("mounting_angle", a)?;
-    finite("palm", palm)?;
+    finite(Field::key("mounting_angle"), a)?;
+    finite(Field::key("palm"), palm)?;
     let (s, c) = a.sin_cos();
     Affine2::new([[c, s], [s, -c]], [0.5 * palm, 0.0])
 }

@@ -181,7 +181,7 @@ pub(super) struct GraspLoad {
     /// Target tip Xg (mm).
     pub(super) tip_xg: f64,
     /// The target's field and value, for errors.
-    pub(super) target: (&'static str, f64),
+    pub(super) target: (crate::Field, f64),
     /// The object touched, for the contact check.
     pub(super) object: Object,
     /// Sample the mid-plane of the answer (off for the grasps of a search,
@@ -211,18 +211,18 @@ impl Gripper {
     /// is an error; outside the design space, a warning, as is a palm wider
     /// than `2 l0`. The finger's own warnings come first.
     pub fn new(finger: Finger, params: GripperParams) -> Result<Gripper, SolveError> {
-        let a = finite("gripper.mounting_angle", params.mounting_angle)?;
+        let a = finite(crate::Field::GripperMountingAngle, params.mounting_angle)?;
         require(
             a > 0.0 && a < PI,
-            "gripper.mounting_angle",
+            crate::Field::GripperMountingAngle,
             a,
             "must lie in (0, pi) rad, i.e. (0, 180) degrees: the finger points away from the palm"
                 .into(),
         )?;
-        positive("gripper.mu", params.mu)?;
+        positive(crate::Field::GripperMu, params.mu)?;
         require(
             params.fingers >= 1,
-            "gripper.fingers",
+            crate::Field::GripperFingers,
             params.fingers as f64,
             "must be at least 1".into(),
         )?;
@@ -252,18 +252,23 @@ impl Gripper {
         }
         let (palm, overlap) = match params.geometry {
             PalmSpec::Overlap(g) => {
-                finite("gripper.overlap", g)?;
+                finite(crate::Field::GripperOverlap, g)?;
                 require(
                     g <= l0,
-                    "gripper.overlap",
+                    crate::Field::GripperOverlap,
                     g,
                     format!("must not exceed the finger's inward reach l0 = {l0:.6} mm (the palm diameter 2 (l0 - g) would be negative)"),
                 )?;
                 (2.0 * (l0 - g), g)
             }
             PalmSpec::Palm(l) => {
-                finite("gripper.palm", l)?;
-                require(l >= 0.0, "gripper.palm", l, "must not be negative".into())?;
+                finite(crate::Field::GripperPalm, l)?;
+                require(
+                    l >= 0.0,
+                    crate::Field::GripperPalm,
+                    l,
+                    "must not be negative".into(),
+                )?;
                 (l, l0 - 0.5 * l)
             }
         };
@@ -274,7 +279,7 @@ impl Gripper {
             let chord = palm * (PI / n as f64).sin();
             require(
                 chord >= width,
-                "gripper.fingers",
+                crate::Field::GripperFingers,
                 n as f64,
                 format!(
                     "do not fit around the palm: {n} fingers {width:.2} mm wide need a palm of at least {:.2} mm (neighbouring roots {chord:.2} mm apart on a palm of {palm:.2} mm)",

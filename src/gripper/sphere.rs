@@ -13,6 +13,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use crate::error::{finite, positive, require, InputError};
+use crate::field::Field;
 
 use crate::finger::Solution;
 use crate::solve_error::SolveError;
@@ -172,7 +173,7 @@ impl Gripper {
         shape: bool,
     ) -> Result<SphereGrasp, SolveError> {
         self.check_sphere(r, beta)?;
-        finite("sphere.lift", lift)?;
+        finite(Field::SphereLift, lift)?;
         let grasp = self.solve_scene(
             &GraspLoad {
                 pressure_kpa,
@@ -180,7 +181,7 @@ impl Gripper {
                 base: [0.0, lift],
                 direction: [1.0, 0.0],
                 tip_xg: r * beta.cos(),
-                target: ("sphere.lift", lift),
+                target: (Field::SphereLift, lift),
                 object: Object::Sphere,
                 shape,
             },
@@ -223,7 +224,7 @@ impl Gripper {
                 base: [0.0, 0.0],
                 direction: contact_force_to_gripper(1.0, self.params.mu, beta),
                 tip_xg: r * beta.cos(),
-                target: ("sphere.radius", r),
+                target: (Field::SphereRadius, r),
                 object: Object::Sphere,
                 shape,
             },
@@ -367,7 +368,7 @@ impl Gripper {
         lift: f64,
         samples: usize,
     ) -> Result<ViableAngles, SolveError> {
-        finite("sphere.lift", lift)?;
+        finite(Field::SphereLift, lift)?;
         check_scan(pressure_kpa, r, samples)?;
         let [lo, hi] = grasping_angle_range(self.params.mu);
         let mut scan = Vec::with_capacity(samples);
@@ -488,11 +489,11 @@ impl Gripper {
     /// contact the fingers reach without being pressed past flat (the tip at
     /// `Xg = r cos b <= d_max / 2`).
     pub(crate) fn check_sphere(&self, r: f64, beta: f64) -> Result<(), InputError> {
-        positive("sphere.radius", r)?;
+        positive(Field::SphereRadius, r)?;
         check_beta(beta)?;
         require(
             beta.abs() < FRAC_PI_2,
-            "sphere.beta",
+            Field::SphereBeta,
             beta,
             "must lie in (-pi/2, pi/2)".into(),
         )?;
@@ -500,7 +501,7 @@ impl Gripper {
         let reach = 0.5 * self.d_max();
         require(
             xg <= reach * (1.0 + 1e-12),
-            "sphere.radius",
+            Field::SphereRadius,
             r,
             format!(
                 "touched at {:.3} degrees puts the tip at Xg = {xg:.3} mm, beyond the flat fingers' reach d_max / 2 = {reach:.3} mm",
@@ -512,11 +513,11 @@ impl Gripper {
 
 /// The inputs of an angle scan over a sphere: pressure, radius, samples.
 fn check_scan(pressure_kpa: f64, r: f64, samples: usize) -> Result<(), InputError> {
-    positive("sphere.radius", r)?;
-    finite("grasp.pressure_kpa", pressure_kpa)?;
+    positive(Field::SphereRadius, r)?;
+    finite(Field::GraspPressureKpa, pressure_kpa)?;
     require(
         samples >= 4,
-        "sphere.samples",
+        Field::SphereSamples,
         samples as f64,
         "must be at least 4".into(),
     )

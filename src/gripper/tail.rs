@@ -149,7 +149,7 @@ impl Gripper {
             base: [0.0, 0.0],
             direction: contact_force_to_gripper(1.0, self.params.mu, beta),
             tip_xg: self.tip_xg_for_size(size),
-            target: ("grasp.size", size),
+            target: (crate::Field::GraspSize, size),
             object,
             shape: true,
         };
@@ -255,7 +255,7 @@ impl Gripper {
                 base: [0.0, 0.0],
                 direction: contact_force_to_gripper(1.0, self.params.mu, last.beta),
                 tip_xg: self.tip_xg_for_size(d_next),
-                target: ("grasp.size", d_next),
+                target: (crate::Field::GraspSize, d_next),
                 object: last.object,
                 shape: true,
             };

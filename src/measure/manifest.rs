@@ -317,7 +317,9 @@ impl Manifest {
                 SceneReadError::Syntax(s) => {
                     at_own("own", format!("specimen {name:?}: {}", s.message))
                 }
-                SceneReadError::Input(i) => at_own(i.field(), format!("specimen {name:?}: {i}")),
+                SceneReadError::Input(i) => {
+                    at_own(&i.field().to_string(), format!("specimen {name:?}: {i}"))
+                }
             })?;
             let length_mm = scene.actuator.geometry().lx;
             let mut tests = Vec::new();

@@ -30,6 +30,7 @@ mod solved;
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
+use crate::field::Field;
 use crate::finger::{Finger, Load, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
@@ -276,7 +277,7 @@ impl PlannedFinger {
             Built::Fixed(f) => Ok(Solved::single(f.solve_from(load, guess, opts)?, f)),
             Built::Levels(r) => r.solve(load, Some(guess), opts),
             Built::Auto(_) | Built::TipTolerance(_) => Err(InputError::Inconsistent {
-                field: "guess".into(),
+                field: Field::Guess,
                 rule: "the automatic partition and a tip tolerance start every solve themselves"
                     .into(),
             }

@@ -53,6 +53,7 @@ use super::solved::Solved;
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{positive, require, InputError, Warning};
+use crate::field::Field;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
@@ -303,7 +304,7 @@ impl Refiner {
             level += 1;
             if self.finger(level).is_err() {
                 return Err(InputError::OutOfRange {
-                    field: "tip_tol_mm".into(),
+                    field: Field::TipTolMm,
                     value: tip_tol_mm,
                     rule: match est {
                         Some(e) => format!(
@@ -446,7 +447,7 @@ impl TipTolerance {
         tip_tol_mm: f64,
         start: Option<usize>,
     ) -> Result<TipTolerance, InputError> {
-        positive("tip_tol_mm", tip_tol_mm)?;
+        positive(Field::TipTolMm, tip_tol_mm)?;
         let plan = match start {
             None => Refinement {
                 levels: 1,
@@ -456,7 +457,7 @@ impl TipTolerance {
                 let most = MAX_REFINED_ELEMENTS / 2;
                 require(
                     (1..=most).contains(&start),
-                    "partition.n",
+                    Field::PartitionN,
                     start as f64,
                     format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
                 )?;

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use crate::actuator::Actuator;
 use crate::error::{require, InputError};
+use crate::field::{Field, RefinementKey};
 use crate::model::ModelId;
 use crate::partition::Partition;
 
@@ -37,7 +38,7 @@ impl PartitionKind {
     }
 
     /// The kind named `name`, or an input error naming `field`.
-    pub fn parse(field: &str, name: &str) -> Result<PartitionKind, InputError> {
+    pub fn parse(field: impl Into<Field>, name: &str) -> Result<PartitionKind, InputError> {
         PartitionKind::ALL
             .into_iter()
             .find(|k| k.name() == name)
@@ -127,26 +128,26 @@ impl Refinement {
     pub(super) fn validate(&self, actuator: &Actuator, ribs: bool) -> Result<(), InputError> {
         require(
             self.start >= 1,
-            "refinement.start",
+            Field::Refinement(RefinementKey::Start),
             self.start as f64,
             "must be at least 1".to_string(),
         )?;
         require(
             self.levels >= 1,
-            "refinement.levels",
+            Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
             "must be at least 1".to_string(),
         )?;
         require(
             !self.extrapolate || (self.levels >= 2 && self.partition == PartitionKind::Material),
-            "refinement.extrapolate",
+            Field::Refinement(RefinementKey::Extrapolate),
             1.0,
             "needs at least two levels on a material partition (the extrapolation assumes its error expansion)".to_string(),
         )?;
         let finest = self.partition(actuator, ribs, self.levels - 1)?.len();
         require(
             finest <= MAX_REFINED_ELEMENTS,
-            "refinement.levels",
+            Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
             format!(
                 "gives {finest} elements at the finest level, more than {MAX_REFINED_ELEMENTS}"

@@ -17,7 +17,10 @@ fn read(text: &str) {
                 let _ = s.file().resolve();
             }
             // named by a key of the scene
-            Err(e) => assert!(schema_keys().contains(&schema_path(e.field())), "{e}"),
+            Err(e) => assert!(
+                schema_keys().contains(&schema_path(&e.field().to_string())),
+                "{e}"
+            ),
         },
         Err(e) => {
             let lines = text.split('\n').count();

@@ -10,6 +10,7 @@ use crate::coefficients::Coefficients;
 use crate::element::Element;
 use crate::element::ElementBlocks;
 use crate::error::InputError;
+use crate::field::Field;
 use crate::finger::{Chain, FingerCore, Load, TargetProblem};
 use crate::model::{
     ElementModel, EnergyScalars, GasParams, LinearParams, PrestressedParams, Vector,
@@ -49,7 +50,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-fn inconsistent(field: &str, rule: String) -> SolveError {
+fn inconsistent(field: impl Into<Field>, rule: String) -> SolveError {
     SolveError::Input(InputError::Inconsistent {
         field: field.into(),
         rule,
@@ -144,7 +145,7 @@ pub(crate) fn compute<M: ElementModel>(
     }
     if let Some(&value) = k.as_slice().iter().find(|v| !v.is_finite()) {
         return Err(InputError::NotFinite {
-            field: "solution.coefficients".into(),
+            field: Field::key("solution.coefficients"),
             value,
         }
         .into());
@@ -152,7 +153,7 @@ pub(crate) fn compute<M: ElementModel>(
     let (load, target) = match req.state {
         State::Load(l) => (*l, None),
         State::Target { problem, lambda } => {
-            crate::error::finite("target.lambda", lambda)?;
+            crate::error::finite(Field::key("target.lambda"), lambda)?;
             (problem.load_at(lambda), Some((problem, lambda)))
         }
     };

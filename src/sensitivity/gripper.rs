@@ -34,6 +34,7 @@ use std::fmt;
 
 use crate::actuator::Actuator;
 use crate::error::InputError;
+use crate::field::Field;
 use crate::finger::{Load, Solution};
 use crate::gripper::{contact_force_to_gripper, gripper_force_to_finger, Grasp, Gripper, PalmSpec};
 use crate::solve_error::SolveError;
@@ -69,16 +70,16 @@ impl GripperParam {
     /// The name (`actuator.pemc.eps0`, `grasp.pressure_kpa`,
     /// `gripper.mounting_angle_rad`, `gripper.overlap_mm`,
     /// `gripper.palm_mm`, `grasp.d_mm`, `sphere.r_mm`, `grasp.beta_rad`).
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> String {
         match self {
             GripperParam::Actuator(a) => a.name(),
-            GripperParam::Pressure => "grasp.pressure_kpa",
-            GripperParam::MountingAngle => "gripper.mounting_angle_rad",
-            GripperParam::Overlap => "gripper.overlap_mm",
-            GripperParam::Palm => "gripper.palm_mm",
-            GripperParam::Size => "grasp.d_mm",
-            GripperParam::Radius => "sphere.r_mm",
-            GripperParam::Beta => "grasp.beta_rad",
+            GripperParam::Pressure => "grasp.pressure_kpa".into(),
+            GripperParam::MountingAngle => "gripper.mounting_angle_rad".into(),
+            GripperParam::Overlap => "gripper.overlap_mm".into(),
+            GripperParam::Palm => "gripper.palm_mm".into(),
+            GripperParam::Size => "grasp.d_mm".into(),
+            GripperParam::Radius => "sphere.r_mm".into(),
+            GripperParam::Beta => "grasp.beta_rad".into(),
         }
     }
 
@@ -101,14 +102,14 @@ impl GripperParam {
 
 impl fmt::Display for GripperParam {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.write_str(&self.name())
     }
 }
 
 impl serde::Serialize for GripperParam {
     /// The name.
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
+        s.serialize_str(&self.name())
     }
 }
 
@@ -273,7 +274,7 @@ impl GraspSensitivities {
     }
 }
 
-pub(super) fn inconsistent(field: &str, rule: String) -> SolveError {
+pub(super) fn inconsistent(field: impl Into<Field>, rule: String) -> SolveError {
     SolveError::Input(InputError::Inconsistent {
         field: field.into(),
         rule,
@@ -571,18 +572,18 @@ impl Gripper {
         // the problem the gripper builds for this kind, checked
         let target = match kind {
             GraspKind::Size { d } | GraspKind::ForceControl { d, .. } => {
-                crate::error::finite("grasp.size", d)?;
+                crate::error::finite(Field::GraspSize, d)?;
                 c * r[0] + s * r[1] + 0.5 * d + self.overlap()
             }
             GraspKind::SphereAtFrictionLimit { radius } | GraspKind::Sphere { radius, .. } => {
-                crate::error::positive("sphere.radius", radius)?;
+                crate::error::positive(Field::SphereRadius, radius)?;
                 radius * cb - 0.5 * self.palm()
             }
         };
         if let GraspKind::Sphere { lift: f, .. } | GraspKind::ForceControl { friction: f, .. } =
             kind
         {
-            crate::error::finite("grasp.force", f)?;
+            crate::error::finite(Field::GraspForce, f)?;
         }
         let (base_g, u_g, du_g_db) = kind.scene(mu, b);
         let u_f = gripper_force_to_finger(u_g, a);

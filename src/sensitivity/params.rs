@@ -44,14 +44,14 @@ impl Param {
 
     /// The scene key (`actuator.pemc.eps0`, `load.pressure_kpa`, ...;
     /// `target.value` for the target).
-    pub fn name(self) -> &'static str {
+    pub fn name(self) -> String {
         match self {
             Param::Actuator(a) => a.name(),
-            Param::Pressure => "load.pressure_kpa",
-            Param::Kappa => "load.kappa",
-            Param::Fx => "load.fx",
-            Param::Fz => "load.fz",
-            Param::Target => "target.value",
+            Param::Pressure => "load.pressure_kpa".into(),
+            Param::Kappa => "load.kappa".into(),
+            Param::Fx => "load.fx".into(),
+            Param::Fz => "load.fz".into(),
+            Param::Target => "target.value".into(),
         }
     }
 
@@ -100,13 +100,13 @@ impl Param {
 
 impl fmt::Display for Param {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.name())
+        f.write_str(&self.name())
     }
 }
 
 impl serde::Serialize for Param {
     /// The scene key.
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_str(self.name())
+        s.serialize_str(&self.name())
     }
 }

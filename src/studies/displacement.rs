@@ -7,6 +7,7 @@ use super::options::{StudyOptions, STUDY8_PRESSURES_KPA};
 use super::output::*;
 use crate::actuator::Actuator;
 use crate::error::{finite, Warning};
+use crate::field::Field;
 use crate::finger::{
     Finger, Load, Solution, SolveOptions, Solver, TargetFold, TargetProblem, Traced,
 };
@@ -55,8 +56,8 @@ pub fn tip_force_for_displacement(
     axis: Axis,
     displacement: f64,
 ) -> Result<DisplacementForce, SolveError> {
-    finite("displacement.pressure_kpa", pressure_kpa)?;
-    finite("displacement.distance", displacement)?;
+    finite(Field::key("displacement.pressure_kpa"), pressure_kpa)?;
+    finite(Field::key("displacement.distance"), displacement)?;
     let base = Load::unloaded().with_pressure_kpa(pressure_kpa);
     let opts = SolveOptions::default();
     let mut solver = Solver::new(finger);
@@ -71,7 +72,7 @@ pub fn tip_force_for_displacement(
     let s0 = u[0] * start.tip[0] + u[1] * start.tip[1];
     let value = displacement;
     let not_on_path = |how: &str, f: TargetFold| SolveError::NotOnPath {
-        target: "displacement.distance".into(),
+        target: Field::key("displacement.distance"),
         value,
         detail: format!(
             "pushing the tip from its unloaded position, {how} at {:.4} mm (force {:.4} N)",
@@ -87,14 +88,14 @@ pub fn tip_force_for_displacement(
             1e-9,
             &opts,
         )
-        .map_err(|e| crate::gripper::for_target(e, "displacement.distance", value))?
+        .map_err(|e| crate::gripper::for_target(e, Field::key("displacement.distance"), value))?
     {
         Traced::Reached {
             solution, lambda, ..
         } => (solution, lambda),
         Traced::Stalled { reached, .. } => {
             return Err(SolveError::TargetNotReached {
-                target: "displacement.distance".into(),
+                target: Field::key("displacement.distance"),
                 value,
                 reached,
                 detail: "the path from the unloaded tip spent its step budget".into(),

@@ -71,11 +71,16 @@ impl StudyOptions {
 
     /// Checks every field.
     pub fn validate(&self) -> Result<(), InputError> {
-        let at_least = |field: &str, v: usize, min: usize| {
-            require(v >= min, field, v as f64, format!("must be at least {min}"))
+        let at_least = |field: &'static str, v: usize, min: usize| {
+            require(
+                v >= min,
+                crate::Field::key(field),
+                v as f64,
+                format!("must be at least {min}"),
+            )
         };
         at_least("study.elements", self.elements, 1)?;
-        positive("study.mu", self.mu)?;
+        positive(crate::Field::key("study.mu"), self.mu)?;
         at_least("study.sweep_points", self.sweep_points, 2)?;
         at_least("study.angle_samples", self.angle_samples, 4)?;
         at_least("study.pressure_points", self.pressure_points, 2)?;

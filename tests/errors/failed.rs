@@ -268,7 +268,7 @@ fn an_unreachable_grasp_is_a_typed_error_naming_the_target() {
             let SolveError::NotOnPath { target, value, .. } = e else {
                 unreachable!()
             };
-            assert_eq!((target.as_str(), value), ("grasp.size", -1e4));
+            assert_eq!((target, value), (fpc::Field::GraspSize, -1e4));
             assert!(msg.starts_with("grasp.size = -10000: not reached"), "{msg}");
             assert!(msg.contains("turns back at grasp size"), "{msg}");
         }

@@ -52,7 +52,10 @@ fn plans_are_checked_when_built() {
         input(build(levels(8, 2, true))).field(),
         "refinement.extrapolate"
     );
-    assert!(input(build(Plan::Equal(0))).field().contains('n'));
+    assert_eq!(
+        input(build(Plan::Equal(0))).field(),
+        &fpc::Field::PartitionN
+    );
 }
 
 // ------------------------------------------------------------- refinement

@@ -8,7 +8,7 @@ fn input_field(r: Result<Solution, SolveError>) -> String {
     match r {
         Err(SolveError::Input(e)) => {
             let msg = e.to_string();
-            assert!(msg.starts_with(e.field()), "{msg}");
+            assert!(msg.starts_with(&e.field().to_string()), "{msg}");
             e.field().to_string()
         }
         Err(e) => panic!("expected an input error, got {e}"),

@@ -2,10 +2,11 @@
 
 use std::io::Write;
 
+use fpc::field::{PemcKey, RefinementKey};
 use fpc::plan::{PartitionKind, RefinementRecord};
 use fpc::{
-    Actuator, InputError, Load, ModelId, Plan, PlannedFinger, Solution, SolveError, SolveOptions,
-    Solved,
+    Actuator, Field, InputError, Load, ModelId, Plan, PlannedFinger, Solution, SolveError,
+    SolveOptions, Solved,
 };
 
 /// `--elements`: a count, or `auto`.
@@ -94,55 +95,53 @@ pub struct Args {
     json: bool,
 }
 
-/// The flag a field of the library or a scene key is set by, for the
-/// fields `fpc finger` sets (values are already in the flag's unit once in
-/// scene terms: kPa, mm, N).
-const FLAGS: [(&str, &str); 14] = [
-    ("load.pressure_kpa", "--pressure-kpa"),
-    ("load.kappa", "--kappa"),
-    ("load.fx", "--fx"),
-    ("load.fz", "--fz"),
-    ("actuator.pemc.eps0", "--eps0"),
-    ("partition.elements", "--elements"),
-    ("partition.tip_tol_mm", "--tip-tol-mm"),
-    ("tip_tol_mm", "--tip-tol-mm"),
-    ("elements", "--elements"),
-    ("refinement.start", "--elements"),
-    ("refinement.levels", "--levels"),
-    ("refinement.extrapolate", "--extrapolate"),
-    ("partition", "--partition"),
-    ("model", "--model"),
-];
+/// The flag that sets a field of the library, for the fields `fpc
+/// finger` sets (values in the flag's unit once in scene terms: kPa).
+fn flag(field: &Field) -> Option<&'static str> {
+    Some(match field {
+        Field::LoadPressure => "--pressure-kpa",
+        Field::LoadKappa => "--kappa",
+        Field::LoadFx => "--fx",
+        Field::LoadFz => "--fz",
+        Field::Pemc(PemcKey::Eps0) => "--eps0",
+        Field::PartitionN | Field::PartitionMaxLength | Field::Refinement(RefinementKey::Start) => {
+            "--elements"
+        }
+        Field::TipTolMm => "--tip-tol-mm",
+        Field::Refinement(RefinementKey::Levels) => "--levels",
+        Field::Refinement(RefinementKey::Extrapolate) => "--extrapolate",
+        _ => return None,
+    })
+}
 
 /// An error of the library in the terms the user wrote: the flag, its
 /// value in the flag's unit.
 fn in_flag_terms(e: anyhow::Error) -> anyhow::Error {
-    let flag = |i: InputError| match FLAGS.iter().find(|(k, _)| *k == i.field()) {
-        Some((_, f)) => i.renamed(*f, |v| v),
-        None => i,
+    let in_flags = |i: InputError| match flag(i.field()) {
+        Some(f) => fpc::scene::scene_input(i).renamed(f, |v| v),
+        None => fpc::scene::scene_input(i),
     };
     let e = match e.downcast::<InputError>() {
-        Ok(i) => return flag(fpc::scene::scene_input(i)).into(),
+        Ok(i) => return in_flags(i).into(),
         Err(e) => e,
     };
     match e.downcast::<SolveError>() {
-        Ok(SolveError::Input(i)) => SolveError::Input(flag(fpc::scene::scene_input(i))).into(),
+        Ok(SolveError::Input(i)) => SolveError::Input(in_flags(i)).into(),
         Ok(s) => fpc::scene::scene_solve(s).into(),
         Err(e) => e,
     }
 }
 
 /// A warning in the terms the user wrote: the scene's words
-/// ([`fpc::scene::warning_text`]) with a leading key that is one of the
-/// command's flags named as the flag (`--eps0 = 0.8: ...`).
+/// ([`fpc::scene::warning_text`]), a note on the prestrain naming `--eps0`.
 fn flag_text(w: &fpc::Warning) -> String {
     let text = fpc::scene::warning_text(w);
-    for (key, flag) in FLAGS {
-        if let Some(rest) = text.strip_prefix(&format!("{key} = ")) {
-            return format!("{flag} = {rest}");
+    match w {
+        fpc::Warning::Eps0OutsideFit { .. } | fpc::Warning::SofteningPrestressLaw { .. } => {
+            text.replacen("actuator.pemc.eps0", "--eps0", 1)
         }
+        _ => text,
     }
-    text
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -150,7 +149,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 }
 
 fn solve_finger(args: &Args) -> anyhow::Result<()> {
-    let model = ModelId::parse("model", &args.model)?;
+    let model = ModelId::parse("--model", &args.model)?;
     let act = Actuator::paper(args.eps0)?;
     let load = Load {
         kappa: args.kappa,
@@ -165,7 +164,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
     for w in &input {
         crate::report::warning(&flag_text(w));
     }
-    let partition = PartitionKind::parse("partition", &args.partition)?;
+    let partition = PartitionKind::parse("--partition", &args.partition)?;
     let plan = match (args.tip_tol_mm, args.elements) {
         (Some(tip_tol_mm), elements) => {
             let start = match elements {
@@ -174,7 +173,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
             };
             if args.levels != 1 || args.extrapolate || partition != PartitionKind::Equal {
                 return Err(InputError::Inconsistent {
-                    field: "tip_tol_mm".into(),
+                    field: "--tip-tol-mm".into(),
                     rule: "chooses the partition, levels and extrapolation itself: leave out --partition, --levels and --extrapolate".into(),
                 }
                 .into());
@@ -184,7 +183,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
         (None, Some(Elements::Auto)) => {
             if args.levels != 1 || args.extrapolate {
                 return Err(InputError::Inconsistent {
-                    field: "elements".into(),
+                    field: "--elements".into(),
                     rule: "auto chooses the partition itself: leave out --levels and --extrapolate"
                         .into(),
                 }

@@ -47,6 +47,12 @@ fn bad_loads_exit_2_naming_the_flag() {
         &["finger", "--pressure-kpa", "NaN"],
         &["--pressure-kpa = NaN: must be finite"],
     );
+    // below absolute vacuum: the library's load.pressure (MPa) named by
+    // the flag, in the flag's unit
+    rejected(
+        &["finger", "--pressure-kpa=-500"],
+        &["--pressure-kpa = -500: is below absolute vacuum"],
+    );
     for k in ["0", "-1"] {
         rejected(
             &["finger", "--kappa", k],

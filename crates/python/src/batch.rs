@@ -177,7 +177,8 @@ fn run_in_pool(points: &[Point], cfg: &Config, cancel: &AtomicBool) -> Vec<Outco
                 .model(cfg.model)
                 .ribs(cfg.ribs)
                 .plan(cfg.plan.clone())
-                .build();
+                .build()
+                .map_err(crate::errors::input_in_python_terms);
             // a fixed partition that does not build fails the prestrain
             let finger = match (&cfg.plan, finger) {
                 (Plan::Equal(_), Err(e)) => return Err(e.to_string()),

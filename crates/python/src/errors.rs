@@ -14,6 +14,9 @@ use pyo3::create_exception;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 
+use fpc::field::RefinementKey;
+use fpc::Field;
+
 create_exception!(
     fpc,
     InputError,
@@ -53,11 +56,13 @@ pub fn input_error(py: Python<'_>, field: &str, message: String) -> PyErr {
 
 /// An [`fpc::InputError`] as `fpc.InputError`.
 pub fn from_input(py: Python<'_>, e: &fpc::InputError) -> PyErr {
-    input_error(py, e.field(), e.to_string())
+    let e = input_in_python_terms(e.clone());
+    input_error(py, &e.field().to_string(), e.to_string())
 }
 
 /// An [`fpc::SolveError`] as `fpc.InputError` or `fpc.SolveError`.
 pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
+    let e = &in_python_terms(e.clone());
     match e {
         fpc::SolveError::Input(i) => from_input(py, i),
         fpc::SolveError::NotConverged {
@@ -85,7 +90,7 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
             let err = SolveError::new_err(e.to_string());
             let v = err.value(py);
             let _ = v.setattr("kind", "target_not_reached");
-            let _ = v.setattr("target", target.as_str());
+            let _ = v.setattr("target", target.to_string());
             let _ = v.setattr("value", *value);
             let _ = v.setattr("reached", *reached);
             err
@@ -94,7 +99,7 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
             let err = SolveError::new_err(e.to_string());
             let v = err.value(py);
             let _ = v.setattr("kind", "not_on_path");
-            let _ = v.setattr("target", target.as_str());
+            let _ = v.setattr("target", target.to_string());
             let _ = v.setattr("value", *value);
             err
         }
@@ -106,24 +111,35 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
     }
 }
 
-/// `e` with its field `from` renamed `to` (same value, same unit), other
-/// errors unchanged.
-pub fn renamed(e: fpc::SolveError, from: &str, to: &str) -> fpc::SolveError {
-    use fpc::InputError as E;
-    let fpc::SolveError::Input(i) = e else {
-        return e;
-    };
-    if i.field() != from {
-        return fpc::SolveError::Input(i);
-    }
-    let field = to.to_string();
-    fpc::SolveError::Input(match i {
-        E::NotFinite { value, .. } => E::NotFinite { field, value },
-        E::NotPositive { value, .. } => E::NotPositive { field, value },
-        E::OutOfRange { value, rule, .. } => E::OutOfRange { field, value, rule },
-        E::Inconsistent { rule, .. } => E::Inconsistent { field, rule },
-        E::Unrecognised { value, rule, .. } => E::Unrecognised { field, value, rule },
+/// The Python argument that sets a field of the library under another
+/// name (the same value, the same unit; the angles are checked in degrees
+/// before the library sees them).
+fn argument(field: &Field) -> Option<&'static str> {
+    Some(match field {
+        Field::PartitionN | Field::Refinement(RefinementKey::Start) => "elements",
+        Field::GripperOverlap => "gripper.overlap_mm",
+        Field::GraspSize => "d_mm",
+        Field::GraspFriction => "friction_n",
+        Field::GraspPressureKpa => "pressure_kpa",
+        Field::SphereRadius => "r_mm",
+        Field::SphereLift => "lift_n",
+        Field::SphereSamples => "samples",
+        _ => return None,
     })
+}
+
+/// `e` naming the Python argument that sets its field, where one does.
+pub fn input_in_python_terms(e: fpc::InputError) -> fpc::InputError {
+    match argument(e.field()) {
+        Some(a) => e.renamed(a, |v| v),
+        None => e,
+    }
+}
+
+/// `e` in the terms of the Python arguments: its input error, or the
+/// target it did not reach.
+pub fn in_python_terms(e: fpc::SolveError) -> fpc::SolveError {
+    e.renamed(|f| argument(f).map(Field::from), |_, v| v)
 }
 
 /// A scene read error as `fpc.SceneError` or `fpc.InputError`; `shown`

@@ -54,7 +54,7 @@ fn value_at(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
                 return Err(from_input(
                     obj.py(),
                     &InputError::NotFinite {
-                        field: path.into(),
+                        field: path.to_string().into(),
                         value: x,
                     },
                 ));
@@ -283,17 +283,13 @@ pub fn elements_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<ElementsArg> {
 
 /// `n` equal elements over `lx`, errors naming `elements`.
 pub fn equal_partition(py: Python<'_>, lx: f64, n: usize) -> PyResult<Partition> {
-    Partition::equal(lx, n).map_err(|e| {
-        let message = e.to_string();
-        let rest = message.strip_prefix(e.field()).unwrap_or(&message);
-        input_error(py, "elements", format!("elements{rest}"))
-    })
+    Partition::equal(lx, n).map_err(|e| from_input(py, &e))
 }
 
 /// The load of a solve from Python's arguments, checked in their terms
 /// (`pressure_kpa`, `kappa`, `fx`, `fz`).
 pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, InputError> {
-    let finite = |field: &str, value: f64| {
+    let finite = |field: &'static str, value: f64| {
         if value.is_finite() {
             Ok(value)
         } else {

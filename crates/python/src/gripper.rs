@@ -11,7 +11,9 @@ use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
 use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions};
 
 use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
-use crate::errors::{cancellable, detached, from_input, from_solve, guarded, input_error, renamed};
+use crate::errors::{
+    cancellable, detached, from_input, from_solve, guarded, in_python_terms, input_error,
+};
 use crate::finger::{read_scene, Finger};
 use fpc::scene::{GraspJson, GripperJson};
 
@@ -75,59 +77,13 @@ fn grasp_dict<'py>(
     Ok(d)
 }
 
-/// The library's grasp fields and the Python arguments they are (the same
-/// units; the angles are checked in degrees before the library sees them).
 /// The most points of one `Gripper.sweep` (the broadcast size), checked
 /// before the inputs are flattened.
 pub const MAX_SWEEP_POINTS: usize = 100_000;
 
-const GRASP_FIELDS: [(&str, &str); 6] = [
-    ("grasp.size", "d_mm"),
-    ("grasp.friction", "friction_n"),
-    ("grasp.pressure_kpa", "pressure_kpa"),
-    ("sphere.radius", "r_mm"),
-    ("sphere.lift", "lift_n"),
-    ("sphere.samples", "samples"),
-];
-
-/// A grasp error in the terms of the Python arguments.
-fn in_python_terms(e: SolveError) -> SolveError {
-    match e {
-        SolveError::TargetNotReached {
-            target,
-            value,
-            reached,
-            detail,
-        } => SolveError::TargetNotReached {
-            target: GRASP_FIELDS
-                .iter()
-                .find(|f| f.0 == target)
-                .map_or(target, |f| f.1.to_string()),
-            value,
-            reached,
-            detail,
-        },
-        SolveError::NotOnPath {
-            target,
-            value,
-            detail,
-        } => SolveError::NotOnPath {
-            target: GRASP_FIELDS
-                .iter()
-                .find(|f| f.0 == target)
-                .map_or(target, |f| f.1.to_string()),
-            value,
-            detail,
-        },
-        e => GRASP_FIELDS
-            .iter()
-            .fold(e, |e, (from, to)| renamed(e, from, to)),
-    }
-}
-
 /// `beta_deg`: finite, in [-90, 90] degrees (open: (-90, 90) for a sphere).
 fn check_beta_deg(beta_deg: f64, open: bool) -> Result<(), fpc::InputError> {
-    let field = "beta_deg".to_string();
+    let field = fpc::Field::key("beta_deg");
     if !beta_deg.is_finite() {
         return Err(fpc::InputError::NotFinite {
             field,
@@ -259,10 +215,7 @@ impl Gripper {
         };
         let f = gripper_finger(py, finger)?;
         let inner = detached(py, move || fpc::Gripper::new(f, params))?
-            .map_err(|e| {
-                let e = renamed(e, "gripper.overlap", "gripper.overlap_mm");
-                from_solve(py, &e)
-            })?
+            .map_err(|e| from_solve(py, &e))?
             .with_stability(stability);
         Ok(Gripper {
             inner,

@@ -130,6 +130,9 @@ def test_bad_arguments_name_their_field():
     assert e.value.field == "threads"
     with pytest.raises(fpc.InputError, match=r"^elements"):
         fpc.batch_solve(elements=0)
+    # a point's message names the argument too
+    r = fpc.batch_solve(elements=600, tip_tol_mm=0.1)
+    assert r["error"][0].startswith("elements = 600: must lie in [1, 500]"), r["error"]
     with pytest.raises(fpc.InputError, match=r"^model"):
         fpc.batch_solve(model="nope")
     with pytest.raises(fpc.InputError, match=r"^actuator\.geometry\.h1"):

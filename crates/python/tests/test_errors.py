@@ -43,6 +43,9 @@ def test_actuator_values_name_their_scene_key():
 def test_arguments_name_themselves():
     field_error(lambda: fpc.Finger(elements=0), "elements")
     field_error(lambda: fpc.Finger(elements=5000), "elements")
+    # a tip tolerance doubles the count up to 1000 elements: the library's
+    # bound on its start is the argument's
+    field_error(lambda: fpc.Finger(elements=600).solve(tip_tol_mm=0.1), "elements")
     field_error(lambda: fpc.Finger(elements="many"), "elements")
     field_error(lambda: fpc.Finger(model="nope"), "model")
     f = fpc.Finger()

@@ -3,91 +3,34 @@
 //! [`SceneKey`] names every key of the file format by its place in the
 //! schema; the resolution validates through it, so its own errors name
 //! scene keys directly. The library's validating constructors name their
-//! fields in the library's terms (`load.pressure` in MPa, `grasp.beta` in
-//! rad, ...): [`LibField`] has one variant per library field the scene can
-//! trigger, and [`LibField::scene_key`] says which scene key it is, with
-//! the value in the key's unit. [`warning_text`] writes warnings the same
-//! way.
+//! fields in the library's terms ([`Field`]: `load.pressure` in MPa,
+//! `grasp.beta` in rad, ...): [`scene_key`] says which scene key a field
+//! the scene can trigger is, and [`scene_value`] converts its value to the
+//! key's unit. [`warning_text`] writes warnings the same way.
 
 use std::fmt;
 
 use crate::error::{self, InputError, Warning};
+pub(crate) use crate::field::{
+    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey, RibKey,
+};
 use crate::solve_error::SolveError;
-
-/// Defines an enum of leaf names with `ALL` and `name()` (the key as
-/// written in the file).
-macro_rules! names {
-    ($(#[$meta:meta])* $name:ident { $($variant:ident => $text:literal),+ $(,)? }) => {
-        $(#[$meta])*
-        #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-        pub(crate) enum $name {
-            $($variant),+
-        }
-
-        impl $name {
-            /// Every variant, in schema order.
-            #[allow(dead_code)] // some are only walked by the tests
-            pub(crate) const ALL: &'static [$name] = &[$($name::$variant),+];
-
-            /// The key as written in a scene file.
-            pub(crate) fn name(self) -> &'static str {
-                match self {
-                    $($name::$variant => $text),+
-                }
-            }
-        }
-
-        impl fmt::Display for $name {
-            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str(self.name())
-            }
-        }
-    };
-}
 
 names!(
     /// `[model]`.
-    ModelKey { Name => "name" }
-);
-names!(
-    /// `[actuator.geometry]`.
-    GeometryKey { Lx => "lx", Ly => "ly", Lc => "lc", H => "h", H1 => "h1", H2 => "h2", H3 => "h3" }
-);
-names!(
-    /// `[actuator.channel]`.
-    ChannelKey { Cx => "cx", Cy => "cy", H3a => "h3a", H3b => "h3b" }
-);
-names!(
-    /// The keys of `[actuator.ribs]` with `kind = "paper"`.
-    PaperRibKey { W1 => "w1", W2 => "w2", T => "t" }
-);
-names!(
-    /// The keys of one entry of `actuator.ribs.list`.
-    RibEntryKey { X0 => "x0", X1 => "x1", Width => "width" }
-);
-names!(
-    /// The linear laminae with a `[actuator.<layer>]` material table.
-    Layer { Cl => "cl", Emc => "emc", Fluidic => "fluidic" }
-);
-names!(
-    /// The elastic constants of a material table.
-    ElasticKey { E => "e", Nu => "nu", E1 => "e1", E2 => "e2", Nu12 => "nu12" }
-);
-names!(
-    /// `[actuator.pemc]`.
-    PemcKey { Eps0 => "eps0", E2 => "e2", P1 => "p1", P2 => "p2", P3 => "p3", P4 => "p4" }
+    pub(crate) ModelKey { Name => "name" }
 );
 names!(
     /// `[partition]`.
-    PartitionKey { Elements => "elements", Lengths => "lengths", TipTolMm => "tip_tol_mm" }
+    pub(crate) PartitionKey { Elements => "elements", Lengths => "lengths", TipTolMm => "tip_tol_mm" }
 );
 names!(
     /// `[load]`.
-    LoadKey { PressureKpa => "pressure_kpa", Kappa => "kappa", Fx => "fx", Fz => "fz" }
+    pub(crate) LoadKey { PressureKpa => "pressure_kpa", Kappa => "kappa", Fx => "fx", Fz => "fz" }
 );
 names!(
     /// `[solve]`.
-    SolveKey {
+    pub(crate) SolveKey {
         Rtol => "rtol",
         MaxIter => "max_iter",
         Strategy => "strategy",
@@ -100,7 +43,7 @@ names!(
 );
 names!(
     /// `[gripper]` (without its `grasp` table).
-    GripperKey {
+    pub(crate) GripperKey {
         MountingAngleDeg => "mounting_angle_deg",
         OverlapMm => "overlap_mm",
         PalmMm => "palm_mm",
@@ -111,7 +54,7 @@ names!(
 );
 names!(
     /// `[gripper.grasp]`.
-    GraspKey {
+    pub(crate) GraspKey {
         Kind => "kind",
         PressureKpa => "pressure_kpa",
         DMm => "d_mm",
@@ -139,12 +82,12 @@ pub(crate) enum SceneKey {
     /// `actuator.ribs.w1`, `w2`, `t`.
     PaperRib(PaperRibKey),
     /// `actuator.ribs.list[i].<key>`.
-    RibEntry(usize, RibEntryKey),
+    RibEntry(usize, RibKey),
     /// `actuator.<layer>.kind` (checked by the parser).
     #[allow(dead_code)]
-    MaterialKind(Layer),
+    MaterialKind(Lamina),
     /// `actuator.<layer>.<key>`.
-    Material(Layer, ElasticKey),
+    Material(Lamina, Elastic),
     Pemc(PemcKey),
     Partition(PartitionKey),
     /// `partition.lengths[i]`.
@@ -215,10 +158,10 @@ impl SceneKey {
         keys.extend(ChannelKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);
         keys.extend(PaperRibKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(RibEntryKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
-        for &l in Layer::ALL {
+        keys.extend(RibKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
+        for &l in Lamina::ALL {
             keys.push(SceneKey::MaterialKind(l));
-            keys.extend(ElasticKey::ALL.iter().map(|&k| SceneKey::Material(l, k)));
+            keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
         }
         keys.extend(PemcKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(PartitionKey::ALL.iter().map(|&k| SceneKey::from(k)));
@@ -236,12 +179,12 @@ impl SceneKey {
 
 /// Fails with `NotFinite` unless `value` is finite.
 pub(super) fn finite(key: impl Into<SceneKey>, value: f64) -> Result<f64, InputError> {
-    error::finite(&key.into().to_string(), value)
+    error::finite(key.into().to_string().into(), value)
 }
 
 /// Fails unless `value` is finite and strictly positive.
 pub(super) fn positive(key: impl Into<SceneKey>, value: f64) -> Result<f64, InputError> {
-    error::positive(&key.into().to_string(), value)
+    error::positive(key.into().to_string().into(), value)
 }
 
 /// Fails with `OutOfRange` unless `ok`.
@@ -255,7 +198,7 @@ pub(super) fn require(
         Ok(())
     } else {
         Err(InputError::OutOfRange {
-            field: key.into().to_string(),
+            field: key.into().to_string().into(),
             value,
             rule: rule.into(),
         })
@@ -265,7 +208,7 @@ pub(super) fn require(
 /// An `Inconsistent` error at `key`.
 pub(super) fn inconsistent(key: impl Into<SceneKey>, rule: impl Into<String>) -> InputError {
     InputError::Inconsistent {
-        field: key.into().to_string(),
+        field: key.into().to_string().into(),
         rule: rule.into(),
     }
 }
@@ -280,255 +223,65 @@ pub(super) fn forbid(keys: &[(SceneKey, bool)], rule: &str) -> Result<(), InputE
 
 // ------------------------------------------------------------ library fields
 
-/// A field the library names in its own terms, in an error the scene can
-/// trigger: one variant per library field ([`LibField::name`] is the
-/// library's spelling).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum LibField {
-    /// `actuator.geometry.<key>` ([`crate::Actuator::new`]).
-    Geometry(GeometryKey),
-    /// `actuator.channel.<key>`.
-    Channel(ChannelKey),
-    /// `actuator.ribs.w1`, `w2`, `t`.
-    PaperRib(PaperRibKey),
-    /// `actuator.ribs[i].<key>`: an explicit rib.
-    Rib(usize, RibEntryKey),
-    /// `actuator.ribs`: the ribs overlap.
-    Ribs,
-    /// `actuator.<layer>.<key>`.
-    Material(Layer, ElasticKey),
-    /// `actuator.pemc.eps0`, `actuator.pemc.e2`, `actuator.pemc.law.p1..p4`.
-    Pemc(PemcKey),
-    /// `partition.n` ([`crate::Partition::equal`], [`crate::Plan::TipTolerance`]).
-    PartitionN,
-    /// `partition.lx`.
-    PartitionLx,
-    /// `partition.lengths`.
-    PartitionLengths,
-    /// `partition.lengths (sum)`.
-    PartitionLengthsSum,
-    /// `partition.lengths[i]`.
-    PartitionLength(usize),
-    /// `partition.max_length` ([`crate::Partition::material`], the automatic partition).
-    PartitionMaxLength,
-    /// `tip_tol_mm` ([`crate::Plan::TipTolerance`]).
-    TipTolMm,
-    /// `load.pressure` (MPa).
-    LoadPressure,
-    /// `load.kappa`.
-    LoadKappa,
-    /// `load.fx`.
-    LoadFx,
-    /// `load.fz`.
-    LoadFz,
-    /// `solve` (the Newton settings together).
-    Solve,
-    /// `solve.rtol`.
-    SolveRtol,
-    /// `solve.max_iter`.
-    SolveMaxIter,
-    /// `solve.samples_per_element`.
-    SolveSamplesPerElement,
-    /// `solve.max_step`.
-    SolveMaxStep,
-    /// `gripper.mounting_angle` (rad; [`crate::Gripper::new`]).
-    GripperMountingAngle,
-    /// `gripper.mu`.
-    GripperMu,
-    /// `gripper.fingers`.
-    GripperFingers,
-    /// `gripper.finger` (a finger without elements).
-    GripperFinger,
-    /// `gripper.overlap`.
-    GripperOverlap,
-    /// `gripper.palm`.
-    GripperPalm,
-    /// `grasp.pressure_kpa` (the grasp solves).
-    GraspPressureKpa,
-    /// `grasp.size`.
-    GraspSize,
-    /// `grasp.beta` (rad).
-    GraspBeta,
-    /// `grasp.friction`.
-    GraspFriction,
-    /// `sphere.radius`.
-    SphereRadius,
-    /// `sphere.beta` (rad).
-    SphereBeta,
-    /// `sphere.lift`.
-    SphereLift,
+/// The scene key a library field is given by (`None`: a field the scene
+/// cannot set, or a name already written out).
+pub(crate) fn scene_key(f: &Field) -> Option<SceneKey> {
+    Some(match *f {
+        Field::Geometry(k) => SceneKey::Geometry(k),
+        Field::Channel(k) => SceneKey::Channel(k),
+        Field::PaperRib(k) => SceneKey::PaperRib(k),
+        Field::Rib(i, k) => SceneKey::RibEntry(i, k),
+        Field::Ribs => SceneKey::Ribs,
+        Field::Material(l, k) => SceneKey::Material(l, k),
+        Field::Pemc(k) => SceneKey::Pemc(k),
+        // the element count; the automatic partition's pieces; a finger
+        // without elements
+        Field::PartitionN | Field::PartitionMaxLength | Field::GripperFinger => {
+            SceneKey::Partition(PartitionKey::Elements)
+        }
+        Field::PartitionLx => SceneKey::Geometry(GeometryKey::Lx),
+        Field::PartitionLengths | Field::PartitionLengthsSum => {
+            SceneKey::Partition(PartitionKey::Lengths)
+        }
+        Field::PartitionLength(i) => SceneKey::PartitionLength(i),
+        Field::TipTolMm => SceneKey::Partition(PartitionKey::TipTolMm),
+        Field::LoadPressure => SceneKey::Load(LoadKey::PressureKpa),
+        Field::LoadKappa => SceneKey::Load(LoadKey::Kappa),
+        Field::LoadFx => SceneKey::Load(LoadKey::Fx),
+        Field::LoadFz => SceneKey::Load(LoadKey::Fz),
+        Field::Solve => SceneKey::SolveTable,
+        Field::SolveRtol => SceneKey::Solve(SolveKey::Rtol),
+        Field::SolveMaxIter => SceneKey::Solve(SolveKey::MaxIter),
+        Field::SolveSamplesPerElement => SceneKey::Solve(SolveKey::SamplesPerElement),
+        Field::SolveMaxStep => SceneKey::Solve(SolveKey::MaxStep),
+        Field::GripperMountingAngle => SceneKey::Gripper(GripperKey::MountingAngleDeg),
+        Field::GripperMu => SceneKey::Gripper(GripperKey::Mu),
+        Field::GripperFingers => SceneKey::Gripper(GripperKey::Fingers),
+        Field::GripperOverlap => SceneKey::Gripper(GripperKey::OverlapMm),
+        Field::GripperPalm => SceneKey::Gripper(GripperKey::PalmMm),
+        Field::GraspPressureKpa => SceneKey::Grasp(GraspKey::PressureKpa),
+        Field::GraspSize => SceneKey::Grasp(GraspKey::DMm),
+        Field::GraspBeta | Field::SphereBeta => SceneKey::Grasp(GraspKey::BetaDeg),
+        Field::GraspFriction => SceneKey::Grasp(GraspKey::FrictionN),
+        Field::SphereRadius => SceneKey::Grasp(GraspKey::RMm),
+        Field::SphereLift => SceneKey::Grasp(GraspKey::LiftN),
+        Field::Refinement(_)
+        | Field::SamplesPerElement
+        | Field::GraspForce
+        | Field::SphereSamples
+        | Field::Guess
+        | Field::Coefficients
+        | Field::Key(_) => return None,
+    })
 }
 
-impl LibField {
-    /// Every field whose name has no index.
-    const FIXED: &'static [LibField] = &[
-        LibField::Ribs,
-        LibField::PartitionN,
-        LibField::PartitionLx,
-        LibField::PartitionLengths,
-        LibField::PartitionLengthsSum,
-        LibField::PartitionMaxLength,
-        LibField::TipTolMm,
-        LibField::LoadPressure,
-        LibField::LoadKappa,
-        LibField::LoadFx,
-        LibField::LoadFz,
-        LibField::Solve,
-        LibField::SolveRtol,
-        LibField::SolveMaxIter,
-        LibField::SolveSamplesPerElement,
-        LibField::SolveMaxStep,
-        LibField::GripperMountingAngle,
-        LibField::GripperMu,
-        LibField::GripperFingers,
-        LibField::GripperFinger,
-        LibField::GripperOverlap,
-        LibField::GripperPalm,
-        LibField::GraspPressureKpa,
-        LibField::GraspSize,
-        LibField::GraspBeta,
-        LibField::GraspFriction,
-        LibField::SphereRadius,
-        LibField::SphereBeta,
-        LibField::SphereLift,
-    ];
-
-    /// Every field: the fixed ones, every actuator key, and the indexed
-    /// ones at index `index`.
-    pub(crate) fn all(index: usize) -> Vec<LibField> {
-        let mut all = Vec::new();
-        all.extend(GeometryKey::ALL.iter().map(|&k| LibField::Geometry(k)));
-        all.extend(ChannelKey::ALL.iter().map(|&k| LibField::Channel(k)));
-        all.extend(PaperRibKey::ALL.iter().map(|&k| LibField::PaperRib(k)));
-        all.extend(RibEntryKey::ALL.iter().map(|&k| LibField::Rib(index, k)));
-        for &l in Layer::ALL {
-            all.extend(ElasticKey::ALL.iter().map(|&k| LibField::Material(l, k)));
-        }
-        all.extend(PemcKey::ALL.iter().map(|&k| LibField::Pemc(k)));
-        all.push(LibField::PartitionLength(index));
-        all.extend_from_slice(LibField::FIXED);
-        all
-    }
-
-    /// The field's name as the library writes it.
-    pub(crate) fn name(self) -> String {
-        let fixed = match self {
-            LibField::Geometry(k) => return format!("actuator.geometry.{k}"),
-            LibField::Channel(k) => return format!("actuator.channel.{k}"),
-            LibField::PaperRib(k) => return format!("actuator.ribs.{k}"),
-            LibField::Rib(i, k) => return format!("actuator.ribs[{i}].{k}"),
-            LibField::Material(l, k) => return format!("actuator.{l}.{k}"),
-            LibField::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => {
-                return format!("actuator.pemc.{k}")
-            }
-            LibField::Pemc(k) => return format!("actuator.pemc.law.{k}"),
-            LibField::PartitionLength(i) => return format!("partition.lengths[{i}]"),
-            LibField::Ribs => "actuator.ribs",
-            LibField::PartitionN => "partition.n",
-            LibField::PartitionLx => "partition.lx",
-            LibField::PartitionLengths => "partition.lengths",
-            LibField::PartitionLengthsSum => "partition.lengths (sum)",
-            LibField::PartitionMaxLength => "partition.max_length",
-            LibField::TipTolMm => "tip_tol_mm",
-            LibField::LoadPressure => "load.pressure",
-            LibField::LoadKappa => "load.kappa",
-            LibField::LoadFx => "load.fx",
-            LibField::LoadFz => "load.fz",
-            LibField::Solve => "solve",
-            LibField::SolveRtol => "solve.rtol",
-            LibField::SolveMaxIter => "solve.max_iter",
-            LibField::SolveSamplesPerElement => "solve.samples_per_element",
-            LibField::SolveMaxStep => "solve.max_step",
-            LibField::GripperMountingAngle => "gripper.mounting_angle",
-            LibField::GripperMu => "gripper.mu",
-            LibField::GripperFingers => "gripper.fingers",
-            LibField::GripperFinger => "gripper.finger",
-            LibField::GripperOverlap => "gripper.overlap",
-            LibField::GripperPalm => "gripper.palm",
-            LibField::GraspPressureKpa => "grasp.pressure_kpa",
-            LibField::GraspSize => "grasp.size",
-            LibField::GraspBeta => "grasp.beta",
-            LibField::GraspFriction => "grasp.friction",
-            LibField::SphereRadius => "sphere.radius",
-            LibField::SphereBeta => "sphere.beta",
-            LibField::SphereLift => "sphere.lift",
-        };
-        fixed.to_string()
-    }
-
-    /// The field of a library name (`None`: not a field the scene can
-    /// trigger). Indexed names (`partition.lengths[2]`,
-    /// `actuator.ribs[0].x1`) carry their index.
-    pub(crate) fn from_name(name: &str) -> Option<LibField> {
-        let index = match name.split_once('[') {
-            None => None,
-            Some((_, rest)) => {
-                let (digits, _) = rest.split_once(']')?;
-                if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
-                    return None;
-                }
-                Some(digits.parse().ok()?)
-            }
-        };
-        LibField::all(index.unwrap_or(0))
-            .into_iter()
-            .find(|f| f.name() == name)
-    }
-
-    /// The scene key the field is given by.
-    pub(crate) fn scene_key(self) -> SceneKey {
-        match self {
-            LibField::Geometry(k) => SceneKey::Geometry(k),
-            LibField::Channel(k) => SceneKey::Channel(k),
-            LibField::PaperRib(k) => SceneKey::PaperRib(k),
-            LibField::Rib(i, k) => SceneKey::RibEntry(i, k),
-            LibField::Ribs => SceneKey::Ribs,
-            LibField::Material(l, k) => SceneKey::Material(l, k),
-            LibField::Pemc(k) => SceneKey::Pemc(k),
-            // the element count; the automatic partition's pieces; a
-            // finger without elements
-            LibField::PartitionN | LibField::PartitionMaxLength | LibField::GripperFinger => {
-                SceneKey::Partition(PartitionKey::Elements)
-            }
-            LibField::PartitionLx => SceneKey::Geometry(GeometryKey::Lx),
-            LibField::PartitionLengths | LibField::PartitionLengthsSum => {
-                SceneKey::Partition(PartitionKey::Lengths)
-            }
-            LibField::PartitionLength(i) => SceneKey::PartitionLength(i),
-            LibField::TipTolMm => SceneKey::Partition(PartitionKey::TipTolMm),
-            LibField::LoadPressure => SceneKey::Load(LoadKey::PressureKpa),
-            LibField::LoadKappa => SceneKey::Load(LoadKey::Kappa),
-            LibField::LoadFx => SceneKey::Load(LoadKey::Fx),
-            LibField::LoadFz => SceneKey::Load(LoadKey::Fz),
-            LibField::Solve => SceneKey::SolveTable,
-            LibField::SolveRtol => SceneKey::Solve(SolveKey::Rtol),
-            LibField::SolveMaxIter => SceneKey::Solve(SolveKey::MaxIter),
-            LibField::SolveSamplesPerElement => SceneKey::Solve(SolveKey::SamplesPerElement),
-            LibField::SolveMaxStep => SceneKey::Solve(SolveKey::MaxStep),
-            LibField::GripperMountingAngle => SceneKey::Gripper(GripperKey::MountingAngleDeg),
-            LibField::GripperMu => SceneKey::Gripper(GripperKey::Mu),
-            LibField::GripperFingers => SceneKey::Gripper(GripperKey::Fingers),
-            LibField::GripperOverlap => SceneKey::Gripper(GripperKey::OverlapMm),
-            LibField::GripperPalm => SceneKey::Gripper(GripperKey::PalmMm),
-            LibField::GraspPressureKpa => SceneKey::Grasp(GraspKey::PressureKpa),
-            LibField::GraspSize => SceneKey::Grasp(GraspKey::DMm),
-            LibField::GraspBeta | LibField::SphereBeta => SceneKey::Grasp(GraspKey::BetaDeg),
-            LibField::GraspFriction => SceneKey::Grasp(GraspKey::FrictionN),
-            LibField::SphereRadius => SceneKey::Grasp(GraspKey::RMm),
-            LibField::SphereLift => SceneKey::Grasp(GraspKey::LiftN),
-        }
-    }
-
-    /// A value of the field in the unit of its scene key (MPa to kPa, rad
-    /// to degrees).
-    pub(crate) fn scene_value(self, value: f64) -> f64 {
-        match self {
-            LibField::LoadPressure => value * 1e3,
-            LibField::GripperMountingAngle | LibField::GraspBeta | LibField::SphereBeta => {
-                degrees(value)
-            }
-            _ => value,
-        }
+/// A value of a library field in the unit of its scene key (MPa to kPa,
+/// rad to degrees).
+pub(crate) fn scene_value(f: &Field, value: f64) -> f64 {
+    match f {
+        Field::LoadPressure => value * 1e3,
+        Field::GripperMountingAngle | Field::GraspBeta | Field::SphereBeta => degrees(value),
+        _ => value,
     }
 }
 
@@ -536,55 +289,18 @@ impl LibField {
 /// key, the value in the key's unit. Errors on fields the scene cannot
 /// trigger stay as they are.
 pub fn scene_input(e: InputError) -> InputError {
-    let Some(f) = LibField::from_name(e.field()) else {
-        return e;
-    };
-    e.renamed(f.scene_key().to_string(), |v| f.scene_value(v))
+    let f = e.field().clone();
+    match scene_key(&f) {
+        Some(k) => e.renamed(k.to_string(), |v| scene_value(&f, v)),
+        None => e,
+    }
 }
 
 /// A library solve error in the scene's terms: input errors as in
 /// [`scene_input`], and the target of a target not reached. Front ends
 /// whose own names follow the scene keys (the CLI's flags) start from it.
 pub fn scene_solve(e: SolveError) -> SolveError {
-    match e {
-        SolveError::Input(i) => SolveError::Input(scene_input(i)),
-        SolveError::TargetNotReached {
-            target,
-            value,
-            reached,
-            detail,
-        } => match LibField::from_name(&target) {
-            Some(f) => SolveError::TargetNotReached {
-                target: f.scene_key().to_string(),
-                value: f.scene_value(value),
-                reached,
-                detail,
-            },
-            None => SolveError::TargetNotReached {
-                target,
-                value,
-                reached,
-                detail,
-            },
-        },
-        SolveError::NotOnPath {
-            target,
-            value,
-            detail,
-        } => match LibField::from_name(&target) {
-            Some(f) => SolveError::NotOnPath {
-                target: f.scene_key().to_string(),
-                value: f.scene_value(value),
-                detail,
-            },
-            None => SolveError::NotOnPath {
-                target,
-                value,
-                detail,
-            },
-        },
-        other => other,
-    }
+    e.renamed(|f| scene_key(f).map(|k| k.to_string().into()), scene_value)
 }
 
 /// Radians in degrees, rounded to 1e-9 deg (60 deg prints as 60).

@@ -5,56 +5,95 @@ use super::*;
 use crate::scene::testing::{schema_keys, schema_path};
 use crate::scene::Scene;
 
-/// The scene key of a library field name.
-fn scene_key_of(library: &str) -> String {
-    LibField::from_name(library)
-        .unwrap_or_else(|| panic!("{library} is not a library field"))
-        .scene_key()
+/// The scene key of a library field.
+fn scene_key_of(f: Field) -> String {
+    scene_key(&f)
+        .unwrap_or_else(|| panic!("{f} is not a library field the scene sets"))
         .to_string()
+}
+
+/// Every library field: every actuator key, the indexed ones at `index`,
+/// and the fixed ones.
+fn library_fields(index: usize) -> Vec<Field> {
+    let mut all = Vec::new();
+    all.extend(GeometryKey::ALL.iter().map(|&k| Field::Geometry(k)));
+    all.extend(ChannelKey::ALL.iter().map(|&k| Field::Channel(k)));
+    all.extend(PaperRibKey::ALL.iter().map(|&k| Field::PaperRib(k)));
+    all.extend(RibKey::ALL.iter().map(|&k| Field::Rib(index, k)));
+    for &l in Lamina::ALL {
+        all.extend(Elastic::ALL.iter().map(|&k| Field::Material(l, k)));
+    }
+    all.extend(PemcKey::ALL.iter().map(|&k| Field::Pemc(k)));
+    all.extend(
+        crate::field::RefinementKey::ALL
+            .iter()
+            .map(|&k| Field::Refinement(k)),
+    );
+    all.push(Field::PartitionLength(index));
+    all.extend_from_slice(Field::FIXED);
+    all
 }
 
 #[test]
 fn toml_paths_of_library_fields() {
-    assert_eq!(scene_key_of("actuator.pemc.law.p1"), "actuator.pemc.p1");
-    assert_eq!(scene_key_of("actuator.pemc.law.p4"), "actuator.pemc.p4");
+    assert_eq!(scene_key_of(Field::Pemc(PemcKey::P1)), "actuator.pemc.p1");
+    assert_eq!(scene_key_of(Field::Pemc(PemcKey::P4)), "actuator.pemc.p4");
     assert_eq!(
-        scene_key_of("actuator.ribs[2].width"),
+        scene_key_of(Field::Rib(2, RibKey::Width)),
         "actuator.ribs.list[2].width"
     );
-    assert_eq!(scene_key_of("actuator.ribs.w1"), "actuator.ribs.w1");
-    assert_eq!(scene_key_of("actuator.ribs"), "actuator.ribs");
-    assert_eq!(scene_key_of("load.pressure"), "load.pressure_kpa");
     assert_eq!(
-        scene_key_of("partition.lengths[12]"),
+        scene_key_of(Field::PaperRib(PaperRibKey::W1)),
+        "actuator.ribs.w1"
+    );
+    assert_eq!(scene_key_of(Field::Ribs), "actuator.ribs");
+    assert_eq!(scene_key_of(Field::LoadPressure), "load.pressure_kpa");
+    assert_eq!(scene_key_of(Field::PartitionN), "partition.elements");
+    assert_eq!(
+        scene_key_of(Field::PartitionLength(12)),
         "partition.lengths[12]"
     );
-    assert_eq!(scene_key_of("sphere.beta"), "gripper.grasp.beta_deg");
-    // not library fields (or not ones the scene can trigger)
+    assert_eq!(scene_key_of(Field::SphereBeta), "gripper.grasp.beta_deg");
+    // a name written out is never read back as a field, even one that
+    // spells a library field's name
     for name in [
         "guess",
-        "actuator.pemc.p1",
-        "actuator.ribs[x].x0",
-        "actuator.ribs[].x0",
-        "actuator.ribs[+1].x0",
-        "partition.lengths[1",
-        "load.pressure_kpa",
+        "load.pressure",
+        "partition.n",
+        "actuator.pemc.law.p1",
     ] {
-        assert_eq!(LibField::from_name(name), None, "{name}");
+        assert_eq!(scene_key(&Field::key(name)), None, "{name}");
     }
 }
 
 #[test]
 fn every_library_field_maps_to_a_scene_key_of_the_schema() {
     let schema = schema_keys();
+    // the library fields no scene sets: a refinement plan's, a curve's
+    // samples, the sensitivities' and the sphere's internal ones
+    let unset = [
+        Field::Refinement(crate::field::RefinementKey::Start),
+        Field::Refinement(crate::field::RefinementKey::Levels),
+        Field::Refinement(crate::field::RefinementKey::Extrapolate),
+        Field::SamplesPerElement,
+        Field::GraspForce,
+        Field::SphereSamples,
+        Field::Guess,
+        Field::Coefficients,
+    ];
     for index in [0, 7, 999] {
-        for f in LibField::all(index) {
-            let name = f.name();
-            assert_eq!(LibField::from_name(&name), Some(f), "{name}");
-            let key = f.scene_key();
-            assert!(
-                schema.contains(&schema_path(&key.to_string())),
-                "{name} maps to {key}, which is not a key of the schema"
-            );
+        let fields = library_fields(index);
+        let names: std::collections::BTreeSet<String> =
+            fields.iter().map(ToString::to_string).collect();
+        assert_eq!(names.len(), fields.len(), "two fields display alike");
+        for f in fields {
+            match scene_key(&f) {
+                Some(key) => assert!(
+                    schema.contains(&schema_path(&key.to_string())),
+                    "{f} maps to {key}, which is not a key of the schema"
+                ),
+                None => assert!(unset.contains(&f), "{f} maps to no scene key"),
+            }
         }
     }
 }
@@ -88,9 +127,9 @@ fn the_library_spells_its_fields_as_the_enum_does() {
     use crate::gripper::{Gripper, GripperParams, PalmSpec};
     use crate::partition::Partition;
 
-    fn field<T: std::fmt::Debug, E: Into<SolveError>>(r: Result<T, E>) -> String {
+    fn field<T: std::fmt::Debug, E: Into<SolveError>>(r: Result<T, E>) -> Field {
         match r.map_err(Into::into) {
-            Err(SolveError::Input(e)) => e.field().to_string(),
+            Err(SolveError::Input(e)) => e.field().clone(),
             other => panic!("expected an input error, got {other:?}"),
         }
     }
@@ -103,39 +142,39 @@ fn the_library_spells_its_fields_as_the_enum_does() {
     let gripper = |params: GripperParams| Gripper::new(Finger::paper(0.25, 4).unwrap(), params);
     let g = gripper(GripperParams::default()).unwrap();
     let names = [
-        (field(Partition::equal(110.0, 0)), LibField::PartitionN),
-        (field(Partition::equal(-1.0, 8)), LibField::PartitionLx),
+        (field(Partition::equal(110.0, 0)), Field::PartitionN),
+        (field(Partition::equal(-1.0, 8)), Field::PartitionLx),
         (
             field(Partition::custom(vec![], 110.0)),
-            LibField::PartitionLengths,
+            Field::PartitionLengths,
         ),
         (
             field(Partition::custom(vec![110.0, 0.0], 110.0)),
-            LibField::PartitionLength(1),
+            Field::PartitionLength(1),
         ),
         (
             field(Partition::custom(vec![f64::MAX, f64::MAX], 110.0)),
-            LibField::PartitionLengthsSum,
+            Field::PartitionLengthsSum,
         ),
         (
             field(Partition::material(&act, true, -1.0)),
-            LibField::PartitionMaxLength,
+            Field::PartitionMaxLength,
         ),
         (
             field(Load::unloaded().with_pressure_kpa(-500.0).validate()),
-            LibField::LoadPressure,
+            Field::LoadPressure,
         ),
         (
             field(actuator(&|p| p.geometry.h1 = -1.0)),
-            LibField::Geometry(GeometryKey::H1),
+            Field::Geometry(GeometryKey::H1),
         ),
         (
             field(actuator(&|p| p.pemc.law.p1 = 0.0)),
-            LibField::Pemc(PemcKey::P1),
+            Field::Pemc(PemcKey::P1),
         ),
         (
             field(actuator(&|p| p.pemc.e2 = 0.0)),
-            LibField::Pemc(PemcKey::E2),
+            Field::Pemc(PemcKey::E2),
         ),
         (
             field(actuator(&|p| {
@@ -145,7 +184,7 @@ fn the_library_spells_its_fields_as_the_enum_does() {
                     width: 1.0,
                 }])
             })),
-            LibField::Rib(0, RibEntryKey::X1),
+            Field::Rib(0, RibKey::X1),
         ),
         (
             field(
@@ -156,67 +195,68 @@ fn the_library_spells_its_fields_as_the_enum_does() {
                     })
                     .build(),
             ),
-            LibField::TipTolMm,
+            Field::TipTolMm,
         ),
         (
             field(gripper(GripperParams {
                 mounting_angle: f64::NAN,
                 ..GripperParams::default()
             })),
-            LibField::GripperMountingAngle,
+            Field::GripperMountingAngle,
         ),
         (
             field(gripper(GripperParams {
                 geometry: PalmSpec::Overlap(500.0),
                 ..GripperParams::default()
             })),
-            LibField::GripperOverlap,
+            Field::GripperOverlap,
         ),
         (
             field(gripper(GripperParams {
                 geometry: PalmSpec::Palm(-1.0),
                 ..GripperParams::default()
             })),
-            LibField::GripperPalm,
+            Field::GripperPalm,
         ),
         (
             field(g.force_control(0.0, f64::NAN, 0.3, None)),
-            LibField::GraspSize,
+            Field::GraspSize,
         ),
         (
             field(g.force_control(0.0, 100.0, f64::NAN, None)),
-            LibField::GraspFriction,
+            Field::GraspFriction,
         ),
         (
             field(g.force_control(f64::NAN, 100.0, 0.3, None)),
-            LibField::GraspPressureKpa,
+            Field::GraspPressureKpa,
         ),
         (
             field(g.grasp_load_for_size(0.0, 100.0, f64::NAN, None)),
-            LibField::GraspBeta,
+            Field::GraspBeta,
         ),
         (
             field(g.sphere_grasp(0.0, -1.0, 0.5, 0.3, None)),
-            LibField::SphereRadius,
+            Field::SphereRadius,
         ),
         (
             field(g.sphere_grasp(0.0, 50.0, 0.5, std::f64::consts::FRAC_PI_2, None)),
-            LibField::SphereBeta,
+            Field::SphereBeta,
         ),
         (
             field(g.sphere_grasp(0.0, 50.0, f64::NAN, 0.3, None)),
-            LibField::SphereLift,
+            Field::SphereLift,
         ),
     ];
-    for (name, f) in names {
-        assert_eq!(LibField::from_name(&name), Some(f), "{name}");
+    for (got, f) in names {
+        assert_eq!(got, f);
+        assert!(scene_key(&got).is_some(), "{got} maps to no scene key");
     }
 }
 
 #[test]
 fn library_values_in_scene_units() {
     let e = scene_input(InputError::OutOfRange {
-        field: "load.pressure".into(),
+        field: Field::LoadPressure,
         value: -0.2,
         rule: "is below absolute vacuum".into(),
     });
@@ -225,12 +265,15 @@ fn library_values_in_scene_units() {
         "load.pressure_kpa = -200: is below absolute vacuum"
     );
     let e = scene_input(InputError::NotFinite {
-        field: "gripper.mounting_angle".into(),
+        field: Field::GripperMountingAngle,
         value: f64::INFINITY,
     });
-    assert_eq!(e.field(), "gripper.mounting_angle_deg");
+    assert_eq!(
+        e.to_string(),
+        "gripper.mounting_angle_deg = inf: must be finite"
+    );
     let e = scene_solve(SolveError::TargetNotReached {
-        target: "grasp.friction".into(),
+        target: Field::GraspFriction,
         value: 0.3,
         reached: 0.5,
         detail: "stopped".into(),
@@ -242,7 +285,7 @@ fn library_values_in_scene_units() {
     );
     // a field the scene cannot trigger is left alone
     let e = InputError::NotFinite {
-        field: "guess".into(),
+        field: Field::Guess,
         value: f64::INFINITY,
     };
     assert_eq!(scene_input(e.clone()), e);
@@ -278,4 +321,14 @@ fn warnings_use_scene_keys() {
         texts[0].starts_with("actuator.pemc.eps0 = 0.8"),
         "{texts:?}"
     );
+}
+
+#[test]
+fn sensitivity_parameters_are_named_by_the_scene_keys_of_their_fields() {
+    let schema = schema_keys();
+    for p in crate::actuator::ActuatorParam::all() {
+        let key = scene_key_of(p.field());
+        assert_eq!(p.name(), key);
+        assert!(schema.contains(&schema_path(&key)), "{key}");
+    }
 }

@@ -7,7 +7,7 @@ use crate::actuator::{
 };
 use crate::error::InputError;
 use crate::scene::fields::{
-    forbid, inconsistent, scene_input, ElasticKey, Layer, PaperRibKey, SceneKey,
+    forbid, inconsistent, scene_input, Elastic, Lamina, PaperRibKey, SceneKey,
 };
 use crate::scene::schema::*;
 
@@ -50,11 +50,11 @@ pub(super) fn resolve_actuator(
     };
     let (ribs, ribs_echo) = resolve_ribs(&a.ribs, &d.ribs)?;
     echo.ribs = ribs_echo;
-    let (cl, e) = resolve_material(&a.cl, d.cl, Layer::Cl)?;
+    let (cl, e) = resolve_material(&a.cl, d.cl, Lamina::Cl)?;
     echo.cl = e;
-    let (emc, e) = resolve_material(&a.emc, d.emc, Layer::Emc)?;
+    let (emc, e) = resolve_material(&a.emc, d.emc, Lamina::Emc)?;
     echo.emc = e;
-    let (fluidic, e) = resolve_material(&a.fluidic, d.fluidic, Layer::Fluidic)?;
+    let (fluidic, e) = resolve_material(&a.fluidic, d.fluidic, Lamina::Fluidic)?;
     echo.fluidic = e;
     let pm = &a.pemc;
     let [q1, q2, q3, q4] = d.pemc.law.to_array();
@@ -149,7 +149,7 @@ fn resolve_ribs(
 fn resolve_material(
     m: &MaterialSection,
     default: Material,
-    layer: Layer,
+    layer: Lamina,
 ) -> Result<(Material, MaterialSection), InputError> {
     let iso_set = m.e.is_some() || m.nu.is_some();
     let ortho_set = m.e1.is_some() || m.e2.is_some() || m.nu12.is_some();
@@ -162,10 +162,10 @@ fn resolve_material(
         (false, true) => MaterialKind::Orthotropic,
         _ => default_kind,
     });
-    let key = |k: ElasticKey| SceneKey::Material(layer, k);
+    let key = |k: Elastic| SceneKey::Material(layer, k);
     // a value of this kind: the file's, else the layer's default if it is
     // of the same kind, else required
-    let value = |k: ElasticKey, v: Option<f64>, fallback: Option<f64>| -> Result<f64, InputError> {
+    let value = |k: Elastic, v: Option<f64>, fallback: Option<f64>| -> Result<f64, InputError> {
         v.or(fallback).ok_or_else(|| {
             inconsistent(
                 key(k),
@@ -185,9 +185,9 @@ fn resolve_material(
         MaterialKind::Isotropic => {
             forbid(
                 &[
-                    (key(ElasticKey::E1), m.e1.is_some()),
-                    (key(ElasticKey::E2), m.e2.is_some()),
-                    (key(ElasticKey::Nu12), m.nu12.is_some()),
+                    (key(Elastic::E1), m.e1.is_some()),
+                    (key(Elastic::E2), m.e2.is_some()),
+                    (key(Elastic::Nu12), m.nu12.is_some()),
                 ],
                 "an orthotropic key, but the layer is isotropic (keys e, nu)",
             )?;
@@ -196,8 +196,8 @@ fn resolve_material(
                 Material::Orthotropic(_) => None,
             };
             let iso = Isotropic {
-                e: value(ElasticKey::E, m.e, d.map(|d| d.e))?,
-                nu: value(ElasticKey::Nu, m.nu, d.map(|d| d.nu))?,
+                e: value(Elastic::E, m.e, d.map(|d| d.e))?,
+                nu: value(Elastic::Nu, m.nu, d.map(|d| d.nu))?,
             };
             (echo.e, echo.nu) = (Some(iso.e), Some(iso.nu));
             Material::Isotropic(iso)
@@ -205,8 +205,8 @@ fn resolve_material(
         MaterialKind::Orthotropic => {
             forbid(
                 &[
-                    (key(ElasticKey::E), m.e.is_some()),
-                    (key(ElasticKey::Nu), m.nu.is_some()),
+                    (key(Elastic::E), m.e.is_some()),
+                    (key(Elastic::Nu), m.nu.is_some()),
                 ],
                 "an isotropic key, but the layer is orthotropic (keys e1, e2, nu12)",
             )?;
@@ -215,9 +215,9 @@ fn resolve_material(
                 Material::Isotropic(_) => None,
             };
             let o = Orthotropic {
-                e1: value(ElasticKey::E1, m.e1, d.map(|d| d.e1))?,
-                e2: value(ElasticKey::E2, m.e2, d.map(|d| d.e2))?,
-                nu12: value(ElasticKey::Nu12, m.nu12, d.map(|d| d.nu12))?,
+                e1: value(Elastic::E1, m.e1, d.map(|d| d.e1))?,
+                e2: value(Elastic::E2, m.e2, d.map(|d| d.e2))?,
+                nu12: value(Elastic::Nu12, m.nu12, d.map(|d| d.nu12))?,
             };
             (echo.e1, echo.e2, echo.nu12) = (Some(o.e1), Some(o.e2), Some(o.nu12));
             Material::Orthotropic(o)

@@ -52,7 +52,7 @@ const MAX_ELEMENTS: usize = 1000;
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     // every bound checked before any allocation or case
-    let out_of_range = |field: &str, value: f64, rule: String| -> anyhow::Error {
+    let out_of_range = |field: &'static str, value: f64, rule: String| -> anyhow::Error {
         fpc::InputError::OutOfRange {
             field: field.into(),
             value,
