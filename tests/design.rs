@@ -245,3 +245,52 @@ fn an_infeasible_request_names_what_fails() {
     assert!(w.margin < 0.0);
     assert!(w.requirement.starts_with("object[0] cuboid"), "{w:?}");
 }
+
+#[test]
+fn a_claim_bent_backwards_carries_its_note_and_a_strict_design_never_claims_one() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/design/paper_sec5.toml"
+    ))
+    .unwrap();
+    // the design fpc design finds for the paper's objects; its grasps bend
+    // the root element backwards a little
+    let x = [0.2842, 74.31, 20.0];
+    let reversed = |toml: &str| {
+        let solved = Scene::from_toml(toml).unwrap().solve().unwrap();
+        let SceneSolution::Gripper { grasp: Some(g), .. } = solved else {
+            panic!("no grasp")
+        };
+        (g.grasp.is_reversed(), g.is_valid())
+    };
+    let loose = Requirements::parse(&text).unwrap();
+    assert!(!loose.strict);
+    let e = evaluate(&loose, x);
+    let checks = fpc::design::reproduce(&e, &loose);
+    let mut any = false;
+    for c in &checks {
+        assert!(c.reproduced, "{c:?}");
+        assert!(c.text.contains("strict = false"), "{}", c.text);
+        let (rev, _) = reversed(&c.text);
+        any |= rev;
+        // the note is there exactly when the scene's grasp is bent backwards
+        assert_eq!(
+            rev,
+            c.notes.iter().any(|n| n.contains("bent backwards")),
+            "{c:?}"
+        );
+    }
+    assert!(any, "the paper's design should bend an element backwards");
+
+    let strict = Requirements::parse(&format!("strict = true\n{text}")).unwrap();
+    assert!(strict.strict);
+    let e = evaluate(&strict, x);
+    for c in fpc::design::reproduce(&e, &strict) {
+        assert!(c.reproduced, "{c:?}");
+        assert!(c.text.contains("strict = true"), "{}", c.text);
+        // a strict claim is valid only without a reversal
+        let (rev, valid) = reversed(&c.text);
+        assert!(!(rev && valid), "{c:?}");
+        assert!(!c.valid || !rev, "{c:?}");
+    }
+}

@@ -255,8 +255,11 @@ def design(requirements: Scene, starts: int = 2, seed: int = 1) -> dict[str, Any
     ``{eps0, mounting_angle_deg, overlap_mm, varied}`` as in design.json,
     ``margins``, ``worst``), ``sensitivities`` (``{requirement, gradient}``,
     the gradient as ``{eps0, mounting_angle_deg, overlap_mm}``),
-    ``evaluations``, ``starts`` and ``scenes`` (``{name, toml}`` per
-    object, for ``solve_scene``). ``starts`` <= 10000. Raises
+    ``evaluations``, ``starts``, ``reproductions`` (each object's scene
+    solved again: ``{file, valid, reproduced, detail, notes, ...}``, the
+    notes naming what does not void the grasp, such as a reversed element
+    outside strict mode) and ``scenes`` (``{name, toml}`` per object, for
+    ``solve_scene``). ``starts`` <= 10000. Raises
     ``SceneError`` or ``InputError`` for bad requirements,
     ``FileNotFoundError`` for a missing path; Ctrl-C interrupts."""
 

@@ -39,6 +39,10 @@ pub struct Reproduction {
     pub reproduced: bool,
     /// What the scene gave, in words.
     pub detail: String,
+    /// The notes of the scene's grasp that do not make it invalid (a
+    /// reversed element outside strict mode, the actuator's notes), in
+    /// words: a claim is reported with them, never without.
+    pub notes: Vec<String>,
 }
 
 fn agrees(claimed: f64, solved: f64) -> bool {
@@ -73,6 +77,16 @@ pub fn reproduce(best: &Evaluation, req: &Requirements) -> Vec<Reproduction> {
                 (Ok(_), None) => "no grasp in the scene".into(),
                 (Err(e), _) => format!("does not solve: {e}"),
             };
+            let notes = grasp
+                .map(|g| {
+                    g.grasp
+                        .warnings
+                        .iter()
+                        .filter(|w| !w.is_validity())
+                        .map(|w| w.to_string())
+                        .collect()
+                })
+                .unwrap_or_default();
             let (solved_lift_n, solved_normal_n) = match grasp {
                 Some(g) => (Some(g.grasp.lift), Some(g.grasp.normal)),
                 None => (None, None),
@@ -97,6 +111,7 @@ pub fn reproduce(best: &Evaluation, req: &Requirements) -> Vec<Reproduction> {
                 valid,
                 reproduced,
                 detail,
+                notes,
             }
         })
         .collect()

@@ -22,6 +22,12 @@ pub struct Requirements {
     /// Elements per finger (default 8, the paper's).
     #[serde(default = "default_elements")]
     pub elements: usize,
+    /// Strict grasps (default false): a grasp that bends an element
+    /// backwards does not count as holding an object, as in the paper's
+    /// grasp analysis ([`crate::GripperParams::strict`]); otherwise such a
+    /// grasp counts and its reproduction carries the reversal as a note.
+    #[serde(default)]
+    pub strict: bool,
     /// Every object must be held.
     #[serde(default, rename = "object", with = "object_list")]
     pub objects: Vec<ObjectRequirement>,

@@ -345,6 +345,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             },
             s.detail
         )?;
+        for n in &s.notes {
+            writeln!(w, "  note         {n}")?;
+        }
     }
     if let Some(f) = &d.failure {
         writeln!(w, "not met        {f}")?;

@@ -28,9 +28,11 @@ use crate::finger::scene_text;
 /// ``sensitivities`` (per requirement: ``requirement`` and ``gradient``,
 /// d margin / d variable as ``{"eps0", "mounting_angle_deg",
 /// "overlap_mm"}``, per unit of each), ``evaluations``, ``starts``,
-/// ``failure`` and ``scenes``: one ``{"name", "toml"}`` per object, a
-/// scene that ``fpc solve`` or ``solve_scene`` runs to reproduce the
-/// claimed grasp.
+/// ``failure``, ``reproductions`` (each object's scene solved again:
+/// ``file``, ``valid``, ``reproduced``, ``detail`` and ``notes``, what does
+/// not void the grasp, such as a reversed element outside strict mode) and
+/// ``scenes``: one ``{"name", "toml"}`` per object, a scene that ``fpc
+/// solve`` or ``solve_scene`` runs to reproduce the claimed grasp.
 ///
 /// ``requirements`` is read as a path when it is an ``os.PathLike`` or a
 /// one-line ``str`` ending in ``.toml`` or containing ``/`` (a missing file

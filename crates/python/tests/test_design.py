@@ -33,6 +33,11 @@ def test_a_feasible_design_and_its_scenes_reproduce_the_grasps():
         solved = fpc.solve_scene(s["toml"], name=s["name"])
         assert solved["grasp"]["valid"], (s["name"], solved["grasp"])
         assert solved["scene"]["actuator"]["pemc"]["eps0"] == pytest.approx(eps0, rel=1e-12)
+    # the library's own re-solve of each scene, with the notes it reports
+    assert [r["file"] for r in d["reproductions"]] == [s["name"] for s in d["scenes"]]
+    for r in d["reproductions"]:
+        assert r["reproduced"] and r["valid"], r
+        assert isinstance(r["notes"], list), r
 
 
 def test_infeasible_requirements_name_the_failing_one():
