@@ -182,12 +182,6 @@ impl Field {
     }
 }
 
-impl From<&'static str> for Field {
-    fn from(name: &'static str) -> Field {
-        Field::key(name)
-    }
-}
-
 impl From<String> for Field {
     fn from(name: String) -> Field {
         Field::Key(Cow::Owned(name))

@@ -451,7 +451,7 @@ fn bad_plans_name_their_field() {
     );
     // 27 * 2^6 > MAX_REFINED_ELEMENTS
     assert_eq!(field(Refinement { levels: 7, ..base }), "refinement.levels");
-    assert!(PartitionKind::parse("partition", "bisected").is_err());
+    assert!(PartitionKind::parse(fpc::Field::key("partition"), "bisected").is_err());
     // equal elements from 300: two levels fit, an estimate needs three
     let r = solve_to_tip_tolerance(
         ModelId::default(),

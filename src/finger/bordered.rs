@@ -66,7 +66,7 @@ impl TargetProblem {
         finite(crate::Field::key("target.value"), self.target)?;
         if self.direction == [0.0, 0.0] || self.weights == [0.0, 0.0] {
             return Err(InputError::Inconsistent {
-                field: "target".into(),
+                field: crate::Field::key("target"),
                 rule: "the load direction and the target weights must not be zero".into(),
             });
         }

@@ -61,7 +61,7 @@ impl Load {
         finite(crate::Field::LoadPressure, self.pressure)?;
         if self.pressure < VACUUM_GAUGE_MPA {
             return Err(InputError::OutOfRange {
-                field: "load.pressure".into(),
+                field: crate::Field::LoadPressure,
                 value: self.pressure,
                 rule: format!(
                     "is below absolute vacuum ({} kPa gauge)",

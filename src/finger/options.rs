@@ -76,14 +76,14 @@ impl SolveOptions {
         positive(crate::Field::SolveMaxStep, self.max_step)?;
         if self.max_iter == 0 {
             return Err(InputError::OutOfRange {
-                field: "solve.max_iter".into(),
+                field: crate::Field::SolveMaxIter,
                 value: 0.0,
                 rule: "must be at least 1".into(),
             });
         }
         if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {
             return Err(InputError::OutOfRange {
-                field: "solve.samples_per_element".into(),
+                field: crate::Field::SolveSamplesPerElement,
                 value: self.samples_per_element as f64,
                 rule: format!(
                     "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}] when the shape is sampled"
@@ -172,7 +172,7 @@ pub(crate) fn check_guess(
 ) -> Result<(), InputError> {
     if guess.elements() != elements || guess.per_element() != per_element {
         return Err(InputError::OutOfRange {
-            field: "guess".into(),
+            field: crate::Field::Guess,
             value: guess.elements() as f64,
             rule: format!(
                 "must hold one set of {per_element} coefficients per element ({elements}); it holds {} of {}",
@@ -183,7 +183,7 @@ pub(crate) fn check_guess(
     }
     match guess.as_slice().iter().find(|v| !v.is_finite()) {
         Some(&value) => Err(InputError::NotFinite {
-            field: "guess".into(),
+            field: crate::Field::Guess,
             value,
         }),
         None => Ok(()),

@@ -228,7 +228,7 @@ impl Gripper {
         )?;
         if finger.is_empty() {
             return Err(InputError::Inconsistent {
-                field: "gripper.finger".into(),
+                field: crate::Field::GripperFinger,
                 rule: "the finger has no elements".into(),
             }
             .into());

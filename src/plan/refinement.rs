@@ -164,7 +164,7 @@ impl Refinement {
     ) -> Result<Partition, InputError> {
         let lx = actuator.geometry().lx;
         let too_fine = || InputError::OutOfRange {
-            field: "refinement.levels".into(),
+            field: Field::Refinement(RefinementKey::Levels),
             value: (level + 1) as f64,
             rule: format!("more than {MAX_REFINED_ELEMENTS} elements"),
         };

@@ -135,7 +135,7 @@ pub(crate) fn compute<M: ElementModel>(
     let k = req.coefficients;
     if k.elements() != ne || k.per_element() != n {
         return Err(inconsistent(
-            "solution.coefficients",
+            Field::key("solution.coefficients"),
             format!(
                 "must hold one set of {n} coefficients per element ({ne}); it holds {} of {}",
                 k.elements(),
@@ -177,7 +177,7 @@ pub(crate) fn compute<M: ElementModel>(
     // the finger's blocks, from the actuator (which must be the finger's)
     let mismatch = || {
         inconsistent(
-            "actuator",
+            Field::key("actuator"),
             "is not the actuator this finger was built from (its blocks do not give the finger's moments)"
                 .into(),
         )
@@ -208,7 +208,7 @@ pub(crate) fn compute<M: ElementModel>(
     let residual = g.iter().fold(0.0f64, |m, v| m.max(v.abs())) / core.stiffness;
     if residual.is_nan() || residual > EQUILIBRIUM_TOLERANCE {
         return Err(inconsistent(
-            "solution",
+            Field::key("solution"),
             format!(
                 "is not an equilibrium of this load (relative residual {residual:.3e} > {EQUILIBRIUM_TOLERANCE:e})"
             ),
@@ -258,7 +258,7 @@ pub(crate) fn compute<M: ElementModel>(
             let length: f64 = core.lengths.iter().sum();
             if c.is_nan() || c.abs() > TARGET_TOLERANCE * length {
                 return Err(inconsistent(
-                    "solution",
+                    Field::key("solution"),
                     format!("does not meet the target (w . tip - target = {c:.3e} mm)"),
                 ));
             }

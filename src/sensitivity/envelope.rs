@@ -5,6 +5,7 @@
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
+use crate::field::Field;
 use crate::gripper::{Grasp, Gripper, SphereLift, CONTACT_TOL_MM};
 use crate::solve_error::SolveError;
 
@@ -111,7 +112,7 @@ impl Gripper {
         let lift = sg.grasp.lift;
         if (lift - best.lift).abs() > 1e-6 * (lift.abs().max(best.lift.abs()) + 1e-9) {
             return Err(inconsistent(
-                "best",
+                Field::key("best"),
                 format!(
                     "is not this gripper's best lift at {} kPa: the grasp re-solved at its angle lifts {lift:.9} N, not {:.9} N",
                     pressure_kpa, best.lift
@@ -137,7 +138,7 @@ impl Gripper {
             let phi_b = phi[nb];
             if phi_b == 0.0 || !phi_b.is_finite() {
                 return Err(inconsistent(
-                    "best",
+                    Field::key("best"),
                     "lies on the second-contact boundary, but the contact depth does not move with the angle there".into(),
                 ));
             }
@@ -279,7 +280,7 @@ impl Gripper {
             (true, _) => Ok(tip_rows),
             (false, Some((_, rows))) => Ok(rows),
             (false, None) => Err(inconsistent(
-                "best",
+                Field::key("best"),
                 format!(
                     "lies on a validity boundary other than a contact (the tip's tangent is {:.3e} rad from the sphere's surface, and nothing else of the finger reaches it): not covered",
                     phi_tip.asin()

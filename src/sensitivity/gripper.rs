@@ -600,7 +600,7 @@ impl Gripper {
             && near(pb.base.pressure * 1e3, grasp.pressure_kpa);
         if !same {
             return Err(inconsistent(
-                "grasp",
+                Field::key("grasp"),
                 format!("is not a {kind:?} grasp of this gripper (its target problem differs)"),
             ));
         }

@@ -118,7 +118,7 @@ fn flag(field: &Field) -> Option<&'static str> {
 /// value in the flag's unit.
 fn in_flag_terms(e: anyhow::Error) -> anyhow::Error {
     let in_flags = |i: InputError| match flag(i.field()) {
-        Some(f) => fpc::scene::scene_input(i).renamed(f, |v| v),
+        Some(f) => fpc::scene::scene_input(i).renamed(fpc::Field::key(f), |v| v),
         None => fpc::scene::scene_input(i),
     };
     let e = match e.downcast::<InputError>() {
@@ -149,7 +149,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 }
 
 fn solve_finger(args: &Args) -> anyhow::Result<()> {
-    let model = ModelId::parse("--model", &args.model)?;
+    let model = ModelId::parse(fpc::Field::key("--model"), &args.model)?;
     let act = Actuator::paper(args.eps0)?;
     let load = Load {
         kappa: args.kappa,
@@ -164,7 +164,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
     for w in &input {
         crate::report::warning(&flag_text(w));
     }
-    let partition = PartitionKind::parse("--partition", &args.partition)?;
+    let partition = PartitionKind::parse(fpc::Field::key("--partition"), &args.partition)?;
     let plan = match (args.tip_tol_mm, args.elements) {
         (Some(tip_tol_mm), elements) => {
             let start = match elements {
@@ -173,7 +173,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
             };
             if args.levels != 1 || args.extrapolate || partition != PartitionKind::Equal {
                 return Err(InputError::Inconsistent {
-                    field: "--tip-tol-mm".into(),
+                    field: fpc::Field::key("--tip-tol-mm"),
                     rule: "chooses the partition, levels and extrapolation itself: leave out --partition, --levels and --extrapolate".into(),
                 }
                 .into());
@@ -183,7 +183,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
         (None, Some(Elements::Auto)) => {
             if args.levels != 1 || args.extrapolate {
                 return Err(InputError::Inconsistent {
-                    field: "--elements".into(),
+                    field: fpc::Field::key("--elements"),
                     rule: "auto chooses the partition itself: leave out --levels and --extrapolate"
                         .into(),
                 }

@@ -156,7 +156,7 @@ pub fn stem_and_dir(
 pub fn prepare_dir(out: &Path) -> anyhow::Result<()> {
     let reject = |rule: String| -> anyhow::Error {
         InputError::Inconsistent {
-            field: "--out".into(),
+            field: fpc::Field::key("--out"),
             rule,
         }
         .into()

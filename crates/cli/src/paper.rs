@@ -73,7 +73,7 @@ pub struct Args {
 fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, String)> {
     let Some(path) = &args.scene else {
         let model = match &args.model {
-            Some(m) => ModelId::parse("model", m)?,
+            Some(m) => ModelId::parse(fpc::Field::key("model"), m)?,
             None => ModelId::default(),
         };
         return Ok((
@@ -88,7 +88,7 @@ fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, Strin
     let scene = fpc::scene::Scene::from_toml(&text)
         .map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let model = match &args.model {
-        Some(m) => ModelId::parse("model", m)?,
+        Some(m) => ModelId::parse(fpc::Field::key("model"), m)?,
         None => scene.model,
     };
     let elements = match &scene.partition {
@@ -518,7 +518,7 @@ mod tests {
         let dir = scratch("failed");
         let mut out = Output::new(dir.clone(), StudyOptions::coarse(), true, "default".into());
         let err = SolveError::Input(InputError::NotFinite {
-            field: "test.value".into(),
+            field: fpc::Field::key("test.value"),
             value: f64::NAN,
         });
         out.finish(&STUDIES[2], Duration::ZERO, Err(err)).unwrap();

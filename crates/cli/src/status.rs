@@ -77,7 +77,7 @@ mod tests {
         assert_eq!(exit_code(&Ok(())), 0);
         assert_eq!(exit_code(&Err(rejected("usage"))), 2);
         let input = InputError::NotFinite {
-            field: "x".into(),
+            field: fpc::Field::key("x"),
             value: f64::NAN,
         };
         assert_eq!(exit_code(&Err(input.clone().into())), 2);

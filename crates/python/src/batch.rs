@@ -394,7 +394,7 @@ fn config(
             return Err(from_input(
                 py,
                 &fpc::InputError::NotPositive {
-                    field: "tip_tol_mm".into(),
+                    field: fpc::Field::key("tip_tol_mm"),
                     value: t,
                 },
             ));

@@ -131,7 +131,7 @@ fn argument(field: &Field) -> Option<&'static str> {
 /// `e` naming the Python argument that sets its field, where one does.
 pub fn input_in_python_terms(e: fpc::InputError) -> fpc::InputError {
     match argument(e.field()) {
-        Some(a) => e.renamed(a, |v| v),
+        Some(a) => e.renamed(Field::key(a), |v| v),
         None => e,
     }
 }
@@ -139,7 +139,7 @@ pub fn input_in_python_terms(e: fpc::InputError) -> fpc::InputError {
 /// `e` in the terms of the Python arguments: its input error, or the
 /// target it did not reach.
 pub fn in_python_terms(e: fpc::SolveError) -> fpc::SolveError {
-    e.renamed(|f| argument(f).map(Field::from), |_, v| v)
+    e.renamed(|f| argument(f).map(Field::key), |_, v| v)
 }
 
 /// A scene read error as `fpc.SceneError` or `fpc.InputError`; `shown`

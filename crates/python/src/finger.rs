@@ -223,7 +223,7 @@ pub fn actuator_from_kwargs(
 
 /// The model named `name`, or `fpc.InputError` for `model`.
 pub fn model(py: Python<'_>, name: &str) -> PyResult<ModelId> {
-    ModelId::parse("model", name).map_err(|e| from_input(py, &e))
+    ModelId::parse(fpc::Field::key("model"), name).map_err(|e| from_input(py, &e))
 }
 
 /// `elements`: a whole number, `"auto"`, or None.
@@ -294,7 +294,7 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
             Ok(value)
         } else {
             Err(InputError::NotFinite {
-                field: field.into(),
+                field: fpc::Field::key(field),
                 value,
             })
         }
@@ -303,7 +303,7 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
     let vacuum_kpa = fpc::finger::VACUUM_GAUGE_MPA * 1e3;
     if pressure_kpa < vacuum_kpa {
         return Err(InputError::OutOfRange {
-            field: "pressure_kpa".into(),
+            field: fpc::Field::key("pressure_kpa"),
             value: pressure_kpa,
             rule: format!("is below absolute vacuum ({vacuum_kpa} kPa gauge)"),
         });
@@ -311,7 +311,7 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
     finite("kappa", kappa)?;
     if kappa <= 0.0 {
         return Err(InputError::NotPositive {
-            field: "kappa".into(),
+            field: fpc::Field::key("kappa"),
             value: kappa,
         });
     }

@@ -181,7 +181,7 @@ impl Gripper {
                 return Err(from_input(
                     py,
                     &fpc::InputError::NotFinite {
-                        field: field.into(),
+                        field: fpc::Field::key(field),
                         value: x,
                     },
                 ));

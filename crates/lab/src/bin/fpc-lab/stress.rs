@@ -54,7 +54,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     // every bound checked before any allocation or case
     let out_of_range = |field: &'static str, value: f64, rule: String| -> anyhow::Error {
         fpc::InputError::OutOfRange {
-            field: field.into(),
+            field: fpc::Field::key(field),
             value,
             rule,
         }
