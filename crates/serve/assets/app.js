@@ -14,7 +14,7 @@ function actuatorKeys() {
   return {
     model: { name: $("model").value },
     actuator: { pemc: { eps0: num("eps0") } },
-    partition: { elements: num("elements") },
+    partition: { elements: $("partition").value === "auto" ? "auto" : num("elements") },
   };
 }
 
@@ -151,6 +151,24 @@ function bounds(sets, pad) {
   return { x0: x0 - pad, x1: x1 + pad, y0: y0 - pad, y1: y1 + pad };
 }
 
+// The elements a finding names, drawn over the mid-plane `pts` (sampled
+// equally per element, root to tip) in red with the element's number.
+function markElements(p, pts, v, flip) {
+  const n = v.elements;
+  const per = Math.round((pts.length - 1) / n);
+  const named = new Set(v.warnings.filter((w) => Number.isInteger(w.element)).map((w) => w.element));
+  for (const e of named) {
+    if (!(e >= 0 && e < n) || per < 1) continue;
+    const seg = pts.slice(e * per, (e + 1) * per + 1);
+    for (const q of flip ? [seg, mirror(seg)] : [seg]) {
+      const mark = path(p, q, "marked");
+      if (mark) mark.setAttribute("data-element", String(e));
+    }
+    const mid = seg[Math.floor(seg.length / 2)];
+    if (mid) el("text", { x: p.X(mid[0]) + 6, y: p.Y(mid[1]), class: "note" }, p.svg, `element ${e}`);
+  }
+}
+
 function note(p, text) {
   el("text", { x: 56, y: 26, class: "note" }, p.svg, text);
 }
@@ -171,6 +189,7 @@ function drawFinger(ok, v) {
   const p = frame(svg, { ...b, equal: true, xlabel: "X (mm)", ylabel: "Z (mm)" });
   el("line", { x1: p.X(-5), x2: p.X(5), y1: p.Y(0), y2: p.Y(0), class: "palm" }, svg);
   path(p, pts, v.validity ? "held" : "held bad");
+  markElements(p, pts, v, false);
   const [tx, tz] = v.tip_mm;
   el("circle", {
     id: "finger-tip", cx: p.X(tx), cy: p.Y(tz), r: 4, class: "tip",
@@ -244,6 +263,7 @@ function drawGrasp(ok, v) {
   path(p, rest, "rest"); path(p, mirror(rest), "rest");
   const cls = g.valid ? "held" : "held bad";
   path(p, held, cls); path(p, mirror(held), cls);
+  markElements(p, held, v, true);
   const [tx, tz] = g.tip_gripper_mm;
   el("circle", { id: "grasp-tip", cx: p.X(tx), cy: p.Y(tz), r: 4, class: "tip", "data-tip-xg-mm": String(tx), "data-tip-zg-mm": String(tz) }, svg);
   if (!g.valid) note(p, `not held: ${g.invalid ? g.invalid.kind : "invalid"}`);
@@ -305,7 +325,7 @@ function updateCurves() {
 
 // The curves do not depend on the object or the pressure: only a change
 // of the design recomputes them (after the slider rests for a moment).
-const DESIGN = new Set(["eps0", "elements", "model", "angle", "overlap", "fingers", "mu"]);
+const DESIGN = new Set(["eps0", "elements", "partition", "model", "angle", "overlap", "fingers", "mu"]);
 let frameQueued = false;
 let curveTimer = null;
 let curvesFor = "";
@@ -314,6 +334,7 @@ function showValues() {
   for (const o of document.querySelectorAll("output")) {
     o.textContent = $(o.htmlFor.value).value;
   }
+  $("elements").disabled = $("partition").value === "auto";
   $("width").disabled = $("kind").value !== "cuboid";
   $("radius").disabled = $("kind").value !== "sphere";
   $("beta").disabled = $("kind").value !== "sphere";

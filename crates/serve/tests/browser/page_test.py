@@ -3,7 +3,8 @@
 Selenium): it loads without console errors; every control is reached by
 the keyboard; moving the prestrain slider with the arrow keys moves the
 drawn tip to where `fpc finger --eps0 X --json` puts it (to 0.01 mm); an
-object too heavy to hold shows the refusal in words; a scene file typed
+object too heavy to hold shows the refusal in words; an element beyond
+the slope limit is marked on the drawing and named; a scene file typed
 into the page gives the grasp `fpc solve` gives on it. Saves a screenshot.
 
 usage: page_test.py FPC_BIN SCREENSHOT.png
@@ -74,7 +75,7 @@ def main():
 
 def run(url):
     opts = webdriver.ChromeOptions()
-    for a in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1500,1300",
+    for a in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1500,1700",
               "--disable-dev-shm-usage", "--no-first-run", "--disable-extensions"]:
         opts.add_argument(a)
     opts.binary_location = os.environ.get("CHROMIUM", "/usr/bin/chromium")
@@ -143,6 +144,19 @@ def run(url):
         assert "invalid" in verdict.get_attribute("class"), verdict.get_attribute("class")
         assert len(verdict.text) > len("Not held: ") + 10, verdict.text
         print(f"a 12 N cuboid: {verdict.text!r}")
+
+        # a finding is shown where it happens: two elements turn beyond the
+        # slope limit, each marked on the drawn finger and named in words
+        driver.execute_script(
+            "const n = document.getElementById('elements'); n.value = 2;"
+            "n.dispatchEvent(new Event('input', {bubbles: true}));")
+        marked = wait_for("the marked elements", lambda: driver.execute_script(
+            "return document.body.dataset.busy === '0' &&"
+            " [...document.querySelectorAll('#finger-view path.marked')].map(p => p.dataset.element)"))
+        assert sorted(set(marked)) == ["0", "1"], marked
+        words = driver.find_element(By.ID, "finger-findings").text
+        assert "element 0 turns" in words and "slope limit" in words, words
+        print(f"N = 2: elements {sorted(set(marked))} marked, {words.splitlines()[0]!r}")
 
         # a scene file typed into the page gives `fpc solve`'s grasp
         scene = ("[actuator.pemc]\neps0 = 0.2\n\n[gripper]\nmounting_angle_deg = 65.0\noverlap_mm = 15.0\n\n"
