@@ -378,3 +378,103 @@ async fn the_page_and_its_files() {
         );
     }
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn lift_curve_points_are_the_scene_s_size_grasps() {
+    let addr = start(fpc_serve::app()).await;
+    let gripper = json!({ "mounting_angle_deg": 60, "overlap_mm": 20, "mu": 0.6 });
+    let body = json!({ "scene": { "gripper": gripper }, "points": 10 });
+    let (status, v) = post(addr, "/api/lift-curve", body).await;
+    assert_eq!(status, 200, "{v}");
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(points.len(), 11, "{v}");
+    // a point inside the sweep, solved again as a scene's size grasp (f =
+    // mu F at grasping angle 0): the same normal force and lift
+    let p = &points[5];
+    assert_eq!(p["valid"], true, "{p}");
+    let d = p["size_mm"].as_f64().unwrap();
+    let text = format!(
+        "[gripper]\nmounting_angle_deg = 60.0\noverlap_mm = 20.0\nmu = 0.6\n\
+         [gripper.grasp]\nkind = \"size\"\npressure_kpa = 0.0\nd_mm = {d}\nbeta_deg = 0.0\n"
+    );
+    let Ok(SceneSolution::Gripper {
+        grasp: Some(want), ..
+    }) = Scene::from_toml(&text).unwrap().solve()
+    else {
+        panic!("the scene has a grasp")
+    };
+    let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1e-12);
+    let (f, lift) = (
+        p["normal_force_n"].as_f64().unwrap(),
+        p["lift_n"].as_f64().unwrap(),
+    );
+    assert!(
+        rel(f, want.grasp.normal) < 1e-6,
+        "{f} vs {}",
+        want.grasp.normal
+    );
+    assert!(
+        rel(lift, want.grasp.lift) < 1e-6,
+        "{lift} vs {}",
+        want.grasp.lift
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn design_margins_are_the_library_s() {
+    let addr = start(fpc_serve::app()).await;
+    // every variable fixed: one design, its margins evaluated
+    let text = "fingers = 3\nmu = 0.6\n\n[[object]]\nkind = \"sphere\"\nradius_mm = [40.0, 45.0]\n\
+                lift_n = 0.35\n\n[vary]\neps0 = [0.25, 0.25]\nmounting_angle_deg = [60.0, 60.0]\n\
+                overlap_mm = [20.0, 20.0]\n";
+    let (status, v) = post(addr, "/api/design", json!({ "toml": text, "starts": 0 })).await;
+    assert_eq!(status, 200, "{v}");
+    let req = fpc::design::Requirements::parse(text).unwrap();
+    let want = fpc::design::evaluate(&req, [0.25, 60.0, 20.0]);
+    let got = v["worst_margin"].as_f64().unwrap();
+    assert!(
+        (got - want.worst).abs() <= 1e-9 * want.worst.abs().max(1.0),
+        "{got} vs {}",
+        want.worst
+    );
+    assert_eq!(v["feasible"], want.feasible(), "{v}");
+    assert_eq!(
+        v["margins"].as_array().unwrap().len(),
+        want.margins.len(),
+        "{v}"
+    );
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn envelope_points_are_fresh_searches() {
+    let addr = start(fpc_serve::app()).await;
+    let body = json!({ "scene": { "gripper": {} }, "radii": 4, "samples": 24 });
+    let (status, v) = post(addr, "/api/envelope", body).await;
+    assert_eq!(status, 200, "{v}");
+    let Ok(SceneSolution::Gripper { gripper, .. }) =
+        Scene::from_toml("[gripper]\n").unwrap().solve()
+    else {
+        panic!("a gripper scene")
+    };
+    let mut compared = 0;
+    for p in v["points"].as_array().unwrap() {
+        let r = p["radius_mm"].as_f64().unwrap();
+        // the server follows the envelope from radius to radius; here each
+        // radius is searched afresh
+        let want = gripper.max_sphere_lift(0.0, r, 24).unwrap();
+        match (&p["best"], want) {
+            (Value::Null, None) => {}
+            (best, Some(w)) if !best.is_null() => {
+                let got = best["lift_n"].as_f64().unwrap();
+                assert!(
+                    (got - w.lift).abs() <= 1e-5 * w.lift.abs().max(1e-3),
+                    "r = {r}: {got} vs {}",
+                    w.lift
+                );
+                compared += 1;
+            }
+            (best, w) => panic!("r = {r}: {best} vs {w:?}"),
+        }
+    }
+    assert!(compared >= 2, "{v}");
+}
