@@ -310,11 +310,62 @@ function drawEnvelope(ok, v) {
   if (obj) el("circle", { id: "envelope-object", cx: p.X(obj[0]), cy: p.Y(obj[1]), r: 5, class: "mark" }, svg);
 }
 
+// ------------------------------------------------------------ the load path
+
+function drawPath(ok, v) {
+  const svg = $("path-view");
+  const axes = { xlabel: "tip force (N)", ylabel: "tip X, Z (mm)" };
+  if (!$("path-on").checked) {
+    const p = frame(svg, { x0: 0, x1: 1, y0: -100, y1: 100, ...axes });
+    note(p, "off: tick \"follow a tip force\"");
+    return;
+  }
+  if (!ok) {
+    const p = frame(svg, { x0: 0, x1: 1, y0: -100, y1: 100, ...axes });
+    note(p, `no path: ${v.message}`);
+    return;
+  }
+  const xs = v.points.map((q) => [q.force_n, q.tip_mm[0]]);
+  const zs = v.points.map((q) => [q.force_n, q.tip_mm[1]]);
+  const b = bounds([xs, zs, [[0, 0]]], 0);
+  const pad = 0.05 * (b.y1 - b.y0 || 1);
+  const p = frame(svg, { x0: Math.min(0, b.x0), x1: b.x1, y0: b.y0 - pad, y1: b.y1 + pad, ...axes });
+  path(p, xs, "curve");
+  path(p, zs, "curve z");
+  v.points.forEach((q, i) => {
+    if (!q.stable) for (const s of [xs[i], zs[i]]) el("circle", { cx: p.X(s[0]), cy: p.Y(s[1]), r: 2.5, class: "off" }, svg);
+  });
+  for (const f of v.folds) {
+    for (const y of f.tip_mm) el("circle", { cx: p.X(f.lambda), cy: p.Y(y), r: 5, class: "mark" }, svg);
+    el("text", { x: p.X(f.lambda) + 6, y: p.Y(f.tip_mm[0]) - 6, class: "note" }, svg, f.is_fold ? `fold at ${f.lambda.toFixed(3)} N` : `stability changes at ${f.lambda.toFixed(3)} N`);
+  }
+  if (v.termination !== "ReachedTarget") note(p, `the path ended early (${v.termination})`);
+  const end = v.points[v.points.length - 1];
+  if (end) {
+    svg.dataset.endForceN = String(end.force_n);
+    svg.dataset.endTipXMm = String(end.tip_mm[0]);
+    svg.dataset.endTipZMm = String(end.tip_mm[1]);
+  }
+}
+
+function updatePath() {
+  if (!$("path-on").checked) {
+    // an answer still on its way is no longer wanted
+    latest.path = (latest.path || 0) + 1;
+    if (inflight.path) inflight.path.abort();
+    drawPath(true, null);
+    return;
+  }
+  const a = (num("path-angle") * Math.PI) / 180;
+  request("path", "/api/load-path", { scene: fingerScene(), direction: [Math.cos(a), Math.sin(a)], max_force_n: num("path-max") }, drawPath);
+}
+
 // ------------------------------------------------------------ updates
 
 function updateFast() {
   request("finger", "/api/finger", { scene: fingerScene() }, drawFinger);
   request("grasp", "/api/grasp", { scene: gripperScene(true) }, drawGrasp);
+  updatePath();
 }
 
 function updateCurves() {
@@ -335,6 +386,8 @@ function showValues() {
     o.textContent = $(o.htmlFor.value).value;
   }
   $("elements").disabled = $("partition").value === "auto";
+  $("path-angle").disabled = !$("path-on").checked;
+  $("path-max").disabled = !$("path-on").checked;
   $("width").disabled = $("kind").value !== "cuboid";
   $("radius").disabled = $("kind").value !== "sphere";
   $("beta").disabled = $("kind").value !== "sphere";

@@ -64,6 +64,7 @@ pub fn routes() -> Router<AppState> {
         .route("/api/grasp", post(grasp))
         .route("/api/lift-curve", post(lift_curve))
         .route("/api/envelope", post(envelope))
+        .route("/api/load-path", post(load_path))
         .route("/api/design", post(design))
         .fallback(not_found)
 }
@@ -148,6 +149,10 @@ async fn lift_curve(State(s): State<AppState>, body: Body) -> Result<Json<Value>
 
 async fn envelope(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
     answer(&s, body, handlers::envelope).await
+}
+
+async fn load_path(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
+    answer(&s, body, handlers::load_path).await
 }
 
 async fn design(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {

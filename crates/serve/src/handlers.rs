@@ -3,8 +3,9 @@
 //! run on the blocking pool ([`crate::api`]); nothing here knows HTTP.
 
 use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError, VARIABLES};
+use fpc::finger::{Finger, LoadPathSpec, Solver, TargetProblem};
 use fpc::gripper::{Gripper, SphereEnvelope};
-use fpc::scene::{SceneFile, SceneSolution, SolutionRecord};
+use fpc::scene::{PartitionPlan, SceneFile, SceneSolution, SolutionRecord};
 use fpc::studies::lift_curve;
 use serde::Deserialize;
 use serde_json::{json, Value};
@@ -12,6 +13,7 @@ use serde_json::{json, Value};
 use crate::errors::ApiError;
 use crate::limits::{
     count, MAX_DESIGN_STARTS, MAX_ENVELOPE_RADII, MAX_ENVELOPE_SAMPLES, MAX_LIFT_POINTS,
+    MAX_PATH_FORCE_N, MAX_PATH_POINTS,
 };
 
 /// The name a scene sent to the API has in its record (`scene_name`).
@@ -74,6 +76,30 @@ fn default_radii() -> usize {
 
 fn default_samples() -> usize {
     24
+}
+
+/// `POST /api/load-path`: a finger scene, the direction of a growing tip
+/// force and how far to follow it.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadPathRequest {
+    /// The scene's keys as JSON.
+    #[serde(default)]
+    pub scene: Option<SceneFile>,
+    /// The scene file's text.
+    #[serde(default)]
+    pub toml: Option<String>,
+    /// The force's direction (X, Z) in the finger frame (normalised).
+    pub direction: [f64; 2],
+    /// The largest force followed to (N).
+    pub max_force_n: f64,
+    /// The most points returned (the path stops there).
+    #[serde(default = "default_path_points")]
+    pub max_points: usize,
+}
+
+fn default_path_points() -> usize {
+    400
 }
 
 /// `POST /api/design`: a requirements file and the optimiser's random
@@ -225,6 +251,75 @@ pub fn envelope(req: EnvelopeRequest) -> Result<Value, ApiError> {
         "mu": g.mu(),
         "points": rows,
         "counts": follower.counts(),
+    }))
+}
+
+/// `POST /api/load-path`: the finger of the scene at its load, a tip force
+/// along `direction` added and raised from 0 to `max_force_n` by
+/// pseudo-arclength continuation, through folds (where the finger snaps
+/// under load control), which are located and reported.
+pub fn load_path(req: LoadPathRequest) -> Result<Value, ApiError> {
+    let max_points = count("max_points", req.max_points, 10, MAX_PATH_POINTS)?;
+    let [dx, dz] = req.direction;
+    let norm = dx.hypot(dz);
+    if !(norm.is_finite() && norm > 0.0) {
+        return Err(ApiError::bad(
+            "direction",
+            "direction: must be a finite, non-zero (X, Z) vector",
+        ));
+    }
+    let max_force = req.max_force_n;
+    if !(max_force > 0.0 && max_force <= MAX_PATH_FORCE_N) {
+        return Err(ApiError::bad(
+            "max_force_n",
+            format!("max_force_n = {max_force}: must lie in (0, {MAX_PATH_FORCE_N}] N"),
+        ));
+    }
+    let mut file = scene_file(req.scene, req.toml)?;
+    file.gripper = None;
+    let scene = file.resolve()?;
+    let PartitionPlan::Fixed(part) = &scene.partition else {
+        return Err(ApiError::bad(
+            "partition.elements",
+            "a load path needs a fixed partition (a number of elements)",
+        ));
+    };
+    let finger = Finger::with_model(scene.model, &scene.actuator, part, true);
+    let opts = fpc::SolveOptions {
+        stability: true,
+        ..scene.options
+    };
+    let start = finger.solve(&scene.load, &opts)?;
+    let direction = [dx / norm, dz / norm];
+    let spec = LoadPathSpec {
+        problem: TargetProblem {
+            base: scene.load,
+            direction,
+            weights: [1.0, 0.0],
+            target: 0.0,
+        },
+        lambda0: 0.0,
+        increasing: true,
+        lambda_end: Some(max_force),
+        lambda_scale: 1.0,
+        events: true,
+    };
+    let mut points = Vec::new();
+    let path = Solver::new(&finger).follow_load(&spec, &start.coefficients, &opts, &mut |p| {
+        points.push(json!({
+            "force_n": p.lambda,
+            "tip_mm": p.tip,
+            "stable": p.negative_eigenvalues == 0,
+        }));
+        points.len() < max_points
+    })?;
+    Ok(json!({
+        "direction": direction,
+        "max_force_n": max_force,
+        "points": points,
+        "folds": path.folds,
+        "termination": format!("{:?}", path.termination),
+        "steps": path.steps,
     }))
 }
 

@@ -16,6 +16,11 @@ pub const MAX_LIFT_POINTS: usize = 400;
 pub const MAX_ENVELOPE_RADII: usize = 200;
 /// The most grasping angles a fresh envelope search scans.
 pub const MAX_ENVELOPE_SAMPLES: usize = 200;
+/// The most points of a load path.
+pub const MAX_PATH_POINTS: usize = 5000;
+/// The largest tip force a load path follows (N): far past any the
+/// paper's fingers carry.
+pub const MAX_PATH_FORCE_N: f64 = 100.0;
 /// The most random starts of a design.
 pub const MAX_DESIGN_STARTS: usize = 16;
 

@@ -478,3 +478,49 @@ async fn envelope_points_are_fresh_searches() {
     }
     assert!(compared >= 2, "{v}");
 }
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn load_path_ends_at_the_library_s_tip_load() {
+    let addr = start(fpc_serve::app()).await;
+    let body =
+        json!({ "scene": finger_body(0.25)["scene"], "direction": [0.0, 2.0], "max_force_n": 3.0 });
+    let (status, v) = post(addr, "/api/load-path", body).await;
+    assert_eq!(status, 200, "{v}");
+    assert_eq!(v["termination"], "ReachedTarget", "{v}");
+    let end = v["points"].as_array().unwrap().last().unwrap().clone();
+    assert!(
+        (end["force_n"].as_f64().unwrap() - 3.0).abs() < 1e-12,
+        "{end}"
+    );
+    // the same load solved directly (no continuation)
+    let act = Actuator::paper(0.25).unwrap();
+    let want = PlannedFinger::builder(&act)
+        .plan(Plan::Equal(8))
+        .build()
+        .unwrap()
+        .solve(
+            &Load::unloaded().with_tip_force(0.0, 3.0),
+            &SolveOptions::default(),
+        )
+        .unwrap()
+        .solution
+        .tip;
+    let got = tip_of(&end);
+    assert!(
+        (got[0] - want[0]).abs() < 1e-6 && (got[1] - want[1]).abs() < 1e-6,
+        "{got:?} vs {want:?}"
+    );
+    // bounds, before any work
+    let zero = json!({ "scene": {}, "direction": [0.0, 0.0], "max_force_n": 1.0 });
+    assert_error(&post(addr, "/api/load-path", zero).await, 400, "direction");
+    let far = json!({ "scene": {}, "direction": [1.0, 0.0], "max_force_n": 1e6 });
+    assert_error(&post(addr, "/api/load-path", far).await, 400, "max_force_n");
+    let many = json!({ "scene": {}, "direction": [1.0, 0.0], "max_force_n": 1.0, "max_points": 10_000_000 });
+    assert_error(&post(addr, "/api/load-path", many).await, 400, "max_points");
+    let auto = json!({ "scene": { "partition": { "elements": "auto" } }, "direction": [1.0, 0.0], "max_force_n": 1.0 });
+    assert_error(
+        &post(addr, "/api/load-path", auto).await,
+        400,
+        "partition.elements",
+    );
+}

@@ -4,7 +4,8 @@ Selenium): it loads without console errors; every control is reached by
 the keyboard; moving the prestrain slider with the arrow keys moves the
 drawn tip to where `fpc finger --eps0 X --json` puts it (to 0.01 mm); an
 object too heavy to hold shows the refusal in words; an element beyond
-the slope limit is marked on the drawing and named; a scene file typed
+the slope limit is marked on the drawing and named; the load path ends
+where `fpc finger --fz F` puts the tip; a scene file typed
 into the page gives the grasp `fpc solve` gives on it. Saves a screenshot.
 
 usage: page_test.py FPC_BIN SCREENSHOT.png
@@ -144,6 +145,21 @@ def run(url):
         assert "invalid" in verdict.get_attribute("class"), verdict.get_attribute("class")
         assert len(verdict.text) > len("Not held: ") + 10, verdict.text
         print(f"a 12 N cuboid: {verdict.text!r}")
+
+        # the load path, switched on from the keyboard: a tip force of 3 N
+        # along +Z ends where `fpc finger --fz 3` puts the tip
+        box = driver.find_element(By.ID, "path-on")
+        box.send_keys(Keys.SPACE)
+        assert box.is_selected()
+        end = wait_for("the load path", lambda: driver.execute_script(
+            "const s = document.getElementById('path-view').dataset;"
+            "return document.body.dataset.busy === '0' && s.endForceN"
+            " ? [Number(s.endForceN), Number(s.endTipXMm), Number(s.endTipZMm)] : null"))
+        want = fpc_json("finger", "--eps0", "0.25", "--fz", "3", "--json")["tip_mm"]
+        assert abs(end[0] - 3.0) < 1e-9, end
+        assert abs(end[1] - want[0]) <= 0.01 and abs(end[2] - want[1]) <= 0.01, (end, want)
+        print(f"load path to 3 N along +Z ends at ({end[1]:.4f}, {end[2]:.4f}) mm, fpc finger --fz 3 ({want[0]:.4f}, {want[1]:.4f}) mm")
+        box.send_keys(Keys.SPACE)
 
         # a finding is shown where it happens: two elements turn beyond the
         # slope limit, each marked on the drawn finger and named in words
