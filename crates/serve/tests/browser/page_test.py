@@ -13,6 +13,7 @@ usage: page_test.py FPC_BIN SCREENSHOT.png
 
 import json
 import os
+import shutil
 import socket
 import subprocess
 import sys
@@ -79,9 +80,9 @@ def run(url):
     for a in ["--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1500,1700",
               "--disable-dev-shm-usage", "--no-first-run", "--disable-extensions"]:
         opts.add_argument(a)
-    opts.binary_location = os.environ.get("CHROMIUM", "/usr/bin/chromium")
+    opts.binary_location = os.environ.get("CHROMIUM") or shutil.which("chromium")
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    service = Service(os.environ.get("CHROMEDRIVER", "/usr/bin/chromedriver"))
+    service = Service(os.environ.get("CHROMEDRIVER") or shutil.which("chromedriver"))
     driver = webdriver.Chrome(options=opts, service=service)
     try:
         driver.get(url)
