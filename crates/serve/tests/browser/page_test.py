@@ -5,7 +5,7 @@ the keyboard; moving the prestrain slider with the arrow keys moves the
 drawn tip to where `fpc finger --eps0 X --json` puts it (to 0.01 mm); an
 object too heavy to hold shows the refusal in words; an element beyond
 the slope limit is marked on the drawing and named; the load path ends
-where `fpc finger --fz F` puts the tip; a scene file typed
+where `fpc finger --fz F` puts the tip; a scene file loaded
 into the page gives the grasp `fpc solve` gives on it. Saves a screenshot.
 
 usage: page_test.py FPC_BIN SCREENSHOT.png
@@ -175,23 +175,25 @@ def run(url):
         assert "element 0 turns" in words and "slope limit" in words, words
         print(f"N = 2: elements {sorted(set(marked))} marked, {words.splitlines()[0]!r}")
 
-        # a scene file typed into the page gives `fpc solve`'s grasp
+        # a scene file loaded into the page (the file input, as a user
+        # picks one) gives the grasp `fpc solve` gives on it
         scene = ("[actuator.pemc]\neps0 = 0.2\n\n[gripper]\nmounting_angle_deg = 65.0\noverlap_mm = 15.0\n\n"
                  "[gripper.grasp]\nkind = \"cuboid\"\npressure_kpa = 10.0\nd_mm = 80.0\nfriction_n = 0.2\n")
-        driver.execute_script("document.getElementById('scene-text').value = arguments[0]", scene)
-        driver.find_element(By.ID, "scene-solve").click()
-        res = wait_for("the scene's grasp", lambda: (lambda e: e if e.get_attribute("data-normal-force-n") else None)(
-            driver.find_element(By.ID, "scene-result")))
         with tempfile.TemporaryDirectory() as d:
-            path = os.path.join(d, "typed.toml")
+            path = os.path.join(d, "loaded.toml")
             with open(path, "w") as f:
                 f.write(scene)
+            driver.find_element(By.ID, "scene-file").send_keys(path)
+            res = wait_for("the loaded scene's grasp", lambda: driver.execute_script(
+                "const e = document.getElementById('scene-result');"
+                "return e.dataset.normalForceN ? [e.dataset.normalForceN, e.textContent] : null"))
+            assert driver.find_element(By.ID, "scene-text").get_attribute("value") == scene
             subprocess.run([FPC, "solve", path, "--out", os.path.join(d, "out")], check=True, capture_output=True)
             with open(os.path.join(d, "out", "solution.json")) as f:
                 want = json.load(f)["grasp"]["normal_force_n"]
-        got = float(res.get_attribute("data-normal-force-n"))
+        got = float(res[0])
         assert abs(got - want) <= 1e-9 * max(1.0, abs(want)), (got, want)
-        print(f"typed scene: F = {got:.6f} N on the page, {want:.6f} N from fpc solve")
+        print(f"loaded scene: F = {got:.6f} N on the page, {want:.6f} N from fpc solve")
     finally:
         driver.quit()
 
