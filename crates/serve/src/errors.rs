@@ -76,9 +76,20 @@ impl ApiError {
         }
     }
 
-    /// The JSON body, `{"field": ..., "message": ...}`.
+    /// The JSON body, `{"field": ..., "message": ...}`, each cut to
+    /// [`MAX_ERROR_CHARS`] characters (a message may quote a long value).
     pub fn body(&self) -> serde_json::Value {
-        serde_json::json!({ "field": self.field, "message": self.message })
+        serde_json::json!({ "field": cut(&self.field), "message": cut(&self.message) })
+    }
+}
+
+/// The longest field or message an error answer carries (characters).
+pub const MAX_ERROR_CHARS: usize = 1000;
+
+fn cut(s: &str) -> String {
+    match s.char_indices().nth(MAX_ERROR_CHARS) {
+        Some((at, _)) => format!("{}... (cut)", &s[..at]),
+        None => s.to_string(),
     }
 }
 

@@ -200,6 +200,17 @@ async fn bad_input_is_400_naming_the_field() {
     );
     assert_error(&post_raw(addr, "/api/finger", b"").await, 400, "body");
     assert_error(&post_raw(addr, "/api/finger", b"{} {}").await, 400, "body");
+    // nesting deep enough to exhaust a recursive reader's stack
+    let deep = format!("{}{}", "[".repeat(100_000), "]".repeat(100_000));
+    assert_error(
+        &post_raw(addr, "/api/finger", deep.as_bytes()).await,
+        400,
+        "body",
+    );
+    let model = json!({ "scene": { "model": { "name": "x".repeat(100_000) } } });
+    let long = post(addr, "/api/finger", model).await;
+    assert_error(&long, 400, "model.name");
+    assert!(long.1["message"].as_str().unwrap().len() < 2000, "{long:?}");
     let nan = b"{\"scene\": {\"actuator\": {\"pemc\": {\"eps0\": NaN}}}}";
     assert_error(&post_raw(addr, "/api/finger", nan).await, 400, "body");
     let huge = b"{\"scene\": {\"actuator\": {\"pemc\": {\"eps0\": 1e400}}}}";
