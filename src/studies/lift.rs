@@ -108,8 +108,10 @@ impl LiftCurve {
     }
 }
 
-/// The lifting-force curve of `g` on `n + 1` grasping sizes.
-pub(crate) fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
+/// The lifting-force curve of `g` on `n + 1` grasping sizes (`n` at least
+/// 1): studies 1 to 3's sweep at grasping angle 0 and zero pressure, from
+/// `d_min` to `d_max`; `eps0` is the curve's label only.
+pub fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
     let mut points = Vec::with_capacity(n + 1);
     let mut dropped = 0;
     let stopped = size_sweep(g, 0.0, 0.0, Object::Face, g.d_min(), g.d_max(), n, |gr| {

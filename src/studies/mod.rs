@@ -41,7 +41,7 @@ pub use displacement::{
 };
 pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
 pub use info::StudyInfo;
-pub use lift::{LiftCurve, LiftPoint};
+pub use lift::{lift_curve, LiftCurve, LiftPoint};
 pub use options::{
     section5_gripper, StudyOptions, SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
     STUDY8_PRESSURES_KPA,

@@ -13,6 +13,7 @@ mod finger;
 mod kernels;
 mod models;
 mod paper;
+mod serve;
 mod solve;
 mod sweep;
 
@@ -36,6 +37,8 @@ enum Command {
     Kernels(kernels::Args),
     /// List the element models: name, spec file, unknowns.
     Models(models::Args),
+    /// The live page for designers: a local web server (127.0.0.1 unless --bind) with sliders, drawings and curves.
+    Serve(serve::Args),
     /// Solve the finger or gripper grasp of a TOML scene file; write solution.json, shape.csv, shape.svg (--format: png, pdf).
     Solve(solve::Args),
     /// Run the paper's eight studies; write CSV tables, SVG figures (also PNG, PDF with --format), summary.json and index.html.
@@ -51,6 +54,7 @@ fn main() {
         Command::Finger(a) => finger::run(&a),
         Command::Kernels(a) => kernels::run(&a),
         Command::Models(a) => models::run(&a),
+        Command::Serve(a) => serve::run(&a),
         Command::Solve(a) => solve::run(&a),
         Command::Paper(a) => paper::run(&a),
         Command::Sweep(a) => sweep::run(&a),
