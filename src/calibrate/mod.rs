@@ -39,6 +39,7 @@ mod options;
 mod params;
 mod record;
 mod residuals;
+mod scene;
 
 pub use fit::{calibrate, STEP_TOLERANCE};
 pub use identify::{
@@ -51,6 +52,7 @@ pub use options::{
 pub use params::Unknown;
 pub use record::{Calibration, FittedParameter};
 pub use residuals::FitResidual;
+pub use scene::calibrated_scenes;
 
 #[cfg(test)]
 mod tests;
