@@ -192,6 +192,18 @@ fn noise_free_data_give_back_the_truth() {
     );
     assert_eq!(fit.dof, fit.points - 4);
     assert!(fit.solves > 0 && fit.target_solves > 0 && fit.iterations > 0);
+    // each pressure left out and predicted by the fit without it: exact
+    // data are predicted exactly
+    let opts = CalibrateOptions {
+        cross_validate: true,
+        ..CalibrateOptions::new(&["eps0", "kappa", "emc.e1"])
+    };
+    let cv = calibrate(&m, &opts).unwrap().cross_validation.unwrap();
+    assert_eq!(cv.points, fit.points);
+    assert_eq!(cv.held_out.len(), 7, "{cv:#?}");
+    for h in &cv.held_out {
+        assert!(h.failure.is_none() && h.rms_sd < 1e-6, "{h:?}");
+    }
     let corr = fit.correlation.unwrap();
     for (i, row) in corr.iter().enumerate() {
         assert!((row[i] - 1.0).abs() < 1e-12);

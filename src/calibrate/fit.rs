@@ -3,10 +3,11 @@
 
 use nalgebra::{DMatrix, DVector};
 
+use super::crossval::cross_validate;
 use super::identify::analyse;
-use super::lm::{minimise, Point};
+use super::lm::{minimise, Minimum, Point};
 use super::options::{inconsistent, CalibrateOptions};
-use super::params::unknowns;
+use super::params::{unknowns, Unknown};
 use super::record::{Calibration, FittedParameter};
 use super::residuals::{evaluate, Evaluation};
 use crate::measure::Manifest;
@@ -14,6 +15,63 @@ use crate::solve_error::SolveError;
 
 /// The relative step at which the iterations stop.
 pub const STEP_TOLERANCE: f64 = 1e-10;
+
+/// A finished minimisation with its counts.
+pub(crate) struct Run {
+    pub min: Minimum<Evaluation>,
+    pub solves: usize,
+    pub target_solves: usize,
+    pub start_chi_square: f64,
+}
+
+/// Levenberg-Marquardt over `manifest` from `theta0`.
+pub(crate) fn run(
+    manifest: &Manifest,
+    unknowns: &[Unknown],
+    theta0: Vec<f64>,
+    max_iterations: usize,
+) -> Result<Run, SolveError> {
+    let n = unknowns.len();
+    let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
+    let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
+    let mut solves = 0;
+    let mut target_solves = 0;
+    let mut start_chi_square = None;
+    let min = minimise(
+        theta0,
+        &lower,
+        &upper,
+        max_iterations,
+        STEP_TOLERANCE,
+        |theta| {
+            let e = evaluate(manifest, unknowns, theta)?;
+            solves += e.solves;
+            target_solves += e.target_solves;
+            let bad = e
+                .rows
+                .iter()
+                .map(|r| r.residual_sd)
+                .chain(e.jacobian.iter().flatten().copied())
+                .any(|v| !v.is_finite());
+            if bad {
+                return Err(SolveError::from(inconsistent(
+                    "fit",
+                    "the model's residuals or their derivatives are not finite at these parameters"
+                        .into(),
+                )));
+            }
+            let p = point(&e, n);
+            start_chi_square.get_or_insert(p.r.norm_squared());
+            Ok((p, e))
+        },
+    )?;
+    Ok(Run {
+        start_chi_square: start_chi_square.unwrap_or_else(|| min.point.r.norm_squared()),
+        min,
+        solves,
+        target_solves,
+    })
+}
 
 fn point(e: &Evaluation, n: usize) -> Point {
     let m = e.rows.len();
@@ -53,40 +111,17 @@ pub fn calibrate(
         )
         .into());
     }
-    let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
-    let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
     let theta0: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
-    let mut solves = 0;
-    let mut target_solves = 0;
-    let mut start_chi_square = None;
-    let min = minimise(
-        theta0,
-        &lower,
-        &upper,
-        options.max_iterations,
-        STEP_TOLERANCE,
-        |theta| {
-            let e = evaluate(manifest, &unknowns, theta)?;
-            solves += e.solves;
-            target_solves += e.target_solves;
-            let bad = e
-                .rows
-                .iter()
-                .map(|r| r.residual_sd)
-                .chain(e.jacobian.iter().flatten().copied())
-                .any(|v| !v.is_finite());
-            if bad {
-                return Err(SolveError::from(inconsistent(
-                    "fit",
-                    "the model's residuals or their derivatives are not finite at these parameters"
-                        .into(),
-                )));
-            }
-            let p = point(&e, n);
-            start_chi_square.get_or_insert(p.r.norm_squared());
-            Ok((p, e))
-        },
-    )?;
+    let run = run(manifest, &unknowns, theta0, options.max_iterations)?;
+    let (min, solves, target_solves, start_chi_square) = (
+        run.min,
+        run.solves,
+        run.target_solves,
+        Some(run.start_chi_square),
+    );
+    let cross_validation = options
+        .cross_validate
+        .then(|| cross_validate(manifest, &unknowns, &min.theta, options.max_iterations).0);
     let names: Vec<String> = unknowns.iter().map(|u| u.label()).collect();
     let (identifiability, cov) = analyse(&min.point.j, &names);
     let chi_square = min.point.r.norm_squared();
@@ -144,5 +179,6 @@ pub fn calibrate(
         target_solves,
         termination: min.termination,
         outside_model: min.extra.outside_model,
+        cross_validation,
     })
 }

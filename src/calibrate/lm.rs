@@ -87,6 +87,12 @@ pub(crate) fn minimise<T, E>(
         for (k, dk) in d.iter_mut().enumerate() {
             *dk = dk.max(point.j.column(k).norm());
         }
+        // a column the data do not see (yet) keeps a tiny scale, so the
+        // damped system stays definite and its step is zero
+        let floor = 1e-12 * d.iter().fold(0.0f64, |m, &x| m.max(x)).max(1e-300);
+        for dk in d.iter_mut() {
+            *dk = dk.max(floor);
+        }
         let a = point.j.transpose() * &point.j;
         let g = point.j.transpose() * &point.r;
         // the scaled gradient: |g_k| / (D_k |r|)
@@ -107,7 +113,7 @@ pub(crate) fn minimise<T, E>(
         for _ in 0..MAX_REJECTIONS {
             let mut m = a.clone();
             for k in 0..n {
-                m[(k, k)] += mu * d[k].max(1e-300).powi(2);
+                m[(k, k)] += mu * d[k].powi(2);
             }
             let Some(step) = m.cholesky().map(|ch| ch.solve(&(-&g))) else {
                 mu *= nu;

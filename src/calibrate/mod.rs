@@ -32,6 +32,7 @@
 
 mod chain;
 mod circle;
+mod crossval;
 mod fit;
 mod identify;
 mod lm;
@@ -41,6 +42,7 @@ mod record;
 mod residuals;
 mod scene;
 
+pub use crossval::{CrossValidation, HeldOut};
 pub use fit::{calibrate, STEP_TOLERANCE};
 pub use identify::{
     Component, Identifiability, Verdict, POORLY_DETERMINED_RATIO, UNIDENTIFIABLE_RATIO,

@@ -25,6 +25,9 @@ pub struct CalibrateOptions {
     pub fit: Vec<String>,
     /// Most Levenberg-Marquardt iterations (1 to [`MAX_ITERATIONS`]).
     pub max_iterations: usize,
+    /// Also fit again without each pressure in turn and predict it
+    /// (leave-one-pressure-out; one refit per distinct pressure).
+    pub cross_validate: bool,
 }
 
 impl CalibrateOptions {
@@ -33,6 +36,7 @@ impl CalibrateOptions {
         CalibrateOptions {
             fit: names.iter().map(|s| s.as_ref().to_string()).collect(),
             max_iterations: DEFAULT_ITERATIONS,
+            cross_validate: false,
         }
     }
 

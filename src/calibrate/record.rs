@@ -4,6 +4,7 @@
 
 use serde::Serialize;
 
+use super::crossval::CrossValidation;
 use super::identify::Identifiability;
 use super::lm::Termination;
 use super::residuals::FitResidual;
@@ -73,6 +74,9 @@ pub struct Calibration {
     pub target_solves: usize,
     /// How the iterations ended.
     pub termination: Termination,
+    /// Leave-one-pressure-out prediction errors (when asked for; their
+    /// solves are not in `solves` and `target_solves`).
+    pub cross_validation: Option<CrossValidation>,
     /// Solves at the fit whose finger is outside the model
     /// (docs/model.md section 8).
     pub outside_model: usize,

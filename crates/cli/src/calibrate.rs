@@ -5,7 +5,8 @@
 //! writes `calibration.json` (everything: covariance, correlations,
 //! singular values, residuals, counts) and one calibrated scene per
 //! specimen (`<specimen>.toml`, with a `[calibration]` table of the
-//! fitted keys and their covariance) that `fpc solve` reads.
+//! fitted keys and their covariance) that `fpc solve` reads. With
+//! `--cross-validate`, leave-one-pressure-out prediction errors.
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -27,6 +28,10 @@ pub struct Args {
     /// Most Levenberg-Marquardt iterations.
     #[arg(long, default_value_t = fpc::calibrate::DEFAULT_ITERATIONS)]
     max_iterations: usize,
+    /// Also fit again without each pressure in turn and predict it
+    /// (leave-one-pressure-out prediction errors; one refit per pressure).
+    #[arg(long)]
+    cross_validate: bool,
     /// Output directory (default `<stem>-calibrate`).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -64,6 +69,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let options = CalibrateOptions {
         fit: args.fit.clone(),
         max_iterations: args.max_iterations,
+        cross_validate: args.cross_validate,
     };
     // every file is read and checked before anything is computed
     let manifest =
@@ -128,6 +134,22 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             .as_str()
             .unwrap_or("?")
     )?;
+    if let Some(cv) = &fit.cross_validation {
+        let failed = cv.held_out.iter().filter(|h| h.failure.is_some()).count();
+        writeln!(
+            w,
+            "held out     each of {} pressures left out and predicted: rms {:.4} sd over {} residuals (chi2 {:.4}){}",
+            cv.held_out.len(),
+            cv.rms_sd,
+            cv.points,
+            cv.chi_square,
+            if failed > 0 {
+                format!("; {failed} refits failed")
+            } else {
+                String::new()
+            }
+        )?;
+    }
     if fit.outside_model > 0 {
         writeln!(
             w,
