@@ -147,3 +147,27 @@ fn bad_options_exit_2_naming_the_field() {
         &["calibration.covariance"],
     );
 }
+
+#[test]
+fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
+    let out = tmp("pipe");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args([
+            "calibrate",
+            &shipped(),
+            "--fit",
+            "eps0",
+            "--out",
+            &out.display().to_string(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // the reader goes away before the fit prints anything
+    drop(child.stdout.take());
+    let done = child.wait_with_output().unwrap();
+    assert_eq!(done.status.code(), Some(0), "{}", text(&done.stderr));
+    assert!(done.stderr.is_empty(), "{}", text(&done.stderr));
+    assert!(out.join("calibration.json").is_file());
+}
