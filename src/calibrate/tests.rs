@@ -218,3 +218,53 @@ fn minimiser_fits_an_exponential_and_respects_bounds() {
     let b = minimise(vec![1.0, 0.5], &[0.0, 0.0], &[10.0, 1.0], 100, 1e-12, eval).unwrap();
     assert_eq!(b.theta[1], 1.0);
 }
+
+#[test]
+fn exact_jacobians_take_at_least_five_times_fewer_solves_than_differences() {
+    use super::fit::{run, STEP_TOLERANCE};
+    let m = small_manifest(4);
+    let opts = CalibrateOptions::new(&["eps0", "kappa"]);
+    let u = unknowns(&m, &opts).unwrap();
+    let theta0: Vec<f64> = u.iter().map(|x| x.start * 1.02).collect();
+    let exact = run(&m, &u, theta0.clone(), 100).unwrap();
+    let exact_solves = exact.solves + exact.target_solves;
+    // the same minimiser on central differences of the residuals (every
+    // evaluation's solves counted; the differences need only residuals)
+    let n = u.len();
+    let lower: Vec<f64> = u.iter().map(|x| x.lower).collect();
+    let upper: Vec<f64> = u.iter().map(|x| x.upper).collect();
+    let mut fd_solves = 0;
+    let fd = minimise(theta0, &lower, &upper, 100, STEP_TOLERANCE, |th| {
+        let e = evaluate(&m, &u, th)?;
+        fd_solves += e.solves + e.target_solves;
+        let rows = e.rows.len();
+        let r = DVector::from_iterator(rows, e.rows.iter().map(|x| x.residual_sd));
+        let mut j = DMatrix::<f64>::zeros(rows, n);
+        for k in 0..n {
+            let h = 1e-6 * th[k].abs().max(1e-3);
+            let mut side = |t: f64| -> Result<Vec<f64>, crate::SolveError> {
+                let mut x = th.to_vec();
+                x[k] += t;
+                let e = evaluate(&m, &u, &x)?;
+                fd_solves += e.solves + e.target_solves;
+                Ok(e.rows.iter().map(|x| x.residual_sd).collect())
+            };
+            let (p, q) = (side(h)?, side(-h)?);
+            for i in 0..rows {
+                j[(i, k)] = (p[i] - q[i]) / (2.0 * h);
+            }
+        }
+        Ok::<_, crate::SolveError>((Point { r, j }, ()))
+    })
+    .unwrap();
+    let (c_exact, c_fd) = (exact.min.point.r.norm_squared(), fd.point.r.norm_squared());
+    assert!(
+        (c_exact - c_fd).abs() <= 1e-6 * c_exact,
+        "{c_exact} against {c_fd}"
+    );
+    assert!(
+        5 * exact_solves <= fd_solves,
+        "exact: {exact_solves} solves, differences: {fd_solves}"
+    );
+    eprintln!("chi2 {c_exact:.6}: exact {exact_solves} solves, central differences {fd_solves}");
+}
