@@ -331,9 +331,64 @@ fn bad_options_are_errors_naming_the_field() {
             "max_iterations",
         ),
         (CalibrateOptions::new(&["cl.e1"]), "fit"),
+        // no markers test with a camera frame
+        (CalibrateOptions::new(&["camera"]), "fit"),
     ] {
         let (f, msg) = field(o);
         assert_eq!(f, want, "{msg}");
         assert!(!msg.contains("NaN"), "{msg}");
     }
+}
+
+#[test]
+fn a_camera_frame_is_fitted_with_the_model() {
+    // specimen a's markers seen by a camera turned by 4 degrees with its
+    // origin at (-15, 40) mm; the manifest's frame starts off by 1 degree
+    // and 1 mm
+    let d = dir("camera");
+    let path = write_set(&d, &SPECS, 1.5, 0.03, 1.5);
+    let mut m = Manifest::load(&path).unwrap();
+    let truth = fpc::measure::CameraFrame {
+        angle_deg: 4.0,
+        x_mm: -15.0,
+        z_mm: 40.0,
+    };
+    for t in &mut m.specimens[0].tests {
+        if let TestData::Markers { camera, rows } = &mut t.data {
+            for r in rows.iter_mut() {
+                r.point_mm = truth.to_camera(r.point_mm);
+            }
+            *camera = Some(fpc::measure::CameraFrame {
+                angle_deg: 3.0,
+                x_mm: -14.0,
+                z_mm: 41.0,
+            });
+        }
+    }
+    let fit = calibrate(&m, &CalibrateOptions::new(&["eps0", "kappa", "camera"])).unwrap();
+    let want = |name: &str| match name {
+        "actuator.pemc.eps0[a]" => 0.15,
+        "actuator.pemc.eps0[b]" => 0.4,
+        "load.kappa" => 2.5,
+        "camera.angle_deg[a, test 1]" => 4.0,
+        "camera.x_mm[a, test 1]" => -15.0,
+        "camera.z_mm[a, test 1]" => 40.0,
+        n => panic!("unexpected unknown {n}"),
+    };
+    assert_eq!(fit.parameters.len(), 6);
+    assert!(fit.chi_square < 1e-12, "{}", fit.chi_square);
+    for p in &fit.parameters {
+        let t = want(&p.name);
+        assert!(
+            (p.value - t).abs() < 1e-8 * t.abs(),
+            "{}: {} against {t}",
+            p.name,
+            p.value
+        );
+    }
+    // the scenes carry the finger's parameters, not the camera's
+    let scenes = fpc::calibrate::calibrated_scenes(&m, &fit).unwrap();
+    assert!(scenes
+        .iter()
+        .all(|(_, s)| !s.contains("angle_deg") && !s.contains("z_mm")));
 }

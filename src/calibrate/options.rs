@@ -20,8 +20,10 @@ pub struct CalibrateOptions {
     /// The parameters to fit, by scene key (`actuator.pemc.eps0`,
     /// `load.kappa`, `actuator.cl.e`, ...), by the key without `actuator.`
     /// (`pemc.p1`, `cl.e`), or by the short names `eps0`, `kappa`, `p1` to
-    /// `p4`. A parameter a specimen lists in its `own` tables is fitted
-    /// once per specimen; any other is shared by all.
+    /// `p4`; `camera` fits every markers test's camera frame (angle and
+    /// offset, nuisance parameters). A parameter a specimen lists in its
+    /// `own` tables is fitted once per specimen; any other is shared by
+    /// all.
     pub fit: Vec<String>,
     /// Most Levenberg-Marquardt iterations (1 to [`MAX_ITERATIONS`]).
     pub max_iterations: usize,

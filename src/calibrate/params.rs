@@ -19,9 +19,14 @@ pub struct Unknown {
     pub key: String,
     /// The specimen it belongs to (`None`: shared by all).
     pub specimen: Option<String>,
-    /// The parameter of the sensitivities.
+    /// The parameter of the sensitivities (for a camera frame's
+    /// parameters, [`Param::Target`], which is never fitted otherwise).
     #[serde(skip)]
     pub param: Param,
+    /// A camera frame's parameter instead: the specimen's test (from 0)
+    /// and the component (0: `angle_deg`, 1: `x_mm`, 2: `z_mm`).
+    #[serde(skip)]
+    pub camera: Option<(usize, usize)>,
     /// The start value (the manifest's).
     pub start: f64,
     /// Lower bound.
@@ -33,10 +38,16 @@ pub struct Unknown {
 impl Unknown {
     /// `key`, or `key[specimen]` for a specimen's own parameter.
     pub fn label(&self) -> String {
-        match &self.specimen {
-            Some(s) => format!("{}[{s}]", self.key),
-            None => self.key.clone(),
+        match (&self.specimen, self.camera) {
+            (Some(s), Some((t, _))) => format!("{}[{s}, test {}]", self.key, t + 1),
+            (Some(s), None) => format!("{}[{s}]", self.key),
+            (None, _) => self.key.clone(),
         }
+    }
+
+    /// Whether this is a parameter of the model (not of a camera frame).
+    pub fn is_model(&self) -> bool {
+        self.camera.is_none()
     }
 
     /// Whether the unknown applies to specimen `name`.
@@ -66,7 +77,7 @@ fn parse(name: &str) -> Result<Param, InputError> {
         _ => Err(InputError::Unrecognised {
             field: Field::key("fit"),
             value: n.to_string(),
-            rule: "not a parameter a calibration can fit: an actuator parameter of the sensitivities (docs/model.md, \"Sensitivities\": eps0, p1..p4, pemc.e2, cl.e, emc.e1, fluidic.nu, geometry.h, ...) or kappa".into(),
+            rule: "not a parameter a calibration can fit: an actuator parameter of the sensitivities (docs/model.md, \"Sensitivities\": eps0, p1..p4, pemc.e2, cl.e, emc.e1, fluidic.nu, geometry.h, ...), kappa, or camera (every camera frame's angle and offset)".into(),
         }),
     }
 }
@@ -90,6 +101,54 @@ fn value_in(p: Param, scene: &crate::scene::Scene) -> Option<f64> {
     p.value(&scene.actuator, &Load::unloaded(), None)
 }
 
+/// The camera frames' components: name, bounds.
+const CAMERA: [(&str, f64, f64); 3] = [
+    ("camera.angle_deg", -180.0, 180.0),
+    ("camera.x_mm", f64::NEG_INFINITY, f64::INFINITY),
+    ("camera.z_mm", f64::NEG_INFINITY, f64::INFINITY),
+];
+
+/// Three unknowns for every markers test with a camera frame.
+fn camera_unknowns(manifest: &Manifest, out: &mut Vec<Unknown>) -> Result<(), InputError> {
+    let before = out.len();
+    for s in &manifest.specimens {
+        for (t, test) in s.tests.iter().enumerate() {
+            let crate::measure::TestData::Markers {
+                camera: Some(c), ..
+            } = &test.data
+            else {
+                continue;
+            };
+            for (k, (key, lower, upper)) in CAMERA.into_iter().enumerate() {
+                if out.len() >= MAX_UNKNOWNS {
+                    return Err(InputError::OutOfRange {
+                        field: Field::key("fit"),
+                        value: (out.len() + 1) as f64,
+                        rule: format!("more than {MAX_UNKNOWNS} unknowns, the limit"),
+                    });
+                }
+                let start = [c.angle_deg, c.x_mm, c.z_mm][k];
+                out.push(Unknown {
+                    key: key.to_string(),
+                    specimen: Some(s.name.clone()),
+                    param: Param::Target,
+                    camera: Some((t, k)),
+                    start: start.clamp(lower, upper),
+                    lower,
+                    upper,
+                });
+            }
+        }
+    }
+    if out.len() == before {
+        return Err(inconsistent(
+            "fit",
+            "names camera, but no markers test has a camera frame".into(),
+        ));
+    }
+    Ok(())
+}
+
 /// The unknowns of `options.fit` over `manifest`'s specimens.
 pub(crate) fn unknowns(
     manifest: &Manifest,
@@ -97,7 +156,16 @@ pub(crate) fn unknowns(
 ) -> Result<Vec<Unknown>, InputError> {
     let mut out: Vec<Unknown> = Vec::new();
     let mut seen: Vec<Param> = Vec::new();
+    let mut cameras = false;
     for name in &options.fit {
+        if name.trim() == "camera" {
+            if cameras {
+                return Err(inconsistent("fit", "names camera twice".into()));
+            }
+            cameras = true;
+            camera_unknowns(manifest, &mut out)?;
+            continue;
+        }
         let p = parse(name)?;
         if seen.contains(&p) {
             return Err(inconsistent("fit", format!("names {} twice", p.name())));
@@ -120,6 +188,7 @@ pub(crate) fn unknowns(
                 key: key.clone(),
                 specimen,
                 param: p,
+                camera: None,
                 start: start.clamp(lower, upper),
                 lower,
                 upper,

@@ -87,7 +87,7 @@ fn specimen_at(
     let mut act = s.scene.actuator.clone();
     let mut kappa = Load::unloaded().kappa;
     for (u, &v) in unknowns.iter().zip(theta) {
-        if !u.applies_to(&s.name) {
+        if !u.applies_to(&s.name) || !u.is_model() {
             continue;
         }
         match u.param {
@@ -132,7 +132,7 @@ fn evaluate_specimen(
     let cols: Vec<(usize, Param)> = unknowns
         .iter()
         .enumerate()
-        .filter(|(_, u)| u.applies_to(&s.name))
+        .filter(|(_, u)| u.applies_to(&s.name) && u.is_model())
         .map(|(j, u)| (j, u.param))
         .collect();
     let params: Vec<Param> = cols.iter().map(|c| c.1).collect();
@@ -184,7 +184,16 @@ fn evaluate_specimen(
         out.rows.push(row);
         out.jacobian.push(j);
     };
-    for test in &s.tests {
+    for (ti, test) in s.tests.iter().enumerate() {
+        // this test's camera unknowns: (column, component)
+        let cam: Vec<(usize, usize)> = unknowns
+            .iter()
+            .enumerate()
+            .filter_map(|(j, u)| match u.camera {
+                Some((t, k)) if t == ti && u.applies_to(&s.name) => Some((j, k)),
+                _ => None,
+            })
+            .collect();
         let row = |line, p, quantity, measured, sd, predicted: f64| FitResidual {
             specimen: s.name.clone(),
             file: test.file.clone(),
@@ -198,6 +207,16 @@ fn evaluate_specimen(
         };
         match &test.data {
             TestData::Markers { camera, rows } => {
+                let mut camera = *camera;
+                if let Some(c) = &mut camera {
+                    for &(j, k) in &cam {
+                        match k {
+                            0 => c.angle_deg = theta[j],
+                            1 => c.x_mm = theta[j],
+                            _ => c.z_mm = theta[j],
+                        }
+                    }
+                }
                 for r in rows {
                     at(&mut cache, r.pressure_kpa, out)?;
                     let a = &cache[&bits(r.pressure_kpa)];
@@ -210,11 +229,24 @@ fn evaluate_specimen(
                     )?;
                     let (mut q, mut dq): ([f64; 2], Vec<[f64; 2]>) =
                         (q[0], dq.iter().map(|d| d[0]).collect());
+                    // the camera's own columns: camera = R(-a) (finger - o)
+                    let mut dcam: Vec<(usize, [f64; 2])> = Vec::new();
                     if let Some(c) = camera {
                         q = c.to_camera(q);
                         let (sn, cs) = (-c.angle_deg.to_radians()).sin_cos();
                         for d in &mut dq {
                             *d = [cs * d[0] - sn * d[1], sn * d[0] + cs * d[1]];
+                        }
+                        // d/da of R(-a) v is (q_z, -q_x) per radian; the
+                        // offsets move every point by -R(-a) e
+                        let per_degree = std::f64::consts::PI / 180.0;
+                        for &(j, k) in &cam {
+                            let d = match k {
+                                0 => [per_degree * q[1], -per_degree * q[0]],
+                                1 => [-cs, -sn],
+                                _ => [sn, -cs],
+                            };
+                            dcam.push((j, d));
                         }
                     }
                     for (i, quantity) in ["x_mm", "z_mm"].into_iter().enumerate() {
@@ -231,6 +263,11 @@ fn evaluate_specimen(
                             ),
                             &d,
                         );
+                        if let Some(last) = out.jacobian.last_mut() {
+                            for &(j, dv) in &dcam {
+                                last[j] = -dv[i] / r.sd_mm;
+                            }
+                        }
                     }
                 }
             }

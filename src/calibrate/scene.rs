@@ -41,6 +41,8 @@ pub fn calibrated_scenes(
             .iter()
             .enumerate()
             .filter(|(_, p)| p.specimen.as_deref().is_none_or(|n| n == s.name))
+            // a camera frame is no part of the finger
+            .filter(|(_, p)| !p.key.starts_with("camera."))
             .map(|(k, _)| k)
             .collect();
         let file: SceneFile = s.scene.file().clone();

@@ -131,7 +131,7 @@ fn small_manifest(keep: usize) -> Manifest {
 #[test]
 fn jacobian_matches_central_differences_of_the_residuals() {
     let m = small_manifest(3);
-    let opts = CalibrateOptions::new(&["eps0", "kappa", "emc.e1", "p1", "fluidic.e"]);
+    let opts = CalibrateOptions::new(&["eps0", "kappa", "emc.e1", "p1", "fluidic.e", "camera"]);
     let u = unknowns(&m, &opts).unwrap();
     let theta: Vec<f64> = u.iter().map(|x| x.start).collect();
     let e = evaluate(&m, &u, &theta).unwrap();

@@ -21,8 +21,9 @@ pub struct Args {
     /// The measurement manifest (TOML; docs/measurements.md).
     manifest: PathBuf,
     /// The parameters to fit, comma-separated: eps0, kappa, p1..p4, or
-    /// scene keys (pemc.e2, emc.e1, cl.e, actuator.fluidic.e, ...). A
-    /// parameter in a specimen's own tables is fitted per specimen.
+    /// scene keys (pemc.e2, emc.e1, cl.e, actuator.fluidic.e, ...), or
+    /// camera (every markers test's camera frame). A parameter in a
+    /// specimen's own tables is fitted per specimen.
     #[arg(long, value_delimiter = ',', required = true)]
     fit: Vec<String>,
     /// Most Levenberg-Marquardt iterations.
