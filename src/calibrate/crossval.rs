@@ -7,7 +7,7 @@
 
 use serde::Serialize;
 
-use super::fit::run;
+use super::driver::run;
 use super::params::Unknown;
 use super::residuals::evaluate;
 use crate::measure::{Manifest, TestData};

@@ -33,6 +33,7 @@
 mod chain;
 mod circle;
 mod crossval;
+mod driver;
 mod fit;
 mod identify;
 mod lm;
@@ -43,7 +44,8 @@ mod residuals;
 mod scene;
 
 pub use crossval::{CrossValidation, HeldOut};
-pub use fit::{calibrate, STEP_TOLERANCE};
+pub use driver::STEP_TOLERANCE;
+pub use fit::calibrate;
 pub use identify::{
     Component, Identifiability, Verdict, POORLY_DETERMINED_RATIO, UNIDENTIFIABLE_RATIO,
 };

@@ -221,7 +221,7 @@ fn minimiser_fits_an_exponential_and_respects_bounds() {
 
 #[test]
 fn exact_jacobians_take_at_least_five_times_fewer_solves_than_differences() {
-    use super::fit::{run, STEP_TOLERANCE};
+    use super::driver::{run, STEP_TOLERANCE};
     let m = small_manifest(4);
     let opts = CalibrateOptions::new(&["eps0", "kappa"]);
     let u = unknowns(&m, &opts).unwrap();
