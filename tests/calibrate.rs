@@ -327,6 +327,25 @@ fn bad_options_are_errors_naming_the_field() {
         Err(fpc::SolveError::Input(e)) => (e.field().to_string(), e.to_string()),
         other => panic!("{other:?}"),
     };
+    // more distinct pressures than a cross-validation leaves out
+    let mut many = m.clone();
+    if let TestData::Markers { rows, .. } = &mut many.specimens[0].tests[0].data {
+        let proto = rows[0].clone();
+        rows.clear();
+        for i in 0..=fpc::calibrate::MAX_HELD_OUT_PRESSURES {
+            let mut r = proto.clone();
+            r.pressure_kpa = i as f64;
+            rows.push(r);
+        }
+    }
+    let cv = CalibrateOptions {
+        cross_validate: true,
+        ..CalibrateOptions::new(&["eps0"])
+    };
+    match calibrate(&many, &cv) {
+        Err(fpc::SolveError::Input(e)) => assert_eq!(e.field().to_string(), "cross_validate"),
+        other => panic!("{other:?}"),
+    }
     let names: Vec<String> = (0..=MAX_FIT_NAMES).map(|i| format!("p{i}")).collect();
     for (o, want) in [
         (CalibrateOptions::new::<&str>(&[]), "fit"),

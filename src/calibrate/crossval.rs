@@ -63,7 +63,7 @@ fn filtered(manifest: &Manifest, p: f64, keep: bool) -> Manifest {
 }
 
 /// The distinct pressures of `manifest`, ascending.
-fn pressures(manifest: &Manifest) -> Vec<f64> {
+pub(crate) fn pressures(manifest: &Manifest) -> Vec<f64> {
     let mut ps: Vec<f64> = Vec::new();
     for t in manifest.specimens.iter().flat_map(|s| &s.tests) {
         let rows: Vec<f64> = match &t.data {

@@ -1,10 +1,10 @@
 //! The calibration: the unknowns resolved, Levenberg-Marquardt over the
 //! exact Jacobian, then the errors and the identifiability at the fit.
 
-use super::crossval::cross_validate;
+use super::crossval::{cross_validate, pressures};
 use super::driver::run;
 use super::identify::analyse;
-use super::options::{inconsistent, CalibrateOptions};
+use super::options::{inconsistent, CalibrateOptions, MAX_HELD_OUT_PRESSURES};
 use super::params::unknowns;
 use super::record::{Calibration, FittedParameter};
 use crate::measure::Manifest;
@@ -39,6 +39,19 @@ pub fn calibrate(
             format!("{n} unknowns need more than {n} measured values; the manifest has {points}"),
         )
         .into());
+    }
+    if options.cross_validate {
+        let held = pressures(manifest).len();
+        if held > MAX_HELD_OUT_PRESSURES {
+            return Err(crate::error::InputError::OutOfRange {
+                field: crate::field::Field::key("cross_validate"),
+                value: held as f64,
+                rule: format!(
+                    "the data have {held} distinct pressures; a cross-validation leaves out at most {MAX_HELD_OUT_PRESSURES} (one fit each)"
+                ),
+            }
+            .into());
+        }
     }
     let theta0: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
     let run = run(manifest, &unknowns, theta0, options.max_iterations)?;

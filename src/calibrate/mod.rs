@@ -51,7 +51,8 @@ pub use identify::{
 };
 pub use lm::Termination;
 pub use options::{
-    CalibrateOptions, DEFAULT_ITERATIONS, MAX_FIT_NAMES, MAX_ITERATIONS, MAX_UNKNOWNS,
+    CalibrateOptions, DEFAULT_ITERATIONS, MAX_FIT_NAMES, MAX_HELD_OUT_PRESSURES, MAX_ITERATIONS,
+    MAX_UNKNOWNS,
 };
 pub use params::Unknown;
 pub use record::{Calibration, FittedParameter};

@@ -11,6 +11,9 @@ pub const MAX_FIT_NAMES: usize = 16;
 pub const MAX_UNKNOWNS: usize = 64;
 /// Most Levenberg-Marquardt iterations a caller may ask for.
 pub const MAX_ITERATIONS: usize = 1000;
+/// Most distinct pressures a cross-validation leaves out in turn (each
+/// costs a fit).
+pub const MAX_HELD_OUT_PRESSURES: usize = 100;
 /// The iterations of [`CalibrateOptions::new`].
 pub const DEFAULT_ITERATIONS: usize = 100;
 
