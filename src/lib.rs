@@ -59,6 +59,7 @@
 
 pub mod actuator;
 mod brent;
+pub mod calibrate;
 pub mod cancel;
 pub mod circle_fit;
 mod coefficients;

@@ -74,9 +74,9 @@ pub use resolve::{
     DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
-    line_col, ActuatorSection, ChannelSection, Elements, GeometrySection, GraspKind, GraspSection,
-    GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection, PartitionSection,
-    PemcSection, RibEntry, RibKind, RibsSection, SceneError, SceneFile, SceneStrategy,
-    SolveSection,
+    line_col, ActuatorSection, CalibrationSection, ChannelSection, Elements, GeometrySection,
+    GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind, MaterialSection,
+    ModelSection, PartitionSection, PemcSection, RibEntry, RibKind, RibsSection, SceneError,
+    SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
 };
 pub use solve::{GraspOutcome, SceneSolution};

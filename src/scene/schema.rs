@@ -71,7 +71,37 @@ pub struct SceneFile {
     /// A gripper built from the finger, and the grasp to solve.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gripper: Option<GripperSection>,
+    /// Where the parameters came from: a calibration's fitted keys and
+    /// their covariance (written by `fpc calibrate`; it changes nothing
+    /// the scene solves).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<CalibrationSection>,
 }
+
+/// `[calibration]`: the scene keys a calibration fitted and their
+/// covariance, in the keys' order (`covariance[i][j]` in the units of key
+/// i times key j); absent when the data could not determine them.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CalibrationSection {
+    /// The measurement manifest the calibration read.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub manifest: Option<String>,
+    /// The fitted scene keys (`actuator.pemc.eps0`, `load.kappa`, ...).
+    pub parameters: Vec<String>,
+    /// Their standard errors, in the keys' order.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub standard_errors: Option<Vec<f64>>,
+    /// Their covariance, one row per key.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub covariance: Option<Vec<Vec<f64>>>,
+    /// The fit's chi-square per degree of freedom.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub chi_square_per_dof: Option<f64>,
+}
+
+/// Most keys of a `[calibration]` table.
+pub const MAX_CALIBRATION_KEYS: usize = 64;
 
 /// `[model]`: the element model the finger is built from.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]

@@ -7,6 +7,7 @@
 use clap::{Parser, Subcommand};
 use fpc_cli::{output, provenance, render, report, status};
 
+mod calibrate;
 mod compare;
 mod design;
 mod finger;
@@ -27,6 +28,8 @@ struct Cli {
 
 #[derive(Subcommand, Debug)]
 enum Command {
+    /// Fit parameters to measurements (MANIFEST.toml, --fit eps0,kappa,...) with errors and an identifiability verdict; writes calibration.json and a calibrated scene per specimen.
+    Calibrate(calibrate::Args),
     /// The model against measurements, no fitting (MANIFEST.toml of specimens and CSV tests); writes compare.csv, compare.json, figures (--format).
     Compare(compare::Args),
     /// The finger and gripper to build for a set of objects (REQUIREMENTS.toml); writes design.json, scenes, design.svg (--format: png, pdf).
@@ -49,6 +52,7 @@ enum Command {
 
 fn main() {
     fpc_cli::main(|cli: Cli| match cli.command {
+        Command::Calibrate(a) => calibrate::run(&a),
         Command::Compare(a) => compare::run(&a),
         Command::Design(a) => design::run(&a),
         Command::Finger(a) => finger::run(&a),

@@ -98,7 +98,20 @@ pub(crate) enum SceneKey {
     Solve(SolveKey),
     Gripper(GripperKey),
     Grasp(GraspKey),
+    /// `calibration.<key>` (a calibration's record; it changes nothing
+    /// that is solved).
+    Calibration(&'static str),
 }
+
+/// The keys of `[calibration]` (a list's entries at index 0).
+#[cfg(test)]
+pub(crate) const CALIBRATION_KEYS: [&str; 5] = [
+    "manifest",
+    "parameters[0]",
+    "standard_errors[0]",
+    "covariance[0][0]",
+    "chi_square_per_dof",
+];
 
 impl fmt::Display for SceneKey {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
@@ -121,6 +134,7 @@ impl fmt::Display for SceneKey {
             SceneKey::Solve(k) => write!(f, "solve.{k}"),
             SceneKey::Gripper(k) => write!(f, "gripper.{k}"),
             SceneKey::Grasp(k) => write!(f, "gripper.grasp.{k}"),
+            SceneKey::Calibration(k) => write!(f, "calibration.{k}"),
         }
     }
 }
@@ -171,6 +185,7 @@ impl SceneKey {
         keys.extend(SolveKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(GripperKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(GraspKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(CALIBRATION_KEYS.iter().map(|&k| SceneKey::Calibration(k)));
         keys
     }
 }

@@ -8,13 +8,14 @@ mod tests;
 
 use crate::actuator::Actuator;
 use crate::error::{InputError, Warning};
+use crate::field::Field;
 use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::model::ModelId;
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
 use super::fields::{
     finite, forbid, inconsistent, positive, require, scene_input, LoadKey, ModelKey, PartitionKey,
-    SolveKey,
+    SceneKey, SolveKey,
 };
 use super::schema::*;
 
@@ -292,6 +293,10 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         }
     };
 
+    if let Some(c) = &f.calibration {
+        check_calibration(c)?;
+        file.calibration = Some(c.clone());
+    }
     Ok(Scene {
         model,
         actuator,
@@ -301,6 +306,50 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         gripper,
         file,
     })
+}
+
+/// The field of a `[calibration]` key (its scene key's spelling).
+fn calibration_key(k: &'static str) -> Field {
+    Field::from(SceneKey::Calibration(k).to_string())
+}
+
+/// A `[calibration]` table: at most [`MAX_CALIBRATION_KEYS`] keys, finite
+/// numbers, standard errors and a square covariance matching the keys.
+fn check_calibration(c: &CalibrationSection) -> Result<(), InputError> {
+    let n = c.parameters.len();
+    if n > MAX_CALIBRATION_KEYS {
+        return Err(InputError::OutOfRange {
+            field: Field::key("calibration.parameters"),
+            value: n as f64,
+            rule: format!("at most {MAX_CALIBRATION_KEYS} keys"),
+        });
+    }
+    if let Some(se) = &c.standard_errors {
+        if se.len() != n {
+            return Err(InputError::Inconsistent {
+                field: Field::key("calibration.standard_errors"),
+                rule: format!("must hold one value per parameter ({n}), not {}", se.len()),
+            });
+        }
+        for &v in se {
+            crate::error::finite(Field::key("calibration.standard_errors"), v)?;
+        }
+    }
+    if let Some(cov) = &c.covariance {
+        if cov.len() != n || cov.iter().any(|r| r.len() != n) {
+            return Err(InputError::Inconsistent {
+                field: Field::key("calibration.covariance"),
+                rule: format!("must be {n} rows of {n} values, one per parameter"),
+            });
+        }
+        for &v in cov.iter().flatten() {
+            crate::error::finite(Field::key("calibration.covariance"), v)?;
+        }
+    }
+    if let Some(v) = c.chi_square_per_dof {
+        crate::error::finite(calibration_key("chi_square_per_dof"), v)?;
+    }
+    Ok(())
 }
 
 fn resolve_model(m: &ModelSection) -> Result<ModelId, InputError> {

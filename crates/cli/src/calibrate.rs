@@ -1,0 +1,165 @@
+//! `fpc calibrate MANIFEST --fit eps0,kappa,...`: the named parameters
+//! fitted to measurements by weighted least squares (`fpc::calibrate`;
+//! docs/calibration.md). Prints the fitted values with standard errors,
+//! the chi-square per degree of freedom and the identifiability verdict;
+//! writes `calibration.json` (everything: covariance, correlations,
+//! singular values, residuals, counts) and one calibrated scene per
+//! specimen (`<specimen>.toml`, with a `[calibration]` table of the
+//! fitted keys and their covariance) that `fpc solve` reads. With
+//! `--cross-validate`, leave-one-pressure-out prediction errors.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+
+use fpc::calibrate::{calibrate, calibrated_scenes, CalibrateOptions, Calibration};
+use fpc::measure::Manifest;
+use serde::Serialize;
+
+/// Flags of `fpc calibrate`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The measurement manifest (TOML; docs/measurements.md).
+    manifest: PathBuf,
+    /// The parameters to fit, comma-separated: eps0, kappa, p1..p4, or
+    /// scene keys (pemc.e2, emc.e1, cl.e, actuator.fluidic.e, ...), or
+    /// camera (every markers test's camera frame). A parameter in a
+    /// specimen's own tables is fitted per specimen.
+    #[arg(long, value_delimiter = ',', required = true)]
+    fit: Vec<String>,
+    /// Most Levenberg-Marquardt iterations.
+    #[arg(long, default_value_t = fpc::calibrate::DEFAULT_ITERATIONS)]
+    max_iterations: usize,
+    /// Also fit again without each pressure in turn and predict it
+    /// (leave-one-pressure-out prediction errors; one refit per pressure).
+    #[arg(long)]
+    cross_validate: bool,
+    /// Output directory (default `<stem>-calibrate`).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Print calibration.json's object instead of the summary.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Serialize)]
+struct Report<'a> {
+    #[serde(flatten)]
+    calibration: &'a Calibration,
+    /// The calibrated scene files written, one per specimen.
+    scenes: Vec<String>,
+    provenance: crate::provenance::Provenance,
+}
+
+/// A file name from a specimen's name: letters, digits, `.`, `-`, `_`
+/// kept, anything else `_`.
+fn file_name(name: &str) -> String {
+    let s: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '.' | '-' | '_') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    format!("{}.toml", s.trim_start_matches('.'))
+}
+
+pub fn run(args: &Args) -> anyhow::Result<()> {
+    let options = CalibrateOptions {
+        fit: args.fit.clone(),
+        max_iterations: args.max_iterations,
+        cross_validate: args.cross_validate,
+    };
+    // every file is read and checked before anything is computed
+    let manifest =
+        Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
+    let (_, out) =
+        crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
+    let fit = calibrate(&manifest, &options)?;
+    crate::output::prepare_dir(&out)?;
+    let mut scenes = Vec::new();
+    for (i, (_, text)) in calibrated_scenes(&manifest, &fit)?.into_iter().enumerate() {
+        let mut name = file_name(&manifest.specimens[i].name);
+        if scenes.contains(&name) || name == ".toml" {
+            name = format!("specimen-{}.toml", i + 1);
+        }
+        crate::output::write_atomic(&out, &name, text.as_bytes())?;
+        scenes.push(name);
+    }
+    let report = Report {
+        calibration: &fit,
+        scenes,
+        provenance: crate::provenance::Provenance::now(),
+    };
+    let json = serde_json::to_string_pretty(&report)? + "\n";
+    crate::output::write_atomic(&out, "calibration.json", json.as_bytes())?;
+    let mut w = crate::output::stdout();
+    if args.json {
+        writeln!(w, "{}", serde_json::to_string(&report)?)?;
+        return Ok(());
+    }
+    let sd = |v: Option<f64>| v.map_or("undetermined".to_string(), |s| format!("{s:.6e}"));
+    writeln!(
+        w,
+        "{:<40} {:>14} {:>14} {:>14} {:>14}",
+        "parameter", "value", "sd", "sd (scaled)", "start"
+    )?;
+    for p in &fit.parameters {
+        writeln!(
+            w,
+            "{:<40} {:>14.8} {:>14} {:>14} {:>14.8}{}",
+            p.name,
+            p.value,
+            sd(p.standard_error),
+            sd(p.scaled_standard_error),
+            p.start,
+            if p.at_bound { "  (at a bound)" } else { "" }
+        )?;
+    }
+    writeln!(
+        w,
+        "chi2         {:.4} over {} residuals, {} degrees of freedom (per dof {:.4}; at the start {:.4})",
+        fit.chi_square, fit.points, fit.dof, fit.chi_square_per_dof, fit.start_chi_square
+    )?;
+    writeln!(w, "identify     {}", fit.identifiability.message)?;
+    writeln!(
+        w,
+        "cost         {} iterations, {} evaluations, {} equilibrium solves, {} target solves (stopped: {})",
+        fit.iterations,
+        fit.evaluations,
+        fit.solves,
+        fit.target_solves,
+        serde_json::to_value(fit.termination)?
+            .as_str()
+            .unwrap_or("?")
+    )?;
+    if let Some(cv) = &fit.cross_validation {
+        let failed = cv.held_out.iter().filter(|h| h.failure.is_some()).count();
+        writeln!(
+            w,
+            "held out     each of {} pressures left out and predicted: rms {:.4} sd over {} residuals (chi2 {:.4}){}",
+            cv.held_out.len(),
+            cv.rms_sd,
+            cv.points,
+            cv.chi_square,
+            if failed > 0 {
+                format!("; {failed} refits failed")
+            } else {
+                String::new()
+            }
+        )?;
+    }
+    if fit.outside_model > 0 {
+        writeln!(
+            w,
+            "validity     {} predictions at the fit come from a finger outside the model (docs/model.md section 8)",
+            fit.outside_model
+        )?;
+    }
+    let mut files = vec!["calibration.json".to_string()];
+    files.extend(report.scenes.iter().cloned());
+    writeln!(w, "wrote        {}: {}", out.display(), files.join(", "))?;
+    Ok(())
+}

@@ -1,0 +1,173 @@
+//! `fpc calibrate`: the shipped synthetic set is fitted into
+//! calibration.json and one calibrated scene per specimen, which `fpc
+//! solve` reads with its `[calibration]` table; bad options exit with
+//! status 2 and one line naming the field.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+
+use common::{fpc, rejected, text};
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fpc-cli-calibrate-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn shipped() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calibration/manifest.toml")
+        .display()
+        .to_string()
+}
+
+#[test]
+fn the_synthetic_set_is_calibrated_into_json_and_scenes() {
+    let out = tmp("run");
+    let o = out.display().to_string();
+    let run = fpc(&["calibrate", &shipped(), "--fit", "eps0,kappa", "--out", &o]);
+    let stdout = text(&run.stdout);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    assert!(stdout.starts_with("parameter"), "{stdout}");
+    assert!(stdout.contains("identify     identifiable"), "{stdout}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("calibration.json")).unwrap())
+            .unwrap();
+    let params = json["parameters"].as_array().unwrap();
+    // eps0 per specimen (their own tables), kappa shared
+    assert_eq!(params.len(), 4);
+    // the README's truth within three standard errors
+    for p in params {
+        let truth = match p["name"].as_str().unwrap() {
+            "actuator.pemc.eps0[eps0-0.15]" => 0.15,
+            "actuator.pemc.eps0[eps0-0.25]" => 0.25,
+            "actuator.pemc.eps0[eps0-0.4]" => 0.4,
+            "load.kappa" => 2.5,
+            n => panic!("{n}"),
+        };
+        let (v, se) = (
+            p["value"].as_f64().unwrap(),
+            p["standard_error"].as_f64().unwrap(),
+        );
+        assert!((v - truth).abs() < 3.0 * se, "{p}");
+    }
+    let chi = json["chi_square"].as_f64().unwrap();
+    let z: f64 = json["residuals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["residual_sd"].as_f64().unwrap().powi(2))
+        .sum();
+    assert!((chi - z).abs() <= 1e-9 * chi, "{chi} vs {z}");
+    assert_eq!(
+        json["dof"].as_u64(),
+        Some(json["points"].as_u64().unwrap() - 4)
+    );
+    assert!(json["provenance"]["fpc_version"].is_string());
+    // each scene solves, and carries its keys and covariance
+    let scenes = json["scenes"].as_array().unwrap();
+    assert_eq!(scenes.len(), 3);
+    for s in scenes {
+        let path = out.join(s.as_str().unwrap());
+        let scene = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            scene.contains("[calibration]") && scene.contains("covariance"),
+            "{scene}"
+        );
+        let sol = out.join(format!("solved-{}", s.as_str().unwrap()));
+        let r = fpc(&[
+            "solve",
+            &path.display().to_string(),
+            "--out",
+            &sol.display().to_string(),
+        ]);
+        assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
+    }
+    // --json prints the same object
+    let j = fpc(&[
+        "calibrate",
+        &shipped(),
+        "--fit",
+        "eps0,kappa",
+        "--out",
+        &o,
+        "--json",
+    ]);
+    let printed: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    assert_eq!(printed["chi_square"], json["chi_square"]);
+}
+
+#[test]
+fn bad_options_exit_2_naming_the_field() {
+    let m = shipped();
+    let o = tmp("bad").display().to_string();
+    rejected(
+        &["calibrate", &m, "--fit", "nonsense", "--out", &o],
+        &["fit", "nonsense"],
+    );
+    rejected(
+        &["calibrate", &m, "--fit", "eps0,eps0", "--out", &o],
+        &["fit", "twice"],
+    );
+    rejected(
+        &[
+            "calibrate",
+            &m,
+            "--fit",
+            "eps0",
+            "--max-iterations",
+            "0",
+            "--out",
+            &o,
+        ],
+        &["max_iterations"],
+    );
+    rejected(&["calibrate", &m, "--out", &o], &["--fit"]);
+    rejected(
+        &["calibrate", "no-such-manifest.toml", "--fit", "eps0"],
+        &["no-such-manifest.toml"],
+    );
+    // a bad scene table: fpc solve names the calibration key
+    let d = tmp("scene");
+    let s = d.join("s.toml");
+    std::fs::write(
+        &s,
+        "[calibration]\nparameters = [\"actuator.pemc.eps0\"]\ncovariance = [[1.0, 2.0]]\n",
+    )
+    .unwrap();
+    rejected(
+        &[
+            "solve",
+            &s.display().to_string(),
+            "--out",
+            &d.join("o").display().to_string(),
+        ],
+        &["calibration.covariance"],
+    );
+}
+
+#[test]
+fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
+    let out = tmp("pipe");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args([
+            "calibrate",
+            &shipped(),
+            "--fit",
+            "eps0",
+            "--out",
+            &out.display().to_string(),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // the reader goes away before the fit prints anything
+    drop(child.stdout.take());
+    let done = child.wait_with_output().unwrap();
+    assert_eq!(done.status.code(), Some(0), "{}", text(&done.stderr));
+    assert!(done.stderr.is_empty(), "{}", text(&done.stderr));
+    assert!(out.join("calibration.json").is_file());
+}

@@ -1,0 +1,126 @@
+//! The calibration: the unknowns resolved, Levenberg-Marquardt over the
+//! exact Jacobian, then the errors and the identifiability at the fit.
+
+use super::crossval::{cross_validate, pressures};
+use super::driver::run;
+use super::identify::analyse;
+use super::options::{inconsistent, CalibrateOptions, MAX_HELD_OUT_PRESSURES};
+use super::params::unknowns;
+use super::record::{Calibration, FittedParameter};
+use crate::measure::Manifest;
+use crate::solve_error::SolveError;
+
+/// Fits `options.fit` to every test of `manifest` by weighted least
+/// squares (docs/calibration.md). Bad options or a parameter the manifest
+/// cannot fit are [`SolveError::Input`] naming the field (`fit`,
+/// `max_iterations`, `partition`); a model that cannot be solved at the
+/// start is the solve's error. Nothing panics on user input, and no NaN
+/// comes out: a residual or Jacobian entry that is not finite stops the
+/// fit with an error.
+pub fn calibrate(
+    manifest: &Manifest,
+    options: &CalibrateOptions,
+) -> Result<Calibration, SolveError> {
+    options.validate()?;
+    let unknowns = unknowns(manifest, options)?;
+    let n = unknowns.len();
+    let points: usize = manifest
+        .specimens
+        .iter()
+        .flat_map(|s| &s.tests)
+        .map(|t| match &t.data {
+            crate::measure::TestData::Markers { rows, .. } => 2 * rows.len(),
+            d => d.len(),
+        })
+        .sum();
+    if points <= n {
+        return Err(inconsistent(
+            "fit",
+            format!("{n} unknowns need more than {n} measured values; the manifest has {points}"),
+        )
+        .into());
+    }
+    if options.cross_validate {
+        let held = pressures(manifest).len();
+        if held > MAX_HELD_OUT_PRESSURES {
+            return Err(crate::error::InputError::OutOfRange {
+                field: crate::field::Field::key("cross_validate"),
+                value: held as f64,
+                rule: format!(
+                    "the data have {held} distinct pressures; a cross-validation leaves out at most {MAX_HELD_OUT_PRESSURES} (one fit each)"
+                ),
+            }
+            .into());
+        }
+    }
+    let theta0: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
+    let run = run(manifest, &unknowns, theta0, options.max_iterations)?;
+    let (min, solves, target_solves, start_chi_square) = (
+        run.min,
+        run.solves,
+        run.target_solves,
+        Some(run.start_chi_square),
+    );
+    let cross_validation = options
+        .cross_validate
+        .then(|| cross_validate(manifest, &unknowns, &min.theta, options.max_iterations).0);
+    let names: Vec<String> = unknowns.iter().map(|u| u.label()).collect();
+    let (identifiability, cov) = analyse(&min.point.j, &names);
+    let chi_square = min.point.r.norm_squared();
+    let m = min.point.r.len();
+    let dof = m - n;
+    let per_dof = chi_square / dof as f64;
+    let parameters = unknowns
+        .iter()
+        .enumerate()
+        .map(|(k, u)| {
+            let se = cov.as_ref().map(|c| c[(k, k)].max(0.0).sqrt());
+            let v = min.theta[k];
+            FittedParameter {
+                name: u.label(),
+                key: u.key.clone(),
+                specimen: u.specimen.clone(),
+                start: u.start,
+                value: v,
+                standard_error: se,
+                scaled_standard_error: se.map(|s| s * per_dof.sqrt()),
+                lower: u.lower,
+                upper: u.upper,
+                at_bound: v <= u.lower || v >= u.upper,
+            }
+        })
+        .collect();
+    let correlation = cov.as_ref().map(|c| {
+        (0..n)
+            .map(|a| {
+                (0..n)
+                    .map(|b| c[(a, b)] / (c[(a, a)] * c[(b, b)]).sqrt())
+                    .collect()
+            })
+            .collect()
+    });
+    Ok(Calibration {
+        manifest: manifest.file.clone(),
+        parameters,
+        covariance: cov.map(|c| {
+            (0..n)
+                .map(|a| (0..n).map(|b| c[(a, b)]).collect())
+                .collect()
+        }),
+        correlation,
+        identifiability,
+        chi_square,
+        points: m,
+        dof,
+        chi_square_per_dof: per_dof,
+        start_chi_square: start_chi_square.unwrap_or(chi_square),
+        residuals: min.extra.rows,
+        iterations: min.iterations,
+        evaluations: min.evaluations,
+        solves,
+        target_solves,
+        termination: min.termination,
+        outside_model: min.extra.outside_model,
+        cross_validation,
+    })
+}
