@@ -45,6 +45,16 @@ class SolveError(RuntimeError):
 
     kind: str
 
+class MeasureError(ValueError):
+    """Bad measurement input (a manifest or one of its CSV files) at
+    ``file``:``line``:``col`` (from 1; ``None`` for what concerns the whole
+    file), naming the column or manifest key in ``field``."""
+
+    file: str
+    line: Optional[int]
+    col: Optional[int]
+    field: str
+
 class InternalError(RuntimeError):
     """A bug: the library panicked; the panic was caught at the boundary."""
 
@@ -262,6 +272,18 @@ def design(requirements: Scene, starts: int = 2, seed: int = 1) -> dict[str, Any
     ``solve_scene``). ``starts`` <= 10000. Raises
     ``SceneError`` or ``InputError`` for bad requirements,
     ``FileNotFoundError`` for a missing path; Ctrl-C interrupts."""
+
+def compare(manifest: Union[str, PathLike[str]]) -> dict[str, Any]:
+    """The model against the measurements of a manifest (docs/measurements.md),
+    no parameter fitted, with the keys of ``fpc compare --json``
+    (``chi_square``, ``points``, ``specimens`` with their ``tests`` and each
+    row's ``predictions``), and in every test ``arrays``: per measured
+    quantity, in file order, numpy arrays ``pressure_kpa``, ``measured``,
+    ``sd``, ``predicted``, ``residual``, ``residual_sd`` (NaN without a
+    prediction) and the list ``quantity``. Raises ``FileNotFoundError``
+    for a missing manifest, ``MeasureError`` for bad measurement input,
+    ``InputError`` for an actuator the model cannot build; Ctrl-C
+    interrupts."""
 
 def studies() -> list[dict[str, Any]]:
     """The paper's studies: ``{number, key, title, description}``."""

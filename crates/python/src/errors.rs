@@ -6,6 +6,7 @@
 //! | [`fpc::InputError`] (also inside [`fpc::SolveError::Input`]) | `fpc.InputError`, a `ValueError`: message starts with the field, `.field` |
 //! | [`fpc::scene::SceneError`] (TOML syntax, unknown key) | `fpc.SceneError`, a `ValueError`: `.line`, `.col` |
 //! | [`fpc::SolveError::NotConverged`], [`fpc::SolveError::TargetNotReached`], [`fpc::SolveError::NotOnPath`] | `fpc.SolveError`, a `RuntimeError`: `.kind` and the details |
+//! | [`fpc::measure::MeasureError`] (a manifest or its CSV files) | `fpc.MeasureError`, a `ValueError`: `.file`, `.line`, `.col`, `.field` |
 //! | a panic inside the library | `fpc.InternalError`, a `RuntimeError` |
 
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -39,6 +40,14 @@ create_exception!(
      (`.kind == \"not_converged\"`: `.iterations`, `.relative_residual`, `.element`, \
      `.reason`), or a target solve stopped short (`.kind == \"target_not_reached\"`: \
      `.target`, `.value`, `.reached`)."
+);
+create_exception!(
+    fpc,
+    MeasureError,
+    PyValueError,
+    "Bad measurement input (a manifest or one of its CSV files): `.file`, `.line` \
+     and `.col` (from 1; None for what concerns the whole file) and `.field` (the \
+     column or manifest key)."
 );
 create_exception!(
     fpc,
@@ -163,6 +172,17 @@ pub fn from_syntax(py: Python<'_>, s: &fpc::scene::SceneError, shown: &str) -> P
     let v = err.value(py);
     let _ = v.setattr("line", s.line);
     let _ = v.setattr("col", s.col);
+    err
+}
+
+/// A [`fpc::measure::MeasureError`] as `fpc.MeasureError`.
+pub fn from_measure(py: Python<'_>, e: &fpc::measure::MeasureError) -> PyErr {
+    let err = MeasureError::new_err(e.to_string());
+    let v = err.value(py);
+    let _ = v.setattr("file", &e.file);
+    let _ = v.setattr("line", e.row());
+    let _ = v.setattr("col", e.column());
+    let _ = v.setattr("field", &e.field);
     err
 }
 

@@ -368,21 +368,25 @@ pub fn scene_text(obj: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
     };
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(&p).map_err(|e| {
-                let message = format!("cannot read the scene file {p}: {e}");
-                match e.kind() {
-                    std::io::ErrorKind::NotFound => {
-                        pyo3::exceptions::PyFileNotFoundError::new_err((2, message, p.clone()))
-                    }
-                    std::io::ErrorKind::PermissionDenied => {
-                        pyo3::exceptions::PyPermissionError::new_err((13, message, p.clone()))
-                    }
-                    _ => pyo3::exceptions::PyOSError::new_err(message),
-                }
-            })?;
+            let text = std::fs::read_to_string(&p)
+                .map_err(|e| io_error(&e, format!("cannot read the scene file {p}: {e}"), &p))?;
             Ok((text, p))
         }
         None => Ok((obj.extract()?, String::new())),
+    }
+}
+
+/// An I/O error on the file `path` as Python's own: `FileNotFoundError`
+/// and `PermissionError` (with errno and the file name), else `OSError`.
+pub fn io_error(e: &std::io::Error, message: String, path: &str) -> PyErr {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => {
+            pyo3::exceptions::PyFileNotFoundError::new_err((2, message, path.to_string()))
+        }
+        std::io::ErrorKind::PermissionDenied => {
+            pyo3::exceptions::PyPermissionError::new_err((13, message, path.to_string()))
+        }
+        _ => pyo3::exceptions::PyOSError::new_err(message),
     }
 }
 

@@ -20,6 +20,7 @@ pub mod design;
 pub mod errors;
 pub mod finger;
 pub mod gripper;
+pub mod measure;
 pub mod scene;
 pub mod studies;
 
@@ -47,11 +48,13 @@ fn fpc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::studies, m)?)?;
     m.add_function(wrap_pyfunction!(studies::run_study, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::compare, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_solve, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_reference, m)?)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("SceneError", py.get_type::<errors::SceneError>())?;
     m.add("SolveError", py.get_type::<errors::SolveError>())?;
+    m.add("MeasureError", py.get_type::<errors::MeasureError>())?;
     m.add("InternalError", py.get_type::<errors::InternalError>())?;
     m.add(
         "BATCH_STATUS",

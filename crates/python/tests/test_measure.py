@@ -1,0 +1,88 @@
+"""fpc.compare: the model against a lab's measurements (no fitting), the
+same numbers as `fpc compare --json`, its arrays consistent with its
+records, and bad input as Python's own errors."""
+
+import copy
+import math
+import os
+import pathlib
+import shutil
+
+import numpy as np
+import pytest
+
+import fpc
+from conftest import REPO, assert_same, cli_json
+
+MANIFEST = REPO / "examples" / "calibration" / "manifest.toml"
+
+
+def test_compare_matches_the_cli(fpc_bin, tmp_path):
+    c = fpc.compare(MANIFEST)
+    cli = cli_json(fpc_bin, "compare", MANIFEST, "--out", tmp_path, "--json")
+    for k in ("figures", "provenance"):
+        cli.pop(k)
+    plain = copy.deepcopy(c)
+    for s in plain["specimens"]:
+        for t in s["tests"]:
+            t.pop("arrays")
+    assert_same(plain, cli)
+
+
+def test_arrays_hold_every_residual_in_file_order():
+    c = fpc.compare(os.fspath(MANIFEST))
+    total = 0.0
+    points = 0
+    for s in c["specimens"]:
+        for t in s["tests"]:
+            a = t["arrays"]
+            rows = [(p, r) for p in t["predictions"] for r in p["residuals"]]
+            assert len(a["quantity"]) == len(rows) > 0
+            for name in ("pressure_kpa", "measured", "sd", "predicted", "residual", "residual_sd"):
+                assert a[name].shape == (len(rows),), name
+            assert a["quantity"] == [r["quantity"] for _, r in rows]
+            assert np.array_equal(a["pressure_kpa"], [p["pressure_kpa"] for p, _ in rows])
+            ok = ~np.isnan(a["predicted"])
+            # residuals are measured - predicted, in units and in sd
+            np.testing.assert_allclose(
+                a["residual"][ok], a["measured"][ok] - a["predicted"][ok], rtol=0, atol=1e-12
+            )
+            np.testing.assert_allclose(
+                a["residual_sd"][ok], a["residual"][ok] / a["sd"][ok], rtol=1e-14
+            )
+            total += float(np.sum(a["residual_sd"][ok] ** 2))
+            points += int(ok.sum())
+    # the chi-square is the sum of the squared residuals in sd
+    assert math.isclose(c["chi_square"], total, rel_tol=1e-12)
+    assert c["points"] == points
+    # synthetic data from the model with Gaussian noise: about one per point
+    assert 0.5 * points < c["chi_square"] < 2.0 * points
+
+
+def test_bad_measurements_name_file_line_column_and_field(tmp_path):
+    d = tmp_path / "set"
+    shutil.copytree(MANIFEST.parent, d)
+    csv = d / "eps0-0.4_radius.csv"
+    lines = csv.read_text().splitlines()
+    # the third data row's sd becomes negative
+    header = next(i for i, l in enumerate(lines) if l.startswith("pressure_kpa"))
+    row = header + 3
+    cells = lines[row].split(",")
+    cells[2] = "-1"
+    lines[row] = ",".join(cells)
+    csv.write_text("\n".join(lines) + "\n")
+    with pytest.raises(fpc.MeasureError) as e:
+        fpc.compare(d / "manifest.toml")
+    assert isinstance(e.value, ValueError)
+    assert e.value.file.endswith("eps0-0.4_radius.csv")
+    assert e.value.line == row + 1
+    assert e.value.col == 3
+    assert e.value.field == "sd_mm"
+
+
+def test_a_missing_manifest_is_file_not_found(tmp_path):
+    with pytest.raises(FileNotFoundError) as e:
+        fpc.compare(tmp_path / "nothing.toml")
+    assert e.value.filename.endswith("nothing.toml")
+    with pytest.raises(TypeError):
+        fpc.compare(3)
