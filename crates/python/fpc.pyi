@@ -285,6 +285,25 @@ def compare(manifest: Union[str, PathLike[str]]) -> dict[str, Any]:
     ``InputError`` for an actuator the model cannot build; Ctrl-C
     interrupts."""
 
+def calibrate(
+    manifest: Union[str, PathLike[str]],
+    fit: Union[str, Sequence[str]],
+    *,
+    max_iterations: int = 100,
+    cross_validate: bool = False,
+) -> dict[str, Any]:
+    """The parameters that fit the measurements of a manifest, as ``fpc
+    calibrate`` finds them (docs/calibration.md): ``fit`` names them (a
+    list, or ``"eps0,kappa"``; at most 16), ``max_iterations`` 1 to 1000.
+    Returns the keys of calibration.json (``parameters``,
+    ``identifiability``, ``chi_square_per_dof``, ``residuals``, ...), plus
+    ``values`` and ``standard_errors`` as arrays in the order of
+    ``parameters``, ``covariance`` and ``correlation`` as square arrays
+    (None when not determined), and ``scenes`` (``{name, toml}``: each
+    specimen's calibrated scene). Raises ``FileNotFoundError``,
+    ``MeasureError``, ``InputError`` (naming ``fit``, ``max_iterations`` or
+    a parameter); Ctrl-C interrupts."""
+
 def studies() -> list[dict[str, Any]]:
     """The paper's studies: ``{number, key, title, description}``."""
 

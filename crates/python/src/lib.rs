@@ -49,6 +49,7 @@ fn fpc_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(studies::run_study, m)?)?;
     m.add_function(wrap_pyfunction!(design::design, m)?)?;
     m.add_function(wrap_pyfunction!(measure::compare, m)?)?;
+    m.add_function(wrap_pyfunction!(measure::calibrate, m)?)?;
     m.add_function(wrap_pyfunction!(batch::batch_solve, m)?)?;
     m.add_function(wrap_pyfunction!(batch::_batch_reference, m)?)?;
     m.add("InputError", py.get_type::<errors::InputError>())?;

@@ -1,5 +1,6 @@
-//! `fpc.compare`: the model against a lab's measurements, with no fitting
-//! (docs/measurements.md).
+//! A lab's measurements: `fpc.compare`, the model against them with no
+//! fitting (docs/measurements.md), and `fpc.calibrate`, the parameters
+//! that fit them (docs/calibration.md).
 
 use std::path::Path;
 
@@ -7,9 +8,10 @@ use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
+use fpc::calibrate::{calibrated_scenes, CalibrateOptions};
 use fpc::measure::{Comparison, Manifest};
 
-use crate::convert::{array1, to_py};
+use crate::convert::{array1, array2, to_py};
 use crate::errors::{from_measure, from_solve, interruptible};
 use crate::finger::io_error;
 
@@ -32,6 +34,106 @@ use crate::finger::io_error;
 #[pyfunction]
 #[pyo3(signature = (manifest))]
 pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyDict>> {
+    let m = read_manifest(py, manifest)?;
+    let c = interruptible(py, move || fpc::compare(&m))?.map_err(|e| from_solve(py, &e))?;
+    let d = to_py(py, &c)?.cast_into::<PyDict>()?;
+    add_arrays(py, &d, &c)?;
+    Ok(d)
+}
+
+/// The parameters that make the model match the measurements of a
+/// manifest (``str`` or ``os.PathLike``), as ``fpc calibrate`` fits them:
+/// weighted least squares (Levenberg-Marquardt with bounds) on the exact
+/// Jacobian (docs/calibration.md).
+///
+/// - ``fit``: the parameters, a list of names or one comma-separated
+///   ``str`` (``"eps0,kappa"``; scene keys such as ``actuator.cl.e``, the
+///   short names ``eps0``, ``kappa``, ``p1``...``p4``, or ``camera``); at
+///   most 16 names.
+/// - ``max_iterations``: 1 to 1000 (default 100).
+/// - ``cross_validate``: also predict each pressure left out in turn.
+///
+/// Returns a dict with the keys of ``calibration.json`` (``parameters``
+/// with ``name``, ``value``, ``standard_error``..., ``identifiability``
+/// with its ``verdict`` and ``message``, ``chi_square_per_dof``,
+/// ``residuals``, ``iterations``, ...), and ``values`` and
+/// ``standard_errors`` (NaN where not determined) as arrays in the order
+/// of ``parameters``, ``covariance`` and ``correlation`` as square arrays
+/// (None when the data do not determine the parameters), and ``scenes``:
+/// one ``{"name", "toml"}`` per specimen, its calibrated scene file.
+///
+/// Raises ``FileNotFoundError``, ``fpc.MeasureError`` for bad
+/// measurement input, ``fpc.InputError`` naming ``fit``,
+/// ``max_iterations`` or a parameter; Ctrl-C interrupts.
+#[pyfunction]
+#[pyo3(signature = (manifest, fit, *, max_iterations=100, cross_validate=false))]
+pub fn calibrate<'py>(
+    py: Python<'py>,
+    manifest: &Bound<'py, PyAny>,
+    fit: &Bound<'py, PyAny>,
+    max_iterations: usize,
+    cross_validate: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    let names: Vec<String> = match fit.extract::<String>() {
+        Ok(s) => s.split(',').map(|n| n.trim().to_string()).collect(),
+        Err(_) => fit.extract().map_err(|_| {
+            PyTypeError::new_err("fit is a list of parameter names or one comma-separated str")
+        })?,
+    };
+    let options = CalibrateOptions {
+        fit: names,
+        max_iterations,
+        cross_validate,
+    };
+    let m = read_manifest(py, manifest)?;
+    let (c, scenes) = interruptible(py, move || {
+        let c = fpc::calibrate::calibrate(&m, &options)?;
+        let scenes = calibrated_scenes(&m, &c)?;
+        Ok::<_, fpc::SolveError>((c, scenes))
+    })?
+    .map_err(|e| from_solve(py, &e))?;
+    let d = to_py(py, &c)?.cast_into::<PyDict>()?;
+    let n = c.parameters.len();
+    d.set_item(
+        "values",
+        array1(py, c.parameters.iter().map(|p| p.value).collect()),
+    )?;
+    d.set_item(
+        "standard_errors",
+        array1(
+            py,
+            c.parameters
+                .iter()
+                .map(|p| p.standard_error.unwrap_or(f64::NAN))
+                .collect(),
+        ),
+    )?;
+    for (key, m) in [
+        ("covariance", &c.covariance),
+        ("correlation", &c.correlation),
+    ] {
+        match m {
+            Some(rows) => d.set_item(
+                key,
+                array2(py, rows.iter().flatten().copied().collect(), n)?,
+            )?,
+            None => d.set_item(key, py.None())?,
+        }
+    }
+    let list = PyList::empty(py);
+    for (name, toml) in scenes {
+        let s = PyDict::new(py);
+        s.set_item("name", name)?;
+        s.set_item("toml", toml)?;
+        list.append(s)?;
+    }
+    d.set_item("scenes", list)?;
+    Ok(d)
+}
+
+/// Reads a manifest argument (a path): a missing file is
+/// `FileNotFoundError`, bad measurement input `fpc.MeasureError`.
+fn read_manifest(py: Python<'_>, manifest: &Bound<'_, PyAny>) -> PyResult<Manifest> {
     let os = py.import("os")?;
     let path: String = os
         .call_method1("fspath", (manifest,))
@@ -53,11 +155,7 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
             &path,
         ));
     }
-    let m = Manifest::load(Path::new(&path)).map_err(|e| from_measure(py, &e))?;
-    let c = interruptible(py, move || fpc::compare(&m))?.map_err(|e| from_solve(py, &e))?;
-    let d = to_py(py, &c)?.cast_into::<PyDict>()?;
-    add_arrays(py, &d, &c)?;
-    Ok(d)
+    Manifest::load(Path::new(&path)).map_err(|e| from_measure(py, &e))
 }
 
 /// Each test's residuals as arrays, beside its records.

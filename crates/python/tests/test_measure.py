@@ -86,3 +86,56 @@ def test_a_missing_manifest_is_file_not_found(tmp_path):
     assert e.value.filename.endswith("nothing.toml")
     with pytest.raises(TypeError):
         fpc.compare(3)
+
+
+TRUTH = {
+    "actuator.pemc.eps0[eps0-0.15]": 0.15,
+    "actuator.pemc.eps0[eps0-0.25]": 0.25,
+    "actuator.pemc.eps0[eps0-0.4]": 0.4,
+    "load.kappa": 2.5,
+}
+
+
+def test_calibrate_recovers_the_synthetic_truth_and_matches_the_cli(fpc_bin, tmp_path):
+    c = fpc.calibrate(MANIFEST, "eps0,kappa")
+    names = [p["name"] for p in c["parameters"]]
+    assert sorted(names) == sorted(TRUTH)
+    # the truth the data were made with (examples/calibration/README.md)
+    for p, v, se in zip(c["parameters"], c["values"], c["standard_errors"]):
+        assert v == p["value"] and se == p["standard_error"]
+        assert abs(v - TRUTH[p["name"]]) < 3 * se, p
+    cov, corr = c["covariance"], c["correlation"]
+    assert cov.shape == corr.shape == (4, 4)
+    np.testing.assert_allclose(cov, cov.T, rtol=0, atol=1e-15 * np.abs(cov).max())
+    np.testing.assert_allclose(np.sqrt(np.diag(cov)), c["standard_errors"], rtol=1e-12)
+    np.testing.assert_allclose(np.diag(corr), 1.0, rtol=1e-12)
+    assert c["identifiability"]["verdict"] == "identifiable"
+    # the CLI's calibration.json: the same fit
+    cli = cli_json(fpc_bin, "calibrate", MANIFEST, "--fit", "eps0,kappa", "--out", tmp_path, "--json")
+    for k in ("scenes", "provenance"):
+        cli.pop(k)
+    plain = {k: v for k, v in c.items() if k in cli}
+    assert set(plain) == set(cli), set(cli) ^ set(plain)
+    assert_same(plain, cli, tol=1e-9)
+    # each calibrated scene solves with its specimen's fitted prestrain
+    assert [s["name"] for s in c["scenes"]] == ["eps0-0.15", "eps0-0.25", "eps0-0.4"]
+    for s in c["scenes"]:
+        solved = fpc.solve_scene(s["toml"], name=s["name"])
+        fitted = c["values"][names.index(f"actuator.pemc.eps0[{s['name']}]")]
+        assert solved["scene"]["actuator"]["pemc"]["eps0"] == pytest.approx(fitted, rel=1e-12)
+
+
+def test_calibrate_refuses_bad_options_by_name():
+    with pytest.raises(fpc.InputError) as e:
+        fpc.calibrate(MANIFEST, [])
+    assert e.value.field == "fit"
+    with pytest.raises(fpc.InputError) as e:
+        fpc.calibrate(MANIFEST, ["eps0"], max_iterations=0)
+    assert e.value.field == "max_iterations"
+    with pytest.raises(fpc.InputError) as e:
+        fpc.calibrate(MANIFEST, ["eps0"], max_iterations=10**6)
+    assert e.value.field == "max_iterations"
+    with pytest.raises(TypeError):
+        fpc.calibrate(MANIFEST, 3)
+    with pytest.raises(FileNotFoundError):
+        fpc.calibrate(MANIFEST.parent / "missing.toml", "eps0")
