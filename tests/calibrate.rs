@@ -465,3 +465,52 @@ fn data_of_a_finger_without_ribs_report_their_misfit() {
     assert!(fit.chi_square_per_dof > 10.0, "{}", fit.chi_square_per_dof);
     assert!(cv.rms_sd > 3.0, "{}", cv.rms_sd);
 }
+
+#[test]
+fn the_model_choice_picks_the_model_the_data_were_made_with() {
+    // Noise-free data of fingers without ribs (the ccm model), precise
+    // enough that ribs cannot hide in the noise: among every element model
+    // with and without ribs, the held-out error ranks the true one first,
+    // predicting the pressures it did not see to rounding, while the same
+    // model with ribs misses them by several standard deviations.
+    let d = dir("choice");
+    let path = write_set_ribs(&d, &SPECS, 1.5, 0.0, 1.5, false);
+    let mut m = Manifest::load(&path).unwrap();
+    for s in &mut m.specimens {
+        for t in &mut s.tests {
+            match &mut t.data {
+                TestData::Markers { rows, .. } => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
+                TestData::Radius(rows) => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
+                TestData::Force(rows) => rows.iter_mut().for_each(|r| r.sd_n /= 30.0),
+            }
+        }
+    }
+    let choice =
+        fpc::calibrate::choose_model(&m, &CalibrateOptions::new(&["eps0", "kappa"])).unwrap();
+    let n = fpc::ModelId::ALL.len();
+    assert_eq!(choice.candidates.len(), 2 * n);
+    for c in &choice.candidates {
+        eprintln!(
+            "{} ribs {}: chi2/dof {:?}, held out rms {:?} sd{}",
+            c.model,
+            c.ribs,
+            c.chi_square_per_dof,
+            c.held_out_rms_sd,
+            c.failure.as_deref().unwrap_or("")
+        );
+    }
+    let best = &choice.candidates[choice.best.unwrap()];
+    assert_eq!((best.model, best.ribs), ("ccm", false), "{choice:?}");
+    assert!(best.held_out_rms_sd.unwrap() < 1e-3, "{best:?}");
+    // the truth: eps0 of both specimens, then kappa
+    let truth = [0.15, 0.4, 2.5];
+    for (name, (v, t)) in choice.names.iter().zip(best.values.iter().zip(truth)) {
+        assert!((v - t).abs() < 1e-6 * t, "{name}: {v} vs {t}");
+    }
+    let with_ribs = choice
+        .candidates
+        .iter()
+        .find(|c| c.model == "ccm" && c.ribs)
+        .unwrap();
+    assert!(with_ribs.held_out_rms_sd.unwrap() > 3.0, "{with_ribs:?}");
+}

@@ -31,6 +31,7 @@
 //! ```
 
 mod chain;
+mod choice;
 mod circle;
 mod crossval;
 mod driver;
@@ -43,6 +44,7 @@ mod record;
 mod residuals;
 mod scene;
 
+pub use choice::{choose_model, Candidate, ModelChoice};
 pub use crossval::{CrossValidation, HeldOut};
 pub use driver::STEP_TOLERANCE;
 pub use fit::calibrate;

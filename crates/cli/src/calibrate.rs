@@ -11,7 +11,9 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
-use fpc::calibrate::{calibrate, calibrated_scenes, CalibrateOptions, Calibration};
+use fpc::calibrate::{
+    calibrate, calibrated_scenes, choose_model, CalibrateOptions, Calibration, ModelChoice,
+};
 use fpc::measure::Manifest;
 use serde::Serialize;
 
@@ -33,6 +35,10 @@ pub struct Args {
     /// (leave-one-pressure-out prediction errors; one refit per pressure).
     #[arg(long)]
     cross_validate: bool,
+    /// Also fit with every element model, with the manifest's ribs and
+    /// without, each cross-validated, and rank them by held-out error.
+    #[arg(long)]
+    choose_model: bool,
     /// Output directory (default `<stem>-calibrate`).
     #[arg(long)]
     out: Option<PathBuf>,
@@ -47,6 +53,9 @@ struct Report<'a> {
     calibration: &'a Calibration,
     /// The calibrated scene files written, one per specimen.
     scenes: Vec<String>,
+    /// Every element model and rib choice ranked (`--choose-model`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    model_choice: Option<ModelChoice>,
     provenance: crate::provenance::Provenance,
 }
 
@@ -78,6 +87,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let (_, out) =
         crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
     let fit = calibrate(&manifest, &options)?;
+    let model_choice = if args.choose_model {
+        Some(choose_model(&manifest, &options)?)
+    } else {
+        None
+    };
     crate::output::prepare_dir(&out)?;
     let mut scenes = Vec::new();
     for (i, (_, text)) in calibrated_scenes(&manifest, &fit)?.into_iter().enumerate() {
@@ -91,6 +105,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let report = Report {
         calibration: &fit,
         scenes,
+        model_choice,
         provenance: crate::provenance::Provenance::now(),
     };
     let json = serde_json::to_string_pretty(&report)? + "\n";
@@ -157,6 +172,32 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             "validity     {} predictions at the fit come from a finger outside the model (docs/model.md section 8)",
             fit.outside_model
         )?;
+    }
+    if let Some(choice) = &report.model_choice {
+        writeln!(
+            w,
+            "models       each element model with the ribs and without, ranked by held-out error:"
+        )?;
+        let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
+        for (i, c) in choice.candidates.iter().enumerate() {
+            writeln!(
+                w,
+                "  {:<6} {:<12} chi2/dof {:>10}  held out rms {:>10} sd{}{}",
+                c.model,
+                if c.ribs { "ribs" } else { "without ribs" },
+                num(c.chi_square_per_dof),
+                num(c.held_out_rms_sd),
+                if choice.best == Some(i) {
+                    "  <- best"
+                } else {
+                    ""
+                },
+                c.failure
+                    .as_deref()
+                    .map(|f| format!("  (no fit: {f})"))
+                    .unwrap_or_default()
+            )?;
+        }
     }
     let mut files = vec!["calibration.json".to_string()];
     files.extend(report.scenes.iter().cloned());

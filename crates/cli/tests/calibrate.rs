@@ -171,3 +171,52 @@ fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
     assert!(done.stderr.is_empty(), "{}", text(&done.stderr));
     assert!(out.join("calibration.json").is_file());
 }
+
+#[test]
+fn choose_model_ranks_every_model_with_and_without_ribs() {
+    // one specimen's radii from the shipped set: a small fit, each
+    // candidate cross-validated over its nine pressures
+    let out = tmp("choice");
+    let shipped_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/calibration");
+    std::fs::copy(
+        shipped_dir.join("eps0-0.4_radius.csv"),
+        out.join("radius.csv"),
+    )
+    .unwrap();
+    std::fs::write(
+        out.join("manifest.toml"),
+        "[[specimen]]\nname = \"a\"\n[specimen.own.actuator.pemc]\neps0 = 0.38\n[[specimen.test]]\nkind = \"radius\"\nfile = \"radius.csv\"\n",
+    )
+    .unwrap();
+    let m = out.join("manifest.toml").display().to_string();
+    let o = out.join("out").display().to_string();
+    let run = fpc(&[
+        "calibrate",
+        &m,
+        "--fit",
+        "eps0",
+        "--choose-model",
+        "--json",
+        "--out",
+        &o,
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+    let json: serde_json::Value = serde_json::from_str(&text(&run.stdout)).unwrap();
+    let choice = &json["model_choice"];
+    let candidates = choice["candidates"].as_array().unwrap();
+    assert_eq!(candidates.len(), 2 * fpc::ModelId::ALL.len(), "{choice}");
+    // the best has the smallest held-out error
+    let err = |c: &serde_json::Value| c["held_out_rms_sd"].as_f64().unwrap();
+    let best = &candidates[choice["best"].as_u64().unwrap() as usize];
+    assert!(candidates.iter().all(|c| err(best) <= err(c)), "{choice}");
+    // the manifest's own model and ribs, fitted again with the
+    // cross-validation, give the plain calibration's prestrain
+    let own = candidates
+        .iter()
+        .find(|c| c["model"] == "ccm" && c["ribs"] == true)
+        .unwrap();
+    let plain = json["parameters"][0]["value"].as_f64().unwrap();
+    let again = own["values"][0].as_f64().unwrap();
+    assert!((plain - again).abs() <= 1e-9 * plain, "{plain} vs {again}");
+    assert!((plain - 0.4).abs() < 0.02, "{plain}");
+}
