@@ -281,8 +281,24 @@ def test_ctrl_c_stops_a_study():
     assert float(out.split()[2]) < 0.3, out
 
 
+# a design that takes about 13 s on the CI machine (the sphere's envelope at
+# every evaluation), so the interrupt after 1 s always lands inside it
+HEAVY_DESIGN = """
+[[object]]
+kind = "cuboid"
+size_mm = [70.0, 100.0]
+lift_n = 0.6
+[[object]]
+kind = "sphere"
+radius_mm = [40.0, 60.0]
+lift_n = 0.5
+[vary]
+eps0 = [0.1, 0.45]
+"""
+
+
 def test_ctrl_c_stops_a_design():
-    out = _interrupted(f"fpc.design({CUBOID!r}, starts=2000)")
+    out = _interrupted(f"fpc.design({HEAVY_DESIGN!r}, starts=2000)")
     assert out.startswith("INTERRUPTED"), out
     assert float(out.split()[1]) < 5, out
     assert float(out.split()[2]) < 0.3, out
