@@ -296,3 +296,22 @@ fn bad_covariances_are_errors_naming_the_field() {
         "calibration.parameters"
     );
 }
+
+#[test]
+fn a_rest_shape_the_chaining_does_not_cover_solves_without_error_bars() {
+    // eps0 = 0.4 curls the rest shape past its tip: l0's sensitivity is
+    // not covered, so the grasp stands and says why it has no bars
+    let text = SPHERE
+        .replace("eps0 = 0.25", "eps0 = 0.4")
+        .replace(
+            "kind = \"sphere\"\nr_mm = 50.0\nlift_n = 0.5\nbeta_deg = 20.0",
+            "kind = \"cuboid\"\nd_mm = 100.0\nfriction_n = 0.3",
+        )
+        .replace("pressure_kpa = 0.0", "pressure_kpa = 20.0");
+    let scene = Scene::from_toml(&text).unwrap();
+    let solved = scene.solve().unwrap();
+    let u = scene.uncertainty(&solved).unwrap().unwrap();
+    assert!(u.grasp.is_none() && u.d_max_mm.is_none());
+    let why = u.unavailable.unwrap();
+    assert!(why.contains("innermost"), "{why}");
+}

@@ -14,12 +14,12 @@ use serde::Serialize;
 
 use crate::actuator::Actuator;
 use crate::gripper::Gripper;
-use crate::sensitivity::{GraspKind, GripperParam, Param};
+use crate::sensitivity::{GraspKind, GraspSensitivity, GripperParam, Param};
 use crate::solve_error::SolveError;
 
 use super::covariance::Covariance;
 use super::resolve::{GraspSpec, Scene};
-use super::solve::SceneSolution;
+use super::solve::{GraspOutcome, SceneSolution};
 
 /// 1-sigma uncertainties of a solved scene's outputs ([`Scene::uncertainty`]).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -40,6 +40,11 @@ pub struct Uncertainty {
     /// A gripper scene with a grasp: its outputs' standard deviations.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grasp: Option<GraspUncertainty>,
+    /// Why a gripper scene has no error bars (`d_max_mm` and `grasp`
+    /// absent): its sensitivities do not cover the case, e.g. a rest
+    /// shape whose innermost point is not the tip. The solve stands.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub unavailable: Option<String>,
 }
 
 /// 1-sigma uncertainties of a grasp's outputs (per finger).
@@ -107,6 +112,7 @@ impl Scene {
             end_angle_rad: None,
             d_max_mm: None,
             grasp: None,
+            unavailable: None,
         };
         match solved {
             SceneSolution::Finger(s) => {
@@ -126,23 +132,14 @@ impl Scene {
                 u.end_angle_rad = Some(cov.sigma(&col(&|k| sens.rows[k].end_angle)));
             }
             SceneSolution::Gripper { gripper, grasp } => {
-                let params = gripper_params(cov);
-                u.d_max_mm = Some(d_max_sigma(gripper, &self.actuator, cov, &params)?);
-                if let Some(o) = grasp {
-                    let rows = gripper
-                        .grasp_sensitivities(&self.actuator, &o.grasp, grasp_kind(o.spec), &params)?
-                        .rows;
-                    let s = |f: fn(&crate::sensitivity::GraspSensitivity) -> f64| {
-                        cov.sigma(&rows.iter().map(f).collect::<Vec<_>>())
-                    };
-                    u.grasp = Some(GraspUncertainty {
-                        normal_force_n: s(|r| r.normal),
-                        friction_n: s(|r| r.friction),
-                        lift_n: s(|r| r.lift),
-                        size_mm: s(|r| r.size),
-                        tip_gap_mm: s(|r| r.tip_gap),
-                        height_mm: s(|r| r.height),
-                    });
+                match gripper_sigmas(gripper, &self.actuator, cov, grasp.as_deref()) {
+                    Ok((d_max, g)) => {
+                        u.d_max_mm = Some(d_max);
+                        u.grasp = g;
+                    }
+                    // the gripper's chaining does not cover every rest
+                    // shape: the solve stands, without error bars
+                    Err(e) => u.unavailable = Some(e.to_string()),
                 }
             }
         }
@@ -150,12 +147,32 @@ impl Scene {
     }
 }
 
-fn d_max_sigma(
+/// The standard deviations of a gripper's d_max and of its grasp's outputs.
+fn gripper_sigmas(
     gripper: &Gripper,
     actuator: &Actuator,
     cov: &Covariance,
-    params: &[GripperParam],
-) -> Result<f64, SolveError> {
-    let rows = gripper.geometry_sensitivities(actuator, params)?;
-    Ok(cov.sigma(&rows.iter().map(|r| r.d_max).collect::<Vec<_>>()))
+    grasp: Option<&GraspOutcome>,
+) -> Result<(f64, Option<GraspUncertainty>), SolveError> {
+    let params = gripper_params(cov);
+    let geo = gripper.geometry_sensitivities(actuator, &params)?;
+    let d_max = cov.sigma(&geo.iter().map(|r| r.d_max).collect::<Vec<_>>());
+    let Some(o) = grasp else {
+        return Ok((d_max, None));
+    };
+    let rows = gripper
+        .grasp_sensitivities(actuator, &o.grasp, grasp_kind(o.spec), &params)?
+        .rows;
+    let s = |f: fn(&GraspSensitivity) -> f64| cov.sigma(&rows.iter().map(f).collect::<Vec<_>>());
+    Ok((
+        d_max,
+        Some(GraspUncertainty {
+            normal_force_n: s(|r| r.normal),
+            friction_n: s(|r| r.friction),
+            lift_n: s(|r| r.lift),
+            size_mm: s(|r| r.size),
+            tip_gap_mm: s(|r| r.tip_gap),
+            height_mm: s(|r| r.height),
+        }),
+    ))
 }

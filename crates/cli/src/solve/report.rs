@@ -79,6 +79,9 @@ pub(super) fn uncertainty_lines(
             a.to_degrees()
         )?;
     }
+    if let Some(why) = &u.unavailable {
+        writeln!(out, "error bars     not available: {why}")?;
+    }
     if let Some(d) = u.d_max_mm {
         writeln!(out, "d_max +- 1 sd  +- {d:.3} mm")?;
     }
