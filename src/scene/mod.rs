@@ -55,17 +55,20 @@
 //! `actuator.geometry.h1`). [`Scene::solve`] then solves the finger or the
 //! grasp.
 
+mod covariance;
 mod fields;
 mod record;
 mod resolve;
 mod schema;
 mod solve;
+mod uncertainty;
 
 #[cfg(test)]
 mod fuzz;
 #[cfg(test)]
 mod testing;
 
+pub use covariance::Covariance;
 pub use fields::{degrees, scene_input, scene_solve, warning_text};
 pub use record::{GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{
@@ -80,3 +83,4 @@ pub use schema::{
     SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
 };
 pub use solve::{GraspOutcome, SceneSolution};
+pub use uncertainty::{GraspUncertainty, Uncertainty};

@@ -7,6 +7,7 @@ use serde::Serialize;
 use super::fields::{degrees, warning_text};
 use super::schema::SceneFile;
 use super::solve::{GraspOutcome, SceneSolution};
+use super::uncertainty::Uncertainty;
 use crate::coefficients::Coefficients;
 use crate::error::Warning;
 use crate::finger::{Solution, SolveReport};
@@ -44,6 +45,10 @@ pub struct SolutionRecord<'a> {
     /// A gripper scene's keys (absent in a finger scene).
     #[serde(flatten)]
     gripper: Option<GripperKeys<'a>>,
+    /// 1-sigma uncertainties from the scene's `[calibration]` covariance
+    /// (absent without one): [`SolutionRecord::with_uncertainty`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    uncertainty: Option<&'a Uncertainty>,
 }
 
 /// The keys of a [`Solution`] but its `warnings` (the scene's
@@ -199,7 +204,16 @@ impl<'a> SolutionRecord<'a> {
             warnings,
             scene: file,
             gripper,
+            uncertainty: None,
         }
+    }
+
+    /// The record with the solution's uncertainties
+    /// ([`Scene::uncertainty`](crate::scene::Scene::uncertainty)) under
+    /// `uncertainty`; `None` leaves the record as it was.
+    pub fn with_uncertainty(mut self, u: Option<&'a Uncertainty>) -> SolutionRecord<'a> {
+        self.uncertainty = u;
+        self
     }
 }
 

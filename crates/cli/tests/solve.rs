@@ -612,3 +612,61 @@ fn a_finger_scene_prints_its_validity_and_sums_up_its_findings() {
     );
     assert!(text(&plain.stdout).contains("\nvalidity       within the model's limits"));
 }
+
+#[test]
+fn a_calibration_covariance_gives_error_bars_and_none_leaves_the_output_alone() {
+    let dir = TempDir::new("errbars");
+    let base = "[actuator.pemc]\neps0 = 0.25\n[load]\npressure_kpa = 40.0\nkappa = 2.5\n[partition]\nelements = 4\n";
+    let calibration = "[calibration]\nparameters = [\"actuator.pemc.eps0\", \"load.kappa\"]\ncovariance = [[1e-6, -7.5e-6], [-7.5e-6, 0.000625]]\n";
+    let with = solve_text(dir.0.as_path(), "with", &format!("{base}{calibration}"));
+    let without = solve_text(dir.0.as_path(), "without", base);
+    let u = &with.json["uncertainty"];
+    assert_eq!(u["method"], "first_order");
+    assert_eq!(u["parameters"][1], "load.kappa");
+    let tip = u["tip_mm"].as_array().unwrap();
+    assert!(tip.iter().all(|s| s.as_f64().unwrap() > 0.0), "{u}");
+    assert!(u["end_angle_rad"].as_f64().unwrap() > 0.0);
+    assert!(without.json.get("uncertainty").is_none());
+    // the table changes nothing that is solved
+    assert_eq!(with.json["tip_mm"], without.json["tip_mm"]);
+    assert_eq!(with.csv, without.csv);
+
+    let o = run_ok(
+        fpc()
+            .arg("solve")
+            .arg(dir.0.join("with.toml"))
+            .arg("--out")
+            .arg(dir.0.join("again")),
+    );
+    let stdout = text(&o.stdout);
+    assert!(stdout.contains("tip +- 1 sd    X +- "), "{stdout}");
+    let o = run_ok(
+        fpc()
+            .arg("solve")
+            .arg(dir.0.join("without.toml"))
+            .arg("--out")
+            .arg(dir.0.join("again2")),
+    );
+    assert!(!text(&o.stdout).contains("uncertainty"));
+
+    // a covariance that is not positive semi-definite is rejected, named
+    let bad = dir.0.join("bad.toml");
+    std::fs::write(
+        &bad,
+        format!("{base}[calibration]\nparameters = [\"actuator.pemc.eps0\", \"load.kappa\"]\ncovariance = [[1e-4, 1e-2], [1e-2, 1e-2]]\n"),
+    )
+    .unwrap();
+    let o = fpc()
+        .arg("solve")
+        .arg(&bad)
+        .arg("--out")
+        .arg(dir.0.join("bad"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("calibration.covariance"),
+        "{}",
+        text(&o.stderr)
+    );
+}

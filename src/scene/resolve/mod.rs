@@ -13,6 +13,7 @@ use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::model::ModelId;
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
+use super::covariance::{covariance_of, Covariance};
 use super::fields::{
     finite, forbid, inconsistent, positive, require, scene_input, LoadKey, ModelKey, PartitionKey,
     SceneKey, SolveKey,
@@ -62,6 +63,8 @@ pub struct Scene {
     pub options: SolveOptions,
     /// The gripper, if the scene has one.
     pub gripper: Option<GripperScene>,
+    /// The `[calibration]` covariance, checked (`Scene::covariance`).
+    pub(super) covariance: Option<Covariance>,
     file: SceneFile,
 }
 
@@ -293,8 +296,10 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         }
     };
 
+    let mut covariance = None;
     if let Some(c) = &f.calibration {
         check_calibration(c)?;
+        covariance = covariance_of(c, &actuator, gripper.is_some())?;
         file.calibration = Some(c.clone());
     }
     Ok(Scene {
@@ -304,6 +309,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         load,
         options,
         gripper,
+        covariance,
         file,
     })
 }

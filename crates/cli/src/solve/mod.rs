@@ -16,7 +16,7 @@ mod report;
 mod tests;
 
 use figure::shape_figure;
-use report::{shape_csv, solution_file, summary};
+use report::{shape_csv, solution_file, summary, uncertainty_lines};
 pub(crate) use report::{stability_line, validity_line};
 
 /// Flags of `fpc solve`.
@@ -50,9 +50,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         "solution.json",
     );
 
+    // first-order error bars from a [calibration] covariance (none without)
+    let uncertainty = scene.uncertainty(&solved).with_context(|| shown.clone())?;
+
     let (stem, out) = crate::output::stem_and_dir(&args.scene, args.out.as_deref(), "scene", "out");
     // every file is made before any is written
-    let json = serde_json::to_string_pretty(&solution_file(&stem, scene.file(), &solved))? + "\n";
+    let json = serde_json::to_string_pretty(&solution_file(
+        &stem,
+        scene.file(),
+        &solved,
+        uncertainty.as_ref(),
+    ))? + "\n";
     let csv = shape_csv(&solved)?;
     let svg = crate::render::svg::svg(&shape_figure(&stem, &solved))?;
     let figures = args.format.render("shape", &svg)?;
@@ -67,6 +75,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 
     let mut stdout = crate::output::stdout();
     summary(&mut stdout, &stem, scene.file(), &solved)?;
+    if let Some(u) = &uncertainty {
+        uncertainty_lines(&mut stdout, u)?;
+    }
     writeln!(
         stdout,
         "wrote          {}",

@@ -1,7 +1,7 @@
 //! The text outputs of `fpc solve`: `solution.json`, `shape.csv` and the
 //! terminal summary.
 
-use fpc::scene::{degrees, SceneFile, SceneSolution, SolutionRecord};
+use fpc::scene::{degrees, SceneFile, SceneSolution, SolutionRecord, Uncertainty};
 use fpc::Solution;
 use serde::Serialize;
 
@@ -21,9 +21,10 @@ pub(super) fn solution_file<'a>(
     stem: &'a str,
     file: &'a SceneFile,
     solved: &'a SceneSolution,
+    uncertainty: Option<&'a Uncertainty>,
 ) -> SolutionFile<'a> {
     SolutionFile {
-        record: SolutionRecord::new(stem, file, solved),
+        record: SolutionRecord::new(stem, file, solved).with_uncertainty(uncertainty),
         provenance: crate::provenance::Provenance::now(),
     }
 }
@@ -57,6 +58,47 @@ pub(super) fn shape_csv(solved: &SceneSolution) -> anyhow::Result<Vec<u8>> {
 }
 
 // ------------------------------------------------------------ summary
+
+/// The summary's error bars: 1 sigma by first-order propagation of the
+/// scene's `[calibration]` covariance.
+pub(super) fn uncertainty_lines(
+    out: &mut impl std::io::Write,
+    u: &Uncertainty,
+) -> std::io::Result<()> {
+    writeln!(
+        out,
+        "uncertainty    1 sigma, first order, from the [calibration] covariance of {}",
+        u.parameters.join(", ")
+    )?;
+    if let (Some(t), Some(a)) = (u.tip_mm, u.end_angle_rad) {
+        writeln!(
+            out,
+            "tip +- 1 sd    X +- {:.4} mm, Z +- {:.4} mm, end angle +- {:.2} deg",
+            t[0],
+            t[1],
+            a.to_degrees()
+        )?;
+    }
+    if let Some(why) = &u.unavailable {
+        writeln!(out, "error bars     not available: {why}")?;
+    }
+    if let Some(d) = u.d_max_mm {
+        writeln!(out, "d_max +- 1 sd  +- {d:.3} mm")?;
+    }
+    if let Some(g) = &u.grasp {
+        writeln!(
+            out,
+            "forces +- 1 sd F +- {:.4} N, f +- {:.4} N, f_v +- {:.4} N",
+            g.normal_force_n, g.friction_n, g.lift_n
+        )?;
+        writeln!(
+            out,
+            "geom. +- 1 sd  d +- {:.3} mm, tip gap +- {:.3} mm, h +- {:.3} mm",
+            g.size_mm, g.tip_gap_mm, g.height_mm
+        )?;
+    }
+    Ok(())
+}
 
 /// The terminal summary of a solved scene.
 pub(super) fn summary(

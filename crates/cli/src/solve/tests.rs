@@ -43,7 +43,7 @@ fn solution_json_has_no_key_twice() {
     ] {
         let s = solved(text);
         let file = fpc::Scene::from_toml(text).unwrap().file().clone();
-        let json = serde_json::to_string(&solution_file("t", &file, &s)).unwrap();
+        let json = serde_json::to_string(&solution_file("t", &file, &s, None)).unwrap();
         let Keys(mut top) = serde_json::from_str(&json).unwrap();
         let written = top.len();
         top.sort();
