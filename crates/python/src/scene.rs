@@ -44,8 +44,16 @@ pub fn solve_scene<'py>(
             .filter(|s| !s.is_empty())
             .unwrap_or_else(|| "scene".into())
     });
-    let solved = detached(py, || scene.solve())?.map_err(|e| from_solve(py, &e))?;
-    let value = serde_json::to_value(SolutionRecord::new(&stem, scene.file(), &solved))
+    let (solved, uncertainty) = detached(py, || {
+        let solved = scene.solve()?;
+        let u = scene.uncertainty(&solved)?;
+        Ok::<_, fpc::SolveError>((solved, u))
+    })?
+    .map_err(|e| from_solve(py, &e))?;
+    // a calibrated scene's 1-sigma error bars, as fpc solve's solution.json has them
+    let record =
+        SolutionRecord::new(&stem, scene.file(), &solved).with_uncertainty(uncertainty.as_ref());
+    let value = serde_json::to_value(record)
         .map_err(|e| crate::errors::InternalError::new_err(format!("serialization: {e}")))?;
     let d = json_to_py(py, &value)?.cast_into::<PyDict>()?;
     let s = solved.solution();

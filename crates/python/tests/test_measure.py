@@ -3,6 +3,7 @@ same numbers as `fpc compare --json`, its arrays consistent with its
 records, and bad input as Python's own errors."""
 
 import copy
+import json
 import math
 import os
 import pathlib
@@ -12,7 +13,7 @@ import numpy as np
 import pytest
 
 import fpc
-from conftest import REPO, assert_same, cli_json
+from conftest import REPO, assert_same, cli_json, run_cli
 
 MANIFEST = REPO / "examples" / "calibration" / "manifest.toml"
 
@@ -139,3 +140,17 @@ def test_calibrate_refuses_bad_options_by_name():
         fpc.calibrate(MANIFEST, 3)
     with pytest.raises(FileNotFoundError):
         fpc.calibrate(MANIFEST.parent / "missing.toml", "eps0")
+
+
+def test_a_calibrated_scene_carries_its_error_bars_as_fpc_solve_does(fpc_bin, tmp_path):
+    c = fpc.calibrate(MANIFEST, "eps0,kappa")
+    s = c["scenes"][-1]
+    scene = tmp_path / f"{s['name']}.toml"
+    scene.write_text(s["toml"])
+    solved = fpc.solve_scene(scene)
+    u = solved["uncertainty"]
+    assert u["method"] == "first_order"
+    assert len(u["tip_mm"]) == 2 and all(x > 0 for x in u["tip_mm"]), u
+    run_cli(fpc_bin, "solve", scene, "--out", tmp_path / "out")
+    cli = json.loads((tmp_path / "out" / "solution.json").read_text())
+    assert_same(u, cli["uncertainty"], tol=1e-9)
