@@ -136,13 +136,15 @@ fn scene_file(scene: Option<SceneFile>, toml: Option<String>) -> Result<SceneFil
 
 /// `POST /api/finger`: the finger of the scene (its `[gripper]` section,
 /// if any, left out) solved at the scene's load: the record of `fpc solve`
-/// (tip, end angle, mid-plane samples `points_mm`, validity, findings).
+/// (tip, end angle, mid-plane samples `points_mm`, validity, findings, and
+/// a calibrated scene's 1-sigma `uncertainty`).
 pub fn finger(req: SceneRequest) -> Result<Value, ApiError> {
     let mut file = scene_file(req.scene, req.toml)?;
     file.gripper = None;
     let scene = file.resolve()?;
     let solved = scene.solve()?;
-    record(&SolutionRecord::new(SCENE_NAME, scene.file(), &solved))
+    let u = scene.uncertainty(&solved)?;
+    record(&SolutionRecord::new(SCENE_NAME, scene.file(), &solved).with_uncertainty(u.as_ref()))
 }
 
 /// `POST /api/grasp`: the gripper scene's grasp, the record of `fpc solve`
@@ -158,7 +160,10 @@ pub fn grasp(req: SceneRequest) -> Result<Value, ApiError> {
     }
     let scene = file.resolve()?;
     let solved = scene.solve()?;
-    let mut v = record(&SolutionRecord::new(SCENE_NAME, scene.file(), &solved))?;
+    let u = scene.uncertainty(&solved)?;
+    let mut v = record(
+        &SolutionRecord::new(SCENE_NAME, scene.file(), &solved).with_uncertainty(u.as_ref()),
+    )?;
     if let SceneSolution::Gripper { gripper, .. } = &solved {
         v["rest_points_gripper_mm"] = json!(gripper.rest_shape());
     }

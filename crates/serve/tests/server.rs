@@ -153,6 +153,31 @@ async fn finger_tip_is_the_library_s() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_calibrated_scene_answers_with_its_error_bars() {
+    let text = "[actuator.pemc]\neps0 = 0.25\n[load]\npressure_kpa = 40.0\n[calibration]\nparameters = [\"actuator.pemc.eps0\", \"load.kappa\"]\ncovariance = [[1e-6, -7.5e-6], [-7.5e-6, 0.000625]]\n";
+    let addr = start(fpc_serve::app()).await;
+    let (status, v) = post(addr, "/api/finger", json!({ "toml": text })).await;
+    assert_eq!(status, 200, "{v}");
+    // the library's own propagation of the same scene
+    let scene = fpc::Scene::from_toml(text).unwrap();
+    let u = scene.uncertainty(&scene.solve().unwrap()).unwrap().unwrap();
+    let want = serde_json::to_value(&u).unwrap();
+    for (got, want) in v["uncertainty"]["tip_mm"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(want["tip_mm"].as_array().unwrap())
+    {
+        let (g, w) = (got.as_f64().unwrap(), want.as_f64().unwrap());
+        assert!(w > 0.0 && (g - w).abs() <= 1e-12 * w, "{g} vs {w}");
+    }
+    // without the table: no uncertainty
+    let plain = text.split("[calibration]").next().unwrap();
+    let (_, v) = post(addr, "/api/finger", json!({ "toml": plain })).await;
+    assert!(v.get("uncertainty").is_none(), "{v}");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn grasp_is_the_scene_s() {
     let addr = start(fpc_serve::app()).await;
     let text = "[actuator.pemc]\neps0 = 0.25\n[gripper]\nmounting_angle_deg = 60.0\noverlap_mm = 20.0\n\
