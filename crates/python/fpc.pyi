@@ -291,6 +291,7 @@ def calibrate(
     *,
     max_iterations: int = 100,
     cross_validate: bool = False,
+    choose_model: bool = False,
 ) -> dict[str, Any]:
     """The parameters that fit the measurements of a manifest, as ``fpc
     calibrate`` finds them (docs/calibration.md): ``fit`` names them (a
@@ -300,7 +301,9 @@ def calibrate(
     ``values`` and ``standard_errors`` as arrays in the order of
     ``parameters``, ``covariance`` and ``correlation`` as square arrays
     (None when not determined), and ``scenes`` (``{name, toml}``: each
-    specimen's calibrated scene). Raises ``FileNotFoundError``,
+    specimen's calibrated scene); with ``choose_model``, ``model_choice``
+    (every element model with the ribs and without, ranked by held-out
+    error). Raises ``FileNotFoundError``,
     ``MeasureError``, ``InputError`` (naming ``fit``, ``max_iterations`` or
     a parameter); Ctrl-C interrupts."""
 

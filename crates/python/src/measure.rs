@@ -52,6 +52,10 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
 ///   most 16 names.
 /// - ``max_iterations``: 1 to 1000 (default 100).
 /// - ``cross_validate``: also predict each pressure left out in turn.
+/// - ``choose_model``: also fit with every element model, with the
+///   manifest's ribs and without, and rank them by held-out error
+///   (``model_choice``: ``candidates``, ``best``, as ``fpc calibrate
+///   --choose-model`` writes it).
 ///
 /// Returns a dict with the keys of ``calibration.json`` (``parameters``
 /// with ``name``, ``value``, ``standard_error``..., ``identifiability``
@@ -66,13 +70,14 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
 /// measurement input, ``fpc.InputError`` naming ``fit``,
 /// ``max_iterations`` or a parameter; Ctrl-C interrupts.
 #[pyfunction]
-#[pyo3(signature = (manifest, fit, *, max_iterations=100, cross_validate=false))]
+#[pyo3(signature = (manifest, fit, *, max_iterations=100, cross_validate=false, choose_model=false))]
 pub fn calibrate<'py>(
     py: Python<'py>,
     manifest: &Bound<'py, PyAny>,
     fit: &Bound<'py, PyAny>,
     max_iterations: usize,
     cross_validate: bool,
+    choose_model: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let names: Vec<String> = match fit.extract::<String>() {
         Ok(s) => s.split(',').map(|n| n.trim().to_string()).collect(),
@@ -86,13 +91,21 @@ pub fn calibrate<'py>(
         cross_validate,
     };
     let m = read_manifest(py, manifest)?;
-    let (c, scenes) = interruptible(py, move || {
+    let (c, scenes, choice) = interruptible(py, move || {
         let c = fpc::calibrate::calibrate(&m, &options)?;
         let scenes = calibrated_scenes(&m, &c)?;
-        Ok::<_, fpc::SolveError>((c, scenes))
+        let choice = if choose_model {
+            Some(fpc::calibrate::choose_model(&m, &options)?)
+        } else {
+            None
+        };
+        Ok::<_, fpc::SolveError>((c, scenes, choice))
     })?
     .map_err(|e| from_solve(py, &e))?;
     let d = to_py(py, &c)?.cast_into::<PyDict>()?;
+    if let Some(choice) = &choice {
+        d.set_item("model_choice", to_py(py, choice)?)?;
+    }
     let n = c.parameters.len();
     d.set_item(
         "values",

@@ -154,3 +154,22 @@ def test_a_calibrated_scene_carries_its_error_bars_as_fpc_solve_does(fpc_bin, tm
     run_cli(fpc_bin, "solve", scene, "--out", tmp_path / "out")
     cli = json.loads((tmp_path / "out" / "solution.json").read_text())
     assert_same(u, cli["uncertainty"], tol=1e-9)
+
+
+def test_choose_model_ranks_the_candidates_as_the_cli_does(fpc_bin, tmp_path):
+    # one specimen's radii from the shipped set: a small fit
+    shutil.copy(MANIFEST.parent / "eps0-0.4_radius.csv", tmp_path / "radius.csv")
+    m = tmp_path / "manifest.toml"
+    m.write_text(
+        '[[specimen]]\nname = "a"\n[specimen.own.actuator.pemc]\neps0 = 0.38\n'
+        '[[specimen.test]]\nkind = "radius"\nfile = "radius.csv"\n'
+    )
+    c = fpc.calibrate(m, ["eps0"], choose_model=True)
+    choice = c["model_choice"]
+    assert len(choice["candidates"]) == 2 * len(fpc.models())
+    errs = [k["held_out_rms_sd"] for k in choice["candidates"]]
+    assert errs[choice["best"]] == min(errs)
+    cli = cli_json(fpc_bin, "calibrate", m, "--fit", "eps0", "--choose-model", "--json",
+                   "--out", tmp_path / "out")
+    assert_same(choice, cli["model_choice"], tol=1e-9)
+    assert "model_choice" not in fpc.calibrate(m, ["eps0"])
