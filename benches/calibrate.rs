@@ -107,13 +107,10 @@ fn issue_set() -> PathBuf {
     path
 }
 
-fn one_calibration(c: &mut Criterion) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration/manifest.toml");
-    let manifest = Manifest::load(&path).expect("the shipped manifest loads");
-    let opts = CalibrateOptions::new(&["eps0", "kappa"]);
-    let fit = calibrate(&manifest, &opts).expect("the shipped set calibrates");
+/// The work of one fit, so a change of time can be told from one of work.
+fn report(fit: &fpc::calibrate::Calibration) {
     eprintln!(
-        "  [calibrate] {} unknowns, {} residuals: {} iterations, {} evaluations, {} equilibrium solves, {} target solves, chi2 {:.4}",
+        "  [calibrate] {} unknowns, {} residuals: {} iterations, {} evaluations, {} equilibrium solves, {} target solves, chi2 {:.4e}",
         fit.parameters.len(),
         fit.points,
         fit.iterations,
@@ -122,6 +119,14 @@ fn one_calibration(c: &mut Criterion) {
         fit.target_solves,
         fit.chi_square
     );
+}
+
+fn one_calibration(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration/manifest.toml");
+    let manifest = Manifest::load(&path).expect("the shipped manifest loads");
+    let opts = CalibrateOptions::new(&["eps0", "kappa"]);
+    let fit = calibrate(&manifest, &opts).expect("the shipped set calibrates");
+    report(&fit);
     let mut g = c.benchmark_group("calibrate");
     g.sample_size(10);
     g.bench_function("shipped set, eps0 x 3 + kappa", |b| {
@@ -131,16 +136,7 @@ fn one_calibration(c: &mut Criterion) {
     let manifest = Manifest::load(&path).expect("the benchmark set loads");
     let opts = CalibrateOptions::new(&["eps0", "kappa", "emc.e1", "p1"]);
     let fit = calibrate(&manifest, &opts).expect("the benchmark set calibrates");
-    eprintln!(
-        "  [calibrate] {} unknowns, {} residuals: {} iterations, {} evaluations, {} equilibrium solves, {} target solves, chi2 {:.3e}",
-        fit.parameters.len(),
-        fit.points,
-        fit.iterations,
-        fit.evaluations,
-        fit.solves,
-        fit.target_solves,
-        fit.chi_square
-    );
+    report(&fit);
     g.bench_function(
         "3 specimens x 6 pressures x 8 markers + 2 force series, 6 parameters",
         |b| b.iter(|| calibrate(black_box(&manifest), black_box(&opts)).unwrap()),

@@ -146,6 +146,19 @@ fn write_set_ribs(
     path
 }
 
+/// Every standard deviation of `m` divided by `factor`.
+fn more_precise(m: &mut Manifest, factor: f64) {
+    for s in &mut m.specimens {
+        for t in &mut s.tests {
+            match &mut t.data {
+                TestData::Markers { rows, .. } => rows.iter_mut().for_each(|r| r.sd_mm /= factor),
+                TestData::Radius(rows) => rows.iter_mut().for_each(|r| r.sd_mm /= factor),
+                TestData::Force(rows) => rows.iter_mut().for_each(|r| r.sd_n /= factor),
+            }
+        }
+    }
+}
+
 const SPECS: [Spec<'static>; 2] = [
     Spec {
         name: "a",
@@ -447,15 +460,7 @@ fn data_of_a_finger_without_ribs_report_their_misfit() {
         "{}",
         coarse.chi_square_per_dof
     );
-    for s in &mut m.specimens {
-        for t in &mut s.tests {
-            match &mut t.data {
-                TestData::Markers { rows, .. } => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
-                TestData::Radius(rows) => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
-                TestData::Force(rows) => rows.iter_mut().for_each(|r| r.sd_n /= 30.0),
-            }
-        }
-    }
+    more_precise(&mut m, 30.0);
     let fit = calibrate(&m, &opts).unwrap();
     let cv = fit.cross_validation.as_ref().unwrap();
     eprintln!(
@@ -476,15 +481,7 @@ fn the_model_choice_picks_the_model_the_data_were_made_with() {
     let d = dir("choice");
     let path = write_set_ribs(&d, &SPECS, 1.5, 0.0, 1.5, false);
     let mut m = Manifest::load(&path).unwrap();
-    for s in &mut m.specimens {
-        for t in &mut s.tests {
-            match &mut t.data {
-                TestData::Markers { rows, .. } => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
-                TestData::Radius(rows) => rows.iter_mut().for_each(|r| r.sd_mm /= 30.0),
-                TestData::Force(rows) => rows.iter_mut().for_each(|r| r.sd_n /= 30.0),
-            }
-        }
-    }
+    more_precise(&mut m, 30.0);
     let choice =
         fpc::calibrate::choose_model(&m, &CalibrateOptions::new(&["eps0", "kappa"])).unwrap();
     let n = fpc::ModelId::ALL.len();

@@ -7,20 +7,10 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{fpc, rejected, text};
+use common::{fpc, rejected, shipped, text};
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-cli-calibrate-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn shipped() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples/calibration/manifest.toml")
-        .display()
-        .to_string()
+    common::tmp("calibrate", name)
 }
 
 #[test]

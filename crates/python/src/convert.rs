@@ -197,3 +197,19 @@ pub fn real_array<'py>(
     }
     np.call_method1("asarray", (v, "float64"))
 }
+
+/// Scene files as a list of `{"name", "toml"}` dicts (a design's or a
+/// calibration's scenes).
+pub fn scene_list<'py>(
+    py: Python<'py>,
+    scenes: Vec<(String, String)>,
+) -> PyResult<Bound<'py, pyo3::types::PyList>> {
+    let list = pyo3::types::PyList::empty(py);
+    for (name, toml) in scenes {
+        let s = PyDict::new(py);
+        s.set_item("name", name)?;
+        s.set_item("toml", toml)?;
+        list.append(s)?;
+    }
+    Ok(list)
+}

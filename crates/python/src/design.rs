@@ -6,7 +6,7 @@ use pyo3::types::PyDict;
 
 use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError, VARIABLES};
 
-use crate::convert::to_py;
+use crate::convert::{scene_list, to_py};
 use crate::errors::{from_input, from_syntax, interruptible};
 use crate::finger::scene_text;
 
@@ -96,13 +96,6 @@ pub fn design<'py>(
         sens.append(e)?;
     }
     d.set_item("sensitivities", sens)?;
-    let list = pyo3::types::PyList::empty(py);
-    for (name, toml) in scenes {
-        let s = PyDict::new(py);
-        s.set_item("name", name)?;
-        s.set_item("toml", toml)?;
-        list.append(s)?;
-    }
-    d.set_item("scenes", list)?;
+    d.set_item("scenes", scene_list(py, scenes)?)?;
     Ok(d)
 }

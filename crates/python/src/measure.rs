@@ -11,7 +11,7 @@ use pyo3::types::{PyDict, PyList};
 use fpc::calibrate::{calibrated_scenes, CalibrateOptions};
 use fpc::measure::{Comparison, Manifest};
 
-use crate::convert::{array1, array2, to_py};
+use crate::convert::{array1, array2, scene_list, to_py};
 use crate::errors::{from_measure, from_solve, interruptible};
 use crate::finger::io_error;
 
@@ -133,14 +133,7 @@ pub fn calibrate<'py>(
             None => d.set_item(key, py.None())?,
         }
     }
-    let list = PyList::empty(py);
-    for (name, toml) in scenes {
-        let s = PyDict::new(py);
-        s.set_item("name", name)?;
-        s.set_item("toml", toml)?;
-        list.append(s)?;
-    }
-    d.set_item("scenes", list)?;
+    d.set_item("scenes", scene_list(py, scenes)?)?;
     Ok(d)
 }
 

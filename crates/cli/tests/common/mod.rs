@@ -3,7 +3,24 @@
 //! stderr). Each test file that uses it says `mod common;`.
 #![allow(dead_code)] // each test file uses its part
 
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
+
+/// A fresh scratch directory for test `name` of file `file`.
+pub fn tmp(file: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("fpc-cli-{file}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// The shipped synthetic measurement set's manifest.
+pub fn shipped() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples/calibration/manifest.toml")
+        .display()
+        .to_string()
+}
 
 pub fn fpc(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
