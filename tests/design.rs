@@ -294,3 +294,126 @@ fn a_claim_bent_backwards_carries_its_note_and_a_strict_design_never_claims_one(
         assert!(!c.valid || !rev, "{c:?}");
     }
 }
+
+/// A calibrated finger (a stiffer constraining layer, its own kappa and a
+/// covariance over eps0, kappa and cl.e), as `fpc calibrate` writes one.
+const CALIBRATED: &str = r#"
+[actuator.cl]
+e = 400.0
+[actuator.pemc]
+eps0 = 0.3
+[load]
+kappa = 2.0
+[calibration]
+parameters = ["actuator.pemc.eps0", "load.kappa", "actuator.cl.e"]
+standard_errors = [0.01, 0.2, 20.0]
+covariance = [[1e-4, 1e-4, 0.05], [1e-4, 0.04, 0.5], [0.05, 0.5, 400.0]]
+"#;
+
+/// The same gripper and grasp written by hand as a scene: the check does
+/// not go through the design's scene writer.
+fn by_hand(x: [f64; 3], d_mm: f64) -> SceneSolution {
+    let text = format!(
+        "[actuator.cl]\ne = 400.0\n[actuator.pemc]\neps0 = {}\n[partition]\nelements = 8\n\
+         [gripper]\nmounting_angle_deg = {}\noverlap_mm = {}\nfingers = 3\nmu = 0.6\n\
+         [gripper.grasp]\nkind = \"size\"\nd_mm = {d_mm}\nbeta_deg = 0.0\n",
+        x[0], x[1], x[2]
+    );
+    Scene::from_toml(&text).unwrap().solve().unwrap()
+}
+
+#[test]
+fn a_design_from_a_calibrated_scene_uses_its_finger_and_carries_its_error_bars() {
+    let base = Scene::from_toml(CALIBRATED).unwrap();
+    let text = r#"
+[[object]]
+kind = "cuboid"
+size_mm = [80.0, 100.0]
+lift_n = 0.3
+[open]
+size_mm = 120.0
+pressure_kpa = 20.0
+[vary]
+mounting_angle_deg = [60.0, 90.0]
+"#;
+    let paper = Requirements::parse(text).unwrap();
+    let req = paper.clone().with_base(fpc::design::DesignBase::from_scene(
+        &base,
+        "the test's scene",
+    ));
+    // eps0 does not vary: the scene's is the design's
+    assert_eq!(req.bounds()[0], [0.3, 0.3]);
+    assert_eq!(paper.bounds()[0], [0.25, 0.25]);
+    assert!(
+        req.notes()[0].contains("the test's scene"),
+        "{:?}",
+        req.notes()
+    );
+    let d = optimize(&req, &DesignOptions::default()).unwrap();
+    let x = d.best.design;
+    assert_eq!(x[0], 0.3);
+    // every claimed cuboid lift is the hand-written scene's
+    for m in d
+        .best
+        .margins
+        .iter()
+        .filter(|m| m.requirement.ends_with("lift"))
+    {
+        let SceneSolution::Gripper { grasp: Some(g), .. } = by_hand(x, m.at_mm.unwrap()) else {
+            panic!("no grasp")
+        };
+        let claimed = m.value.unwrap();
+        assert!(
+            (g.grasp.lift - claimed).abs() <= 1e-8 * claimed,
+            "{}: {} by hand vs {claimed} claimed",
+            m.requirement,
+            g.grasp.lift
+        );
+    }
+    // and not the paper's actuator's: the base made a difference
+    let on_paper = evaluate(&paper, [0.3, x[1], x[2]]);
+    assert!(
+        (on_paper.margins[0].value.unwrap() / d.best.margins[0].value.unwrap() - 1.0).abs() > 1e-3
+    );
+    // the open requirement pressurises with the scene's kappa: the size of
+    // a finger scene at 20 kPa with kappa 2 through the design's gripper
+    let finger =
+        "[actuator.cl]\ne = 400.0\n[actuator.pemc]\neps0 = 0.3\n[partition]\nelements = 8\n\
+         [load]\npressure_kpa = 20.0\nkappa = 2.0\n";
+    let tip = Scene::from_toml(finger)
+        .unwrap()
+        .solve()
+        .unwrap()
+        .solution()
+        .tip;
+    let size = fpc::design::gripper(&req, x).unwrap().size_of(tip);
+    let open = d
+        .best
+        .margins
+        .iter()
+        .find(|m| m.requirement == "open")
+        .unwrap();
+    assert!(
+        (open.value.unwrap() - size).abs() <= 1e-6 * size.abs().max(1.0),
+        "open: {} claimed vs {size}",
+        open.value.unwrap()
+    );
+    // the reproduced scene keeps the finger and the calibration, without
+    // kappa (a gripper scene's grasps use kappa's default): the marginal
+    // covariance of the other two keys
+    assert!(
+        d.reproductions.iter().all(|r| r.reproduced),
+        "{:?}",
+        d.reproductions
+    );
+    let scenes = d.scenes(&req);
+    let scene = Scene::from_toml(&scenes[0].1).unwrap();
+    assert_eq!(scene.actuator, base.actuator.with_eps0(0.3).unwrap());
+    let cal = scene.file().calibration.clone().unwrap();
+    assert_eq!(cal.parameters, ["actuator.pemc.eps0", "actuator.cl.e"]);
+    assert_eq!(cal.covariance.unwrap(), [[1e-4, 0.05], [0.05, 400.0]]);
+    assert_eq!(cal.standard_errors.unwrap(), [0.01, 20.0]);
+    let solved = scene.solve().unwrap();
+    let u = scene.uncertainty(&solved).unwrap().unwrap();
+    assert!(u.grasp.unwrap().lift_n > 0.0);
+}

@@ -259,7 +259,9 @@ def solve_scene(scene: Scene, name: Optional[str] = None) -> dict[str, Any]:
     ``element_lengths_mm`` (and ``points_gripper_mm``) as numpy arrays.
     ``scene``: TOML text or a path (as for ``Finger.from_scene``)."""
 
-def design(requirements: Scene, starts: int = 2, seed: int = 1) -> dict[str, Any]:
+def design(
+    requirements: Scene, starts: int = 2, seed: int = 1, scene: Scene | None = None
+) -> dict[str, Any]:
     """The gripper to build for a requirements TOML (text or path), as
     ``fpc design`` finds it: ``feasible``, ``best`` (``design`` =
     ``{eps0, mounting_angle_deg, overlap_mm, varied}`` as in design.json,
@@ -269,8 +271,10 @@ def design(requirements: Scene, starts: int = 2, seed: int = 1) -> dict[str, Any
     solved again: ``{file, valid, reproduced, detail, notes, ...}``, the
     notes naming what does not void the grasp, such as a reversed element
     outside strict mode) and ``scenes`` (``{name, toml}`` per object, for
-    ``solve_scene``). ``starts`` <= 10000. Raises
-    ``SceneError`` or ``InputError`` for bad requirements,
+    ``solve_scene``) and ``notes``. ``scene``: design from that scene's
+    finger (model, actuator, load.kappa, [calibration]; its eps0 unless
+    varied), as ``fpc design --scene``. ``starts`` <= 10000. Raises
+    ``SceneError`` or ``InputError`` for bad requirements or scene,
     ``FileNotFoundError`` for a missing path; Ctrl-C interrupts."""
 
 def compare(manifest: Union[str, PathLike[str]]) -> dict[str, Any]:

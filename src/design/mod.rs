@@ -39,6 +39,6 @@ pub use optimize::{
 };
 pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
-    ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary, DEFAULT_DESIGN,
-    VARIABLES,
+    DesignBase, ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary,
+    DEFAULT_DESIGN, VARIABLES,
 };

@@ -5,9 +5,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::actuator::Actuator;
 use crate::error::{finite, positive, require, InputError};
 use crate::field::Field;
-use crate::scene::SceneError;
+use crate::model::ModelId;
+use crate::scene::{Scene, SceneError, SceneFile};
 
 /// A requirements document as written.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -36,8 +38,47 @@ pub struct Requirements {
     #[serde(default)]
     pub open: Option<OpenRequirement>,
     /// The design variables and their bounds; everything else stays at the
-    /// paper's defaults.
+    /// paper's defaults (or the base scene's).
     pub vary: Vary,
+    /// The finger the design starts from (not a key of the file: `fpc
+    /// design --scene`, [`Requirements::with_base`]); `None` is the
+    /// paper's actuator with the default element model.
+    #[serde(skip)]
+    pub base: Option<DesignBase>,
+}
+
+/// The finger a design starts from: a scene's element model, actuator,
+/// pressure factor and `[calibration]` table (a calibrated scene from
+/// `fpc calibrate`, say). The design sets eps0 (the base's unless
+/// varied), the elements and the gripper; the scene's partition, load and
+/// gripper tables are not used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignBase {
+    /// The element model.
+    pub model: ModelId,
+    /// The actuator; a design replaces its eps0.
+    pub actuator: Actuator,
+    /// The pressure factor of the `open` requirement's pressurised finger
+    /// (the scene's `load.kappa`).
+    pub kappa: f64,
+    /// The scene as resolved (every default written out): the tables a
+    /// reproduced scene copies.
+    pub file: SceneFile,
+    /// Where the base came from, for notes (a path, say).
+    pub source: String,
+}
+
+impl DesignBase {
+    /// The base of a resolved scene; `source` names it in notes.
+    pub fn from_scene(scene: &Scene, source: impl Into<String>) -> DesignBase {
+        DesignBase {
+            model: scene.model,
+            actuator: scene.actuator.clone(),
+            kappa: scene.load.kappa,
+            file: scene.file().clone(),
+            source: source.into(),
+        }
+    }
 }
 
 fn default_fingers() -> usize {
@@ -206,7 +247,8 @@ pub struct OpenRequirement {
 }
 
 /// The design variables: each one given is varied within its bounds, the
-/// others are fixed at the value in `fixed` or the paper's default.
+/// others are fixed at the base scene's eps0 or the paper's defaults
+/// ([`DEFAULT_DESIGN`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields)]
 pub struct Vary {
@@ -241,6 +283,25 @@ impl Requirements {
             .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
         r.validate().map_err(RequirementsError::Input)?;
         Ok(r)
+    }
+
+    /// The requirements with the design starting from `base` (its eps0
+    /// becomes the fixed one when eps0 does not vary).
+    pub fn with_base(self, base: DesignBase) -> Requirements {
+        Requirements {
+            base: Some(base),
+            ..self
+        }
+    }
+
+    /// The values of the design variables that do not vary: the base's
+    /// eps0 (else the paper's) and the paper's angle and overlap.
+    pub fn fixed_design(&self) -> [f64; 3] {
+        let mut x = DEFAULT_DESIGN;
+        if let Some(b) = &self.base {
+            x[0] = b.actuator.eps0();
+        }
+        x
     }
 
     /// Checks every value.
@@ -365,15 +426,16 @@ impl Requirements {
     /// `vary.allow_outside_design_space`.
     pub fn bounds(&self) -> [[f64; 2]; 3] {
         let or = |b: Option<[f64; 2]>, d: f64| b.unwrap_or([d, d]);
-        let mut angle = or(self.vary.mounting_angle_deg, DEFAULT_DESIGN[1]);
+        let fixed = self.fixed_design();
+        let mut angle = or(self.vary.mounting_angle_deg, fixed[1]);
         if !self.vary.allow_outside_design_space {
             let [lo, hi] = self.design_space_deg();
             angle = [angle[0].clamp(lo, hi), angle[1].clamp(lo, hi)];
         }
         [
-            or(self.vary.eps0, DEFAULT_DESIGN[0]),
+            or(self.vary.eps0, fixed[0]),
             angle,
-            or(self.vary.overlap_mm, DEFAULT_DESIGN[2]),
+            or(self.vary.overlap_mm, fixed[2]),
         ]
     }
 
@@ -394,10 +456,31 @@ impl Requirements {
             .vary
             .mounting_angle_deg
             .unwrap_or([DEFAULT_DESIGN[1]; 2]);
+        let mut notes: Vec<String> = self
+            .base
+            .iter()
+            .map(|b| {
+                let eps0 = match self.vary.eps0 {
+                    Some(_) => "eps0 as varied".to_string(),
+                    None => format!("its eps0 = {}", b.actuator.eps0()),
+                };
+                let calibrated = if b.file.calibration.is_some() {
+                    " and its [calibration] table (error bars in the reproduced scenes)"
+                } else {
+                    ""
+                };
+                format!(
+                    "the finger is {}'s: element model {}, its actuator with {eps0}, load.kappa = {} for the open requirement{calibrated}; its partition, load and gripper tables are not used",
+                    b.source,
+                    b.model.name(),
+                    b.kappa
+                )
+            })
+            .collect();
         if given[0] >= lo && given[1] <= hi {
-            return Vec::new();
+            return notes;
         }
-        vec![if self.vary.allow_outside_design_space {
+        notes.push(if self.vary.allow_outside_design_space {
             format!(
                 "vary.mounting_angle_deg = [{}, {}] reaches outside the design space [{lo:.3}, {hi}] deg (arccot mu to 90 deg), as vary.allow_outside_design_space asks: fingers pressed flat there cannot hold an object by friction",
                 given[0], given[1]
@@ -408,7 +491,8 @@ impl Requirements {
                 "vary.mounting_angle_deg = [{}, {}] is searched within the design space, [{:.3}, {:.3}] deg (arccot mu to 90 deg); set vary.allow_outside_design_space = true to search outside it",
                 given[0], given[1], b[0], b[1]
             )
-        }]
+        });
+        notes
     }
 }
 

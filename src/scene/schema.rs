@@ -491,6 +491,22 @@ impl SceneFile {
     pub fn parse(text: &str) -> Result<SceneFile, SceneError> {
         toml::from_str(text).map_err(|e| SceneError::from_toml(text, &e))
     }
+
+    /// The document as TOML text, without the tables that hold no key
+    /// (parsing it gives this file again).
+    pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
+        fn prune(t: &mut toml::Table) {
+            for (_, v) in t.iter_mut() {
+                if let toml::Value::Table(inner) = v {
+                    prune(inner);
+                }
+            }
+            t.retain(|_, v| !matches!(v, toml::Value::Table(inner) if inner.is_empty()));
+        }
+        let mut table = toml::Table::try_from(self)?;
+        prune(&mut table);
+        toml::to_string(&table)
+    }
 }
 
 #[cfg(test)]

@@ -12,8 +12,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::design::{
-    evaluate, gripper, optimize, DesignOptions, Evaluation, ObjectRequirement, Requirements,
-    VARIABLES,
+    evaluate, gripper, optimize, DesignBase, DesignOptions, Evaluation, ObjectRequirement,
+    Requirements, VARIABLES,
 };
 use fpc::scene::{Scene, SceneSolution};
 use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
@@ -35,6 +35,12 @@ pub struct Args {
     /// (at most 10000).
     #[arg(long, default_value_t = 2)]
     starts: usize,
+    /// Design from the finger of a scene file (a calibrated scene from
+    /// `fpc calibrate`, say): its element model, actuator, load.kappa (for
+    /// the open requirement) and [calibration] table; its eps0 unless
+    /// eps0 varies. Default: the paper's actuator.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
     #[command(flatten)]
     format: crate::render::formats::FormatArgs,
 }
@@ -221,8 +227,15 @@ fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let shown = args.requirements.display().to_string();
     let text = crate::solve::read_scene(&args.requirements, &shown)?;
-    let req =
+    let mut req =
         Requirements::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    if let Some(path) = &args.scene {
+        let scene = crate::solve::load_scene(path)?;
+        req = req.with_base(DesignBase::from_scene(
+            &scene,
+            format!("the scene {}", path.display()),
+        ));
+    }
     let (_, out) = crate::output::stem_and_dir(
         &args.requirements,
         args.out.as_deref(),
@@ -308,6 +321,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         d.best.design[1],
         d.best.design[2]
     )?;
+    for n in &report.notes {
+        writeln!(w, "note           {n}")?;
+    }
     if let Some(m) = d.best.worst_margin() {
         writeln!(
             w,

@@ -115,3 +115,49 @@ fn bad_requirements_are_rejected_with_their_place() {
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("object[0].lift_n"));
 }
+
+#[test]
+fn design_takes_its_finger_from_a_scene_and_rejects_a_bad_one() {
+    let dir = tmp("scene");
+    let req = dir.join("req.toml");
+    std::fs::write(
+        &req,
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n[vary]\nmounting_angle_deg = [60.0, 80.0]\n",
+    )
+    .unwrap();
+    let scene = dir.join("finger.toml");
+    std::fs::write(
+        &scene,
+        "[actuator.pemc]\neps0 = 0.35\n[actuator.cl]\ne = 350.0\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let args = |scene: &std::path::Path| {
+        fpc(&[
+            "design",
+            req.to_str().unwrap(),
+            "--scene",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--starts",
+            "0",
+        ])
+    };
+    let o = args(&scene);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("eps0 = 0.3500"), "{text}");
+    assert!(
+        text.contains("note           the finger is the scene"),
+        "{text}"
+    );
+    let written = std::fs::read_to_string(out.join("object0_cuboid.toml")).unwrap();
+    assert!(written.contains("e = 350.0"), "{written}");
+    // a scene with an unknown key: rejected with its file and line, exit 2
+    std::fs::write(&scene, "[actuator.pemc]\neps00 = 0.35\n").unwrap();
+    let o = args(&scene);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("finger.toml:2"), "{err}");
+}

@@ -4,22 +4,30 @@
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError, VARIABLES};
+use fpc::design::{
+    optimize, DesignBase, DesignOptions, Requirements, RequirementsError, VARIABLES,
+};
+use fpc::scene::Scene;
 
 use crate::convert::{scene_list, to_py};
-use crate::errors::{from_input, from_syntax, interruptible};
+use crate::errors::{from_input, from_scene_read, from_syntax, interruptible};
 use crate::finger::scene_text;
 
 /// The design that meets every requirement with the largest worst-case
 /// margin, or the least-violating one.
 ///
-/// ``design(requirements, starts=2, seed=1)``
+/// ``design(requirements, starts=2, seed=1, scene=None)``
 ///
 /// - ``requirements``: TOML text or a path to a requirements file (the keys
 ///   of ``fpc design``, README "Inverse design");
 /// - ``starts``: random starts of the optimiser besides the centre and the
 ///   corners of the bounds (at most 10000, else ``InputError``); ``seed``
-///   seeds them.
+///   seeds them;
+/// - ``scene``: design from this scene's finger (TOML text or a path, as
+///   ``solve_scene`` takes it; a calibrated scene from ``fpc.calibrate``,
+///   say) as ``fpc design --scene`` does: its element model, actuator,
+///   ``load.kappa`` and ``[calibration]`` table, its eps0 unless eps0
+///   varies. ``None``: the paper's actuator.
 ///
 /// Returns a dict: ``feasible``, ``best`` (``design``: ``{"eps0",
 /// "mounting_angle_deg", "overlap_mm", "varied"}`` as in ``fpc design``'s
@@ -32,7 +40,9 @@ use crate::finger::scene_text;
 /// ``file``, ``valid``, ``reproduced``, ``detail`` and ``notes``, what does
 /// not void the grasp, such as a reversed element outside strict mode) and
 /// ``scenes``: one ``{"name", "toml"}`` per object, a scene that ``fpc
-/// solve`` or ``solve_scene`` runs to reproduce the claimed grasp.
+/// solve`` or ``solve_scene`` runs to reproduce the claimed grasp; ``notes``
+/// on the requirements as ``fpc design`` prints them (bounds clamped to
+/// the design space, the base scene).
 ///
 /// ``requirements`` is read as a path when it is an ``os.PathLike`` or a
 /// one-line ``str`` ending in ``.toml`` or containing ``/`` (a missing file
@@ -43,18 +53,24 @@ use crate::finger::scene_text;
 /// ``KeyboardInterrupt`` (the search finishes on its own thread and is
 /// dropped).
 #[pyfunction]
-#[pyo3(signature = (requirements, starts=2, seed=1))]
+#[pyo3(signature = (requirements, starts=2, seed=1, scene=None))]
 pub fn design<'py>(
     py: Python<'py>,
     requirements: &Bound<'py, PyAny>,
     starts: usize,
     seed: u64,
+    scene: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (text, shown) = scene_text(requirements)?;
-    let req = Requirements::parse(&text).map_err(|e| match e {
+    let mut req = Requirements::parse(&text).map_err(|e| match e {
         RequirementsError::Input(i) => from_input(py, &i),
         RequirementsError::Syntax(s) => from_syntax(py, &s, &shown),
     })?;
+    if let Some(obj) = scene {
+        let (text, shown) = scene_text(obj)?;
+        let base = Scene::from_toml(&text).map_err(|e| from_scene_read(py, &e, &shown))?;
+        req = req.with_base(DesignBase::from_scene(&base, format!("the scene {shown}")));
+    }
     let opts = DesignOptions {
         random_starts: starts,
         seed,
@@ -62,6 +78,7 @@ pub fn design<'py>(
     };
     opts.validate().map_err(|e| from_input(py, &e))?;
     let bounds = req.bounds();
+    let notes = req.notes();
     let (found, scenes) = interruptible(py, move || {
         let found = optimize(&req, &opts)?;
         let scenes = found.scenes(&req);
@@ -97,5 +114,6 @@ pub fn design<'py>(
     }
     d.set_item("sensitivities", sens)?;
     d.set_item("scenes", scene_list(py, scenes)?)?;
+    d.set_item("notes", notes)?;
     Ok(d)
 }

@@ -2,6 +2,9 @@
 through the ordinary scene path, infeasible requirements say what fails,
 and bad requirements raise the documented errors."""
 
+import json
+import subprocess
+
 import pytest
 
 import fpc
@@ -60,3 +63,36 @@ def test_bad_requirements_raise_the_documented_errors(tmp_path):
     with pytest.raises(fpc.InputError) as e:
         fpc.design(CUBOID, starts=10**8)
     assert e.value.field == "design.random_starts"
+
+
+SCENE = "[actuator.cl]\ne = 350.0\n[actuator.pemc]\neps0 = 0.3\n"
+ANGLE = CUBOID.replace("eps0 = [0.1, 0.45]", "mounting_angle_deg = [60.0, 80.0]")
+
+
+def test_a_design_from_a_scene_uses_its_finger():
+    scene, angle = SCENE, ANGLE
+    d = fpc.design(angle, starts=0, scene=scene)
+    assert d["best"]["design"]["eps0"] == 0.3
+    assert any("the finger is the scene" in n for n in d["notes"]), d["notes"]
+    for s in d["scenes"]:
+        solved = fpc.solve_scene(s["toml"], name=s["name"])
+        assert solved["scene"]["actuator"]["cl"]["e"] == 350.0
+    # a scene with an unknown key raises SceneError with its line
+    with pytest.raises(fpc.SceneError) as e:
+        fpc.design(angle, scene="[actuator.pemc]\neps00 = 0.3\n")
+    assert e.value.line == 2
+
+
+def test_a_design_from_a_scene_is_fpc_design_scenes(tmp_path, fpc_bin):
+    scene, angle = SCENE, ANGLE
+    d = fpc.design(angle, starts=0, scene=scene)
+    (tmp_path / "req.toml").write_text(angle)
+    (tmp_path / "finger.toml").write_text(scene)
+    out = subprocess.run(
+        [fpc_bin, "design", str(tmp_path / "req.toml"), "--scene", str(tmp_path / "finger.toml"),
+         "--starts", "0", "--json", "--out", str(tmp_path / "out")],
+        capture_output=True, text=True, check=True,
+    )
+    cli = json.loads(out.stdout)
+    assert cli["design"]["mounting_angle_deg"] == d["best"]["design"]["mounting_angle_deg"]
+    assert cli["worst_margin"] == d["best"]["worst"]

@@ -101,6 +101,15 @@ pub const MAX_SCENE_BYTES: u64 = 4 * 1024 * 1024;
 /// through a bounded reader. Missing, unreadable, a directory, larger than
 /// [`MAX_SCENE_BYTES`] or not UTF-8: rejected input, one line naming the
 /// path.
+/// The scene file at `path`, read ([`read_scene`]) and resolved: a
+/// syntax or value error is rejected input naming `path:line:col` or the
+/// key.
+pub(crate) fn load_scene(path: &Path) -> anyhow::Result<fpc::scene::Scene> {
+    let shown = path.display().to_string();
+    let text = read_scene(path, &shown)?;
+    fpc::scene::Scene::from_toml(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))
+}
+
 pub(crate) fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
     let cannot = |why: String| crate::status::rejected(format!("cannot read {shown}: {why}"));
     let file = fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
