@@ -68,6 +68,14 @@ class WarningDict(TypedDict, total=False):
     value: float
     limit: float
 
+class Steps(TypedDict):
+    element: int
+    coupled: int
+    continuation: int
+    chord: int
+    shifted: int
+    damped: int
+
 class Report(TypedDict):
     reason: str
     iterations: int
@@ -75,6 +83,7 @@ class Report(TypedDict):
     evaluations: int
     coupled: bool
     continuation_steps: int
+    steps: Steps
 
 class Refinement(TypedDict):
     configuration: str

@@ -48,7 +48,9 @@ pub use bordered::TargetProblem;
 pub use curve::{Affine2, PolyCurve};
 pub use fpc_newton::PathTermination;
 pub use load::{Load, VACUUM_GAUGE_MPA};
-pub use options::{Solution, SolveOptions, SolveReport, Strategy, MAX_SAMPLES_PER_ELEMENT};
+pub use options::{
+    Solution, SolveOptions, SolveReport, StepCounts, Strategy, MAX_SAMPLES_PER_ELEMENT,
+};
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
 pub use target::{TargetFold, Traced};
 

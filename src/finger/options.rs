@@ -110,6 +110,50 @@ pub struct SolveReport {
     pub coupled: bool,
     /// Continuation steps taken (0: Newton from the guess sufficed).
     pub continuation_steps: usize,
+    /// Where the iterations went (they sum to `iterations`).
+    pub steps: StepCounts,
+}
+
+/// A solve's Newton iterations by where they were spent, and how its
+/// globalisation acted on them. `element + coupled + continuation` is
+/// [`SolveReport::iterations`]; `chord`, `shifted` and `damped` count
+/// among all of them.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct StepCounts {
+    /// Element-by-element solves: the unloaded start of a coupled solve
+    /// (or the whole of a decoupled one), retries and pressure
+    /// continuation included.
+    pub element: usize,
+    /// Coupled Newton iterations on the loaded finger from its start.
+    pub coupled: usize,
+    /// Coupled Newton iterations inside load continuation (or a target's
+    /// trace) steps, when Newton from the start did not converge.
+    pub continuation: usize,
+    /// Accepted chord steps (the last factorisation reused).
+    pub chord: usize,
+    /// Accepted steps along a shifted Hessian (not positive definite).
+    pub shifted: usize,
+    /// Accepted steps the line search shortened.
+    pub damped: usize,
+}
+
+impl std::fmt::Display for StepCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} element, {} coupled, {} in continuation; {} chord, {} shifted, {} damped",
+            self.element, self.coupled, self.continuation, self.chord, self.shifted, self.damped
+        )
+    }
+}
+
+impl StepCounts {
+    /// Adds the globalisation counts of Newton report `r`.
+    pub(crate) fn globalisation(&mut self, r: &fpc_newton::Report) {
+        self.chord += r.chord_steps;
+        self.shifted += r.shifted_steps;
+        self.damped += r.damped_steps;
+    }
 }
 
 /// An equilibrium of one finger. Serializes with the units in the keys

@@ -17,7 +17,7 @@ use std::sync::Mutex;
 
 use super::chain::{Chain, ChainParts};
 use super::load::Load;
-use super::options::{check_guess, Solution, SolveOptions, SolveReport, Strategy};
+use super::options::{check_guess, Solution, SolveOptions, SolveReport, StepCounts, Strategy};
 use super::problem::FingerCore;
 use crate::coefficients::Coefficients;
 
@@ -292,6 +292,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             evaluations: 0,
             coupled: false,
             continuation_steps: 0,
+            steps: StepCounts::default(),
         };
         for i in 0..f.len() {
             let d = f.distinct[i];
@@ -336,6 +337,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             evaluations: 0,
             coupled: true,
             continuation_steps: 0,
+            steps: StepCounts::default(),
         };
         let start_load = Load {
             fx: 0.0,
@@ -352,6 +354,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                         base.iterations += r.iterations;
                         base.evaluations += r.evaluations;
                         base.continuation_steps += r.continuation_steps;
+                        base.steps = r.steps;
                     }
                     Err(SolveError::NotConverged { iterations, .. }) if opts.continuation => {
                         // no unloaded equilibrium to start from (a curl the
@@ -359,6 +362,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                         // Newton from the straight finger, and no load
                         // continuation (it needs an equilibrium to start)
                         base.iterations += iterations;
+                        base.steps.element += iterations;
                         self.load_guess(None);
                         start_failed = true;
                     }
@@ -370,6 +374,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         self.chain.set_load(load);
         let r = self.newton.minimize(&mut self.chain, &mut self.y);
         base.iterations += r.iterations;
+        base.steps.coupled += r.iterations;
+        base.steps.globalisation(&r);
         base.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
         base.residual_norm = r.residual_norm;
         if r.reason.is_converged() {
@@ -384,13 +390,17 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let chain = &mut self.chain;
         let newton = &mut self.newton;
         let copts = fpc_newton::ContinuationOptions::default();
+        let steps = &mut base.steps;
         let cr = fpc_newton::continuation(0.0, 1.0, &mut self.y, &copts, |t, y| {
             chain.set_load(&Load {
                 fx: t * load.fx,
                 fz: t * load.fz,
                 ..*load
             });
-            newton.minimize(chain, y)
+            let r = newton.minimize(chain, y);
+            steps.continuation += r.iterations;
+            steps.globalisation(&r);
+            r
         });
         base.iterations += cr.newton_iterations;
         base.continuation_steps += cr.steps;
@@ -544,6 +554,8 @@ fn solve_element<M: ElementModel>(
     let before = rep.iterations;
     let tally = |r: &Report, rep: &mut SolveReport| {
         rep.iterations += r.iterations;
+        rep.steps.element += r.iterations;
+        rep.steps.globalisation(r);
         rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
     };
     let mut r = newton.minimize(p, y);

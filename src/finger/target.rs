@@ -11,7 +11,7 @@ use crate::model::{ElementModel, Vector};
 use crate::solve_error::SolveError;
 
 use super::bordered::{BorderedChain, TargetProblem};
-use super::options::{check_guess, Solution, SolveOptions, SolveReport};
+use super::options::{check_guess, Solution, SolveOptions, SolveReport, StepCounts};
 use super::path::LoadPathSpec;
 use super::solver::{newton_options, SolverCore};
 use crate::coefficients::Coefficients;
@@ -33,6 +33,8 @@ pub struct TargetFold {
 
 /// A traced target path: the equilibrium at the target, or the fold that
 /// stops the path short of it.
+// one per trace, never stored in bulk: the solution stays unboxed
+#[allow(clippy::large_enum_variant)]
 #[derive(Debug, Clone, PartialEq)]
 pub enum Traced {
     /// The target was reached: the equilibrium, its `lambda`, and the
@@ -143,6 +145,10 @@ impl<M: ElementModel> SolverCore<'_, M> {
             evaluations: r.hessian_evals,
             coupled: true,
             continuation_steps: 0,
+            steps: StepCounts {
+                coupled: r.iterations,
+                ..StepCounts::default()
+            },
         };
         let load = problem.load_at(lambda);
         let unconstrained = SolveOptions {
@@ -353,6 +359,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             }
             let mut solution = self.finish_target(&at(t1), lambda, &r, opts)?;
             solution.report.iterations += iterations;
+            solution.report.steps.continuation += iterations;
             return Ok(Traced::Reached {
                 solution,
                 lambda,

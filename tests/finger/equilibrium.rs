@@ -282,3 +282,54 @@ fn lbfgs_from_the_straight_finger_reaches_newtons_equilibrium() {
         );
     }
 }
+
+/// The report's step counts say where every iteration went: on seeded
+/// random fingers (eps0 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N, N of
+/// 1 to 16) the phases add up to the total, a decoupled solve has no
+/// coupled steps, continuation iterations come with continuation steps,
+/// and the globalisation's counts are among the iterations.
+#[test]
+fn step_counts_add_up_to_the_iterations() {
+    let mut rng = Lcg::new(23);
+    let (mut coupled, mut element, mut globalised) = (0, 0, 0);
+    for case in 0..60 {
+        let eps0 = rng.range(0.1, 0.5);
+        let n = [1usize, 2, 4, 8, 16][case % 5];
+        let loaded = case % 4 != 0;
+        let load = Load {
+            pressure: rng.range(0.0, 0.35),
+            fx: if loaded { rng.range(-1.5, 1.5) } else { 0.0 },
+            fz: if loaded { rng.range(-1.5, 1.5) } else { 0.0 },
+            ..Load::default()
+        };
+        let f = Finger::paper(eps0, n).unwrap();
+        let Ok(sol) = f.solve(&load, &SolveOptions::default().tip_only()) else {
+            continue;
+        };
+        let (r, s) = (&sol.report, &sol.report.steps);
+        assert_eq!(
+            s.element + s.coupled + s.continuation,
+            r.iterations,
+            "case {case}: {s} against {} iterations",
+            r.iterations
+        );
+        if !r.coupled {
+            assert_eq!(s.coupled + s.continuation, 0, "case {case}: {s}");
+        }
+        if s.continuation > 0 {
+            assert!(r.continuation_steps > 0, "case {case}: {s}");
+        }
+        for k in [s.chord, s.shifted, s.damped] {
+            assert!(k <= r.iterations, "case {case}: {s}");
+        }
+        coupled += usize::from(r.coupled && s.coupled > 0);
+        element += usize::from(s.element > 0);
+        globalised += s.chord + s.shifted + s.damped;
+    }
+    // the draw reaches every phase
+    assert!(
+        coupled > 20 && element > 20,
+        "{coupled} coupled, {element} with element steps"
+    );
+    assert!(globalised > 0);
+}

@@ -372,5 +372,6 @@ fn summary(
             "decoupled elements"
         }
     )?;
+    writeln!(out, "steps          {}", sol.report.steps)?;
     crate::solve::validity_line(out, sol)
 }

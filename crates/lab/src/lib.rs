@@ -15,8 +15,8 @@ pub use accuracy::{
 };
 pub use stress::{
     dense_negative_eigenvalues, finding_name, force_scale, inside_envelope, reason_name, stress,
-    stress_case, stress_inputs, stress_with, PartitionKey, StressCase, StressConfig, StressInputs,
-    StressOutcome, StressReport, Tally, AUTO_FRACTION, CONDITIONING_MAX_ELEMENTS,
+    stress_case, stress_inputs, stress_with, PartitionKey, Quantiles, StressCase, StressConfig,
+    StressInputs, StressOutcome, StressReport, Tally, AUTO_FRACTION, CONDITIONING_MAX_ELEMENTS,
     DENSE_CHECK_MAX_ELEMENTS, FINE_VALIDITY_SAMPLES, MAX_DRAWS, RESIDUAL_LIMIT,
     STABILITY_TOLERANCE, STRESS_ELEMENT_COUNTS,
 };

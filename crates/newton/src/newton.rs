@@ -361,6 +361,8 @@ impl Newton {
                 break;
             }
             rep.iterations += 1;
+            rep.shifted_steps += usize::from(tau > 0.0);
+            rep.damped_steps += usize::from(alpha < 1.0);
             rep.step_norm = alpha * norm_inf(&self.p);
             quadratic_prev = if alpha == 1.0 && tau == 0.0 {
                 gnorm
@@ -493,6 +495,7 @@ impl Newton {
             x.copy_from_slice(&self.xt);
             self.g.copy_from_slice(&self.gt);
             rep.iterations += 1;
+            rep.chord_steps += 1;
             rep.step_norm = norm_inf(&self.p);
             (f, prev, gnorm) = (ft, gnorm, gt);
         }

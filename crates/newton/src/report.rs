@@ -63,8 +63,17 @@ impl fmt::Display for Termination {
 pub struct Report {
     /// Why the solver stopped.
     pub reason: Termination,
-    /// Number of accepted steps.
+    /// Number of accepted steps (all kinds: the counts below say how many
+    /// were chord steps, shifted or damped).
     pub iterations: usize,
+    /// Accepted chord steps: the last factorisation reused, only the
+    /// gradient evaluated (included in `iterations`).
+    pub chord_steps: usize,
+    /// Accepted steps along a shifted Hessian's direction (`tau > 0`: the
+    /// Hessian was not positive definite there).
+    pub shifted_steps: usize,
+    /// Accepted steps the line search shortened (step fraction below 1).
+    pub damped_steps: usize,
     /// Calls to [`Energy::energy`](crate::Energy::energy).
     pub energy_evals: usize,
     /// Calls to [`Gradient::gradient`](crate::Gradient::gradient).
@@ -98,6 +107,9 @@ impl Report {
         Self {
             reason,
             iterations: 0,
+            chord_steps: 0,
+            shifted_steps: 0,
+            damped_steps: 0,
             energy_evals: 0,
             gradient_evals: 0,
             hessian_evals: 0,

@@ -161,7 +161,9 @@ pub fn solution_dict<'py>(py: Python<'py>, s: &fpc::Solution) -> PyResult<Bound<
 }
 
 /// A solve report as a dict (`reason`, `iterations`, `residual_norm`,
-/// `evaluations`, `coupled`, `continuation_steps`).
+/// `evaluations`, `coupled`, `continuation_steps`, and `steps`: the
+/// iterations by phase, `element`, `coupled`, `continuation`, and the
+/// globalisation's `chord`, `shifted`, `damped`).
 pub fn report_dict<'py>(
     py: Python<'py>,
     r: &fpc::finger::SolveReport,
@@ -173,6 +175,7 @@ pub fn report_dict<'py>(
     d.set_item("evaluations", r.evaluations)?;
     d.set_item("coupled", r.coupled)?;
     d.set_item("continuation_steps", r.continuation_steps)?;
+    d.set_item("steps", to_py(py, &r.steps)?)?;
     Ok(d)
 }
 

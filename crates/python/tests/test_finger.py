@@ -35,6 +35,10 @@ def test_a_loaded_solve_and_tip_only_output():
     f = fpc.Finger()
     r = f.solve(pressure_kpa=50, fx=0.5, fz=0.2)
     assert r["report"]["coupled"] is True
+    # the iterations by phase add up: the unloaded start, then coupled Newton
+    s = r["report"]["steps"]
+    assert s["element"] > 0 and s["coupled"] > 0
+    assert s["element"] + s["coupled"] + s["continuation"] == r["report"]["iterations"]
     t = f.solve(pressure_kpa=50, fx=0.5, fz=0.2, shape=False, stability=False)
     np.testing.assert_array_equal(t["tip"], r["tip"])
     assert t["points"].shape == (0, 2) and t["radius"] is None

@@ -196,6 +196,7 @@ pub(super) fn summary(
         "solver         {} iterations, relative residual {:.2e}",
         sol.report.iterations, sol.report.residual_norm
     )?;
+    writeln!(out, "steps          {}", sol.report.steps)?;
     Ok(())
 }
 

@@ -80,7 +80,9 @@ mod report;
 
 pub use check::dense_negative_eigenvalues;
 pub use inputs::{force_scale, inside_envelope, PartitionKey, StressInputs};
-pub use report::{finding_name, reason_name, StressCase, StressOutcome, StressReport, Tally};
+pub use report::{
+    finding_name, reason_name, Quantiles, StressCase, StressOutcome, StressReport, Tally,
+};
 
 use check::check;
 use draw::{draw_case, NoFinger};
@@ -248,6 +250,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
         refinements: None,
         iterations: None,
         continuation_steps: None,
+        steps: None,
         residual: None,
         negative_eigenvalues: None,
         dense_negative: None,
@@ -319,6 +322,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
             c.refinements = Some(refinements);
             c.iterations = Some(sol.report.iterations);
             c.continuation_steps = Some(sol.report.continuation_steps);
+            c.steps = Some(sol.report.steps);
             c.residual = Some(m.residual);
             c.negative_eigenvalues = sol.negative_eigenvalues;
             c.dense_negative = m.dense_negative;

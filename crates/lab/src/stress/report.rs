@@ -149,6 +149,9 @@ pub struct StressCase {
     pub iterations: Option<usize>,
     /// Continuation steps (returned solutions).
     pub continuation_steps: Option<usize>,
+    /// The iterations by phase and the globalisation's counts (returned
+    /// solutions; [`fpc::finger::StepCounts`]).
+    pub steps: Option<fpc::finger::StepCounts>,
     /// Recomputed `||g_scaled||_inf / stiffness` (returned solutions).
     pub residual: Option<f64>,
     /// [`Solution::negative_eigenvalues`](fpc::Solution::negative_eigenvalues) (returned solutions).
@@ -247,6 +250,37 @@ impl Tally {
     }
 }
 
+/// Order statistics of a count (nearest rank).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct Quantiles {
+    /// How many values.
+    pub n: usize,
+    /// The median.
+    pub median: usize,
+    /// The 90th percentile.
+    pub p90: usize,
+    /// The 99th percentile.
+    pub p99: usize,
+    /// The largest.
+    pub max: usize,
+}
+
+impl Quantiles {
+    /// The quantiles of `v` (sorted in place); `None` when empty.
+    pub fn of(v: &mut [usize]) -> Option<Quantiles> {
+        v.sort_unstable();
+        let n = v.len();
+        let at = |q: f64| v[((q * n as f64).ceil() as usize).clamp(1, n) - 1];
+        (n > 0).then(|| Quantiles {
+            n,
+            median: at(0.5),
+            p90: at(0.9),
+            p99: at(0.99),
+            max: v[n - 1],
+        })
+    }
+}
+
 /// The outcome of a stress run.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StressReport {
@@ -317,6 +351,23 @@ impl StressReport {
         }
         m.retain(|_, t| t.cases > 0);
         m
+    }
+
+    /// The distribution of a count over the converged cases of coupled
+    /// solves (`None` without any): `count` picks it from their steps.
+    pub fn step_quantiles(
+        &self,
+        count: impl Fn(&fpc::finger::StepCounts) -> usize,
+    ) -> Option<Quantiles> {
+        let mut v: Vec<usize> = self
+            .cases
+            .iter()
+            .filter(|c| c.outcome == StressOutcome::Converged)
+            .filter_map(|c| c.steps.as_ref())
+            .filter(|s| s.coupled + s.continuation > 0)
+            .map(count)
+            .collect();
+        Quantiles::of(&mut v)
     }
 
     /// Converged cases (solutions that passed every check).
@@ -481,5 +532,20 @@ impl StressReport {
                         StressOutcome::Converged | StressOutcome::Rejected { .. }
                     ))
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Quantiles;
+
+    #[test]
+    fn quantiles_are_nearest_ranks() {
+        let mut v: Vec<usize> = (1..=100).rev().collect();
+        let q = Quantiles::of(&mut v).unwrap();
+        assert_eq!((q.n, q.median, q.p90, q.p99, q.max), (100, 50, 90, 99, 100));
+        let q = Quantiles::of(&mut [7]).unwrap();
+        assert_eq!((q.median, q.p99, q.max), (7, 7, 7));
+        assert!(Quantiles::of(&mut []).is_none());
     }
 }

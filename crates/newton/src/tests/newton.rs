@@ -63,7 +63,7 @@ fn newton_rosenbrock_2_and_10() {
 #[test]
 fn chord_steps_save_hessians_and_keep_the_minimiser() {
     let mut rng = Lcg::new(7);
-    let (mut with, mut without) = (0, 0);
+    let (mut with, mut without, mut chords) = (0, 0, 0);
     for &n in &[3usize, 10, 33] {
         for _ in 0..8 {
             let mut q = QuadQuartic::random(n, true, &mut rng);
@@ -87,6 +87,14 @@ fn chord_steps_save_hessians_and_keep_the_minimiser() {
             assert!(ra.hessian_evals <= rb.hessian_evals, "n = {n}: {ra} / {rb}");
             // a chord step factorises nothing
             assert!(ra.factorizations <= ra.hessian_evals, "{ra}");
+            // every other accepted step needed a factorisation of its own
+            assert_eq!(rb.chord_steps, 0, "{rb}");
+            assert!(ra.chord_steps <= ra.iterations, "{ra:?}");
+            assert!(
+                ra.factorizations >= ra.iterations - ra.chord_steps,
+                "{ra:?}"
+            );
+            chords += ra.chord_steps;
             with += ra.hessian_evals;
             without += rb.hessian_evals;
         }
@@ -95,6 +103,7 @@ fn chord_steps_save_hessians_and_keep_the_minimiser() {
         with < without,
         "chord steps saved no Hessian: {with} vs {without}"
     );
+    assert!(chords > 0, "no chord step was counted");
 }
 
 /// A trusted start (nested iteration) evaluates the first full step with
@@ -191,6 +200,10 @@ fn newton_indefinite_start_reaches_a_minimum_monotonically() {
     let r = newton.minimize(&mut dp, &mut x);
     assert!(r.converged(), "{r}");
     assert!(r.max_shift > 0.0, "a shift was needed: {r}");
+    assert!(
+        r.shifted_steps > 0 && r.shifted_steps <= r.iterations,
+        "{r:?}"
+    );
     // A minimum, not a saddle: the final Hessian is positive definite.
     assert!(min_eigenvalue(n, dp.matrix.matrix()) > 0.0);
     // Energy decreases monotonically along accepted iterates.

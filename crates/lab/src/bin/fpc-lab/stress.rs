@@ -238,6 +238,7 @@ fn case_json(c: &StressCase) -> Value {
         "refinements": c.refinements,
         "iterations": c.iterations,
         "continuation_steps": c.continuation_steps,
+        "steps": c.steps,
         "residual": opt(c.residual),
         "negative_eigenvalues": c.negative_eigenvalues,
         "dense_negative": c.dense_negative.map(|(below, within)| json!({"below": below, "within": within})),
@@ -289,6 +290,10 @@ fn to_json(r: &StressReport, all_cases: bool) -> Value {
         "budget_s": num(r.config.budget.as_secs_f64()),
         "elapsed_s": num(r.elapsed.as_secs_f64()),
         "max_elements": r.config.max_elements,
+        "step_distributions": step_distributions(r)
+            .into_iter()
+            .map(|(name, q)| (name.to_string(), json!(q)))
+            .collect::<serde_json::Map<String, Value>>(),
         "converged": r.converged(),
         "failed": r.failed(),
         "failed_by_reason": r.failed_by_reason(),
@@ -339,6 +344,25 @@ fn to_json(r: &StressReport, all_cases: bool) -> Value {
         v["cases"] = Value::Array(r.cases.iter().map(case_json).collect());
     }
     v
+}
+
+/// The step counts' distributions over converged coupled solves, by
+/// name: the coupled Newton steps (from the start and in continuation),
+/// the start's element iterations, and the globalisation's counts.
+fn step_distributions(r: &StressReport) -> Vec<(&'static str, Option<fpc_lab::Quantiles>)> {
+    vec![
+        (
+            "coupled Newton steps",
+            r.step_quantiles(|s| s.coupled + s.continuation),
+        ),
+        (
+            "start (element) iterations",
+            r.step_quantiles(|s| s.element),
+        ),
+        ("chord steps", r.step_quantiles(|s| s.chord)),
+        ("shifted steps", r.step_quantiles(|s| s.shifted)),
+        ("damped steps", r.step_quantiles(|s| s.damped)),
+    ]
 }
 
 fn rate(t: &Tally) -> String {
@@ -474,6 +498,15 @@ fn summary(out: &mut impl Write, r: &StressReport) -> std::io::Result<()> {
         fpc_lab::FINE_VALIDITY_SAMPLES,
         r.missed_findings()
     )?;
+    for (name, q) in step_distributions(r) {
+        if let Some(q) = q {
+            writeln!(
+                out,
+                "  {name:<33} median {}, p90 {}, p99 {}, max {} (n = {})",
+                q.median, q.p90, q.p99, q.max, q.n
+            )?;
+        }
+    }
     let converged = |t: &Tally| format!("{}/{}", t.converged, t.cases);
     let by_n: Vec<String> = r
         .by_elements()
