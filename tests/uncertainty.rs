@@ -123,13 +123,15 @@ covariance = [[1e-6, -7.5e-6], [-7.5e-6, 0.000625]]
 "#;
 
 #[test]
-fn finger_tip_sigma_matches_monte_carlo() {
+fn finger_tip_and_radius_sigma_match_monte_carlo() {
     let scene = Scene::from_toml(FINGER).unwrap();
     let solved = scene.solve().unwrap();
     let u = scene.uncertainty(&solved).unwrap().unwrap();
     assert_eq!(u.parameters, ["actuator.pemc.eps0", "load.kappa"]);
     let tip = u.tip_mm.unwrap();
     let angle = u.end_angle_rad.unwrap();
+    let radius = u.radius_mm.unwrap();
+    assert!(u.radius_unavailable.is_none());
     let n = 2000;
     let cov = vec![vec![1e-6, -7.5e-6], vec![-7.5e-6, 0.000625]];
     let cols = monte_carlo(
@@ -141,12 +143,14 @@ fn finger_tip_sigma_matches_monte_carlo() {
         21,
         |s| {
             let sol = s.solution();
-            vec![sol.tip[0], sol.tip[1], sol.end_angle]
+            // the circle fit of the solve's own shape samples
+            vec![sol.tip[0], sol.tip[1], sol.end_angle, sol.radius.unwrap()]
         },
     );
     agree("tip X", tip[0], sd(&cols[0]), n);
     agree("tip Z", tip[1], sd(&cols[1]), n);
     agree("end angle", angle, sd(&cols[2]), n);
+    agree("radius", radius, sd(&cols[3]), n);
 }
 
 #[test]
@@ -173,6 +177,27 @@ fn one_key_sigma_is_the_central_difference_slope() {
             "tip {k}: propagated {got}, central difference {fd}"
         );
     }
+    // the radius: the circle fit of each solve's shape samples
+    let radius = |e: f64| {
+        let s = with_values(&text, &["actuator.pemc.eps0"], &[e]);
+        s.solve().unwrap().solution().radius.unwrap()
+    };
+    let fd = ((radius(0.25 + h) - radius(0.25 - h)) / (2.0 * h)).abs();
+    let got = u.radius_mm.unwrap();
+    assert!(
+        (got - fd).abs() <= 1e-5 * fd,
+        "radius: propagated {got}, central difference {fd}"
+    );
+}
+
+#[test]
+fn a_finger_without_shape_samples_says_why_it_has_no_radius_bar() {
+    let text = FINGER.replace("[solve]\n", "[solve]\nshape = false\n");
+    let scene = Scene::from_toml(&text).unwrap();
+    let u = scene.uncertainty(&scene.solve().unwrap()).unwrap().unwrap();
+    assert!(u.radius_mm.is_none() && u.tip_mm.is_some());
+    let why = u.radius_unavailable.unwrap();
+    assert!(why.contains("solve.shape = false"), "{why}");
 }
 
 const SPHERE: &str = r#"

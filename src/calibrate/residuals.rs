@@ -17,16 +17,16 @@
 
 use std::collections::HashMap;
 
-use super::chain::{points_and_tangents, shape_sites, site_at, Site};
-use super::circle::radius_tangents;
 use super::params::Unknown;
 use crate::actuator::Actuator;
+use crate::circle_fit::radius_tangents;
 use crate::coefficients::Coefficients;
 use crate::field::Field;
 use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem, Traced};
 use crate::measure::{Specimen, TestData};
 use crate::plan::PlannedFinger;
 use crate::sensitivity::Param;
+use crate::sensitivity::{points_and_tangents, shape_sites, site_at, Site};
 use crate::solve_error::SolveError;
 use crate::studies::Axis;
 
