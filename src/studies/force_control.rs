@@ -96,7 +96,8 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "force_control",
     title: "Force control by pressure",
     description: "The same gripper holds a cuboid of d = 100 mm with friction f = 0.3 N per finger; for each pressure, the normal force F that holds it and the finger height h (Sec. 5.1.2).",
-    run: |act, opts| Ok(output(Some(&study4_force_control(act, opts)?), opts.mu)),
+    run: |act, opts, _| Ok(output(Some(&study4_force_control(act, opts)?), opts.mu)),
+    has_bands: false,
     empty: || output(None, StudyOptions::default().mu),
 };
 

@@ -15,6 +15,7 @@
 //! is one module and one entry of [`STUDIES`]; front ends (`fpc paper`) run
 //! the registry and need no change.
 
+mod bands;
 mod cuboid;
 mod curvature;
 mod displacement;
@@ -33,8 +34,11 @@ use crate::actuator::Actuator;
 use crate::gripper::ViableAngles;
 use crate::solve_error::SolveError;
 
+pub use bands::{not_propagated, BandColumn, NotPropagated, EXACT};
 pub use cuboid::{study3_cuboid_region, CuboidRegion, CUBOID_TEST};
-pub use curvature::{study7_curvature, CurvatureCurve, CurvatureRow};
+pub use curvature::{
+    study7_curvature, study7_curvature_with, CurvatureCurve, CurvatureRow, CurvatureSd,
+};
 pub use displacement::{
     study8_force_at_displacement, tip_force_for_displacement, Axis, DisplacementForce,
     DisplacementForceRow,

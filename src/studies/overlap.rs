@@ -32,7 +32,8 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "overlap",
     title: "Overlap",
     description: "eps0 = 0.25, a in {π/2, π/2.5, π/3}, overlap g in {0, 10, 20} mm: max f_v against d per overlap, and d_max = 2 (l0 − g + Lx cos a) against g (Sec. 4.2).",
-    run: |act, opts| Ok(output(&study2_overlap(act, opts)?)),
+    run: |act, opts, _| Ok(output(&study2_overlap(act, opts)?)),
+    has_bands: false,
     empty: || output(&[]),
 };
 

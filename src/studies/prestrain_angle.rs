@@ -32,7 +32,8 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "prestrain_angle",
     title: "Prestrain × mounting angle",
     description: "eps0 in {0.4, 0.25, 0.15} × a in {π/2, π/2.5, π/3}, no overlap (l = 2 l0), grasping angle b = 0, full friction f = μF: unloaded finger shapes in the gripper frame, the max lifting force f_v against the grasping size d, and d_max = l + 2 Lx cos a against a (Sec. 4.1).",
-    run: |act, opts| Ok(output(&study1_prestrain_angle(act, opts)?)),
+    run: |act, opts, _| Ok(output(&study1_prestrain_angle(act, opts)?)),
+    has_bands: false,
     empty: || output(&[]),
 };
 
