@@ -15,6 +15,10 @@
 //! `--nocapture` to see the numbers.
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
+use fpc::studies::{
+    study7_curvature, study7_curvature_with, study8_force_at_displacement,
+    study8_force_at_displacement_with, StudyOptions,
+};
 
 /// A seeded standard normal (Box-Muller).
 fn normal(rng: &mut fastrand::Rng) -> f64 {
@@ -49,6 +53,7 @@ fn with_values(text: &str, keys: &[&str], values: &[f64]) -> Scene {
         match *k {
             "actuator.pemc.eps0" => file.actuator.pemc.eps0 = Some(v),
             "actuator.pemc.p1" => file.actuator.pemc.p1 = Some(v),
+            "actuator.cl.e" => file.actuator.cl.e = Some(v),
             "load.kappa" => file.load.kappa = Some(v),
             other => panic!("no setter for {other}"),
         }
@@ -339,4 +344,178 @@ fn a_rest_shape_the_chaining_does_not_cover_solves_without_error_bars() {
     assert!(u.grasp.is_none() && u.d_max_mm.is_none());
     let why = u.unavailable.unwrap();
     assert!(why.contains("innermost"), "{why}");
+}
+
+/// A scene for `fpc paper --scene`: the covariance over the prestrain
+/// (which every study sets itself: not propagated) and two correlated
+/// material parameters (propagated).
+const STUDY_SCENE: &str = r#"
+[actuator.pemc]
+eps0 = 0.25
+[partition]
+elements = 4
+[calibration]
+parameters = ["actuator.pemc.eps0", "actuator.pemc.p1", "actuator.cl.e"]
+covariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]
+"#;
+
+const STUDY_KEYS: [&str; 3] = ["actuator.pemc.eps0", "actuator.pemc.p1", "actuator.cl.e"];
+
+/// Parameter sets drawn from the scene's covariance around its values,
+/// each as the actuator the scene resolves to.
+fn study_draws(n: usize, seed: u64) -> (Scene, Vec<fpc::Actuator>) {
+    let scene = Scene::from_toml(STUDY_SCENE).unwrap();
+    let cov: Vec<Vec<f64>> = scene.covariance().unwrap().matrix().to_vec();
+    let mean: Vec<f64> = STUDY_KEYS
+        .iter()
+        .map(|k| {
+            fpc::sensitivity::Param::from_name(k)
+                .unwrap()
+                .value(&scene.actuator, &fpc::Load::unloaded(), None)
+                .unwrap()
+        })
+        .collect();
+    let l = cholesky(&cov);
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let draws = (0..n)
+        .map(|_| {
+            let z: Vec<f64> = (0..3).map(|_| normal(&mut rng)).collect();
+            let x: Vec<f64> = (0..3)
+                .map(|i| mean[i] + (0..=i).map(|k| l[i][k] * z[k]).sum::<f64>())
+                .collect();
+            with_values(STUDY_SCENE, &STUDY_KEYS, &x).actuator
+        })
+        .collect();
+    (scene, draws)
+}
+
+fn study_options() -> StudyOptions {
+    StudyOptions {
+        elements: 4,
+        pressure_points: 5,
+        ..StudyOptions::coarse()
+    }
+}
+
+#[test]
+fn study7_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 600;
+    let (scene, draws) = study_draws(n, 11);
+    let banded = study7_curvature_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    // (curve, row): eps0 = 0.15 at 0 kPa, 0.25 at 0 and 100 kPa, 0.4 at
+    // 0, 100 and 200 kPa (the radii below 100 mm, far from flat)
+    let picks = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 1), (2, 2)];
+    let mut radii = vec![Vec::with_capacity(n); picks.len()];
+    for act in &draws {
+        let curves = study7_curvature(act, &opts).unwrap();
+        for (k, &(c, r)) in picks.iter().enumerate() {
+            radii[k].push(curves[c].rows[r].radius.unwrap());
+        }
+    }
+    for (k, &(c, r)) in picks.iter().enumerate() {
+        let row = &banded[c].rows[r];
+        let name = format!(
+            "study 7 radius, eps0 = {} at {} kPa (R = {:.1} mm)",
+            banded[c].eps0,
+            row.pressure_kpa,
+            row.radius.unwrap()
+        );
+        agree(&name, row.sd.unwrap().radius.unwrap(), sd(&radii[k]), n);
+    }
+    // without a covariance, no sd
+    let plain = study7_curvature(&scene.actuator, &opts).unwrap();
+    assert!(plain.iter().flat_map(|c| &c.rows).all(|r| r.sd.is_none()));
+}
+
+#[test]
+fn study8_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 600;
+    let (scene, draws) = study_draws(n, 13);
+    let banded =
+        study8_force_at_displacement_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let mut forces = vec![Vec::with_capacity(n); banded.len()];
+    for act in &draws {
+        let rows = study8_force_at_displacement(act, &opts).unwrap();
+        for (k, r) in rows.iter().enumerate() {
+            forces[k].push(r.force.unwrap());
+        }
+    }
+    for (k, r) in banded.iter().enumerate() {
+        let name = format!(
+            "study 8 force, eps0 = {} along {} at {} kPa (F = {:.4} N)",
+            r.eps0,
+            r.axis.name(),
+            r.pressure_kpa,
+            r.force.unwrap()
+        );
+        agree(&name, r.force_sd.unwrap(), sd(&forces[k]), n);
+    }
+}
+
+#[test]
+fn study_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
+    // central differences of two ordinary runs of each study
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let opts = study_options();
+    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    let h = 1e-5;
+    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
+    let (up, down) = (at(p1 + h), at(p1 - h));
+    let s7 = study7_curvature_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u7, d7) = (
+        study7_curvature(&up, &opts).unwrap(),
+        study7_curvature(&down, &opts).unwrap(),
+    );
+    let mut checked = 0;
+    for (c, curve) in s7.iter().enumerate() {
+        for (r, row) in curve.rows.iter().enumerate() {
+            let (Some(sd), Some(a), Some(b)) = (row.sd, u7[c].rows[r].radius, d7[c].rows[r].radius)
+            else {
+                continue;
+            };
+            if a > 300.0 {
+                // near flat the radius grows without bound: the
+                // differences' own truncation error shows
+                continue;
+            }
+            let fd = ((a - b) / (2.0 * h)).abs();
+            let got = sd.radius.unwrap();
+            assert!(
+                (got - fd).abs() <= 1e-4 * fd.max(1e-3),
+                "study 7 radius, eps0 = {} at {} kPa: propagated {got}, central difference {fd}",
+                curve.eps0,
+                row.pressure_kpa
+            );
+            let tip = |rows: &[fpc::studies::CurvatureRow]| rows[r].tip;
+            let fd_tip = (tip(&u7[c].rows)[1] - tip(&d7[c].rows)[1]) / (2.0 * h);
+            assert!((sd.tip[1] - fd_tip.abs()).abs() <= 1e-4 * fd_tip.abs().max(1e-3));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} rows checked");
+    let s8 = study8_force_at_displacement_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u8, d8) = (
+        study8_force_at_displacement(&up, &opts).unwrap(),
+        study8_force_at_displacement(&down, &opts).unwrap(),
+    );
+    for ((r, a), b) in s8.iter().zip(&u8).zip(&d8) {
+        let fd = ((a.force.unwrap() - b.force.unwrap()) / (2.0 * h)).abs();
+        let got = r.force_sd.unwrap();
+        assert!(
+            (got - fd).abs() <= 1e-4 * fd,
+            "study 8 force, eps0 = {} at {} kPa: propagated {got}, central difference {fd}",
+            r.eps0,
+            r.pressure_kpa
+        );
+    }
 }

@@ -40,8 +40,8 @@ pub use curvature::{
     study7_curvature, study7_curvature_with, CurvatureCurve, CurvatureRow, CurvatureSd,
 };
 pub use displacement::{
-    study8_force_at_displacement, tip_force_for_displacement, Axis, DisplacementForce,
-    DisplacementForceRow,
+    study8_force_at_displacement, study8_force_at_displacement_with, tip_force_for_displacement,
+    Axis, DisplacementForce, DisplacementForceRow,
 };
 pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
 pub use info::StudyInfo;
