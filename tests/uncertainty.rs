@@ -1,7 +1,9 @@
-//! Predictions with error bars (`Scene::uncertainty`): the first-order
-//! 1-sigma uncertainties agree with a seeded Monte Carlo through the
-//! ordinary scene path, and a bad `[calibration]` covariance is an error
-//! naming its field.
+//! Predictions with error bars (`Scene::uncertainty`) and bands on the
+//! studies (`study7_curvature_with`, `study8_force_at_displacement_with`,
+//! what `fpc paper --scene` writes): the first-order 1-sigma uncertainties
+//! agree with a seeded Monte Carlo through the ordinary scene and study
+//! paths, and a bad `[calibration]` covariance is an error naming its
+//! field.
 //!
 //! Tolerance of the Monte Carlo: the sample standard deviation of `n`
 //! Gaussian draws has a relative standard deviation of about
