@@ -18,8 +18,8 @@
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
 use fpc::studies::{
-    study7_curvature, study7_curvature_with, study8_force_at_displacement,
-    study8_force_at_displacement_with, StudyOptions,
+    study4_force_control, study4_force_control_with, study7_curvature, study7_curvature_with,
+    study8_force_at_displacement, study8_force_at_displacement_with, StudyOptions,
 };
 
 /// A seeded standard normal (Box-Muller).
@@ -505,6 +505,24 @@ fn study_bands_with_one_key_are_central_difference_slopes() {
         }
     }
     assert!(checked >= 10, "{checked} rows checked");
+    let s4 = study4_force_control_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u4, d4) = (
+        study4_force_control(&up, &opts).unwrap(),
+        study4_force_control(&down, &opts).unwrap(),
+    );
+    for ((r, a), b) in s4.rows.iter().zip(&u4.rows).zip(&d4.rows) {
+        let sd = r.sd.unwrap();
+        for (got, fd, what) in [
+            (sd.normal, (a.normal - b.normal) / (2.0 * h), "F"),
+            (sd.height, (a.height - b.height) / (2.0 * h), "h"),
+        ] {
+            assert!(
+                (got - fd.abs()).abs() <= 1e-4 * fd.abs(),
+                "study 4 {what} at {} kPa: propagated {got}, central difference {fd}",
+                r.pressure_kpa
+            );
+        }
+    }
     let s8 = study8_force_at_displacement_with(&scene.actuator, &opts, scene.covariance()).unwrap();
     let (u8, d8) = (
         study8_force_at_displacement(&up, &opts).unwrap(),
@@ -518,6 +536,41 @@ fn study_bands_with_one_key_are_central_difference_slopes() {
             "study 8 force, eps0 = {} at {} kPa: propagated {got}, central difference {fd}",
             r.eps0,
             r.pressure_kpa
+        );
+    }
+}
+
+#[test]
+fn study4_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 400;
+    let (scene, draws) = study_draws(n, 14);
+    let banded = study4_force_control_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    assert_eq!(banded.rows.len(), 11, "{:?}", banded.stopped);
+    let picks = [0, 5, 10];
+    let mut cols = vec![Vec::with_capacity(n); 2 * picks.len()];
+    for act in &draws {
+        let fc = study4_force_control(act, &opts).unwrap();
+        for (k, &r) in picks.iter().enumerate() {
+            cols[2 * k].push(fc.rows[r].normal);
+            cols[2 * k + 1].push(fc.rows[r].height);
+        }
+    }
+    for (k, &r) in picks.iter().enumerate() {
+        let row = &banded.rows[r];
+        let sd_row = row.sd.unwrap();
+        let at = format!("at {} kPa", row.pressure_kpa);
+        agree(
+            &format!("study 4 F {at}"),
+            sd_row.normal,
+            sd(&cols[2 * k]),
+            n,
+        );
+        agree(
+            &format!("study 4 h {at}"),
+            sd_row.height,
+            sd(&cols[2 * k + 1]),
+            n,
         );
     }
 }

@@ -43,7 +43,9 @@ pub use displacement::{
     study8_force_at_displacement, study8_force_at_displacement_with, tip_force_for_displacement,
     Axis, DisplacementForce, DisplacementForceRow,
 };
-pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
+pub use force_control::{
+    study4_force_control, study4_force_control_with, ForceControl, ForceControlRow, ForceControlSd,
+};
 pub use info::StudyInfo;
 pub use lift::{lift_curve, LiftCurve, LiftPoint};
 pub use options::{
