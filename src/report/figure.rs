@@ -467,6 +467,18 @@ impl Panel {
 mod tests {
     use super::*;
 
+    #[test]
+    fn a_spread_is_the_closed_band_of_its_finite_points() {
+        let pts = [[0.0, 1.0], [1.0, 2.0], [2.0, f64::NAN], [3.0, 4.0]];
+        let sd = [0.5, f64::NAN, 1.0, 3.0];
+        let s = Series::spread("k", &pts, &sd, [0.0, 6.0]).unwrap();
+        assert_eq!(s.kind, SeriesKind::Spread);
+        // (0, 1 +- 0.5) and (3, 4 +- 3), the upper side clamped at 6;
+        // the points without a finite value or sd are left out
+        assert_eq!(s.points, [[0.0, 1.5], [3.0, 6.0], [3.0, 1.0], [0.0, 0.5]]);
+        assert!(Series::spread("k", &pts[..2], &sd[..2], [0.0, 6.0]).is_none());
+    }
+
     /// x = 0, 1, 2, ...
     fn lift_panel(ys: &[f64]) -> Panel {
         let mut p = Panel::new(
