@@ -18,8 +18,9 @@
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
 use fpc::studies::{
-    study4_force_control, study4_force_control_with, study7_curvature, study7_curvature_with,
-    study8_force_at_displacement, study8_force_at_displacement_with, StudyOptions,
+    study2_overlap_with, study4_force_control, study4_force_control_with, study7_curvature,
+    study7_curvature_with, study8_force_at_displacement, study8_force_at_displacement_with,
+    StudyOptions,
 };
 
 /// A seeded standard normal (Box-Muller).
@@ -573,4 +574,82 @@ fn study4_bands_match_monte_carlo_through_the_study() {
             n,
         );
     }
+}
+
+#[test]
+fn study2_bands_match_monte_carlo_of_the_grasp_at_its_size() {
+    // the band of a lift curve is at a fixed grasping size (the sweep's
+    // grid moves with d_max): each draw solves that size's grasp through
+    // the ordinary scene path, the gripper of the study's curve a = pi/3,
+    // g = 20 mm
+    let opts = study_options();
+    let scene = Scene::from_toml(STUDY_SCENE).unwrap();
+    let curves = study2_overlap_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let c = curves
+        .iter()
+        .find(|c| {
+            (c.mounting_angle - std::f64::consts::FRAC_PI_3).abs() < 1e-12 && c.overlap == 20.0
+        })
+        .unwrap();
+    let point = c.points.iter().find(|p| p.invalid.is_none()).unwrap();
+    let grasp = format!(
+        "[gripper]\nmounting_angle_deg = 60.0\noverlap_mm = 20.0\nmu = 0.6\n[gripper.grasp]\nkind = \"size\"\nd_mm = {:.17e}\npressure_kpa = 0.0\n[calibration]",
+        point.size
+    );
+    let text = STUDY_SCENE.replace("[calibration]", &grasp);
+    let base = Scene::from_toml(&text).unwrap();
+    let mean: Vec<f64> = STUDY_KEYS
+        .iter()
+        .map(|k| {
+            fpc::sensitivity::Param::from_name(k)
+                .unwrap()
+                .value(&base.actuator, &fpc::Load::unloaded(), None)
+                .unwrap()
+        })
+        .collect();
+    // the study sets eps0 itself: the scene's draws hold it too
+    let mut cov: Vec<Vec<f64>> = base.covariance().unwrap().matrix().to_vec();
+    for row in cov.iter_mut() {
+        row[0] = 0.0;
+    }
+    cov[0] = vec![1e-30, 0.0, 0.0];
+    let n = 1500;
+    let cols = monte_carlo(&text, &STUDY_KEYS, &mean, &cov, n, 15, |s| match s {
+        SceneSolution::Gripper {
+            gripper,
+            grasp: Some(o),
+        } => vec![o.grasp.lift, o.grasp.height, gripper.d_max()],
+        _ => panic!("not a grasp"),
+    });
+    // the scene's grasp is the study's point
+    let solved = base.solve().unwrap();
+    let SceneSolution::Gripper { grasp: Some(o), .. } = &solved else {
+        panic!("not a grasp")
+    };
+    assert!(
+        (o.grasp.lift - point.lift).abs() < 1e-6 * point.lift,
+        "{} {}",
+        o.grasp.lift,
+        point.lift
+    );
+    let sd_point = point.sd.unwrap();
+    let at = format!("a = pi/3, g = 20 mm, d = {:.2} mm", point.size);
+    agree(
+        &format!("study 2 f_v, {at}"),
+        sd_point.lift,
+        sd(&cols[0]),
+        n,
+    );
+    agree(
+        &format!("study 2 h, {at}"),
+        sd_point.height,
+        sd(&cols[1]),
+        n,
+    );
+    agree(
+        "study 2 d_max, a = pi/3, g = 20 mm",
+        c.d_max_sd.unwrap(),
+        sd(&cols[2]),
+        n,
+    );
 }

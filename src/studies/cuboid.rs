@@ -150,7 +150,7 @@ fn figure(region: &CuboidRegion) -> Figure {
     );
     p.y.include_zero = true;
     let (kind, label) = (SeriesKind::Area, "grasping region");
-    add_lift_curve(&mut p, c, kind, "region".into(), label.into());
+    add_lift_curve(&mut p, c, kind, "region".into(), label.into(), false);
     let inside = region.contains(d, fv);
     p.series.push(
         Series::new("cuboid", SeriesKind::Cross, vec![[d, fv]]).label(format!(

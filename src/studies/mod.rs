@@ -47,7 +47,7 @@ pub use force_control::{
     study4_force_control, study4_force_control_with, ForceControl, ForceControlRow, ForceControlSd,
 };
 pub use info::StudyInfo;
-pub use lift::{lift_curve, LiftCurve, LiftPoint};
+pub use lift::{lift_curve, LiftCurve, LiftPoint, LiftSd};
 pub use options::{
     section5_gripper, StudyOptions, SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
     STUDY8_PRESSURES_KPA,
@@ -58,8 +58,8 @@ pub use output::{
     StopAt, StudyOutput, Table, BENT_BACKWARDS, INVALID, INVALID_GRASP, NEUTRAL, NOTE, REVERSED,
     STATUS, VALID, VALIDITY_KINDS, WARNINGS,
 };
-pub use overlap::study2_overlap;
-pub use prestrain_angle::study1_prestrain_angle;
+pub use overlap::{study2_overlap, study2_overlap_with};
+pub use prestrain_angle::{study1_prestrain_angle, study1_prestrain_angle_with};
 pub use sphere::{study5_sphere_region, SpherePoint, SphereRegion};
 pub use viable::study6_viable_angles;
 
