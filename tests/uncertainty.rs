@@ -1,7 +1,9 @@
-//! Predictions with error bars (`Scene::uncertainty`): the first-order
-//! 1-sigma uncertainties agree with a seeded Monte Carlo through the
-//! ordinary scene path, and a bad `[calibration]` covariance is an error
-//! naming its field.
+//! Predictions with error bars (`Scene::uncertainty`) and bands on the
+//! studies (`study7_curvature_with`, `study8_force_at_displacement_with`,
+//! what `fpc paper --scene` writes): the first-order 1-sigma uncertainties
+//! agree with a seeded Monte Carlo through the ordinary scene and study
+//! paths, and a bad `[calibration]` covariance is an error naming its
+//! field.
 //!
 //! Tolerance of the Monte Carlo: the sample standard deviation of `n`
 //! Gaussian draws has a relative standard deviation of about
@@ -15,6 +17,11 @@
 //! `--nocapture` to see the numbers.
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
+use fpc::studies::{
+    study2_overlap_with, study4_force_control, study4_force_control_with, study7_curvature,
+    study7_curvature_with, study8_force_at_displacement, study8_force_at_displacement_with,
+    StudyOptions,
+};
 
 /// A seeded standard normal (Box-Muller).
 fn normal(rng: &mut fastrand::Rng) -> f64 {
@@ -49,6 +56,7 @@ fn with_values(text: &str, keys: &[&str], values: &[f64]) -> Scene {
         match *k {
             "actuator.pemc.eps0" => file.actuator.pemc.eps0 = Some(v),
             "actuator.pemc.p1" => file.actuator.pemc.p1 = Some(v),
+            "actuator.cl.e" => file.actuator.cl.e = Some(v),
             "load.kappa" => file.load.kappa = Some(v),
             other => panic!("no setter for {other}"),
         }
@@ -123,13 +131,15 @@ covariance = [[1e-6, -7.5e-6], [-7.5e-6, 0.000625]]
 "#;
 
 #[test]
-fn finger_tip_sigma_matches_monte_carlo() {
+fn finger_tip_and_radius_sigma_match_monte_carlo() {
     let scene = Scene::from_toml(FINGER).unwrap();
     let solved = scene.solve().unwrap();
     let u = scene.uncertainty(&solved).unwrap().unwrap();
     assert_eq!(u.parameters, ["actuator.pemc.eps0", "load.kappa"]);
     let tip = u.tip_mm.unwrap();
     let angle = u.end_angle_rad.unwrap();
+    let radius = u.radius_mm.unwrap();
+    assert!(u.radius_unavailable.is_none());
     let n = 2000;
     let cov = vec![vec![1e-6, -7.5e-6], vec![-7.5e-6, 0.000625]];
     let cols = monte_carlo(
@@ -141,12 +151,14 @@ fn finger_tip_sigma_matches_monte_carlo() {
         21,
         |s| {
             let sol = s.solution();
-            vec![sol.tip[0], sol.tip[1], sol.end_angle]
+            // the circle fit of the solve's own shape samples
+            vec![sol.tip[0], sol.tip[1], sol.end_angle, sol.radius.unwrap()]
         },
     );
     agree("tip X", tip[0], sd(&cols[0]), n);
     agree("tip Z", tip[1], sd(&cols[1]), n);
     agree("end angle", angle, sd(&cols[2]), n);
+    agree("radius", radius, sd(&cols[3]), n);
 }
 
 #[test]
@@ -173,6 +185,27 @@ fn one_key_sigma_is_the_central_difference_slope() {
             "tip {k}: propagated {got}, central difference {fd}"
         );
     }
+    // the radius: the circle fit of each solve's shape samples
+    let radius = |e: f64| {
+        let s = with_values(&text, &["actuator.pemc.eps0"], &[e]);
+        s.solve().unwrap().solution().radius.unwrap()
+    };
+    let fd = ((radius(0.25 + h) - radius(0.25 - h)) / (2.0 * h)).abs();
+    let got = u.radius_mm.unwrap();
+    assert!(
+        (got - fd).abs() <= 1e-5 * fd,
+        "radius: propagated {got}, central difference {fd}"
+    );
+}
+
+#[test]
+fn a_finger_without_shape_samples_says_why_it_has_no_radius_bar() {
+    let text = FINGER.replace("[solve]\n", "[solve]\nshape = false\n");
+    let scene = Scene::from_toml(&text).unwrap();
+    let u = scene.uncertainty(&scene.solve().unwrap()).unwrap().unwrap();
+    assert!(u.radius_mm.is_none() && u.tip_mm.is_some());
+    let why = u.radius_unavailable.unwrap();
+    assert!(why.contains("solve.shape = false"), "{why}");
 }
 
 const SPHERE: &str = r#"
@@ -314,4 +347,309 @@ fn a_rest_shape_the_chaining_does_not_cover_solves_without_error_bars() {
     assert!(u.grasp.is_none() && u.d_max_mm.is_none());
     let why = u.unavailable.unwrap();
     assert!(why.contains("innermost"), "{why}");
+}
+
+/// A scene for `fpc paper --scene`: the covariance over the prestrain
+/// (which every study sets itself: not propagated) and two correlated
+/// material parameters (propagated).
+const STUDY_SCENE: &str = r#"
+[actuator.pemc]
+eps0 = 0.25
+[partition]
+elements = 4
+[calibration]
+parameters = ["actuator.pemc.eps0", "actuator.pemc.p1", "actuator.cl.e"]
+covariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]
+"#;
+
+const STUDY_KEYS: [&str; 3] = ["actuator.pemc.eps0", "actuator.pemc.p1", "actuator.cl.e"];
+
+/// Parameter sets drawn from the scene's covariance around its values,
+/// each as the actuator the scene resolves to.
+fn study_draws(n: usize, seed: u64) -> (Scene, Vec<fpc::Actuator>) {
+    let scene = Scene::from_toml(STUDY_SCENE).unwrap();
+    let cov: Vec<Vec<f64>> = scene.covariance().unwrap().matrix().to_vec();
+    let mean: Vec<f64> = STUDY_KEYS
+        .iter()
+        .map(|k| {
+            fpc::sensitivity::Param::from_name(k)
+                .unwrap()
+                .value(&scene.actuator, &fpc::Load::unloaded(), None)
+                .unwrap()
+        })
+        .collect();
+    let l = cholesky(&cov);
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let draws = (0..n)
+        .map(|_| {
+            let z: Vec<f64> = (0..3).map(|_| normal(&mut rng)).collect();
+            let x: Vec<f64> = (0..3)
+                .map(|i| mean[i] + (0..=i).map(|k| l[i][k] * z[k]).sum::<f64>())
+                .collect();
+            with_values(STUDY_SCENE, &STUDY_KEYS, &x).actuator
+        })
+        .collect();
+    (scene, draws)
+}
+
+fn study_options() -> StudyOptions {
+    StudyOptions {
+        elements: 4,
+        pressure_points: 5,
+        ..StudyOptions::coarse()
+    }
+}
+
+#[test]
+fn study7_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 600;
+    let (scene, draws) = study_draws(n, 11);
+    let banded = study7_curvature_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    // (curve, row): eps0 = 0.15 at 0 kPa, 0.25 at 0 and 100 kPa, 0.4 at
+    // 0, 100 and 200 kPa (the radii below 100 mm, far from flat)
+    let picks = [(0, 0), (1, 0), (1, 1), (2, 0), (2, 1), (2, 2)];
+    let mut radii = vec![Vec::with_capacity(n); picks.len()];
+    for act in &draws {
+        let curves = study7_curvature(act, &opts).unwrap();
+        for (k, &(c, r)) in picks.iter().enumerate() {
+            radii[k].push(curves[c].rows[r].radius.unwrap());
+        }
+    }
+    for (k, &(c, r)) in picks.iter().enumerate() {
+        let row = &banded[c].rows[r];
+        let name = format!(
+            "study 7 radius, eps0 = {} at {} kPa (R = {:.1} mm)",
+            banded[c].eps0,
+            row.pressure_kpa,
+            row.radius.unwrap()
+        );
+        agree(&name, row.sd.unwrap().radius.unwrap(), sd(&radii[k]), n);
+    }
+    // without a covariance, no sd
+    let plain = study7_curvature(&scene.actuator, &opts).unwrap();
+    assert!(plain.iter().flat_map(|c| &c.rows).all(|r| r.sd.is_none()));
+}
+
+#[test]
+fn study8_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 600;
+    let (scene, draws) = study_draws(n, 13);
+    let banded =
+        study8_force_at_displacement_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let mut forces = vec![Vec::with_capacity(n); banded.len()];
+    for act in &draws {
+        let rows = study8_force_at_displacement(act, &opts).unwrap();
+        for (k, r) in rows.iter().enumerate() {
+            forces[k].push(r.force.unwrap());
+        }
+    }
+    for (k, r) in banded.iter().enumerate() {
+        let name = format!(
+            "study 8 force, eps0 = {} along {} at {} kPa (F = {:.4} N)",
+            r.eps0,
+            r.axis.name(),
+            r.pressure_kpa,
+            r.force.unwrap()
+        );
+        agree(&name, r.force_sd.unwrap(), sd(&forces[k]), n);
+    }
+}
+
+#[test]
+fn study_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
+    // central differences of two ordinary runs of each study
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let opts = study_options();
+    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    let h = 1e-5;
+    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
+    let (up, down) = (at(p1 + h), at(p1 - h));
+    let s7 = study7_curvature_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u7, d7) = (
+        study7_curvature(&up, &opts).unwrap(),
+        study7_curvature(&down, &opts).unwrap(),
+    );
+    let mut checked = 0;
+    for (c, curve) in s7.iter().enumerate() {
+        for (r, row) in curve.rows.iter().enumerate() {
+            let (Some(sd), Some(a), Some(b)) = (row.sd, u7[c].rows[r].radius, d7[c].rows[r].radius)
+            else {
+                continue;
+            };
+            if a > 300.0 {
+                // near flat the radius grows without bound: the
+                // differences' own truncation error shows
+                continue;
+            }
+            let fd = ((a - b) / (2.0 * h)).abs();
+            let got = sd.radius.unwrap();
+            assert!(
+                (got - fd).abs() <= 1e-4 * fd.max(1e-3),
+                "study 7 radius, eps0 = {} at {} kPa: propagated {got}, central difference {fd}",
+                curve.eps0,
+                row.pressure_kpa
+            );
+            let tip = |rows: &[fpc::studies::CurvatureRow]| rows[r].tip;
+            let fd_tip = (tip(&u7[c].rows)[1] - tip(&d7[c].rows)[1]) / (2.0 * h);
+            assert!((sd.tip[1] - fd_tip.abs()).abs() <= 1e-4 * fd_tip.abs().max(1e-3));
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} rows checked");
+    let s4 = study4_force_control_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u4, d4) = (
+        study4_force_control(&up, &opts).unwrap(),
+        study4_force_control(&down, &opts).unwrap(),
+    );
+    for ((r, a), b) in s4.rows.iter().zip(&u4.rows).zip(&d4.rows) {
+        let sd = r.sd.unwrap();
+        for (got, fd, what) in [
+            (sd.normal, (a.normal - b.normal) / (2.0 * h), "F"),
+            (sd.height, (a.height - b.height) / (2.0 * h), "h"),
+        ] {
+            assert!(
+                (got - fd.abs()).abs() <= 1e-4 * fd.abs(),
+                "study 4 {what} at {} kPa: propagated {got}, central difference {fd}",
+                r.pressure_kpa
+            );
+        }
+    }
+    let s8 = study8_force_at_displacement_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let (u8, d8) = (
+        study8_force_at_displacement(&up, &opts).unwrap(),
+        study8_force_at_displacement(&down, &opts).unwrap(),
+    );
+    for ((r, a), b) in s8.iter().zip(&u8).zip(&d8) {
+        let fd = ((a.force.unwrap() - b.force.unwrap()) / (2.0 * h)).abs();
+        let got = r.force_sd.unwrap();
+        assert!(
+            (got - fd).abs() <= 1e-4 * fd,
+            "study 8 force, eps0 = {} at {} kPa: propagated {got}, central difference {fd}",
+            r.eps0,
+            r.pressure_kpa
+        );
+    }
+}
+
+#[test]
+fn study4_bands_match_monte_carlo_through_the_study() {
+    let opts = study_options();
+    let n = 400;
+    let (scene, draws) = study_draws(n, 14);
+    let banded = study4_force_control_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    assert_eq!(banded.rows.len(), 11, "{:?}", banded.stopped);
+    let picks = [0, 5, 10];
+    let mut cols = vec![Vec::with_capacity(n); 2 * picks.len()];
+    for act in &draws {
+        let fc = study4_force_control(act, &opts).unwrap();
+        for (k, &r) in picks.iter().enumerate() {
+            cols[2 * k].push(fc.rows[r].normal);
+            cols[2 * k + 1].push(fc.rows[r].height);
+        }
+    }
+    for (k, &r) in picks.iter().enumerate() {
+        let row = &banded.rows[r];
+        let sd_row = row.sd.unwrap();
+        let at = format!("at {} kPa", row.pressure_kpa);
+        agree(
+            &format!("study 4 F {at}"),
+            sd_row.normal,
+            sd(&cols[2 * k]),
+            n,
+        );
+        agree(
+            &format!("study 4 h {at}"),
+            sd_row.height,
+            sd(&cols[2 * k + 1]),
+            n,
+        );
+    }
+}
+
+#[test]
+fn study2_bands_match_monte_carlo_of_the_grasp_at_its_size() {
+    // the band of a lift curve is at a fixed grasping size (the sweep's
+    // grid moves with d_max): each draw solves that size's grasp through
+    // the ordinary scene path, the gripper of the study's curve a = pi/3,
+    // g = 20 mm
+    let opts = study_options();
+    let scene = Scene::from_toml(STUDY_SCENE).unwrap();
+    let curves = study2_overlap_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let c = curves
+        .iter()
+        .find(|c| {
+            (c.mounting_angle - std::f64::consts::FRAC_PI_3).abs() < 1e-12 && c.overlap == 20.0
+        })
+        .unwrap();
+    let point = c.points.iter().find(|p| p.invalid.is_none()).unwrap();
+    let grasp = format!(
+        "[gripper]\nmounting_angle_deg = 60.0\noverlap_mm = 20.0\nmu = 0.6\n[gripper.grasp]\nkind = \"size\"\nd_mm = {:.17e}\npressure_kpa = 0.0\n[calibration]",
+        point.size
+    );
+    let text = STUDY_SCENE.replace("[calibration]", &grasp);
+    let base = Scene::from_toml(&text).unwrap();
+    let mean: Vec<f64> = STUDY_KEYS
+        .iter()
+        .map(|k| {
+            fpc::sensitivity::Param::from_name(k)
+                .unwrap()
+                .value(&base.actuator, &fpc::Load::unloaded(), None)
+                .unwrap()
+        })
+        .collect();
+    // the study sets eps0 itself: the scene's draws hold it too
+    let mut cov: Vec<Vec<f64>> = base.covariance().unwrap().matrix().to_vec();
+    for row in cov.iter_mut() {
+        row[0] = 0.0;
+    }
+    cov[0] = vec![1e-30, 0.0, 0.0];
+    let n = 1500;
+    let cols = monte_carlo(&text, &STUDY_KEYS, &mean, &cov, n, 15, |s| match s {
+        SceneSolution::Gripper {
+            gripper,
+            grasp: Some(o),
+        } => vec![o.grasp.lift, o.grasp.height, gripper.d_max()],
+        _ => panic!("not a grasp"),
+    });
+    // the scene's grasp is the study's point
+    let solved = base.solve().unwrap();
+    let SceneSolution::Gripper { grasp: Some(o), .. } = &solved else {
+        panic!("not a grasp")
+    };
+    assert!(
+        (o.grasp.lift - point.lift).abs() < 1e-6 * point.lift,
+        "{} {}",
+        o.grasp.lift,
+        point.lift
+    );
+    let sd_point = point.sd.unwrap();
+    let at = format!("a = pi/3, g = 20 mm, d = {:.2} mm", point.size);
+    agree(
+        &format!("study 2 f_v, {at}"),
+        sd_point.lift,
+        sd(&cols[0]),
+        n,
+    );
+    agree(
+        &format!("study 2 h, {at}"),
+        sd_point.height,
+        sd(&cols[1]),
+        n,
+    );
+    agree(
+        "study 2 d_max, a = pi/3, g = 20 mm",
+        c.d_max_sd.unwrap(),
+        sd(&cols[2]),
+        n,
+    );
 }

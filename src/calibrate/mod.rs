@@ -7,9 +7,10 @@
 //! nonlinear least squares: Levenberg-Marquardt with bounds (`lm.rs`) on
 //! the exact Jacobian of the residuals, from the implicit-function-theorem
 //! sensitivities of every equilibrium ([`crate::sensitivity`]) carried
-//! exactly to each prediction (`chain.rs`: marker points; `circle.rs`: the
-//! circle fit's radius by implicit differentiation; `residuals.rs`: the
-//! force target solve). A parameter a specimen lists in its `own` tables is
+//! exactly to each prediction (the marker points through the chain,
+//! `crate::sensitivity`'s `midplane.rs`; the circle fit's radius by implicit
+//! differentiation, `crate::circle_fit`; `residuals.rs`: the force target
+//! solve). A parameter a specimen lists in its `own` tables is
 //! fitted once per specimen, any other once for all. The [`Calibration`]
 //! gives the fitted values with standard errors, the correlation matrix,
 //! the singular values of the column-scaled Jacobian with an
@@ -30,9 +31,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-mod chain;
 mod choice;
-mod circle;
 mod crossval;
 mod driver;
 mod fit;

@@ -6,10 +6,11 @@
 //!
 //! - a marker: the element unknowns' sensitivities `dK/dp` (implicit
 //!   function theorem, [`Finger::sensitivities`]) carried through the chain
-//!   to the marker's point exactly (`chain.rs`), and through the camera's
+//!   to the marker's point exactly (`src/sensitivity/midplane.rs`), and
+//!   through the camera's
 //!   rotation for a camera frame;
 //! - a radius: the shape samples' derivatives the same way, then the circle
-//!   fit's by implicit differentiation (`circle.rs`);
+//!   fit's by implicit differentiation (`src/circle_fit.rs`);
 //! - a force: the target solve's `d lambda/dp` at a fixed target
 //!   ([`Finger::target_sensitivities`]), plus `d lambda/d target` times the
 //!   move of the target, which is the pressurised unloaded tip's
@@ -17,16 +18,16 @@
 
 use std::collections::HashMap;
 
-use super::chain::{points_and_tangents, shape_sites, site_at, Site};
-use super::circle::radius_tangents;
 use super::params::Unknown;
 use crate::actuator::Actuator;
+use crate::circle_fit::radius_tangents;
 use crate::coefficients::Coefficients;
 use crate::field::Field;
 use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem, Traced};
 use crate::measure::{Specimen, TestData};
 use crate::plan::PlannedFinger;
 use crate::sensitivity::Param;
+use crate::sensitivity::{points_and_tangents, shape_sites, site_at, Site};
 use crate::solve_error::SolveError;
 use crate::studies::Axis;
 

@@ -7,16 +7,16 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::chain::{points_and_tangents, shape_sites};
-use super::circle::radius_tangents;
 use super::identify::{analyse, Verdict};
 use super::lm::{minimise, Point, Termination};
 use super::options::CalibrateOptions;
 use super::params::unknowns;
 use super::residuals::evaluate;
 use crate::circle_fit::fit_circle;
+use crate::circle_fit::radius_tangents;
 use crate::measure::{Manifest, TestData};
 use crate::sensitivity::Param;
+use crate::sensitivity::{points_and_tangents, shape_sites};
 use crate::{Actuator, Finger, Load, SolveOptions};
 
 fn finger_at(kpa: f64) -> (Actuator, Finger, crate::Solution, Load) {

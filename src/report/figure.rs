@@ -118,6 +118,10 @@ pub enum SeriesKind {
     Invalid,
     /// A closed outline, filled translucent (an object's section).
     Outline,
+    /// A shaded band between two curves, the points its closed outline
+    /// (the upper curve forwards, the lower one back): a curve's 1-sigma
+    /// band ([`Series::spread`]). No line, no markers.
+    Spread,
 }
 
 /// The legend entry and colour key of every [`SeriesKind::BentBackwards`]
@@ -161,6 +165,35 @@ impl Series {
     pub fn label(mut self, label: impl Into<String>) -> Series {
         self.label = Some(label.into());
         self
+    }
+
+    /// The shaded band `y - sd` to `y + sd` around the points `(x, y)`
+    /// with standard deviations `sd` (points where either is not finite
+    /// are left out), each of `y - sd` and `y + sd` held in `clamp`;
+    /// `None` when fewer than two points are left.
+    pub fn spread(
+        color: impl Into<String>,
+        points: &[[f64; 2]],
+        sd: &[f64],
+        clamp: [f64; 2],
+    ) -> Option<Series> {
+        let kept: Vec<([f64; 2], f64)> = points
+            .iter()
+            .zip(sd)
+            .filter(|(p, s)| p[0].is_finite() && p[1].is_finite() && s.is_finite())
+            .map(|(p, s)| (*p, *s))
+            .collect();
+        if kept.len() < 2 {
+            return None;
+        }
+        let at = |y: f64| y.clamp(clamp[0], clamp[1]);
+        let upper = kept.iter().map(|(p, s)| [p[0], at(p[1] + s)]);
+        let lower = kept.iter().rev().map(|(p, s)| [p[0], at(p[1] - s)]);
+        Some(Series::new(
+            color,
+            SeriesKind::Spread,
+            upper.chain(lower).collect(),
+        ))
     }
 
     /// The markers of the points that are bent backwards (colour key and
@@ -433,6 +466,18 @@ impl Panel {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_spread_is_the_closed_band_of_its_finite_points() {
+        let pts = [[0.0, 1.0], [1.0, 2.0], [2.0, f64::NAN], [3.0, 4.0]];
+        let sd = [0.5, f64::NAN, 1.0, 3.0];
+        let s = Series::spread("k", &pts, &sd, [0.0, 6.0]).unwrap();
+        assert_eq!(s.kind, SeriesKind::Spread);
+        // (0, 1 +- 0.5) and (3, 4 +- 3), the upper side clamped at 6;
+        // the points without a finite value or sd are left out
+        assert_eq!(s.points, [[0.0, 1.5], [3.0, 6.0], [3.0, 1.0], [0.0, 0.5]]);
+        assert!(Series::spread("k", &pts[..2], &sd[..2], [0.0, 6.0]).is_none());
+    }
 
     /// x = 0, 1, 2, ...
     fn lift_panel(ys: &[f64]) -> Panel {

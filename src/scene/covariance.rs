@@ -1,46 +1,20 @@
 //! A `[calibration]` covariance, checked when the scene is read: every
 //! key a parameter of the scene, the matrix symmetric positive
-//! semi-definite ([`Covariance`]; propagated in `uncertainty.rs`).
+//! semi-definite (a [`Covariance`] of `crate::sensitivity`; propagated in
+//! `uncertainty.rs`).
 
 use nalgebra::{DMatrix, SymmetricEigen};
 
 use crate::actuator::Actuator;
 use crate::error::InputError;
 use crate::field::Field;
-use crate::sensitivity::Param;
+use crate::sensitivity::{Covariance, Param};
 
 use super::schema::CalibrationSection;
 
 /// Relative tolerance of the covariance's symmetry and of its smallest
 /// eigenvalue (against the largest): round-off of a fit's inverse.
 const PSD_TOLERANCE: f64 = 1e-9;
-
-/// A checked `[calibration]` covariance: the parameters it is over, in
-/// the table's order, and the matrix.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Covariance {
-    params: Vec<Param>,
-    matrix: Vec<Vec<f64>>,
-}
-
-impl Covariance {
-    /// The parameters, in the table's order.
-    pub fn params(&self) -> &[Param] {
-        &self.params
-    }
-
-    /// `g^T C g`, clamped at zero (a semi-definite `C` may give a tiny
-    /// negative by round-off), as a standard deviation.
-    pub(super) fn sigma(&self, g: &[f64]) -> f64 {
-        let mut v = 0.0;
-        for (i, gi) in g.iter().enumerate() {
-            for (j, gj) in g.iter().enumerate() {
-                v += gi * self.matrix[i][j] * gj;
-            }
-        }
-        v.max(0.0).sqrt()
-    }
-}
 
 fn rejected(key: &'static str, rule: String) -> InputError {
     InputError::Inconsistent {
@@ -132,8 +106,5 @@ pub(super) fn covariance_of(
             ));
         }
     }
-    Ok(Some(Covariance {
-        params,
-        matrix: m.clone(),
-    }))
+    Ok(Some(Covariance::checked(params, m.clone())))
 }

@@ -68,7 +68,7 @@ mod fuzz;
 #[cfg(test)]
 mod testing;
 
-pub use covariance::Covariance;
+pub use crate::sensitivity::Covariance;
 pub use fields::{degrees, scene_input, scene_solve, warning_text};
 pub use record::{GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{

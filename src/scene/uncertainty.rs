@@ -3,7 +3,9 @@
 //! it reports, by first-order propagation through the exact sensitivities
 //! (src/sensitivity/): `sigma_y^2 = g^T C g` with `g = dy/dp` at the
 //! solved equilibrium. A finger scene: the tip (X, Z) and the end angle
-//! ([`Finger::sensitivities`](crate::Finger::sensitivities)). A gripper
+//! ([`Finger::sensitivities`](crate::Finger::sensitivities)), and the
+//! mid-plane's circle-fit radius (its derivative through the shape samples
+//! and the fit's own, `crate::circle_fit`). A gripper
 //! scene: d_max ([`Gripper::geometry_sensitivities`]) and the grasp's
 //! normal force, friction, lifting force, size, tip gap and height
 //! ([`Gripper::grasp_sensitivities`]). The assumption is that the outputs
@@ -14,10 +16,12 @@ use serde::Serialize;
 
 use crate::actuator::Actuator;
 use crate::gripper::Gripper;
-use crate::sensitivity::{GraspKind, GraspSensitivity, GripperParam, Param};
+use crate::plan::Solved;
+use crate::sensitivity::{
+    radius_rows, Covariance, GraspKind, GraspSensitivity, GripperParam, Param, Sensitivities,
+};
 use crate::solve_error::SolveError;
 
-use super::covariance::Covariance;
 use super::resolve::{GraspSpec, Scene};
 use super::solve::{GraspOutcome, SceneSolution};
 
@@ -34,6 +38,16 @@ pub struct Uncertainty {
     /// A finger scene: the end angle's standard deviation (rad).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub end_angle_rad: Option<f64>,
+    /// A finger scene: the standard deviation of the mid-plane's
+    /// circle-fit radius (mm; the `radius_mm` of the solution, the fit
+    /// `fpc compare` and study 7 make), when the solution has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius_mm: Option<f64>,
+    /// Why a finger scene has no `radius_mm`: its shape was not sampled
+    /// (`solve.shape = false`), no circle fits a straight mid-plane, or
+    /// the fit has no derivative there. The other error bars stand.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radius_unavailable: Option<String>,
     /// A gripper scene: d_max's standard deviation (mm).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub d_max_mm: Option<f64>,
@@ -110,6 +124,8 @@ impl Scene {
             method: "first_order",
             tip_mm: None,
             end_angle_rad: None,
+            radius_mm: None,
+            radius_unavailable: None,
             d_max_mm: None,
             grasp: None,
             unavailable: None,
@@ -130,6 +146,10 @@ impl Scene {
                     cov.sigma(&col(&|k| sens.rows[k].tip[1])),
                 ]);
                 u.end_angle_rad = Some(cov.sigma(&col(&|k| sens.rows[k].end_angle)));
+                match radius_sigma(s, &sens, cov, self.options.samples_per_element)? {
+                    Ok(r) => u.radius_mm = Some(r),
+                    Err(why) => u.radius_unavailable = Some(why.into()),
+                }
             }
             SceneSolution::Gripper { gripper, grasp } => {
                 match gripper_sigmas(gripper, &self.actuator, cov, grasp.as_deref()) {
@@ -145,6 +165,28 @@ impl Scene {
         }
         Ok(Some(u))
     }
+}
+
+/// The standard deviation of a finger scene's circle-fit radius, or why
+/// it has none.
+fn radius_sigma(
+    s: &Solved,
+    sens: &Sensitivities,
+    cov: &Covariance,
+    per: usize,
+) -> Result<Result<f64, &'static str>, SolveError> {
+    if s.solution.points.is_empty() {
+        return Ok(Err("the shape is not sampled (solve.shape = false)"));
+    }
+    if s.solution.radius.is_none() {
+        return Ok(Err("the mid-plane is straight: no circle fits it"));
+    }
+    Ok(
+        match radius_rows(&s.finger, &s.solution.coefficients, sens, per)? {
+            Some((_, d)) => Ok(cov.sigma(&d)),
+            None => Err("the circle fit has no derivative at this shape"),
+        },
+    )
 }
 
 /// The standard deviations of a gripper's d_max and of its grasp's outputs.

@@ -26,18 +26,22 @@
 //! ([`Finger::unknown_scales`]); `dK/dp` is returned in raw coefficients.
 
 mod compute;
+mod covariance;
 mod envelope;
 mod gripper;
+mod midplane;
 mod params;
 mod record;
 
 use compute::{compute, Request, State};
 pub use compute::{EQUILIBRIUM_TOLERANCE, TARGET_TOLERANCE};
+pub use covariance::Covariance;
 pub use envelope::{EnvelopeSensitivities, EnvelopeSensitivity, ENVELOPE_STATIONARITY};
 pub use gripper::{
     GeometrySensitivity, GraspKind, GraspSensitivities, GraspSensitivity, GripperParam,
     SizeSensitivity,
 };
+pub(crate) use midplane::{points_and_tangents, radius_rows, shape_sites, site_at, Site};
 pub use params::Param;
 pub use record::{Sensitivities, Sensitivity};
 

@@ -46,7 +46,8 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "cuboid_region",
     title: "Cuboid grasping region",
     description: "The Sec. 5 gripper (eps0 = 0.25, a = π/3, g = 20 mm), b = 0: cuboids of size d needing lifting force f_v per finger can be held when the point lies under the max f_v curve (Sec. 5.1.1).",
-    run: |act, opts| Ok(output(Some(&study3_cuboid_region(act, opts)?))),
+    run: |act, opts, _| Ok(output(Some(&study3_cuboid_region(act, opts)?))),
+    has_bands: false,
     empty: || output(None),
 };
 
@@ -149,7 +150,7 @@ fn figure(region: &CuboidRegion) -> Figure {
     );
     p.y.include_zero = true;
     let (kind, label) = (SeriesKind::Area, "grasping region");
-    add_lift_curve(&mut p, c, kind, "region".into(), label.into());
+    add_lift_curve(&mut p, c, kind, "region".into(), label.into(), false);
     let inside = region.contains(d, fv);
     p.series.push(
         Series::new("cuboid", SeriesKind::Cross, vec![[d, fv]]).label(format!(

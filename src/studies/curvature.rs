@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
 use super::info::StudyInfo;
 use super::options::{StudyOptions, SweepStop};
 use super::output::*;
@@ -9,7 +10,8 @@ use crate::actuator::Actuator;
 use crate::circle_fit::fit_circle;
 use crate::coefficients::Coefficients;
 use crate::error::Warning;
-use crate::finger::{Load, Solution, SolveOptions, Solver};
+use crate::finger::{Finger, Load, Solution, SolveOptions, Solver};
+use crate::sensitivity::{radius_rows, Covariance};
 use crate::solve_error::SolveError;
 
 /// One pressure of the curvature study.
@@ -29,6 +31,26 @@ pub struct CurvatureRow {
     pub tip: [f64; 2],
     /// The finger's validity findings.
     pub warnings: Vec<Warning>,
+    /// 1-sigma of the row's outputs, with a covariance
+    /// ([`study7_curvature_with`]); `None` without one, or when this
+    /// point's sensitivities failed (`sd_note` says why).
+    pub sd: Option<CurvatureSd>,
+    /// Why a row of a study with a covariance has no `sd`.
+    pub sd_note: Option<String>,
+}
+
+/// 1-sigma of a row of study 7 from a covariance, by first-order
+/// propagation through the exact sensitivities of its equilibrium.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurvatureSd {
+    /// Of the circle-fit radius (mm; `None` when the row has none).
+    pub radius: Option<f64>,
+    /// Of the signed curvature (1/mm): the radius' over `R^2`.
+    pub curvature: Option<f64>,
+    /// Of the end angle (rad).
+    pub end_angle: f64,
+    /// Of the tip (X, Z) (mm).
+    pub tip: [f64; 2],
 }
 
 impl CurvatureRow {
@@ -55,7 +77,23 @@ pub fn study7_curvature(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<Vec<CurvatureCurve>, SolveError> {
+    study7_curvature_with(actuator, opts, None)
+}
+
+/// [`study7_curvature`], and with a covariance of the actuator's
+/// parameters each row's 1-sigma ([`CurvatureRow::sd`]) by first-order
+/// propagation through the exact sensitivities of its equilibrium: the
+/// tip and end angle's ([`crate::Finger::sensitivities`]), the radius'
+/// through the shape samples and the circle fit's own derivative. The
+/// prestrain of each curve and `load.kappa` are the study's own: their
+/// variances are not propagated (`crate::studies::not_propagated`).
+pub fn study7_curvature_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<Vec<CurvatureCurve>, SolveError> {
     opts.validate()?;
+    let bands = covariance.map(BandParams::new);
     let sopts = SolveOptions {
         stability: false,
         ..SolveOptions::default()
@@ -63,6 +101,7 @@ pub fn study7_curvature(
     let mut out = Vec::new();
     for eps0 in [0.15, 0.25, 0.4] {
         let finger = opts.finger(actuator, eps0)?;
+        let act = actuator.with_eps0(eps0)?;
         let mut solver = Solver::new(&finger);
         let mut rows = Vec::new();
         let mut stopped = None;
@@ -72,7 +111,14 @@ pub fn study7_curvature(
             let load = Load::unloaded().with_pressure_kpa(p);
             match solver.solve(&load, guess.as_ref(), &sopts) {
                 Ok(sol) => {
-                    rows.push(curvature_row(p, &sol));
+                    let mut row = curvature_row(p, &sol);
+                    if let Some(b) = &bands {
+                        match row_sd(&finger, &act, &sol, &load, b, sopts.samples_per_element) {
+                            Ok(sd) => row.sd = Some(sd),
+                            Err(e) => row.sd_note = Some(format!("no error bars: {e}")),
+                        }
+                    }
+                    rows.push(row);
                     guess = Some(sol.coefficients);
                 }
                 Err(e) => {
@@ -90,6 +136,29 @@ pub fn study7_curvature(
     Ok(out)
 }
 
+/// The 1-sigma of a row's outputs (module `bands`).
+fn row_sd(
+    finger: &Finger,
+    act: &Actuator,
+    sol: &Solution,
+    load: &Load,
+    b: &BandParams,
+    per: usize,
+) -> Result<CurvatureSd, SolveError> {
+    let sens = finger.sensitivities(act, sol, load, &b.params())?;
+    let col = |f: &dyn Fn(&crate::sensitivity::Sensitivity) -> f64| -> Vec<f64> {
+        sens.rows.iter().map(f).collect()
+    };
+    let radius =
+        radius_rows(finger, &sol.coefficients, &sens, per)?.map(|(c, d)| (c.radius, b.sigma(&d)));
+    Ok(CurvatureSd {
+        radius: radius.map(|r| r.1),
+        curvature: radius.map(|(r, s)| s / (r * r)),
+        end_angle: b.sigma(&col(&|r| r.end_angle)),
+        tip: [b.sigma(&col(&|r| r.tip[0])), b.sigma(&col(&|r| r.tip[1]))],
+    })
+}
+
 fn curvature_row(pressure_kpa: f64, sol: &Solution) -> CurvatureRow {
     // the side of the fitted circle's centre with respect to the root
     // tangent (the X axis): below it, the finger curls towards -Z
@@ -105,6 +174,8 @@ fn curvature_row(pressure_kpa: f64, sol: &Solution) -> CurvatureRow {
         end_angle: sol.end_angle,
         tip: sol.tip,
         warnings: sol.warnings.clone(),
+        sd: None,
+        sd_note: None,
     }
 }
 
@@ -115,8 +186,14 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "curvature",
     title: "Curvature against pressure",
     description: "Unloaded fingers, eps0 in {0.15, 0.25, 0.4}, pressure 0 to 400 kPa: radius of curvature by circle fit; past flat the curl reverses (Sec. 6.2).",
-    run: |act, opts| Ok(output(&study7_curvature(act, opts)?)),
-    empty: || output(&[]),
+    run: |act, opts, cov| {
+        Ok(output(
+            &study7_curvature_with(act, opts, cov)?,
+            cov.is_some(),
+        ))
+    },
+    has_bands: true,
+    empty: || output(&[], false),
 };
 
 /// Largest radius drawn in study 7 (mm): near flat the radius diverges.
@@ -133,12 +210,27 @@ const COLUMNS: [Column; 8] = [
     Column::new("tip_z_mm", "mm"),
 ];
 
+/// The 1-sigma columns, with a covariance (`bands`).
+const SD_COLUMNS: [Column; 5] = [
+    Column::new("radius_mm_sd", "mm"),
+    Column::new("curvature_per_mm_sd", "1/mm"),
+    Column::new("end_angle_rad_sd", "rad"),
+    Column::new("tip_x_mm_sd", "mm"),
+    Column::new("tip_z_mm_sd", "mm"),
+];
+
 #[derive(Serialize)]
 struct Point {
     pressure_kpa: f64,
     radius_mm: Option<f64>,
     curvature_per_mm: f64,
     reversed: bool,
+    /// With a covariance: the radius' 1-sigma (null where none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    radius_mm_sd: Option<Option<f64>>,
+    /// With a covariance: the curvature's 1-sigma.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    curvature_per_mm_sd: Option<Option<f64>>,
 }
 
 /// One entry of `radius_vs_pressure`.
@@ -156,10 +248,16 @@ struct Summary {
     radius_vs_pressure: Vec<Curve>,
 }
 
-/// The outputs of study 7 from its curves.
-pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
+/// The outputs of study 7 from its curves; `with_sd`: its rows' 1-sigma
+/// too (columns `<column>_sd`, bands, summary entries).
+pub(crate) fn output(curves: &[CurvatureCurve], with_sd: bool) -> StudyOutput {
+    let lead: Vec<Column> = if with_sd {
+        COLUMNS.iter().chain(&SD_COLUMNS).copied().collect()
+    } else {
+        COLUMNS.to_vec()
+    };
     let mut a = Assembly::new(
-        &[("study7", &columns(&COLUMNS, &STATE_TAIL))],
+        &[("study7", &columns(&lead, &STATE_TAIL))],
         &[
             "eps0",
             "R at 0 kPa (mm)",
@@ -171,7 +269,7 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
     let mut list = Vec::new();
     for c in curves {
         for r in &c.rows {
-            let lead = vec![
+            let mut lead = vec![
                 c.eps0.into(),
                 r.pressure_kpa.into(),
                 r.radius.into(),
@@ -181,10 +279,20 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
                 r.tip[0].into(),
                 r.tip[1].into(),
             ];
-            let note = if r.radius.is_none() {
-                "straight".into()
-            } else {
-                Cell::Empty
+            if with_sd {
+                let sd = r.sd.as_ref();
+                lead.extend([
+                    sd.and_then(|s| s.radius).into(),
+                    sd.and_then(|s| s.curvature).into(),
+                    sd.map(|s| s.end_angle).into(),
+                    sd.map(|s| s.tip[0]).into(),
+                    sd.map(|s| s.tip[1]).into(),
+                ]);
+            }
+            let note = match (&r.sd_note, r.radius) {
+                (Some(n), _) => n.clone().into(),
+                (None, None) => "straight".into(),
+                (None, Some(_)) => Cell::Empty,
             };
             a.state(0, lead, &r.warnings, note);
         }
@@ -213,6 +321,8 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
                     radius_mm: r.radius,
                     curvature_per_mm: r.curvature,
                     reversed: r.reversed(),
+                    radius_mm_sd: with_sd.then(|| r.sd.and_then(|s| s.radius)),
+                    curvature_per_mm_sd: with_sd.then(|| r.sd.and_then(|s| s.curvature)),
                 })
                 .collect(),
             stopped: stop_entry(&c.stopped, StopAt::Kpa),
@@ -233,11 +343,22 @@ pub(crate) fn output(curves: &[CurvatureCurve]) -> StudyOutput {
     let summary = Summary {
         radius_vs_pressure: list,
     };
-    a.finish(figure(curves), &summary)
+    let mut out = a.finish(figure(curves, with_sd), &summary);
+    if with_sd {
+        out.bands = SD_COLUMNS
+            .iter()
+            .map(|c| BandColumn {
+                column: c.name.into(),
+                method: EXACT,
+            })
+            .collect();
+    }
+    out
 }
 
-/// Radius and signed curvature against pressure.
-fn figure(curves: &[CurvatureCurve]) -> Figure {
+/// Radius and signed curvature against pressure; `with_sd`: each curve's
+/// 1-sigma band.
+fn figure(curves: &[CurvatureCurve], with_sd: bool) -> Figure {
     let mut p = Panel::new(
         "Radius of curvature (circle fit)",
         PlotAxis::new("pressure P", "kPa"),
@@ -260,6 +381,24 @@ fn figure(curves: &[CurvatureCurve]) -> Figure {
             .iter()
             .filter(|r| r.radius.is_some_and(|x| x > STUDY7_RADIUS_CAP_MM))
             .count();
+        if with_sd {
+            // the band of the curve drawn (not reversed, below the cap),
+            // held inside the axis' drawn range
+            let (at, sd): (Vec<[f64; 2]>, Vec<f64>) = c
+                .rows
+                .iter()
+                .filter(|r| !r.reversed())
+                .filter_map(|r| {
+                    let rad = r.radius.filter(|&x| x <= STUDY7_RADIUS_CAP_MM)?;
+                    let s = r.sd.and_then(|s| s.radius).unwrap_or(f64::NAN);
+                    Some(([r.pressure_kpa, rad], s))
+                })
+                .unzip();
+            p.series.extend(
+                Series::spread(key.clone(), &at, &sd, [0.0, STUDY7_RADIUS_CAP_MM])
+                    .map(|s| s.label(BAND_LABEL)),
+            );
+        }
         p.series.push(
             Series::new(key.clone(), SeriesKind::LinePoints, pick(false))
                 .label(format!("ε0 = {}", c.eps0)),
@@ -286,6 +425,20 @@ fn figure(curves: &[CurvatureCurve]) -> Figure {
         PlotAxis::new("pressure P", "kPa"),
         PlotAxis::new("curvature 1/R", "1/mm"),
     );
+    for c in curves.iter().filter(|_| with_sd) {
+        let (at, sd): (Vec<[f64; 2]>, Vec<f64>) = c
+            .rows
+            .iter()
+            .map(|r| {
+                let s = r.sd.and_then(|s| s.curvature).unwrap_or(f64::NAN);
+                ([r.pressure_kpa, r.curvature], s)
+            })
+            .unzip();
+        k.series.extend(
+            Series::spread(eps0_key(c.eps0), &at, &sd, [f64::MIN, f64::MAX])
+                .map(|s| s.label(BAND_LABEL)),
+        );
+    }
     for c in curves {
         k.series.push(
             Series::new(

@@ -2,6 +2,7 @@
 
 use serde::Serialize;
 
+use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
 use super::info::StudyInfo;
 use super::options::{StudyOptions, STUDY8_PRESSURES_KPA};
 use super::output::*;
@@ -11,6 +12,7 @@ use crate::field::Field;
 use crate::finger::{
     Finger, Load, Solution, SolveOptions, Solver, TargetFold, TargetProblem, Traced,
 };
+use crate::sensitivity::{Covariance, Param};
 use crate::solve_error::SolveError;
 
 /// An axis of the finger frame.
@@ -127,6 +129,12 @@ pub struct DisplacementForceRow {
     pub force: Option<f64>,
     /// The loaded finger's validity findings.
     pub warnings: Vec<Warning>,
+    /// With a covariance ([`study8_force_at_displacement_with`]): the
+    /// force's 1-sigma (N); `None` without one, or when the force or its
+    /// sensitivities failed (`sd_note` says why).
+    pub force_sd: Option<f64>,
+    /// Why a row of a study with a covariance has no `force_sd`.
+    pub sd_note: Option<String>,
 }
 
 /// Study 8 (Sec. 6.3): at 0, 27.6, 55.2, 82.7 kPa, the tip force that moves
@@ -136,22 +144,93 @@ pub fn study8_force_at_displacement(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<Vec<DisplacementForceRow>, SolveError> {
+    study8_force_at_displacement_with(actuator, opts, None)
+}
+
+/// [`study8_force_at_displacement`], and with a covariance of the
+/// actuator's parameters each force's 1-sigma
+/// ([`DisplacementForceRow::force_sd`]) by first-order propagation through
+/// exact sensitivities: the target solve's `d(force)/dp` at a fixed
+/// target, plus `d(force)/d(target)` times the move of the target with
+/// the unloaded tip it starts from (`d(s0)/dp`, the unloaded
+/// equilibrium's sensitivities). The prestrain of each sample and
+/// `load.kappa` are the study's own: their variances are not propagated
+/// (`crate::studies::not_propagated`).
+pub fn study8_force_at_displacement_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<Vec<DisplacementForceRow>, SolveError> {
     opts.validate()?;
+    let bands = covariance.map(BandParams::new);
     let mut rows = Vec::new();
     for (eps0, axis) in [(0.4, Axis::X), (0.15, Axis::Z)] {
         let finger = opts.finger(actuator, eps0)?;
+        let act = actuator.with_eps0(eps0)?;
         for p in STUDY8_PRESSURES_KPA {
             let r = tip_force_for_displacement(&finger, p, axis, DISPLACEMENT_MM).ok();
+            let (force_sd, sd_note) = match (&bands, &r) {
+                (Some(b), Some(r)) => match force_sd(&finger, &act, r, b) {
+                    Ok(sd) => (Some(sd), None),
+                    Err(e) => (None, Some(format!("no error bar: {e}"))),
+                },
+                _ => (None, None),
+            };
             rows.push(DisplacementForceRow {
                 eps0,
                 axis,
                 pressure_kpa: p,
                 force: r.as_ref().map(|r| r.force),
                 warnings: r.map(|r| r.solution.warnings).unwrap_or_default(),
+                force_sd,
+                sd_note,
             });
         }
     }
     Ok(rows)
+}
+
+/// The 1-sigma of the force of `r` (module `bands`).
+fn force_sd(
+    finger: &Finger,
+    act: &Actuator,
+    r: &DisplacementForce,
+    b: &BandParams,
+) -> Result<f64, String> {
+    let params = b.params();
+    let base = Load::unloaded().with_pressure_kpa(r.pressure_kpa);
+    // the unloaded start, solved as tip_force_for_displacement solves it
+    let start = Solver::new(finger)
+        .solve(&base, None, &SolveOptions::default())
+        .map_err(|e| e.to_string())?;
+    let moved = finger
+        .sensitivities(act, &start, &base, &params)
+        .map_err(|e| e.to_string())?;
+    let u = r.axis.unit();
+    let problem = TargetProblem {
+        base,
+        direction: u,
+        weights: u,
+        target: u[0] * start.tip[0] + u[1] * start.tip[1] + r.displacement,
+    };
+    let mut with_target = params.clone();
+    with_target.push(Param::Target);
+    let t = finger
+        .target_sensitivities(act, &r.solution, &problem, r.force, &with_target)
+        .map_err(|e| e.to_string())?;
+    let per_target = t.rows.last().and_then(|row| row.lambda);
+    let d: Option<Vec<f64>> = params
+        .iter()
+        .enumerate()
+        .map(|(k, _)| {
+            let ds0 = u[0] * moved.rows[k].tip[0] + u[1] * moved.rows[k].tip[1];
+            Some(t.rows[k].lambda? + per_target? * ds0)
+        })
+        .collect();
+    match d {
+        Some(d) if d.iter().all(|v| v.is_finite()) => Ok(b.sigma(&d)),
+        _ => Err("the target solve's sensitivities have no load factor".into()),
+    }
 }
 
 // ------------------------------------------------------------ outputs
@@ -161,8 +240,14 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "force_at_displacement",
     title: "Force at a fixed displacement",
     description: "From the pressurised unloaded shape at 0, 27.6, 55.2 and 82.7 kPa, the tip force that moves the tip 10 mm: along +X for the eps0 = 0.4 sample, along +Z for the eps0 = 0.15 sample (Sec. 6.3).",
-    run: |act, opts| Ok(output(&study8_force_at_displacement(act, opts)?)),
-    empty: || output(&[]),
+    run: |act, opts, cov| {
+        Ok(output(
+            &study8_force_at_displacement_with(act, opts, cov)?,
+            cov.is_some(),
+        ))
+    },
+    has_bands: true,
+    empty: || output(&[], false),
 };
 
 /// The tip displacement of study 8 (mm).
@@ -186,6 +271,9 @@ const COLUMNS: [Column; 5] = [
     Column::new("force_n", "N"),
 ];
 
+/// The 1-sigma column, with a covariance (`bands`).
+const SD_COLUMN: Column = Column::new("force_n_sd", "N");
+
 /// One entry of `force_at_10mm`.
 #[derive(Serialize)]
 struct Row {
@@ -193,6 +281,9 @@ struct Row {
     eps0: f64,
     pressure_kpa: f64,
     force_n: Option<f64>,
+    /// With a covariance: the force's 1-sigma (null where none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force_n_sd: Option<Option<f64>>,
 }
 
 #[derive(Serialize)]
@@ -200,21 +291,29 @@ struct Summary {
     force_at_10mm: Vec<Row>,
 }
 
-/// The outputs of study 8 from its rows.
-pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
+/// The outputs of study 8 from its rows; `with_sd`: the forces' 1-sigma
+/// too (column `force_n_sd`, bands, summary entries).
+pub(crate) fn output(rows: &[DisplacementForceRow], with_sd: bool) -> StudyOutput {
+    let mut lead_columns = COLUMNS.to_vec();
+    if with_sd {
+        lead_columns.push(SD_COLUMN);
+    }
     let mut a = Assembly::new(
-        &[("study8", &columns(&COLUMNS, &STATE_TAIL))],
+        &[("study8", &columns(&lead_columns, &STATE_TAIL))],
         &["eps0", "axis", "P (kPa)", "force for 10 mm (N)"],
     );
     for r in rows {
         let axis = r.axis.name();
-        let lead = vec![
+        let mut lead = vec![
             r.eps0.into(),
             axis.into(),
             r.pressure_kpa.into(),
             DISPLACEMENT_MM.into(),
             r.force.into(),
         ];
+        if with_sd {
+            lead.push(r.force_sd.into());
+        }
         a.overview.push(vec![
             r.eps0.to_string(),
             format!("+{axis}"),
@@ -222,7 +321,8 @@ pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
             fmt_opt(r.force, 4),
         ]);
         if r.force.is_some() {
-            a.state(0, lead, &r.warnings, Cell::Empty);
+            let note = r.sd_note.clone().map_or(Cell::Empty, Cell::Text);
+            a.state(0, lead, &r.warnings, note);
             continue;
         }
         a.failed(0, lead, "no solution".into());
@@ -244,14 +344,23 @@ pub(crate) fn output(rows: &[DisplacementForceRow]) -> StudyOutput {
                 eps0: r.eps0,
                 pressure_kpa: r.pressure_kpa,
                 force_n: r.force,
+                force_n_sd: with_sd.then_some(r.force_sd),
             })
             .collect(),
     };
-    a.finish(figure(rows), &summary)
+    let mut out = a.finish(figure(rows, with_sd), &summary);
+    if with_sd {
+        out.bands = vec![BandColumn {
+            column: SD_COLUMN.name.into(),
+            method: EXACT,
+        }];
+    }
+    out
 }
 
 /// Tip force for a 10 mm displacement against pressure, one curve per sample.
-fn figure(rows: &[DisplacementForceRow]) -> Figure {
+/// `with_sd`: each curve's 1-sigma band.
+fn figure(rows: &[DisplacementForceRow], with_sd: bool) -> Figure {
     let mut p = Panel::new(
         "",
         PlotAxis::new("pressure P", "kPa"),
@@ -272,6 +381,19 @@ fn figure(rows: &[DisplacementForceRow]) -> Figure {
         let points = pts(sel
             .iter()
             .filter_map(|r| r.force.map(|f| (r.pressure_kpa, f))));
+        if with_sd {
+            let (at, sd): (Vec<[f64; 2]>, Vec<f64>) = sel
+                .iter()
+                .filter_map(|r| {
+                    let f = r.force?;
+                    Some(([r.pressure_kpa, f], r.force_sd.unwrap_or(f64::NAN)))
+                })
+                .unzip();
+            p.series.extend(
+                Series::spread(eps0_key(eps0), &at, &sd, [f64::MIN, f64::MAX])
+                    .map(|s| s.label(BAND_LABEL)),
+            );
+        }
         p.series.push(
             Series::new(eps0_key(eps0), SeriesKind::LinePoints, points).label(format!(
                 "ε0 = {eps0}, force and displacement along +{}",

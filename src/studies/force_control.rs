@@ -2,12 +2,14 @@
 
 use serde::Serialize;
 
+use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
 use super::info::StudyInfo;
-use super::options::{section5_gripper, StudyOptions, SweepStop};
+use super::options::{section5_gripper, StudyOptions, SweepStop, SECTION5_EPS0};
 use super::output::*;
 use crate::actuator::Actuator;
 use crate::error::Warning;
-use crate::gripper::{Grasp, Invalid};
+use crate::gripper::{Grasp, Gripper, Invalid};
+use crate::sensitivity::{Covariance, GraspKind, GraspSensitivity, GripperParam, Param};
 use crate::solve_error::SolveError;
 
 /// One pressure of the force-control study.
@@ -32,6 +34,25 @@ pub struct ForceControlRow {
     pub reversed: bool,
     /// The grasp's validity findings.
     pub warnings: Vec<Warning>,
+    /// With a covariance ([`study4_force_control_with`]): 1-sigma of the
+    /// normal force, the height and the tip gap; `None` without one, or
+    /// when the grasp's sensitivities failed (`sd_note` says why).
+    pub sd: Option<ForceControlSd>,
+    /// Why a row of a study with a covariance has no `sd`.
+    pub sd_note: Option<String>,
+}
+
+/// 1-sigma of a row of study 4 from a covariance, by first-order
+/// propagation through the grasp's exact sensitivities
+/// ([`crate::Gripper::grasp_sensitivities`], force control).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ForceControlSd {
+    /// Of the normal force F (N).
+    pub normal: f64,
+    /// Of the finger height h (mm).
+    pub height: f64,
+    /// Of the tip gap (mm).
+    pub tip_gap: f64,
 }
 
 /// Study 4 result.
@@ -55,7 +76,22 @@ pub fn study4_force_control(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<ForceControl, SolveError> {
+    study4_force_control_with(actuator, opts, None)
+}
+
+/// [`study4_force_control`], and with a covariance of the actuator's
+/// parameters each row's 1-sigma ([`ForceControlRow::sd`]) by first-order
+/// propagation through the grasp's exact sensitivities. The gripper's
+/// prestrain (0.25) is the study's own: its variance is not propagated
+/// (`crate::studies::not_propagated`).
+pub fn study4_force_control_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<ForceControl, SolveError> {
     let g = section5_gripper(actuator, opts)?;
+    let bands = covariance.map(BandParams::new);
+    let act = actuator.with_eps0(SECTION5_EPS0)?;
     let (size, friction) = (100.0, 0.3);
     let mut rows = Vec::new();
     let mut stopped = None;
@@ -64,6 +100,16 @@ pub fn study4_force_control(
         let p = 10.0 * i as f64;
         match g.force_control(p, size, friction, warm.as_ref()) {
             Ok(gr) => {
+                let (sd, sd_note) = match &bands {
+                    Some(b) => {
+                        let kind = GraspKind::ForceControl { d: size, friction };
+                        match row_sd(&g, &act, &gr, kind, b) {
+                            Ok(sd) => (Some(sd), None),
+                            Err(e) => (None, Some(format!("no error bars: {e}"))),
+                        }
+                    }
+                    None => (None, None),
+                };
                 rows.push(ForceControlRow {
                     pressure_kpa: p,
                     normal: gr.normal,
@@ -74,6 +120,8 @@ pub fn study4_force_control(
                     invalid: gr.invalid(),
                     reversed: gr.is_reversed(),
                     warnings: gr.warnings.clone(),
+                    sd,
+                    sd_note,
                 });
                 warm = Some(gr);
             }
@@ -91,13 +139,45 @@ pub fn study4_force_control(
     })
 }
 
+/// The 1-sigma of a grasp's outputs (module `bands`).
+fn row_sd(
+    g: &Gripper,
+    act: &Actuator,
+    grasp: &Grasp,
+    kind: GraspKind,
+    b: &BandParams,
+) -> Result<ForceControlSd, SolveError> {
+    let params: Vec<GripperParam> = b
+        .params()
+        .into_iter()
+        .filter_map(|p| match p {
+            Param::Actuator(a) => Some(GripperParam::Actuator(a)),
+            _ => None,
+        })
+        .collect();
+    let rows = g.grasp_sensitivities(act, grasp, kind, &params)?.rows;
+    let s = |f: fn(&GraspSensitivity) -> f64| b.sigma(&rows.iter().map(f).collect::<Vec<_>>());
+    Ok(ForceControlSd {
+        normal: s(|r| r.normal),
+        height: s(|r| r.height),
+        tip_gap: s(|r| r.tip_gap),
+    })
+}
+
 pub(crate) const INFO: StudyInfo = StudyInfo {
     number: 4,
     key: "force_control",
     title: "Force control by pressure",
     description: "The same gripper holds a cuboid of d = 100 mm with friction f = 0.3 N per finger; for each pressure, the normal force F that holds it and the finger height h (Sec. 5.1.2).",
-    run: |act, opts| Ok(output(Some(&study4_force_control(act, opts)?), opts.mu)),
-    empty: || output(None, StudyOptions::default().mu),
+    run: |act, opts, cov| {
+        Ok(output(
+            Some(&study4_force_control_with(act, opts, cov)?),
+            opts.mu,
+            cov.is_some(),
+        ))
+    },
+    has_bands: true,
+    empty: || output(None, StudyOptions::default().mu, false),
 };
 
 const COLUMNS: [Column; 5] = [
@@ -106,6 +186,13 @@ const COLUMNS: [Column; 5] = [
     Column::new("h_mm", "mm"),
     Column::new("tip_gap_mm", "mm"),
     Column::new("friction_ok", ""),
+];
+
+/// The 1-sigma columns, with a covariance (`bands`).
+const SD_COLUMNS: [Column; 3] = [
+    Column::new("F_n_sd", "N"),
+    Column::new("h_mm_sd", "mm"),
+    Column::new("tip_gap_mm_sd", "mm"),
 ];
 
 /// One entry of `force_control`.
@@ -117,6 +204,11 @@ struct Row {
     h_mm: f64,
     tip_gap_mm: f64,
     friction_ok: bool,
+    /// With a covariance: the 1-sigma of F, h (null where none).
+    #[serde(rename = "F_n_sd", skip_serializing_if = "Option::is_none")]
+    f_n_sd: Option<Option<f64>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    h_mm_sd: Option<Option<f64>>,
 }
 
 #[derive(Serialize)]
@@ -132,10 +224,16 @@ struct Summary {
     force_control_case: Option<Case>,
 }
 
-/// The outputs of study 4 (`None`: the empty outputs).
-pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
+/// The outputs of study 4 (`None`: the empty outputs); `with_sd`: the
+/// rows' 1-sigma too (columns `<column>_sd`, a band, summary entries).
+pub(crate) fn output(fc: Option<&ForceControl>, mu: f64, with_sd: bool) -> StudyOutput {
+    let lead: Vec<Column> = if with_sd {
+        COLUMNS.iter().chain(&SD_COLUMNS).copied().collect()
+    } else {
+        COLUMNS.to_vec()
+    };
     let mut a = Assembly::new(
-        &[("study4", &columns(&COLUMNS, &GRASP_TAIL))],
+        &[("study4", &columns(&lead, &GRASP_TAIL))],
         &["P (kPa)", "F (N)", "h (mm)", "f ≤ μF", "valid"],
     );
     let Some(fc) = fc else {
@@ -147,14 +245,27 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
     };
     let yes = |b: bool| if b { "yes" } else { "no" }.to_string();
     for r in &fc.rows {
-        let lead = vec![
+        let mut lead = vec![
             r.pressure_kpa.into(),
             r.normal.into(),
             r.height.into(),
             r.tip_gap.into(),
             r.friction_ok.into(),
         ];
+        if with_sd {
+            lead.extend([
+                r.sd.map(|s| s.normal).into(),
+                r.sd.map(|s| s.height).into(),
+                r.sd.map(|s| s.tip_gap).into(),
+            ]);
+        }
         a.grasp(0, lead, r.reversed, r.invalid.as_ref(), &r.warnings);
+        if let Some(n) = &r.sd_note {
+            if let Some(row) = a.tables[0].rows.last_mut() {
+                let at = row.len() - 1;
+                row[at] = n.clone().into();
+            }
+        }
         a.overview.push(vec![
             fmt(r.pressure_kpa, 0),
             fmt(r.normal, 3),
@@ -184,6 +295,8 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
                 h_mm: r.height,
                 tip_gap_mm: r.tip_gap,
                 friction_ok: r.friction_ok,
+                f_n_sd: with_sd.then(|| r.sd.map(|s| s.normal)),
+                h_mm_sd: with_sd.then(|| r.sd.map(|s| s.height)),
             })
             .collect(),
         force_control_case: Some(Case {
@@ -197,17 +310,40 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64) -> StudyOutput {
         .iter()
         .filter(|r| matches!(r.invalid, Some(Invalid::CurvatureReversal { .. })))
         .count();
-    a.finish(figure(fc, mu), &summary)
+    let mut out = a.finish(figure(fc, mu, with_sd), &summary);
+    if with_sd {
+        out.bands = SD_COLUMNS
+            .iter()
+            .map(|c| BandColumn {
+                column: c.name.into(),
+                method: EXACT,
+            })
+            .collect();
+    }
+    out
 }
 
-/// Normal force and finger height against pressure.
-fn figure(fc: &ForceControl, mu: f64) -> Figure {
+/// Normal force and finger height against pressure; `with_sd`: their
+/// 1-sigma bands.
+fn figure(fc: &ForceControl, mu: f64, with_sd: bool) -> Figure {
+    let band = |key: &str, y: fn(&ForceControlRow) -> f64, sd: fn(&ForceControlSd) -> f64| {
+        let (at, s): (Vec<[f64; 2]>, Vec<f64>) = fc
+            .rows
+            .iter()
+            .map(|r| ([r.pressure_kpa, y(r)], r.sd.as_ref().map_or(f64::NAN, sd)))
+            .unzip();
+        Series::spread(key, &at, &s, [f64::MIN, f64::MAX]).map(|s| s.label(BAND_LABEL))
+    };
     let mut p = Panel::new(
         "Normal force",
         PlotAxis::new("pressure P", "kPa"),
         PlotAxis::new("normal force F", "N"),
     );
     p.y.include_zero = true;
+    if with_sd {
+        p.series
+            .extend(band("normal force", |r| r.normal, |s| s.normal));
+    }
     let bent = pts(fc
         .rows
         .iter()
@@ -243,6 +379,9 @@ fn figure(fc: &ForceControl, mu: f64) -> Figure {
         PlotAxis::new("pressure P", "kPa"),
         PlotAxis::new("finger height h", "mm"),
     );
+    if with_sd {
+        h.series.extend(band("height", |r| r.height, |s| s.height));
+    }
     h.series.push(
         Series::new(
             "height",
@@ -286,6 +425,8 @@ mod tests {
             } else {
                 Vec::new()
             },
+            sd: None,
+            sd_note: None,
         }
     }
 
@@ -297,7 +438,7 @@ mod tests {
             rows: vec![row(0.0, false), row(10.0, true)],
             stopped: Some(SweepStop::failed(20.0, "solve failed: test".into())),
         };
-        let out = output(Some(&fc), 0.6);
+        let out = output(Some(&fc), 0.6, false);
         let t = &out.tables[0];
         assert_eq!(t.rows.len(), 3);
         assert_eq!(t.cell(1, "valid"), Some(&Cell::Bool(false)));

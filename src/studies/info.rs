@@ -2,6 +2,7 @@
 //! runs into its outputs.
 
 use crate::actuator::Actuator;
+use crate::sensitivity::Covariance;
 use crate::solve_error::SolveError;
 
 use super::options::StudyOptions;
@@ -20,8 +21,12 @@ pub struct StudyInfo {
     /// One-line description.
     pub description: &'static str,
     /// Runs the study and turns its result into outputs (call
-    /// [`StudyInfo::output`], which also marks the folds in the figure).
-    pub run: fn(&Actuator, &StudyOptions) -> Result<StudyOutput, SolveError>,
+    /// [`StudyInfo::output`], which also marks the folds in the figure),
+    /// with 1-sigma bands from the covariance when one is given and the
+    /// study has bands ([`StudyInfo::has_bands`]).
+    pub run: fn(&Actuator, &StudyOptions, Option<&Covariance>) -> Result<StudyOutput, SolveError>,
+    /// True when the study's curves get 1-sigma bands from a covariance.
+    pub has_bands: bool,
     /// The outputs of a study that produced nothing: its tables with their
     /// columns and no rows, an empty figure, and its summary keys with
     /// empty values (`[]` or `null`).
@@ -36,7 +41,23 @@ impl StudyInfo {
         actuator: &Actuator,
         opts: &StudyOptions,
     ) -> Result<StudyOutput, SolveError> {
-        let mut out = (self.run)(actuator, opts)?;
+        self.output_with(actuator, opts, None)
+    }
+
+    /// [`StudyInfo::output`], with 1-sigma bands on its curves from
+    /// `covariance` (docs/calibration.md section 7): a study with bands
+    /// ([`StudyInfo::has_bands`]) adds a `<column>_sd` column to its main
+    /// table for each banded column, shaded bands to its figure, the
+    /// standard deviations to its summary and the columns' methods to
+    /// [`StudyOutput::bands`]. Without a covariance, or for a study
+    /// without bands, the outputs are those of [`StudyInfo::output`].
+    pub fn output_with(
+        &self,
+        actuator: &Actuator,
+        opts: &StudyOptions,
+        covariance: Option<&Covariance>,
+    ) -> Result<StudyOutput, SolveError> {
+        let mut out = (self.run)(actuator, opts, covariance)?;
         out.mark_folds();
         Ok(out)
     }

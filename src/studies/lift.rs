@@ -5,14 +5,17 @@
 
 use serde::Serialize;
 
+use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
 use super::options::SweepStop;
 use super::output::{
     columns, max_of, pts, stop_entry, Assembly, Cell, Column, Panel, Series, SeriesKind, StopAt,
     StopEntry, GRASP_TAIL,
 };
 use super::sweep::size_sweep;
+use crate::actuator::Actuator;
 use crate::error::Warning;
-use crate::gripper::{Gripper, Invalid, Object};
+use crate::gripper::{Grasp, Gripper, Invalid, Object};
+use crate::sensitivity::{GraspKind, GraspSensitivity, GripperParam, Param};
 
 /// One point of a lifting-force curve (grasping angle 0, `f = mu F`).
 #[derive(Debug, Clone, PartialEq)]
@@ -34,6 +37,25 @@ pub struct LiftPoint {
     pub invalid: Option<Invalid>,
     /// The grasp's validity findings.
     pub warnings: Vec<Warning>,
+    /// With a covariance (studies 1 and 2 from `fpc paper --scene`): the
+    /// 1-sigma of the grasp's outputs at its size; `None` without one, or
+    /// when its sensitivities failed (`sd_note` says why).
+    pub sd: Option<LiftSd>,
+    /// Why a point of a study with a covariance has no `sd`.
+    pub sd_note: Option<String>,
+}
+
+/// 1-sigma of a lift point from a covariance, by first-order propagation
+/// through the grasp's exact sensitivities at its (fixed) grasping size
+/// ([`crate::Gripper::grasp_sensitivities`], a size grasp).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LiftSd {
+    /// Of the normal force F (N).
+    pub normal: f64,
+    /// Of the max lifting force f_v (N).
+    pub lift: f64,
+    /// Of the finger height h (mm).
+    pub height: f64,
 }
 
 /// Max lifting force versus grasping size for one gripper.
@@ -62,6 +84,12 @@ pub struct LiftCurve {
     pub stopped: Option<SweepStop>,
     /// The gripper's design warnings.
     pub warnings: Vec<Warning>,
+    /// With a covariance: d_max's 1-sigma (mm); `None` without one, or
+    /// when the gripper's sensitivities do not cover its rest shape
+    /// (`sd_note` says why, and its points have none either).
+    pub d_max_sd: Option<f64>,
+    /// Why a curve of a study with a covariance has no `d_max_sd`.
+    pub sd_note: Option<String>,
 }
 
 impl LiftCurve {
@@ -112,6 +140,61 @@ impl LiftCurve {
 /// 1): studies 1 to 3's sweep at grasping angle 0 and zero pressure, from
 /// `d_min` to `d_max`; `eps0` is the curve's label only.
 pub fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
+    lift_curve_with(g, eps0, n, None)
+}
+
+/// [`lift_curve`], and with `bands` (the gripper finger's actuator and
+/// the covariance's propagated parameters) d_max's and every point's
+/// 1-sigma by first-order propagation through exact sensitivities.
+pub(crate) fn lift_curve_with(
+    g: &Gripper,
+    eps0: f64,
+    n: usize,
+    bands: Option<(&Actuator, &BandParams)>,
+) -> LiftCurve {
+    let params: Vec<GripperParam> = bands.map_or_else(Vec::new, |(_, b)| {
+        b.params()
+            .into_iter()
+            .filter_map(|p| match p {
+                Param::Actuator(a) => Some(GripperParam::Actuator(a)),
+                _ => None,
+            })
+            .collect()
+    });
+    // d_max's; when the gripper's chaining does not cover its rest shape,
+    // neither it nor any point has a band
+    let (d_max_sd, sd_note) = match bands {
+        Some((act, b)) => match g.geometry_sensitivities(act, &params) {
+            Ok(rows) => (
+                Some(b.sigma(&rows.iter().map(|r| r.d_max).collect::<Vec<_>>())),
+                None,
+            ),
+            Err(e) => (None, Some(format!("no error bars: {e}"))),
+        },
+        None => (None, None),
+    };
+    let point_sd = |gr: &Grasp| -> (Option<LiftSd>, Option<String>) {
+        let Some((act, b)) = bands else {
+            return (None, None);
+        };
+        if sd_note.is_some() {
+            return (None, sd_note.clone());
+        }
+        match g.grasp_sensitivities(act, gr, GraspKind::Size { d: gr.size }, &params) {
+            Ok(s) => {
+                let sig = |f: fn(&GraspSensitivity) -> f64| {
+                    b.sigma(&s.rows.iter().map(f).collect::<Vec<_>>())
+                };
+                let sd = LiftSd {
+                    normal: sig(|r| r.normal),
+                    lift: sig(|r| r.lift),
+                    height: sig(|r| r.height),
+                };
+                (Some(sd), None)
+            }
+            Err(e) => (None, Some(format!("no error bars: {e}"))),
+        }
+    };
     let mut points = Vec::with_capacity(n + 1);
     let mut dropped = 0;
     let stopped = size_sweep(g, 0.0, 0.0, Object::Face, g.d_min(), g.d_max(), n, |gr| {
@@ -119,6 +202,7 @@ pub fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
             dropped += 1;
             return;
         }
+        let (sd, note) = point_sd(gr);
         points.push(LiftPoint {
             size: gr.size,
             tip_gap: gr.tip_gap,
@@ -128,6 +212,8 @@ pub fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
             reversed: gr.is_reversed(),
             invalid: gr.invalid(),
             warnings: gr.warnings.clone(),
+            sd,
+            sd_note: note,
         })
     });
     LiftCurve {
@@ -142,6 +228,8 @@ pub fn lift_curve(g: &Gripper, eps0: f64, n: usize) -> LiftCurve {
         dropped,
         stopped,
         warnings: g.warnings().to_vec(),
+        d_max_sd,
+        sd_note,
     }
 }
 
@@ -160,16 +248,46 @@ const LIFT_COLUMNS: [Column; 8] = [
     Column::new("h_mm", "mm"),
 ];
 
-/// Two leading columns, then [`LIFT_COLUMNS`] and [`GRASP_TAIL`].
-pub(crate) fn lift_columns(lead: [Column; 2]) -> Vec<Column> {
-    columns(&columns(&lead, &LIFT_COLUMNS), &GRASP_TAIL)
+/// The 1-sigma columns of a lift-curve table, with a covariance.
+pub(crate) const LIFT_SD_COLUMNS: [Column; 4] = [
+    Column::new("dmax_mm_sd", "mm"),
+    Column::new("F_n_sd", "N"),
+    Column::new("fv_n_sd", "N"),
+    Column::new("h_mm_sd", "mm"),
+];
+
+/// Two leading columns, then [`LIFT_COLUMNS`] (and with `with_sd`
+/// [`LIFT_SD_COLUMNS`]) and [`GRASP_TAIL`].
+pub(crate) fn lift_columns(lead: [Column; 2], with_sd: bool) -> Vec<Column> {
+    let mut c = columns(&lead, &LIFT_COLUMNS);
+    if with_sd {
+        c.extend(LIFT_SD_COLUMNS);
+    }
+    columns(&c, &GRASP_TAIL)
+}
+
+/// The methods of [`LIFT_SD_COLUMNS`] (`bands`).
+pub(crate) fn lift_bands() -> Vec<BandColumn> {
+    LIFT_SD_COLUMNS
+        .iter()
+        .map(|c| BandColumn {
+            column: c.name.into(),
+            method: EXACT,
+        })
+        .collect()
 }
 
 /// Appends to table 0 one row per point of `c` (the first two cells
 /// `lead`, e.g. eps0 and the angle), then the stop of sweep `case` if it
 /// stopped; counts what strict mode dropped and the gripper's design
 /// warnings.
-pub(crate) fn lift_rows(a: &mut Assembly, c: &LiftCurve, lead: [Cell; 2], case: &str) {
+pub(crate) fn lift_rows(
+    a: &mut Assembly,
+    c: &LiftCurve,
+    lead: [Cell; 2],
+    case: &str,
+    with_sd: bool,
+) {
     for p in &c.points {
         let mut row = lead.to_vec();
         row.extend(
@@ -178,7 +296,21 @@ pub(crate) fn lift_rows(a: &mut Assembly, c: &LiftCurve, lead: [Cell; 2], case: 
             ]
             .map(Cell::from),
         );
+        if with_sd {
+            row.extend([
+                c.d_max_sd.into(),
+                p.sd.map(|s| s.normal).into(),
+                p.sd.map(|s| s.lift).into(),
+                p.sd.map(|s| s.height).into(),
+            ]);
+        }
         a.grasp(0, row, p.reversed, p.invalid.as_ref(), &p.warnings);
+        if let (true, Some(n)) = (with_sd, &p.sd_note) {
+            if let Some(r) = a.tables[0].rows.last_mut() {
+                let at = r.len() - 1;
+                r[at] = n.clone().into();
+            }
+        }
     }
     if let Some(s) = &c.stopped {
         let [x, y] = lead;
@@ -206,7 +338,19 @@ pub(crate) fn add_lift_curve(
     kind: SeriesKind,
     color: String,
     label: String,
+    with_sd: bool,
 ) {
+    if with_sd {
+        let sd: Vec<f64> = c
+            .points
+            .iter()
+            .map(|q| q.sd.map_or(f64::NAN, |s| s.lift))
+            .collect();
+        p.series.extend(
+            Series::spread(color.clone(), &lift_points(c), &sd, [f64::MIN, f64::MAX])
+                .map(|s| s.label(BAND_LABEL)),
+        );
+    }
     let marked = |keep: &dyn Fn(&LiftPoint) -> bool| {
         pts(c
             .points
@@ -231,6 +375,9 @@ pub(crate) fn lift_points(c: &LiftCurve) -> Vec<[f64; 2]> {
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub(crate) struct CurveSummary {
     pub dmax_mm: f64,
+    /// With a covariance: d_max's 1-sigma (null where none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dmax_mm_sd: Option<Option<f64>>,
     pub l0_mm: f64,
     pub palm_mm: f64,
     pub reached_mm: f64,
@@ -239,9 +386,10 @@ pub(crate) struct CurveSummary {
 }
 
 impl CurveSummary {
-    pub fn of(c: &LiftCurve) -> CurveSummary {
+    pub fn of(c: &LiftCurve, with_sd: bool) -> CurveSummary {
         CurveSummary {
             dmax_mm: c.d_max,
+            dmax_mm_sd: with_sd.then_some(c.d_max_sd),
             l0_mm: c.l0,
             palm_mm: c.palm,
             reached_mm: c.reached(),
@@ -278,6 +426,8 @@ pub(crate) mod tests {
             } else {
                 Vec::new()
             },
+            sd: None,
+            sd_note: None,
         };
         LiftCurve {
             eps0: 0.25,
@@ -294,15 +444,26 @@ pub(crate) mod tests {
                 "solve failed: line search, test".into(),
             )),
             warnings: Vec::new(),
+            d_max_sd: None,
+            sd_note: None,
         }
     }
 
     #[test]
     fn a_stopped_lift_sweep_is_a_row() {
         let c = curve();
-        let cols = lift_columns([Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")]);
+        let cols = lift_columns(
+            [Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")],
+            false,
+        );
         let mut a = Assembly::new(&[("t", &cols)], &[]);
-        lift_rows(&mut a, &c, [c.mounting_angle.into(), 20.0.into()], "case");
+        lift_rows(
+            &mut a,
+            &c,
+            [c.mounting_angle.into(), 20.0.into()],
+            "case",
+            false,
+        );
         let out = a.finish(
             crate::report::Figure::row("", [1, 1], Vec::new()),
             &serde_json::json!({}),
@@ -334,7 +495,7 @@ pub(crate) mod tests {
             ["case: sweep stopped at d = 5.5 mm: solve failed: line search, test"]
         );
         assert_eq!(out.stops.len(), 1);
-        let s = CurveSummary::of(&c);
+        let s = CurveSummary::of(&c, false);
         assert_eq!(s.reached_mm, 2.0);
         assert_eq!(
             serde_json::to_value(&s.stopped).unwrap()["at_mm"],
@@ -352,6 +513,7 @@ pub(crate) mod tests {
             SeriesKind::Line,
             "a=pi/3".into(),
             "a = π/3".into(),
+            false,
         );
         // the line, the bent point (d = 2) and the invalid one (d = 0)
         assert_eq!(p.series.len(), 3);

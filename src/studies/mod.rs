@@ -15,6 +15,7 @@
 //! is one module and one entry of [`STUDIES`]; front ends (`fpc paper`) run
 //! the registry and need no change.
 
+mod bands;
 mod cuboid;
 mod curvature;
 mod displacement;
@@ -33,15 +34,20 @@ use crate::actuator::Actuator;
 use crate::gripper::ViableAngles;
 use crate::solve_error::SolveError;
 
+pub use bands::{not_propagated, BandColumn, NotPropagated, EXACT};
 pub use cuboid::{study3_cuboid_region, CuboidRegion, CUBOID_TEST};
-pub use curvature::{study7_curvature, CurvatureCurve, CurvatureRow};
-pub use displacement::{
-    study8_force_at_displacement, tip_force_for_displacement, Axis, DisplacementForce,
-    DisplacementForceRow,
+pub use curvature::{
+    study7_curvature, study7_curvature_with, CurvatureCurve, CurvatureRow, CurvatureSd,
 };
-pub use force_control::{study4_force_control, ForceControl, ForceControlRow};
+pub use displacement::{
+    study8_force_at_displacement, study8_force_at_displacement_with, tip_force_for_displacement,
+    Axis, DisplacementForce, DisplacementForceRow,
+};
+pub use force_control::{
+    study4_force_control, study4_force_control_with, ForceControl, ForceControlRow, ForceControlSd,
+};
 pub use info::StudyInfo;
-pub use lift::{lift_curve, LiftCurve, LiftPoint};
+pub use lift::{lift_curve, LiftCurve, LiftPoint, LiftSd};
 pub use options::{
     section5_gripper, StudyOptions, SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
     STUDY8_PRESSURES_KPA,
@@ -52,8 +58,8 @@ pub use output::{
     StopAt, StudyOutput, Table, BENT_BACKWARDS, INVALID, INVALID_GRASP, NEUTRAL, NOTE, REVERSED,
     STATUS, VALID, VALIDITY_KINDS, WARNINGS,
 };
-pub use overlap::study2_overlap;
-pub use prestrain_angle::study1_prestrain_angle;
+pub use overlap::{study2_overlap, study2_overlap_with};
+pub use prestrain_angle::{study1_prestrain_angle, study1_prestrain_angle_with};
 pub use sphere::{study5_sphere_region, SpherePoint, SphereRegion};
 pub use viable::study6_viable_angles;
 

@@ -143,8 +143,11 @@ impl SweepStop {
     }
 }
 
+/// The prestrain of the paper's Sec. 5 gripper.
+pub(crate) const SECTION5_EPS0: f64 = 0.25;
+
 /// The gripper of the paper's Sec. 5: eps0 = 0.25, a = pi/3, g = 20 mm.
 pub fn section5_gripper(actuator: &Actuator, opts: &StudyOptions) -> Result<Gripper, SolveError> {
     opts.validate()?;
-    opts.gripper(actuator, 0.25, FRAC_PI_3, 20.0)
+    opts.gripper(actuator, SECTION5_EPS0, FRAC_PI_3, 20.0)
 }

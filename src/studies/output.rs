@@ -13,6 +13,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_3, PI};
 use serde::Serialize;
 use serde_json::Value;
 
+use super::bands::BandColumn;
 use super::options::SweepStop;
 use crate::error::Warning;
 use crate::gripper::{Invalid, SweepEnd};
@@ -259,6 +260,7 @@ impl Assembly {
             points: self.tally.points,
             warnings_by_kind: self.tally.by_kind,
             strict_dropped: self.strict_dropped,
+            bands: Vec::new(),
         }
     }
 
@@ -359,6 +361,10 @@ pub struct StudyOutput {
     /// sweeps, or kept and marked not valid where a study keeps every row;
     /// 0 when not strict.
     pub strict_dropped: usize,
+    /// The `<column>_sd` columns of its 1-sigma bands and how each was
+    /// computed (empty without a covariance, or for a study without bands).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub bands: Vec<BandColumn>,
 }
 
 impl StudyOutput {

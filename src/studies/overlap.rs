@@ -2,11 +2,15 @@
 
 use serde::Serialize;
 
+use super::bands::BandParams;
 use super::info::StudyInfo;
-use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
+use super::lift::{
+    add_lift_curve, lift_bands, lift_columns, lift_curve_with, lift_rows, CurveSummary, LiftCurve,
+};
 use super::options::{StudyOptions, PAPER_ANGLES, PAPER_OVERLAPS};
 use super::output::*;
 use crate::actuator::Actuator;
+use crate::sensitivity::Covariance;
 use crate::solve_error::SolveError;
 
 /// Study 2 (Sec. 4.2): overlap, eps0 = 0.25: one curve per (a in
@@ -16,12 +20,27 @@ pub fn study2_overlap(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<Vec<LiftCurve>, SolveError> {
+    study2_overlap_with(actuator, opts, None)
+}
+
+/// [`study2_overlap`], and with a covariance of the actuator's parameters
+/// the 1-sigma of every curve's d_max and of every grasp's outputs at its
+/// size, by first-order propagation through exact sensitivities (the
+/// prestrain, 0.25, is the study's own: not propagated).
+pub fn study2_overlap_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<Vec<LiftCurve>, SolveError> {
     opts.validate()?;
+    let bands = covariance.map(BandParams::new);
+    let act = actuator.with_eps0(0.25)?;
     let mut out = Vec::new();
     for a in PAPER_ANGLES {
         for g in PAPER_OVERLAPS {
             let gr = opts.gripper(actuator, 0.25, a, g)?;
-            out.push(lift_curve(&gr, 0.25, opts.sweep_points));
+            let b = bands.as_ref().map(|b| (&act, b));
+            out.push(lift_curve_with(&gr, 0.25, opts.sweep_points, b));
         }
     }
     Ok(out)
@@ -32,8 +51,9 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "overlap",
     title: "Overlap",
     description: "eps0 = 0.25, a in {π/2, π/2.5, π/3}, overlap g in {0, 10, 20} mm: max f_v against d per overlap, and d_max = 2 (l0 − g + Lx cos a) against g (Sec. 4.2).",
-    run: |act, opts| Ok(output(&study2_overlap(act, opts)?)),
-    empty: || output(&[]),
+    run: |act, opts, cov| Ok(output(&study2_overlap_with(act, opts, cov)?, cov.is_some())),
+    has_bands: true,
+    empty: || output(&[], false),
 };
 
 const LEAD: [Column; 2] = [Column::new("angle_rad", "rad"), Column::new("g_mm", "mm")];
@@ -52,10 +72,10 @@ struct Summary {
     overlap_dmax_mm: Vec<OverlapRow>,
 }
 
-/// The outputs of study 2 from its curves.
-pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
+/// The outputs of study 2 from its curves; `with_sd`: their 1-sigma too.
+pub(crate) fn output(curves: &[LiftCurve], with_sd: bool) -> StudyOutput {
     let mut a = Assembly::new(
-        &[("study2", &lift_columns(LEAD))],
+        &[("study2", &lift_columns(LEAD, with_sd))],
         &[
             "a",
             "g (mm)",
@@ -72,6 +92,7 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             c,
             [c.mounting_angle.into(), c.overlap.into()],
             &case,
+            with_sd,
         );
         a.overview.push(vec![
             angle_name(c.mounting_angle),
@@ -88,15 +109,19 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             .map(|c| OverlapRow {
                 angle_rad: c.mounting_angle,
                 g_mm: c.overlap,
-                curve: CurveSummary::of(c),
+                curve: CurveSummary::of(c, with_sd),
             })
             .collect(),
     };
-    a.finish(figure(curves), &summary)
+    let mut out = a.finish(figure(curves, with_sd), &summary);
+    if with_sd {
+        out.bands = lift_bands();
+    }
+    out
 }
 
 /// f_v against d per overlap (one panel per mounting angle), d_max against g.
-fn figure(curves: &[LiftCurve]) -> Figure {
+fn figure(curves: &[LiftCurve], with_sd: bool) -> Figure {
     let mut panels = Vec::new();
     for a in PAPER_ANGLES {
         let mut p = Panel::new(
@@ -113,6 +138,7 @@ fn figure(curves: &[LiftCurve]) -> Figure {
                 SeriesKind::Line,
                 overlap_key(c.overlap),
                 format!("g = {} mm", c.overlap),
+                with_sd,
             );
             if let Some(s) = &c.stopped {
                 p.notes.push(format!(

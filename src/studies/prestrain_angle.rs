@@ -2,11 +2,15 @@
 
 use serde::Serialize;
 
+use super::bands::BandParams;
 use super::info::StudyInfo;
-use super::lift::{add_lift_curve, lift_columns, lift_curve, lift_rows, CurveSummary, LiftCurve};
+use super::lift::{
+    add_lift_curve, lift_bands, lift_columns, lift_curve_with, lift_rows, CurveSummary, LiftCurve,
+};
 use super::options::{StudyOptions, PAPER_ANGLES, PAPER_EPS0};
 use super::output::*;
 use crate::actuator::Actuator;
+use crate::sensitivity::Covariance;
 use crate::solve_error::SolveError;
 
 /// Study 1 (Sec. 4.1): prestrain x mounting angle, overlap 0, grasping
@@ -16,12 +20,30 @@ pub fn study1_prestrain_angle(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<Vec<LiftCurve>, SolveError> {
+    study1_prestrain_angle_with(actuator, opts, None)
+}
+
+/// [`study1_prestrain_angle`], and with a covariance of the actuator's
+/// parameters the 1-sigma of every curve's d_max and of every grasp's
+/// outputs at its size ([`LiftCurve::d_max_sd`], `LiftPoint::sd`), by
+/// first-order propagation through exact sensitivities. The prestrain of
+/// each curve is the study's own: its variance is not propagated
+/// (`crate::studies::not_propagated`). Curves whose rest shape curls past
+/// its tip (eps0 = 0.4) have none, and say why.
+pub fn study1_prestrain_angle_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<Vec<LiftCurve>, SolveError> {
     opts.validate()?;
+    let bands = covariance.map(BandParams::new);
     let mut out = Vec::new();
     for eps0 in PAPER_EPS0 {
+        let act = actuator.with_eps0(eps0)?;
         for a in PAPER_ANGLES {
             let g = opts.gripper(actuator, eps0, a, 0.0)?;
-            out.push(lift_curve(&g, eps0, opts.sweep_points));
+            let b = bands.as_ref().map(|b| (&act, b));
+            out.push(lift_curve_with(&g, eps0, opts.sweep_points, b));
         }
     }
     Ok(out)
@@ -32,8 +54,14 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "prestrain_angle",
     title: "Prestrain × mounting angle",
     description: "eps0 in {0.4, 0.25, 0.15} × a in {π/2, π/2.5, π/3}, no overlap (l = 2 l0), grasping angle b = 0, full friction f = μF: unloaded finger shapes in the gripper frame, the max lifting force f_v against the grasping size d, and d_max = l + 2 Lx cos a against a (Sec. 4.1).",
-    run: |act, opts| Ok(output(&study1_prestrain_angle(act, opts)?)),
-    empty: || output(&[]),
+    run: |act, opts, cov| {
+        Ok(output(
+            &study1_prestrain_angle_with(act, opts, cov)?,
+            cov.is_some(),
+        ))
+    },
+    has_bands: true,
+    empty: || output(&[], false),
 };
 
 const LEAD: [Column; 2] = [Column::new("eps0", ""), Column::new("angle_rad", "rad")];
@@ -60,11 +88,11 @@ struct Summary {
     dmax_mm: Vec<DmaxRow>,
 }
 
-/// The outputs of study 1 from its curves.
-pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
+/// The outputs of study 1 from its curves; `with_sd`: their 1-sigma too.
+pub(crate) fn output(curves: &[LiftCurve], with_sd: bool) -> StudyOutput {
     let mut a = Assembly::new(
         &[
-            ("study1", &lift_columns(LEAD)),
+            ("study1", &lift_columns(LEAD, with_sd)),
             ("study1_shapes", &SHAPE_COLUMNS),
         ],
         &[
@@ -80,7 +108,7 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
     for c in curves {
         let (eps0, angle) = (c.eps0.into(), c.mounting_angle.into());
         let case = format!("eps0 = {}, a = {}", c.eps0, angle_name(c.mounting_angle));
-        lift_rows(&mut a, c, [eps0, angle], &case);
+        lift_rows(&mut a, c, [eps0, angle], &case, with_sd);
         for q in &c.rest_shape {
             a.row(
                 1,
@@ -108,16 +136,20 @@ pub(crate) fn output(curves: &[LiftCurve]) -> StudyOutput {
             .map(|c| DmaxRow {
                 eps0: c.eps0,
                 angle_rad: c.mounting_angle,
-                curve: CurveSummary::of(c),
+                curve: CurveSummary::of(c, with_sd),
             })
             .collect(),
     };
-    a.finish(figure(curves), &summary)
+    let mut out = a.finish(figure(curves, with_sd), &summary);
+    if with_sd {
+        out.bands = lift_bands();
+    }
+    out
 }
 
 /// Finger shapes per mounting angle, max f_v against d per prestrain,
 /// d_max against a.
-fn figure(curves: &[LiftCurve]) -> Figure {
+fn figure(curves: &[LiftCurve], with_sd: bool) -> Figure {
     let mut top = Vec::new();
     for a in PAPER_ANGLES {
         let mut p = Panel::new(
@@ -176,6 +208,7 @@ fn figure(curves: &[LiftCurve]) -> Figure {
                 SeriesKind::Line,
                 angle_key(c.mounting_angle),
                 format!("a = {name}"),
+                with_sd,
             );
             if let Some(s) = &c.stopped {
                 p.notes

@@ -180,10 +180,15 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     title: "Sphere grasping region",
     description: "The same gripper; grasping angle b swept over [−arctan μ, π/2), at each the grasping size swept with f = μF, r = d / (2 cos b), invalid grasps (not open, second contact, friction) dropped; the envelope is the best b at each radius (Sec. 5.2.1).",
     run,
+    has_bands: false,
     empty: || output(None, 0),
 };
 
-fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
+fn run(
+    act: &Actuator,
+    opts: &StudyOptions,
+    _: Option<&crate::sensitivity::Covariance>,
+) -> Result<StudyOutput, SolveError> {
     let region = study5_sphere_region(act, opts)?;
     Ok(output(Some(&region), opts.angle_samples))
 }

@@ -28,10 +28,15 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     title: "Viable grasping angles",
     description: "A sphere r = 50 mm needing f_v = 0.5 N per finger: the grasping angles b at which some F with 0 ≤ f ≤ μF holds it validly (Sec. 5.2.2).",
     run,
+    has_bands: false,
     empty: || output(None, StudyOptions::default().mu),
 };
 
-fn run(act: &Actuator, opts: &StudyOptions) -> Result<StudyOutput, SolveError> {
+fn run(
+    act: &Actuator,
+    opts: &StudyOptions,
+    _: Option<&crate::sensitivity::Covariance>,
+) -> Result<StudyOutput, SolveError> {
     let v = study6_viable_angles(act, opts)?;
     Ok(output(Some(&v), opts.mu))
 }

@@ -21,7 +21,8 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use fpc::report::{Cell, Overview};
-use fpc::studies::{StudyInfo, StudyOutput, STUDIES};
+use fpc::scene::Covariance;
+use fpc::studies::{not_propagated, BandColumn, StudyInfo, StudyOutput, STUDIES};
 use fpc::studies::{NOTE, STATUS};
 use fpc::{Actuator, ModelId, SolveError, StudyOptions};
 use serde_json::{json, Map, Value};
@@ -45,7 +46,14 @@ pub struct Args {
     coarse: bool,
     /// Run the studies on the actuator (and element model) of a scene file
     /// instead of the paper's default actuator; its load, solve and
-    /// gripper tables are not used (the studies set their own).
+    /// gripper tables are not used (the studies set their own). A scene
+    /// with a [calibration] covariance (a calibrated scene) adds 1-sigma
+    /// bands to studies 1, 2, 4, 7 and 8 by first-order propagation through exact
+    /// sensitivities: a `<column>_sd` column per banded column of their
+    /// CSV, shaded bands in their figures, `_sd` values in summary.json
+    /// and its `uncertainty` entry (the parameters propagated, those left
+    /// out and why: each curve's eps0 and load.kappa are the studies' own,
+    /// the method of each column). Without a covariance nothing changes.
     #[arg(long, value_name = "FILE")]
     scene: Option<PathBuf>,
     /// The element model (`fpc models`; default: the scene's, else ccm).
@@ -68,20 +76,32 @@ pub struct Args {
     format: crate::render::formats::FormatArgs,
 }
 
+/// What the studies run on: the actuator, model and element count, a
+/// description of where they came from, and the scene's `[calibration]`
+/// covariance if it has one.
+struct Setup {
+    actuator: Actuator,
+    model: ModelId,
+    elements: Option<usize>,
+    source: String,
+    covariance: Option<Covariance>,
+}
+
 /// The actuator, model and element count the studies run on, and a
 /// description of where they came from.
-fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, String)> {
+fn setup(args: &Args) -> anyhow::Result<Setup> {
     let Some(path) = &args.scene else {
         let model = match &args.model {
             Some(m) => ModelId::parse(fpc::Field::key("model"), m)?,
             None => ModelId::default(),
         };
-        return Ok((
-            Actuator::default(),
+        return Ok(Setup {
+            actuator: Actuator::default(),
             model,
-            None,
-            "the default (docs/model.md section 3)".into(),
-        ));
+            elements: None,
+            source: "the default (docs/model.md section 3)".into(),
+            covariance: None,
+        });
     };
     let shown = path.display().to_string();
     let text = crate::solve::read_scene(path, &shown)?;
@@ -99,12 +119,13 @@ fn setup(args: &Args) -> anyhow::Result<(Actuator, ModelId, Option<usize>, Strin
         }
         _ => None,
     };
-    Ok((
-        scene.actuator.clone(),
+    Ok(Setup {
+        actuator: scene.actuator.clone(),
         model,
         elements,
-        format!("the scene {shown}'s"),
-    ))
+        source: format!("the scene {shown}'s"),
+        covariance: scene.covariance().cloned(),
+    })
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
@@ -119,7 +140,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         font_pt: args.font_pt,
     };
     style.validate()?;
-    let (act, model, scene_elements, source) = setup(args)?;
+    let Setup {
+        actuator: act,
+        model,
+        elements: scene_elements,
+        source,
+        covariance,
+    } = setup(args)?;
     let opts = StudyOptions {
         strict: args.strict,
         model,
@@ -135,6 +162,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut out = Output::new(args.out.clone(), opts, args.coarse, source);
     out.style = style;
     out.formats = args.format.with_svg();
+    out.covariance = covariance;
 
     // progress on a terminal only
     let terminal = crate::report::is_terminal();
@@ -144,7 +172,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             crate::report::progress(&format!("fpc paper: {i}/{total} studies; {}", info.title));
         }
         let t = Instant::now();
-        let result = info.output(&act, &opts);
+        let result = info.output_with(&act, &opts, out.covariance.as_ref());
         out.finish(info, t.elapsed(), result)?;
     }
     if terminal {
@@ -201,6 +229,8 @@ struct Section {
     points: usize,
     warnings_by_kind: BTreeMap<String, usize>,
     strict_dropped: usize,
+    /// Its banded columns and their methods (with a covariance).
+    bands: Vec<BandColumn>,
 }
 
 /// Everything written so far and what summary.json and index.html need.
@@ -230,6 +260,8 @@ struct Output {
     /// The grippers' design warnings, each once.
     warnings: Vec<String>,
     sections: Vec<Section>,
+    /// The scene's `[calibration]` covariance: the studies' bands.
+    covariance: Option<Covariance>,
 }
 
 impl Output {
@@ -249,6 +281,7 @@ impl Output {
             ends: Vec::new(),
             warnings: Vec::new(),
             sections: Vec::new(),
+            covariance: None,
         }
     }
 
@@ -379,6 +412,7 @@ impl Output {
             points: out.points,
             warnings_by_kind: out.warnings_by_kind,
             strict_dropped: out.strict_dropped,
+            bands: out.bands,
         });
         Ok(())
     }
@@ -454,6 +488,9 @@ impl Output {
             })
             .collect();
         s.insert("validity".into(), Value::Object(validity));
+        if let Some(cov) = &self.covariance {
+            s.insert("uncertainty".into(), self.uncertainty(cov));
+        }
         s.insert("strict".into(), json!(self.opts.strict));
         s.insert(
             "options".into(),
@@ -479,6 +516,39 @@ impl Output {
         s.insert("files".into(), json!(files));
         let text = serde_json::to_string_pretty(&Value::Object(s))? + "\n";
         self.write("summary.json", text.as_bytes())
+    }
+
+    /// summary.json's `uncertainty`: what the bands propagate, what they
+    /// leave out and why, and per study with bands its columns' methods.
+    fn uncertainty(&self, cov: &Covariance) -> Value {
+        let left_out = not_propagated(cov);
+        let propagated: Vec<String> = cov
+            .params()
+            .iter()
+            .map(|p| p.name())
+            .filter(|n| !left_out.iter().any(|l| &l.parameter == n))
+            .collect();
+        let studies: Map<String, Value> = self
+            .sections
+            .iter()
+            .filter(|sec| sec.ok && !sec.bands.is_empty())
+            .map(|sec| {
+                let methods: Map<String, Value> = sec
+                    .bands
+                    .iter()
+                    .map(|b| (b.column.clone(), json!(b.method)))
+                    .collect();
+                (sec.info.stem(), Value::Object(methods))
+            })
+            .collect();
+        json!({
+            "sigma": 1,
+            "parameters": cov.params().iter().map(|p| p.name()).collect::<Vec<_>>(),
+            "propagated": propagated,
+            "not_propagated": left_out,
+            "studies_with_bands": STUDIES.iter().filter(|s| s.has_bands).map(|s| s.number).collect::<Vec<_>>(),
+            "methods": studies,
+        })
     }
 
     fn write_index(&mut self) -> anyhow::Result<()> {

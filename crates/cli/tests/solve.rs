@@ -626,6 +626,8 @@ fn a_calibration_covariance_gives_error_bars_and_none_leaves_the_output_alone() 
     let tip = u["tip_mm"].as_array().unwrap();
     assert!(tip.iter().all(|s| s.as_f64().unwrap() > 0.0), "{u}");
     assert!(u["end_angle_rad"].as_f64().unwrap() > 0.0);
+    assert!(u["radius_mm"].as_f64().unwrap() > 0.0, "{u}");
+    assert!(u.get("radius_unavailable").is_none(), "{u}");
     assert!(without.json.get("uncertainty").is_none());
     // the table changes nothing that is solved
     assert_eq!(with.json["tip_mm"], without.json["tip_mm"]);
@@ -640,6 +642,7 @@ fn a_calibration_covariance_gives_error_bars_and_none_leaves_the_output_alone() 
     );
     let stdout = text(&o.stdout);
     assert!(stdout.contains("tip +- 1 sd    X +- "), "{stdout}");
+    assert!(stdout.contains("radius +- 1 sd +- "), "{stdout}");
     let o = run_ok(
         fpc()
             .arg("solve")

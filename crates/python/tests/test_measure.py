@@ -151,6 +151,7 @@ def test_a_calibrated_scene_carries_its_error_bars_as_fpc_solve_does(fpc_bin, tm
     u = solved["uncertainty"]
     assert u["method"] == "first_order"
     assert len(u["tip_mm"]) == 2 and all(x > 0 for x in u["tip_mm"]), u
+    assert u["radius_mm"] > 0, u
     run_cli(fpc_bin, "solve", scene, "--out", tmp_path / "out")
     cli = json.loads((tmp_path / "out" / "solution.json").read_text())
     assert_same(u, cli["uncertainty"], tol=1e-9)

@@ -13,12 +13,13 @@ use crate::finger::{Load, SolveOptions, Strategy, MAX_SAMPLES_PER_ELEMENT};
 use crate::model::ModelId;
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
-use super::covariance::{covariance_of, Covariance};
+use super::covariance::covariance_of;
 use super::fields::{
     finite, forbid, inconsistent, positive, require, scene_input, LoadKey, ModelKey, PartitionKey,
     SceneKey, SolveKey,
 };
 use super::schema::*;
+use crate::sensitivity::Covariance;
 
 use actuator::resolve_actuator;
 use gripper::resolve_gripper;

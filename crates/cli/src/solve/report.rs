@@ -79,6 +79,12 @@ pub(super) fn uncertainty_lines(
             a.to_degrees()
         )?;
     }
+    if let Some(r) = u.radius_mm {
+        writeln!(out, "radius +- 1 sd +- {r:.3} mm (circle fit)")?;
+    }
+    if let Some(why) = &u.radius_unavailable {
+        writeln!(out, "radius bar     not available: {why}")?;
+    }
     if let Some(why) = &u.unavailable {
         writeln!(out, "error bars     not available: {why}")?;
     }

@@ -22,6 +22,7 @@ impl Shown {
                 | SeriesKind::LinePoints
                 | SeriesKind::Area
                 | SeriesKind::Outline
+                | SeriesKind::Spread
         );
         let Some(top) = top else {
             return Shown {

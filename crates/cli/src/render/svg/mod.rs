@@ -319,7 +319,7 @@ const CLIP_NOTE: RGBColor = RGBColor(150, 60, 0);
 /// (their legend entry after the curves').
 fn layer(kind: SeriesKind) -> u8 {
     match kind {
-        SeriesKind::Area | SeriesKind::Outline => 0,
+        SeriesKind::Area | SeriesKind::Outline | SeriesKind::Spread => 0,
         SeriesKind::BentBackwards | SeriesKind::Invalid => 2,
         _ => 1,
     }
@@ -757,6 +757,9 @@ fn draw_series<'a, 'b, 'c>(
         SeriesKind::Invalid => {
             chart.draw_series(marks.map(|p| Cross::new(p, r(5), c.stroke_width(w2))))?
         }
+        SeriesKind::Spread => {
+            chart.draw_series(runs.map(|r| Polygon::new(r, c.mix(0.18).filled())))?
+        }
         SeriesKind::Outline => {
             let fill = runs.clone().map(|r| Polygon::new(r, c.mix(0.22).filled()));
             chart.draw_series(fill)?;
@@ -789,7 +792,7 @@ fn legend_mark<DB: DrawingBackend>(
         SeriesKind::BentBackwards => Circle::new((x + 9, y), 6, c.stroke_width(2)).into_dyn(),
         SeriesKind::Invalid => Cross::new((x + 9, y), 5, c.stroke_width(2)).into_dyn(),
         SeriesKind::Cross => Cross::new((x + 9, y), 4, c.stroke_width(2)).into_dyn(),
-        SeriesKind::Area | SeriesKind::Outline => {
+        SeriesKind::Area | SeriesKind::Outline | SeriesKind::Spread => {
             Rectangle::new([(x, y - 5), (x + 18, y + 5)], c.mix(0.4).filled()).into_dyn()
         }
     }

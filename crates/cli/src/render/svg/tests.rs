@@ -414,3 +414,31 @@ fn the_range_grows_when_every_spot_is_covered() {
     let (sx, sy) = ((f.x.1 - f.x.0) / f.px.0, (f.y.1 - f.y.0) / f.px.1);
     assert!(f.y.1 > 10.0 && (sx - sy).abs() < 1e-12, "{f:?}");
 }
+
+#[test]
+fn a_spread_is_a_filled_band_in_its_colour() {
+    let panel = |spread: bool| {
+        let mut p = Panel::new("t", PlotAxis::new("x", "kPa"), PlotAxis::new("y", "mm"));
+        let pts = [[0.0, 1.0], [1.0, 2.0], [2.0, 2.5]];
+        if spread {
+            p.series.extend(
+                Series::spread("eps0=0.25", &pts, &[0.1, 0.2, 0.3], [0.0, 10.0])
+                    .map(|s| s.label("band")),
+            );
+        }
+        p.series
+            .push(Series::new("eps0=0.25", SeriesKind::Line, pts.to_vec()).label("curve"));
+        svg(&Figure::row("spread", [600, 400], vec![p])).unwrap()
+    };
+    let c = hex(color_of("eps0=0.25"));
+    let with = panel(true);
+    let polygons: Vec<&str> = with.split("<polygon").skip(1).collect();
+    assert!(
+        polygons
+            .iter()
+            .any(|p| p[..p.find('>').unwrap()].contains(&c)),
+        "{with}"
+    );
+    assert!(with.contains("band") && with.contains("curve"));
+    assert!(!panel(false).contains("<polygon"));
+}

@@ -1,6 +1,9 @@
 //! The mid-plane's points and their exact derivatives along a change of
 //! the element unknowns (forward mode through the chain, docs/model.md
-//! M10, M14).
+//! M10, M14), and the circle-fit radius of the shape samples with its
+//! derivative along each sensitivity ([`radius_rows`]): what the
+//! calibration's Jacobian and a scene's or a study's radius error bar
+//! share.
 //!
 //! Inside element `i` the mid-plane in the element's own frame,
 //! `l_i(x; K_i) = (x + u(x), w(x))`, is affine in the element's unknowns
@@ -20,9 +23,12 @@
 //! own frame: an element's `x^1` coefficient points along its root tangent
 //! (`w'(0) = 0` in the element's frame), which gives `theta_i`.
 
+use crate::circle_fit::{radius_tangents, Circle};
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
 use crate::finger::Finger;
+
+use super::record::Sensitivities;
 
 /// The local curves of every element (the element's own frame).
 fn local_curves(finger: &Finger, k: &Coefficients) -> Result<Vec<Vec<[f64; 2]>>, InputError> {
@@ -193,4 +199,21 @@ pub(crate) fn points_and_tangents(
         );
     }
     Ok((points, derivs))
+}
+
+/// The circle fit of the shape samples of `coefficients` (`per` per
+/// element, as [`Finger::shape`] gives them and a solve with `shape` set
+/// fits) and the derivative of its radius along each row of `sens` (the
+/// sensitivities of that equilibrium): `None` when no circle fits (a
+/// straight mid-plane) or the fit's Hessian is singular.
+pub(crate) fn radius_rows(
+    finger: &Finger,
+    coefficients: &Coefficients,
+    sens: &Sensitivities,
+    per: usize,
+) -> Result<Option<(Circle, Vec<f64>)>, InputError> {
+    let dks: Vec<Coefficients> = sens.rows.iter().map(|r| r.coefficients.clone()).collect();
+    let sites = shape_sites(finger.element_lengths(), per);
+    let (pts, dpts) = points_and_tangents(finger, coefficients, &dks, &sites)?;
+    Ok(radius_tangents(&pts, &dpts))
 }
