@@ -34,6 +34,17 @@ pub struct BandColumn {
     pub method: &'static str,
 }
 
+/// The entries of `columns`, each banded by the exact sensitivities.
+pub(crate) fn exact_bands(columns: &[crate::report::Column]) -> Vec<BandColumn> {
+    columns
+        .iter()
+        .map(|c| BandColumn {
+            column: c.name.into(),
+            method: EXACT,
+        })
+        .collect()
+}
+
 /// A covariance parameter a study does not propagate, and why.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize)]
 pub struct NotPropagated {

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{exact_bands, BandParams, BAND_LABEL};
 use super::info::StudyInfo;
 use super::options::{StudyOptions, SweepStop};
 use super::output::*;
@@ -345,13 +345,7 @@ pub(crate) fn output(curves: &[CurvatureCurve], with_sd: bool) -> StudyOutput {
     };
     let mut out = a.finish(figure(curves, with_sd), &summary);
     if with_sd {
-        out.bands = SD_COLUMNS
-            .iter()
-            .map(|c| BandColumn {
-                column: c.name.into(),
-                method: EXACT,
-            })
-            .collect();
+        out.bands = exact_bands(&SD_COLUMNS);
     }
     out
 }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{exact_bands, BandParams, BAND_LABEL};
 use super::info::StudyInfo;
 use super::options::{StudyOptions, STUDY8_PRESSURES_KPA};
 use super::output::*;
@@ -350,10 +350,7 @@ pub(crate) fn output(rows: &[DisplacementForceRow], with_sd: bool) -> StudyOutpu
     };
     let mut out = a.finish(figure(rows, with_sd), &summary);
     if with_sd {
-        out.bands = vec![BandColumn {
-            column: SD_COLUMN.name.into(),
-            method: EXACT,
-        }];
+        out.bands = exact_bands(&[SD_COLUMN]);
     }
     out
 }

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{exact_bands, BandParams, BAND_LABEL};
 use super::info::StudyInfo;
 use super::options::{section5_gripper, StudyOptions, SweepStop, SECTION5_EPS0};
 use super::output::*;
@@ -312,13 +312,7 @@ pub(crate) fn output(fc: Option<&ForceControl>, mu: f64, with_sd: bool) -> Study
         .count();
     let mut out = a.finish(figure(fc, mu, with_sd), &summary);
     if with_sd {
-        out.bands = SD_COLUMNS
-            .iter()
-            .map(|c| BandColumn {
-                column: c.name.into(),
-                method: EXACT,
-            })
-            .collect();
+        out.bands = exact_bands(&SD_COLUMNS);
     }
     out
 }

@@ -5,7 +5,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{BandColumn, BandParams, BAND_LABEL};
 use super::options::SweepStop;
 use super::output::{
     columns, max_of, pts, stop_entry, Assembly, Cell, Column, Panel, Series, SeriesKind, StopAt,
@@ -268,13 +268,7 @@ pub(crate) fn lift_columns(lead: [Column; 2], with_sd: bool) -> Vec<Column> {
 
 /// The methods of [`LIFT_SD_COLUMNS`] (`bands`).
 pub(crate) fn lift_bands() -> Vec<BandColumn> {
-    LIFT_SD_COLUMNS
-        .iter()
-        .map(|c| BandColumn {
-            column: c.name.into(),
-            method: EXACT,
-        })
-        .collect()
+    super::bands::exact_bands(&LIFT_SD_COLUMNS)
 }
 
 /// Appends to table 0 one row per point of `c` (the first two cells
