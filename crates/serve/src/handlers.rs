@@ -2,7 +2,9 @@
 //! library's record as JSON, or an [`ApiError`]. They are synchronous and
 //! run on the blocking pool ([`crate::api`]); nothing here knows HTTP.
 
-use fpc::design::{optimize, DesignOptions, Requirements, RequirementsError, VARIABLES};
+use fpc::design::{
+    optimize, DesignBase, DesignOptions, Requirements, RequirementsError, VARIABLES,
+};
 use fpc::finger::{Finger, LoadPathSpec, Solver, TargetProblem};
 use fpc::gripper::{Gripper, SphereEnvelope};
 use fpc::scene::{PartitionPlan, SceneFile, SceneSolution, SolutionRecord};
@@ -112,6 +114,10 @@ pub struct DesignRequest {
     /// Random starts besides the centre and the corners.
     #[serde(default = "default_starts")]
     pub starts: usize,
+    /// Optional: the finger to design from, a scene's TOML text (a
+    /// calibrated scene, say), as `fpc design --scene` takes it.
+    #[serde(default)]
+    pub scene: Option<String>,
 }
 
 fn default_starts() -> usize {
@@ -332,10 +338,15 @@ pub fn load_path(req: LoadPathRequest) -> Result<Value, ApiError> {
 /// `design.json` (without the provenance).
 pub fn design(req: DesignRequest) -> Result<Value, ApiError> {
     let starts = count("starts", req.starts, 0, MAX_DESIGN_STARTS)?;
-    let r = Requirements::parse(&req.toml).map_err(|e| match e {
+    let mut r = Requirements::parse(&req.toml).map_err(|e| match e {
         RequirementsError::Syntax(s) => ApiError::bad("toml", s.to_string()),
         RequirementsError::Input(i) => i.into(),
     })?;
+    if let Some(text) = &req.scene {
+        let file = SceneFile::parse(text).map_err(|e| ApiError::bad("scene", e.to_string()))?;
+        let base = file.resolve()?;
+        r = r.with_base(DesignBase::from_scene(&base, "the request's scene"));
+    }
     let opts = DesignOptions {
         random_starts: starts,
         ..DesignOptions::default()

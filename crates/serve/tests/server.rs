@@ -482,6 +482,42 @@ async fn design_margins_are_the_library_s() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_design_from_a_scene_is_the_library_s_from_that_finger() {
+    let addr = start(fpc_serve::app()).await;
+    let text = "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n\n\
+                [vary]\nmounting_angle_deg = [60.0, 60.0]\noverlap_mm = [20.0, 20.0]\n";
+    let scene = "[actuator.cl]\ne = 350.0\n[actuator.pemc]\neps0 = 0.3\n";
+    let body = json!({ "toml": text, "starts": 0, "scene": scene });
+    let (status, v) = post(addr, "/api/design", body).await;
+    assert_eq!(status, 200, "{v}");
+    // the design's eps0 is the scene's, and its margins those of a gripper
+    // built from the scene's actuator
+    assert_eq!(v["design"]["eps0"], 0.3, "{v}");
+    let base = fpc::scene::Scene::from_toml(scene).unwrap();
+    let req = fpc::design::Requirements::parse(text)
+        .unwrap()
+        .with_base(fpc::design::DesignBase::from_scene(&base, "test"));
+    let want = fpc::design::evaluate(&req, [0.3, 60.0, 20.0]);
+    let got = v["worst_margin"].as_f64().unwrap();
+    assert!(
+        (got - want.worst).abs() <= 1e-9 * want.worst.abs().max(1.0),
+        "{got} vs {}",
+        want.worst
+    );
+    let paper = fpc::design::evaluate(
+        &fpc::design::Requirements::parse(text).unwrap(),
+        [0.3, 60.0, 20.0],
+    );
+    assert!(
+        (got - paper.worst).abs() > 1e-6,
+        "the scene made no difference"
+    );
+    // a scene with an unknown key names the field
+    let body = json!({ "toml": text, "starts": 0, "scene": "[actuator.pemc]\neps00 = 0.3\n" });
+    assert_error(&post(addr, "/api/design", body).await, 400, "scene");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn envelope_points_are_fresh_searches() {
     let addr = start(fpc_serve::app()).await;
     let body = json!({ "scene": { "gripper": {} }, "radii": 4, "samples": 24 });
