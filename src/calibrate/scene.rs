@@ -9,24 +9,6 @@ use super::record::Calibration;
 use crate::measure::Manifest;
 use crate::scene::{CalibrationSection, Scene, SceneFile};
 
-/// Sets the dotted `key` of `t` to `v`, making the tables on the way.
-fn set(t: &mut Table, key: &str, v: f64) {
-    let mut parts: Vec<&str> = key.split('.').collect();
-    let Some(last) = parts.pop() else { return };
-    let mut at = t;
-    for p in parts {
-        let entry = at
-            .entry(p.to_string())
-            .or_insert_with(|| Value::Table(Table::new()));
-        if !entry.is_table() {
-            *entry = Value::Table(Table::new());
-        }
-        let Value::Table(inner) = entry else { return };
-        at = inner;
-    }
-    at.insert(last.to_string(), Value::Float(v));
-}
-
 /// The calibrated scene of every specimen of `manifest`, in its order:
 /// `(specimen name, scene file text)`. Each is checked by resolving it
 /// again (an error names the key it rejects).
@@ -52,7 +34,7 @@ pub fn calibrated_scenes(
                 rule: e.to_string(),
             })?;
         for &k in &mine {
-            set(&mut table, &fit.parameters[k].key, fit.parameters[k].value);
+            SceneFile::set_number(&mut table, &fit.parameters[k].key, fit.parameters[k].value)?;
         }
         let cov = fit.covariance.as_ref().map(|c| {
             mine.iter()

@@ -1,6 +1,8 @@
 //! The file format: the serde structs of a scene document, every key
 //! optional, unknown keys rejected, and the syntax errors of parsing.
 
+use crate::error::InputError;
+use crate::field::Field;
 use serde::{Deserialize, Serialize};
 
 /// A scene document that is not valid TOML, or has an unknown key or a
@@ -492,6 +494,43 @@ impl SceneFile {
         toml::from_str(text).map_err(|e| SceneError::from_toml(text, &e))
     }
 
+    /// Sets the dotted scene `key` (`load.fx`, `actuator.pemc.eps0`, ...)
+    /// of a TOML document to `value`, making the tables on the way; a key
+    /// that takes whole numbers (`partition.elements`, `solve.max_iter`,
+    /// `solve.samples_per_element`, `gripper.fingers`) gets an integer
+    /// when `value` is one. A part of the path that holds a value, not a
+    /// table, is an error naming `key`. Whether the key exists is for
+    /// [`SceneFile::parse`] to say.
+    pub fn set_number(doc: &mut toml::Table, key: &str, value: f64) -> Result<(), InputError> {
+        const INTEGER_KEYS: [&str; 4] = [
+            "partition.elements",
+            "solve.max_iter",
+            "solve.samples_per_element",
+            "gripper.fingers",
+        ];
+        let mut parts: Vec<&str> = key.split('.').collect();
+        let last = parts.pop().unwrap_or(key);
+        let mut table = doc;
+        for p in parts {
+            let entry = table
+                .entry(p.to_string())
+                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+            table = entry
+                .as_table_mut()
+                .ok_or_else(|| InputError::Inconsistent {
+                    field: Field::from(key.to_string()),
+                    rule: format!("'{p}' is not a table in the scene"),
+                })?;
+        }
+        let v = if value.fract() == 0.0 && value.abs() < 1e15 && INTEGER_KEYS.contains(&key) {
+            toml::Value::Integer(value as i64)
+        } else {
+            toml::Value::Float(value)
+        };
+        table.insert(last.to_string(), v);
+        Ok(())
+    }
+
     /// The document as TOML text, without the tables that hold no key
     /// (parsing it gives this file again).
     pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
@@ -513,6 +552,22 @@ impl SceneFile {
 mod tests {
     use super::*;
     use crate::scene::testing::syntax_err;
+
+    #[test]
+    fn numbers_are_set_in_nested_tables() {
+        let mut doc: toml::Table = toml::from_str("[load]\nfx = 1.0\n").unwrap();
+        SceneFile::set_number(&mut doc, "load.fx", 2.5).unwrap();
+        SceneFile::set_number(&mut doc, "actuator.pemc.eps0", 0.3).unwrap();
+        SceneFile::set_number(&mut doc, "partition.elements", 16.0).unwrap();
+        let s = toml::to_string(&doc).unwrap();
+        let back: toml::Table = toml::from_str(&s).unwrap();
+        assert_eq!(back["load"]["fx"].as_float(), Some(2.5));
+        assert_eq!(back["actuator"]["pemc"]["eps0"].as_float(), Some(0.3));
+        assert_eq!(back["partition"]["elements"].as_integer(), Some(16));
+        let mut doc: toml::Table = toml::from_str("load = 3\n").unwrap();
+        let e = SceneFile::set_number(&mut doc, "load.fx", 1.0).unwrap_err();
+        assert!(e.to_string().starts_with("load.fx"), "{e}");
+    }
 
     #[test]
     fn unknown_key_is_rejected_with_its_name_and_line() {

@@ -132,37 +132,6 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
     })
 }
 
-/// Sets the dotted `key` of a TOML document to `value`, creating tables on
-/// the way (an integer key such as `partition.elements` keeps integers).
-fn set_key(doc: &mut toml::Table, key: &str, value: f64) -> Result<(), String> {
-    let mut parts: Vec<&str> = key.split('.').collect();
-    let last = parts.pop().unwrap_or(key);
-    let mut table = doc;
-    for p in parts {
-        let entry = table
-            .entry(p.to_string())
-            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-        table = entry
-            .as_table_mut()
-            .ok_or_else(|| format!("{key}: '{p}' is not a table in the scene"))?;
-    }
-    let v = if value.fract() == 0.0 && value.abs() < 1e15 && INTEGER_KEYS.contains(&key) {
-        toml::Value::Integer(value as i64)
-    } else {
-        toml::Value::Float(value)
-    };
-    table.insert(last.to_string(), v);
-    Ok(())
-}
-
-/// Scene keys that take whole numbers.
-const INTEGER_KEYS: [&str; 4] = [
-    "partition.elements",
-    "solve.max_iter",
-    "solve.samples_per_element",
-    "gripper.fingers",
-];
-
 /// One point's outcome.
 #[derive(Debug, Clone, Serialize)]
 struct Row {
@@ -252,7 +221,7 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
 fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, String> {
     let mut doc = base.clone();
     for (a, &v) in axes.iter().zip(values) {
-        set_key(&mut doc, &a.key, v)?;
+        fpc::scene::SceneFile::set_number(&mut doc, &a.key, v).map_err(|e| e.to_string())?;
     }
     let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
     Scene::from_toml(&text).map_err(|e| e.to_string())
@@ -263,7 +232,8 @@ fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, 
 fn vary_key_is_numeric(base: &toml::Table, axis: &Axis) -> Result<(), String> {
     let mut doc = base.clone();
     let key = &axis.key;
-    set_key(&mut doc, key, axis.values[0]).map_err(|e| format!("--vary {e}"))?;
+    fpc::scene::SceneFile::set_number(&mut doc, key, axis.values[0])
+        .map_err(|e| format!("--vary {e}"))?;
     let text = toml::to_string(&doc).map_err(|e| format!("--vary {key}: {e}"))?;
     match fpc::scene::SceneFile::parse(&text) {
         Ok(_) => Ok(()),
@@ -542,21 +512,6 @@ mod tests {
         ] {
             assert!(parse_axis(bad).is_err(), "{bad}");
         }
-    }
-
-    #[test]
-    fn keys_are_set_in_nested_tables() {
-        let mut doc: toml::Table = toml::from_str("[load]\nfx = 1.0\n").unwrap();
-        set_key(&mut doc, "load.fx", 2.5).unwrap();
-        set_key(&mut doc, "actuator.pemc.eps0", 0.3).unwrap();
-        set_key(&mut doc, "partition.elements", 16.0).unwrap();
-        let s = toml::to_string(&doc).unwrap();
-        let back: toml::Table = toml::from_str(&s).unwrap();
-        assert_eq!(back["load"]["fx"].as_float(), Some(2.5));
-        assert_eq!(back["actuator"]["pemc"]["eps0"].as_float(), Some(0.3));
-        assert_eq!(back["partition"]["elements"].as_integer(), Some(16));
-        let mut doc: toml::Table = toml::from_str("load = 3\n").unwrap();
-        assert!(set_key(&mut doc, "load.fx", 1.0).is_err());
     }
 
     #[test]
