@@ -19,7 +19,8 @@
 use fpc::scene::{Scene, SceneFile, SceneSolution};
 use fpc::studies::{
     section5_gripper, study2_overlap_with, study4_force_control, study4_force_control_with,
-    study5_sphere_region, study5_sphere_region_with, study7_curvature, study7_curvature_with,
+    study5_sphere_region, study5_sphere_region_with, study6_viable_angles,
+    study6_viable_angles_with, study7_curvature, study7_curvature_with,
     study8_force_at_displacement, study8_force_at_displacement_with, StudyOptions,
 };
 
@@ -806,4 +807,107 @@ fn study5_bands_with_one_key_are_central_difference_slopes() {
         (got - fd.abs()).abs() <= tol * fd.abs(),
         "study 5 peak f_v: propagated {got}, central difference {fd}"
     );
+}
+
+#[test]
+fn study6_bands_match_monte_carlo_through_the_study() {
+    // the scan's angles are fixed (they depend on mu only), and the
+    // viable interval's ends are the study's own bisection: each draw
+    // runs the ordinary study
+    let opts = study_options();
+    let n = 300;
+    let (scene, draws) = study_draws(n, 17);
+    let (v, sd6) = study6_viable_angles_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let sd6 = sd6.unwrap();
+    assert_eq!(v.intervals.len(), 1, "{:?}", v.intervals);
+    // the scan's first viable angle and the one after it, and both ends
+    let first = v.scan.iter().position(|s| s.viable).unwrap();
+    let picks = [first, first + 1];
+    let mut cols = vec![Vec::with_capacity(n); 2 * picks.len() + 2];
+    for act in &draws {
+        let w = study6_viable_angles(act, &opts).unwrap();
+        for (k, &i) in picks.iter().enumerate() {
+            cols[2 * k].push(w.scan[i].normal);
+            cols[2 * k + 1].push(w.scan[i].friction);
+        }
+        assert_eq!(w.intervals.len(), 1, "{:?}", w.intervals);
+        cols[4].push(w.intervals[0][0]);
+        cols[5].push(w.intervals[0][1]);
+    }
+    for (k, &i) in picks.iter().enumerate() {
+        let row = sd6.scan[i].as_ref().unwrap();
+        let at = format!("b = {:.3} rad", v.scan[i].beta);
+        agree(&format!("study 6 F, {at}"), row.normal, sd(&cols[2 * k]), n);
+        agree(
+            &format!("study 6 f, {at}"),
+            row.friction,
+            sd(&cols[2 * k + 1]),
+            n,
+        );
+    }
+    let [lo, hi] = &sd6.intervals[0];
+    agree("study 6 lower end", *lo.as_ref().unwrap(), sd(&cols[4]), n);
+    agree("study 6 upper end", *hi.as_ref().unwrap(), sd(&cols[5]), n);
+}
+
+#[test]
+fn study6_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
+    // central differences of two ordinary runs of the study
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let opts = study_options();
+    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    let h = 1e-5;
+    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
+    let (up, down) = (at(p1 + h), at(p1 - h));
+    let (v, sd6) = study6_viable_angles_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let sd6 = sd6.unwrap();
+    let (u, d) = (
+        study6_viable_angles(&up, &opts).unwrap(),
+        study6_viable_angles(&down, &opts).unwrap(),
+    );
+    let close = |what: String, got: f64, fd: f64, tol: f64| {
+        println!("{what}: propagated {got:.6e}, central difference {fd:.6e}");
+        assert!(
+            (got - fd.abs()).abs() <= tol * fd.abs(),
+            "{what}: propagated {got}, central difference {fd}"
+        );
+    };
+    for (i, s) in v.scan.iter().enumerate() {
+        let row = sd6.scan[i].as_ref().unwrap();
+        let (a, b) = (&u.scan[i], &d.scan[i]);
+        let at = format!("b = {:.3} rad", s.beta);
+        let fd = |x: f64, y: f64| (x - y) / (2.0 * h);
+        close(
+            format!("study 6 F, {at}"),
+            row.normal,
+            fd(a.normal, b.normal),
+            1e-4,
+        );
+        close(
+            format!("study 6 f, {at}"),
+            row.friction,
+            fd(a.friction, b.friction),
+            1e-4,
+        );
+        close(
+            format!("study 6 f/F, {at}"),
+            row.ratio,
+            fd(a.friction / a.normal, b.friction / b.normal),
+            1e-4,
+        );
+    }
+    // the ends are bisected to 1e-9 rad, against differences 2 h db/dp of
+    // some 1e-5 rad: 1e-3 relative
+    for (k, end) in sd6.intervals[0].iter().enumerate() {
+        let fd = (u.intervals[0][k] - d.intervals[0][k]) / (2.0 * h);
+        close(format!("study 6 end {k}"), *end.as_ref().unwrap(), fd, 1e-3);
+    }
 }

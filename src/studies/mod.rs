@@ -63,7 +63,7 @@ pub use prestrain_angle::{study1_prestrain_angle, study1_prestrain_angle_with};
 pub use sphere::{
     study5_sphere_region, study5_sphere_region_with, SphereLiftSd, SpherePoint, SphereRegion,
 };
-pub use viable::study6_viable_angles;
+pub use viable::{study6_viable_angles, study6_viable_angles_with, AngleSd, ViableSd};
 
 // ------------------------------------------------------------ all
 

@@ -789,6 +789,7 @@ fn paper_scene_bands_only_with_a_covariance() {
             "study2.csv",
             "study4.csv",
             "study5_envelope.csv",
+            "study6.csv",
             "study7.csv",
             "study8.csv",
         ]
@@ -824,6 +825,7 @@ fn paper_scene_bands_only_with_a_covariance() {
         assert!(sd > 0.0 && sd.is_finite(), "{line}");
     }
     assert!(read(&banded, "study5.svg").contains("1 sd"));
+    assert!(read(&banded, "study6.svg").contains("1 sd"));
     assert!(read(&banded, "study7.svg").contains("1 sd"));
     assert!(read(&banded, "study8.svg").contains("1 sd"));
     let s: Value = serde_json::from_str(&read(&banded, "summary.json")).unwrap();
@@ -838,13 +840,14 @@ fn paper_scene_bands_only_with_a_covariance() {
     assert_eq!(left, ["actuator.pemc.eps0", "load.kappa"]);
     assert_eq!(
         u["studies_with_bands"],
-        serde_json::json!([1, 2, 4, 5, 7, 8])
+        serde_json::json!([1, 2, 4, 5, 6, 7, 8])
     );
     assert_eq!(u["methods"]["study1"]["fv_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study2"]["dmax_mm_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study4"]["F_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study5"]["fv_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study5"]["F_n_sd"], "first_order_exact");
+    assert_eq!(u["methods"]["study6"]["f_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study7"]["radius_mm_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study8"]["force_n_sd"], "first_order_exact");
     let row = &s["force_at_10mm"][0];
@@ -875,6 +878,10 @@ fn paper_scene_bands_only_with_a_covariance() {
             );
         }
     }
+    // study 6: both ends of its viable interval move
+    let ends = &s["sphere_viable_angles"]["intervals_sd_rad"][0];
+    assert!(number(&ends[0], "lower end's sd") > 0.0);
+    assert!(number(&ends[1], "upper end's sd") > 0.0);
     let point = &s["radius_vs_pressure"][0]["points"][0];
     assert!(number(&point["radius_mm_sd"], "radius_mm_sd") > 0.0);
     std::fs::remove_dir_all(&base).unwrap();
