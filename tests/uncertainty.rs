@@ -899,7 +899,7 @@ fn study6_bands_with_one_key_are_central_difference_slopes() {
         );
         close(
             format!("study 6 f/F, {at}"),
-            row.ratio,
+            row.ratio.unwrap(),
             fd(a.friction / a.normal, b.friction / b.normal),
             1e-4,
         );

@@ -49,8 +49,8 @@ pub struct AngleSd {
     pub normal: f64,
     /// Of the friction f (N).
     pub friction: f64,
-    /// Of the friction needed, f/F.
-    pub ratio: f64,
+    /// Of the friction needed, f/F (`None` where F = 0).
+    pub ratio: Option<f64>,
 }
 
 /// [`study6_viable_angles`], and with a covariance of the actuator's
@@ -228,11 +228,7 @@ fn angle_sd(gr: &Grasp, d: &[Option<GraspSensitivity>], b: &BandParams) -> Angle
     AngleSd {
         normal: s(&|r| r.normal),
         friction: s(&|r| r.friction),
-        ratio: if fn_ != 0.0 {
-            s(&|r| (r.friction * fn_ - ff * r.normal) / (fn_ * fn_))
-        } else {
-            f64::NAN
-        },
+        ratio: (fn_ != 0.0).then(|| s(&|r| (r.friction * fn_ - ff * r.normal) / (fn_ * fn_))),
     }
 }
 
@@ -327,7 +323,7 @@ pub(crate) fn output(v: Option<&ViableAngles>, mu: f64, sd: Option<&ViableSd>) -
                 lead.extend([
                     ok.map(|r| r.normal).into(),
                     ok.map(|r| r.friction).into(),
-                    ok.map(|r| r.ratio).filter(|x| x.is_finite()).into(),
+                    ok.and_then(|r| r.ratio).into(),
                 ]);
             }
             a.grasp(0, lead, s.reversed, s.invalid.as_ref(), &s.warnings);
@@ -420,7 +416,7 @@ fn figure(v: &ViableAngles, mu: f64, sd: Option<&ViableSd>) -> Figure {
     // the band of y(sample) with its sd, over the solved samples
     let band = |key: &str,
                 y: &dyn Fn(&AngleSample) -> Option<f64>,
-                s: fn(&AngleSd) -> f64,
+                s: fn(&AngleSd) -> Option<f64>,
                 clamp: [f64; 2]| {
         let d = sd?;
         let (at, sds): (Vec<[f64; 2]>, Vec<f64>) = v
@@ -429,7 +425,8 @@ fn figure(v: &ViableAngles, mu: f64, sd: Option<&ViableSd>) -> Figure {
             .zip(&d.scan)
             .filter_map(|(a, r)| {
                 let y = y(a)?;
-                Some(([a.beta.to_degrees(), y], r.as_ref().map_or(f64::NAN, s)))
+                let sd = r.as_ref().ok().and_then(s).unwrap_or(f64::NAN);
+                Some(([a.beta.to_degrees(), y], sd))
             })
             .unzip();
         Series::spread(key, &at, &sds, clamp).map(|s| s.label(BAND_LABEL))
@@ -534,7 +531,7 @@ fn figure(v: &ViableAngles, mu: f64, sd: Option<&ViableSd>) -> Figure {
     f.series.extend(band(
         "normal force",
         &|s| s.failure.is_none().then_some(s.normal),
-        |s| s.normal,
+        |s| Some(s.normal),
         [f64::MIN, f64::MAX],
     ));
     f.curve(
