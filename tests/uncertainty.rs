@@ -18,9 +18,10 @@
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
 use fpc::studies::{
-    study2_overlap_with, study4_force_control, study4_force_control_with, study7_curvature,
-    study7_curvature_with, study8_force_at_displacement, study8_force_at_displacement_with,
-    StudyOptions,
+    section5_gripper, study2_overlap_with, study4_force_control, study4_force_control_with,
+    study5_sphere_region, study5_sphere_region_with, study6_viable_angles,
+    study6_viable_angles_with, study7_curvature, study7_curvature_with,
+    study8_force_at_displacement, study8_force_at_displacement_with, StudyOptions,
 };
 
 /// A seeded standard normal (Box-Muller).
@@ -652,4 +653,261 @@ fn study2_bands_match_monte_carlo_of_the_grasp_at_its_size() {
         sd(&cols[2]),
         n,
     );
+}
+
+/// The best lift (and its normal force) of a sphere of radius `r` on the
+/// study-5 gripper of `act`, through the ordinary path: the scan over the
+/// grasping angle and Brent's method (`Gripper::max_sphere_lift`).
+fn best_sphere_lift(act: &fpc::Actuator, opts: &StudyOptions, r: f64) -> [f64; 2] {
+    let g = section5_gripper(act, opts).unwrap();
+    let best = g
+        .max_sphere_lift(0.0, r, opts.angle_samples)
+        .unwrap()
+        .unwrap();
+    [best.lift, best.normal]
+}
+
+#[test]
+fn study5_envelope_bands_match_monte_carlo_of_the_best_lift_at_its_radius() {
+    // the envelope's band is at a fixed radius (its radius grid moves with
+    // the swept region): each draw solves the best lift at that radius
+    // through the ordinary path, the study's gripper at the draw's
+    // parameters (eps0 is the study's own)
+    let opts = study_options();
+    let n = 300;
+    let (scene, draws) = study_draws(n, 16);
+    let region = study5_sphere_region_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    assert_eq!(region.envelope_sd.len(), region.envelope.len());
+    let m = region.envelope.len();
+    assert!(m >= 6, "{m} envelope points");
+    let peak = region.peak.clone().unwrap();
+    // the smallest radius, one in the middle, and the peak's
+    let picks: Vec<(String, fpc::gripper::SphereLift, fpc::studies::SphereLiftSd)> = [0, m / 2]
+        .iter()
+        .map(|&i| {
+            let e = &region.envelope[i];
+            let sd = region.envelope_sd[i].clone().unwrap();
+            (format!("r = {:.1} mm", e.radius), e.clone(), sd)
+        })
+        .chain(std::iter::once((
+            format!("the peak, r = {:.1} mm", peak.radius),
+            peak.clone(),
+            region.peak_sd.clone().unwrap().unwrap(),
+        )))
+        .collect();
+    // the ordinary path gives the study's point at the mean
+    for (name, e, _) in &picks {
+        let [lift, _] = best_sphere_lift(&scene.actuator, &opts, e.radius);
+        assert!(
+            (lift - e.lift).abs() <= 1e-6 * e.lift,
+            "{name}: {lift} {}",
+            e.lift
+        );
+    }
+    let mut cols = vec![Vec::with_capacity(n); 2 * picks.len()];
+    for act in &draws {
+        for (k, (_, e, _)) in picks.iter().enumerate() {
+            let [lift, normal] = best_sphere_lift(act, &opts, e.radius);
+            cols[2 * k].push(lift);
+            cols[2 * k + 1].push(normal);
+        }
+    }
+    for (k, (name, _, sd_e)) in picks.iter().enumerate() {
+        agree(
+            &format!("study 5 f_v, {name}"),
+            sd_e.lift,
+            sd(&cols[2 * k]),
+            n,
+        );
+        agree(
+            &format!("study 5 F, {name}"),
+            sd_e.normal,
+            sd(&cols[2 * k + 1]),
+            n,
+        );
+    }
+    // without a covariance, none
+    let plain = study5_sphere_region(&scene.actuator, &opts).unwrap();
+    assert!(plain.envelope_sd.is_empty() && plain.peak_sd.is_none());
+    assert_eq!(plain.envelope, region.envelope);
+}
+
+#[test]
+fn study5_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: each envelope
+    // point's against central differences of the best lift at its radius
+    // (the ordinary path, `Gripper::max_sphere_lift`), and the peak's lift
+    // against those of two ordinary runs of the study (the peak is
+    // stationary in the radius, so its lift moves as the envelope's at
+    // the peak's radius)
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let opts = study_options();
+    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    let h = 1e-5;
+    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
+    let (up, down) = (at(p1 + h), at(p1 - h));
+    let region = study5_sphere_region_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    // The best angle is located to 1e-9 rad (ENVELOPE_BETA_TOL) on a
+    // validity boundary, where the lift's slope in the angle is a few N
+    // per rad: some 1e-9 N in each lift, against differences 2 h f_v' of
+    // about 4e-5 N, and the boundary's own derivative is a Richardson
+    // difference; they agree to 2e-4 at this writing, so 1e-3 relative,
+    // not the finger's 1e-4
+    let tol = 1e-3;
+    let mut checked = 0;
+    for (e, sd) in region.envelope.iter().zip(&region.envelope_sd) {
+        // a best angle held by a boundary the sensitivities do not cover
+        // (the largest radius here: the tip's angle limit) has none, and
+        // says why
+        let Ok(sd) = sd else {
+            let why = sd.as_ref().unwrap_err();
+            assert!(why.starts_with("no error bars: "), "{why}");
+            continue;
+        };
+        let (a, b) = (
+            best_sphere_lift(&up, &opts, e.radius),
+            best_sphere_lift(&down, &opts, e.radius),
+        );
+        for (got, fd, what) in [
+            (sd.lift, (a[0] - b[0]) / (2.0 * h), "f_v"),
+            (sd.normal, (a[1] - b[1]) / (2.0 * h), "F"),
+        ] {
+            println!(
+                "study 5 {what} at r = {:.2} mm: propagated {got:.6e}, central difference {fd:.6e}",
+                e.radius
+            );
+            assert!(
+                (got - fd.abs()).abs() <= tol * fd.abs(),
+                "study 5 {what} at r = {:.2} mm: propagated {got}, central difference {fd}",
+                e.radius
+            );
+        }
+        checked += 1;
+    }
+    assert!(
+        checked + 2 >= region.envelope.len() && checked >= 6,
+        "{checked} of {} envelope points checked",
+        region.envelope.len()
+    );
+    let (u, d) = (
+        study5_sphere_region(&up, &opts).unwrap(),
+        study5_sphere_region(&down, &opts).unwrap(),
+    );
+    let fd = (u.peak.unwrap().lift - d.peak.unwrap().lift) / (2.0 * h);
+    let got = region.peak_sd.unwrap().unwrap().lift;
+    println!("study 5 peak f_v: propagated {got:.6e}, central difference {fd:.6e}");
+    assert!(
+        (got - fd.abs()).abs() <= tol * fd.abs(),
+        "study 5 peak f_v: propagated {got}, central difference {fd}"
+    );
+}
+
+#[test]
+fn study6_bands_match_monte_carlo_through_the_study() {
+    // the scan's angles are fixed (they depend on mu only), and the
+    // viable interval's ends are the study's own bisection: each draw
+    // runs the ordinary study
+    let opts = study_options();
+    let n = 300;
+    let (scene, draws) = study_draws(n, 17);
+    let (v, sd6) = study6_viable_angles_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let sd6 = sd6.unwrap();
+    assert_eq!(v.intervals.len(), 1, "{:?}", v.intervals);
+    // the scan's first viable angle and the one after it, and both ends
+    let first = v.scan.iter().position(|s| s.viable).unwrap();
+    let picks = [first, first + 1];
+    let mut cols = vec![Vec::with_capacity(n); 2 * picks.len() + 2];
+    for act in &draws {
+        let w = study6_viable_angles(act, &opts).unwrap();
+        for (k, &i) in picks.iter().enumerate() {
+            cols[2 * k].push(w.scan[i].normal);
+            cols[2 * k + 1].push(w.scan[i].friction);
+        }
+        assert_eq!(w.intervals.len(), 1, "{:?}", w.intervals);
+        cols[4].push(w.intervals[0][0]);
+        cols[5].push(w.intervals[0][1]);
+    }
+    for (k, &i) in picks.iter().enumerate() {
+        let row = sd6.scan[i].as_ref().unwrap();
+        let at = format!("b = {:.3} rad", v.scan[i].beta);
+        agree(&format!("study 6 F, {at}"), row.normal, sd(&cols[2 * k]), n);
+        agree(
+            &format!("study 6 f, {at}"),
+            row.friction,
+            sd(&cols[2 * k + 1]),
+            n,
+        );
+    }
+    let [lo, hi] = &sd6.intervals[0];
+    agree("study 6 lower end", *lo.as_ref().unwrap(), sd(&cols[4]), n);
+    agree("study 6 upper end", *hi.as_ref().unwrap(), sd(&cols[5]), n);
+}
+
+#[test]
+fn study6_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
+    // central differences of two ordinary runs of the study
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let opts = study_options();
+    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    let h = 1e-5;
+    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
+    let (up, down) = (at(p1 + h), at(p1 - h));
+    let (v, sd6) = study6_viable_angles_with(&scene.actuator, &opts, scene.covariance()).unwrap();
+    let sd6 = sd6.unwrap();
+    let (u, d) = (
+        study6_viable_angles(&up, &opts).unwrap(),
+        study6_viable_angles(&down, &opts).unwrap(),
+    );
+    let close = |what: String, got: f64, fd: f64, tol: f64| {
+        println!("{what}: propagated {got:.6e}, central difference {fd:.6e}");
+        assert!(
+            (got - fd.abs()).abs() <= tol * fd.abs(),
+            "{what}: propagated {got}, central difference {fd}"
+        );
+    };
+    for (i, s) in v.scan.iter().enumerate() {
+        let row = sd6.scan[i].as_ref().unwrap();
+        let (a, b) = (&u.scan[i], &d.scan[i]);
+        let at = format!("b = {:.3} rad", s.beta);
+        let fd = |x: f64, y: f64| (x - y) / (2.0 * h);
+        close(
+            format!("study 6 F, {at}"),
+            row.normal,
+            fd(a.normal, b.normal),
+            1e-4,
+        );
+        close(
+            format!("study 6 f, {at}"),
+            row.friction,
+            fd(a.friction, b.friction),
+            1e-4,
+        );
+        close(
+            format!("study 6 f/F, {at}"),
+            row.ratio.unwrap(),
+            fd(a.friction / a.normal, b.friction / b.normal),
+            1e-4,
+        );
+    }
+    // the ends are bisected to 1e-9 rad, against differences 2 h db/dp of
+    // some 1e-5 rad: 1e-3 relative
+    for (k, end) in sd6.intervals[0].iter().enumerate() {
+        let fd = (u.intervals[0][k] - d.intervals[0][k]) / (2.0 * h);
+        close(format!("study 6 end {k}"), *end.as_ref().unwrap(), fd, 1e-3);
+    }
 }

@@ -60,8 +60,10 @@ pub use output::{
 };
 pub use overlap::{study2_overlap, study2_overlap_with};
 pub use prestrain_angle::{study1_prestrain_angle, study1_prestrain_angle_with};
-pub use sphere::{study5_sphere_region, SpherePoint, SphereRegion};
-pub use viable::study6_viable_angles;
+pub use sphere::{
+    study5_sphere_region, study5_sphere_region_with, SphereLiftSd, SpherePoint, SphereRegion,
+};
+pub use viable::{study6_viable_angles, study6_viable_angles_with, AngleSd, ViableSd};
 
 // ------------------------------------------------------------ all
 

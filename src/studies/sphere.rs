@@ -2,8 +2,9 @@
 
 use serde::Serialize;
 
+use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
 use super::info::StudyInfo;
-use super::options::{section5_gripper, StudyOptions, SweepStop};
+use super::options::{section5_gripper, StudyOptions, SweepStop, SECTION5_EPS0};
 use super::output::*;
 use super::sweep::size_sweep;
 use crate::actuator::Actuator;
@@ -11,6 +12,7 @@ use crate::error::Warning;
 use crate::gripper::{
     grasping_angle_range, EnvelopeCounts, Gripper, Invalid, Object, SphereEnvelope, SphereLift,
 };
+use crate::sensitivity::{Covariance, GripperParam, Param};
 use crate::solve_error::SolveError;
 
 /// A valid sphere grasp of the study-5 sweep (`f = mu F`).
@@ -54,6 +56,29 @@ pub struct SphereRegion {
     /// How the envelope's radii (the peak's search included) were
     /// answered: continued on a boundary or inside, or searched afresh.
     pub envelope_counts: EnvelopeCounts,
+    /// With a covariance ([`study5_sphere_region_with`]): one entry per
+    /// point of `envelope`, its 1-sigma or why it has none (the best
+    /// lift's sensitivities failed); empty without a covariance.
+    pub envelope_sd: Vec<Result<SphereLiftSd, String>>,
+    /// With a covariance: the peak's 1-sigma at its radius held fixed, or
+    /// why it has none; `None` without a covariance or without a peak.
+    /// Its lift's is the peak's own (the peak is stationary in the
+    /// radius); its normal force's is at that radius only (the peak's
+    /// radius moves with the parameters, and F with it).
+    pub peak_sd: Option<Result<SphereLiftSd, String>>,
+}
+
+/// 1-sigma of a point of the study-5 envelope from a covariance, by
+/// first-order propagation through the best lift's exact sensitivities
+/// at its radius ([`Gripper::max_sphere_lift_sensitivities`]: the envelope
+/// theorem over the grasping angle, or the angle moving along the
+/// validity boundary that holds it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SphereLiftSd {
+    /// Of the best lifting force f_v (N).
+    pub lift: f64,
+    /// Of the normal force F at the best angle (N).
+    pub normal: f64,
 }
 
 /// Study 5 (Sec. 5.2.1): the Sec. 5 gripper; grasping angles over
@@ -66,6 +91,22 @@ pub struct SphereRegion {
 pub fn study5_sphere_region(
     actuator: &Actuator,
     opts: &StudyOptions,
+) -> Result<SphereRegion, SolveError> {
+    study5_sphere_region_with(actuator, opts, None)
+}
+
+/// [`study5_sphere_region`], and with a covariance of the actuator's
+/// parameters the 1-sigma of each envelope point and of the peak
+/// ([`SphereRegion::envelope_sd`], [`SphereRegion::peak_sd`]) by
+/// first-order propagation through the best lift's exact sensitivities
+/// at its radius held fixed (the envelope's radius grid moves with the
+/// parameters: a band is the spread of the best lift at a given radius).
+/// The gripper's prestrain (0.25) is the study's own: its variance is not
+/// propagated (`crate::studies::not_propagated`).
+pub fn study5_sphere_region_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
 ) -> Result<SphereRegion, SolveError> {
     let g = section5_gripper(actuator, opts)?;
     let [lo, hi] = grasping_angle_range(g.mu());
@@ -103,6 +144,14 @@ pub fn study5_sphere_region(
     }
     let (envelope, peak, envelope_counts) =
         sphere_envelope(&g, &points, 2 * n, opts.angle_samples)?;
+    let (mut envelope_sd, mut peak_sd) = (Vec::new(), None);
+    if let Some(b) = covariance.map(BandParams::new) {
+        let act = actuator.with_eps0(SECTION5_EPS0)?;
+        let sd =
+            |e: &SphereLift| lift_sd(&g, &act, e, &b).map_err(|e| format!("no error bars: {e}"));
+        envelope_sd = envelope.iter().map(sd).collect();
+        peak_sd = peak.as_ref().map(sd);
+    }
     Ok(SphereRegion {
         points,
         dropped,
@@ -111,6 +160,47 @@ pub fn study5_sphere_region(
         peak,
         stopped,
         envelope_counts,
+        envelope_sd,
+        peak_sd,
+    })
+}
+
+/// The 1-sigma of a best lift and its normal force (module `bands`).
+fn lift_sd(
+    g: &Gripper,
+    act: &Actuator,
+    best: &SphereLift,
+    b: &BandParams,
+) -> Result<SphereLiftSd, SolveError> {
+    // the actuator's parameters among those propagated; the others (none
+    // a gripper's finger has) count 0
+    let propagated = b.params();
+    let params: Vec<GripperParam> = propagated
+        .iter()
+        .filter_map(|p| match p {
+            Param::Actuator(a) => Some(GripperParam::Actuator(*a)),
+            _ => None,
+        })
+        .collect();
+    let rows = g
+        .max_sphere_lift_sensitivities(act, 0.0, best, &params)?
+        .rows;
+    let along = |f: fn(&crate::sensitivity::EnvelopeSensitivity) -> f64| {
+        let d: Vec<f64> = propagated
+            .iter()
+            .map(|p| match p {
+                Param::Actuator(a) => rows
+                    .iter()
+                    .find(|r| r.param == GripperParam::Actuator(*a))
+                    .map_or(0.0, f),
+                _ => 0.0,
+            })
+            .collect();
+        b.sigma(&d)
+    };
+    Ok(SphereLiftSd {
+        lift: along(|r| r.lift),
+        normal: along(|r| r.normal),
     })
 }
 
@@ -180,17 +270,17 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     title: "Sphere grasping region",
     description: "The same gripper; grasping angle b swept over [−arctan μ, π/2), at each the grasping size swept with f = μF, r = d / (2 cos b), invalid grasps (not open, second contact, friction) dropped; the envelope is the best b at each radius (Sec. 5.2.1).",
     run,
-    has_bands: false,
-    empty: || output(None, 0),
+    has_bands: true,
+    empty: || output(None, 0, false),
 };
 
 fn run(
     act: &Actuator,
     opts: &StudyOptions,
-    _: Option<&crate::sensitivity::Covariance>,
+    cov: Option<&Covariance>,
 ) -> Result<StudyOutput, SolveError> {
-    let region = study5_sphere_region(act, opts)?;
-    Ok(output(Some(&region), opts.angle_samples))
+    let region = study5_sphere_region_with(act, opts, cov)?;
+    Ok(output(Some(&region), opts.angle_samples, cov.is_some()))
 }
 
 const COLUMNS: [Column; 5] = [
@@ -208,6 +298,9 @@ const ENVELOPE_COLUMNS: [Column; 4] = [
     Column::new("F_n", "N"),
 ];
 
+/// The envelope's 1-sigma columns, with a covariance (`bands`).
+const ENVELOPE_SD_COLUMNS: [Column; 2] = [Column::new("fv_n_sd", "N"), Column::new("F_n_sd", "N")];
+
 #[derive(Serialize)]
 struct Peak {
     r_mm: f64,
@@ -215,6 +308,10 @@ struct Peak {
     fv_n: f64,
     #[serde(rename = "F_n")]
     f_n: f64,
+    /// With a covariance: the 1-sigma of the peak's lift (null where
+    /// none). Not of its F: the peak's radius moves with the parameters.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    fv_n_sd: Option<Option<f64>>,
 }
 
 #[derive(Serialize)]
@@ -235,12 +332,27 @@ struct Summary {
     sphere_region: Option<RegionSummary>,
 }
 
-/// The outputs of study 5 (`None`: the empty outputs).
-pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> StudyOutput {
+/// The outputs of study 5 (`None`: the empty outputs); `with_sd`: the
+/// envelope's 1-sigma too (columns `fv_n_sd`, `F_n_sd` of
+/// `study5_envelope`, a band, the peak's in the summary).
+pub(crate) fn output(
+    region: Option<&SphereRegion>,
+    angle_samples: usize,
+    with_sd: bool,
+) -> StudyOutput {
+    let envelope_columns: Vec<Column> = if with_sd {
+        ENVELOPE_COLUMNS
+            .iter()
+            .chain(&ENVELOPE_SD_COLUMNS)
+            .copied()
+            .collect()
+    } else {
+        ENVELOPE_COLUMNS.to_vec()
+    };
     let mut a = Assembly::new(
         &[
             ("study5", &columns(&COLUMNS, &GRASP_TAIL)),
-            ("study5_envelope", &columns(&ENVELOPE_COLUMNS, &GRASP_TAIL)),
+            ("study5_envelope", &columns(&envelope_columns, &GRASP_TAIL)),
         ],
         &["quantity", "value"],
     );
@@ -284,11 +396,29 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
             "{failed} of the {angle_samples} grasping-angle sweeps stopped on a failed solve (rows with status 'stopped' in study5.csv)",
         ));
     }
-    for e in &region.envelope {
-        let lead = [e.radius, e.beta, e.lift, e.normal].map(Cell::from);
-        a.grasp(1, lead.to_vec(), e.reversed, None, &e.warnings);
+    for (i, e) in region.envelope.iter().enumerate() {
+        let mut lead = [e.radius, e.beta, e.lift, e.normal]
+            .map(Cell::from)
+            .to_vec();
+        let sd = region.envelope_sd.get(i);
+        if with_sd {
+            let ok = sd.and_then(|s| s.as_ref().ok());
+            lead.extend([ok.map(|s| s.lift).into(), ok.map(|s| s.normal).into()]);
+        }
+        a.grasp(1, lead, e.reversed, None, &e.warnings);
+        if let Some(Err(why)) = sd.filter(|_| with_sd) {
+            if let Some(row) = a.tables[1].rows.last_mut() {
+                let at = row.len() - 1;
+                row[at] = why.clone().into();
+            }
+        }
     }
     let peak = region.peak.as_ref();
+    let peak_lift_sd = region
+        .peak_sd
+        .as_ref()
+        .and_then(|s| s.as_ref().ok())
+        .map(|s| s.lift);
     let summary = Summary {
         sphere_envelope_peak_radius_mm: peak.map(|p| p.radius),
         sphere_region: Some(RegionSummary {
@@ -301,6 +431,7 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
                 beta_rad: p.beta,
                 fv_n: p.lift,
                 f_n: p.normal,
+                fv_n_sd: with_sd.then_some(peak_lift_sd),
             }),
         }),
     };
@@ -331,11 +462,22 @@ pub(crate) fn output(region: Option<&SphereRegion>, angle_samples: usize) -> Stu
         },
     ]);
     a.strict_dropped = region.strict_dropped;
-    a.finish(figure(region), &summary)
+    let mut out = a.finish(figure(region, with_sd), &summary);
+    if with_sd {
+        out.bands = ENVELOPE_SD_COLUMNS
+            .iter()
+            .map(|c| BandColumn {
+                column: c.name.into(),
+                method: EXACT,
+            })
+            .collect();
+    }
+    out
 }
 
-/// Valid sphere grasps and the max-lift envelope.
-fn figure(region: &SphereRegion) -> Figure {
+/// Valid sphere grasps and the max-lift envelope; `with_sd`: the
+/// envelope's 1-sigma band.
+fn figure(region: &SphereRegion, with_sd: bool) -> Figure {
     let mut p = Panel::new(
         "Valid grasps and the max lifting force envelope",
         PlotAxis::new("sphere radius r", "mm"),
@@ -353,6 +495,20 @@ fn figure(region: &SphereRegion) -> Figure {
             .label(format!("valid grasps ({})", region.points.len())),
         bent,
     );
+    if with_sd {
+        let (at, sd): (Vec<[f64; 2]>, Vec<f64>) = region
+            .envelope
+            .iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let sd = region.envelope_sd.get(i).and_then(|s| s.as_ref().ok());
+                ([e.radius, e.lift], sd.map_or(f64::NAN, |s| s.lift))
+            })
+            .unzip();
+        p.series.extend(
+            Series::spread("envelope", &at, &sd, [f64::MIN, f64::MAX]).map(|s| s.label(BAND_LABEL)),
+        );
+    }
     let envelope = pts(region.envelope.iter().map(|e| (e.radius, e.lift)));
     let bent = pts(region
         .envelope

@@ -788,6 +788,8 @@ fn paper_scene_bands_only_with_a_covariance() {
             "study1.csv",
             "study2.csv",
             "study4.csv",
+            "study5_envelope.csv",
+            "study6.csv",
             "study7.csv",
             "study8.csv",
         ]
@@ -822,6 +824,8 @@ fn paper_scene_bands_only_with_a_covariance() {
         let sd: f64 = fields(line)[col].parse().unwrap();
         assert!(sd > 0.0 && sd.is_finite(), "{line}");
     }
+    assert!(read(&banded, "study5.svg").contains("1 sd"));
+    assert!(read(&banded, "study6.svg").contains("1 sd"));
     assert!(read(&banded, "study7.svg").contains("1 sd"));
     assert!(read(&banded, "study8.svg").contains("1 sd"));
     let s: Value = serde_json::from_str(&read(&banded, "summary.json")).unwrap();
@@ -834,14 +838,50 @@ fn paper_scene_bands_only_with_a_covariance() {
         .map(|v| v["parameter"].as_str().unwrap())
         .collect();
     assert_eq!(left, ["actuator.pemc.eps0", "load.kappa"]);
-    assert_eq!(u["studies_with_bands"], serde_json::json!([1, 2, 4, 7, 8]));
+    assert_eq!(
+        u["studies_with_bands"],
+        serde_json::json!([1, 2, 4, 5, 6, 7, 8])
+    );
     assert_eq!(u["methods"]["study1"]["fv_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study2"]["dmax_mm_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study4"]["F_n_sd"], "first_order_exact");
+    assert_eq!(u["methods"]["study5"]["fv_n_sd"], "first_order_exact");
+    assert_eq!(u["methods"]["study5"]["F_n_sd"], "first_order_exact");
+    assert_eq!(u["methods"]["study6"]["f_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study7"]["radius_mm_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study8"]["force_n_sd"], "first_order_exact");
     let row = &s["force_at_10mm"][0];
     assert!(number(&row["force_n_sd"], "force_n_sd") > 0.0);
+    let peak = &s["sphere_region"]["peak"];
+    assert!(number(&peak["fv_n_sd"], "fv_n_sd") > 0.0);
+    // the envelope's band: positive wherever a row has one, and most do
+    let csv5 = read(&banded, "study5_envelope.csv");
+    let header5 = fields(csv5.lines().next().unwrap());
+    let (fv, f) = (
+        header5.iter().position(|h| h == "fv_n_sd").unwrap(),
+        header5.iter().position(|h| h == "F_n_sd").unwrap(),
+    );
+    let rows5: Vec<Vec<String>> = csv5.lines().skip(1).map(fields).collect();
+    let banded5 = rows5.iter().filter(|r| !r[fv].is_empty()).count();
+    assert!(2 * banded5 > rows5.len(), "{csv5}");
+    for r in &rows5 {
+        if r[fv].is_empty() {
+            assert!(
+                r[f].is_empty() && r.iter().any(|c| c.starts_with("no error bars")),
+                "{r:?}"
+            );
+        } else {
+            let (a, b): (f64, f64) = (r[fv].parse().unwrap(), r[f].parse().unwrap());
+            assert!(
+                a > 0.0 && b > 0.0 && a.is_finite() && b.is_finite(),
+                "{r:?}"
+            );
+        }
+    }
+    // study 6: both ends of its viable interval move
+    let ends = &s["sphere_viable_angles"]["intervals_sd_rad"][0];
+    assert!(number(&ends[0], "lower end's sd") > 0.0);
+    assert!(number(&ends[1], "upper end's sd") > 0.0);
     let point = &s["radius_vs_pressure"][0]["points"][0];
     assert!(number(&point["radius_mm_sd"], "radius_mm_sd") > 0.0);
     std::fs::remove_dir_all(&base).unwrap();
