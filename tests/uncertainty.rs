@@ -674,15 +674,16 @@ fn study5_envelope_bands_match_monte_carlo_of_the_best_lift_at_its_radius() {
     // through the ordinary path, the study's gripper at the draw's
     // parameters (eps0 is the study's own)
     let opts = study_options();
-    let n = 300;
+    // 200 draws at two radii keep this at about a minute in a debug build
+    let n = 200;
     let (scene, draws) = study_draws(n, 16);
     let region = study5_sphere_region_with(&scene.actuator, &opts, scene.covariance()).unwrap();
     assert_eq!(region.envelope_sd.len(), region.envelope.len());
     let m = region.envelope.len();
     assert!(m >= 6, "{m} envelope points");
     let peak = region.peak.clone().unwrap();
-    // the smallest radius, one in the middle, and the peak's
-    let picks: Vec<(String, fpc::gripper::SphereLift, fpc::studies::SphereLiftSd)> = [0, m / 2]
+    // the smallest radius and the peak's (in the middle of the range)
+    let picks: Vec<(String, fpc::gripper::SphereLift, fpc::studies::SphereLiftSd)> = [0]
         .iter()
         .map(|&i| {
             let e = &region.envelope[i];
