@@ -18,9 +18,9 @@
 
 use fpc::scene::{Scene, SceneFile, SceneSolution};
 use fpc::studies::{
-    section5_gripper, study2_overlap_with, study4_force_control, study4_force_control_with,
-    study5_sphere_region, study5_sphere_region_with, study6_viable_angles,
-    study6_viable_angles_with, study7_curvature, study7_curvature_with,
+    section5_gripper, study2_overlap_with, study3_cuboid_region_with, study4_force_control,
+    study4_force_control_with, study5_sphere_region, study5_sphere_region_with,
+    study6_viable_angles, study6_viable_angles_with, study7_curvature, study7_curvature_with,
     study8_force_at_displacement, study8_force_at_displacement_with, StudyOptions,
 };
 
@@ -910,5 +910,60 @@ fn study6_bands_with_one_key_are_central_difference_slopes() {
     for (k, end) in sd6.intervals[0].iter().enumerate() {
         let fd = (u.intervals[0][k] - d.intervals[0][k]) / (2.0 * h);
         close(format!("study 6 end {k}"), *end.as_ref().unwrap(), fd, 1e-3);
+    }
+}
+
+#[test]
+fn study3_band_is_the_central_difference_slope_of_the_grasp_at_its_size() {
+    // with C = [[1]] over cl.e the band is |d(output)/d(cl.e)|: against
+    // central differences of the grasp at the point's size (the sweep's
+    // grid moves with d_max), each solved through the ordinary scene path
+    let text = STUDY_SCENE.replace(
+        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
+        "parameters = [\"actuator.cl.e\"]\ncovariance = [[1.0]]",
+    );
+    let scene = Scene::from_toml(&text).unwrap();
+    let region =
+        study3_cuboid_region_with(&scene.actuator, &study_options(), scene.covariance()).unwrap();
+    let c = &region.curve;
+    let valid: Vec<_> = c.points.iter().filter(|p| p.sd.is_some()).collect();
+    assert!(valid.len() >= 3, "{} points with a band", valid.len());
+    let h = 1e-2;
+    let grasp = |e: f64, d: f64| -> (f64, f64, f64) {
+        let t = format!(
+            "[actuator.cl]\ne = {e:.17e}\n[actuator.pemc]\neps0 = 0.25\n[partition]\nelements = 4\n\
+             [gripper]\nmounting_angle_deg = 60.0\noverlap_mm = 20.0\nmu = 0.6\n\
+             [gripper.grasp]\nkind = \"size\"\nd_mm = {d:.17e}\npressure_kpa = 0.0\n"
+        );
+        match Scene::from_toml(&t).unwrap().solve().unwrap() {
+            SceneSolution::Gripper {
+                gripper,
+                grasp: Some(o),
+            } => (o.grasp.lift, o.grasp.height, gripper.d_max()),
+            _ => panic!("not a grasp"),
+        }
+    };
+    let e = fpc::sensitivity::Param::from_name("actuator.cl.e")
+        .unwrap()
+        .value(&scene.actuator, &fpc::Load::unloaded(), None)
+        .unwrap();
+    // inside the sweep: its last point is at d_max, which moves
+    for p in [valid[0], valid[valid.len() / 2], valid[3 * valid.len() / 4]] {
+        let (mid, _, _) = grasp(e, p.size);
+        assert!((mid - p.lift).abs() <= 1e-6 * p.lift, "{mid} vs {}", p.lift);
+        let (lu, hu, du) = grasp(e + h, p.size);
+        let (ld, hd, dd) = grasp(e - h, p.size);
+        let sd = p.sd.unwrap();
+        for (what, got, fd) in [
+            ("f_v", sd.lift, (lu - ld) / (2.0 * h)),
+            ("h", sd.height, (hu - hd) / (2.0 * h)),
+            ("d_max", c.d_max_sd.unwrap(), (du - dd) / (2.0 * h)),
+        ] {
+            assert!(
+                (got - fd.abs()).abs() <= 1e-4 * fd.abs().max(1e-6),
+                "study 3 {what} at d = {:.2} mm: propagated {got}, central difference {fd}",
+                p.size
+            );
+        }
     }
 }

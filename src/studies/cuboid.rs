@@ -2,11 +2,13 @@
 
 use serde::Serialize;
 
+use super::bands::{exact_bands, BandParams};
 use super::info::StudyInfo;
-use super::lift::{add_lift_curve, lift_curve, LiftCurve};
-use super::options::{section5_gripper, StudyOptions};
+use super::lift::{add_lift_curve, lift_curve_with, sd_note, LiftCurve};
+use super::options::{section5_gripper, StudyOptions, SECTION5_EPS0};
 use super::output::*;
 use crate::actuator::Actuator;
+use crate::sensitivity::Covariance;
 use crate::solve_error::SolveError;
 
 /// Study 3 result: the cuboid grasping region, under the max lifting force
@@ -32,9 +34,24 @@ pub fn study3_cuboid_region(
     actuator: &Actuator,
     opts: &StudyOptions,
 ) -> Result<CuboidRegion, SolveError> {
+    study3_cuboid_region_with(actuator, opts, None)
+}
+
+/// [`study3_cuboid_region`], and with a covariance of the actuator's
+/// parameters the boundary's 1-sigma (d_max's and every point's, as study
+/// 2's curves have them: the region's edge is study 2's curve at
+/// a = pi/3, g = 20 mm). The prestrain is the study's own (0.25).
+pub fn study3_cuboid_region_with(
+    actuator: &Actuator,
+    opts: &StudyOptions,
+    covariance: Option<&Covariance>,
+) -> Result<CuboidRegion, SolveError> {
     let g = section5_gripper(actuator, opts)?;
+    let bands = covariance.map(BandParams::new);
+    let act = actuator.with_eps0(SECTION5_EPS0)?;
+    let b = bands.as_ref().map(|b| (&act, b));
     Ok(CuboidRegion {
-        curve: lift_curve(&g, 0.25, opts.sweep_points),
+        curve: lift_curve_with(&g, SECTION5_EPS0, opts.sweep_points, b),
     })
 }
 
@@ -46,9 +63,14 @@ pub(crate) const INFO: StudyInfo = StudyInfo {
     key: "cuboid_region",
     title: "Cuboid grasping region",
     description: "The Sec. 5 gripper (eps0 = 0.25, a = π/3, g = 20 mm), b = 0: cuboids of size d needing lifting force f_v per finger can be held when the point lies under the max f_v curve (Sec. 5.1.1).",
-    run: |act, opts, _| Ok(output(Some(&study3_cuboid_region(act, opts)?))),
-    has_bands: false,
-    empty: || output(None),
+    run: |act, opts, cov| {
+        Ok(output(
+            Some(&study3_cuboid_region_with(act, opts, cov)?),
+            cov.is_some(),
+        ))
+    },
+    has_bands: true,
+    empty: || output(None, false),
 };
 
 const COLUMNS: [Column; 5] = [
@@ -59,6 +81,13 @@ const COLUMNS: [Column; 5] = [
     Column::new("h_mm", "mm"),
 ];
 
+/// The 1-sigma columns, with a covariance (`bands`).
+const SD_COLUMNS: [Column; 3] = [
+    Column::new("F_n_sd", "N"),
+    Column::new("fv_max_n_sd", "N"),
+    Column::new("h_mm_sd", "mm"),
+];
+
 #[derive(Serialize)]
 struct RegionSummary {
     test_d_mm: f64,
@@ -67,6 +96,9 @@ struct RegionSummary {
     d_min_mm: Option<f64>,
     reached_mm: f64,
     dmax_mm: f64,
+    /// With a covariance: d_max's 1-sigma (null where there is none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    dmax_mm_sd: Option<Option<f64>>,
     palm_mm: f64,
     l0_mm: f64,
     stopped: Option<StopEntry>,
@@ -78,10 +110,16 @@ struct Summary {
     cuboid_region: Option<RegionSummary>,
 }
 
-/// The outputs of study 3 (`None`: the empty outputs).
-pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
+/// The outputs of study 3 (`None`: the empty outputs); `with_sd`: the
+/// boundary's 1-sigma too (columns `<column>_sd`, a band, d_max's sd).
+pub(crate) fn output(region: Option<&CuboidRegion>, with_sd: bool) -> StudyOutput {
+    let lead: Vec<Column> = if with_sd {
+        COLUMNS.iter().chain(&SD_COLUMNS).copied().collect()
+    } else {
+        COLUMNS.to_vec()
+    };
     let mut a = Assembly::new(
-        &[("study3", &columns(&COLUMNS, &GRASP_TAIL))],
+        &[("study3", &columns(&lead, &GRASP_TAIL))],
         &["quantity", "value"],
     );
     let Some(region) = region else {
@@ -93,8 +131,20 @@ pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
     };
     let c = &region.curve;
     for p in &c.points {
-        let row = [p.size, p.tip_gap, p.normal, p.lift, p.height].map(Cell::from);
-        a.grasp(0, row.to_vec(), p.reversed, p.invalid.as_ref(), &p.warnings);
+        let mut row = [p.size, p.tip_gap, p.normal, p.lift, p.height]
+            .map(Cell::from)
+            .to_vec();
+        if with_sd {
+            row.extend([
+                p.sd.map(|s| s.normal).into(),
+                p.sd.map(|s| s.lift).into(),
+                p.sd.map(|s| s.height).into(),
+            ]);
+        }
+        a.grasp(0, row, p.reversed, p.invalid.as_ref(), &p.warnings);
+        if with_sd {
+            sd_note(&mut a, p);
+        }
     }
     if let Some(s) = &c.stopped {
         a.stop(0, vec![], "d_mm", "cuboid region", StopAt::Mm, s, true);
@@ -112,6 +162,7 @@ pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
             d_min_mm: d_min,
             reached_mm: c.reached(),
             dmax_mm: c.d_max,
+            dmax_mm_sd: with_sd.then_some(c.d_max_sd),
             palm_mm: c.palm,
             l0_mm: c.l0,
             stopped: stop_entry(&c.stopped, StopAt::Mm),
@@ -136,11 +187,16 @@ pub(crate) fn output(region: Option<&CuboidRegion>) -> StudyOutput {
     ]);
     a.strict_dropped = c.dropped;
     a.design(&c.warnings);
-    a.finish(figure(region), &summary)
+    let mut out = a.finish(figure(region, with_sd), &summary);
+    if with_sd {
+        out.bands = exact_bands(&SD_COLUMNS);
+    }
+    out
 }
 
-/// The region under the curve and the test cuboid.
-fn figure(region: &CuboidRegion) -> Figure {
+/// The region under the curve and the test cuboid; `with_sd`: the
+/// boundary's 1-sigma band.
+fn figure(region: &CuboidRegion, with_sd: bool) -> Figure {
     let c = &region.curve;
     let (d, fv) = CUBOID_TEST;
     let mut p = Panel::new(
@@ -150,7 +206,7 @@ fn figure(region: &CuboidRegion) -> Figure {
     );
     p.y.include_zero = true;
     let (kind, label) = (SeriesKind::Area, "grasping region");
-    add_lift_curve(&mut p, c, kind, "region".into(), label.into(), false);
+    add_lift_curve(&mut p, c, kind, "region".into(), label.into(), with_sd);
     let inside = region.contains(d, fv);
     p.series.push(
         Series::new("cuboid", SeriesKind::Cross, vec![[d, fv]]).label(format!(

@@ -271,6 +271,15 @@ pub(crate) fn lift_bands() -> Vec<BandColumn> {
     super::bands::exact_bands(&LIFT_SD_COLUMNS)
 }
 
+/// Writes why point `p` has no band into the note cell of table 0's last
+/// row (nothing when it has one).
+pub(crate) fn sd_note(a: &mut Assembly, p: &LiftPoint) {
+    if let (Some(n), Some(r)) = (&p.sd_note, a.tables[0].rows.last_mut()) {
+        let at = r.len() - 1;
+        r[at] = n.clone().into();
+    }
+}
+
 /// Appends to table 0 one row per point of `c` (the first two cells
 /// `lead`, e.g. eps0 and the angle), then the stop of sweep `case` if it
 /// stopped; counts what strict mode dropped and the gripper's design
@@ -299,11 +308,8 @@ pub(crate) fn lift_rows(
             ]);
         }
         a.grasp(0, row, p.reversed, p.invalid.as_ref(), &p.warnings);
-        if let (true, Some(n)) = (with_sd, &p.sd_note) {
-            if let Some(r) = a.tables[0].rows.last_mut() {
-                let at = r.len() - 1;
-                r[at] = n.clone().into();
-            }
+        if with_sd {
+            sd_note(a, p);
         }
     }
     if let Some(s) = &c.stopped {

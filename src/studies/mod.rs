@@ -35,7 +35,7 @@ use crate::gripper::ViableAngles;
 use crate::solve_error::SolveError;
 
 pub use bands::{not_propagated, BandColumn, NotPropagated, EXACT};
-pub use cuboid::{study3_cuboid_region, CuboidRegion, CUBOID_TEST};
+pub use cuboid::{study3_cuboid_region, study3_cuboid_region_with, CuboidRegion, CUBOID_TEST};
 pub use curvature::{
     study7_curvature, study7_curvature_with, CurvatureCurve, CurvatureRow, CurvatureSd,
 };

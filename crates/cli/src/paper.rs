@@ -48,7 +48,7 @@ pub struct Args {
     /// instead of the paper's default actuator; its load, solve and
     /// gripper tables are not used (the studies set their own). A scene
     /// with a [calibration] covariance (a calibrated scene) adds 1-sigma
-    /// bands to studies 1, 2, 4, 5 (the sphere envelope), 6, 7 and 8 by first-order propagation through exact
+    /// bands to all eight studies (study 5: its envelope) by first-order propagation through exact
     /// sensitivities: a `<column>_sd` column per banded column of their
     /// CSV, shaded bands in their figures, `_sd` values in summary.json
     /// and its `uncertainty` entry (the parameters propagated, those left

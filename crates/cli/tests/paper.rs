@@ -787,6 +787,7 @@ fn paper_scene_bands_only_with_a_covariance() {
         if [
             "study1.csv",
             "study2.csv",
+            "study3.csv",
             "study4.csv",
             "study5_envelope.csv",
             "study6.csv",
@@ -840,10 +841,11 @@ fn paper_scene_bands_only_with_a_covariance() {
     assert_eq!(left, ["actuator.pemc.eps0", "load.kappa"]);
     assert_eq!(
         u["studies_with_bands"],
-        serde_json::json!([1, 2, 4, 5, 6, 7, 8])
+        serde_json::json!([1, 2, 3, 4, 5, 6, 7, 8])
     );
     assert_eq!(u["methods"]["study1"]["fv_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study2"]["dmax_mm_sd"], "first_order_exact");
+    assert_eq!(u["methods"]["study3"]["fv_max_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study4"]["F_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study5"]["fv_n_sd"], "first_order_exact");
     assert_eq!(u["methods"]["study5"]["F_n_sd"], "first_order_exact");
