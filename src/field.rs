@@ -99,6 +99,8 @@ names!(
     pub LaminateKey {
         /// The shear correction factor of shear-deformable models.
         ShearCorrection => "shear_correction",
+        /// Plane strain across the width (default plane stress).
+        PlaneStrain => "plane_strain",
     }
 );
 

@@ -526,6 +526,35 @@ fn tip_loaded(model: ModelId) -> Case {
     }
 }
 
+/// The standard tip-loaded case in plane strain across the width, under
+/// pressure too (the held unknowns must not move with any parameter).
+fn tip_loaded_plane_strain(model: ModelId) -> Case {
+    let actuator = Actuator::new(fpc::ActuatorParams {
+        plane_strain: true,
+        ..fpc::ActuatorParams::default()
+    })
+    .unwrap();
+    let partition = Partition::equal(110.0, 8).unwrap();
+    let finger = Finger::with_model(model, &actuator, &partition, true);
+    let load = Load::unloaded()
+        .with_pressure_kpa(30.0)
+        .with_tip_force(0.939782, 0.521707);
+    let sol = finger.solve(&load, &opts()).unwrap();
+    let sens = finger
+        .sensitivities(&actuator, &sol, &load, &Param::all(&actuator))
+        .unwrap();
+    Case {
+        name: "tip-loaded, plane strain",
+        model,
+        actuator,
+        partition,
+        load,
+        target: None,
+        guess: sol.coefficients,
+        sens,
+    }
+}
+
 /// A pressurised finger without tip load (the decoupled solve): 50 kPa.
 fn pressurised(model: ModelId) -> Case {
     let actuator = Actuator::paper(0.25).unwrap();
@@ -660,6 +689,11 @@ fn check_case(make: fn(ModelId) -> Case) {
 #[test]
 fn tip_loaded_sensitivities_match_re_solves() {
     check_case(tip_loaded);
+}
+
+#[test]
+fn plane_strain_sensitivities_match_re_solves() {
+    check_case(tip_loaded_plane_strain);
 }
 
 #[test]

@@ -78,6 +78,7 @@ fn strip(lx: f64, b: f64, t: f64, c: f64, ef: f64, ec: f64, shear: TransverseShe
             eps0: 0.0,
         },
         shear,
+        plane_strain: false,
     };
     Actuator::new(params).expect("a valid strip")
 }

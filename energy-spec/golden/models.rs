@@ -301,6 +301,15 @@ pub mod shear {
         concat!(env!("OUT_DIR"), "/model_shear_report.txt")
     );
 }
+impl Across for ccm::Ccm {
+    const ACROSS: &'static [usize] = &[2];
+}
+impl Across for quad::Quad {
+    const ACROSS: &'static [usize] = &[3];
+}
+impl Across for shear::Shear {
+    const ACROSS: &'static [usize] = &[2];
+}
 ///The element models generated from the specs in `energy-spec/`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ModelId {

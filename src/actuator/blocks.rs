@@ -188,6 +188,7 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
             }];
             ElementBlocks {
                 length: len,
+                plane_strain: act.plane_strain(),
                 linear,
                 prestressed,
                 gas,

@@ -350,6 +350,11 @@ pub struct ActuatorParams {
     pub pemc: Prestressed,
     /// Transverse shear data (shear-deformable models only).
     pub shear: TransverseShear,
+    /// Plane strain across the width: the strain across the width is held
+    /// at zero (a strip much wider than its curl's reach, or clamped along
+    /// its sides); `false`, the default, is plane stress, the width free
+    /// to contract (docs/model.md section 4.9).
+    pub plane_strain: bool,
 }
 
 impl Default for ActuatorParams {
@@ -368,6 +373,7 @@ impl Default for ActuatorParams {
             fluidic: Isotropic { e: 1.2, nu: 0.48 }.into(),
             pemc: Prestressed::default(),
             shear: TransverseShear::default(),
+            plane_strain: false,
         }
     }
 }
@@ -622,6 +628,12 @@ impl Actuator {
             ShearLayer::Fluidic => p.fluidic.default_g13(),
             ShearLayer::Pemc => 0.5 * p.pemc.law.p1,
         })
+    }
+
+    /// Whether the width is held (plane strain) rather than free (plane
+    /// stress).
+    pub fn plane_strain(&self) -> bool {
+        self.params.plane_strain
     }
 
     /// The shear correction factor ks.

@@ -230,6 +230,7 @@ pub(crate) fn element_block_tangents(
         .map(|(&len, &start)| {
             let mut out = ElementBlocks {
                 length: 0.0,
+                plane_strain: act.plane_strain(),
                 linear: Vec::new(),
                 prestressed: Vec::new(),
                 gas: Vec::new(),

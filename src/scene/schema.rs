@@ -321,6 +321,10 @@ pub struct LaminateSection {
     /// 5/6).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shear_correction: Option<f64>,
+    /// Plane strain across the width: the strain across the width held at
+    /// zero (default false: plane stress, the width free to contract).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane_strain: Option<bool>,
 }
 
 impl LaminateSection {

@@ -27,7 +27,10 @@
 //!   ascending powers (`ElementModel::MIDPLANE_DEGREE`,
 //!   `Kinematics::midplane_coefficients`), for contacts computed on the
 //!   continuous mid-plane;
-//! - `law psi(s);`, the prestressed layer's material law (`PsiParams`).
+//! - `law psi(s);`, the prestressed layer's material law (`PsiParams`);
+//! - `across ...;`, the unknowns of the strain across the width, which
+//!   plane strain holds at zero (`Across`, generated into `models.rs` so
+//!   that a model's own file does not change with it).
 //!
 //! Every rule is checked here, so a spec that breaks the contract fails the
 //! build with the spec's name and the rule, never compiles into a model
@@ -222,6 +225,13 @@ fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
                 }
             }
         }
+    }
+    if spec.across.is_empty() {
+        return Err(fail(
+            "needs an `across ...;` statement: the unknowns of the strain across the width, \
+             which plane strain holds at zero"
+                .into(),
+        ));
     }
     let law = spec.laws.iter().find(|l| l.name == LAW.0).ok_or_else(|| {
         fail(format!(
@@ -667,6 +677,21 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
         .map(|c| format!("/model_{}_report.txt", c.module))
         .collect();
     let default_variant = &variants[default_index];
+    let across: Vec<TokenStream> = checked
+        .iter()
+        .map(|c| {
+            let idx = c.spec.across.iter().map(|a| {
+                let i = c
+                    .spec
+                    .unknowns
+                    .iter()
+                    .position(|u| u == a)
+                    .expect("checked");
+                Literal::usize_unsuffixed(i)
+            });
+            quote! { &[#(#idx),*] }
+        })
+        .collect();
     let generated_names: Vec<String> = files.iter().map(|f| f.name.clone()).collect();
     let model_docs: Vec<String> = specs
         .iter()
@@ -699,6 +724,12 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
 
                 #[doc = "Operation counts of its generated functions, before and after CSE."]
                 pub const REPORT: &str = include_str!(concat!(env!("OUT_DIR"), #reports));
+            }
+        )*
+
+        #(
+            impl Across for #modules::#variants {
+                const ACROSS: &'static [usize] = #across;
             }
         )*
 
@@ -929,6 +960,27 @@ mod tests {
             assert!(e.message.starts_with("`LinearParams` takes"), "{e}");
             assert!(e.message.contains("extra fields last"), "{e}");
         }
+    }
+
+    #[test]
+    fn a_spec_names_its_unknowns_across_the_width() {
+        let across = "across b1;";
+        assert!(CCM.contains(across));
+        let e = generate(&spec(CCM.replace(across, "")), "ccm").unwrap_err();
+        assert!(
+            e.message.starts_with("needs an `across ...;` statement"),
+            "{e}"
+        );
+        let files = generate(&spec(CCM.into()), "ccm").unwrap();
+        let models = files.iter().find(|f| f.name == "models.rs").unwrap();
+        assert!(
+            models.text.contains("impl Across for ccm::Ccm"),
+            "{}",
+            models.text
+        );
+        assert!(models
+            .text
+            .contains("const ACROSS: &'static [usize] = &[2];"));
     }
 
     #[test]

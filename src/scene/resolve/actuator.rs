@@ -93,6 +93,7 @@ pub(super) fn resolve_actuator(
         fluidic,
         pemc,
         shear,
+        plane_strain: a.laminate.plane_strain.unwrap_or(d.plane_strain),
     })
     .map_err(scene_input)
 }
