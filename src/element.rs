@@ -6,8 +6,8 @@
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
 use crate::model::{
-    Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore, PrestressedParams,
-    Vector,
+    upper_index, Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore,
+    PrestressedParams, Vector,
 };
 
 /// The blocks of one element, each in the parameter struct of the model's
@@ -18,6 +18,9 @@ use crate::model::{
 pub(crate) struct ElementBlocks {
     /// Undeformed length L_i.
     pub length: f64,
+    /// Plane strain: the model's unknowns across the width are held at
+    /// zero (docs/model.md section 4.9).
+    pub plane_strain: bool,
     /// CL, regular EMC, whole fluidic layer, then the channel (negative
     /// width), then the ribs (fluidic material) if enabled.
     pub linear: Vec<LinearParams>,
@@ -48,6 +51,10 @@ pub(crate) fn distinct_elements(blocks: &[ElementBlocks]) -> Vec<usize> {
 pub(crate) struct Element<M: ModelCore> {
     length: f64,
     moments: M::Moments,
+    /// Plane strain: the stiffness that holds each of the model's unknowns
+    /// across the width ([`crate::model::Across`]) at zero, in that order;
+    /// empty in plane stress.
+    pin: Vec<f64>,
 }
 
 impl<M: ModelCore> Element<M> {
@@ -70,9 +77,61 @@ impl<M: Energy> Element<M> {
         for p in &b.gas {
             M::add_gas(&mut moments, p);
         }
+        // plane strain replaces each held unknown's equation by `c k = 0`,
+        // with c its own stiffness at rest (the scale of its neighbours,
+        // for the solver; 1 if it has none)
+        let pin = if b.plane_strain {
+            let n = M::Coeffs::LEN;
+            let (_, _, h) = M::hessian(&moments, &M::Coeffs::zero(), &EnergyScalars { kp: 0.0 });
+            M::ACROSS
+                .iter()
+                .map(|&i| {
+                    let c = h[upper_index(n, i, i)].abs();
+                    if c.is_finite() && c > 0.0 {
+                        c
+                    } else {
+                        1.0
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         Element {
             length: b.length,
             moments,
+            pin,
+        }
+    }
+
+    /// `k` with the unknowns plane strain holds set to zero: the model's
+    /// energy sees no strain across the width.
+    #[inline]
+    fn held(&self, k: &M::Coeffs) -> M::Coeffs {
+        let mut k = *k;
+        for &i in M::ACROSS {
+            k[i] = 0.0;
+        }
+        k
+    }
+
+    /// `sum 1/2 c k_i^2` over the held unknowns (zero at an equilibrium).
+    fn pin_energy(&self, k: &M::Coeffs) -> f64 {
+        M::ACROSS
+            .iter()
+            .zip(&self.pin)
+            .map(|(&i, &c)| 0.5 * c * k[i] * k[i])
+            .sum()
+    }
+
+    /// Zeroes the entries of the unknowns plane strain holds (in plane
+    /// stress nothing): a right-hand side of the sensitivities, since the
+    /// held unknowns do not move with any parameter.
+    pub fn hold(&self, g: &mut M::Coeffs) {
+        if !self.pin.is_empty() {
+            for &i in M::ACROSS {
+                g[i] = 0.0;
+            }
         }
     }
 
@@ -84,19 +143,41 @@ impl<M: Energy> Element<M> {
     /// The element's potential for the load scalars `s`.
     #[inline]
     pub fn energy(&self, k: &M::Coeffs, s: &EnergyScalars) -> f64 {
-        M::energy(&self.moments, k, s)
+        if self.pin.is_empty() {
+            return M::energy(&self.moments, k, s);
+        }
+        M::energy(&self.moments, &self.held(k), s) + self.pin_energy(k)
     }
 
     /// Potential and gradient.
     #[inline]
     pub fn gradient(&self, k: &M::Coeffs, s: &EnergyScalars) -> (f64, M::Coeffs) {
-        M::gradient(&self.moments, k, s)
+        if self.pin.is_empty() {
+            return M::gradient(&self.moments, k, s);
+        }
+        let (v, mut g) = M::gradient(&self.moments, &self.held(k), s);
+        for (&i, &c) in M::ACROSS.iter().zip(&self.pin) {
+            g[i] = c * k[i];
+        }
+        (v + self.pin_energy(k), g)
     }
 
     /// Potential, gradient and Hessian (upper triangle).
     #[inline]
     pub fn hessian(&self, k: &M::Coeffs, s: &EnergyScalars) -> (f64, M::Coeffs, M::Upper) {
-        M::hessian(&self.moments, k, s)
+        if self.pin.is_empty() {
+            return M::hessian(&self.moments, k, s);
+        }
+        let (v, mut g, mut h) = M::hessian(&self.moments, &self.held(k), s);
+        let n = M::Coeffs::LEN;
+        for (&i, &c) in M::ACROSS.iter().zip(&self.pin) {
+            g[i] = c * k[i];
+            for j in 0..n {
+                h[upper_index(n, i, j)] = 0.0;
+            }
+            h[upper_index(n, i, i)] = c;
+        }
+        (v + self.pin_energy(k), g, h)
     }
 
     /// One integral family alone.
@@ -105,7 +186,20 @@ impl<M: Energy> Element<M> {
         family: usize,
         k: &M::Coeffs,
     ) -> Option<(f64, M::Coeffs, M::Upper)> {
-        M::family_hessian(&self.moments, family, k)
+        if self.pin.is_empty() {
+            return M::family_hessian(&self.moments, family, k);
+        }
+        // the family alone, with the width held: no entries for the held
+        // unknowns
+        let (v, mut g, mut h) = M::family_hessian(&self.moments, family, &self.held(k))?;
+        let n = M::Coeffs::LEN;
+        for &i in M::ACROSS {
+            g[i] = 0.0;
+            for j in 0..n {
+                h[upper_index(n, i, j)] = 0.0;
+            }
+        }
+        Some((v, g, h))
     }
 }
 

@@ -90,6 +90,21 @@ names!(
 );
 
 names!(
+    /// A layer with a transverse shear modulus, `actuator.<layer>.g13`:
+    /// the three linear laminae and the prestressed EMC, top to bottom.
+    pub ShearLayer { Cl => "cl", Emc => "emc", Fluidic => "fluidic", Pemc => "pemc" }
+);
+names!(
+    /// `actuator.laminate.<key>`: options of the laminate as a whole.
+    pub LaminateKey {
+        /// The shear correction factor of shear-deformable models.
+        ShearCorrection => "shear_correction",
+        /// Plane strain across the width (default plane stress).
+        PlaneStrain => "plane_strain",
+    }
+);
+
+names!(
     /// `refinement.<key>`: a refinement plan's.
     pub RefinementKey { Start => "start", Levels => "levels", Extrapolate => "extrapolate" }
 );
@@ -113,6 +128,10 @@ macro_rules! field {
             Material(Lamina, Elastic),
             /// `actuator.pemc.eps0`, `e2`, `actuator.pemc.law.p1..p4`.
             Pemc(PemcKey),
+            /// `actuator.<layer>.g13`: a layer's transverse shear modulus.
+            ShearModulus(ShearLayer),
+            /// `actuator.laminate.<key>`.
+            Laminate(LaminateKey),
             /// `partition.lengths[i]`.
             PartitionLength(usize),
             Refinement(RefinementKey),
@@ -198,6 +217,8 @@ impl fmt::Display for Field {
             Field::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             Field::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => write!(f, "actuator.pemc.{k}"),
             Field::Pemc(k) => write!(f, "actuator.pemc.law.{k}"),
+            Field::ShearModulus(l) => write!(f, "actuator.{l}.g13"),
+            Field::Laminate(k) => write!(f, "actuator.laminate.{k}"),
             Field::PartitionLength(i) => write!(f, "partition.lengths[{i}]"),
             Field::Refinement(k) => write!(f, "refinement.{k}"),
             Field::Key(name) => f.write_str(name),

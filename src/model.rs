@@ -53,9 +53,17 @@ pub trait ElementModel: Energy + Kinematics + Tangents {}
 
 impl<M: Energy + Kinematics + Tangents> ElementModel for M {}
 
+/// The unknowns of a model's strain across the width (the spec's
+/// `across ...;`): plane strain holds them at zero. Generated into
+/// `models.rs`, beside the model's own module.
+pub trait Across {
+    /// Their positions among the unknowns.
+    const ACROSS: &'static [usize];
+}
+
 /// What every part of a model shares: the unknowns, their scaling, the
 /// names. Hessians are upper triangles, row by row ([`upper_index`]).
-pub trait ModelCore: Copy + Debug + Default + PartialEq + Send + Sync + 'static {
+pub trait ModelCore: Copy + Debug + Default + PartialEq + Send + Sync + Across + 'static {
     /// The element's unknowns.
     type Coeffs: Vector;
     /// The upper triangle of a Hessian over the unknowns.

@@ -49,6 +49,8 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Block
     let pemc = act.pemc();
     let rib_list: &[Rib] = if ribs { act.ribs() } else { &[] };
     let width = act.geometry().ly;
+    let ks = act.shear_correction();
+    let fluidic_g13 = act.g13(fpc::actuator::ShearLayer::Fluidic);
     let fluidic = |x0: f64, x1: f64, width: f64| LinearParams {
         x0,
         x1,
@@ -58,6 +60,8 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Block
         q11: fq.q11,
         q12: fq.q12,
         q22: fq.q22,
+        g13: fluidic_g13,
+        ks,
     };
     let gas = |x0: f64, x1: f64, width: f64| GasParams {
         x0,
@@ -83,6 +87,8 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Block
                         q11: l.q.q11,
                         q12: l.q.q12,
                         q22: l.q.q22,
+                        g13: l.g13,
+                        ks,
                     })
                     .collect(),
                 prestressed: vec![PrestressedParams {
@@ -97,6 +103,8 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Block
                     p3: pemc.law.p3,
                     p4: pemc.law.p4,
                     q22: pemc.q22(),
+                    g13: act.g13(fpc::actuator::ShearLayer::Pemc),
+                    ks,
                 }],
                 gas: Vec::new(),
             };

@@ -15,6 +15,7 @@ use crate::model::{GasParams, LinearParams, PrestressedParams};
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
 use super::laminate::{Actuator, Rib};
+use crate::field::ShearLayer;
 
 /// Clipped blocks shorter than this fraction of the element are dropped.
 const MIN_BLOCK_FRACTION: f64 = 1e-12;
@@ -102,6 +103,8 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
     let pemc = act.pemc();
     let rib_list: &[Rib] = if ribs { act.ribs() } else { &[] };
     let width = act.geometry().ly;
+    let ks = act.shear_correction();
+    let fluidic_g13 = act.g13(ShearLayer::Fluidic);
 
     part.lengths()
         .iter()
@@ -118,6 +121,8 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
                     q11: l.q.q11,
                     q12: l.q.q12,
                     q22: l.q.q22,
+                    g13: l.g13,
+                    ks,
                 })
                 .collect();
             let mut gas = Vec::new();
@@ -131,6 +136,8 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
                     q11: fluidic_q.q11,
                     q12: fluidic_q.q12,
                     q22: fluidic_q.q22,
+                    g13: fluidic_g13,
+                    ks,
                 });
                 gas.push(GasParams {
                     x0,
@@ -151,6 +158,8 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
                         q11: fluidic_q.q11,
                         q12: fluidic_q.q12,
                         q22: fluidic_q.q22,
+                        g13: fluidic_g13,
+                        ks,
                     });
                     gas.push(GasParams {
                         x0,
@@ -174,9 +183,12 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
                 p3: law.p3,
                 p4: law.p4,
                 q22: pemc.q22(),
+                g13: act.g13(ShearLayer::Pemc),
+                ks,
             }];
             ElementBlocks {
                 length: len,
+                plane_strain: act.plane_strain(),
                 linear,
                 prestressed,
                 gas,

@@ -4,7 +4,10 @@
 //! [`crate::actuator`]).
 
 use crate::error::{finite, positive, require, InputError, Warning};
-use crate::field::{ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey, RibKey};
+use crate::field::{
+    ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey, RibKey,
+    ShearLayer,
+};
 use crate::model::PsiParams;
 
 /// Strain range of the uniaxial test the prestressed law was fitted to;
@@ -124,6 +127,17 @@ impl Material {
             Material::Orthotropic(m) => m.validate(l),
         }
     }
+
+    /// The transverse shear modulus G13 (x-z) a lamina of this material
+    /// takes when none is given: E / (2 (1 + nu)) of an isotropic
+    /// material, and the same with E1 and nu12 for an orthotropic one
+    /// (its shear across the thickness along X).
+    pub fn default_g13(&self) -> f64 {
+        match self {
+            Material::Isotropic(m) => m.e / (2.0 * (1.0 + m.nu)),
+            Material::Orthotropic(m) => m.e1 / (2.0 * (1.0 + m.nu12)),
+        }
+    }
 }
 
 impl From<Isotropic> for Material {
@@ -202,6 +216,31 @@ impl Default for Prestressed {
             e2: 250.0,
             law: PsiLaw::default(),
             eps0: 0.25,
+        }
+    }
+}
+
+/// The laminate's transverse shear data (docs/model.md section 4.6): read
+/// only by shear-deformable element models (`energy-spec/shear.spec`);
+/// the paper's element ignores them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TransverseShear {
+    /// The shear correction factor ks of the section (default 5/6, a
+    /// rectangular section's).
+    pub correction: f64,
+    /// G13 (MPa) of the constraining layer, the regular EMC, the fluidic
+    /// layer (and the ribs) and the prestressed EMC, in
+    /// [`ShearLayer::ALL`]'s order; `None` takes the default from the
+    /// layer's E and nu ([`Material::default_g13`]; the prestressed
+    /// layer's p1 / 2, its initial modulus with the paper's nu = 0).
+    pub g13: [Option<f64>; 4],
+}
+
+impl Default for TransverseShear {
+    fn default() -> Self {
+        TransverseShear {
+            correction: 5.0 / 6.0,
+            g13: [None; 4],
         }
     }
 }
@@ -309,6 +348,13 @@ pub struct ActuatorParams {
     pub fluidic: Material,
     /// Prestressed EMC, z in [-H/2, -h3].
     pub pemc: Prestressed,
+    /// Transverse shear data (shear-deformable models only).
+    pub shear: TransverseShear,
+    /// Plane strain across the width: the strain across the width is held
+    /// at zero (a strip much wider than its curl's reach, or clamped along
+    /// its sides); `false`, the default, is plane stress, the width free
+    /// to contract (docs/model.md section 4.9).
+    pub plane_strain: bool,
 }
 
 impl Default for ActuatorParams {
@@ -326,6 +372,8 @@ impl Default for ActuatorParams {
             .into(),
             fluidic: Isotropic { e: 1.2, nu: 0.48 }.into(),
             pemc: Prestressed::default(),
+            shear: TransverseShear::default(),
+            plane_strain: false,
         }
     }
 }
@@ -337,6 +385,8 @@ pub struct Layer {
     pub z0: f64,
     pub z1: f64,
     pub q: PlaneStress,
+    /// Transverse shear modulus G13 (MPa).
+    pub g13: f64,
 }
 
 /// A validated actuator. Its content cannot change after
@@ -460,6 +510,17 @@ impl Actuator {
         pemc.law.validate()?;
         finite(Field::Pemc(PemcKey::Eps0), pemc.eps0)?;
 
+        let shear = &params.shear;
+        positive(
+            Field::Laminate(LaminateKey::ShearCorrection),
+            shear.correction,
+        )?;
+        for (&layer, g) in ShearLayer::ALL.iter().zip(shear.g13) {
+            if let Some(g) = g {
+                positive(Field::ShearModulus(layer), g)?;
+            }
+        }
+
         let mut warnings = Vec::new();
         let (lo, hi) = EPS0_FIT_RANGE;
         if !(lo..=hi).contains(&pemc.eps0) {
@@ -537,20 +598,47 @@ impl Actuator {
                 z0: g.h1,
                 z1: g.h / 2.0,
                 q: self.params.cl.q(),
+                g13: self.g13(ShearLayer::Cl),
             },
             Layer {
                 name: "emc",
                 z0: g.h2,
                 z1: g.h1,
                 q: self.params.emc.q(),
+                g13: self.g13(ShearLayer::Emc),
             },
             Layer {
                 name: "fluidic",
                 z0: -g.h3,
                 z1: g.h2,
                 q: self.params.fluidic.q(),
+                g13: self.g13(ShearLayer::Fluidic),
             },
         ]
+    }
+
+    /// The transverse shear modulus G13 (MPa) of a layer: the one given,
+    /// or the default from its elastic constants ([`TransverseShear::g13`]).
+    pub fn g13(&self, layer: ShearLayer) -> f64 {
+        let p = &self.params;
+        let given = p.shear.g13[layer as usize];
+        given.unwrap_or_else(|| match layer {
+            ShearLayer::Cl => p.cl.default_g13(),
+            ShearLayer::Emc => p.emc.default_g13(),
+            ShearLayer::Fluidic => p.fluidic.default_g13(),
+            ShearLayer::Pemc => 0.5 * p.pemc.law.p1,
+        })
+    }
+
+    /// Whether the width is held (plane strain) rather than free (plane
+    /// stress).
+    pub fn plane_strain(&self) -> bool {
+        self.params.plane_strain
+    }
+
+    /// The shear correction factor ks.
+    pub fn shear_correction(&self) -> f64 {
+        self.params.shear.correction
     }
 
     /// The prestressed layer's z range [-H/2, -h3].

@@ -28,12 +28,12 @@ mod laminate;
 mod param;
 mod tangent;
 
-pub use crate::field::{Elastic, Lamina};
+pub use crate::field::{Elastic, Lamina, ShearLayer};
 pub(crate) use blocks::element_blocks;
 pub use laminate::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
-    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, EPS0_FIT_RANGE, MAX_DIMENSION_MM,
-    MAX_GENERATED_RIBS,
+    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE,
+    MAX_DIMENSION_MM, MAX_GENERATED_RIBS,
 };
 pub use param::ActuatorParam;
 pub(crate) use tangent::{element_block_tangent_into, ActuatorTangent};

@@ -10,7 +10,7 @@ use crate::partition::Partition;
 use super::blocks::clip;
 use super::laminate::{Actuator, Material, PlaneStress, Rib, RibLayout};
 use super::param::ActuatorParam;
-use crate::field::{Elastic, Lamina};
+use crate::field::{Elastic, Lamina, ShearLayer};
 
 /// The change of every actuator quantity the blocks read, per unit change
 /// of one design parameter: a tangent of the actuator (docs/model.md,
@@ -41,6 +41,11 @@ pub(crate) struct ActuatorTangent {
     pub law: PsiParams,
     /// The total width of each rib of [`Actuator::ribs`], in that order.
     pub rib_widths: Vec<f64>,
+    /// The transverse shear moduli G13, in [`ShearLayer::ALL`]'s order
+    /// (a default one moves with the constants it comes from), and the
+    /// shear correction factor.
+    pub g13: [f64; 4],
+    pub ks: f64,
 }
 
 const NO_Q: PlaneStress = PlaneStress {
@@ -73,6 +78,8 @@ impl ActuatorTangent {
                 p4: 0.0,
             },
             rib_widths: vec![0.0; act.ribs().len()],
+            g13: [0.0; 4],
+            ks: 0.0,
         }
     }
 
@@ -87,7 +94,13 @@ impl ActuatorTangent {
         match param {
             ActuatorParam::Eps0 => t.eps0 = 1.0,
             ActuatorParam::PemcE2 => t.e2 = 1.0,
-            ActuatorParam::PsiP1 => t.law.p1 = 1.0,
+            ActuatorParam::PsiP1 => {
+                t.law.p1 = 1.0;
+                // the prestressed layer's default G13 is p1 / 2
+                if act.params().shear.g13[ShearLayer::Pemc as usize].is_none() {
+                    t.g13[ShearLayer::Pemc as usize] = 0.5;
+                }
+            }
             ActuatorParam::PsiP2 => t.law.p2 = 1.0,
             ActuatorParam::PsiP3 => t.law.p3 = 1.0,
             ActuatorParam::PsiP4 => t.law.p4 = 1.0,
@@ -119,10 +132,22 @@ impl ActuatorTangent {
                         ),
                     }
                 })?;
-                match layer {
-                    Lamina::Cl => t.cl = dq,
-                    Lamina::Emc => t.emc = dq,
-                    Lamina::Fluidic => t.fluidic = dq,
+                let shear_layer = match layer {
+                    Lamina::Cl => {
+                        t.cl = dq;
+                        ShearLayer::Cl
+                    }
+                    Lamina::Emc => {
+                        t.emc = dq;
+                        ShearLayer::Emc
+                    }
+                    Lamina::Fluidic => {
+                        t.fluidic = dq;
+                        ShearLayer::Fluidic
+                    }
+                };
+                if p.shear.g13[shear_layer as usize].is_none() {
+                    t.g13[shear_layer as usize] = default_g13_tangent(material, key);
                 }
             }
             ActuatorParam::RibsW2 => {
@@ -170,6 +195,21 @@ pub(crate) fn plane_stress_tangent(material: &Material, key: Elastic) -> Option<
     })
 }
 
+/// The derivative of a material's default G13 ([`Material::default_g13`],
+/// `E / (2 (1 + nu))`) with respect to one of its elastic constants (0 for
+/// a constant it does not read).
+fn default_g13_tangent(material: &Material, key: Elastic) -> f64 {
+    match (material, key) {
+        (Material::Isotropic(m), Elastic::E) => 0.5 / (1.0 + m.nu),
+        (Material::Isotropic(m), Elastic::Nu) => -0.5 * m.e / ((1.0 + m.nu) * (1.0 + m.nu)),
+        (Material::Orthotropic(m), Elastic::E1) => 0.5 / (1.0 + m.nu12),
+        (Material::Orthotropic(m), Elastic::Nu12) => {
+            -0.5 * m.e1 / ((1.0 + m.nu12) * (1.0 + m.nu12))
+        }
+        _ => 0.0,
+    }
+}
+
 /// The tangent of every block of [`element_blocks`] along `t`: the same
 /// elements, the same blocks in the same order, each parameter replaced by
 /// its derivative. The geometry is piecewise linear in the actuator's
@@ -190,6 +230,7 @@ pub(crate) fn element_block_tangents(
         .map(|(&len, &start)| {
             let mut out = ElementBlocks {
                 length: 0.0,
+                plane_strain: act.plane_strain(),
                 linear: Vec::new(),
                 prestressed: Vec::new(),
                 gas: Vec::new(),
@@ -214,13 +255,14 @@ pub(crate) fn element_block_tangent_into(
     let channel = act.channel();
     let rib_list: &[Rib] = if ribs { act.ribs() } else { &[] };
     // (z0, z1, q) of CL, EMC and the whole fluidic layer (Actuator::linear_layers)
+    let [g_cl, g_emc, g_fluidic, g_pemc] = t.g13;
     let layers = [
-        (t.h1, 0.5 * t.h, t.cl),
-        (t.h2, t.h1, t.emc),
-        (-t.h3, t.h2, t.fluidic),
+        (t.h1, 0.5 * t.h, t.cl, g_cl),
+        (t.h2, t.h1, t.emc, g_emc),
+        (-t.h3, t.h2, t.fluidic, g_fluidic),
     ];
     let (cz0, cz1) = (-t.h3b, t.h3a);
-    let linear_box = |z0: f64, z1: f64, width: f64, q: PlaneStress| LinearParams {
+    let linear_box = |z0: f64, z1: f64, width: f64, q: PlaneStress, g13: f64| LinearParams {
         x0: 0.0,
         x1: 0.0,
         z0,
@@ -229,6 +271,8 @@ pub(crate) fn element_block_tangent_into(
         q11: q.q11,
         q12: q.q12,
         q22: q.q22,
+        g13,
+        ks: t.ks,
     };
     let gas_box = |width: f64| GasParams {
         x0: 0.0,
@@ -244,15 +288,17 @@ pub(crate) fn element_block_tangent_into(
     out.linear.extend(
         layers
             .iter()
-            .map(|&(z0, z1, q)| linear_box(z0, z1, t.ly, q)),
+            .map(|&(z0, z1, q, g13)| linear_box(z0, z1, t.ly, q, g13)),
     );
     if clip(0.0, channel.cx, start, len).is_some() {
-        out.linear.push(linear_box(cz0, cz1, -t.cy, t.fluidic));
+        out.linear
+            .push(linear_box(cz0, cz1, -t.cy, t.fluidic, g_fluidic));
         out.gas.push(gas_box(t.cy));
     }
     for (rib, &dw) in rib_list.iter().zip(&t.rib_widths) {
         if clip(rib.x0, rib.x1, start, len).is_some() {
-            out.linear.push(linear_box(cz0, cz1, dw, t.fluidic));
+            out.linear
+                .push(linear_box(cz0, cz1, dw, t.fluidic, g_fluidic));
             out.gas.push(gas_box(-dw));
         }
     }
@@ -268,6 +314,8 @@ pub(crate) fn element_block_tangent_into(
         p3: t.law.p3,
         p4: t.law.p4,
         q22: t.e2,
+        g13: g_pemc,
+        ks: t.ks,
     });
 }
 
@@ -278,9 +326,10 @@ mod tests {
 
     /// Every block parameter's derivative (`element_block_tangents`)
     /// against central differences of the block construction, for every
-    /// actuator parameter, on the default actuator and on one with
+    /// actuator parameter, on the default actuator, on one with
     /// orthotropic layers and Poisson coupling (so every Q depends on every
-    /// constant).
+    /// constant) and on one with given shear moduli (the blocks' default
+    /// G13's move with the constants they come from, given ones do not).
     #[test]
     fn block_tangents_match_central_differences() {
         use crate::actuator::{ActuatorParams, Orthotropic};
@@ -300,6 +349,12 @@ mod tests {
             ..ActuatorParams::default()
         };
         let coupled = Actuator::new(params).unwrap();
+        // shear moduli given for two layers (they do not move with the
+        // constants), the defaults of the others (they do)
+        let mut params = ActuatorParams::default();
+        params.shear.g13 = [Some(100.0), None, None, Some(0.6)];
+        params.shear.correction = 0.9;
+        let given_shear = Actuator::new(params).unwrap();
         let values = |b: &ElementBlocks| -> Vec<f64> {
             let mut v = Vec::new();
             for k in &b.linear {
@@ -315,7 +370,7 @@ mod tests {
         };
         let mut worst: f64 = 0.0;
         let mut checked = 0;
-        for act in [Actuator::default(), coupled] {
+        for act in [Actuator::default(), coupled, given_shear] {
             for n in [1, 3, 8] {
                 let part = Partition::equal(110.0, n).unwrap();
                 for ribs in [true, false] {

@@ -130,6 +130,9 @@ pub struct ActuatorSection {
     pub fluidic: MaterialSection,
     /// Prestressed EMC.
     pub pemc: PemcSection,
+    /// Options of the laminate as a whole.
+    #[serde(skip_serializing_if = "LaminateSection::is_empty")]
+    pub laminate: LaminateSection,
 }
 
 /// `[actuator.geometry]`, mm.
@@ -282,6 +285,10 @@ pub struct MaterialSection {
     pub e2: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub nu12: Option<f64>,
+    /// Transverse shear modulus G13 (MPa) of shear-deformable models;
+    /// default from the layer's E and nu, E / (2 (1 + nu)).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g13: Option<f64>,
 }
 
 /// `[actuator.pemc]`: prestrain, Y modulus (MPa) and the axial law
@@ -301,6 +308,32 @@ pub struct PemcSection {
     pub p3: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub p4: Option<f64>,
+    /// Transverse shear modulus G13 (MPa) of shear-deformable models;
+    /// default p1 / 2 (the law's initial modulus, nu = 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub g13: Option<f64>,
+}
+
+/// `[actuator.laminate]`: options of the laminate as a whole (absent from
+/// a resolved scene when none is given).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct LaminateSection {
+    /// The shear correction factor ks of shear-deformable models (default
+    /// 5/6).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shear_correction: Option<f64>,
+    /// Plane strain across the width: the strain across the width held at
+    /// zero (default false: plane stress, the width free to contract).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plane_strain: Option<bool>,
+}
+
+impl LaminateSection {
+    /// Nothing given.
+    pub fn is_empty(&self) -> bool {
+        *self == LaminateSection::default()
+    }
 }
 
 /// `[partition]`: `elements` equal elements (default 8) or `"auto"` (the

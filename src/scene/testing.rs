@@ -31,6 +31,10 @@ pub(crate) const SCENES: &[(&str, &str)] = &[
         "sphere_grasp.toml",
         include_str!("../../scenes/sphere_grasp.toml"),
     ),
+    (
+        "shear_tip_load.toml",
+        include_str!("../../scenes/shear_tip_load.toml"),
+    ),
 ];
 
 pub(crate) fn input_err(text: &str) -> InputError {

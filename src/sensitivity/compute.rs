@@ -297,7 +297,8 @@ pub(crate) fn compute<M: ElementModel>(
         let mut scalar_tangent = |ds: EnergyScalars| {
             let mut v = 0.0;
             for (i, el) in core.elements.iter().enumerate() {
-                let (vi, gk) = M::scalars_tangent(el.moments(), &kis[i], &scalars, &ds);
+                let (vi, mut gk) = M::scalars_tangent(el.moments(), &kis[i], &scalars, &ds);
+                el.hold(&mut gk);
                 v += vi;
                 let s = &core.unscale[i];
                 for a in 0..n {
@@ -412,6 +413,7 @@ fn actuator_rhs<M: ElementModel>(
     let nonzero = |v: &[f64]| v.iter().any(|&x| x != 0.0);
     let empty = || ElementBlocks {
         length: 0.0,
+        plane_strain: false,
         linear: Vec::new(),
         prestressed: Vec::new(),
         gas: Vec::new(),
@@ -482,9 +484,10 @@ fn actuator_rhs<M: ElementModel>(
                 if !moved || w == 0.0 {
                     continue;
                 }
-                let Some((v, gk)) = M::family_gradient(&dms[q], f, &kis[i]) else {
+                let Some((v, mut gk)) = M::family_gradient(&dms[q], f, &kis[i]) else {
                     continue;
                 };
+                core.elements[i].hold(&mut gk);
                 ep[r] += w * v;
                 for a in 0..n {
                     rhs[r][n * i + a] -= w * gk[a] * s[a];

@@ -6,11 +6,24 @@ use super::*;
 // 5. End kinematics.
 
 /// docs/model.md Eqs. 11, 13 with decision D2, from the fields:
-/// `[X(L), Z(L), atan2(Z'(L), X'(L))]`, and the unnormalised end frame
-/// `[X(L), Z(L), X'(L), Z'(L)]`.
+/// `[X(L), Z(L), atan2(Z'(L), X'(L)) - atan2(Z'(0), X'(0))]`, the turn of
+/// the mid-plane's tangent along the element (the CCM's tangent starts
+/// along the frame, Z'(0) = 0; the shear model's starts at the shear
+/// angle, and the frame is the section's), and the unnormalised end frame:
+/// the tangent at L turned back by the tangent at 0,
+/// `[X(L), Z(L), X'(0) X'(L) + Z'(0) Z'(L), X'(0) Z'(L) - Z'(0) X'(L)]`
+/// (`[X(L), Z(L), X'(L), Z'(L)]` when Z'(0) = 0 and X'(0) = 1).
 pub(super) fn end_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> ([f64; 3], [f64; 4]) {
     let [[x, dx, _], [z, dz, _]] = M::shape(k, l);
-    ([x, z, dz.atan2(dx)], [x, z, dx, dz])
+    let [[_, dx0, _], [_, dz0, _]] = M::shape(k, 0.0);
+    let frame = if dz0 == 0.0 {
+        // the models whose tangent starts along the frame hand on the
+        // tangent itself (X'(0) = 1 + a1 need not be 1)
+        [x, z, dx, dz]
+    } else {
+        [x, z, dx0 * dx + dz0 * dz, dx0 * dz - dz0 * dx]
+    };
+    ([x, z, dz.atan2(dx) - dz0.atan2(dx0)], frame)
 }
 
 /// Gradient of (Xe, Ze, eta) by the chain rule from the fields' gradients:
@@ -19,11 +32,16 @@ pub(super) fn end_gradient_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> [Vec
     let n = len::<M>();
     let [[_, dx, _], [_, dz, _]] = M::shape(k, l);
     let [gx, gz, gdx, gdz] = M::shape_gradients(k, l);
+    let [[_, dx0, _], [_, dz0, _]] = M::shape(k, 0.0);
+    let [_, _, gdx0, gdz0] = M::shape_gradients(k, 0.0);
     let r2 = dx * dx + dz * dz;
+    let r20 = dx0 * dx0 + dz0 * dz0;
     [
         (0..n).map(|i| gx[i]).collect(),
         (0..n).map(|i| gz[i]).collect(),
-        (0..n).map(|i| (dx * gdz[i] - dz * gdx[i]) / r2).collect(),
+        (0..n)
+            .map(|i| (dx * gdz[i] - dz * gdx[i]) / r2 - (dx0 * gdz0[i] - dz0 * gdx0[i]) / r20)
+            .collect(),
     ]
 }
 
@@ -152,10 +170,12 @@ pub(super) fn end_kinematics<M: Fields>() {
             &mut worst,
         );
 
-        // eta is the direction of the mid-plane's tangent at x = L
+        // eta is the turn of the mid-plane's tangent from x = 0 to x = L
         let hh = 1e-4 * l;
         let (p, q) = (M::shape(&k, l + hh), M::shape(&k, l - hh));
-        let eta_fd = (p[1][0] - q[1][0]).atan2(p[0][0] - q[0][0]);
+        let (p0, q0) = (M::shape(&k, hh), M::shape(&k, -hh));
+        let eta_fd = (p[1][0] - q[1][0]).atan2(p[0][0] - q[0][0])
+            - (p0[1][0] - q0[1][0]).atan2(p0[0][0] - q0[0][0]);
         let err = (M::end(&k, l)[2] - eta_fd).abs();
         assert!(
             err <= 1e-9,

@@ -74,15 +74,23 @@ pub(super) fn laminate_energy<M: Fields>(
     use paper::*;
     let n = self::len::<M>();
     let (cl, emc, fl) = (iso(305.0, 0.43), ortho(1.5, 250.0, 0.0), iso(1.2, 0.48));
-    let lin = |q: (f64, f64, f64)| Density::Linear {
+    // transverse shear (shear-deformable models): G13 = E / (2 (1 + nu)),
+    // E1 and nu12 for the EMC, p1 / 2 for the prestressed layer; ks = 5/6
+    let ks = 5.0 / 6.0;
+    let (g_cl, g_emc, g_fl) = (305.0 / 2.86, 1.5 / 2.0, 1.2 / 2.96);
+    let lin = |q: (f64, f64, f64), g13: f64| Density::Linear {
         q11: q.0,
         q12: q.1,
         q22: q.2,
+        g13,
+        ks,
     };
     let pemc = Density::Prestressed {
         eps0,
         p: PSI,
         q22: PEMC_E2,
+        g13: PSI[0] / 2.0,
+        ks,
     };
     let end = start + len;
     let mut cuts = vec![start, end];
@@ -110,11 +118,11 @@ pub(super) fn laminate_energy<M: Fields>(
                 k,
             )
         };
-        psi_total.add(&piece(H1, H / 2.0, LY, lin(cl)));
-        psi_total.add(&piece(H2, H1, LY, lin(emc)));
-        psi_total.add(&piece(H3A, H2, LY, lin(fl)));
-        psi_total.add(&piece(-H3B, H3A, fl_mid_width, lin(fl)));
-        psi_total.add(&piece(-H3, -H3B, LY, lin(fl)));
+        psi_total.add(&piece(H1, H / 2.0, LY, lin(cl, g_cl)));
+        psi_total.add(&piece(H2, H1, LY, lin(emc, g_emc)));
+        psi_total.add(&piece(H3A, H2, LY, lin(fl, g_fl)));
+        psi_total.add(&piece(-H3B, H3A, fl_mid_width, lin(fl, g_fl)));
+        psi_total.add(&piece(-H3, -H3B, LY, lin(fl, g_fl)));
         psi_total.add(&piece(-H / 2.0, -H3, LY, pemc));
         if gas_width > 0.0 {
             vol.add(&piece(-H3B, H3A, gas_width, Density::Gas));

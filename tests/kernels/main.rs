@@ -25,6 +25,7 @@
 
 use fpc::model::ccm::Ccm;
 use fpc::model::quad::Quad as QuadModel;
+use fpc::model::shear::Shear;
 use fpc::model::{
     upper_index, EnergyScalars, GasParams, LinearParams, PrestressedParams, PsiParams, Vector,
 };
@@ -42,6 +43,7 @@ macro_rules! for_each_model {
     ($check:ident $(, $arg:expr)*) => {{
         $check::<Ccm>($($arg),*);
         $check::<QuadModel>($($arg),*);
+        $check::<Shear>($($arg),*);
     }};
 }
 
@@ -208,6 +210,11 @@ trait Fields: ElementModel {
     fn shape(k: &Self::Coeffs, x: f64) -> [[f64; 3]; 2];
     /// Gradients in the unknowns of `[X, Z, X', Z']` at local `x`.
     fn shape_gradients(k: &Self::Coeffs, x: f64) -> [Self::Coeffs; 4];
+    /// The transverse shear strain gamma_xz at local `x` and its gradient
+    /// (linear in the unknowns); zero for the models without shear.
+    fn gamma_xz(_k: &Self::Coeffs, _x: f64) -> (f64, Self::Coeffs) {
+        (0.0, Self::Coeffs::zero())
+    }
 }
 
 /// The paper's element: u = a1 x + a3 x^3, v = b1 y, w = c2 x^2 (Eq. 4),
@@ -350,6 +357,84 @@ impl Fields for QuadModel {
     }
 }
 
+/// The shear-deformable element: the paper's u, v, the section rotation
+/// th = 2 c2 x and the mid-plane w = c2 x^2 + g0 x, so
+/// eps_x = u' + w'^2 / 2 - z th' = a1 + 3 a3 x^2 + (2 c2 x + g0)^2 / 2 - 2 z c2,
+/// eps_y = b1, gamma_xz = w' - th = g0 (unknowns a1, a3, b1, c2, g0).
+impl Fields for Shear {
+    fn typical() -> [f64; 5] {
+        [0.05, 2e-5, 0.05, 0.03, 0.02]
+    }
+
+    fn typical_at(l: f64) -> [f64; 5] {
+        [0.05, 0.05 / (l * l), 0.05, 0.03 * 13.75 / l, 0.02]
+    }
+
+    fn eps_x(k: &[f64; 5], x: f64, z: f64) -> (f64, [f64; 5]) {
+        let [a1, a3, _, c2, g0] = *k;
+        let slope = 2.0 * c2 * x + g0;
+        (
+            a1 + 3.0 * a3 * x * x + 0.5 * slope * slope - 2.0 * z * c2,
+            [1.0, 3.0 * x * x, 0.0, 2.0 * x * slope - 2.0 * z, slope],
+        )
+    }
+
+    fn eps_x_gradient_magnitude(k: &[f64; 5], x: f64, z: f64) -> [f64; 5] {
+        let slope = 2.0 * k[3].abs() * x.abs() + k[4].abs();
+        [
+            1.0,
+            3.0 * x * x,
+            0.0,
+            2.0 * x.abs() * slope + 2.0 * z.abs(),
+            slope,
+        ]
+    }
+
+    fn eps_x_hessian(_: &[f64; 5], x: f64, _: f64, i: usize, j: usize) -> (f64, f64) {
+        // slope^2 / 2 with slope = 2 c2 x + g0
+        let v = match (i, j) {
+            (3, 3) => 4.0 * x * x,
+            (3, 4) | (4, 3) => 2.0 * x,
+            (4, 4) => 1.0,
+            _ => 0.0,
+        };
+        (v, v.abs())
+    }
+
+    fn eps_y(k: &[f64; 5], _: f64, _: f64) -> (f64, [f64; 5], [f64; 5]) {
+        (k[2], [0.0, 0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0, 0.0])
+    }
+
+    fn eps_y_hessian(_: &[f64; 5], _: f64, _: f64, _: usize, _: usize) -> (f64, f64) {
+        (0.0, 0.0)
+    }
+
+    fn shape(k: &[f64; 5], x: f64) -> [[f64; 3]; 2] {
+        let [a1, a3, _, c2, g0] = *k;
+        [
+            [
+                x + a1 * x + a3 * x.powi(3),
+                1.0 + a1 + 3.0 * a3 * x * x,
+                6.0 * a3 * x,
+            ],
+            [c2 * x * x + g0 * x, 2.0 * c2 * x + g0, 2.0 * c2],
+        ]
+    }
+
+    fn shape_gradients(_: &[f64; 5], x: f64) -> [[f64; 5]; 4] {
+        [
+            [x, x.powi(3), 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, x * x, x],
+            [1.0, 3.0 * x * x, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 2.0 * x, 1.0],
+        ]
+    }
+
+    fn gamma_xz(k: &[f64; 5], _: f64) -> (f64, [f64; 5]) {
+        (k[4], [0.0, 0.0, 0.0, 0.0, 1.0])
+    }
+}
+
 // ---------------------------------------------------------------------------
 // The energy densities of docs/model.md section 4 (the same for every
 // model: the families' laws in the strains).
@@ -357,8 +442,21 @@ impl Fields for QuadModel {
 /// An energy (or volume) density W(eps_x, eps_y) with its derivatives.
 #[derive(Debug, Clone, Copy)]
 enum Density {
-    Linear { q11: f64, q12: f64, q22: f64 },
-    Prestressed { eps0: f64, p: [f64; 4], q22: f64 },
+    /// With the transverse shear energy ks g13 gamma^2 / 2.
+    Linear {
+        q11: f64,
+        q12: f64,
+        q22: f64,
+        g13: f64,
+        ks: f64,
+    },
+    Prestressed {
+        eps0: f64,
+        p: [f64; 4],
+        q22: f64,
+        g13: f64,
+        ks: f64,
+    },
     Gas,
 }
 
@@ -398,9 +496,18 @@ fn psi_magnitude(p: &[f64; 4], s: f64) -> (f64, f64, f64) {
 }
 
 impl Density {
+    /// ks g13 of the transverse shear energy ks g13 gamma^2 / 2, which
+    /// adds to the density in the strains eps_x, eps_y (0 for the gas).
+    fn shear_stiffness(&self) -> f64 {
+        match *self {
+            Density::Linear { g13, ks, .. } | Density::Prestressed { g13, ks, .. } => ks * g13,
+            Density::Gas => 0.0,
+        }
+    }
+
     fn jet(&self, e: f64, y: f64) -> Jet {
         match *self {
-            Density::Linear { q11, q12, q22 } => Jet {
+            Density::Linear { q11, q12, q22, .. } => Jet {
                 f: 0.5 * q11 * e * e + q12 * e * y + 0.5 * q22 * y * y,
                 fe: q11 * e + q12 * y,
                 fy: q12 * e + q22 * y,
@@ -408,7 +515,7 @@ impl Density {
                 fey: q12,
                 fyy: q22,
             },
-            Density::Prestressed { eps0, p, q22 } => {
+            Density::Prestressed { eps0, p, q22, .. } => {
                 let (s0, s1, s2) = psi(&p, eps0 + e);
                 Jet {
                     f: s0 + 0.5 * q22 * y * y,
@@ -436,7 +543,7 @@ impl Density {
     fn magnitude_jet(&self, e: f64, y: f64) -> Jet {
         let (e, y) = (e.abs(), y.abs());
         match *self {
-            Density::Linear { q11, q12, q22 } => {
+            Density::Linear { q11, q12, q22, .. } => {
                 let (q11, q12, q22) = (q11.abs(), q12.abs(), q22.abs());
                 Jet {
                     f: 0.5 * q11 * e * e + q12 * e * y + 0.5 * q22 * y * y,
@@ -447,7 +554,7 @@ impl Density {
                     fyy: q22,
                 }
             }
-            Density::Prestressed { eps0, p, q22 } => {
+            Density::Prestressed { eps0, p, q22, .. } => {
                 let (s0, s1, s2) = psi_magnitude(&p, eps0.abs() + e);
                 Jet {
                     f: s0 + 0.5 * q22.abs() * y * y,
@@ -559,13 +666,16 @@ fn quad<M: Fields>(d: &Density, b: &Bx, k: &M::Coeffs) -> Quad {
             let (e, de) = M::eps_x(k, x, z);
             let dem = M::eps_x_gradient_magnitude(k, x, z);
             let (ey, dy, dym) = M::eps_y(k, x, z);
+            let (gamma, dg) = M::gamma_xz(k, x);
+            let gs = d.shear_stiffness();
             let j = d.jet(e, ey);
             let jm = d.magnitude_jet(e, ey);
-            q.v += w * j.f;
-            q.mag += w.abs() * jm.f;
+            q.v += w * (j.f + 0.5 * gs * gamma * gamma);
+            q.mag += w.abs() * (jm.f + 0.5 * gs.abs() * gamma * gamma);
             for i in 0..n {
-                q.g[i] += w * (j.fe * de[i] + j.fy * dy[i]);
-                q.gmag[i] += w.abs() * (jm.fe * dem[i] + jm.fy * dym[i]);
+                q.g[i] += w * (j.fe * de[i] + j.fy * dy[i] + gs * gamma * dg[i]);
+                q.gmag[i] +=
+                    w.abs() * (jm.fe * dem[i] + jm.fy * dym[i] + gs.abs() * (gamma * dg[i]).abs());
                 for l in 0..n {
                     let (hx, hxm) = M::eps_x_hessian(k, x, z, i, l);
                     let (hy, hym) = M::eps_y_hessian(k, x, z, i, l);
@@ -573,12 +683,14 @@ fn quad<M: Fields>(d: &Density, b: &Bx, k: &M::Coeffs) -> Quad {
                         + j.fey * (de[i] * dy[l] + dy[i] * de[l])
                         + j.fyy * dy[i] * dy[l]
                         + j.fe * hx
-                        + j.fy * hy;
+                        + j.fy * hy
+                        + gs * dg[i] * dg[l];
                     let mil = jm.fee * dem[i] * dem[l]
                         + jm.fey * (dem[i] * dym[l] + dym[i] * dem[l])
                         + jm.fyy * dym[i] * dym[l]
                         + jm.fe * hxm
-                        + jm.fy * hym;
+                        + jm.fy * hym
+                        + gs.abs() * (dg[i] * dg[l]).abs();
                     q.h[i][l] += w * hil;
                     q.hmag[i][l] += w.abs() * mil;
                 }
@@ -595,7 +707,13 @@ fn quad<M: Fields>(d: &Density, b: &Bx, k: &M::Coeffs) -> Quad {
 /// parameter struct.
 fn add_block<M: ElementModel>(d: &Density, b: &Bx, m: &mut M::Moments) {
     match *d {
-        Density::Linear { q11, q12, q22 } => M::add_linear(
+        Density::Linear {
+            q11,
+            q12,
+            q22,
+            g13,
+            ks,
+        } => M::add_linear(
             m,
             &LinearParams {
                 x0: b.x0,
@@ -606,9 +724,17 @@ fn add_block<M: ElementModel>(d: &Density, b: &Bx, m: &mut M::Moments) {
                 q11,
                 q12,
                 q22,
+                g13,
+                ks,
             },
         ),
-        Density::Prestressed { eps0, p, q22 } => M::add_prestressed(
+        Density::Prestressed {
+            eps0,
+            p,
+            q22,
+            g13,
+            ks,
+        } => M::add_prestressed(
             m,
             &PrestressedParams {
                 x0: b.x0,
@@ -622,6 +748,8 @@ fn add_block<M: ElementModel>(d: &Density, b: &Bx, m: &mut M::Moments) {
                 p3: p[2],
                 p4: p[3],
                 q22,
+                g13,
+                ks,
             },
         ),
         Density::Gas => M::add_gas(
@@ -728,7 +856,13 @@ fn random_density(kind: usize, rng: &mut Rng) -> Density {
             let q11 = rng.range(0.5, 400.0);
             let q22 = rng.range(0.5, 400.0);
             let q12 = rng.range(-0.5, 0.5) * (q11 * q22).sqrt();
-            Density::Linear { q11, q12, q22 }
+            Density::Linear {
+                q11,
+                q12,
+                q22,
+                g13: rng.range(0.2, 150.0),
+                ks: rng.range(0.5, 1.2),
+            }
         }
         1 => {
             let p = random_law(rng);
@@ -736,6 +870,8 @@ fn random_density(kind: usize, rng: &mut Rng) -> Density {
                 eps0: rng.range(0.0, 0.6),
                 p,
                 q22: rng.range(1.0, 400.0),
+                g13: rng.range(0.2, 150.0),
+                ks: rng.range(0.5, 1.2),
             }
         }
         _ => Density::Gas,

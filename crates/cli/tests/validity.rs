@@ -96,7 +96,7 @@ fn models_are_listed_and_chosen_by_name() {
         .map(|m| m["name"].as_str().unwrap())
         .collect();
     assert!(
-        names.contains(&"ccm") && names.contains(&"quad"),
+        names.contains(&"ccm") && names.contains(&"quad") && names.contains(&"shear"),
         "{names:?}"
     );
     for m in v.as_array().unwrap() {
@@ -114,7 +114,11 @@ fn models_are_listed_and_chosen_by_name() {
     assert_eq!(v["coefficients"][0].as_array().unwrap().len(), 5);
     let out = fpc(&["finger", "--model", "nope"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(text(&out.stderr).contains("not a model (models: ccm, quad)"));
+    assert!(text(&out.stderr).contains("not a model (models: ccm, quad, shear)"));
+    // the shear-deformable element: five unknowns, the fifth its shear strain
+    let (v, _) = json(&["finger", "--model", "shear", "--fx", "0.2", "--json"]);
+    assert_eq!(v["model"], "shear");
+    assert_eq!(v["coefficients"][0].as_array().unwrap().len(), 5);
     let out = fpc(&["kernels", "--model", "quad", "--report"]);
     assert!(text(&out.stdout).contains("prestressed_hessian"));
 }

@@ -9,9 +9,9 @@ pub mod accuracy;
 pub mod stress;
 
 pub use accuracy::{
-    accuracy_study, standard_load, AccuracyRow, AccuracyStudy, Convergence, FamilyLimit, Fastest,
-    FrontPoint, LibraryChoice, ModelGap, ModelReference, Plan, StudyConfig, TimingReference,
-    CONFIGURATIONS, QUICK_CONFIGURATIONS, TIME_RESOLUTION, TOLERANCES_MM,
+    accuracy_study, standard_load, study_models, AccuracyRow, AccuracyStudy, Convergence,
+    FamilyLimit, Fastest, FrontPoint, LibraryChoice, ModelGap, ModelReference, Plan, StudyConfig,
+    TimingReference, CONFIGURATIONS, QUICK_CONFIGURATIONS, TIME_RESOLUTION, TOLERANCES_MM,
 };
 pub use stress::{
     dense_negative_eigenvalues, finding_name, force_scale, inside_envelope, reason_name, stress,

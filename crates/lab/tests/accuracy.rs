@@ -5,7 +5,6 @@
 use std::time::Duration;
 
 use fpc::plan::PartitionKind;
-use fpc::ModelId;
 use fpc_lab::{accuracy_study, AccuracyStudy, StudyConfig, TIME_RESOLUTION, TOLERANCES_MM};
 
 fn study() -> AccuracyStudy {
@@ -24,7 +23,7 @@ fn study() -> AccuracyStudy {
 #[test]
 fn the_quick_study_reproduces_the_front() {
     let s = study();
-    assert_eq!(s.references.len(), ModelId::ALL.len());
+    assert_eq!(s.references.len(), fpc_lab::study_models().len());
     let dist = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
     for r in &s.references {
         let m = r.model.name();
@@ -93,7 +92,7 @@ fn the_quick_study_reproduces_the_front() {
             r.label
         );
     }
-    for m in ModelId::ALL {
+    for m in &fpc_lab::study_models() {
         let label = format!("{}/material/8x2+richardson", m.name());
         let r = s.rows.iter().find(|r| r.label == label).expect(&label);
         assert_eq!(r.elements_per_level, [27, 54]);

@@ -8,7 +8,11 @@
 //!
 //! - the integrals `linear`, `prestressed` and `gas`, one per kind of block
 //!   the runtime cuts from the actuator, with named parameter structs
-//!   shared by every model (`LinearParams`, ...);
+//!   shared by every model (`LinearParams`, ...): the specs agree on the
+//!   fields they share, in order, and a spec may extend a struct with
+//!   trailing fields (the shear data `g13`, `ks` of `shear.spec`), which
+//!   models that do not take them ignore (their kernels read the fields
+//!   by name, and their tangents the leading columns);
 //! - `energy = ...;`, how the integrals combine (runtime scalars in
 //!   `EnergyScalars`);
 //! - `scaled ...;` (the solver's unknowns) and `local ...;` (unknowns the
@@ -23,7 +27,10 @@
 //!   ascending powers (`ElementModel::MIDPLANE_DEGREE`,
 //!   `Kinematics::midplane_coefficients`), for contacts computed on the
 //!   continuous mid-plane;
-//! - `law psi(s);`, the prestressed layer's material law (`PsiParams`).
+//! - `law psi(s);`, the prestressed layer's material law (`PsiParams`);
+//! - `across ...;`, the unknowns of the strain across the width, which
+//!   plane strain holds at zero (`Across`, generated into `models.rs` so
+//!   that a model's own file does not change with it).
 //!
 //! Every rule is checked here, so a spec that breaks the contract fails the
 //! build with the spec's name and the rule, never compiles into a model
@@ -218,6 +225,13 @@ fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
                 }
             }
         }
+    }
+    if spec.across.is_empty() {
+        return Err(fail(
+            "needs an `across ...;` statement: the unknowns of the strain across the width, \
+             which plane strain holds at zero"
+                .into(),
+        ));
     }
     let law = spec.laws.iter().find(|l| l.name == LAW.0).ok_or_else(|| {
         fail(format!(
@@ -585,30 +599,39 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
             message: "no spec to generate a model from".into(),
         });
     }
-    // shared parameter structs: every spec must agree (by field names)
+    // shared parameter structs: the specs must agree on every field they
+    // share, in order; a spec may extend a struct with trailing fields
+    // (the shear data of a box), which models without them ignore
     let mut structs = param_structs(&checked[0].spec);
-    for (f, c) in specs.iter().zip(&checked).skip(1) {
+    let mut owners: Vec<usize> = vec![0; structs.len()];
+    for (i, (f, c)) in specs.iter().zip(&checked).enumerate().skip(1) {
         for s in param_structs(&c.spec) {
-            match structs.iter().find(|t| t.name == s.name) {
-                Some(t) => {
-                    let mut a = t.fields.clone();
-                    let mut b = s.fields.clone();
-                    a.sort();
-                    b.sort();
-                    if a != b {
+            match structs.iter().position(|t| t.name == s.name) {
+                Some(j) => {
+                    let t = &structs[j];
+                    let common = t.fields.len().min(s.fields.len());
+                    if t.fields[..common] != s.fields[..common] {
                         return Err(ModelGenError {
                             spec: f.path.clone(),
                             message: format!(
-                                "`{}` takes ({}) but {} gives it ({}): models share the runtime's parameter structs",
+                                "`{}` takes ({}) but {} gives it ({}): models share the runtime's parameter structs, \
+                                 the same fields in the same order, a spec's extra fields last",
                                 s.name,
                                 s.fields.join(", "),
-                                specs[0].path,
+                                specs[owners[j]].path,
                                 t.fields.join(", ")
                             ),
                         });
                     }
+                    if s.fields.len() > t.fields.len() {
+                        structs[j] = s;
+                        owners[j] = i;
+                    }
                 }
-                None => structs.push(s),
+                None => {
+                    structs.push(s);
+                    owners.push(i);
+                }
             }
         }
     }
@@ -654,6 +677,21 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
         .map(|c| format!("/model_{}_report.txt", c.module))
         .collect();
     let default_variant = &variants[default_index];
+    let across: Vec<TokenStream> = checked
+        .iter()
+        .map(|c| {
+            let idx = c.spec.across.iter().map(|a| {
+                let i = c
+                    .spec
+                    .unknowns
+                    .iter()
+                    .position(|u| u == a)
+                    .expect("checked");
+                Literal::usize_unsuffixed(i)
+            });
+            quote! { &[#(#idx),*] }
+        })
+        .collect();
     let generated_names: Vec<String> = files.iter().map(|f| f.name.clone()).collect();
     let model_docs: Vec<String> = specs
         .iter()
@@ -686,6 +724,12 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
 
                 #[doc = "Operation counts of its generated functions, before and after CSE."]
                 pub const REPORT: &str = include_str!(concat!(env!("OUT_DIR"), #reports));
+            }
+        )*
+
+        #(
+            impl Across for #modules::#variants {
+                const ACROSS: &'static [usize] = #across;
             }
         )*
 
@@ -861,6 +905,82 @@ mod tests {
             assert!(e.message.contains("not a polynomial in x"), "{e}");
             assert!(e.message.contains(culprit), "{e}");
         }
+    }
+
+    const LINEAR: &str = "integral linear(x0, x1, width, z0, z1, q11, q12, q22) =";
+
+    fn named(name: &str, text: String) -> SpecFile {
+        SpecFile {
+            path: format!("energy-spec/{name}.spec"),
+            text,
+        }
+    }
+
+    #[test]
+    fn a_spec_may_extend_a_shared_struct_with_trailing_fields() {
+        assert!(CCM.contains(LINEAR));
+        let wide = CCM.replace("model Ccm;", "model Wide;").replace(
+            LINEAR,
+            "integral linear(x0, x1, width, z0, z1, q11, q12, q22, extra) =",
+        );
+        let alone = generate(&spec(CCM.into()), "ccm").unwrap();
+        let ccm_alone = alone.iter().find(|f| f.name == "model_ccm.rs").unwrap();
+        // in either order: the struct is the longer list, and the model
+        // without the extra field is generated as it is alone
+        for specs in [
+            vec![named("ccm", CCM.into()), named("wide", wide.clone())],
+            vec![named("wide", wide.clone()), named("ccm", CCM.into())],
+        ] {
+            let files = generate(&specs, "ccm").unwrap();
+            let models = files.iter().find(|f| f.name == "models.rs").unwrap();
+            assert!(models.text.contains("pub extra: f64"), "{}", models.text);
+            assert!(models.text.contains("pub fn to_values(&self) -> [f64; 9]"));
+            let ccm = files.iter().find(|f| f.name == "model_ccm.rs").unwrap();
+            assert_eq!(ccm, ccm_alone);
+        }
+    }
+
+    #[test]
+    fn shared_fields_in_another_order_are_a_generation_error() {
+        for (name, header) in [
+            (
+                "swapped",
+                "integral linear(x0, x1, width, z0, z1, q12, q11, q22) =",
+            ),
+            (
+                "inserted",
+                "integral linear(x0, x1, width, z0, z1, extra, q11, q12, q22) =",
+            ),
+        ] {
+            let other = CCM
+                .replace("model Ccm;", &format!("model {};", name.to_uppercase()))
+                .replace(LINEAR, header);
+            let e = generate(&[named("ccm", CCM.into()), named(name, other)], "ccm").unwrap_err();
+            assert_eq!(e.spec, format!("energy-spec/{name}.spec"));
+            assert!(e.message.starts_with("`LinearParams` takes"), "{e}");
+            assert!(e.message.contains("extra fields last"), "{e}");
+        }
+    }
+
+    #[test]
+    fn a_spec_names_its_unknowns_across_the_width() {
+        let across = "across b1;";
+        assert!(CCM.contains(across));
+        let e = generate(&spec(CCM.replace(across, "")), "ccm").unwrap_err();
+        assert!(
+            e.message.starts_with("needs an `across ...;` statement"),
+            "{e}"
+        );
+        let files = generate(&spec(CCM.into()), "ccm").unwrap();
+        let models = files.iter().find(|f| f.name == "models.rs").unwrap();
+        assert!(
+            models.text.contains("impl Across for ccm::Ccm"),
+            "{}",
+            models.text
+        );
+        assert!(models
+            .text
+            .contains("const ACROSS: &'static [usize] = &[2];"));
     }
 
     #[test]

@@ -11,6 +11,7 @@
 //! model Ccm;                             # the generated model's name
 //! scaled a1, a3*L^2;                     # the solver's unknowns: each unknown times a factor
 //! local b1;                              # unknowns that couple only within their element
+//! across b1;                             # unknowns of the strain across the width
 //! law psi(s);                            # a `let` of one variable: value and two derivatives
 //! energy = linear - kp*gas;              # how the integrals combine; `kp` a runtime scalar
 //! ```
@@ -104,6 +105,9 @@ pub struct Spec {
     pub scaled: Option<ScaledDef>,
     /// Unknowns declared local to their element (`local ...;`).
     pub local: Vec<Sym>,
+    /// Unknowns of the strain across the width (`across ...;`): what a
+    /// runtime holds at zero for plane strain.
+    pub across: Vec<Sym>,
     /// Box integrals.
     pub integrals: Vec<IntegralDef>,
     /// Point kernels.
@@ -114,9 +118,9 @@ pub struct Spec {
     pub energy: Option<EnergyDef>,
 }
 
-const KEYWORDS: [&str; 11] = [
-    "unknowns", "let", "integral", "point", "over", "in", "model", "scaled", "local", "law",
-    "energy",
+const KEYWORDS: [&str; 12] = [
+    "unknowns", "let", "integral", "point", "over", "in", "model", "scaled", "local", "across",
+    "law", "energy",
 ];
 
 /// Free symbols of several expressions, in order of first appearance.
@@ -148,6 +152,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
     let mut model = None;
     let mut scaled = None;
     let mut local = Vec::new();
+    let mut across = Vec::new();
     let mut laws: Vec<LawDef> = Vec::new();
     let mut energy = None;
     {
@@ -357,6 +362,20 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                         local.push(s);
                     }
                 }
+                Tok::Ident(w) if w == "across" => {
+                    p.next();
+                    let list = ident_list(&mut p, ';', "an unknown's name")?;
+                    for (name, tok) in list {
+                        let s = p.arena.symbol(&name);
+                        if !unknowns.contains(&s) {
+                            return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
+                        }
+                        if across.contains(&s) {
+                            return Err(p.error_at(&tok, "distinct unknowns across the width"));
+                        }
+                        across.push(s);
+                    }
+                }
                 Tok::Ident(w) if w == "law" => {
                     p.next();
                     let (name, tok) = p.expect_ident("the name of a `let` to emit as a law")?;
@@ -426,7 +445,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                     energy = Some(EnergyDef { terms, scalars, line: t.line });
                 }
                 _ => return Err(p.error(
-                    "a statement (`model`, `unknowns`, `scaled`, `local`, `let`, `law`, `integral`, `energy` or `point`)",
+                    "a statement (`model`, `unknowns`, `scaled`, `local`, `across`, `let`, `law`, `integral`, `energy` or `point`)",
                 )),
             }
         }
@@ -441,6 +460,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
         unknowns,
         scaled,
         local,
+        across,
         integrals,
         points,
         laws,

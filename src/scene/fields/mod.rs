@@ -12,7 +12,8 @@ use std::fmt;
 
 use crate::error::{self, InputError, Warning};
 pub(crate) use crate::field::{
-    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey, RibKey,
+    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
+    RibKey, ShearLayer,
 };
 use crate::solve_error::SolveError;
 
@@ -89,6 +90,10 @@ pub(crate) enum SceneKey {
     /// `actuator.<layer>.<key>`.
     Material(Lamina, Elastic),
     Pemc(PemcKey),
+    /// `actuator.<layer>.g13`.
+    ShearModulus(ShearLayer),
+    /// `actuator.laminate.<key>`.
+    Laminate(LaminateKey),
     Partition(PartitionKey),
     /// `partition.lengths[i]`.
     PartitionLength(usize),
@@ -127,6 +132,8 @@ impl fmt::Display for SceneKey {
             SceneKey::MaterialKind(l) => write!(f, "actuator.{l}.kind"),
             SceneKey::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             SceneKey::Pemc(k) => write!(f, "actuator.pemc.{k}"),
+            SceneKey::ShearModulus(l) => write!(f, "actuator.{l}.g13"),
+            SceneKey::Laminate(k) => write!(f, "actuator.laminate.{k}"),
             SceneKey::Partition(k) => write!(f, "partition.{k}"),
             SceneKey::PartitionLength(i) => write!(f, "partition.lengths[{i}]"),
             SceneKey::Load(k) => write!(f, "load.{k}"),
@@ -178,6 +185,8 @@ impl SceneKey {
             keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
         }
         keys.extend(PemcKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(ShearLayer::ALL.iter().map(|&l| SceneKey::ShearModulus(l)));
+        keys.extend(LaminateKey::ALL.iter().map(|&k| SceneKey::Laminate(k)));
         keys.extend(PartitionKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.push(SceneKey::PartitionLength(0));
         keys.extend(LoadKey::ALL.iter().map(|&k| SceneKey::from(k)));
@@ -249,6 +258,8 @@ pub(crate) fn scene_key(f: &Field) -> Option<SceneKey> {
         Field::Ribs => SceneKey::Ribs,
         Field::Material(l, k) => SceneKey::Material(l, k),
         Field::Pemc(k) => SceneKey::Pemc(k),
+        Field::ShearModulus(l) => SceneKey::ShearModulus(l),
+        Field::Laminate(k) => SceneKey::Laminate(k),
         // the element count; the automatic partition's pieces; a finger
         // without elements
         Field::PartitionN | Field::PartitionMaxLength | Field::GripperFinger => {

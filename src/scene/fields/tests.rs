@@ -24,6 +24,8 @@ fn library_fields(index: usize) -> Vec<Field> {
         all.extend(Elastic::ALL.iter().map(|&k| Field::Material(l, k)));
     }
     all.extend(PemcKey::ALL.iter().map(|&k| Field::Pemc(k)));
+    all.extend(ShearLayer::ALL.iter().map(|&l| Field::ShearModulus(l)));
+    all.extend(LaminateKey::ALL.iter().map(|&k| Field::Laminate(k)));
     all.extend(
         crate::field::RefinementKey::ALL
             .iter()
@@ -38,6 +40,14 @@ fn library_fields(index: usize) -> Vec<Field> {
 fn toml_paths_of_library_fields() {
     assert_eq!(scene_key_of(Field::Pemc(PemcKey::P1)), "actuator.pemc.p1");
     assert_eq!(scene_key_of(Field::Pemc(PemcKey::P4)), "actuator.pemc.p4");
+    assert_eq!(
+        scene_key_of(Field::ShearModulus(ShearLayer::Pemc)),
+        "actuator.pemc.g13"
+    );
+    assert_eq!(
+        scene_key_of(Field::Laminate(LaminateKey::ShearCorrection)),
+        "actuator.laminate.shear_correction"
+    );
     assert_eq!(
         scene_key_of(Field::Rib(2, RibKey::Width)),
         "actuator.ribs.list[2].width"

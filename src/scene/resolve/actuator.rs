@@ -3,7 +3,7 @@
 
 use crate::actuator::{
     Actuator, ActuatorParams, Channel, Geometry, Isotropic, Material, Orthotropic, Prestressed,
-    PsiLaw, Rib, RibLayout,
+    PsiLaw, Rib, RibLayout, TransverseShear,
 };
 use crate::error::InputError;
 use crate::scene::fields::{
@@ -75,7 +75,15 @@ pub(super) fn resolve_actuator(
         p2: Some(pemc.law.p2),
         p3: Some(pemc.law.p3),
         p4: Some(pemc.law.p4),
+        // the shear data echo as given: a scene without them resolves as
+        // it always did
+        g13: pm.g13,
     };
+    let shear = TransverseShear {
+        correction: a.laminate.shear_correction.unwrap_or(d.shear.correction),
+        g13: [a.cl.g13, a.emc.g13, a.fluidic.g13, pm.g13],
+    };
+    echo.laminate = a.laminate.clone();
     Actuator::new(ActuatorParams {
         geometry,
         channel,
@@ -84,6 +92,8 @@ pub(super) fn resolve_actuator(
         emc,
         fluidic,
         pemc,
+        shear,
+        plane_strain: a.laminate.plane_strain.unwrap_or(d.plane_strain),
     })
     .map_err(scene_input)
 }
@@ -179,6 +189,7 @@ fn resolve_material(
     };
     let mut echo = MaterialSection {
         kind: Some(kind),
+        g13: m.g13,
         ..MaterialSection::default()
     };
     let material = match kind {

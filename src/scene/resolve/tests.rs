@@ -29,6 +29,10 @@ fn echo_spells_out_every_default_and_resolves_to_the_same_scene() {
         ),
         ("model", "[model]\nname = \"ccm\""),
         ("strict", "[gripper]\nstrict = true\n[gripper.grasp]\n"),
+        (
+            "laminate",
+            "[actuator.laminate]\nplane_strain = true\nshear_correction = 0.7\n[actuator.emc]\ng13 = 0.5",
+        ),
     ];
     for (name, text) in SCENES.iter().chain(&more) {
         let s = Scene::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
@@ -50,6 +54,36 @@ fn echo_spells_out_every_default_and_resolves_to_the_same_scene() {
     assert_eq!(echo.actuator.emc.kind, Some(MaterialKind::Orthotropic));
     assert_eq!(echo.actuator.pemc.p4, Some(0.698));
     assert_eq!(echo.partition.elements, Some(Elements::Count(8)));
+}
+
+#[test]
+fn the_laminates_options_reach_the_actuator_and_echo_only_when_given() {
+    let s = Scene::from_toml(
+        "[actuator.laminate]\nplane_strain = true\nshear_correction = 0.7\n[actuator.emc]\ng13 = 0.5\n[actuator.pemc]\ng13 = 0.9",
+    )
+    .unwrap();
+    let p = s.actuator.params();
+    assert!(p.plane_strain);
+    assert_eq!(p.shear.correction, 0.7);
+    assert_eq!(p.shear.g13, [None, Some(0.5), None, Some(0.9)]);
+    // the defaults of the others: E / (2 (1 + nu)), and p1 / 2
+    use crate::field::ShearLayer;
+    assert_eq!(s.actuator.g13(ShearLayer::Cl), 305.0 / 2.86);
+    assert_eq!(s.actuator.g13(ShearLayer::Emc), 0.5);
+    assert_eq!(s.actuator.g13(ShearLayer::Fluidic), 1.2 / 2.96);
+    let echo = s.file();
+    assert_eq!(echo.actuator.laminate.plane_strain, Some(true));
+    assert_eq!(echo.actuator.emc.g13, Some(0.5));
+    assert_eq!(echo.actuator.cl.g13, None);
+    // a scene without them echoes none of them (outputs stay as they were)
+    let plain = Scene::from_toml("").unwrap();
+    let text = toml::to_string(plain.file()).unwrap();
+    assert!(
+        !text.contains("laminate") && !text.contains("g13"),
+        "{text}"
+    );
+    assert!(!plain.actuator.params().plane_strain);
+    assert_eq!(plain.actuator.shear_correction(), 5.0 / 6.0);
 }
 
 #[test]
@@ -306,6 +340,13 @@ fn validation_errors_name_the_toml_path() {
         ("[actuator.pemc]\np1 = 0", "actuator.pemc.p1"),
         ("[actuator.pemc]\np3 = nan", "actuator.pemc.p3"),
         ("[actuator.pemc]\ne2 = 0", "actuator.pemc.e2"),
+        ("[actuator.cl]\ng13 = -1", "actuator.cl.g13"),
+        ("[actuator.fluidic]\ng13 = nan", "actuator.fluidic.g13"),
+        ("[actuator.pemc]\ng13 = 0", "actuator.pemc.g13"),
+        (
+            "[actuator.laminate]\nshear_correction = 0",
+            "actuator.laminate.shear_correction",
+        ),
         ("[partition]\nelements = 0", "partition.elements"),
         ("[partition]\nelements = 5000", "partition.elements"),
         ("[partition]\nlengths = [50, 50]", "partition.lengths"),

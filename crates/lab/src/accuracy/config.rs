@@ -117,13 +117,28 @@ fn as_ms<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_f64(d.as_secs_f64() * 1e3)
 }
 
+/// The models the study references: every model but the shear-deformable
+/// element (`energy-spec/shear.spec`), whose references do not reach
+/// rounding yet: on the finest material partitions (elements a fraction
+/// of a millimetre long beside the ribs, against 8.2 mm of thickness)
+/// Newton stalls near a relative residual of 1e-10, where the references
+/// are solved to 1e-16. Where it sits on the front is open (docs/model.md
+/// section 4.8).
+pub fn study_models() -> Vec<ModelId> {
+    ModelId::ALL
+        .iter()
+        .copied()
+        .filter(|m| m.name() != "shear")
+        .collect()
+}
+
 impl StudyConfig {
-    /// Every model, [`CONFIGURATIONS`], 7 rounds, 30 ms per point and at
-    /// least 7 runs per point and round.
+    /// Every studied model ([`study_models`]), [`CONFIGURATIONS`], 7
+    /// rounds, 30 ms per point and at least 7 runs per point and round.
     pub fn full() -> StudyConfig {
         StudyConfig {
             plans: CONFIGURATIONS.to_vec(),
-            models: ModelId::ALL.to_vec(),
+            models: study_models(),
             budget: Duration::from_millis(30),
             min_runs: 7,
             rounds: 7,
@@ -131,12 +146,13 @@ impl StudyConfig {
         }
     }
 
-    /// Every model, [`QUICK_CONFIGURATIONS`], equal orders up to N = 64,
-    /// 2 rounds, 1 ms per point and at least 3 runs per point and round.
+    /// Every studied model ([`study_models`]), [`QUICK_CONFIGURATIONS`],
+    /// equal orders up to N = 64, 2 rounds, 1 ms per point and at least 3
+    /// runs per point and round.
     pub fn quick() -> StudyConfig {
         StudyConfig {
             plans: QUICK_CONFIGURATIONS.to_vec(),
-            models: ModelId::ALL.to_vec(),
+            models: study_models(),
             budget: Duration::from_millis(1),
             min_runs: 3,
             rounds: 2,

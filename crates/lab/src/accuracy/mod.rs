@@ -78,7 +78,7 @@ use fpc::plan::Refinement;
 use fpc::{Actuator, Load, ModelId, PlannedFinger, SolveError, SolveOptions};
 use serde::Serialize;
 
-pub use config::{Plan, StudyConfig, CONFIGURATIONS, QUICK_CONFIGURATIONS};
+pub use config::{study_models, Plan, StudyConfig, CONFIGURATIONS, QUICK_CONFIGURATIONS};
 pub use front::{AccuracyRow, Fastest, FrontPoint, LibraryChoice, TIME_RESOLUTION, TOLERANCES_MM};
 pub use reference::{
     Convergence, FamilyLimit, ModelGap, ModelReference, EQUAL_ORDER_LEVELS, EQUAL_ORDER_START,

@@ -65,7 +65,7 @@ fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
     ] {
         assert!(header.contains(&col), "no column {col} in {header:?}");
     }
-    let models = fpc::ModelId::ALL.len();
+    let models = fpc_lab::study_models().len();
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), ROWS_PER_MODEL * models);
     let at = |name: &str| header.iter().position(|h| *h == name).unwrap();
