@@ -27,8 +27,11 @@ pub const SPHERE_SAMPLES: usize = 3;
 const SPHERE_ANGLE_SAMPLES: usize = 8;
 
 /// The margin of a requirement a design cannot even be built for (the
-/// overlap beyond the finger's reach, an angle outside (0, 180)).
-pub const UNBUILDABLE_MARGIN: f64 = -1.0;
+/// overlap beyond the finger's reach, an angle outside (0, 180), fingers
+/// that do not fit around the palm): below -1, the margin of a grasp
+/// that holds nothing, so that a gripper that can be built always ranks
+/// above one that cannot, and a least-violating design is one to build.
+pub const UNBUILDABLE_MARGIN: f64 = -2.0;
 
 /// One requirement's margin at a design.
 #[derive(Debug, Clone, PartialEq, Serialize)]
