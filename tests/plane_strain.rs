@@ -179,7 +179,7 @@ fn plane_strain_holds_the_width_and_stiffens_the_paper_finger() {
         .with_pressure_kpa(40.0)
         .with_tip_force(0.3, -0.5);
     for &model in ModelId::ALL {
-        let solve = |plane_strain: bool| {
+        let solve_at = |plane_strain: bool, load: &Load| {
             let act = Actuator::new(ActuatorParams {
                 plane_strain,
                 ..ActuatorParams::default()
@@ -187,10 +187,10 @@ fn plane_strain_holds_the_width_and_stiffens_the_paper_finger() {
             .unwrap();
             let part = Partition::equal(110.0, 8).unwrap();
             Finger::with_model(model, &act, &part, true)
-                .solve(&load, &SolveOptions::default())
+                .solve(load, &SolveOptions::default())
                 .unwrap()
         };
-        let (stress, strain) = (solve(false), solve(true));
+        let (stress, strain) = (solve_at(false, &load), solve_at(true, &load));
         let info = model.info();
         let n = info.unknowns.len();
         let b1 = info
@@ -205,18 +205,7 @@ fn plane_strain_holds_the_width_and_stiffens_the_paper_finger() {
             assert!(ks[n * i + b1] != 0.0, "{model}: element {i}");
         }
         // the pressure and the force move the tip less when the width is held
-        let rest = |plane_strain: bool| {
-            let act = Actuator::new(ActuatorParams {
-                plane_strain,
-                ..ActuatorParams::default()
-            })
-            .unwrap();
-            let part = Partition::equal(110.0, 8).unwrap();
-            Finger::with_model(model, &act, &part, true)
-                .solve(&Load::unloaded(), &SolveOptions::default())
-                .unwrap()
-                .tip
-        };
+        let rest = |plane_strain: bool| solve_at(plane_strain, &Load::unloaded()).tip;
         let moved = |tip: [f64; 2], from: [f64; 2]| (tip[0] - from[0]).hypot(tip[1] - from[1]);
         let (d_stress, d_strain) = (
             moved(stress.tip, rest(false)),

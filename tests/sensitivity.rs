@@ -504,18 +504,16 @@ impl Case {
     }
 }
 
-/// The standard tip-loaded case: eps0 0.25, Fx 0.939782 N, Fz 0.521707 N, N = 8.
-fn tip_loaded(model: ModelId) -> Case {
-    let actuator = Actuator::paper(0.25).unwrap();
+/// A case solved on eight equal elements with ribs: `actuator` at `load`.
+fn solved(name: &'static str, model: ModelId, actuator: Actuator, load: Load) -> Case {
     let partition = Partition::equal(110.0, 8).unwrap();
     let finger = Finger::with_model(model, &actuator, &partition, true);
-    let load = Load::unloaded().with_tip_force(0.939782, 0.521707);
     let sol = finger.solve(&load, &opts()).unwrap();
     let sens = finger
         .sensitivities(&actuator, &sol, &load, &Param::all(&actuator))
         .unwrap();
     Case {
-        name: "tip-loaded",
+        name,
         model,
         actuator,
         partition,
@@ -524,6 +522,12 @@ fn tip_loaded(model: ModelId) -> Case {
         guess: sol.coefficients,
         sens,
     }
+}
+
+/// The standard tip-loaded case: eps0 0.25, Fx 0.939782 N, Fz 0.521707 N, N = 8.
+fn tip_loaded(model: ModelId) -> Case {
+    let load = Load::unloaded().with_tip_force(0.939782, 0.521707);
+    solved("tip-loaded", model, Actuator::paper(0.25).unwrap(), load)
 }
 
 /// The standard tip-loaded case in plane strain across the width, under
@@ -534,47 +538,16 @@ fn tip_loaded_plane_strain(model: ModelId) -> Case {
         ..fpc::ActuatorParams::default()
     })
     .unwrap();
-    let partition = Partition::equal(110.0, 8).unwrap();
-    let finger = Finger::with_model(model, &actuator, &partition, true);
     let load = Load::unloaded()
         .with_pressure_kpa(30.0)
         .with_tip_force(0.939782, 0.521707);
-    let sol = finger.solve(&load, &opts()).unwrap();
-    let sens = finger
-        .sensitivities(&actuator, &sol, &load, &Param::all(&actuator))
-        .unwrap();
-    Case {
-        name: "tip-loaded, plane strain",
-        model,
-        actuator,
-        partition,
-        load,
-        target: None,
-        guess: sol.coefficients,
-        sens,
-    }
+    solved("tip-loaded, plane strain", model, actuator, load)
 }
 
 /// A pressurised finger without tip load (the decoupled solve): 50 kPa.
 fn pressurised(model: ModelId) -> Case {
-    let actuator = Actuator::paper(0.25).unwrap();
-    let partition = Partition::equal(110.0, 8).unwrap();
-    let finger = Finger::with_model(model, &actuator, &partition, true);
     let load = Load::unloaded().with_pressure_kpa(50.0);
-    let sol = finger.solve(&load, &opts()).unwrap();
-    let sens = finger
-        .sensitivities(&actuator, &sol, &load, &Param::all(&actuator))
-        .unwrap();
-    Case {
-        name: "pressurised",
-        model,
-        actuator,
-        partition,
-        load,
-        target: None,
-        guess: sol.coefficients,
-        sens,
-    }
+    solved("pressurised", model, Actuator::paper(0.25).unwrap(), load)
 }
 
 /// Study 8's target solve: the eps0 = 0.15 sample at 27.6 kPa, the force

@@ -458,10 +458,17 @@ fn study8_bands_match_monte_carlo_through_the_study() {
     }
 }
 
-#[test]
-fn study_bands_with_one_key_are_central_difference_slopes() {
-    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
-    // central differences of two ordinary runs of each study
+/// The study scene with C = [[1]] over p1 (a band is then |d(output)/d(p1)|),
+/// and its actuator at p1 +- h for central differences.
+struct OneKey {
+    scene: Scene,
+    opts: StudyOptions,
+    h: f64,
+    up: fpc::Actuator,
+    down: fpc::Actuator,
+}
+
+fn one_key_p1() -> OneKey {
     let text = STUDY_SCENE.replace(
         "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
         "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
@@ -475,6 +482,26 @@ fn study_bands_with_one_key_are_central_difference_slopes() {
     let h = 1e-5;
     let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
     let (up, down) = (at(p1 + h), at(p1 - h));
+    OneKey {
+        scene,
+        opts,
+        h,
+        up,
+        down,
+    }
+}
+
+#[test]
+fn study_bands_with_one_key_are_central_difference_slopes() {
+    // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
+    // central differences of two ordinary runs of each study
+    let OneKey {
+        scene,
+        opts,
+        h,
+        up,
+        down,
+    } = one_key_p1();
     let s7 = study7_curvature_with(&scene.actuator, &opts, scene.covariance()).unwrap();
     let (u7, d7) = (
         study7_curvature(&up, &opts).unwrap(),
@@ -741,19 +768,13 @@ fn study5_bands_with_one_key_are_central_difference_slopes() {
     // against those of two ordinary runs of the study (the peak is
     // stationary in the radius, so its lift moves as the envelope's at
     // the peak's radius)
-    let text = STUDY_SCENE.replace(
-        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
-        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
-    );
-    let scene = Scene::from_toml(&text).unwrap();
-    let opts = study_options();
-    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
-        .unwrap()
-        .value(&scene.actuator, &fpc::Load::unloaded(), None)
-        .unwrap();
-    let h = 1e-5;
-    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
-    let (up, down) = (at(p1 + h), at(p1 - h));
+    let OneKey {
+        scene,
+        opts,
+        h,
+        up,
+        down,
+    } = one_key_p1();
     let region = study5_sphere_region_with(&scene.actuator, &opts, scene.covariance()).unwrap();
     // The best angle is located to 1e-9 rad (ENVELOPE_BETA_TOL) on a
     // validity boundary, where the lift's slope in the angle is a few N
@@ -855,19 +876,13 @@ fn study6_bands_match_monte_carlo_through_the_study() {
 fn study6_bands_with_one_key_are_central_difference_slopes() {
     // with C = [[1]] over p1 the band is |d(output)/d(p1)|: against
     // central differences of two ordinary runs of the study
-    let text = STUDY_SCENE.replace(
-        "parameters = [\"actuator.pemc.eps0\", \"actuator.pemc.p1\", \"actuator.cl.e\"]\ncovariance = [[1e-6, 0.0, 0.0], [0.0, 2.56e-4, -0.12], [0.0, -0.12, 225.0]]",
-        "parameters = [\"actuator.pemc.p1\"]\ncovariance = [[1.0]]",
-    );
-    let scene = Scene::from_toml(&text).unwrap();
-    let opts = study_options();
-    let p1 = fpc::sensitivity::Param::from_name("actuator.pemc.p1")
-        .unwrap()
-        .value(&scene.actuator, &fpc::Load::unloaded(), None)
-        .unwrap();
-    let h = 1e-5;
-    let at = |v: f64| with_values(&text, &["actuator.pemc.p1"], &[v]).actuator;
-    let (up, down) = (at(p1 + h), at(p1 - h));
+    let OneKey {
+        scene,
+        opts,
+        h,
+        up,
+        down,
+    } = one_key_p1();
     let (v, sd6) = study6_viable_angles_with(&scene.actuator, &opts, scene.covariance()).unwrap();
     let sd6 = sd6.unwrap();
     let (u, d) = (

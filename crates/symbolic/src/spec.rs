@@ -349,32 +349,10 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                     scaled = Some(ScaledDef { factors, params, line: t.line });
                 }
                 Tok::Ident(w) if w == "local" => {
-                    p.next();
-                    let list = ident_list(&mut p, ';', "an unknown's name")?;
-                    for (name, tok) in list {
-                        let s = p.arena.symbol(&name);
-                        if !unknowns.contains(&s) {
-                            return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
-                        }
-                        if local.contains(&s) {
-                            return Err(p.error_at(&tok, "distinct local unknowns"));
-                        }
-                        local.push(s);
-                    }
+                    unknown_subset(&mut p, &unknowns, &mut local, "distinct local unknowns")?;
                 }
                 Tok::Ident(w) if w == "across" => {
-                    p.next();
-                    let list = ident_list(&mut p, ';', "an unknown's name")?;
-                    for (name, tok) in list {
-                        let s = p.arena.symbol(&name);
-                        if !unknowns.contains(&s) {
-                            return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
-                        }
-                        if across.contains(&s) {
-                            return Err(p.error_at(&tok, "distinct unknowns across the width"));
-                        }
-                        across.push(s);
-                    }
+                    unknown_subset(&mut p, &unknowns, &mut across, "distinct unknowns across the width")?;
                 }
                 Tok::Ident(w) if w == "law" => {
                     p.next();
@@ -516,6 +494,29 @@ fn kernel_name(
     }
     used.push(name.clone());
     Ok((name, tok))
+}
+
+/// The list of a `local` or `across` statement (its keyword is next):
+/// unknowns, each named once over all such statements (`twice`: what a
+/// repeat is told it should be), added to `into`.
+fn unknown_subset(
+    p: &mut Parser<'_>,
+    unknowns: &[Sym],
+    into: &mut Vec<Sym>,
+    twice: &str,
+) -> Result<(), ParseError> {
+    p.next();
+    for (name, tok) in ident_list(p, ';', "an unknown's name")? {
+        let s = p.arena.symbol(&name);
+        if !unknowns.contains(&s) {
+            return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
+        }
+        if into.contains(&s) {
+            return Err(p.error_at(&tok, twice));
+        }
+        into.push(s);
+    }
+    Ok(())
 }
 
 fn ident_list(
