@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{exact_bands, BandParams, BAND_LABEL};
 use super::info::StudyInfo;
 use super::options::{section5_gripper, StudyOptions, SweepStop, SECTION5_EPS0};
 use super::output::*;
@@ -464,13 +464,7 @@ pub(crate) fn output(
     a.strict_dropped = region.strict_dropped;
     let mut out = a.finish(figure(region, with_sd), &summary);
     if with_sd {
-        out.bands = ENVELOPE_SD_COLUMNS
-            .iter()
-            .map(|c| BandColumn {
-                column: c.name.into(),
-                method: EXACT,
-            })
-            .collect();
+        out.bands = exact_bands(&ENVELOPE_SD_COLUMNS);
     }
     out
 }

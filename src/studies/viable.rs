@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::bands::{BandColumn, BandParams, BAND_LABEL, EXACT};
+use super::bands::{exact_bands, BandParams, BAND_LABEL};
 use super::info::StudyInfo;
 use super::options::{section5_gripper, StudyOptions, SECTION5_EPS0};
 use super::output::*;
@@ -399,13 +399,7 @@ pub(crate) fn output(v: Option<&ViableAngles>, mu: f64, sd: Option<&ViableSd>) -
         .count();
     let mut out = a.finish(figure(v, mu, sd), &summary);
     if sd.is_some() {
-        out.bands = SD_COLUMNS
-            .iter()
-            .map(|c| BandColumn {
-                column: c.name.into(),
-                method: EXACT,
-            })
-            .collect();
+        out.bands = exact_bands(&SD_COLUMNS);
     }
     out
 }
