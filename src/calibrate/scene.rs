@@ -34,7 +34,8 @@ pub fn calibrated_scenes(
                 rule: e.to_string(),
             })?;
         for &k in &mine {
-            SceneFile::set_number(&mut table, &fit.parameters[k].key, fit.parameters[k].value)?;
+            let key: crate::scene::SceneKey = fit.parameters[k].key.parse()?;
+            SceneFile::set_number(&mut table, key, fit.parameters[k].value)?;
         }
         let cov = fit.covariance.as_ref().map(|c| {
             mine.iter()

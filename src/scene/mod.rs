@@ -69,7 +69,10 @@ mod fuzz;
 mod testing;
 
 pub use crate::sensitivity::Covariance;
-pub use fields::{degrees, scene_input, scene_solve, warning_text};
+pub use fields::{
+    degrees, scene_input, scene_solve, warning_text, GraspKey, GripperKey, LoadKey, ModelKey,
+    PartitionKey, SceneKey, SolveKey, ValueKind,
+};
 pub use record::{GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{
     GraspSpec, GripperScene, PartitionPlan, Scene, SceneReadError, DEFAULT_CUBOID_FRICTION_N,

@@ -1,6 +1,7 @@
 //! The file format: the serde structs of a scene document, every key
 //! optional, unknown keys rejected, and the syntax errors of parsing.
 
+use super::fields::{SceneKey, ValueKind};
 use crate::error::InputError;
 use crate::field::Field;
 use serde::{Deserialize, Serialize};
@@ -527,40 +528,65 @@ impl SceneFile {
         toml::from_str(text).map_err(|e| SceneError::from_toml(text, &e))
     }
 
-    /// Sets the dotted scene `key` (`load.fx`, `actuator.pemc.eps0`, ...)
-    /// of a TOML document to `value`, making the tables on the way; a key
-    /// that takes whole numbers (`partition.elements`, `solve.max_iter`,
-    /// `solve.samples_per_element`, `gripper.fingers`) gets an integer
-    /// when `value` is one. A part of the path that holds a value, not a
-    /// table, is an error naming `key`. Whether the key exists is for
-    /// [`SceneFile::parse`] to say.
-    pub fn set_number(doc: &mut toml::Table, key: &str, value: f64) -> Result<(), InputError> {
-        const INTEGER_KEYS: [&str; 4] = [
-            "partition.elements",
-            "solve.max_iter",
-            "solve.samples_per_element",
-            "gripper.fingers",
-        ];
-        let mut parts: Vec<&str> = key.split('.').collect();
-        let last = parts.pop().unwrap_or(key);
-        let mut table = doc;
-        for p in parts {
-            let entry = table
-                .entry(p.to_string())
-                .or_insert_with(|| toml::Value::Table(toml::Table::new()));
-            table = entry
-                .as_table_mut()
-                .ok_or_else(|| InputError::Inconsistent {
-                    field: Field::from(key.to_string()),
-                    rule: format!("'{p}' is not a table in the scene"),
-                })?;
-        }
-        let v = if value.fract() == 0.0 && value.abs() < 1e15 && INTEGER_KEYS.contains(&key) {
-            toml::Value::Integer(value as i64)
-        } else {
-            toml::Value::Float(value)
+    /// Sets `key` of a TOML document to `value`, making the tables on the
+    /// way; a key that takes whole numbers (`partition.elements`,
+    /// `solve.max_iter`, ...) gets an integer. A list's entry
+    /// (`partition.lengths[2]`, `actuator.ribs.list[0].x0`) must exist. A key
+    /// that takes no number, a fraction for a whole number, a missing list
+    /// entry or a part of the path that holds a value, not a table, is an
+    /// error naming `key`.
+    pub fn set_number(doc: &mut toml::Table, key: SceneKey, value: f64) -> Result<(), InputError> {
+        let field = || Field::from(key.to_string());
+        let wrong = |rule: String| InputError::Inconsistent {
+            field: field(),
+            rule,
         };
-        table.insert(last.to_string(), v);
+        let v = match key.value() {
+            ValueKind::Number => toml::Value::Float(value),
+            ValueKind::WholeNumber if value.fract() == 0.0 && (0.0..9e15).contains(&value) => {
+                toml::Value::Integer(value as i64)
+            }
+            ValueKind::WholeNumber => {
+                return Err(InputError::OutOfRange {
+                    field: field(),
+                    value,
+                    rule: "must be a whole number, zero or more".into(),
+                })
+            }
+            kind => return Err(wrong(format!("takes {kind}, not a number"))),
+        };
+        let steps = key.steps();
+        let mut table = doc;
+        for (i, (name, index)) in steps.iter().enumerate() {
+            let last = i + 1 == steps.len();
+            let slot = match index {
+                None if last => {
+                    table.insert(name.clone(), v);
+                    return Ok(());
+                }
+                None => table
+                    .entry(name.clone())
+                    .or_insert_with(|| toml::Value::Table(toml::Table::new())),
+                Some(k) => {
+                    let list = table
+                        .get_mut(name)
+                        .and_then(toml::Value::as_array_mut)
+                        .ok_or_else(|| wrong(format!("the scene has no list '{name}'")))?;
+                    let len = list.len();
+                    let entry = list.get_mut(*k).ok_or_else(|| {
+                        wrong(format!("'{name}' has {len} entries, counted from 0"))
+                    })?;
+                    if last {
+                        *entry = v;
+                        return Ok(());
+                    }
+                    entry
+                }
+            };
+            table = slot
+                .as_table_mut()
+                .ok_or_else(|| wrong(format!("'{name}' is not a table in the scene")))?;
+        }
         Ok(())
     }
 
@@ -589,17 +615,36 @@ mod tests {
     #[test]
     fn numbers_are_set_in_nested_tables() {
         let mut doc: toml::Table = toml::from_str("[load]\nfx = 1.0\n").unwrap();
-        SceneFile::set_number(&mut doc, "load.fx", 2.5).unwrap();
-        SceneFile::set_number(&mut doc, "actuator.pemc.eps0", 0.3).unwrap();
-        SceneFile::set_number(&mut doc, "partition.elements", 16.0).unwrap();
+        let key = |text: &str| text.parse::<SceneKey>().unwrap();
+        SceneFile::set_number(&mut doc, key("load.fx"), 2.5).unwrap();
+        SceneFile::set_number(&mut doc, key("actuator.pemc.eps0"), 0.3).unwrap();
+        SceneFile::set_number(&mut doc, key("partition.elements"), 16.0).unwrap();
         let s = toml::to_string(&doc).unwrap();
         let back: toml::Table = toml::from_str(&s).unwrap();
         assert_eq!(back["load"]["fx"].as_float(), Some(2.5));
         assert_eq!(back["actuator"]["pemc"]["eps0"].as_float(), Some(0.3));
         assert_eq!(back["partition"]["elements"].as_integer(), Some(16));
         let mut doc: toml::Table = toml::from_str("load = 3\n").unwrap();
-        let e = SceneFile::set_number(&mut doc, "load.fx", 1.0).unwrap_err();
+        let e = SceneFile::set_number(&mut doc, key("load.fx"), 1.0).unwrap_err();
         assert!(e.to_string().starts_with("load.fx"), "{e}");
+        // list entries that exist; whole numbers; keys that take no number
+        let mut doc: toml::Table = toml::from_str("[partition]\nlengths = [50.0, 60.0]\n").unwrap();
+        SceneFile::set_number(&mut doc, key("partition.lengths[1]"), 55.0).unwrap();
+        assert_eq!(doc["partition"]["lengths"][1].as_float(), Some(55.0));
+        for (k, v, says) in [
+            ("partition.lengths[2]", 1.0, "'lengths' has 2 entries"),
+            ("actuator.ribs.list[0].x0", 1.0, "no list 'list'"),
+            ("partition.elements", 2.5, "must be a whole number"),
+            ("gripper.fingers", -1.0, "must be a whole number"),
+            ("gripper.strict", 1.0, "takes true or false, not a number"),
+            ("model.name", 1.0, "takes a name, not a number"),
+        ] {
+            let e = SceneFile::set_number(&mut doc, key(k), v).unwrap_err();
+            assert!(
+                e.to_string().starts_with(k) && e.to_string().contains(says),
+                "{e}"
+            );
+        }
     }
 
     #[test]

@@ -7,7 +7,8 @@
 //! line of the grid along it is solved in order, every point starting from
 //! the one before (`Scene::solve_warm`, so a sweep stays on the branch it
 //! started on); lines run in parallel (rayon). A key is any numeric scene
-//! key (`load.fx`, `actuator.pemc.eps0`, `gripper.grasp.d_mm`, ...): each
+//! key (`load.fx`, `actuator.pemc.eps0`, `partition.lengths[2]`, ...), read
+//! once into its typed [`SceneKey`]: each
 //! point's scene is the file with those keys set, validated as `fpc solve`
 //! validates a file, so a bad value is that point's `rejected` status, not
 //! the end of the sweep.
@@ -17,7 +18,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::Context as _;
-use fpc::scene::{warning_text, Scene, SceneSolution};
+use fpc::scene::{warning_text, Scene, SceneKey, SceneSolution};
 use fpc::SolveError;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -54,7 +55,7 @@ const MAX_AXIS_POINTS: usize = 100_000;
 /// One axis of the grid.
 #[derive(Debug, Clone, PartialEq)]
 struct Axis {
-    key: String,
+    key: SceneKey,
     values: Vec<f64>,
 }
 
@@ -63,15 +64,12 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
     let (key, values) = spec
         .split_once('=')
         .ok_or_else(|| format!("--vary {spec}: expected KEY=FROM:TO:COUNT or KEY=V1,V2,..."))?;
-    let key = key.trim();
-    if key.is_empty()
-        || !key
-            .split('.')
-            .all(|p| !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
-    {
-        return Err(format!(
-            "--vary {spec}: '{key}' is not a scene key (like load.fx)"
-        ));
+    let key: SceneKey = key.parse().map_err(|e: fpc::InputError| {
+        format!("--vary {spec}: {}", e.renamed("--vary".to_string(), |v| v))
+    })?;
+    let kind = key.value();
+    if !kind.takes_number() {
+        return Err(format!("--vary {key}: the key takes {kind}, not a number"));
     }
     let number = |s: &str| -> Result<f64, String> {
         let v: f64 = s
@@ -126,10 +124,7 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
             "--vary {key}: between 1 and {MAX_AXIS_POINTS} values"
         ));
     }
-    Ok(Axis {
-        key: key.to_string(),
-        values,
-    })
+    Ok(Axis { key, values })
 }
 
 /// One point's outcome.
@@ -221,27 +216,10 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
 fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, String> {
     let mut doc = base.clone();
     for (a, &v) in axes.iter().zip(values) {
-        fpc::scene::SceneFile::set_number(&mut doc, &a.key, v).map_err(|e| e.to_string())?;
+        fpc::scene::SceneFile::set_number(&mut doc, a.key, v).map_err(|e| e.to_string())?;
     }
     let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
     Scene::from_toml(&text).map_err(|e| e.to_string())
-}
-
-/// Fails, naming the key as the user wrote it (no position in a document
-/// the user never saw), unless `axis` sets a number the scene schema takes.
-fn vary_key_is_numeric(base: &toml::Table, axis: &Axis) -> Result<(), String> {
-    let mut doc = base.clone();
-    let key = &axis.key;
-    fpc::scene::SceneFile::set_number(&mut doc, key, axis.values[0])
-        .map_err(|e| format!("--vary {e}"))?;
-    let text = toml::to_string(&doc).map_err(|e| format!("--vary {key}: {e}"))?;
-    match fpc::scene::SceneFile::parse(&text) {
-        Ok(_) => Ok(()),
-        Err(e) => Err(format!(
-            "--vary {key}: not a numeric scene key: {}",
-            e.message
-        )),
-    }
 }
 
 /// Solves one line of the grid (the last axis), warm-starting along it.
@@ -290,7 +268,7 @@ fn outer_points(axes: &[Axis]) -> Vec<Vec<f64>> {
 
 fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    let mut header: Vec<String> = axes.iter().map(|a| a.key.to_string()).collect();
     header.extend(
         [
             "status",
@@ -351,7 +329,7 @@ struct Report<'a> {
 
 #[derive(Serialize)]
 struct AxisJson<'a> {
-    key: &'a str,
+    key: String,
     values: &'a [f64],
 }
 
@@ -392,11 +370,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     Scene::from_toml(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let base: toml::Table =
         toml::from_str(&text).map_err(|e| crate::status::rejected(format!("{shown}: {e}")))?;
-    // every varied key must be a numeric key of the schema: set each alone
-    // to the value the first point uses and check the file still parses (a
-    // value out of range is the point's own rejection, found later)
+    // every varied key is a numeric key of the schema (parse_axis); a list
+    // entry must also exist in the file, and a whole-number key must get
+    // whole numbers: each value is set once before any work (a value out of
+    // range is the point's own rejection, found later)
     for a in &axes {
-        vary_key_is_numeric(&base, a).map_err(crate::status::rejected)?;
+        for &v in &a.values {
+            fpc::scene::SceneFile::set_number(&mut base.clone(), a.key, v)
+                .map_err(|e| crate::status::rejected(format!("--vary {e}")))?;
+        }
     }
     let (_, out) = crate::output::stem_and_dir(&args.scene, args.out.as_deref(), "scene", "sweep");
     crate::output::prepare_dir(&out)?;
@@ -440,7 +422,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         axes: axes
             .iter()
             .map(|a| AxisJson {
-                key: &a.key,
+                key: a.key.to_string(),
                 values: &a.values,
             })
             .collect(),
@@ -489,15 +471,22 @@ mod tests {
     #[test]
     fn axes_parse_ranges_and_lists() {
         let a = parse_axis("load.fx=0:2:5").unwrap();
-        assert_eq!(a.key, "load.fx");
+        assert_eq!(a.key.to_string(), "load.fx");
         assert_eq!(a.values, vec![0.0, 0.5, 1.0, 1.5, 2.0]);
         let b = parse_axis("load.pressure_kpa=0,50,100").unwrap();
         assert_eq!(b.values, vec![0.0, 50.0, 100.0]);
         assert_eq!(
-            parse_axis("a.b=-1:-3:3").unwrap().values,
+            parse_axis("load.fz=-1:-3:3").unwrap().values,
             vec![-1.0, -2.0, -3.0]
         );
-        assert_eq!(parse_axis("a=7:7:1").unwrap().values, vec![7.0]);
+        assert_eq!(parse_axis("load.fz=7:7:1").unwrap().values, vec![7.0]);
+        assert_eq!(
+            parse_axis("partition.lengths[3]=1,2")
+                .unwrap()
+                .key
+                .to_string(),
+            "partition.lengths[3]"
+        );
         for bad in [
             "load.fx",
             "=1,2",
@@ -509,6 +498,8 @@ mod tests {
             "load.fx=1:2:1",
             "load fx=1",
             "load.fx=0:1:1000001",
+            "a.b=1,2",
+            "gripper.strict=0,1",
         ] {
             assert!(parse_axis(bad).is_err(), "{bad}");
         }
@@ -517,9 +508,9 @@ mod tests {
     #[test]
     fn the_grid_is_the_cartesian_product_in_order() {
         let axes = vec![
-            parse_axis("a=1,2").unwrap(),
-            parse_axis("b=10,20,30").unwrap(),
-            parse_axis("c=0,1").unwrap(),
+            parse_axis("load.fx=1,2").unwrap(),
+            parse_axis("load.fz=10,20,30").unwrap(),
+            parse_axis("load.kappa=0,1").unwrap(),
         ];
         let outer = outer_points(&axes);
         assert_eq!(

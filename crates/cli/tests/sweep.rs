@@ -123,6 +123,55 @@ fn a_grid_matches_single_solves_point_by_point() {
     assert_eq!(json["provenance"]["command"][1], "sweep");
 }
 
+/// A scene with two explicit ribs, the first `width` mm wide.
+fn ribbed(width: &str) -> String {
+    format!(
+        "[actuator.ribs]\nkind = \"list\"\nlist = [{{ x0 = 10.0, x1 = 14.0, width = {width} }}, {{ x0 = 30.0, x1 = 34.0, width = 4.0 }}]\n[load]\npressure_kpa = 30\n"
+    )
+}
+
+#[test]
+fn a_list_entry_is_varied_like_any_key() {
+    // the typed key reaches into the rib list; every row equals `fpc solve`
+    // of the file with that width written in by hand
+    let tmp = TempDir::new("list");
+    let scene = tmp.0.join("ribbed.toml");
+    std::fs::write(&scene, ribbed("4.0")).unwrap();
+    let out = tmp.0.join("out");
+    let o = sweep(&scene, &out, &["actuator.ribs.list[0].width=2,8"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = header(&out);
+    assert_eq!(h[0], "actuator.ribs.list[0].width");
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let rows = rows(&out);
+    assert_eq!(rows.len(), 2);
+    let mut tips = Vec::new();
+    for r in &rows {
+        assert_eq!(&r[col("status")], "ok", "{r:?}");
+        let by_hand = tmp.0.join(format!("width-{}.toml", &r[0]));
+        std::fs::write(&by_hand, ribbed(&r[0])).unwrap();
+        let solved = tmp.0.join(format!("solved-{}", &r[0]));
+        let single = fpc(&[
+            "solve",
+            &by_hand.display().to_string(),
+            "--out",
+            &solved.display().to_string(),
+        ]);
+        assert!(single.status.success());
+        let v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(solved.join("solution.json")).unwrap())
+                .unwrap();
+        for (k, name) in ["tip_x_mm", "tip_z_mm"].iter().enumerate() {
+            let got: f64 = r[col(name)].parse().unwrap();
+            let want = v["tip_mm"][k].as_f64().unwrap();
+            assert!((got - want).abs() <= 1e-6, "{r:?}: {want}");
+        }
+        tips.push(r[col("tip_x_mm")].to_string());
+    }
+    // the width reached the finger: the two rows differ
+    assert_ne!(tips[0], tips[1]);
+}
+
 #[test]
 fn a_rejected_point_is_a_row_not_the_end_of_the_sweep() {
     let tmp = TempDir::new("rejected");
@@ -155,14 +204,27 @@ fn bad_flags_are_rejected() {
         ("load.fx=1:2", "FROM:TO:COUNT"),
         ("load.fx=a", "is not a number"),
         (
-            "load.nonsense=1,2",
-            "--vary load.nonsense: not a numeric scene key: unknown field",
+            "load.fxx=1,2",
+            "--vary = `load.fxx`: not a key of a scene file (the nearest is `load.fx`)",
         ),
         (
             "model.name=0:1:3",
-            "--vary model.name: not a numeric scene key: invalid type",
+            "--vary model.name: the key takes a name, not a number",
         ),
-        ("load.fx.y=1,2", "--vary load.fx.y: not a numeric scene key"),
+        (
+            "gripper.strict=0,1",
+            "--vary gripper.strict: the key takes true or false, not a number",
+        ),
+        ("load.fx.y=1,2", "not a key of a scene file"),
+        // a list entry the file does not have; a fraction of an element
+        (
+            "partition.lengths[0]=10,20",
+            "--vary partition.lengths[0]: the scene has no list 'lengths'",
+        ),
+        (
+            "partition.elements=4:5:3",
+            "--vary partition.elements = 4.5: must be a whole number",
+        ),
     ] {
         let o = sweep(&scene, &out, &[vary]);
         let err = String::from_utf8_lossy(&o.stderr);

@@ -17,21 +17,24 @@ pub(crate) use crate::field::{
 };
 use crate::solve_error::SolveError;
 
+mod keys;
+pub use keys::ValueKind;
+
 names!(
     /// `[model]`.
-    pub(crate) ModelKey { Name => "name" }
+    pub ModelKey { Name => "name" }
 );
 names!(
     /// `[partition]`.
-    pub(crate) PartitionKey { Elements => "elements", Lengths => "lengths", TipTolMm => "tip_tol_mm" }
+    pub PartitionKey { Elements => "elements", Lengths => "lengths", TipTolMm => "tip_tol_mm" }
 );
 names!(
     /// `[load]`.
-    pub(crate) LoadKey { PressureKpa => "pressure_kpa", Kappa => "kappa", Fx => "fx", Fz => "fz" }
+    pub LoadKey { PressureKpa => "pressure_kpa", Kappa => "kappa", Fx => "fx", Fz => "fz" }
 );
 names!(
     /// `[solve]`.
-    pub(crate) SolveKey {
+    pub SolveKey {
         Rtol => "rtol",
         MaxIter => "max_iter",
         Strategy => "strategy",
@@ -44,7 +47,7 @@ names!(
 );
 names!(
     /// `[gripper]` (without its `grasp` table).
-    pub(crate) GripperKey {
+    pub GripperKey {
         MountingAngleDeg => "mounting_angle_deg",
         OverlapMm => "overlap_mm",
         PalmMm => "palm_mm",
@@ -55,7 +58,7 @@ names!(
 );
 names!(
     /// `[gripper.grasp]`.
-    pub(crate) GraspKey {
+    pub GraspKey {
         Kind => "kind",
         PressureKpa => "pressure_kpa",
         DMm => "d_mm",
@@ -68,15 +71,17 @@ names!(
 
 /// A key of a scene file, by its place in the schema. Displays as its
 /// TOML path (`actuator.geometry.h1`, `partition.lengths[2]`).
+/// [`str::parse`] reads one back from its path (front ends' key
+/// arguments, like `fpc sweep --vary`), and [`SceneKey::value`] says what it
+/// holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub(crate) enum SceneKey {
+pub enum SceneKey {
     Model(ModelKey),
     Geometry(GeometryKey),
     Channel(ChannelKey),
     /// `actuator.ribs` as a whole (ribs that together do not fit).
     Ribs,
     /// `actuator.ribs.kind` (checked by the parser, like every `kind`).
-    #[allow(dead_code)]
     RibsKind,
     /// `actuator.ribs.list`.
     RibsList,
@@ -85,7 +90,6 @@ pub(crate) enum SceneKey {
     /// `actuator.ribs.list[i].<key>`.
     RibEntry(usize, RibKey),
     /// `actuator.<layer>.kind` (checked by the parser).
-    #[allow(dead_code)]
     MaterialKind(Lamina),
     /// `actuator.<layer>.<key>`.
     Material(Lamina, Elastic),
@@ -109,7 +113,6 @@ pub(crate) enum SceneKey {
 }
 
 /// The keys of `[calibration]` (a list's entries at index 0).
-#[cfg(test)]
 pub(crate) const CALIBRATION_KEYS: [&str; 5] = [
     "manifest",
     "parameters[0]",
@@ -168,36 +171,6 @@ into_key!(
     GripperKey => Gripper,
     GraspKey => Grasp,
 );
-
-#[cfg(test)]
-impl SceneKey {
-    /// Every key (list entries at index 0).
-    pub(crate) fn all() -> Vec<SceneKey> {
-        let mut keys: Vec<SceneKey> = Vec::new();
-        keys.extend(ModelKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(GeometryKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(ChannelKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);
-        keys.extend(PaperRibKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(RibKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
-        for &l in Lamina::ALL {
-            keys.push(SceneKey::MaterialKind(l));
-            keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
-        }
-        keys.extend(PemcKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(ShearLayer::ALL.iter().map(|&l| SceneKey::ShearModulus(l)));
-        keys.extend(LaminateKey::ALL.iter().map(|&k| SceneKey::Laminate(k)));
-        keys.extend(PartitionKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.push(SceneKey::PartitionLength(0));
-        keys.extend(LoadKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.push(SceneKey::SolveTable);
-        keys.extend(SolveKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(GripperKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(GraspKey::ALL.iter().map(|&k| SceneKey::from(k)));
-        keys.extend(CALIBRATION_KEYS.iter().map(|&k| SceneKey::Calibration(k)));
-        keys
-    }
-}
 
 // ------------------------------------------------------------ checks in scene keys
 

@@ -1,0 +1,305 @@
+//! Scene keys from text, and what each holds: a front end's key argument
+//! (`fpc sweep --vary load.fx=...`, a calibration's fitted key) is parsed
+//! once into its [`SceneKey`], and everything after works on the typed key.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::{
+    Elastic, GeometryKey, GraspKey, GripperKey, Lamina, LaminateKey, LoadKey, ModelKey,
+    PartitionKey, SceneKey, SolveKey, CALIBRATION_KEYS,
+};
+use crate::error::InputError;
+use crate::field::{ChannelKey, Field, PaperRibKey, PemcKey, RibKey, ShearLayer};
+
+/// What a scene key holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ValueKind {
+    /// A number (a float; a whole number is read as one too).
+    Number,
+    /// A whole number, zero or more (`partition.elements` also takes
+    /// `"auto"`).
+    WholeNumber,
+    /// `true` or `false`.
+    Flag,
+    /// A name (`model.name`, a `kind`, `solve.strategy`).
+    Name,
+    /// A list (`partition.lengths`, `actuator.ribs.list`).
+    List,
+    /// A table of keys (`actuator.ribs`, `solve`).
+    Table,
+    /// A calibration's record, which changes nothing that is solved.
+    Record,
+}
+
+impl ValueKind {
+    /// Whether a number can be written to a key of this kind.
+    pub fn takes_number(self) -> bool {
+        matches!(self, ValueKind::Number | ValueKind::WholeNumber)
+    }
+}
+
+impl fmt::Display for ValueKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            ValueKind::Number => "a number",
+            ValueKind::WholeNumber => "a whole number",
+            ValueKind::Flag => "true or false",
+            ValueKind::Name => "a name",
+            ValueKind::List => "a list",
+            ValueKind::Table => "a table of keys",
+            ValueKind::Record => "a calibration's record",
+        })
+    }
+}
+
+impl SceneKey {
+    /// Every key of the schema, in its order (list entries at index 0).
+    pub fn all() -> Vec<SceneKey> {
+        let mut keys: Vec<SceneKey> = Vec::new();
+        keys.extend(ModelKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(GeometryKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(ChannelKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);
+        keys.extend(PaperRibKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(RibKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
+        for &l in Lamina::ALL {
+            keys.push(SceneKey::MaterialKind(l));
+            keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
+        }
+        keys.extend(PemcKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(ShearLayer::ALL.iter().map(|&l| SceneKey::ShearModulus(l)));
+        keys.extend(LaminateKey::ALL.iter().map(|&k| SceneKey::Laminate(k)));
+        keys.extend(PartitionKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.push(SceneKey::PartitionLength(0));
+        keys.extend(LoadKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.push(SceneKey::SolveTable);
+        keys.extend(SolveKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(GripperKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(GraspKey::ALL.iter().map(|&k| SceneKey::from(k)));
+        keys.extend(CALIBRATION_KEYS.iter().map(|&k| SceneKey::Calibration(k)));
+        keys
+    }
+
+    /// What the key holds.
+    pub fn value(&self) -> ValueKind {
+        use ValueKind::*;
+        match *self {
+            SceneKey::Model(ModelKey::Name)
+            | SceneKey::RibsKind
+            | SceneKey::MaterialKind(_)
+            | SceneKey::Solve(SolveKey::Strategy)
+            | SceneKey::Grasp(GraspKey::Kind) => Name,
+            SceneKey::Ribs | SceneKey::SolveTable => Table,
+            SceneKey::RibsList | SceneKey::Partition(PartitionKey::Lengths) => List,
+            SceneKey::Laminate(LaminateKey::PlaneStrain)
+            | SceneKey::Solve(SolveKey::Shape | SolveKey::Stability | SolveKey::Continuation)
+            | SceneKey::Gripper(GripperKey::Strict) => Flag,
+            SceneKey::Partition(PartitionKey::Elements)
+            | SceneKey::Solve(SolveKey::MaxIter | SolveKey::SamplesPerElement)
+            | SceneKey::Gripper(GripperKey::Fingers) => WholeNumber,
+            SceneKey::Calibration(_) => Record,
+            SceneKey::Geometry(_)
+            | SceneKey::Channel(_)
+            | SceneKey::PaperRib(_)
+            | SceneKey::RibEntry(..)
+            | SceneKey::Material(..)
+            | SceneKey::Pemc(_)
+            | SceneKey::ShearModulus(_)
+            | SceneKey::Laminate(LaminateKey::ShearCorrection)
+            | SceneKey::Partition(PartitionKey::TipTolMm)
+            | SceneKey::PartitionLength(_)
+            | SceneKey::Load(_)
+            | SceneKey::Solve(SolveKey::Rtol | SolveKey::MaxStep)
+            | SceneKey::Gripper(
+                GripperKey::MountingAngleDeg
+                | GripperKey::OverlapMm
+                | GripperKey::PalmMm
+                | GripperKey::Mu,
+            )
+            | SceneKey::Grasp(_) => Number,
+        }
+    }
+
+    /// The key's TOML path, step by step: a table's key, or a list's entry
+    /// (`partition.lengths[2]` is `partition`, then `lengths` at 2).
+    pub(crate) fn steps(&self) -> Vec<(String, Option<usize>)> {
+        self.to_string()
+            .split('.')
+            .map(|step| match step.split_once('[') {
+                Some((name, rest)) => (
+                    name.to_string(),
+                    rest.trim_end_matches(']').parse::<usize>().ok(),
+                ),
+                None => (step.to_string(), None),
+            })
+            .collect()
+    }
+}
+
+/// The key's path with every list index written as 0, and the indices.
+fn shape_of(text: &str) -> Option<(String, Vec<usize>)> {
+    let mut shape = String::with_capacity(text.len());
+    let mut indices = Vec::new();
+    let mut rest = text;
+    while let Some(open) = rest.find('[') {
+        shape.push_str(&rest[..open]);
+        let close = rest[open..].find(']')? + open;
+        let digits = &rest[open + 1..close];
+        if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) {
+            return None;
+        }
+        indices.push(digits.parse().ok()?);
+        shape.push_str("[0]");
+        rest = &rest[close + 1..];
+    }
+    shape.push_str(rest);
+    Some((shape, indices))
+}
+
+/// The edit distance of two short names (insertions, deletions and
+/// substitutions of one character).
+fn edit_distance(a: &str, b: &str) -> usize {
+    let b: Vec<char> = b.chars().collect();
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.chars().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, &cb) in b.iter().enumerate() {
+            let next = (diagonal + usize::from(ca != cb))
+                .min(row[j] + 1)
+                .min(row[j + 1] + 1);
+            diagonal = row[j + 1];
+            row[j + 1] = next;
+        }
+    }
+    row[b.len()]
+}
+
+impl FromStr for SceneKey {
+    type Err = InputError;
+
+    /// Reads a key from its TOML path (`load.fx`, `actuator.pemc.eps0`,
+    /// `partition.lengths[2]`, `actuator.ribs.list[0].x0`). An unknown
+    /// path is an error that names the nearest key.
+    fn from_str(text: &str) -> Result<SceneKey, InputError> {
+        let text = text.trim();
+        let all = SceneKey::all();
+        let found = shape_of(text).and_then(|(shape, indices)| {
+            let key = *all.iter().find(|k| k.to_string() == shape)?;
+            match (key, &indices[..]) {
+                (SceneKey::PartitionLength(_), &[i]) => Some(SceneKey::PartitionLength(i)),
+                (SceneKey::RibEntry(_, k), &[i]) => Some(SceneKey::RibEntry(i, k)),
+                // the calibration's lists are a record, read whole
+                (key, _) if shape == text => Some(key),
+                _ => None,
+            }
+        });
+        found.ok_or_else(|| {
+            let nearest = all
+                .iter()
+                .map(|k| k.to_string())
+                .min_by_key(|k| edit_distance(k, text))
+                .unwrap_or_default();
+            InputError::Unrecognised {
+                field: Field::key("scene key"),
+                value: text.to_string(),
+                rule: format!("not a key of a scene file (the nearest is `{nearest}`)"),
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::SceneFile;
+
+    #[test]
+    fn every_key_reads_back_from_its_path() {
+        for key in SceneKey::all() {
+            assert_eq!(key.to_string().parse::<SceneKey>().unwrap(), key);
+        }
+        for key in [
+            SceneKey::PartitionLength(12),
+            SceneKey::RibEntry(3, RibKey::Width),
+        ] {
+            assert_eq!(key.to_string().parse::<SceneKey>().unwrap(), key);
+        }
+        assert_eq!(
+            " load.fx ".parse::<SceneKey>().unwrap(),
+            SceneKey::Load(LoadKey::Fx)
+        );
+    }
+
+    #[test]
+    fn an_unknown_path_names_the_nearest_key() {
+        for (text, nearest) in [
+            ("load.fxx", "load.fx"),
+            ("actuator.pemc.esp0", "actuator.pemc.eps0"),
+            ("gripper.grasp.dmm", "gripper.grasp.d_mm"),
+            ("partition.lengths[x]", "partition.lengths[0]"),
+            ("load.fx[2]", "load.fx"),
+            ("calibration.parameters[3]", "calibration.parameters[0]"),
+            ("", "solve"),
+        ] {
+            let e = text.parse::<SceneKey>().unwrap_err();
+            assert!(
+                e.to_string()
+                    .contains(&format!("the nearest is `{nearest}`")),
+                "{text}: {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn the_kinds_agree_with_the_schema() {
+        // independent of `value`: the serde schema accepts a float, a whole
+        // number and a flag exactly where the kind says so
+        let lists = "[partition]\nlengths = [50.0, 60.0]\n[actuator.ribs]\nlist = [{ x0 = 1.0, x1 = 2.0, width = 3.0 }]\n";
+        let accepts = |key: &SceneKey, value: toml::Value| {
+            let mut doc: toml::Table = toml::from_str(lists).unwrap();
+            let steps = key.steps();
+            let mut table = &mut doc;
+            for (i, (name, index)) in steps.iter().enumerate() {
+                let last = i + 1 == steps.len();
+                match (index, last) {
+                    (None, true) => {
+                        table.insert(name.clone(), value.clone());
+                    }
+                    (None, false) => {
+                        table = table
+                            .entry(name.clone())
+                            .or_insert_with(|| toml::Value::Table(Default::default()))
+                            .as_table_mut()
+                            .unwrap();
+                    }
+                    (Some(k), true) => {
+                        table[name.as_str()].as_array_mut().unwrap()[*k] = value.clone();
+                    }
+                    (Some(k), false) => {
+                        table = table[name.as_str()].as_array_mut().unwrap()[*k]
+                            .as_table_mut()
+                            .unwrap();
+                    }
+                }
+            }
+            SceneFile::parse(&toml::to_string(&doc).unwrap()).is_ok()
+        };
+        for key in SceneKey::all() {
+            if matches!(key.value(), ValueKind::Record) {
+                continue;
+            }
+            let float = accepts(&key, toml::Value::Float(1.5));
+            let whole = accepts(&key, toml::Value::Integer(3));
+            let flag = accepts(&key, toml::Value::Boolean(true));
+            let expected = match key.value() {
+                ValueKind::Number => (true, true, false),
+                ValueKind::WholeNumber => (false, true, false),
+                ValueKind::Flag => (false, false, true),
+                _ => (false, false, false),
+            };
+            assert_eq!((float, whole, flag), expected, "{key}: {:?}", key.value());
+        }
+    }
+}
