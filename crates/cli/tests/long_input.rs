@@ -3,7 +3,8 @@
 //! argument, value, key or path it quotes, and no line carries a raw
 //! control character.
 
-use std::path::PathBuf;
+mod common;
+use common::{text, TempDir};
 use std::process::{Command, Output};
 
 /// The bound of src/report.rs, in characters, newline excluded.
@@ -11,28 +12,6 @@ const MAX_LINE: usize = 300;
 
 fn fpc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// A fresh directory, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("fpc-long-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
 }
 
 /// Checks that every stderr line is bounded and prefixed, that `whole`

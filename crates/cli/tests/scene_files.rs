@@ -3,30 +3,14 @@
 //! a directory, not UTF-8, not permitted, too large) is rejected input:
 //! status 2, one `fpc: error:` line naming the path, nothing written.
 
+mod common;
+use common::TempDir;
 use std::io::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
 const MAX_SCENE_BYTES: usize = 4 * 1024 * 1024;
 const MAX_LINE: usize = 300;
-
-/// A fresh directory, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("fpc-scenes-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 fn solve(scene: &Path, out: &Path) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fpc"))

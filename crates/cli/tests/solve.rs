@@ -1,5 +1,7 @@
 //! `fpc solve` on the example scenes and on bad scenes.
 
+mod common;
+use common::{text, TempDir};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -9,29 +11,6 @@ fn fpc() -> Command {
 
 fn scenes_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes")
-}
-
-/// A fresh, empty directory under the system's temporary directory,
-/// removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("fpc-solve-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn text(o: &[u8]) -> String {
-    String::from_utf8_lossy(o).into_owned()
 }
 
 fn run_ok(cmd: &mut Command) -> Output {

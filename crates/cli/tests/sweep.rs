@@ -2,32 +2,10 @@
 //! (`fpc finger --json` at the same point), warm starts that change
 //! nothing but the path, rejected points kept as rows, and bad flags.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(name: &str) -> TempDir {
-        let dir = std::env::temp_dir().join(format!("fpc-sweep-{}-{name}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn fpc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+mod common;
+use common::{fpc, TempDir};
+use std::path::Path;
+use std::process::Output;
 
 fn sweep(scene: &Path, out: &Path, vary: &[&str]) -> Output {
     let mut args = vec![

@@ -22,6 +22,28 @@ pub fn shipped() -> String {
         .to_string()
 }
 
+/// A scratch directory for one test of this file, removed when dropped.
+pub struct TempDir(pub PathBuf);
+
+impl TempDir {
+    pub fn new(name: &str) -> TempDir {
+        TempDir(tmp(env!("CARGO_CRATE_NAME"), name))
+    }
+
+    /// Writes `bytes` to `name` inside the directory.
+    pub fn file(&self, name: &str, bytes: &[u8]) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 pub fn fpc(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
         .args(args)
