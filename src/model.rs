@@ -53,12 +53,16 @@ pub trait ElementModel: Energy + Kinematics + Tangents {}
 
 impl<M: Energy + Kinematics + Tangents> ElementModel for M {}
 
-/// The unknowns of a model's strain across the width (the spec's
-/// `across ...;`): plane strain holds them at zero. Generated into
-/// `models.rs`, beside the model's own module.
+/// What a spec says of its unknowns beyond the energy: those of the
+/// strain across the width (`across ...;`), which plane strain holds at
+/// zero, and the changes of Newton's unknowns (`straighten ...;`).
+/// Generated into `models.rs`, beside the model's own module.
 pub trait Across {
-    /// Their positions among the unknowns.
+    /// The positions of the unknowns across the width.
     const ACROSS: &'static [usize];
+    /// `(t, s, c)`: Newton solves for `y_t = scaled_t + c scaled_s^2` in
+    /// place of the scaled unknown `t` (src/finger/straighten.rs).
+    const STRAIGHTEN: &'static [(usize, usize, f64)];
 }
 
 /// What every part of a model shares: the unknowns, their scaling, the

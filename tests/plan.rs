@@ -223,7 +223,13 @@ fn guesses_start_only_fixed_partitions_and_levels() {
 /// `solve_to_tip_tolerance`, `refine`) gave on the paper's finger at 20 kPa
 /// under a tip force of (0.4, 0.3) N, recorded from that code: the finest
 /// solution's tip, the best tip, the best end angle, the estimate, the
-/// elements and each level's elements and Newton iterations.
+/// elements and each level's elements and Newton iterations. Since Newton
+/// solves in its straightened unknowns (docs/model.md section 4.6) the
+/// numbers agree to the solver's tolerance, not bit for bit: the finest
+/// level's tip and the angle to 1e-6, the extrapolated tip to 1e-5 mm
+/// (extrapolation amplifies the levels' differences), the estimate (a
+/// difference of levels) to 1e-3 relative, elements exactly, and no level
+/// takes more than three iterations beyond the recorded ones.
 #[test]
 fn refined_plans_give_what_the_former_entry_points_gave() {
     let act = Actuator::paper(0.25).unwrap();
@@ -259,16 +265,42 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
         )
     };
 
+    let same = |got: Record, want: Record| {
+        let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
+        let ok = (0..2)
+            .all(|i| close(got.0[i], want.0[i], 1e-6) && close(got.1[i], want.1[i], 1e-5))
+            && close(got.2, want.2, 1e-6)
+            && match (got.3, want.3) {
+                (Some(a), Some(b)) => close(a, b, 1e-3 * b.abs()),
+                (a, b) => a == b,
+            }
+            && got.4 == want.4
+            && got.5.len() == want.5.len()
+            && got
+                .5
+                .iter()
+                .zip(&want.5)
+                .all(|(g, w)| g.0 == w.0 && g.1 <= w.1 + 3);
+        assert!(ok, "got {got:?}\nrecorded {want:?}");
+    };
+
     let auto = solve(Plan::Auto);
-    assert_eq!(auto.solution.tip, [59.46226076354199, -65.57264978966606]);
-    assert_eq!(auto.solution.end_angle, -1.8795195192997696);
+    for i in 0..2 {
+        let want = [59.46226076354199, -65.57264978966606][i];
+        assert!(
+            (auto.solution.tip[i] - want).abs() <= 1e-6,
+            "{:?}",
+            auto.solution.tip
+        );
+    }
+    assert!((auto.solution.end_angle - -1.8795195192997696).abs() <= 1e-6);
     assert_eq!((auto.elements(), auto.splits), (27, 0));
 
     let tol = |start| Plan::TipTolerance {
         tip_tol_mm: 0.05,
         start,
     };
-    assert_eq!(
+    same(
         record(&solve(tol(None))),
         (
             [59.47203316587682, -65.56323918838721],
@@ -276,10 +308,10 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
             -1.878633428751768,
             Some(0.004517576276758651),
             54,
-            vec![(27, 15), (54, 3)]
-        )
+            vec![(27, 15), (54, 3)],
+        ),
     );
-    assert_eq!(
+    same(
         record(&solve(tol(Some(8)))),
         (
             [59.491307002598354, -65.55579025243762],
@@ -287,8 +319,8 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
             -1.8782518442538638,
             Some(0.042924450799599),
             128,
-            vec![(8, 22), (16, 3), (32, 3), (64, 3), (128, 3)]
-        )
+            vec![(8, 22), (16, 3), (32, 3), (64, 3), (128, 3)],
+        ),
     );
 
     let levels = |partition, extrapolate| Plan::Levels {
@@ -297,7 +329,7 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
         levels: 3,
         extrapolate,
     };
-    assert_eq!(
+    same(
         record(&solve(levels(PartitionKind::Material, true))),
         (
             [59.47469144774879, -65.56070347977516],
@@ -305,10 +337,10 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
             -1.878634615716295,
             Some(0.001224288242920775),
             108,
-            vec![(27, 15), (54, 2), (108, 2)]
-        )
+            vec![(27, 15), (54, 2), (108, 2)],
+        ),
     );
-    assert_eq!(
+    same(
         record(&solve(levels(PartitionKind::Material, false))),
         (
             [59.47469144774879, -65.56070347977516],
@@ -316,10 +348,10 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
             -1.8786892251936398,
             Some(0.0028280838241576114),
             108,
-            vec![(27, 15), (54, 2), (108, 2)]
-        )
+            vec![(27, 15), (54, 2), (108, 2)],
+        ),
     );
-    assert_eq!(
+    same(
         record(&solve(levels(PartitionKind::Equal, false))),
         (
             [59.529402178093875, -65.55103563660496],
@@ -327,8 +359,8 @@ fn refined_plans_give_what_the_former_entry_points_gave() {
             -1.877509578200763,
             Some(0.10715786619376647),
             32,
-            vec![(8, 22), (16, 3), (32, 3)]
-        )
+            vec![(8, 22), (16, 3), (32, 3)],
+        ),
     );
     // the extrapolated tip is T3 of the levels' tips, computed here:
     // (8 t2 - 6 t1 + t0) / 3

@@ -303,12 +303,15 @@ pub mod shear {
 }
 impl Across for ccm::Ccm {
     const ACROSS: &'static [usize] = &[2];
+    const STRAIGHTEN: &'static [(usize, usize, f64)] = &[(1, 3, 0.6666666666666666)];
 }
 impl Across for quad::Quad {
     const ACROSS: &'static [usize] = &[3];
+    const STRAIGHTEN: &'static [(usize, usize, f64)] = &[(2, 4, 0.6666666666666666)];
 }
 impl Across for shear::Shear {
     const ACROSS: &'static [usize] = &[2];
+    const STRAIGHTEN: &'static [(usize, usize, f64)] = &[(1, 3, 0.6666666666666666)];
 }
 ///The element models generated from the specs in `energy-spec/`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

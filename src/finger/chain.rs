@@ -25,6 +25,7 @@ use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
 use super::load::Load;
 use super::problem::FingerCore;
+use super::straighten;
 
 /// The coupled finger: all elements plus the tip-load chain, with exact
 /// gradient and structured Hessian. It reuses its buffers, so evaluations
@@ -48,6 +49,10 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     pub force_chain: bool,
     /// The scaled Hessian of the last evaluation, and its factorisation.
     pub matrix: Semiseparable,
+    /// Evaluate in Newton's own unknowns, the spec's `straighten`
+    /// statements applied (src/finger/straighten.rs), instead of the
+    /// scaled unknowns.
+    pub straight: bool,
 }
 
 /// A chain's buffers without its finger, kept between solvers
@@ -115,6 +120,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             tip: [0.0, 0.0],
             force_chain: false,
             matrix: p.matrix,
+            straight: false,
         }
     }
 
@@ -167,8 +173,13 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     fn unscale_into(&mut self, y: &[f64]) {
         let n = M::Coeffs::LEN;
         for (i, (k, s)) in self.k.iter_mut().zip(&self.finger.unscale).enumerate() {
+            let k = k.as_mut();
+            k.copy_from_slice(&y[n * i..n * i + n]);
+            if self.straight {
+                straighten::from_newton::<M>(k);
+            }
             for j in 0..n {
-                k[j] = y[n * i + j] * s[j];
+                k[j] *= s[j];
             }
         }
     }
@@ -252,6 +263,9 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
         for (i, s) in self.finger.unscale.iter().enumerate() {
             for j in 0..n {
                 g[n * i + j] *= s[j];
+            }
+            if self.straight {
+                straighten::pull_back::<M>(&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
             }
         }
         v
@@ -351,6 +365,16 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         for (i, s) in self.finger.unscale.iter().enumerate() {
             for a in 0..n {
                 g[n * i + a] *= s[a];
+            }
+            if self.straight {
+                let (yi, gi) = (&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
+                straighten::block::<M>(yi, gi, self.matrix.block_mut(i));
+                if loaded {
+                    let (u, w) = self.matrix.coupling_mut(i);
+                    straighten::pull_back::<M>(yi, u);
+                    straighten::pull_back::<M>(yi, w);
+                }
+                straighten::pull_back::<M>(yi, gi);
             }
         }
         v

@@ -33,6 +33,7 @@ mod options;
 mod path;
 mod problem;
 mod solver;
+mod straighten;
 mod target;
 
 use std::sync::Arc;

@@ -19,6 +19,7 @@ use super::chain::{Chain, ChainParts};
 use super::load::Load;
 use super::options::{check_guess, Solution, SolveOptions, SolveReport, StepCounts, Strategy};
 use super::problem::FingerCore;
+use super::straighten;
 use crate::coefficients::Coefficients;
 
 /// Validity checks per element (the ends of 4 equal sub-intervals; the
@@ -372,7 +373,12 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
         self.start.copy_from_slice(&self.y);
         self.chain.set_load(load);
-        let r = self.newton.minimize(&mut self.chain, &mut self.y);
+        let r = minimize_straight::<M, _>(
+            &mut self.newton,
+            &mut self.chain,
+            chain_straight,
+            &mut self.y,
+        );
         base.iterations += r.iterations;
         base.steps.coupled += r.iterations;
         base.steps.globalisation(&r);
@@ -397,7 +403,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 fz: t * load.fz,
                 ..*load
             });
-            let r = newton.minimize(chain, y);
+            let r = minimize_straight::<M, _>(newton, chain, chain_straight, y);
             steps.continuation += r.iterations;
             steps.globalisation(&r);
             r
@@ -558,24 +564,24 @@ fn solve_element<M: ElementModel>(
         rep.steps.globalisation(r);
         rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
     };
-    let mut r = newton.minimize(p, y);
+    let mut r = minimize_straight::<M, _>(newton, p, single_straight, y);
     tally(&r, rep);
     if !r.reason.is_converged() && warm {
         y.fill(0.0);
-        r = newton.minimize(p, y);
+        r = minimize_straight::<M, _>(newton, p, single_straight, y);
         tally(&r, rep);
     }
     let full = p.scalars;
     if !r.reason.is_converged() && continuation && full.kp != 0.0 {
         y.fill(0.0);
         p.scalars = EnergyScalars { kp: 0.0 };
-        r = newton.minimize(p, y);
+        r = minimize_straight::<M, _>(newton, p, single_straight, y);
         tally(&r, rep);
         if r.reason.is_converged() {
             let copts = fpc_newton::ContinuationOptions::default();
             let cr = fpc_newton::continuation(0.0, 1.0, y, &copts, |t, y| {
                 p.scalars = EnergyScalars { kp: t * full.kp };
-                let r = newton.minimize(p, y);
+                let r = minimize_straight::<M, _>(newton, p, single_straight, y);
                 tally(&r, rep);
                 r
             });
@@ -591,12 +597,44 @@ fn solve_element<M: ElementModel>(
     r
 }
 
+/// Newton in its own unknowns (src/finger/straighten.rs) on a problem
+/// whose `straight` flag `set` switches: `y` holds scaled unknowns before
+/// and after.
+fn minimize_straight<M: ElementModel, P: Hessian + ?Sized>(
+    newton: &mut Newton,
+    p: &mut P,
+    set: fn(&mut P, bool),
+    y: &mut [f64],
+) -> Report {
+    if !straighten::representable::<M>(y) {
+        // a start so far out that the change overflows: Newton in the
+        // scaled unknowns reports what it finds there
+        return newton.minimize(p, y);
+    }
+    straighten::to_newton::<M>(y);
+    set(p, true);
+    let r = newton.minimize(p, y);
+    set(p, false);
+    straighten::from_newton::<M>(y);
+    r
+}
+
+fn single_straight<M: ElementModel>(p: &mut Single<'_, M>, on: bool) {
+    p.straight = on;
+}
+
+fn chain_straight<M: ElementModel>(c: &mut Chain<'_, M>, on: bool) {
+    c.straight = on;
+}
+
 /// One element in scaled unknowns (the decoupled scenes).
 struct Single<'a, M: ElementModel> {
     finger: &'a FingerCore<M>,
     element: usize,
     scalars: EnergyScalars,
     matrix: &'a mut Semiseparable,
+    /// In Newton's own unknowns, as [`Chain::straight`].
+    straight: bool,
 }
 
 impl<'a, M: ElementModel> Single<'a, M> {
@@ -611,12 +649,18 @@ impl<'a, M: ElementModel> Single<'a, M> {
             element,
             scalars,
             matrix,
+            straight: false,
         }
     }
 
+    /// The raw unknowns at Newton's `y` (straightened, scaled).
     fn raw(&self, y: &[f64]) -> M::Coeffs {
         let s = &self.finger.unscale[self.element];
-        M::Coeffs::from_fn(|i| y[i] * s[i])
+        let mut x = M::Coeffs::from_fn(|i| y[i]);
+        if self.straight {
+            straighten::from_newton::<M>(x.as_mut());
+        }
+        M::Coeffs::from_fn(|i| x[i] * s[i])
     }
 }
 
@@ -636,6 +680,9 @@ impl<M: ElementModel> Gradient for Single<'_, M> {
         for i in 0..M::Coeffs::LEN {
             g[i] = gk[i] * s[i];
         }
+        if self.straight {
+            straighten::pull_back::<M>(y, g);
+        }
         v
     }
 }
@@ -651,6 +698,10 @@ impl<M: ElementModel> Hessian for Single<'_, M> {
             for j in 0..n {
                 h[i + n * j] = hk[upper_index(n, i, j)] * (s[i] * s[j]);
             }
+        }
+        if self.straight {
+            straighten::block::<M>(y, g, h);
+            straighten::pull_back::<M>(y, g);
         }
         v
     }

@@ -66,6 +66,7 @@ fn loads_beyond_reach_fail_with_finite_diagnostics() {
                 Termination::MaxIterations
                     | Termination::LineSearchFailed
                     | Termination::StepTolerance
+                    | Termination::Singular
             ),
             "{what}: {}",
             r.message

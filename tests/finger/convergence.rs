@@ -109,3 +109,65 @@ fn tip_converges_in_n_for_the_default_finger() {
         }
     }
 }
+
+// ------------------------------------------------- Newton's steps at N = 1
+
+/// One element curled far under random loads (issue 23's draw: eps0
+/// 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N per axis, seeded). Every
+/// solve converges (at most two of the forty stall just above the
+/// tolerance, as they did in the ordinary unknowns), Newton in its straightened unknowns (docs/model.md
+/// section 4.6) takes a median of at most 8 coupled steps (24 in the
+/// ordinary scaled unknowns, docs/stress.md), and every answer is an
+/// equilibrium of the ordinary unknowns: the potential's gradient, taken
+/// in raw unknowns without the change of variables, vanishes to the
+/// solver's tolerance in the scaled ones.
+#[test]
+fn far_curled_elements_converge_in_a_few_straightened_steps() {
+    let mut rng = Lcg::new(23);
+    let mut steps = Vec::new();
+    let mut stalled = 0;
+    for case in 0..40 {
+        let eps0 = rng.range(0.1, 0.5);
+        let load = Load {
+            pressure: rng.range(0.0, 350.0) * 1e-3,
+            fx: rng.range(-1.5, 1.5),
+            fz: rng.range(-1.5, 1.5),
+            ..Load::default()
+        };
+        let f = Finger::paper(eps0, 1).unwrap();
+        let s = match f.solve(&load, &SolveOptions::default().tip_only()) {
+            Ok(s) => s,
+            Err(e) => {
+                // a stall within a few digits of the tolerance (an element
+                // stretched to many times its length, where round-off
+                // bounds the residual) is counted, anything else fails
+                let SolveError::NotConverged {
+                    relative_residual, ..
+                } = e
+                else {
+                    panic!("case {case}, eps0 {eps0}, {load:?}: {e}");
+                };
+                assert!(relative_residual < 1e-6, "case {case}: {e}");
+                stalled += 1;
+                continue;
+            }
+        };
+        steps.push(s.report.steps.coupled + s.report.steps.continuation);
+        let (_, g) = f.gradient(&load, &s.coefficients).unwrap();
+        let residual = g
+            .iter()
+            .zip(f.unknown_scales())
+            .map(|(g, s)| (g * s).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            residual <= 1e-9 * f.stiffness_scale(),
+            "case {case}: scaled residual {residual:e} against stiffness {}",
+            f.stiffness_scale()
+        );
+    }
+    steps.sort_unstable();
+    let median = steps[steps.len() / 2];
+    eprintln!("N = 1, 40 random loaded fingers, {stalled} stalled: coupled Newton steps {steps:?}");
+    assert!(stalled <= 2, "{stalled} stalled");
+    assert!(median <= 8, "median {median}: {steps:?}");
+}

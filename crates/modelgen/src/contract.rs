@@ -35,6 +35,9 @@ pub(crate) struct Checked {
     pub(crate) spec: Spec,
     /// The mid-plane's coefficient kernel.
     pub(crate) midplane: PolynomialKernel,
+    /// The `straighten` statements in scaled unknowns: (target, source,
+    /// c), Newton's unknown `y_target = scaled_target + c scaled_source^2`.
+    pub(crate) straighten: Vec<(usize, usize, f64)>,
 }
 
 pub(crate) fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
@@ -151,6 +154,7 @@ pub(crate) fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
             LAW.0, LAW.1
         )));
     }
+    let straighten = straighten_scaled(&mut spec).map_err(fail)?;
     let (role, var) = POLYNOMIAL_ROLE;
     let midplane = point_polynomial(&mut spec, role, var).map_err(|e| {
         let why = match e {
@@ -167,7 +171,52 @@ pub(crate) fn check(file: &SpecFile) -> Result<Checked, ModelGenError> {
         module,
         spec,
         midplane,
+        straighten,
     })
+}
+
+/// The `straighten` statements in the solver's scaled unknowns: with
+/// `scaled_t = t f_t`, `t + c s^2` scales to `scaled_t + c (f_t / f_s^2)
+/// scaled_s^2`, so `f_t / f_s^2` must be a number. Neither unknown may be
+/// local (condensed out of the chain) or across the width (held at zero).
+fn straighten_scaled(spec: &mut Spec) -> Result<Vec<(usize, usize, f64)>, String> {
+    let mut out = Vec::new();
+    for d in spec.straighten.clone() {
+        let (target, source) = (
+            spec.arena.name(d.target).to_string(),
+            spec.arena.name(d.source).to_string(),
+        );
+        for (u, name) in [(d.target, &target), (d.source, &source)] {
+            if spec.local.contains(&u) || spec.across.contains(&u) {
+                return Err(format!(
+                    "line {}: `straighten` names `{name}`, which is local or across the width",
+                    d.line
+                ));
+            }
+        }
+        let index = |u| spec.unknowns.iter().position(|&v| v == u).expect("parsed");
+        let (t, s) = (index(d.target), index(d.source));
+        let ratio = match &spec.scaled {
+            Some(sc) => {
+                let (ft, fs) = (sc.factors[t], sc.factors[s]);
+                let arena = &mut spec.arena;
+                arena
+                    .pow(fs, 2)
+                    .and_then(|fs2| arena.div(ft, fs2))
+                    .ok()
+                    .and_then(|r| arena.as_num(r))
+            }
+            None => None,
+        };
+        let Some(ratio) = ratio else {
+            return Err(format!(
+                "line {}: `straighten {target} by ...` needs `{target}`'s scaling to be the square of `{source}`'s times a number",
+                d.line
+            ));
+        };
+        out.push((t, s, d.coefficient.to_f64() * ratio.to_f64()));
+    }
+    Ok(out)
 }
 
 pub(crate) fn point<'s>(spec: &'s Spec, name: &str) -> Option<&'s PointDef> {

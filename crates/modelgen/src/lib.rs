@@ -30,7 +30,11 @@
 //! - `law psi(s);`, the prestressed layer's material law (`PsiParams`);
 //! - `across ...;`, the unknowns of the strain across the width, which
 //!   plane strain holds at zero (`Across`, generated into `models.rs` so
-//!   that a model's own file does not change with it).
+//!   that a model's own file does not change with it);
+//! - optionally `straighten t by c*s^2;`: Newton solves for `t + c s^2` in
+//!   place of the unknown `t` (`Across::STRAIGHTEN`, in scaled unknowns:
+//!   `t`'s scaling must be the square of `s`'s times a number, and neither
+//!   may be local or across the width; docs/model.md section 4.6).
 //!
 //! Every rule is checked here, so a spec that breaks the contract fails the
 //! build with the spec's name and the rule, never compiles into a model
@@ -185,6 +189,17 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
             quote! { &[#(#idx),*] }
         })
         .collect();
+    let straighten: Vec<TokenStream> = checked
+        .iter()
+        .map(|c| {
+            let rows = c.straighten.iter().map(|&(t, s, k)| {
+                let (t, s) = (Literal::usize_unsuffixed(t), Literal::usize_unsuffixed(s));
+                let k = Literal::f64_unsuffixed(k);
+                quote! { (#t, #s, #k) }
+            });
+            quote! { &[#(#rows),*] }
+        })
+        .collect();
     let generated_names: Vec<String> = files.iter().map(|f| f.name.clone()).collect();
     let model_docs: Vec<String> = specs
         .iter()
@@ -223,6 +238,7 @@ pub fn generate(specs: &[SpecFile], default: &str) -> Result<Vec<GeneratedFile>,
         #(
             impl Across for #modules::#variants {
                 const ACROSS: &'static [usize] = #across;
+                const STRAIGHTEN: &'static [(usize, usize, f64)] = #straighten;
             }
         )*
 
@@ -474,6 +490,72 @@ mod tests {
         assert!(models
             .text
             .contains("const ACROSS: &'static [usize] = &[2];"));
+    }
+
+    #[test]
+    fn newton_unknowns_are_straightened_as_the_spec_says() {
+        let line = "straighten a3 by 2/3*c2^2;";
+        assert!(CCM.contains(line));
+        let files = generate(&spec(CCM.into()), "ccm").unwrap();
+        let models = files.iter().find(|f| f.name == "models.rs").unwrap();
+        // a3 is unknown 1, c2 unknown 3; scaled a3 L^2 and c2 L: the
+        // scaled shift keeps the raw coefficient
+        assert!(
+            models.text.contains(
+                "const STRAIGHTEN: &'static [(usize, usize, f64)] = &[(1, 3, 0.6666666666666666)];"
+            ),
+            "{}",
+            models.text
+        );
+        // without the statement, nothing changes
+        let files = generate(&spec(CCM.replace(line, "")), "ccm").unwrap();
+        let models = files.iter().find(|f| f.name == "models.rs").unwrap();
+        assert!(models
+            .text
+            .contains("const STRAIGHTEN: &'static [(usize, usize, f64)] = &[];"));
+        // a3 L^2 against c2 (unscaled): no longer the square of c2's scaling
+        // times a number
+        let e = generate(
+            &spec(CCM.replace("scaled a1, a3*L^2, b1, c2*L;", "scaled a1, a3*L^2, b1, c2;")),
+            "ccm",
+        )
+        .unwrap_err();
+        assert!(
+            e.message
+                .contains("needs `a3`'s scaling to be the square of `c2`'s"),
+            "{e}"
+        );
+        // the local unknown b1 cannot take part
+        let e = generate(&spec(CCM.replace(line, "straighten a1 by 2*b1^2;")), "ccm").unwrap_err();
+        assert!(
+            e.message
+                .contains("`b1`, which is local or across the width"),
+            "{e}"
+        );
+        // the parser's rules
+        for (bad, says) in [
+            (
+                "straighten a3 by 2/3*c2;",
+                "a nonzero number times the square of another unknown",
+            ),
+            (
+                "straighten a3 by 2/3*a3^2;",
+                "a nonzero number times the square of another unknown",
+            ),
+            (
+                "straighten a3 by 0*c2^2;",
+                "a nonzero number times the square of another unknown",
+            ),
+            ("straighten zz by c2^2;", "an unknown (`zz` is not one)"),
+            ("straighten a3 c2^2;", "`by` and the shift"),
+            (
+                "straighten a3 by c2^2;\nstraighten c2 by a1^2;",
+                "unknowns that no other",
+            ),
+        ] {
+            let e = generate(&spec(CCM.replace(line, bad)), "ccm").unwrap_err();
+            assert!(e.message.contains(says), "{bad}: {e}");
+        }
     }
 
     #[test]

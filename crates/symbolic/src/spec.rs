@@ -12,6 +12,7 @@
 //! scaled a1, a3*L^2;                     # the solver's unknowns: each unknown times a factor
 //! local b1;                              # unknowns that couple only within their element
 //! across b1;                             # unknowns of the strain across the width
+//! straighten a3 by 2/3*c2^2;             # Newton solves for a3 + 2/3 c2^2 instead of a3
 //! law psi(s);                            # a `let` of one variable: value and two derivatives
 //! energy = linear - kp*gas;              # how the integrals combine; `kp` a runtime scalar
 //! ```
@@ -24,6 +25,7 @@
 
 use crate::expr::{Arena, ExprId, Sym};
 use crate::parse::{ParseError, Parser, Tok};
+use crate::rational::Rational;
 
 /// A box integral to generate kernels for.
 #[derive(Debug, Clone)]
@@ -81,6 +83,21 @@ pub struct EnergyDef {
     pub line: usize,
 }
 
+/// `straighten t by c*s^2;`: Newton solves for `t + c s^2` in place of
+/// the unknown `t` (raw units), which makes a parabolic valley of the
+/// energy (`t` following `-c s^2` at equilibrium) a straight one.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StraightenDef {
+    /// The unknown replaced.
+    pub target: Sym,
+    /// The unknown whose square shifts it.
+    pub source: Sym,
+    /// The coefficient `c`.
+    pub coefficient: Rational,
+    /// Line of the statement.
+    pub line: usize,
+}
+
 /// The unknowns the solver works with: `scaled_i = unknown_i * factor_i`.
 #[derive(Debug, Clone)]
 pub struct ScaledDef {
@@ -108,6 +125,8 @@ pub struct Spec {
     /// Unknowns of the strain across the width (`across ...;`): what a
     /// runtime holds at zero for plane strain.
     pub across: Vec<Sym>,
+    /// Changes of Newton's unknowns (`straighten ...;`), in order.
+    pub straighten: Vec<StraightenDef>,
     /// Box integrals.
     pub integrals: Vec<IntegralDef>,
     /// Point kernels.
@@ -118,9 +137,21 @@ pub struct Spec {
     pub energy: Option<EnergyDef>,
 }
 
-const KEYWORDS: [&str; 12] = [
-    "unknowns", "let", "integral", "point", "over", "in", "model", "scaled", "local", "across",
-    "law", "energy",
+const KEYWORDS: [&str; 14] = [
+    "unknowns",
+    "let",
+    "integral",
+    "point",
+    "over",
+    "in",
+    "model",
+    "scaled",
+    "local",
+    "across",
+    "straighten",
+    "by",
+    "law",
+    "energy",
 ];
 
 /// Free symbols of several expressions, in order of first appearance.
@@ -153,6 +184,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
     let mut scaled = None;
     let mut local = Vec::new();
     let mut across = Vec::new();
+    let mut straighten: Vec<StraightenDef> = Vec::new();
     let mut laws: Vec<LawDef> = Vec::new();
     let mut energy = None;
     {
@@ -354,6 +386,39 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                 Tok::Ident(w) if w == "across" => {
                     unknown_subset(&mut p, &unknowns, &mut across, "distinct unknowns across the width")?;
                 }
+                Tok::Ident(w) if w == "straighten" => {
+                    p.next();
+                    let (name, tok) = p.expect_ident("the unknown Newton replaces")?;
+                    let target = p.arena.symbol(&name);
+                    if !unknowns.contains(&target) {
+                        return Err(p.error_at(&tok, &format!("an unknown (`{name}` is not one)")));
+                    }
+                    let by = p.peek().clone();
+                    if !p.is_ident("by") {
+                        return Err(p.error_at(&by, "`by` and the shift, a number times an unknown squared"));
+                    }
+                    p.next();
+                    let et = p.peek().clone();
+                    let e = p.expr()?;
+                    p.expect_punct(';')?;
+                    let free = p.arena.free_symbols(e);
+                    let shift = match free[..] {
+                        [source] if unknowns.contains(&source) && source != target => {
+                            let se = p.arena.sym(source);
+                            let sq = p.arena.pow(se, 2).and_then(|sq| p.arena.div(e, sq)).ok();
+                            sq.and_then(|c| p.arena.as_num(c)).filter(|c| !c.is_zero()).map(|c| (source, c))
+                        }
+                        _ => None,
+                    };
+                    let Some((source, coefficient)) = shift else {
+                        return Err(p.error_at(&et, "a nonzero number times the square of another unknown"));
+                    };
+                    let used = |u: Sym| straighten.iter().any(|d| d.target == u || d.source == u);
+                    if used(target) || used(source) {
+                        return Err(p.error_at(&tok, "unknowns that no other `straighten` statement names"));
+                    }
+                    straighten.push(StraightenDef { target, source, coefficient, line: t.line });
+                }
                 Tok::Ident(w) if w == "law" => {
                     p.next();
                     let (name, tok) = p.expect_ident("the name of a `let` to emit as a law")?;
@@ -423,7 +488,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
                     energy = Some(EnergyDef { terms, scalars, line: t.line });
                 }
                 _ => return Err(p.error(
-                    "a statement (`model`, `unknowns`, `scaled`, `local`, `across`, `let`, `law`, `integral`, `energy` or `point`)",
+                    "a statement (`model`, `unknowns`, `scaled`, `local`, `across`, `straighten`, `let`, `law`, `integral`, `energy` or `point`)",
                 )),
             }
         }
@@ -439,6 +504,7 @@ pub fn parse_spec(src: &str) -> Result<Spec, ParseError> {
         scaled,
         local,
         across,
+        straighten,
         integrals,
         points,
         laws,

@@ -5,12 +5,163 @@
 use std::fmt;
 use std::str::FromStr;
 
-use super::{
-    Elastic, GeometryKey, GraspKey, GripperKey, Lamina, LaminateKey, LoadKey, ModelKey,
-    PartitionKey, SceneKey, SolveKey, CALIBRATION_KEYS,
-};
 use crate::error::InputError;
-use crate::field::{ChannelKey, Field, PaperRibKey, PemcKey, RibKey, ShearLayer};
+use crate::field::{
+    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
+    RibKey, ShearLayer,
+};
+
+names!(
+    /// `[model]`.
+    pub ModelKey { Name => "name" }
+);
+names!(
+    /// `[partition]`.
+    pub PartitionKey { Elements => "elements", Lengths => "lengths", TipTolMm => "tip_tol_mm" }
+);
+names!(
+    /// `[load]`.
+    pub LoadKey { PressureKpa => "pressure_kpa", Kappa => "kappa", Fx => "fx", Fz => "fz" }
+);
+names!(
+    /// `[solve]`.
+    pub SolveKey {
+        Rtol => "rtol",
+        MaxIter => "max_iter",
+        Strategy => "strategy",
+        SamplesPerElement => "samples_per_element",
+        Shape => "shape",
+        Stability => "stability",
+        Continuation => "continuation",
+        MaxStep => "max_step",
+    }
+);
+names!(
+    /// `[gripper]` (without its `grasp` table).
+    pub GripperKey {
+        MountingAngleDeg => "mounting_angle_deg",
+        OverlapMm => "overlap_mm",
+        PalmMm => "palm_mm",
+        Fingers => "fingers",
+        Mu => "mu",
+        Strict => "strict",
+    }
+);
+names!(
+    /// `[gripper.grasp]`.
+    pub GraspKey {
+        Kind => "kind",
+        PressureKpa => "pressure_kpa",
+        DMm => "d_mm",
+        BetaDeg => "beta_deg",
+        FrictionN => "friction_n",
+        RMm => "r_mm",
+        LiftN => "lift_n",
+    }
+);
+
+/// A key of a scene file, by its place in the schema. Displays as its
+/// TOML path (`actuator.geometry.h1`, `partition.lengths[2]`).
+/// [`str::parse`] reads one back from its path (front ends' key
+/// arguments, like `fpc sweep --vary`), and [`SceneKey::value`] says what it
+/// holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SceneKey {
+    Model(ModelKey),
+    Geometry(GeometryKey),
+    Channel(ChannelKey),
+    /// `actuator.ribs` as a whole (ribs that together do not fit).
+    Ribs,
+    /// `actuator.ribs.kind` (checked by the parser, like every `kind`).
+    RibsKind,
+    /// `actuator.ribs.list`.
+    RibsList,
+    /// `actuator.ribs.w1`, `w2`, `t`.
+    PaperRib(PaperRibKey),
+    /// `actuator.ribs.list[i].<key>`.
+    RibEntry(usize, RibKey),
+    /// `actuator.<layer>.kind` (checked by the parser).
+    MaterialKind(Lamina),
+    /// `actuator.<layer>.<key>`.
+    Material(Lamina, Elastic),
+    Pemc(PemcKey),
+    /// `actuator.<layer>.g13`.
+    ShearModulus(ShearLayer),
+    /// `actuator.laminate.<key>`.
+    Laminate(LaminateKey),
+    Partition(PartitionKey),
+    /// `partition.lengths[i]`.
+    PartitionLength(usize),
+    Load(LoadKey),
+    /// `solve` as a whole (settings that do not fit together).
+    SolveTable,
+    Solve(SolveKey),
+    Gripper(GripperKey),
+    Grasp(GraspKey),
+    /// `calibration.<key>` (a calibration's record; it changes nothing
+    /// that is solved).
+    Calibration(&'static str),
+}
+
+/// The keys of `[calibration]` (a list's entries at index 0).
+pub(crate) const CALIBRATION_KEYS: [&str; 5] = [
+    "manifest",
+    "parameters[0]",
+    "standard_errors[0]",
+    "covariance[0][0]",
+    "chi_square_per_dof",
+];
+
+impl fmt::Display for SceneKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SceneKey::Model(k) => write!(f, "model.{k}"),
+            SceneKey::Geometry(k) => write!(f, "actuator.geometry.{k}"),
+            SceneKey::Channel(k) => write!(f, "actuator.channel.{k}"),
+            SceneKey::Ribs => f.write_str("actuator.ribs"),
+            SceneKey::RibsKind => f.write_str("actuator.ribs.kind"),
+            SceneKey::RibsList => f.write_str("actuator.ribs.list"),
+            SceneKey::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
+            SceneKey::RibEntry(i, k) => write!(f, "actuator.ribs.list[{i}].{k}"),
+            SceneKey::MaterialKind(l) => write!(f, "actuator.{l}.kind"),
+            SceneKey::Material(l, k) => write!(f, "actuator.{l}.{k}"),
+            SceneKey::Pemc(k) => write!(f, "actuator.pemc.{k}"),
+            SceneKey::ShearModulus(l) => write!(f, "actuator.{l}.g13"),
+            SceneKey::Laminate(k) => write!(f, "actuator.laminate.{k}"),
+            SceneKey::Partition(k) => write!(f, "partition.{k}"),
+            SceneKey::PartitionLength(i) => write!(f, "partition.lengths[{i}]"),
+            SceneKey::Load(k) => write!(f, "load.{k}"),
+            SceneKey::SolveTable => f.write_str("solve"),
+            SceneKey::Solve(k) => write!(f, "solve.{k}"),
+            SceneKey::Gripper(k) => write!(f, "gripper.{k}"),
+            SceneKey::Grasp(k) => write!(f, "gripper.grasp.{k}"),
+            SceneKey::Calibration(k) => write!(f, "calibration.{k}"),
+        }
+    }
+}
+
+macro_rules! into_key {
+    ($($leaf:ident => $variant:ident),+ $(,)?) => {
+        $(impl From<$leaf> for SceneKey {
+            fn from(k: $leaf) -> SceneKey {
+                SceneKey::$variant(k)
+            }
+        })+
+    };
+}
+
+into_key!(
+    ModelKey => Model,
+    GeometryKey => Geometry,
+    ChannelKey => Channel,
+    PaperRibKey => PaperRib,
+    PemcKey => Pemc,
+    PartitionKey => Partition,
+    LoadKey => Load,
+    SolveKey => Solve,
+    GripperKey => Gripper,
+    GraspKey => Grasp,
+);
 
 /// What a scene key holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -2,6 +2,7 @@
 //! the schema, and messages name scene keys.
 
 use super::*;
+use crate::field::{ChannelKey, LaminateKey, PemcKey, RibKey, ShearLayer};
 use crate::scene::testing::{schema_keys, schema_path};
 use crate::scene::Scene;
 
