@@ -12,8 +12,8 @@ use std::fmt;
 
 use crate::error::{self, InputError, Warning};
 pub(crate) use crate::field::{
-    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
-    RibKey, ShearLayer,
+    names, ChannelKey, ClRibKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey,
+    PemcKey, RibKey, ShearLayer,
 };
 use crate::solve_error::SolveError;
 
@@ -84,6 +84,14 @@ pub(crate) enum SceneKey {
     PaperRib(PaperRibKey),
     /// `actuator.ribs.list[i].<key>`.
     RibEntry(usize, RibKey),
+    /// `actuator.cl_ribs` as a whole (too many ribs, or ribs that
+    /// together are wider than the strip).
+    ClRibs,
+    /// `actuator.cl_ribs.list`.
+    #[allow(dead_code)] // the parser checks its type
+    ClRibsList,
+    /// `actuator.cl_ribs.list[i].<key>`.
+    ClRibEntry(usize, ClRibKey),
     /// `actuator.<layer>.kind` (checked by the parser).
     #[allow(dead_code)]
     MaterialKind(Lamina),
@@ -129,6 +137,9 @@ impl fmt::Display for SceneKey {
             SceneKey::RibsList => f.write_str("actuator.ribs.list"),
             SceneKey::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
             SceneKey::RibEntry(i, k) => write!(f, "actuator.ribs.list[{i}].{k}"),
+            SceneKey::ClRibs => f.write_str("actuator.cl_ribs"),
+            SceneKey::ClRibsList => f.write_str("actuator.cl_ribs.list"),
+            SceneKey::ClRibEntry(i, k) => write!(f, "actuator.cl_ribs.list[{i}].{k}"),
             SceneKey::MaterialKind(l) => write!(f, "actuator.{l}.kind"),
             SceneKey::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             SceneKey::Pemc(k) => write!(f, "actuator.pemc.{k}"),
@@ -180,6 +191,8 @@ impl SceneKey {
         keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);
         keys.extend(PaperRibKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(RibKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
+        keys.extend([SceneKey::ClRibs, SceneKey::ClRibsList]);
+        keys.extend(ClRibKey::ALL.iter().map(|&k| SceneKey::ClRibEntry(0, k)));
         for &l in Lamina::ALL {
             keys.push(SceneKey::MaterialKind(l));
             keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
@@ -256,6 +269,8 @@ pub(crate) fn scene_key(f: &Field) -> Option<SceneKey> {
         Field::PaperRib(k) => SceneKey::PaperRib(k),
         Field::Rib(i, k) => SceneKey::RibEntry(i, k),
         Field::Ribs => SceneKey::Ribs,
+        Field::ClRib(i, k) => SceneKey::ClRibEntry(i, k),
+        Field::ClRibs => SceneKey::ClRibs,
         Field::Material(l, k) => SceneKey::Material(l, k),
         Field::Pemc(k) => SceneKey::Pemc(k),
         Field::ShearModulus(l) => SceneKey::ShearModulus(l),
