@@ -363,6 +363,25 @@ fn the_rib_ends_cut_the_material_partition() {
     assert_eq!(part.len(), 4);
 }
 
+#[test]
+fn the_thickness_finding_counts_the_tallest_rib() {
+    // H = 8.2 against lx = 110: within the length limit 0.1 until a rib
+    // makes the section thicker than 11 mm
+    let thick = |ribs: Vec<ClRib>| {
+        Actuator::new(params(false, ribs))
+            .unwrap()
+            .warnings()
+            .iter()
+            .any(|w| matches!(w, fpc::Warning::ThicknessRatio { .. }))
+    };
+    assert!(!thick(Vec::new()));
+    assert!(!thick(vec![rib(10.0, 12.0, 5.0, 2.5)]));
+    assert!(thick(vec![
+        rib(10.0, 12.0, 5.0, 2.5),
+        rib(20.0, 22.0, 5.0, 3.0)
+    ]));
+}
+
 fn library_error(r: ClRib) -> String {
     let e = Actuator::new(params(false, vec![rib(60.0, 62.0, 1.0, 0.3), r])).unwrap_err();
     e.field().to_string()

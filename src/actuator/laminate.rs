@@ -553,8 +553,11 @@ impl Actuator {
                 hi,
             });
         }
-        // a validity finding, not an error: the strip may still be solved
-        warnings.extend(crate::validity::thickness(g.h, g.lx, g.ly));
+        // a validity finding, not an error: the strip may still be solved;
+        // the section is as thick as its tallest rib on the constraining
+        // layer makes it (none: H itself)
+        let tallest = params.cl_ribs.iter().fold(0.0_f64, |m, r| m.max(r.height));
+        warnings.extend(crate::validity::thickness(g.h + tallest, g.lx, g.ly));
         Ok(Actuator {
             params,
             ribs,
