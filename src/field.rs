@@ -56,6 +56,10 @@ names!(
     pub RibKey { X0 => "x0", X1 => "x1", Width => "width" }
 );
 names!(
+    /// A key of one rib on the constraining layer (`actuator.cl_ribs`).
+    pub ClRibKey { X0 => "x0", X1 => "x1", Width => "width", Height => "height" }
+);
+names!(
     /// A linear lamina with its own material table (`actuator.<layer>`),
     /// top to bottom.
     pub Lamina {
@@ -125,6 +129,8 @@ macro_rules! field {
             PaperRib(PaperRibKey),
             /// `actuator.ribs[i].<key>`: an explicit rib.
             Rib(usize, RibKey),
+            /// `actuator.cl_ribs[i].<key>`: a rib on the constraining layer.
+            ClRib(usize, ClRibKey),
             Material(Lamina, Elastic),
             /// `actuator.pemc.eps0`, `e2`, `actuator.pemc.law.p1..p4`.
             Pemc(PemcKey),
@@ -159,6 +165,7 @@ macro_rules! field {
 
 field! {
     Ribs => "actuator.ribs",
+    ClRibs => "actuator.cl_ribs",
     PartitionN => "partition.n",
     PartitionLx => "partition.lx",
     PartitionLengths => "partition.lengths",
@@ -214,6 +221,7 @@ impl fmt::Display for Field {
             Field::Channel(k) => write!(f, "actuator.channel.{k}"),
             Field::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
             Field::Rib(i, k) => write!(f, "actuator.ribs[{i}].{k}"),
+            Field::ClRib(i, k) => write!(f, "actuator.cl_ribs[{i}].{k}"),
             Field::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             Field::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => write!(f, "actuator.pemc.{k}"),
             Field::Pemc(k) => write!(f, "actuator.pemc.law.{k}"),

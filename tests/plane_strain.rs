@@ -56,6 +56,7 @@ fn strip(e: f64, nu: f64, plane_strain: bool) -> Actuator {
         },
         shear: TransverseShear::default(),
         plane_strain,
+        cl_ribs: Vec::new(),
     };
     Actuator::new(params).expect("a valid strip")
 }

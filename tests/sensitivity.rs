@@ -544,6 +544,28 @@ fn tip_loaded_plane_strain(model: ModelId) -> Case {
     solved("tip-loaded, plane strain", model, actuator, load)
 }
 
+/// The standard tip-loaded case under pressure with ribs on the
+/// constraining layer (docs/model.md section 4.10): they stand on H/2, so
+/// they move with `actuator.geometry.h`, and they are of the layer's
+/// material, so they move with its constants.
+fn tip_loaded_cl_ribs(model: ModelId) -> Case {
+    let rib = |x0: f64, x1: f64, width: f64, height: f64| fpc::actuator::ClRib {
+        x0,
+        x1,
+        width,
+        height,
+    };
+    let actuator = Actuator::new(fpc::ActuatorParams {
+        cl_ribs: vec![rib(20.0, 35.0, 30.0, 0.6), rib(60.0, 61.5, 12.0, 1.0)],
+        ..fpc::ActuatorParams::default()
+    })
+    .unwrap();
+    let load = Load::unloaded()
+        .with_pressure_kpa(30.0)
+        .with_tip_force(0.939782, 0.521707);
+    solved("tip-loaded, CL ribs", model, actuator, load)
+}
+
 /// A pressurised finger without tip load (the decoupled solve): 50 kPa.
 fn pressurised(model: ModelId) -> Case {
     let load = Load::unloaded().with_pressure_kpa(50.0);
@@ -667,6 +689,11 @@ fn tip_loaded_sensitivities_match_re_solves() {
 #[test]
 fn plane_strain_sensitivities_match_re_solves() {
     check_case(tip_loaded_plane_strain);
+}
+
+#[test]
+fn cl_rib_sensitivities_match_re_solves() {
+    check_case(tip_loaded_cl_ribs);
 }
 
 #[test]

@@ -79,6 +79,7 @@ fn strip(lx: f64, b: f64, t: f64, c: f64, ef: f64, ec: f64, shear: TransverseShe
         },
         shear,
         plane_strain: false,
+        cl_ribs: Vec::new(),
     };
     Actuator::new(params).expect("a valid strip")
 }

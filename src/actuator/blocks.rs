@@ -22,7 +22,9 @@ const MIN_BLOCK_FRACTION: f64 = 1e-12;
 
 impl Partition {
     /// Element boundaries on every material change: the ends of the ribs
-    /// and of the channel (when ribs are off, the channel's end only), and
+    /// and of the channel (when ribs are off, the channel's end only), the
+    /// ends of the ribs on the constraining layer (always: they are not
+    /// switched by `ribs`), and
     /// every piece split into equal parts no longer than `max_length`.
     /// Boundaries closer than [`MIN_ELEMENT_FRACTION`] `lx` to another are
     /// merged. This is the starting partition of the automatic choice
@@ -43,6 +45,10 @@ impl Partition {
                 cuts.push(r.x0);
                 cuts.push(r.x1);
             }
+        }
+        for r in actuator.cl_ribs() {
+            cuts.push(r.x0);
+            cuts.push(r.x1);
         }
         cuts.retain(|x| x.is_finite() && (0.0..=lx).contains(x));
         cuts.sort_by(f64::total_cmp);
@@ -93,7 +99,12 @@ pub(super) fn clip(gx0: f64, gx1: f64, start: f64, len: f64) -> Option<(f64, f64
 ///
 /// `part` should be built for `act.geometry().lx`; the laminae cover each
 /// element whole, and the channel and ribs are clipped to it. `ribs`
-/// switches the rib terms (in both energy and gas volume) on or off.
+/// switches the channel's rib terms (in both energy and gas volume) on or
+/// off; the ribs on the constraining layer ([`Actuator::cl_ribs`], none
+/// by default) are data of the actuator and always enter, as boxes of the
+/// constraining layer's material over z in [H/2, H/2 + height], after
+/// every other linear block (so an actuator without them gives the same
+/// blocks as before they existed).
 pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
     let layers = act.linear_layers();
     let fluidic_q = act.fluidic_q();
@@ -105,6 +116,8 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
     let width = act.geometry().ly;
     let ks = act.shear_correction();
     let fluidic_g13 = act.g13(ShearLayer::Fluidic);
+    let [cl_layer, ..] = layers;
+    let top = act.geometry().h / 2.0;
 
     part.lengths()
         .iter()
@@ -167,6 +180,22 @@ pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Ve
                         z0: cz0,
                         z1: cz1,
                         width: -rib.width,
+                    });
+                }
+            }
+            for rib in act.cl_ribs() {
+                if let Some((x0, x1)) = clip(rib.x0, rib.x1, start, len) {
+                    linear.push(LinearParams {
+                        x0,
+                        x1,
+                        z0: top,
+                        z1: top + rib.height,
+                        width: rib.width,
+                        q11: cl_layer.q.q11,
+                        q12: cl_layer.q.q12,
+                        q22: cl_layer.q.q22,
+                        g13: cl_layer.g13,
+                        ks,
                     });
                 }
             }

@@ -5,8 +5,8 @@
 
 use crate::error::{finite, positive, require, InputError, Warning};
 use crate::field::{
-    ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey, RibKey,
-    ShearLayer,
+    ChannelKey, ClRibKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
+    RibKey, ShearLayer,
 };
 use crate::model::PsiParams;
 
@@ -17,6 +17,10 @@ pub const EPS0_FIT_RANGE: (f64, f64) = (0.0, 0.6);
 /// Upper bound on the number of ribs a [`RibLayout::Paper`] may generate
 /// (guards against a tiny pitch allocating without bound).
 pub const MAX_GENERATED_RIBS: usize = 10_000;
+
+/// Upper bound on the number of ribs on the constraining layer
+/// ([`ActuatorParams::cl_ribs`]).
+pub const MAX_CL_RIBS: usize = 10_000;
 
 /// Plane-stress reduced stiffnesses (MPa) of a lamina, with X = 1, Y = 2.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -308,6 +312,19 @@ pub struct Rib {
     pub width: f64,
 }
 
+/// A rib on the constraining layer (docs/model.md section 4.10): a box of
+/// the constraining layer's material on its top surface, X_ref in
+/// [x0, x1], total width `width` across Y and `height` above the
+/// laminate's top z = H/2 (so z in [H/2, H/2 + height]). All in mm. Its
+/// strain energy enters the laminate; it holds no gas.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClRib {
+    pub x0: f64,
+    pub x1: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
 /// How the ribs inside the channel are laid out.
 #[derive(Debug, Clone, PartialEq)]
 pub enum RibLayout {
@@ -355,6 +372,10 @@ pub struct ActuatorParams {
     /// its sides); `false`, the default, is plane stress, the width free
     /// to contract (docs/model.md section 4.9).
     pub plane_strain: bool,
+    /// Ribs on the constraining layer, of its material (docs/model.md
+    /// section 4.10); none by default (the paper's model). At most
+    /// [`MAX_CL_RIBS`].
+    pub cl_ribs: Vec<ClRib>,
 }
 
 impl Default for ActuatorParams {
@@ -374,6 +395,7 @@ impl Default for ActuatorParams {
             pemc: Prestressed::default(),
             shear: TransverseShear::default(),
             plane_strain: false,
+            cl_ribs: Vec::new(),
         }
     }
 }
@@ -499,7 +521,8 @@ impl Actuator {
         )?;
 
         let ribs = resolve_ribs(&params.ribs, c)?;
-        check_rib_overlap(&ribs, c.cy)?;
+        check_rib_overlap(&ribs, c.cy, Field::Ribs, "channel width cy")?;
+        check_cl_ribs(&params.cl_ribs, g)?;
 
         params.cl.validate(Lamina::Cl)?;
         params.emc.validate(Lamina::Emc)?;
@@ -530,8 +553,11 @@ impl Actuator {
                 hi,
             });
         }
-        // a validity finding, not an error: the strip may still be solved
-        warnings.extend(crate::validity::thickness(g.h, g.lx, g.ly));
+        // a validity finding, not an error: the strip may still be solved;
+        // the section is as thick as its tallest rib on the constraining
+        // layer makes it (none: H itself)
+        let tallest = params.cl_ribs.iter().fold(0.0_f64, |m, r| m.max(r.height));
+        warnings.extend(crate::validity::thickness(g.h + tallest, g.lx, g.ly));
         Ok(Actuator {
             params,
             ribs,
@@ -572,6 +598,11 @@ impl Actuator {
     /// comes first, then the transverse ribs by increasing X.
     pub fn ribs(&self) -> &[Rib] {
         &self.ribs
+    }
+
+    /// The ribs on the constraining layer ([`ActuatorParams::cl_ribs`]).
+    pub fn cl_ribs(&self) -> &[ClRib] {
+        &self.params.cl_ribs
     }
 
     /// The prestressed layer.
@@ -755,8 +786,73 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
     }
 }
 
-/// The ribs' summed width at any X must fit in the channel.
-fn check_rib_overlap(ribs: &[Rib], cy: f64) -> Result<(), InputError> {
+/// Checks the ribs on the constraining layer: finite, inside the length,
+/// no wider than the strip, a positive height, at most [`MAX_CL_RIBS`] of
+/// them, and side by side no wider than the strip at any X.
+fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), InputError> {
+    require(
+        ribs.len() <= MAX_CL_RIBS,
+        Field::ClRibs,
+        ribs.len() as f64,
+        format!("lists {} ribs, more than {MAX_CL_RIBS}", ribs.len()),
+    )?;
+    for (k, r) in ribs.iter().enumerate() {
+        let f = |key| Field::ClRib(k, key);
+        finite(f(ClRibKey::X0), r.x0)?;
+        require(
+            r.x0 >= 0.0,
+            f(ClRibKey::X0),
+            r.x0,
+            "must not be negative".into(),
+        )?;
+        finite(f(ClRibKey::X1), r.x1)?;
+        require(
+            r.x1 > r.x0,
+            f(ClRibKey::X1),
+            r.x1,
+            format!("must exceed x0 = {}", r.x0),
+        )?;
+        require(
+            r.x1 <= g.lx,
+            f(ClRibKey::X1),
+            r.x1,
+            format!("must not exceed the length lx = {}", g.lx),
+        )?;
+        positive(f(ClRibKey::Width), r.width)?;
+        require(
+            r.width <= g.ly,
+            f(ClRibKey::Width),
+            r.width,
+            format!("must not exceed the width ly = {}", g.ly),
+        )?;
+        positive(f(ClRibKey::Height), r.height)?;
+        require(
+            r.height <= MAX_DIMENSION_MM,
+            f(ClRibKey::Height),
+            r.height,
+            format!("must be at most {MAX_DIMENSION_MM} mm"),
+        )?;
+    }
+    let boxes: Vec<Rib> = ribs
+        .iter()
+        .map(|r| Rib {
+            x0: r.x0,
+            x1: r.x1,
+            width: r.width,
+        })
+        .collect();
+    check_rib_overlap(&boxes, g.ly, Field::ClRibs, "width ly")
+}
+
+/// The ribs' summed width at any X must fit in `limit` (the channel's
+/// width for the channel's ribs, the strip's for those on the
+/// constraining layer).
+fn check_rib_overlap(
+    ribs: &[Rib],
+    limit: f64,
+    field: Field,
+    limit_name: &str,
+) -> Result<(), InputError> {
     // Sweep over the rib ends; at equal X a rib ending is processed before
     // one starting, so ribs that only touch do not add up.
     let mut events: Vec<(f64, f64)> = ribs
@@ -767,11 +863,11 @@ fn check_rib_overlap(ribs: &[Rib], cy: f64) -> Result<(), InputError> {
     let mut sum = 0.0;
     for (x, dw) in events {
         sum += dw;
-        if sum > cy * (1.0 + 1e-12) {
+        if sum > limit * (1.0 + 1e-12) {
             return Err(InputError::Inconsistent {
-                field: Field::Ribs,
+                field,
                 rule: format!(
-                    "the ribs at X_ref = {x} add up to width {sum}, more than the channel width cy = {cy}"
+                    "the ribs at X_ref = {x} add up to width {sum}, more than the {limit_name} = {limit}"
                 ),
             });
         }

@@ -16,7 +16,7 @@
 //! | prestressed EMC (PEMC) | [-H/2, -h3] |
 //!
 //! - `laminate.rs`: materials, the prestressed law, dimensions, channel,
-//!   ribs and the validated [`Actuator`];
+//!   ribs (in the channel and on the constraining layer) and the validated [`Actuator`];
 //! - `param.rs`: the actuator's parameters by their scene keys;
 //! - `blocks.rs`: the actuator cut into integration blocks per element, and
 //!   the partition on its material changes;
@@ -28,11 +28,11 @@ mod laminate;
 mod param;
 mod tangent;
 
-pub use crate::field::{Elastic, Lamina, ShearLayer};
+pub use crate::field::{ClRibKey, Elastic, Lamina, ShearLayer};
 pub(crate) use blocks::element_blocks;
 pub use laminate::{
-    Actuator, ActuatorParams, Channel, Geometry, Isotropic, Layer, Material, Orthotropic,
-    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE,
+    Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Layer, Material, Orthotropic,
+    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE, MAX_CL_RIBS,
     MAX_DIMENSION_MM, MAX_GENERATED_RIBS,
 };
 pub use param::ActuatorParam;

@@ -302,6 +302,14 @@ pub(crate) fn element_block_tangent_into(
             out.gas.push(gas_box(-dw));
         }
     }
+    // the ribs on the constraining layer: z in [H/2, H/2 + height], of
+    // the layer's material; no parameter moves their width or height
+    for rib in act.cl_ribs() {
+        if clip(rib.x0, rib.x1, start, len).is_some() {
+            out.linear
+                .push(linear_box(0.5 * t.h, 0.5 * t.h, 0.0, t.cl, g_cl));
+        }
+    }
     out.prestressed.push(PrestressedParams {
         x0: 0.0,
         x1: 0.0,

@@ -22,6 +22,8 @@
 //! [actuator.fluidic]
 //! [actuator.pemc]              # eps0, e2 (MPa), p1..p4 (MPa)
 //! eps0 = 0.25
+//! [actuator.laminate]         # shear_correction, plane_strain
+//! [actuator.cl_ribs]           # list = [{ x0, x1, width, height }, ...] (mm; default none)
 //! [partition]                  # elements = N | "auto" | lengths = [...] | tip_tol_mm (+ elements to start)
 //! elements = 8
 //! [load]                       # pressure_kpa, kappa, fx, fz (N, finger frame)
@@ -80,10 +82,10 @@ pub use resolve::{
     DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
-    line_col, ActuatorSection, CalibrationSection, ChannelSection, Elements, GeometrySection,
-    GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind, MaterialSection,
-    ModelSection, PartitionSection, PemcSection, RibEntry, RibKind, RibsSection, SceneError,
-    SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
+    line_col, ActuatorSection, CalibrationSection, ChannelSection, ClRibEntry, ClRibsSection,
+    Elements, GeometrySection, GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind,
+    MaterialSection, ModelSection, PartitionSection, PemcSection, RibEntry, RibKind, RibsSection,
+    SceneError, SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
 };
 pub use solve::{GraspOutcome, SceneSolution};
 pub use uncertainty::{GraspUncertainty, Uncertainty};

@@ -134,6 +134,38 @@ pub struct ActuatorSection {
     /// Options of the laminate as a whole.
     #[serde(skip_serializing_if = "LaminateSection::is_empty")]
     pub laminate: LaminateSection,
+    /// Ribs on the constraining layer (none by default).
+    #[serde(skip_serializing_if = "ClRibsSection::is_empty")]
+    pub cl_ribs: ClRibsSection,
+}
+
+/// `[actuator.cl_ribs]`: ribs of the constraining layer's material on its
+/// top surface (docs/model.md section 4.10); absent from a resolved scene
+/// when none is given.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ClRibsSection {
+    /// The ribs (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub list: Option<Vec<ClRibEntry>>,
+}
+
+impl ClRibsSection {
+    /// No key given.
+    pub fn is_empty(&self) -> bool {
+        self.list.is_none()
+    }
+}
+
+/// One rib on the constraining layer: X_ref in [x0, x1], total width
+/// across Y and height above the layer's top surface z = H/2 (all mm).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClRibEntry {
+    pub x0: f64,
+    pub x1: f64,
+    pub width: f64,
+    pub height: f64,
 }
 
 /// `[actuator.geometry]`, mm.

@@ -35,6 +35,7 @@ pub(crate) const SCENES: &[(&str, &str)] = &[
         "shear_tip_load.toml",
         include_str!("../../scenes/shear_tip_load.toml"),
     ),
+    ("cl_ribs.toml", include_str!("../../scenes/cl_ribs.toml")),
 ];
 
 pub(crate) fn input_err(text: &str) -> InputError {

@@ -326,6 +326,38 @@ fn every_example_scene_solves_and_writes_its_files() {
 }
 
 #[test]
+fn ribs_on_the_constraining_layer_are_echoed_and_curl_the_finger_less() {
+    let tmp = TempDir::new("cl-ribs");
+    let load = "[partition]\nelements = \"auto\"\n[load]\npressure_kpa = 20\n";
+    let plain = solve_text(&tmp.0, "plain", load);
+    let ribbed = solve_text(
+        &tmp.0,
+        "ribbed",
+        &format!("{load}[actuator.cl_ribs]\nlist = [{{ x0 = 40, x1 = 70, width = 31.75, height = 0.5 }}]\n"),
+    );
+    assert!(plain.json["scene"]["actuator"].get("cl_ribs").is_none());
+    let rib = &ribbed.json["scene"]["actuator"]["cl_ribs"]["list"][0];
+    assert_eq!(rib["height"], 0.5);
+    let radius = |w: &Written| w.json["radius_mm"].as_f64().unwrap();
+    assert!(
+        radius(&ribbed) > radius(&plain),
+        "{} against {}",
+        radius(&ribbed),
+        radius(&plain)
+    );
+    // the rib's ends are element ends of the automatic partition
+    let mut x = 0.0;
+    let mut ends = Vec::new();
+    for l in ribbed.json["element_lengths_mm"].as_array().unwrap() {
+        x += l.as_f64().unwrap();
+        ends.push(x);
+    }
+    for end in [40.0, 70.0] {
+        assert!(ends.iter().any(|e| (e - end).abs() < 1e-9), "{ends:?}");
+    }
+}
+
+#[test]
 fn findings_are_typed_in_the_json_and_listed_in_the_svg() {
     let tmp = TempDir::new("findings");
     // two elements under pressure each turn beyond the slope limit

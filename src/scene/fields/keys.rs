@@ -7,8 +7,8 @@ use std::str::FromStr;
 
 use crate::error::InputError;
 use crate::field::{
-    names, ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
-    RibKey, ShearLayer,
+    names, ChannelKey, ClRibKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey,
+    PemcKey, RibKey, ShearLayer,
 };
 
 names!(
@@ -80,6 +80,13 @@ pub enum SceneKey {
     PaperRib(PaperRibKey),
     /// `actuator.ribs.list[i].<key>`.
     RibEntry(usize, RibKey),
+    /// `actuator.cl_ribs` as a whole (too many ribs, or ribs that
+    /// together are wider than the strip).
+    ClRibs,
+    /// `actuator.cl_ribs.list`.
+    ClRibsList,
+    /// `actuator.cl_ribs.list[i].<key>`.
+    ClRibEntry(usize, ClRibKey),
     /// `actuator.<layer>.kind` (checked by the parser).
     MaterialKind(Lamina),
     /// `actuator.<layer>.<key>`.
@@ -123,6 +130,9 @@ impl fmt::Display for SceneKey {
             SceneKey::RibsList => f.write_str("actuator.ribs.list"),
             SceneKey::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
             SceneKey::RibEntry(i, k) => write!(f, "actuator.ribs.list[{i}].{k}"),
+            SceneKey::ClRibs => f.write_str("actuator.cl_ribs"),
+            SceneKey::ClRibsList => f.write_str("actuator.cl_ribs.list"),
+            SceneKey::ClRibEntry(i, k) => write!(f, "actuator.cl_ribs.list[{i}].{k}"),
             SceneKey::MaterialKind(l) => write!(f, "actuator.{l}.kind"),
             SceneKey::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             SceneKey::Pemc(k) => write!(f, "actuator.pemc.{k}"),
@@ -214,6 +224,8 @@ impl SceneKey {
         keys.extend([SceneKey::Ribs, SceneKey::RibsKind, SceneKey::RibsList]);
         keys.extend(PaperRibKey::ALL.iter().map(|&k| SceneKey::from(k)));
         keys.extend(RibKey::ALL.iter().map(|&k| SceneKey::RibEntry(0, k)));
+        keys.extend([SceneKey::ClRibs, SceneKey::ClRibsList]);
+        keys.extend(ClRibKey::ALL.iter().map(|&k| SceneKey::ClRibEntry(0, k)));
         for &l in Lamina::ALL {
             keys.push(SceneKey::MaterialKind(l));
             keys.extend(Elastic::ALL.iter().map(|&k| SceneKey::Material(l, k)));
@@ -241,8 +253,10 @@ impl SceneKey {
             | SceneKey::MaterialKind(_)
             | SceneKey::Solve(SolveKey::Strategy)
             | SceneKey::Grasp(GraspKey::Kind) => Name,
-            SceneKey::Ribs | SceneKey::SolveTable => Table,
-            SceneKey::RibsList | SceneKey::Partition(PartitionKey::Lengths) => List,
+            SceneKey::Ribs | SceneKey::ClRibs | SceneKey::SolveTable => Table,
+            SceneKey::RibsList
+            | SceneKey::ClRibsList
+            | SceneKey::Partition(PartitionKey::Lengths) => List,
             SceneKey::Laminate(LaminateKey::PlaneStrain)
             | SceneKey::Solve(SolveKey::Shape | SolveKey::Stability | SolveKey::Continuation)
             | SceneKey::Gripper(GripperKey::Strict) => Flag,
@@ -254,6 +268,7 @@ impl SceneKey {
             | SceneKey::Channel(_)
             | SceneKey::PaperRib(_)
             | SceneKey::RibEntry(..)
+            | SceneKey::ClRibEntry(..)
             | SceneKey::Material(..)
             | SceneKey::Pemc(_)
             | SceneKey::ShearModulus(_)
@@ -341,6 +356,7 @@ impl FromStr for SceneKey {
             match (key, &indices[..]) {
                 (SceneKey::PartitionLength(_), &[i]) => Some(SceneKey::PartitionLength(i)),
                 (SceneKey::RibEntry(_, k), &[i]) => Some(SceneKey::RibEntry(i, k)),
+                (SceneKey::ClRibEntry(_, k), &[i]) => Some(SceneKey::ClRibEntry(i, k)),
                 // the calibration's lists are a record, read whole
                 (key, _) if shape == text => Some(key),
                 _ => None,
@@ -407,7 +423,7 @@ mod tests {
     fn the_kinds_agree_with_the_schema() {
         // independent of `value`: the serde schema accepts a float, a whole
         // number and a flag exactly where the kind says so
-        let lists = "[partition]\nlengths = [50.0, 60.0]\n[actuator.ribs]\nlist = [{ x0 = 1.0, x1 = 2.0, width = 3.0 }]\n";
+        let lists = "[partition]\nlengths = [50.0, 60.0]\n[actuator.ribs]\nlist = [{ x0 = 1.0, x1 = 2.0, width = 3.0 }]\n[actuator.cl_ribs]\nlist = [{ x0 = 1.0, x1 = 2.0, width = 3.0, height = 0.5 }]\n";
         let accepts = |key: &SceneKey, value: toml::Value| {
             let mut doc: toml::Table = toml::from_str(lists).unwrap();
             let steps = key.steps();

@@ -74,6 +74,8 @@ pub(crate) fn scene_key(f: &Field) -> Option<SceneKey> {
         Field::PaperRib(k) => SceneKey::PaperRib(k),
         Field::Rib(i, k) => SceneKey::RibEntry(i, k),
         Field::Ribs => SceneKey::Ribs,
+        Field::ClRib(i, k) => SceneKey::ClRibEntry(i, k),
+        Field::ClRibs => SceneKey::ClRibs,
         Field::Material(l, k) => SceneKey::Material(l, k),
         Field::Pemc(k) => SceneKey::Pemc(k),
         Field::ShearModulus(l) => SceneKey::ShearModulus(l),

@@ -2,7 +2,7 @@
 //! the schema, and messages name scene keys.
 
 use super::*;
-use crate::field::{ChannelKey, LaminateKey, PemcKey, RibKey, ShearLayer};
+use crate::field::{ChannelKey, ClRibKey, LaminateKey, PemcKey, RibKey, ShearLayer};
 use crate::scene::testing::{schema_keys, schema_path};
 use crate::scene::Scene;
 
@@ -21,6 +21,7 @@ fn library_fields(index: usize) -> Vec<Field> {
     all.extend(ChannelKey::ALL.iter().map(|&k| Field::Channel(k)));
     all.extend(PaperRibKey::ALL.iter().map(|&k| Field::PaperRib(k)));
     all.extend(RibKey::ALL.iter().map(|&k| Field::Rib(index, k)));
+    all.extend(ClRibKey::ALL.iter().map(|&k| Field::ClRib(index, k)));
     for &l in Lamina::ALL {
         all.extend(Elastic::ALL.iter().map(|&k| Field::Material(l, k)));
     }
@@ -58,6 +59,11 @@ fn toml_paths_of_library_fields() {
         "actuator.ribs.w1"
     );
     assert_eq!(scene_key_of(Field::Ribs), "actuator.ribs");
+    assert_eq!(
+        scene_key_of(Field::ClRib(3, ClRibKey::Height)),
+        "actuator.cl_ribs.list[3].height"
+    );
+    assert_eq!(scene_key_of(Field::ClRibs), "actuator.cl_ribs");
     assert_eq!(scene_key_of(Field::LoadPressure), "load.pressure_kpa");
     assert_eq!(scene_key_of(Field::PartitionN), "partition.elements");
     assert_eq!(

@@ -2,8 +2,8 @@
 //! materials.
 
 use crate::actuator::{
-    Actuator, ActuatorParams, Channel, Geometry, Isotropic, Material, Orthotropic, Prestressed,
-    PsiLaw, Rib, RibLayout, TransverseShear,
+    Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Material, Orthotropic,
+    Prestressed, PsiLaw, Rib, RibLayout, TransverseShear,
 };
 use crate::error::InputError;
 use crate::scene::fields::{
@@ -84,6 +84,21 @@ pub(super) fn resolve_actuator(
         g13: [a.cl.g13, a.emc.g13, a.fluidic.g13, pm.g13],
     };
     echo.laminate = a.laminate.clone();
+    // the ribs on the constraining layer echo as given: a scene without
+    // them resolves as it always did
+    echo.cl_ribs = a.cl_ribs.clone();
+    let cl_ribs = a
+        .cl_ribs
+        .list
+        .iter()
+        .flatten()
+        .map(|e| ClRib {
+            x0: e.x0,
+            x1: e.x1,
+            width: e.width,
+            height: e.height,
+        })
+        .collect();
     Actuator::new(ActuatorParams {
         geometry,
         channel,
@@ -94,6 +109,7 @@ pub(super) fn resolve_actuator(
         pemc,
         shear,
         plane_strain: a.laminate.plane_strain.unwrap_or(d.plane_strain),
+        cl_ribs,
     })
     .map_err(scene_input)
 }
