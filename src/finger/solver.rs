@@ -378,6 +378,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             &mut self.chain,
             chain_straight,
             &mut self.y,
+            guess.is_some(),
         );
         base.iterations += r.iterations;
         base.steps.coupled += r.iterations;
@@ -403,7 +404,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 fz: t * load.fz,
                 ..*load
             });
-            let r = minimize_straight::<M, _>(newton, chain, chain_straight, y);
+            let r = minimize_straight::<M, _>(newton, chain, chain_straight, y, false);
             steps.continuation += r.iterations;
             steps.globalisation(&r);
             r
@@ -564,24 +565,24 @@ fn solve_element<M: ElementModel>(
         rep.steps.globalisation(r);
         rep.evaluations += r.energy_evals + r.gradient_evals + r.hessian_evals;
     };
-    let mut r = minimize_straight::<M, _>(newton, p, single_straight, y);
+    let mut r = minimize_straight::<M, _>(newton, p, single_straight, y, warm);
     tally(&r, rep);
     if !r.reason.is_converged() && warm {
         y.fill(0.0);
-        r = minimize_straight::<M, _>(newton, p, single_straight, y);
+        r = minimize_straight::<M, _>(newton, p, single_straight, y, false);
         tally(&r, rep);
     }
     let full = p.scalars;
     if !r.reason.is_converged() && continuation && full.kp != 0.0 {
         y.fill(0.0);
         p.scalars = EnergyScalars { kp: 0.0 };
-        r = minimize_straight::<M, _>(newton, p, single_straight, y);
+        r = minimize_straight::<M, _>(newton, p, single_straight, y, false);
         tally(&r, rep);
         if r.reason.is_converged() {
             let copts = fpc_newton::ContinuationOptions::default();
             let cr = fpc_newton::continuation(0.0, 1.0, y, &copts, |t, y| {
                 p.scalars = EnergyScalars { kp: t * full.kp };
-                let r = minimize_straight::<M, _>(newton, p, single_straight, y);
+                let r = minimize_straight::<M, _>(newton, p, single_straight, y, false);
                 tally(&r, rep);
                 r
             });
@@ -597,25 +598,42 @@ fn solve_element<M: ElementModel>(
     r
 }
 
-/// Newton in its own unknowns (src/finger/straighten.rs) on a problem
-/// whose `straight` flag `set` switches: `y` holds scaled unknowns before
-/// and after.
+/// Chord steps of a straightened solve go on to this fraction of `gtol`
+/// (`NewtonOptions::chord_depth`): in the straightened unknowns more of a
+/// solve's last steps are chord steps, and stopping them just under the
+/// tolerance left a finger's tip up to 3e-6 mm off at N = 8, against
+/// 1e-8 mm with them (docs/stress.md).
+const STRAIGHT_CHORD_DEPTH: f64 = 1e-2;
+
+/// Newton from a cold start in its own unknowns (src/finger/straighten.rs)
+/// on a problem whose `straight` flag `set` switches; from a warm start
+/// (`warm`: the caller's guess, already near the answer, where the valley
+/// does not slow Newton) in the scaled unknowns, which costs less there.
+/// `y` holds scaled unknowns before and after.
 fn minimize_straight<M: ElementModel, P: Hessian + ?Sized>(
     newton: &mut Newton,
     p: &mut P,
     set: fn(&mut P, bool),
     y: &mut [f64],
+    warm: bool,
 ) -> Report {
-    if !straighten::representable::<M>(y) {
-        // a start so far out that the change overflows: Newton in the
-        // scaled unknowns reports what it finds there
+    if warm || M::STRAIGHTEN.is_empty() || !straighten::representable::<M>(y) {
+        // (or a start so far out that the change overflows: Newton in the
+        // scaled unknowns reports what it finds there)
         return newton.minimize(p, y);
     }
+    let plain = *newton.options();
+    // a depth in (0, 1] on validated options: cannot fail
+    let _ = newton.set_options(NewtonOptions {
+        chord_depth: STRAIGHT_CHORD_DEPTH,
+        ..plain
+    });
     straighten::to_newton::<M>(y);
     set(p, true);
     let r = newton.minimize(p, y);
     set(p, false);
     straighten::from_newton::<M>(y);
+    let _ = newton.set_options(plain);
     r
 }
 

@@ -30,13 +30,6 @@ const CHORD_STEPS_AHEAD: f64 = 2.0;
 /// [`NewtonOptions::chord_steps`]).
 const MODEL_FIT: f64 = 1e-2;
 
-/// Chord steps go on until the gradient norm is this fraction of `gtol`:
-/// they converge linearly, so one that stops just under `gtol` leaves the
-/// soft directions (a finger's bending) up to a hundred times less
-/// accurate than the landing of a full Newton step, which overshoots the
-/// tolerance quadratically (docs/stress.md, "Where the iterations go").
-const CHORD_DEPTH: f64 = 1e-2;
-
 /// At most this many chord steps follow one Hessian.
 const MAX_CHORD_STEPS: usize = 4;
 
@@ -103,7 +96,9 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// gradient and a solve each) for as long as the last cut was at least
 /// tenfold and at most two more steps at that rate reach `gtol` (at most
 /// four in all), and the Hessian is evaluated at the last accepted point
-/// only if they stop short of convergence. A chord step is accepted by
+/// only if they stop short of convergence; with
+/// [`NewtonOptions::chord_depth`] below 1 they go on, while each still
+/// cuts the gradient tenfold, until it is that fraction of `gtol`. A chord step is accepted by
 /// Armijo or by the round-off rule below, and only if it reduces the
 /// gradient norm.
 ///
@@ -468,12 +463,12 @@ impl Newton {
         rep: &mut Report,
     ) -> (f64, f64, f64) {
         let o = self.opts;
-        let depth = CHORD_DEPTH * o.gtol;
+        let depth = o.chord_depth * o.gtol;
         for _ in 0..MAX_CHORD_STEPS {
             let r = gnorm / prev;
             if gnorm <= depth
                 || r > CHORD_RATIO
-                || steps_to(gnorm, r, depth) > CHORD_STEPS_AHEAD
+                || steps_to(gnorm, r, o.gtol) > CHORD_STEPS_AHEAD
                 || rep.iterations >= o.max_iter
             {
                 break;

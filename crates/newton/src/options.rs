@@ -142,6 +142,13 @@ pub struct NewtonOptions {
     /// steps can follow it without another evaluation. A rejected first
     /// step then costs a gradient instead of an energy. Default false.
     pub trusted_start: bool,
+    /// Chord steps go on until the gradient norm is this fraction of
+    /// `gtol`, in `(0, 1]`. They converge linearly, so one that stops just
+    /// under `gtol` leaves the softest directions less accurate than the
+    /// landing of a full Newton step, which overshoots the tolerance
+    /// quadratically; a fraction below 1 buys that accuracy back with a
+    /// step or two more. Default 1.
+    pub chord_depth: f64,
 }
 
 impl Default for NewtonOptions {
@@ -157,6 +164,7 @@ impl Default for NewtonOptions {
             eager_full_steps: true,
             chord_steps: true,
             trusted_start: false,
+            chord_depth: 1.0,
         }
     }
 }
@@ -174,6 +182,13 @@ impl NewtonOptions {
                 name: "max_step",
                 value: self.max_step,
                 rule: "must be positive (infinity for no cap)",
+            });
+        }
+        if !(self.chord_depth > 0.0 && self.chord_depth <= 1.0) {
+            return Err(OptionsError {
+                name: "chord_depth",
+                value: self.chord_depth,
+                rule: "must lie in (0, 1]",
             });
         }
         Ok(())

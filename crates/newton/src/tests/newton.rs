@@ -449,3 +449,40 @@ fn workspace_is_reusable() {
         assert_eq!(newton.gradient(), &g[..]);
     }
 }
+
+/// `chord_depth` below 1: every solve that ends on chord steps ends with
+/// its gradient at most that fraction of `gtol`, on the same random
+/// problems, with the same Hessians; depths outside (0, 1] are refused.
+#[test]
+fn deeper_chord_steps_end_deeper_at_no_extra_hessian() {
+    let mut rng = Lcg::new(11);
+    let deep = NewtonOptions {
+        chord_depth: 1e-2,
+        ..NewtonOptions::default()
+    };
+    let mut ended_on_chords = 0;
+    for &n in &[3usize, 10, 33] {
+        for _ in 0..8 {
+            let mut q = QuadQuartic::random(n, true, &mut rng);
+            let mut xa = vec![0.0; n];
+            let ra =
+                Newton::new(n, NewtonOptions::default()).minimize(&mut Dense::new(&mut q), &mut xa);
+            let mut xb = vec![0.0; n];
+            let rb = Newton::new(n, deep).minimize(&mut Dense::new(&mut q), &mut xb);
+            assert!(ra.converged() && rb.converged(), "n = {n}: {ra} / {rb}");
+            assert!(rb.hessian_evals <= ra.hessian_evals, "n = {n}: {rb} / {ra}");
+            if rb.chord_steps > ra.chord_steps {
+                ended_on_chords += 1;
+                assert!(rb.residual_norm <= 1e-2 * deep.gtol, "n = {n}: {rb}");
+            }
+        }
+    }
+    assert!(ended_on_chords > 0, "no solve went deeper");
+    for bad in [0.0, -1.0, 1.5, f64::NAN] {
+        let o = NewtonOptions {
+            chord_depth: bad,
+            ..NewtonOptions::default()
+        };
+        assert!(o.validate().is_err(), "{bad}");
+    }
+}
