@@ -122,8 +122,9 @@ fn as_ms<S: serde::Serializer>(d: &Duration, s: S) -> Result<S::Ok, S::Error> {
 /// not converge: on 864 material elements (the shortest 0.0625 mm beside
 /// the ribs) Newton creeps linearly from the nested start (1e-10 to 5e-11
 /// in 200 iterations), while 27 to 432 elements converge to 1e-18 in a
-/// few. Not a rounding floor or a tolerance's scale: the element Hessians
-/// are positive definite there (docs/model.md section 4.8).
+/// few. Not a rounding floor or a tolerance's scale, nor the O(N)
+/// factorisation: the element Hessians are positive definite there and
+/// the dense reference path creeps alike (docs/model.md section 4.8).
 pub fn study_models() -> Vec<ModelId> {
     ModelId::ALL
         .iter()
