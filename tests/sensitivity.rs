@@ -9,7 +9,10 @@
 //!   derivative of the gradient), also for the load scalar `kp`;
 //! - every sensitivity of a finger against central differences of full
 //!   re-solves (Richardson-extrapolated), for the tip-loaded standard case,
-//!   a pressurised case and a target solve, with both models.
+//!   a pressurised case and a target solve, with every model (the shear
+//!   data, `actuator.laminate.shear_correction` and each layer's `g13`,
+//!   among the parameters); and the shear correction's derivative against
+//!   the shear model's 1 / ks law.
 //!
 //! Random inputs come from fastrand with fixed seeds. Each test prints its
 //! worst agreement per group (`--nocapture`).
@@ -428,6 +431,15 @@ impl Case {
             Param::Pressure => 1e-2 * value.abs().max(1.0),
             Param::Fx | Param::Fz => 1e-2 * value.abs().max(0.1),
             Param::Target => 1e-2,
+            // the shear data move a pressurised finger's tip by about 1e-6
+            // of it and its energy by 1e-11 (no shear force): a longer
+            // step keeps the re-solves' rounding out of the differences,
+            // and the outputs, rational in ks G13 like C / (ks G13), keep
+            // Richardson's error at (h / value)^4 / 4 = 4e-8 of the
+            // derivative
+            Param::Actuator(ActuatorParam::ShearCorrection | ActuatorParam::ShearModulus(_)) => {
+                2e-2 * value.abs()
+            }
             _ => 1e-3 * value.abs().max(1e-2),
         }
     }
@@ -461,6 +473,14 @@ impl Case {
         richardson(&mut f, value, h)
     }
 
+    /// The shear model's data: ks and each layer's G13.
+    fn shear_data(param: Param) -> bool {
+        matches!(
+            param,
+            Param::Actuator(ActuatorParam::ShearCorrection | ActuatorParam::ShearModulus(_))
+        )
+    }
+
     /// Every row against central differences; returns the worst relative
     /// agreement per output group (tip, angle, energy, lambda, K) per row.
     ///
@@ -488,8 +508,20 @@ impl Case {
                 .abs()
                 .max(100.0 * Case::step(row.param, row.value));
             let t = usize::from(row.lambda.is_some());
+            // the shear data's derivatives under pressure alone lie below
+            // that floor (the energy's at 1e-11 of it per unit): there the
+            // differences' own rounding decides, a re-solve's outputs
+            // rounded to about 1e-15 of their size, divided by the step
+            // and tripled by Richardson's combination, 1e-14 size / h,
+            // which is 1e-8 size / h at the tolerance
+            let rounding = if Case::shear_data(row.param) {
+                1e-8 / Case::step(row.param, row.value)
+            } else {
+                0.0
+            };
             let cmp = |r: std::ops::Range<usize>| {
-                rel_floor(&exact[r.clone()], &fd[r.clone()], 1e-7 * size(r) / scale)
+                let floor = (1e-7 / scale).max(rounding) * size(r.clone());
+                rel_floor(&exact[r.clone()], &fd[r.clone()], floor)
             };
             let err = [
                 cmp(0..2),
@@ -509,6 +541,16 @@ fn solved(name: &'static str, model: ModelId, actuator: Actuator, load: Load) ->
     let partition = Partition::equal(110.0, 8).unwrap();
     let finger = Finger::with_model(model, &actuator, &partition, true);
     let sol = finger.solve(&load, &opts()).unwrap();
+    // polished like the re-solves: where a derivative is small against
+    // its unknowns (the shear strain of a finger under pressure alone
+    // nearly vanishes), the equilibrium's own error shows in it
+    let polish = SolveOptions {
+        rtol: 1e-15,
+        ..opts()
+    };
+    let sol = finger
+        .solve_from(&load, &sol.coefficients, &polish)
+        .unwrap_or(sol);
     let sens = finger
         .sensitivities(&actuator, &sol, &load, &Param::all(&actuator))
         .unwrap();
@@ -630,6 +672,7 @@ fn group(p: Param) -> &'static str {
             | ActuatorParam::ChannelH3a
             | ActuatorParam::ChannelH3b => "thicknesses",
             ActuatorParam::Ly | ActuatorParam::ChannelCy | ActuatorParam::RibsW2 => "widths",
+            ActuatorParam::ShearCorrection | ActuatorParam::ShearModulus(_) => "shear",
         },
         Param::Pressure | Param::Kappa => "pressure, kappa",
         Param::Fx | Param::Fz => "tip forces",
@@ -704,6 +747,68 @@ fn pressurised_sensitivities_match_re_solves() {
 #[test]
 fn target_sensitivities_match_re_solves() {
     check_case(target);
+}
+
+/// The shear data move the shear model's tip, and nothing else's. The
+/// shear model's tip departs from the CCM's by a shear deflection that
+/// falls like 1 / ks (docs/model.md section 4.8), so `ks d(tip)/d ks` is
+/// minus the tips' difference, up to the next term (the deflection over
+/// the tip's, a few 1e-3).
+#[test]
+fn the_shear_data_move_only_the_shear_model() {
+    use fpc::actuator::ShearLayer;
+    let params: Vec<Param> = [ActuatorParam::ShearCorrection]
+        .into_iter()
+        .chain(
+            ShearLayer::ALL
+                .iter()
+                .map(|&l| ActuatorParam::ShearModulus(l)),
+        )
+        .map(Param::Actuator)
+        .collect();
+    let act = Actuator::paper(0.25).unwrap();
+    let part = Partition::equal(110.0, 8).unwrap();
+    let load = Load::unloaded().with_tip_force(0.939782, 0.521707);
+    let solved = |model: ModelId| {
+        let finger = Finger::with_model(model, &act, &part, true);
+        let sol = finger.solve(&load, &opts()).unwrap();
+        let sens = finger.sensitivities(&act, &sol, &load, &params).unwrap();
+        (sol.tip, sens)
+    };
+    let (ccm_tip, ccm) = solved(ModelId::Ccm);
+    for row in &ccm.rows {
+        assert_eq!(row.tip, [0.0, 0.0], "ccm: {}", row.param);
+        assert_eq!(row.energy, 0.0, "ccm: {}", row.param);
+    }
+    let (tip, shear) = solved(ModelId::Shear);
+    let ks = shear.rows[0].value;
+    for c in 0..2 {
+        let want = -(tip[c] - ccm_tip[c]);
+        let got = ks * shear.rows[0].tip[c];
+        println!("tip {c}: ks d(tip)/d ks = {got:.6e} mm, CCM tip - shear tip = {want:.6e} mm");
+        assert!((got - want).abs() <= 0.02 * want.abs(), "{got} vs {want}");
+    }
+    // every layer's G13 stiffens the section: the tip moves back toward
+    // the CCM's, the film's most
+    let d = |r: &fpc::sensitivity::Sensitivity| {
+        r.value * (r.tip[0] * (tip[0] - ccm_tip[0]) + r.tip[1] * (tip[1] - ccm_tip[1]))
+    };
+    let film = d(&shear.rows[1]);
+    for r in &shear.rows[1..] {
+        println!(
+            "{}: G d(tip)/dG along the shear deflection {:.3e}",
+            r.param,
+            d(r)
+        );
+        assert!(d(r) < 0.0 && d(r) >= film, "{}", r.param);
+    }
+    // the energy holds ks and each G13 only through their products, so
+    // sum_l G_l d/dG_l = ks d/dks (two paths through the tangents)
+    for c in 0..2 {
+        let sum: f64 = shear.rows[1..].iter().map(|r| r.value * r.tip[c]).sum();
+        let ks_d = ks * shear.rows[0].tip[c];
+        assert!((sum - ks_d).abs() <= 1e-9 * ks_d.abs(), "{sum} vs {ks_d}");
+    }
 }
 
 // ---------------------------------------------------------------------------

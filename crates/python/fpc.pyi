@@ -120,8 +120,11 @@ class Finger:
     ``elements``: a number of equal elements (default 8) or ``"auto"``.
     ``**actuator``: the scene file's ``[actuator.*]`` keys: ``lx``, ``ly``,
     ``lc``, ``h``, ``h1``, ``h2``, ``h3``, ``cx``, ``cy``, ``h3a``, ``h3b``
-    (mm), or whole sections as dicts: ``geometry``, ``channel``,
-    ``rib_layout``, ``cl``, ``emc``, ``fluidic``, ``pemc``. ``eps0`` is 0.25
+    (mm), ``shear_correction`` (the ``shear`` model's factor, default 5/6),
+    ``plane_strain`` (default False), or whole sections as dicts:
+    ``geometry``, ``channel``, ``rib_layout``, ``cl``, ``emc``, ``fluidic``,
+    ``pemc`` (each also ``g13``, the ``shear`` model's transverse shear
+    modulus), ``laminate``. ``eps0`` is 0.25
     unless given, as ``eps0=`` or ``pemc={"eps0": ...}``; a key given twice
     (also ``h1=`` with ``geometry={"h1": ...}``) is a ``TypeError``.
     """
@@ -315,8 +318,9 @@ def calibrate(
     ``parameters``, ``covariance`` and ``correlation`` as square arrays
     (None when not determined), and ``scenes`` (``{name, toml}``: each
     specimen's calibrated scene); with ``choose_model``, ``model_choice``
-    (every element model with the ribs and without, ranked by held-out
-    error). Raises ``FileNotFoundError``,
+    (every element model with the ribs and without, in plane stress and
+    in plane strain, ranked by held-out error). ``fit`` takes the
+    ``shear`` model's ``shear_correction`` and ``cl.g13`` ... too. Raises ``FileNotFoundError``,
     ``MeasureError``, ``InputError`` (naming ``fit``, ``max_iterations`` or
     a parameter); Ctrl-C interrupts."""
 

@@ -4,7 +4,9 @@
 //! sensitivities differentiate along them.
 
 use crate::error::InputError;
-use crate::field::{ChannelKey, Elastic, Field, GeometryKey, Lamina, PaperRibKey, PemcKey};
+use crate::field::{
+    ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey, ShearLayer,
+};
 
 use super::laminate::{Actuator, ActuatorParams, Material, RibLayout};
 
@@ -72,6 +74,14 @@ pub enum ActuatorParam {
     Elastic(Lamina, Elastic),
     /// `actuator.ribs.w2` (mm): the transverse ribs' half width (paper layout).
     RibsW2,
+    /// `actuator.laminate.shear_correction`: the shear correction factor
+    /// ks. Only shear-deformable models read it (docs/model.md section
+    /// 4.8); the others have zero sensitivity to it.
+    ShearCorrection,
+    /// `actuator.<layer>.g13` (MPa): a layer's transverse shear modulus,
+    /// given or defaulted ([`Actuator::g13`]); read only by
+    /// shear-deformable models, like [`ActuatorParam::ShearCorrection`].
+    ShearModulus(ShearLayer),
 }
 
 impl ActuatorParam {
@@ -99,11 +109,16 @@ impl ActuatorParam {
             }
         }
         v.push(ActuatorParam::RibsW2);
+        v.push(ActuatorParam::ShearCorrection);
+        for &l in ShearLayer::ALL {
+            v.push(ActuatorParam::ShearModulus(l));
+        }
         v
     }
 
     /// The parameters `actuator` has (its materials' constants, `w2` only
-    /// with the paper's rib layout).
+    /// with the paper's rib layout; the shear data always, whatever model
+    /// the finger uses).
     pub fn for_actuator(actuator: &Actuator) -> Vec<ActuatorParam> {
         ActuatorParam::all()
             .into_iter()
@@ -141,6 +156,8 @@ impl ActuatorParam {
             ActuatorParam::ChannelH3b => Field::Channel(ChannelKey::H3b),
             ActuatorParam::Elastic(l, k) => Field::Material(l, k),
             ActuatorParam::RibsW2 => Field::PaperRib(PaperRibKey::W2),
+            ActuatorParam::ShearCorrection => Field::Laminate(LaminateKey::ShearCorrection),
+            ActuatorParam::ShearModulus(l) => Field::ShearModulus(l),
         }
     }
 
@@ -171,10 +188,14 @@ impl ActuatorParam {
                 RibLayout::Paper { w2, .. } => w2,
                 _ => return None,
             },
+            ActuatorParam::ShearCorrection => p.shear.correction,
+            ActuatorParam::ShearModulus(l) => actuator.g13(l),
         })
     }
 
-    /// `actuator` with this parameter set to `value`, validated again.
+    /// `actuator` with this parameter set to `value`, validated again (a
+    /// layer's G13 is then given, no longer the default from its
+    /// constants).
     pub fn with_value(self, actuator: &Actuator, value: f64) -> Result<Actuator, InputError> {
         let mut p = actuator.params().clone();
         let missing = || InputError::Inconsistent {
@@ -208,6 +229,8 @@ impl ActuatorParam {
                 RibLayout::Paper { w2, .. } => w2,
                 _ => return Err(missing()),
             },
+            ActuatorParam::ShearCorrection => &mut p.shear.correction,
+            ActuatorParam::ShearModulus(l) => p.shear.g13[l as usize].insert(value),
         };
         *slot = value;
         Actuator::new(p)

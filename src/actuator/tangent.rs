@@ -163,6 +163,10 @@ impl ActuatorTangent {
                     *w = if i == 0 { 0.0 } else { 2.0 };
                 }
             }
+            ActuatorParam::ShearCorrection => t.ks = 1.0,
+            // the layer's G13 as given (the blocks of the ribs and the
+            // channel's void read the fluidic layer's)
+            ActuatorParam::ShearModulus(l) => t.g13[l as usize] = 1.0,
         }
         Ok(t)
     }

@@ -1,5 +1,6 @@
 //! Model choice: the same data fitted with every element model, with the
-//! manifest's ribs and without ribs, and the candidates compared by their
+//! manifest's ribs and without ribs, in plane stress and in plane strain
+//! across the width, and the candidates compared by their
 //! leave-one-pressure-out prediction error (docs/calibration.md). A model
 //! that only absorbs the data fits as well as the right one but predicts
 //! the pressures it did not see worse.
@@ -14,13 +15,17 @@ use crate::measure::Manifest;
 use crate::model::ModelId;
 use crate::solve_error::SolveError;
 
-/// One element model and rib choice, fitted and cross-validated.
+/// One element model, rib choice and state across the width, fitted and
+/// cross-validated.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Candidate {
     /// The element model.
     pub model: &'static str,
     /// With the manifest's ribs (`true`) or with none.
     pub ribs: bool,
+    /// Plane strain across the width (`actuator.laminate.plane_strain =
+    /// true` in every specimen) or plane stress (`false`).
+    pub plane_strain: bool,
     /// The fit's chi-square per degree of freedom.
     pub chi_square_per_dof: Option<f64>,
     /// Root mean square, in standard deviations, of every pressure's
@@ -42,16 +47,18 @@ pub struct Candidate {
 pub struct ModelChoice {
     /// The fitted parameters' names (as in a calibration's `parameters`).
     pub names: Vec<String>,
-    /// Every model with ribs as given, then every model without ribs
-    /// (left out when the manifest has no ribs to remove).
+    /// In plane stress: every model with ribs as given, then every model
+    /// without ribs (left out when the manifest has no ribs to remove);
+    /// then the same in plane strain.
     pub candidates: Vec<Candidate>,
     /// The candidate with the smallest held-out error (`None`: none fitted).
     pub best: Option<usize>,
 }
 
 /// Fits `options.fit` to `manifest` with every element model, with its
-/// ribs and without, each cross-validated (leave-one-pressure-out), and
-/// ranks them by the held-out error. Bad options, or parameters the
+/// ribs and without, in plane stress and in plane strain, each
+/// cross-validated (leave-one-pressure-out), and ranks them by the
+/// held-out error. Bad options, or parameters the
 /// manifest as given cannot fit, are the calibration's input error; a
 /// candidate that fails otherwise is recorded with its reason.
 pub fn choose_model(
@@ -69,37 +76,45 @@ pub fn choose_model(
     let rib_choices: &[bool] = if has_ribs { &[true, false] } else { &[true] };
     let mut names = Vec::new();
     let mut candidates = Vec::new();
-    for &ribs in rib_choices {
-        for &model in ModelId::ALL {
-            let fitted = variant(manifest, model, ribs).and_then(|m| calibrate(&m, &options));
-            let as_given = ribs && manifest.specimens.iter().all(|s| s.scene.model == model);
-            candidates.push(match fitted {
-                Ok(c) => {
-                    names = c.parameters.iter().map(|p| p.name.clone()).collect();
-                    Candidate {
+    for plane_strain in [false, true] {
+        for &ribs in rib_choices {
+            for &model in ModelId::ALL {
+                let fitted = variant(manifest, model, ribs, plane_strain)
+                    .and_then(|m| calibrate(&m, &options));
+                let as_given = ribs
+                    && manifest.specimens.iter().all(|s| {
+                        s.scene.model == model && s.scene.actuator.plane_strain() == plane_strain
+                    });
+                candidates.push(match fitted {
+                    Ok(c) => {
+                        names = c.parameters.iter().map(|p| p.name.clone()).collect();
+                        Candidate {
+                            model: model.name(),
+                            ribs,
+                            plane_strain,
+                            chi_square_per_dof: Some(c.chi_square_per_dof),
+                            held_out_rms_sd: c.cross_validation.as_ref().map(|cv| cv.rms_sd),
+                            values: c.parameters.iter().map(|p| p.value).collect(),
+                            verdict: Some(c.identifiability.verdict),
+                            outside_model: c.outside_model,
+                            failure: None,
+                        }
+                    }
+                    // bad options are the caller's, whatever the model
+                    Err(e @ SolveError::Input(_)) if as_given => return Err(e),
+                    Err(e) => Candidate {
                         model: model.name(),
                         ribs,
-                        chi_square_per_dof: Some(c.chi_square_per_dof),
-                        held_out_rms_sd: c.cross_validation.as_ref().map(|cv| cv.rms_sd),
-                        values: c.parameters.iter().map(|p| p.value).collect(),
-                        verdict: Some(c.identifiability.verdict),
-                        outside_model: c.outside_model,
-                        failure: None,
-                    }
-                }
-                // bad options are the caller's, whatever the model
-                Err(e @ SolveError::Input(_)) if as_given => return Err(e),
-                Err(e) => Candidate {
-                    model: model.name(),
-                    ribs,
-                    chi_square_per_dof: None,
-                    held_out_rms_sd: None,
-                    values: Vec::new(),
-                    verdict: None,
-                    outside_model: 0,
-                    failure: Some(e.to_string()),
-                },
-            });
+                        plane_strain,
+                        chi_square_per_dof: None,
+                        held_out_rms_sd: None,
+                        values: Vec::new(),
+                        verdict: None,
+                        outside_model: 0,
+                        failure: Some(e.to_string()),
+                    },
+                });
+            }
         }
     }
     let best = candidates
@@ -115,17 +130,23 @@ pub fn choose_model(
     })
 }
 
-/// `manifest` with every specimen's finger built from `model`, and without
-/// ribs unless `ribs`.
-fn variant(manifest: &Manifest, model: ModelId, ribs: bool) -> Result<Manifest, SolveError> {
+/// `manifest` with every specimen's finger built from `model`, without
+/// ribs unless `ribs`, and in plane strain across the width or not.
+fn variant(
+    manifest: &Manifest,
+    model: ModelId,
+    ribs: bool,
+    plane_strain: bool,
+) -> Result<Manifest, SolveError> {
     let mut m = manifest.clone();
     for s in &mut m.specimens {
         s.scene.model = model;
+        let mut params = s.scene.actuator.params().clone();
         if !ribs {
-            let mut params = s.scene.actuator.params().clone();
             params.ribs = RibLayout::None;
-            s.scene.actuator = Actuator::new(params)?;
         }
+        params.plane_strain = plane_strain;
+        s.scene.actuator = Actuator::new(params)?;
     }
     Ok(m)
 }

@@ -66,6 +66,7 @@ fn parse(name: &str) -> Result<Param, InputError> {
         "p2" => Some("actuator.pemc.p2"),
         "p3" => Some("actuator.pemc.p3"),
         "p4" => Some("actuator.pemc.p4"),
+        "shear_correction" => Some("actuator.laminate.shear_correction"),
         _ => None,
     };
     let found = alias
@@ -77,7 +78,7 @@ fn parse(name: &str) -> Result<Param, InputError> {
         _ => Err(InputError::Unrecognised {
             field: Field::key("fit"),
             value: n.to_string(),
-            rule: "not a parameter a calibration can fit: an actuator parameter of the sensitivities (docs/model.md, \"Sensitivities\": eps0, p1..p4, pemc.e2, cl.e, emc.e1, fluidic.nu, geometry.h, ...), kappa, or camera (every camera frame's angle and offset)".into(),
+            rule: "not a parameter a calibration can fit: an actuator parameter of the sensitivities (docs/model.md, \"Sensitivities\": eps0, p1..p4, pemc.e2, cl.e, emc.e1, fluidic.nu, geometry.h, shear_correction, cl.g13, ...), kappa, or camera (every camera frame's angle and offset)".into(),
         }),
     }
 }

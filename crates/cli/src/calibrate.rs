@@ -36,7 +36,8 @@ pub struct Args {
     #[arg(long)]
     cross_validate: bool,
     /// Also fit with every element model, with the manifest's ribs and
-    /// without, each cross-validated, and rank them by held-out error.
+    /// without, in plane stress and in plane strain across the width, each
+    /// cross-validated, and rank them by held-out error.
     #[arg(long)]
     choose_model: bool,
     /// Output directory (default `<stem>-calibrate`).
@@ -53,7 +54,8 @@ struct Report<'a> {
     calibration: &'a Calibration,
     /// The calibrated scene files written, one per specimen.
     scenes: Vec<String>,
-    /// Every element model and rib choice ranked (`--choose-model`).
+    /// Every element model, rib choice and plane state ranked
+    /// (`--choose-model`).
     #[serde(skip_serializing_if = "Option::is_none")]
     model_choice: Option<ModelChoice>,
     provenance: crate::provenance::Provenance,
@@ -176,15 +178,20 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     if let Some(choice) = &report.model_choice {
         writeln!(
             w,
-            "models       each element model with the ribs and without, ranked by held-out error:"
+            "models       each element model with the ribs and without, in plane stress and plane strain, ranked by held-out error:"
         )?;
         let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
         for (i, c) in choice.candidates.iter().enumerate() {
             writeln!(
                 w,
-                "  {:<6} {:<12} chi2/dof {:>10}  held out rms {:>10} sd{}{}",
+                "  {:<6} {:<12} {:<12} chi2/dof {:>10}  held out rms {:>10} sd{}{}",
                 c.model,
                 if c.ribs { "ribs" } else { "without ribs" },
+                if c.plane_strain {
+                    "plane strain"
+                } else {
+                    "plane stress"
+                },
                 num(c.chi_square_per_dof),
                 num(c.held_out_rms_sd),
                 if choice.best == Some(i) {

@@ -163,7 +163,7 @@ fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
 }
 
 #[test]
-fn choose_model_ranks_every_model_with_and_without_ribs() {
+fn choose_model_ranks_every_model_with_and_without_ribs_in_both_plane_states() {
     // one specimen's radii from the shipped set: a small fit, each
     // candidate cross-validated over its nine pressures
     let out = tmp("choice");
@@ -194,7 +194,11 @@ fn choose_model_ranks_every_model_with_and_without_ribs() {
     let json: serde_json::Value = serde_json::from_str(&text(&run.stdout)).unwrap();
     let choice = &json["model_choice"];
     let candidates = choice["candidates"].as_array().unwrap();
-    assert_eq!(candidates.len(), 2 * fpc::ModelId::ALL.len(), "{choice}");
+    // with and without ribs, in plane stress then in plane strain
+    assert_eq!(candidates.len(), 4 * fpc::ModelId::ALL.len(), "{choice}");
+    let n = 2 * fpc::ModelId::ALL.len();
+    assert!(candidates[..n].iter().all(|c| c["plane_strain"] == false));
+    assert!(candidates[n..].iter().all(|c| c["plane_strain"] == true));
     // the best has the smallest held-out error
     let err = |c: &serde_json::Value| c["held_out_rms_sd"].as_f64().unwrap();
     let best = &candidates[choice["best"].as_u64().unwrap() as usize];
@@ -203,7 +207,7 @@ fn choose_model_ranks_every_model_with_and_without_ribs() {
     // cross-validation, give the plain calibration's prestrain
     let own = candidates
         .iter()
-        .find(|c| c["model"] == "ccm" && c["ribs"] == true)
+        .find(|c| c["model"] == "ccm" && c["ribs"] == true && c["plane_strain"] == false)
         .unwrap();
     let plain = json["parameters"][0]["value"].as_f64().unwrap();
     let again = own["values"][0].as_f64().unwrap();

@@ -25,9 +25,13 @@ use crate::errors::{detached, from_input, from_scene_read, from_solve, input_err
 const GEOMETRY_KEYS: [&str; 7] = ["lx", "ly", "lc", "h", "h1", "h2", "h3"];
 /// The channel keys accepted as keyword arguments on their own.
 const CHANNEL_KEYS: [&str; 4] = ["cx", "cy", "h3a", "h3b"];
+/// The laminate keys accepted as keyword arguments on their own
+/// (`[actuator.laminate]`: the shear model's correction factor, plane
+/// strain across the width).
+const LAMINATE_KEYS: [&str; 2] = ["shear_correction", "plane_strain"];
 /// Keyword arguments that are whole sections (dicts with the scene's keys),
 /// and the section each fills.
-const SECTION_KEYS: [(&str, &str); 7] = [
+const SECTION_KEYS: [(&str, &str); 8] = [
     ("geometry", "geometry"),
     ("channel", "channel"),
     ("rib_layout", "ribs"),
@@ -35,12 +39,14 @@ const SECTION_KEYS: [(&str, &str); 7] = [
     ("emc", "emc"),
     ("fluidic", "fluidic"),
     ("pemc", "pemc"),
+    ("laminate", "laminate"),
 ];
 
 /// The actuator keyword arguments the constructors accept, for messages.
 pub fn actuator_keywords() -> String {
     let mut k: Vec<&str> = GEOMETRY_KEYS.to_vec();
     k.extend(CHANNEL_KEYS);
+    k.extend(LAMINATE_KEYS);
     k.extend(SECTION_KEYS.iter().map(|s| s.0));
     k.join(", ")
 }
@@ -134,6 +140,13 @@ pub fn actuator_section(
                     value_at(&v, &format!("actuator.channel.{k}"))?,
                     format!("{k}="),
                 )?;
+            } else if LAMINATE_KEYS.contains(&k.as_str()) {
+                put(
+                    "laminate",
+                    &k,
+                    value_at(&v, &format!("actuator.laminate.{k}"))?,
+                    format!("{k}="),
+                )?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
                 let path = format!("actuator.{section}");
                 let Value::Object(m) = value_at(&v, &path)? else {
@@ -176,6 +189,7 @@ pub fn actuator_section(
             "emc" => out.emc = serde_json::from_value(v).map_err(err)?,
             "fluidic" => out.fluidic = serde_json::from_value(v).map_err(err)?,
             "pemc" => out.pemc = serde_json::from_value(v).map_err(err)?,
+            "laminate" => out.laminate = serde_json::from_value(v).map_err(err)?,
             _ => unreachable!("sections come from SECTION_KEYS"),
         }
     }
@@ -413,9 +427,12 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 /// - ``ribs``: model the ribs inside the channel;
 /// - ``**actuator``: the scene file's ``[actuator.*]`` keys: ``lx``, ``ly``,
 ///   ``lc``, ``h``, ``h1``, ``h2``, ``h3`` (mm), ``cx``, ``cy``, ``h3a``,
-///   ``h3b`` (mm), or whole sections as dicts: ``geometry``, ``channel``,
-///   ``rib_layout`` (``[actuator.ribs]``), ``cl``, ``emc``, ``fluidic``,
-///   ``pemc``.
+///   ``h3b`` (mm), ``shear_correction`` (the ``shear`` model's factor ks,
+///   default 5/6), ``plane_strain`` (bool, default False: plane stress
+///   across the width), or whole sections as dicts: ``geometry``,
+///   ``channel``, ``rib_layout`` (``[actuator.ribs]``), ``cl``, ``emc``,
+///   ``fluidic``, ``pemc`` (each with ``g13``, the layer's transverse
+///   shear modulus, for the ``shear`` model), ``laminate``.
 ///
 /// Invalid values raise ``fpc.InputError`` (a ``ValueError``) naming the
 /// field, e.g. ``actuator.geometry.h1``; an unknown keyword, or a key given

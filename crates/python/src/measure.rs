@@ -48,13 +48,17 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
 ///
 /// - ``fit``: the parameters, a list of names or one comma-separated
 ///   ``str`` (``"eps0,kappa"``; scene keys such as ``actuator.cl.e``, the
-///   short names ``eps0``, ``kappa``, ``p1``...``p4``, or ``camera``); at
+///   short names ``eps0``, ``kappa``, ``p1``...``p4``,
+///   ``shear_correction``, or ``camera``; the shear model's
+///   ``actuator.laminate.shear_correction`` and ``actuator.cl.g13``...); at
 ///   most 16 names.
 /// - ``max_iterations``: 1 to 1000 (default 100).
 /// - ``cross_validate``: also predict each pressure left out in turn.
 /// - ``choose_model``: also fit with every element model, with the
-///   manifest's ribs and without, and rank them by held-out error
-///   (``model_choice``: ``candidates``, ``best``, as ``fpc calibrate
+///   manifest's ribs and without, in plane stress and in plane strain
+///   across the width, and rank them by held-out error (``model_choice``:
+///   ``candidates``, each with ``model``, ``ribs``, ``plane_strain``,
+///   ``held_out_rms_sd``..., and ``best``, as ``fpc calibrate
 ///   --choose-model`` writes it).
 ///
 /// Returns a dict with the keys of ``calibration.json`` (``parameters``

@@ -167,7 +167,9 @@ def test_choose_model_ranks_the_candidates_as_the_cli_does(fpc_bin, tmp_path):
     )
     c = fpc.calibrate(m, ["eps0"], choose_model=True)
     choice = c["model_choice"]
-    assert len(choice["candidates"]) == 2 * len(fpc.models())
+    # with and without ribs, in plane stress and in plane strain
+    assert len(choice["candidates"]) == 4 * len(fpc.models())
+    assert {k["plane_strain"] for k in choice["candidates"]} == {False, True}
     errs = [k["held_out_rms_sd"] for k in choice["candidates"]]
     assert errs[choice["best"]] == min(errs)
     cli = cli_json(fpc_bin, "calibrate", m, "--fit", "eps0", "--choose-model", "--json",
