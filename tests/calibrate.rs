@@ -488,15 +488,7 @@ fn the_model_choice_picks_the_model_the_data_were_made_with() {
     // with and without ribs, in plane stress and in plane strain
     assert_eq!(choice.candidates.len(), 4 * n);
     for c in &choice.candidates {
-        eprintln!(
-            "{} ribs {} plane strain {}: chi2/dof {:?}, held out rms {:?} sd{}",
-            c.model,
-            c.ribs,
-            c.plane_strain,
-            c.chi_square_per_dof,
-            c.held_out_rms_sd,
-            c.failure.as_deref().unwrap_or("")
-        );
+        eprintln!("{c}");
     }
     let best = &choice.candidates[choice.best.unwrap()];
     assert_eq!(

@@ -230,15 +230,7 @@ fn the_model_choice_ranks_plane_strain_first_for_plane_strain_data() {
     let m = Manifest::load(&path).unwrap();
     let choice = choose_model(&m, &CalibrateOptions::new(&["eps0", "kappa"])).unwrap();
     for c in &choice.candidates {
-        eprintln!(
-            "{} ribs {} plane strain {}: chi2/dof {:?}, held out rms {:?} sd{}",
-            c.model,
-            c.ribs,
-            c.plane_strain,
-            c.chi_square_per_dof,
-            c.held_out_rms_sd,
-            c.failure.as_deref().unwrap_or("")
-        );
+        eprintln!("{c}");
     }
     let best = &choice.candidates[choice.best.unwrap()];
     assert_eq!(

@@ -42,6 +42,22 @@ pub struct Candidate {
     pub failure: Option<String>,
 }
 
+/// One line: the model, its ribs and plane state, the fit's chi-square
+/// per degree of freedom, the held-out error and why it failed, if it did.
+impl std::fmt::Display for Candidate {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} ribs {} plane strain {}: chi2/dof {:?}, held out rms {:?} sd",
+            self.model, self.ribs, self.plane_strain, self.chi_square_per_dof, self.held_out_rms_sd
+        )?;
+        match &self.failure {
+            Some(why) => write!(f, " ({why})"),
+            None => Ok(()),
+        }
+    }
+}
+
 /// Every candidate, and the best by held-out error.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ModelChoice {
