@@ -277,8 +277,10 @@ def test_ctrl_c_stops_a_study():
     out = _interrupted("fpc.run_study(5, sweep_points=500, angle_samples=200)")
     assert out.startswith("INTERRUPTED"), out
     assert float(out.split()[1]) < 5, out
-    # the study itself stopped: no CPU is spent after the interrupt
-    assert float(out.split()[2]) < 0.3, out
+    # the study itself stopped: an abandoned study would spend a CPU second
+    # or more per second; half of one leaves room for the solves in flight
+    # to finish their step on a loaded machine (0.31 s seen under load)
+    assert float(out.split()[2]) < 0.5, out
 
 
 # a design that takes about 13 s on the CI machine (the sphere's envelope at
