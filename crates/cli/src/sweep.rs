@@ -189,8 +189,11 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
             out.stable = sol.stable;
             let warnings = s.warnings();
             let mut valid = !warnings.iter().any(|w| w.is_validity());
+            // why a grasp is not valid, as `fpc solve` says it, first
+            let mut messages: Vec<String> = Vec::new();
             if let SceneSolution::Gripper { grasp: Some(g), .. } = s {
                 valid &= g.is_valid();
+                messages.extend(g.invalid().map(|i| format!("not valid: {i}")));
                 out.normal_n = Some(g.grasp.normal);
                 out.friction_n = Some(g.grasp.friction);
                 out.lift_n = Some(g.grasp.lift);
@@ -202,11 +205,8 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
                 .map(|w| w.kind())
                 .collect::<Vec<_>>()
                 .join(";");
-            out.message = warnings
-                .iter()
-                .map(warning_text)
-                .collect::<Vec<_>>()
-                .join("; ");
+            messages.extend(warnings.iter().map(warning_text));
+            out.message = messages.join("; ");
         }
     }
     out

@@ -151,6 +151,60 @@ fn a_list_entry_is_varied_like_any_key() {
 }
 
 #[test]
+fn an_invalid_grasp_row_says_why_as_fpc_solve_does() {
+    // sphere grasps near a design's claim that are not valid (the friction
+    // outside the cone; the tip reached from inside the sphere): each row's
+    // message carries the verdict `fpc solve` prints
+    let tmp = TempDir::new("invalid");
+    let grasp = |r: &str| {
+        format!(
+            "[actuator.pemc]\neps0 = 0.12\n[gripper]\nmounting_angle_deg = 65.3\noverlap_mm = 0\n[gripper.grasp]\nkind = \"sphere\"\nr_mm = {r}\nbeta_deg = 15.67\nlift_n = 0.5262\n"
+        )
+    };
+    let scene = tmp.file("sphere.toml", grasp("35").as_bytes());
+    let out = tmp.0.join("out");
+    let o = sweep(&scene, &out, &["gripper.grasp.r_mm=31.5,35"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = header(&out);
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let mut invalid = 0;
+    for r in &rows(&out) {
+        let by_hand = tmp.file(&format!("r{}.toml", &r[0]), grasp(&r[0]).as_bytes());
+        let solved = tmp.0.join(format!("solved-{}", &r[0]));
+        let single = fpc(&[
+            "solve",
+            &by_hand.display().to_string(),
+            "--out",
+            &solved.display().to_string(),
+        ]);
+        assert!(single.status.success());
+        let text = String::from_utf8_lossy(&single.stdout).into_owned();
+        let line = text
+            .lines()
+            .find(|l| l.starts_with("valid "))
+            .unwrap()
+            .trim_start_matches("valid")
+            .trim()
+            .to_string();
+        match line.strip_prefix("NO: ") {
+            None => {
+                assert_eq!(&r[col("valid")], "true", "{r:?}");
+                assert!(!r[col("message")].contains("not valid"), "{r:?}");
+            }
+            Some(why) => {
+                invalid += 1;
+                assert_eq!(&r[col("valid")], "false", "{r:?}");
+                assert!(
+                    r[col("message")].contains(&format!("not valid: {why}")),
+                    "{r:?} against {why}"
+                );
+            }
+        }
+    }
+    assert!(invalid > 0, "no invalid row to check");
+}
+
+#[test]
 fn a_rejected_point_is_a_row_not_the_end_of_the_sweep() {
     let tmp = TempDir::new("rejected");
     let scene = tmp.0.join("finger.toml");
