@@ -673,6 +673,7 @@ fn group(p: Param) -> &'static str {
             | ActuatorParam::ChannelH3b => "thicknesses",
             ActuatorParam::Ly | ActuatorParam::ChannelCy | ActuatorParam::RibsW2 => "widths",
             ActuatorParam::ShearCorrection | ActuatorParam::ShearModulus(_) => "shear",
+            ActuatorParam::ClRibWidth(_) | ActuatorParam::ClRibHeight(_) => "CL ribs",
         },
         Param::Pressure | Param::Kappa => "pressure, kappa",
         Param::Fx | Param::Fz => "tip forces",
@@ -832,6 +833,12 @@ fn parameters_have_their_scene_names() {
     let has = |n: &str| names.iter().any(|m| m == n);
     assert!(has("actuator.cl.e") && has("actuator.emc.e1"));
     assert!(!has("actuator.cl.e1") && !has("actuator.emc.e"));
+    // a rib on the constraining layer is named by its list entry
+    let p = Param::Actuator(ActuatorParam::ClRibHeight(1));
+    assert_eq!(p.name(), "actuator.cl_ribs.list[1].height");
+    assert_eq!(Param::from_name("actuator.cl_ribs.list[1].height"), Some(p));
+    assert_eq!(Param::from_name("actuator.cl_ribs.list[1].x0"), None);
+    assert_eq!(p.value(&act, &Load::unloaded(), None), None);
 }
 
 #[test]

@@ -124,7 +124,9 @@ class Finger:
     ``plane_strain`` (default False), or whole sections as dicts:
     ``geometry``, ``channel``, ``rib_layout``, ``cl``, ``emc``, ``fluidic``,
     ``pemc`` (each also ``g13``, the ``shear`` model's transverse shear
-    modulus), ``laminate``. ``eps0`` is 0.25
+    modulus), ``laminate``; ``cl_ribs``, the ribs on the constraining
+    layer as a list of dicts (``x0``, ``x1``, ``width``, ``height``, mm).
+    ``eps0`` is 0.25
     unless given, as ``eps0=`` or ``pemc={"eps0": ...}``; a key given twice
     (also ``h1=`` with ``geometry={"h1": ...}``) is a ``TypeError``.
     """

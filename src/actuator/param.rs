@@ -5,7 +5,8 @@
 
 use crate::error::InputError;
 use crate::field::{
-    ChannelKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey, ShearLayer,
+    ChannelKey, ClRibKey, Elastic, Field, GeometryKey, Lamina, LaminateKey, PaperRibKey, PemcKey,
+    ShearLayer,
 };
 
 use super::laminate::{Actuator, ActuatorParams, Material, RibLayout};
@@ -37,9 +38,10 @@ impl Elastic {
 
 /// An actuator parameter the blocks depend on smoothly, named by its scene
 /// key ([`ActuatorParam::name`]). Not covered: the lengths `lx` and `cx`,
-/// and the rib layout's `w1` and `t`, which move element boundaries or the
-/// clipping of a rib (and at the paper's layout the last rib ends exactly
-/// at the channel's end, where the blocks are not differentiable).
+/// the rib layout's `w1` and `t`, and any rib's `x0` and `x1`, which move
+/// element boundaries or the clipping of a rib (and at the paper's layout
+/// the last rib ends exactly at the channel's end, where the blocks are
+/// not differentiable).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ActuatorParam {
     /// `actuator.pemc.eps0`, the prestrain.
@@ -82,10 +84,17 @@ pub enum ActuatorParam {
     /// given or defaulted ([`Actuator::g13`]); read only by
     /// shear-deformable models, like [`ActuatorParam::ShearCorrection`].
     ShearModulus(ShearLayer),
+    /// `actuator.cl_ribs.list[i].width` (mm): the total width of rib `i`
+    /// on the constraining layer (docs/model.md section 4.10).
+    ClRibWidth(usize),
+    /// `actuator.cl_ribs.list[i].height` (mm): its height above H/2.
+    ClRibHeight(usize),
 }
 
 impl ActuatorParam {
-    /// Every actuator parameter (elastic constants of both kinds).
+    /// Every actuator parameter that is not indexed by a rib (elastic
+    /// constants of both kinds); [`ActuatorParam::for_actuator`] adds the
+    /// ribs' on the constraining layer.
     pub fn all() -> Vec<ActuatorParam> {
         let mut v = vec![
             ActuatorParam::Eps0,
@@ -118,12 +127,32 @@ impl ActuatorParam {
 
     /// The parameters `actuator` has (its materials' constants, `w2` only
     /// with the paper's rib layout; the shear data always, whatever model
-    /// the finger uses).
+    /// the finger uses; the width and height of each rib on the
+    /// constraining layer, rib by rib).
     pub fn for_actuator(actuator: &Actuator) -> Vec<ActuatorParam> {
-        ActuatorParam::all()
+        let mut v: Vec<ActuatorParam> = ActuatorParam::all()
             .into_iter()
             .filter(|p| p.value(actuator).is_some())
-            .collect()
+            .collect();
+        for i in 0..actuator.cl_ribs().len() {
+            v.extend([ActuatorParam::ClRibWidth(i), ActuatorParam::ClRibHeight(i)]);
+        }
+        v
+    }
+
+    /// The parameter of a scene key ([`ActuatorParam::name`]), a rib's
+    /// (`actuator.cl_ribs.list[2].width`) for any index.
+    pub fn from_name(name: &str) -> Option<ActuatorParam> {
+        if let Some(rest) = name.strip_prefix("actuator.cl_ribs.list[") {
+            let (index, key) = rest.split_once("].")?;
+            let i: usize = index.parse().ok()?;
+            return match key {
+                "width" => Some(ActuatorParam::ClRibWidth(i)),
+                "height" => Some(ActuatorParam::ClRibHeight(i)),
+                _ => None,
+            };
+        }
+        ActuatorParam::all().into_iter().find(|p| p.name() == name)
     }
 
     /// The scene key (`actuator.pemc.eps0`, `actuator.pemc.p1`,
@@ -132,6 +161,7 @@ impl ActuatorParam {
     pub fn name(self) -> String {
         match self.field() {
             Field::Pemc(k) => format!("actuator.pemc.{k}"),
+            Field::ClRib(i, k) => format!("actuator.cl_ribs.list[{i}].{k}"),
             f => f.to_string(),
         }
     }
@@ -158,6 +188,8 @@ impl ActuatorParam {
             ActuatorParam::RibsW2 => Field::PaperRib(PaperRibKey::W2),
             ActuatorParam::ShearCorrection => Field::Laminate(LaminateKey::ShearCorrection),
             ActuatorParam::ShearModulus(l) => Field::ShearModulus(l),
+            ActuatorParam::ClRibWidth(i) => Field::ClRib(i, ClRibKey::Width),
+            ActuatorParam::ClRibHeight(i) => Field::ClRib(i, ClRibKey::Height),
         }
     }
 
@@ -190,6 +222,8 @@ impl ActuatorParam {
             },
             ActuatorParam::ShearCorrection => p.shear.correction,
             ActuatorParam::ShearModulus(l) => actuator.g13(l),
+            ActuatorParam::ClRibWidth(i) => p.cl_ribs.get(i)?.width,
+            ActuatorParam::ClRibHeight(i) => p.cl_ribs.get(i)?.height,
         })
     }
 
@@ -231,6 +265,8 @@ impl ActuatorParam {
             },
             ActuatorParam::ShearCorrection => &mut p.shear.correction,
             ActuatorParam::ShearModulus(l) => p.shear.g13[l as usize].insert(value),
+            ActuatorParam::ClRibWidth(i) => &mut p.cl_ribs.get_mut(i).ok_or_else(missing)?.width,
+            ActuatorParam::ClRibHeight(i) => &mut p.cl_ribs.get_mut(i).ok_or_else(missing)?.height,
         };
         *slot = value;
         Actuator::new(p)

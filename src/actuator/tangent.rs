@@ -41,6 +41,9 @@ pub(crate) struct ActuatorTangent {
     pub law: PsiParams,
     /// The total width of each rib of [`Actuator::ribs`], in that order.
     pub rib_widths: Vec<f64>,
+    /// The width and height of each rib of [`Actuator::cl_ribs`].
+    pub cl_rib_widths: Vec<f64>,
+    pub cl_rib_heights: Vec<f64>,
     /// The transverse shear moduli G13, in [`ShearLayer::ALL`]'s order
     /// (a default one moves with the constants it comes from), and the
     /// shear correction factor.
@@ -78,6 +81,8 @@ impl ActuatorTangent {
                 p4: 0.0,
             },
             rib_widths: vec![0.0; act.ribs().len()],
+            cl_rib_widths: vec![0.0; act.cl_ribs().len()],
+            cl_rib_heights: vec![0.0; act.cl_ribs().len()],
             g13: [0.0; 4],
             ks: 0.0,
         }
@@ -167,6 +172,19 @@ impl ActuatorTangent {
             // the layer's G13 as given (the blocks of the ribs and the
             // channel's void read the fluidic layer's)
             ActuatorParam::ShearModulus(l) => t.g13[l as usize] = 1.0,
+            ActuatorParam::ClRibWidth(i) | ActuatorParam::ClRibHeight(i) => {
+                let slot = match param {
+                    ActuatorParam::ClRibWidth(_) => t.cl_rib_widths.get_mut(i),
+                    _ => t.cl_rib_heights.get_mut(i),
+                };
+                *slot.ok_or_else(|| InputError::Inconsistent {
+                    field: param.field(),
+                    rule: format!(
+                        "the actuator has {} ribs on its constraining layer",
+                        act.cl_ribs().len()
+                    ),
+                })? = 1.0;
+            }
         }
         Ok(t)
     }
@@ -307,11 +325,17 @@ pub(crate) fn element_block_tangent_into(
         }
     }
     // the ribs on the constraining layer: z in [H/2, H/2 + height], of
-    // the layer's material; no parameter moves their width or height
-    for rib in act.cl_ribs() {
+    // the layer's material
+    for ((rib, &dw), &dheight) in act
+        .cl_ribs()
+        .iter()
+        .zip(&t.cl_rib_widths)
+        .zip(&t.cl_rib_heights)
+    {
         if clip(rib.x0, rib.x1, start, len).is_some() {
+            let top = 0.5 * t.h;
             out.linear
-                .push(linear_box(0.5 * t.h, 0.5 * t.h, 0.0, t.cl, g_cl));
+                .push(linear_box(top, top + dheight, dw, t.cl, g_cl));
         }
     }
     out.prestressed.push(PrestressedParams {
@@ -367,6 +391,26 @@ mod tests {
         params.shear.g13 = [Some(100.0), None, None, Some(0.6)];
         params.shear.correction = 0.9;
         let given_shear = Actuator::new(params).unwrap();
+        // ribs on the constraining layer (their widths and heights are
+        // parameters), one clipped by the partitions' element ends
+        let cl_ribs = Actuator::new(ActuatorParams {
+            cl_ribs: vec![
+                crate::actuator::ClRib {
+                    x0: 20.0,
+                    x1: 35.0,
+                    width: 30.0,
+                    height: 0.6,
+                },
+                crate::actuator::ClRib {
+                    x0: 50.0,
+                    x1: 61.5,
+                    width: 12.0,
+                    height: 1.0,
+                },
+            ],
+            ..ActuatorParams::default()
+        })
+        .unwrap();
         let values = |b: &ElementBlocks| -> Vec<f64> {
             let mut v = Vec::new();
             for k in &b.linear {
@@ -382,7 +426,7 @@ mod tests {
         };
         let mut worst: f64 = 0.0;
         let mut checked = 0;
-        for act in [Actuator::default(), coupled, given_shear] {
+        for act in [Actuator::default(), coupled, given_shear, cl_ribs] {
             for n in [1, 3, 8] {
                 let part = Partition::equal(110.0, n).unwrap();
                 for ribs in [true, false] {

@@ -57,12 +57,14 @@ impl Param {
 
     /// The parameter of a name ([`Param::name`]).
     pub fn from_name(name: &str) -> Option<Param> {
-        ActuatorParam::all()
-            .into_iter()
+        ActuatorParam::from_name(name)
             .map(Param::Actuator)
-            .chain(Param::LOAD)
-            .chain([Param::Target])
-            .find(|p| p.name() == name)
+            .or_else(|| {
+                Param::LOAD
+                    .into_iter()
+                    .chain([Param::Target])
+                    .find(|p| p.name() == name)
+            })
     }
 
     /// The parameter's value (in its key's unit) for an actuator and a load

@@ -31,7 +31,7 @@ const CHANNEL_KEYS: [&str; 4] = ["cx", "cy", "h3a", "h3b"];
 const LAMINATE_KEYS: [&str; 2] = ["shear_correction", "plane_strain"];
 /// Keyword arguments that are whole sections (dicts with the scene's keys),
 /// and the section each fills.
-const SECTION_KEYS: [(&str, &str); 8] = [
+const SECTION_KEYS: [(&str, &str); 9] = [
     ("geometry", "geometry"),
     ("channel", "channel"),
     ("rib_layout", "ribs"),
@@ -40,6 +40,7 @@ const SECTION_KEYS: [(&str, &str); 8] = [
     ("fluidic", "fluidic"),
     ("pemc", "pemc"),
     ("laminate", "laminate"),
+    ("cl_ribs", "cl_ribs"),
 ];
 
 /// The actuator keyword arguments the constructors accept, for messages.
@@ -149,9 +150,21 @@ pub fn actuator_section(
                 )?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
                 let path = format!("actuator.{section}");
-                let Value::Object(m) = value_at(&v, &path)? else {
+                let value = value_at(&v, &path)?;
+                // the ribs on the constraining layer may be given as their
+                // list alone: `cl_ribs=[{"x0": ..., ...}, ...]`
+                if let (Value::Array(_), "cl_ribs") = (&value, section) {
+                    put(section, "list", value, format!("{k}="))?;
+                    continue;
+                }
+                let Value::Object(m) = value else {
+                    let list = if section == "cl_ribs" {
+                        "a list of ribs (dicts with x0, x1, width, height) or "
+                    } else {
+                        ""
+                    };
                     return Err(PyTypeError::new_err(format!(
-                        "{k} must be a dict of the scene's [{path}] keys"
+                        "{k} must be {list}a dict of the scene's [{path}] keys"
                     )));
                 };
                 for (key, x) in m {
@@ -190,6 +203,7 @@ pub fn actuator_section(
             "fluidic" => out.fluidic = serde_json::from_value(v).map_err(err)?,
             "pemc" => out.pemc = serde_json::from_value(v).map_err(err)?,
             "laminate" => out.laminate = serde_json::from_value(v).map_err(err)?,
+            "cl_ribs" => out.cl_ribs = serde_json::from_value(v).map_err(err)?,
             _ => unreachable!("sections come from SECTION_KEYS"),
         }
     }
@@ -432,7 +446,9 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 ///   across the width), or whole sections as dicts: ``geometry``,
 ///   ``channel``, ``rib_layout`` (``[actuator.ribs]``), ``cl``, ``emc``,
 ///   ``fluidic``, ``pemc`` (each with ``g13``, the layer's transverse
-///   shear modulus, for the ``shear`` model), ``laminate``.
+///   shear modulus, for the ``shear`` model), ``laminate``; ``cl_ribs``,
+///   the ribs on the constraining layer as a list of dicts with ``x0``,
+///   ``x1``, ``width`` and ``height`` (mm; default none).
 ///
 /// Invalid values raise ``fpc.InputError`` (a ``ValueError``) naming the
 /// field, e.g. ``actuator.geometry.h1``; an unknown keyword, or a key given

@@ -107,3 +107,50 @@ def test_calibrate_fits_the_shear_correction(tmp_path):
     assert p["name"] == "actuator.laminate.shear_correction"
     assert abs(p["value"] - 0.5) < 1e-4, p
     assert "shear_correction" in c["scenes"][0]["toml"]
+
+
+CL_RIBS_SCENE = """\
+[actuator.pemc]
+eps0 = 0.3
+[actuator.cl_ribs]
+list = [
+  { x0 = 20.0, x1 = 35.0, width = 30.0, height = 0.6 },
+  { x0 = 60.0, x1 = 61.5, width = 12.0, height = 1.0 },
+]
+[load]
+pressure_kpa = 30
+fx = 0.4
+fz = 0.2
+"""
+
+CL_RIBS = [
+    {"x0": 20.0, "x1": 35.0, "width": 30.0, "height": 0.6},
+    {"x0": 60.0, "x1": 61.5, "width": 12.0, "height": 1.0},
+]
+
+
+def test_ribs_on_the_constraining_layer_from_keywords_equal_fpc_solve(fpc_bin, tmp_path):
+    scene = tmp_path / "cl_ribs.toml"
+    scene.write_text(CL_RIBS_SCENE)
+    run_cli(fpc_bin, "solve", scene, "--out", tmp_path / "out")
+    want = json.loads((tmp_path / "out" / "solution.json").read_text())
+    for finger in (
+        fpc.Finger(eps0=0.3, cl_ribs=CL_RIBS),
+        fpc.Finger(eps0=0.3, cl_ribs={"list": CL_RIBS}),
+    ):
+        got = finger.solve(pressure_kpa=30, fx=0.4, fz=0.2)
+        assert_same(got["tip"], want["tip_mm"])
+        assert_same(got["energy"], want["energy_nmm"])
+    # the ribs change the laminate: the same load puts the tip elsewhere
+    plain = fpc.Finger(eps0=0.3).solve(pressure_kpa=30, fx=0.4, fz=0.2)
+    assert np.linalg.norm(plain["tip"] - got["tip"]) > 1e-3
+
+
+def test_a_bad_rib_on_the_constraining_layer_names_its_key():
+    bad = [dict(CL_RIBS[0], height=-1.0)]
+    with pytest.raises(fpc.InputError, match=r"actuator.cl_ribs.*height"):
+        fpc.Finger(cl_ribs=bad)
+    with pytest.raises(TypeError, match="cl_ribs must be a list of ribs"):
+        fpc.Finger(cl_ribs=3.0)
+    with pytest.raises(fpc.InputError, match="actuator.cl_ribs"):
+        fpc.Finger(cl_ribs=[{"x0": 1.0}])

@@ -348,4 +348,12 @@ fn sensitivity_parameters_are_named_by_the_scene_keys_of_their_fields() {
         assert_eq!(p.name(), key);
         assert!(schema.contains(&schema_path(&key)), "{key}");
     }
+    // the ribs on the constraining layer, by index
+    use crate::actuator::ActuatorParam;
+    for p in [ActuatorParam::ClRibWidth(3), ActuatorParam::ClRibHeight(0)] {
+        let key = scene_key_of(p.field());
+        assert_eq!(p.name(), key);
+        assert!(schema.contains(&schema_path(&key)), "{key}");
+        assert_eq!(ActuatorParam::from_name(&key), Some(p));
+    }
 }
