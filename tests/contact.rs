@@ -212,13 +212,18 @@ fn midplane_curves_match_the_shape_samples_and_the_tip() {
                 worst = worst.max(err);
                 assert!(err <= 1e-14, "{label}: tip {tip:?}, curves end at {end:?}");
                 // the tip angle is the sections' rotation: the sum of each
-                // element's tangent turn (for a model without shear also the
-                // tangent's angle at the tip)
-                let turn = |c: &PolyCurve| {
+                // element's tangent turn less the change of its shear angle
+                // atan2(g0, |t|) (docs/model.md (M34); for a model without
+                // shear the tangent turns alone, and the tangent's angle at
+                // the tip)
+                let g0 = model.info().unknowns.iter().position(|u| *u == "g0");
+                let turn = |(c, k): (&PolyCurve, &[f64])| {
                     let (a, b) = (c.tangent(0.0), c.tangent(c.length()));
-                    (a[0] * b[1] - a[1] * b[0]).atan2(a[0] * b[0] + a[1] * b[1])
+                    let tangent = (a[0] * b[1] - a[1] * b[0]).atan2(a[0] * b[0] + a[1] * b[1]);
+                    let shear = |t: [f64; 2]| g0.map_or(0.0, |i| k[i].atan2(t[0].hypot(t[1])));
+                    tangent - (shear(b) - shear(a))
                 };
-                let sum: f64 = curves.iter().map(turn).sum();
+                let sum: f64 = curves.iter().zip(k.iter()).map(turn).sum();
                 let d = (sum - angle).rem_euclid(std::f64::consts::TAU);
                 assert!(
                     d.min(std::f64::consts::TAU - d) <= 1e-12,

@@ -4847,7 +4847,7 @@ pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
 /**Point kernel `end`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, 1 + a1)`*/
+- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
 pub fn end_value(k: &[f64; 5], L: f64) -> [f64; 3] {
     let a1 = k[0];
     let a3 = k[1];
@@ -4855,16 +4855,24 @@ pub fn end_value(k: &[f64; 5], L: f64) -> [f64; 3] {
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
+    let tmp2 = 2.0 * L * c2 + g0;
+    let tmp3 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp4 = tmp2 * tmp2;
+    let tmp5 = tmp3 * tmp3;
+    let tmp6 = 1.0 + a1;
+    let tmp7 = g0 * g0;
+    let tmp8 = tmp6 * tmp6;
     [
         L + a1 * L + a3 * tmp1,
         tmp0 * c2 + L * g0,
-        (2.0 * L * c2 + g0).atan2(1.0 + a1 + 3.0 * a3 * tmp0) - g0.atan2(1.0 + a1),
+        tmp2.atan2(tmp3) - g0.atan2((tmp4 + tmp5).sqrt())
+            - (g0.atan2(tmp6) - g0.atan2((tmp7 + tmp8).sqrt())),
     ]
 }
 /**Point kernel `end`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, 1 + a1)`*/
+- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
 ///
 ///Values and gradients of each output.
 pub fn end_gradient(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3]) {
@@ -4876,24 +4884,40 @@ pub fn end_gradient(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3]) {
     let tmp1 = tmp0 * L;
     let tmp2 = 2.0 * L * c2 + g0;
     let tmp3 = 1.0 + a1 + 3.0 * a3 * tmp0;
-    let tmp4 = 1.0 + a1;
-    let tmp5 = g0 * g0;
-    let tmp6 = tmp4 * tmp4;
-    let tmp7 = 1.0 / (tmp5 + tmp6);
-    let tmp8 = tmp3 * tmp3;
-    let tmp9 = tmp2 * tmp2;
-    let tmp10 = 1.0 / (tmp8 + tmp9);
+    let tmp4 = tmp2 * tmp2;
+    let tmp5 = tmp3 * tmp3;
+    let tmp6 = tmp4 + tmp5;
+    let tmp7 = tmp6.sqrt();
+    let tmp8 = 1.0 + a1;
+    let tmp9 = g0 * g0;
+    let tmp10 = tmp8 * tmp8;
+    let tmp11 = tmp9 + tmp10;
+    let tmp12 = tmp11.sqrt();
+    let tmp13 = 1.0 / tmp7;
+    let tmp14 = tmp7 * tmp7;
+    let tmp15 = 1.0 / (tmp9 + tmp14);
+    let tmp16 = 1.0 / tmp12;
+    let tmp17 = tmp12 * tmp12;
+    let tmp18 = 1.0 / (tmp9 + tmp17);
+    let tmp19 = 1.0 / tmp11;
+    let tmp20 = 1.0 / tmp6;
     (
-        [L + a1 * L + a3 * tmp1, tmp0 * c2 + L * g0, tmp2.atan2(tmp3) - g0.atan2(tmp4)],
+        [
+            L + a1 * L + a3 * tmp1,
+            tmp0 * c2 + L * g0,
+            tmp2.atan2(tmp3) - g0.atan2(tmp7) - (g0.atan2(tmp8) - g0.atan2(tmp12)),
+        ],
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                g0 * tmp7 - tmp2 * tmp10,
-                -(3.0 * tmp0 * tmp2 * tmp10),
+                g0 * tmp3 * tmp13 * tmp15 - (g0 * tmp8 * tmp16 * tmp18 - g0 * tmp19)
+                    - tmp2 * tmp20,
+                3.0 * tmp0 * g0 * tmp3 * tmp13 * tmp15 - 3.0 * tmp0 * tmp2 * tmp20,
                 0.0,
-                2.0 * L * tmp3 * tmp10,
-                tmp3 * tmp10 - tmp4 * tmp7,
+                2.0 * L * g0 * tmp2 * tmp13 * tmp15 + 2.0 * L * tmp3 * tmp20,
+                tmp3 * tmp20 - tmp15 * (tmp7 - g0 * tmp2 * tmp13)
+                    - (tmp8 * tmp19 - tmp18 * (tmp12 - tmp9 * tmp16)),
             ],
         ],
     )
@@ -4901,7 +4925,7 @@ pub fn end_gradient(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3]) {
 /**Point kernel `end`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, 1 + a1)`*/
+- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
 ///
 ///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
 pub fn end_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) {
@@ -4911,51 +4935,99 @@ pub fn end_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) 
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
-    let tmp2 = g0 * g0;
-    let tmp3 = 1.0 + a1;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = 2.0 * L * c2 + g0;
     let tmp4 = tmp3 * tmp3;
-    let tmp5 = tmp2 + tmp4;
-    let tmp6 = 1.0 / tmp5;
-    let tmp7 = 2.0 * L * c2 + g0;
-    let tmp8 = 1.0 + a1 + 3.0 * a3 * tmp0;
-    let tmp9 = tmp8 * tmp8;
+    let tmp5 = tmp2 * tmp2;
+    let tmp6 = tmp4 + tmp5;
+    let tmp7 = tmp6.sqrt();
+    let tmp8 = 1.0 / tmp7;
+    let tmp9 = g0 * g0;
     let tmp10 = tmp7 * tmp7;
     let tmp11 = tmp9 + tmp10;
     let tmp12 = 1.0 / tmp11;
-    let tmp13 = tmp6 * tmp6;
-    let tmp14 = tmp12 * tmp12;
-    let tmp15 = tmp0 * tmp0;
+    let tmp13 = 1.0 + a1;
+    let tmp14 = tmp13 * tmp13;
+    let tmp15 = tmp9 + tmp14;
+    let tmp16 = tmp15.sqrt();
+    let tmp17 = 1.0 / tmp16;
+    let tmp18 = tmp16 * tmp16;
+    let tmp19 = tmp9 + tmp18;
+    let tmp20 = 1.0 / tmp19;
+    let tmp21 = 1.0 / tmp15;
+    let tmp22 = 1.0 / tmp6;
+    let tmp23 = tmp7 - g0 * tmp3 * tmp8;
+    let tmp24 = tmp16 - tmp9 * tmp17;
+    let tmp25 = tmp8 * tmp8;
+    let tmp26 = tmp25 * tmp8;
+    let tmp27 = tmp12 * tmp12;
+    let tmp28 = tmp17 * tmp17;
+    let tmp29 = tmp28 * tmp17;
+    let tmp30 = tmp20 * tmp20;
+    let tmp31 = tmp21 * tmp21;
+    let tmp32 = tmp22 * tmp22;
+    let tmp33 = 2.0 * g0 + 2.0 * tmp3;
+    let tmp34 = tmp0 * tmp0;
+    let tmp35 = tmp9 * g0;
     (
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                g0 * tmp6 - tmp7 * tmp12,
-                -(3.0 * tmp0 * tmp7 * tmp12),
+                g0 * tmp2 * tmp8 * tmp12 - (g0 * tmp13 * tmp17 * tmp20 - g0 * tmp21)
+                    - tmp3 * tmp22,
+                3.0 * tmp0 * g0 * tmp2 * tmp8 * tmp12 - 3.0 * tmp0 * tmp3 * tmp22,
                 0.0,
-                2.0 * L * tmp8 * tmp12,
-                tmp8 * tmp12 - tmp3 * tmp6,
+                2.0 * L * g0 * tmp3 * tmp8 * tmp12 + 2.0 * L * tmp2 * tmp22,
+                tmp2 * tmp22 - tmp12 * tmp23 - (tmp13 * tmp21 - tmp20 * tmp24),
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                -2.0 * g0 * tmp3 * tmp13 + 2.0 * tmp7 * tmp8 * tmp14,
-                6.0 * tmp0 * tmp7 * tmp8 * tmp14,
+                g0 * tmp8 * tmp12 - g0 * tmp5 * tmp26 * tmp12
+                    - 2.0 * g0 * tmp5 * tmp8 * tmp27
+                    - (g0 * tmp17 * tmp20 - g0 * tmp14 * tmp29 * tmp20
+                        - 2.0 * g0 * tmp14 * tmp17 * tmp30 + 2.0 * g0 * tmp13 * tmp31)
+                    + 2.0 * tmp3 * tmp2 * tmp32,
+                3.0 * tmp0 * g0 * tmp8 * tmp12 - 3.0 * tmp0 * g0 * tmp5 * tmp26 * tmp12
+                    - 6.0 * tmp0 * g0 * tmp5 * tmp8 * tmp27
+                    + 6.0 * tmp0 * tmp3 * tmp2 * tmp32,
                 0.0,
-                -2.0 * L * tmp12 + 4.0 * L * tmp10 * tmp14,
-                -tmp12 + tmp6 - 2.0 * tmp2 * tmp13 + 2.0 * tmp10 * tmp14,
-                18.0 * tmp15 * tmp7 * tmp8 * tmp14,
+                -2.0 * L * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 4.0 * L * g0 * tmp3 * tmp2 * tmp8 * tmp27 - 2.0 * L * tmp22
+                    + 4.0 * L * tmp4 * tmp32,
+                -tmp22 + tmp2 * tmp8 * tmp12 - g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - g0 * tmp2 * tmp8 * tmp27 * tmp33
+                    - (-tmp21 + tmp13 * tmp17 * tmp20 - tmp9 * tmp13 * tmp29 * tmp20
+                        - 4.0 * tmp9 * tmp13 * tmp17 * tmp30 + 2.0 * tmp9 * tmp31)
+                    + 2.0 * tmp4 * tmp32,
+                9.0 * tmp34 * g0 * tmp8 * tmp12 - 9.0 * tmp34 * g0 * tmp5 * tmp26 * tmp12
+                    - 18.0 * tmp34 * g0 * tmp5 * tmp8 * tmp27
+                    + 18.0 * tmp34 * tmp3 * tmp2 * tmp32,
                 0.0,
-                -6.0 * tmp1 * tmp12 + 12.0 * tmp1 * tmp10 * tmp14,
-                -3.0 * tmp0 * tmp12 + 6.0 * tmp0 * tmp10 * tmp14,
+                -6.0 * tmp1 * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 12.0 * tmp1 * g0 * tmp3 * tmp2 * tmp8 * tmp27 - 6.0 * tmp1 * tmp22
+                    + 12.0 * tmp1 * tmp4 * tmp32,
+                3.0 * tmp0 * tmp2 * tmp8 * tmp12
+                    - 3.0 * tmp0 * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 3.0 * tmp0 * g0 * tmp2 * tmp8 * tmp27 * tmp33 - 3.0 * tmp0 * tmp22
+                    + 6.0 * tmp0 * tmp4 * tmp32,
                 0.0,
                 0.0,
                 0.0,
-                -(8.0 * tmp0 * tmp7 * tmp8 * tmp14),
-                -(4.0 * L * tmp7 * tmp8 * tmp14),
-                2.0 * g0 * tmp3 * tmp13 - 2.0 * tmp7 * tmp8 * tmp14,
+                4.0 * tmp0 * g0 * tmp8 * tmp12 - 8.0 * tmp0 * tmp3 * tmp2 * tmp32
+                    - 4.0 * tmp0 * g0 * tmp4 * tmp26 * tmp12
+                    - 8.0 * tmp0 * g0 * tmp4 * tmp8 * tmp27,
+                2.0 * L * tmp3 * tmp8 * tmp12 + 2.0 * L * g0 * tmp8 * tmp12
+                    - 2.0 * L * g0 * tmp4 * tmp26 * tmp12
+                    - 2.0 * L * g0 * tmp3 * tmp8 * tmp27 * tmp33
+                    - 4.0 * L * tmp3 * tmp2 * tmp32,
+                -2.0 * tmp3 * tmp2 * tmp32 + tmp27 * tmp23 * tmp33
+                    - tmp12 * (g0 * tmp4 * tmp26 - g0 * tmp8)
+                    - (-2.0 * g0 * tmp13 * tmp31 + 4.0 * g0 * tmp30 * tmp24
+                        - tmp20 * (-g0 * tmp17 + tmp35 * tmp29)),
             ],
         ],
     )
@@ -4963,7 +5035,7 @@ pub fn end_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) 
 /**Point kernel `end`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, 1 + a1)`*/
+- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
 ///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]; 3]) {
@@ -4975,50 +5047,103 @@ pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]
     let tmp1 = tmp0 * L;
     let tmp2 = 2.0 * L * c2 + g0;
     let tmp3 = 1.0 + a1 + 3.0 * a3 * tmp0;
-    let tmp4 = 1.0 + a1;
-    let tmp5 = g0 * g0;
-    let tmp6 = tmp4 * tmp4;
-    let tmp7 = tmp5 + tmp6;
-    let tmp8 = 1.0 / tmp7;
-    let tmp9 = tmp3 * tmp3;
-    let tmp10 = tmp2 * tmp2;
+    let tmp4 = tmp2 * tmp2;
+    let tmp5 = tmp3 * tmp3;
+    let tmp6 = tmp4 + tmp5;
+    let tmp7 = tmp6.sqrt();
+    let tmp8 = 1.0 + a1;
+    let tmp9 = g0 * g0;
+    let tmp10 = tmp8 * tmp8;
     let tmp11 = tmp9 + tmp10;
-    let tmp12 = 1.0 / tmp11;
-    let tmp13 = tmp8 * tmp8;
-    let tmp14 = tmp12 * tmp12;
-    let tmp15 = tmp0 * tmp0;
+    let tmp12 = tmp11.sqrt();
+    let tmp13 = 1.0 / tmp7;
+    let tmp14 = tmp7 * tmp7;
+    let tmp15 = tmp9 + tmp14;
+    let tmp16 = 1.0 / tmp15;
+    let tmp17 = 1.0 / tmp12;
+    let tmp18 = tmp12 * tmp12;
+    let tmp19 = tmp9 + tmp18;
+    let tmp20 = 1.0 / tmp19;
+    let tmp21 = 1.0 / tmp11;
+    let tmp22 = 1.0 / tmp6;
+    let tmp23 = tmp7 - g0 * tmp2 * tmp13;
+    let tmp24 = tmp12 - tmp9 * tmp17;
+    let tmp25 = tmp13 * tmp13;
+    let tmp26 = tmp25 * tmp13;
+    let tmp27 = tmp16 * tmp16;
+    let tmp28 = tmp17 * tmp17;
+    let tmp29 = tmp28 * tmp17;
+    let tmp30 = tmp20 * tmp20;
+    let tmp31 = tmp21 * tmp21;
+    let tmp32 = tmp22 * tmp22;
+    let tmp33 = 2.0 * g0 + 2.0 * tmp2;
+    let tmp34 = tmp0 * tmp0;
+    let tmp35 = tmp9 * g0;
     (
-        [L + a1 * L + a3 * tmp1, tmp0 * c2 + L * g0, tmp2.atan2(tmp3) - g0.atan2(tmp4)],
+        [
+            L + a1 * L + a3 * tmp1,
+            tmp0 * c2 + L * g0,
+            tmp2.atan2(tmp3) - g0.atan2(tmp7) - (g0.atan2(tmp8) - g0.atan2(tmp12)),
+        ],
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                g0 * tmp8 - tmp2 * tmp12,
-                -(3.0 * tmp0 * tmp2 * tmp12),
+                g0 * tmp3 * tmp13 * tmp16 - (g0 * tmp8 * tmp17 * tmp20 - g0 * tmp21)
+                    - tmp2 * tmp22,
+                3.0 * tmp0 * g0 * tmp3 * tmp13 * tmp16 - 3.0 * tmp0 * tmp2 * tmp22,
                 0.0,
-                2.0 * L * tmp3 * tmp12,
-                tmp3 * tmp12 - tmp4 * tmp8,
+                2.0 * L * g0 * tmp2 * tmp13 * tmp16 + 2.0 * L * tmp3 * tmp22,
+                tmp3 * tmp22 - tmp16 * tmp23 - (tmp8 * tmp21 - tmp20 * tmp24),
             ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                -2.0 * g0 * tmp4 * tmp13 + 2.0 * tmp2 * tmp3 * tmp14,
-                6.0 * tmp0 * tmp2 * tmp3 * tmp14,
+                g0 * tmp13 * tmp16 - g0 * tmp5 * tmp26 * tmp16
+                    - 2.0 * g0 * tmp5 * tmp13 * tmp27
+                    - (g0 * tmp17 * tmp20 - g0 * tmp10 * tmp29 * tmp20
+                        - 2.0 * g0 * tmp10 * tmp17 * tmp30 + 2.0 * g0 * tmp8 * tmp31)
+                    + 2.0 * tmp2 * tmp3 * tmp32,
+                3.0 * tmp0 * g0 * tmp13 * tmp16 - 3.0 * tmp0 * g0 * tmp5 * tmp26 * tmp16
+                    - 6.0 * tmp0 * g0 * tmp5 * tmp13 * tmp27
+                    + 6.0 * tmp0 * tmp2 * tmp3 * tmp32,
                 0.0,
-                -2.0 * L * tmp12 + 4.0 * L * tmp10 * tmp14,
-                -tmp12 + tmp8 - 2.0 * tmp5 * tmp13 + 2.0 * tmp10 * tmp14,
-                18.0 * tmp15 * tmp2 * tmp3 * tmp14,
+                -2.0 * L * g0 * tmp2 * tmp3 * tmp26 * tmp16
+                    - 4.0 * L * g0 * tmp2 * tmp3 * tmp13 * tmp27 - 2.0 * L * tmp22
+                    + 4.0 * L * tmp4 * tmp32,
+                -tmp22 + tmp3 * tmp13 * tmp16 - g0 * tmp2 * tmp3 * tmp26 * tmp16
+                    - g0 * tmp3 * tmp13 * tmp27 * tmp33
+                    - (-tmp21 + tmp8 * tmp17 * tmp20 - tmp9 * tmp8 * tmp29 * tmp20
+                        - 4.0 * tmp9 * tmp8 * tmp17 * tmp30 + 2.0 * tmp9 * tmp31)
+                    + 2.0 * tmp4 * tmp32,
+                9.0 * tmp34 * g0 * tmp13 * tmp16
+                    - 9.0 * tmp34 * g0 * tmp5 * tmp26 * tmp16
+                    - 18.0 * tmp34 * g0 * tmp5 * tmp13 * tmp27
+                    + 18.0 * tmp34 * tmp2 * tmp3 * tmp32,
                 0.0,
-                -6.0 * tmp1 * tmp12 + 12.0 * tmp1 * tmp10 * tmp14,
-                -3.0 * tmp0 * tmp12 + 6.0 * tmp0 * tmp10 * tmp14,
+                -6.0 * tmp1 * g0 * tmp2 * tmp3 * tmp26 * tmp16
+                    - 12.0 * tmp1 * g0 * tmp2 * tmp3 * tmp13 * tmp27 - 6.0 * tmp1 * tmp22
+                    + 12.0 * tmp1 * tmp4 * tmp32,
+                3.0 * tmp0 * tmp3 * tmp13 * tmp16
+                    - 3.0 * tmp0 * g0 * tmp2 * tmp3 * tmp26 * tmp16
+                    - 3.0 * tmp0 * g0 * tmp3 * tmp13 * tmp27 * tmp33 - 3.0 * tmp0 * tmp22
+                    + 6.0 * tmp0 * tmp4 * tmp32,
                 0.0,
                 0.0,
                 0.0,
-                -(8.0 * tmp0 * tmp2 * tmp3 * tmp14),
-                -(4.0 * L * tmp2 * tmp3 * tmp14),
-                2.0 * g0 * tmp4 * tmp13 - 2.0 * tmp2 * tmp3 * tmp14,
+                4.0 * tmp0 * g0 * tmp13 * tmp16 - 8.0 * tmp0 * tmp2 * tmp3 * tmp32
+                    - 4.0 * tmp0 * g0 * tmp4 * tmp26 * tmp16
+                    - 8.0 * tmp0 * g0 * tmp4 * tmp13 * tmp27,
+                2.0 * L * tmp2 * tmp13 * tmp16 + 2.0 * L * g0 * tmp13 * tmp16
+                    - 2.0 * L * g0 * tmp4 * tmp26 * tmp16
+                    - 2.0 * L * g0 * tmp2 * tmp13 * tmp27 * tmp33
+                    - 4.0 * L * tmp2 * tmp3 * tmp32,
+                -2.0 * tmp2 * tmp3 * tmp32 + tmp27 * tmp23 * tmp33
+                    - tmp16 * (g0 * tmp4 * tmp26 - g0 * tmp13)
+                    - (-2.0 * g0 * tmp8 * tmp31 + 4.0 * g0 * tmp30 * tmp24
+                        - tmp20 * (-g0 * tmp17 + tmp35 * tmp29)),
             ],
         ],
     )
@@ -5026,8 +5151,8 @@ pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]
 /**Point kernel `frame`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` dx = `(1 + a1 + 3*a3*L^2)*(1 + a1) + g0*(2*L*c2 + g0)`
-- `[3]` dz = `(2*L*c2 + g0)*(1 + a1) - g0*(1 + a1 + 3*a3*L^2)`*/
+- `[2]` dx = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0)) + (g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2))`
+- `[3]` dz = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2)) - ((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0))*(g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))`*/
 pub fn frame_value(k: &[f64; 5], L: f64) -> [f64; 4] {
     let a1 = k[0];
     let a3 = k[1];
@@ -5035,21 +5160,31 @@ pub fn frame_value(k: &[f64; 5], L: f64) -> [f64; 4] {
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
-    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp2 = g0 * g0;
     let tmp3 = 1.0 + a1;
-    let tmp4 = 2.0 * L * c2 + g0;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = (tmp2 + tmp4).sqrt();
+    let tmp6 = tmp2 + tmp3 * tmp5;
+    let tmp7 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp8 = 2.0 * L * c2 + g0;
+    let tmp9 = tmp8 * tmp8;
+    let tmp10 = tmp7 * tmp7;
+    let tmp11 = (tmp9 + tmp10).sqrt();
+    let tmp12 = tmp7 * tmp11 + g0 * tmp8;
+    let tmp13 = g0 * tmp5 - g0 * tmp3;
+    let tmp14 = tmp8 * tmp11 - g0 * tmp7;
     [
         L + a1 * L + a3 * tmp1,
         tmp0 * c2 + L * g0,
-        tmp2 * tmp3 + g0 * tmp4,
-        tmp4 * tmp3 - g0 * tmp2,
+        tmp6 * tmp12 + tmp13 * tmp14,
+        tmp6 * tmp14 - tmp12 * tmp13,
     ]
 }
 /**Point kernel `frame`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` dx = `(1 + a1 + 3*a3*L^2)*(1 + a1) + g0*(2*L*c2 + g0)`
-- `[3]` dz = `(2*L*c2 + g0)*(1 + a1) - g0*(1 + a1 + 3*a3*L^2)`*/
+- `[2]` dx = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0)) + (g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2))`
+- `[3]` dz = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2)) - ((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0))*(g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))`*/
 ///
 ///Values and gradients of each output.
 pub fn frame_gradient(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4]) {
@@ -5059,37 +5194,70 @@ pub fn frame_gradient(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4]) {
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
-    let tmp2 = 3.0 * a3 * tmp0;
-    let tmp3 = 1.0 + a1 + tmp2;
-    let tmp4 = 1.0 + a1;
-    let tmp5 = 2.0 * L * c2;
-    let tmp6 = tmp5 + g0;
+    let tmp2 = g0 * g0;
+    let tmp3 = 1.0 + a1;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = (tmp2 + tmp4).sqrt();
+    let tmp6 = tmp2 + tmp3 * tmp5;
+    let tmp7 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp8 = 2.0 * L * c2;
+    let tmp9 = tmp8 + g0;
+    let tmp10 = tmp9 * tmp9;
+    let tmp11 = tmp7 * tmp7;
+    let tmp12 = (tmp10 + tmp11).sqrt();
+    let tmp13 = tmp7 * tmp12 + g0 * tmp9;
+    let tmp14 = g0 * tmp5 - g0 * tmp3;
+    let tmp15 = tmp9 * tmp12 - g0 * tmp7;
+    let tmp16 = 1.0 / tmp5;
+    let tmp17 = tmp5 + tmp4 * tmp16;
+    let tmp18 = 1.0 / tmp12;
+    let tmp19 = tmp12 + tmp11 * tmp18;
+    let tmp20 = -(g0);
+    let tmp21 = g0 * tmp3 * tmp16;
+    let tmp22 = tmp20 + tmp21;
+    let tmp23 = tmp9 * tmp7 * tmp18;
+    let tmp24 = tmp20 + tmp23;
+    let tmp25 = 3.0 * tmp0 * tmp12 + 3.0 * tmp0 * tmp11 * tmp18;
+    let tmp26 = 3.0 * tmp0 * tmp9 * tmp7 * tmp18 - 3.0 * tmp0 * g0;
+    let tmp27 = 2.0 * L * g0 + 2.0 * L * tmp9 * tmp7 * tmp18;
+    let tmp28 = 2.0 * L * tmp12 + 2.0 * L * tmp10 * tmp18;
+    let tmp29 = 2.0 * g0;
+    let tmp30 = tmp29 + tmp21;
+    let tmp31 = tmp8 + tmp29 + tmp23;
+    let tmp32 = -tmp3 + tmp5 + tmp2 * tmp16;
+    let tmp33 = -tmp7 + tmp12 + tmp10 * tmp18;
     (
         [
             L + a1 * L + a3 * tmp1,
             tmp0 * c2 + L * g0,
-            tmp3 * tmp4 + g0 * tmp6,
-            tmp6 * tmp4 - g0 * tmp3,
+            tmp6 * tmp13 + tmp14 * tmp15,
+            tmp6 * tmp15 - tmp13 * tmp14,
         ],
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                2.0 + 2.0 * a1 + tmp2,
-                3.0 * tmp0 * tmp4,
+                tmp13 * tmp17 + tmp6 * tmp19 + tmp15 * tmp22 + tmp14 * tmp24,
+                tmp6 * tmp25 + tmp14 * tmp26,
                 0.0,
-                2.0 * L * g0,
-                tmp5 + 2.0 * g0,
+                tmp6 * tmp27 + tmp14 * tmp28,
+                tmp13 * tmp30 + tmp6 * tmp31 + tmp15 * tmp32 + tmp14 * tmp33,
             ],
-            [tmp5, -(3.0 * tmp0 * g0), 0.0, 2.0 * L * tmp4, 1.0 + a1 - tmp3],
+            [
+                tmp15 * tmp17 + tmp6 * tmp24 - tmp14 * tmp19 - tmp13 * tmp22,
+                tmp6 * tmp26 - tmp14 * tmp25,
+                0.0,
+                tmp6 * tmp28 - tmp14 * tmp27,
+                tmp15 * tmp30 + tmp6 * tmp33 - tmp14 * tmp31 - tmp13 * tmp32,
+            ],
         ],
     )
 }
 /**Point kernel `frame`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` dx = `(1 + a1 + 3*a3*L^2)*(1 + a1) + g0*(2*L*c2 + g0)`
-- `[3]` dz = `(2*L*c2 + g0)*(1 + a1) - g0*(1 + a1 + 3*a3*L^2)`*/
+- `[2]` dx = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0)) + (g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2))`
+- `[3]` dz = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2)) - ((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0))*(g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))`*/
 ///
 ///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
 pub fn frame_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 4], [[f64; 15]; 4]) {
@@ -5099,59 +5267,142 @@ pub fn frame_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 4], [[f64; 15]; 4]
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
-    let tmp2 = 3.0 * a3 * tmp0;
-    let tmp3 = 1.0 + a1;
-    let tmp4 = 2.0 * L * c2;
-    let tmp5 = 2.0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = 2.0 * L * c2;
+    let tmp4 = tmp3 + g0;
+    let tmp5 = tmp4 * tmp4;
+    let tmp6 = tmp2 * tmp2;
+    let tmp7 = (tmp5 + tmp6).sqrt();
+    let tmp8 = tmp2 * tmp7 + g0 * tmp4;
+    let tmp9 = g0 * g0;
+    let tmp10 = 1.0 + a1;
+    let tmp11 = tmp10 * tmp10;
+    let tmp12 = (tmp9 + tmp11).sqrt();
+    let tmp13 = 1.0 / tmp12;
+    let tmp14 = tmp12 + tmp11 * tmp13;
+    let tmp15 = tmp9 + tmp10 * tmp12;
+    let tmp16 = 1.0 / tmp7;
+    let tmp17 = tmp7 + tmp6 * tmp16;
+    let tmp18 = tmp4 * tmp7 - g0 * tmp2;
+    let tmp19 = -(g0);
+    let tmp20 = g0 * tmp10 * tmp13;
+    let tmp21 = tmp19 + tmp20;
+    let tmp22 = g0 * tmp12 - g0 * tmp10;
+    let tmp23 = tmp4 * tmp2 * tmp16;
+    let tmp24 = tmp19 + tmp23;
+    let tmp25 = 3.0 * tmp0 * tmp7 + 3.0 * tmp0 * tmp6 * tmp16;
+    let tmp26 = 3.0 * tmp0 * tmp4 * tmp2 * tmp16 - 3.0 * tmp0 * g0;
+    let tmp27 = 2.0 * L * g0 + 2.0 * L * tmp4 * tmp2 * tmp16;
+    let tmp28 = 2.0 * L * tmp7 + 2.0 * L * tmp5 * tmp16;
+    let tmp29 = 2.0 * g0;
+    let tmp30 = tmp29 + tmp20;
+    let tmp31 = tmp3 + tmp29 + tmp23;
+    let tmp32 = -tmp10 + tmp12 + tmp9 * tmp13;
+    let tmp33 = -tmp2 + tmp7 + tmp5 * tmp16;
+    let tmp34 = tmp11 * tmp10;
+    let tmp35 = tmp13 * tmp13;
+    let tmp36 = tmp35 * tmp13;
+    let tmp37 = 3.0 * tmp10 * tmp13 - tmp34 * tmp36;
+    let tmp38 = tmp6 * tmp2;
+    let tmp39 = tmp16 * tmp16;
+    let tmp40 = tmp39 * tmp16;
+    let tmp41 = 3.0 * tmp2 * tmp16 - tmp38 * tmp40;
+    let tmp42 = g0 * tmp13 - g0 * tmp11 * tmp36;
+    let tmp43 = tmp18 * tmp42;
+    let tmp44 = tmp4 * tmp16 - tmp4 * tmp6 * tmp40;
+    let tmp45 = 9.0 * tmp0 * tmp2 * tmp16 - 3.0 * tmp0 * tmp38 * tmp40;
+    let tmp46 = 3.0 * tmp0 * tmp4 * tmp16 - 3.0 * tmp0 * tmp4 * tmp6 * tmp40;
+    let tmp47 = -2.0 * L * tmp4 * tmp6 * tmp40 + 2.0 * L * tmp4 * tmp16;
+    let tmp48 = 2.0 * L * tmp2 * tmp16;
+    let tmp49 = -(2.0 * L * tmp5 * tmp2 * tmp40);
+    let tmp50 = tmp48 + tmp49;
+    let tmp51 = tmp15 * tmp44;
+    let tmp52 = -1.0;
+    let tmp53 = tmp10 * tmp13;
+    let tmp54 = -(tmp9 * tmp10 * tmp36);
+    let tmp55 = tmp52 + tmp53 + tmp54;
+    let tmp56 = tmp2 * tmp16;
+    let tmp57 = -(tmp5 * tmp2 * tmp40);
+    let tmp58 = tmp52 + tmp56 + tmp57;
+    let tmp59 = tmp0 * tmp0;
+    let tmp60 = 27.0 * tmp59 * tmp2 * tmp16 - 9.0 * tmp59 * tmp38 * tmp40;
+    let tmp61 = 9.0 * tmp59 * tmp4 * tmp16 - 9.0 * tmp59 * tmp4 * tmp6 * tmp40;
+    let tmp62 = 6.0 * tmp1 * tmp4 * tmp16 - 6.0 * tmp1 * tmp4 * tmp6 * tmp40;
+    let tmp63 = 6.0 * tmp1 * tmp2 * tmp16 - 6.0 * tmp1 * tmp5 * tmp2 * tmp40;
+    let tmp64 = tmp15 * tmp46;
+    let tmp65 = -3.0 * tmp0 + 3.0 * tmp0 * tmp2 * tmp16
+        - 3.0 * tmp0 * tmp5 * tmp2 * tmp40;
+    let tmp66 = 4.0 * tmp0 * tmp2 * tmp16 - 4.0 * tmp0 * tmp5 * tmp2 * tmp40;
+    let tmp67 = tmp5 * tmp4;
+    let tmp68 = 12.0 * tmp0 * tmp4 * tmp16 - 4.0 * tmp0 * tmp67 * tmp40;
+    let tmp69 = 2.0 * L + tmp48 + tmp49;
+    let tmp70 = 6.0 * L * tmp4 * tmp16 - 2.0 * L * tmp67 * tmp40;
+    let tmp71 = 2.0 + tmp53 + tmp54;
+    let tmp72 = 2.0 + tmp56 + tmp57;
+    let tmp73 = tmp9 * g0;
+    let tmp74 = 3.0 * g0 * tmp13 - tmp73 * tmp36;
+    let tmp75 = 3.0 * tmp4 * tmp16 - tmp67 * tmp40;
     (
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                2.0 + 2.0 * a1 + tmp2,
-                3.0 * tmp0 * tmp3,
+                tmp8 * tmp14 + tmp15 * tmp17 + tmp18 * tmp21 + tmp22 * tmp24,
+                tmp15 * tmp25 + tmp22 * tmp26,
                 0.0,
-                2.0 * L * g0,
-                tmp4 + 2.0 * g0,
+                tmp15 * tmp27 + tmp22 * tmp28,
+                tmp8 * tmp30 + tmp15 * tmp31 + tmp18 * tmp32 + tmp22 * tmp33,
             ],
-            [tmp4, -(3.0 * tmp0 * g0), 0.0, 2.0 * L * tmp3, 1.0 + a1 - (1.0 + a1 + tmp2)],
+            [
+                tmp18 * tmp14 + tmp15 * tmp24 - tmp22 * tmp17 - tmp8 * tmp21,
+                tmp15 * tmp26 - tmp22 * tmp25,
+                0.0,
+                tmp15 * tmp28 - tmp22 * tmp27,
+                tmp18 * tmp30 + tmp15 * tmp33 - tmp22 * tmp31 - tmp8 * tmp32,
+            ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                2.0,
-                3.0 * tmp0,
+                2.0 * tmp14 * tmp17 + tmp8 * tmp37 + tmp15 * tmp41 + 2.0 * tmp21 * tmp24
+                    + tmp43 + tmp22 * tmp44,
+                tmp14 * tmp25 + tmp15 * tmp45 + tmp21 * tmp26 + tmp22 * tmp46,
+                0.0,
+                tmp14 * tmp27 + tmp15 * tmp47 + tmp21 * tmp28 + tmp22 * tmp50,
+                tmp14 * tmp31 + tmp8 * tmp42 + tmp17 * tmp30 + tmp51 + tmp21 * tmp33
+                    + tmp18 * tmp55 + tmp24 * tmp32 + tmp22 * tmp58,
+                tmp15 * tmp60 + tmp22 * tmp61,
+                0.0,
+                tmp15 * tmp62 + tmp22 * tmp63,
+                tmp25 * tmp30 + tmp64 + tmp26 * tmp32 + tmp22 * tmp65,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                tmp5,
-                2.0,
+                tmp15 * tmp66 + tmp22 * tmp68,
+                tmp27 * tmp30 + tmp15 * tmp69 + tmp28 * tmp32 + tmp22 * tmp70,
+                2.0 * tmp30 * tmp31 + tmp8 * tmp71 + tmp15 * tmp72 + 2.0 * tmp32 * tmp33
+                    + tmp18 * tmp74 + tmp22 * tmp75,
             ],
             [
+                -tmp8 * tmp42 + tmp51 + 2.0 * tmp14 * tmp24 + tmp18 * tmp37
+                    - 2.0 * tmp17 * tmp21 - tmp22 * tmp41,
+                tmp64 + tmp14 * tmp26 - tmp22 * tmp45 - tmp21 * tmp25,
+                0.0,
+                tmp14 * tmp28 + tmp15 * tmp50 - tmp22 * tmp47 - tmp21 * tmp27,
+                tmp43 - tmp22 * tmp44 + tmp14 * tmp33 + tmp24 * tmp30 + tmp15 * tmp58
+                    - tmp17 * tmp32 - tmp21 * tmp31 - tmp8 * tmp55,
+                tmp15 * tmp61 - tmp22 * tmp60,
+                0.0,
+                tmp15 * tmp63 - tmp22 * tmp62,
+                -tmp22 * tmp46 + tmp26 * tmp30 + tmp15 * tmp65 - tmp25 * tmp32,
                 0.0,
                 0.0,
                 0.0,
-                tmp5,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                -(3.0 * tmp0),
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
+                tmp15 * tmp68 - tmp22 * tmp66,
+                tmp28 * tmp30 + tmp15 * tmp70 - tmp27 * tmp32 - tmp22 * tmp69,
+                2.0 * tmp30 * tmp33 + tmp18 * tmp71 + tmp15 * tmp75 - 2.0 * tmp31 * tmp32
+                    - tmp22 * tmp72 - tmp8 * tmp74,
             ],
         ],
     )
@@ -5159,8 +5410,8 @@ pub fn frame_derivatives(k: &[f64; 5], L: f64) -> ([[f64; 5]; 4], [[f64; 15]; 4]
 /**Point kernel `frame`. Outputs:
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
-- `[2]` dx = `(1 + a1 + 3*a3*L^2)*(1 + a1) + g0*(2*L*c2 + g0)`
-- `[3]` dz = `(2*L*c2 + g0)*(1 + a1) - g0*(1 + a1 + 3*a3*L^2)`*/
+- `[2]` dx = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0)) + (g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2))`
+- `[3]` dz = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2)) - ((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0))*(g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))`*/
 ///
 ///Values, gradients and upper-triangle Hessians (row by row) of each output.
 pub fn frame_hessian(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4], [[f64; 15]; 4]) {
@@ -5170,67 +5421,148 @@ pub fn frame_hessian(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4], [[f64; 1
     let g0 = k[4];
     let tmp0 = L * L;
     let tmp1 = tmp0 * L;
-    let tmp2 = 3.0 * a3 * tmp0;
-    let tmp3 = 1.0 + a1 + tmp2;
-    let tmp4 = 1.0 + a1;
-    let tmp5 = 2.0 * L * c2;
-    let tmp6 = tmp5 + g0;
-    let tmp7 = 2.0 * L;
+    let tmp2 = g0 * g0;
+    let tmp3 = 1.0 + a1;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = (tmp2 + tmp4).sqrt();
+    let tmp6 = tmp2 + tmp3 * tmp5;
+    let tmp7 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp8 = 2.0 * L * c2;
+    let tmp9 = tmp8 + g0;
+    let tmp10 = tmp9 * tmp9;
+    let tmp11 = tmp7 * tmp7;
+    let tmp12 = (tmp10 + tmp11).sqrt();
+    let tmp13 = tmp7 * tmp12 + g0 * tmp9;
+    let tmp14 = g0 * tmp5 - g0 * tmp3;
+    let tmp15 = tmp9 * tmp12 - g0 * tmp7;
+    let tmp16 = 1.0 / tmp5;
+    let tmp17 = tmp5 + tmp4 * tmp16;
+    let tmp18 = 1.0 / tmp12;
+    let tmp19 = tmp12 + tmp11 * tmp18;
+    let tmp20 = -(g0);
+    let tmp21 = g0 * tmp3 * tmp16;
+    let tmp22 = tmp20 + tmp21;
+    let tmp23 = tmp9 * tmp7 * tmp18;
+    let tmp24 = tmp20 + tmp23;
+    let tmp25 = 3.0 * tmp0 * tmp12 + 3.0 * tmp0 * tmp11 * tmp18;
+    let tmp26 = 3.0 * tmp0 * tmp9 * tmp7 * tmp18 - 3.0 * tmp0 * g0;
+    let tmp27 = 2.0 * L * g0 + 2.0 * L * tmp9 * tmp7 * tmp18;
+    let tmp28 = 2.0 * L * tmp12 + 2.0 * L * tmp10 * tmp18;
+    let tmp29 = 2.0 * g0;
+    let tmp30 = tmp29 + tmp21;
+    let tmp31 = tmp8 + tmp29 + tmp23;
+    let tmp32 = -tmp3 + tmp5 + tmp2 * tmp16;
+    let tmp33 = -tmp7 + tmp12 + tmp10 * tmp18;
+    let tmp34 = tmp4 * tmp3;
+    let tmp35 = tmp16 * tmp16;
+    let tmp36 = tmp35 * tmp16;
+    let tmp37 = 3.0 * tmp3 * tmp16 - tmp34 * tmp36;
+    let tmp38 = tmp11 * tmp7;
+    let tmp39 = tmp18 * tmp18;
+    let tmp40 = tmp39 * tmp18;
+    let tmp41 = 3.0 * tmp7 * tmp18 - tmp38 * tmp40;
+    let tmp42 = g0 * tmp16 - g0 * tmp4 * tmp36;
+    let tmp43 = tmp15 * tmp42;
+    let tmp44 = tmp9 * tmp18 - tmp9 * tmp11 * tmp40;
+    let tmp45 = 9.0 * tmp0 * tmp7 * tmp18 - 3.0 * tmp0 * tmp38 * tmp40;
+    let tmp46 = 3.0 * tmp0 * tmp9 * tmp18 - 3.0 * tmp0 * tmp9 * tmp11 * tmp40;
+    let tmp47 = -2.0 * L * tmp9 * tmp11 * tmp40 + 2.0 * L * tmp9 * tmp18;
+    let tmp48 = 2.0 * L * tmp7 * tmp18;
+    let tmp49 = -(2.0 * L * tmp10 * tmp7 * tmp40);
+    let tmp50 = tmp48 + tmp49;
+    let tmp51 = tmp6 * tmp44;
+    let tmp52 = -1.0;
+    let tmp53 = tmp3 * tmp16;
+    let tmp54 = -(tmp2 * tmp3 * tmp36);
+    let tmp55 = tmp52 + tmp53 + tmp54;
+    let tmp56 = tmp7 * tmp18;
+    let tmp57 = -(tmp10 * tmp7 * tmp40);
+    let tmp58 = tmp52 + tmp56 + tmp57;
+    let tmp59 = tmp0 * tmp0;
+    let tmp60 = 27.0 * tmp59 * tmp7 * tmp18 - 9.0 * tmp59 * tmp38 * tmp40;
+    let tmp61 = 9.0 * tmp59 * tmp9 * tmp18 - 9.0 * tmp59 * tmp9 * tmp11 * tmp40;
+    let tmp62 = 6.0 * tmp1 * tmp9 * tmp18 - 6.0 * tmp1 * tmp9 * tmp11 * tmp40;
+    let tmp63 = 6.0 * tmp1 * tmp7 * tmp18 - 6.0 * tmp1 * tmp10 * tmp7 * tmp40;
+    let tmp64 = tmp6 * tmp46;
+    let tmp65 = -3.0 * tmp0 + 3.0 * tmp0 * tmp7 * tmp18
+        - 3.0 * tmp0 * tmp10 * tmp7 * tmp40;
+    let tmp66 = 4.0 * tmp0 * tmp7 * tmp18 - 4.0 * tmp0 * tmp10 * tmp7 * tmp40;
+    let tmp67 = tmp10 * tmp9;
+    let tmp68 = 12.0 * tmp0 * tmp9 * tmp18 - 4.0 * tmp0 * tmp67 * tmp40;
+    let tmp69 = 2.0 * L + tmp48 + tmp49;
+    let tmp70 = 6.0 * L * tmp9 * tmp18 - 2.0 * L * tmp67 * tmp40;
+    let tmp71 = 2.0 + tmp53 + tmp54;
+    let tmp72 = 2.0 + tmp56 + tmp57;
+    let tmp73 = tmp2 * g0;
+    let tmp74 = 3.0 * g0 * tmp16 - tmp73 * tmp36;
+    let tmp75 = 3.0 * tmp9 * tmp18 - tmp67 * tmp40;
     (
         [
             L + a1 * L + a3 * tmp1,
             tmp0 * c2 + L * g0,
-            tmp3 * tmp4 + g0 * tmp6,
-            tmp6 * tmp4 - g0 * tmp3,
+            tmp6 * tmp13 + tmp14 * tmp15,
+            tmp6 * tmp15 - tmp13 * tmp14,
         ],
         [
             [L, tmp1, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, tmp0, L],
             [
-                2.0 + 2.0 * a1 + tmp2,
-                3.0 * tmp0 * tmp4,
+                tmp13 * tmp17 + tmp6 * tmp19 + tmp15 * tmp22 + tmp14 * tmp24,
+                tmp6 * tmp25 + tmp14 * tmp26,
                 0.0,
-                2.0 * L * g0,
-                tmp5 + 2.0 * g0,
+                tmp6 * tmp27 + tmp14 * tmp28,
+                tmp13 * tmp30 + tmp6 * tmp31 + tmp15 * tmp32 + tmp14 * tmp33,
             ],
-            [tmp5, -(3.0 * tmp0 * g0), 0.0, 2.0 * L * tmp4, 1.0 + a1 - tmp3],
+            [
+                tmp15 * tmp17 + tmp6 * tmp24 - tmp14 * tmp19 - tmp13 * tmp22,
+                tmp6 * tmp26 - tmp14 * tmp25,
+                0.0,
+                tmp6 * tmp28 - tmp14 * tmp27,
+                tmp15 * tmp30 + tmp6 * tmp33 - tmp14 * tmp31 - tmp13 * tmp32,
+            ],
         ],
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [
-                2.0,
-                3.0 * tmp0,
+                2.0 * tmp17 * tmp19 + tmp13 * tmp37 + tmp6 * tmp41 + 2.0 * tmp22 * tmp24
+                    + tmp43 + tmp14 * tmp44,
+                tmp17 * tmp25 + tmp6 * tmp45 + tmp22 * tmp26 + tmp14 * tmp46,
+                0.0,
+                tmp17 * tmp27 + tmp6 * tmp47 + tmp22 * tmp28 + tmp14 * tmp50,
+                tmp17 * tmp31 + tmp13 * tmp42 + tmp19 * tmp30 + tmp51 + tmp22 * tmp33
+                    + tmp15 * tmp55 + tmp24 * tmp32 + tmp14 * tmp58,
+                tmp6 * tmp60 + tmp14 * tmp61,
+                0.0,
+                tmp6 * tmp62 + tmp14 * tmp63,
+                tmp25 * tmp30 + tmp64 + tmp26 * tmp32 + tmp14 * tmp65,
                 0.0,
                 0.0,
                 0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                tmp7,
-                2.0,
+                tmp6 * tmp66 + tmp14 * tmp68,
+                tmp27 * tmp30 + tmp6 * tmp69 + tmp28 * tmp32 + tmp14 * tmp70,
+                2.0 * tmp30 * tmp31 + tmp13 * tmp71 + tmp6 * tmp72 + 2.0 * tmp32 * tmp33
+                    + tmp15 * tmp74 + tmp14 * tmp75,
             ],
             [
+                -tmp13 * tmp42 + tmp51 + 2.0 * tmp17 * tmp24 + tmp15 * tmp37
+                    - 2.0 * tmp19 * tmp22 - tmp14 * tmp41,
+                tmp64 + tmp17 * tmp26 - tmp14 * tmp45 - tmp22 * tmp25,
+                0.0,
+                tmp17 * tmp28 + tmp6 * tmp50 - tmp14 * tmp47 - tmp22 * tmp27,
+                tmp43 - tmp14 * tmp44 + tmp17 * tmp33 + tmp24 * tmp30 + tmp6 * tmp58
+                    - tmp19 * tmp32 - tmp22 * tmp31 - tmp13 * tmp55,
+                tmp6 * tmp61 - tmp14 * tmp60,
+                0.0,
+                tmp6 * tmp63 - tmp14 * tmp62,
+                -tmp14 * tmp46 + tmp26 * tmp30 + tmp6 * tmp65 - tmp25 * tmp32,
                 0.0,
                 0.0,
                 0.0,
-                tmp7,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                -(3.0 * tmp0),
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
-                0.0,
+                tmp6 * tmp68 - tmp14 * tmp66,
+                tmp28 * tmp30 + tmp6 * tmp70 - tmp27 * tmp32 - tmp14 * tmp69,
+                2.0 * tmp30 * tmp33 + tmp15 * tmp71 + tmp6 * tmp75 - 2.0 * tmp31 * tmp32
+                    - tmp14 * tmp72 - tmp13 * tmp74,
             ],
         ],
     )
@@ -5370,8 +5702,62 @@ pub fn tangent_hessian(
     )
 }
 /**Point kernel `curvature`. Outputs:
-- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))*sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
+- `[0]` kappa = `sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)*(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))`*/
 pub fn curvature_value(k: &[f64; 5], x: f64) -> [f64; 1] {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = g0 + 2.0 * c2 * x;
+    let tmp1 = tmp0 * tmp0;
+    let tmp2 = x * x;
+    let tmp3 = 1.0 + a1 + 3.0 * a3 * tmp2;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = (tmp1 + tmp4).sqrt();
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp6 * tmp5;
+    [(2.0 * c2 * tmp3 - 6.0 * a3 * x * tmp0) / tmp7]
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)*(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))`*/
+///
+///Values and gradients of each output.
+pub fn curvature_gradient(k: &[f64; 5], x: f64) -> ([f64; 1], [[f64; 5]; 1]) {
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = g0 + 2.0 * c2 * x;
+    let tmp1 = tmp0 * tmp0;
+    let tmp2 = x * x;
+    let tmp3 = 1.0 + a1 + 3.0 * a3 * tmp2;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = (tmp1 + tmp4).sqrt();
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp7 * tmp6;
+    let tmp9 = 2.0 * c2 * tmp3 - 6.0 * a3 * x * tmp0;
+    let tmp10 = tmp7 * tmp7;
+    let tmp11 = tmp10 * tmp6;
+    (
+        [tmp8 * tmp9],
+        [
+            [
+                -3.0 * tmp3 * tmp11 * tmp9 + 2.0 * c2 * tmp8,
+                tmp8 * (6.0 * c2 * tmp2 - 6.0 * x * tmp0)
+                    - 9.0 * tmp2 * tmp3 * tmp11 * tmp9,
+                0.0,
+                tmp8 * (-12.0 * a3 * tmp2 + 2.0 * tmp3) - 6.0 * x * tmp0 * tmp11 * tmp9,
+                -3.0 * tmp0 * tmp11 * tmp9 - 6.0 * a3 * x * tmp8,
+            ],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)*(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))`*/
+///
+///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
+pub fn curvature_derivatives(k: &[f64; 5], x: f64) -> ([[f64; 5]; 1], [[f64; 15]; 1]) {
     let a1 = k[0];
     let a3 = k[1];
     let c2 = k[3];
@@ -5382,50 +5768,68 @@ pub fn curvature_value(k: &[f64; 5], x: f64) -> [f64; 1] {
     let tmp3 = tmp2 * tmp2;
     let tmp4 = tmp1 * tmp1;
     let tmp5 = (tmp3 + tmp4).sqrt();
-    let tmp6 = tmp5 * tmp5;
-    let tmp7 = tmp6 * tmp5;
-    [(2.0 * c2 * tmp1 - 6.0 * a3 * x * tmp2) / tmp7]
-}
-/**Point kernel `curvature`. Outputs:
-- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))*sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
-///
-///Values and gradients of each output.
-pub fn curvature_gradient(k: &[f64; 5], x: f64) -> ([f64; 1], [[f64; 5]; 1]) {
-    let a1 = k[0];
-    let a3 = k[1];
-    let c2 = k[3];
-    let g0 = k[4];
-    let tmp0 = x * x;
-    let tmp1 = 1.0 + a1 + 3.0 * a3 * tmp0;
-    let tmp2 = g0 + 2.0 * c2 * x;
-    let tmp3 = 2.0 * c2 * tmp1 - 6.0 * a3 * x * tmp2;
-    let tmp4 = tmp2 * tmp2;
-    let tmp5 = tmp1 * tmp1;
-    let tmp6 = (tmp4 + tmp5).sqrt();
-    let tmp7 = 1.0 / tmp6;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
     let tmp8 = tmp7 * tmp7;
-    let tmp9 = tmp8 * tmp7;
-    let tmp10 = tmp8 * tmp8;
-    let tmp11 = tmp10 * tmp7;
+    let tmp9 = tmp8 * tmp6;
+    let tmp10 = 2.0 * c2 * tmp1 - 6.0 * a3 * x * tmp2;
+    let tmp11 = tmp7 * tmp6;
+    let tmp12 = 6.0 * c2 * tmp0 - 6.0 * x * tmp2;
+    let tmp13 = -12.0 * a3 * tmp0 + 2.0 * tmp1;
+    let tmp14 = -(3.0 * tmp9 * tmp10);
+    let tmp15 = tmp11 * tmp11;
+    let tmp16 = tmp15 * tmp6;
+    let tmp17 = tmp0 * tmp0;
+    let tmp18 = tmp0 * x;
     (
-        [tmp3 * tmp9],
         [
             [
-                2.0 * c2 * tmp9 - 3.0 * tmp1 * tmp3 * tmp11,
-                tmp9 * (6.0 * c2 * tmp0 - 6.0 * x * tmp2)
-                    - 9.0 * tmp0 * tmp1 * tmp3 * tmp11,
+                -3.0 * tmp1 * tmp9 * tmp10 + 2.0 * c2 * tmp11,
+                tmp11 * tmp12 - 9.0 * tmp0 * tmp1 * tmp9 * tmp10,
                 0.0,
-                tmp9 * (-12.0 * a3 * tmp0 + 2.0 * tmp1) - 6.0 * x * tmp2 * tmp3 * tmp11,
-                -6.0 * a3 * x * tmp9 - 3.0 * tmp2 * tmp3 * tmp11,
+                tmp11 * tmp13 - 6.0 * x * tmp2 * tmp9 * tmp10,
+                -3.0 * tmp2 * tmp9 * tmp10 - 6.0 * a3 * x * tmp11,
+            ],
+        ],
+        [
+            [
+                tmp14 + 15.0 * tmp4 * tmp16 * tmp10 - 12.0 * c2 * tmp1 * tmp9,
+                -9.0 * tmp0 * tmp9 * tmp10 + 45.0 * tmp0 * tmp4 * tmp16 * tmp10
+                    - 3.0 * tmp1 * tmp9 * tmp12 - 18.0 * c2 * tmp0 * tmp1 * tmp9,
+                0.0,
+                2.0 * tmp11 + 30.0 * x * tmp2 * tmp1 * tmp16 * tmp10
+                    - 3.0 * tmp1 * tmp9 * tmp13 - 12.0 * c2 * x * tmp2 * tmp9,
+                15.0 * tmp2 * tmp1 * tmp16 * tmp10 + 18.0 * a3 * x * tmp1 * tmp9
+                    - 6.0 * c2 * tmp2 * tmp9,
+                -18.0 * tmp0 * tmp1 * tmp9 * tmp12 - 27.0 * tmp17 * tmp9 * tmp10
+                    + 135.0 * tmp17 * tmp4 * tmp16 * tmp10,
+                0.0,
+                -6.0 * x * tmp2 * tmp9 * tmp12 - 6.0 * tmp0 * tmp11
+                    + 90.0 * tmp18 * tmp2 * tmp1 * tmp16 * tmp10
+                    - 9.0 * tmp0 * tmp1 * tmp9 * tmp13,
+                -3.0 * tmp2 * tmp9 * tmp12 - 6.0 * x * tmp11
+                    + 45.0 * tmp0 * tmp2 * tmp1 * tmp16 * tmp10
+                    + 54.0 * a3 * tmp18 * tmp1 * tmp9,
+                0.0,
+                0.0,
+                0.0,
+                -12.0 * tmp0 * tmp9 * tmp10 - 12.0 * x * tmp2 * tmp9 * tmp13
+                    + 60.0 * tmp0 * tmp3 * tmp16 * tmp10,
+                -3.0 * tmp2 * tmp9 * tmp13 - 6.0 * x * tmp9 * tmp10
+                    + 30.0 * x * tmp3 * tmp16 * tmp10 + 36.0 * a3 * tmp0 * tmp2 * tmp9,
+                tmp14 + 15.0 * tmp3 * tmp16 * tmp10 + 36.0 * a3 * x * tmp2 * tmp9,
             ],
         ],
     )
 }
 /**Point kernel `curvature`. Outputs:
-- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))*sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
+- `[0]` kappa = `sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)*(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))`*/
 ///
-///Gradients and upper-triangle Hessians (row by row) of each output, without the values.
-pub fn curvature_derivatives(k: &[f64; 5], x: f64) -> ([[f64; 5]; 1], [[f64; 15]; 1]) {
+///Values, gradients and upper-triangle Hessians (row by row) of each output.
+pub fn curvature_hessian(
+    k: &[f64; 5],
+    x: f64,
+) -> ([f64; 1], [[f64; 5]; 1], [[f64; 15]; 1]) {
     let a1 = k[0];
     let a3 = k[1];
     let c2 = k[3];
@@ -5444,121 +5848,49 @@ pub fn curvature_derivatives(k: &[f64; 5], x: f64) -> ([[f64; 5]; 1], [[f64; 15]
     let tmp11 = tmp10 * tmp6;
     let tmp12 = 6.0 * c2 * tmp2 - 6.0 * x * tmp0;
     let tmp13 = -12.0 * a3 * tmp2 + 2.0 * tmp3;
-    let tmp14 = -(3.0 * tmp9 * tmp11);
+    let tmp14 = -(3.0 * tmp11 * tmp9);
     let tmp15 = tmp8 * tmp8;
     let tmp16 = tmp15 * tmp6;
     let tmp17 = tmp2 * tmp2;
     let tmp18 = tmp2 * x;
     (
+        [tmp8 * tmp9],
         [
             [
-                2.0 * c2 * tmp8 - 3.0 * tmp3 * tmp9 * tmp11,
-                tmp8 * tmp12 - 9.0 * tmp2 * tmp3 * tmp9 * tmp11,
+                -3.0 * tmp3 * tmp11 * tmp9 + 2.0 * c2 * tmp8,
+                tmp8 * tmp12 - 9.0 * tmp2 * tmp3 * tmp11 * tmp9,
                 0.0,
-                tmp8 * tmp13 - 6.0 * x * tmp0 * tmp9 * tmp11,
-                -6.0 * a3 * x * tmp8 - 3.0 * tmp0 * tmp9 * tmp11,
+                tmp8 * tmp13 - 6.0 * x * tmp0 * tmp11 * tmp9,
+                -3.0 * tmp0 * tmp11 * tmp9 - 6.0 * a3 * x * tmp8,
             ],
         ],
         [
             [
-                -12.0 * c2 * tmp3 * tmp11 + tmp14 + 15.0 * tmp4 * tmp9 * tmp16,
-                -18.0 * c2 * tmp2 * tmp3 * tmp11 - 9.0 * tmp2 * tmp9 * tmp11
-                    - 3.0 * tmp3 * tmp11 * tmp12 + 45.0 * tmp2 * tmp4 * tmp9 * tmp16,
+                tmp14 + 15.0 * tmp4 * tmp16 * tmp9 - 12.0 * c2 * tmp3 * tmp11,
+                -9.0 * tmp2 * tmp11 * tmp9 + 45.0 * tmp2 * tmp4 * tmp16 * tmp9
+                    - 3.0 * tmp3 * tmp11 * tmp12 - 18.0 * c2 * tmp2 * tmp3 * tmp11,
                 0.0,
-                2.0 * tmp8 - 12.0 * c2 * x * tmp0 * tmp11 - 3.0 * tmp3 * tmp11 * tmp13
-                    + 30.0 * x * tmp0 * tmp3 * tmp9 * tmp16,
-                -6.0 * c2 * tmp0 * tmp11 + 18.0 * a3 * x * tmp3 * tmp11
-                    + 15.0 * tmp0 * tmp3 * tmp9 * tmp16,
-                -18.0 * tmp2 * tmp3 * tmp11 * tmp12 - 27.0 * tmp17 * tmp9 * tmp11
-                    + 135.0 * tmp17 * tmp4 * tmp9 * tmp16,
+                2.0 * tmp8 + 30.0 * x * tmp0 * tmp3 * tmp16 * tmp9
+                    - 3.0 * tmp3 * tmp11 * tmp13 - 12.0 * c2 * x * tmp0 * tmp11,
+                15.0 * tmp0 * tmp3 * tmp16 * tmp9 + 18.0 * a3 * x * tmp3 * tmp11
+                    - 6.0 * c2 * tmp0 * tmp11,
+                -18.0 * tmp2 * tmp3 * tmp11 * tmp12 - 27.0 * tmp17 * tmp11 * tmp9
+                    + 135.0 * tmp17 * tmp4 * tmp16 * tmp9,
                 0.0,
                 -6.0 * x * tmp0 * tmp11 * tmp12 - 6.0 * tmp2 * tmp8
-                    - 9.0 * tmp2 * tmp3 * tmp11 * tmp13
-                    + 90.0 * tmp18 * tmp0 * tmp3 * tmp9 * tmp16,
+                    + 90.0 * tmp18 * tmp0 * tmp3 * tmp16 * tmp9
+                    - 9.0 * tmp2 * tmp3 * tmp11 * tmp13,
                 -3.0 * tmp0 * tmp11 * tmp12 - 6.0 * x * tmp8
-                    + 54.0 * a3 * tmp18 * tmp3 * tmp11
-                    + 45.0 * tmp2 * tmp0 * tmp3 * tmp9 * tmp16,
+                    + 45.0 * tmp2 * tmp0 * tmp3 * tmp16 * tmp9
+                    + 54.0 * a3 * tmp18 * tmp3 * tmp11,
                 0.0,
                 0.0,
                 0.0,
-                -12.0 * tmp2 * tmp9 * tmp11 - 12.0 * x * tmp0 * tmp11 * tmp13
-                    + 60.0 * tmp2 * tmp1 * tmp9 * tmp16,
-                -3.0 * tmp0 * tmp11 * tmp13 - 6.0 * x * tmp9 * tmp11
-                    + 36.0 * a3 * tmp2 * tmp0 * tmp11 + 30.0 * x * tmp1 * tmp9 * tmp16,
-                tmp14 + 36.0 * a3 * x * tmp0 * tmp11 + 15.0 * tmp1 * tmp9 * tmp16,
-            ],
-        ],
-    )
-}
-/**Point kernel `curvature`. Outputs:
-- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))*sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
-///
-///Values, gradients and upper-triangle Hessians (row by row) of each output.
-pub fn curvature_hessian(
-    k: &[f64; 5],
-    x: f64,
-) -> ([f64; 1], [[f64; 5]; 1], [[f64; 15]; 1]) {
-    let a1 = k[0];
-    let a3 = k[1];
-    let c2 = k[3];
-    let g0 = k[4];
-    let tmp0 = x * x;
-    let tmp1 = 1.0 + a1 + 3.0 * a3 * tmp0;
-    let tmp2 = g0 + 2.0 * c2 * x;
-    let tmp3 = 2.0 * c2 * tmp1 - 6.0 * a3 * x * tmp2;
-    let tmp4 = tmp2 * tmp2;
-    let tmp5 = tmp1 * tmp1;
-    let tmp6 = (tmp4 + tmp5).sqrt();
-    let tmp7 = 1.0 / tmp6;
-    let tmp8 = tmp7 * tmp7;
-    let tmp9 = tmp8 * tmp7;
-    let tmp10 = tmp8 * tmp8;
-    let tmp11 = tmp10 * tmp7;
-    let tmp12 = 6.0 * c2 * tmp0 - 6.0 * x * tmp2;
-    let tmp13 = -12.0 * a3 * tmp0 + 2.0 * tmp1;
-    let tmp14 = -(3.0 * tmp3 * tmp11);
-    let tmp15 = tmp9 * tmp9;
-    let tmp16 = tmp15 * tmp7;
-    let tmp17 = tmp0 * tmp0;
-    let tmp18 = tmp0 * x;
-    (
-        [tmp3 * tmp9],
-        [
-            [
-                2.0 * c2 * tmp9 - 3.0 * tmp1 * tmp3 * tmp11,
-                tmp9 * tmp12 - 9.0 * tmp0 * tmp1 * tmp3 * tmp11,
-                0.0,
-                tmp9 * tmp13 - 6.0 * x * tmp2 * tmp3 * tmp11,
-                -6.0 * a3 * x * tmp9 - 3.0 * tmp2 * tmp3 * tmp11,
-            ],
-        ],
-        [
-            [
-                -12.0 * c2 * tmp1 * tmp11 + tmp14 + 15.0 * tmp5 * tmp3 * tmp16,
-                -18.0 * c2 * tmp0 * tmp1 * tmp11 - 9.0 * tmp0 * tmp3 * tmp11
-                    - 3.0 * tmp1 * tmp11 * tmp12 + 45.0 * tmp0 * tmp5 * tmp3 * tmp16,
-                0.0,
-                2.0 * tmp9 - 12.0 * c2 * x * tmp2 * tmp11 - 3.0 * tmp1 * tmp11 * tmp13
-                    + 30.0 * x * tmp2 * tmp1 * tmp3 * tmp16,
-                -6.0 * c2 * tmp2 * tmp11 + 18.0 * a3 * x * tmp1 * tmp11
-                    + 15.0 * tmp2 * tmp1 * tmp3 * tmp16,
-                -18.0 * tmp0 * tmp1 * tmp11 * tmp12 - 27.0 * tmp17 * tmp3 * tmp11
-                    + 135.0 * tmp17 * tmp5 * tmp3 * tmp16,
-                0.0,
-                -6.0 * x * tmp2 * tmp11 * tmp12 - 6.0 * tmp0 * tmp9
-                    - 9.0 * tmp0 * tmp1 * tmp11 * tmp13
-                    + 90.0 * tmp18 * tmp2 * tmp1 * tmp3 * tmp16,
-                -3.0 * tmp2 * tmp11 * tmp12 - 6.0 * x * tmp9
-                    + 54.0 * a3 * tmp18 * tmp1 * tmp11
-                    + 45.0 * tmp0 * tmp2 * tmp1 * tmp3 * tmp16,
-                0.0,
-                0.0,
-                0.0,
-                -12.0 * tmp0 * tmp3 * tmp11 - 12.0 * x * tmp2 * tmp11 * tmp13
-                    + 60.0 * tmp0 * tmp4 * tmp3 * tmp16,
-                -3.0 * tmp2 * tmp11 * tmp13 - 6.0 * x * tmp3 * tmp11
-                    + 36.0 * a3 * tmp0 * tmp2 * tmp11 + 30.0 * x * tmp4 * tmp3 * tmp16,
-                tmp14 + 36.0 * a3 * x * tmp2 * tmp11 + 15.0 * tmp4 * tmp3 * tmp16,
+                -12.0 * tmp2 * tmp11 * tmp9 - 12.0 * x * tmp0 * tmp11 * tmp13
+                    + 60.0 * tmp2 * tmp1 * tmp16 * tmp9,
+                -3.0 * tmp0 * tmp11 * tmp13 - 6.0 * x * tmp11 * tmp9
+                    + 30.0 * x * tmp1 * tmp16 * tmp9 + 36.0 * a3 * tmp2 * tmp0 * tmp11,
+                tmp14 + 15.0 * tmp1 * tmp16 * tmp9 + 36.0 * a3 * x * tmp0 * tmp11,
             ],
         ],
     )

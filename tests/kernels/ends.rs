@@ -5,42 +5,57 @@ use super::*;
 // ---------------------------------------------------------------------------
 // 5. End kinematics.
 
-/// docs/model.md Eqs. 11, 13 with decision D2, from the fields:
-/// `[X(L), Z(L), atan2(Z'(L), X'(L)) - atan2(Z'(0), X'(0))]`, the turn of
-/// the mid-plane's tangent along the element (the CCM's tangent starts
-/// along the frame, Z'(0) = 0; the shear model's starts at the shear
-/// angle, and the frame is the section's), and the unnormalised end frame:
-/// the tangent at L turned back by the tangent at 0,
-/// `[X(L), Z(L), X'(0) X'(L) + Z'(0) Z'(L), X'(0) Z'(L) - Z'(0) X'(L)]`
-/// (`[X(L), Z(L), X'(L), Z'(L)]` when Z'(0) = 0 and X'(0) = 1).
+/// docs/model.md Eqs. 11, 13 with decision D2, from the fields: `[X(L),
+/// Z(L), s(L) - s(0)]`, the turn of the section, where a section's angle
+/// `s = atan2(Z', X') - atan2(g, |t|)` is its tangent's angle less the
+/// shear angle, `g = Z'(0)` the shear strain (the element's frame is its
+/// start section's; zero for the CCM, whose tangent starts along the
+/// frame) and `|t|` the tangent's length (docs/model.md section 4.8); and
+/// the unnormalised end frame, the section's direction at L,
+/// `n = (|t| X' + g Z', |t| Z' - g X')`, turned back by its direction at
+/// 0: `[X(L), Z(L), n(0) . n(L), n(0) x n(L)]` (`[X(L), Z(L), X'(L),
+/// Z'(L)]` for the CCM, whose kernel hands on the tangent itself).
 pub(super) fn end_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> ([f64; 3], [f64; 4]) {
     let [[x, dx, _], [z, dz, _]] = M::shape(k, l);
-    let [[_, dx0, _], [_, dz0, _]] = M::shape(k, 0.0);
-    let frame = if dz0 == 0.0 {
-        // the models whose tangent starts along the frame hand on the
-        // tangent itself (X'(0) = 1 + a1 need not be 1)
+    let [[_, dx0, _], [_, g, _]] = M::shape(k, 0.0);
+    let section = |dx: f64, dz: f64| dz.atan2(dx) - g.atan2(dx.hypot(dz));
+    let normal = |dx: f64, dz: f64| {
+        let t = dx.hypot(dz);
+        [t * dx + g * dz, t * dz - g * dx]
+    };
+    let frame = if g == 0.0 {
         [x, z, dx, dz]
     } else {
-        [x, z, dx0 * dx + dz0 * dz, dx0 * dz - dz0 * dx]
+        let ([n0x, n0z], [nx, nz]) = (normal(dx0, g), normal(dx, dz));
+        [x, z, n0x * nx + n0z * nz, n0x * nz - n0z * nx]
     };
-    ([x, z, dz.atan2(dx) - dz0.atan2(dx0)], frame)
+    ([x, z, section(dx, dz) - section(dx0, g)], frame)
 }
 
 /// Gradient of (Xe, Ze, eta) by the chain rule from the fields' gradients:
-/// d atan2(Z', X') = (X' dZ' - Z' dX') / (X'^2 + Z'^2).
+/// d atan2(Z', X') = (X' dZ' - Z' dX') / (X'^2 + Z'^2), and the shear
+/// angle's d atan2(g, |t|) = (|t| dg - g d|t|) / (|t|^2 + g^2).
 pub(super) fn end_gradient_closed_form<M: Fields>(k: &M::Coeffs, l: f64) -> [Vec<f64>; 3] {
     let n = len::<M>();
     let [[_, dx, _], [_, dz, _]] = M::shape(k, l);
     let [gx, gz, gdx, gdz] = M::shape_gradients(k, l);
-    let [[_, dx0, _], [_, dz0, _]] = M::shape(k, 0.0);
+    let [[_, dx0, _], [_, g, _]] = M::shape(k, 0.0);
     let [_, _, gdx0, gdz0] = M::shape_gradients(k, 0.0);
-    let r2 = dx * dx + dz * dz;
-    let r20 = dx0 * dx0 + dz0 * dz0;
+    // d s at one end, tangent (dx, dz) with gradients (gdx, gdz)
+    let d_section = |dx: f64, dz: f64, gdx: f64, gdz: f64, gg: f64| {
+        let r2 = dx * dx + dz * dz;
+        let t = r2.sqrt();
+        let gt = (dx * gdx + dz * gdz) / t;
+        (dx * gdz - dz * gdx) / r2 - (t * gg - g * gt) / (r2 + g * g)
+    };
     [
         (0..n).map(|i| gx[i]).collect(),
         (0..n).map(|i| gz[i]).collect(),
         (0..n)
-            .map(|i| (dx * gdz[i] - dz * gdx[i]) / r2 - (dx0 * gdz0[i] - dz0 * gdx0[i]) / r20)
+            .map(|i| {
+                d_section(dx, dz, gdx[i], gdz[i], gdz0[i])
+                    - d_section(dx0, g, gdx0[i], gdz0[i], gdz0[i])
+            })
             .collect(),
     ]
 }
@@ -170,12 +185,19 @@ pub(super) fn end_kinematics<M: Fields>() {
             &mut worst,
         );
 
-        // eta is the turn of the mid-plane's tangent from x = 0 to x = L
+        // eta is the turn of the section: the mid-plane's tangent less
+        // the shear angle (the tangent's component across the section,
+        // its value at x = 0 in the section's frame, over its length), at
+        // x = L and at x = 0, tangents by central differences of the
+        // mid-plane
         let hh = 1e-4 * l;
-        let (p, q) = (M::shape(&k, l + hh), M::shape(&k, l - hh));
-        let (p0, q0) = (M::shape(&k, hh), M::shape(&k, -hh));
-        let eta_fd = (p[1][0] - q[1][0]).atan2(p[0][0] - q[0][0])
-            - (p0[1][0] - q0[1][0]).atan2(p0[0][0] - q0[0][0]);
+        let tangent = |x: f64| {
+            let (p, q) = (M::shape(&k, x + hh), M::shape(&k, x - hh));
+            [p[0][0] - q[0][0], p[1][0] - q[1][0]].map(|d| d / (2.0 * hh))
+        };
+        let ([x1, z1], [x0, g]) = (tangent(l), tangent(0.0));
+        let section = |x: f64, z: f64| z.atan2(x) - g.atan2(x.hypot(z));
+        let eta_fd = section(x1, z1) - section(x0, g);
         let err = (M::end(&k, l)[2] - eta_fd).abs();
         assert!(
             err <= 1e-9,

@@ -40,18 +40,26 @@ fn the_quick_study_reproduces_the_front() {
         assert!(dist(a.limit, b.limit) <= a.uncertainty_mm + b.uncertainty_mm);
         assert_eq!(r.material.elements.first(), Some(&27), "{m}");
         assert_eq!(r.material.elements.last(), Some(&864), "{m}");
-        // X at second order; Z's orders fall below 2 as the first-order
-        // term takes over (docs/performance.md)
+        // X at second order; for the paper's end slope (D2) Z's orders
+        // fall below 2 as the first-order term takes over; the shear
+        // element's end angle, the section's, leaves Z a first-order term
+        // a fraction of that (docs/performance.md)
         assert_eq!(r.material.orders_x.len(), 4);
         for &o in &r.material.orders_x {
             assert!((1.9..=2.1).contains(&o), "{m}: X order {o}");
         }
         let z = &r.material.orders_z;
-        assert!(z.windows(2).all(|w| w[1] < w[0]), "{m}: Z orders {z:?}");
-        assert!(z[0] > 1.9 && z[3] < 1.7, "{m}: Z orders {z:?}");
-        // the fitted first-order term of Z at 864 elements, about 1e-5 mm
         let c1 = a.terms_mm[0];
-        assert!((5e-6..5e-5).contains(&-c1[1]), "{m}: c1 h {c1:?}");
+        if m == "shear" {
+            assert!(z.iter().all(|o| (1.9..=2.1).contains(o)), "{m}: Z {z:?}");
+            assert!(c1[1].abs() < 3e-6, "{m}: c1 h {c1:?}");
+        } else {
+            assert!(z.windows(2).all(|w| w[1] < w[0]), "{m}: Z orders {z:?}");
+            assert!(z[0] > 1.9 && z[3] < 1.7, "{m}: Z orders {z:?}");
+            // the fitted first-order term of Z at 864 elements, about
+            // 1e-5 mm
+            assert!((5e-6..5e-5).contains(&-c1[1]), "{m}: c1 h {c1:?}");
+        }
         assert_eq!(r.equal.partition, PartitionKind::Equal);
         assert!(!r.equal.orders.is_empty());
         // the library's six-level extrapolation and its estimate
@@ -68,8 +76,14 @@ fn the_quick_study_reproduces_the_front() {
         ccm.tip
     );
     for g in &s.gaps {
+        // quad: the end slope's gap; shear: the shear deflection
+        let range = if g.model.name() == "shear" {
+            4e-2..7e-2
+        } else {
+            4e-3..6e-3
+        };
         assert!(
-            (4e-3..6e-3).contains(&g.gap_mm),
+            range.contains(&g.gap_mm),
             "{} gap {:.3e} mm",
             g.model.name(),
             g.gap_mm
