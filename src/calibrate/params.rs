@@ -199,7 +199,17 @@ pub(crate) fn unknowns(
         let missing = |s: &str| {
             inconsistent(
                 "fit",
-                format!("specimen {s:?} has no parameter {key} (its materials lack it)"),
+                format!(
+                    "specimen {s:?} has no parameter {key} ({})",
+                    match p {
+                        Param::Actuator(
+                            ActuatorParam::ClRibWidth(_) | ActuatorParam::ClRibHeight(_),
+                        ) => "its constraining layer has no such rib",
+                        Param::Actuator(ActuatorParam::RibsW2) =>
+                            "its ribs are not the paper's layout",
+                        _ => "its materials lack it",
+                    }
+                ),
             )
         };
         if own {

@@ -271,3 +271,14 @@ fn exact_jacobians_take_at_least_five_times_fewer_solves_than_differences() {
     );
     eprintln!("chi2 {c_exact:.6}: exact {exact_solves} solves, central differences {fd_solves}");
 }
+
+#[test]
+fn a_rib_a_specimen_lacks_is_named_as_such() {
+    let m = small_manifest(4);
+    let opts = CalibrateOptions::new(&["cl_ribs.list[0].height"]);
+    let e = unknowns(&m, &opts).unwrap_err().to_string();
+    assert!(
+        e.contains("actuator.cl_ribs.list[0].height") && e.contains("no such rib"),
+        "{e}"
+    );
+}
