@@ -124,15 +124,45 @@ pub fn plain(msg: &str) {
     line("", msg);
 }
 
-/// A progress line that redraws itself: carriage return, then the text
-/// (bounded like any line), no newline; [`end_progress`] ends it.
+/// Seconds between two progress lines where stderr is not a terminal.
+const PLAIN_PROGRESS_EVERY_S: u64 = 5;
+
+/// When the last progress line was written where stderr is not a
+/// terminal, and whether one was drawn on a terminal since the last
+/// [`end_progress`].
+static PROGRESS: std::sync::Mutex<(Option<std::time::Instant>, bool)> =
+    std::sync::Mutex::new((None, false));
+
+/// Progress of a long run. On a terminal a line that redraws itself
+/// (carriage return, then the text, bounded like any line, no newline;
+/// [`end_progress`] ends it). Elsewhere (a log, a pipe) a whole line, the
+/// first at once and then at most one every [`PLAIN_PROGRESS_EVERY_S`]
+/// seconds, so a log is not flooded with redraws.
 pub fn progress(msg: &str) {
-    write_stderr(format!("\r{}", bounded("", msg)).as_bytes());
+    let mut state = PROGRESS.lock().unwrap_or_else(|e| e.into_inner());
+    if is_terminal() {
+        state.1 = true;
+        write_stderr(format!("\r{}", bounded("", msg)).as_bytes());
+        return;
+    }
+    let now = std::time::Instant::now();
+    let due = state
+        .0
+        .is_none_or(|t| now.duration_since(t).as_secs() >= PLAIN_PROGRESS_EVERY_S);
+    if due {
+        state.0 = Some(now);
+        line("", msg);
+    }
 }
 
-/// Ends a line of [`progress`].
+/// Ends a line of [`progress`] (on a terminal; elsewhere its lines are
+/// whole already).
 pub fn end_progress() {
-    write_stderr(b"\n");
+    let mut state = PROGRESS.lock().unwrap_or_else(|e| e.into_inner());
+    if std::mem::take(&mut state.1) {
+        write_stderr(b"\n");
+    }
+    state.0 = None;
 }
 
 /// Writes `prefix` and `msg` as one bounded line.

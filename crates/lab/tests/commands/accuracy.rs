@@ -144,3 +144,31 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
     assert!(!text(&out.stderr).contains("panicked"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Progress into a log (stderr not a terminal): whole lines, the first at
+/// once and then at most one every 5 s, no carriage-return redraws.
+#[test]
+fn accuracy_progress_in_a_log_is_a_few_whole_lines() {
+    let dir = scratch("progress");
+    let started = std::time::Instant::now();
+    let out = lab(&[
+        "accuracy",
+        "--quick",
+        "--budget-ms",
+        "0",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    let elapsed = started.elapsed().as_secs();
+    let stderr = text(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(!stderr.contains('\r'), "{stderr:?}");
+    let lines = stderr
+        .lines()
+        .filter(|l| l.starts_with("fpc-lab accuracy: ") && l.ends_with(" steps"))
+        .count();
+    assert!(
+        lines >= 1 && lines as u64 <= 1 + elapsed / 5,
+        "{lines} progress lines in {elapsed} s:\n{stderr}"
+    );
+}
