@@ -7,7 +7,7 @@ use serde::Serialize;
 use crate::actuator::Actuator;
 use crate::actuator::ActuatorParam;
 use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::{Gripper, GripperParams, Object, PalmSpec, SphereEnvelope};
+use crate::gripper::{EnvelopeSeed, Gripper, GripperParams, Object, PalmSpec, SphereEnvelope};
 use crate::partition::Partition;
 use crate::scene::{
     CalibrationSection, Elements, GraspKind as SceneGrasp, GraspSection, GripperSection, SceneFile,
@@ -237,7 +237,50 @@ fn samples(range: [f64; 2], n: usize) -> Vec<f64> {
 /// be built gets [`UNBUILDABLE_MARGIN`] for every requirement; a grasp
 /// that cannot be solved counts as not held.
 pub fn evaluate(req: &Requirements, x: [f64; 3]) -> Evaluation {
-    evaluate_inner(req, x, false).0
+    evaluate_inner(req, x, false, None).0
+}
+
+/// Where each sphere requirement's best grasping angle lay at its first
+/// radius in the last design evaluated along a search, by object index:
+/// the next trial's envelope starts from there
+/// ([`SphereEnvelope::seeded`]) instead of searching the angle afresh.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Seeds(Vec<Option<EnvelopeSeed>>);
+
+impl Seeds {
+    fn get(&self, object: usize) -> Option<EnvelopeSeed> {
+        self.0.get(object).copied().flatten()
+    }
+
+    /// Objects whose last optimum was followed from its seed, not
+    /// searched afresh.
+    #[cfg(test)]
+    pub(crate) fn followed(&self) -> usize {
+        self.0.iter().flatten().filter(|s| s.followed()).count()
+    }
+
+    fn set(&mut self, object: usize, seed: Option<EnvelopeSeed>) {
+        if self.0.len() <= object {
+            self.0.resize(object + 1, None);
+        }
+        self.0[object] = seed;
+    }
+}
+
+/// [`evaluate`] (with every margin's gradient if `gradients`), each
+/// sphere's envelope started from `seeds` and leaving its own there. The
+/// margins are those of the same ordinary grasps: a seed only predicts
+/// the angle, which is corrected and verified as any followed radius is
+/// (a fresh search where that fails); but the optimum so followed is the
+/// seed's local one, so a search reports its final design from a fresh
+/// [`evaluate`].
+pub(crate) fn evaluate_seeded(
+    req: &Requirements,
+    x: [f64; 3],
+    gradients: bool,
+    seeds: &mut Seeds,
+) -> (Evaluation, Vec<MarginGradient>) {
+    evaluate_inner(req, x, gradients, Some(seeds))
 }
 
 /// d margin / d (eps0, mounting angle in degrees, overlap in mm) of one
@@ -253,7 +296,7 @@ pub(crate) fn evaluate_with_gradients(
     req: &Requirements,
     x: [f64; 3],
 ) -> (Evaluation, Vec<MarginGradient>) {
-    evaluate_inner(req, x, true)
+    evaluate_inner(req, x, true, None)
 }
 
 /// The design variables as gripper parameters.
@@ -295,6 +338,7 @@ fn evaluate_inner(
     req: &Requirements,
     x: [f64; 3],
     gradients: bool,
+    mut seeds: Option<&mut Seeds>,
 ) -> (Evaluation, Vec<MarginGradient>) {
     let act = actuator(req, x[0]).ok();
     let mut c = Collect {
@@ -328,7 +372,14 @@ fn evaluate_inner(
                         radius_mm,
                         lift_n,
                         max_normal_n,
-                    } => sphere_margins(&g, i, *radius_mm, *lift_n, *max_normal_n, &mut c),
+                    } => {
+                        let seed = seeds.as_ref().and_then(|s| s.get(i));
+                        let left =
+                            sphere_margins(&g, i, *radius_mm, *lift_n, *max_normal_n, seed, &mut c);
+                        if let Some(s) = seeds.as_deref_mut() {
+                            s.set(i, left);
+                        }
+                    }
                 }
             }
             if let Some(open) = &req.open {
@@ -459,17 +510,22 @@ fn cuboid_margins(
     }
 }
 
+/// The sphere requirement's margins; its first radius predicted from
+/// `seed` if given. Returns the seed it leaves: its optimum at the first
+/// radius.
 fn sphere_margins(
     g: &Gripper,
     i: usize,
     radius: [f64; 2],
     lift: f64,
     max_normal: Option<f64>,
+    seed: Option<EnvelopeSeed>,
     out: &mut Collect<'_>,
-) {
+) -> Option<EnvelopeSeed> {
     // the radii after the first continued from those before
-    let mut follower = SphereEnvelope::new(g, 0.0, SPHERE_ANGLE_SAMPLES);
-    for r in samples(radius, SPHERE_SAMPLES) {
+    let mut follower = SphereEnvelope::new(g, 0.0, SPHERE_ANGLE_SAMPLES).seeded(seed);
+    let radii = samples(radius, SPHERE_SAMPLES);
+    for &r in &radii {
         let name = |what: &str| format!("object[{i}] sphere r = {r:.1} mm: {what}");
         match follower.at(r) {
             Ok(Some(best)) => {
@@ -543,6 +599,7 @@ fn sphere_margins(
             ),
         }
     }
+    radii.first().and_then(|&r| follower.seed_at(r))
 }
 
 /// The margin of a normal force `normal` against its limit `fmax` (N), at

@@ -29,7 +29,9 @@ use serde::Serialize;
 use crate::error::{positive, require, InputError};
 use crate::field::Field;
 
-use super::evaluate::{evaluate, evaluate_with_gradients, Evaluation, MarginGradient};
+use super::evaluate::{
+    evaluate, evaluate_seeded, evaluate_with_gradients, Evaluation, MarginGradient, Seeds,
+};
 use super::reproduce::{reproduce, Reproduction};
 use super::requirements::Requirements;
 
@@ -201,20 +203,39 @@ fn smooth_min(e: &Evaluation, k: f64) -> f64 {
 struct Counter<'a> {
     req: &'a Requirements,
     evaluations: usize,
+    /// The spheres' optima of the last evaluation along the current
+    /// ascent, where the next trial's start
+    /// ([`super::evaluate::evaluate_seeded`]).
+    seeds: Seeds,
 }
 
-impl Counter<'_> {
+impl<'a> Counter<'a> {
+    fn new(req: &'a Requirements) -> Counter<'a> {
+        Counter {
+            req,
+            evaluations: 0,
+            seeds: Seeds::default(),
+        }
+    }
+
+    /// The evaluation at `u`, searched afresh.
     fn eval(&mut self, u: &[f64]) -> Evaluation {
         self.evaluations += 1;
         evaluate(self.req, design_of(self.req, u))
     }
-}
 
-impl Counter<'_> {
-    /// The evaluation at `u` with every margin's exact gradient.
+    /// The evaluation at `u` along an ascent: each sphere's envelope
+    /// started from the last evaluation's optimum.
+    fn eval_near(&mut self, u: &[f64]) -> Evaluation {
+        self.evaluations += 1;
+        evaluate_seeded(self.req, design_of(self.req, u), false, &mut self.seeds).0
+    }
+
+    /// The evaluation at `u` along an ascent with every margin's exact
+    /// gradient.
     fn eval_with_gradients(&mut self, u: &[f64]) -> (Evaluation, Vec<MarginGradient>) {
         self.evaluations += 1;
-        evaluate_with_gradients(self.req, design_of(self.req, u))
+        evaluate_seeded(self.req, design_of(self.req, u), true, &mut self.seeds)
     }
 }
 
@@ -256,7 +277,10 @@ fn gradient(
                     let (mut a, mut b) = (u.to_vec(), u.to_vec());
                     a[j] = (u[j] + h).min(1.0);
                     b[j] = (u[j] - h).max(0.0);
-                    let (fa, fb) = (smooth_min(&c.eval(&a), k), smooth_min(&c.eval(&b), k));
+                    let (fa, fb) = (
+                        smooth_min(&c.eval_near(&a), k),
+                        smooth_min(&c.eval_near(&b), k),
+                    );
                     (fa - fb) / (a[j] - b[j])
                 }
             }
@@ -269,6 +293,9 @@ fn gradient(
 /// gradient along.
 fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, Evaluation) {
     let k = opts.sharpness;
+    // the ascent's first point searched afresh, its trials started from
+    // the points before them
+    c.seeds = Seeds::default();
     let mut u = u0.to_vec();
     let (mut e, mut grads) = c.eval_with_gradients(&u);
     let mut f = smooth_min(&e, k);
@@ -337,10 +364,7 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, In
     opts.validate()?;
     let act = active(req);
     let dim = act.len();
-    let mut c = Counter {
-        req,
-        evaluations: 0,
-    };
+    let mut c = Counter::new(req);
     let mut best: Option<(Vec<f64>, Evaluation)> = None;
     let list = starts(dim, opts);
     // screen every start by one evaluation; ascend from the best few
@@ -356,11 +380,12 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, In
         }
     }
     let (u, e) = best.unwrap_or_else(|| (Vec::new(), c.eval(&[])));
-    // sensitivities of every margin at the best design: exact where the
-    // gripper-output sensitivities cover them, central differences for
-    // the rest
+    // the best design evaluated again, searched afresh (the ascents'
+    // trials followed their spheres' optima from the trial before), with
+    // the sensitivities of every margin: exact where the gripper-output
+    // sensitivities cover them, central differences for the rest
     c.evaluations += 1;
-    let (_, exact) = evaluate_with_gradients(req, e.design);
+    let (e, exact) = evaluate_with_gradients(req, e.design);
     let mut sens: Vec<MarginSensitivity> = e
         .margins
         .iter()
@@ -444,10 +469,7 @@ pub fn grid_search(req: &Requirements, per_axis: usize) -> Result<GridResult, In
             ),
         });
     };
-    let mut c = Counter {
-        req,
-        evaluations: 0,
-    };
+    let mut c = Counter::new(req);
     let mut best: Option<Evaluation> = None;
     for idx in 0..total {
         let mut r = idx;
@@ -484,8 +506,59 @@ impl Designed {
 
 #[cfg(test)]
 mod tests {
-    use super::super::evaluate::{evaluate, evaluate_with_gradients};
+    use super::super::evaluate::{evaluate, evaluate_seeded, evaluate_with_gradients, Seeds};
     use super::super::Requirements;
+
+    /// Along a line of nearby designs, as an ascent's trials go, each
+    /// sphere envelope started from the last design's optimum
+    /// (`evaluate_seeded`) gives the margins of a fresh search at every
+    /// design, to the fresh search's tolerance: it locates a boundary
+    /// optimum to 1e-9 rad, the followed one to 1e-11 (a few 1e-9 of the
+    /// lift apart).
+    #[test]
+    fn seeded_evaluations_give_the_fresh_margins() {
+        let req = Requirements::parse(
+            r#"
+elements = 6
+fingers = 3
+mu = 0.6
+[[object]]
+kind = "sphere"
+radius_mm = [35.0, 45.0]
+lift_n = 0.35
+max_normal_n = 0.9
+[vary]
+eps0 = [0.1, 0.5]
+mounting_angle_deg = [60.0, 90.0]
+overlap_mm = [0.0, 30.0]
+"#,
+        )
+        .unwrap();
+        let mut seeds = Seeds::default();
+        let mut compared = 0;
+        for k in 0..5 {
+            let t = f64::from(k);
+            let x = [0.124 + 0.004 * t, 65.3 + 0.3 * t, 0.5 + 0.5 * t];
+            let (seeded, _) = evaluate_seeded(&req, x, false, &mut seeds);
+            // the first design searched afresh, each later one followed
+            assert_eq!(seeds.followed(), usize::from(k > 0), "design {x:?}");
+            let fresh = evaluate(&req, x);
+            assert_eq!(seeded.margins.len(), fresh.margins.len());
+            for (a, b) in seeded.margins.iter().zip(&fresh.margins) {
+                assert_eq!(a.requirement, b.requirement);
+                let err = (a.margin - b.margin).abs();
+                assert!(
+                    err <= 1e-8 * b.margin.abs().max(1.0),
+                    "design {x:?}, {}: seeded {} vs fresh {}",
+                    a.requirement,
+                    a.margin,
+                    b.margin
+                );
+                compared += 1;
+            }
+        }
+        assert!(compared >= 20, "{compared}");
+    }
 
     /// The exact margin gradients the optimiser ascends against central
     /// differences of `evaluate` (full re-solves through the gripper path;

@@ -112,6 +112,28 @@ pub struct SphereEnvelope<'g> {
     samples: usize,
     known: Vec<Known>,
     counts: EnvelopeCounts,
+    /// Where another gripper's optimum lay, the prediction for the first
+    /// radius ([`SphereEnvelope::seeded`]).
+    seed: Option<EnvelopeSeed>,
+}
+
+impl EnvelopeSeed {
+    /// The optimum was continued (from radii or a seed before it), not
+    /// searched afresh.
+    #[cfg(test)]
+    pub(crate) fn followed(&self) -> bool {
+        self.regime.is_some()
+    }
+}
+
+/// A followed optimum of one gripper at one radius, to start another
+/// gripper's envelope from ([`SphereEnvelope::seeded`]): a design's next
+/// trial differs a little from the last, and so does its best angle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct EnvelopeSeed {
+    radius: f64,
+    beta: f64,
+    regime: Option<Regime>,
 }
 
 impl<'g> SphereEnvelope<'g> {
@@ -124,7 +146,31 @@ impl<'g> SphereEnvelope<'g> {
             samples,
             known: Vec::new(),
             counts: EnvelopeCounts::default(),
+            seed: None,
         }
+    }
+
+    /// The follower, its first radius predicted from `seed` (another
+    /// gripper's optimum at that radius) and corrected as any other radius
+    /// is, with the full verdict; searched afresh only where the
+    /// correction fails. A seed at another radius is ignored.
+    pub(crate) fn seeded(mut self, seed: Option<EnvelopeSeed>) -> Self {
+        self.seed = seed;
+        self
+    }
+
+    /// The optimum answered at radius `r`, as a seed for another gripper.
+    /// (A seed of an optimum that was followed, not searched, knows its
+    /// regime: [`EnvelopeSeed::followed`].)
+    pub(crate) fn seed_at(&self, r: f64) -> Option<EnvelopeSeed> {
+        self.known
+            .iter()
+            .find(|k| k.radius == r)
+            .map(|k| EnvelopeSeed {
+                radius: k.radius,
+                beta: k.beta,
+                regime: k.regime,
+            })
     }
 
     /// How the radii so far were answered.
@@ -154,8 +200,13 @@ impl<'g> SphereEnvelope<'g> {
     }
 
     /// The prediction of `b*(r)` from the (up to three) nearest solved
-    /// radii, the index of the nearest, and the first step to take.
-    fn predict(&self, r: f64) -> Option<(f64, usize, f64)> {
+    /// radii (or, before any, from the seed at `r`), the regime of the
+    /// nearest, and the first step to take.
+    fn predict(&self, r: f64) -> Option<(f64, Option<Regime>, f64)> {
+        if self.known.is_empty() {
+            let seed = self.seed.filter(|s| s.radius == r)?;
+            return Some((seed.beta, seed.regime, DEFAULT_STEP));
+        }
         let mut near: Vec<usize> = (0..self.known.len()).collect();
         near.sort_by(|&i, &j| {
             let (di, dj) = (self.known[i].radius - r, self.known[j].radius - r);
@@ -191,16 +242,16 @@ impl<'g> SphereEnvelope<'g> {
             .correction
             .map_or(DEFAULT_STEP, |c| 4.0 * c)
             .clamp(MIN_STEP, MAX_STEP);
-        beta.is_finite().then_some((beta, nearest, step))
+        beta.is_finite()
+            .then_some((beta, self.known[nearest].regime, step))
     }
 
     fn follow(&mut self, r: f64) -> Option<SphereLift> {
-        let (beta, nearest, step) = self.predict(r)?;
+        let (beta, regime, step) = self.predict(r)?;
         let [lo, hi] = grasping_angle_range(self.gripper.mu());
         if !(beta > lo && beta < hi) {
             return None;
         }
-        let regime = self.known[nearest].regime;
         let mut c = Corrector {
             gripper: self.gripper,
             pressure_kpa: self.pressure_kpa,

@@ -39,6 +39,7 @@ pub use setup::{
     Grasp, Gripper, GripperParams, PalmSpec, CONTACT_TOL_MM, GRIPPER_SAMPLES_PER_ELEMENT,
 };
 
+pub(crate) use envelope::EnvelopeSeed;
 pub use envelope::{EnvelopeCounts, SphereEnvelope};
 pub use frames::{
     contact_force_to_finger, contact_force_to_gripper, design_space,
