@@ -117,15 +117,6 @@ pub struct SphereEnvelope<'g> {
     seed: Option<EnvelopeSeed>,
 }
 
-impl EnvelopeSeed {
-    /// The optimum was continued (from radii or a seed before it), not
-    /// searched afresh.
-    #[cfg(test)]
-    pub(crate) fn followed(&self) -> bool {
-        self.regime.is_some()
-    }
-}
-
 /// A followed optimum of one gripper at one radius, to start another
 /// gripper's envelope from ([`SphereEnvelope::seeded`]): a design's next
 /// trial differs a little from the last, and so does its best angle.
@@ -134,6 +125,15 @@ pub(crate) struct EnvelopeSeed {
     radius: f64,
     beta: f64,
     regime: Option<Regime>,
+}
+
+impl EnvelopeSeed {
+    /// The optimum was continued (from radii or a seed before it), not
+    /// searched afresh.
+    #[cfg(test)]
+    pub(crate) fn followed(&self) -> bool {
+        self.regime.is_some()
+    }
 }
 
 impl<'g> SphereEnvelope<'g> {
@@ -159,9 +159,8 @@ impl<'g> SphereEnvelope<'g> {
         self
     }
 
-    /// The optimum answered at radius `r`, as a seed for another gripper.
-    /// (A seed of an optimum that was followed, not searched, knows its
-    /// regime: [`EnvelopeSeed::followed`].)
+    /// The optimum answered at radius `r`, as a seed for another gripper
+    /// (with its regime where it was followed, not searched).
     pub(crate) fn seed_at(&self, r: f64) -> Option<EnvelopeSeed> {
         self.known
             .iter()
