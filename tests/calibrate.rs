@@ -7,13 +7,16 @@
 //! standard errors cover the truth at their nominal rate; bad options are
 //! errors naming the field.
 
+#[path = "common/measured.rs"]
+mod measured;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use fpc::calibrate::{calibrate, CalibrateOptions, Verdict, MAX_FIT_NAMES};
 use fpc::circle_fit::fit_circle;
 use fpc::measure::{Manifest, TestData};
-use fpc::studies::{tip_force_for_displacement, Axis};
+use fpc::studies::Axis;
 use fpc::{Actuator, Finger, Load, SolveOptions};
 
 fn dir(tag: &str) -> PathBuf {
@@ -75,22 +78,7 @@ fn write_set_ribs(
         )
         .unwrap();
         if !s.markers.is_empty() {
-            let mut csv = String::from("pressure_kpa,marker,s_mm,x_mm,z_mm,sd_mm\n");
-            for &p in s.marker_kpa {
-                let sol = f
-                    .solve(
-                        &Load::unloaded().with_pressure_kpa(p),
-                        &SolveOptions::default(),
-                    )
-                    .unwrap();
-                // markers on shape samples: 8 per element of 13.75 mm
-                let pts = f.shape(&sol.coefficients, 8).unwrap();
-                for (k, &s_mm) in s.markers.iter().enumerate() {
-                    let i = (s_mm / (110.0 / 64.0)).round() as usize;
-                    let q = pts[i];
-                    writeln!(csv, "{p},M{k},{s_mm},{},{},0.3", q[0], q[1]).unwrap();
-                }
-            }
+            let csv = measured::markers_csv(&f, s.marker_kpa, s.markers, 0.3, &mut |_| 0.0);
             let file = format!("{}_markers.csv", s.name);
             std::fs::write(d.join(&file), csv).unwrap();
             write!(
@@ -120,18 +108,9 @@ fn write_set_ribs(
             .unwrap();
         }
         if !s.force_kpa.is_empty() {
-            let mut csv = String::from("pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n");
-            let axis = if s.axis == Axis::X { "X" } else { "Z" };
-            for &p in s.force_kpa {
-                let r = tip_force_for_displacement(&f, p, s.axis, 10.0).unwrap();
-                writeln!(
-                    csv,
-                    "{p},{axis},10,{},{},5",
-                    r.force,
-                    0.05 * r.force.abs() + 0.005
-                )
-                .unwrap();
-            }
+            let rows: Vec<(f64, Axis)> = s.force_kpa.iter().map(|&p| (p, s.axis)).collect();
+            let sd = |force: f64| 0.05 * force.abs() + 0.005;
+            let csv = measured::force_csv(&f, &rows, sd, 5, &mut |_| 0.0);
             let file = format!("{}_force.csv", s.name);
             std::fs::write(d.join(&file), csv).unwrap();
             write!(

@@ -12,13 +12,15 @@
 //! - noise-free, precise data of a finger in plane strain across the
 //!   width: the model choice ranks plane strain first by held-out error.
 
-use std::fmt::Write as _;
+#[path = "common/measured.rs"]
+mod measured;
+
 use std::path::{Path, PathBuf};
 
 use fpc::calibrate::{calibrate, choose_model, CalibrateOptions};
 use fpc::measure::Manifest;
-use fpc::studies::{tip_force_for_displacement, Axis};
-use fpc::{Actuator, ActuatorParams, Finger, Load, ModelId, Partition, SolveOptions};
+use fpc::studies::Axis;
+use fpc::{Actuator, ActuatorParams, Finger, ModelId, Partition};
 
 fn dir(tag: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("fpc-calibrate-shear-{}-{tag}", std::process::id()));
@@ -69,34 +71,19 @@ fn write_manifest(
         "{shared}\n[[specimen]]\nname = \"a\"\n[specimen.own.actuator.pemc]\neps0 = {eps0_start}\n"
     );
     if !data.markers.is_empty() {
-        let mut csv = String::from("pressure_kpa,marker,s_mm,x_mm,z_mm,sd_mm\n");
-        for &p in data.marker_kpa {
-            let sol = f
-                .solve(
-                    &Load::unloaded().with_pressure_kpa(p),
-                    &SolveOptions::default(),
-                )
-                .unwrap();
-            // markers on shape samples: 8 per element of 13.75 mm
-            let pts = f.shape(&sol.coefficients, 8).unwrap();
-            for (k, &s_mm) in data.markers.iter().enumerate() {
-                let q = pts[(s_mm / (110.0 / 64.0)).round() as usize];
-                let sd = data.marker_sd_mm;
-                let (x, z) = (q[0] + noise(sd), q[1] + noise(sd));
-                writeln!(csv, "{p},M{k},{s_mm},{x},{z},{sd}").unwrap();
-            }
-        }
+        let csv = measured::markers_csv(
+            f,
+            data.marker_kpa,
+            data.markers,
+            data.marker_sd_mm,
+            &mut noise,
+        );
         std::fs::write(d.join("markers.csv"), csv).unwrap();
         m.push_str("[[specimen.test]]\nkind = \"markers\"\nfile = \"markers.csv\"\n");
     }
     if !data.force.is_empty() {
-        let mut csv = String::from("pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n");
-        for &(p, axis) in data.force {
-            let r = tip_force_for_displacement(f, p, axis, 10.0).unwrap();
-            let sd = data.force_sd * r.force.abs();
-            let name = if axis == Axis::X { "X" } else { "Z" };
-            writeln!(csv, "{p},{name},10,{},{sd},1", r.force + noise(sd)).unwrap();
-        }
+        let sd = |force: f64| data.force_sd * force.abs();
+        let csv = measured::force_csv(f, data.force, sd, 1, &mut noise);
         std::fs::write(d.join("force.csv"), csv).unwrap();
         m.push_str("[[specimen.test]]\nkind = \"force\"\nfile = \"force.csv\"\n");
     }
