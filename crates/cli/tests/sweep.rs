@@ -3,7 +3,7 @@
 //! nothing but the path, rejected points kept as rows, and bad flags.
 
 mod common;
-use common::{fpc, TempDir};
+use common::{fpc, solve_into, TempDir};
 use std::path::Path;
 use std::process::Output;
 
@@ -129,12 +129,7 @@ fn a_list_entry_is_varied_like_any_key() {
         let by_hand = tmp.0.join(format!("width-{}.toml", &r[0]));
         std::fs::write(&by_hand, ribbed(&r[0])).unwrap();
         let solved = tmp.0.join(format!("solved-{}", &r[0]));
-        let single = fpc(&[
-            "solve",
-            &by_hand.display().to_string(),
-            "--out",
-            &solved.display().to_string(),
-        ]);
+        let single = solve_into(&by_hand, &solved);
         assert!(single.status.success());
         let v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(solved.join("solution.json")).unwrap())
@@ -171,12 +166,7 @@ fn an_invalid_grasp_row_says_why_as_fpc_solve_does() {
     for r in &rows(&out) {
         let by_hand = tmp.file(&format!("r{}.toml", &r[0]), grasp(&r[0]).as_bytes());
         let solved = tmp.0.join(format!("solved-{}", &r[0]));
-        let single = fpc(&[
-            "solve",
-            &by_hand.display().to_string(),
-            "--out",
-            &solved.display().to_string(),
-        ]);
+        let single = solve_into(&by_hand, &solved);
         assert!(single.status.success());
         let text = String::from_utf8_lossy(&single.stdout).into_owned();
         let line = text

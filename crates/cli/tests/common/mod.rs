@@ -51,6 +51,16 @@ pub fn fpc(args: &[&str]) -> Output {
         .unwrap()
 }
 
+/// `fpc solve SCENE --out OUT`.
+pub fn solve_into(scene: &Path, out: &Path) -> Output {
+    fpc(&[
+        "solve",
+        &scene.display().to_string(),
+        "--out",
+        &out.display().to_string(),
+    ])
+}
+
 pub fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
