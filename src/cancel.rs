@@ -9,7 +9,8 @@
 //! Python module sets the flag on Ctrl-C.
 //!
 //! The flag is per thread: work that the computation hands to other threads
-//! does not see it.
+//! does not see it, except through [`par_map`], which runs independent
+//! pieces of a computation on rayon's threads under the caller's flag.
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -37,6 +38,21 @@ pub fn with_flag<T>(flag: Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
     let previous = FLAG.with(|cell| cell.borrow_mut().replace(flag));
     let _restore = Restore(previous);
     f()
+}
+
+/// `f` of every item, in order, on rayon's thread pool, each call under
+/// this thread's flag (if any): a cancelled computation stops its pieces
+/// on every thread. The results are those of a sequential map.
+pub(crate) fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
+    use rayon::prelude::*;
+    let flag = FLAG.with(|cell| cell.borrow().clone());
+    items
+        .par_iter()
+        .map(|item| match &flag {
+            Some(flag) => with_flag(flag.clone(), || f(item)),
+            None => f(item),
+        })
+        .collect()
 }
 
 /// True when this thread runs under a flag that has been set.
@@ -83,5 +99,20 @@ mod tests {
             assert!(is_cancelled());
         });
         assert!(!is_cancelled());
+    }
+
+    #[test]
+    fn par_map_keeps_the_order_and_hands_the_flag_on() {
+        let items: Vec<usize> = (0..64).collect();
+        assert_eq!(
+            par_map(&items, |i| i * i),
+            items.iter().map(|i| i * i).collect::<Vec<_>>()
+        );
+        assert!(par_map(&items, |_| is_cancelled()).iter().all(|c| !c));
+        let flag = Arc::new(AtomicBool::new(true));
+        let seen = with_flag(flag, || par_map(&items, |_| is_cancelled()));
+        assert!(seen.iter().all(|c| *c));
+        // the pool's threads keep no flag afterwards
+        assert!(par_map(&items, |_| is_cancelled()).iter().all(|c| !c));
     }
 }

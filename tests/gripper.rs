@@ -732,8 +732,8 @@ fn dense_best_angle(g: &Gripper, r: f64, m: usize) -> (f64, f64) {
 /// The envelope followed along the radius (each radius continued from the
 /// ones before, not searched afresh) finds, radius by radius, the optimum
 /// an independent dense scan with a local refinement finds: the same angle
-/// to 1e-10 rad and the same lift to 1e-9 relative; and it searched afresh
-/// only to start.
+/// to 1e-10 rad and the same lift to 1e-9 relative; it searched afresh
+/// only to start, and every answer is the grasp traced from rest.
 #[test]
 fn the_followed_sphere_envelope_matches_a_dense_evaluation() {
     use fpc::gripper::SphereEnvelope;
@@ -762,6 +762,19 @@ fn the_followed_sphere_envelope_matches_a_dense_evaluation() {
         "{counts:?}"
     );
     assert!(counts.reach > 0 && counts.boundary > 0, "{counts:?}");
+    // the corrector's steps are probes from neighbouring grasps; every
+    // answer is the trace from rest of its angle (below)
+    assert!(
+        counts.probes > counts.solves && counts.retraced <= 2,
+        "{counts:?}"
+    );
+    for (r, e) in radii.iter().zip(&found) {
+        let sg = g
+            .sphere_grasp_at_friction_limit(0.0, *r, e.beta, None)
+            .unwrap();
+        assert!(sg.is_valid() && sg.grasp.lift == e.lift, "r = {r}");
+        assert_eq!(sg.grasp.verdict.path.from, "rest", "r = {r}");
+    }
     for k in [1, 8, 15, 25] {
         let (r, e) = (radii[k], &found[k]);
         let (beta, lift) = dense_best_angle(&g, r, 200);

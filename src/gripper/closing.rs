@@ -24,6 +24,16 @@ use super::setup::{
     GRIPPER_SAMPLES_PER_ELEMENT, TARGET_TOL_MM,
 };
 
+/// The path record of a probe ([`Gripper::probe_scene`]): solved from a
+/// neighbouring grasp, not traced; never the path of a reported grasp.
+pub(crate) const PROBE_PATH: &str = "probe";
+
+/// Relative tolerance of [`Gripper::same_equilibrium`]: both solves end at
+/// relative residuals near 1e-11 and a target within 1e-9 mm, while an
+/// equilibrium of another branch differs in its coefficients at the
+/// percent level.
+const SAME_EQUILIBRIUM_TOL: f64 = 1e-7;
+
 impl Gripper {
     /// The grasp-level notes and the verdict of an equilibrium holding
     /// `object` at grasping angle `beta`.
@@ -176,14 +186,58 @@ impl Gripper {
     ) -> Result<Grasp, SolveError> {
         finite(Field::GraspPressureKpa, scene.pressure_kpa)?;
         let problem = self.problem(scene);
-        let opts = SolveOptions {
+        let opts = self.scene_options(scene);
+        let (sol, lambda, path) = self.close(&problem, warm, &opts, &scene.target)?;
+        Ok(self.grasp_from(sol, scene, problem, lambda, path))
+    }
+
+    /// The grasp of `scene` solved by Newton's method from `near`, a grasp
+    /// of a neighbouring scene (another angle or radius), instead of traced
+    /// from rest: a probe for a search, which may land on another branch
+    /// than the loading path's. Its path is recorded as [`PROBE_PATH`]; a
+    /// search traces the grasp it reports from rest again and checks that
+    /// the two agree ([`Gripper::same_equilibrium`]).
+    pub(super) fn probe_scene(&self, scene: &GraspLoad, near: &Grasp) -> Result<Grasp, SolveError> {
+        finite(Field::GraspPressureKpa, scene.pressure_kpa)?;
+        let problem = self.problem(scene);
+        let opts = self.scene_options(scene);
+        let (sol, lambda) = Solver::new(&self.finger).solve_target(
+            &problem,
+            &near.solution.coefficients,
+            near.lambda,
+            TARGET_TOL_MM,
+            &opts,
+        )?;
+        let path = PathRecord {
+            from: PROBE_PATH,
+            steps: 0,
+        };
+        Ok(self.grasp_from(sol, scene, problem, lambda, path))
+    }
+
+    /// True when two grasps of the same scene are the same equilibrium (the
+    /// finger's coefficients and the load parameter within
+    /// [`SAME_EQUILIBRIUM_TOL`] relative): a probe and the grasp traced
+    /// from rest agree, so the probe was on the loading path.
+    pub(crate) fn same_equilibrium(a: &Grasp, b: &Grasp) -> bool {
+        let (x, y) = (
+            a.solution.coefficients.as_slice(),
+            b.solution.coefficients.as_slice(),
+        );
+        let scale = x.iter().fold(1.0_f64, |m, v| m.max(v.abs()));
+        let close = |u: f64, v: f64, s: f64| (u - v).abs() <= SAME_EQUILIBRIUM_TOL * s;
+        x.len() == y.len()
+            && x.iter().zip(y).all(|(u, v)| close(*u, *v, scale))
+            && close(a.lambda, b.lambda, 1.0 + a.lambda.abs())
+    }
+
+    fn scene_options(&self, scene: &GraspLoad) -> SolveOptions {
+        SolveOptions {
             samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
             stability: self.stability,
             shape: scene.shape,
             ..SolveOptions::default()
-        };
-        let (sol, lambda, path) = self.close(&problem, warm, &opts, &scene.target)?;
-        Ok(self.grasp_from(sol, scene, problem, lambda, path))
+        }
     }
 
     /// The object touching the tip of `solution` at grasping angle `beta`:

@@ -23,8 +23,18 @@
 //! The regime of the nearest solved radius is tried first, the others when
 //! it fails (where the regimes meet), and where all fail (a solve fails, another rule binds, the
 //! corrector leaves its bracket) the radius is searched afresh with
-//! [`Gripper::max_sphere_lift`]. Every grasp answered is an ordinary
-//! sphere grasp traced from rest with its full verdict.
+//! [`Gripper::max_sphere_lift`].
+//!
+//! The corrector's grasps are probes: Newton's method from the nearest
+//! grasp already solved (at this radius, else the nearest radius's
+//! answer) instead of a trace from rest, about a quarter of the cost. The
+//! optimum they locate is then traced from rest; it must be the same
+//! equilibrium and valid by its own verdict (on a boundary, the trace may
+//! land a hair on the invalid side, and is stepped back by a Newton step
+//! on its contact function). Where it is not, the radius is corrected
+//! again with every grasp traced (`EnvelopeCounts::retraced`). So every
+//! grasp answered is an ordinary sphere grasp traced from rest with its
+//! full verdict.
 
 use super::frames::{finger_to_gripper_map, grasping_angle_range};
 use super::setup::{Grasp, Gripper, CONTACT_TOL_MM};
@@ -40,6 +50,11 @@ const FOLLOW_MAX_EVALUATIONS: usize = 40;
 /// full slope in the angle, so the boundary is located well within
 /// [`ENVELOPE_BETA_TOL`] (a root search converges fast enough for that).
 const BOUNDARY_BETA_TOL: f64 = 1e-11;
+
+/// Traces from rest that confirm a probed optimum (the probe's angle, then
+/// steps back from a boundary) before its radius is corrected again with
+/// every grasp traced.
+const CONFIRM_STEPS: usize = 4;
 
 /// Bracket expansions (each step four times the last) before a corrector
 /// gives up.
@@ -60,6 +75,9 @@ struct Known {
     regime: Option<Regime>,
     /// How far the corrector moved the prediction (rad; `None`: searched).
     correction: Option<f64>,
+    /// The optimum's grasp (traced from rest), where the next radius's
+    /// probes start (`None`: searched).
+    grasp: Option<Grasp>,
 }
 
 /// Where a followed optimum lies.
@@ -85,6 +103,8 @@ struct Point {
     /// The contact function: `<= 0` where the contact rules hold.
     phi: f64,
     grasp: Grasp,
+    /// Traced from rest (else a probe, solved from a neighbour).
+    traced: bool,
 }
 
 /// How a radius of a [`SphereEnvelope`] was answered, counted.
@@ -99,8 +119,17 @@ pub struct EnvelopeCounts {
     /// Radii searched afresh ([`Gripper::max_sphere_lift`]): the first, and
     /// those where the continuation failed.
     pub searched: usize,
-    /// Solves the continuation made (the fresh searches' not counted).
+    /// Grasps the continuation traced from rest (the fresh searches' not
+    /// counted).
     pub solves: usize,
+    /// Grasps the continuation solved by Newton's method from a neighbour
+    /// (probes: the corrector's search steps, each radius's answer traced
+    /// from rest again and checked against its probe).
+    pub probes: usize,
+    /// Radii whose probed answer the trace from rest did not confirm
+    /// (another branch, or invalid by the traced verdict), corrected again
+    /// with every grasp traced.
+    pub retraced: usize,
 }
 
 /// The best lifting force of a sphere against its radius, each radius
@@ -194,6 +223,7 @@ impl<'g> SphereEnvelope<'g> {
                 beta: lift.beta,
                 regime: None,
                 correction: None,
+                grasp: None,
             });
         }))
     }
@@ -251,6 +281,42 @@ impl<'g> SphereEnvelope<'g> {
         if !(beta > lo && beta < hi) {
             return None;
         }
+        // probes from the nearest radius's answer, the answer traced from
+        // rest and checked; where that fails, every grasp traced
+        let anchor = self.nearest(r).and_then(|k| k.grasp.clone());
+        if let Some(anchor) = anchor {
+            let (found, mut c) = self.correct(r, beta, regime, step, Some(anchor));
+            let confirmed = found.and_then(|(p, regime)| Some((c.confirm(p, regime)?, regime)));
+            self.counts.solves += c.spent - c.probes;
+            self.counts.probes += c.probes;
+            if let Some(found) = confirmed {
+                return Some(self.accept(r, beta, found));
+            }
+            self.counts.retraced += 1;
+        }
+        let (found, c) = self.correct(r, beta, regime, step, None);
+        self.counts.solves += c.spent;
+        Some(self.accept(r, beta, found?))
+    }
+
+    /// The solved radius nearest `r`.
+    fn nearest(&self, r: f64) -> Option<&Known> {
+        self.known
+            .iter()
+            .min_by(|a, b| (a.radius - r).abs().total_cmp(&(b.radius - r).abs()))
+    }
+
+    /// The optimum at radius `r` corrected from the prediction `beta` in
+    /// the nearest radius's regime first; with an `anchor`, by probes
+    /// started from it.
+    fn correct(
+        &self,
+        r: f64,
+        beta: f64,
+        regime: Option<Regime>,
+        step: f64,
+        anchor: Option<Grasp>,
+    ) -> (Option<(Point, Regime)>, Corrector<'g>) {
         let mut c = Corrector {
             gripper: self.gripper,
             pressure_kpa: self.pressure_kpa,
@@ -258,6 +324,8 @@ impl<'g> SphereEnvelope<'g> {
             points: Vec::new(),
             failed: Vec::new(),
             spent: 0,
+            probes: 0,
+            anchor,
         };
         // the nearest radius's regime first, the other where it fails
         let interior = |c: &mut Corrector| c.interior(beta, step).map(|p| (p, Regime::Interior));
@@ -279,8 +347,12 @@ impl<'g> SphereEnvelope<'g> {
             Some(Regime::Reach) => None,
             _ => c.reach(beta, step),
         });
-        self.counts.solves += c.spent;
-        let (p, regime) = found?;
+        (found, c)
+    }
+
+    /// Records the optimum `p` found at radius `r` from the prediction
+    /// `beta`.
+    fn accept(&mut self, r: f64, beta: f64, (p, regime): (Point, Regime)) -> SphereLift {
         match regime {
             Regime::Boundary { .. } => self.counts.boundary += 1,
             Regime::Interior => self.counts.interior += 1,
@@ -299,8 +371,22 @@ impl<'g> SphereEnvelope<'g> {
             beta: p.beta,
             regime: Some(regime),
             correction: Some((p.beta - beta).abs()),
+            grasp: Some(p.grasp),
         });
-        Some(lift)
+        lift
+    }
+}
+
+impl Point {
+    fn new(g: &Gripper, grasp: Grasp, traced: bool) -> Self {
+        Point {
+            beta: grasp.beta,
+            lift: grasp.lift,
+            valid: grasp.is_valid(),
+            phi: g.contact_function(&grasp).unwrap_or(f64::NAN),
+            grasp,
+            traced,
+        }
     }
 }
 
@@ -314,6 +400,11 @@ struct Corrector<'g> {
     failed: Vec<f64>,
     /// Solves made.
     spent: usize,
+    /// Of those, probes (solved from a neighbour, not traced).
+    probes: usize,
+    /// Where probes start: with it, every grasp is a probe from the
+    /// nearest angle solved (or from it, before any).
+    anchor: Option<Grasp>,
 }
 
 impl Corrector<'_> {
@@ -329,25 +420,66 @@ impl Corrector<'_> {
         self.spent += 1;
         let g = self.gripper;
         let r = self.radius;
-        let sg = g.check_sphere(r, beta).ok().and_then(|()| {
+        let near = self.anchor.as_ref().map(|a| {
+            self.points
+                .iter()
+                .min_by(|p, q| (p.beta - beta).abs().total_cmp(&(q.beta - beta).abs()))
+                .map_or(a, |p| &p.grasp)
+        });
+        self.probes += usize::from(near.is_some());
+        let sg = g.check_sphere(r, beta).ok().and_then(|()| match near {
+            Some(near) => g.sphere_probe(self.pressure_kpa, r, beta, near).ok(),
             // the verdict and the forces only, as a fresh search
-            g.sphere_at_limit(self.pressure_kpa, r, beta, None, false)
-                .ok()
+            None => g
+                .sphere_at_limit(self.pressure_kpa, r, beta, None, false)
+                .ok(),
         });
         let Some(sg) = sg else {
             self.failed.push(beta);
             return None;
         };
-        let phi = g.contact_function(&sg.grasp).unwrap_or(f64::NAN);
-        let p = Point {
-            beta,
-            lift: sg.grasp.lift,
-            valid: sg.is_valid(),
-            phi,
-            grasp: sg.grasp,
-        };
+        let p = Point::new(g, sg.grasp, near.is_none());
         self.points.push(p.clone());
         Some(p)
+    }
+
+    /// The probed optimum `p` (found in `regime`) traced from rest: the
+    /// traced grasp, when it is the same equilibrium and valid by its own
+    /// verdict (`None` otherwise). On a boundary the probe and the trace
+    /// differ in their last digits (the contact function by up to about
+    /// 1e-9), so a trace on the boundary's invalid side by that much is
+    /// stepped back into the valid side (a Newton step on the traced
+    /// contact function with the boundary's slope, a tenth and
+    /// [`BOUNDARY_BETA_TOL`] past its zero, doubling while the trace is
+    /// still invalid, [`CONFIRM_STEPS`] traces in all).
+    fn confirm(&mut self, p: Point, regime: Regime) -> Option<Point> {
+        if p.traced {
+            return Some(p);
+        }
+        let g = self.gripper;
+        let mut beta = p.beta;
+        let mut back = BOUNDARY_BETA_TOL;
+        for _ in 0..CONFIRM_STEPS {
+            self.spent += 1;
+            let sg = g
+                .sphere_at_limit(self.pressure_kpa, self.radius, beta, None, false)
+                .ok()?;
+            let traced = Point::new(g, sg.grasp, true);
+            if !Gripper::same_equilibrium(&traced.grasp, &p.grasp) {
+                return None;
+            }
+            if traced.valid {
+                return Some(traced);
+            }
+            let Regime::Boundary { side, slope } = regime else {
+                return None;
+            };
+            // a Newton step on the traced contact function, past its zero
+            back = back.max(1.1 * (traced.phi / slope).abs() + BOUNDARY_BETA_TOL);
+            beta -= side * back;
+            back *= 2.0;
+        }
+        None
     }
 
     /// The best valid grasp among those solved.

@@ -217,20 +217,38 @@ impl Gripper {
         shape: bool,
     ) -> Result<SphereGrasp, SolveError> {
         self.check_sphere(r, beta)?;
-        let grasp = self.solve_scene(
-            &GraspLoad {
-                pressure_kpa,
-                beta,
-                base: [0.0, 0.0],
-                direction: contact_force_to_gripper(1.0, self.params.mu, beta),
-                tip_xg: r * beta.cos(),
-                target: (Field::SphereRadius, r),
-                object: Object::Sphere,
-                shape,
-            },
-            warm,
-        )?;
+        let grasp = self.solve_scene(&self.sphere_load(pressure_kpa, r, beta, shape), warm)?;
         Ok(self.sphere_result(grasp))
+    }
+
+    /// [`Gripper::sphere_at_limit`] without its mid-plane, solved by
+    /// Newton's method from the neighbouring grasp `near` instead of traced
+    /// from rest ([`Gripper::probe_scene`]: a search's probe).
+    pub(crate) fn sphere_probe(
+        &self,
+        pressure_kpa: f64,
+        r: f64,
+        beta: f64,
+        near: &Grasp,
+    ) -> Result<SphereGrasp, SolveError> {
+        self.check_sphere(r, beta)?;
+        let grasp = self.probe_scene(&self.sphere_load(pressure_kpa, r, beta, false), near)?;
+        Ok(self.sphere_result(grasp))
+    }
+
+    /// The load family of a sphere of radius `r` held at angle `beta` with
+    /// full friction.
+    fn sphere_load(&self, pressure_kpa: f64, r: f64, beta: f64, shape: bool) -> GraspLoad {
+        GraspLoad {
+            pressure_kpa,
+            beta,
+            base: [0.0, 0.0],
+            direction: contact_force_to_gripper(1.0, self.params.mu, beta),
+            tip_xg: r * beta.cos(),
+            target: (Field::SphereRadius, r),
+            object: Object::Sphere,
+            shape,
+        }
     }
 
     fn sphere_result(&self, grasp: Grasp) -> SphereGrasp {

@@ -111,36 +111,19 @@ pub fn study5_sphere_region_with(
     let g = section5_gripper(actuator, opts)?;
     let [lo, hi] = grasping_angle_range(g.mu());
     let n = opts.sweep_points;
+    // the angles' sweeps are independent: on every core, gathered in order
+    let betas: Vec<f64> = (0..opts.angle_samples)
+        .map(|j| lo + (hi - lo) * j as f64 / opts.angle_samples as f64)
+        .collect();
+    let sweeps = crate::cancel::par_map(&betas, |&beta| angle_sweep(&g, beta, n));
     let mut points = Vec::new();
-    let mut dropped = 0;
-    let mut strict_dropped = 0;
+    let (mut dropped, mut strict_dropped) = (0, 0);
     let mut stopped = Vec::new();
-    for j in 0..opts.angle_samples {
-        let beta = lo + (hi - lo) * j as f64 / opts.angle_samples as f64;
-        let d_max = g.d_max();
-        let (from, to) = (d_max / n as f64, d_max);
-        let stop = size_sweep(&g, 0.0, beta, Object::Sphere, from, to, n - 1, |gr| {
-            if gr.is_valid() {
-                let c = g.sphere_contact(&gr.solution, beta);
-                points.push(SpherePoint {
-                    beta,
-                    radius: c.radius,
-                    lift: gr.lift,
-                    normal: gr.normal,
-                    size: gr.size,
-                    reversed: gr.is_reversed(),
-                    warnings: gr.warnings.clone(),
-                });
-            } else {
-                dropped += 1;
-                if matches!(gr.invalid(), Some(Invalid::CurvatureReversal { .. })) {
-                    strict_dropped += 1;
-                }
-            }
-        });
-        if let Some(s) = stop {
-            stopped.push((beta, s));
-        }
+    for (&beta, sweep) in betas.iter().zip(sweeps) {
+        points.extend(sweep.points);
+        dropped += sweep.dropped;
+        strict_dropped += sweep.strict_dropped;
+        stopped.extend(sweep.stop.map(|s| (beta, s)));
     }
     let (envelope, peak, envelope_counts) =
         sphere_envelope(&g, &points, 2 * n, opts.angle_samples)?;
@@ -163,6 +146,48 @@ pub fn study5_sphere_region_with(
         envelope_sd,
         peak_sd,
     })
+}
+
+/// One grasping angle's sweep of study 5.
+struct AngleSweep {
+    points: Vec<SpherePoint>,
+    dropped: usize,
+    strict_dropped: usize,
+    stop: Option<SweepStop>,
+}
+
+/// The sweep of the grasping size at angle `beta` over `n` sizes up to
+/// `d_max`: its valid grasps, the count of invalid ones, and where it
+/// stopped early.
+fn angle_sweep(g: &Gripper, beta: f64, n: usize) -> AngleSweep {
+    let mut sweep = AngleSweep {
+        points: Vec::new(),
+        dropped: 0,
+        strict_dropped: 0,
+        stop: None,
+    };
+    let d_max = g.d_max();
+    let (from, to) = (d_max / n as f64, d_max);
+    sweep.stop = size_sweep(g, 0.0, beta, Object::Sphere, from, to, n - 1, |gr| {
+        if gr.is_valid() {
+            let c = g.sphere_contact(&gr.solution, beta);
+            sweep.points.push(SpherePoint {
+                beta,
+                radius: c.radius,
+                lift: gr.lift,
+                normal: gr.normal,
+                size: gr.size,
+                reversed: gr.is_reversed(),
+                warnings: gr.warnings.clone(),
+            });
+        } else {
+            sweep.dropped += 1;
+            if matches!(gr.invalid(), Some(Invalid::CurvatureReversal { .. })) {
+                sweep.strict_dropped += 1;
+            }
+        }
+    });
+    sweep
 }
 
 /// The 1-sigma of a best lift and its normal force (module `bands`).
