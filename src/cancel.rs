@@ -9,7 +9,7 @@
 //! Python module sets the flag on Ctrl-C.
 //!
 //! The flag is per thread: work that the computation hands to other threads
-//! does not see it, except through [`par_map`], which runs independent
+//! does not see it, except through `par_map`, which runs independent
 //! pieces of a computation on rayon's threads under the caller's flag.
 
 use std::cell::RefCell;

@@ -510,6 +510,17 @@ impl<'a> Solver<'a> {
         with_solver!(self, s => s.trace_target(problem, start, lambda0, ctol_mm, opts))
     }
 
+    /// `dT / dlambda` of `problem`'s family at `start`, which decides the
+    /// way a trace from it goes (`None`: a singular tangent).
+    pub fn target_slope_at(
+        &mut self,
+        problem: &TargetProblem,
+        start: &Coefficients,
+        lambda0: f64,
+    ) -> Option<f64> {
+        with_solver!(self, s => s.target_slope_at(problem, start, lambda0))
+    }
+
     /// Follows the equilibrium path of a load family by pseudo-arclength
     /// continuation from `guess` (see [`LoadPathSpec`]): through folds,
     /// which it locates and reports with the load and shape there. `visit`

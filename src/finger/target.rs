@@ -238,26 +238,12 @@ impl<M: ElementModel> SolverCore<'_, M> {
             ..*problem
         };
         let tip_opts = opts.tip_only();
-        let length: f64 = f.lengths.iter().sum();
-        let c_scale = f.stiffness / length;
         let towards = (t1 - t0).signum();
         let mut iterations = 0;
         if (t1 - t0).abs() > TRACE_AT_TARGET_MM {
-            // which way the load moves the target at the start:
-            // dT/dlambda = den / c_scale
-            self.load_guess(Some(start));
-            let mut dy = vec![0.0; self.y.len()];
-            self.bordered_solver();
-            let tangent = {
-                let mut bc = BorderedChain::new(&mut self.chain, at(t0), c_scale);
-                let bordered = self.bordered.as_mut().expect("made above");
-                bordered.target_tangent(&mut bc, &self.y, lambda0, &mut dy)
-            };
-            let dt_dlambda = match tangent {
-                Ok(t) => 1.0 / t.dlambda,
-                // singular at the start: try the load's own direction
-                Err(_) => 0.0,
-            };
+            // which way the load moves the target at the start (singular
+            // there: try the load's own direction)
+            let dt_dlambda = self.target_slope_at(problem, start, lambda0).unwrap_or(0.0);
             let first = dt_dlambda * towards >= 0.0;
             let mut crossing = None;
             for increasing in [first, !first] {
@@ -379,6 +365,36 @@ impl<M: ElementModel> SolverCore<'_, M> {
             lambda,
             steps: 0,
         })
+    }
+
+    /// The rate `dT / dlambda` at which `problem`'s load family moves its
+    /// target `weights . tip` at `start` (an equilibrium of the family at
+    /// `lambda0`), from the bordered tangent there; `None` where the
+    /// tangent is singular. A trace from `start` follows the load in the
+    /// direction this says moves the target towards its value.
+    pub fn target_slope_at(
+        &mut self,
+        problem: &TargetProblem,
+        start: &Coefficients,
+        lambda0: f64,
+    ) -> Option<f64> {
+        let f = self.finger;
+        let w = problem.weights;
+        let tip = f.tip_position(start.as_slice());
+        let at_start = TargetProblem {
+            target: w[0] * tip[0] + w[1] * tip[1],
+            ..*problem
+        };
+        let c_scale = f.stiffness / f.lengths.iter().sum::<f64>();
+        self.load_guess(Some(start));
+        let mut dy = vec![0.0; self.y.len()];
+        self.bordered_solver();
+        let mut bc = BorderedChain::new(&mut self.chain, at_start, c_scale);
+        let bordered = self.bordered.as_mut().expect("made above");
+        let t = bordered
+            .target_tangent(&mut bc, &self.y, lambda0, &mut dy)
+            .ok()?;
+        Some(1.0 / t.dlambda)
     }
 
     /// Makes the bordered solver on first use.

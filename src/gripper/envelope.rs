@@ -6,8 +6,9 @@
 //! contact rule becomes active (the usual case: the lift grows with `b`
 //! until the sphere touches the finger a second time, or the finger
 //! reaches its tip from inside the sphere), the edge of the angles the
-//! flat fingers reach (`r cos b = d_max / 2`, large spheres), or an
-//! interior point where `d f_v / d b = 0`. Each moves smoothly with `r`
+//! flat fingers reach (`r cos b = d_max / 2`, large spheres), the edge of
+//! the angles whose grasp the path from rest reaches, or an interior
+//! point where `d f_v / d b = 0`. Each moves smoothly with `r`
 //! while it holds the optimum, so from the radii
 //! already solved `b*` is predicted by interpolating them (a secant, or a
 //! parabola through three), then corrected:
@@ -18,7 +19,11 @@
 //!   tolerance), bracketed from the prediction by a Newton step with the
 //!   slope the last radius's bracket measured, then growing steps;
 //! - at the reach, by the edge itself;
-//! - inside, by Brent's maximiser on a bracket around the prediction.
+//! - inside, by Brent's maximiser on a bracket around the prediction;
+//! - at the edge of the angles whose grasp the path from rest reaches
+//!   (past it the path folds before the object), by traces around the
+//!   angle where closing from rest turns round
+//!   ([`Gripper::closing_turn_angle`]), else by bisection of the edge.
 //!
 //! The regime of the nearest solved radius is tried first, the others when
 //! it fails (where the regimes meet), and where all fail (a solve fails, another rule binds, the
@@ -32,9 +37,10 @@
 //! equilibrium and valid by its own verdict (on a boundary, the trace may
 //! land a hair on the invalid side, and is stepped back by a Newton step
 //! on its contact function). Where it is not, the radius is corrected
-//! again with every grasp traced (`EnvelopeCounts::retraced`). So every
-//! grasp answered is an ordinary sphere grasp traced from rest with its
-//! full verdict.
+//! again with every grasp traced (`EnvelopeCounts::retraced`); where no
+//! regime checks out on probes, it is searched afresh. So every grasp
+//! answered is an ordinary sphere grasp traced from rest with its full
+//! verdict.
 
 use super::frames::{finger_to_gripper_map, grasping_angle_range};
 use super::setup::{Grasp, Gripper, CONTACT_TOL_MM};
@@ -55,6 +61,12 @@ const BOUNDARY_BETA_TOL: f64 = 1e-11;
 /// steps back from a boundary) before its radius is corrected again with
 /// every grasp traced.
 const CONFIRM_STEPS: usize = 4;
+
+/// The bracket (rad) traced around a predicted turn of the path from rest
+/// ([`Gripper::closing_turn_angle`], computed to rounding): the rate that
+/// turns changes by about 1e-11 of its scale over it, well above its
+/// rounding.
+const TURN_BETA_TOL: f64 = 1e-11;
 
 /// Bracket expansions (each step four times the last) before a corrector
 /// gives up.
@@ -92,6 +104,11 @@ enum Regime {
     /// At the fingers' reach: the tip at `Xg = r cos b = d_max / 2`, the
     /// contact the flat fingers just reach.
     Reach,
+    /// At the edge of the angles whose grasp is reached on the path from
+    /// rest, the angles past it (on `side`: +1 above, -1 below) failing:
+    /// the path from rest turns back before the object (a fold), as where
+    /// the contact force's first push moves the tip away from the object.
+    Edge { side: f64 },
 }
 
 /// One grasping angle evaluated by a corrector.
@@ -116,6 +133,9 @@ pub struct EnvelopeCounts {
     pub interior: usize,
     /// Radii answered at the fingers' reach by continuation.
     pub reach: usize,
+    /// Radii answered at the edge of the angles reached from rest by
+    /// continuation.
+    pub edge: usize,
     /// Radii searched afresh ([`Gripper::max_sphere_lift`]): the first, and
     /// those where the continuation failed.
     pub searched: usize,
@@ -153,7 +173,11 @@ pub struct SphereEnvelope<'g> {
 pub(crate) struct EnvelopeSeed {
     radius: f64,
     beta: f64,
+    /// The regime it was followed in (for a searched optimum, that of the
+    /// nearest radius followed).
     regime: Option<Regime>,
+    /// It was continued (from radii or a seed before it), not searched.
+    followed: bool,
 }
 
 impl EnvelopeSeed {
@@ -161,7 +185,7 @@ impl EnvelopeSeed {
     /// searched afresh.
     #[cfg(test)]
     pub(crate) fn followed(&self) -> bool {
-        self.regime.is_some()
+        self.followed
     }
 }
 
@@ -197,7 +221,16 @@ impl<'g> SphereEnvelope<'g> {
             .map(|k| EnvelopeSeed {
                 radius: k.radius,
                 beta: k.beta,
-                regime: k.regime,
+                // a searched radius: the regime its neighbours were
+                // followed in
+                regime: k.regime.or_else(|| {
+                    self.known
+                        .iter()
+                        .filter(|o| o.regime.is_some())
+                        .min_by(|a, b| (a.radius - r).abs().total_cmp(&(b.radius - r).abs()))
+                        .and_then(|o| o.regime)
+                }),
+                followed: k.regime.is_some(),
             })
     }
 
@@ -282,15 +315,21 @@ impl<'g> SphereEnvelope<'g> {
             return None;
         }
         // probes from the nearest radius's answer, the answer traced from
-        // rest and checked; where that fails, every grasp traced
+        // rest and checked; where that check fails, every grasp traced
         let anchor = self.nearest(r).and_then(|k| k.grasp.clone());
         if let Some(anchor) = anchor {
             let (found, mut c) = self.correct(r, beta, regime, step, Some(anchor));
+            let probed = found.is_some();
             let confirmed = found.and_then(|(p, regime)| Some((c.confirm(p, regime)?, regime)));
             self.counts.solves += c.spent - c.probes;
             self.counts.probes += c.probes;
             if let Some(found) = confirmed {
                 return Some(self.accept(r, beta, found));
+            }
+            // no regime checked out even on probes: searched afresh (the
+            // traced chain would spend its budget the same way)
+            if !probed {
+                return None;
             }
             self.counts.retraced += 1;
         }
@@ -337,11 +376,20 @@ impl<'g> SphereEnvelope<'g> {
             Some(Regime::Interior) => interior(&mut c)
                 .or_else(|| c.boundary(beta, step, 1.0, None))
                 .or_else(|| c.boundary(beta, step, -1.0, None)),
+            // an edge followed from a solved radius is often where it
+            // was (it need not move with the radius): its first step the
+            // tolerance
+            Some(Regime::Edge { side }) => {
+                let from_radius = !self.known.is_empty();
+                c.edge(beta, if from_radius { 0.0 } else { step }, side)
+            }
             // a searched optimum: the usual case first
             None => c
                 .boundary(beta, step, 1.0, None)
                 .or_else(|| interior(&mut c))
-                .or_else(|| c.boundary(beta, step, -1.0, None)),
+                .or_else(|| c.boundary(beta, step, -1.0, None))
+                .or_else(|| c.edge(beta, step, 1.0))
+                .or_else(|| c.edge(beta, step, -1.0)),
         }
         .or_else(|| match regime {
             Some(Regime::Reach) => None,
@@ -357,6 +405,7 @@ impl<'g> SphereEnvelope<'g> {
             Regime::Boundary { .. } => self.counts.boundary += 1,
             Regime::Interior => self.counts.interior += 1,
             Regime::Reach => self.counts.reach += 1,
+            Regime::Edge { .. } => self.counts.edge += 1,
         }
         let lift = SphereLift {
             radius: r,
@@ -396,8 +445,9 @@ struct Corrector<'g> {
     pressure_kpa: f64,
     radius: f64,
     points: Vec<Point>,
-    /// Angles whose solve failed or that are out of reach.
-    failed: Vec<f64>,
+    /// Angles whose solve failed or that are out of reach (and whether
+    /// the solve was a probe).
+    failed: Vec<(f64, bool)>,
     /// Solves made.
     spent: usize,
     /// Of those, probes (solved from a neighbour, not traced).
@@ -411,16 +461,30 @@ impl Corrector<'_> {
     /// The grasp at angle `beta` (solved once; `None` when the angle is out
     /// of reach, the solve fails, or the corrector has spent its solves).
     fn eval(&mut self, beta: f64) -> Option<Point> {
-        if let Some(p) = self.points.iter().find(|p| p.beta == beta) {
+        self.solve(beta, false)
+    }
+
+    /// The grasp at angle `beta` traced from rest (solved once; `None` as
+    /// [`Corrector::eval`]).
+    fn trace(&mut self, beta: f64) -> Option<Point> {
+        self.solve(beta, true)
+    }
+
+    /// The grasp at `beta`, traced from rest when `traced` or when the
+    /// corrector has no anchor, else a probe.
+    fn solve(&mut self, beta: f64, traced: bool) -> Option<Point> {
+        let known = |p: &&Point| p.beta == beta && (p.traced || !traced);
+        if let Some(p) = self.points.iter().find(known) {
             return Some(p.clone());
         }
-        if self.spent >= FOLLOW_MAX_EVALUATIONS || self.failed.contains(&beta) {
+        let probe = !traced && self.anchor.is_some();
+        if self.spent >= FOLLOW_MAX_EVALUATIONS || self.failed.contains(&(beta, probe)) {
             return None;
         }
         self.spent += 1;
         let g = self.gripper;
         let r = self.radius;
-        let near = self.anchor.as_ref().map(|a| {
+        let near = self.anchor.as_ref().filter(|_| probe).map(|a| {
             self.points
                 .iter()
                 .min_by(|p, q| (p.beta - beta).abs().total_cmp(&(q.beta - beta).abs()))
@@ -435,12 +499,21 @@ impl Corrector<'_> {
                 .ok(),
         });
         let Some(sg) = sg else {
-            self.failed.push(beta);
+            self.failed.push((beta, probe));
             return None;
         };
         let p = Point::new(g, sg.grasp, near.is_none());
         self.points.push(p.clone());
         Some(p)
+    }
+
+    /// Whether the trace from rest reaches a grasp at `beta` (`None`: the
+    /// corrector has spent its solves, which `trace` cannot tell from a
+    /// failed one).
+    fn reaches(&mut self, beta: f64) -> Option<bool> {
+        let known = self.points.iter().any(|p| p.beta == beta && p.traced)
+            || self.failed.contains(&(beta, false));
+        (known || self.spent < FOLLOW_MAX_EVALUATIONS).then(|| self.trace(beta).is_some())
     }
 
     /// The probed optimum `p` (found in `regime`) traced from rest: the
@@ -566,6 +639,71 @@ impl Corrector<'_> {
         let best = self.best()?;
         (x.valid && off.valid && off.lift < x.lift && best.beta == x.beta)
             .then_some((x, Regime::Reach))
+    }
+
+    /// The optimum at the edge of the angles reached from rest whose
+    /// failing side is `side`, from the prediction `b0` (or, within
+    /// [`MAX_STEP`] of it, the angle where closing from rest turns round,
+    /// [`Gripper::closing_turn_angle`], half of [`TURN_BETA_TOL`] inside):
+    /// the trace there and steps from it (the first a quarter of `step`, or
+    /// [`TURN_BETA_TOL`] from the turn, then growing) until one side
+    /// succeeds and the other fails, the bracket then halved to
+    /// [`ENVELOPE_BETA_TOL`] (or [`TURN_BETA_TOL`] from a turn); the answer is its succeeding end, valid, the
+    /// best traced, and lifting more than a grasp `step` further from the
+    /// edge. Traces only: a probe converges past the edge as well.
+    fn edge(&mut self, b0: f64, step: f64, side: f64) -> Option<(Point, Regime)> {
+        let mut h = (0.25 * step).max(ENVELOPE_BETA_TOL);
+        // where closing from rest turns round, when near: the usual edge
+        let turn = self
+            .gripper
+            .closing_turn_angle(self.pressure_kpa, b0)
+            .filter(|b| (b - b0).abs() <= MAX_STEP);
+        let b0 = match turn {
+            Some(b) => {
+                h = TURN_BETA_TOL;
+                b - 0.5 * side * h
+            }
+            None => b0,
+        };
+        // from b0 towards the failing side while it is reached, away from
+        // it while not, until the outcome changes
+        let first = self.reaches(b0)?;
+        let dir = if first { side } else { -side };
+        let mut last = b0;
+        let (mut ok, mut bad) = loop {
+            let b = last + dir * h;
+            if self.reaches(b)? != first {
+                break if first { (last, b) } else { (b, last) };
+            }
+            last = b;
+            h *= 4.0;
+            if h > MAX_STEP {
+                return None;
+            }
+        };
+        // a predicted turn is closed in to its own tolerance
+        let tol = if turn.is_some() {
+            TURN_BETA_TOL
+        } else {
+            ENVELOPE_BETA_TOL
+        };
+        while (bad - ok).abs() > tol {
+            let mid = 0.5 * (ok + bad);
+            if self.reaches(mid)? {
+                ok = mid;
+            } else {
+                bad = mid;
+            }
+        }
+        let x = self.trace(ok)?;
+        let off = self.trace(ok - side * step.max(1e-6))?;
+        let best = self
+            .points
+            .iter()
+            .filter(|p| p.traced && p.valid)
+            .max_by(|a, b| a.lift.total_cmp(&b.lift))?;
+        (x.valid && off.valid && off.lift < x.lift && best.beta == x.beta)
+            .then_some((x, Regime::Edge { side }))
     }
 
     /// The interior optimum near the prediction `b0`: a bracket whose ends

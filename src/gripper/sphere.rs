@@ -10,12 +10,12 @@
 //! the `eps0 = 0.4` one, whose curl passes its innermost point). The
 //! physical contact is used here, so the centre is always on the axis.
 
-use std::f64::consts::FRAC_PI_2;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::error::{finite, positive, require, InputError};
 use crate::field::Field;
 
-use crate::finger::Solution;
+use crate::finger::{Solution, Solver};
 use crate::solve_error::SolveError;
 
 use super::closing::check_beta;
@@ -234,6 +234,30 @@ impl Gripper {
         self.check_sphere(r, beta)?;
         let grasp = self.probe_scene(&self.sphere_load(pressure_kpa, r, beta, false), near)?;
         Ok(self.sphere_result(grasp))
+    }
+
+    /// The grasping angle nearest `near` at which closing on a sphere from
+    /// rest at `pressure_kpa` turns round: the contact force's first push
+    /// (full friction) moves the tip neither towards nor away from the
+    /// gripper's axis (`dT / dlambda = 0` at rest,
+    /// [`Solver::target_slope_at`]), so on one side of it the trace from
+    /// rest starts away from the object. The rate is linear in the force's
+    /// direction, `e0 cos b + e1 sin b`, so its values at 0 and pi/2 give
+    /// it at every angle. A prediction for a search, which traces the
+    /// angles around it; `None` where a tangent is singular.
+    pub(crate) fn closing_turn_angle(&self, pressure_kpa: f64, near: f64) -> Option<f64> {
+        let rate = |beta: f64| {
+            let problem = self.problem(&self.sphere_load(pressure_kpa, 1.0, beta, false));
+            let rest = self
+                .rest_state(&problem.base, &(Field::SphereRadius, 1.0))
+                .ok()?;
+            Solver::new(&self.finger)
+                .target_slope_at(&problem, &rest, 0.0)
+                .filter(|s| s.is_finite())
+        };
+        let (e0, e1) = (rate(0.0)?, rate(FRAC_PI_2)?);
+        let zero = (-e0).atan2(e1);
+        Some(zero + ((near - zero) / PI).round() * PI).filter(|b| b.is_finite())
     }
 
     /// The load family of a sphere of radius `r` held at angle `beta` with
