@@ -10,7 +10,8 @@
 //!
 //! The flag is per thread: work that the computation hands to other threads
 //! does not see it, except through `par_map`, which runs independent
-//! pieces of a computation on rayon's threads under the caller's flag.
+//! pieces of a computation on rayon's threads under the caller's flag, and
+//! `current` and `under`, which hand a flag to a thread of one's own.
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -45,14 +46,24 @@ pub fn with_flag<T>(flag: Arc<AtomicBool>, f: impl FnOnce() -> T) -> T {
 /// on every thread. The results are those of a sequential map.
 pub(crate) fn par_map<T: Sync, R: Send>(items: &[T], f: impl Fn(&T) -> R + Sync) -> Vec<R> {
     use rayon::prelude::*;
-    let flag = FLAG.with(|cell| cell.borrow().clone());
+    let flag = current();
     items
         .par_iter()
-        .map(|item| match &flag {
-            Some(flag) => with_flag(flag.clone(), || f(item)),
-            None => f(item),
-        })
+        .map(|item| under(flag.clone(), || f(item)))
         .collect()
+}
+
+/// This thread's flag, to run work on another thread under it ([`under`]).
+pub(crate) fn current() -> Option<Arc<AtomicBool>> {
+    FLAG.with(|cell| cell.borrow().clone())
+}
+
+/// `f()` under `flag` where there is one ([`current`] of another thread).
+pub(crate) fn under<T>(flag: Option<Arc<AtomicBool>>, f: impl FnOnce() -> T) -> T {
+    match flag {
+        Some(flag) => with_flag(flag, f),
+        None => f(),
+    }
 }
 
 /// True when this thread runs under a flag that has been set.

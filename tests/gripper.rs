@@ -775,6 +775,20 @@ fn the_followed_sphere_envelope_matches_a_dense_evaluation() {
         assert!(sg.is_valid() && sg.grasp.lift == e.lift, "r = {r}");
         assert_eq!(sg.grasp.verdict.path.from, "rest", "r = {r}");
     }
+    // the same radii at once (`along`: the confirming traces on another
+    // thread): the same optima, each again the trace from rest at its angle
+    let mut batch = SphereEnvelope::new(&g, 0.0, 24);
+    let together = batch.along(&radii).unwrap();
+    assert_eq!(batch.counts().searched, 1, "{:?}", batch.counts());
+    for ((r, e), t) in radii.iter().zip(&found).zip(&together) {
+        let t = t.as_ref().expect("a valid grasp");
+        assert!((t.beta - e.beta).abs() <= 1e-10, "r = {r}");
+        assert!((t.lift - e.lift).abs() <= 1e-10 * e.lift, "r = {r}");
+        let sg = g
+            .sphere_grasp_at_friction_limit(0.0, *r, t.beta, None)
+            .unwrap();
+        assert!(sg.is_valid() && sg.grasp.lift == t.lift, "r = {r}");
+    }
     for k in [1, 8, 15, 25] {
         let (r, e) = (radii[k], &found[k]);
         let (beta, lift) = dense_best_angle(&g, r, 200);

@@ -40,7 +40,9 @@
 //! again with every grasp traced (`EnvelopeCounts::retraced`); where no
 //! regime checks out on probes, it is searched afresh. So every grasp
 //! answered is an ordinary sphere grasp traced from rest with its full
-//! verdict.
+//! verdict. [`SphereEnvelope::along`] answers a list of radii with those
+//! confirming traces on a second thread while the probes go on (each
+//! radius probed from the probed answers before it).
 
 use super::frames::{finger_to_gripper_map, grasping_angle_range};
 use super::setup::{Grasp, Gripper, CONTACT_TOL_MM};
@@ -243,9 +245,74 @@ impl<'g> SphereEnvelope<'g> {
     /// `r` validly, as [`Gripper::max_sphere_lift`] (`None`: no valid grasp
     /// found), continued from the radii answered before where it can be.
     pub fn at(&mut self, r: f64) -> Result<Option<SphereLift>, SolveError> {
-        if let Some(found) = self.follow(r) {
-            return Ok(Some(found));
+        match self.locate(r) {
+            Located::Done(found) => Ok(Some(found)),
+            Located::No => self.search(r),
+            Located::Probed(probed) => {
+                let (confirmed, traces) = confirm(self.gripper, self.pressure_kpa, &probed);
+                match self.settle(*probed, confirmed, traces) {
+                    Some(found) => Ok(Some(found)),
+                    None => self.search(r),
+                }
+            }
         }
+    }
+
+    /// The optima at `radii`, in order, as [`SphereEnvelope::at`] answers
+    /// them one after the other; the traces from rest that confirm the
+    /// probed optima run on another thread meanwhile (each radius is
+    /// predicted and probed from the probed answers before it, confirmed
+    /// or not), and a radius whose confirmation fails is then corrected
+    /// again with every grasp traced, or searched afresh, as `at` would.
+    pub fn along(&mut self, radii: &[f64]) -> Result<Vec<Option<SphereLift>>, SolveError> {
+        let (g, pressure) = (self.gripper, self.pressure_kpa);
+        let flag = crate::cancel::current();
+        std::thread::scope(|scope| {
+            let (tx, rx) = std::sync::mpsc::channel::<(usize, Probed)>();
+            let worker = scope.spawn(move || {
+                crate::cancel::under(flag, || {
+                    rx.into_iter()
+                        .map(|(i, p)| (i, confirm(g, pressure, &p)))
+                        .collect::<Vec<_>>()
+                })
+            });
+            let mut out: Vec<Option<SphereLift>> = Vec::with_capacity(radii.len());
+            let mut pending = Vec::new();
+            for (i, &r) in radii.iter().enumerate() {
+                match self.locate(r) {
+                    Located::Done(found) => out.push(Some(found)),
+                    Located::No => out.push(self.search(r)?),
+                    Located::Probed(probed) => {
+                        // the probed optimum stands in for the next radii
+                        self.known.push(probed.stand_in());
+                        // (a worker gone leaves its result missing: the
+                        // radius is then corrected again below)
+                        let _ = tx.send((i, (*probed).clone()));
+                        pending.push((i, *probed));
+                        out.push(None);
+                    }
+                }
+            }
+            drop(tx);
+            let mut confirmed = worker.join().unwrap_or_default();
+            for (i, probed) in pending {
+                let r = probed.radius;
+                self.known.retain(|k| k.radius != r);
+                let (result, traces) = confirmed
+                    .iter_mut()
+                    .find(|(j, _)| *j == i)
+                    .map_or((None, 0), |(_, c)| (c.0.take(), c.1));
+                out[i] = match self.settle(probed, result, traces) {
+                    Some(found) => Some(found),
+                    None => self.search(r)?,
+                };
+            }
+            Ok(out)
+        })
+    }
+
+    /// Radius `r` searched afresh ([`Gripper::max_sphere_lift`]).
+    fn search(&mut self, r: f64) -> Result<Option<SphereLift>, SolveError> {
         self.counts.searched += 1;
         let best = self
             .gripper
@@ -308,32 +375,60 @@ impl<'g> SphereEnvelope<'g> {
             .then_some((beta, self.known[nearest].regime, step))
     }
 
-    fn follow(&mut self, r: f64) -> Option<SphereLift> {
-        let (beta, regime, step) = self.predict(r)?;
+    /// Radius `r` continued from the radii answered: answered (by traces),
+    /// located by probes (to be confirmed by a trace from rest), or not
+    /// followed (to be searched afresh).
+    fn locate(&mut self, r: f64) -> Located {
+        let Some((beta, regime, step)) = self.predict(r) else {
+            return Located::No;
+        };
         let [lo, hi] = grasping_angle_range(self.gripper.mu());
         if !(beta > lo && beta < hi) {
-            return None;
+            return Located::No;
         }
-        // probes from the nearest radius's answer, the answer traced from
-        // rest and checked; where that check fails, every grasp traced
+        // probes from the nearest radius's answer
         let anchor = self.nearest(r).and_then(|k| k.grasp.clone());
-        if let Some(anchor) = anchor {
-            let (found, mut c) = self.correct(r, beta, regime, step, Some(anchor));
-            let probed = found.is_some();
-            let confirmed = found.and_then(|(p, regime)| Some((c.confirm(p, regime)?, regime)));
-            self.counts.solves += c.spent - c.probes;
-            self.counts.probes += c.probes;
-            if let Some(found) = confirmed {
-                return Some(self.accept(r, beta, found));
-            }
+        let probing = anchor.is_some();
+        let (found, c) = self.correct(r, beta, regime, step, anchor);
+        self.counts.solves += c.spent - c.probes;
+        self.counts.probes += c.probes;
+        match found {
             // no regime checked out even on probes: searched afresh (the
             // traced chain would spend its budget the same way)
-            if !probed {
-                return None;
+            None => Located::No,
+            Some((p, found)) if p.traced || !probing => {
+                Located::Done(self.accept(r, beta, (p, found)))
             }
-            self.counts.retraced += 1;
+            Some((p, found)) => Located::Probed(Box::new(Probed {
+                radius: r,
+                point: p,
+                regime: found,
+                predicted: (beta, regime, step),
+            })),
         }
-        let (found, c) = self.correct(r, beta, regime, step, None);
+    }
+
+    /// A probed optimum after its trace from rest: answered when the trace
+    /// `confirmed` it (`traces` spent on that), else corrected again with
+    /// every grasp traced (`None`: to be searched afresh).
+    fn settle(
+        &mut self,
+        probed: Probed,
+        confirmed: Option<Point>,
+        traces: usize,
+    ) -> Option<SphereLift> {
+        let Probed {
+            radius: r,
+            regime,
+            predicted: (beta, prior, step),
+            ..
+        } = probed;
+        self.counts.solves += traces;
+        if let Some(p) = confirmed {
+            return Some(self.accept(r, beta, (p, regime)));
+        }
+        self.counts.retraced += 1;
+        let (found, c) = self.correct(r, beta, prior, step, None);
         self.counts.solves += c.spent;
         Some(self.accept(r, beta, found?))
     }
@@ -426,6 +521,74 @@ impl<'g> SphereEnvelope<'g> {
     }
 }
 
+/// The probed optimum traced from rest: the traced grasp, when it is the
+/// same equilibrium as the probe and valid by its own verdict (`None`
+/// otherwise), and the traces spent. On a boundary the probe and the trace
+/// differ in their last digits (the contact function by up to about
+/// 1e-9), so a trace on the boundary's invalid side by that much is
+/// stepped back into the valid side (a Newton step on the traced contact
+/// function with the boundary's slope, a tenth and [`BOUNDARY_BETA_TOL`]
+/// past its zero, doubling while the trace is still invalid,
+/// [`CONFIRM_STEPS`] traces in all).
+fn confirm(g: &Gripper, pressure_kpa: f64, probed: &Probed) -> (Option<Point>, usize) {
+    let p = &probed.point;
+    let mut beta = p.beta;
+    let mut back = BOUNDARY_BETA_TOL;
+    for traces in 1..=CONFIRM_STEPS {
+        let Ok(sg) = g.sphere_at_limit(pressure_kpa, probed.radius, beta, None, false) else {
+            return (None, traces);
+        };
+        let traced = Point::new(g, sg.grasp, true);
+        if !Gripper::same_equilibrium(&traced.grasp, &p.grasp) {
+            return (None, traces);
+        }
+        if traced.valid {
+            return (Some(traced), traces);
+        }
+        let Regime::Boundary { side, slope } = probed.regime else {
+            return (None, traces);
+        };
+        // a Newton step on the traced contact function, past its zero
+        back = back.max(1.1 * (traced.phi / slope).abs() + BOUNDARY_BETA_TOL);
+        beta -= side * back;
+        back *= 2.0;
+    }
+    (None, CONFIRM_STEPS)
+}
+
+/// What continuing one radius gave.
+enum Located {
+    /// Answered by traces from rest.
+    Done(SphereLift),
+    /// Located by probes, to be confirmed by a trace from rest.
+    Probed(Box<Probed>),
+    /// Not followed: to be searched afresh.
+    No,
+}
+
+/// An optimum located by probes.
+#[derive(Clone)]
+struct Probed {
+    radius: f64,
+    point: Point,
+    regime: Regime,
+    /// The prediction it was corrected from: angle, regime, first step.
+    predicted: (f64, Option<Regime>, f64),
+}
+
+impl Probed {
+    /// The radius as the next ones see it until it is confirmed.
+    fn stand_in(&self) -> Known {
+        Known {
+            radius: self.radius,
+            beta: self.point.beta,
+            regime: Some(self.regime),
+            correction: Some((self.point.beta - self.predicted.0).abs()),
+            grasp: Some(self.point.grasp.clone()),
+        }
+    }
+}
+
 impl Point {
     fn new(g: &Gripper, grasp: Grasp, traced: bool) -> Self {
         Point {
@@ -514,45 +677,6 @@ impl Corrector<'_> {
         let known = self.points.iter().any(|p| p.beta == beta && p.traced)
             || self.failed.contains(&(beta, false));
         (known || self.spent < FOLLOW_MAX_EVALUATIONS).then(|| self.trace(beta).is_some())
-    }
-
-    /// The probed optimum `p` (found in `regime`) traced from rest: the
-    /// traced grasp, when it is the same equilibrium and valid by its own
-    /// verdict (`None` otherwise). On a boundary the probe and the trace
-    /// differ in their last digits (the contact function by up to about
-    /// 1e-9), so a trace on the boundary's invalid side by that much is
-    /// stepped back into the valid side (a Newton step on the traced
-    /// contact function with the boundary's slope, a tenth and
-    /// [`BOUNDARY_BETA_TOL`] past its zero, doubling while the trace is
-    /// still invalid, [`CONFIRM_STEPS`] traces in all).
-    fn confirm(&mut self, p: Point, regime: Regime) -> Option<Point> {
-        if p.traced {
-            return Some(p);
-        }
-        let g = self.gripper;
-        let mut beta = p.beta;
-        let mut back = BOUNDARY_BETA_TOL;
-        for _ in 0..CONFIRM_STEPS {
-            self.spent += 1;
-            let sg = g
-                .sphere_at_limit(self.pressure_kpa, self.radius, beta, None, false)
-                .ok()?;
-            let traced = Point::new(g, sg.grasp, true);
-            if !Gripper::same_equilibrium(&traced.grasp, &p.grasp) {
-                return None;
-            }
-            if traced.valid {
-                return Some(traced);
-            }
-            let Regime::Boundary { side, slope } = regime else {
-                return None;
-            };
-            // a Newton step on the traced contact function, past its zero
-            back = back.max(1.1 * (traced.phi / slope).abs() + BOUNDARY_BETA_TOL);
-            beta -= side * back;
-            back *= 2.0;
-        }
-        None
     }
 
     /// The best valid grasp among those solved.

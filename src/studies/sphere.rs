@@ -252,13 +252,11 @@ fn sphere_envelope(
         .collect();
     let mut envelope = Vec::with_capacity(m);
     let mut best: Option<(usize, SphereLift)> = None;
-    for &r in &radii {
-        if let Some(e) = follower.at(r)? {
-            if best.as_ref().is_none_or(|(_, b)| e.lift > b.lift) {
-                best = Some((envelope.len(), e.clone()));
-            }
-            envelope.push(e);
+    for e in follower.along(&radii)?.into_iter().flatten() {
+        if best.as_ref().is_none_or(|(_, b)| e.lift > b.lift) {
+            best = Some((envelope.len(), e.clone()));
         }
+        envelope.push(e);
     }
     let Some((i, mut peak)) = best else {
         return Ok((envelope, None, follower.counts()));
