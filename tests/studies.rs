@@ -4,6 +4,10 @@
 
 use std::f64::consts::FRAC_PI_2;
 
+#[path = "common/dense_sphere.rs"]
+mod dense_sphere;
+use dense_sphere::dense_best_angle;
+
 use fpc::gripper::grasping_angle_range;
 use fpc::studies::{
     study1_prestrain_angle, study2_overlap, study3_cuboid_region, study4_force_control,
@@ -271,4 +275,70 @@ fn study_options_are_validated() {
         ..base
     })
     .contains("study.pressure_points"));
+}
+
+/// Study 5's summary numbers against an independent dense evaluation of
+/// the same optima (issue 23), on the paper's options: at the envelope's
+/// first, middle and last radii and at the peak's radius, the best angle
+/// to 1e-9 rad and its lift to 1e-9 relative (of the peak's lift where
+/// the lift vanishes); and the peak's lift against
+/// golden sections in the radius over the dense best lift (the peak is
+/// flat: its radius is pinned to about 1e-3 mm only, its lift to 1e-9).
+#[test]
+fn s5_envelope_and_peak_match_a_dense_evaluation() {
+    let opts = StudyOptions::default();
+    let s = study5_sphere_region(&paper(), &opts).unwrap();
+    let g = fpc::studies::section5_gripper(&paper(), &opts).unwrap();
+    let peak = s.peak.clone().unwrap();
+    let n = s.envelope.len();
+    let scale = peak.lift;
+    let check = |r: f64, beta: f64, lift: f64, what: &str| {
+        let (b, l) = dense_best_angle(&g, r, 120);
+        assert!(
+            (b - beta).abs() <= 1e-9,
+            "{what} r = {r}: b {beta} against {b}"
+        );
+        // (relative to the peak's lift where the lift itself vanishes, as
+        // at the largest radius, where the sphere rests on the tips)
+        assert!(
+            (l - lift).abs() <= 1e-9 * l.max(scale),
+            "{what} r = {r}: f_v {lift} against {l}"
+        );
+    };
+    for e in [&s.envelope[0], &s.envelope[n / 2], &s.envelope[n - 1]] {
+        check(e.radius, e.beta, e.lift, "envelope");
+    }
+    check(peak.radius, peak.beta, peak.lift, "peak");
+    // the grid radii on either side of the peak bracket it
+    let above = s
+        .envelope
+        .iter()
+        .position(|e| e.radius > peak.radius)
+        .expect("a grid radius above the peak");
+    let (mut a, mut c) = (
+        s.envelope[above.saturating_sub(2)].radius,
+        s.envelope[above].radius,
+    );
+    let lift = |r: f64| dense_best_angle(&g, r, 120).1;
+    let k = 0.5 * (5f64.sqrt() - 1.0);
+    while c - a > 1e-3 {
+        let (x1, x2) = (c - k * (c - a), a + k * (c - a));
+        if lift(x1) >= lift(x2) {
+            c = x2;
+        } else {
+            a = x1;
+        }
+    }
+    let (r, best) = (0.5 * (a + c), lift(0.5 * (a + c)));
+    assert!(
+        (best - peak.lift).abs() <= 1e-9 * best,
+        "peak f_v {} at {} mm against {best} at {r} mm",
+        peak.lift,
+        peak.radius
+    );
+    assert!(
+        (r - peak.radius).abs() <= 0.05,
+        "peak r {} against {r}",
+        peak.radius
+    );
 }
