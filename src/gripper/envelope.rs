@@ -70,6 +70,16 @@ const CONFIRM_STEPS: usize = 4;
 /// rounding.
 const TURN_BETA_TOL: f64 = 1e-11;
 
+/// How far (rad) from the prediction the turn of closing from rest is
+/// still taken for the edge to try first (a trial of a design may move it
+/// far from the last trial's; the traces check it).
+const TURN_REACH: f64 = 0.5;
+
+/// How close (rad) a searched optimum must lie to the turn of closing from
+/// rest to be taken for an edge there first (a search locates an edge to
+/// [`ENVELOPE_BETA_TOL`]).
+const TURN_NEAR: f64 = 1e-7;
+
 /// Bracket expansions (each step four times the last) before a corrector
 /// gives up.
 const MAX_EXPANSIONS: usize = 8;
@@ -478,13 +488,21 @@ impl<'g> SphereEnvelope<'g> {
                 let from_radius = !self.known.is_empty();
                 c.edge(beta, if from_radius { 0.0 } else { step }, side)
             }
-            // a searched optimum: the usual case first
-            None => c
-                .boundary(beta, step, 1.0, None)
-                .or_else(|| interior(&mut c))
-                .or_else(|| c.boundary(beta, step, -1.0, None))
-                .or_else(|| c.edge(beta, step, 1.0))
-                .or_else(|| c.edge(beta, step, -1.0)),
+            // a searched optimum: at the turn of closing from rest the
+            // edge first, else the usual case first
+            None => {
+                let turn = self
+                    .gripper
+                    .closing_turn_angle(self.pressure_kpa, beta)
+                    .filter(|t| (t - beta).abs() <= TURN_NEAR);
+                let edge_first = turn.and_then(|t| c.edge(beta, 0.0, (t - beta).signum()));
+                edge_first
+                    .or_else(|| c.boundary(beta, step, 1.0, None))
+                    .or_else(|| interior(&mut c))
+                    .or_else(|| c.boundary(beta, step, -1.0, None))
+                    .or_else(|| c.edge(beta, step, 1.0))
+                    .or_else(|| c.edge(beta, step, -1.0))
+            }
         }
         .or_else(|| match regime {
             Some(Regime::Reach) => None,
@@ -767,7 +785,7 @@ impl Corrector<'_> {
 
     /// The optimum at the edge of the angles reached from rest whose
     /// failing side is `side`, from the prediction `b0` (or, within
-    /// [`MAX_STEP`] of it, the angle where closing from rest turns round,
+    /// [`TURN_REACH`] of it, the angle where closing from rest turns round,
     /// [`Gripper::closing_turn_angle`], half of [`TURN_BETA_TOL`] inside):
     /// the trace there and steps from it (the first a quarter of `step`, or
     /// [`TURN_BETA_TOL`] from the turn, then growing) until one side
@@ -778,10 +796,11 @@ impl Corrector<'_> {
     fn edge(&mut self, b0: f64, step: f64, side: f64) -> Option<(Point, Regime)> {
         let mut h = (0.25 * step).max(ENVELOPE_BETA_TOL);
         // where closing from rest turns round, when near: the usual edge
+        let [lo, hi] = grasping_angle_range(self.gripper.mu());
         let turn = self
             .gripper
             .closing_turn_angle(self.pressure_kpa, b0)
-            .filter(|b| (b - b0).abs() <= MAX_STEP);
+            .filter(|b| (b - b0).abs() <= TURN_REACH && *b > lo && *b < hi);
         let b0 = match turn {
             Some(b) => {
                 h = TURN_BETA_TOL;
