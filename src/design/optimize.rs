@@ -367,14 +367,27 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, In
     let mut c = Counter::new(req);
     let mut best: Option<(Vec<f64>, Evaluation)> = None;
     let list = starts(dim, opts);
-    // screen every start by one evaluation; ascend from the best few
-    let mut screened: Vec<(&Vec<f64>, f64)> = list
-        .iter()
-        .map(|u0| (u0, smooth_min(&c.eval(u0), opts.sharpness)))
-        .collect();
+    // screen every start by one evaluation; ascend from the best few. The
+    // evaluations of the screening are independent, and so are the
+    // ascents (each starts its seeds afresh): on every core, in order
+    let scores = crate::cancel::par_map(&list, |u0| {
+        smooth_min(&evaluate(req, design_of(req, u0)), opts.sharpness)
+    });
+    c.evaluations += list.len();
+    let mut screened: Vec<(&Vec<f64>, f64)> = list.iter().zip(scores).collect();
     screened.sort_by(|a, b| b.1.total_cmp(&a.1));
-    for (u0, _) in screened.into_iter().take(opts.ascents.max(1)) {
-        let (u, e) = ascend(&mut c, u0, opts);
+    let chosen: Vec<&Vec<f64>> = screened
+        .into_iter()
+        .take(opts.ascents.max(1))
+        .map(|(u0, _)| u0)
+        .collect();
+    let ascents = crate::cancel::par_map(&chosen, |u0| {
+        let mut own = Counter::new(req);
+        let (u, e) = ascend(&mut own, u0, opts);
+        (u, e, own.evaluations)
+    });
+    for (u, e, evaluations) in ascents {
+        c.evaluations += evaluations;
         if best.as_ref().is_none_or(|(_, b)| e.worst > b.worst) {
             best = Some((u, e));
         }
