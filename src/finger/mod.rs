@@ -512,7 +512,7 @@ impl<'a> Solver<'a> {
 
     /// `dT / dlambda` of `problem`'s family at `start`, which decides the
     /// way a trace from it goes (`None`: a singular tangent).
-    pub fn target_slope_at(
+    pub(crate) fn target_slope_at(
         &mut self,
         problem: &TargetProblem,
         start: &Coefficients,

@@ -10,7 +10,7 @@
 //! the `eps0 = 0.4` one, whose curl passes its innermost point). The
 //! physical contact is used here, so the centre is always on the axis.
 
-use std::f64::consts::{FRAC_PI_2, PI};
+use std::f64::consts::FRAC_PI_2;
 
 use crate::error::{finite, positive, require, InputError};
 use crate::field::Field;
@@ -19,9 +19,9 @@ use crate::finger::{Solution, Solver};
 use crate::solve_error::SolveError;
 
 use super::closing::check_beta;
-use super::frames::{contact_force_to_gripper, grasping_angle_range};
+use super::frames::{contact_force_to_gripper, finger_to_gripper_map, grasping_angle_range};
 use super::rules::Invalid;
-use super::setup::{Grasp, GraspLoad, Gripper, Object};
+use super::setup::{Grasp, GraspLoad, Gripper, Object, CONTACT_TOL_MM};
 
 /// Tolerance (rad) on the best grasping angle of [`Gripper::max_sphere_lift`].
 pub const ENVELOPE_BETA_TOL: f64 = 1e-9;
@@ -236,16 +236,17 @@ impl Gripper {
         Ok(self.sphere_result(grasp))
     }
 
-    /// The grasping angle nearest `near` at which closing on a sphere from
-    /// rest at `pressure_kpa` turns round: the contact force's first push
-    /// (full friction) moves the tip neither towards nor away from the
-    /// gripper's axis (`dT / dlambda = 0` at rest,
-    /// [`Solver::target_slope_at`]), so on one side of it the trace from
-    /// rest starts away from the object. The rate is linear in the force's
-    /// direction, `e0 cos b + e1 sin b`, so its values at 0 and pi/2 give
-    /// it at every angle. A prediction for a search, which traces the
-    /// angles around it; `None` where a tangent is singular.
-    pub(crate) fn closing_turn_angle(&self, pressure_kpa: f64, near: f64) -> Option<f64> {
+    /// Where closing on a sphere from rest at `pressure_kpa` turns round:
+    /// the grasping angles at which the contact force's first push (full
+    /// friction) moves the tip neither towards nor away from the gripper's
+    /// axis (`dT / dlambda = 0` at rest, [`Solver::target_slope_at`]), so
+    /// that on one side of them the trace from rest starts away from the
+    /// object. The rate is linear in the force's direction, `e0 cos b + e1
+    /// sin b`, so its values at 0 and pi/2 give it at every angle; its
+    /// zeros are the returned angle plus any multiple of pi. A prediction
+    /// for a search, which traces the angles around it; `None` where a
+    /// tangent is singular.
+    pub(crate) fn closing_turn(&self, pressure_kpa: f64) -> Option<f64> {
         let rate = |beta: f64| {
             let problem = self.problem(&self.sphere_load(pressure_kpa, 1.0, beta, false));
             let rest = self
@@ -256,8 +257,7 @@ impl Gripper {
                 .filter(|s| s.is_finite())
         };
         let (e0, e1) = (rate(0.0)?, rate(FRAC_PI_2)?);
-        let zero = (-e0).atan2(e1);
-        Some(zero + ((near - zero) / PI).round() * PI).filter(|b| b.is_finite())
+        Some((-e0).atan2(e1)).filter(|b| b.is_finite())
     }
 
     /// The load family of a sphere of radius `r` held at angle `beta` with
@@ -396,6 +396,42 @@ impl Gripper {
                 invalid: Some(Invalid::NotOpen { size, tip_gap }),
             },
         }
+    }
+
+    /// The contact function of a sphere grasp: the larger of the cosine
+    /// between the finger's tangent at the tip and the sphere's outward
+    /// normal there (positive: the finger reaches its tip from inside the
+    /// sphere) and the depth (mm) of the deepest point of the mid-plane in
+    /// the sphere apart from the tip's own contact, less
+    /// [`CONTACT_TOL_MM`] (positive: a second contact). Non-positive where
+    /// both contact rules hold; continuous in the grasping angle while the
+    /// same point meets the sphere first. `None` where the sphere or its
+    /// contact cannot be computed.
+    pub(crate) fn contact_function(&self, grasp: &Grasp) -> Option<f64> {
+        let sol = &grasp.solution;
+        let a = self.mounting_angle();
+        let tangent = (a - sol.end_angle - grasp.beta).cos();
+        let (sb, cb) = grasp.beta.sin_cos();
+        let tip = self.to_gripper(sol.tip);
+        let r = tip[0] / cb;
+        if !(r > 0.0 && r.is_finite()) {
+            return None;
+        }
+        let map = finger_to_gripper_map(a, self.palm()).ok()?;
+        let curves: Vec<_> = self
+            .finger()
+            .midplane_curves(&sol.coefficients)
+            .ok()?
+            .iter()
+            .map(|k| k.map(map))
+            .collect();
+        let last = curves.len().checked_sub(1)?;
+        let disc = super::contact::Obstacle::disc([tip[0] - r * cb, tip[1] - r * sb], r).ok()?;
+        let deep =
+            super::contact::deepest_apart_from(&curves, &disc, last, curves[last].length()).ok()?;
+        // nothing apart from the tip: the whole finger falls away from it
+        let second = deep.map_or(-r, |d| d.depth - CONTACT_TOL_MM);
+        Some(tangent.max(second))
     }
 
     /// (c) The grasping angles in `[-arctan mu, pi/2)` at which a sphere of
