@@ -219,11 +219,12 @@ impl<'g> SphereEnvelope<'g> {
         let (g, pressure) = (self.gripper, self.pressure_kpa);
         let flag = crate::cancel::current();
         std::thread::scope(|scope| {
-            let (tx, rx) = std::sync::mpsc::channel::<(usize, Probed)>();
+            // the worker confirms in the order it is sent
+            let (tx, rx) = std::sync::mpsc::channel::<Probed>();
             let worker = scope.spawn(move || {
                 crate::cancel::under(flag, || {
                     rx.into_iter()
-                        .map(|(i, p)| (i, confirm(g, pressure, &p)))
+                        .map(|p| confirm(g, pressure, &p))
                         .collect::<Vec<_>>()
                 })
             });
@@ -238,21 +239,18 @@ impl<'g> SphereEnvelope<'g> {
                         self.known.push(probed.stand_in());
                         // (a worker gone leaves its result missing: the
                         // radius is then corrected again below)
-                        let _ = tx.send((i, (*probed).clone()));
+                        let _ = tx.send((*probed).clone());
                         pending.push((i, *probed));
                         out.push(None);
                     }
                 }
             }
             drop(tx);
-            let mut confirmed = worker.join().unwrap_or_default();
+            let mut confirmed = worker.join().unwrap_or_default().into_iter();
             for (i, probed) in pending {
                 let r = probed.radius;
                 self.known.retain(|k| k.radius != r);
-                let (result, traces) = confirmed
-                    .iter_mut()
-                    .find(|(j, _)| *j == i)
-                    .map_or((None, 0), |(_, c)| (c.0.take(), c.1));
+                let (result, traces) = confirmed.next().unwrap_or((None, 0));
                 out[i] = match self.settle(probed, result, traces) {
                     Some(found) => Some(found),
                     None => self.search(r)?,
