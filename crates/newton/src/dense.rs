@@ -17,7 +17,7 @@ use crate::bordered::{Bordered, BorderedEval};
 use crate::linear::{all_finite, FactorError, Inertia};
 use crate::palc::Path;
 use crate::problem::{Energy, Gradient, Hessian, LinearSystem};
-use crate::semiseparable::PivotKind;
+use crate::semiseparable::{PivotKind, MODIFIED_FLOOR};
 
 /// A problem that writes its Hessian as a dense matrix ([`Dense::new`]
 /// makes it a [`Hessian`]).
@@ -114,6 +114,53 @@ impl DenseMatrix {
     /// The number of negative pivots of the Bunch-Kaufman factor `B`
     /// (Sylvester: `H + tau I`'s negative eigenvalues), or the first
     /// singular (or non-finite) pivot block.
+    /// The `D` of `P H P^T = L D L^T` with every 1x1 and 2x2 block's
+    /// eigenvalues replaced by their absolute values, floored at
+    /// [`MODIFIED_FLOOR`] times the largest: the modified factorisation of
+    /// [`PivotKind::Modified`] (Cheng and Higham's form, with `L` and `P`
+    /// kept).
+    fn modify_d(&mut self) {
+        let n = self.n;
+        let at = |i: usize| i * (n + 1);
+        // eigenvalues and an eigenvector angle of each block
+        let mut scale = 0.0f64;
+        let mut i = 0;
+        while i < n {
+            let (a, s) = (self.l[at(i)], self.subdiag[i]);
+            if s != 0.0 && i + 1 < n {
+                let c = self.l[at(i + 1)];
+                let r = (0.25 * (a - c) * (a - c) + s * s).sqrt();
+                scale = scale.max((0.5 * (a + c)).abs() + r);
+                i += 2;
+            } else {
+                scale = scale.max(a.abs());
+                i += 1;
+            }
+        }
+        let floor = MODIFIED_FLOOR * scale;
+        let fix = |l: f64| l.abs().max(floor);
+        let mut i = 0;
+        while i < n {
+            let (a, s) = (self.l[at(i)], self.subdiag[i]);
+            if s != 0.0 && i + 1 < n {
+                let c = self.l[at(i + 1)];
+                // [a s; s c] = Q diag(l1, l2) Q^T, Q the rotation by theta
+                let theta = 0.5 * (2.0 * s).atan2(a - c);
+                let (sn, cs) = theta.sin_cos();
+                let m = 0.5 * (a + c);
+                let r = (0.25 * (a - c) * (a - c) + s * s).sqrt();
+                let (l1, l2) = (fix(m + r), fix(m - r));
+                self.l[at(i)] = cs * cs * l1 + sn * sn * l2;
+                self.l[at(i + 1)] = sn * sn * l1 + cs * cs * l2;
+                self.subdiag[i] = sn * cs * (l1 - l2);
+                i += 2;
+            } else {
+                self.l[at(i)] = fix(a);
+                i += 1;
+            }
+        }
+    }
+
     fn lblt_negative(&self) -> Result<usize, usize> {
         let (n, l) = (self.n, &self.l);
         let d = |i: usize| l[i * (n + 1)];
@@ -166,7 +213,7 @@ impl LinearSystem for DenseMatrix {
         }
         let stack = MemStack::new(&mut self.mem);
         let l = MatMut::from_column_major_slice_mut(&mut self.l, n, n);
-        self.indefinite = kind == PivotKind::Symmetric;
+        self.indefinite = kind != PivotKind::Cholesky;
         let negative = match kind {
             PivotKind::Cholesky => {
                 llt::factor::cholesky_in_place(
@@ -181,7 +228,7 @@ impl LinearSystem for DenseMatrix {
                 })?;
                 0
             }
-            PivotKind::Symmetric => {
+            PivotKind::Symmetric | PivotKind::Modified => {
                 let sub = faer::diag::DiagMut::from_slice_mut(&mut self.subdiag);
                 lblt::factor::cholesky_in_place(
                     l,
@@ -192,6 +239,9 @@ impl LinearSystem for DenseMatrix {
                     stack,
                     Default::default(),
                 );
+                if kind == PivotKind::Modified {
+                    self.modify_d();
+                }
                 self.lblt_negative()
                     .map_err(|block| FactorError::Singular { block })?
             }

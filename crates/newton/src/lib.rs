@@ -70,4 +70,4 @@ pub use palc::{
 };
 pub use problem::{Energy, Gradient, Hessian, LinearSystem};
 pub use report::{Report, Termination};
-pub use semiseparable::{PivotKind, Semiseparable};
+pub use semiseparable::{PivotKind, Semiseparable, MODIFIED_FLOOR};

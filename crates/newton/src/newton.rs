@@ -33,6 +33,22 @@ const MODEL_FIT: f64 = 1e-2;
 /// At most this many chord steps follow one Hessian.
 const MAX_CHORD_STEPS: usize = 4;
 
+/// A shifted step is doubled at most this many times (see
+/// [`Newton::extend`]).
+const MAX_EXTENSIONS: usize = 12;
+
+/// The step cap grows at most to this multiple of
+/// [`NewtonOptions::max_step`] (see [`Newton::minimize`]).
+const MAX_CAP_GROWTH: f64 = 16.0;
+
+/// How [`Newton::direction`] made the Hessian positive definite.
+enum Direction {
+    /// Shifted by `tau` (0: the Hessian as it is).
+    Shifted(f64),
+    /// By modified pivots ([`PivotKind::Modified`]).
+    Modified,
+}
+
 /// What [`Newton::land_with_gradient`] made of a full step.
 enum Landing {
     /// Not accepted: the iterate is unchanged.
@@ -77,7 +93,21 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// factorisation succeeds (the problem's [`LinearSystem::factor`](crate::LinearSystem::factor)
 /// with Cholesky pivots). Thus indefinite Hessians still give descent
 /// directions, and near a non-degenerate minimum pure Newton steps (and
-/// quadratic convergence) are recovered. Backtracking then starts at the
+/// quadratic convergence) are recovered.
+///
+/// With [`NewtonOptions::modified_pivots`], a Hessian that is not positive
+/// definite is first factorised with [`PivotKind::Modified`] (its negative
+/// curvature turned positive, its positive curvature kept), and the shifts
+/// follow only if the problem cannot do that. With
+/// [`NewtonOptions::step_growth`], a step along a shifted or modified
+/// Hessian whose full length passes the line search is doubled (at most
+/// twelve times, within the step cap) while the energy keeps falling and
+/// Armijo holds; and the cap [`NewtonOptions::max_step`] acts as a trust
+/// region's radius: a Newton step (positive definite Hessian) shortened to
+/// it and taken whole doubles it for the next step (up to 16 times
+/// `max_step`), while a step the line search shortens, or a step along a
+/// shifted or modified Hessian, resets it; a step shortened to the cap is
+/// not taken for the quadratic phase. Backtracking then starts at the
 /// full step, evaluates only [`Energy::energy`](crate::Energy::energy) at
 /// trial points, and accepts the first step fraction `alpha` with
 /// `f(x + alpha p) <= f(x) + c1 alpha g^T p` (Armijo), safeguarded
@@ -139,6 +169,10 @@ pub struct Newton {
     xt: Vec<f64>,
     gt: Vec<f64>,
     xprev: Vec<f64>,
+    /// The step cap in force (see [`Newton::descent`]).
+    cap: f64,
+    /// Whether the last direction was shortened to `cap`.
+    capped: bool,
 }
 
 impl core::fmt::Debug for Newton {
@@ -167,6 +201,8 @@ impl Newton {
             xt: vec![0.0; n],
             gt: vec![0.0; n],
             xprev: vec![0.0; n],
+            cap: opts.max_step,
+            capped: false,
         }
     }
 
@@ -233,6 +269,7 @@ impl Newton {
         }
         let mut gnorm = norm_inf(&self.g);
         let mut last_tau = 0.0;
+        self.cap = o.max_step;
         // residual before the last accepted step, when that step was a full
         // unshifted Newton step (the quadratic phase); NaN otherwise
         let mut quadratic_prev = f64::NAN;
@@ -248,8 +285,9 @@ impl Newton {
                 rep.reason = Termination::MaxIterations;
                 break;
             }
-            let tau = match self.direction(p, last_tau, &mut rep) {
-                Ok(tau) => tau,
+            let (tau, plain) = match self.direction(p, last_tau, &mut rep) {
+                Ok(Direction::Shifted(tau)) => (tau, tau == 0.0),
+                Ok(Direction::Modified) => (0.0, false),
                 Err(reason) => {
                     rep.reason = reason;
                     break;
@@ -262,7 +300,7 @@ impl Newton {
             // is evaluated with its gradient, and chord steps follow at once
             // if it cut the gradient enough (else the Hessian there).
             let chord = o.eager_full_steps && o.chord_steps;
-            if chord && o.trusted_start && rep.iterations == 0 && tau == 0.0 {
+            if chord && o.trusted_start && rep.iterations == 0 && plain {
                 self.full_step(x);
                 match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                     Landing::Next(next) => {
@@ -279,7 +317,7 @@ impl Newton {
             // iteration needs, instead of an energy first and the Hessian
             // after. When the quadratic model predicts convergence there,
             // the gradient alone decides (no Hessian for the last step).
-            if o.eager_full_steps && tau == 0.0 && quadratic_prev.is_finite() {
+            if o.eager_full_steps && plain && quadratic_prev.is_finite() {
                 self.full_step(x);
                 let predicted = gnorm * gnorm * gnorm / (quadratic_prev * quadratic_prev);
                 if predicted < 0.1 * o.gtol {
@@ -330,18 +368,34 @@ impl Newton {
                     // the Hessian is re-evaluated where it lands
                 }
             }
-            let (alpha, ft) = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
+            let (mut alpha, mut ft) = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
                 Ok(found) => found,
                 Err(reason) => {
                     rep.reason = reason;
                     break;
                 }
             };
+            if o.step_growth {
+                if !plain && alpha == 1.0 {
+                    (alpha, ft) = self.extend(p, x, f, gtp, ft, &mut rep);
+                }
+                // a trust region's radius: a capped Newton step (positive
+                // definite Hessian) taken whole lets the next one be twice
+                // as long, a shortened one resets it, and so does a step
+                // along negative curvature (Newton::direction: the energy
+                // may be unbounded that way; the extension above is the
+                // only growth such a step has)
+                if alpha < 1.0 {
+                    self.cap = o.max_step;
+                } else if self.capped && plain {
+                    self.cap = (2.0 * self.cap).min(MAX_CAP_GROWTH * o.max_step);
+                }
+            }
             // a full Newton step that the quadratic model predicted to 1 %
             // (the actual decrease over 1/2 g^T p): close to the minimum,
             // where chord steps may follow it
             let fit = (ft - f) / (0.5 * gtp);
-            if chord && alpha == 1.0 && tau == 0.0 && (fit - 1.0).abs() <= MODEL_FIT {
+            if chord && alpha == 1.0 && plain && (fit - 1.0).abs() <= MODEL_FIT {
                 match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                     Landing::Next(next) => {
                         (f, gnorm, quadratic_prev) = next;
@@ -363,10 +417,11 @@ impl Newton {
                 break;
             }
             rep.iterations += 1;
-            rep.shifted_steps += usize::from(tau > 0.0);
+            rep.shifted_steps += usize::from(!plain);
             rep.damped_steps += usize::from(alpha < 1.0);
             rep.step_norm = alpha * norm_inf(&self.p);
-            quadratic_prev = if alpha == 1.0 && tau == 0.0 {
+            // (a step shortened to the cap is not in the quadratic phase)
+            quadratic_prev = if alpha == 1.0 && plain && !(o.step_growth && self.capped) {
                 gnorm
             } else {
                 f64::NAN
@@ -516,7 +571,7 @@ impl Newton {
         problem: &mut P,
         last_tau: f64,
         rep: &mut Report,
-    ) -> Result<f64, Termination> {
+    ) -> Result<Direction, Termination> {
         let (dmin, dmax) = problem.diagonal_range();
         let scale = if dmax > 0.0 { dmax } else { 1.0 };
         let beta = 1e-3 * scale;
@@ -528,25 +583,92 @@ impl Newton {
             rep.factorizations += 1;
             match problem.factor(tau, PivotKind::Cholesky) {
                 Ok(_) => {
-                    for (pi, gi) in self.p.iter_mut().zip(&self.g) {
-                        *pi = -gi;
+                    if tau > 0.0 {
+                        // along negative curvature the cap starts again
+                        self.cap = self.opts.max_step;
                     }
-                    problem.solve(&mut self.p);
-                    if all_finite(&self.p) && dot(&self.g, &self.p) < 0.0 {
-                        let len = norm_inf(&self.p);
-                        if len > self.opts.max_step {
-                            let s = self.opts.max_step / len;
-                            self.p.iter_mut().for_each(|v| *v *= s);
-                        }
-                        return Ok(tau);
+                    if self.descent(problem) {
+                        return Ok(Direction::Shifted(tau));
                     }
                 }
                 Err(FactorError::NonFinite { .. }) => return Err(Termination::NonFinite),
                 Err(_) => {}
             }
+            if tau == 0.0 && self.opts.modified_pivots {
+                // not positive definite: the modified factorisation, where
+                // the problem offers it (a problem that does not may treat
+                // it as symmetric pivots: its inertia then has negatives)
+                rep.factorizations += 1;
+                self.cap = self.opts.max_step;
+                match problem.factor(0.0, PivotKind::Modified) {
+                    Ok(inertia) if inertia.negative == 0 && self.descent(problem) => {
+                        return Ok(Direction::Modified);
+                    }
+                    Err(FactorError::NonFinite { .. }) => return Err(Termination::NonFinite),
+                    _ => {}
+                }
+            }
             tau = if tau == 0.0 { first } else { 2.0 * tau };
         }
         Err(Termination::Singular)
+    }
+
+    /// `self.p = -H^-1 g` with the factorisation at hand, shortened to
+    /// `max_step`; whether it is finite and a direction of descent.
+    fn descent<P: Hessian + ?Sized>(&mut self, problem: &mut P) -> bool {
+        for (pi, gi) in self.p.iter_mut().zip(&self.g) {
+            *pi = -gi;
+        }
+        problem.solve(&mut self.p);
+        if !(all_finite(&self.p) && dot(&self.g, &self.p) < 0.0) {
+            return false;
+        }
+        let len = norm_inf(&self.p);
+        self.capped = len > self.cap;
+        if self.capped {
+            let s = self.cap / len;
+            self.p.iter_mut().for_each(|v| *v *= s);
+        }
+        true
+    }
+
+    /// A shifted step whose full length was accepted: the shift keeps it
+    /// short of where the energy stops falling (along a direction of
+    /// negative curvature the quadratic model has no minimum), so the step
+    /// is doubled while the energy keeps falling, Armijo holds and its
+    /// length stays within `max_step`. Leaves the accepted point in
+    /// `self.xt` and returns its fraction and value.
+    fn extend<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &[f64],
+        f: f64,
+        gtp: f64,
+        f_full: f64,
+        rep: &mut Report,
+    ) -> (f64, f64) {
+        let o = &self.opts;
+        let len = norm_inf(&self.p);
+        let (mut best, mut f_best) = (1.0, f_full);
+        for _ in 0..MAX_EXTENSIONS {
+            let alpha = 2.0 * best;
+            if alpha * len > self.cap {
+                break;
+            }
+            for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
+                *xt = xi + alpha * pi;
+            }
+            let ft = p.energy(&self.xt);
+            rep.energy_evals += 1;
+            if !(ft < f_best && ft <= f + o.c1 * alpha * gtp) {
+                break;
+            }
+            (best, f_best) = (alpha, ft);
+        }
+        for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
+            *xt = xi + best * pi;
+        }
+        (best, f_best)
     }
 
     /// Backtracking Armijo search along `self.p`; leaves the accepted point

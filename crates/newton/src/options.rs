@@ -149,6 +149,25 @@ pub struct NewtonOptions {
     /// quadratically; a fraction below 1 buys that accuracy back with a
     /// step or two more. Default 1.
     pub chord_depth: f64,
+    /// Where the Hessian is not positive definite, take the direction from
+    /// its modified factorisation ([`PivotKind::Modified`](crate::PivotKind::Modified):
+    /// negative curvature turned positive, positive curvature kept) before
+    /// falling back to shifting the whole diagonal. For one block that is
+    /// the Hessian with its negative eigenvalues' signs flipped; along a
+    /// chain of blocks a flipped pivot is a Schur complement's, and its
+    /// step can carry the whole chain into another basin. Default false.
+    pub modified_pivots: bool,
+    /// Let steps grow where the model in force is too timid: a step along
+    /// a modified (shifted or modified-pivot) Hessian whose full length is
+    /// accepted is doubled while the energy keeps falling and Armijo holds
+    /// (within `max_step`); and, with a finite [`max_step`](Self::max_step),
+    /// a Newton step on a positive definite Hessian shortened to the cap
+    /// and taken whole doubles the cap for the next step (up to 16 times
+    /// `max_step`), as a trust region's radius, while a step the line
+    /// search shortens, or one along a modified Hessian, resets it. Like
+    /// `modified_pivots`, it can change which minimum a start far from
+    /// every minimum ends in. Default false.
+    pub step_growth: bool,
 }
 
 impl Default for NewtonOptions {
@@ -165,6 +184,8 @@ impl Default for NewtonOptions {
             chord_steps: true,
             trusted_start: false,
             chord_depth: 1.0,
+            modified_pivots: false,
+            step_growth: false,
         }
     }
 }

@@ -69,8 +69,10 @@ pub struct Report {
     /// Accepted chord steps: the last factorisation reused, only the
     /// gradient evaluated (included in `iterations`).
     pub chord_steps: usize,
-    /// Accepted steps along a shifted Hessian's direction (`tau > 0`: the
-    /// Hessian was not positive definite there).
+    /// Accepted steps along a modified Hessian's direction, shifted (`tau >
+    /// 0`) or with modified pivots
+    /// ([`NewtonOptions::modified_pivots`](crate::NewtonOptions::modified_pivots)):
+    /// the Hessian was not positive definite there.
     pub shifted_steps: usize,
     /// Accepted steps the line search shortened (step fraction below 1).
     pub damped_steps: usize,

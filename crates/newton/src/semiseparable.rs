@@ -62,7 +62,20 @@ pub enum PivotKind {
     /// Symmetric eigendecomposition: any nonsingular pivot, with its inertia
     /// (bordered solves, stability).
     Symmetric,
+    /// Symmetric eigendecomposition with every pivot's eigenvalues replaced
+    /// by their absolute values, and those below [`MODIFIED_FLOOR`] times
+    /// the pivot's largest raised to that: the exact factorisation of
+    /// `H + tau I + E` with `E` block diagonal and positive semidefinite
+    /// (zero where `H + tau I` is positive definite), itself positive
+    /// definite. Newton's direction where the Hessian is indefinite: unlike
+    /// a shift of the whole diagonal, it leaves the directions of positive
+    /// curvature as they are.
+    Modified,
 }
+
+/// Relative floor on the modified pivots' eigenvalues
+/// ([`PivotKind::Modified`]).
+pub const MODIFIED_FLOOR: f64 = 1e-6;
 
 /// A block-diagonal plus rank-one semiseparable symmetric matrix (module
 /// docs) with its factorisation.
@@ -327,6 +340,11 @@ impl Semiseparable {
             let lam = &mut self.lambda[m * n..(m + 1) * n];
             jacobi(n, p, lam, &mut self.scratch).ok_or(FactorError::NoConvergence { block: m })?;
             let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
+            if kind == PivotKind::Modified {
+                for l in lam.iter_mut() {
+                    *l = l.abs().max(MODIFIED_FLOOR * scale);
+                }
+            }
             for &l in lam.iter() {
                 if l.abs().partial_cmp(&(1e-14 * scale)) != Some(core::cmp::Ordering::Greater) {
                     return Err(FactorError::Singular { block: m });
@@ -434,7 +452,7 @@ impl Semiseparable {
                 let bk = &mut b[k * n..(k + 1) * n];
                 match self.kind {
                     PivotKind::Cholesky => cholesky_solve::<N>(n, fk, bk),
-                    PivotKind::Symmetric => eigen_solve(
+                    PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
                         n,
                         fk,
                         &self.lambda[k * n..(k + 1) * n],
@@ -462,7 +480,7 @@ impl Semiseparable {
             let fk = &self.f[k * nn..(k + 1) * nn];
             match self.kind {
                 PivotKind::Cholesky => cholesky_solve::<N>(n, fk, zk),
-                PivotKind::Symmetric => eigen_solve(
+                PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
                     n,
                     fk,
                     &self.lambda[k * n..(k + 1) * n],

@@ -55,3 +55,71 @@ fn dense_errors_name_the_pivot_and_count_the_spectrum() {
     assert_eq!(negative_eigenvalues(1, &[f64::NAN]), None);
     assert!(min_eigenvalue(1, &[f64::NAN]).is_nan());
 }
+
+/// The dense modified factorisation (`L |D| L^T` of faer's `L D L^T`
+/// with symmetric pivoting): on a diagonal matrix it is the absolute
+/// values; on random indefinite matrices `M - H` is positive semidefinite
+/// and `M` positive definite; a positive definite `H` is left as it is.
+/// `M` is the matrix the solves invert, checked with faer's LU and
+/// eigenvalues.
+#[test]
+fn dense_modified_pivots_turn_negative_curvature_positive() {
+    let solved = |m: &mut DenseMatrix, n: usize| {
+        let mut inv = vec![0.0; n * n];
+        for j in 0..n {
+            inv[j * (n + 1)] = 1.0;
+            m.solve(&mut inv[j * n..(j + 1) * n]);
+        }
+        let mut out = vec![0.0; n * n];
+        for j in 0..n {
+            let mut e = vec![0.0; n];
+            e[j] = 1.0;
+            out[j * n..(j + 1) * n].copy_from_slice(&lu_solve(n, &inv, &e));
+        }
+        out
+    };
+    let mut m = DenseMatrix::new(3);
+    m.matrix_mut()
+        .copy_from_slice(&[3.0, 0.0, 0.0, 0.0, -2.0, 0.0, 0.0, 0.0, 0.5]);
+    let inertia = m.factor(0.0, PivotKind::Modified).unwrap();
+    assert_eq!((inertia.positive, inertia.negative), (3, 0));
+    let mm = solved(&mut m, 3);
+    let want = [3.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 0.5];
+    assert!(max_abs_diff(&mm, &want) <= 1e-14, "{mm:?}");
+    let mut rng = Lcg::new(5);
+    for n in [2usize, 5, 9, 14] {
+        for shift in [-1.0, 0.0, 4.0 * n as f64] {
+            let r: Vec<f64> = (0..n * n).map(|_| rng.sym()).collect();
+            let mut h = vec![0.0; n * n];
+            for j in 0..n {
+                for i in 0..n {
+                    h[i + j * n] = r[i + j * n] + r[j + i * n] + if i == j { shift } else { 0.0 };
+                }
+            }
+            let mut m = DenseMatrix::new(n);
+            m.matrix_mut().copy_from_slice(&h);
+            assert_eq!(m.factor(0.0, PivotKind::Modified).unwrap().negative, 0);
+            let mm = solved(&mut m, n);
+            let scale = norm_inf_of(&h);
+            let mut e = mm.clone();
+            for (ei, hi) in e.iter_mut().zip(&h) {
+                *ei -= hi;
+            }
+            let definite = negative_eigenvalues(n, &h) == Some(0);
+            assert_eq!(
+                negative_eigenvalues(n, &mm),
+                Some(0),
+                "n {n}, shift {shift}"
+            );
+            assert!(
+                min_eigenvalue(n, &e) >= -1e-9 * scale,
+                "n {n}: M - H semidefinite"
+            );
+            if definite {
+                assert!(norm_inf_of(&e) <= 1e-9 * scale, "n {n}: unchanged");
+            } else {
+                assert!(norm_inf_of(&e) > 1e-3 * scale, "n {n}: modified");
+            }
+        }
+    }
+}

@@ -486,3 +486,79 @@ fn deeper_chord_steps_end_deeper_at_no_extra_hessian() {
         assert!(o.validate().is_err(), "{bad}");
     }
 }
+
+/// Modified pivots from the indefinite start of the tilted wells: the same
+/// minimiser (the cubic's root), energy falling at every accepted step,
+/// with directions from the modified factorisation (no shift at all), in
+/// no more steps than the shifted path.
+#[test]
+fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
+    let n = 12;
+    let start: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
+    let root = {
+        let mut t = 1.2f64;
+        for _ in 0..50 {
+            t -= (t * t * t - t - 0.5) / (3.0 * t * t - 1.0);
+        }
+        t
+    };
+    let mut steps = [0; 2];
+    for (k, modified) in [false, true].into_iter().enumerate() {
+        let mut p = DoubleWell {
+            n,
+            kappa: 0.1,
+            tilt: 0.5,
+            accepted: vec![],
+        };
+        let opts = NewtonOptions {
+            eager_full_steps: false,
+            modified_pivots: modified,
+            step_growth: modified,
+            ..NewtonOptions::default()
+        };
+        let mut x = start.clone();
+        let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut p), &mut x);
+        assert!(r.converged(), "{r}");
+        assert!(r.shifted_steps > 0, "{r:?}");
+        assert_eq!(r.max_shift == 0.0, modified, "{r:?}");
+        assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
+        for w in p.accepted.windows(2) {
+            assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
+        }
+        steps[k] = r.iterations;
+    }
+    assert!(steps[1] <= steps[0], "{steps:?}");
+}
+
+/// A minimum far beyond the step cap: capped steps taken whole double the
+/// cap, so Newton gets there in a few steps where a fixed cap needs one
+/// per cap length; both end at the minimiser `A^-1 b` (faer's LU).
+#[test]
+fn step_growth_crosses_a_long_way_in_a_few_capped_steps() {
+    let mut rng = Lcg::new(21);
+    let n = 5;
+    let mut q = QuadQuartic::random(n, false, &mut rng);
+    q.b.iter_mut().for_each(|b| *b *= 40.0);
+    let want = lu_solve(n, &q.a, &q.b);
+    let far = norm_inf_of(&want);
+    assert!(far > 10.0, "{far}");
+    let mut steps = [0; 2];
+    for (k, growth) in [false, true].into_iter().enumerate() {
+        let opts = NewtonOptions {
+            max_step: 0.25,
+            max_iter: 10_000,
+            step_growth: growth,
+            ..NewtonOptions::default()
+        };
+        let mut x = vec![0.0; n];
+        let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut q), &mut x);
+        assert!(r.converged(), "{r}");
+        assert!(max_abs_diff(&x, &want) <= 1e-9 * far);
+        steps[k] = r.iterations;
+    }
+    assert!(steps[0] as f64 >= far / 0.25, "{steps:?}");
+    // caps 0.25, 0.5, 1, 2 and 4 (16 times 0.25, the most) cover 7.75,
+    // then 4 a step, and a few Newton steps at the end
+    let bound = 5.0 + ((far - 7.75) / 4.0).max(0.0).ceil() + 4.0;
+    assert!((steps[1] as f64) <= bound, "{steps:?}, bound {bound}");
+}

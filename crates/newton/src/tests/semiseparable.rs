@@ -322,3 +322,115 @@ fn newton_nonfinite_structured_hessian_is_reported() {
         }
     }
 }
+
+/// `M` from the solves of the last factorisation: column `j` of `M^-1`
+/// is the solve of `e_j`, and faer's LU inverts that.
+fn matrix_of_solves(hs: &mut Semiseparable) -> Vec<f64> {
+    let dim = hs.dim();
+    let mut inv = vec![0.0; dim * dim];
+    for j in 0..dim {
+        let col = &mut inv[j * dim..(j + 1) * dim];
+        col[j] = 1.0;
+        hs.solve(col);
+    }
+    let mut m = vec![0.0; dim * dim];
+    for j in 0..dim {
+        let mut e = vec![0.0; dim];
+        e[j] = 1.0;
+        m[j * dim..(j + 1) * dim].copy_from_slice(&lu_solve(dim, &inv, &e));
+    }
+    m
+}
+
+/// The modified factorisation is the exact one of `H + tau I + E`, with
+/// `E` block diagonal and positive semidefinite, zero where `H + tau I` is
+/// positive definite, and `H + tau I + E` positive definite: checked on
+/// the matrix its solves invert, with faer's LU and eigenvalues.
+#[test]
+fn modified_pivots_add_a_block_diagonal_semidefinite_term() {
+    let mut rng = Lcg::new(11);
+    for (n, blocks) in [(4, 1), (6, 1), (3, 6), (4, 8), (2, 5), (5, 3)] {
+        let mut m = ChainModel::random(n, blocks, -0.5, 1.0, 0.05, 0.5, &mut rng);
+        let dim = m.size();
+        let x: Vec<f64> = (0..dim).map(|i| 0.05 * (i as f64 * 0.9).sin()).collect();
+        m.sweep(&x);
+        let mut hs = Semiseparable::new(n, blocks);
+        m.structured(&x, &mut hs);
+        let mut h = vec![0.0; dim * dim];
+        hs.dense(&mut h);
+        let negative = negative_eigenvalues(dim, &h).unwrap();
+        assert!(negative > 0, "{n} x {blocks}: indefinite");
+        let scale = norm_inf_of(&h);
+        // a shift that leaves it indefinite, and one that makes it definite
+        let definite = 1.1 * -min_eigenvalue(dim, &h);
+        for tau in [0.0, 0.1 * definite, definite] {
+            let inertia = hs.factor(tau, PivotKind::Modified).unwrap();
+            assert_eq!((inertia.positive, inertia.negative), (dim, 0));
+            let mm = matrix_of_solves(&mut hs);
+            let mut e = mm.clone();
+            for (ei, hi) in e.iter_mut().zip(&h) {
+                *ei -= hi;
+            }
+            for i in 0..dim {
+                e[i * (dim + 1)] -= tau;
+            }
+            let tol = 1e-9 * (scale + tau);
+            assert_eq!(
+                negative_eigenvalues(dim, &mm),
+                Some(0),
+                "{n} x {blocks}, tau {tau}"
+            );
+            for j in 0..dim {
+                for i in 0..dim {
+                    let v = e[i + j * dim];
+                    assert!((v - e[j + i * dim]).abs() <= tol, "symmetric");
+                    if i / n != j / n || tau == definite {
+                        assert!(
+                            v.abs() <= tol,
+                            "{n} x {blocks}, tau {tau}: E[{i},{j}] = {v}"
+                        );
+                    }
+                }
+            }
+            if tau == 0.0 {
+                assert!(norm_inf_of(&e) > 1e-3 * scale, "something was modified");
+            }
+            for k in 0..blocks {
+                let mut ek = vec![0.0; n * n];
+                for j in 0..n {
+                    for i in 0..n {
+                        ek[i + j * n] = e[k * n + i + (k * n + j) * dim];
+                    }
+                }
+                assert!(
+                    min_eigenvalue(n, &ek) >= -tol,
+                    "block {k} of E semidefinite"
+                );
+            }
+        }
+    }
+}
+
+/// One 2 x 2 block in closed form: the modified matrix keeps the
+/// eigenvectors and turns the negative eigenvalue's sign.
+#[test]
+fn modified_pivots_of_one_block_flip_the_negative_eigenvalue() {
+    let (a, b, c) = (0.3f64, -1.7, 2.2);
+    let mid = 0.5 * (a + c);
+    let r = (0.25 * (a - c) * (a - c) + b * b).sqrt();
+    let (l1, l2) = (mid + r, mid - r);
+    assert!(l2 < 0.0);
+    let mut hs = Semiseparable::new(2, 1);
+    hs.block_mut(0).copy_from_slice(&[a, b, b, c]);
+    hs.clear_coupling();
+    hs.factor(0.0, PivotKind::Modified).unwrap();
+    let mm = matrix_of_solves(&mut hs);
+    // trace and determinant of Q diag(l1, -l2) Q^T
+    let (tr, det) = (mm[0] + mm[3], mm[0] * mm[3] - mm[1] * mm[2]);
+    assert!((tr - (l1 - l2)).abs() <= 1e-13 * l1, "{tr}");
+    assert!((det + l1 * l2).abs() <= 1e-13 * l1 * l1, "{det}");
+    // the eigenvector of l1 is kept: M v1 = l1 v1
+    let v = [b, l1 - a];
+    let mv = [mm[0] * v[0] + mm[2] * v[1], mm[1] * v[0] + mm[3] * v[1]];
+    assert!((mv[0] - l1 * v[0]).abs() + (mv[1] - l1 * v[1]).abs() <= 1e-12 * l1);
+}
