@@ -131,7 +131,8 @@ pub struct StepCounts {
     pub continuation: usize,
     /// Accepted chord steps (the last factorisation reused).
     pub chord: usize,
-    /// Accepted steps along a shifted Hessian (not positive definite).
+    /// Accepted steps along a modified Hessian (the Hessian not positive
+    /// definite there): shifted, or with one element's modified pivots.
     pub shifted: usize,
     /// Accepted steps the line search shortened.
     pub damped: usize,

@@ -256,6 +256,12 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
         let nopts = NewtonOptions {
             trusted_start: self.trusted_start && guess.is_some(),
+            // one element: its indefinite Hessian's negative curvature
+            // flipped, and steps that grow where the model is timid; along
+            // a chain either can carry the finger into another basin
+            // (docs/stress.md)
+            modified_pivots: f.len() == 1,
+            step_growth: f.len() == 1,
             ..newton_options(opts.rtol * f.stiffness, opts)?
         };
         // validated above: setting cannot fail
@@ -372,13 +378,46 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         self.start.copy_from_slice(&self.y);
+        let first = self.load_from_start(load, guess.is_some(), opts, start_failed, &mut base);
+        let current = *self.newton.options();
+        if first.is_ok() || !current.modified_pivots {
+            return first.map(|()| base);
+        }
+        // One element whose modified steps found no equilibrium (they leap
+        // where the energy falls without bound): again from the same start
+        // along shifted Hessians with a fixed cap, which crawl, and the
+        // error with the smaller residual if that fails too.
+        let _ = self.newton.set_options(NewtonOptions {
+            modified_pivots: false,
+            step_growth: false,
+            ..current
+        });
+        self.y.copy_from_slice(&self.start);
+        let second = self.load_from_start(load, guess.is_some(), opts, start_failed, &mut base);
+        let _ = self.newton.set_options(current);
+        match (first, second) {
+            (Err(a), Err(b)) => Err(closer(a, b)),
+            _ => Ok(base),
+        }
+    }
+
+    /// Newton on the loaded chain from `self.y` (the start), and load
+    /// continuation from the start where that fails; counts go to `base`.
+    fn load_from_start(
+        &mut self,
+        load: &Load,
+        warm: bool,
+        opts: &SolveOptions,
+        start_failed: bool,
+        base: &mut SolveReport,
+    ) -> Result<(), SolveError> {
         self.chain.set_load(load);
         let r = minimize_straight::<M, _>(
             &mut self.newton,
             &mut self.chain,
             chain_straight,
             &mut self.y,
-            guess.is_some(),
+            warm,
         );
         base.iterations += r.iterations;
         base.steps.coupled += r.iterations;
@@ -387,7 +426,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         base.residual_norm = r.residual_norm;
         if r.reason.is_converged() {
             self.final_energy = Some(r.energy);
-            return Ok(base);
+            return Ok(());
         }
         if !opts.continuation || !load.has_tip_load() || start_failed {
             return Err(self.not_converged(&r, None));
@@ -415,7 +454,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         if cr.complete && cr.last.reason.is_converged() {
             self.chain.set_load(load);
             self.final_energy = Some(cr.last.energy);
-            Ok(base)
+            Ok(())
         } else {
             Err(self.not_converged(&cr.last, None))
         }
@@ -539,8 +578,13 @@ fn local_workspace<'s, M: ElementModel>(
         newton: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
         matrix: Semiseparable::new(M::Coeffs::LEN, 1),
     });
-    // the options were validated for the coupled solver: this cannot fail
-    let _ = local.newton.set_options(*coupled.options());
+    // the options were validated for the coupled solver: this cannot fail;
+    // one element, as a one-element chain (SolverCore::solve)
+    let _ = local.newton.set_options(NewtonOptions {
+        modified_pivots: true,
+        step_growth: true,
+        ..*coupled.options()
+    });
     local
 }
 
@@ -596,6 +640,22 @@ fn solve_element<M: ElementModel>(
     }
     r.iterations = rep.iterations - before;
     r
+}
+
+/// Of two failed solves' errors, the one that ended closer to an
+/// equilibrium (a smaller relative residual; the first on a tie or where
+/// either has none).
+fn closer(a: SolveError, b: SolveError) -> SolveError {
+    let residual = |e: &SolveError| match e {
+        SolveError::NotConverged {
+            relative_residual, ..
+        } => Some(*relative_residual),
+        _ => None,
+    };
+    match (residual(&a), residual(&b)) {
+        (Some(ra), Some(rb)) if rb < ra => b,
+        _ => a,
+    }
 }
 
 /// Chord steps of a straightened solve go on to this fraction of `gtol`

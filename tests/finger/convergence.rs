@@ -171,3 +171,69 @@ fn far_curled_elements_converge_in_a_few_straightened_steps() {
     assert!(stalled <= 2, "{stalled} stalled");
     assert!(median <= 8, "median {median}: {steps:?}");
 }
+
+/// The four slowest of issue 23's 150 random one-element fingers (the
+/// draw of crates/lab/scripts/random_steps.py, seed 1: three equilibria
+/// thousands of millimetres out, far outside the model, and one whose
+/// path crosses an indefinite Hessian). They took 34 to 111 coupled and
+/// continuation steps with the shifted Hessian and the fixed step cap;
+/// with one element's modified pivots and growing steps each takes at
+/// most 30, and each answer is a stable equilibrium: the potential's
+/// gradient in raw unknowns vanishes to the solver's tolerance, and the
+/// Hessian there has no negative eigenvalue.
+#[test]
+fn the_slowest_random_single_elements_converge_within_thirty_steps() {
+    let cases = [
+        (
+            0.34225945601360663,
+            285.9638839322604,
+            -1.437545674472138,
+            -1.4464064375166141,
+        ),
+        (
+            0.14604099937117093,
+            309.7710246328814,
+            -1.379929389329506,
+            -0.7810999053974721,
+        ),
+        (
+            0.19656811403913724,
+            260.40224578795295,
+            -1.1914975620410706,
+            1.232293254838,
+        ),
+        (
+            0.14325568349366724,
+            282.6421812806481,
+            -1.1457854084080035,
+            0.7417957040641303,
+        ),
+    ];
+    for (eps0, kpa, fx, fz) in cases {
+        let load = Load {
+            pressure: kpa * 1e-3,
+            fx,
+            fz,
+            ..Load::default()
+        };
+        let f = Finger::paper(eps0, 1).unwrap();
+        let s = f.solve(&load, &SolveOptions::default()).unwrap();
+        let steps = s.report.steps.coupled + s.report.steps.continuation;
+        assert!(
+            steps <= 30,
+            "eps0 {eps0}: {steps} steps, {:?}",
+            s.report.steps
+        );
+        assert_eq!(s.stable, Some(true), "eps0 {eps0}");
+        let (_, g) = f.gradient(&load, &s.coefficients).unwrap();
+        let residual = g
+            .iter()
+            .zip(f.unknown_scales())
+            .map(|(g, s)| (g * s).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            residual <= 1e-9 * f.stiffness_scale(),
+            "eps0 {eps0}: scaled residual {residual:e}"
+        );
+    }
+}
