@@ -112,6 +112,16 @@ fn tip_converges_in_n_for_the_default_finger() {
 
 // ------------------------------------------------- Newton's steps at N = 1
 
+/// The largest entry of the potential's gradient at `k`, taken in raw
+/// unknowns (no change of variables) and scaled as Newton's unknowns are.
+fn scaled_residual(f: &Finger, load: &Load, k: &Coefficients) -> f64 {
+    let (_, g) = f.gradient(load, k).unwrap();
+    g.iter()
+        .zip(f.unknown_scales())
+        .map(|(g, s)| (g * s).abs())
+        .fold(0.0, f64::max)
+}
+
 /// One element curled far under random loads (issue 23's draw: eps0
 /// 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N per axis, seeded). Every
 /// solve converges (at most two of the forty stall just above the
@@ -153,12 +163,7 @@ fn far_curled_elements_converge_in_a_few_straightened_steps() {
             }
         };
         steps.push(s.report.steps.coupled + s.report.steps.continuation);
-        let (_, g) = f.gradient(&load, &s.coefficients).unwrap();
-        let residual = g
-            .iter()
-            .zip(f.unknown_scales())
-            .map(|(g, s)| (g * s).abs())
-            .fold(0.0, f64::max);
+        let residual = scaled_residual(&f, &load, &s.coefficients);
         assert!(
             residual <= 1e-9 * f.stiffness_scale(),
             "case {case}: scaled residual {residual:e} against stiffness {}",
@@ -225,12 +230,7 @@ fn the_slowest_random_single_elements_converge_within_thirty_steps() {
             s.report.steps
         );
         assert_eq!(s.stable, Some(true), "eps0 {eps0}");
-        let (_, g) = f.gradient(&load, &s.coefficients).unwrap();
-        let residual = g
-            .iter()
-            .zip(f.unknown_scales())
-            .map(|(g, s)| (g * s).abs())
-            .fold(0.0, f64::max);
+        let residual = scaled_residual(&f, &load, &s.coefficients);
         assert!(
             residual <= 1e-9 * f.stiffness_scale(),
             "eps0 {eps0}: scaled residual {residual:e}"
