@@ -111,65 +111,69 @@ impl DenseMatrix {
         &self.h
     }
 
-    /// The number of negative pivots of the Bunch-Kaufman factor `B`
-    /// (Sylvester: `H + tau I`'s negative eigenvalues), or the first
-    /// singular (or non-finite) pivot block.
+    /// Whether the Bunch-Kaufman `D` (in `self.l`'s diagonal and
+    /// `self.subdiag`) has a 2 x 2 block at row `i` (else 1 x 1).
+    fn two_by_two(&self, i: usize) -> bool {
+        i + 1 < self.n && self.subdiag[i] != 0.0
+    }
+
+    /// `D`'s block at row `i`: the eigenvalues `m +- r` of `[a s; s c]` and
+    /// the angle of the first one's eigenvector (a 1 x 1 block: `a`, 0, 0).
+    fn d_eigen(&self, i: usize) -> (f64, f64, f64) {
+        let at = |i: usize| i * (self.n + 1);
+        let a = self.l[at(i)];
+        if !self.two_by_two(i) {
+            return (a, 0.0, 0.0);
+        }
+        let (s, c) = (self.subdiag[i], self.l[at(i + 1)]);
+        let r = (0.25 * (a - c) * (a - c) + s * s).sqrt();
+        (0.5 * (a + c), r, 0.5 * (2.0 * s).atan2(a - c))
+    }
+
     /// The `D` of `P H P^T = L D L^T` with every 1x1 and 2x2 block's
     /// eigenvalues replaced by their absolute values, floored at
     /// [`MODIFIED_FLOOR`] times the largest: the modified factorisation of
     /// [`PivotKind::Modified`] (Cheng and Higham's form, with `L` and `P`
-    /// kept).
+    /// kept). Two passes over the blocks, no allocation.
     fn modify_d(&mut self) {
         let n = self.n;
         let at = |i: usize| i * (n + 1);
-        // eigenvalues and an eigenvector angle of each block
-        let mut scale = 0.0f64;
-        let mut i = 0;
+        let (mut scale, mut i) = (0.0f64, 0);
         while i < n {
-            let (a, s) = (self.l[at(i)], self.subdiag[i]);
-            if s != 0.0 && i + 1 < n {
-                let c = self.l[at(i + 1)];
-                let r = (0.25 * (a - c) * (a - c) + s * s).sqrt();
-                scale = scale.max((0.5 * (a + c)).abs() + r);
-                i += 2;
-            } else {
-                scale = scale.max(a.abs());
-                i += 1;
-            }
+            let (m, r, _) = self.d_eigen(i);
+            scale = scale.max(m.abs() + r);
+            i += 1 + usize::from(self.two_by_two(i));
         }
-        let floor = MODIFIED_FLOOR * scale;
-        let fix = |l: f64| l.abs().max(floor);
+        let fix = |l: f64| l.abs().max(MODIFIED_FLOOR * scale);
         let mut i = 0;
         while i < n {
-            let (a, s) = (self.l[at(i)], self.subdiag[i]);
-            if s != 0.0 && i + 1 < n {
-                let c = self.l[at(i + 1)];
-                // [a s; s c] = Q diag(l1, l2) Q^T, Q the rotation by theta
-                let theta = 0.5 * (2.0 * s).atan2(a - c);
-                let (sn, cs) = theta.sin_cos();
-                let m = 0.5 * (a + c);
-                let r = (0.25 * (a - c) * (a - c) + s * s).sqrt();
-                let (l1, l2) = (fix(m + r), fix(m - r));
-                self.l[at(i)] = cs * cs * l1 + sn * sn * l2;
-                self.l[at(i + 1)] = sn * sn * l1 + cs * cs * l2;
-                self.subdiag[i] = sn * cs * (l1 - l2);
-                i += 2;
-            } else {
-                self.l[at(i)] = fix(a);
+            let (m, r, theta) = self.d_eigen(i);
+            if !self.two_by_two(i) {
+                self.l[at(i)] = fix(m);
                 i += 1;
+                continue;
             }
+            // Q diag(l1, l2) Q^T with Q the rotation by theta
+            let (sn, cs) = theta.sin_cos();
+            let (l1, l2) = (fix(m + r), fix(m - r));
+            self.l[at(i)] = cs * cs * l1 + sn * sn * l2;
+            self.l[at(i + 1)] = sn * sn * l1 + cs * cs * l2;
+            self.subdiag[i] = sn * cs * (l1 - l2);
+            // (a block whose two values came out equal is now diagonal)
+            i += 2;
         }
     }
 
+    /// The number of negative pivots of the Bunch-Kaufman factor `B`
+    /// (Sylvester: `H + tau I`'s negative eigenvalues), or the first
+    /// singular (or non-finite) pivot block.
     fn lblt_negative(&self) -> Result<usize, usize> {
-        let (n, l) = (self.n, &self.l);
-        let d = |i: usize| l[i * (n + 1)];
-        let mut negative = 0;
-        let mut i = 0;
-        while i < n {
-            let s = self.subdiag[i];
-            if s != 0.0 && i + 1 < n {
+        let d = |i: usize| self.l[i * (self.n + 1)];
+        let (mut negative, mut i) = (0, 0);
+        while i < self.n {
+            if self.two_by_two(i) {
                 // a 2x2 block [d_i s; s d_i+1]
+                let s = self.subdiag[i];
                 let det = d(i) * d(i + 1) - s * s;
                 if !(det.is_finite() && det != 0.0) {
                     return Err(i);
