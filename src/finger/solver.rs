@@ -256,13 +256,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
         let nopts = NewtonOptions {
             trusted_start: self.trusted_start && guess.is_some(),
-            // one element: its indefinite Hessian's negative curvature
-            // flipped, and steps that grow where the model is timid; along
-            // a chain either can carry the finger into another basin
-            // (docs/stress.md)
-            modified_pivots: f.len() == 1,
-            step_growth: f.len() == 1,
-            ..newton_options(opts.rtol * f.stiffness, opts)?
+            ..one_element(newton_options(opts.rtol * f.stiffness, opts)?, f.len() == 1)
         };
         // validated above: setting cannot fail
         let _ = self.newton.set_options(nopts);
@@ -322,7 +316,17 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 }
             }
             let y = &mut self.y[n * i..n * i + n];
-            let r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
+            let start = M::Coeffs::from_fn(|j| y[j]);
+            let mut r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
+            if !r.reason.is_converged() {
+                if let Some(current) = shifted_instead(&mut local.newton) {
+                    let before = r.iterations;
+                    y.copy_from_slice(start.as_ref());
+                    r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
+                    r.iterations += before;
+                    let _ = local.newton.set_options(current);
+                }
+            }
             rep.residual_norm = rep.residual_norm.max(r.residual_norm);
             if !r.reason.is_converged() {
                 return Err(self.not_converged(&r, Some(i)));
@@ -378,27 +382,16 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         self.start.copy_from_slice(&self.y);
-        let first = self.load_from_start(load, guess.is_some(), opts, start_failed, &mut base);
-        let current = *self.newton.options();
-        if first.is_ok() || !current.modified_pivots {
-            return first.map(|()| base);
+        let warm = guess.is_some();
+        let mut r = self.load_from_start(load, warm, opts, start_failed, &mut base);
+        if r.is_err() {
+            if let Some(current) = shifted_instead(&mut self.newton) {
+                self.y.copy_from_slice(&self.start);
+                r = self.load_from_start(load, warm, opts, start_failed, &mut base);
+                let _ = self.newton.set_options(current);
+            }
         }
-        // One element whose modified steps found no equilibrium (they leap
-        // where the energy falls without bound): again from the same start
-        // along shifted Hessians with a fixed cap, which crawl, and the
-        // error with the smaller residual if that fails too.
-        let _ = self.newton.set_options(NewtonOptions {
-            modified_pivots: false,
-            step_growth: false,
-            ..current
-        });
-        self.y.copy_from_slice(&self.start);
-        let second = self.load_from_start(load, guess.is_some(), opts, start_failed, &mut base);
-        let _ = self.newton.set_options(current);
-        match (first, second) {
-            (Err(a), Err(b)) => Err(closer(a, b)),
-            _ => Ok(base),
-        }
+        r.map(|()| base)
     }
 
     /// Newton on the loaded chain from `self.y` (the start), and load
@@ -578,13 +571,10 @@ fn local_workspace<'s, M: ElementModel>(
         newton: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
         matrix: Semiseparable::new(M::Coeffs::LEN, 1),
     });
-    // the options were validated for the coupled solver: this cannot fail;
-    // one element, as a one-element chain (SolverCore::solve)
-    let _ = local.newton.set_options(NewtonOptions {
-        modified_pivots: true,
-        step_growth: true,
-        ..*coupled.options()
-    });
+    // the options were validated for the coupled solver: this cannot fail
+    let _ = local
+        .newton
+        .set_options(one_element(*coupled.options(), true));
     local
 }
 
@@ -642,20 +632,33 @@ fn solve_element<M: ElementModel>(
     r
 }
 
-/// Of two failed solves' errors, the one that ended closer to an
-/// equilibrium (a smaller relative residual; the first on a tie or where
-/// either has none).
-fn closer(a: SolveError, b: SolveError) -> SolveError {
-    let residual = |e: &SolveError| match e {
-        SolveError::NotConverged {
-            relative_residual, ..
-        } => Some(*relative_residual),
-        _ => None,
-    };
-    match (residual(&a), residual(&b)) {
-        (Some(ra), Some(rb)) if rb < ra => b,
-        _ => a,
+/// `opts` for a solve of one element (`single`): where its Hessian is
+/// indefinite the negative curvature is flipped, and steps grow where the
+/// model holds them back (fpc-newton's `modified_pivots` and
+/// `step_growth`). Along a chain either can carry the finger into another
+/// basin (docs/stress.md "Where the iterations go"), so a chain keeps the
+/// shifted Hessian and the fixed step cap.
+fn one_element(opts: NewtonOptions, single: bool) -> NewtonOptions {
+    NewtonOptions {
+        modified_pivots: single,
+        step_growth: single,
+        ..opts
     }
+}
+
+/// Where a one-element solve with modified pivots failed (its steps can
+/// leap where the energy falls without bound, and miss an equilibrium
+/// that the shifted path crawls to): switches `newton` to the shifted
+/// path, for the caller to solve again from the same start, and returns
+/// the options to restore; `None` where they were not on.
+fn shifted_instead(newton: &mut Newton) -> Option<NewtonOptions> {
+    let current = *newton.options();
+    if !current.modified_pivots {
+        return None;
+    }
+    // the same validated options with two flags off: cannot fail
+    let _ = newton.set_options(one_element(current, false));
+    Some(current)
 }
 
 /// Chord steps of a straightened solve go on to this fraction of `gtol`
