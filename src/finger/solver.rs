@@ -319,11 +319,11 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             let start = M::Coeffs::from_fn(|j| y[j]);
             let mut r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
             if !r.reason.is_converged() {
+                // (the report counts both attempts; a failure names the
+                // shifted one's iterations, as the coupled path does)
                 if let Some(current) = shifted_instead(&mut local.newton) {
-                    let before = r.iterations;
                     y.copy_from_slice(start.as_ref());
                     r = solve_element(&mut local.newton, &mut p, y, warm, continuation, &mut rep);
-                    r.iterations += before;
                     let _ = local.newton.set_options(current);
                 }
             }
