@@ -7,7 +7,10 @@ use serde::Serialize;
 use crate::actuator::Actuator;
 use crate::actuator::ActuatorParam;
 use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::{EnvelopeSeed, Gripper, GripperParams, Object, PalmSpec, SphereEnvelope};
+use crate::gripper::sphere::nearest_turn;
+use crate::gripper::{
+    EnvelopeSeed, Gripper, GripperParams, Object, PalmSpec, SphereEnvelope, SphereLift,
+};
 use crate::partition::Partition;
 use crate::scene::{
     CalibrationSection, Elements, GraspKind as SceneGrasp, GraspSection, GripperSection, SceneFile,
@@ -374,8 +377,13 @@ fn evaluate_inner(
                         max_normal_n,
                     } => {
                         let seed = seeds.as_ref().and_then(|s| s.get(i));
-                        let left =
-                            sphere_margins(&g, i, *radius_mm, *lift_n, *max_normal_n, seed, &mut c);
+                        let sphere = SphereRequirement {
+                            index: i,
+                            radius: *radius_mm,
+                            lift: *lift_n,
+                            max_normal: *max_normal_n,
+                        };
+                        let left = sphere_margins(&g, (req, x), &sphere, seed, &mut c);
                         if let Some(s) = seeds.as_deref_mut() {
                             s.set(i, left);
                         }
@@ -510,28 +518,48 @@ fn cuboid_margins(
     }
 }
 
+/// One sphere requirement of [`sphere_margins`].
+struct SphereRequirement {
+    /// The object's index.
+    index: usize,
+    /// The radii that must be held (mm).
+    radius: [f64; 2],
+    /// Lifting force per finger (N).
+    lift: f64,
+    /// Largest normal force (N), if limited.
+    max_normal: Option<f64>,
+}
+
 /// The sphere requirement's margins; its first radius predicted from
 /// `seed` if given. Returns the seed it leaves: its optimum at the first
-/// radius.
+/// radius. `design` is the requirements and the design `g` was built from
+/// (for the gradients at an edge of the path from rest,
+/// [`BestGradient::at`]).
 fn sphere_margins(
     g: &Gripper,
-    i: usize,
-    radius: [f64; 2],
-    lift: f64,
-    max_normal: Option<f64>,
+    design: (&Requirements, [f64; 3]),
+    sphere: &SphereRequirement,
     seed: Option<EnvelopeSeed>,
     out: &mut Collect<'_>,
 ) -> Option<EnvelopeSeed> {
+    let SphereRequirement {
+        index: i,
+        radius,
+        lift,
+        max_normal,
+    } = *sphere;
     // the radii after the first continued from those before
     let mut follower = SphereEnvelope::new(g, 0.0, SPHERE_ANGLE_SAMPLES).seeded(seed);
     let radii = samples(radius, SPHERE_SAMPLES);
+    // the turn of closing from rest's rate in the design, shared by the radii
+    let turn = std::cell::OnceCell::new();
     for &r in &radii {
         let name = |what: &str| format!("object[{i}] sphere r = {r:.1} mm: {what}");
         match follower.at(r) {
             Ok(Some(best)) => {
-                let sens = |act: &Actuator| {
-                    g.max_sphere_lift_sensitivities(act, 0.0, &best, &DESIGN_PARAMS)
-                        .ok()
+                let grads = std::cell::OnceCell::new();
+                let grads = |act: &Actuator| {
+                    *grads.get_or_init(|| BestGradient::at(g, act, &best, design, &turn))
                 };
                 out.push(
                     Margin {
@@ -548,26 +576,12 @@ fn sphere_margins(
                         normal_n: Some(best.normal),
                         valid: Some(true),
                     },
-                    |act| {
-                        let s = sens(act)?;
-                        let w = &s.rows;
-                        Some(design_gradient(
-                            [w[0].lift, w[1].lift, w[2].lift],
-                            1.0 / lift,
-                        ))
-                    },
+                    |act| grads(act).map(|b| scaled(b.lift, 1.0 / lift)),
                 );
                 if let Some(fmax) = max_normal {
                     out.push(
                         gentle_margin(name("gentle"), fmax, best.normal, r, best.beta.to_degrees()),
-                        |act| {
-                            let s = sens(act)?;
-                            let w = &s.rows;
-                            Some(design_gradient(
-                                [w[0].normal, w[1].normal, w[2].normal],
-                                -1.0 / fmax,
-                            ))
-                        },
+                        |act| grads(act).map(|b| scaled(b.normal, -1.0 / fmax)),
                     );
                 }
             }
@@ -600,6 +614,121 @@ fn sphere_margins(
         }
     }
     radii.first().and_then(|&r| follower.seed_at(r))
+}
+
+/// A gradient over the design variables, each component scaled by `factor`.
+fn scaled(g: MarginGradient, factor: f64) -> MarginGradient {
+    g.map(|v| v.map(|v| v * factor).filter(|v| v.is_finite()))
+}
+
+/// Central-difference steps of the design variables (eps0, degrees, mm)
+/// for the rate of the turn of closing from rest ([`turn_gradient`]).
+const TURN_STEPS: [f64; 3] = [1e-4, 1e-2, 1e-2];
+
+/// d lift / d x and d normal force / d x (design units) of a sphere's best
+/// grasp.
+#[derive(Debug, Clone, Copy)]
+struct BestGradient {
+    lift: MarginGradient,
+    normal: MarginGradient,
+}
+
+impl BestGradient {
+    /// The gradients of the best grasp `best` of gripper `g`, built from
+    /// `design` with actuator `act`:
+    ///
+    /// - where the best angle is the turn of closing from rest (the edge of
+    ///   the angles the path from rest reaches, [`Gripper::closing_turn`]),
+    ///   the grasp's sensitivities at that fixed angle plus its rate in the
+    ///   angle times the turn's rate in the design ([`turn_gradient`],
+    ///   shared through `turn` by the radii of one evaluation);
+    /// - elsewhere [`Gripper::max_sphere_lift_sensitivities`] (an interior
+    ///   optimum or a contact boundary).
+    ///
+    /// `None` where neither covers the optimum (the optimiser then falls
+    /// back to central differences of whole evaluations).
+    fn at(
+        g: &Gripper,
+        act: &Actuator,
+        best: &SphereLift,
+        (req, x): (&Requirements, [f64; 3]),
+        turn: &std::cell::OnceCell<[Option<f64>; 3]>,
+    ) -> Option<BestGradient> {
+        let of = |rows: &[(f64, f64)]| BestGradient {
+            lift: design_gradient([rows[0].0, rows[1].0, rows[2].0], 1.0),
+            normal: design_gradient([rows[0].1, rows[1].1, rows[2].1], 1.0),
+        };
+        if g.closing_turn_at(0.0, best.beta).is_none() {
+            let s = g
+                .max_sphere_lift_sensitivities(act, 0.0, best, &DESIGN_PARAMS)
+                .ok()?;
+            let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
+            return Some(of(&rows));
+        }
+        // at fixed angle, with the angle's own row last
+        let sg = g
+            .sphere_grasp_at_friction_limit(0.0, best.radius, best.beta, None)
+            .ok()?;
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-6 * (a.abs().max(b.abs()) + 1e-9);
+        if !near(sg.grasp.lift, best.lift) {
+            return None;
+        }
+        let mut params = DESIGN_PARAMS.to_vec();
+        params.push(GripperParam::Beta);
+        let kind = GraspKind::SphereAtFrictionLimit {
+            radius: best.radius,
+        };
+        let s = g.grasp_sensitivities(act, &sg.grasp, kind, &params).ok()?;
+        let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
+        let fixed = of(&rows);
+        let (lift_b, normal_b) = rows[3];
+        let db = *turn.get_or_init(|| turn_gradient(req, x));
+        let along = |fixed: MarginGradient, rate: f64| {
+            let mut out = [None; 3];
+            for i in 0..3 {
+                out[i] = match (fixed[i], db[i]) {
+                    (Some(f), Some(d)) => Some(f + rate * d).filter(|v| v.is_finite()),
+                    _ => None,
+                };
+            }
+            out
+        };
+        Some(BestGradient {
+            lift: along(fixed.lift, lift_b),
+            normal: along(fixed.normal, normal_b),
+        })
+    }
+}
+
+/// d b / d x (rad per design unit) of the turn of closing from rest at
+/// zero pressure ([`Gripper::closing_turn`]) for each varied design
+/// variable: Richardson-extrapolated central differences of the turn of
+/// the grippers built at `x` +- [`TURN_STEPS`] (no grasp is solved, only
+/// their rest states and tangents). `None` for a fixed variable and where
+/// a gripper cannot be built.
+fn turn_gradient(req: &Requirements, x: [f64; 3]) -> [Option<f64>; 3] {
+    let bounds = req.bounds();
+    let Some(zero) = gripper(req, x).ok().and_then(|g| g.closing_turn(0.0)) else {
+        return [None; 3];
+    };
+    let mut out = [None; 3];
+    for (i, &h) in TURN_STEPS.iter().enumerate() {
+        if bounds[i][1] <= bounds[i][0] {
+            continue;
+        }
+        let at = |t: f64| {
+            let mut y = x;
+            y[i] += t;
+            let turn = gripper(req, y).ok()?.closing_turn(0.0)?;
+            Some(nearest_turn(turn, zero))
+        };
+        let diff = |t: f64| Some((at(t)? - at(-t)?) / (2.0 * t));
+        out[i] = (|| {
+            let (d1, d2) = (diff(h)?, diff(0.5 * h)?);
+            Some((4.0 * d2 - d1) / 3.0).filter(|v| v.is_finite())
+        })();
+    }
+    out
 }
 
 /// The margin of a normal force `normal` against its limit `fmax` (N), at

@@ -17,12 +17,15 @@
 //! gradient from the sensitivities of the gripper's outputs
 //! (`Gripper::geometry_sensitivities`, `grasp_sensitivities`,
 //! `size_sensitivities`, `max_sphere_lift_sensitivities`: one
-//! factorisation and a few solves per grasp, no re-solve). A variable that
+//! factorisation and a few solves per grasp, no re-solve; where a sphere's
+//! best angle is the turn of closing from rest, the grasp's sensitivities
+//! at that angle plus the turn's own rate in the design, by differences of
+//! the turn of nearby grippers, which solve no grasp). A variable that
 //! some margin's sensitivities do not cover (an actuator parameter of a
 //! finger whose innermost rest point is not its tip, a sphere whose best
-//! angle lies on a boundary other than a second contact) falls back to
-//! central differences of the margins (each a set of full re-solves
-//! through the gripper path), for that variable only.
+//! angle lies on another boundary) falls back to central differences of
+//! the margins (each a set of full re-solves through the gripper path), for
+//! that variable only.
 
 use serde::Serialize;
 
@@ -606,15 +609,31 @@ overlap_mm = [10.0, 30.0]
         )
         .unwrap();
         let x = [0.2, 62.0, 18.0];
-        let (e, grads) = evaluate_with_gradients(&req, x);
+        // every margin is covered here
+        let (covered, margins) = gradients_against_differences(&req, x, [1e-4, 1e-3, 1e-3]);
+        assert_eq!(covered, 3 * margins);
+    }
+
+    /// Checks every covered margin gradient at `x` against central
+    /// differences of `evaluate` with `steps` (0: not checked), to 1e-3;
+    /// returns how many (margin, variable) pairs were covered, and the
+    /// number of margins.
+    fn gradients_against_differences(
+        req: &Requirements,
+        x: [f64; 3],
+        steps: [f64; 3],
+    ) -> (usize, usize) {
+        let (e, grads) = evaluate_with_gradients(req, x);
         assert_eq!(grads.len(), e.margins.len());
-        let steps = [1e-4, 1e-3, 1e-3];
         let mut covered = 0;
         for (i, &h) in steps.iter().enumerate() {
+            if h == 0.0 {
+                continue;
+            }
             let (mut a, mut b) = (x, x);
             a[i] += h;
             b[i] -= h;
-            let (ea, eb) = (evaluate(&req, a), evaluate(&req, b));
+            let (ea, eb) = (evaluate(req, a), evaluate(req, b));
             for (k, m) in e.margins.iter().enumerate() {
                 let Some(exact) = grads[k][i] else { continue };
                 covered += 1;
@@ -627,7 +646,44 @@ overlap_mm = [10.0, 30.0]
                 );
             }
         }
-        // every margin is covered here
-        assert_eq!(covered, 3 * e.margins.len());
+        (covered, e.margins.len())
+    }
+
+    /// Where the best grasping angle of a sphere is the edge of the angles
+    /// the path from rest reaches, at the turn of closing from rest (the
+    /// paper's Sec. 5 sphere near its best design), the lift's and the
+    /// normal force's gradients follow the turn as it moves with the
+    /// design, and agree with central differences of whole evaluations.
+    #[test]
+    fn sphere_gradients_at_the_turn_of_closing_from_rest() {
+        let req = Requirements::parse(
+            r#"
+mu = 0.6
+[[object]]
+kind = "sphere"
+radius_mm = [45.0, 55.0]
+lift_n = 0.5
+max_normal_n = 5.0
+[vary]
+eps0 = [0.1, 0.5]
+mounting_angle_deg = [60.0, 90.0]
+"#,
+        )
+        .unwrap();
+        let x = [0.284, 74.3, 20.0];
+        // the optimum lies at the turn, at every radius
+        let g = super::super::evaluate::gripper(&req, x).unwrap();
+        for r in [45.0, 50.0, 55.0] {
+            let best = g.max_sphere_lift(0.0, r, 8).unwrap().unwrap();
+            assert!(
+                g.closing_turn_at(0.0, best.beta).is_some(),
+                "r = {r}: {best:?}"
+            );
+        }
+        // 3 radii, lift and gentle margins, eps0 and the angle
+        assert_eq!(
+            gradients_against_differences(&req, x, [1e-4, 1e-3, 0.0]),
+            (12, 6)
+        );
     }
 }

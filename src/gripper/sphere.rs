@@ -29,6 +29,18 @@ pub const ENVELOPE_BETA_TOL: f64 = 1e-9;
 /// Tolerance (rad) on the bounds of [`Gripper::viable_angle_range`].
 pub const VIABLE_BETA_TOL: f64 = 1e-9;
 
+/// How close (rad) a best grasping angle must lie to the turn of closing
+/// from rest ([`Gripper::closing_turn`]) to be taken for an edge there: a
+/// search locates an edge to [`ENVELOPE_BETA_TOL`], a corrector that starts
+/// from the turn to 1e-11 rad.
+pub(crate) const TURN_NEAR: f64 = 1e-7;
+
+/// Of the turns of closing from rest `zero + k pi`
+/// ([`Gripper::closing_turn`]), the one nearest `near`.
+pub(crate) fn nearest_turn(zero: f64, near: f64) -> f64 {
+    zero + ((near - zero) / std::f64::consts::PI).round() * std::f64::consts::PI
+}
+
 /// Target solves the search for the best grasping angle may spend beyond
 /// the scan.
 const ENVELOPE_MAX_EVALUATIONS: usize = 60;
@@ -258,6 +270,14 @@ impl Gripper {
         };
         let (e0, e1) = (rate(0.0)?, rate(FRAC_PI_2)?);
         Some((-e0).atan2(e1)).filter(|b| b.is_finite())
+    }
+
+    /// The turn of closing from rest at `pressure_kpa`
+    /// ([`Gripper::closing_turn`]) that lies within [`TURN_NEAR`] of
+    /// `beta`, of the turns `b + k pi`; `None` when none does.
+    pub(crate) fn closing_turn_at(&self, pressure_kpa: f64, beta: f64) -> Option<f64> {
+        let zero = self.closing_turn(pressure_kpa)?;
+        Some(nearest_turn(zero, beta)).filter(|t| (t - beta).abs() <= TURN_NEAR)
     }
 
     /// The load family of a sphere of radius `r` held at angle `beta` with

@@ -5,9 +5,8 @@
 
 use super::super::frames::grasping_angle_range;
 use super::super::setup::{Grasp, Gripper};
-use super::super::sphere::ENVELOPE_BETA_TOL;
+use super::super::sphere::{nearest_turn, ENVELOPE_BETA_TOL, TURN_NEAR};
 use crate::brent::{brent_max, brent_root};
-use std::f64::consts::PI;
 
 /// Solves the corrector may spend on one radius before the radius is
 /// searched afresh.
@@ -28,11 +27,6 @@ const TURN_BETA_TOL: f64 = 1e-11;
 /// still taken for the edge to try first (a trial of a design may move it
 /// far from the last trial's; the traces check it).
 const TURN_REACH: f64 = 0.5;
-
-/// How close (rad) a searched optimum must lie to the turn of closing from
-/// rest to be taken for an edge there first (a search locates an edge to
-/// [`ENVELOPE_BETA_TOL`]).
-const TURN_NEAR: f64 = 1e-7;
 
 /// Bracket expansions (each step four times the last) before a corrector
 /// gives up.
@@ -183,7 +177,7 @@ impl<'g> Corrector<'g> {
     fn turn_near(&mut self, near: f64) -> Option<f64> {
         let (g, pressure) = (self.gripper, self.pressure_kpa);
         let zero = *self.turn.get_or_insert_with(|| g.closing_turn(pressure));
-        zero.map(|z| z + ((near - z) / PI).round() * PI)
+        zero.map(|z| nearest_turn(z, near))
     }
 
     /// The grasp at angle `beta` (solved once; `None` when the angle is out
