@@ -18,13 +18,14 @@
 //!   at least `size_mm`: `(d(P) - size) / size`.
 //!
 //! The design with the largest worst-case margin is found by a multistart
-//! projected gradient ascent on a smooth minimum of the margins
-//! ([`optimize`]); [`grid_search`] is the brute-force check. Every grasp a
+//! trust-region ascent of the worst margin ([`optimize`]); [`grid_search`]
+//! is the brute-force check. Every grasp a
 //! design claims is a forward solve through the ordinary gripper path, and
 //! [`Designed::scenes`] writes one scene file per object that `fpc solve`
 //! runs to reproduce it.
 
 mod evaluate;
+mod minimax;
 mod optimize;
 mod reproduce;
 mod requirements;

@@ -1,20 +1,32 @@
 //! The search for the design with the largest worst-case margin, and the
 //! brute-force grid that checks it.
 //!
-//! The optimiser works on the varied variables scaled to `[0, 1]` and
-//! maximises a smooth minimum of the margins,
-//! `S = -(1/k) ln sum_i exp(-k m_i)` (within `ln(n) / k` below the true
-//! minimum), by projected gradient ascent with backtracking: steps
-//! projected onto the bounds, halved until S increases. Its starts are the
-//! box's centre, its corners (up to 8) and seeded random points; each is
-//! evaluated once, the best few by S (`DesignOptions::ascents`) are
-//! ascended until S stops improving, and the best design by its true
+//! The optimiser works on the varied variables scaled to `[0, 1]`. Its
+//! starts are the box's centre, its corners (up to 8) and seeded random
+//! points; each is evaluated once and scored by a smooth minimum of its
+//! margins, `S = -(1/k) ln sum_i exp(-k m_i)` (within `ln(n) / k` below the
+//! true minimum, and smooth, so that a start near several binding margins
+//! ranks below one clear of them). The best few by S
+//! (`DesignOptions::ascents`) are ascended, and the best design by its true
 //! worst margin is returned with the margins' sensitivities to each
 //! variable.
 //!
-//! The gradient of S is `sum_i w_i grad m_i` with the smooth minimum's
-//! weights `w_i = exp(-k m_i) / sum_j exp(-k m_j)` and each margin's exact
-//! gradient from the sensitivities of the gripper's outputs
+//! An ascent maximises the worst margin `min_i m_i` itself, by a trust
+//! region on the margins' linearisations: the step is the one within the
+//! trust radius (a box, cut by the bounds) that maximises `min_i (m_i +
+//! grad m_i . d)` ([`super::minimax`]: a linear programme in at most four
+//! unknowns, solved exactly). A step whose worst margin rises by at least
+//! a hundredth of the predicted rise is taken, and the radius doubled when
+//! the prediction held to three quarters at the full radius; any other
+//! step halves the radius. The ascent stops where the linearisation
+//! predicts no rise, the radius falls below `MIN_RADIUS`, or after
+//! `DesignOptions::max_iterations` steps. At an optimum where two margins
+//! cross (a cuboid's lift against a sphere's, say), the linear programme
+//! steps along their crossing, where gradient ascent on `S` zig-zags
+//! across it.
+//!
+//! Each margin's exact gradient comes from the sensitivities of the
+//! gripper's outputs
 //! (`Gripper::geometry_sensitivities`, `grasp_sensitivities`,
 //! `size_sensitivities`, `max_sphere_lift_sensitivities`: one
 //! factorisation and a few solves per grasp, no re-solve; where a sphere's
@@ -46,13 +58,13 @@ pub struct DesignOptions {
     /// Starts ascended: the best by the smooth minimum of their margins
     /// (every start costs one evaluation; the others stop there).
     pub ascents: usize,
-    /// Iterations per ascent.
+    /// Steps (trials) per ascent.
     pub max_iterations: usize,
     /// Central-difference step, as a fraction of each variable's range (for
     /// the variables the exact gradients do not cover, and the reported
     /// sensitivities).
     pub step: f64,
-    /// Sharpness `k` of the smooth minimum.
+    /// Sharpness `k` of the smooth minimum that ranks the starts.
     pub sharpness: f64,
     /// Seed of the random starts.
     pub seed: u64,
@@ -242,103 +254,112 @@ impl<'a> Counter<'a> {
     }
 }
 
-/// The gradient of the smooth minimum at `u`, whose evaluation `e` and
-/// margin gradients `grads` are given (module docs): exact where every
-/// margin's sensitivities cover the variable, central differences
-/// otherwise.
-fn gradient(
+/// Every margin's gradient at `u` (whose evaluation `e` and exact margin
+/// gradients `grads` are given) over the design variables (per unit of
+/// each, `VARIABLES` order; 0 for a fixed one): exact where
+/// `grads` covers the margin, otherwise central differences of whole
+/// evaluations at `u +- h` (scaled units, clamped to the box; `near`: the
+/// evaluations started from the ascent's seeds, else searched afresh),
+/// spent once per variable that some margin needs them for.
+fn margin_gradients(
     c: &mut Counter<'_>,
     u: &[f64],
     (e, grads): (&Evaluation, &[MarginGradient]),
     h: f64,
-    k: f64,
-) -> Vec<f64> {
-    let act = active(c.req);
-    let m = e.worst;
-    let weights: Vec<f64> = if m.is_finite() {
-        let w: Vec<f64> = e
-            .margins
-            .iter()
-            .map(|g| (-k * (g.margin - m)).exp())
-            .collect();
-        let sum: f64 = w.iter().sum();
-        w.iter().map(|v| v / sum).collect()
-    } else {
-        vec![0.0; e.margins.len()]
-    };
-    (0..u.len())
-        .map(|j| {
-            let (i, lo, hi) = act[j];
-            let exact: Option<f64> = grads
-                .iter()
-                .zip(&weights)
-                .map(|(g, w)| g[i].map(|v| w * v))
-                .sum();
-            match exact {
-                Some(v) if v.is_finite() => v * (hi - lo),
-                _ => {
-                    let (mut a, mut b) = (u.to_vec(), u.to_vec());
-                    a[j] = (u[j] + h).min(1.0);
-                    b[j] = (u[j] - h).max(0.0);
-                    let (fa, fb) = (
-                        smooth_min(&c.eval_near(&a), k),
-                        smooth_min(&c.eval_near(&b), k),
-                    );
-                    (fa - fb) / (a[j] - b[j])
+    near: bool,
+) -> Vec<[f64; 3]> {
+    let mut out = vec![[0.0; 3]; e.margins.len()];
+    for (j, &(i, lo, hi)) in active(c.req).iter().enumerate() {
+        let covered = grads.len() == e.margins.len() && grads.iter().all(|g| g[i].is_some());
+        let (ea, eb, dx) = if covered {
+            (None, None, 0.0)
+        } else {
+            let (mut a, mut b) = (u.to_vec(), u.to_vec());
+            a[j] = (u[j] + h).min(1.0);
+            b[j] = (u[j] - h).max(0.0);
+            let dx = (a[j] - b[j]) * (hi - lo);
+            let mut eval = |x: &[f64]| if near { c.eval_near(x) } else { c.eval(x) };
+            (Some(eval(&a)), Some(eval(&b)), dx)
+        };
+        for (k, m) in e.margins.iter().enumerate() {
+            if let Some(v) = grads.get(k).and_then(|g| g[i]) {
+                out[k][i] = v;
+                continue;
+            }
+            let find = |ev: &Option<Evaluation>| {
+                ev.as_ref()?
+                    .margins
+                    .iter()
+                    .find(|x| x.requirement == m.requirement)
+                    .map(|x| x.margin)
+            };
+            if let (Some(ma), Some(mb)) = (find(&ea), find(&eb)) {
+                if dx > 0.0 {
+                    out[k][i] = (ma - mb) / dx;
                 }
             }
-        })
-        .collect()
+        }
+    }
+    out
 }
 
-/// Projected gradient ascent from `u0`. Every trial point is evaluated
-/// with its margins' gradients, so an accepted step brings the next
-/// gradient along.
+/// The first trust radius of an ascent (scaled units).
+const FIRST_RADIUS: f64 = 0.25;
+/// The largest trust radius (scaled units).
+const MAX_RADIUS: f64 = 0.5;
+/// The smallest trust radius (scaled units): an ascent stops below it.
+/// Each rejected step halves the radius.
+const MIN_RADIUS: f64 = 1e-4;
+
+/// Trust-region ascent of the worst margin from `u0` (module docs): each
+/// step maximises the smallest linearised margin within the trust radius
+/// and the bounds ([`super::minimax::linear_minimax`]); a step whose
+/// worst margin rises by at least a hundredth of the predicted rise is
+/// taken (the radius doubled when the prediction held to three quarters
+/// and the step reached the radius), any other halves the radius. Every
+/// trial is evaluated with its margins' gradients, so a step taken brings
+/// the next linearisation along.
 fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, Evaluation) {
-    let k = opts.sharpness;
     // the ascent's first point searched afresh, its trials started from
     // the points before them
     c.seeds = Seeds::default();
+    let act = active(c.req);
     let mut u = u0.to_vec();
     let (mut e, mut grads) = c.eval_with_gradients(&u);
-    let mut f = smooth_min(&e, k);
-    let mut alpha = 0.25;
+    let mut radius = FIRST_RADIUS;
     for _ in 0..opts.max_iterations {
-        let mut g = gradient(c, &u, (&e, &grads), opts.step, k);
-        // projected: a component that pushes against an active bound
-        // cannot move, and must not shrink the steps of the others
-        for (gi, ui) in g.iter_mut().zip(&u) {
-            if (*ui >= 1.0 && *gi > 0.0) || (*ui <= 0.0 && *gi < 0.0) {
-                *gi = 0.0;
-            }
-        }
-        let norm = g.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if norm.is_nan() || norm <= 1e-9 {
+        if !e.worst.is_finite() || radius < MIN_RADIUS {
             break;
         }
-        let mut improved = false;
-        while alpha > 1e-4 {
-            let trial: Vec<f64> = u
-                .iter()
-                .zip(&g)
-                .map(|(ui, gi)| (ui + alpha * gi / norm).clamp(0.0, 1.0))
-                .collect();
-            if trial == u {
-                break;
-            }
-            let (et, gt) = c.eval_with_gradients(&trial);
-            let ft = smooth_min(&et, k);
-            if ft > f {
-                // converged: S no longer moves beyond rounding
-                improved = ft - f > 1e-9 * (1.0 + f.abs());
-                (u, e, grads, f) = (trial, et, gt, ft);
-                alpha = (alpha * 1.5).min(0.5);
-                break;
-            }
-            alpha *= 0.5;
-        }
-        if !improved {
+        // the linearisation in the scaled variables
+        let g: Vec<Vec<f64>> = margin_gradients(c, &u, (&e, &grads), opts.step, true)
+            .iter()
+            .map(|row| act.iter().map(|&(i, lo, hi)| row[i] * (hi - lo)).collect())
+            .collect();
+        let m: Vec<f64> = e.margins.iter().map(|x| x.margin).collect();
+        let lo: Vec<f64> = u.iter().map(|ui| (-radius).max(-ui)).collect();
+        let hi: Vec<f64> = u.iter().map(|ui| radius.min(1.0 - ui)).collect();
+        let (d, t) = super::minimax::linear_minimax(&m, &g, &lo, &hi);
+        let predicted = t - e.worst;
+        // stationary to the linearisation
+        if predicted.is_nan() || predicted <= 1e-9 * (1.0 + e.worst.abs()) {
             break;
+        }
+        let trial: Vec<f64> = u
+            .iter()
+            .zip(&d)
+            .map(|(ui, di)| (ui + di).clamp(0.0, 1.0))
+            .collect();
+        let (et, gt) = c.eval_with_gradients(&trial);
+        let rho = (et.worst - e.worst) / predicted;
+        let reach = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if rho >= 0.01 {
+            (u, e, grads) = (trial, et, gt);
+            if rho >= 0.75 && reach >= 0.99 * radius {
+                radius = (2.0 * radius).min(MAX_RADIUS);
+            }
+        } else {
+            radius = 0.5 * reach.min(radius);
         }
     }
     (u, e)
@@ -402,42 +423,16 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, In
     // sensitivities cover them, central differences for the rest
     c.evaluations += 1;
     let (e, exact) = evaluate_with_gradients(req, e.design);
-    let mut sens: Vec<MarginSensitivity> = e
+    let gradients = margin_gradients(&mut c, &u, (&e, &exact), opts.step, false);
+    let sens: Vec<MarginSensitivity> = e
         .margins
         .iter()
-        .map(|m| MarginSensitivity {
+        .zip(gradients)
+        .map(|(m, gradient)| MarginSensitivity {
             requirement: m.requirement.clone(),
-            gradient: [0.0; 3],
+            gradient,
         })
         .collect();
-    for (j, &(i, lo, hi)) in act.iter().enumerate() {
-        let covered = exact.len() == sens.len() && exact.iter().all(|g| g[i].is_some());
-        if covered {
-            for (s, g) in sens.iter_mut().zip(&exact) {
-                s.gradient[i] = g[i].unwrap_or(0.0);
-            }
-            continue;
-        }
-        let h = opts.step;
-        let (mut a, mut b) = (u.clone(), u.clone());
-        a[j] = (u[j] + h).min(1.0);
-        b[j] = (u[j] - h).max(0.0);
-        let (ea, eb) = (c.eval(&a), c.eval(&b));
-        let dx = (a[j] - b[j]) * (hi - lo);
-        for (k, (s, m)) in sens.iter_mut().zip(&e.margins).enumerate() {
-            if let Some(v) = exact.get(k).and_then(|g| g[i]) {
-                s.gradient[i] = v;
-                continue;
-            }
-            let ma = ea.margins.iter().find(|x| x.requirement == m.requirement);
-            let mb = eb.margins.iter().find(|x| x.requirement == m.requirement);
-            if let (Some(ma), Some(mb)) = (ma, mb) {
-                if dx > 0.0 {
-                    s.gradient[i] = (ma.margin - mb.margin) / dx;
-                }
-            }
-        }
-    }
     let mut d = Designed {
         feasible: false,
         best: e,
