@@ -284,15 +284,17 @@ fn contact_samples<M: Kinematics>(
             local.clear();
             // the element's root is the previous element's last sample
             let mut prev = M::midplane(&ki, 0.0);
+            // the widest chord, squared
             let mut widest = 0.0f64;
             for j in 1..=m {
                 let q = M::midplane(&ki, l * j as f64 / m as f64);
-                widest = widest.max(dist(prev, q));
+                let (dx, dz) = (q[0] - prev[0], q[1] - prev[1]);
+                widest = widest.max(dx * dx + dz * dz);
                 prev = q;
                 local.push(q);
             }
             // twice at most: the stretch at the check points is a close guide
-            if widest <= spacing || m >= 4 * first || m >= MAX_CONTACT_SAMPLES {
+            if widest <= spacing * spacing || m >= 4 * first || m >= MAX_CONTACT_SAMPLES {
                 break;
             }
             m *= 2;
@@ -305,8 +307,11 @@ fn contact_samples<M: Kinematics>(
     (pts, ends)
 }
 
+/// The distance between two points (of a finite mid-plane, mm-sized: the
+/// plain square root, several times faster than `hypot`'s guarded one).
 fn dist(p: [f64; 2], q: [f64; 2]) -> f64 {
-    (p[0] - q[0]).hypot(p[1] - q[1])
+    let (dx, dz) = (p[0] - q[0], p[1] - q[1]);
+    (dx * dx + dz * dz).sqrt()
 }
 
 /// The closest approach `(a, b, distance)` of the polyline `pts` to
@@ -364,9 +369,23 @@ fn closest_pair(
             if arc[r2.end - 1] - arc[r1.start] < sep {
                 continue;
             }
+            let (l2, h2) = boxes[c2];
             for a in r1 {
+                // no vertex of the second block within reach of a: none can
+                // pass the test below
+                let reach = best + spacing;
+                let p = pts[a];
+                let gx = (l2[0] - p[0]).max(p[0] - h2[0]).max(0.0);
+                let gz = (l2[1] - p[1]).max(p[1] - h2[1]).max(0.0);
+                if gx * gx + gz * gz >= reach * reach {
+                    continue;
+                }
                 // the vertices of the second block at least sep beyond a
-                let beyond = r2.start + arc[r2.clone()].partition_point(|&s| s - arc[a] < sep);
+                let beyond = if arc[r2.start] - arc[a] >= sep {
+                    r2.start
+                } else {
+                    r2.start + arc[r2.clone()].partition_point(|&s| s - arc[a] < sep)
+                };
                 for b in beyond.max(a + 1)..r2.end {
                     let reach = best + spacing;
                     let (dx, dz) = (pts[b][0] - pts[a][0], pts[b][1] - pts[a][1]);
