@@ -34,6 +34,7 @@ impl<M: ElementModel> Drop for SolverCore<'_, M> {
             newton: std::mem::replace(&mut self.newton, Newton::new(0, NewtonOptions::default())),
             y: std::mem::take(&mut self.y),
             start: std::mem::take(&mut self.start),
+            unloaded: self.unloaded.take(),
         };
         self.pool.put(spare);
     }
@@ -71,6 +72,8 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     pub y: Vec<f64>,
     /// The start of a coupled solve, kept for a continuation restart.
     start: Vec<f64>,
+    /// The unloaded start of the last cold coupled solve.
+    unloaded: Option<UnloadedStart>,
     /// Pi at the end of the last coupled Newton solve (taken by `finish`).
     final_energy: Option<f64>,
     /// The guesses are close to the equilibrium (a nested refinement
@@ -100,6 +103,21 @@ pub(crate) struct Spare<M: ElementModel> {
     newton: Newton,
     y: Vec<f64>,
     start: Vec<f64>,
+    unloaded: Option<UnloadedStart>,
+}
+
+/// The start of a cold coupled solve: the decoupled equilibrium of `load`
+/// (a scene without its tip load) under `opts`, in scaled unknowns, and its
+/// report. The next cold solve from the same start takes it instead of
+/// solving the elements again: the element solves are deterministic (from
+/// the straight finger, each element from the last), so it is bit for bit
+/// what they would give, report included.
+#[derive(Debug, Clone)]
+struct UnloadedStart {
+    load: Load,
+    opts: SolveOptions,
+    y: Vec<f64>,
+    report: SolveReport,
 }
 
 /// One spare solver workspace per finger: `Finger::solve` builds a solver
@@ -168,13 +186,14 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let Pooled { core: finger, pool } = pooled;
         let dim = M::Coeffs::LEN * finger.len();
         let spare = pool.take().filter(|s| s.y.len() == dim);
-        let (chain, newton, y, start) = match spare {
-            Some(s) => (Some(s.chain), s.newton, s.y, s.start),
+        let (chain, newton, y, start, unloaded) = match spare {
+            Some(s) => (Some(s.chain), s.newton, s.y, s.start, s.unloaded),
             None => (
                 None,
                 Newton::new(dim, NewtonOptions::default()),
                 vec![0.0; dim],
                 vec![0.0; dim],
+                None,
             ),
         };
         SolverCore {
@@ -187,6 +206,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             local: None,
             y,
             start,
+            unloaded,
             final_energy: None,
             trusted_start: false,
         }
@@ -359,8 +379,9 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         match guess {
             Some(g) => self.load_guess(Some(g)),
             None => {
-                // the unloaded equilibrium at the same pressure
-                match self.solve_decoupled(&start_load, None, opts.continuation) {
+                // the unloaded equilibrium at the same pressure (the last
+                // cold solve's, when it started from the same)
+                match self.unloaded_start(&start_load, opts) {
                     Ok(r) => {
                         base.iterations += r.iterations;
                         base.evaluations += r.evaluations;
@@ -392,6 +413,30 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         r.map(|()| base)
+    }
+
+    /// The decoupled equilibrium of `load` in `self.y`: the one kept from
+    /// the last cold solve when it is of the same load and options
+    /// ([`UnloadedStart`]), else solved (and kept).
+    fn unloaded_start(
+        &mut self,
+        load: &Load,
+        opts: &SolveOptions,
+    ) -> Result<SolveReport, SolveError> {
+        if let Some(kept) = &self.unloaded {
+            if kept.load == *load && kept.opts == *opts {
+                self.y.copy_from_slice(&kept.y);
+                return Ok(kept.report.clone());
+            }
+        }
+        let report = self.solve_decoupled(load, None, opts.continuation)?;
+        self.unloaded = Some(UnloadedStart {
+            load: *load,
+            opts: *opts,
+            y: self.y.clone(),
+            report: report.clone(),
+        });
+        Ok(report)
     }
 
     /// Newton on the loaded chain from `self.y` (the start), and load

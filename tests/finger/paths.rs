@@ -139,8 +139,12 @@ fn equal_elements_without_ribs_have_equal_solutions() {
 /// A solver hands its buffers to the next solver of the same finger
 /// (`Finger::solve` builds one per call): what a solve leaves in them must
 /// not change the next answer. The same scene after others (a decoupled
-/// one, a coupled one from elsewhere) gives bit-identical coefficients, and
-/// so does a copy of the finger.
+/// one, a coupled one from elsewhere) gives bit-identical coefficients and
+/// the same report, and so does a copy of the finger. The cold solve after
+/// another tip load at the same pressure takes the unloaded start kept
+/// from it; after one at another pressure it solves its own; each is
+/// compared with a finger built afresh, which keeps nothing (a copy shares
+/// its original's workspace).
 #[test]
 fn reused_solver_buffers_do_not_change_answers() {
     let f = Finger::paper(0.25, 8).unwrap();
@@ -154,7 +158,22 @@ fn reused_solver_buffers_do_not_change_answers() {
     let again = f.solve(&tip, &opts).unwrap();
     assert_eq!(first.coefficients, again.coefficients);
     assert_eq!(first.tip, again.tip);
+    assert_eq!(first.report, again.report);
     let copy = f.clone();
     let on_copy = copy.solve(&tip, &opts).unwrap();
     assert_eq!(first.coefficients, on_copy.coefficients);
+    // at 120 kPa, after a tip load at 0 kPa, then after another at 120 kPa
+    let at = |fx: f64| pressure(120.0).with_tip_force(fx, 0.3);
+    let fresh = Finger::paper(0.25, 8)
+        .unwrap()
+        .solve(&at(0.5), &opts)
+        .unwrap();
+    let after_other_pressure = f.solve(&at(0.5), &opts).unwrap();
+    let _ = f.solve(&at(-0.4), &opts).unwrap();
+    let after_same_pressure = f.solve(&at(0.5), &opts).unwrap();
+    for s in [&after_other_pressure, &after_same_pressure] {
+        assert_eq!(fresh.coefficients, s.coefficients);
+        assert_eq!(fresh.energy.to_bits(), s.energy.to_bits());
+        assert_eq!(fresh.report, s.report);
+    }
 }
