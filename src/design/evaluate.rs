@@ -654,16 +654,20 @@ impl BestGradient {
         (req, x): (&Requirements, [f64; 3]),
         turn: &std::cell::OnceCell<[Option<f64>; 3]>,
     ) -> Option<BestGradient> {
-        let of = |rows: &[(f64, f64)]| BestGradient {
-            lift: design_gradient([rows[0].0, rows[1].0, rows[2].0], 1.0),
-            normal: design_gradient([rows[0].1, rows[1].1, rows[2].1], 1.0),
+        // one row per design parameter, in DESIGN_PARAMS order
+        let of = |rows: &[(f64, f64)]| {
+            let [a, b, c] = [rows.first()?, rows.get(1)?, rows.get(2)?];
+            Some(BestGradient {
+                lift: design_gradient([a.0, b.0, c.0], 1.0),
+                normal: design_gradient([a.1, b.1, c.1], 1.0),
+            })
         };
         if g.closing_turn_at(0.0, best.beta).is_none() {
             let s = g
                 .max_sphere_lift_sensitivities(act, 0.0, best, &DESIGN_PARAMS)
                 .ok()?;
             let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
-            return Some(of(&rows));
+            return of(&rows);
         }
         // at fixed angle, with the angle's own row last
         let sg = g
@@ -680,8 +684,8 @@ impl BestGradient {
         };
         let s = g.grasp_sensitivities(act, &sg.grasp, kind, &params).ok()?;
         let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
-        let fixed = of(&rows);
-        let (lift_b, normal_b) = rows[3];
+        let fixed = of(&rows)?;
+        let (lift_b, normal_b) = *rows.get(3)?;
         let db = *turn.get_or_init(|| turn_gradient(req, x));
         let along = |fixed: MarginGradient, rate: f64| {
             let mut out = [None; 3];

@@ -19,13 +19,15 @@ const MAX_VARIABLES: usize = 3;
 
 /// The step in `lo <= d <= hi` (per variable; `lo <= 0 <= hi`) that
 /// maximises `min_i (m[i] + g[i] . d)`, and that maximum. `g[i]` has one
-/// entry per variable (at most [`MAX_VARIABLES`]). With no margins the
-/// step is zero and the value `+inf`.
+/// entry per variable (at most [`MAX_VARIABLES`]; a margin without a full
+/// gradient row is left out). With no margins the step is zero and the
+/// value `+inf`.
 pub(super) fn linear_minimax(m: &[f64], g: &[Vec<f64>], lo: &[f64], hi: &[f64]) -> (Vec<f64>, f64) {
     let n = lo.len().min(hi.len()).min(MAX_VARIABLES);
     let value = |d: &[f64]| {
         m.iter()
             .zip(g)
+            .filter(|(_, gi)| gi.len() >= n)
             .map(|(mi, gi)| mi + gi.iter().zip(d).map(|(a, b)| a * b).sum::<f64>())
             .fold(f64::INFINITY, f64::min)
     };
@@ -37,13 +39,16 @@ pub(super) fn linear_minimax(m: &[f64], g: &[Vec<f64>], lo: &[f64], hi: &[f64]) 
     let range = |gi: &[f64], pick: fn(f64, f64) -> f64| -> f64 {
         (0..n).map(|j| pick(gi[j] * lo[j], gi[j] * hi[j])).sum()
     };
-    let upper = m
+    let full: Vec<usize> = (0..m.len().min(g.len()))
+        .filter(|&i| g[i].len() >= n)
+        .collect();
+    let upper = full
         .iter()
-        .zip(g)
-        .map(|(mi, gi)| mi + range(gi, f64::max))
+        .map(|&i| m[i] + range(&g[i], f64::max))
         .fold(f64::INFINITY, f64::min);
-    let live: Vec<usize> = (0..m.len())
-        .filter(|&i| g[i].len() >= n && m[i] + range(&g[i], f64::min) <= upper)
+    let live: Vec<usize> = full
+        .into_iter()
+        .filter(|&i| m[i] + range(&g[i], f64::min) <= upper)
         .collect();
     // every assignment of the variables: free, at lo, at hi
     for code in 0..3usize.pow(n as u32) {
