@@ -381,11 +381,7 @@ fn closest_pair(
                     continue;
                 }
                 // the vertices of the second block at least sep beyond a
-                let beyond = if arc[r2.start] - arc[a] >= sep {
-                    r2.start
-                } else {
-                    r2.start + arc[r2.clone()].partition_point(|&s| s - arc[a] < sep)
-                };
+                let beyond = r2.start + arc[r2.clone()].partition_point(|&s| s - arc[a] < sep);
                 for b in beyond.max(a + 1)..r2.end {
                     let reach = best + spacing;
                     let (dx, dz) = (pts[b][0] - pts[a][0], pts[b][1] - pts[a][1]);

@@ -7,7 +7,7 @@ use serde::Serialize;
 use crate::actuator::Actuator;
 use crate::actuator::ActuatorParam;
 use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::sphere::nearest_turn;
+use crate::gripper::sphere::{nearest_turn, turn_within};
 use crate::gripper::{
     EnvelopeSeed, Gripper, GripperParams, Object, PalmSpec, SphereEnvelope, SphereLift,
 };
@@ -533,8 +533,7 @@ struct SphereRequirement {
 /// The sphere requirement's margins; its first radius predicted from
 /// `seed` if given. Returns the seed it leaves: its optimum at the first
 /// radius. `design` is the requirements and the design `g` was built from
-/// (for the gradients at an edge of the path from rest,
-/// [`BestGradient::at`]).
+/// (for the gradients at the turn of closing from rest, [`Turn`]).
 fn sphere_margins(
     g: &Gripper,
     design: (&Requirements, [f64; 3]),
@@ -551,16 +550,15 @@ fn sphere_margins(
     // the radii after the first continued from those before
     let mut follower = SphereEnvelope::new(g, 0.0, SPHERE_ANGLE_SAMPLES).seeded(seed);
     let radii = samples(radius, SPHERE_SAMPLES);
-    // the turn of closing from rest's rate in the design, shared by the radii
-    let turn = std::cell::OnceCell::new();
+    // the turn of closing from rest and its rate, shared by the radii
+    let turn = Turn::new(g, design);
     for &r in &radii {
         let name = |what: &str| format!("object[{i}] sphere r = {r:.1} mm: {what}");
         match follower.at(r) {
             Ok(Some(best)) => {
                 let grads = std::cell::OnceCell::new();
-                let grads = |act: &Actuator| {
-                    *grads.get_or_init(|| BestGradient::at(g, act, &best, design, &turn))
-                };
+                let grads =
+                    |act: &Actuator| *grads.get_or_init(|| BestGradient::at(g, act, &best, &turn));
                 out.push(
                     Margin {
                         requirement: name("lift"),
@@ -622,7 +620,7 @@ fn scaled(g: MarginGradient, factor: f64) -> MarginGradient {
 }
 
 /// Central-difference steps of the design variables (eps0, degrees, mm)
-/// for the rate of the turn of closing from rest ([`turn_gradient`]).
+/// for the rate of the turn of closing from rest ([`Turn::rate`]).
 const TURN_STEPS: [f64; 3] = [1e-4, 1e-2, 1e-2];
 
 /// d lift / d x and d normal force / d x (design units) of a sphere's best
@@ -640,20 +638,14 @@ impl BestGradient {
     /// - where the best angle is the turn of closing from rest (the edge of
     ///   the angles the path from rest reaches, [`Gripper::closing_turn`]),
     ///   the grasp's sensitivities at that fixed angle plus its rate in the
-    ///   angle times the turn's rate in the design ([`turn_gradient`],
-    ///   shared through `turn` by the radii of one evaluation);
+    ///   angle times the turn's rate in the design (`turn`, shared by the
+    ///   radii of one evaluation);
     /// - elsewhere [`Gripper::max_sphere_lift_sensitivities`] (an interior
     ///   optimum or a contact boundary).
     ///
     /// `None` where neither covers the optimum (the optimiser then falls
     /// back to central differences of whole evaluations).
-    fn at(
-        g: &Gripper,
-        act: &Actuator,
-        best: &SphereLift,
-        (req, x): (&Requirements, [f64; 3]),
-        turn: &std::cell::OnceCell<[Option<f64>; 3]>,
-    ) -> Option<BestGradient> {
+    fn at(g: &Gripper, act: &Actuator, best: &SphereLift, turn: &Turn<'_>) -> Option<BestGradient> {
         // one row per design parameter, in DESIGN_PARAMS order
         let of = |rows: &[(f64, f64)]| {
             let [a, b, c] = [rows.first()?, rows.get(1)?, rows.get(2)?];
@@ -662,7 +654,7 @@ impl BestGradient {
                 normal: design_gradient([a.1, b.1, c.1], 1.0),
             })
         };
-        if g.closing_turn_at(0.0, best.beta).is_none() {
+        if turn.within(best.beta).is_none() {
             let s = g
                 .max_sphere_lift_sensitivities(act, 0.0, best, &DESIGN_PARAMS)
                 .ok()?;
@@ -686,7 +678,7 @@ impl BestGradient {
         let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
         let fixed = of(&rows)?;
         let (lift_b, normal_b) = *rows.get(3)?;
-        let db = *turn.get_or_init(|| turn_gradient(req, x));
+        let db = turn.rate();
         let along = |fixed: MarginGradient, rate: f64| {
             let mut out = [None; 3];
             for i in 0..3 {
@@ -704,35 +696,69 @@ impl BestGradient {
     }
 }
 
-/// d b / d x (rad per design unit) of the turn of closing from rest at
-/// zero pressure ([`Gripper::closing_turn`]) for each varied design
-/// variable: Richardson-extrapolated central differences of the turn of
-/// the grippers built at `x` +- [`TURN_STEPS`] (no grasp is solved, only
-/// their rest states and tangents). `None` for a fixed variable and where
-/// a gripper cannot be built.
-fn turn_gradient(req: &Requirements, x: [f64; 3]) -> [Option<f64>; 3] {
-    let bounds = req.bounds();
-    let Some(zero) = gripper(req, x).ok().and_then(|g| g.closing_turn(0.0)) else {
-        return [None; 3];
-    };
-    let mut out = [None; 3];
-    for (i, &h) in TURN_STEPS.iter().enumerate() {
-        if bounds[i][1] <= bounds[i][0] {
-            continue;
+/// The turn of closing from rest at zero pressure of the gripper `g` of
+/// design `x` ([`Gripper::closing_turn`]), and its rate in the design,
+/// each computed once, when first asked.
+struct Turn<'a> {
+    g: &'a Gripper,
+    req: &'a Requirements,
+    x: [f64; 3],
+    zero: std::cell::OnceCell<Option<f64>>,
+    rate: std::cell::OnceCell<[Option<f64>; 3]>,
+}
+
+impl<'a> Turn<'a> {
+    fn new(g: &'a Gripper, (req, x): (&'a Requirements, [f64; 3])) -> Turn<'a> {
+        Turn {
+            g,
+            req,
+            x,
+            zero: std::cell::OnceCell::new(),
+            rate: std::cell::OnceCell::new(),
         }
-        let at = |t: f64| {
-            let mut y = x;
-            y[i] += t;
-            let turn = gripper(req, y).ok()?.closing_turn(0.0)?;
-            Some(nearest_turn(turn, zero))
-        };
-        let diff = |t: f64| Some((at(t)? - at(-t)?) / (2.0 * t));
-        out[i] = (|| {
-            let (d1, d2) = (diff(h)?, diff(0.5 * h)?);
-            Some((4.0 * d2 - d1) / 3.0).filter(|v| v.is_finite())
-        })();
     }
-    out
+
+    fn zero(&self) -> Option<f64> {
+        *self.zero.get_or_init(|| self.g.closing_turn(0.0))
+    }
+
+    /// The turn within reach of `beta` ([`turn_within`]), if any.
+    fn within(&self, beta: f64) -> Option<f64> {
+        turn_within(self.zero()?, beta)
+    }
+
+    /// d b / d x (rad per design unit) for each varied design variable:
+    /// Richardson-extrapolated central differences of the turn of the
+    /// grippers built at `x` +- [`TURN_STEPS`] (no grasp is solved, only
+    /// their rest states and tangents). `None` for a fixed variable and
+    /// where a gripper cannot be built.
+    fn rate(&self) -> [Option<f64>; 3] {
+        *self.rate.get_or_init(|| {
+            let (req, x) = (self.req, self.x);
+            let bounds = req.bounds();
+            let mut out = [None; 3];
+            let Some(zero) = self.zero() else {
+                return out;
+            };
+            for (i, &h) in TURN_STEPS.iter().enumerate() {
+                if bounds[i][1] <= bounds[i][0] {
+                    continue;
+                }
+                let at = |t: f64| {
+                    let mut y = x;
+                    y[i] += t;
+                    let turn = gripper(req, y).ok()?.closing_turn(0.0)?;
+                    Some(nearest_turn(turn, zero))
+                };
+                let diff = |t: f64| Some((at(t)? - at(-t)?) / (2.0 * t));
+                out[i] = (|| {
+                    let (d1, d2) = (diff(h)?, diff(0.5 * h)?);
+                    Some((4.0 * d2 - d1) / 3.0).filter(|v| v.is_finite())
+                })();
+            }
+            out
+        })
+    }
 }
 
 /// The margin of a normal force `normal` against its limit `fmax` (N), at

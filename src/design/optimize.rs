@@ -327,19 +327,23 @@ fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, E
     let mut u = u0.to_vec();
     let (mut e, mut grads) = c.eval_with_gradients(&u);
     let mut radius = FIRST_RADIUS;
+    // the linearisation at u in the scaled variables (kept while steps
+    // from u are rejected: its differences, where any, cost evaluations)
+    let mut lin: Option<(Vec<f64>, Vec<Vec<f64>>)> = None;
     for _ in 0..opts.max_iterations {
         if !e.worst.is_finite() || radius < MIN_RADIUS {
             break;
         }
-        // the linearisation in the scaled variables
-        let g: Vec<Vec<f64>> = margin_gradients(c, &u, (&e, &grads), opts.step, true)
-            .iter()
-            .map(|row| act.iter().map(|&(i, lo, hi)| row[i] * (hi - lo)).collect())
-            .collect();
-        let m: Vec<f64> = e.margins.iter().map(|x| x.margin).collect();
+        let (m, g) = lin.get_or_insert_with(|| {
+            let g = margin_gradients(c, &u, (&e, &grads), opts.step, true)
+                .iter()
+                .map(|row| act.iter().map(|&(i, lo, hi)| row[i] * (hi - lo)).collect())
+                .collect();
+            (e.margins.iter().map(|x| x.margin).collect(), g)
+        });
         let lo: Vec<f64> = u.iter().map(|ui| (-radius).max(-ui)).collect();
         let hi: Vec<f64> = u.iter().map(|ui| radius.min(1.0 - ui)).collect();
-        let (d, t) = super::minimax::linear_minimax(&m, &g, &lo, &hi);
+        let (d, t) = super::minimax::linear_minimax(m, g, &lo, &hi);
         let predicted = t - e.worst;
         // stationary to the linearisation
         if predicted.is_nan() || predicted <= 1e-9 * (1.0 + e.worst.abs()) {
@@ -354,7 +358,7 @@ fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, E
         let rho = (et.worst - e.worst) / predicted;
         let reach = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if rho >= 0.01 {
-            (u, e, grads) = (trial, et, gt);
+            (u, e, grads, lin) = (trial, et, gt, None);
             if rho >= 0.75 && reach >= 0.99 * radius {
                 radius = (2.0 * radius).min(MAX_RADIUS);
             }
@@ -670,8 +674,9 @@ mounting_angle_deg = [60.0, 90.0]
         let g = super::super::evaluate::gripper(&req, x).unwrap();
         for r in [45.0, 50.0, 55.0] {
             let best = g.max_sphere_lift(0.0, r, 8).unwrap().unwrap();
+            let zero = g.closing_turn(0.0).unwrap();
             assert!(
-                g.closing_turn_at(0.0, best.beta).is_some(),
+                crate::gripper::sphere::turn_within(zero, best.beta).is_some(),
                 "r = {r}: {best:?}"
             );
         }

@@ -430,10 +430,14 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         let report = self.solve_decoupled(load, None, opts.continuation)?;
+        // the kept buffer reused: a run of cold solves at changing
+        // pressures allocates nothing here
+        let mut y = self.unloaded.take().map(|k| k.y).unwrap_or_default();
+        y.clone_from(&self.y);
         self.unloaded = Some(UnloadedStart {
             load: *load,
             opts: *opts,
-            y: self.y.clone(),
+            y,
             report: report.clone(),
         });
         Ok(report)

@@ -41,6 +41,12 @@ pub(crate) fn nearest_turn(zero: f64, near: f64) -> f64 {
     zero + ((near - zero) / std::f64::consts::PI).round() * std::f64::consts::PI
 }
 
+/// The turn of closing from rest `zero + k pi` that lies within
+/// [`TURN_NEAR`] of `beta`, if one does: `beta` is taken for an edge there.
+pub(crate) fn turn_within(zero: f64, beta: f64) -> Option<f64> {
+    Some(nearest_turn(zero, beta)).filter(|t| (t - beta).abs() <= TURN_NEAR)
+}
+
 /// Target solves the search for the best grasping angle may spend beyond
 /// the scan.
 const ENVELOPE_MAX_EVALUATIONS: usize = 60;
@@ -270,14 +276,6 @@ impl Gripper {
         };
         let (e0, e1) = (rate(0.0)?, rate(FRAC_PI_2)?);
         Some((-e0).atan2(e1)).filter(|b| b.is_finite())
-    }
-
-    /// The turn of closing from rest at `pressure_kpa`
-    /// ([`Gripper::closing_turn`]) that lies within [`TURN_NEAR`] of
-    /// `beta`, of the turns `b + k pi`; `None` when none does.
-    pub(crate) fn closing_turn_at(&self, pressure_kpa: f64, beta: f64) -> Option<f64> {
-        let zero = self.closing_turn(pressure_kpa)?;
-        Some(nearest_turn(zero, beta)).filter(|t| (t - beta).abs() <= TURN_NEAR)
     }
 
     /// The load family of a sphere of radius `r` held at angle `beta` with

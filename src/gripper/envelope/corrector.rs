@@ -5,7 +5,7 @@
 
 use super::super::frames::grasping_angle_range;
 use super::super::setup::{Grasp, Gripper};
-use super::super::sphere::{nearest_turn, ENVELOPE_BETA_TOL, TURN_NEAR};
+use super::super::sphere::{nearest_turn, turn_within, ENVELOPE_BETA_TOL};
 use crate::brent::{brent_max, brent_root};
 
 /// Solves the corrector may spend on one radius before the radius is
@@ -156,7 +156,7 @@ impl<'g> Corrector<'g> {
             // a searched optimum: at the turn of closing from rest the
             // edge first, else the usual case first
             None => {
-                let turn = c.turn_near(beta).filter(|t| (t - beta).abs() <= TURN_NEAR);
+                let turn = c.turn_near(beta).and_then(|t| turn_within(t, beta));
                 let edge_first = turn.and_then(|t| c.edge(beta, 0.0, (t - beta).signum()));
                 edge_first
                     .or_else(|| c.boundary(beta, step, 1.0, None))
