@@ -53,6 +53,56 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     /// statements applied (src/finger/straighten.rs), instead of the
     /// scaled unknowns.
     pub straight: bool,
+    /// Set by a cold solve from its unloaded start: the next Hessian
+    /// evaluation takes the element pass from [`StartMemo`] when that was
+    /// made at the same point, and keeps its own there otherwise.
+    pub from_start: bool,
+    memo: StartMemo<M>,
+}
+
+/// The element pass (energies, gradients, Hessian blocks and end
+/// kinematics) of the Hessian at a cold solve's start. Cold solves of a
+/// batch share their start (the unloaded equilibrium at the scene's
+/// pressure) and differ in the tip load alone, which this pass does not
+/// see; so the first Newton iteration of every cold solve after the first
+/// takes it instead of evaluating the element kernels again. It is the
+/// same arithmetic on the same numbers, so the solves stay bit for bit
+/// what they were.
+struct StartMemo<M: ElementModel> {
+    /// The point (Newton's unknowns), `None` while nothing is kept.
+    y: Option<Vec<f64>>,
+    straight: bool,
+    scalars: EnergyScalars,
+    v: f64,
+    g: Vec<f64>,
+    blk: Vec<M::Upper>,
+    end_g: Vec<[M::Coeffs; 3]>,
+    end_h: Vec<[M::Upper; 3]>,
+}
+
+impl<M: ElementModel> StartMemo<M> {
+    fn empty() -> StartMemo<M> {
+        StartMemo {
+            y: None,
+            straight: false,
+            scalars: Load::unloaded().scalars(),
+            v: 0.0,
+            g: Vec::new(),
+            blk: Vec::new(),
+            end_g: Vec::new(),
+            end_h: Vec::new(),
+        }
+    }
+
+    /// True when it was made at `y` (bit for bit), in the same unknowns
+    /// and with the same energy scalars.
+    fn holds(&self, y: &[f64], straight: bool, scalars: &EnergyScalars) -> bool {
+        self.straight == straight
+            && self.scalars.to_values().map(f64::to_bits) == scalars.to_values().map(f64::to_bits)
+            && self.y.as_deref().is_some_and(|m| {
+                m.len() == y.len() && m.iter().zip(y).all(|(a, b)| a.to_bits() == b.to_bits())
+            })
+    }
 }
 
 /// A chain's buffers without its finger, kept between solvers
@@ -67,6 +117,7 @@ pub(crate) struct ChainParts<M: ElementModel> {
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
     matrix: Semiseparable,
+    memo: StartMemo<M>,
 }
 
 impl<M: ElementModel> ChainParts<M> {
@@ -82,6 +133,7 @@ impl<M: ElementModel> ChainParts<M> {
             w: vec![M::Coeffs::zero(); n],
             blk: vec![M::Upper::zero(); n],
             matrix: Semiseparable::new(M::Coeffs::LEN, n),
+            memo: StartMemo::empty(),
         }
     }
 
@@ -121,6 +173,8 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             force_chain: false,
             matrix: p.matrix,
             straight: false,
+            from_start: false,
+            memo: p.memo,
         }
     }
 
@@ -138,6 +192,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             w: take(&mut self.w),
             blk: take(&mut self.blk),
             matrix: std::mem::replace(&mut self.matrix, Semiseparable::new(0, 0)),
+            memo: std::mem::replace(&mut self.memo, StartMemo::empty()),
         }
     }
 
@@ -300,16 +355,41 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         let ne = self.k.len();
         let loaded = self.loaded();
         let mut v = 0.0;
-        // pass 1: element energies and, for the chain, end kinematics
-        for (i, e) in self.finger.elements.iter().enumerate() {
-            let (vi, gi, hi) = e.hessian(&self.k[i], &self.scalars);
-            v += vi;
-            g[n * i..n * i + n].copy_from_slice(gi.as_ref());
-            self.blk[i] = hi;
-            if loaded {
-                let (eg, eh) = e.end_derivatives(&self.k[i]);
-                self.end_g[i] = eg;
-                self.end_h[i] = eh;
+        let from_start = std::mem::take(&mut self.from_start) && loaded;
+        if from_start && self.memo.holds(y, self.straight, &self.scalars) {
+            let m = &self.memo;
+            v = m.v;
+            g.copy_from_slice(&m.g);
+            self.blk.copy_from_slice(&m.blk);
+            self.end_g.copy_from_slice(&m.end_g);
+            self.end_h.copy_from_slice(&m.end_h);
+        } else {
+            // pass 1: element energies and, for the chain, end kinematics
+            for (i, e) in self.finger.elements.iter().enumerate() {
+                let (vi, gi, hi) = e.hessian(&self.k[i], &self.scalars);
+                v += vi;
+                g[n * i..n * i + n].copy_from_slice(gi.as_ref());
+                self.blk[i] = hi;
+                if loaded {
+                    let (eg, eh) = e.end_derivatives(&self.k[i]);
+                    self.end_g[i] = eg;
+                    self.end_h[i] = eh;
+                }
+            }
+            if from_start {
+                let m = &mut self.memo;
+                let mut point = m.y.take().unwrap_or_default();
+                point.clear();
+                point.extend_from_slice(y);
+                m.y = Some(point);
+                m.straight = self.straight;
+                m.scalars = self.scalars;
+                m.v = v;
+                m.g.clear();
+                m.g.extend_from_slice(g);
+                m.blk.clone_from(&self.blk);
+                m.end_g.clone_from(&self.end_g);
+                m.end_h.clone_from(&self.end_h);
             }
         }
         if loaded {

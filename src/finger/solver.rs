@@ -454,6 +454,9 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         base: &mut SolveReport,
     ) -> Result<(), SolveError> {
         self.chain.set_load(load);
+        // a cold solve's first Hessian is at its unloaded start, which the
+        // cold solves of a batch share (`Chain::from_start`)
+        self.chain.from_start = !warm && !start_failed;
         let r = minimize_straight::<M, _>(
             &mut self.newton,
             &mut self.chain,

@@ -155,6 +155,8 @@ fn reused_solver_buffers_do_not_change_answers() {
     let _ = f
         .solve(&Load::unloaded().with_tip_force(-2.0, 3.0), &opts)
         .unwrap();
+    // (the last two take the kept unloaded start, and the element pass of
+    // its first Hessian kept by the first of them)
     let again = f.solve(&tip, &opts).unwrap();
     assert_eq!(first.coefficients, again.coefficients);
     assert_eq!(first.tip, again.tip);
