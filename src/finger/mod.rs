@@ -27,6 +27,8 @@
 
 mod bordered;
 mod chain;
+#[cfg(test)]
+mod contact_tests;
 mod curve;
 mod load;
 mod options;

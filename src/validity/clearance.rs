@@ -1,0 +1,306 @@
+//! A proof, from bounds on pieces of the mid-plane, that the self-contact
+//! search cannot find anything: most curled fingers come nowhere near
+//! themselves, and this settles them without sampling the mid-plane at
+//! H / 16.
+//!
+//! Each element is cut into pieces in its local `x`; the mid-plane of a
+//! piece is a polynomial curve, so its Bernstein control points bound it
+//! (the curve lies in their convex hull, and so does every chord between
+//! two of its points) and the control points of its derivative bound its
+//! tangents (every tangent lies in the cone they span). The search looks
+//! at the sampled mid-plane, a polyline with its vertices on the curve,
+//! for two segments at least `l = pi H / 2` apart along it and closer than
+//! H. Two such segments, with vertices in pieces `p <= q`:
+//!
+//! - lie with everything between them in pieces `p - 1 ..= q + 1` (no
+//!   segment is longer in `x` than a piece), and every segment's direction
+//!   is in the tangent cone of the pieces it spans; if that cone is
+//!   narrower than the contact turning `2 acos(2 / pi)`, they are at least
+//!   `l cos(turning / 2) > H` apart (the argument of `contact_turning`);
+//! - else, each point of a segment is within half its length of one of
+//!   its vertices, so they are at least the distance of the two pieces'
+//!   boxes less the longest segment apart.
+//!
+//! So when every pair of pieces passes one of the two tests (with a small
+//! allowance for rounding), the search would find nothing, and is skipped.
+//! Where one pair fails nothing is concluded and the search runs as
+//! before: its findings are the same either way.
+
+use crate::element::{self, Element};
+use crate::model::Kinematics;
+
+/// Fine samples per piece, about: the pieces are about two thicknesses of
+/// arc long at the search's finest spacing (`super::CONTACT_SPACING`).
+const SAMPLES_PER_PIECE: usize = 32;
+
+/// The most pieces a proof is tried with (its pairs grow as the square);
+/// beyond, the search runs.
+const MAX_PIECES: usize = 512;
+
+/// The widest tangent cone of one piece (cosine of 45 degrees): a wider
+/// piece ends the attempt. Kept small so that a run of pieces whose cone is
+/// still under `contact_turning` (about 101 degrees) and one more piece
+/// spans less than half a turn, where the cone's edges are well defined.
+const PIECE_CONE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+/// Allowance for rounding: relative, on lengths (boxes) and on the cosine
+/// of the cone's width.
+const ROUNDING: f64 = 1e-9;
+
+/// The largest degree of a mid-plane polynomial handled here.
+const MAX_DEGREE: usize = 7;
+
+/// One piece of the mid-plane, in the finger's frame: the box of its
+/// control points and the two edges of its tangent cone.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Piece {
+    pub lo: [f64; 2],
+    pub hi: [f64; 2],
+    /// The cone's clockwise and counter-clockwise edges.
+    pub cw: [f64; 2],
+    pub ccw: [f64; 2],
+}
+
+/// True when the self-contact search over the mid-plane of state `k` (raw
+/// coefficients), sampled `first[i]` or more times in element `i`, cannot
+/// find two segments at least `pi h / 2` apart along it and closer than
+/// `h`; `turning` is the tangent turning under which no such pair exists
+/// (`2 acos(2 / pi)`). False when that is not shown (the search must run).
+pub(super) fn clear<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: &[usize],
+    h: f64,
+    turning: f64,
+) -> bool {
+    let Some((pieces, chord)) = pieces(elements, k, first) else {
+        return false;
+    };
+    let reach = (h + chord) * (1.0 + ROUNDING);
+    // the cone's width below contact_turning: cos(width) above its cosine
+    let narrow = turning.cos() + ROUNDING;
+    let n = pieces.len();
+    for p in 0..n {
+        let mut cone = Cone::of(&pieces[p.saturating_sub(1)]);
+        let mut wide = false;
+        for q in p..n {
+            if !wide {
+                for r in [p, q, (q + 1).min(n - 1)] {
+                    cone.add(&pieces[r]);
+                }
+                wide = !surely_above(cone.cos_width(), narrow);
+            }
+            if wide && !surely_above(gap(&pieces[p], &pieces[q]), reach) {
+                return false;
+            }
+        }
+    }
+    true
+}
+
+/// The pieces of the mid-plane (no more pieces in an element than its
+/// samples, so that no segment of the search spans more than two) and an
+/// upper bound on the search's longest segment; `None` where a piece's
+/// cone is too wide, the pieces too many or a value not finite.
+pub(super) fn pieces<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: &[usize],
+) -> Option<(Vec<Piece>, f64)> {
+    let d = M::MIDPLANE_DEGREE;
+    if d == 0 || d > MAX_DEGREE || first.len() != elements.len() {
+        return None;
+    }
+    let counts: Vec<usize> = first.iter().map(|&m| piece_count(m)).collect();
+    if counts.iter().sum::<usize>() > MAX_PIECES {
+        return None;
+    }
+    let mut out = Vec::with_capacity(counts.iter().sum());
+    let mut chord = 0.0f64;
+    let mut poly = [[0.0; 2]; MAX_DEGREE + 1];
+    for (i, (e, (origin, [c, s]))) in elements
+        .iter()
+        .zip(element::frames(elements, k))
+        .enumerate()
+    {
+        M::midplane_coefficients(&element::coeffs::<M>(k, i), &mut poly[..=d]);
+        let l = e.length();
+        // the longest segment: its length at most the largest tangent over
+        // the element times its step in x (the search's steps are at most
+        // l / first[i])
+        let whole = bernstein(&poly[..=d], 0.0, l);
+        let speed = (0..d)
+            .map(|j| {
+                let v = sub(whole[j + 1], whole[j]);
+                (v[0] * v[0] + v[1] * v[1]).sqrt()
+            })
+            .fold(0.0f64, f64::max)
+            * d as f64
+            / l;
+        chord = chord.max(speed * l / first[i].max(1) as f64);
+        let to_finger = |v: [f64; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+        let m = counts[i];
+        for j in 0..m {
+            let (x0, x1) = (l * j as f64 / m as f64, l * (j + 1) as f64 / m as f64);
+            let b = bernstein(&poly[..=d], x0, x1);
+            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+            for q in &b[..=d] {
+                let g = to_finger(*q);
+                for a in 0..2 {
+                    lo[a] = lo[a].min(origin[a] + g[a]);
+                    hi[a] = hi[a].max(origin[a] + g[a]);
+                }
+            }
+            let mut cone = Cone::start(to_finger(sub(b[1], b[0])));
+            for t in 1..d {
+                cone.extend(to_finger(sub(b[t + 1], b[t])));
+            }
+            if !surely_above(cone.cos_width(), PIECE_CONE_COS) {
+                return None;
+            }
+            let piece = Piece {
+                lo,
+                hi,
+                cw: cone.cw,
+                ccw: cone.ccw,
+            };
+            if !(lo.iter().chain(&hi).all(|v| v.is_finite()) && chord.is_finite()) {
+                return None;
+            }
+            out.push(piece);
+        }
+    }
+    Some((out, chord))
+}
+
+/// The pieces of an element the search samples `first` times or more:
+/// about one per [`SAMPLES_PER_PIECE`], at least one, at most `first`.
+pub(super) fn piece_count(first: usize) -> usize {
+    first.div_ceil(SAMPLES_PER_PIECE).clamp(1, first.max(1))
+}
+
+/// The Bernstein control points on `[x0, x1]` of the polynomial curve with
+/// power coefficients `a` (`a[j]` of `x^j`); the first `a.len()` entries.
+fn bernstein(a: &[[f64; 2]], x0: f64, x1: f64) -> [[f64; 2]; MAX_DEGREE + 1] {
+    let d = a.len() - 1;
+    let w = x1 - x0;
+    // power coefficients in t, x = x0 + w t: c_m = sum_j a_j C(j, m) x0^(j-m) w^m
+    let mut c = [[0.0; 2]; MAX_DEGREE + 1];
+    for (j, aj) in a.iter().enumerate() {
+        let mut x0p = 1.0; // x0^(j - m), from m = j down
+        for m in (0..=j).rev() {
+            let f = binomial(j, m) * x0p * w.powi(m as i32);
+            c[m][0] += aj[0] * f;
+            c[m][1] += aj[1] * f;
+            x0p *= x0;
+        }
+    }
+    // b_k = sum_{m <= k} C(k, m) / C(d, m) c_m
+    let mut b = [[0.0; 2]; MAX_DEGREE + 1];
+    for (kk, bk) in b.iter_mut().enumerate().take(d + 1) {
+        for (m, cm) in c.iter().enumerate().take(kk + 1) {
+            let f = binomial(kk, m) / binomial(d, m);
+            bk[0] += cm[0] * f;
+            bk[1] += cm[1] * f;
+        }
+    }
+    b
+}
+
+/// `a > b`, false where either is NaN: every test of the proof fails on a
+/// value that is not a number.
+fn surely_above(a: f64, b: f64) -> bool {
+    a > b
+}
+
+fn binomial(n: usize, k: usize) -> f64 {
+    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
+}
+
+fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// The distance between two pieces' boxes (0 where they overlap).
+fn gap(a: &Piece, b: &Piece) -> f64 {
+    let gx = (b.lo[0] - a.hi[0]).max(a.lo[0] - b.hi[0]).max(0.0);
+    let gz = (b.lo[1] - a.hi[1]).max(a.lo[1] - b.hi[1]).max(0.0);
+    (gx * gx + gz * gz).sqrt()
+}
+
+/// A cone of directions narrower than half a turn, by its two edges.
+#[derive(Debug, Clone, Copy)]
+struct Cone {
+    cw: [f64; 2],
+    ccw: [f64; 2],
+}
+
+impl Cone {
+    fn start(v: [f64; 2]) -> Cone {
+        Cone { cw: v, ccw: v }
+    }
+
+    fn of(p: &Piece) -> Cone {
+        Cone {
+            cw: p.cw,
+            ccw: p.ccw,
+        }
+    }
+
+    /// Widens the cone to hold `v` (the cone and `v` within half a turn).
+    fn extend(&mut self, v: [f64; 2]) {
+        if cross(self.ccw, v) > 0.0 {
+            self.ccw = v;
+        } else if cross(v, self.cw) > 0.0 {
+            self.cw = v;
+        }
+    }
+
+    fn add(&mut self, p: &Piece) {
+        self.extend(p.cw);
+        self.extend(p.ccw);
+    }
+
+    /// The cosine of the angle between the edges (NaN for a zero edge).
+    fn cos_width(&self) -> f64 {
+        let (a, b) = (self.cw, self.ccw);
+        let dot = a[0] * b[0] + a[1] * b[1];
+        dot / ((a[0] * a[0] + a[1] * a[1]).sqrt() * (b[0] * b[0] + b[1] * b[1]).sqrt())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bernstein_points_reproduce_the_polynomial() {
+        // de Casteljau at t of the control points equals the polynomial at x
+        let a = [[0.3, -1.0], [1.2, 0.5], [-0.7, 0.25], [0.05, -0.02]];
+        let (x0, x1) = (2.0, 5.5);
+        let b = bernstein(&a, x0, x1);
+        for t in [0.0, 0.2, 0.5, 0.9, 1.0] {
+            let mut q: Vec<[f64; 2]> = b[..4].to_vec();
+            for r in (1..4).rev() {
+                for j in 0..r {
+                    q[j] = [
+                        (1.0 - t) * q[j][0] + t * q[j + 1][0],
+                        (1.0 - t) * q[j][1] + t * q[j + 1][1],
+                    ];
+                }
+            }
+            let x: f64 = x0 + (x1 - x0) * t;
+            let p = (0..4).fold([0.0, 0.0], |acc, j| {
+                [
+                    acc[0] + a[j][0] * x.powi(j as i32),
+                    acc[1] + a[j][1] * x.powi(j as i32),
+                ]
+            });
+            assert!((q[0][0] - p[0]).abs() < 1e-12 && (q[0][1] - p[1]).abs() < 1e-12);
+        }
+    }
+}
