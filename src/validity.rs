@@ -521,10 +521,10 @@ pub(crate) fn proof_and_search<M: Kinematics>(
 }
 
 /// For tests above this module: the clearance proof's pieces of state `k`
-/// at thickness `h` (unit stretch), as `(box low, box high, cone edges)`
-/// in order along the finger with each element's piece count, its bound
-/// on the search's longest segment, and the longest segment the search
-/// samples; `None` where the proof gives up.
+/// at thickness `h` (unit stretch), as `(box low, box high, cone edges,
+/// start, end)` in order along the finger (start and end as element and
+/// local x), its bound on the search's longest segment, and the longest
+/// segment the search samples; `None` where the proof gives up.
 #[cfg(test)]
 #[allow(clippy::type_complexity)]
 pub(crate) fn proof_pieces<M: Kinematics>(
@@ -532,19 +532,26 @@ pub(crate) fn proof_pieces<M: Kinematics>(
     k: &[f64],
     h: f64,
 ) -> Option<(
-    Vec<([f64; 2], [f64; 2], [[f64; 2]; 2])>,
-    Vec<usize>,
+    Vec<(
+        [f64; 2],
+        [f64; 2],
+        [[f64; 2]; 2],
+        (usize, f64),
+        (usize, f64),
+    )>,
     f64,
     f64,
 )> {
     let stretch = vec![1.0; elements.len()];
     let (first, spacing) = sample_counts(elements, &stretch, CONTACT_SPACING * h);
     let (pieces, chord) = clearance::pieces(elements, k, &first)?;
-    let counts = first.iter().map(|&m| clearance::piece_count(m)).collect();
     let (pts, _) = contact_samples(elements, k, &first, spacing);
     let longest = pts.windows(2).map(|w| dist(w[0], w[1])).fold(0.0, f64::max);
-    let pieces = pieces.iter().map(|p| (p.lo, p.hi, [p.cw, p.ccw])).collect();
-    Some((pieces, counts, chord, longest))
+    let pieces = pieces
+        .iter()
+        .map(|p| (p.lo, p.hi, [p.cw, p.ccw], p.from, p.to))
+        .collect();
+    Some((pieces, chord, longest))
 }
 
 #[cfg(test)]

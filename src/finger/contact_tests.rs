@@ -8,7 +8,7 @@ use crate::model::ElementModel;
 use crate::validity::{contact_turning, proof_and_search, proof_pieces};
 use crate::{Actuator, ActuatorParams, ModelId, Partition};
 
-/// Solved states of random fingers (three models, 1-16 elements,
+/// Solved states of random fingers (three models, 1-128 elements,
 /// prestrains 0.1-0.5, pressures to 300 kPa, tip loads to 1.5 N): the
 /// finger, its state, its thickness, and whether it turns past
 /// [`contact_turning`].
@@ -17,7 +17,7 @@ fn random_states(count: usize) -> Vec<(Finger, Vec<f64>, f64, bool)> {
     let mut out = Vec::new();
     for case in 0..count {
         let model = [ModelId::Ccm, ModelId::Quad, ModelId::Shear][case % 3];
-        let n = [1, 2, 4, 8, 16][rng.usize(0..5)];
+        let n = [1, 2, 4, 8, 16, 64, 128][rng.usize(0..7)];
         let mut params = ActuatorParams::default();
         params.pemc.eps0 = 0.1 + 0.4 * rng.f64();
         let act = Actuator::new(params).unwrap();
@@ -50,7 +50,7 @@ fn the_clearance_bounds_hold_the_sampled_midplane() {
         fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> usize {
             let (k, h) = (self.0, self.1);
             let els = &core.elements;
-            let Some((pieces, counts, chord, longest)) = proof_pieces(els, k, h) else {
+            let Some((pieces, chord, longest)) = proof_pieces(els, k, h) else {
                 return 0;
             };
             assert!(
@@ -58,15 +58,25 @@ fn the_clearance_bounds_hold_the_sampled_midplane() {
                 "segment {longest} > bound {chord}"
             );
             let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+            let frames = element::frames(els, k);
             let mut next = 0;
-            for (i, (e, (p, [c, s]))) in els.iter().zip(element::frames(els, k)).enumerate() {
-                let ki = element::coeffs::<M>(k, i);
-                let m = counts[i];
-                for j in 0..m {
-                    let (lo, hi, [cw, ccw]) = pieces[next];
-                    next += 1;
+            // the pieces follow one another along the whole finger
+            let mut at = (0, 0.0);
+            for &(lo, hi, [cw, ccw], from, to) in &pieces {
+                next += 1;
+                assert_eq!(from, at, "piece {next} starts where the last ended");
+                at = if to.1 >= els[to.0].length() * (1.0 - 1e-12) {
+                    (to.0 + 1, 0.0)
+                } else {
+                    to
+                };
+                for i in from.0..=to.0 {
+                    let (e, (p, [c, s])) = (&els[i], frames[i]);
+                    let ki = element::coeffs::<M>(k, i);
+                    let x0 = if i == from.0 { from.1 } else { 0.0 };
+                    let x1 = if i == to.0 { to.1 } else { e.length() };
                     for t in 0..=50 {
-                        let x = e.length() * (j as f64 + t as f64 / 50.0) / m as f64;
+                        let x = x0 + (x1 - x0) * t as f64 / 50.0;
                         let [xl, zl] = M::midplane(&ki, x);
                         let g = [p[0] + c * xl - s * zl, p[1] + s * xl + c * zl];
                         for a in 0..2 {
@@ -81,7 +91,7 @@ fn the_clearance_bounds_hold_the_sampled_midplane() {
                     }
                 }
             }
-            assert_eq!(next, pieces.len());
+            assert_eq!(at, (els.len(), 0.0), "the pieces cover the finger");
             1
         }
     }
@@ -162,7 +172,7 @@ fn the_clearance_proof_never_hides_a_finding() {
         "{checked} checked, {found_any} with contact, {at_edge} at the edge"
     );
     assert!(
-        cleared_at_h * 10 >= curled * 8 && curled > 30,
+        cleared_at_h * 4 >= curled * 3 && curled > 30,
         "the proof settled {cleared_at_h} of {curled} curled states"
     );
     eprintln!("{checked} checked, {found_any} with contact, {at_edge} at the edge, {cleared_at_h} of {curled} curled settled");

@@ -37,6 +37,9 @@ const SAMPLES_PER_PIECE: usize = 32;
 /// beyond, the search runs.
 const MAX_PIECES: usize = 512;
 
+/// The most pieces cut from the elements before short ones are joined.
+const MAX_SUBPIECES: usize = 8 * MAX_PIECES;
+
 /// The widest tangent cone of one piece (cosine of 45 degrees): a wider
 /// piece ends the attempt. Kept small so that a run of pieces whose cone is
 /// still under `contact_turning` (about 101 degrees) and one more piece
@@ -46,6 +49,10 @@ const PIECE_CONE_COS: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Allowance for rounding: relative, on lengths (boxes) and on the cosine
 /// of the cone's width.
 const ROUNDING: f64 = 1e-9;
+
+/// Pieces per group of the box test (a group out of reach is passed
+/// whole).
+const GROUP: usize = 8;
 
 /// The largest degree of a mid-plane polynomial handled here.
 const MAX_DEGREE: usize = 7;
@@ -59,6 +66,29 @@ pub(super) struct Piece {
     /// The cone's clockwise and counter-clockwise edges.
     pub cw: [f64; 2],
     pub ccw: [f64; 2],
+    /// Where it starts and ends: (element, local x).
+    pub from: (usize, f64),
+    pub to: (usize, f64),
+    /// The search's samples in it, about.
+    samples: usize,
+}
+
+impl Piece {
+    /// `self` and `next` (which follows it) as one piece, where their cone
+    /// stays within [`PIECE_CONE_COS`].
+    fn merged(&self, next: &Piece) -> Option<Piece> {
+        let mut cone = Cone::of(self);
+        cone.add(next);
+        surely_above(cone.cos_width(), PIECE_CONE_COS).then(|| Piece {
+            lo: [self.lo[0].min(next.lo[0]), self.lo[1].min(next.lo[1])],
+            hi: [self.hi[0].max(next.hi[0]), self.hi[1].max(next.hi[1])],
+            cw: cone.cw,
+            ccw: cone.ccw,
+            from: self.from,
+            to: next.to,
+            samples: self.samples + next.samples,
+        })
+    }
 }
 
 /// True when the self-contact search over the mid-plane of state `k` (raw
@@ -80,18 +110,46 @@ pub(super) fn clear<M: Kinematics>(
     // the cone's width below contact_turning: cos(width) above its cosine
     let narrow = turning.cos() + ROUNDING;
     let n = pieces.len();
+    // groups of pieces with the box of their boxes: a group whose box is
+    // out of reach of a piece passes the box test with every piece in it
+    let groups: Vec<([f64; 2], [f64; 2])> = pieces
+        .chunks(GROUP)
+        .map(|g| {
+            g.iter().fold(
+                ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+                |(lo, hi), p| {
+                    (
+                        [lo[0].min(p.lo[0]), lo[1].min(p.lo[1])],
+                        [hi[0].max(p.hi[0]), hi[1].max(p.hi[1])],
+                    )
+                },
+            )
+        })
+        .collect();
     for p in 0..n {
+        // the first piece q from which pieces p - 1 ..= q + 1 turn too far
+        // for the cone test (the pairs before it pass that test)
         let mut cone = Cone::of(&pieces[p.saturating_sub(1)]);
-        let mut wide = false;
+        let mut wide_from = n;
         for q in p..n {
-            if !wide {
-                for r in [p, q, (q + 1).min(n - 1)] {
-                    cone.add(&pieces[r]);
-                }
-                wide = !surely_above(cone.cos_width(), narrow);
+            for r in [p, q, (q + 1).min(n - 1)] {
+                cone.add(&pieces[r]);
             }
-            if wide && !surely_above(gap(&pieces[p], &pieces[q]), reach) {
-                return false;
+            if !surely_above(cone.cos_width(), narrow) {
+                wide_from = q;
+                break;
+            }
+        }
+        let piece = &pieces[p];
+        for (g, (lo, hi)) in groups.iter().enumerate() {
+            let members = g * GROUP..((g + 1) * GROUP).min(n);
+            if members.end <= wide_from || surely_above(gap2(piece, *lo, *hi), reach * reach) {
+                continue;
+            }
+            for other in &pieces[members.start.max(wide_from)..members.end] {
+                if !surely_above(gap2(piece, other.lo, other.hi), reach * reach) {
+                    return false;
+                }
             }
         }
     }
@@ -99,7 +157,8 @@ pub(super) fn clear<M: Kinematics>(
 }
 
 /// The pieces of the mid-plane (no more pieces in an element than its
-/// samples, so that no segment of the search spans more than two) and an
+/// samples, so that no segment of the search spans more than two; the
+/// short pieces of consecutive short elements joined) and an
 /// upper bound on the search's longest segment; `None` where a piece's
 /// cone is too wide, the pieces too many or a value not finite.
 pub(super) fn pieces<M: Kinematics>(
@@ -112,10 +171,10 @@ pub(super) fn pieces<M: Kinematics>(
         return None;
     }
     let counts: Vec<usize> = first.iter().map(|&m| piece_count(m)).collect();
-    if counts.iter().sum::<usize>() > MAX_PIECES {
+    if counts.iter().sum::<usize>() > MAX_SUBPIECES {
         return None;
     }
-    let mut out = Vec::with_capacity(counts.iter().sum());
+    let mut out: Vec<Piece> = Vec::new();
     let mut chord = 0.0f64;
     let mut poly = [[0.0; 2]; MAX_DEGREE + 1];
     for (i, (e, (origin, [c, s]))) in elements
@@ -163,19 +222,35 @@ pub(super) fn pieces<M: Kinematics>(
                 hi,
                 cw: cone.cw,
                 ccw: cone.ccw,
+                from: (i, x0),
+                to: (i, x1),
+                samples: first[i] / m,
             };
             if !(lo.iter().chain(&hi).all(|v| v.is_finite()) && chord.is_finite()) {
                 return None;
             }
-            out.push(piece);
+            // the short pieces of short elements (under a quarter of
+            // SAMPLES_PER_PIECE samples) joined up to SAMPLES_PER_PIECE:
+            // the pairs grow as the square
+            let joined = out
+                .last()
+                .filter(|p| {
+                    piece.samples < SAMPLES_PER_PIECE / 4
+                        && p.samples + piece.samples <= SAMPLES_PER_PIECE
+                })
+                .and_then(|p| p.merged(&piece));
+            match (joined, out.last_mut()) {
+                (Some(joined), Some(last)) => *last = joined,
+                _ => out.push(piece),
+            }
         }
     }
-    Some((out, chord))
+    (out.len() <= MAX_PIECES).then_some((out, chord))
 }
 
 /// The pieces of an element the search samples `first` times or more:
 /// about one per [`SAMPLES_PER_PIECE`], at least one, at most `first`.
-pub(super) fn piece_count(first: usize) -> usize {
+fn piece_count(first: usize) -> usize {
     first.div_ceil(SAMPLES_PER_PIECE).clamp(1, first.max(1))
 }
 
@@ -184,12 +259,16 @@ pub(super) fn piece_count(first: usize) -> usize {
 fn bernstein(a: &[[f64; 2]], x0: f64, x1: f64) -> [[f64; 2]; MAX_DEGREE + 1] {
     let d = a.len() - 1;
     let w = x1 - x0;
+    let mut wp = [1.0; MAX_DEGREE + 1]; // w^m
+    for m in 1..=d {
+        wp[m] = wp[m - 1] * w;
+    }
     // power coefficients in t, x = x0 + w t: c_m = sum_j a_j C(j, m) x0^(j-m) w^m
     let mut c = [[0.0; 2]; MAX_DEGREE + 1];
     for (j, aj) in a.iter().enumerate() {
         let mut x0p = 1.0; // x0^(j - m), from m = j down
         for m in (0..=j).rev() {
-            let f = binomial(j, m) * x0p * w.powi(m as i32);
+            let f = BINOMIAL[j][m] * x0p * wp[m];
             c[m][0] += aj[0] * f;
             c[m][1] += aj[1] * f;
             x0p *= x0;
@@ -199,7 +278,7 @@ fn bernstein(a: &[[f64; 2]], x0: f64, x1: f64) -> [[f64; 2]; MAX_DEGREE + 1] {
     let mut b = [[0.0; 2]; MAX_DEGREE + 1];
     for (kk, bk) in b.iter_mut().enumerate().take(d + 1) {
         for (m, cm) in c.iter().enumerate().take(kk + 1) {
-            let f = binomial(kk, m) / binomial(d, m);
+            let f = BINOMIAL[kk][m] / BINOMIAL[d][m];
             bk[0] += cm[0] * f;
             bk[1] += cm[1] * f;
         }
@@ -213,9 +292,21 @@ fn surely_above(a: f64, b: f64) -> bool {
     a > b
 }
 
-fn binomial(n: usize, k: usize) -> f64 {
-    (0..k).fold(1.0, |acc, i| acc * (n - i) as f64 / (i + 1) as f64)
-}
+/// `BINOMIAL[n][k]`, n choose k, for `n <= MAX_DEGREE` (Pascal's triangle).
+const BINOMIAL: [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] = {
+    let mut t = [[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+    let mut n = 0;
+    while n <= MAX_DEGREE {
+        t[n][0] = 1.0;
+        let mut k = 1;
+        while k <= n {
+            t[n][k] = t[n - 1][k - 1] + t[n - 1][k];
+            k += 1;
+        }
+        n += 1;
+    }
+    t
+};
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
@@ -225,11 +316,12 @@ fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
 }
 
-/// The distance between two pieces' boxes (0 where they overlap).
-fn gap(a: &Piece, b: &Piece) -> f64 {
-    let gx = (b.lo[0] - a.hi[0]).max(a.lo[0] - b.hi[0]).max(0.0);
-    let gz = (b.lo[1] - a.hi[1]).max(a.lo[1] - b.hi[1]).max(0.0);
-    (gx * gx + gz * gz).sqrt()
+/// The squared distance between a piece's box and the box `lo`, `hi` (0
+/// where they overlap).
+fn gap2(a: &Piece, lo: [f64; 2], hi: [f64; 2]) -> f64 {
+    let gx = (lo[0] - a.hi[0]).max(a.lo[0] - hi[0]).max(0.0);
+    let gz = (lo[1] - a.hi[1]).max(a.lo[1] - hi[1]).max(0.0);
+    gx * gx + gz * gz
 }
 
 /// A cone of directions narrower than half a turn, by its two edges.
