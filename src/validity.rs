@@ -221,23 +221,26 @@ fn self_contact<M: Kinematics>(
     stretch: &[f64],
 ) -> Option<Warning> {
     let (first, spacing) = sample_counts(elements, stretch, CONTACT_SPACING * h);
-    if clearance::clear(elements, k, &first, h, contact_turning()) {
+    let frames = element::frames(elements, k);
+    if clearance::clear(elements, k, &frames, &first, h, contact_turning()) {
         return None;
     }
-    search(elements, h, k, &first, spacing)
+    search(elements, h, k, &frames, &first, spacing)
 }
 
 /// The self-contact search proper: the mid-plane sampled (`first[i]` or
 /// more samples in element `i`, chords at most `spacing` where the budget
-/// allows) and its closest approach to itself.
+/// allows; `frames` the elements' root frames) and its closest approach to
+/// itself.
 fn search<M: Kinematics>(
     elements: &[Element<M>],
     h: f64,
     k: &[f64],
+    frames: &[([f64; 2], [f64; 2])],
     first: &[usize],
     spacing: f64,
 ) -> Option<Warning> {
-    let (pts, ends) = contact_samples(elements, k, first, spacing);
+    let (pts, ends) = contact_samples(elements, k, frames, first, spacing);
     if pts.iter().flatten().any(|v| !v.is_finite()) {
         return None;
     }
@@ -293,10 +296,11 @@ fn sample_counts<M: Kinematics>(
 /// Mid-plane samples from the root, `first[i]` in element `i` or, where a
 /// chord comes out longer than `spacing`, twice or four times as many
 /// (within the sample budget), and the index of each element's last
-/// sample.
+/// sample; `frames` are the elements' root frames ([`element::frames`]).
 fn contact_samples<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
+    frames: &[([f64; 2], [f64; 2])],
     first: &[usize],
     spacing: f64,
 ) -> (Vec<[f64; 2]>, Vec<usize>) {
@@ -305,11 +309,7 @@ fn contact_samples<M: Kinematics>(
     pts.push([0.0, 0.0]);
     let mut ends = Vec::with_capacity(elements.len());
     let mut local: Vec<[f64; 2]> = Vec::new();
-    for (i, (e, (p, [c, s]))) in elements
-        .iter()
-        .zip(element::frames(elements, k))
-        .enumerate()
-    {
+    for (i, (e, &(p, [c, s]))) in elements.iter().zip(frames).enumerate() {
         let ki = element::coeffs::<M>(k, i);
         let l = e.length();
         let first = first[i];
@@ -512,8 +512,9 @@ pub(crate) fn proof_and_search<M: Kinematics>(
     h: f64,
 ) -> (bool, Option<f64>) {
     let (first, spacing) = sample_counts(elements, stretch, CONTACT_SPACING * h);
-    let cleared = clearance::clear(elements, k, &first, h, contact_turning());
-    let found = match search(elements, h, k, &first, spacing) {
+    let frames = element::frames(elements, k);
+    let cleared = clearance::clear(elements, k, &frames, &first, h, contact_turning());
+    let found = match search(elements, h, k, &frames, &first, spacing) {
         Some(Warning::SelfContact { distance, .. }) => Some(distance),
         _ => None,
     };
@@ -544,12 +545,13 @@ pub(crate) fn proof_pieces<M: Kinematics>(
 )> {
     let stretch = vec![1.0; elements.len()];
     let (first, spacing) = sample_counts(elements, &stretch, CONTACT_SPACING * h);
-    let (pieces, chord) = clearance::pieces(elements, k, &first)?;
-    let (pts, _) = contact_samples(elements, k, &first, spacing);
+    let frames = element::frames(elements, k);
+    let (pieces, chord) = clearance::pieces(elements, k, &frames, &first)?;
+    let (pts, _) = contact_samples(elements, k, &frames, &first, spacing);
     let longest = pts.windows(2).map(|w| dist(w[0], w[1])).fold(0.0, f64::max);
     let pieces = pieces
         .iter()
-        .map(|p| (p.lo, p.hi, [p.cw, p.ccw], p.from, p.to))
+        .map(|p| (p.bounds.lo, p.bounds.hi, [p.cw, p.ccw], p.from, p.to))
         .collect();
     Some((pieces, chord, longest))
 }

@@ -69,8 +69,8 @@ pub(crate) struct Chain<'a, M: ElementModel> {
 /// same arithmetic on the same numbers, so the solves stay bit for bit
 /// what they were.
 struct StartMemo<M: ElementModel> {
-    /// The point (Newton's unknowns), `None` while nothing is kept.
-    y: Option<Vec<f64>>,
+    /// The point (Newton's unknowns), empty while nothing is kept.
+    y: Vec<f64>,
     straight: bool,
     scalars: EnergyScalars,
     v: f64,
@@ -83,7 +83,7 @@ struct StartMemo<M: ElementModel> {
 impl<M: ElementModel> StartMemo<M> {
     fn empty() -> StartMemo<M> {
         StartMemo {
-            y: None,
+            y: Vec::new(),
             straight: false,
             scalars: Load::unloaded().scalars(),
             v: 0.0,
@@ -99,9 +99,13 @@ impl<M: ElementModel> StartMemo<M> {
     fn holds(&self, y: &[f64], straight: bool, scalars: &EnergyScalars) -> bool {
         self.straight == straight
             && self.scalars.to_values().map(f64::to_bits) == scalars.to_values().map(f64::to_bits)
-            && self.y.as_deref().is_some_and(|m| {
-                m.len() == y.len() && m.iter().zip(y).all(|(a, b)| a.to_bits() == b.to_bits())
-            })
+            && !self.y.is_empty()
+            && self.y.len() == y.len()
+            && self
+                .y
+                .iter()
+                .zip(y)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
     }
 }
 
@@ -378,10 +382,8 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             }
             if from_start {
                 let m = &mut self.memo;
-                let mut point = m.y.take().unwrap_or_default();
-                point.clear();
-                point.extend_from_slice(y);
-                m.y = Some(point);
+                m.y.clear();
+                m.y.extend_from_slice(y);
                 m.straight = self.straight;
                 m.scalars = self.scalars;
                 m.v = v;

@@ -57,12 +57,45 @@ const GROUP: usize = 8;
 /// The largest degree of a mid-plane polynomial handled here.
 const MAX_DEGREE: usize = 7;
 
+/// An axis-aligned box in the finger's frame.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Bounds {
+    pub lo: [f64; 2],
+    pub hi: [f64; 2],
+}
+
+impl Bounds {
+    /// The empty box (the identity of [`Bounds::union`]).
+    const EMPTY: Bounds = Bounds {
+        lo: [f64::INFINITY; 2],
+        hi: [f64::NEG_INFINITY; 2],
+    };
+
+    /// The smallest box holding both.
+    fn union(self, other: Bounds) -> Bounds {
+        Bounds {
+            lo: [self.lo[0].min(other.lo[0]), self.lo[1].min(other.lo[1])],
+            hi: [self.hi[0].max(other.hi[0]), self.hi[1].max(other.hi[1])],
+        }
+    }
+
+    /// The squared distance between the two boxes (0 where they overlap).
+    fn gap2(&self, other: &Bounds) -> f64 {
+        let gx = (other.lo[0] - self.hi[0])
+            .max(self.lo[0] - other.hi[0])
+            .max(0.0);
+        let gz = (other.lo[1] - self.hi[1])
+            .max(self.lo[1] - other.hi[1])
+            .max(0.0);
+        gx * gx + gz * gz
+    }
+}
+
 /// One piece of the mid-plane, in the finger's frame: the box of its
 /// control points and the two edges of its tangent cone.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct Piece {
-    pub lo: [f64; 2],
-    pub hi: [f64; 2],
+    pub bounds: Bounds,
     /// The cone's clockwise and counter-clockwise edges.
     pub cw: [f64; 2],
     pub ccw: [f64; 2],
@@ -80,8 +113,7 @@ impl Piece {
         let mut cone = Cone::of(self);
         cone.add(next);
         surely_above(cone.cos_width(), PIECE_CONE_COS).then(|| Piece {
-            lo: [self.lo[0].min(next.lo[0]), self.lo[1].min(next.lo[1])],
-            hi: [self.hi[0].max(next.hi[0]), self.hi[1].max(next.hi[1])],
+            bounds: self.bounds.union(next.bounds),
             cw: cone.cw,
             ccw: cone.ccw,
             from: self.from,
@@ -92,62 +124,53 @@ impl Piece {
 }
 
 /// True when the self-contact search over the mid-plane of state `k` (raw
-/// coefficients), sampled `first[i]` or more times in element `i`, cannot
-/// find two segments at least `pi h / 2` apart along it and closer than
-/// `h`; `turning` is the tangent turning under which no such pair exists
+/// coefficients; `frames` its elements' root frames, [`element::frames`]),
+/// sampled `first[i]` or more times in element `i`, cannot find two
+/// segments at least `pi h / 2` apart along it and closer than `h`;
+/// `turning` is the tangent turning under which no such pair exists
 /// (`2 acos(2 / pi)`). False when that is not shown (the search must run).
 pub(super) fn clear<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
+    frames: &[([f64; 2], [f64; 2])],
     first: &[usize],
     h: f64,
     turning: f64,
 ) -> bool {
-    let Some((pieces, chord)) = pieces(elements, k, first) else {
+    let Some((pieces, chord)) = pieces(elements, k, frames, first) else {
         return false;
     };
-    let reach = (h + chord) * (1.0 + ROUNDING);
+    let reach2 = ((h + chord) * (1.0 + ROUNDING)).powi(2);
     // the cone's width below contact_turning: cos(width) above its cosine
     let narrow = turning.cos() + ROUNDING;
     let n = pieces.len();
-    // groups of pieces with the box of their boxes: a group whose box is
-    // out of reach of a piece passes the box test with every piece in it
-    let groups: Vec<([f64; 2], [f64; 2])> = pieces
+    // a group whose box is out of reach of a piece passes the box test
+    // with every piece in it
+    let groups: Vec<Bounds> = pieces
         .chunks(GROUP)
-        .map(|g| {
-            g.iter().fold(
-                ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
-                |(lo, hi), p| {
-                    (
-                        [lo[0].min(p.lo[0]), lo[1].min(p.lo[1])],
-                        [hi[0].max(p.hi[0]), hi[1].max(p.hi[1])],
-                    )
-                },
-            )
-        })
+        .map(|g| g.iter().fold(Bounds::EMPTY, |b, p| b.union(p.bounds)))
         .collect();
     for p in 0..n {
         // the first piece q from which pieces p - 1 ..= q + 1 turn too far
         // for the cone test (the pairs before it pass that test)
         let mut cone = Cone::of(&pieces[p.saturating_sub(1)]);
+        cone.add(&pieces[p]);
         let mut wide_from = n;
         for q in p..n {
-            for r in [p, q, (q + 1).min(n - 1)] {
-                cone.add(&pieces[r]);
-            }
+            cone.add(&pieces[(q + 1).min(n - 1)]);
             if !surely_above(cone.cos_width(), narrow) {
                 wide_from = q;
                 break;
             }
         }
-        let piece = &pieces[p];
-        for (g, (lo, hi)) in groups.iter().enumerate() {
+        let piece = &pieces[p].bounds;
+        for (g, group) in groups.iter().enumerate() {
             let members = g * GROUP..((g + 1) * GROUP).min(n);
-            if members.end <= wide_from || surely_above(gap2(piece, *lo, *hi), reach * reach) {
+            if members.end <= wide_from || surely_above(piece.gap2(group), reach2) {
                 continue;
             }
             for other in &pieces[members.start.max(wide_from)..members.end] {
-                if !surely_above(gap2(piece, other.lo, other.hi), reach * reach) {
+                if !surely_above(piece.gap2(&other.bounds), reach2) {
                     return false;
                 }
             }
@@ -164,24 +187,22 @@ pub(super) fn clear<M: Kinematics>(
 pub(super) fn pieces<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
+    frames: &[([f64; 2], [f64; 2])],
     first: &[usize],
 ) -> Option<(Vec<Piece>, f64)> {
     let d = M::MIDPLANE_DEGREE;
-    if d == 0 || d > MAX_DEGREE || first.len() != elements.len() {
-        return None;
-    }
-    let counts: Vec<usize> = first.iter().map(|&m| piece_count(m)).collect();
-    if counts.iter().sum::<usize>() > MAX_SUBPIECES {
+    if d == 0
+        || d > MAX_DEGREE
+        || first.len() != elements.len()
+        || frames.len() != elements.len()
+        || first.iter().map(|&m| piece_count(m)).sum::<usize>() > MAX_SUBPIECES
+    {
         return None;
     }
     let mut out: Vec<Piece> = Vec::new();
     let mut chord = 0.0f64;
     let mut poly = [[0.0; 2]; MAX_DEGREE + 1];
-    for (i, (e, (origin, [c, s]))) in elements
-        .iter()
-        .zip(element::frames(elements, k))
-        .enumerate()
-    {
+    for (i, (e, &(origin, [c, s]))) in elements.iter().zip(frames).enumerate() {
         M::midplane_coefficients(&element::coeffs::<M>(k, i), &mut poly[..=d]);
         let l = e.length();
         // the longest segment: its length at most the largest tangent over
@@ -198,18 +219,15 @@ pub(super) fn pieces<M: Kinematics>(
             / l;
         chord = chord.max(speed * l / first[i].max(1) as f64);
         let to_finger = |v: [f64; 2]| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
-        let m = counts[i];
+        let m = piece_count(first[i]);
         for j in 0..m {
             let (x0, x1) = (l * j as f64 / m as f64, l * (j + 1) as f64 / m as f64);
             let b = bernstein(&poly[..=d], x0, x1);
-            let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-            for q in &b[..=d] {
+            let bounds = b[..=d].iter().fold(Bounds::EMPTY, |bounds, q| {
                 let g = to_finger(*q);
-                for a in 0..2 {
-                    lo[a] = lo[a].min(origin[a] + g[a]);
-                    hi[a] = hi[a].max(origin[a] + g[a]);
-                }
-            }
+                let at = [origin[0] + g[0], origin[1] + g[1]];
+                bounds.union(Bounds { lo: at, hi: at })
+            });
             let mut cone = Cone::start(to_finger(sub(b[1], b[0])));
             for t in 1..d {
                 cone.extend(to_finger(sub(b[t + 1], b[t])));
@@ -218,14 +236,14 @@ pub(super) fn pieces<M: Kinematics>(
                 return None;
             }
             let piece = Piece {
-                lo,
-                hi,
+                bounds,
                 cw: cone.cw,
                 ccw: cone.ccw,
                 from: (i, x0),
                 to: (i, x1),
                 samples: first[i] / m,
             };
+            let (lo, hi) = (bounds.lo, bounds.hi);
             if !(lo.iter().chain(&hi).all(|v| v.is_finite()) && chord.is_finite()) {
                 return None;
             }
@@ -314,14 +332,6 @@ fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 
 fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[1] - a[1] * b[0]
-}
-
-/// The squared distance between a piece's box and the box `lo`, `hi` (0
-/// where they overlap).
-fn gap2(a: &Piece, lo: [f64; 2], hi: [f64; 2]) -> f64 {
-    let gx = (lo[0] - a.hi[0]).max(a.lo[0] - hi[0]).max(0.0);
-    let gz = (lo[1] - a.hi[1]).max(a.lo[1] - hi[1]).max(0.0);
-    gx * gx + gz * gz
 }
 
 /// A cone of directions narrower than half a turn, by its two edges.
