@@ -352,6 +352,16 @@ impl<M: ElementModel> LinearSystem for Chain<'_, M> {
     }
 }
 
+impl<M: ElementModel> Chain<'_, M> {
+    /// The inertia of the kept Hessian (its negative eigenvalues count the
+    /// stability), without a factorisation to solve with
+    /// ([`Semiseparable::inertia`]); `None` where the symmetric
+    /// factorisation fails (a singular pivot, say).
+    pub(crate) fn inertia(&mut self) -> Option<Inertia> {
+        self.matrix.inertia(0.0).ok()
+    }
+}
+
 impl<M: ElementModel> Hessian for Chain<'_, M> {
     fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         self.unscale_into(y);

@@ -542,10 +542,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             let mut g = vec![0.0; self.y.len()];
             self.chain.set_load(load);
             self.chain.hessian(&self.y, &mut g);
-            self.chain
-                .factor(0.0, PivotKind::Symmetric)
-                .ok()
-                .map(|i: Inertia| i.negative)
+            self.chain.inertia().map(|i| i.negative)
         }
     }
 

@@ -285,6 +285,27 @@ impl Semiseparable {
         })
     }
 
+    /// The inertia of `H + tau I` alone, as [`Semiseparable::factor`] with
+    /// [`PivotKind::Symmetric`] counts it and with the same errors, but
+    /// leaving nothing to solve with (the stability count). A pivot that a
+    /// Cholesky factorisation shows clearly positive definite (its smallest
+    /// eigenvalue provably above [`CERTIFIED_RATIO`] times its largest, far
+    /// from the symmetric path's singularity threshold) counts as such
+    /// without its eigenvalues; any other pivot takes the symmetric path.
+    pub fn inertia(&mut self, tau: f64) -> Result<Inertia, FactorError> {
+        let r = match self.n {
+            4 => self.pivots_sized::<4>(tau, PivotKind::Symmetric, true),
+            5 => self.pivots_sized::<5>(tau, PivotKind::Symmetric, true),
+            6 => self.pivots_sized::<6>(tau, PivotKind::Symmetric, true),
+            _ => self.pivots_sized::<0>(tau, PivotKind::Symmetric, true),
+        };
+        self.factored = false;
+        r.map_err(|e| match self.first_non_finite_block(tau) {
+            Some(block) => FactorError::NonFinite { block },
+            None => e,
+        })
+    }
+
     /// The first block holding a non-finite entry (diagonal block or
     /// coupling vectors), or 0 for a non-finite shift.
     fn first_non_finite_block(&self, tau: f64) -> Option<usize> {
@@ -316,6 +337,21 @@ impl Semiseparable {
                 negative: 0,
             });
         }
+        let inertia = self.pivots_sized::<N>(tau, kind, false)?;
+        self.factored = true;
+        Ok(inertia)
+    }
+
+    /// The symmetric or modified pivots' recurrence (module docs), with
+    /// their inertia; `count_only` (for [`Semiseparable::inertia`]) lets a
+    /// certified positive definite pivot skip its eigenvalues, which leaves
+    /// the pivots unusable for solves.
+    fn pivots_sized<const N: usize>(
+        &mut self,
+        tau: f64,
+        kind: PivotKind,
+        count_only: bool,
+    ) -> Result<Inertia, FactorError> {
         let n = if N > 0 { N } else { self.n };
         let nn = n * n;
         let mut gamma = 0.0;
@@ -336,6 +372,21 @@ impl Semiseparable {
                 for i in 0..n {
                     qm[i] = um[i] + gamma * wm[i];
                 }
+            }
+            if count_only && certified_positive::<N>(n, p, &mut self.scratch) {
+                inertia.positive += n;
+                if coupled {
+                    // the Cholesky factor sits at the front of the scratch
+                    let (c, rest) = self.scratch.split_at_mut(nn);
+                    let s = &mut rest[..n];
+                    s.copy_from_slice(qm);
+                    cholesky_solve::<N>(n, c, qm);
+                    gamma += dot(s, qm);
+                }
+                if !gamma.is_finite() {
+                    return Err(FactorError::NonFinite { block: m });
+                }
+                continue;
             }
             let lam = &mut self.lambda[m * n..(m + 1) * n];
             jacobi(n, p, lam, &mut self.scratch).ok_or(FactorError::NoConvergence { block: m })?;
@@ -365,7 +416,6 @@ impl Semiseparable {
                 return Err(FactorError::NonFinite { block: m });
             }
         }
-        self.factored = true;
         Ok(inertia)
     }
 
@@ -603,6 +653,42 @@ fn cholesky_solve<const N: usize>(n: usize, l: &[f64], b: &mut [f64]) {
         }
         b[i] = v;
     }
+}
+
+/// How far above its largest eigenvalue's `1e-14` (the symmetric pivots'
+/// singularity threshold) a pivot's smallest must provably lie for
+/// [`Semiseparable::inertia`] to count it positive definite without its
+/// eigenvalues: the margin covers the rounding of both ways of deciding.
+pub const CERTIFIED_RATIO: f64 = 1e-12;
+
+/// True when the symmetric `p` (`n x n`) is positive definite with its
+/// smallest eigenvalue above [`CERTIFIED_RATIO`] times its largest; then
+/// `scratch[..n * n]` holds its [`cholesky`] factor. For a positive
+/// definite matrix `lambda_max <= trace(P)` and `1 / lambda_min <=
+/// trace(P^-1)`, and `trace(P^-1) = sum_j |L^-1 e_j|^2_(D^-1)` comes from
+/// the factor. False proves nothing (the caller takes the eigenvalues).
+fn certified_positive<const N: usize>(n: usize, p: &[f64], scratch: &mut [f64]) -> bool {
+    let n = if N > 0 { N } else { n };
+    let (c, rest) = scratch.split_at_mut(n * n);
+    c.copy_from_slice(&p[..n * n]);
+    if cholesky::<N>(n, c).is_err() {
+        return false;
+    }
+    let trace: f64 = (0..n).map(|i| p[i + n * i]).sum();
+    let y = &mut rest[..n];
+    let mut trace_inv = 0.0;
+    for j in 0..n {
+        // y = L^-1 e_j (zero above j); D^-1 is on the factor's diagonal
+        for i in j..n {
+            let mut v = if i == j { 1.0 } else { 0.0 };
+            for k in j..i {
+                v -= c[i + n * k] * y[k];
+            }
+            y[i] = v;
+            trace_inv += v * v * c[i + n * i];
+        }
+    }
+    trace_inv.is_finite() && trace_inv * trace * CERTIFIED_RATIO < 1.0
 }
 
 /// Cyclic Jacobi eigendecomposition of a symmetric `n x n` matrix: on
@@ -846,6 +932,126 @@ mod tests {
             by_coupling >= 5,
             "only {by_coupling} indefinite by the coupling"
         );
+    }
+
+    /// A symmetric `n x n` matrix with the given eigenvalues: `Q diag(lam)
+    /// Q^T` with `Q` a product of `n` random Householder reflections.
+    fn with_eigenvalues(lam: &[f64], rng: &mut fastrand::Rng) -> Vec<f64> {
+        let n = lam.len();
+        let mut q: Vec<f64> = (0..n * n)
+            .map(|k| if k % (n + 1) == 0 { 1.0 } else { 0.0 })
+            .collect();
+        for _ in 0..n {
+            let v: Vec<f64> = (0..n).map(|_| rng.f64() - 0.5).collect();
+            let vv = dot(&v, &v);
+            for c in 0..n {
+                let col = &mut q[c * n..(c + 1) * n];
+                let f = 2.0 * dot(&v, col) / vv;
+                col.iter_mut().zip(&v).for_each(|(x, vi)| *x -= f * vi);
+            }
+        }
+        let mut a = vec![0.0; n * n];
+        for r in 0..n {
+            for c in 0..n {
+                a[r + n * c] = (0..n).map(|k| q[r + n * k] * lam[k] * q[c + n * k]).sum();
+            }
+        }
+        a
+    }
+
+    /// The certificate is sound (it never passes a matrix whose known
+    /// smallest eigenvalue is not above CERTIFIED_RATIO times its largest,
+    /// nor an indefinite one) and useful (it passes every matrix of
+    /// condition up to 1e8).
+    #[test]
+    fn certified_pivots_are_clearly_positive_definite() {
+        let mut rng = fastrand::Rng::with_seed(7);
+        let (mut passed, mut refused) = (0, 0);
+        for trial in 0..600 {
+            let n = [1, 2, 4, 5, 6, 9][trial % 6];
+            // condition 10^0 .. 10^16, some indefinite
+            let cond = 10f64.powf(16.0 * rng.f64());
+            let scale = 10f64.powf(6.0 * rng.f64() - 3.0);
+            let mut lam: Vec<f64> = (0..n).map(|_| scale * cond.powf(-rng.f64())).collect();
+            lam[0] = scale;
+            if n > 1 {
+                lam[n - 1] = scale / cond;
+            }
+            let indefinite = trial % 5 == 0 && n > 1;
+            if indefinite {
+                lam[n - 1] = -lam[n - 1];
+            }
+            let p = with_eigenvalues(&lam, &mut rng);
+            let mut scratch = vec![0.0; n * n + 4 * n];
+            let ok = certified_positive::<0>(n, &p, &mut scratch);
+            let ratio = lam.iter().fold(f64::INFINITY, |a, &l| a.min(l)) / scale;
+            if ok {
+                assert!(!indefinite, "trial {trial}: an indefinite matrix passed");
+                // the construction's own rounding is about 1e-15 of the scale
+                assert!(
+                    ratio > CERTIFIED_RATIO - 1e-14,
+                    "trial {trial}: ratio {ratio:e}"
+                );
+                passed += 1;
+            } else {
+                if !indefinite {
+                    assert!(cond > 1e8, "trial {trial}: refused at condition {cond:e}");
+                }
+                refused += 1;
+            }
+        }
+        assert!(
+            passed > 100 && refused > 100,
+            "{passed} passed, {refused} refused"
+        );
+    }
+
+    /// `inertia` counts as the symmetric factorisation does, with the same
+    /// errors, and as a dense eigenvalue count of the whole matrix: on
+    /// random chains from definite to indefinite (by the blocks or by the
+    /// coupling) and on a chain with a singular pivot.
+    #[test]
+    fn inertia_alone_matches_the_symmetric_factorisation() {
+        let mut compared = [0usize; 2]; // [definite, indefinite]
+        for seed in 0..80u64 {
+            let (n, nb) = [(4, 6), (5, 8), (6, 3), (3, 12)][seed as usize % 4];
+            let shift = [-0.5, 0.2, 0.6, 1.5, 4.0][(seed / 4) as usize % 5];
+            let (mut m, h) = random(n, nb, 300 + seed, shift);
+            let want = m.factor(0.0, PivotKind::Symmetric);
+            let got = m.inertia(0.0);
+            assert_eq!(got, want, "seed {seed}");
+            let Ok(inertia) = got else { continue };
+            let dim = n * nb;
+            let (mut v, mut lam) = (h.clone(), vec![0.0; dim]);
+            let mut scratch = vec![0.0; dim * dim + 4 * dim];
+            jacobi(dim, &mut v, &mut lam, &mut scratch).unwrap();
+            let hi = lam.iter().fold(0.0f64, |a, &l| a.max(l.abs()));
+            if lam.iter().any(|l| l.abs() <= 1e-9 * hi) {
+                continue; // too close to call
+            }
+            let neg = lam.iter().filter(|&&l| l < 0.0).count();
+            assert_eq!(
+                (inertia.negative, inertia.positive),
+                (neg, dim - neg),
+                "seed {seed}"
+            );
+            compared[usize::from(neg > 0)] += 1;
+        }
+        assert!(compared[0] >= 10 && compared[1] >= 10, "{compared:?}");
+        // a rank-one pivot: singular both ways
+        let (mut m, _) = random(4, 3, 5, 2.0);
+        let blk = m.block_mut(1);
+        for c in 0..4 {
+            for r in 0..4 {
+                blk[r + 4 * c] = (r + 1) as f64 * (c + 1) as f64;
+            }
+        }
+        let want = m.factor(0.0, PivotKind::Symmetric);
+        assert!(
+            matches!(want, Err(FactorError::Singular { block: 1 })),
+            "{want:?}"
+        );
+        assert_eq!(m.inertia(0.0), want);
     }
 
     #[test]
