@@ -11,7 +11,8 @@
 //! once into its typed [`SceneKey`]: each
 //! point's scene is the file with those keys set, validated as `fpc solve`
 //! validates a file, so a bad value is that point's `rejected` status, not
-//! the end of the sweep.
+//! the end of the sweep. A row has no shape and no radius of curvature, so
+//! a finger scene's shape is not sampled (`solve.shape` does not apply).
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -219,7 +220,11 @@ fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, 
         fpc::scene::SceneFile::set_number(&mut doc, a.key, v).map_err(|e| e.to_string())?;
     }
     let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
-    Scene::from_toml(&text).map_err(|e| e.to_string())
+    let mut scene = Scene::from_toml(&text).map_err(|e| e.to_string())?;
+    // a row has no shape and no radius: a finger is not sampled for them
+    // (grasps sample their fingers as they need, whatever this says)
+    scene.options.shape = false;
+    Ok(scene)
 }
 
 /// Solves one line of the grid (the last axis), warm-starting along it.
