@@ -144,6 +144,14 @@ impl FingerBuilder {
         self.model(r.model).plan(Plan::levels(r))
     }
 
+    /// True when `finger` was built from what this builder holds, so that
+    /// building again would give the same fingers.
+    pub(crate) fn builds(&self, finger: &PlannedFinger) -> bool {
+        (self.model, self.ribs) == (finger.model, finger.ribs)
+            && self.plan == finger.plan
+            && self.actuator == finger.actuator
+    }
+
     /// Checks the plan against the actuator and builds its fingers.
     pub fn build(self) -> Result<PlannedFinger, InputError> {
         let FingerBuilder {

@@ -48,6 +48,8 @@
 //! the tolerance. [`crate::PlannedFinger`] is the front door to every
 //! plan; this module holds the refinements behind it.
 
+use std::sync::{Arc, Mutex, PoisonError};
+
 use super::refinement::{Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS};
 use super::solved::Solved;
 use crate::actuator::Actuator;
@@ -359,6 +361,7 @@ impl Refiner {
                 plan,
             }),
             splits: 0,
+            planned: None,
         }
     }
 }
@@ -431,6 +434,10 @@ struct Run {
 pub(crate) struct TipTolerance {
     tip_tol_mm: f64,
     refiner: Refiner,
+    /// Every level's finger built by the solves so far (each a function of
+    /// the plan alone), kept for the next solve: solving many loads builds
+    /// each level once. Shared by clones, which have the same plan.
+    built: Arc<Mutex<Vec<Finger>>>,
 }
 
 impl TipTolerance {
@@ -483,6 +490,7 @@ impl TipTolerance {
         refiner.plan.extrapolate = plan.extrapolate;
         Ok(TipTolerance {
             tip_tol_mm,
+            built: Arc::new(Mutex::new(refiner.fingers.clone())),
             refiner,
         })
     }
@@ -496,8 +504,19 @@ impl TipTolerance {
     /// the tolerance; fails with an input error naming `tip_tol_mm` when
     /// `MAX_REFINED_ELEMENTS` elements do not reach it.
     pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
-        // the finer levels are built per solve, as they are needed
-        self.refiner.clone().solve_to(load, self.tip_tol_mm, opts)
+        // the finer levels are built as they are first needed, and kept
+        let kept =
+            |b: &Mutex<Vec<Finger>>| b.lock().unwrap_or_else(PoisonError::into_inner).clone();
+        let mut refiner = Refiner {
+            fingers: kept(&self.built),
+            ..self.refiner.clone()
+        };
+        let solved = refiner.solve_to(load, self.tip_tol_mm, opts);
+        let mut built = self.built.lock().unwrap_or_else(PoisonError::into_inner);
+        if refiner.fingers.len() > built.len() {
+            *built = refiner.fingers;
+        }
+        solved
     }
 }
 
@@ -561,6 +580,7 @@ impl Auto {
                     finger,
                     refinement: None,
                     splits: refinements,
+                    planned: None,
                 });
             }
             // each half starts from its parent's raw coefficients
@@ -587,6 +607,38 @@ impl Auto {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tip tolerance keeps the levels its solves build: a second load
+    /// builds none, and solves as a fresh plan does.
+    #[test]
+    fn a_tip_tolerance_builds_each_level_once() {
+        let actuator = Actuator::default();
+        let new = || TipTolerance::new(ModelId::default(), &actuator, true, 0.05, None).unwrap();
+        let opts = SolveOptions::default();
+        let load = |fx| {
+            Load::unloaded()
+                .with_pressure_kpa(50.0)
+                .with_tip_force(fx, 0.2)
+        };
+        let kept = new();
+        assert_eq!(kept.built.lock().unwrap().len(), 1);
+        let first = kept.solve(&load(0.5), &opts).unwrap();
+        let levels = kept.built.lock().unwrap().len();
+        assert!(levels >= 2, "{levels} levels kept");
+        // (the finer level whose existence decides the last one counts)
+        assert!(first.refinement.as_ref().unwrap().levels.len() <= levels);
+        // a load needing a finer level adds it, and only it
+        let other = kept.solve(&load(-0.3), &opts).unwrap();
+        let more = kept.built.lock().unwrap().len();
+        assert!(more >= levels);
+        let again = kept.solve(&load(0.5), &opts).unwrap();
+        assert_eq!(kept.built.lock().unwrap().len(), more);
+        assert_eq!(again.solution, first.solution);
+        assert_eq!(again.refinement, first.refinement);
+        let fresh = new().solve(&load(-0.3), &opts).unwrap();
+        assert_eq!(other.solution, fresh.solution);
+        assert_eq!(other.refinement, fresh.refinement);
+    }
 
     fn level(elements: usize, tip: [f64; 2], end_angle: f64) -> Level {
         Level {

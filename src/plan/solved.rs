@@ -1,6 +1,9 @@
 //! The answer of a planned solve: the solution, the finger it is on and
 //! the refinement's record.
 
+use std::any::Any;
+use std::sync::Arc;
+
 use crate::error::Warning;
 use crate::finger::{Finger, Solution};
 
@@ -20,6 +23,12 @@ pub struct Solved {
     /// How many times the automatic partition split elements after a
     /// solve (0 for the other plans).
     pub splits: usize,
+    /// The [`PlannedFinger`](crate::PlannedFinger) solved, when a scene
+    /// keeps it: a nearby scene on the same finger (a sweep over loads)
+    /// solves on it again instead of building its fingers anew
+    /// ([`crate::scene::Scene::solve_warm`]). Held as `Any` because the
+    /// planner sits above this module and returns it.
+    pub(crate) planned: Option<Arc<dyn Any + Send + Sync>>,
 }
 
 impl Solved {
@@ -29,6 +38,7 @@ impl Solved {
             finger: finger.clone(),
             refinement: None,
             splits: 0,
+            planned: None,
         }
     }
 

@@ -3,6 +3,9 @@
 //! gripper and solves its grasp. [`SceneSolution`] and [`GraspOutcome`]
 //! hold the results.
 
+use std::any::Any;
+use std::sync::Arc;
+
 use crate::error::Warning;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
@@ -40,8 +43,10 @@ impl Scene {
     /// previous point of a sweep): a finger on a fixed partition starts
     /// Newton from `warm`'s coefficients when the element counts match, a
     /// grasp follows the path from `warm`'s grasp when it is of the same
-    /// kind (so a sweep stays on the branch it started on). Anything else
-    /// solves as [`Scene::solve`] does.
+    /// kind (so a sweep stays on the branch it started on), and a finger
+    /// scene with `warm`'s finger (model, actuator and plan: only the load
+    /// differs) solves on the fingers `warm` built instead of building them
+    /// again. Anything else solves as [`Scene::solve`] does.
     pub fn solve_warm(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
         self.solve_inner(warm).map_err(scene_solve)
     }
@@ -53,10 +58,19 @@ impl Scene {
             PlannedFinger::builder(&self.actuator)
                 .model(self.model)
                 .plan(plan)
-                .build()
         };
         let Some(g) = &self.gripper else {
-            let finger = planned(self.partition.plan())?;
+            // a nearby scene's fingers serve again when they are this
+            // scene's (a sweep over loads builds them once)
+            let builder = planned(self.partition.plan());
+            let kept = match warm {
+                Some(SceneSolution::Finger(w)) => w.planned.clone(),
+                _ => None,
+            };
+            let finger = match kept.and_then(|p| p.downcast::<PlannedFinger>().ok()) {
+                Some(p) if builder.builds(&p) => p,
+                _ => Arc::new(builder.build()?),
+            };
             // a fixed partition starts from a nearby scene's solution when
             // the element counts match (a failed warm start solves cold)
             let warm = match (warm, finger.fixed()) {
@@ -68,12 +82,13 @@ impl Scene {
                 }
                 _ => None,
             };
-            let solved = match warm {
+            let mut solved = match warm {
                 Some(w) => finger
                     .solve_from(&self.load, w, &self.options)
                     .or_else(|_| finger.solve(&self.load, &self.options))?,
                 None => finger.solve(&self.load, &self.options)?,
             };
+            solved.planned = Some(finger as Arc<dyn Any + Send + Sync>);
             return Ok(SceneSolution::Finger(solved));
         };
         let finger = match &self.partition {
@@ -87,7 +102,7 @@ impl Scene {
                     ..SolveOptions::default()
                 };
                 let unloaded = Load::unloaded();
-                planned(Plan::Auto)?.solve(&unloaded, &opts)?.finger
+                planned(Plan::Auto).build()?.solve(&unloaded, &opts)?.finger
             }
             PartitionPlan::TipTolerance { .. } => {
                 // resolve() rejects tip_tol_mm with a gripper
@@ -349,6 +364,33 @@ mod tests {
         match s.solve() {
             Err(SolveError::Input(e)) => assert_eq!(e.field(), "partition.tip_tol_mm", "{e}"),
             other => panic!("{other:?}"),
+        }
+    }
+
+    /// A sweep's next point on the same finger solves on the fingers the
+    /// point before built (with a tip tolerance, every level), with the
+    /// answer of a cold solve; a point on another finger builds its own.
+    #[test]
+    fn a_warm_scene_on_the_same_finger_reuses_its_fingers() {
+        let scene = |fx: f64, eps0: f64| {
+            Scene::from_toml(&format!(
+                "[actuator.pemc]\neps0 = {eps0}\n[partition]\ntip_tol_mm = 0.05\n\
+                 [load]\npressure_kpa = 50.0\nfx = {fx}\nfz = 0.2\n"
+            ))
+            .unwrap()
+        };
+        let solved = |s: SceneSolution| match s {
+            SceneSolution::Finger(s) => s,
+            other => panic!("{other:?}"),
+        };
+        let first = scene(0.5, 0.25).solve().unwrap();
+        let kept = solved(first.clone()).planned.unwrap();
+        for (fx, eps0, reused) in [(0.3, 0.25, true), (0.3, 0.3, false)] {
+            let warm = solved(scene(fx, eps0).solve_warm(Some(&first)).unwrap());
+            let cold = solved(scene(fx, eps0).solve().unwrap());
+            assert_eq!(Arc::ptr_eq(warm.planned.as_ref().unwrap(), &kept), reused);
+            assert_eq!(warm.solution, cold.solution, "fx {fx}, eps0 {eps0}");
+            assert_eq!(warm.refinement, cold.refinement);
         }
     }
 
