@@ -534,7 +534,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 // equal elements have equal Hessians
                 let count = f.distinct.iter().filter(|&&d| d == f.distinct[i]).count();
                 if f.distinct[i] == i {
-                    negative += count * p.factor(0.0, PivotKind::Symmetric).ok()?.negative;
+                    negative += count * p.matrix.inertia(0.0).ok()?.negative;
                 }
             }
             Some(negative)
