@@ -54,28 +54,37 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
     let n = points.len() as f64;
     let mx = points.iter().map(|p| p[0]).sum::<f64>() / n;
     let mz = points.iter().map(|p| p[1]).sum::<f64>() / n;
+    // (the square root of the largest square is the largest root)
     let extent = points
         .iter()
-        .map(|p| ((p[0] - mx).powi(2) + (p[1] - mz).powi(2)).sqrt())
-        .fold(0.0f64, f64::max);
+        .map(|p| (p[0] - mx).powi(2) + (p[1] - mz).powi(2))
+        .fold(0.0f64, f64::max)
+        .sqrt();
     if extent == 0.0 {
         return None;
     }
-    // Kasa: minimise sum (u^2 + v^2 + D u + E v + F)^2 in centred, scaled coordinates
+    // centred, scaled coordinates (at most unit size: plain square roots
+    // do not overflow)
     let s = 1.0 / extent;
-    let mut a = [[0.0; 3]; 3];
+    let q: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| [(p[0] - mx) * s, (p[1] - mz) * s])
+        .collect();
+    // Kasa: minimise sum (u^2 + v^2 + D u + E v + F)^2
+    let (mut uu, mut uv, mut vv, mut su, mut sv) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let mut b = [0.0; 3];
-    for p in points {
-        let (u, v) = ((p[0] - mx) * s, (p[1] - mz) * s);
-        let row = [u, v, 1.0];
+    for &[u, v] in &q {
         let rhs = -(u * u + v * v);
-        for i in 0..3 {
-            for j in 0..3 {
-                a[i][j] += row[i] * row[j];
-            }
-            b[i] += row[i] * rhs;
-        }
+        uu += u * u;
+        uv += u * v;
+        vv += v * v;
+        su += u;
+        sv += v;
+        b[0] += u * rhs;
+        b[1] += v * rhs;
+        b[2] += rhs;
     }
+    let a = [[uu, uv, su], [uv, vv, sv], [su, sv, n]];
     let [d, e, f] = solve3(a, b)?;
     let (mut cu, mut cv) = (-d / 2.0, -e / 2.0);
     let r2 = cu * cu + cv * cv - f;
@@ -89,39 +98,42 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
     // geometric refinement: Newton on F = 1/2 sum (|q - c| - r)^2 with its
     // exact Hessian (the derivative section below), quadratic near the
     // fit, and a Gauss-Newton step wherever that Hessian is not positive
-    // definite. The points are centred and scaled to at most unit size, so
-    // plain square roots do not overflow.
+    // definite. With `w = (q - c) / d` the Gauss-Newton part is `sum [[w
+    // w^T, w], [w^T, 1]]`, the curvature `sum e (I - w w^T) / d`.
     let mut last = f64::INFINITY;
     for _ in 0..MAX_REFINEMENTS {
-        let mut gauss = [[0.0; 3]; 3];
-        let mut curvature = [0.0; 3]; // sum e P / d: (0,0), (0,1), (1,1)
+        let (mut ww, mut wz, mut zz, mut sw, mut sz, mut count) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut cww, mut cwz, mut czz) = (0.0, 0.0, 0.0);
         let mut rhs = [0.0; 3];
-        for p in points {
-            let (du, dv) = ((p[0] - mx) * s - cu, (p[1] - mz) * s - cv);
+        for &[u, v] in &q {
+            let (du, dv) = (u - cu, v - cv);
             let d2 = du * du + dv * dv;
             if d2 == 0.0 {
                 continue;
             }
             let dist = d2.sqrt();
             let res = dist - r;
-            let (nu, nv) = (du / dist, dv / dist);
-            let j = [-nu, -nv, -1.0];
-            for i in 0..3 {
-                for k in 0..3 {
-                    gauss[i][k] += j[i] * j[k];
-                }
-                rhs[i] -= j[i] * res;
-            }
+            let (w, z) = (du / dist, dv / dist);
+            ww += w * w;
+            wz += w * z;
+            zz += z * z;
+            sw += w;
+            sz += z;
+            count += 1.0;
+            rhs[0] += w * res;
+            rhs[1] += z * res;
+            rhs[2] += res;
             let f = res / dist;
-            curvature[0] += f * (1.0 - nu * nu);
-            curvature[1] -= f * nu * nv;
-            curvature[2] += f * (1.0 - nv * nv);
+            cww += f * (1.0 - w * w);
+            cwz -= f * w * z;
+            czz += f * (1.0 - z * z);
         }
-        let mut hessian = gauss;
-        hessian[0][0] += curvature[0];
-        hessian[0][1] += curvature[1];
-        hessian[1][0] += curvature[1];
-        hessian[1][1] += curvature[2];
+        let gauss = [[ww, wz, sw], [wz, zz, sz], [sw, sz, count]];
+        let hessian = [
+            [ww + cww, wz + cwz, sw],
+            [wz + cwz, zz + czz, sz],
+            [sw, sz, count],
+        ];
         let Some(step) = solve3_definite(hessian, rhs).or_else(|| solve3(gauss, rhs)) else {
             break;
         };
@@ -139,12 +151,9 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
     if !(r.is_finite() && r > 0.0 && r <= 1e6) {
         return None;
     }
-    let rms = (points
+    let rms = (q
         .iter()
-        .map(|p| {
-            let (du, dv) = ((p[0] - mx) * s - cu, (p[1] - mz) * s - cv);
-            ((du * du + dv * dv).sqrt() - r).powi(2)
-        })
+        .map(|&[u, v]| (((u - cu).powi(2) + (v - cv).powi(2)).sqrt() - r).powi(2))
         .sum::<f64>()
         / n)
         .sqrt();
