@@ -1,7 +1,9 @@
 //! A gripper's design and set-up: its parameters, the reference state of
 //! the unloaded finger and the geometry it fixes, and a grasp's record.
 
+use std::any::Any;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 use crate::actuator::Actuator;
 use crate::error::{finite, positive, require, InputError, Warning};
@@ -168,6 +170,10 @@ pub struct Gripper {
     pub(super) overlap: f64,
     pub(super) warnings: Vec<Warning>,
     pub(super) stability: bool,
+    /// What a scene built this gripper from (the scene's own key, opaque
+    /// here): a nearby scene with the same key (a sweep over the grasp)
+    /// takes this gripper again instead of solving its reference anew.
+    pub(crate) built_from: Option<Arc<dyn Any + Send + Sync>>,
 }
 
 /// How the tip load depends on `lambda`, in the gripper frame.
@@ -307,6 +313,7 @@ impl Gripper {
             overlap,
             warnings,
             stability: true,
+            built_from: None,
         })
     }
 

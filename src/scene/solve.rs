@@ -6,17 +6,20 @@
 use std::any::Any;
 use std::sync::Arc;
 
+use crate::actuator::Actuator;
 use crate::error::Warning;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
+use crate::gripper::GripperParams;
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
+use crate::model::ModelId;
 use crate::partition::Partition;
-use crate::plan::{Plan, PlannedFinger, Solved};
+use crate::plan::{FingerBuilder, Plan, PlannedFinger, Solved};
 use crate::solve_error::SolveError;
 
 use super::fields::{inconsistent, scene_solve, PartitionKey};
 use super::resolve::Scene;
-use super::resolve::{GraspSpec, PartitionPlan};
+use super::resolve::{GraspSpec, GripperScene, PartitionPlan};
 
 impl PartitionPlan {
     /// The solve plan of a finger on this partition.
@@ -51,18 +54,23 @@ impl Scene {
         self.solve_inner(warm).map_err(scene_solve)
     }
 
+    /// The scene's finger on a given partition (ribs modelled).
+    fn finger_on(&self, part: &Partition) -> Finger {
+        Finger::with_model(self.model, &self.actuator, part, true)
+    }
+
+    /// The scene's finger under a solve plan, to build.
+    fn planned(&self, plan: Plan) -> FingerBuilder {
+        PlannedFinger::builder(&self.actuator)
+            .model(self.model)
+            .plan(plan)
+    }
+
     fn solve_inner(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
-        let finger_on =
-            |part: &Partition| Finger::with_model(self.model, &self.actuator, part, true);
-        let planned = |plan: Plan| {
-            PlannedFinger::builder(&self.actuator)
-                .model(self.model)
-                .plan(plan)
-        };
         let Some(g) = &self.gripper else {
             // a nearby scene's fingers serve again when they are this
             // scene's (a sweep over loads builds them once)
-            let builder = planned(self.partition.plan());
+            let builder = self.planned(self.partition.plan());
             let kept = match warm {
                 Some(SceneSolution::Finger(w)) => w.planned.clone(),
                 _ => None,
@@ -91,29 +99,32 @@ impl Scene {
             solved.planned = Some(finger as Arc<dyn Any + Send + Sync>);
             return Ok(SceneSolution::Finger(solved));
         };
-        let finger = match &self.partition {
-            PartitionPlan::Fixed(part) => finger_on(part),
-            // chosen at the gripper's reference state, sampled as the
-            // gripper samples it, so that state is within the slope limit
-            PartitionPlan::Auto => {
-                let opts = SolveOptions {
-                    samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
-                    stability: false,
-                    ..SolveOptions::default()
-                };
-                let unloaded = Load::unloaded();
-                planned(Plan::Auto).build()?.solve(&unloaded, &opts)?.finger
-            }
-            PartitionPlan::TipTolerance { .. } => {
-                // resolve() rejects tip_tol_mm with a gripper
-                return Err(inconsistent(
-                    PartitionKey::TipTolMm,
-                    "not supported in a gripper scene",
-                )
-                .into());
+        // a nearby scene's gripper serves again when it was built from the
+        // same finger and design (a sweep over the grasp builds it once)
+        let key = GripperKey {
+            model: self.model,
+            actuator: self.actuator.clone(),
+            partition: self.partition.clone(),
+            params: g.params,
+            stability: g.stability,
+        };
+        let kept = match warm {
+            Some(SceneSolution::Gripper { gripper, .. }) => gripper
+                .built_from
+                .as_ref()
+                .and_then(|k| k.downcast_ref::<GripperKey>())
+                .filter(|&k| *k == key)
+                .map(|_| gripper.clone()),
+            _ => None,
+        };
+        let gripper = match kept {
+            Some(g) => g,
+            None => {
+                let mut built = Box::new(self.gripper_of(g)?);
+                built.built_from = Some(Arc::new(key));
+                built
             }
         };
-        let gripper = Gripper::new(finger, g.params)?.with_stability(g.stability);
         let warm_grasp = match warm {
             Some(SceneSolution::Gripper { grasp: Some(w), .. }) => Some(&w.grasp),
             _ => None,
@@ -125,7 +136,7 @@ impl Scene {
                 if let PartitionPlan::Fixed(part) = &self.partition {
                     if slope_finding(&outcome.grasp.warnings) {
                         let advice = partition_advice(part, spec, |p| {
-                            Gripper::new(finger_on(p), g.params)
+                            Gripper::new(self.finger_on(p), g.params)
                                 .map(|gr| gr.with_stability(g.stability))
                         });
                         outcome.grasp.warnings.push(advice);
@@ -134,11 +145,50 @@ impl Scene {
                 Some(Box::new(outcome))
             }
         };
-        Ok(SceneSolution::Gripper {
-            gripper: Box::new(gripper),
-            grasp,
-        })
+        Ok(SceneSolution::Gripper { gripper, grasp })
     }
+
+    /// Builds the gripper of a gripper scene: its finger (on the fixed
+    /// partition, or the automatic one chosen at the reference state) and
+    /// the reference state.
+    fn gripper_of(&self, g: &GripperScene) -> Result<Gripper, SolveError> {
+        let finger = match &self.partition {
+            PartitionPlan::Fixed(part) => self.finger_on(part),
+            // chosen at the gripper's reference state, sampled as the
+            // gripper samples it, so that state is within the slope limit
+            PartitionPlan::Auto => {
+                let opts = SolveOptions {
+                    samples_per_element: GRIPPER_SAMPLES_PER_ELEMENT,
+                    stability: false,
+                    ..SolveOptions::default()
+                };
+                let unloaded = Load::unloaded();
+                self.planned(Plan::Auto)
+                    .build()?
+                    .solve(&unloaded, &opts)?
+                    .finger
+            }
+            PartitionPlan::TipTolerance { .. } => {
+                // resolve() rejects tip_tol_mm with a gripper
+                return Err(inconsistent(
+                    PartitionKey::TipTolMm,
+                    "not supported in a gripper scene",
+                )
+                .into());
+            }
+        };
+        Ok(Gripper::new(finger, g.params)?.with_stability(g.stability))
+    }
+}
+
+/// What a scene's gripper is built from ([`Gripper`]'s `built_from`).
+#[derive(Debug, PartialEq)]
+struct GripperKey {
+    model: ModelId,
+    actuator: Actuator,
+    partition: PartitionPlan,
+    params: GripperParams,
+    stability: bool,
 }
 
 /// How many times [`partition_advice`] halves a scene's partition.
@@ -391,6 +441,44 @@ mod tests {
             assert_eq!(Arc::ptr_eq(warm.planned.as_ref().unwrap(), &kept), reused);
             assert_eq!(warm.solution, cold.solution, "fx {fx}, eps0 {eps0}");
             assert_eq!(warm.refinement, cold.refinement);
+        }
+    }
+
+    /// A sweep's next grasp on the same gripper takes the gripper the
+    /// point before built, and answers as with a gripper built afresh; a
+    /// point on another finger builds its own.
+    #[test]
+    fn a_warm_grasp_on_the_same_gripper_reuses_it() {
+        let scene = |d_mm: f64, eps0: f64| {
+            Scene::from_toml(&format!(
+                "[actuator.pemc]\neps0 = {eps0}\n[partition]\nelements = 8\n[gripper]\n\
+                 [gripper.grasp]\nkind = \"cuboid\"\npressure_kpa = 20.0\nd_mm = {d_mm}\n\
+                 friction_n = 0.3\n"
+            ))
+            .unwrap()
+        };
+        let parts = |s: &SceneSolution| match s {
+            SceneSolution::Gripper {
+                gripper,
+                grasp: Some(g),
+            } => (gripper.clone(), g.grasp.clone()),
+            other => panic!("{other:?}"),
+        };
+        let first = scene(90.0, 0.25).solve().unwrap();
+        let key = parts(&first).0.built_from.unwrap();
+        // the same warm grasp with its gripper's key taken away: built again
+        let mut unkeyed = first.clone();
+        if let SceneSolution::Gripper { gripper, .. } = &mut unkeyed {
+            gripper.built_from = None;
+        }
+        for (eps0, reused) in [(0.25, true), (0.3, false)] {
+            let next = scene(92.0, eps0);
+            let (kept, grasp) = parts(&next.solve_warm(Some(&first)).unwrap());
+            let (built, fresh) = parts(&next.solve_warm(Some(&unkeyed)).unwrap());
+            assert_eq!(Arc::ptr_eq(kept.built_from.as_ref().unwrap(), &key), reused);
+            assert!(!Arc::ptr_eq(built.built_from.as_ref().unwrap(), &key));
+            assert_eq!(grasp, fresh, "eps0 {eps0}");
+            assert_eq!(kept.reference(), built.reference());
         }
     }
 
