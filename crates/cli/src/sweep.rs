@@ -219,8 +219,8 @@ fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, 
     for (a, &v) in axes.iter().zip(values) {
         fpc::scene::SceneFile::set_number(&mut doc, a.key, v).map_err(|e| e.to_string())?;
     }
-    let text = toml::to_string(&doc).map_err(|e| e.to_string())?;
-    let mut scene = Scene::from_toml(&text).map_err(|e| e.to_string())?;
+    let file = fpc::scene::SceneFile::from_table(&doc).map_err(|e| e.to_string())?;
+    let mut scene = file.resolve().map_err(|e| e.to_string())?;
     // a row has no shape and no radius: a finger is not sampled for them
     // (grasps sample their fingers as they need, whatever this says)
     scene.options.shape = false;
