@@ -112,8 +112,9 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
                 continue;
             }
             let dist = d2.sqrt();
+            let inv = 1.0 / dist;
             let res = dist - r;
-            let (w, z) = (du / dist, dv / dist);
+            let (w, z) = (du * inv, dv * inv);
             ww += w * w;
             wz += w * z;
             zz += z * z;
@@ -123,7 +124,7 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
             rhs[0] += w * res;
             rhs[1] += z * res;
             rhs[2] += res;
-            let f = res / dist;
+            let f = res * inv;
             cww += f * (1.0 - w * w);
             cwz -= f * w * z;
             czz += f * (1.0 - z * z);
@@ -134,16 +135,22 @@ pub fn fit_circle(points: &[[f64; 2]]) -> Option<Circle> {
             [wz + cwz, zz + czz, sz],
             [sw, sz, count],
         ];
-        let Some(step) = solve3_definite(hessian, rhs).or_else(|| solve3(gauss, rhs)) else {
+        let newton = solve3_definite(hessian, rhs);
+        let Some(step) = newton.or_else(|| solve3(gauss, rhs)) else {
             break;
         };
         cu += step[0];
         cv += step[1];
         r += step[2];
-        // converged, or the steps are rounding noise (no longer shrinking
-        // at a size Newton reaches in its last step)
+        // converged: a Newton step this small leaves a next one of about
+        // its square (a few times 1e-18 here), so none is taken; or the
+        // steps are rounding noise (no longer shrinking at a size Newton
+        // reaches in its last step)
         let size = step.iter().map(|x| x.abs()).fold(0.0, f64::max);
-        if size < 1e-14 * (1.0 + r) || (size < 1e-11 * (1.0 + r) && size > 0.5 * last) {
+        if size < 1e-14 * (1.0 + r)
+            || (newton.is_some() && size < 1e-9 * (1.0 + r))
+            || (size < 1e-11 * (1.0 + r) && size > 0.5 * last)
+        {
             break;
         }
         last = size;
