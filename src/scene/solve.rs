@@ -46,10 +46,12 @@ impl Scene {
     /// previous point of a sweep): a finger on a fixed partition starts
     /// Newton from `warm`'s coefficients when the element counts match, a
     /// grasp follows the path from `warm`'s grasp when it is of the same
-    /// kind (so a sweep stays on the branch it started on), and a finger
-    /// scene with `warm`'s finger (model, actuator and plan: only the load
-    /// differs) solves on the fingers `warm` built instead of building them
-    /// again. Anything else solves as [`Scene::solve`] does.
+    /// kind (so a sweep stays on the branch it started on). What `warm`
+    /// built serves again where it is this scene's: a finger scene with
+    /// `warm`'s model, actuator and plan (only the load differs) solves on
+    /// `warm`'s fingers, a gripper scene with `warm`'s finger and design
+    /// (only the grasp differs) on `warm`'s gripper. Anything else solves
+    /// as [`Scene::solve`] does.
     pub fn solve_warm(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
         self.solve_inner(warm).map_err(scene_solve)
     }
