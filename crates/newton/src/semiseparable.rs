@@ -289,7 +289,7 @@ impl Semiseparable {
     /// [`PivotKind::Symmetric`] counts it and with the same errors, but
     /// leaving nothing to solve with (the stability count). A pivot that a
     /// Cholesky factorisation shows clearly positive definite (its smallest
-    /// eigenvalue provably above [`CERTIFIED_RATIO`] times its largest, far
+    /// eigenvalue provably above `1e-12` times its largest, far
     /// from the symmetric path's singularity threshold) counts as such
     /// without its eigenvalues; any other pivot takes the symmetric path.
     pub fn inertia(&mut self, tau: f64) -> Result<Inertia, FactorError> {
@@ -659,7 +659,7 @@ fn cholesky_solve<const N: usize>(n: usize, l: &[f64], b: &mut [f64]) {
 /// singularity threshold) a pivot's smallest must provably lie for
 /// [`Semiseparable::inertia`] to count it positive definite without its
 /// eigenvalues: the margin covers the rounding of both ways of deciding.
-pub const CERTIFIED_RATIO: f64 = 1e-12;
+const CERTIFIED_RATIO: f64 = 1e-12;
 
 /// True when the symmetric `p` (`n x n`) is positive definite with its
 /// smallest eigenvalue above [`CERTIFIED_RATIO`] times its largest; then
