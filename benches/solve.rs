@@ -24,6 +24,11 @@
 //! - `solves`: whole solves at N = 8 (see the ids), all through a reused
 //!   `Solver` workspace;
 //! - `sweep`: a 50-point force sweep, throughput in solves per second;
+//! - `scene_line`: a line of `fpc sweep` through the scene path (21
+//!   points of `scenes/tip_load.toml` over `load.fx`, of
+//!   `scenes/cuboid_grasp.toml` over `gripper.grasp.d_mm`), each point
+//!   warm-started from the one before and reusing its fingers or gripper,
+//!   against every point solved afresh;
 //! - `envelope`: study 5's sphere envelope (the best lifting force per
 //!   radius) on 16 radii of the Sec. 5 gripper, followed along the radius
 //!   (`SphereEnvelope`) against a fresh search per radius
@@ -39,6 +44,7 @@ use fpc::finger::{Solver, Strategy, TargetProblem};
 use fpc::model::ccm::Ccm;
 use fpc::model::EnergyScalars;
 use fpc::model::{Energy as _, Kinematics as _, ModelCore as _};
+use fpc::scene::{Scene, SceneFile, SceneKey, SceneSolution};
 use fpc::{Actuator, Coefficients, Finger, Load, Partition, Solution, SolveOptions};
 use fpc_newton::{Energy, Gradient, Hessian};
 
@@ -446,7 +452,68 @@ fn sweep(c: &mut Criterion) {
         })
     });
     g.finish();
+
+    // a sweep's line through the scene path (what `fpc sweep` runs per
+    // line): each point warm-started from the one before, reusing what it
+    // built, against each point solved afresh
+    let line = |file: &str, key: &str, from: f64, to: f64| -> Vec<Scene> {
+        let base: toml::Table = toml::from_str(file).unwrap();
+        let key: SceneKey = key.parse().unwrap();
+        (0..SCENE_LINE_POINTS)
+            .map(|i| {
+                let v = from + (to - from) * i as f64 / (SCENE_LINE_POINTS - 1) as f64;
+                let mut doc = base.clone();
+                SceneFile::set_number(&mut doc, key, v).unwrap();
+                SceneFile::from_table(&doc).unwrap().resolve().unwrap()
+            })
+            .collect()
+    };
+    let lines = [
+        (
+            "tip_load",
+            line(
+                include_str!("../scenes/tip_load.toml"),
+                "load.fx",
+                -1.0,
+                1.0,
+            ),
+        ),
+        (
+            "cuboid_grasp",
+            line(
+                include_str!("../scenes/cuboid_grasp.toml"),
+                "gripper.grasp.d_mm",
+                60.0,
+                110.0,
+            ),
+        ),
+    ];
+    let mut g = c.benchmark_group("scene_line");
+    g.sample_size(10);
+    g.throughput(Throughput::Elements(SCENE_LINE_POINTS as u64));
+    for (name, scenes) in &lines {
+        g.bench_function(format!("{name}/warm"), |bch| {
+            bch.iter(|| {
+                let mut warm: Option<SceneSolution> = None;
+                for s in scenes {
+                    warm = s.solve_warm(warm.as_ref()).ok();
+                }
+                warm
+            })
+        });
+        g.bench_function(format!("{name}/fresh"), |bch| {
+            bch.iter(|| {
+                for s in scenes {
+                    black_box(s.solve().unwrap());
+                }
+            })
+        });
+    }
+    g.finish();
 }
+
+/// Points of a `scene_line` benchmark.
+const SCENE_LINE_POINTS: usize = 21;
 
 fn envelope(c: &mut Criterion) {
     use fpc::gripper::SphereEnvelope;
