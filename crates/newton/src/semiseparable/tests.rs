@@ -1,0 +1,304 @@
+//! The structured factorisation and its pivots against dense references.
+
+use super::pivot::CERTIFIED_RATIO;
+use super::*;
+
+/// A random structured matrix, its dense form, and a right-hand side.
+fn random(n: usize, nb: usize, seed: u64, shift: f64) -> (Semiseparable, Vec<f64>) {
+    let mut rng = fastrand::Rng::with_seed(seed);
+    let mut m = Semiseparable::new(n, nb);
+    for k in 0..nb {
+        let blk = m.block_mut(k);
+        // a symmetric block with a diagonal shift (sign picks the definiteness)
+        let mut a = vec![0.0; n * n];
+        for c in 0..n {
+            for r in 0..=c {
+                let v = rng.f64() - 0.5;
+                a[r + n * c] = v;
+                a[c + n * r] = v;
+            }
+            a[c + n * c] += shift;
+        }
+        blk.copy_from_slice(&a);
+        let (u, w) = m.coupling_mut(k);
+        for i in 0..n {
+            u[i] = 0.3 * (rng.f64() - 0.5);
+            w[i] = 0.3 * (rng.f64() - 0.5);
+        }
+    }
+    let dim = n * nb;
+    let mut h = vec![0.0; dim * dim];
+    m.dense(&mut h);
+    (m, h)
+}
+
+fn dense_solve(dim: usize, h: &[f64], b: &[f64]) -> Vec<f64> {
+    // Gaussian elimination with partial pivoting, written here
+    let mut a = h.to_vec();
+    let mut x = b.to_vec();
+    for c in 0..dim {
+        let p = (c..dim)
+            .max_by(|&i, &j| a[i + dim * c].abs().total_cmp(&a[j + dim * c].abs()))
+            .unwrap();
+        for k in 0..dim {
+            a.swap(c + dim * k, p + dim * k);
+        }
+        x.swap(c, p);
+        for r in c + 1..dim {
+            let f = a[r + dim * c] / a[c + dim * c];
+            for k in c..dim {
+                a[r + dim * k] -= f * a[c + dim * k];
+            }
+            x[r] -= f * x[c];
+        }
+    }
+    for r in (0..dim).rev() {
+        let mut v = x[r];
+        for k in r + 1..dim {
+            v -= a[r + dim * k] * x[k];
+        }
+        x[r] = v / a[r + dim * r];
+    }
+    x
+}
+
+#[test]
+fn structured_solves_match_a_dense_elimination() {
+    for (n, nb, seed) in [(1, 1, 1), (4, 1, 2), (4, 3, 3), (5, 8, 4), (3, 40, 5)] {
+        for (shift, kind) in [(4.0, PivotKind::Cholesky), (0.3, PivotKind::Symmetric)] {
+            let (mut m, h) = random(n, nb, seed, shift);
+            let dim = n * nb;
+            let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.7).sin()).collect();
+            // apply against the dense product
+            let mut hb = vec![0.0; dim];
+            m.apply(&b, &mut hb);
+            for i in 0..dim {
+                let d: f64 = (0..dim).map(|j| h[i + dim * j] * b[j]).sum();
+                assert!((d - hb[i]).abs() <= 1e-13 * (1.0 + d.abs()), "apply {i}");
+            }
+            let inertia = match m.factor(0.0, kind) {
+                Ok(i) => i,
+                Err(FactorError::NotPositiveDefinite { .. }) if kind == PivotKind::Cholesky => {
+                    continue
+                }
+                Err(e) => panic!("{e:?}"),
+            };
+            assert_eq!(inertia.positive + inertia.negative, dim);
+            let mut x = b.clone();
+            m.solve(&mut x);
+            let want = dense_solve(dim, &h, &b);
+            let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            for i in 0..dim {
+                assert!((x[i] - want[i]).abs() <= 1e-10 * scale, "n {n} N {nb}: {i}");
+            }
+        }
+    }
+}
+
+/// The Cholesky path decides definiteness from the blocks and the
+/// chain's scalars (module docs): it must say yes exactly when the
+/// whole matrix is positive definite, also when every block is
+/// positive definite and the coupling alone makes it indefinite, and
+/// then solve like a dense elimination.
+#[test]
+fn cholesky_succeeds_exactly_when_positive_definite() {
+    let (mut checked, mut by_coupling) = (0, 0);
+    for seed in 0..60u64 {
+        let (n, nb) = [(2, 3), (4, 8), (5, 4), (3, 12)][seed as usize % 4];
+        // definite blocks (shift 1.5 > the random part's reach for
+        // small n), coupling from weak to dominant
+        let (mut m, _) = random(n, nb, 100 + seed, 1.5 + 0.5 * n as f64);
+        let grow = [1.0, 4.0, 8.0, 16.0][(seed / 4) as usize % 4];
+        for k in 0..nb {
+            let (u, w) = m.coupling_mut(k);
+            u.iter_mut().for_each(|v| *v *= grow);
+            w.iter_mut().for_each(|v| *v *= grow);
+        }
+        let dim = n * nb;
+        let mut h = vec![0.0; dim * dim];
+        m.dense(&mut h);
+        let mut v = h.clone();
+        let mut lam = vec![0.0; dim];
+        let mut scratch = vec![0.0; dim * dim + 4 * dim];
+        jacobi(dim, &mut v, &mut lam, &mut scratch).unwrap();
+        let lo = lam.iter().fold(f64::INFINITY, |a, &l| a.min(l));
+        let hi = lam.iter().fold(0.0f64, |a, &l| a.max(l.abs()));
+        if lo.abs() <= 1e-9 * hi {
+            continue; // too close to call
+        }
+        checked += 1;
+        let blocks_definite = (0..nb).all(|k| {
+            let mut b = m.b[k * n * n..(k + 1) * n * n].to_vec();
+            cholesky::<0>(n, &mut b).is_ok()
+        });
+        assert!(
+            blocks_definite,
+            "seed {seed}: the blocks are meant to be definite"
+        );
+        match m.factor(0.0, PivotKind::Cholesky) {
+            Ok(inertia) => {
+                assert!(lo > 0.0, "seed {seed}: accepted with eigenvalue {lo}");
+                assert_eq!(inertia.positive, dim);
+                let b: Vec<f64> = (0..dim).map(|i| (i as f64 * 0.3).cos()).collect();
+                let mut x = b.clone();
+                m.solve(&mut x);
+                let want = dense_solve(dim, &h, &b);
+                let scale = want.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+                for i in 0..dim {
+                    assert!((x[i] - want[i]).abs() <= 1e-10 * scale, "seed {seed}: {i}");
+                }
+            }
+            Err(FactorError::NotPositiveDefinite { index }) => {
+                assert!(lo < 0.0, "seed {seed}: refused with eigenvalue {lo}");
+                assert!(index < dim);
+                by_coupling += 1;
+            }
+            Err(e) => panic!("seed {seed}: {e:?}"),
+        }
+    }
+    assert!(checked >= 40, "{checked}");
+    assert!(
+        by_coupling >= 5,
+        "only {by_coupling} indefinite by the coupling"
+    );
+}
+
+/// A symmetric `n x n` matrix with the given eigenvalues: `Q diag(lam)
+/// Q^T` with `Q` a product of `n` random Householder reflections.
+fn with_eigenvalues(lam: &[f64], rng: &mut fastrand::Rng) -> Vec<f64> {
+    let n = lam.len();
+    let mut q: Vec<f64> = (0..n * n)
+        .map(|k| if k % (n + 1) == 0 { 1.0 } else { 0.0 })
+        .collect();
+    for _ in 0..n {
+        let v: Vec<f64> = (0..n).map(|_| rng.f64() - 0.5).collect();
+        let vv = dot(&v, &v);
+        for c in 0..n {
+            let col = &mut q[c * n..(c + 1) * n];
+            let f = 2.0 * dot(&v, col) / vv;
+            col.iter_mut().zip(&v).for_each(|(x, vi)| *x -= f * vi);
+        }
+    }
+    let mut a = vec![0.0; n * n];
+    for r in 0..n {
+        for c in 0..n {
+            a[r + n * c] = (0..n).map(|k| q[r + n * k] * lam[k] * q[c + n * k]).sum();
+        }
+    }
+    a
+}
+
+/// The certificate is sound (it never passes a matrix whose known
+/// smallest eigenvalue is not above CERTIFIED_RATIO times its largest,
+/// nor an indefinite one) and useful (it passes every matrix of
+/// condition up to 1e8).
+#[test]
+fn certified_pivots_are_clearly_positive_definite() {
+    let mut rng = fastrand::Rng::with_seed(7);
+    let (mut passed, mut refused) = (0, 0);
+    for trial in 0..600 {
+        let n = [1, 2, 4, 5, 6, 9][trial % 6];
+        // condition 10^0 .. 10^16, some indefinite
+        let cond = 10f64.powf(16.0 * rng.f64());
+        let scale = 10f64.powf(6.0 * rng.f64() - 3.0);
+        let mut lam: Vec<f64> = (0..n).map(|_| scale * cond.powf(-rng.f64())).collect();
+        lam[0] = scale;
+        if n > 1 {
+            lam[n - 1] = scale / cond;
+        }
+        let indefinite = trial % 5 == 0 && n > 1;
+        if indefinite {
+            lam[n - 1] = -lam[n - 1];
+        }
+        let p = with_eigenvalues(&lam, &mut rng);
+        let mut scratch = vec![0.0; n * n + 4 * n];
+        let ok = certified_positive::<0>(n, &p, &mut scratch);
+        let ratio = lam.iter().fold(f64::INFINITY, |a, &l| a.min(l)) / scale;
+        if ok {
+            assert!(!indefinite, "trial {trial}: an indefinite matrix passed");
+            // the construction's own rounding is about 1e-15 of the scale
+            assert!(
+                ratio > CERTIFIED_RATIO - 1e-14,
+                "trial {trial}: ratio {ratio:e}"
+            );
+            passed += 1;
+        } else {
+            if !indefinite {
+                assert!(cond > 1e8, "trial {trial}: refused at condition {cond:e}");
+            }
+            refused += 1;
+        }
+    }
+    assert!(
+        passed > 100 && refused > 100,
+        "{passed} passed, {refused} refused"
+    );
+}
+
+/// `inertia` counts as the symmetric factorisation does, with the same
+/// errors, and as a dense eigenvalue count of the whole matrix: on
+/// random chains from definite to indefinite (by the blocks or by the
+/// coupling) and on a chain with a singular pivot.
+#[test]
+fn inertia_alone_matches_the_symmetric_factorisation() {
+    let mut compared = [0usize; 2]; // [definite, indefinite]
+    for seed in 0..80u64 {
+        let (n, nb) = [(4, 6), (5, 8), (6, 3), (3, 12)][seed as usize % 4];
+        let shift = [-0.5, 0.2, 0.6, 1.5, 4.0][(seed / 4) as usize % 5];
+        let (mut m, h) = random(n, nb, 300 + seed, shift);
+        let want = m.factor(0.0, PivotKind::Symmetric);
+        let got = m.inertia(0.0);
+        assert_eq!(got, want, "seed {seed}");
+        let Ok(inertia) = got else { continue };
+        let dim = n * nb;
+        let (mut v, mut lam) = (h.clone(), vec![0.0; dim]);
+        let mut scratch = vec![0.0; dim * dim + 4 * dim];
+        jacobi(dim, &mut v, &mut lam, &mut scratch).unwrap();
+        let hi = lam.iter().fold(0.0f64, |a, &l| a.max(l.abs()));
+        if lam.iter().any(|l| l.abs() <= 1e-9 * hi) {
+            continue; // too close to call
+        }
+        let neg = lam.iter().filter(|&&l| l < 0.0).count();
+        assert_eq!(
+            (inertia.negative, inertia.positive),
+            (neg, dim - neg),
+            "seed {seed}"
+        );
+        compared[usize::from(neg > 0)] += 1;
+    }
+    assert!(compared[0] >= 10 && compared[1] >= 10, "{compared:?}");
+    // a rank-one pivot: singular both ways
+    let (mut m, _) = random(4, 3, 5, 2.0);
+    let blk = m.block_mut(1);
+    for c in 0..4 {
+        for r in 0..4 {
+            blk[r + 4 * c] = (r + 1) as f64 * (c + 1) as f64;
+        }
+    }
+    let want = m.factor(0.0, PivotKind::Symmetric);
+    assert!(
+        matches!(want, Err(FactorError::Singular { block: 1 })),
+        "{want:?}"
+    );
+    assert_eq!(m.inertia(0.0), want);
+}
+
+#[test]
+fn inertia_counts_negative_eigenvalues() {
+    // a block diagonal with known signs, then a coupled one against the
+    // count from a dense symmetric eigen solve by Jacobi on the whole
+    let (mut m, h) = random(3, 5, 9, 0.1);
+    let dim = 15;
+    let mut v = h.clone();
+    let mut lam = vec![0.0; dim];
+    let mut scratch = vec![0.0; dim * dim + 4 * dim];
+    jacobi(dim, &mut v, &mut lam, &mut scratch).unwrap();
+    let neg = lam.iter().filter(|&&l| l < 0.0).count();
+    let inertia = m.factor(0.0, PivotKind::Symmetric).unwrap();
+    assert_eq!(inertia.negative, neg, "{lam:?}");
+    // positive definite exactly when Cholesky succeeds
+    let ok = m.factor(0.0, PivotKind::Cholesky).is_ok();
+    assert_eq!(ok, neg == 0);
+    let shift = 1.0 - lam.iter().fold(f64::INFINITY, |a, &l| a.min(l));
+    assert!(m.factor(shift, PivotKind::Cholesky).is_ok());
+}
