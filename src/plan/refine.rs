@@ -508,8 +508,10 @@ impl TipTolerance {
         let kept =
             |b: &Mutex<Vec<Finger>>| b.lock().unwrap_or_else(PoisonError::into_inner).clone();
         let mut refiner = Refiner {
+            plan: self.refiner.plan,
             fingers: kept(&self.built),
-            ..self.refiner.clone()
+            actuator: self.refiner.actuator.clone(),
+            ribs: self.refiner.ribs,
         };
         let solved = refiner.solve_to(load, self.tip_tol_mm, opts);
         let mut built = self.built.lock().unwrap_or_else(PoisonError::into_inner);

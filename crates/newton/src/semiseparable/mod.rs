@@ -374,43 +374,41 @@ impl Semiseparable {
                     qm[i] = um[i] + gamma * wm[i];
                 }
             }
-            if count_only && certified_positive::<N>(n, p, &mut self.scratch) {
-                inertia.positive += n;
-                if coupled {
-                    // the Cholesky factor sits at the front of the scratch
-                    let (c, rest) = self.scratch.split_at_mut(nn);
-                    let s = &mut rest[..n];
-                    s.copy_from_slice(qm);
-                    cholesky_solve::<N>(n, c, qm);
-                    gamma += dot(s, qm);
-                }
-                if !gamma.is_finite() {
-                    return Err(FactorError::NonFinite { block: m });
-                }
-                continue;
-            }
             let lam = &mut self.lambda[m * n..(m + 1) * n];
-            jacobi(n, p, lam, &mut self.scratch).ok_or(FactorError::NoConvergence { block: m })?;
-            let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
-            if kind == PivotKind::Modified {
-                for l in lam.iter_mut() {
-                    *l = l.abs().max(MODIFIED_FLOOR * scale);
+            // a certified pivot leaves its Cholesky factor at the front of
+            // the scratch; any other is counted from its eigenvalues
+            let certified = count_only && certified_positive::<N>(n, p, &mut self.scratch);
+            if certified {
+                inertia.positive += n;
+            } else {
+                jacobi(n, p, lam, &mut self.scratch)
+                    .ok_or(FactorError::NoConvergence { block: m })?;
+                let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
+                if kind == PivotKind::Modified {
+                    for l in lam.iter_mut() {
+                        *l = l.abs().max(MODIFIED_FLOOR * scale);
+                    }
                 }
-            }
-            for &l in lam.iter() {
-                if l.abs().partial_cmp(&(1e-14 * scale)) != Some(core::cmp::Ordering::Greater) {
-                    return Err(FactorError::Singular { block: m });
-                }
-                if l > 0.0 {
-                    inertia.positive += 1;
-                } else {
-                    inertia.negative += 1;
+                for &l in lam.iter() {
+                    if l.abs().partial_cmp(&(1e-14 * scale)) != Some(core::cmp::Ordering::Greater) {
+                        return Err(FactorError::Singular { block: m });
+                    }
+                    if l > 0.0 {
+                        inertia.positive += 1;
+                    } else {
+                        inertia.negative += 1;
+                    }
                 }
             }
             if coupled {
-                let (s, rest) = self.scratch.split_at_mut(n);
+                let (factor, rest) = self.scratch.split_at_mut(nn);
+                let (s, rest) = rest.split_at_mut(n);
                 s.copy_from_slice(qm);
-                eigen_solve(n, p, lam, qm, rest);
+                if certified {
+                    cholesky_solve::<N>(n, factor, qm);
+                } else {
+                    eigen_solve(n, p, lam, qm, rest);
+                }
                 gamma += dot(s, qm);
             }
             if !gamma.is_finite() {
