@@ -490,25 +490,30 @@ impl Semiseparable {
         }
     }
 
+    /// `x <- P_k^-1 x` with block `k`'s factorised pivot (`N` as in
+    /// [`Semiseparable::solve_sized`]).
+    fn solve_pivot<const N: usize>(&mut self, k: usize, x: &mut [f64]) {
+        let n = if N > 0 { N } else { self.n };
+        let fk = &self.f[k * n * n..(k + 1) * n * n];
+        match self.kind {
+            PivotKind::Cholesky => cholesky_solve::<N>(n, fk, x),
+            PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
+                n,
+                fk,
+                &self.lambda[k * n..(k + 1) * n],
+                x,
+                &mut self.scratch,
+            ),
+        }
+    }
+
     /// [`Semiseparable::solve`] for blocks of size `N` (0: `self.n`).
     fn solve_sized<const N: usize>(&mut self, b: &mut [f64]) {
         let n = if N > 0 { N } else { self.n };
-        let nn = n * n;
         let nb = self.blocks;
         if !self.coupled {
             for k in 0..nb {
-                let fk = &self.f[k * nn..(k + 1) * nn];
-                let bk = &mut b[k * n..(k + 1) * n];
-                match self.kind {
-                    PivotKind::Cholesky => cholesky_solve::<N>(n, fk, bk),
-                    PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
-                        n,
-                        fk,
-                        &self.lambda[k * n..(k + 1) * n],
-                        bk,
-                        &mut self.scratch,
-                    ),
-                }
+                self.solve_pivot::<N>(k, &mut b[k * n..(k + 1) * n]);
             }
             return;
         }
@@ -526,17 +531,7 @@ impl Semiseparable {
             }
             let qk = &self.q[k * n..(k + 1) * n];
             sigma += dot(qk, zk);
-            let fk = &self.f[k * nn..(k + 1) * nn];
-            match self.kind {
-                PivotKind::Cholesky => cholesky_solve::<N>(n, fk, zk),
-                PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
-                    n,
-                    fk,
-                    &self.lambda[k * n..(k + 1) * n],
-                    zk,
-                    &mut self.scratch,
-                ),
-            }
+            self.solve_pivot::<N>(k, zk);
         }
         // backward sweep
         let mut rho = 0.0;
