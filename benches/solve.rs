@@ -29,6 +29,10 @@
 //!   `scenes/cuboid_grasp.toml` over `gripper.grasp.d_mm`), each point
 //!   warm-started from the one before and reusing its fingers or gripper,
 //!   against every point solved afresh;
+//! - `lanes`: the N = 8 structured Hessian and the tip-loaded cold and
+//!   warm solves with the element Hessians evaluated at each lane width
+//!   this processor runs (`Finger::with_lane_width`: `scalar`, `4`,
+//!   `4-avx2`, `8-avx512`; the same results bit for bit at every width);
 //! - `envelope`: study 5's sphere envelope (the best lifting force per
 //!   radius) on 16 radii of the Sec. 5 gripper, followed along the radius
 //!   (`SphereEnvelope`) against a fresh search per radius
@@ -41,6 +45,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use fpc::finger::{Solver, Strategy, TargetProblem};
+use fpc::lanes::Width;
 use fpc::model::ccm::Ccm;
 use fpc::model::EnergyScalars;
 use fpc::model::{Energy as _, Kinematics as _, ModelCore as _};
@@ -182,6 +187,57 @@ fn assembly(c: &mut Criterion) {
 }
 
 // ---------------------------------------------------------------- solves
+
+fn lanes(c: &mut Criterion) {
+    let base = Finger::paper(0.25, 8).unwrap();
+    let opts = tip_only();
+    let tl = Load::unloaded().with_tip_force(FX, FZ);
+    let unloaded = base.solve(&Load::unloaded(), &opts).unwrap();
+    let near = base
+        .solve_from(
+            &Load::unloaded().with_tip_force(0.9, 0.5),
+            &unloaded.coefficients,
+            &opts,
+        )
+        .unwrap();
+    let mut g = c.benchmark_group("lanes");
+    for width in Width::ALL.into_iter().filter(|w| w.is_supported()) {
+        let finger = base.with_lane_width(width);
+        let name = width.name();
+        let mut problem = finger.problem(&tl);
+        let y: Vec<f64> = near
+            .coefficients
+            .as_slice()
+            .iter()
+            .zip(finger.unknown_scales())
+            .map(|(k, s)| k / s)
+            .collect();
+        let mut grad = vec![0.0; y.len()];
+        g.bench_function(format!("hessian/{name}"), |bch| {
+            bch.iter(|| problem.hessian(black_box(&y), &mut grad))
+        });
+        let mut solver = Solver::new(&finger);
+        probe(
+            &format!("lanes/tip_cold/{name}"),
+            solver.solve(&tl, Some(&unloaded.coefficients), &opts),
+        );
+        g.bench_function(format!("tip_cold/{name}"), |bch| {
+            bch.iter(|| {
+                solver
+                    .solve(black_box(&tl), Some(&unloaded.coefficients), &opts)
+                    .unwrap()
+            })
+        });
+        g.bench_function(format!("tip_warm/{name}"), |bch| {
+            bch.iter(|| {
+                solver
+                    .solve(black_box(&tl), Some(&near.coefficients), &opts)
+                    .unwrap()
+            })
+        });
+    }
+    g.finish();
+}
 
 fn solves(c: &mut Criterion) {
     let finger = Finger::paper(0.25, 8).unwrap();
@@ -550,5 +606,5 @@ fn envelope(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kernels, assembly, solves, sweep, envelope);
+criterion_group!(benches, kernels, assembly, solves, lanes, sweep, envelope);
 criterion_main!(benches);

@@ -5,6 +5,7 @@
 //! so they are accumulated once; each Newton iteration then costs one call
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
+use crate::lanes::{Lane, LaneScalar, Lanes, Width};
 use crate::model::{
     upper_index, Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore,
     PrestressedParams, Vector,
@@ -168,7 +169,31 @@ impl<M: Energy> Element<M> {
         if self.pin.is_empty() {
             return M::hessian(&self.moments, k, s);
         }
-        let (v, mut g, mut h) = M::hessian(&self.moments, &self.held(k), s);
+        self.finish_hessian(k, M::hessian(&self.moments, &self.held(k), s))
+    }
+
+    /// The unknowns the model's energy sees: `k`, with the unknowns plane
+    /// strain holds set to zero.
+    #[inline]
+    fn seen(&self, k: &M::Coeffs) -> M::Coeffs {
+        if self.pin.is_empty() {
+            *k
+        } else {
+            self.held(k)
+        }
+    }
+
+    /// The element's potential, gradient and Hessian at `k` from the
+    /// model's at [`Element::seen`]`(k)`: the held unknowns' pins added.
+    #[inline]
+    fn finish_hessian(
+        &self,
+        k: &M::Coeffs,
+        (v, mut g, mut h): (f64, M::Coeffs, M::Upper),
+    ) -> (f64, M::Coeffs, M::Upper) {
+        if self.pin.is_empty() {
+            return (v, g, h);
+        }
         let n = M::Coeffs::LEN;
         for (&i, &c) in M::ACROSS.iter().zip(&self.pin) {
             g[i] = c * k[i];
@@ -264,4 +289,145 @@ pub(crate) fn frames<M: Kinematics>(
         (c, s) = (c * ce - s * se, s * ce + c * se);
     }
     out
+}
+
+/// An element's potential, gradient and Hessian (upper triangle).
+pub(crate) type ElementHessian<M> = (f64, <M as ModelCore>::Coeffs, <M as ModelCore>::Upper);
+
+/// The elements' moments packed side by side for one [`Width`]: the
+/// Hessians of a whole finger, several elements per instruction
+/// ([`crate::lanes`]). Built once with the finger.
+#[derive(Debug, Clone)]
+pub(crate) enum ElementLanes<M: Energy> {
+    /// One element at a time.
+    One,
+    /// Four at a time; `true` with AVX2.
+    Four(Vec<M::MomentLanes<Lanes<4>>>, bool),
+    /// Eight at a time, with AVX-512.
+    Eight(Vec<M::MomentLanes<Lanes<8>>>),
+}
+
+/// Up to this many elements per lane evaluation.
+const MAX_LANES: usize = 8;
+
+impl<M: Energy> ElementLanes<M> {
+    /// The moments of `elements` packed for `width`, or for the widest
+    /// width below it this processor runs.
+    pub fn new(elements: &[Element<M>], width: Width) -> ElementLanes<M> {
+        fn pack<M: Energy, L: Lane>(elements: &[Element<M>]) -> Vec<M::MomentLanes<L>> {
+            elements
+                .chunks(L::WIDTH)
+                .map(|c| {
+                    let m: Vec<&M::Moments> = c.iter().map(|e| &e.moments).collect();
+                    M::moment_lanes::<L>(&m)
+                })
+                .collect()
+        }
+        let width = if width.is_supported() {
+            width
+        } else {
+            Width::ALL
+                .into_iter()
+                .rev()
+                .find(|w| w.lanes() <= width.lanes() && w.is_supported())
+                .unwrap_or(Width::One)
+        };
+        match width {
+            Width::One => ElementLanes::One,
+            Width::Four => ElementLanes::Four(pack::<M, Lanes<4>>(elements), false),
+            Width::FourAvx2 => ElementLanes::Four(pack::<M, Lanes<4>>(elements), true),
+            Width::EightAvx512 => ElementLanes::Eight(pack::<M, Lanes<8>>(elements)),
+        }
+    }
+
+    /// The width the moments are packed for.
+    pub fn width(&self) -> Width {
+        match self {
+            ElementLanes::One => Width::One,
+            ElementLanes::Four(_, false) => Width::Four,
+            ElementLanes::Four(_, true) => Width::FourAvx2,
+            ElementLanes::Eight(_) => Width::EightAvx512,
+        }
+    }
+
+    /// [`Element::hessian`] of every element of `elements` (the ones packed)
+    /// at `k[i]` into `out[i]`, bit for bit.
+    pub fn hessians(
+        &self,
+        elements: &[Element<M>],
+        k: &[M::Coeffs],
+        s: &EnergyScalars,
+        out: &mut [ElementHessian<M>],
+    ) {
+        match self {
+            ElementLanes::One => {
+                for ((o, e), k) in out.iter_mut().zip(elements).zip(k) {
+                    *o = e.hessian(k, s);
+                }
+            }
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            // SAFETY: packed with AVX2 only where the processor has it
+            // (`Width::is_supported`)
+            ElementLanes::Four(p, true) => unsafe { hessians_avx2(p, elements, k, s, out) },
+            ElementLanes::Four(p, _) => hessians_in::<M, Lanes<4>>(p, elements, k, s, out),
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            // SAFETY: packed for AVX-512 only where the processor has it
+            ElementLanes::Eight(p) => unsafe { hessians_avx512(p, elements, k, s, out) },
+            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+            ElementLanes::Eight(p) => hessians_in::<M, Lanes<8>>(p, elements, k, s, out),
+        }
+    }
+}
+
+/// The Hessians of every element, `L::WIDTH` at a time (inlined into the
+/// functions compiled for a width's instructions).
+#[inline(always)]
+fn hessians_in<M: Energy, L: Lane>(
+    packed: &[M::MomentLanes<L>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut [ElementHessian<M>],
+) where
+    f64: LaneScalar<L>,
+{
+    let mut seen = [M::Coeffs::zero(); MAX_LANES];
+    for (((m, e), k), o) in packed
+        .iter()
+        .zip(elements.chunks(L::WIDTH))
+        .zip(k.chunks(L::WIDTH))
+        .zip(out.chunks_mut(L::WIDTH))
+    {
+        for ((sk, e), k) in seen.iter_mut().zip(e).zip(k) {
+            *sk = e.seen(k);
+        }
+        M::hessian_lanes::<L>(m, &seen[..k.len()], s, o);
+        for ((o, e), k) in o.iter_mut().zip(e).zip(k) {
+            *o = e.finish_hessian(k, *o);
+        }
+    }
+}
+
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+#[target_feature(enable = "avx2,fma")]
+fn hessians_avx2<M: Energy>(
+    packed: &[M::MomentLanes<Lanes<4>>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut [ElementHessian<M>],
+) {
+    hessians_in::<M, Lanes<4>>(packed, elements, k, s, out)
+}
+
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+#[target_feature(enable = "avx512f,avx2,fma")]
+fn hessians_avx512<M: Energy>(
+    packed: &[M::MomentLanes<Lanes<8>>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut [ElementHessian<M>],
+) {
+    hessians_in::<M, Lanes<8>>(packed, elements, k, s, out)
 }

@@ -69,6 +69,7 @@ pub mod error;
 pub mod field;
 pub mod finger;
 pub mod gripper;
+pub mod lanes;
 pub mod measure;
 pub mod model;
 pub mod partition;

@@ -12,6 +12,8 @@
 use std::fmt::Debug;
 use std::ops::{Index, IndexMut};
 
+pub use crate::lanes::{Lane, LaneScalar};
+
 /// A fixed-size vector of `f64`: an element's unknowns, or the upper
 /// triangle of its Hessian.
 pub trait Vector:
@@ -117,6 +119,22 @@ pub trait Energy: ModelCore {
         k: &Self::Coeffs,
         s: &EnergyScalars,
     ) -> (f64, Self::Coeffs, Self::Upper);
+    /// The moments of several elements side by side, one per lane
+    /// ([`crate::lanes`]).
+    type MomentLanes<L: Lane>: Clone + Debug + Send + Sync;
+    /// Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat
+    /// its last element. `m` must not be empty.
+    fn moment_lanes<L: Lane>(m: &[&Self::Moments]) -> Self::MomentLanes<L>;
+    /// [`Energy::hessian`] of up to `L::WIDTH` elements at once: element
+    /// `l` has the moments of lane `l` of `m` and the unknowns `k[l]`, and
+    /// its result goes to `out[l]`, bit for bit the scalar one.
+    fn hessian_lanes<L: Lane>(
+        m: &Self::MomentLanes<L>,
+        k: &[Self::Coeffs],
+        s: &EnergyScalars,
+        out: &mut [(f64, Self::Coeffs, Self::Upper)],
+    ) where
+        f64: LaneScalar<L>;
     /// One integral family alone (`None` past the last family).
     fn family_hessian(
         m: &Self::Moments,

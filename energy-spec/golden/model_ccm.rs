@@ -188,6 +188,59 @@ pub fn linear_hessian(
         ],
     )
 }
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_hessian_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 4], [L; 10])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom3 * atom3;
+    let tmp2 = atom3 * m[8];
+    let tmp3 = atom3 * m[6];
+    let tmp4 = atom2 * m[5];
+    let tmp5 = atom3 * m[3];
+    let tmp6 = atom2 * m[2];
+    let tmp7 = atom1 * m[1];
+    let tmp8 = atom2 * m[8] + 2.0 * atom3 * m[9] + atom1 * m[6] + atom0 * m[3];
+    let tmp9 = m[8] + 8.0 * c2 * m[9];
+    (
+        tmp1 * m[9] + atom2 * (tmp2 + atom2 * m[7])
+            + atom1 * (tmp3 + tmp4 + atom1 * m[4])
+            + atom0 * (tmp5 + tmp6 + tmp7 + atom0 * m[0]),
+        [
+            tmp5 + tmp6 + tmp7 + 2.0 * atom0 * m[0],
+            3.0 * tmp8,
+            tmp3 + tmp4 + 2.0 * atom1 * m[4] + atom0 * m[1],
+            tmp2 + 2.0 * atom2 * m[7] + atom1 * m[5] + atom0 * m[2] + 4.0 * c2 * tmp8,
+        ],
+        [
+            2.0 * m[0],
+            3.0 * m[3],
+            m[1],
+            m[2] + 4.0 * c2 * m[3],
+            18.0 * m[9],
+            3.0 * m[6],
+            3.0 * tmp9,
+            2.0 * m[4],
+            m[5] + 4.0 * c2 * m[6],
+            2.0 * m[7] + 4.0 * tmp8 + 4.0 * c2 * m[8] + 4.0 * c2 * tmp9,
+        ],
+    )
+}
 ///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1, q11, q12, q22`.
@@ -923,6 +976,207 @@ pub fn prestressed_hessian(
             3.0 * tmp52,
             2.0 * m[7],
             0.0,
+            tmp33 + tmp35 + 4.0 * tmp32
+                + atom2
+                    * (6.0 * m[17] + atom3 * (6.0 * m[32] + tmp49)
+                        + atom2
+                            * (12.0 * m[31] + 12.0 * atom3 * m[52]
+                                + 20.0 * atom2 * m[51]))
+                + atom0
+                    * (tmp37 + tmp39
+                        + atom2
+                            * (6.0 * m[27] + 6.0 * atom3 * m[47] + 12.0 * atom2 * m[46])
+                        + atom0 * (tmp16 + tmp17 + tmp46 + 2.0 * atom0 * m[39]))
+                + 4.0 * c2 * (m[9] + tmp24 + tmp50 + tmp51) + 4.0 * c2 * tmp52,
+        ],
+    )
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_hessian_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 4], [L; 10])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom1 * atom1;
+    let tmp2 = atom3 * (m[9] + atom3 * (m[19] + atom3 * (m[34] + atom3 * m[55])));
+    let tmp3 = atom3 * (m[6] + atom3 * (m[16] + atom3 * (m[30] + atom3 * m[50])));
+    let tmp4 = atom3 * (m[15] + atom3 * (m[29] + atom3 * m[49]));
+    let tmp5 = atom2
+        * (m[5] + tmp4
+            + atom2
+                * (m[14] + atom3 * (m[28] + atom3 * m[48])
+                    + atom2 * (m[27] + atom3 * m[47] + atom2 * m[46])));
+    let tmp6 = atom3 * (m[25] + atom3 * m[44]);
+    let tmp7 = atom3 * m[40];
+    let tmp8 = 2.0 * m[4];
+    let tmp9 = 2.0 * m[13];
+    let tmp10 = 2.0 * m[26];
+    let tmp11 = atom3 * (tmp9 + atom3 * (tmp10 + 2.0 * atom3 * m[45]));
+    let tmp12 = 2.0 * m[12];
+    let tmp13 = 2.0 * m[25];
+    let tmp14 = 2.0 * atom3 * m[44];
+    let tmp15 = atom3 * (tmp13 + tmp14);
+    let tmp16 = 2.0 * m[24];
+    let tmp17 = 2.0 * atom3 * m[43];
+    let tmp18 = atom2 * (tmp12 + tmp15 + atom2 * (tmp16 + tmp17 + 2.0 * atom2 * m[42]));
+    let tmp19 = 3.0 * m[23];
+    let tmp20 = 3.0 * m[22];
+    let tmp21 = 3.0 * atom3 * m[40];
+    let tmp22 = 2.0 * m[10];
+    let tmp23 = 2.0 * m[19];
+    let tmp24 = atom3 * (tmp23 + atom3 * (3.0 * m[34] + 4.0 * atom3 * m[55]));
+    let tmp25 = 2.0 * m[33];
+    let tmp26 = 2.0 * m[16];
+    let tmp27 = atom3 * (tmp26 + atom3 * (3.0 * m[30] + 4.0 * atom3 * m[50]));
+    let tmp28 = 2.0 * m[29];
+    let tmp29 = atom3 * (tmp28 + 3.0 * atom3 * m[49]);
+    let tmp30 = 2.0 * atom3 * m[48];
+    let tmp31 = atom2 * (m[15] + tmp29 + atom2 * (m[28] + tmp30 + atom2 * m[47]));
+    let tmp32 = m[3]
+        + atom3
+            * (tmp22
+                + atom3 * (3.0 * m[20] + atom3 * (4.0 * m[35] + 5.0 * atom3 * m[56])))
+        + atom2
+            * (m[9] + tmp24
+                + atom2
+                    * (m[18] + atom3 * (tmp25 + 3.0 * atom3 * m[54])
+                        + atom2 * (m[32] + 2.0 * atom3 * m[53] + atom2 * m[52])))
+        + atom0
+            * (m[6] + tmp27 + tmp31
+                + atom0
+                    * (m[13] + atom3 * (tmp10 + 3.0 * atom3 * m[45])
+                        + atom2 * (m[25] + tmp14 + atom2 * m[43])
+                        + atom0
+                            * (m[23] + 2.0 * atom3 * m[41] + atom2 * m[40]
+                                + atom0 * m[38])));
+    let tmp33 = 2.0 * m[8];
+    let tmp34 = 2.0 * m[18];
+    let tmp35 = atom3 * (tmp34 + atom3 * (tmp25 + 2.0 * atom3 * m[54]));
+    let tmp36 = 3.0 * m[32];
+    let tmp37 = 2.0 * m[14];
+    let tmp38 = 2.0 * m[28];
+    let tmp39 = atom3 * (tmp38 + tmp30);
+    let tmp40 = atom2
+        * (tmp37 + tmp39
+            + atom2 * (3.0 * m[27] + 3.0 * atom3 * m[47] + 4.0 * atom2 * m[46]));
+    let tmp41 = 6.0 * atom3 * m[41];
+    let tmp42 = 6.0 * atom2 * m[39];
+    let tmp43 = 6.0 * atom3 * m[45];
+    let tmp44 = 2.0 * atom2 * m[43];
+    let tmp45 = m[6] + tmp27 + tmp31
+        + atom0
+            * (tmp9 + atom3 * (4.0 * m[26] + tmp43)
+                + atom2 * (tmp13 + 4.0 * atom3 * m[44] + tmp44)
+                + atom0 * (tmp19 + tmp41 + 3.0 * atom2 * m[40] + 4.0 * atom0 * m[38]));
+    let tmp46 = 6.0 * atom2 * m[42];
+    let tmp47 = 6.0 * atom3 * m[54];
+    let tmp48 = tmp22
+        + atom3 * (6.0 * m[20] + atom3 * (12.0 * m[35] + 20.0 * atom3 * m[56]))
+        + atom2
+            * (tmp23 + atom3 * (6.0 * m[34] + 12.0 * atom3 * m[55])
+                + atom2 * (tmp25 + tmp47 + 2.0 * atom2 * m[53]))
+        + atom0
+            * (tmp26 + atom3 * (6.0 * m[30] + 12.0 * atom3 * m[50])
+                + atom2 * (tmp28 + 6.0 * atom3 * m[49] + 2.0 * atom2 * m[48])
+                + atom0 * (tmp10 + tmp43 + 2.0 * atom2 * m[44] + 2.0 * atom0 * m[41]));
+    let tmp49 = 6.0 * atom3 * m[53];
+    let tmp50 = atom2
+        * (tmp34 + atom3 * (4.0 * m[33] + tmp47)
+            + atom2 * (tmp36 + tmp49 + 4.0 * atom2 * m[52]));
+    let tmp51 = atom0
+        * (m[15] + tmp29 + atom2 * (tmp38 + 4.0 * atom3 * m[48] + 3.0 * atom2 * m[47])
+            + atom0 * (m[25] + tmp14 + tmp44 + atom0 * m[40]));
+    let tmp52 = m[9] + tmp24 + tmp50 + tmp51 + 4.0 * c2 * tmp48;
+    (
+        m[0] + tmp1 * m[7]
+            + atom3
+                * (m[3]
+                    + atom3
+                        * (m[10] + atom3 * (m[20] + atom3 * (m[35] + atom3 * m[56]))))
+            + atom2
+                * (m[2] + tmp2
+                    + atom2
+                        * (m[8] + atom3 * (m[18] + atom3 * (m[33] + atom3 * m[54]))
+                            + atom2
+                                * (m[17] + atom3 * (m[32] + atom3 * m[53])
+                                    + atom2 * (m[31] + atom3 * m[52] + atom2 * m[51]))))
+            + atom0
+                * (m[1] + tmp3 + tmp5
+                    + atom0
+                        * (m[4] + atom3 * (m[13] + atom3 * (m[26] + atom3 * m[45]))
+                            + atom2
+                                * (m[12] + tmp6
+                                    + atom2 * (m[24] + atom3 * m[43] + atom2 * m[42]))
+                            + atom0
+                                * (m[11] + atom3 * (m[23] + atom3 * m[41])
+                                    + atom2 * (m[22] + tmp7 + atom2 * m[39])
+                                    + atom0
+                                        * (m[21] + atom3 * m[38] + atom2 * m[37]
+                                            + atom0 * m[36])))),
+        [
+            m[1] + tmp3 + tmp5
+                + atom0
+                    * (tmp8 + tmp11 + tmp18
+                        + atom0
+                            * (3.0 * m[11] + atom3 * (tmp19 + 3.0 * atom3 * m[41])
+                                + atom2 * (tmp20 + tmp21 + 3.0 * atom2 * m[39])
+                                + atom0
+                                    * (4.0 * m[21] + 4.0 * atom3 * m[38] + 4.0 * atom2 * m[37]
+                                        + 5.0 * atom0 * m[36]))),
+            3.0 * tmp32,
+            2.0 * atom1 * m[7],
+            m[2] + tmp2
+                + atom2
+                    * (tmp33 + tmp35
+                        + atom2
+                            * (3.0 * m[17] + atom3 * (tmp36 + 3.0 * atom3 * m[53])
+                                + atom2
+                                    * (4.0 * m[31] + 4.0 * atom3 * m[52]
+                                        + 5.0 * atom2 * m[51])))
+                + atom0
+                    * (m[5] + tmp4 + tmp40
+                        + atom0
+                            * (m[12] + tmp6
+                                + atom2 * (tmp16 + tmp17 + 3.0 * atom2 * m[42])
+                                + atom0
+                                    * (m[22] + tmp7 + 2.0 * atom2 * m[39] + atom0 * m[37])))
+                + 4.0 * c2 * tmp32,
+        ],
+        [
+            tmp8 + tmp11 + tmp18
+                + atom0
+                    * (6.0 * m[11] + atom3 * (6.0 * m[23] + tmp41)
+                        + atom2 * (6.0 * m[22] + 6.0 * atom3 * m[40] + tmp42)
+                        + atom0
+                            * (12.0 * m[21] + 12.0 * atom3 * m[38] + 12.0 * atom2 * m[37]
+                                + 20.0 * atom0 * m[36])),
+            3.0 * tmp45,
+            L::splat(0.0),
+            m[5] + tmp4 + tmp40
+                + atom0
+                    * (tmp12 + tmp15
+                        + atom2 * (4.0 * m[24] + 4.0 * atom3 * m[43] + tmp46)
+                        + atom0 * (tmp20 + tmp21 + tmp42 + 4.0 * atom0 * m[37]))
+                + 4.0 * c2 * tmp45,
+            9.0 * tmp48,
+            L::splat(0.0),
+            3.0 * tmp52,
+            2.0 * m[7],
+            L::splat(0.0),
             tmp33 + tmp35 + 4.0 * tmp32
                 + atom2
                     * (6.0 * m[17] + atom3 * (6.0 * m[32] + tmp49)
@@ -1884,6 +2138,44 @@ pub fn gas_hessian(k: &[f64; 4], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 4], [f64
         ],
     )
 }
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_hessian_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 4], [L; 10])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = c2;
+    let atom1 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom2 = 3.0 * a3 + 2.0 * tmp0;
+    let atom3 = 1.0 + a1;
+    let tmp1 = atom3 * m[2] + atom2 * m[1] + atom0 * m[0];
+    (
+        atom1 * tmp1,
+        [atom1 * m[2], 3.0 * atom1 * m[1], tmp1, atom1 * m[0] + 4.0 * c2 * atom1 * m[1]],
+        [
+            L::splat(0.0),
+            L::splat(0.0),
+            m[2],
+            L::splat(0.0),
+            L::splat(0.0),
+            3.0 * m[1],
+            L::splat(0.0),
+            L::splat(0.0),
+            m[0] + 4.0 * c2 * m[1],
+            4.0 * atom1 * m[1],
+        ],
+    )
+}
 ///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1`.
@@ -1919,6 +2211,83 @@ fn gas_dmoments_at(
 #[inline]
 pub fn gas_dmoments(p: &super::GasParams) -> [[f64; GAS_MOMENTS]; 5] {
     gas_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1)
+}
+///The moments of several elements side by side: lane `l` of each entry holds element `l`'s (the input of `energy_hessian_lanes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MomentLanes<L> {
+    ///Moments of this integral.
+    pub linear: [L; LINEAR_MOMENTS],
+    ///Moments of this integral.
+    pub prestressed: [L; PRESTRESSED_MOMENTS],
+    ///Moments of this integral.
+    pub gas: [L; GAS_MOMENTS],
+}
+impl<L: super::Lane> MomentLanes<L> {
+    ///Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat its last element (their results are not used). `m` must not be empty.
+    pub fn gather(m: &[&Moments]) -> MomentLanes<L> {
+        let last = m.len() - 1;
+        MomentLanes {
+            linear: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].linear[j])),
+            prestressed: std::array::from_fn(|j| L::from_fn(|l| {
+                m[l.min(last)].prestressed[j]
+            })),
+            gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
+        }
+    }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value, gradient and Hessian on lanes, one element per lane, each lane bit for bit `energy_hessian`'s result for that element.
+#[inline(always)]
+pub fn energy_hessian_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 4], [L; 10])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g, mut h) = linear_hessian_lanes(k, &m.linear);
+    {
+        let (tv, tg, th) = prestressed_hessian_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+        h[0] += th[0];
+        h[1] += th[1];
+        h[2] += th[2];
+        h[3] += th[3];
+        h[4] += th[4];
+        h[5] += th[5];
+        h[6] += th[6];
+        h[7] += th[7];
+        h[8] += th[8];
+        h[9] += th[9];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg, th) = gas_hessian_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+            h[0] += c2 * th[0];
+            h[1] += c2 * th[1];
+            h[2] += c2 * th[2];
+            h[3] += c2 * th[3];
+            h[4] += c2 * th[4];
+            h[5] += c2 * th[5];
+            h[6] += c2 * th[6];
+            h[7] += c2 * th[7];
+            h[8] += c2 * th[8];
+            h[9] += c2 * th[9];
+        }
+    }
+    (v, g, h)
 }
 ///The moments of every integral of the energy, accumulated block by block.
 #[derive(Debug, Clone, PartialEq)]
@@ -2716,6 +3085,33 @@ impl super::Energy for Ccm {
         s: &super::EnergyScalars,
     ) -> (f64, [f64; 4], [f64; 10]) {
         energy_hessian(k, m, s)
+    }
+    type MomentLanes<L: super::Lane> = MomentLanes<L>;
+    fn moment_lanes<L: super::Lane>(m: &[&Moments]) -> MomentLanes<L> {
+        MomentLanes::gather(m)
+    }
+    #[inline(always)]
+    fn hessian_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 4]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 4], [f64; 10])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(last) = k.len().checked_sub(1) else {
+            return;
+        };
+        let kl: [L; 4] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
+        let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (
+                v.lane(l),
+                std::array::from_fn(|j| g[j].lane(l)),
+                std::array::from_fn(|j| h[j].lane(l)),
+            );
+        }
     }
     fn family_hessian(
         m: &Moments,

@@ -230,6 +230,74 @@ pub fn linear_hessian(
         ],
     )
 }
+///Kernel `linear`: the integral of `b1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    let tmp3 = atom1 * m[7];
+    let tmp4 = atom1 * m[2];
+    let tmp5 = atom4 * m[12];
+    let tmp6 = atom1 * m[6];
+    let tmp7 = atom0 * m[4];
+    let tmp8 = atom4 * m[10];
+    let tmp9 = atom3 * m[9];
+    let tmp10 = atom1 * m[5];
+    let tmp11 = atom0 * m[3];
+    let tmp12 = tmp3 + 2.0 * atom4 * m[13] + atom3 * m[12] + atom2 * m[10];
+    let tmp13 = m[12] + 8.0 * c2 * m[13];
+    (
+        atom5 * m[0] + atom4 * (tmp3 + atom4 * m[13]) + atom0 * (tmp4 + atom0 * m[1])
+            + atom3 * (tmp5 + tmp6 + tmp7 + atom3 * m[11])
+            + atom2 * (tmp8 + tmp9 + tmp10 + tmp11 + atom2 * m[8]),
+        [
+            tmp4 + 2.0 * atom0 * m[1] + atom3 * m[4] + atom2 * m[3] + 2.0 * tmp1 * m[0],
+            atom4 * m[7] + atom3 * m[6] + atom2 * m[5] + atom0 * m[2] + 8.0 * a2 * m[0],
+            3.0 * tmp12 + 6.0 * a1 * m[0],
+            tmp8 + tmp9 + tmp10 + tmp11 + 2.0 * atom2 * m[8],
+            tmp5 + tmp6 + tmp7 + 2.0 * atom3 * m[11] + atom2 * m[9] + 4.0 * c2 * tmp12
+                + 8.0 * a1 * c2 * m[0],
+        ],
+        [
+            2.0 * m[1],
+            m[2],
+            6.0 * m[0],
+            m[3],
+            m[4] + 8.0 * c2 * m[0],
+            8.0 * m[0],
+            3.0 * m[7],
+            m[5],
+            m[6] + 4.0 * c2 * m[7],
+            18.0 * m[13],
+            3.0 * m[10],
+            3.0 * tmp13,
+            2.0 * m[8],
+            m[9] + 4.0 * c2 * m[10],
+            2.0 * m[11] + 4.0 * tmp12 + 8.0 * a1 * m[0] + 4.0 * c2 * m[12]
+                + 4.0 * c2 * tmp13,
+        ],
+    )
+}
 ///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1, q11, q12, q22`.
@@ -2094,6 +2162,742 @@ pub fn prestressed_hessian(
         ],
     )
 }
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    let tmp3 = a1 * a1;
+    let atom6 = 3.0 * tmp3 * tmp1 + 12.0 * a1 * tmp2;
+    let atom7 = -24.0 * tmp2 * c2 - 12.0 * a1 * c2 * tmp1;
+    let tmp4 = 6.0 * a1 * tmp1 + 12.0 * tmp2;
+    let atom8 = tmp4;
+    let tmp5 = tmp2 * a2;
+    let atom9 = 12.0 * a1 * a2 * tmp1 + 8.0 * tmp5;
+    let tmp6 = tmp1 * tmp1;
+    let atom10 = 3.0 * a1 * tmp6 + 12.0 * tmp2 * tmp1;
+    let tmp7 = tmp3 * a1;
+    let atom11 = 4.0 * tmp7 * tmp1 + 24.0 * tmp3 * tmp2;
+    let atom12 = -96.0 * a1 * tmp2 * c2 - 24.0 * tmp3 * c2 * tmp1;
+    let tmp8 = -96.0 * tmp2 * c2 - 48.0 * a1 * c2 * tmp1;
+    let atom13 = tmp8;
+    let atom14 = 96.0 * tmp2 * tmp0 + 48.0 * a1 * tmp0 * tmp1;
+    let tmp9 = 12.0 * tmp3 * tmp1 + 48.0 * a1 * tmp2;
+    let atom15 = tmp9;
+    let tmp10 = 12.0 * a1 * tmp1 + 24.0 * tmp2;
+    let atom16 = tmp10;
+    let atom17 = 24.0 * tmp3 * a2 * tmp1 + 32.0 * a1 * tmp5;
+    let atom18 = -96.0 * a1 * a2 * c2 * tmp1 - 64.0 * tmp5 * c2;
+    let tmp11 = 48.0 * a1 * a2 * tmp1 + 32.0 * tmp5;
+    let atom19 = tmp11;
+    let tmp12 = tmp2 * tmp2;
+    let atom20 = 6.0 * tmp3 * tmp6 + 48.0 * a1 * tmp2 * tmp1 + 16.0 * tmp12;
+    let atom21 = -96.0 * tmp2 * c2 * tmp1 - 24.0 * a1 * c2 * tmp6;
+    let tmp13 = 12.0 * a1 * tmp6 + 48.0 * tmp2 * tmp1;
+    let atom22 = tmp13;
+    let atom23 = 24.0 * a1 * a2 * tmp6 + 32.0 * tmp5 * tmp1;
+    let tmp14 = tmp6 * tmp1;
+    let atom24 = 4.0 * a1 * tmp14 + 24.0 * tmp2 * tmp6;
+    let tmp15 = tmp3 * tmp3;
+    let atom25 = 5.0 * tmp15 * tmp1 + 40.0 * tmp7 * tmp2;
+    let atom26 = -240.0 * tmp3 * tmp2 * c2 - 40.0 * tmp7 * c2 * tmp1;
+    let tmp16 = -480.0 * a1 * tmp2 * c2 - 120.0 * tmp3 * c2 * tmp1;
+    let atom27 = tmp16;
+    let atom28 = -240.0 * tmp2 * c2 - 120.0 * a1 * c2 * tmp1;
+    let atom29 = 480.0 * a1 * tmp2 * tmp0 + 120.0 * tmp3 * tmp0 * tmp1;
+    let tmp17 = 480.0 * tmp2 * tmp0 + 240.0 * a1 * tmp0 * tmp1;
+    let atom30 = tmp17;
+    let tmp18 = tmp0 * c2;
+    let atom31 = -320.0 * tmp2 * tmp18 - 160.0 * a1 * tmp18 * tmp1;
+    let tmp19 = 20.0 * tmp7 * tmp1 + 120.0 * tmp3 * tmp2;
+    let atom32 = tmp19;
+    let atom33 = 30.0 * tmp3 * tmp1 + 120.0 * a1 * tmp2;
+    let atom34 = 20.0 * a1 * tmp1 + 40.0 * tmp2;
+    let atom35 = 40.0 * tmp7 * a2 * tmp1 + 80.0 * tmp3 * tmp5;
+    let atom36 = -240.0 * tmp3 * a2 * c2 * tmp1 - 320.0 * a1 * tmp5 * c2;
+    let tmp20 = -480.0 * a1 * a2 * c2 * tmp1 - 320.0 * tmp5 * c2;
+    let atom37 = tmp20;
+    let atom38 = 480.0 * a1 * a2 * tmp0 * tmp1 + 320.0 * tmp5 * tmp0;
+    let tmp21 = 120.0 * tmp3 * a2 * tmp1 + 160.0 * a1 * tmp5;
+    let atom39 = tmp21;
+    let atom40 = 120.0 * a1 * a2 * tmp1 + 80.0 * tmp5;
+    let atom41 = 10.0 * tmp7 * tmp6 + 120.0 * tmp3 * tmp2 * tmp1 + 80.0 * a1 * tmp12;
+    let atom42 = -480.0 * a1 * tmp2 * c2 * tmp1 - 60.0 * tmp3 * c2 * tmp6
+        - 160.0 * tmp12 * c2;
+    let tmp22 = -480.0 * tmp2 * c2 * tmp1 - 120.0 * a1 * c2 * tmp6;
+    let atom43 = tmp22;
+    let atom44 = 480.0 * tmp2 * tmp0 * tmp1 + 120.0 * a1 * tmp0 * tmp6;
+    let tmp23 = 30.0 * tmp3 * tmp6 + 240.0 * a1 * tmp2 * tmp1 + 80.0 * tmp12;
+    let atom45 = tmp23;
+    let atom46 = 30.0 * a1 * tmp6 + 120.0 * tmp2 * tmp1;
+    let tmp24 = tmp12 * a2;
+    let atom47 = 60.0 * tmp3 * a2 * tmp6 + 160.0 * a1 * tmp5 * tmp1 + 32.0 * tmp24;
+    let atom48 = -240.0 * a1 * a2 * c2 * tmp6 - 320.0 * tmp5 * c2 * tmp1;
+    let tmp25 = 120.0 * a1 * a2 * tmp6 + 160.0 * tmp5 * tmp1;
+    let atom49 = tmp25;
+    let atom50 = 10.0 * tmp3 * tmp14 + 120.0 * a1 * tmp2 * tmp6 + 80.0 * tmp12 * tmp1;
+    let atom51 = -240.0 * tmp2 * c2 * tmp6 - 40.0 * a1 * c2 * tmp14;
+    let tmp26 = 20.0 * a1 * tmp14 + 120.0 * tmp2 * tmp6;
+    let atom52 = tmp26;
+    let atom53 = 40.0 * a1 * a2 * tmp14 + 80.0 * tmp5 * tmp6;
+    let tmp27 = tmp6 * tmp6;
+    let atom54 = 5.0 * a1 * tmp27 + 40.0 * tmp2 * tmp14;
+    let tmp28 = atom2 * atom2;
+    let tmp29 = atom1 * m[59];
+    let tmp30 = atom1 * m[56];
+    let tmp31 = atom1 * m[58];
+    let tmp32 = atom1 * m[70];
+    let tmp33 = atom4
+        * (m[62] + tmp32
+            + atom4
+                * (m[74] + atom1 * m[85]
+                    + atom4 * (m[90] + atom1 * m[104] + atom4 * m[110])));
+    let tmp34 = atom1 * m[67];
+    let tmp35 = atom0
+        * (m[57] + tmp34
+            + atom0
+                * (m[66] + atom1 * m[79]
+                    + atom0 * (m[78] + atom1 * m[95] + atom0 * m[94])));
+    let tmp36 = atom1 * m[84];
+    let tmp37 = atom1 * m[81];
+    let tmp38 = atom1 * m[102];
+    let tmp39 = atom1 * m[99];
+    let tmp40 = 2.0 * m[55];
+    let tmp41 = 2.0 * atom1 * m[65];
+    let tmp42 = 2.0 * m[66];
+    let tmp43 = 2.0 * atom1 * m[79];
+    let tmp44 = 2.0 * m[80];
+    let tmp45 = 2.0 * atom1 * m[97];
+    let tmp46 = atom3 * (tmp42 + tmp43 + atom3 * (tmp44 + tmp45 + 2.0 * atom3 * m[98]));
+    let tmp47 = 3.0 * m[78];
+    let tmp48 = 3.0 * atom1 * m[95];
+    let tmp49 = 24.0 * a1 * tmp1;
+    let tmp50 = 48.0 * tmp2;
+    let tmp51 = tmp49 + tmp50;
+    let tmp52 = -480.0 * tmp2 * c2 - 240.0 * a1 * c2 * tmp1;
+    let tmp53 = 60.0 * tmp3 * tmp1 + 240.0 * a1 * tmp2;
+    let tmp54 = 240.0 * a1 * a2 * tmp1 + 160.0 * tmp5;
+    let tmp55 = 60.0 * a1 * tmp6 + 240.0 * tmp2 * tmp1;
+    let tmp56 = atom4 * (m[70] + atom4 * (m[85] + atom4 * m[104]));
+    let tmp57 = atom0 * (m[67] + atom0 * (m[79] + atom0 * m[95]));
+    let tmp58 = 48.0 * a1 * tmp1 + 96.0 * tmp2;
+    let tmp59 = -960.0 * tmp2 * c2 - 480.0 * a1 * c2 * tmp1;
+    let tmp60 = 120.0 * tmp3 * tmp1 + 480.0 * a1 * tmp2;
+    let tmp61 = 120.0 * a1 * tmp1 + 240.0 * tmp2;
+    let tmp62 = 480.0 * a1 * a2 * tmp1 + 320.0 * tmp5;
+    let tmp63 = 120.0 * a1 * tmp6 + 480.0 * tmp2 * tmp1;
+    let tmp64 = 2.0 * m[63];
+    let tmp65 = 2.0 * atom1 * m[71];
+    let tmp66 = 2.0 * m[74];
+    let tmp67 = 2.0 * atom1 * m[85];
+    let tmp68 = atom4
+        * (tmp66 + tmp67
+            + atom4 * (3.0 * m[90] + 3.0 * atom1 * m[104] + 4.0 * atom4 * m[110]));
+    let tmp69 = 2.0 * m[89];
+    let tmp70 = 2.0 * atom1 * m[103];
+    let tmp71 = m[4] + tmp29
+        + atom4
+            * (tmp64 + tmp65
+                + atom4
+                    * (3.0 * m[75] + 3.0 * atom1 * m[86]
+                        + atom4
+                            * (4.0 * m[91] + 4.0 * atom1 * m[105]
+                                + 5.0 * atom4 * m[111])))
+        + atom3
+            * (m[62] + tmp32 + tmp68
+                + atom3
+                    * (m[73] + tmp36 + atom4 * (tmp69 + tmp70 + 3.0 * atom4 * m[109])
+                        + atom3
+                            * (m[88] + tmp38 + 2.0 * atom4 * m[108] + atom3 * m[107])));
+    let tmp72 = 72.0 * a1 * tmp1 + 144.0 * tmp2;
+    let tmp73 = -1440.0 * tmp2 * c2 - 720.0 * a1 * c2 * tmp1;
+    let tmp74 = 180.0 * tmp3 * tmp1 + 720.0 * a1 * tmp2;
+    let tmp75 = 720.0 * a1 * a2 * tmp1 + 480.0 * tmp5;
+    let tmp76 = 180.0 * a1 * tmp6 + 720.0 * tmp2 * tmp1;
+    let tmp77 = 2.0 * m[61];
+    let tmp78 = 2.0 * atom1 * m[69];
+    let tmp79 = 2.0 * m[73];
+    let tmp80 = 2.0 * atom1 * m[84];
+    let tmp81 = atom4 * (tmp79 + tmp80 + atom4 * (tmp69 + tmp70 + 2.0 * atom4 * m[109]));
+    let tmp82 = 2.0 * m[68];
+    let tmp83 = 2.0 * atom1 * m[81];
+    let tmp84 = atom0 * (tmp82 + tmp83 + atom0 * (tmp44 + tmp45 + 2.0 * atom0 * m[96]));
+    let tmp85 = 3.0 * m[88];
+    let tmp86 = 3.0 * atom1 * m[102];
+    let tmp87 = 3.0 * m[82];
+    let tmp88 = 3.0 * atom1 * m[99];
+    let tmp89 = -48.0 * a1 * tmp1 - 96.0 * tmp2 - 192.0 * a1 * tmp0;
+    let tmp90 = 192.0 * tmp2 * c2;
+    let tmp91 = 96.0 * a1 * c2 * tmp1;
+    let tmp92 = tmp90 + tmp91;
+    let tmp93 = -120.0 * tmp3 * tmp1 - 480.0 * a1 * tmp2 - 480.0 * tmp3 * tmp0;
+    let tmp94 = 960.0 * a1 * tmp2 * c2;
+    let tmp95 = 240.0 * tmp3 * c2 * tmp1;
+    let tmp96 = 960.0 * tmp2 * c2;
+    let tmp97 = 480.0 * a1 * c2 * tmp1;
+    let tmp98 = tmp96 + tmp97 + 960.0 * a1 * tmp18;
+    let tmp99 = tmp0 * tmp0;
+    let tmp100 = -480.0 * a1 * a2 * tmp1 - 320.0 * tmp5 - 1920.0 * a1 * a2 * tmp0;
+    let tmp101 = 960.0 * a1 * a2 * c2 * tmp1;
+    let tmp102 = 640.0 * tmp5 * c2;
+    let tmp103 = -120.0 * a1 * tmp6 - 480.0 * tmp2 * tmp1 - 1920.0 * tmp2 * tmp0
+        - 960.0 * a1 * tmp0 * tmp1;
+    let tmp104 = 960.0 * tmp2 * c2 * tmp1;
+    let tmp105 = 240.0 * a1 * c2 * tmp6;
+    let tmp106 = tmp94 + tmp95;
+    let tmp107 = tmp101 + tmp102;
+    let tmp108 = tmp104 + tmp105;
+    let tmp109 = 6.0 * atom3 * m[96];
+    let tmp110 = 240.0 * a1 * tmp1;
+    let tmp111 = 480.0 * tmp2;
+    let tmp112 = 96.0 * a1 * tmp1;
+    let tmp113 = 192.0 * tmp2;
+    let tmp114 = 240.0 * tmp3 * tmp1;
+    let tmp115 = 960.0 * a1 * tmp2;
+    let tmp116 = -(1920.0 * tmp2 * c2);
+    let tmp117 = -(960.0 * a1 * c2 * tmp1);
+    let tmp118 = 480.0 * a1 * tmp1;
+    let tmp119 = 960.0 * tmp2;
+    let tmp120 = 960.0 * a1 * a2 * tmp1;
+    let tmp121 = 640.0 * tmp5;
+    let tmp122 = 240.0 * a1 * tmp6;
+    let tmp123 = 960.0 * tmp2 * tmp1;
+    let tmp124 = 2.0 * atom4 * m[103];
+    let tmp125 = m[59]
+        + atom4 * (2.0 * m[71] + atom4 * (3.0 * m[86] + 4.0 * atom4 * m[105]))
+        + atom3
+            * (m[70] + atom4 * (2.0 * m[85] + 3.0 * atom4 * m[104])
+                + atom3 * (m[84] + tmp124 + atom3 * m[102]));
+    let tmp126 = 1920.0 * tmp2 * c2;
+    let tmp127 = 960.0 * a1 * c2 * tmp1;
+    let tmp128 = 6.0 * atom4 * m[109];
+    let tmp129 = tmp64 + tmp65
+        + atom4
+            * (6.0 * m[75] + 6.0 * atom1 * m[86]
+                + atom4 * (12.0 * m[91] + 12.0 * atom1 * m[105] + 20.0 * atom4 * m[111]))
+        + atom3
+            * (tmp66 + tmp67
+                + atom4 * (6.0 * m[90] + 6.0 * atom1 * m[104] + 12.0 * atom4 * m[110])
+                + atom3 * (tmp69 + tmp70 + tmp128 + 2.0 * atom3 * m[108]));
+    let tmp130 = 6.0 * atom4 * m[108];
+    let tmp131 = atom3
+        * (tmp79 + tmp80 + atom4 * (4.0 * m[89] + 4.0 * atom1 * m[103] + tmp128)
+            + atom3 * (tmp85 + tmp86 + tmp130 + 4.0 * atom3 * m[107]));
+    let tmp132 = m[62] + tmp32 + tmp68 + tmp131 + 4.0 * c2 * tmp129;
+    let tmp133 = 2880.0 * tmp2 * c2;
+    let tmp134 = 1440.0 * a1 * c2 * tmp1;
+    let tmp135 = 960.0 * a1 * tmp0;
+    (
+        m[0] + atom54 * m[54] + atom53 * m[53] + atom52 * m[52] + atom51 * m[51]
+            + atom50 * m[50] + atom49 * m[49] + atom48 * m[48] + atom47 * m[47]
+            + atom46 * m[46] + atom45 * m[45] + atom44 * m[44] + atom43 * m[43]
+            + atom42 * m[42] + atom41 * m[41] + atom40 * m[40] + atom39 * m[39]
+            + atom38 * m[38] + atom37 * m[37] + atom36 * m[36] + atom35 * m[35]
+            + atom34 * m[34] + atom33 * m[33] + atom32 * m[32] + atom31 * m[31]
+            + atom30 * m[30] + atom29 * m[29] + atom28 * m[28] + atom27 * m[27]
+            + atom26 * m[26] + atom25 * m[25] + atom24 * m[24] + atom23 * m[23]
+            + atom22 * m[22] + atom21 * m[21] + atom20 * m[20] + atom19 * m[19]
+            + atom18 * m[18] + atom17 * m[17] + atom16 * m[16] + atom15 * m[15]
+            + atom14 * m[14] + atom13 * m[13] + atom12 * m[12] + atom11 * m[11]
+            + atom10 * m[10] + atom9 * m[9] + atom8 * m[8] + atom7 * m[7] + atom6 * m[6]
+            + atom5 * m[5] + tmp28 * m[60] + atom1 * m[2]
+            + atom4
+                * (m[4] + tmp29
+                    + atom4
+                        * (m[63] + atom1 * m[71]
+                            + atom4
+                                * (m[75] + atom1 * m[86]
+                                    + atom4 * (m[91] + atom1 * m[105] + atom4 * m[111]))))
+            + atom0
+                * (m[1] + tmp30
+                    + atom0
+                        * (m[55] + atom1 * m[65]
+                            + atom0
+                                * (m[64] + atom1 * m[77]
+                                    + atom0 * (m[76] + atom1 * m[93] + atom0 * m[92]))))
+            + atom3
+                * (m[3] + tmp31 + tmp33 + tmp35
+                    + atom3
+                        * (m[61] + atom1 * m[69]
+                            + atom4
+                                * (m[73] + tmp36
+                                    + atom4 * (m[89] + atom1 * m[103] + atom4 * m[109]))
+                            + atom0
+                                * (m[68] + tmp37
+                                    + atom0 * (m[80] + atom1 * m[97] + atom0 * m[96]))
+                            + atom3
+                                * (m[72] + atom1 * m[83]
+                                    + atom4 * (m[88] + tmp38 + atom4 * m[108])
+                                    + atom0 * (m[82] + tmp39 + atom0 * m[98])
+                                    + atom3
+                                        * (m[87] + atom4 * m[107] + atom1 * m[101] + atom0 * m[100]
+                                            + atom3 * m[106])))),
+        [
+            m[1] + tmp30
+                + atom3
+                    * (m[57] + tmp34
+                        + atom3
+                            * (m[68] + tmp37 + atom3 * (m[82] + tmp39 + atom3 * m[100])))
+                + atom0
+                    * (tmp40 + tmp41 + tmp46
+                        + atom0
+                            * (3.0 * m[64] + 3.0 * atom1 * m[77]
+                                + atom3 * (tmp47 + tmp48 + 3.0 * atom3 * m[96])
+                                + atom0
+                                    * (4.0 * m[76] + 4.0 * atom1 * m[93] + 5.0 * atom0 * m[92]
+                                        + 4.0 * atom3 * m[94]))) + tmp4 * m[6] + tmp9 * m[11]
+                + tmp8 * m[12] + m[15] * tmp51 + tmp11 * m[17] + tmp13 * m[20]
+                + tmp19 * m[25] + tmp16 * m[26] + m[27] * tmp52 + tmp17 * m[29]
+                + m[32] * tmp53 + m[33] * (60.0 * a1 * tmp1 + 120.0 * tmp2)
+                + tmp21 * m[35] + tmp20 * m[36] + m[39] * tmp54 + tmp23 * m[41]
+                + tmp22 * m[42] + m[45] * tmp55 + tmp25 * m[47] + tmp26 * m[50]
+                + 2.0 * tmp1 * m[5] - 12.0 * c2 * tmp1 * m[7] + 6.0 * tmp1 * m[8]
+                + 12.0 * a2 * tmp1 * m[9] + 3.0 * tmp6 * m[10] - 48.0 * c2 * tmp1 * m[13]
+                + 48.0 * tmp0 * tmp1 * m[14] + 12.0 * tmp1 * m[16]
+                - 96.0 * a2 * c2 * tmp1 * m[18] + 48.0 * a2 * tmp1 * m[19]
+                - 24.0 * c2 * tmp6 * m[21] + 12.0 * tmp6 * m[22]
+                + 24.0 * a2 * tmp6 * m[23] + 4.0 * tmp14 * m[24]
+                - 120.0 * c2 * tmp1 * m[28] + 240.0 * tmp0 * tmp1 * m[30]
+                - 160.0 * tmp18 * tmp1 * m[31] + 20.0 * tmp1 * m[34]
+                - 480.0 * a2 * c2 * tmp1 * m[37] + 480.0 * a2 * tmp0 * tmp1 * m[38]
+                + 120.0 * a2 * tmp1 * m[40] - 120.0 * c2 * tmp6 * m[43]
+                + 120.0 * tmp0 * tmp6 * m[44] + 30.0 * tmp6 * m[46]
+                - 240.0 * a2 * c2 * tmp6 * m[48] + 120.0 * a2 * tmp6 * m[49]
+                - 40.0 * c2 * tmp14 * m[51] + 20.0 * tmp14 * m[52]
+                + 40.0 * a2 * tmp14 * m[53] + 5.0 * tmp27 * m[54],
+            m[2] + atom4 * (m[59] + atom4 * (m[71] + atom4 * (m[86] + atom4 * m[105])))
+                + atom0 * (m[56] + atom0 * (m[65] + atom0 * (m[77] + atom0 * m[93])))
+                + atom3
+                    * (m[58] + tmp56 + tmp57
+                        + atom3
+                            * (m[69] + atom4 * (m[84] + atom4 * m[103])
+                                + atom0 * (m[81] + atom0 * m[97])
+                                + atom3
+                                    * (m[83] + atom4 * m[102] + atom0 * m[99]
+                                        + atom3 * m[101]))) + tmp10 * m[9]
+                + m[17] * (24.0 * tmp3 * tmp1 + 96.0 * a1 * tmp2)
+                + m[18] * (-192.0 * tmp2 * c2 - 96.0 * a1 * c2 * tmp1) + m[19] * tmp58
+                + m[20] * (96.0 * a1 * a2 * tmp1 + 64.0 * tmp5)
+                + m[23] * (24.0 * a1 * tmp6 + 96.0 * tmp2 * tmp1)
+                + m[35] * (40.0 * tmp7 * tmp1 + 240.0 * tmp3 * tmp2)
+                + m[36] * (-960.0 * a1 * tmp2 * c2 - 240.0 * tmp3 * c2 * tmp1)
+                + m[37] * tmp59
+                + m[38] * (960.0 * tmp2 * tmp0 + 480.0 * a1 * tmp0 * tmp1)
+                + m[39] * tmp60 + m[40] * tmp61
+                + m[41] * (240.0 * tmp3 * a2 * tmp1 + 320.0 * a1 * tmp5)
+                + m[42] * (-960.0 * a1 * a2 * c2 * tmp1 - 640.0 * tmp5 * c2)
+                + m[45] * tmp62
+                + m[47] * (60.0 * tmp3 * tmp6 + 480.0 * a1 * tmp2 * tmp1 + 160.0 * tmp12)
+                + m[48] * (-960.0 * tmp2 * c2 * tmp1 - 240.0 * a1 * c2 * tmp6)
+                + m[49] * tmp63 + m[50] * (240.0 * a1 * a2 * tmp6 + 320.0 * tmp5 * tmp1)
+                + m[53] * (40.0 * a1 * tmp14 + 240.0 * tmp2 * tmp6) + 8.0 * a2 * m[5]
+                + 24.0 * a1 * a2 * m[6] - 48.0 * a2 * c2 * m[7] + 24.0 * a2 * m[8]
+                + 24.0 * a2 * tmp1 * m[10] + 48.0 * tmp3 * a2 * m[11]
+                - 192.0 * a1 * a2 * c2 * m[12] - 192.0 * a2 * c2 * m[13]
+                + 192.0 * a2 * tmp0 * m[14] + 96.0 * a1 * a2 * m[15] + 48.0 * a2 * m[16]
+                - 192.0 * a2 * c2 * tmp1 * m[21] + 96.0 * a2 * tmp1 * m[22]
+                + 48.0 * a2 * tmp6 * m[24] + 80.0 * tmp7 * a2 * m[25]
+                - 480.0 * tmp3 * a2 * c2 * m[26] - 960.0 * a1 * a2 * c2 * m[27]
+                - 480.0 * a2 * c2 * m[28] + 960.0 * a1 * a2 * tmp0 * m[29]
+                + 960.0 * a2 * tmp0 * m[30] - 640.0 * a2 * tmp18 * m[31]
+                + 240.0 * tmp3 * a2 * m[32] + 240.0 * a1 * a2 * m[33] + 80.0 * a2 * m[34]
+                - 960.0 * a2 * c2 * tmp1 * m[43] + 960.0 * a2 * tmp0 * tmp1 * m[44]
+                + 240.0 * a2 * tmp1 * m[46] - 480.0 * a2 * c2 * tmp6 * m[51]
+                + 240.0 * a2 * tmp6 * m[52] + 80.0 * a2 * tmp14 * m[54],
+            3.0 * tmp71 + m[10] * (18.0 * a1 * tmp1 + 36.0 * tmp2)
+                + m[20] * (36.0 * tmp3 * tmp1 + 144.0 * a1 * tmp2)
+                + m[21] * (-288.0 * tmp2 * c2 - 144.0 * a1 * c2 * tmp1) + m[22] * tmp72
+                + m[23] * (144.0 * a1 * a2 * tmp1 + 96.0 * tmp5)
+                + m[24] * (36.0 * a1 * tmp6 + 144.0 * tmp2 * tmp1)
+                + m[41] * (60.0 * tmp7 * tmp1 + 360.0 * tmp3 * tmp2)
+                + m[42] * (-1440.0 * a1 * tmp2 * c2 - 360.0 * tmp3 * c2 * tmp1)
+                + m[43] * tmp73
+                + m[44] * (1440.0 * tmp2 * tmp0 + 720.0 * a1 * tmp0 * tmp1)
+                + m[45] * tmp74 + m[46] * (180.0 * a1 * tmp1 + 360.0 * tmp2)
+                + m[47] * (360.0 * tmp3 * a2 * tmp1 + 480.0 * a1 * tmp5)
+                + m[48] * (-1440.0 * a1 * a2 * c2 * tmp1 - 960.0 * tmp5 * c2)
+                + m[49] * tmp75
+                + m[50] * (90.0 * tmp3 * tmp6 + 720.0 * a1 * tmp2 * tmp1 + 240.0 * tmp12)
+                + m[51] * (-1440.0 * tmp2 * c2 * tmp1 - 360.0 * a1 * c2 * tmp6)
+                + m[52] * tmp76 + m[53] * (360.0 * a1 * a2 * tmp6 + 480.0 * tmp5 * tmp1)
+                + m[54] * (60.0 * a1 * tmp14 + 360.0 * tmp2 * tmp6) + 6.0 * a1 * m[5]
+                + 9.0 * tmp3 * m[6] - 36.0 * a1 * c2 * m[7] + 18.0 * a1 * m[8]
+                + 36.0 * a1 * a2 * m[9] + 12.0 * tmp7 * m[11] - 72.0 * tmp3 * c2 * m[12]
+                - 144.0 * a1 * c2 * m[13] + 144.0 * a1 * tmp0 * m[14]
+                + 36.0 * tmp3 * m[15] + 36.0 * a1 * m[16] + 72.0 * tmp3 * a2 * m[17]
+                - 288.0 * a1 * a2 * c2 * m[18] + 144.0 * a1 * a2 * m[19]
+                + 15.0 * tmp15 * m[25] - 120.0 * tmp7 * c2 * m[26]
+                - 360.0 * tmp3 * c2 * m[27] - 360.0 * a1 * c2 * m[28]
+                + 360.0 * tmp3 * tmp0 * m[29] + 720.0 * a1 * tmp0 * m[30]
+                - 480.0 * a1 * tmp18 * m[31] + 60.0 * tmp7 * m[32] + 90.0 * tmp3 * m[33]
+                + 60.0 * a1 * m[34] + 120.0 * tmp7 * a2 * m[35]
+                - 720.0 * tmp3 * a2 * c2 * m[36] - 1440.0 * a1 * a2 * c2 * m[37]
+                + 1440.0 * a1 * a2 * tmp0 * m[38] + 360.0 * tmp3 * a2 * m[39]
+                + 360.0 * a1 * a2 * m[40],
+            2.0 * atom2 * m[60],
+            m[3] + tmp31 + tmp33 + tmp35
+                + atom3
+                    * (tmp77 + tmp78 + tmp81 + tmp84
+                        + atom3
+                            * (3.0 * m[72] + 3.0 * atom1 * m[83]
+                                + atom4 * (tmp85 + tmp86 + 3.0 * atom4 * m[108])
+                                + atom0 * (tmp87 + tmp88 + 3.0 * atom0 * m[98])
+                                + atom3
+                                    * (4.0 * m[87] + 4.0 * atom4 * m[107] + 4.0 * atom1 * m[101]
+                                        + 4.0 * atom0 * m[100] + 5.0 * atom3 * m[106])))
+                + m[7] * (-12.0 * a1 * tmp1 - 24.0 * tmp2 - 48.0 * a1 * tmp0)
+                + m[10] * (48.0 * tmp2 * c2 + 24.0 * a1 * c2 * tmp1)
+                + m[12] * (-24.0 * tmp3 * tmp1 - 96.0 * a1 * tmp2 - 96.0 * tmp3 * tmp0)
+                + m[13] * tmp89 + m[14] * (tmp90 + tmp91 + 192.0 * a1 * tmp18)
+                + m[18] * (-96.0 * a1 * a2 * tmp1 - 64.0 * tmp5 - 384.0 * a1 * a2 * tmp0)
+                + m[20] * (192.0 * a1 * tmp2 * c2 + 48.0 * tmp3 * c2 * tmp1)
+                + m[21]
+                    * (-24.0 * a1 * tmp6 - 96.0 * tmp2 * tmp1 - 384.0 * tmp2 * tmp0
+                        - 192.0 * a1 * tmp0 * tmp1) + m[22] * tmp92
+                + m[23] * (192.0 * a1 * a2 * c2 * tmp1 + 128.0 * tmp5 * c2)
+                + m[24] * (192.0 * tmp2 * c2 * tmp1 + 48.0 * a1 * c2 * tmp6)
+                + m[26]
+                    * (-40.0 * tmp7 * tmp1 - 240.0 * tmp3 * tmp2 - 160.0 * tmp7 * tmp0)
+                + m[27] * tmp93
+                + m[28] * (-120.0 * a1 * tmp1 - 240.0 * tmp2 - 480.0 * a1 * tmp0)
+                + m[29] * (tmp94 + tmp95 + 480.0 * tmp3 * tmp18) + m[30] * tmp98
+                + m[31]
+                    * (-960.0 * tmp2 * tmp0 - 480.0 * a1 * tmp0 * tmp1
+                        - 640.0 * a1 * tmp99)
+                + m[36]
+                    * (-240.0 * tmp3 * a2 * tmp1 - 320.0 * a1 * tmp5
+                        - 960.0 * tmp3 * a2 * tmp0) + m[37] * tmp100
+                + m[38] * (tmp101 + tmp102 + 1920.0 * a1 * a2 * tmp18)
+                + m[41] * (480.0 * tmp3 * tmp2 * c2 + 80.0 * tmp7 * c2 * tmp1)
+                + m[42]
+                    * (-60.0 * tmp3 * tmp6 - 480.0 * a1 * tmp2 * tmp1 - 160.0 * tmp12
+                        - 1920.0 * a1 * tmp2 * tmp0 - 480.0 * tmp3 * tmp0 * tmp1)
+                + m[43] * tmp103
+                + m[44]
+                    * (tmp104 + tmp105 + 1920.0 * tmp2 * tmp18
+                        + 960.0 * a1 * tmp18 * tmp1) + m[45] * tmp106
+                + m[46] * (480.0 * tmp2 * c2 + 240.0 * a1 * c2 * tmp1)
+                + m[47] * (480.0 * tmp3 * a2 * c2 * tmp1 + 640.0 * a1 * tmp5 * c2)
+                + m[48]
+                    * (-240.0 * a1 * a2 * tmp6 - 320.0 * tmp5 * tmp1
+                        - 1920.0 * a1 * a2 * tmp0 * tmp1 - 1280.0 * tmp5 * tmp0)
+                + m[49] * tmp107
+                + m[50]
+                    * (960.0 * a1 * tmp2 * c2 * tmp1 + 120.0 * tmp3 * c2 * tmp6
+                        + 320.0 * tmp12 * c2)
+                + m[51]
+                    * (-40.0 * a1 * tmp14 - 240.0 * tmp2 * tmp6
+                        - 1920.0 * tmp2 * tmp0 * tmp1 - 480.0 * a1 * tmp0 * tmp6)
+                + m[52] * tmp108
+                + m[53] * (480.0 * a1 * a2 * c2 * tmp6 + 640.0 * tmp5 * c2 * tmp1)
+                + m[54] * (480.0 * tmp2 * c2 * tmp6 + 80.0 * a1 * c2 * tmp14)
+                + 4.0 * c2 * tmp71 + 8.0 * a1 * c2 * m[5] + 12.0 * tmp3 * c2 * m[6]
+                + 24.0 * a1 * c2 * m[8] + 48.0 * a1 * a2 * c2 * m[9]
+                + 16.0 * tmp7 * c2 * m[11] + 48.0 * tmp3 * c2 * m[15]
+                + 48.0 * a1 * c2 * m[16] + 96.0 * tmp3 * a2 * c2 * m[17]
+                + 192.0 * a1 * a2 * c2 * m[19] + 20.0 * tmp15 * c2 * m[25]
+                + 80.0 * tmp7 * c2 * m[32] + 120.0 * tmp3 * c2 * m[33]
+                + 80.0 * a1 * c2 * m[34] + 160.0 * tmp7 * a2 * c2 * m[35]
+                + 480.0 * tmp3 * a2 * c2 * m[39] + 480.0 * a1 * a2 * c2 * m[40],
+        ],
+        [
+            tmp40 + tmp41 + tmp46
+                + atom0
+                    * (6.0 * m[64] + 6.0 * atom1 * m[77]
+                        + atom3 * (6.0 * m[78] + 6.0 * atom1 * m[95] + tmp109)
+                        + atom0
+                            * (12.0 * m[76] + 12.0 * atom1 * m[93] + 20.0 * atom0 * m[92]
+                                + 12.0 * atom3 * m[94])) + m[11] * tmp51 + m[25] * tmp53
+                + m[26] * tmp52 + m[32] * tmp61 + m[35] * tmp54 + m[41] * tmp55
+                + 6.0 * tmp1 * m[6] - 48.0 * c2 * tmp1 * m[12] + 24.0 * tmp1 * m[15]
+                + 48.0 * a2 * tmp1 * m[17] + 12.0 * tmp6 * m[20]
+                - 240.0 * c2 * tmp1 * m[27] + 240.0 * tmp0 * tmp1 * m[29]
+                + 60.0 * tmp1 * m[33] - 480.0 * a2 * c2 * tmp1 * m[36]
+                + 240.0 * a2 * tmp1 * m[39] - 120.0 * c2 * tmp6 * m[42]
+                + 60.0 * tmp6 * m[45] + 120.0 * a2 * tmp6 * m[47] + 20.0 * tmp14 * m[50],
+            m[56] + atom3 * (m[67] + atom3 * (m[81] + atom3 * m[99]))
+                + atom0
+                    * (2.0 * m[65] + atom3 * (2.0 * m[79] + 2.0 * atom3 * m[97])
+                        + atom0
+                            * (3.0 * m[77] + 4.0 * atom0 * m[93] + 3.0 * atom3 * m[95]))
+                + m[17] * tmp58 + m[35] * tmp60 + m[36] * tmp59
+                + m[39] * (tmp110 + tmp111) + m[41] * tmp62 + m[47] * tmp63
+                + 24.0 * a2 * m[6] + 12.0 * tmp1 * m[9] + 96.0 * a1 * a2 * m[11]
+                - 192.0 * a2 * c2 * m[12] + 96.0 * a2 * m[15] - 96.0 * c2 * tmp1 * m[18]
+                + 48.0 * tmp1 * m[19] + 96.0 * a2 * tmp1 * m[20] + 24.0 * tmp6 * m[23]
+                + 240.0 * tmp3 * a2 * m[25] - 960.0 * a1 * a2 * c2 * m[26]
+                - 960.0 * a2 * c2 * m[27] + 960.0 * a2 * tmp0 * m[29]
+                + 480.0 * a1 * a2 * m[32] + 240.0 * a2 * m[33]
+                - 480.0 * c2 * tmp1 * m[37] + 480.0 * tmp0 * tmp1 * m[38]
+                + 120.0 * tmp1 * m[40] - 960.0 * a2 * c2 * tmp1 * m[42]
+                + 480.0 * a2 * tmp1 * m[45] - 240.0 * c2 * tmp6 * m[48]
+                + 120.0 * tmp6 * m[49] + 240.0 * a2 * tmp6 * m[50]
+                + 40.0 * tmp14 * m[53],
+            6.0 * m[5] + 18.0 * m[8] + 36.0 * m[16] + 60.0 * m[34] + m[20] * tmp72
+                + m[41] * tmp74 + m[42] * tmp73
+                + m[45] * (360.0 * a1 * tmp1 + 720.0 * tmp2) + m[47] * tmp75
+                + m[50] * tmp76 + 18.0 * a1 * m[6] - 36.0 * c2 * m[7] + 36.0 * a2 * m[9]
+                + 18.0 * tmp1 * m[10] + 36.0 * tmp3 * m[11] - 144.0 * a1 * c2 * m[12]
+                - 144.0 * c2 * m[13] + 144.0 * tmp0 * m[14] + 72.0 * a1 * m[15]
+                + 144.0 * a1 * a2 * m[17] - 288.0 * a2 * c2 * m[18] + 144.0 * a2 * m[19]
+                - 144.0 * c2 * tmp1 * m[21] + 72.0 * tmp1 * m[22]
+                + 144.0 * a2 * tmp1 * m[23] + 36.0 * tmp6 * m[24] + 60.0 * tmp7 * m[25]
+                - 360.0 * tmp3 * c2 * m[26] - 720.0 * a1 * c2 * m[27]
+                - 360.0 * c2 * m[28] + 720.0 * a1 * tmp0 * m[29] + 720.0 * tmp0 * m[30]
+                - 480.0 * tmp18 * m[31] + 180.0 * tmp3 * m[32] + 180.0 * a1 * m[33]
+                + 360.0 * tmp3 * a2 * m[35] - 1440.0 * a1 * a2 * c2 * m[36]
+                - 1440.0 * a2 * c2 * m[37] + 1440.0 * a2 * tmp0 * m[38]
+                + 720.0 * a1 * a2 * m[39] + 360.0 * a2 * m[40]
+                - 720.0 * c2 * tmp1 * m[43] + 720.0 * tmp0 * tmp1 * m[44]
+                + 180.0 * tmp1 * m[46] - 1440.0 * a2 * c2 * tmp1 * m[48]
+                + 720.0 * a2 * tmp1 * m[49] - 360.0 * c2 * tmp6 * m[51]
+                + 180.0 * tmp6 * m[52] + 360.0 * a2 * tmp6 * m[53]
+                + 60.0 * tmp14 * m[54],
+            L::splat(0.0),
+            m[57] + tmp34
+                + atom3
+                    * (tmp82 + tmp83 + atom3 * (tmp87 + tmp88 + 4.0 * atom3 * m[100]))
+                + atom0
+                    * (tmp42 + tmp43
+                        + atom3
+                            * (4.0 * m[80] + 4.0 * atom1 * m[97] + 6.0 * atom3 * m[98])
+                        + atom0 * (tmp47 + tmp48 + 4.0 * atom0 * m[94] + tmp109))
+                + m[7] * (-48.0 * tmp0 - 12.0 * tmp1) + m[12] * tmp89
+                + m[13] * (-192.0 * tmp0 - 48.0 * tmp1)
+                + m[14] * (96.0 * c2 * tmp1 + 192.0 * tmp18)
+                + m[18] * (-96.0 * a2 * tmp1 - 384.0 * a2 * tmp0) + m[20] * tmp92
+                + m[21] * (-24.0 * tmp6 - 192.0 * tmp0 * tmp1) + m[26] * tmp93
+                + m[27] * (-240.0 * a1 * tmp1 - 480.0 * tmp2 - 960.0 * a1 * tmp0)
+                + m[28] * (-480.0 * tmp0 - 120.0 * tmp1) + m[29] * tmp98
+                + m[30] * (480.0 * c2 * tmp1 + 960.0 * tmp18)
+                + m[31] * (-480.0 * tmp0 * tmp1 - 640.0 * tmp99) + m[36] * tmp100
+                + m[37] * (-480.0 * a2 * tmp1 - 1920.0 * a2 * tmp0)
+                + m[38] * (960.0 * a2 * c2 * tmp1 + 1920.0 * a2 * tmp18) + m[41] * tmp106
+                + m[42] * tmp103 + m[43] * (-120.0 * tmp6 - 960.0 * tmp0 * tmp1)
+                + m[44] * (240.0 * c2 * tmp6 + 960.0 * tmp18 * tmp1)
+                + m[45] * (tmp96 + tmp97) + m[47] * tmp107
+                + m[48] * (-240.0 * a2 * tmp6 - 1920.0 * a2 * tmp0 * tmp1)
+                + m[50] * tmp108 + m[51] * (-40.0 * tmp14 - 480.0 * tmp0 * tmp6)
+                + 8.0 * c2 * m[5] + 24.0 * a1 * c2 * m[6] + 24.0 * c2 * m[8]
+                + 48.0 * a2 * c2 * m[9] + 24.0 * c2 * tmp1 * m[10]
+                + 48.0 * tmp3 * c2 * m[11] + 96.0 * a1 * c2 * m[15] + 48.0 * c2 * m[16]
+                + 192.0 * a1 * a2 * c2 * m[17] + 192.0 * a2 * c2 * m[19]
+                + 96.0 * c2 * tmp1 * m[22] + 192.0 * a2 * c2 * tmp1 * m[23]
+                + 48.0 * c2 * tmp6 * m[24] + 80.0 * tmp7 * c2 * m[25]
+                + 240.0 * tmp3 * c2 * m[32] + 240.0 * a1 * c2 * m[33] + 80.0 * c2 * m[34]
+                + 480.0 * tmp3 * a2 * c2 * m[35] + 960.0 * a1 * a2 * c2 * m[39]
+                + 480.0 * a2 * c2 * m[40] + 240.0 * c2 * tmp1 * m[46]
+                + 960.0 * a2 * c2 * tmp1 * m[49] + 240.0 * c2 * tmp6 * m[52]
+                + 480.0 * a2 * c2 * tmp6 * m[53] + 80.0 * c2 * tmp14 * m[54],
+            8.0 * m[5] + 24.0 * m[8] + 48.0 * m[16] + 80.0 * m[34] + 24.0 * a1 * m[6]
+                - 48.0 * c2 * m[7] + 48.0 * a2 * m[9] + 24.0 * tmp1 * m[10]
+                + 48.0 * tmp3 * m[11] - 192.0 * a1 * c2 * m[12] - 192.0 * c2 * m[13]
+                + 192.0 * tmp0 * m[14] + 96.0 * a1 * m[15] + 192.0 * a1 * a2 * m[17]
+                - 384.0 * a2 * c2 * m[18] + 192.0 * a2 * m[19]
+                - 192.0 * c2 * tmp1 * m[21] + 96.0 * tmp1 * m[22]
+                + 192.0 * a2 * tmp1 * m[23] + 48.0 * tmp6 * m[24] + 80.0 * tmp7 * m[25]
+                - 480.0 * tmp3 * c2 * m[26] - 960.0 * a1 * c2 * m[27]
+                - 480.0 * c2 * m[28] + 960.0 * a1 * tmp0 * m[29] + 960.0 * tmp0 * m[30]
+                - 640.0 * tmp18 * m[31] + 240.0 * tmp3 * m[32] + 240.0 * a1 * m[33]
+                + 480.0 * tmp3 * a2 * m[35] - 1920.0 * a1 * a2 * c2 * m[36]
+                - 1920.0 * a2 * c2 * m[37] + 1920.0 * a2 * tmp0 * m[38]
+                + 960.0 * a1 * a2 * m[39] + 480.0 * a2 * m[40]
+                - 960.0 * c2 * tmp1 * m[43] + 960.0 * tmp0 * tmp1 * m[44]
+                + 240.0 * tmp1 * m[46] - 1920.0 * a2 * c2 * tmp1 * m[48]
+                + 960.0 * a2 * tmp1 * m[49] - 480.0 * c2 * tmp6 * m[51]
+                + 240.0 * tmp6 * m[52] + 480.0 * a2 * tmp6 * m[53] + 80.0 * tmp14 * m[54]
+                + m[20] * (tmp112 + tmp113) + m[41] * (tmp114 + tmp115)
+                + m[42] * (tmp116 + tmp117) + m[45] * (tmp118 + tmp119)
+                + m[47] * (tmp120 + tmp121) + m[50] * (tmp122 + tmp123),
+            3.0 * tmp125 + m[23] * (144.0 * a1 * tmp1 + 288.0 * tmp2)
+                + m[47] * (360.0 * tmp3 * tmp1 + 1440.0 * a1 * tmp2)
+                + m[48] * (-2880.0 * tmp2 * c2 - 1440.0 * a1 * c2 * tmp1)
+                + m[49] * (720.0 * a1 * tmp1 + 1440.0 * tmp2)
+                + m[50] * (1440.0 * a1 * a2 * tmp1 + 960.0 * tmp5)
+                + m[53] * (360.0 * a1 * tmp6 + 1440.0 * tmp2 * tmp1) + 36.0 * a1 * m[9]
+                + 72.0 * a2 * m[10] + 72.0 * tmp3 * m[17] - 288.0 * a1 * c2 * m[18]
+                + 144.0 * a1 * m[19] + 288.0 * a1 * a2 * m[20] - 576.0 * a2 * c2 * m[21]
+                + 288.0 * a2 * m[22] + 288.0 * a2 * tmp1 * m[24] + 120.0 * tmp7 * m[35]
+                - 720.0 * tmp3 * c2 * m[36] - 1440.0 * a1 * c2 * m[37]
+                + 1440.0 * a1 * tmp0 * m[38] + 360.0 * tmp3 * m[39] + 360.0 * a1 * m[40]
+                + 720.0 * tmp3 * a2 * m[41] - 2880.0 * a1 * a2 * c2 * m[42]
+                - 2880.0 * a2 * c2 * m[43] + 2880.0 * a2 * tmp0 * m[44]
+                + 1440.0 * a1 * a2 * m[45] + 720.0 * a2 * m[46]
+                - 2880.0 * a2 * c2 * tmp1 * m[51] + 1440.0 * a2 * tmp1 * m[52]
+                + 720.0 * a2 * tmp6 * m[54],
+            L::splat(0.0),
+            m[58] + tmp56 + tmp57
+                + atom3
+                    * (2.0 * m[69] + atom4 * (2.0 * m[84] + tmp124)
+                        + atom0 * (2.0 * m[81] + 2.0 * atom0 * m[97])
+                        + atom3
+                            * (3.0 * m[83] + 3.0 * atom4 * m[102] + 3.0 * atom0 * m[99]
+                                + 4.0 * atom3 * m[101])) + 4.0 * c2 * tmp125
+                + m[18] * (-96.0 * a1 * tmp1 - 192.0 * tmp2 - 384.0 * a1 * tmp0)
+                + m[21] * (-192.0 * a2 * tmp1 - 768.0 * a2 * tmp0)
+                + m[23] * (384.0 * tmp2 * c2 + 192.0 * a1 * c2 * tmp1)
+                + m[36]
+                    * (-240.0 * tmp3 * tmp1 - 960.0 * a1 * tmp2 - 960.0 * tmp3 * tmp0)
+                + m[37] * (-480.0 * a1 * tmp1 - 960.0 * tmp2 - 1920.0 * a1 * tmp0)
+                + m[38] * (tmp126 + tmp127 + 1920.0 * a1 * tmp18)
+                + m[42]
+                    * (-960.0 * a1 * a2 * tmp1 - 640.0 * tmp5 - 3840.0 * a1 * a2 * tmp0)
+                + m[43] * (-960.0 * a2 * tmp1 - 3840.0 * a2 * tmp0)
+                + m[44] * (1920.0 * a2 * c2 * tmp1 + 3840.0 * a2 * tmp18)
+                + m[47] * (1920.0 * a1 * tmp2 * c2 + 480.0 * tmp3 * c2 * tmp1)
+                + m[48]
+                    * (-240.0 * a1 * tmp6 - 960.0 * tmp2 * tmp1 - 3840.0 * tmp2 * tmp0
+                        - 1920.0 * a1 * tmp0 * tmp1) + m[49] * (tmp126 + tmp127)
+                + m[50] * (1920.0 * a1 * a2 * c2 * tmp1 + 1280.0 * tmp5 * c2)
+                + m[51] * (-480.0 * a2 * tmp6 - 3840.0 * a2 * tmp0 * tmp1)
+                + m[53] * (1920.0 * tmp2 * c2 * tmp1 + 480.0 * a1 * c2 * tmp6)
+                - 48.0 * a2 * m[7] + 48.0 * a1 * c2 * m[9] + 96.0 * a2 * c2 * m[10]
+                - 192.0 * a1 * a2 * m[12] - 192.0 * a2 * m[13] + 384.0 * a2 * c2 * m[14]
+                + 96.0 * tmp3 * c2 * m[17] + 192.0 * a1 * c2 * m[19]
+                + 384.0 * a1 * a2 * c2 * m[20] + 384.0 * a2 * c2 * m[22]
+                + 384.0 * a2 * c2 * tmp1 * m[24] - 480.0 * tmp3 * a2 * m[26]
+                - 960.0 * a1 * a2 * m[27] - 480.0 * a2 * m[28]
+                + 1920.0 * a1 * a2 * c2 * m[29] + 1920.0 * a2 * c2 * m[30]
+                - 1920.0 * a2 * tmp0 * m[31] + 160.0 * tmp7 * c2 * m[35]
+                + 480.0 * tmp3 * c2 * m[39] + 480.0 * a1 * c2 * m[40]
+                + 960.0 * tmp3 * a2 * c2 * m[41] + 1920.0 * a1 * a2 * c2 * m[45]
+                + 960.0 * a2 * c2 * m[46] + 1920.0 * a2 * c2 * tmp1 * m[52]
+                + 960.0 * a2 * c2 * tmp6 * m[54],
+            9.0 * tmp129 + m[24] * (216.0 * a1 * tmp1 + 432.0 * tmp2)
+                + m[50] * (540.0 * tmp3 * tmp1 + 2160.0 * a1 * tmp2)
+                + m[51] * (-4320.0 * tmp2 * c2 - 2160.0 * a1 * c2 * tmp1)
+                + m[52] * (1080.0 * a1 * tmp1 + 2160.0 * tmp2)
+                + m[53] * (2160.0 * a1 * a2 * tmp1 + 1440.0 * tmp5)
+                + m[54] * (540.0 * a1 * tmp6 + 2160.0 * tmp2 * tmp1) + 54.0 * a1 * m[10]
+                + 108.0 * tmp3 * m[20] - 432.0 * a1 * c2 * m[21] + 216.0 * a1 * m[22]
+                + 432.0 * a1 * a2 * m[23] + 180.0 * tmp7 * m[41]
+                - 1080.0 * tmp3 * c2 * m[42] - 2160.0 * a1 * c2 * m[43]
+                + 2160.0 * a1 * tmp0 * m[44] + 540.0 * tmp3 * m[45] + 540.0 * a1 * m[46]
+                + 1080.0 * tmp3 * a2 * m[47] - 4320.0 * a1 * a2 * c2 * m[48]
+                + 2160.0 * a1 * a2 * m[49],
+            L::splat(0.0),
+            3.0 * tmp132
+                + m[21] * (-144.0 * a1 * tmp1 - 288.0 * tmp2 - 576.0 * a1 * tmp0)
+                + m[24] * (576.0 * tmp2 * c2 + 288.0 * a1 * c2 * tmp1)
+                + m[42]
+                    * (-360.0 * tmp3 * tmp1 - 1440.0 * a1 * tmp2 - 1440.0 * tmp3 * tmp0)
+                + m[43] * (-720.0 * a1 * tmp1 - 1440.0 * tmp2 - 2880.0 * a1 * tmp0)
+                + m[44] * (tmp133 + tmp134 + 2880.0 * a1 * tmp18)
+                + m[48]
+                    * (-1440.0 * a1 * a2 * tmp1 - 960.0 * tmp5 - 5760.0 * a1 * a2 * tmp0)
+                + m[50] * (2880.0 * a1 * tmp2 * c2 + 720.0 * tmp3 * c2 * tmp1)
+                + m[51]
+                    * (-360.0 * a1 * tmp6 - 1440.0 * tmp2 * tmp1 - 5760.0 * tmp2 * tmp0
+                        - 2880.0 * a1 * tmp0 * tmp1) + m[52] * (tmp133 + tmp134)
+                + m[53] * (2880.0 * a1 * a2 * c2 * tmp1 + 1920.0 * tmp5 * c2)
+                + m[54] * (2880.0 * tmp2 * c2 * tmp1 + 720.0 * a1 * c2 * tmp6)
+                - 36.0 * a1 * m[7] + 72.0 * a1 * c2 * m[10] - 72.0 * tmp3 * m[12]
+                - 144.0 * a1 * m[13] + 288.0 * a1 * c2 * m[14] - 288.0 * a1 * a2 * m[18]
+                + 144.0 * tmp3 * c2 * m[20] + 288.0 * a1 * c2 * m[22]
+                + 576.0 * a1 * a2 * c2 * m[23] - 120.0 * tmp7 * m[26]
+                - 360.0 * tmp3 * m[27] - 360.0 * a1 * m[28] + 720.0 * tmp3 * c2 * m[29]
+                + 1440.0 * a1 * c2 * m[30] - 1440.0 * a1 * tmp0 * m[31]
+                - 720.0 * tmp3 * a2 * m[36] - 1440.0 * a1 * a2 * m[37]
+                + 2880.0 * a1 * a2 * c2 * m[38] + 240.0 * tmp7 * c2 * m[41]
+                + 720.0 * tmp3 * c2 * m[45] + 720.0 * a1 * c2 * m[46]
+                + 1440.0 * tmp3 * a2 * c2 * m[47] + 2880.0 * a1 * a2 * c2 * m[49],
+            2.0 * m[60],
+            L::splat(0.0),
+            tmp77 + tmp78 + tmp81 + tmp84 + 4.0 * tmp71
+                + atom3
+                    * (6.0 * m[72] + 6.0 * atom1 * m[83]
+                        + atom4 * (6.0 * m[88] + 6.0 * atom1 * m[102] + tmp130)
+                        + atom0
+                            * (6.0 * m[82] + 6.0 * atom1 * m[99] + 6.0 * atom0 * m[98])
+                        + atom3
+                            * (12.0 * m[87] + 12.0 * atom4 * m[107]
+                                + 12.0 * atom1 * m[101] + 12.0 * atom0 * m[100]
+                                + 20.0 * atom3 * m[106])) + 8.0 * a1 * m[5]
+                + 12.0 * tmp3 * m[6] - 144.0 * a1 * c2 * m[7] + 24.0 * a1 * m[8]
+                + 48.0 * a1 * a2 * m[9] + 16.0 * tmp7 * m[11] - 288.0 * tmp3 * c2 * m[12]
+                - 576.0 * a1 * c2 * m[13] + 48.0 * tmp3 * m[15] + 48.0 * a1 * m[16]
+                + 96.0 * tmp3 * a2 * m[17] - 1152.0 * a1 * a2 * c2 * m[18]
+                + 192.0 * a1 * a2 * m[19] + 20.0 * tmp15 * m[25]
+                - 480.0 * tmp7 * c2 * m[26] - 1440.0 * tmp3 * c2 * m[27]
+                - 1440.0 * a1 * c2 * m[28] + 80.0 * tmp7 * m[32] + 120.0 * tmp3 * m[33]
+                + 80.0 * a1 * m[34] + 160.0 * tmp7 * a2 * m[35]
+                - 2880.0 * tmp3 * a2 * c2 * m[36] - 5760.0 * a1 * a2 * c2 * m[37]
+                + 480.0 * tmp3 * a2 * m[39] + 480.0 * a1 * a2 * m[40]
+                + 4.0 * c2 * (m[62] + tmp32 + tmp68 + tmp131)
+                + m[10] * (tmp49 + tmp50 + 96.0 * a1 * tmp0)
+                + m[14] * (tmp112 + tmp113 + tmp135)
+                + m[20] * (48.0 * tmp3 * tmp1 + 192.0 * a1 * tmp2 + 192.0 * tmp3 * tmp0)
+                + m[21]
+                    * (-1152.0 * tmp2 * c2 - 576.0 * a1 * c2 * tmp1 - 768.0 * a1 * tmp18)
+                + m[22] * (tmp112 + tmp113 + 384.0 * a1 * tmp0)
+                + m[23]
+                    * (192.0 * a1 * a2 * tmp1 + 128.0 * tmp5 + 768.0 * a1 * a2 * tmp0)
+                + m[24]
+                    * (48.0 * a1 * tmp6 + 192.0 * tmp2 * tmp1 + 768.0 * tmp2 * tmp0
+                        + 384.0 * a1 * tmp0 * tmp1)
+                + m[29] * (tmp114 + tmp115 + 2400.0 * tmp3 * tmp0)
+                + m[30] * (tmp118 + tmp119 + 4800.0 * a1 * tmp0)
+                + m[31] * (tmp116 + tmp117 - 4480.0 * a1 * tmp18)
+                + m[38] * (tmp120 + tmp121 + 9600.0 * a1 * a2 * tmp0)
+                + m[41]
+                    * (80.0 * tmp7 * tmp1 + 480.0 * tmp3 * tmp2 + 320.0 * tmp7 * tmp0)
+                + m[42]
+                    * (-5760.0 * a1 * tmp2 * c2 - 1440.0 * tmp3 * c2 * tmp1
+                        - 1920.0 * tmp3 * tmp18)
+                + m[43]
+                    * (-5760.0 * tmp2 * c2 - 2880.0 * a1 * c2 * tmp1
+                        - 3840.0 * a1 * tmp18)
+                + m[44]
+                    * (tmp122 + tmp123 + 9600.0 * tmp2 * tmp0 + 4800.0 * a1 * tmp0 * tmp1
+                        + 3840.0 * a1 * tmp99)
+                + m[45] * (tmp114 + tmp115 + 960.0 * tmp3 * tmp0)
+                + m[46] * (tmp110 + tmp111 + tmp135)
+                + m[47]
+                    * (480.0 * tmp3 * a2 * tmp1 + 640.0 * a1 * tmp5
+                        + 1920.0 * tmp3 * a2 * tmp0)
+                + m[48]
+                    * (-5760.0 * a1 * a2 * c2 * tmp1 - 3840.0 * tmp5 * c2
+                        - 7680.0 * a1 * a2 * tmp18)
+                + m[49] * (tmp120 + tmp121 + 3840.0 * a1 * a2 * tmp0)
+                + m[50]
+                    * (120.0 * tmp3 * tmp6 + 960.0 * a1 * tmp2 * tmp1 + 320.0 * tmp12
+                        + 3840.0 * a1 * tmp2 * tmp0 + 960.0 * tmp3 * tmp0 * tmp1)
+                + m[51]
+                    * (-5760.0 * tmp2 * c2 * tmp1 - 1440.0 * a1 * c2 * tmp6
+                        - 7680.0 * tmp2 * tmp18 - 3840.0 * a1 * tmp18 * tmp1)
+                + m[52]
+                    * (tmp122 + tmp123 + 3840.0 * tmp2 * tmp0
+                        + 1920.0 * a1 * tmp0 * tmp1)
+                + m[53]
+                    * (480.0 * a1 * a2 * tmp6 + 640.0 * tmp5 * tmp1
+                        + 3840.0 * a1 * a2 * tmp0 * tmp1 + 2560.0 * tmp5 * tmp0)
+                + m[54]
+                    * (80.0 * a1 * tmp14 + 480.0 * tmp2 * tmp6
+                        + 3840.0 * tmp2 * tmp0 * tmp1 + 960.0 * a1 * tmp0 * tmp6)
+                + 4.0 * c2 * tmp132,
+        ],
+    )
+}
 ///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1, eps0, p1, p2, p3, p4, q22`.
@@ -3701,6 +4505,57 @@ pub fn gas_hessian(k: &[f64; 5], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 5], [f64
         ],
     )
 }
+///Kernel `gas`: the integral of `(1 + a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a2;
+    let atom1 = c2;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = 1.0 + a1;
+    let tmp1 = atom4 * m[3] + atom3 * m[2] + atom1 * m[1] + atom0 * m[0];
+    (
+        atom2 * tmp1,
+        [
+            atom2 * m[3],
+            atom2 * m[0],
+            3.0 * atom2 * m[2],
+            tmp1,
+            atom2 * m[1] + 4.0 * c2 * atom2 * m[2],
+        ],
+        [
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            m[3],
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            m[0],
+            L::splat(0.0),
+            L::splat(0.0),
+            3.0 * m[2],
+            L::splat(0.0),
+            L::splat(0.0),
+            m[1] + 4.0 * c2 * m[2],
+            4.0 * atom2 * m[2],
+        ],
+    )
+}
 ///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1`.
@@ -3762,6 +4617,95 @@ fn gas_dmoments_at(
 #[inline]
 pub fn gas_dmoments(p: &super::GasParams) -> [[f64; GAS_MOMENTS]; 5] {
     gas_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1)
+}
+///The moments of several elements side by side: lane `l` of each entry holds element `l`'s (the input of `energy_hessian_lanes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MomentLanes<L> {
+    ///Moments of this integral.
+    pub linear: [L; LINEAR_MOMENTS],
+    ///Moments of this integral.
+    pub prestressed: [L; PRESTRESSED_MOMENTS],
+    ///Moments of this integral.
+    pub gas: [L; GAS_MOMENTS],
+}
+impl<L: super::Lane> MomentLanes<L> {
+    ///Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat its last element (their results are not used). `m` must not be empty.
+    pub fn gather(m: &[&Moments]) -> MomentLanes<L> {
+        let last = m.len() - 1;
+        MomentLanes {
+            linear: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].linear[j])),
+            prestressed: std::array::from_fn(|j| L::from_fn(|l| {
+                m[l.min(last)].prestressed[j]
+            })),
+            gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
+        }
+    }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value, gradient and Hessian on lanes, one element per lane, each lane bit for bit `energy_hessian`'s result for that element.
+#[inline(always)]
+pub fn energy_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g, mut h) = linear_hessian_lanes(k, &m.linear);
+    {
+        let (tv, tg, th) = prestressed_hessian_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+        g[4] += tg[4];
+        h[0] += th[0];
+        h[1] += th[1];
+        h[2] += th[2];
+        h[3] += th[3];
+        h[4] += th[4];
+        h[5] += th[5];
+        h[6] += th[6];
+        h[7] += th[7];
+        h[8] += th[8];
+        h[9] += th[9];
+        h[10] += th[10];
+        h[11] += th[11];
+        h[12] += th[12];
+        h[13] += th[13];
+        h[14] += th[14];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg, th) = gas_hessian_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+            g[4] += c2 * tg[4];
+            h[0] += c2 * th[0];
+            h[1] += c2 * th[1];
+            h[2] += c2 * th[2];
+            h[3] += c2 * th[3];
+            h[4] += c2 * th[4];
+            h[5] += c2 * th[5];
+            h[6] += c2 * th[6];
+            h[7] += c2 * th[7];
+            h[8] += c2 * th[8];
+            h[9] += c2 * th[9];
+            h[10] += c2 * th[10];
+            h[11] += c2 * th[11];
+            h[12] += c2 * th[12];
+            h[13] += c2 * th[13];
+            h[14] += c2 * th[14];
+        }
+    }
+    (v, g, h)
 }
 ///The moments of every integral of the energy, accumulated block by block.
 #[derive(Debug, Clone, PartialEq)]
@@ -4700,6 +5644,33 @@ impl super::Energy for Quad {
         s: &super::EnergyScalars,
     ) -> (f64, [f64; 5], [f64; 15]) {
         energy_hessian(k, m, s)
+    }
+    type MomentLanes<L: super::Lane> = MomentLanes<L>;
+    fn moment_lanes<L: super::Lane>(m: &[&Moments]) -> MomentLanes<L> {
+        MomentLanes::gather(m)
+    }
+    #[inline(always)]
+    fn hessian_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 5], [f64; 15])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(last) = k.len().checked_sub(1) else {
+            return;
+        };
+        let kl: [L; 5] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
+        let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (
+                v.lane(l),
+                std::array::from_fn(|j| g[j].lane(l)),
+                std::array::from_fn(|j| h[j].lane(l)),
+            );
+        }
     }
     fn family_hessian(
         m: &Moments,

@@ -282,6 +282,94 @@ pub fn linear_hessian(
         ],
     )
 }
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22 + 1/2*g0^2*ks*g13` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = atom4 * atom4;
+    let tmp5 = atom3 * atom3;
+    let tmp6 = atom2 * atom2;
+    let tmp7 = atom4 * m[4];
+    let tmp8 = atom3 * m[3];
+    let tmp9 = atom4 * m[7];
+    let tmp10 = atom3 * m[6];
+    let tmp11 = atom0 * m[2];
+    let tmp12 = atom4 * m[14];
+    let tmp13 = atom3 * m[13];
+    let tmp14 = atom0 * m[11];
+    let tmp15 = atom0 * m[3];
+    let tmp16 = 2.0 * atom3 * m[9];
+    let tmp17 = atom2 * m[13];
+    let tmp18 = m[6] + tmp17;
+    let tmp19 = atom1 * tmp18;
+    let tmp20 = atom2 * m[14];
+    let tmp21 = m[7] + tmp20;
+    let tmp22 = atom0 * m[4] + 2.0 * atom4 * m[10] + atom1 * tmp21;
+    let tmp23 = atom2 * m[11];
+    let tmp24 = 2.0 * atom1 * m[12];
+    let tmp25 = atom1 * m[13] + 2.0 * g0 * m[9];
+    let tmp26 = m[7] + tmp20 + 8.0 * c2 * m[10];
+    (
+        atom5 * m[0] + tmp4 * m[10] + tmp5 * m[9] + tmp6 * m[8]
+            + atom0 * (tmp7 + tmp8 + atom0 * m[1])
+            + atom1
+                * (tmp9 + tmp10 + tmp11 + atom2 * (tmp12 + tmp13 + tmp14)
+                    + atom1 * (m[5] + atom2 * m[12])),
+        [
+            tmp15 + tmp16 + tmp19 + 2.0 * tmp3 * m[0],
+            3.0 * tmp22 + 6.0 * tmp1 * m[0],
+            tmp7 + tmp8 + 2.0 * atom0 * m[1] + atom1 * (m[2] + tmp23),
+            tmp9 + tmp10 + tmp11 + 2.0 * atom1 * m[5]
+                + atom2 * (tmp12 + tmp13 + tmp14 + tmp24)
+                + m[0] * (8.0 * c2 * tmp1 + 8.0 * c2 * tmp0) + 4.0 * c2 * tmp22,
+            atom1 * (tmp12 + tmp13 + tmp14 + atom1 * m[12]) + 2.0 * atom2 * m[8]
+                + g0 * (tmp15 + tmp16 + tmp19)
+                + m[0] * (8.0 * tmp2 * g0 + 2.0 * g0 * tmp3),
+        ],
+        [
+            2.0 * m[9],
+            6.0 * m[0],
+            m[3],
+            m[6] + tmp17 + 8.0 * c2 * m[0],
+            tmp25,
+            18.0 * m[10],
+            3.0 * m[4],
+            3.0 * tmp26,
+            3.0 * atom1 * m[14] + 6.0 * g0 * m[0],
+            2.0 * m[1],
+            m[2] + tmp23 + 4.0 * c2 * m[4],
+            atom1 * m[11] + g0 * m[3],
+            2.0 * m[5] + 2.0 * atom2 * m[12] + 4.0 * tmp22 + 4.0 * c2 * tmp21
+                + m[0] * (8.0 * tmp0 + 8.0 * tmp1) + 4.0 * c2 * tmp26,
+            tmp12 + tmp13 + tmp14 + tmp24 + g0 * tmp18 + 4.0 * c2 * atom1 * m[14]
+                + 24.0 * c2 * g0 * m[0],
+            2.0 * m[8] + tmp15 + tmp16 + tmp19 + g0 * atom1 * m[13] + g0 * tmp25
+                + m[0] * (8.0 * tmp2 + 2.0 * tmp3),
+        ],
+    )
+}
 ///Kernel `linear`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1, q11, q12, q22, g13, ks`.
@@ -2750,6 +2838,1164 @@ pub fn prestressed_hessian(
         ],
     )
 }
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*g0^2*ks*g13 + 1/2*p1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = tmp1 * tmp1;
+    let atom6 = 3.0 * tmp4 * tmp3 + 12.0 * tmp2 * tmp0 * tmp1;
+    let tmp5 = tmp2 * c2;
+    let atom7 = -24.0 * tmp5 * tmp0 - 12.0 * c2 * tmp1 * tmp3;
+    let tmp6 = 6.0 * tmp1 * tmp3;
+    let tmp7 = tmp6 + 12.0 * tmp2 * tmp0;
+    let atom8 = tmp7;
+    let tmp8 = tmp0 * g0;
+    let atom9 = 12.0 * c2 * g0 * tmp1 * tmp3 + 8.0 * tmp5 * tmp8;
+    let tmp9 = tmp3 * tmp3;
+    let atom10 = 3.0 * tmp1 * tmp9 + 12.0 * tmp2 * tmp0 * tmp3;
+    let tmp10 = tmp4 * tmp1;
+    let atom11 = 4.0 * tmp10 * tmp3 + 24.0 * tmp2 * tmp0 * tmp4;
+    let atom12 = -96.0 * tmp5 * tmp0 * tmp1 - 24.0 * c2 * tmp4 * tmp3;
+    let tmp11 = -(48.0 * c2 * tmp1 * tmp3);
+    let tmp12 = -96.0 * tmp5 * tmp0 + tmp11;
+    let atom13 = tmp12;
+    let tmp13 = tmp2 * tmp2;
+    let atom14 = 96.0 * tmp13 * tmp0 + 48.0 * tmp2 * tmp1 * tmp3;
+    let tmp14 = 12.0 * tmp4 * tmp3;
+    let tmp15 = tmp14 + 48.0 * tmp2 * tmp0 * tmp1;
+    let atom15 = tmp15;
+    let tmp16 = 12.0 * tmp1 * tmp3;
+    let atom16 = tmp16 + 24.0 * tmp2 * tmp0;
+    let atom17 = 24.0 * c2 * g0 * tmp4 * tmp3 + 32.0 * tmp5 * tmp8 * tmp1;
+    let atom18 = -96.0 * tmp2 * g0 * tmp1 * tmp3 - 64.0 * tmp13 * tmp8;
+    let tmp17 = 48.0 * c2 * g0 * tmp1 * tmp3 + 32.0 * tmp5 * tmp8;
+    let atom19 = tmp17;
+    let tmp18 = tmp0 * tmp0;
+    let atom20 = 6.0 * tmp4 * tmp9 + 48.0 * tmp2 * tmp0 * tmp1 * tmp3
+        + 16.0 * tmp13 * tmp18;
+    let atom21 = -96.0 * tmp5 * tmp0 * tmp3 - 24.0 * c2 * tmp1 * tmp9;
+    let tmp19 = 12.0 * tmp1 * tmp9;
+    let tmp20 = tmp19 + 48.0 * tmp2 * tmp0 * tmp3;
+    let atom22 = tmp20;
+    let atom23 = 24.0 * c2 * g0 * tmp1 * tmp9 + 32.0 * tmp5 * tmp8 * tmp3;
+    let tmp21 = tmp9 * tmp3;
+    let atom24 = 4.0 * tmp1 * tmp21 + 24.0 * tmp2 * tmp0 * tmp9;
+    let tmp22 = tmp4 * tmp4;
+    let atom25 = 5.0 * tmp22 * tmp3 + 40.0 * tmp2 * tmp0 * tmp10;
+    let atom26 = -240.0 * tmp5 * tmp0 * tmp4 - 40.0 * c2 * tmp10 * tmp3;
+    let tmp23 = -(120.0 * c2 * tmp4 * tmp3);
+    let tmp24 = -480.0 * tmp5 * tmp0 * tmp1 + tmp23;
+    let atom27 = tmp24;
+    let atom28 = -240.0 * tmp5 * tmp0 - 120.0 * c2 * tmp1 * tmp3;
+    let atom29 = 480.0 * tmp13 * tmp0 * tmp1 + 120.0 * tmp2 * tmp4 * tmp3;
+    let tmp25 = 240.0 * tmp2 * tmp1 * tmp3;
+    let tmp26 = 480.0 * tmp13 * tmp0 + tmp25;
+    let atom30 = tmp26;
+    let tmp27 = tmp13 * c2;
+    let atom31 = -320.0 * tmp27 * tmp0 - 160.0 * tmp5 * tmp1 * tmp3;
+    let tmp28 = 20.0 * tmp10 * tmp3;
+    let tmp29 = tmp28 + 120.0 * tmp2 * tmp0 * tmp4;
+    let atom32 = tmp29;
+    let atom33 = 30.0 * tmp4 * tmp3 + 120.0 * tmp2 * tmp0 * tmp1;
+    let atom34 = 20.0 * tmp1 * tmp3 + 40.0 * tmp2 * tmp0;
+    let atom35 = 40.0 * c2 * g0 * tmp10 * tmp3 + 80.0 * tmp5 * tmp8 * tmp4;
+    let atom36 = -240.0 * tmp2 * g0 * tmp4 * tmp3 - 320.0 * tmp13 * tmp8 * tmp1;
+    let tmp30 = -480.0 * tmp2 * g0 * tmp1 * tmp3 - 320.0 * tmp13 * tmp8;
+    let atom37 = tmp30;
+    let atom38 = 480.0 * tmp5 * g0 * tmp1 * tmp3 + 320.0 * tmp27 * tmp8;
+    let tmp31 = 120.0 * c2 * g0 * tmp4 * tmp3 + 160.0 * tmp5 * tmp8 * tmp1;
+    let atom39 = tmp31;
+    let atom40 = 120.0 * c2 * g0 * tmp1 * tmp3 + 80.0 * tmp5 * tmp8;
+    let atom41 = 10.0 * tmp10 * tmp9 + 120.0 * tmp2 * tmp0 * tmp4 * tmp3
+        + 80.0 * tmp13 * tmp18 * tmp1;
+    let atom42 = -480.0 * tmp5 * tmp0 * tmp1 * tmp3 - 60.0 * c2 * tmp4 * tmp9
+        - 160.0 * tmp27 * tmp18;
+    let tmp32 = -(120.0 * c2 * tmp1 * tmp9);
+    let tmp33 = -480.0 * tmp5 * tmp0 * tmp3 + tmp32;
+    let atom43 = tmp33;
+    let atom44 = 480.0 * tmp13 * tmp0 * tmp3 + 120.0 * tmp2 * tmp1 * tmp9;
+    let tmp34 = 30.0 * tmp4 * tmp9;
+    let tmp35 = tmp34 + 240.0 * tmp2 * tmp0 * tmp1 * tmp3 + 80.0 * tmp13 * tmp18;
+    let atom45 = tmp35;
+    let atom46 = 30.0 * tmp1 * tmp9 + 120.0 * tmp2 * tmp0 * tmp3;
+    let tmp36 = tmp18 * g0;
+    let atom47 = 60.0 * c2 * g0 * tmp4 * tmp9 + 160.0 * tmp5 * tmp8 * tmp1 * tmp3
+        + 32.0 * tmp27 * tmp36;
+    let atom48 = -240.0 * tmp2 * g0 * tmp1 * tmp9 - 320.0 * tmp13 * tmp8 * tmp3;
+    let tmp37 = 120.0 * c2 * g0 * tmp1 * tmp9 + 160.0 * tmp5 * tmp8 * tmp3;
+    let atom49 = tmp37;
+    let atom50 = 10.0 * tmp4 * tmp21 + 120.0 * tmp2 * tmp0 * tmp1 * tmp9
+        + 80.0 * tmp13 * tmp18 * tmp3;
+    let atom51 = -240.0 * tmp5 * tmp0 * tmp9 - 40.0 * c2 * tmp1 * tmp21;
+    let tmp38 = 20.0 * tmp1 * tmp21;
+    let tmp39 = tmp38 + 120.0 * tmp2 * tmp0 * tmp9;
+    let atom52 = tmp39;
+    let atom53 = 40.0 * c2 * g0 * tmp1 * tmp21 + 80.0 * tmp5 * tmp8 * tmp9;
+    let tmp40 = tmp9 * tmp9;
+    let atom54 = 5.0 * tmp1 * tmp40 + 40.0 * tmp2 * tmp0 * tmp21;
+    let tmp41 = atom2 * atom2;
+    let tmp42 = atom0 * atom0;
+    let tmp43 = atom4 * (m[58] + atom4 * (m[69] + atom4 * (m[83] + atom4 * m[101])));
+    let tmp44 = atom3 * (m[57] + atom3 * (m[68] + atom3 * (m[82] + atom3 * m[100])));
+    let tmp45 = atom4 * (m[67] + atom4 * (m[81] + atom4 * (m[99] + atom4 * m[112])));
+    let tmp46 = atom3 * (m[66] + atom3 * (m[80] + atom3 * (m[98] + atom3 * m[111])));
+    let tmp47 = atom2 * (m[56] + tmp45 + tmp46);
+    let tmp48 = atom4 * (m[77] + atom4 * (m[95] + atom4 * m[110]));
+    let tmp49 = atom3 * (m[76] + atom3 * (m[94] + atom3 * m[109]));
+    let tmp50 = atom4 * (m[91] + atom4 * m[108]);
+    let tmp51 = atom3 * (m[90] + atom3 * m[107]);
+    let tmp52 = atom4 * m[106];
+    let tmp53 = atom3 * m[105];
+    let tmp54 = 2.0 * m[60];
+    let tmp55 = atom3
+        * (tmp54 + atom3 * (3.0 * m[70] + atom3 * (4.0 * m[84] + 5.0 * atom3 * m[102])));
+    let tmp56 = atom2 * m[66];
+    let tmp57 = 2.0 * m[68];
+    let tmp58 = 2.0 * atom2 * m[80];
+    let tmp59 = atom3
+        * (tmp57 + tmp58
+            + atom3
+                * (3.0 * m[82] + 3.0 * atom2 * m[98]
+                    + atom3 * (4.0 * m[100] + 4.0 * atom2 * m[111])));
+    let tmp60 = 2.0 * m[78];
+    let tmp61 = 2.0 * atom3 * m[107];
+    let tmp62 = atom1
+        * (m[57] + tmp56 + tmp59
+            + atom1
+                * (m[64] + atom2 * m[76]
+                    + atom3
+                        * (tmp60 + 2.0 * atom2 * m[94]
+                            + atom3 * (3.0 * m[96] + 3.0 * atom2 * m[109]))
+                    + atom1
+                        * (m[74] + 2.0 * atom3 * m[92] + atom2 * (m[90] + tmp61)
+                            + atom1 * (m[88] + atom2 * m[105]))));
+    let tmp63 = 24.0 * tmp1 * tmp3;
+    let tmp64 = tmp63 + 48.0 * tmp2 * tmp0;
+    let tmp65 = -(480.0 * tmp5 * tmp0);
+    let tmp66 = -(240.0 * c2 * tmp1 * tmp3);
+    let tmp67 = tmp65 + tmp66;
+    let tmp68 = 60.0 * tmp4 * tmp3;
+    let tmp69 = 240.0 * tmp2 * tmp0 * tmp1;
+    let tmp70 = tmp68 + tmp69;
+    let tmp71 = 60.0 * tmp1 * tmp3;
+    let tmp72 = 120.0 * tmp2 * tmp0;
+    let tmp73 = 240.0 * c2 * g0 * tmp1 * tmp3 + 160.0 * tmp5 * tmp8;
+    let tmp74 = 60.0 * tmp1 * tmp9;
+    let tmp75 = 240.0 * tmp2 * tmp0 * tmp3;
+    let tmp76 = tmp74 + tmp75;
+    let tmp77 = 2.0 * m[61];
+    let tmp78 = atom2 * m[67];
+    let tmp79 = 2.0 * m[69];
+    let tmp80 = 2.0 * atom2 * m[81];
+    let tmp81 = atom4
+        * (tmp79 + tmp80
+            + atom4
+                * (3.0 * m[83] + 3.0 * atom2 * m[99]
+                    + atom4 * (4.0 * m[101] + 4.0 * atom2 * m[112])));
+    let tmp82 = 2.0 * m[79];
+    let tmp83 = 2.0 * atom4 * m[108];
+    let tmp84 = m[3]
+        + atom4
+            * (tmp77
+                + atom4 * (3.0 * m[71] + atom4 * (4.0 * m[85] + 5.0 * atom4 * m[103])))
+        + atom1
+            * (m[58] + tmp78 + tmp81
+                + atom1
+                    * (m[65] + atom2 * m[77]
+                        + atom4
+                            * (tmp82 + 2.0 * atom2 * m[95]
+                                + atom4 * (3.0 * m[97] + 3.0 * atom2 * m[110]))
+                        + atom1
+                            * (m[75] + 2.0 * atom4 * m[93] + atom2 * (m[91] + tmp83)
+                                + atom1 * (m[89] + atom2 * m[106]))));
+    let tmp85 = 72.0 * tmp1 * tmp3 + 144.0 * tmp2 * tmp0;
+    let tmp86 = 144.0 * c2 * g0 * tmp1 * tmp3;
+    let tmp87 = -1440.0 * tmp5 * tmp0 - 720.0 * c2 * tmp1 * tmp3;
+    let tmp88 = 180.0 * tmp4 * tmp3 + 720.0 * tmp2 * tmp0 * tmp1;
+    let tmp89 = 360.0 * c2 * g0 * tmp4 * tmp3;
+    let tmp90 = -(1440.0 * tmp2 * g0 * tmp1 * tmp3);
+    let tmp91 = 720.0 * c2 * g0 * tmp1 * tmp3;
+    let tmp92 = tmp91 + 480.0 * tmp5 * tmp8;
+    let tmp93 = 180.0 * tmp1 * tmp9 + 720.0 * tmp2 * tmp0 * tmp3;
+    let tmp94 = 360.0 * c2 * g0 * tmp1 * tmp9;
+    let tmp95 = 2.0 * m[55];
+    let tmp96 = 2.0 * m[65];
+    let tmp97 = atom4 * (tmp96 + atom4 * (tmp82 + 2.0 * atom4 * m[97]));
+    let tmp98 = 2.0 * m[64];
+    let tmp99 = atom3 * (tmp98 + atom3 * (tmp60 + 2.0 * atom3 * m[96]));
+    let tmp100 = 2.0 * m[63];
+    let tmp101 = 2.0 * m[95];
+    let tmp102 = atom4 * (2.0 * m[77] + atom4 * (tmp101 + 2.0 * atom4 * m[110]));
+    let tmp103 = 2.0 * m[94];
+    let tmp104 = atom3 * (2.0 * m[76] + atom3 * (tmp103 + 2.0 * atom3 * m[109]));
+    let tmp105 = atom2 * (tmp100 + tmp102 + tmp104);
+    let tmp106 = 3.0 * m[75];
+    let tmp107 = 3.0 * m[74];
+    let tmp108 = 3.0 * m[73];
+    let tmp109 = 3.0 * m[91];
+    let tmp110 = atom4 * (tmp109 + 3.0 * atom4 * m[108]);
+    let tmp111 = 3.0 * m[90];
+    let tmp112 = atom3 * (tmp111 + 3.0 * atom3 * m[107]);
+    let tmp113 = 4.0 * m[87];
+    let tmp114 = 4.0 * atom4 * m[106];
+    let tmp115 = 4.0 * atom3 * m[105];
+    let tmp116 = 24.0 * c2 * tmp1 + 24.0 * c2 * tmp0;
+    let tmp117 = -(288.0 * tmp2 * tmp0);
+    let tmp118 = -48.0 * tmp1 * tmp3 + tmp117 - 192.0 * tmp2 * tmp1;
+    let tmp119 = 96.0 * c2 * tmp1 * tmp3;
+    let tmp120 = 48.0 * c2 * tmp4 + 96.0 * c2 * tmp0 * tmp1;
+    let tmp121 = 192.0 * tmp2 * g0 * tmp1 + 48.0 * g0 * tmp1 * tmp3 + 96.0 * tmp2 * tmp8;
+    let tmp122 = 192.0 * tmp5 * tmp0 + tmp119 + 96.0 * c2 * tmp0 * tmp3;
+    let tmp123 = -(1440.0 * tmp2 * tmp0 * tmp1);
+    let tmp124 = -120.0 * tmp4 * tmp3 + tmp123 - 480.0 * tmp2 * tmp4;
+    let tmp125 = 240.0 * c2 * tmp4 * tmp3;
+    let tmp126 = 480.0 * c2 * tmp1 * tmp3;
+    let tmp127 = 1920.0 * tmp5 * tmp0 + tmp126 + 960.0 * tmp5 * tmp1;
+    let tmp128 = -(480.0 * tmp2 * tmp1 * tmp3);
+    let tmp129 = 80.0 * c2 * tmp10 + 240.0 * c2 * tmp0 * tmp4;
+    let tmp130 = -960.0 * c2 * g0 * tmp1 * tmp3 - 1280.0 * tmp5 * tmp8
+        - 1920.0 * tmp5 * g0 * tmp1;
+    let tmp131 = 1440.0 * tmp2 * g0 * tmp1 * tmp3;
+    let tmp132 = 480.0 * tmp2 * g0 * tmp4 + 120.0 * g0 * tmp4 * tmp3
+        + 480.0 * tmp2 * tmp8 * tmp1;
+    let tmp133 = 480.0 * tmp2 * g0 * tmp1 + 120.0 * g0 * tmp1 * tmp3
+        + 240.0 * tmp2 * tmp8;
+    let tmp134 = -(1440.0 * tmp2 * tmp0 * tmp3);
+    let tmp135 = -120.0 * tmp1 * tmp9 + tmp134 - 1920.0 * tmp13 * tmp0
+        - 960.0 * tmp2 * tmp1 * tmp3;
+    let tmp136 = 240.0 * c2 * tmp1 * tmp9;
+    let tmp137 = 960.0 * tmp5 * tmp0 * tmp1 + tmp125 + 480.0 * c2 * tmp0 * tmp1 * tmp3
+        + 320.0 * tmp5 * tmp18;
+    let tmp138 = 480.0 * tmp5 * tmp0 + 240.0 * c2 * tmp1 * tmp3
+        + 240.0 * c2 * tmp0 * tmp3;
+    let tmp139 = 960.0 * tmp2 * g0 * tmp1 * tmp3 + 640.0 * tmp13 * tmp8
+        + 120.0 * g0 * tmp1 * tmp9 + 480.0 * tmp2 * tmp8 * tmp3;
+    let tmp140 = 960.0 * tmp5 * tmp0 * tmp3 + tmp136 + 240.0 * c2 * tmp0 * tmp9;
+    let tmp141 = 24.0 * tmp2 * g0 + 6.0 * g0 * tmp3;
+    let tmp142 = -48.0 * c2 * g0 * tmp3 - 192.0 * tmp5 * g0;
+    let tmp143 = 96.0 * tmp2 * g0 * tmp1 + 24.0 * g0 * tmp1 * tmp3 + 48.0 * tmp2 * tmp8;
+    let tmp144 = 48.0 * tmp2 * g0 + 12.0 * g0 * tmp3;
+    let tmp145 = 96.0 * tmp5 * tmp0 + 48.0 * c2 * tmp1 * tmp3 + 48.0 * c2 * tmp0 * tmp3;
+    let tmp146 = 96.0 * tmp2 * g0 * tmp3 + 12.0 * g0 * tmp9;
+    let tmp147 = -240.0 * c2 * g0 * tmp1 * tmp3 - 480.0 * tmp5 * tmp8
+        - 960.0 * tmp5 * g0 * tmp1;
+    let tmp148 = 240.0 * tmp2 * g0 * tmp3;
+    let tmp149 = tmp148 + 960.0 * tmp13 * g0;
+    let tmp150 = 240.0 * tmp2 * g0 * tmp4 + 60.0 * g0 * tmp4 * tmp3
+        + 240.0 * tmp2 * tmp8 * tmp1;
+    let tmp151 = -480.0 * tmp2 * tmp0 * tmp3 - 960.0 * tmp13 * tmp0 + tmp128;
+    let tmp152 = 480.0 * tmp5 * tmp0 * tmp3;
+    let tmp153 = 480.0 * tmp5 * tmp0 * tmp1 + 120.0 * c2 * tmp4 * tmp3
+        + 240.0 * c2 * tmp0 * tmp1 * tmp3 + 160.0 * tmp5 * tmp18;
+    let tmp154 = -120.0 * c2 * g0 * tmp9 - 960.0 * tmp5 * g0 * tmp3;
+    let tmp155 = 480.0 * tmp2 * g0 * tmp1 * tmp3 + 320.0 * tmp13 * tmp8
+        + 60.0 * g0 * tmp1 * tmp9 + 240.0 * tmp2 * tmp8 * tmp3;
+    let tmp156 = tmp152 + 120.0 * c2 * tmp1 * tmp9 + 120.0 * c2 * tmp0 * tmp9;
+    let tmp157 = 240.0 * tmp2 * g0 * tmp9 + 20.0 * g0 * tmp21;
+    let tmp158 = atom3 * (6.0 * m[70] + atom3 * (12.0 * m[84] + 20.0 * atom3 * m[102]));
+    let tmp159 = atom1
+        * (tmp57 + tmp58
+            + atom3
+                * (6.0 * m[82] + 6.0 * atom2 * m[98]
+                    + atom3 * (12.0 * m[100] + 12.0 * atom2 * m[111]))
+            + atom1
+                * (tmp60 + 6.0 * atom3 * m[96] + atom2 * (tmp103 + 6.0 * atom3 * m[109])
+                    + atom1 * (2.0 * m[92] + 2.0 * atom2 * m[107])));
+    let tmp160 = 120.0 * tmp1 * tmp3;
+    let tmp161 = 240.0 * tmp2 * tmp0;
+    let tmp162 = 6.0 * atom3 * m[92];
+    let tmp163 = 6.0 * atom3 * m[107];
+    let tmp164 = atom1
+        * (tmp98 + 2.0 * atom2 * m[76]
+            + atom3
+                * (4.0 * m[78] + 4.0 * atom2 * m[94]
+                    + atom3 * (6.0 * m[96] + 6.0 * atom2 * m[109]))
+            + atom1
+                * (tmp107 + tmp162 + atom2 * (tmp111 + tmp163)
+                    + atom1 * (4.0 * m[88] + 4.0 * atom2 * m[105])));
+    let tmp165 = -(1440.0 * tmp2 * tmp0);
+    let tmp166 = 1440.0 * tmp2 * g0 * tmp3;
+    let tmp167 = m[66]
+        + atom3 * (2.0 * m[80] + atom3 * (3.0 * m[98] + 4.0 * atom3 * m[111]))
+        + atom1
+            * (m[76] + atom3 * (tmp103 + 3.0 * atom3 * m[109])
+                + atom1 * (m[90] + tmp61 + atom1 * m[105]));
+    let tmp168 = atom1 * tmp167;
+    let tmp169 = g0 * (tmp54 + tmp158 + tmp159);
+    let tmp170 = tmp77
+        + atom4 * (6.0 * m[71] + atom4 * (12.0 * m[85] + 20.0 * atom4 * m[103]))
+        + atom1
+            * (tmp79 + tmp80
+                + atom4
+                    * (6.0 * m[83] + 6.0 * atom2 * m[99]
+                        + atom4 * (12.0 * m[101] + 12.0 * atom2 * m[112]))
+                + atom1
+                    * (tmp82 + 6.0 * atom4 * m[97]
+                        + atom2 * (tmp101 + 6.0 * atom4 * m[110])
+                        + atom1 * (2.0 * m[93] + 2.0 * atom2 * m[108])));
+    let tmp171 = 6.0 * atom4 * m[93];
+    let tmp172 = 6.0 * atom4 * m[108];
+    let tmp173 = atom1
+        * (tmp96 + 2.0 * atom2 * m[77]
+            + atom4
+                * (4.0 * m[79] + 4.0 * atom2 * m[95]
+                    + atom4 * (6.0 * m[97] + 6.0 * atom2 * m[110]))
+            + atom1
+                * (tmp106 + tmp171 + atom2 * (tmp109 + tmp172)
+                    + atom1 * (4.0 * m[89] + 4.0 * atom2 * m[106])));
+    let tmp174 = m[58] + tmp78 + tmp81 + tmp173 + 4.0 * c2 * tmp170;
+    let tmp175 = 1440.0 * c2 * tmp1 * tmp3;
+    let tmp176 = m[67]
+        + atom4 * (2.0 * m[81] + atom4 * (3.0 * m[99] + 4.0 * atom4 * m[112]))
+        + atom1
+            * (m[77] + atom4 * (tmp101 + 3.0 * atom4 * m[110])
+                + atom1 * (m[91] + tmp83 + atom1 * m[106]));
+    let tmp177 = 1440.0 * tmp5 * tmp0;
+    let tmp178 = tmp63 + tmp161 + 96.0 * tmp2 * tmp1 + 24.0 * tmp0 * tmp3;
+    let tmp179 = 96.0 * tmp1 * tmp3;
+    let tmp180 = 960.0 * tmp2 * tmp1;
+    let tmp181 = 240.0 * tmp4 * tmp3;
+    let tmp182 = -(960.0 * c2 * tmp1 * tmp3);
+    let tmp183 = 2880.0 * c2 * g0 * tmp1 * tmp3;
+    let tmp184 = 240.0 * tmp1 * tmp9;
+    let tmp185 = 960.0 * tmp5 * g0;
+    let tmp186 = -(3840.0 * tmp13 * g0);
+    let tmp187 = 240.0 * tmp2 * tmp3;
+    (
+        m[0] + atom54 * m[53] + atom53 * m[52] + atom52 * m[51] + atom51 * m[50]
+            + atom50 * m[49] + atom49 * m[48] + atom48 * m[47] + atom47 * m[46]
+            + atom46 * m[45] + atom45 * m[44] + atom44 * m[43] + atom43 * m[42]
+            + atom42 * m[41] + atom41 * m[40] + atom40 * m[39] + atom39 * m[38]
+            + atom38 * m[37] + atom37 * m[36] + atom36 * m[35] + atom35 * m[34]
+            + atom34 * m[33] + atom33 * m[32] + atom32 * m[31] + atom31 * m[30]
+            + atom30 * m[29] + atom29 * m[28] + atom28 * m[27] + atom27 * m[26]
+            + atom26 * m[25] + atom25 * m[24] + atom24 * m[23] + atom23 * m[22]
+            + atom22 * m[21] + atom21 * m[20] + atom20 * m[19] + atom19 * m[18]
+            + atom18 * m[17] + atom17 * m[16] + atom16 * m[15] + atom15 * m[14]
+            + atom14 * m[13] + atom13 * m[12] + atom12 * m[11] + atom11 * m[10]
+            + atom10 * m[9] + atom9 * m[8] + atom8 * m[7] + atom7 * m[6] + atom6 * m[5]
+            + atom5 * m[4] + tmp41 * m[59] + tmp42 * m[54]
+            + atom4
+                * (m[3]
+                    + atom4
+                        * (m[61] + atom4 * (m[71] + atom4 * (m[85] + atom4 * m[103]))))
+            + atom3
+                * (m[2]
+                    + atom3
+                        * (m[60] + atom3 * (m[70] + atom3 * (m[84] + atom3 * m[102]))))
+            + atom1
+                * (m[1] + tmp43 + tmp44 + tmp47
+                    + atom1
+                        * (m[55] + atom4 * (m[65] + atom4 * (m[79] + atom4 * m[97]))
+                            + atom3 * (m[64] + atom3 * (m[78] + atom3 * m[96]))
+                            + atom2 * (m[63] + tmp48 + tmp49)
+                            + atom1
+                                * (m[62] + atom4 * (m[75] + atom4 * m[93])
+                                    + atom3 * (m[74] + atom3 * m[92])
+                                    + atom2 * (m[73] + tmp50 + tmp51)
+                                    + atom1
+                                        * (m[72] + atom4 * m[89] + atom3 * m[88]
+                                            + atom2 * (m[87] + tmp52 + tmp53)
+                                            + atom1 * (m[86] + atom2 * m[104]))))),
+        [
+            m[2] + tmp55 + tmp62 + tmp7 * m[5] + tmp15 * m[10] + tmp12 * m[11]
+                + m[14] * tmp64 + tmp17 * m[16] + tmp20 * m[19] + tmp29 * m[24]
+                + tmp24 * m[25] + m[26] * tmp67 + tmp26 * m[28] + m[31] * tmp70
+                + m[32] * (tmp71 + tmp72) + tmp31 * m[34] + tmp30 * m[35] + m[38] * tmp73
+                + tmp35 * m[40] + tmp33 * m[41] + m[44] * tmp76 + tmp37 * m[46]
+                + tmp39 * m[49] + 2.0 * tmp3 * m[4] - 12.0 * c2 * tmp3 * m[6]
+                + 6.0 * tmp3 * m[7] + 12.0 * c2 * g0 * tmp3 * m[8] + 3.0 * tmp9 * m[9]
+                - 48.0 * c2 * tmp3 * m[12] + 48.0 * tmp2 * tmp3 * m[13]
+                + 12.0 * tmp3 * m[15] - 96.0 * tmp2 * g0 * tmp3 * m[17]
+                + 48.0 * c2 * g0 * tmp3 * m[18] - 24.0 * c2 * tmp9 * m[20]
+                + 12.0 * tmp9 * m[21] + 24.0 * c2 * g0 * tmp9 * m[22]
+                + 4.0 * tmp21 * m[23] - 120.0 * c2 * tmp3 * m[27]
+                + 240.0 * tmp2 * tmp3 * m[29] - 160.0 * tmp5 * tmp3 * m[30]
+                + 20.0 * tmp3 * m[33] - 480.0 * tmp2 * g0 * tmp3 * m[36]
+                + 480.0 * tmp5 * g0 * tmp3 * m[37] + 120.0 * c2 * g0 * tmp3 * m[39]
+                - 120.0 * c2 * tmp9 * m[42] + 120.0 * tmp2 * tmp9 * m[43]
+                + 30.0 * tmp9 * m[45] - 240.0 * tmp2 * g0 * tmp9 * m[47]
+                + 120.0 * c2 * g0 * tmp9 * m[48] - 40.0 * c2 * tmp21 * m[50]
+                + 20.0 * tmp21 * m[51] + 40.0 * c2 * g0 * tmp21 * m[52]
+                + 5.0 * tmp40 * m[53],
+            3.0 * tmp84 + m[9] * (18.0 * tmp1 * tmp3 + 36.0 * tmp2 * tmp0)
+                + m[19] * (36.0 * tmp4 * tmp3 + 144.0 * tmp2 * tmp0 * tmp1)
+                + m[20] * (-288.0 * tmp5 * tmp0 - 144.0 * c2 * tmp1 * tmp3)
+                + m[21] * tmp85 + m[22] * (tmp86 + 96.0 * tmp5 * tmp8)
+                + m[23] * (36.0 * tmp1 * tmp9 + 144.0 * tmp2 * tmp0 * tmp3)
+                + m[40] * (60.0 * tmp10 * tmp3 + 360.0 * tmp2 * tmp0 * tmp4)
+                + m[41] * (-1440.0 * tmp5 * tmp0 * tmp1 - 360.0 * c2 * tmp4 * tmp3)
+                + m[42] * tmp87
+                + m[43] * (1440.0 * tmp13 * tmp0 + 720.0 * tmp2 * tmp1 * tmp3)
+                + m[44] * tmp88 + m[45] * (180.0 * tmp1 * tmp3 + 360.0 * tmp2 * tmp0)
+                + m[46] * (tmp89 + 480.0 * tmp5 * tmp8 * tmp1)
+                + m[47] * (tmp90 - 960.0 * tmp13 * tmp8) + m[48] * tmp92
+                + m[49]
+                    * (90.0 * tmp4 * tmp9 + 720.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        + 240.0 * tmp13 * tmp18)
+                + m[50] * (-1440.0 * tmp5 * tmp0 * tmp3 - 360.0 * c2 * tmp1 * tmp9)
+                + m[51] * tmp93 + m[52] * (tmp94 + 480.0 * tmp5 * tmp8 * tmp3)
+                + m[53] * (60.0 * tmp1 * tmp21 + 360.0 * tmp2 * tmp0 * tmp9)
+                + 6.0 * tmp1 * m[4] + 9.0 * tmp4 * m[5] - 36.0 * c2 * tmp1 * m[6]
+                + 18.0 * tmp1 * m[7] + 36.0 * c2 * g0 * tmp1 * m[8]
+                + 12.0 * tmp10 * m[10] - 72.0 * c2 * tmp4 * m[11]
+                - 144.0 * c2 * tmp1 * m[12] + 144.0 * tmp2 * tmp1 * m[13]
+                + 36.0 * tmp4 * m[14] + 36.0 * tmp1 * m[15]
+                + 72.0 * c2 * g0 * tmp4 * m[16] - 288.0 * tmp2 * g0 * tmp1 * m[17]
+                + 144.0 * c2 * g0 * tmp1 * m[18] + 15.0 * tmp22 * m[24]
+                - 120.0 * c2 * tmp10 * m[25] - 360.0 * c2 * tmp4 * m[26]
+                - 360.0 * c2 * tmp1 * m[27] + 360.0 * tmp2 * tmp4 * m[28]
+                + 720.0 * tmp2 * tmp1 * m[29] - 480.0 * tmp5 * tmp1 * m[30]
+                + 60.0 * tmp10 * m[31] + 90.0 * tmp4 * m[32] + 60.0 * tmp1 * m[33]
+                + 120.0 * c2 * g0 * tmp10 * m[34] - 720.0 * tmp2 * g0 * tmp4 * m[35]
+                - 1440.0 * tmp2 * g0 * tmp1 * m[36] + 1440.0 * tmp5 * g0 * tmp1 * m[37]
+                + 360.0 * c2 * g0 * tmp4 * m[38] + 360.0 * c2 * g0 * tmp1 * m[39],
+            2.0 * atom0 * m[54],
+            m[1] + tmp43 + tmp44 + tmp47
+                + atom1
+                    * (tmp95 + tmp97 + tmp99 + tmp105
+                        + atom1
+                            * (3.0 * m[62] + atom4 * (tmp106 + 3.0 * atom4 * m[93])
+                                + atom3 * (tmp107 + 3.0 * atom3 * m[92])
+                                + atom2 * (tmp108 + tmp110 + tmp112)
+                                + atom1
+                                    * (4.0 * m[72] + 4.0 * atom4 * m[89] + 4.0 * atom3 * m[88]
+                                        + atom2 * (tmp113 + tmp114 + tmp115)
+                                        + atom1 * (5.0 * m[86] + 5.0 * atom2 * m[104]))))
+                + (8.0 * c2 * tmp1 + 8.0 * c2 * tmp0) * m[4]
+                + m[5] * (12.0 * c2 * tmp4 + 24.0 * c2 * tmp0 * tmp1)
+                + m[6] * (-12.0 * tmp1 * tmp3 - 72.0 * tmp2 * tmp0 - 48.0 * tmp2 * tmp1)
+                + m[7] * tmp116
+                + m[8]
+                    * (48.0 * tmp2 * g0 * tmp1 + 12.0 * g0 * tmp1 * tmp3
+                        + 24.0 * tmp2 * tmp8)
+                + m[9]
+                    * (48.0 * tmp5 * tmp0 + 24.0 * c2 * tmp1 * tmp3
+                        + 24.0 * c2 * tmp0 * tmp3)
+                + m[10] * (16.0 * c2 * tmp10 + 48.0 * c2 * tmp0 * tmp4)
+                + m[11]
+                    * (-24.0 * tmp4 * tmp3 - 288.0 * tmp2 * tmp0 * tmp1
+                        - 96.0 * tmp2 * tmp4) + m[12] * tmp118
+                + m[13] * (384.0 * tmp5 * tmp0 + tmp119 + 192.0 * tmp5 * tmp1)
+                + m[14] * tmp120 + m[15] * (48.0 * c2 * tmp1 + 48.0 * c2 * tmp0)
+                + m[16]
+                    * (96.0 * tmp2 * g0 * tmp4 + 24.0 * g0 * tmp4 * tmp3
+                        + 96.0 * tmp2 * tmp8 * tmp1)
+                + m[17]
+                    * (-192.0 * c2 * g0 * tmp1 * tmp3 - 256.0 * tmp5 * tmp8
+                        - 384.0 * tmp5 * g0 * tmp1) + m[18] * tmp121
+                + m[19]
+                    * (192.0 * tmp5 * tmp0 * tmp1 + 48.0 * c2 * tmp4 * tmp3
+                        + 96.0 * c2 * tmp0 * tmp1 * tmp3 + 64.0 * tmp5 * tmp18)
+                + m[20]
+                    * (-24.0 * tmp1 * tmp9 - 288.0 * tmp2 * tmp0 * tmp3
+                        - 384.0 * tmp13 * tmp0 - 192.0 * tmp2 * tmp1 * tmp3)
+                + m[21] * tmp122
+                + m[22]
+                    * (192.0 * tmp2 * g0 * tmp1 * tmp3 + 128.0 * tmp13 * tmp8
+                        + 24.0 * g0 * tmp1 * tmp9 + 96.0 * tmp2 * tmp8 * tmp3)
+                + m[23]
+                    * (192.0 * tmp5 * tmp0 * tmp3 + 48.0 * c2 * tmp1 * tmp9
+                        + 48.0 * c2 * tmp0 * tmp9)
+                + m[24] * (20.0 * c2 * tmp22 + 80.0 * c2 * tmp0 * tmp10)
+                + m[25]
+                    * (-40.0 * tmp10 * tmp3 - 720.0 * tmp2 * tmp0 * tmp4
+                        - 160.0 * tmp2 * tmp10) + m[26] * tmp124
+                + m[27]
+                    * (-120.0 * tmp1 * tmp3 - 720.0 * tmp2 * tmp0 - 480.0 * tmp2 * tmp1)
+                + m[28] * (1920.0 * tmp5 * tmp0 * tmp1 + tmp125 + 480.0 * tmp5 * tmp4)
+                + m[29] * tmp127
+                + m[30] * (-1600.0 * tmp13 * tmp0 + tmp128 - 640.0 * tmp13 * tmp1)
+                + m[31] * tmp129 + m[32] * (120.0 * c2 * tmp4 + 240.0 * c2 * tmp0 * tmp1)
+                + m[33] * (80.0 * c2 * tmp1 + 80.0 * c2 * tmp0)
+                + m[34]
+                    * (160.0 * tmp2 * g0 * tmp10 + 40.0 * g0 * tmp10 * tmp3
+                        + 240.0 * tmp2 * tmp8 * tmp4)
+                + m[35]
+                    * (-480.0 * c2 * g0 * tmp4 * tmp3 - 1280.0 * tmp5 * tmp8 * tmp1
+                        - 960.0 * tmp5 * g0 * tmp4) + m[36] * tmp130
+                + m[37] * (tmp131 + 1600.0 * tmp13 * tmp8 + 1920.0 * tmp13 * g0 * tmp1)
+                + m[38] * tmp132 + m[39] * tmp133
+                + m[40]
+                    * (480.0 * tmp5 * tmp0 * tmp4 + 80.0 * c2 * tmp10 * tmp3
+                        + 240.0 * c2 * tmp0 * tmp4 * tmp3 + 320.0 * tmp5 * tmp18 * tmp1)
+                + m[41]
+                    * (-60.0 * tmp4 * tmp9 - 1440.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        - 800.0 * tmp13 * tmp18 - 1920.0 * tmp13 * tmp0 * tmp1
+                        - 480.0 * tmp2 * tmp4 * tmp3) + m[42] * tmp135
+                + m[43]
+                    * (1920.0 * tmp5 * tmp0 * tmp3 + tmp136 + 1920.0 * tmp27 * tmp0
+                        + 960.0 * tmp5 * tmp1 * tmp3) + m[44] * tmp137 + m[45] * tmp138
+                + m[46]
+                    * (480.0 * tmp2 * g0 * tmp4 * tmp3 + 640.0 * tmp13 * tmp8 * tmp1
+                        + 60.0 * g0 * tmp4 * tmp9 + 480.0 * tmp2 * tmp8 * tmp1 * tmp3
+                        + 160.0 * tmp13 * tmp36)
+                + m[47]
+                    * (-480.0 * c2 * g0 * tmp1 * tmp9 - 1280.0 * tmp5 * tmp8 * tmp3
+                        - 1920.0 * tmp5 * g0 * tmp1 * tmp3 - 1280.0 * tmp27 * tmp8)
+                + m[48] * tmp139
+                + m[49]
+                    * (960.0 * tmp5 * tmp0 * tmp1 * tmp3 + 120.0 * c2 * tmp4 * tmp9
+                        + 320.0 * tmp27 * tmp18 + 240.0 * c2 * tmp0 * tmp1 * tmp9
+                        + 320.0 * tmp5 * tmp18 * tmp3)
+                + m[50]
+                    * (-40.0 * tmp1 * tmp21 - 720.0 * tmp2 * tmp0 * tmp9
+                        - 1920.0 * tmp13 * tmp0 * tmp3 - 480.0 * tmp2 * tmp1 * tmp9)
+                + m[51] * tmp140
+                + m[52]
+                    * (480.0 * tmp2 * g0 * tmp1 * tmp9 + 640.0 * tmp13 * tmp8 * tmp3
+                        + 40.0 * g0 * tmp1 * tmp21 + 240.0 * tmp2 * tmp8 * tmp9)
+                + m[53]
+                    * (480.0 * tmp5 * tmp0 * tmp9 + 80.0 * c2 * tmp1 * tmp21
+                        + 80.0 * c2 * tmp0 * tmp21) + 4.0 * c2 * tmp84,
+            atom1
+                * (m[56] + tmp45 + tmp46
+                    + atom1
+                        * (m[63] + tmp48 + tmp49
+                            + atom1
+                                * (m[73] + tmp50 + tmp51
+                                    + atom1 * (m[87] + tmp52 + tmp53 + atom1 * m[104]))))
+                + 2.0 * atom2 * m[59] + g0 * (m[2] + tmp55 + tmp62)
+                + (8.0 * tmp2 * g0 + 2.0 * g0 * tmp3) * m[4]
+                + m[5]
+                    * (24.0 * tmp2 * g0 * tmp1 + 6.0 * g0 * tmp1 * tmp3
+                        + 12.0 * tmp2 * tmp8)
+                + m[6] * (-12.0 * c2 * g0 * tmp3 - 48.0 * tmp5 * g0) + m[7] * tmp141
+                + m[8]
+                    * (24.0 * tmp5 * tmp0 + 12.0 * c2 * tmp1 * tmp3
+                        + 12.0 * c2 * tmp0 * tmp3)
+                + m[9] * (24.0 * tmp2 * g0 * tmp3 + 3.0 * g0 * tmp9)
+                + m[10]
+                    * (48.0 * tmp2 * g0 * tmp4 + 12.0 * g0 * tmp4 * tmp3
+                        + 48.0 * tmp2 * tmp8 * tmp1)
+                + m[11]
+                    * (-48.0 * c2 * g0 * tmp1 * tmp3 - 96.0 * tmp5 * tmp8
+                        - 192.0 * tmp5 * g0 * tmp1) + m[12] * tmp142
+                + m[13] * (48.0 * tmp2 * g0 * tmp3 + 192.0 * tmp13 * g0) + m[14] * tmp143
+                + m[15] * tmp144
+                + m[16]
+                    * (96.0 * tmp5 * tmp0 * tmp1 + 24.0 * c2 * tmp4 * tmp3
+                        + 48.0 * c2 * tmp0 * tmp1 * tmp3 + 32.0 * tmp5 * tmp18)
+                + m[17]
+                    * (-96.0 * tmp2 * tmp0 * tmp3 - 192.0 * tmp13 * tmp0
+                        - 96.0 * tmp2 * tmp1 * tmp3) + m[18] * tmp145
+                + m[19]
+                    * (96.0 * tmp2 * g0 * tmp1 * tmp3 + 64.0 * tmp13 * tmp8
+                        + 12.0 * g0 * tmp1 * tmp9 + 48.0 * tmp2 * tmp8 * tmp3)
+                + m[20] * (-24.0 * c2 * g0 * tmp9 - 192.0 * tmp5 * g0 * tmp3)
+                + m[21] * tmp146
+                + m[22]
+                    * (96.0 * tmp5 * tmp0 * tmp3 + 24.0 * c2 * tmp1 * tmp9
+                        + 24.0 * c2 * tmp0 * tmp9)
+                + m[23] * (48.0 * tmp2 * g0 * tmp9 + 4.0 * g0 * tmp21)
+                + m[24]
+                    * (80.0 * tmp2 * g0 * tmp10 + 20.0 * g0 * tmp10 * tmp3
+                        + 120.0 * tmp2 * tmp8 * tmp4)
+                + m[25]
+                    * (-120.0 * c2 * g0 * tmp4 * tmp3 - 480.0 * tmp5 * tmp8 * tmp1
+                        - 480.0 * tmp5 * g0 * tmp4) + m[26] * tmp147
+                + m[27] * (-120.0 * c2 * g0 * tmp3 - 480.0 * tmp5 * g0)
+                + m[28]
+                    * (240.0 * tmp2 * g0 * tmp1 * tmp3 + 480.0 * tmp13 * tmp8
+                        + 960.0 * tmp13 * g0 * tmp1) + m[29] * tmp149
+                + m[30] * (-160.0 * tmp5 * g0 * tmp3 - 640.0 * tmp27 * g0)
+                + m[31] * tmp150
+                + m[32]
+                    * (240.0 * tmp2 * g0 * tmp1 + 60.0 * g0 * tmp1 * tmp3
+                        + 120.0 * tmp2 * tmp8)
+                + m[33] * (80.0 * tmp2 * g0 + 20.0 * g0 * tmp3)
+                + m[34]
+                    * (240.0 * tmp5 * tmp0 * tmp4 + 40.0 * c2 * tmp10 * tmp3
+                        + 120.0 * c2 * tmp0 * tmp4 * tmp3 + 160.0 * tmp5 * tmp18 * tmp1)
+                + m[35]
+                    * (-480.0 * tmp2 * tmp0 * tmp1 * tmp3 - 320.0 * tmp13 * tmp18
+                        - 960.0 * tmp13 * tmp0 * tmp1 - 240.0 * tmp2 * tmp4 * tmp3)
+                + m[36] * tmp151
+                + m[37] * (tmp152 + 960.0 * tmp27 * tmp0 + 480.0 * tmp5 * tmp1 * tmp3)
+                + m[38] * tmp153
+                + m[39]
+                    * (240.0 * tmp5 * tmp0 + 120.0 * c2 * tmp1 * tmp3
+                        + 120.0 * c2 * tmp0 * tmp3)
+                + m[40]
+                    * (240.0 * tmp2 * g0 * tmp4 * tmp3 + 320.0 * tmp13 * tmp8 * tmp1
+                        + 30.0 * g0 * tmp4 * tmp9 + 240.0 * tmp2 * tmp8 * tmp1 * tmp3
+                        + 80.0 * tmp13 * tmp36)
+                + m[41]
+                    * (-120.0 * c2 * g0 * tmp1 * tmp9 - 480.0 * tmp5 * tmp8 * tmp3
+                        - 960.0 * tmp5 * g0 * tmp1 * tmp3 - 640.0 * tmp27 * tmp8)
+                + m[42] * tmp154
+                + m[43] * (120.0 * tmp2 * g0 * tmp9 + 960.0 * tmp13 * g0 * tmp3)
+                + m[44] * tmp155 + m[45] * (tmp148 + 30.0 * g0 * tmp9)
+                + m[46]
+                    * (480.0 * tmp5 * tmp0 * tmp1 * tmp3 + 60.0 * c2 * tmp4 * tmp9
+                        + 160.0 * tmp27 * tmp18 + 120.0 * c2 * tmp0 * tmp1 * tmp9
+                        + 160.0 * tmp5 * tmp18 * tmp3)
+                + m[47]
+                    * (-240.0 * tmp2 * tmp0 * tmp9 - 960.0 * tmp13 * tmp0 * tmp3
+                        - 240.0 * tmp2 * tmp1 * tmp9) + m[48] * tmp156
+                + m[49]
+                    * (240.0 * tmp2 * g0 * tmp1 * tmp9 + 320.0 * tmp13 * tmp8 * tmp3
+                        + 20.0 * g0 * tmp1 * tmp21 + 120.0 * tmp2 * tmp8 * tmp9)
+                + m[50] * (-40.0 * c2 * g0 * tmp21 - 480.0 * tmp5 * g0 * tmp9)
+                + m[51] * tmp157
+                + m[52]
+                    * (240.0 * tmp5 * tmp0 * tmp9 + 40.0 * c2 * tmp1 * tmp21
+                        + 40.0 * c2 * tmp0 * tmp21)
+                + m[53] * (80.0 * tmp2 * g0 * tmp21 + 5.0 * g0 * tmp40),
+        ],
+        [
+            tmp54 + tmp158 + tmp159 + m[10] * tmp64 + m[24] * tmp70 + m[25] * tmp67
+                + m[31] * (tmp160 + tmp161) + m[34] * tmp73 + m[40] * tmp76
+                + 6.0 * tmp3 * m[5] - 48.0 * c2 * tmp3 * m[11] + 24.0 * tmp3 * m[14]
+                + 48.0 * c2 * g0 * tmp3 * m[16] + 12.0 * tmp9 * m[19]
+                - 240.0 * c2 * tmp3 * m[26] + 240.0 * tmp2 * tmp3 * m[28]
+                + 60.0 * tmp3 * m[32] - 480.0 * tmp2 * g0 * tmp3 * m[35]
+                + 240.0 * c2 * g0 * tmp3 * m[38] - 120.0 * c2 * tmp9 * m[41]
+                + 60.0 * tmp9 * m[44] + 120.0 * c2 * g0 * tmp9 * m[46]
+                + 20.0 * tmp21 * m[49],
+            6.0 * m[4] + 18.0 * m[7] + 36.0 * m[15] + 60.0 * m[33] + m[19] * tmp85
+                + m[40] * tmp88 + m[41] * tmp87
+                + m[44] * (360.0 * tmp1 * tmp3 + 720.0 * tmp2 * tmp0) + m[46] * tmp92
+                + m[49] * tmp93 + 18.0 * tmp1 * m[5] - 36.0 * c2 * m[6]
+                + 36.0 * c2 * g0 * m[8] + 18.0 * tmp3 * m[9] + 36.0 * tmp4 * m[10]
+                - 144.0 * c2 * tmp1 * m[11] - 144.0 * c2 * m[12] + 144.0 * tmp2 * m[13]
+                + 72.0 * tmp1 * m[14] + 144.0 * c2 * g0 * tmp1 * m[16]
+                - 288.0 * tmp2 * g0 * m[17] + 144.0 * c2 * g0 * m[18]
+                - 144.0 * c2 * tmp3 * m[20] + 72.0 * tmp3 * m[21]
+                + 144.0 * c2 * g0 * tmp3 * m[22] + 36.0 * tmp9 * m[23]
+                + 60.0 * tmp10 * m[24] - 360.0 * c2 * tmp4 * m[25]
+                - 720.0 * c2 * tmp1 * m[26] - 360.0 * c2 * m[27]
+                + 720.0 * tmp2 * tmp1 * m[28] + 720.0 * tmp2 * m[29]
+                - 480.0 * tmp5 * m[30] + 180.0 * tmp4 * m[31] + 180.0 * tmp1 * m[32]
+                + 360.0 * c2 * g0 * tmp4 * m[34] - 1440.0 * tmp2 * g0 * tmp1 * m[35]
+                - 1440.0 * tmp2 * g0 * m[36] + 1440.0 * tmp5 * g0 * m[37]
+                + 720.0 * c2 * g0 * tmp1 * m[38] + 360.0 * c2 * g0 * m[39]
+                - 720.0 * c2 * tmp3 * m[42] + 720.0 * tmp2 * tmp3 * m[43]
+                + 180.0 * tmp3 * m[45] - 1440.0 * tmp2 * g0 * tmp3 * m[47]
+                + 720.0 * c2 * g0 * tmp3 * m[48] - 360.0 * c2 * tmp9 * m[50]
+                + 180.0 * tmp9 * m[51] + 360.0 * c2 * g0 * tmp9 * m[52]
+                + 60.0 * tmp21 * m[53],
+            L::splat(0.0),
+            m[57] + tmp56 + tmp59 + tmp164 + m[5] * tmp116
+                + m[6] * (-48.0 * tmp2 - 12.0 * tmp3) + m[8] * tmp144 + m[10] * tmp120
+                + m[11] * tmp118 + m[12] * (-192.0 * tmp2 - 48.0 * tmp3)
+                + m[13] * (96.0 * c2 * tmp3 + 192.0 * tmp5)
+                + m[14] * (96.0 * c2 * tmp1 + 96.0 * c2 * tmp0) + m[16] * tmp121
+                + m[17] * (-192.0 * c2 * g0 * tmp3 - 384.0 * tmp5 * g0)
+                + m[18] * (192.0 * tmp2 * g0 + 48.0 * g0 * tmp3) + m[19] * tmp122
+                + m[20] * (-24.0 * tmp9 - 192.0 * tmp2 * tmp3)
+                + m[22] * (192.0 * tmp2 * g0 * tmp3 + 24.0 * g0 * tmp9) + m[24] * tmp129
+                + m[25] * tmp124
+                + m[26] * (-240.0 * tmp1 * tmp3 + tmp165 - 960.0 * tmp2 * tmp1)
+                + m[27] * (-480.0 * tmp2 - 120.0 * tmp3) + m[28] * tmp127
+                + m[29] * (480.0 * c2 * tmp3 + 960.0 * tmp5)
+                + m[30] * (-480.0 * tmp2 * tmp3 - 640.0 * tmp13)
+                + m[31] * (240.0 * c2 * tmp4 + 480.0 * c2 * tmp0 * tmp1)
+                + m[32] * (240.0 * c2 * tmp1 + 240.0 * c2 * tmp0) + m[34] * tmp132
+                + m[35] * tmp130 + m[36] * (-960.0 * c2 * g0 * tmp3 - 1920.0 * tmp5 * g0)
+                + m[37] * (tmp166 + 1920.0 * tmp13 * g0)
+                + m[38]
+                    * (960.0 * tmp2 * g0 * tmp1 + 240.0 * g0 * tmp1 * tmp3
+                        + 480.0 * tmp2 * tmp8)
+                + m[39] * (480.0 * tmp2 * g0 + 120.0 * g0 * tmp3) + m[40] * tmp137
+                + m[41] * tmp135 + m[42] * (-120.0 * tmp9 - 960.0 * tmp2 * tmp3)
+                + m[43] * (240.0 * c2 * tmp9 + 960.0 * tmp5 * tmp3)
+                + m[44] * (960.0 * tmp5 * tmp0 + tmp126 + 480.0 * c2 * tmp0 * tmp3)
+                + m[46] * tmp139
+                + m[47] * (-480.0 * c2 * g0 * tmp9 - 1920.0 * tmp5 * g0 * tmp3)
+                + m[48] * (960.0 * tmp2 * g0 * tmp3 + 120.0 * g0 * tmp9) + m[49] * tmp140
+                + m[50] * (-40.0 * tmp21 - 480.0 * tmp2 * tmp9)
+                + m[52] * (480.0 * tmp2 * g0 * tmp9 + 40.0 * g0 * tmp21)
+                + 8.0 * c2 * m[4] + 24.0 * c2 * m[7] + 24.0 * c2 * tmp3 * m[9]
+                + 48.0 * c2 * m[15] + 96.0 * c2 * tmp3 * m[21] + 48.0 * c2 * tmp9 * m[23]
+                + 80.0 * c2 * m[33] + 240.0 * c2 * tmp3 * m[45]
+                + 240.0 * c2 * tmp9 * m[51] + 80.0 * c2 * tmp21 * m[53],
+            tmp168 + tmp169 + m[5] * tmp141 + m[10] * tmp143 + m[11] * tmp142
+                + m[14] * (96.0 * tmp2 * g0 + 24.0 * g0 * tmp3) + m[16] * tmp145
+                + m[19] * tmp146 + m[24] * tmp150 + m[25] * tmp147
+                + m[26] * (-240.0 * c2 * g0 * tmp3 - 960.0 * tmp5 * g0) + m[28] * tmp149
+                + m[31] * tmp133 + m[32] * (240.0 * tmp2 * g0 + 60.0 * g0 * tmp3)
+                + m[34] * tmp153 + m[35] * tmp151 + m[38] * tmp138 + m[40] * tmp155
+                + m[41] * tmp154 + m[44] * (480.0 * tmp2 * g0 * tmp3 + 60.0 * g0 * tmp9)
+                + m[46] * tmp156 + m[49] * tmp157 + 12.0 * c2 * tmp3 * m[8]
+                - 96.0 * tmp2 * tmp3 * m[17] + 48.0 * c2 * tmp3 * m[18]
+                + 24.0 * c2 * tmp9 * m[22] - 480.0 * tmp2 * tmp3 * m[36]
+                + 480.0 * tmp5 * tmp3 * m[37] + 120.0 * c2 * tmp3 * m[39]
+                - 240.0 * tmp2 * tmp9 * m[47] + 120.0 * c2 * tmp9 * m[48]
+                + 40.0 * c2 * tmp21 * m[52],
+            9.0 * tmp170 + m[23] * (216.0 * tmp1 * tmp3 + 432.0 * tmp2 * tmp0)
+                + m[49] * (540.0 * tmp4 * tmp3 + 2160.0 * tmp2 * tmp0 * tmp1)
+                + m[50] * (-4320.0 * tmp5 * tmp0 - 2160.0 * c2 * tmp1 * tmp3)
+                + m[51] * (1080.0 * tmp1 * tmp3 + 2160.0 * tmp2 * tmp0)
+                + m[52] * (2160.0 * c2 * g0 * tmp1 * tmp3 + 1440.0 * tmp5 * tmp8)
+                + m[53] * (540.0 * tmp1 * tmp9 + 2160.0 * tmp2 * tmp0 * tmp3)
+                + 54.0 * tmp1 * m[9] + 108.0 * tmp4 * m[19] - 432.0 * c2 * tmp1 * m[20]
+                + 216.0 * tmp1 * m[21] + 432.0 * c2 * g0 * tmp1 * m[22]
+                + 180.0 * tmp10 * m[40] - 1080.0 * c2 * tmp4 * m[41]
+                - 2160.0 * c2 * tmp1 * m[42] + 2160.0 * tmp2 * tmp1 * m[43]
+                + 540.0 * tmp4 * m[44] + 540.0 * tmp1 * m[45]
+                + 1080.0 * c2 * g0 * tmp4 * m[46] - 4320.0 * tmp2 * g0 * tmp1 * m[47]
+                + 2160.0 * c2 * g0 * tmp1 * m[48],
+            L::splat(0.0),
+            3.0 * tmp174 + m[9] * (72.0 * c2 * tmp1 + 72.0 * c2 * tmp0)
+                + m[19] * (144.0 * c2 * tmp4 + 288.0 * c2 * tmp0 * tmp1)
+                + m[20]
+                    * (-144.0 * tmp1 * tmp3 - 864.0 * tmp2 * tmp0 - 576.0 * tmp2 * tmp1)
+                + m[21] * (288.0 * c2 * tmp1 + 288.0 * c2 * tmp0)
+                + m[22]
+                    * (576.0 * tmp2 * g0 * tmp1 + 144.0 * g0 * tmp1 * tmp3
+                        + 288.0 * tmp2 * tmp8)
+                + m[23]
+                    * (576.0 * tmp5 * tmp0 + 288.0 * c2 * tmp1 * tmp3
+                        + 288.0 * c2 * tmp0 * tmp3)
+                + m[40] * (240.0 * c2 * tmp10 + 720.0 * c2 * tmp0 * tmp4)
+                + m[41]
+                    * (-360.0 * tmp4 * tmp3 - 4320.0 * tmp2 * tmp0 * tmp1
+                        - 1440.0 * tmp2 * tmp4)
+                + m[42]
+                    * (-720.0 * tmp1 * tmp3 - 4320.0 * tmp2 * tmp0
+                        - 2880.0 * tmp2 * tmp1)
+                + m[43] * (5760.0 * tmp5 * tmp0 + tmp175 + 2880.0 * tmp5 * tmp1)
+                + m[44] * (720.0 * c2 * tmp4 + 1440.0 * c2 * tmp0 * tmp1)
+                + m[45] * (720.0 * c2 * tmp1 + 720.0 * c2 * tmp0)
+                + m[46]
+                    * (1440.0 * tmp2 * g0 * tmp4 + 360.0 * g0 * tmp4 * tmp3
+                        + 1440.0 * tmp2 * tmp8 * tmp1)
+                + m[47]
+                    * (-2880.0 * c2 * g0 * tmp1 * tmp3 - 3840.0 * tmp5 * tmp8
+                        - 5760.0 * tmp5 * g0 * tmp1)
+                + m[48]
+                    * (2880.0 * tmp2 * g0 * tmp1 + 720.0 * g0 * tmp1 * tmp3
+                        + 1440.0 * tmp2 * tmp8)
+                + m[49]
+                    * (2880.0 * tmp5 * tmp0 * tmp1 + 720.0 * c2 * tmp4 * tmp3
+                        + 1440.0 * c2 * tmp0 * tmp1 * tmp3 + 960.0 * tmp5 * tmp18)
+                + m[50]
+                    * (-360.0 * tmp1 * tmp9 - 4320.0 * tmp2 * tmp0 * tmp3
+                        - 5760.0 * tmp13 * tmp0 - 2880.0 * tmp2 * tmp1 * tmp3)
+                + m[51] * (2880.0 * tmp5 * tmp0 + tmp175 + 1440.0 * c2 * tmp0 * tmp3)
+                + m[52]
+                    * (2880.0 * tmp2 * g0 * tmp1 * tmp3 + 1920.0 * tmp13 * tmp8
+                        + 360.0 * g0 * tmp1 * tmp9 + 1440.0 * tmp2 * tmp8 * tmp3)
+                + m[53]
+                    * (2880.0 * tmp5 * tmp0 * tmp3 + 720.0 * c2 * tmp1 * tmp9
+                        + 720.0 * c2 * tmp0 * tmp9) - 36.0 * tmp1 * m[6]
+                + 36.0 * g0 * tmp1 * m[8] - 72.0 * tmp4 * m[11] - 144.0 * tmp1 * m[12]
+                + 288.0 * c2 * tmp1 * m[13] + 72.0 * g0 * tmp4 * m[16]
+                - 576.0 * c2 * g0 * tmp1 * m[17] + 144.0 * g0 * tmp1 * m[18]
+                - 120.0 * tmp10 * m[25] - 360.0 * tmp4 * m[26] - 360.0 * tmp1 * m[27]
+                + 720.0 * c2 * tmp4 * m[28] + 1440.0 * c2 * tmp1 * m[29]
+                - 1440.0 * tmp2 * tmp1 * m[30] + 120.0 * g0 * tmp10 * m[34]
+                - 1440.0 * c2 * g0 * tmp4 * m[35] - 2880.0 * c2 * g0 * tmp1 * m[36]
+                + 4320.0 * tmp2 * g0 * tmp1 * m[37] + 360.0 * g0 * tmp4 * m[38]
+                + 360.0 * g0 * tmp1 * m[39],
+            3.0 * atom1 * tmp176 + m[8] * (36.0 * c2 * tmp1 + 36.0 * c2 * tmp0)
+                + m[9] * (72.0 * tmp2 * g0 + 18.0 * g0 * tmp3)
+                + m[16] * (72.0 * c2 * tmp4 + 144.0 * c2 * tmp0 * tmp1)
+                + m[17] * (tmp117 - 288.0 * tmp2 * tmp1)
+                + m[18] * (144.0 * c2 * tmp1 + 144.0 * c2 * tmp0)
+                + m[19]
+                    * (288.0 * tmp2 * g0 * tmp1 + 72.0 * g0 * tmp1 * tmp3
+                        + 144.0 * tmp2 * tmp8)
+                + m[20] * (-144.0 * c2 * g0 * tmp3 - 576.0 * tmp5 * g0)
+                + m[21] * (288.0 * tmp2 * g0 + 72.0 * g0 * tmp3)
+                + m[22]
+                    * (288.0 * tmp5 * tmp0 + 144.0 * c2 * tmp1 * tmp3
+                        + 144.0 * c2 * tmp0 * tmp3)
+                + m[23] * (288.0 * tmp2 * g0 * tmp3 + 36.0 * g0 * tmp9)
+                + m[34] * (120.0 * c2 * tmp10 + 360.0 * c2 * tmp0 * tmp4)
+                + m[35] * (tmp123 - 720.0 * tmp2 * tmp4)
+                + m[36] * (tmp165 - 1440.0 * tmp2 * tmp1)
+                + m[37] * (tmp177 + 1440.0 * tmp5 * tmp1)
+                + m[38] * (360.0 * c2 * tmp4 + 720.0 * c2 * tmp0 * tmp1)
+                + m[39] * (360.0 * c2 * tmp1 + 360.0 * c2 * tmp0)
+                + m[40]
+                    * (720.0 * tmp2 * g0 * tmp4 + 180.0 * g0 * tmp4 * tmp3
+                        + 720.0 * tmp2 * tmp8 * tmp1)
+                + m[41]
+                    * (-720.0 * c2 * g0 * tmp1 * tmp3 - 1440.0 * tmp5 * tmp8
+                        - 2880.0 * tmp5 * g0 * tmp1)
+                + m[42] * (-720.0 * c2 * g0 * tmp3 - 2880.0 * tmp5 * g0)
+                + m[43] * (720.0 * tmp2 * g0 * tmp3 + 2880.0 * tmp13 * g0)
+                + m[44]
+                    * (1440.0 * tmp2 * g0 * tmp1 + 360.0 * g0 * tmp1 * tmp3
+                        + 720.0 * tmp2 * tmp8)
+                + m[45] * (720.0 * tmp2 * g0 + 180.0 * g0 * tmp3)
+                + m[46]
+                    * (1440.0 * tmp5 * tmp0 * tmp1 + 360.0 * c2 * tmp4 * tmp3
+                        + 720.0 * c2 * tmp0 * tmp1 * tmp3 + 480.0 * tmp5 * tmp18)
+                + m[47] * (tmp134 - 2880.0 * tmp13 * tmp0 - 1440.0 * tmp2 * tmp1 * tmp3)
+                + m[48] * (tmp177 + 720.0 * c2 * tmp1 * tmp3 + 720.0 * c2 * tmp0 * tmp3)
+                + m[49]
+                    * (tmp131 + 960.0 * tmp13 * tmp8 + 180.0 * g0 * tmp1 * tmp9
+                        + 720.0 * tmp2 * tmp8 * tmp3)
+                + m[50] * (-360.0 * c2 * g0 * tmp9 - 2880.0 * tmp5 * g0 * tmp3)
+                + m[51] * (tmp166 + 180.0 * g0 * tmp9)
+                + m[52]
+                    * (1440.0 * tmp5 * tmp0 * tmp3 + 360.0 * c2 * tmp1 * tmp9
+                        + 360.0 * c2 * tmp0 * tmp9)
+                + m[53] * (720.0 * tmp2 * g0 * tmp9 + 60.0 * g0 * tmp21)
+                + 6.0 * g0 * m[4] + 18.0 * g0 * tmp1 * m[5] - 36.0 * c2 * g0 * m[6]
+                + 18.0 * g0 * m[7] + 36.0 * g0 * tmp4 * m[10]
+                - 144.0 * c2 * g0 * tmp1 * m[11] - 144.0 * c2 * g0 * m[12]
+                + 144.0 * tmp2 * g0 * m[13] + 72.0 * g0 * tmp1 * m[14]
+                + 36.0 * g0 * m[15] + 60.0 * g0 * tmp10 * m[24]
+                - 360.0 * c2 * g0 * tmp4 * m[25] - 720.0 * c2 * g0 * tmp1 * m[26]
+                - 360.0 * c2 * g0 * m[27] + 720.0 * tmp2 * g0 * tmp1 * m[28]
+                + 720.0 * tmp2 * g0 * m[29] - 480.0 * tmp5 * g0 * m[30]
+                + 180.0 * g0 * tmp4 * m[31] + 180.0 * g0 * tmp1 * m[32]
+                + 60.0 * g0 * m[33],
+            2.0 * m[54],
+            L::splat(0.0),
+            L::splat(0.0),
+            tmp95 + tmp97 + tmp99 + tmp105 + 4.0 * tmp84
+                + atom1
+                    * (6.0 * m[62] + atom4 * (6.0 * m[75] + tmp171)
+                        + atom3 * (6.0 * m[74] + tmp162)
+                        + atom2
+                            * (6.0 * m[73] + atom4 * (6.0 * m[91] + tmp172)
+                                + atom3 * (6.0 * m[90] + tmp163))
+                        + atom1
+                            * (12.0 * m[72] + 12.0 * atom4 * m[89] + 12.0 * atom3 * m[88]
+                                + atom2
+                                    * (12.0 * m[87] + 12.0 * atom4 * m[106]
+                                        + 12.0 * atom3 * m[105])
+                                + atom1 * (20.0 * m[86] + 20.0 * atom2 * m[104])))
+                + 4.0 * c2 * (m[58] + tmp78 + tmp81 + tmp173)
+                + (8.0 * tmp0 + 8.0 * tmp1) * m[4]
+                + m[5] * (12.0 * tmp4 + 24.0 * tmp0 * tmp1)
+                + m[6] * (-144.0 * c2 * tmp1 - 144.0 * c2 * tmp0)
+                + m[7] * (24.0 * tmp0 + 24.0 * tmp1)
+                + m[8] * (144.0 * c2 * g0 * tmp1 + 48.0 * c2 * tmp8) + m[9] * tmp178
+                + m[10] * (16.0 * tmp10 + 48.0 * tmp0 * tmp4)
+                + m[11] * (-288.0 * c2 * tmp4 - 576.0 * c2 * tmp0 * tmp1)
+                + m[12] * (-576.0 * c2 * tmp1 - 576.0 * c2 * tmp0)
+                + m[13] * (tmp179 + 1152.0 * tmp2 * tmp0 + tmp180)
+                + m[14] * (48.0 * tmp4 + 96.0 * tmp0 * tmp1)
+                + m[15] * (48.0 * tmp0 + 48.0 * tmp1)
+                + m[16] * (288.0 * c2 * g0 * tmp4 + 192.0 * c2 * tmp8 * tmp1)
+                + m[17]
+                    * (-1920.0 * tmp2 * g0 * tmp1 - 192.0 * g0 * tmp1 * tmp3
+                        - 768.0 * tmp2 * tmp8)
+                + m[18] * (576.0 * c2 * g0 * tmp1 + 192.0 * c2 * tmp8)
+                + m[19]
+                    * (48.0 * tmp4 * tmp3 + 960.0 * tmp2 * tmp0 * tmp1
+                        + 192.0 * tmp2 * tmp4 + 96.0 * tmp0 * tmp1 * tmp3
+                        + 192.0 * tmp2 * tmp18)
+                + m[20]
+                    * (-2688.0 * tmp5 * tmp0 - 576.0 * c2 * tmp1 * tmp3
+                        - 768.0 * tmp5 * tmp1 - 576.0 * c2 * tmp0 * tmp3)
+                + m[21]
+                    * (tmp179 + 960.0 * tmp2 * tmp0 + 384.0 * tmp2 * tmp1
+                        + 96.0 * tmp0 * tmp3)
+                + m[22]
+                    * (576.0 * c2 * g0 * tmp1 * tmp3 + 896.0 * tmp5 * tmp8
+                        + 768.0 * tmp5 * g0 * tmp1 + 192.0 * c2 * tmp8 * tmp3)
+                + m[23]
+                    * (48.0 * tmp1 * tmp9 + 960.0 * tmp2 * tmp0 * tmp3
+                        + 768.0 * tmp13 * tmp0 + 384.0 * tmp2 * tmp1 * tmp3
+                        + 48.0 * tmp0 * tmp9)
+                + m[24] * (20.0 * tmp22 + 80.0 * tmp0 * tmp10)
+                + m[25] * (-480.0 * c2 * tmp10 - 1440.0 * c2 * tmp0 * tmp4)
+                + m[26] * (-1440.0 * c2 * tmp4 - 2880.0 * c2 * tmp0 * tmp1)
+                + m[27] * (-1440.0 * c2 * tmp1 - 1440.0 * c2 * tmp0)
+                + m[28] * (tmp181 + 5760.0 * tmp2 * tmp0 * tmp1 + 2400.0 * tmp2 * tmp4)
+                + m[29]
+                    * (480.0 * tmp1 * tmp3 + 5760.0 * tmp2 * tmp0 + 4800.0 * tmp2 * tmp1)
+                + m[30] * (-6400.0 * tmp5 * tmp0 + tmp182 - 4480.0 * tmp5 * tmp1)
+                + m[31] * (80.0 * tmp10 + 240.0 * tmp0 * tmp4)
+                + m[32] * (120.0 * tmp4 + 240.0 * tmp0 * tmp1)
+                + m[33] * (80.0 * tmp0 + 80.0 * tmp1)
+                + m[34] * (480.0 * c2 * g0 * tmp10 + 480.0 * c2 * tmp8 * tmp4)
+                + m[35]
+                    * (-4800.0 * tmp2 * g0 * tmp4 - 480.0 * g0 * tmp4 * tmp3
+                        - 3840.0 * tmp2 * tmp8 * tmp1)
+                + m[36]
+                    * (-9600.0 * tmp2 * g0 * tmp1 - 960.0 * g0 * tmp1 * tmp3
+                        - 3840.0 * tmp2 * tmp8)
+                + m[37] * (tmp183 + 6400.0 * tmp5 * tmp8 + 13440.0 * tmp5 * g0 * tmp1)
+                + m[38] * (1440.0 * c2 * g0 * tmp4 + 960.0 * c2 * tmp8 * tmp1)
+                + m[39] * (1440.0 * c2 * g0 * tmp1 + 480.0 * c2 * tmp8)
+                + m[40]
+                    * (80.0 * tmp10 * tmp3 + 2400.0 * tmp2 * tmp0 * tmp4
+                        + 320.0 * tmp2 * tmp10 + 240.0 * tmp0 * tmp4 * tmp3
+                        + 960.0 * tmp2 * tmp18 * tmp1)
+                + m[41]
+                    * (-13440.0 * tmp5 * tmp0 * tmp1 - 1440.0 * c2 * tmp4 * tmp3
+                        - 1920.0 * tmp5 * tmp4 - 2880.0 * c2 * tmp0 * tmp1 * tmp3
+                        - 3200.0 * tmp5 * tmp18)
+                + m[42]
+                    * (-13440.0 * tmp5 * tmp0 - 2880.0 * c2 * tmp1 * tmp3
+                        - 3840.0 * tmp5 * tmp1 - 2880.0 * c2 * tmp0 * tmp3)
+                + m[43]
+                    * (tmp184 + 5760.0 * tmp2 * tmp0 * tmp3 + 17280.0 * tmp13 * tmp0
+                        + 4800.0 * tmp2 * tmp1 * tmp3 + 3840.0 * tmp13 * tmp1)
+                + m[44]
+                    * (tmp181 + 4800.0 * tmp2 * tmp0 * tmp1 + 960.0 * tmp2 * tmp4
+                        + 480.0 * tmp0 * tmp1 * tmp3 + 960.0 * tmp2 * tmp18)
+                + m[45]
+                    * (240.0 * tmp1 * tmp3 + 2400.0 * tmp2 * tmp0 + tmp180
+                        + 240.0 * tmp0 * tmp3)
+                + m[46]
+                    * (1440.0 * c2 * g0 * tmp4 * tmp3 + 4480.0 * tmp5 * tmp8 * tmp1
+                        + 1920.0 * tmp5 * g0 * tmp4 + 960.0 * c2 * tmp8 * tmp1 * tmp3
+                        + 640.0 * tmp5 * tmp36)
+                + m[47]
+                    * (-9600.0 * tmp2 * g0 * tmp1 * tmp3 - 11520.0 * tmp13 * tmp8
+                        - 7680.0 * tmp13 * g0 * tmp1 - 480.0 * g0 * tmp1 * tmp9
+                        - 3840.0 * tmp2 * tmp8 * tmp3)
+                + m[48]
+                    * (tmp183 + 4480.0 * tmp5 * tmp8 + 3840.0 * tmp5 * g0 * tmp1
+                        + 960.0 * c2 * tmp8 * tmp3)
+                + m[49]
+                    * (120.0 * tmp4 * tmp9 + 4800.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        + 2880.0 * tmp13 * tmp18 + 3840.0 * tmp13 * tmp0 * tmp1
+                        + 960.0 * tmp2 * tmp4 * tmp3 + 240.0 * tmp0 * tmp1 * tmp9
+                        + 960.0 * tmp2 * tmp18 * tmp3)
+                + m[50]
+                    * (-13440.0 * tmp5 * tmp0 * tmp3 - 1440.0 * c2 * tmp1 * tmp9
+                        - 7680.0 * tmp27 * tmp0 - 3840.0 * tmp5 * tmp1 * tmp3
+                        - 1440.0 * c2 * tmp0 * tmp9)
+                + m[51]
+                    * (tmp184 + 4800.0 * tmp2 * tmp0 * tmp3 + 3840.0 * tmp13 * tmp0
+                        + 1920.0 * tmp2 * tmp1 * tmp3 + 240.0 * tmp0 * tmp9)
+                + m[52]
+                    * (1440.0 * c2 * g0 * tmp1 * tmp9 + 4480.0 * tmp5 * tmp8 * tmp3
+                        + 3840.0 * tmp5 * g0 * tmp1 * tmp3 + 2560.0 * tmp27 * tmp8
+                        + 480.0 * c2 * tmp8 * tmp9)
+                + m[53]
+                    * (80.0 * tmp1 * tmp21 + 2400.0 * tmp2 * tmp0 * tmp9
+                        + 3840.0 * tmp13 * tmp0 * tmp3 + 960.0 * tmp2 * tmp1 * tmp9
+                        + 80.0 * tmp0 * tmp21) + 4.0 * c2 * tmp174,
+            m[56] + tmp45 + tmp46
+                + atom1
+                    * (tmp100 + tmp102 + tmp104
+                        + atom1
+                            * (tmp108 + tmp110 + tmp112
+                                + atom1
+                                    * (tmp113 + tmp114 + tmp115 + 5.0 * atom1 * m[104])))
+                + g0 * (m[57] + tmp56 + tmp59 + tmp164) + 4.0 * c2 * atom1 * tmp176
+                + m[5] * (72.0 * c2 * g0 * tmp1 + 24.0 * c2 * tmp8)
+                + m[6] * (-192.0 * tmp2 * g0 - 12.0 * g0 * tmp3)
+                + m[8] * (tmp16 + tmp72 + 48.0 * tmp2 * tmp1 + 12.0 * tmp0 * tmp3)
+                + m[9] * (72.0 * c2 * g0 * tmp3 + 96.0 * tmp5 * g0)
+                + m[10] * (144.0 * c2 * g0 * tmp4 + 96.0 * c2 * tmp8 * tmp1)
+                + m[11]
+                    * (-768.0 * tmp2 * g0 * tmp1 - 48.0 * g0 * tmp1 * tmp3
+                        - 288.0 * tmp2 * tmp8)
+                + m[12] * (-768.0 * tmp2 * g0 - 48.0 * g0 * tmp3)
+                + m[13] * (96.0 * c2 * g0 * tmp3 + tmp185)
+                + m[14] * (288.0 * c2 * g0 * tmp1 + 96.0 * c2 * tmp8)
+                + m[16]
+                    * (24.0 * tmp4 * tmp3 + 480.0 * tmp2 * tmp0 * tmp1
+                        + 96.0 * tmp2 * tmp4 + 48.0 * tmp0 * tmp1 * tmp3
+                        + 96.0 * tmp2 * tmp18)
+                + m[17]
+                    * (-1152.0 * tmp5 * tmp0 - 192.0 * c2 * tmp1 * tmp3
+                        - 384.0 * tmp5 * tmp1 - 192.0 * c2 * tmp0 * tmp3)
+                + m[18]
+                    * (48.0 * tmp1 * tmp3 + 480.0 * tmp2 * tmp0 + 192.0 * tmp2 * tmp1
+                        + 48.0 * tmp0 * tmp3)
+                + m[19]
+                    * (288.0 * c2 * g0 * tmp1 * tmp3 + 448.0 * tmp5 * tmp8
+                        + 384.0 * tmp5 * g0 * tmp1 + 96.0 * c2 * tmp8 * tmp3)
+                + m[20]
+                    * (-768.0 * tmp2 * g0 * tmp3 - 768.0 * tmp13 * g0 - 24.0 * g0 * tmp9)
+                + m[21] * (288.0 * c2 * g0 * tmp3 + 384.0 * tmp5 * g0)
+                + m[22]
+                    * (24.0 * tmp1 * tmp9 + 480.0 * tmp2 * tmp0 * tmp3
+                        + 384.0 * tmp13 * tmp0 + 192.0 * tmp2 * tmp1 * tmp3
+                        + 24.0 * tmp0 * tmp9)
+                + m[23] * (144.0 * c2 * g0 * tmp9 + 384.0 * tmp5 * g0 * tmp3)
+                + m[24] * (240.0 * c2 * g0 * tmp10 + 240.0 * c2 * tmp8 * tmp4)
+                + m[25]
+                    * (-1920.0 * tmp2 * g0 * tmp4 - 120.0 * g0 * tmp4 * tmp3
+                        - 1440.0 * tmp2 * tmp8 * tmp1)
+                + m[26]
+                    * (-3840.0 * tmp2 * g0 * tmp1 - 240.0 * g0 * tmp1 * tmp3
+                        - 1440.0 * tmp2 * tmp8)
+                + m[27] * (-1920.0 * tmp2 * g0 - 120.0 * g0 * tmp3)
+                + m[28]
+                    * (480.0 * c2 * g0 * tmp1 * tmp3 + 1920.0 * tmp5 * tmp8
+                        + 4800.0 * tmp5 * g0 * tmp1)
+                + m[29] * (480.0 * c2 * g0 * tmp3 + 4800.0 * tmp5 * g0)
+                + m[30] * (-480.0 * tmp2 * g0 * tmp3 + tmp186)
+                + m[31] * (720.0 * c2 * g0 * tmp4 + 480.0 * c2 * tmp8 * tmp1)
+                + m[32] * (720.0 * c2 * g0 * tmp1 + 240.0 * c2 * tmp8)
+                + m[34]
+                    * (40.0 * tmp10 * tmp3 + 1200.0 * tmp2 * tmp0 * tmp4
+                        + 160.0 * tmp2 * tmp10 + 120.0 * tmp0 * tmp4 * tmp3
+                        + 480.0 * tmp2 * tmp18 * tmp1)
+                + m[35]
+                    * (-5760.0 * tmp5 * tmp0 * tmp1 - 480.0 * c2 * tmp4 * tmp3
+                        - 960.0 * tmp5 * tmp4 - 960.0 * c2 * tmp0 * tmp1 * tmp3
+                        - 1280.0 * tmp5 * tmp18)
+                + m[36]
+                    * (-5760.0 * tmp5 * tmp0 + tmp182 - 1920.0 * tmp5 * tmp1
+                        - 960.0 * c2 * tmp0 * tmp3)
+                + m[37]
+                    * (1440.0 * tmp2 * tmp0 * tmp3 + 6720.0 * tmp13 * tmp0
+                        + 1440.0 * tmp2 * tmp1 * tmp3 + 1920.0 * tmp13 * tmp1)
+                + m[38]
+                    * (120.0 * tmp4 * tmp3 + 2400.0 * tmp2 * tmp0 * tmp1
+                        + 480.0 * tmp2 * tmp4 + 240.0 * tmp0 * tmp1 * tmp3
+                        + 480.0 * tmp2 * tmp18)
+                + m[39]
+                    * (tmp160 + 1200.0 * tmp2 * tmp0 + 480.0 * tmp2 * tmp1
+                        + 120.0 * tmp0 * tmp3)
+                + m[40]
+                    * (720.0 * c2 * g0 * tmp4 * tmp3 + 2240.0 * tmp5 * tmp8 * tmp1
+                        + 960.0 * tmp5 * g0 * tmp4 + 480.0 * c2 * tmp8 * tmp1 * tmp3
+                        + 320.0 * tmp5 * tmp36)
+                + m[41]
+                    * (-3840.0 * tmp2 * g0 * tmp1 * tmp3 - 5120.0 * tmp13 * tmp8
+                        - 3840.0 * tmp13 * g0 * tmp1 - 120.0 * g0 * tmp1 * tmp9
+                        - 1440.0 * tmp2 * tmp8 * tmp3)
+                + m[42] * (-3840.0 * tmp2 * g0 * tmp3 + tmp186 - 120.0 * g0 * tmp9)
+                + m[43]
+                    * (240.0 * c2 * g0 * tmp9 + 4800.0 * tmp5 * g0 * tmp3
+                        + 3840.0 * tmp27 * g0)
+                + m[44]
+                    * (1440.0 * c2 * g0 * tmp1 * tmp3 + 2240.0 * tmp5 * tmp8
+                        + 1920.0 * tmp5 * g0 * tmp1 + 480.0 * c2 * tmp8 * tmp3)
+                + m[45] * (720.0 * c2 * g0 * tmp3 + tmp185)
+                + m[46]
+                    * (60.0 * tmp4 * tmp9 + 2400.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        + 1440.0 * tmp13 * tmp18 + 1920.0 * tmp13 * tmp0 * tmp1
+                        + 480.0 * tmp2 * tmp4 * tmp3 + 120.0 * tmp0 * tmp1 * tmp9
+                        + 480.0 * tmp2 * tmp18 * tmp3)
+                + m[47]
+                    * (-5760.0 * tmp5 * tmp0 * tmp3 - 480.0 * c2 * tmp1 * tmp9
+                        - 3840.0 * tmp27 * tmp0 - 1920.0 * tmp5 * tmp1 * tmp3
+                        - 480.0 * c2 * tmp0 * tmp9)
+                + m[48]
+                    * (120.0 * tmp1 * tmp9 + 2400.0 * tmp2 * tmp0 * tmp3
+                        + 1920.0 * tmp13 * tmp0 + 960.0 * tmp2 * tmp1 * tmp3
+                        + 120.0 * tmp0 * tmp9)
+                + m[49]
+                    * (720.0 * c2 * g0 * tmp1 * tmp9 + 2240.0 * tmp5 * tmp8 * tmp3
+                        + 1920.0 * tmp5 * g0 * tmp1 * tmp3 + 1280.0 * tmp27 * tmp8
+                        + 240.0 * c2 * tmp8 * tmp9)
+                + m[50]
+                    * (-1920.0 * tmp2 * g0 * tmp9 - 3840.0 * tmp13 * g0 * tmp3
+                        - 40.0 * g0 * tmp21)
+                + m[51] * (720.0 * c2 * g0 * tmp9 + 1920.0 * tmp5 * g0 * tmp3)
+                + m[52]
+                    * (40.0 * tmp1 * tmp21 + 1200.0 * tmp2 * tmp0 * tmp9
+                        + 1920.0 * tmp13 * tmp0 * tmp3 + 480.0 * tmp2 * tmp1 * tmp9
+                        + 40.0 * tmp0 * tmp21)
+                + m[53] * (240.0 * c2 * g0 * tmp21 + 960.0 * tmp5 * g0 * tmp9)
+                + 24.0 * c2 * g0 * m[4] + 72.0 * c2 * g0 * m[7] + 144.0 * c2 * g0 * m[15]
+                + 240.0 * c2 * g0 * m[33],
+            m[2] + 2.0 * m[59] + tmp55 + tmp62 + g0 * atom1 * tmp167
+                + g0 * (tmp168 + tmp169) + (8.0 * tmp2 + 2.0 * tmp3) * m[4]
+                + m[5]
+                    * (tmp6 + 60.0 * tmp2 * tmp0 + 24.0 * tmp2 * tmp1
+                        + 6.0 * tmp0 * tmp3) + m[6] * (-12.0 * c2 * tmp3 - 48.0 * tmp5)
+                + m[7] * (24.0 * tmp2 + 6.0 * tmp3)
+                + m[8] * (36.0 * c2 * g0 * tmp3 + 48.0 * tmp5 * g0)
+                + m[9] * (3.0 * tmp9 + 24.0 * tmp2 * tmp3)
+                + m[10]
+                    * (tmp14 + tmp69 + 48.0 * tmp2 * tmp4 + 24.0 * tmp0 * tmp1 * tmp3
+                        + 48.0 * tmp2 * tmp18)
+                + m[11] * (tmp65 + tmp11 - 192.0 * tmp5 * tmp1 - 48.0 * c2 * tmp0 * tmp3)
+                + m[12] * (-48.0 * c2 * tmp3 - 192.0 * tmp5)
+                + m[13] * (48.0 * tmp2 * tmp3 + 192.0 * tmp13) + m[14] * tmp178
+                + m[15] * (48.0 * tmp2 + 12.0 * tmp3)
+                + m[16]
+                    * (tmp86 + 224.0 * tmp5 * tmp8 + 192.0 * tmp5 * g0 * tmp1
+                        + 48.0 * c2 * tmp8 * tmp3)
+                + m[17] * (-288.0 * tmp2 * g0 * tmp3 - 384.0 * tmp13 * g0)
+                + m[18] * (144.0 * c2 * g0 * tmp3 + 192.0 * tmp5 * g0)
+                + m[19]
+                    * (tmp19 + tmp75 + 192.0 * tmp13 * tmp0 + 96.0 * tmp2 * tmp1 * tmp3
+                        + 12.0 * tmp0 * tmp9)
+                + m[20] * (-24.0 * c2 * tmp9 - 192.0 * tmp5 * tmp3)
+                + m[21] * (12.0 * tmp9 + 96.0 * tmp2 * tmp3)
+                + m[22] * (72.0 * c2 * g0 * tmp9 + 192.0 * tmp5 * g0 * tmp3)
+                + m[23] * (4.0 * tmp21 + 48.0 * tmp2 * tmp9)
+                + m[24]
+                    * (tmp28 + 600.0 * tmp2 * tmp0 * tmp4 + 80.0 * tmp2 * tmp10
+                        + 60.0 * tmp0 * tmp4 * tmp3 + 240.0 * tmp2 * tmp18 * tmp1)
+                + m[25]
+                    * (-2400.0 * tmp5 * tmp0 * tmp1 + tmp23 - 480.0 * tmp5 * tmp4
+                        - 240.0 * c2 * tmp0 * tmp1 * tmp3 - 480.0 * tmp5 * tmp18)
+                + m[26]
+                    * (-2400.0 * tmp5 * tmp0 + tmp66 - 960.0 * tmp5 * tmp1
+                        - 240.0 * c2 * tmp0 * tmp3)
+                + m[27] * (-120.0 * c2 * tmp3 - 480.0 * tmp5)
+                + m[28] * (tmp75 + 2400.0 * tmp13 * tmp0 + tmp25 + 960.0 * tmp13 * tmp1)
+                + m[29] * (tmp187 + 960.0 * tmp13)
+                + m[30] * (-160.0 * tmp5 * tmp3 - 640.0 * tmp27)
+                + m[31]
+                    * (tmp68 + 1200.0 * tmp2 * tmp0 * tmp1 + 240.0 * tmp2 * tmp4
+                        + 120.0 * tmp0 * tmp1 * tmp3 + 240.0 * tmp2 * tmp18)
+                + m[32]
+                    * (tmp71 + 600.0 * tmp2 * tmp0 + 240.0 * tmp2 * tmp1
+                        + 60.0 * tmp0 * tmp3) + m[33] * (80.0 * tmp2 + 20.0 * tmp3)
+                + m[34]
+                    * (tmp89 + 1120.0 * tmp5 * tmp8 * tmp1 + 480.0 * tmp5 * g0 * tmp4
+                        + 240.0 * c2 * tmp8 * tmp1 * tmp3 + 160.0 * tmp5 * tmp36)
+                + m[35]
+                    * (tmp90 - 2240.0 * tmp13 * tmp8 - 1920.0 * tmp13 * g0 * tmp1
+                        - 480.0 * tmp2 * tmp8 * tmp3)
+                + m[36] * (-1440.0 * tmp2 * g0 * tmp3 - 1920.0 * tmp13 * g0)
+                + m[37] * (1440.0 * tmp5 * g0 * tmp3 + 1920.0 * tmp27 * g0)
+                + m[38]
+                    * (tmp91 + 1120.0 * tmp5 * tmp8 + 960.0 * tmp5 * g0 * tmp1
+                        + 240.0 * c2 * tmp8 * tmp3)
+                + m[39] * (360.0 * c2 * g0 * tmp3 + 480.0 * tmp5 * g0)
+                + m[40]
+                    * (tmp34 + 1200.0 * tmp2 * tmp0 * tmp1 * tmp3 + 720.0 * tmp13 * tmp18
+                        + 960.0 * tmp13 * tmp0 * tmp1 + 240.0 * tmp2 * tmp4 * tmp3
+                        + 60.0 * tmp0 * tmp1 * tmp9 + 240.0 * tmp2 * tmp18 * tmp3)
+                + m[41]
+                    * (-2400.0 * tmp5 * tmp0 * tmp3 + tmp32 - 1920.0 * tmp27 * tmp0
+                        - 960.0 * tmp5 * tmp1 * tmp3 - 120.0 * c2 * tmp0 * tmp9)
+                + m[42] * (-120.0 * c2 * tmp9 - 960.0 * tmp5 * tmp3)
+                + m[43] * (120.0 * tmp2 * tmp9 + 960.0 * tmp13 * tmp3)
+                + m[44]
+                    * (tmp74 + 1200.0 * tmp2 * tmp0 * tmp3 + 960.0 * tmp13 * tmp0
+                        + 480.0 * tmp2 * tmp1 * tmp3 + 60.0 * tmp0 * tmp9)
+                + m[45] * (30.0 * tmp9 + tmp187)
+                + m[46]
+                    * (tmp94 + 1120.0 * tmp5 * tmp8 * tmp3
+                        + 960.0 * tmp5 * g0 * tmp1 * tmp3 + 640.0 * tmp27 * tmp8
+                        + 120.0 * c2 * tmp8 * tmp9)
+                + m[47] * (-720.0 * tmp2 * g0 * tmp9 - 1920.0 * tmp13 * g0 * tmp3)
+                + m[48] * (360.0 * c2 * g0 * tmp9 + 960.0 * tmp5 * g0 * tmp3)
+                + m[49]
+                    * (tmp38 + 600.0 * tmp2 * tmp0 * tmp9 + 960.0 * tmp13 * tmp0 * tmp3
+                        + 240.0 * tmp2 * tmp1 * tmp9 + 20.0 * tmp0 * tmp21)
+                + m[50] * (-40.0 * c2 * tmp21 - 480.0 * tmp5 * tmp9)
+                + m[51] * (20.0 * tmp21 + 240.0 * tmp2 * tmp9)
+                + m[52] * (120.0 * c2 * g0 * tmp21 + 480.0 * tmp5 * g0 * tmp9)
+                + m[53] * (5.0 * tmp40 + 80.0 * tmp2 * tmp21),
+        ],
+    )
+}
 ///Kernel `prestressed`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1, eps0, p1, p2, p3, p4, q22, g13, ks`.
@@ -4609,6 +5855,61 @@ pub fn gas_hessian(k: &[f64; 5], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 5], [f64
         ],
     )
 }
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = c2;
+    let atom1 = g0;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = g0 * g0;
+    let atom4 = 1.0 + a1 + 0.5 * tmp1;
+    let tmp2 = atom1 * m[3];
+    let tmp3 = m[0] + tmp2;
+    let tmp4 = atom4 * m[2] + atom3 * m[1] + atom0 * tmp3;
+    let tmp5 = atom2 * m[2];
+    (
+        atom2 * tmp4,
+        [
+            tmp5,
+            3.0 * atom2 * m[1],
+            tmp4,
+            atom2 * tmp3 + 4.0 * c2 * atom2 * m[1],
+            atom2 * atom0 * m[3] + g0 * atom2 * m[2],
+        ],
+        [
+            L::splat(0.0),
+            L::splat(0.0),
+            m[2],
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            3.0 * m[1],
+            L::splat(0.0),
+            L::splat(0.0),
+            L::splat(0.0),
+            m[0] + tmp2 + 4.0 * c2 * m[1],
+            atom0 * m[3] + g0 * m[2],
+            4.0 * atom2 * m[1],
+            atom2 * m[3],
+            tmp5,
+        ],
+    )
+}
 ///Kernel `gas`: the Jacobian of one block's moments with respect to its parameters, one column per parameter (`[j][s]` = d `m[s]` / d `p_j`). The moments of an element add over its blocks, and so do their derivatives; the energy is linear in the moments, so the gradient kernels evaluated at a column give the gradient's derivative.
 ///
 ///Parameters (and columns, in this order): `x0, x1, width, z0, z1`.
@@ -4670,6 +5971,95 @@ fn gas_dmoments_at(
 #[inline]
 pub fn gas_dmoments(p: &super::GasParams) -> [[f64; GAS_MOMENTS]; 5] {
     gas_dmoments_at(p.x0, p.x1, p.width, p.z0, p.z1)
+}
+///The moments of several elements side by side: lane `l` of each entry holds element `l`'s (the input of `energy_hessian_lanes`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MomentLanes<L> {
+    ///Moments of this integral.
+    pub linear: [L; LINEAR_MOMENTS],
+    ///Moments of this integral.
+    pub prestressed: [L; PRESTRESSED_MOMENTS],
+    ///Moments of this integral.
+    pub gas: [L; GAS_MOMENTS],
+}
+impl<L: super::Lane> MomentLanes<L> {
+    ///Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat its last element (their results are not used). `m` must not be empty.
+    pub fn gather(m: &[&Moments]) -> MomentLanes<L> {
+        let last = m.len() - 1;
+        MomentLanes {
+            linear: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].linear[j])),
+            prestressed: std::array::from_fn(|j| L::from_fn(|l| {
+                m[l.min(last)].prestressed[j]
+            })),
+            gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
+        }
+    }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value, gradient and Hessian on lanes, one element per lane, each lane bit for bit `energy_hessian`'s result for that element.
+#[inline(always)]
+pub fn energy_hessian_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 5], [L; 15])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g, mut h) = linear_hessian_lanes(k, &m.linear);
+    {
+        let (tv, tg, th) = prestressed_hessian_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+        g[4] += tg[4];
+        h[0] += th[0];
+        h[1] += th[1];
+        h[2] += th[2];
+        h[3] += th[3];
+        h[4] += th[4];
+        h[5] += th[5];
+        h[6] += th[6];
+        h[7] += th[7];
+        h[8] += th[8];
+        h[9] += th[9];
+        h[10] += th[10];
+        h[11] += th[11];
+        h[12] += th[12];
+        h[13] += th[13];
+        h[14] += th[14];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg, th) = gas_hessian_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+            g[4] += c2 * tg[4];
+            h[0] += c2 * th[0];
+            h[1] += c2 * th[1];
+            h[2] += c2 * th[2];
+            h[3] += c2 * th[3];
+            h[4] += c2 * th[4];
+            h[5] += c2 * th[5];
+            h[6] += c2 * th[6];
+            h[7] += c2 * th[7];
+            h[8] += c2 * th[8];
+            h[9] += c2 * th[9];
+            h[10] += c2 * th[10];
+            h[11] += c2 * th[11];
+            h[12] += c2 * th[12];
+            h[13] += c2 * th[13];
+            h[14] += c2 * th[14];
+        }
+    }
+    (v, g, h)
 }
 ///The moments of every integral of the energy, accumulated block by block.
 #[derive(Debug, Clone, PartialEq)]
@@ -6073,6 +7463,33 @@ impl super::Energy for Shear {
         s: &super::EnergyScalars,
     ) -> (f64, [f64; 5], [f64; 15]) {
         energy_hessian(k, m, s)
+    }
+    type MomentLanes<L: super::Lane> = MomentLanes<L>;
+    fn moment_lanes<L: super::Lane>(m: &[&Moments]) -> MomentLanes<L> {
+        MomentLanes::gather(m)
+    }
+    #[inline(always)]
+    fn hessian_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 5], [f64; 15])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(last) = k.len().checked_sub(1) else {
+            return;
+        };
+        let kl: [L; 5] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
+        let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (
+                v.lane(l),
+                std::array::from_fn(|j| g[j].lane(l)),
+                std::array::from_fn(|j| h[j].lane(l)),
+            );
+        }
     }
     fn family_hessian(
         m: &Moments,

@@ -21,6 +21,7 @@ use fpc_newton::{
 };
 
 use crate::coefficients::Coefficients;
+use crate::element::ElementHessian;
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
 use super::load::Load;
@@ -43,6 +44,8 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     u: Vec<M::Coeffs>,
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
+    /// The element pass's potentials, gradients and Hessians.
+    eh: Vec<ElementHessian<M>>,
     pub tip: [f64; 2],
     /// Evaluate the chain geometry even without a tip load (bordered solves
     /// need the tip and its gradient).
@@ -120,6 +123,7 @@ pub(crate) struct ChainParts<M: ElementModel> {
     u: Vec<M::Coeffs>,
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
+    eh: Vec<ElementHessian<M>>,
     matrix: Semiseparable,
     memo: StartMemo<M>,
 }
@@ -136,6 +140,7 @@ impl<M: ElementModel> ChainParts<M> {
             u: vec![M::Coeffs::zero(); n],
             w: vec![M::Coeffs::zero(); n],
             blk: vec![M::Upper::zero(); n],
+            eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
             matrix: Semiseparable::new(M::Coeffs::LEN, n),
             memo: StartMemo::empty(),
         }
@@ -173,6 +178,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             u: p.u,
             w: p.w,
             blk: p.blk,
+            eh: p.eh,
             tip: [0.0, 0.0],
             force_chain: false,
             matrix: p.matrix,
@@ -195,6 +201,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             u: take(&mut self.u),
             w: take(&mut self.w),
             blk: take(&mut self.blk),
+            eh: take(&mut self.eh),
             matrix: std::mem::replace(&mut self.matrix, Semiseparable::new(0, 0)),
             memo: std::mem::replace(&mut self.memo, StartMemo::empty()),
         }
@@ -378,9 +385,13 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             self.end_g.copy_from_slice(&m.end_g);
             self.end_h.copy_from_slice(&m.end_h);
         } else {
-            // pass 1: element energies and, for the chain, end kinematics
-            for (i, e) in self.finger.elements.iter().enumerate() {
-                let (vi, gi, hi) = e.hessian(&self.k[i], &self.scalars);
+            // pass 1: element energies (several elements per instruction)
+            // and, for the chain, end kinematics
+            let core = self.finger;
+            core.lanes
+                .hessians(&core.elements, &self.k, &self.scalars, &mut self.eh);
+            for (i, e) in core.elements.iter().enumerate() {
+                let (vi, gi, hi) = self.eh[i];
                 v += vi;
                 g[n * i..n * i + n].copy_from_slice(gi.as_ref());
                 self.blk[i] = hi;

@@ -30,6 +30,8 @@ mod chain;
 #[cfg(test)]
 mod contact_tests;
 mod curve;
+#[cfg(test)]
+mod lane_tests;
 mod load;
 mod options;
 mod path;
@@ -42,7 +44,9 @@ use std::sync::Arc;
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
+use crate::element::ElementLanes;
 use crate::error::{InputError, Warning};
+use crate::lanes::Width;
 use crate::model::{ElementModel, ModelId, ModelVisitor};
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
@@ -157,6 +161,28 @@ impl Finger {
         let act = Actuator::paper(eps0)?;
         let part = Partition::equal(act.geometry().lx, n)?;
         Ok(Finger::new(&act, &part, true))
+    }
+
+    /// The same finger with its element Hessians evaluated `width`
+    /// elements at a time (or at the widest width below it this processor
+    /// runs; [`crate::lanes`]). A finger is built with the widest
+    /// ([`Width::detect`]); every width gives the same results bit for bit,
+    /// so this is for comparing their speed.
+    pub fn with_lane_width(&self, width: Width) -> Finger {
+        let core = crate::model::map_model!(&self.core, Core(c) => Core({
+            let mut core = c.core.clone();
+            core.lanes = ElementLanes::new(&core.elements, width);
+            Arc::new(Pooled::new(core))
+        }));
+        Finger {
+            core,
+            warnings: self.warnings.clone(),
+        }
+    }
+
+    /// The width the finger's element Hessians are evaluated at.
+    pub fn lane_width(&self) -> Width {
+        with_core!(self, c => c.lanes.width())
     }
 
     /// Runs `visitor` with the finger's model-typed core.

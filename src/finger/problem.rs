@@ -9,8 +9,9 @@
 use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
 use crate::element::distinct_elements;
-use crate::element::Element;
+use crate::element::{Element, ElementLanes};
 use crate::error::Warning;
+use crate::lanes::Width;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
 use crate::partition::Partition;
 
@@ -22,6 +23,9 @@ use crate::coefficients::Coefficients;
 #[derive(Debug, Clone)]
 pub(crate) struct FingerCore<M: ElementModel> {
     pub elements: Vec<Element<M>>,
+    /// The elements' moments packed for the widest lanes this processor
+    /// runs (the chain's Hessians).
+    pub lanes: ElementLanes<M>,
     /// For each element, the first element with identical blocks.
     pub distinct: Vec<usize>,
     /// Raw value of one scaled unit, per element.
@@ -57,6 +61,7 @@ impl<M: ElementModel> FingerCore<M> {
             }
         }
         FingerCore {
+            lanes: ElementLanes::new(&elements, Width::detect()),
             elements,
             distinct,
             unscale,

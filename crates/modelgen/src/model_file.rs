@@ -77,6 +77,7 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
     };
     let options = Options {
         shared_params: Some(quote! { super }),
+        lanes: Some(quote! { super }),
     };
     let mut generated = generate_with(&file.text, &options).map_err(|e| fail(e.to_string()))?;
     let midplane_kernel = &c.midplane.tokens;
@@ -236,6 +237,39 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             #[inline]
             fn hessian(m: &Moments, k: &[f64; #nu], s: &super::EnergyScalars) -> (f64, [f64; #nu], [f64; #nh]) {
                 energy_hessian(k, m, s)
+            }
+
+            type MomentLanes<L: super::Lane> = MomentLanes<L>;
+
+            fn moment_lanes<L: super::Lane>(m: &[&Moments]) -> MomentLanes<L> {
+                MomentLanes::gather(m)
+            }
+
+            #[inline(always)]
+            fn hessian_lanes<L: super::Lane>(
+                m: &MomentLanes<L>,
+                k: &[[f64; #nu]],
+                s: &super::EnergyScalars,
+                out: &mut [(f64, [f64; #nu], [f64; #nh])],
+            ) where
+                f64: super::LaneScalar<L>,
+            {
+                let Some(last) = k.len().checked_sub(1) else {
+                    return;
+                };
+                let kl: [L; #nu] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
+                // the kernel's lanes kept whole up to here: read lane by lane
+                // at once, the compiler splits the kernel into one scalar
+                // chain per lane and the vector instructions are lost
+                // (measured: slower than the scalar kernels at eight lanes)
+                let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
+                for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+                    *o = (
+                        v.lane(l),
+                        std::array::from_fn(|j| g[j].lane(l)),
+                        std::array::from_fn(|j| h[j].lane(l)),
+                    );
+                }
             }
 
             fn family_hessian(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu], [f64; #nh])> {

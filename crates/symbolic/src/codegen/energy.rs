@@ -19,6 +19,7 @@ pub(super) fn energy_fns(
     spec: &mut Spec,
     def: &EnergyDef,
     prefix: &TokenStream,
+    lanes: Option<&TokenStream>,
 ) -> Result<TokenStream, SymError> {
     let n = spec.unknowns.len();
     let nu = Literal::usize_unsuffixed(n);
@@ -62,6 +63,7 @@ pub(super) fn energy_fns(
     let mut value = Vec::new();
     let mut grad = Vec::new();
     let mut hess = Vec::new();
+    let mut hess_lanes = Vec::new();
     // a first term with coefficient 1 initialises the sums (no adds to zero)
     let first_is_one = def
         .terms
@@ -81,10 +83,12 @@ pub(super) fn energy_fns(
         let f_value = ident(&format!("{name}_value"));
         let f_grad = ident(&format!("{name}_gradient"));
         let f_hess = ident(&format!("{name}_hessian"));
+        let f_hess_lanes = ident(&format!("{name}_hessian_lanes"));
         if i == 0 && first_is_one {
             value.push(quote! { let mut v = #f_value(k, &m.#field); });
             grad.push(quote! { let (mut v, mut g) = #f_grad(k, &m.#field); });
             hess.push(quote! { let (mut v, mut g, mut h) = #f_hess(k, &m.#field); });
+            hess_lanes.push(quote! { let (mut v, mut g, mut h) = #f_hess_lanes(k, &m.#field); });
             continue;
         }
         let times = |t: TokenStream| {
@@ -109,6 +113,12 @@ pub(super) fn energy_fns(
                 quote! { h[#j] += #t; }
             })
             .collect();
+        let h_lanes_body = quote! {
+            let (tv, tg, th) = #f_hess_lanes(k, &m.#field);
+            v += #tv;
+            #(#gi)*
+            #(#hi)*
+        };
         let (v_body, g_body, h_body) = (
             quote! { let tv = #f_value(k, &m.#field); v += #tv; },
             quote! {
@@ -131,14 +141,16 @@ pub(super) fn energy_fns(
         value.push(guard(v_body));
         grad.push(guard(g_body));
         hess.push(guard(h_body));
+        hess_lanes.push(guard(h_lanes_body));
     }
-    let (init_v, init_g, init_h) = if first_is_one {
-        (TokenStream::new(), TokenStream::new(), TokenStream::new())
+    let (init_v, init_g, init_h, init_h_lanes) = if first_is_one {
+        Default::default()
     } else {
         (
             quote! { let mut v = 0.0; },
             quote! { let mut v = 0.0; let mut g = [0.0; #nu]; },
             quote! { let mut v = 0.0; let mut g = [0.0; #nu]; let mut h = [0.0; #nh]; },
+            quote! { let mut v = L::splat(0.0); let mut g = [L::splat(0.0); #nu]; let mut h = [L::splat(0.0); #nh]; },
         )
     };
     let combo: Vec<String> = def
@@ -216,7 +228,42 @@ pub(super) fn energy_fns(
             .collect::<Vec<_>>()
             .join(", ")
     );
+    let lane_items = lanes.map(|path| {
+        quote! {
+            #[doc = "The moments of several elements side by side: lane `l` of each entry holds element `l`'s (the input of `energy_hessian_lanes`)."]
+            #[derive(Debug, Clone, PartialEq)]
+            pub struct MomentLanes<L> {
+                #(#[doc = "Moments of this integral."] pub #fields: [L; #counts],)*
+            }
+
+            impl<L: #path::Lane> MomentLanes<L> {
+                #[doc = "Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat its last element (their results are not used). `m` must not be empty."]
+                pub fn gather(m: &[&Moments]) -> MomentLanes<L> {
+                    let last = m.len() - 1;
+                    MomentLanes {
+                        #(#fields: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].#fields[j])),)*
+                    }
+                }
+            }
+
+            #[doc = #doc]
+            #[doc = ""]
+            #[doc = "Value, gradient and Hessian on lanes, one element per lane, each lane bit for bit `energy_hessian`'s result for that element."]
+            #[inline(always)]
+            pub fn energy_hessian_lanes<L: #path::Lane>(k: &[L; #nu], m: &MomentLanes<L>, s: &#prefix EnergyScalars) -> (L, [L; #nu], [L; #nh])
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #used
+                #init_h_lanes
+                #(#hess_lanes)*
+                (v, g, h)
+            }
+        }
+    });
     Ok(quote! {
+        #lane_items
+
         #[doc = "The moments of every integral of the energy, accumulated block by block."]
         #[derive(Debug, Clone, PartialEq)]
         pub struct Moments {

@@ -26,6 +26,7 @@ pub(super) fn integral_kernel(
     spec: &mut Spec,
     def: &IntegralDef,
     prefix: &TokenStream,
+    lanes: Option<&TokenStream>,
 ) -> Result<(TokenStream, Vec<FunctionReport>), SymError> {
     let arena = &mut spec.arena;
     let unknowns = spec.unknowns.clone();
@@ -426,6 +427,29 @@ pub(super) fn integral_kernel(
     let gv = &g_parts[0];
     let gg = &g_parts[1..];
     let _ = literal;
+    let hess_lanes = lanes.map(|path| {
+        let fn_hess_lanes = ident(&format!("{name}_hessian_lanes"));
+        // a constant output is an f64: splat it into the lanes
+        let lane_out = |(t, &e): (&TokenStream, &ExprId)| match arena_ro.as_num(e) {
+            Some(_) => quote! { L::splat(#t) },
+            None => t.clone(),
+        };
+        let outs: Vec<TokenStream> = h_parts.iter().zip(&houts).map(lane_out).collect();
+        let (lv, lg, lh) = (&outs[0], &outs[1..=n], &outs[n + 1..]);
+        quote! {
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = "The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order)."]
+            #[inline(always)]
+            pub fn #fn_hess_lanes<L: #path::Lane>(k: &[L; #nu], m: &[L; #count_ident]) -> (L, [L; #nu], [L; #nh])
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #(#h_stmts)*
+                (#lv, [#(#lg),*], [#(#lh),*])
+            }
+        }
+    });
 
     let tokens = quote! {
         #[doc = #head_doc]
@@ -476,6 +500,8 @@ pub(super) fn integral_kernel(
             #(#h_stmts)*
             (#hv, [#(#hg),*], [#(#hh),*])
         }
+
+        #hess_lanes
 
         #jacobian_tokens
     };

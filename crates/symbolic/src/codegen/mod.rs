@@ -93,13 +93,22 @@ pub struct Generated {
     pub report: Vec<FunctionReport>,
 }
 
-/// Where the parameter structs of the generated functions live.
+/// Where the parameter structs of the generated functions live, and
+/// whether to emit lane-generic kernels.
 #[derive(Debug, Clone, Default)]
 pub struct Options {
     /// A Rust path (e.g. `super::params`) holding the parameter structs
     /// ([`param_structs`]) that several generated modules share; `None`
     /// emits them into the module itself.
     pub shared_params: Option<TokenStream>,
+    /// A Rust path holding the traits `Lane` and `LaneScalar` (the fpc
+    /// crate's `lanes` module): with it, every integral kernel's Hessian
+    /// and the energy's are emitted a second time as `*_hessian_lanes`,
+    /// generic over a lane type holding one number per element (the same
+    /// statements in the same order, so each lane is bit for bit the scalar
+    /// kernel's result), with a `MomentLanes` struct of moments side by
+    /// side. `None` emits none.
+    pub lanes: Option<TokenStream>,
 }
 
 /// A named parameter struct of a generated function: integral kernels take
@@ -267,7 +276,8 @@ pub fn generate_with(src: &str, options: &Options) -> Result<Generated, GenError
             line: def.line,
             source: e,
         };
-        let (tokens, rep) = integral_kernel(&mut spec, def, &prefix).map_err(wrap)?;
+        let (tokens, rep) =
+            integral_kernel(&mut spec, def, &prefix, options.lanes.as_ref()).map_err(wrap)?;
         items.push(tokens);
         report.extend(rep);
     }
@@ -277,7 +287,7 @@ pub fn generate_with(src: &str, options: &Options) -> Result<Generated, GenError
             line: def.line,
             source: e,
         };
-        items.push(energy_fns(&mut spec, &def, &prefix).map_err(wrap)?);
+        items.push(energy_fns(&mut spec, &def, &prefix, options.lanes.as_ref()).map_err(wrap)?);
     }
     let laws = spec.laws.clone();
     for def in &laws {

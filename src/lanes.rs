@@ -1,0 +1,245 @@
+//! Several elements at once: the lane type the generated `*_lanes` kernels
+//! are written for, and the width this machine runs them at.
+//!
+//! The generator emits every integral kernel's Hessian a second time,
+//! generic over a [`Lane`]: the same statements, in the same order, on a
+//! value that holds one number per element. [`Lanes<W>`] holds `W`
+//! elements' numbers; its operations act lane by lane, so each lane of a
+//! result is bit for bit the scalar kernel's result for that element (no
+//! operation is fused or reordered). The compiler turns the lane
+//! operations into vector instructions: inside a function compiled for
+//! AVX-512 ([`Width::EightAvx512`]) or AVX2 ([`Width::FourAvx2`]) when the
+//! processor has them (checked at run time), and with the baseline
+//! instruction set otherwise ([`Width::Four`]). The element code that packs
+//! the moments and calls the kernels is `crate::element`'s.
+
+use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
+use std::sync::OnceLock;
+
+/// A number per lane: the type the generated `*_lanes` kernels compute on.
+/// `f64` is the one-lane case.
+pub trait Lane:
+    Copy
+    + std::fmt::Debug
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + Add<f64, Output = Self>
+    + Sub<f64, Output = Self>
+    + Mul<f64, Output = Self>
+    + Div<f64, Output = Self>
+{
+    /// Number of lanes.
+    const WIDTH: usize;
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+    /// Lane `i` is `f(i)`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `i` (`i < WIDTH`).
+    fn lane(&self, i: usize) -> f64;
+}
+
+/// `f64` on the left of a lane operation (`2.0 * x`): the generated
+/// kernels require `f64: LaneScalar<L>`.
+pub trait LaneScalar<L>:
+    Add<L, Output = L> + Sub<L, Output = L> + Mul<L, Output = L> + Div<L, Output = L>
+{
+}
+
+impl<L> LaneScalar<L> for f64 where
+    f64: Add<L, Output = L> + Sub<L, Output = L> + Mul<L, Output = L> + Div<L, Output = L>
+{
+}
+
+impl Lane for f64 {
+    const WIDTH: usize = 1;
+    #[inline(always)]
+    fn splat(x: f64) -> f64 {
+        x
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> f64 {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(&self, _: usize) -> f64 {
+        *self
+    }
+}
+
+/// `W` numbers side by side, one per element.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(transparent)]
+pub struct Lanes<const W: usize>(pub [f64; W]);
+
+macro_rules! lane_op {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl<const W: usize> $tr for Lanes<W> {
+            type Output = Lanes<W>;
+            #[inline(always)]
+            fn $f(self, b: Lanes<W>) -> Lanes<W> {
+                Lanes(std::array::from_fn(|i| self.0[i] $op b.0[i]))
+            }
+        }
+        impl<const W: usize> $tr<f64> for Lanes<W> {
+            type Output = Lanes<W>;
+            #[inline(always)]
+            fn $f(self, b: f64) -> Lanes<W> {
+                Lanes(self.0.map(|a| a $op b))
+            }
+        }
+        impl<const W: usize> $tr<Lanes<W>> for f64 {
+            type Output = Lanes<W>;
+            #[inline(always)]
+            fn $f(self, b: Lanes<W>) -> Lanes<W> {
+                Lanes(b.0.map(|x| self $op x))
+            }
+        }
+    };
+}
+
+lane_op!(Add, add, +);
+lane_op!(Sub, sub, -);
+lane_op!(Mul, mul, *);
+lane_op!(Div, div, /);
+
+impl<const W: usize> Neg for Lanes<W> {
+    type Output = Lanes<W>;
+    #[inline(always)]
+    fn neg(self) -> Lanes<W> {
+        Lanes(self.0.map(|a| -a))
+    }
+}
+
+impl<const W: usize> AddAssign for Lanes<W> {
+    #[inline(always)]
+    fn add_assign(&mut self, b: Lanes<W>) {
+        *self = *self + b;
+    }
+}
+
+impl<const W: usize> Lane for Lanes<W> {
+    const WIDTH: usize = W;
+    #[inline(always)]
+    fn splat(x: f64) -> Lanes<W> {
+        Lanes([x; W])
+    }
+    #[inline(always)]
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Lanes<W> {
+        Lanes(std::array::from_fn(f))
+    }
+    #[inline(always)]
+    fn lane(&self, i: usize) -> f64 {
+        self.0[i]
+    }
+}
+
+/// How many elements an evaluation takes at once, and with which
+/// instructions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Width {
+    /// One element at a time: the scalar kernels.
+    One,
+    /// Four elements, baseline instructions (two-wide SSE2 on x86-64).
+    Four,
+    /// Four elements in 256-bit AVX2 registers.
+    FourAvx2,
+    /// Eight elements in 512-bit AVX-512 registers.
+    EightAvx512,
+}
+
+impl Width {
+    /// Every width, narrowest first.
+    pub const ALL: [Width; 4] = [Width::One, Width::Four, Width::FourAvx2, Width::EightAvx512];
+
+    /// The widest this processor runs (checked once per process).
+    pub fn detect() -> Width {
+        static DETECTED: OnceLock<Width> = OnceLock::new();
+        *DETECTED.get_or_init(|| {
+            Width::ALL
+                .into_iter()
+                .rev()
+                .find(|w| w.is_supported())
+                .unwrap_or(Width::One)
+        })
+    }
+
+    /// True when this processor has the instructions of the width.
+    pub fn is_supported(self) -> bool {
+        match self {
+            Width::One | Width::Four => true,
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Width::FourAvx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+            }
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            Width::EightAvx512 => {
+                std::arch::is_x86_feature_detected!("avx512f")
+                    && std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+            }
+            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+            Width::FourAvx2 | Width::EightAvx512 => false,
+        }
+    }
+
+    /// Elements per evaluation.
+    pub fn lanes(self) -> usize {
+        match self {
+            Width::One => 1,
+            Width::Four | Width::FourAvx2 => 4,
+            Width::EightAvx512 => 8,
+        }
+    }
+
+    /// A short name (`scalar`, `4`, `4-avx2`, `8-avx512`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Width::One => "scalar",
+            Width::Four => "4",
+            Width::FourAvx2 => "4-avx2",
+            Width::EightAvx512 => "8-avx512",
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lane_operations_act_lane_by_lane() {
+        let a = Lanes([1.0, -2.0, 3.5, 0.25]);
+        let b = Lanes([0.5, 4.0, -1.0, 8.0]);
+        let mut s = a;
+        s += b;
+        for i in 0..4 {
+            let (x, y) = (a.0[i], b.0[i]);
+            assert_eq!((a + b).lane(i), x + y);
+            assert_eq!((a - b).lane(i), x - y);
+            assert_eq!((a * b).lane(i), x * y);
+            assert_eq!((a / b).lane(i), x / y);
+            assert_eq!((-a).lane(i), -x);
+            assert_eq!(s.lane(i), x + y);
+            assert_eq!((2.0 * a - b * 3.0 + 1.0).lane(i), 2.0 * x - y * 3.0 + 1.0);
+            assert_eq!((1.5 / a / 2.0 - 0.5).lane(i), 1.5 / x / 2.0 - 0.5);
+        }
+        assert_eq!(Lanes::<4>::splat(2.5), Lanes([2.5; 4]));
+        assert_eq!(<f64 as Lane>::from_fn(|i| i as f64 + 7.0), 7.0);
+    }
+
+    #[test]
+    fn the_detected_width_is_supported_and_the_baseline_always_is() {
+        assert!(Width::detect().is_supported());
+        assert!(Width::One.is_supported() && Width::Four.is_supported());
+        let lanes: Vec<usize> = Width::ALL.iter().map(|w| w.lanes()).collect();
+        assert_eq!(lanes, [1, 4, 4, 8]);
+    }
+}
