@@ -30,8 +30,8 @@
 //!   warm-started from the one before and reusing its fingers or gripper,
 //!   against every point solved afresh;
 //! - `lanes`: the N = 8 structured Hessian and the tip-loaded cold and
-//!   warm solves with the element Hessians evaluated at each lane width
-//!   this processor runs (`Finger::with_lane_width`: `scalar`, `4`,
+//!   warm solves with the element pass (potentials, gradients, Hessians)
+//!   evaluated at each lane width this processor runs (`Finger::with_lane_width`: `scalar`, `4`,
 //!   `4-avx2`, `8-avx512`; the same results bit for bit at every width);
 //! - `envelope`: study 5's sphere envelope (the best lifting force per
 //!   radius) on 16 radii of the Sec. 5 gripper, followed along the radius

@@ -147,7 +147,17 @@ impl<M: Energy> Element<M> {
         if self.pin.is_empty() {
             return M::energy(&self.moments, k, s);
         }
-        M::energy(&self.moments, &self.held(k), s) + self.pin_energy(k)
+        self.finish_energy(k, M::energy(&self.moments, &self.held(k), s))
+    }
+
+    /// The element's potential at `k` from the model's at
+    /// [`Element::seen`]`(k)`.
+    #[inline]
+    fn finish_energy(&self, k: &M::Coeffs, v: f64) -> f64 {
+        if self.pin.is_empty() {
+            return v;
+        }
+        v + self.pin_energy(k)
     }
 
     /// Potential and gradient.
@@ -156,7 +166,16 @@ impl<M: Energy> Element<M> {
         if self.pin.is_empty() {
             return M::gradient(&self.moments, k, s);
         }
-        let (v, mut g) = M::gradient(&self.moments, &self.held(k), s);
+        self.finish_gradient(k, M::gradient(&self.moments, &self.held(k), s))
+    }
+
+    /// The element's potential and gradient at `k` from the model's at
+    /// [`Element::seen`]`(k)`.
+    #[inline]
+    fn finish_gradient(&self, k: &M::Coeffs, (v, mut g): (f64, M::Coeffs)) -> (f64, M::Coeffs) {
+        if self.pin.is_empty() {
+            return (v, g);
+        }
         for (&i, &c) in M::ACROSS.iter().zip(&self.pin) {
             g[i] = c * k[i];
         }
@@ -294,9 +313,80 @@ pub(crate) fn frames<M: Kinematics>(
 /// An element's potential, gradient and Hessian (upper triangle).
 pub(crate) type ElementHessian<M> = (f64, <M as ModelCore>::Coeffs, <M as ModelCore>::Upper);
 
+/// What an element pass evaluates ([`Value`], [`Gradient`], [`Hessian`]):
+/// the scalar path, the lanes, and what the held unknowns of plane strain
+/// add to the model's result.
+pub(crate) trait Pass<M: Energy> {
+    /// One element's result.
+    type Out: Copy;
+    /// The model's result at `k` (the unknowns it sees), lane by lane.
+    fn lanes<L: Lane>(
+        m: &M::MomentLanes<L>,
+        k: &[M::Coeffs],
+        s: &EnergyScalars,
+        out: &mut [Self::Out],
+    ) where
+        f64: LaneScalar<L>;
+    /// The model's result for one element at `k` (the unknowns it sees).
+    fn model(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out;
+    /// The element's result at `k` from the model's.
+    fn finish(e: &Element<M>, k: &M::Coeffs, out: Self::Out) -> Self::Out;
+}
+
+/// The element potentials ([`Element::energy`]).
+pub(crate) struct Value;
+/// The potentials and gradients ([`Element::gradient`]).
+pub(crate) struct Gradient;
+/// The potentials, gradients and Hessians ([`Element::hessian`]).
+pub(crate) struct Hessian;
+
+/// `pass!(Pass, its output, lane method, scalar method, finishing method)`.
+macro_rules! pass {
+    ($pass:ident, $out:ty, $lanes:ident, $model:ident, $finish:ident) => {
+        impl<M: Energy> Pass<M> for $pass {
+            type Out = $out;
+            #[inline(always)]
+            fn lanes<L: Lane>(
+                m: &M::MomentLanes<L>,
+                k: &[M::Coeffs],
+                s: &EnergyScalars,
+                out: &mut [Self::Out],
+            ) where
+                f64: LaneScalar<L>,
+            {
+                M::$lanes(m, k, s, out)
+            }
+            #[inline(always)]
+            fn model(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out {
+                M::$model(&e.moments, k, s)
+            }
+            #[inline(always)]
+            fn finish(e: &Element<M>, k: &M::Coeffs, out: Self::Out) -> Self::Out {
+                e.$finish(k, out)
+            }
+        }
+    };
+}
+
+pass!(Value, f64, energy_lanes, energy, finish_energy);
+pass!(
+    Gradient,
+    (f64, M::Coeffs),
+    gradient_lanes,
+    gradient,
+    finish_gradient
+);
+pass!(
+    Hessian,
+    ElementHessian<M>,
+    hessian_lanes,
+    hessian,
+    finish_hessian
+);
+
 /// The elements' moments packed side by side for one [`Width`]: the
-/// Hessians of a whole finger, several elements per instruction
-/// ([`crate::lanes`]). Built once with the finger.
+/// potentials, gradients and Hessians of a whole finger, several elements
+/// per instruction ([`crate::lanes`]). Built once with the finger.
 #[derive(Debug, Clone)]
 pub(crate) enum ElementLanes<M: Energy> {
     /// One element at a time.
@@ -350,44 +440,46 @@ impl<M: Energy> ElementLanes<M> {
         }
     }
 
-    /// [`Element::hessian`] of every element of `elements` (the ones packed)
-    /// at `k[i]` into `out[i]`, bit for bit.
-    pub fn hessians(
+    /// Pass `P` ([`Value`], [`Gradient`], [`Hessian`]) of every element of
+    /// `elements` (the ones packed) at `k[i]` into `out[i]`, bit for bit
+    /// the scalar [`Element::energy`], [`Element::gradient`] or
+    /// [`Element::hessian`].
+    pub fn eval<P: Pass<M>>(
         &self,
         elements: &[Element<M>],
         k: &[M::Coeffs],
         s: &EnergyScalars,
-        out: &mut [ElementHessian<M>],
+        out: &mut [P::Out],
     ) {
         match self {
             ElementLanes::One => {
                 for ((o, e), k) in out.iter_mut().zip(elements).zip(k) {
-                    *o = e.hessian(k, s);
+                    *o = P::finish(e, k, P::model(e, &e.seen(k), s));
                 }
             }
             #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
             // SAFETY: packed with AVX2 only where the processor has it
             // (`Width::is_supported`)
-            ElementLanes::Four(p, true) => unsafe { hessians_avx2(p, elements, k, s, out) },
-            ElementLanes::Four(p, _) => hessians_in::<M, Lanes<4>>(p, elements, k, s, out),
+            ElementLanes::Four(p, true) => unsafe { eval_avx2::<M, P>(p, elements, k, s, out) },
+            ElementLanes::Four(p, _) => eval_in::<M, P, Lanes<4>>(p, elements, k, s, out),
             #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
             // SAFETY: packed for AVX-512 only where the processor has it
-            ElementLanes::Eight(p) => unsafe { hessians_avx512(p, elements, k, s, out) },
+            ElementLanes::Eight(p) => unsafe { eval_avx512::<M, P>(p, elements, k, s, out) },
             #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
-            ElementLanes::Eight(p) => hessians_in::<M, Lanes<8>>(p, elements, k, s, out),
+            ElementLanes::Eight(p) => eval_in::<M, P, Lanes<8>>(p, elements, k, s, out),
         }
     }
 }
 
-/// The Hessians of every element, `L::WIDTH` at a time (inlined into the
+/// Pass `P` of every element, `L::WIDTH` at a time (inlined into the
 /// functions compiled for a width's instructions).
 #[inline(always)]
-fn hessians_in<M: Energy, L: Lane>(
+fn eval_in<M: Energy, P: Pass<M>, L: Lane>(
     packed: &[M::MomentLanes<L>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,
-    out: &mut [ElementHessian<M>],
+    out: &mut [P::Out],
 ) where
     f64: LaneScalar<L>,
 {
@@ -401,33 +493,33 @@ fn hessians_in<M: Energy, L: Lane>(
         for ((sk, e), k) in seen.iter_mut().zip(e).zip(k) {
             *sk = e.seen(k);
         }
-        M::hessian_lanes::<L>(m, &seen[..k.len()], s, o);
+        P::lanes::<L>(m, &seen[..k.len()], s, o);
         for ((o, e), k) in o.iter_mut().zip(e).zip(k) {
-            *o = e.finish_hessian(k, *o);
+            *o = P::finish(e, k, *o);
         }
     }
 }
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx2,fma")]
-fn hessians_avx2<M: Energy>(
+fn eval_avx2<M: Energy, P: Pass<M>>(
     packed: &[M::MomentLanes<Lanes<4>>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,
-    out: &mut [ElementHessian<M>],
+    out: &mut [P::Out],
 ) {
-    hessians_in::<M, Lanes<4>>(packed, elements, k, s, out)
+    eval_in::<M, P, Lanes<4>>(packed, elements, k, s, out)
 }
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx512f,avx2,fma")]
-fn hessians_avx512<M: Energy>(
+fn eval_avx512<M: Energy, P: Pass<M>>(
     packed: &[M::MomentLanes<Lanes<8>>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,
-    out: &mut [ElementHessian<M>],
+    out: &mut [P::Out],
 ) {
-    hessians_in::<M, Lanes<8>>(packed, elements, k, s, out)
+    eval_in::<M, P, Lanes<8>>(packed, elements, k, s, out)
 }

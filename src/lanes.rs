@@ -1,8 +1,9 @@
 //! Several elements at once: the lane type the generated `*_lanes` kernels
 //! are written for, and the width this machine runs them at.
 //!
-//! The generator emits every integral kernel's Hessian a second time,
-//! generic over a [`Lane`]: the same statements, in the same order, on a
+//! The generator emits every integral kernel's value, gradient and
+//! Hessian, and the energy's, a second time (`*_lanes`), generic over a
+//! [`Lane`]: the same statements, in the same order, on a
 //! value that holds one number per element. [`Lanes<W>`] holds `W`
 //! elements' numbers; its operations act lane by lane, so each lane of a
 //! result is bit for bit the scalar kernel's result for that element (no

@@ -125,9 +125,27 @@ pub trait Energy: ModelCore {
     /// Lane `l` holds `m[l]`'s moments; lanes past the end of `m` repeat
     /// its last element. `m` must not be empty.
     fn moment_lanes<L: Lane>(m: &[&Self::Moments]) -> Self::MomentLanes<L>;
-    /// [`Energy::hessian`] of up to `L::WIDTH` elements at once: element
+    /// [`Energy::energy`] of up to `L::WIDTH` elements at once: element
     /// `l` has the moments of lane `l` of `m` and the unknowns `k[l]`, and
     /// its result goes to `out[l]`, bit for bit the scalar one.
+    fn energy_lanes<L: Lane>(
+        m: &Self::MomentLanes<L>,
+        k: &[Self::Coeffs],
+        s: &EnergyScalars,
+        out: &mut [f64],
+    ) where
+        f64: LaneScalar<L>;
+    /// [`Energy::gradient`] of up to `L::WIDTH` elements at once (as
+    /// [`Energy::energy_lanes`]).
+    fn gradient_lanes<L: Lane>(
+        m: &Self::MomentLanes<L>,
+        k: &[Self::Coeffs],
+        s: &EnergyScalars,
+        out: &mut [(f64, Self::Coeffs)],
+    ) where
+        f64: LaneScalar<L>;
+    /// [`Energy::hessian`] of up to `L::WIDTH` elements at once (as
+    /// [`Energy::energy_lanes`]).
     fn hessian_lanes<L: Lane>(
         m: &Self::MomentLanes<L>,
         k: &[Self::Coeffs],

@@ -190,7 +190,72 @@ pub fn linear_hessian(
 }
 ///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_value_lanes<L: super::Lane>(k: &[L; 4], m: &[L; LINEAR_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom3 * atom3;
+    tmp1 * m[9] + atom2 * (atom3 * m[8] + atom2 * m[7])
+        + atom1 * (atom3 * m[6] + atom2 * m[5] + atom1 * m[4])
+        + atom0 * (atom3 * m[3] + atom2 * m[2] + atom1 * m[1] + atom0 * m[0])
+}
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_gradient_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 4])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom3 * atom3;
+    let tmp2 = atom3 * m[8];
+    let tmp3 = atom3 * m[6];
+    let tmp4 = atom2 * m[5];
+    let tmp5 = atom3 * m[3];
+    let tmp6 = atom2 * m[2];
+    let tmp7 = atom1 * m[1];
+    let tmp8 = atom2 * m[8] + 2.0 * atom3 * m[9] + atom1 * m[6] + atom0 * m[3];
+    (
+        tmp1 * m[9] + atom2 * (tmp2 + atom2 * m[7])
+            + atom1 * (tmp3 + tmp4 + atom1 * m[4])
+            + atom0 * (tmp5 + tmp6 + tmp7 + atom0 * m[0]),
+        [
+            tmp5 + tmp6 + tmp7 + 2.0 * atom0 * m[0],
+            3.0 * tmp8,
+            tmp3 + tmp4 + 2.0 * atom1 * m[4] + atom0 * m[1],
+            tmp2 + 2.0 * atom2 * m[7] + atom1 * m[5] + atom0 * m[2] + 4.0 * c2 * tmp8,
+        ],
+    )
+}
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn linear_hessian_lanes<L: super::Lane>(
     k: &[L; 4],
@@ -993,7 +1058,184 @@ pub fn prestressed_hessian(
 }
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_value_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom1 * atom1;
+    m[0] + tmp1 * m[7]
+        + atom3
+            * (m[3]
+                + atom3 * (m[10] + atom3 * (m[20] + atom3 * (m[35] + atom3 * m[56]))))
+        + atom2
+            * (m[2] + atom3 * (m[9] + atom3 * (m[19] + atom3 * (m[34] + atom3 * m[55])))
+                + atom2
+                    * (m[8] + atom3 * (m[18] + atom3 * (m[33] + atom3 * m[54]))
+                        + atom2
+                            * (m[17] + atom3 * (m[32] + atom3 * m[53])
+                                + atom2 * (m[31] + atom3 * m[52] + atom2 * m[51]))))
+        + atom0
+            * (m[1] + atom3 * (m[6] + atom3 * (m[16] + atom3 * (m[30] + atom3 * m[50])))
+                + atom2
+                    * (m[5] + atom3 * (m[15] + atom3 * (m[29] + atom3 * m[49]))
+                        + atom2
+                            * (m[14] + atom3 * (m[28] + atom3 * m[48])
+                                + atom2 * (m[27] + atom3 * m[47] + atom2 * m[46])))
+                + atom0
+                    * (m[4] + atom3 * (m[13] + atom3 * (m[26] + atom3 * m[45]))
+                        + atom2
+                            * (m[12] + atom3 * (m[25] + atom3 * m[44])
+                                + atom2 * (m[24] + atom3 * m[43] + atom2 * m[42]))
+                        + atom0
+                            * (m[11] + atom3 * (m[23] + atom3 * m[41])
+                                + atom2 * (m[22] + atom3 * m[40] + atom2 * m[39])
+                                + atom0
+                                    * (m[21] + atom3 * m[38] + atom2 * m[37] + atom0 * m[36]))))
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_gradient_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 4])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = a1;
+    let atom1 = b1;
+    let atom2 = c2;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = atom1 * atom1;
+    let tmp2 = atom3 * (m[9] + atom3 * (m[19] + atom3 * (m[34] + atom3 * m[55])));
+    let tmp3 = atom3 * (m[6] + atom3 * (m[16] + atom3 * (m[30] + atom3 * m[50])));
+    let tmp4 = atom3 * (m[15] + atom3 * (m[29] + atom3 * m[49]));
+    let tmp5 = atom2
+        * (m[5] + tmp4
+            + atom2
+                * (m[14] + atom3 * (m[28] + atom3 * m[48])
+                    + atom2 * (m[27] + atom3 * m[47] + atom2 * m[46])));
+    let tmp6 = atom3 * (m[25] + atom3 * m[44]);
+    let tmp7 = atom3 * m[40];
+    let tmp8 = 2.0 * m[26];
+    let tmp9 = 2.0 * atom3 * m[44];
+    let tmp10 = 2.0 * m[24];
+    let tmp11 = 2.0 * atom3 * m[43];
+    let tmp12 = 2.0 * m[33];
+    let tmp13 = 2.0 * atom3 * m[48];
+    let tmp14 = m[3]
+        + atom3
+            * (2.0 * m[10]
+                + atom3 * (3.0 * m[20] + atom3 * (4.0 * m[35] + 5.0 * atom3 * m[56])))
+        + atom2
+            * (m[9] + atom3 * (2.0 * m[19] + atom3 * (3.0 * m[34] + 4.0 * atom3 * m[55]))
+                + atom2
+                    * (m[18] + atom3 * (tmp12 + 3.0 * atom3 * m[54])
+                        + atom2 * (m[32] + 2.0 * atom3 * m[53] + atom2 * m[52])))
+        + atom0
+            * (m[6] + atom3 * (2.0 * m[16] + atom3 * (3.0 * m[30] + 4.0 * atom3 * m[50]))
+                + atom2
+                    * (m[15] + atom3 * (2.0 * m[29] + 3.0 * atom3 * m[49])
+                        + atom2 * (m[28] + tmp13 + atom2 * m[47]))
+                + atom0
+                    * (m[13] + atom3 * (tmp8 + 3.0 * atom3 * m[45])
+                        + atom2 * (m[25] + tmp9 + atom2 * m[43])
+                        + atom0
+                            * (m[23] + 2.0 * atom3 * m[41] + atom2 * m[40]
+                                + atom0 * m[38])));
+    (
+        m[0] + tmp1 * m[7]
+            + atom3
+                * (m[3]
+                    + atom3
+                        * (m[10] + atom3 * (m[20] + atom3 * (m[35] + atom3 * m[56]))))
+            + atom2
+                * (m[2] + tmp2
+                    + atom2
+                        * (m[8] + atom3 * (m[18] + atom3 * (m[33] + atom3 * m[54]))
+                            + atom2
+                                * (m[17] + atom3 * (m[32] + atom3 * m[53])
+                                    + atom2 * (m[31] + atom3 * m[52] + atom2 * m[51]))))
+            + atom0
+                * (m[1] + tmp3 + tmp5
+                    + atom0
+                        * (m[4] + atom3 * (m[13] + atom3 * (m[26] + atom3 * m[45]))
+                            + atom2
+                                * (m[12] + tmp6
+                                    + atom2 * (m[24] + atom3 * m[43] + atom2 * m[42]))
+                            + atom0
+                                * (m[11] + atom3 * (m[23] + atom3 * m[41])
+                                    + atom2 * (m[22] + tmp7 + atom2 * m[39])
+                                    + atom0
+                                        * (m[21] + atom3 * m[38] + atom2 * m[37]
+                                            + atom0 * m[36])))),
+        [
+            m[1] + tmp3 + tmp5
+                + atom0
+                    * (2.0 * m[4]
+                        + atom3 * (2.0 * m[13] + atom3 * (tmp8 + 2.0 * atom3 * m[45]))
+                        + atom2
+                            * (2.0 * m[12] + atom3 * (2.0 * m[25] + tmp9)
+                                + atom2 * (tmp10 + tmp11 + 2.0 * atom2 * m[42]))
+                        + atom0
+                            * (3.0 * m[11] + atom3 * (3.0 * m[23] + 3.0 * atom3 * m[41])
+                                + atom2
+                                    * (3.0 * m[22] + 3.0 * atom3 * m[40] + 3.0 * atom2 * m[39])
+                                + atom0
+                                    * (4.0 * m[21] + 4.0 * atom3 * m[38] + 4.0 * atom2 * m[37]
+                                        + 5.0 * atom0 * m[36]))),
+            3.0 * tmp14,
+            2.0 * atom1 * m[7],
+            m[2] + tmp2
+                + atom2
+                    * (2.0 * m[8]
+                        + atom3 * (2.0 * m[18] + atom3 * (tmp12 + 2.0 * atom3 * m[54]))
+                        + atom2
+                            * (3.0 * m[17] + atom3 * (3.0 * m[32] + 3.0 * atom3 * m[53])
+                                + atom2
+                                    * (4.0 * m[31] + 4.0 * atom3 * m[52]
+                                        + 5.0 * atom2 * m[51])))
+                + atom0
+                    * (m[5] + tmp4
+                        + atom2
+                            * (2.0 * m[14] + atom3 * (2.0 * m[28] + tmp13)
+                                + atom2
+                                    * (3.0 * m[27] + 3.0 * atom3 * m[47] + 4.0 * atom2 * m[46]))
+                        + atom0
+                            * (m[12] + tmp6
+                                + atom2 * (tmp10 + tmp11 + 3.0 * atom2 * m[42])
+                                + atom0
+                                    * (m[22] + tmp7 + 2.0 * atom2 * m[39] + atom0 * m[37])))
+                + 4.0 * c2 * tmp14,
+        ],
+    )
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn prestressed_hessian_lanes<L: super::Lane>(
     k: &[L; 4],
@@ -2140,7 +2382,55 @@ pub fn gas_hessian(k: &[f64; 4], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 4], [f64
 }
 ///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_value_lanes<L: super::Lane>(k: &[L; 4], m: &[L; GAS_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = c2;
+    let atom1 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom2 = 3.0 * a3 + 2.0 * tmp0;
+    let atom3 = 1.0 + a1;
+    atom1 * (atom3 * m[2] + atom2 * m[1] + atom0 * m[0])
+}
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_gradient_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 4])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let atom0 = c2;
+    let atom1 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom2 = 3.0 * a3 + 2.0 * tmp0;
+    let atom3 = 1.0 + a1;
+    let tmp1 = atom3 * m[2] + atom2 * m[1] + atom0 * m[0];
+    (
+        atom1 * tmp1,
+        [atom1 * m[2], 3.0 * atom1 * m[1], tmp1, atom1 * m[0] + 4.0 * c2 * atom1 * m[1]],
+    )
+}
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn gas_hessian_lanes<L: super::Lane>(
     k: &[L; 4],
@@ -2234,6 +2524,66 @@ impl<L: super::Lane> MomentLanes<L> {
             gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
         }
     }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///The value on lanes, one element per lane, each lane bit for bit `energy_value`'s result for that element.
+#[inline(always)]
+pub fn energy_value_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let mut v = linear_value_lanes(k, &m.linear);
+    {
+        let tv = prestressed_value_lanes(k, &m.prestressed);
+        v += tv;
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let tv = gas_value_lanes(k, &m.gas);
+            v += c2 * tv;
+        }
+    }
+    v
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value and gradient on lanes, one element per lane, each lane bit for bit `energy_gradient`'s result for that element.
+#[inline(always)]
+pub fn energy_gradient_lanes<L: super::Lane>(
+    k: &[L; 4],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 4])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g) = linear_gradient_lanes(k, &m.linear);
+    {
+        let (tv, tg) = prestressed_gradient_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg) = gas_gradient_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+        }
+    }
+    (v, g)
 }
 ///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
 ///
@@ -3057,6 +3407,12 @@ impl super::ModelCore for Ccm {
         unscale(length)
     }
 }
+///Lane `l` holds `k[l]` (lanes past the end repeat its last entry); `None` for no unknowns.
+#[inline(always)]
+fn gather<L: super::Lane>(k: &[[f64; 4]]) -> Option<[L; 4]> {
+    let last = k.len().checked_sub(1)?;
+    Some(std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j])))
+}
 impl super::Energy for Ccm {
     fn zero_moments() -> Moments {
         Moments::ZERO
@@ -3091,6 +3447,42 @@ impl super::Energy for Ccm {
         MomentLanes::gather(m)
     }
     #[inline(always)]
+    fn energy_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 4]],
+        s: &super::EnergyScalars,
+        out: &mut [f64],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let v = std::hint::black_box(energy_value_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = v.lane(l);
+        }
+    }
+    #[inline(always)]
+    fn gradient_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 4]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 4])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
+        }
+    }
+    #[inline(always)]
     fn hessian_lanes<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 4]],
@@ -3100,10 +3492,9 @@ impl super::Energy for Ccm {
     where
         f64: super::LaneScalar<L>,
     {
-        let Some(last) = k.len().checked_sub(1) else {
+        let Some(kl) = gather(k) else {
             return;
         };
-        let kl: [L; 4] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
         for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
             *o = (

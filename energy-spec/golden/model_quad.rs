@@ -232,7 +232,87 @@ pub fn linear_hessian(
 }
 ///Kernel `linear`: the integral of `b1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_value_lanes<L: super::Lane>(k: &[L; 5], m: &[L; LINEAR_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    atom5 * m[0] + atom4 * (atom1 * m[7] + atom4 * m[13])
+        + atom0 * (atom1 * m[2] + atom0 * m[1])
+        + atom3 * (atom4 * m[12] + atom1 * m[6] + atom0 * m[4] + atom3 * m[11])
+        + atom2
+            * (atom4 * m[10] + atom3 * m[9] + atom1 * m[5] + atom0 * m[3] + atom2 * m[8])
+}
+///Kernel `linear`: the integral of `b1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    let tmp3 = atom1 * m[7];
+    let tmp4 = atom1 * m[2];
+    let tmp5 = atom4 * m[12];
+    let tmp6 = atom1 * m[6];
+    let tmp7 = atom0 * m[4];
+    let tmp8 = atom4 * m[10];
+    let tmp9 = atom3 * m[9];
+    let tmp10 = atom1 * m[5];
+    let tmp11 = atom0 * m[3];
+    let tmp12 = tmp3 + 2.0 * atom4 * m[13] + atom3 * m[12] + atom2 * m[10];
+    (
+        atom5 * m[0] + atom4 * (tmp3 + atom4 * m[13]) + atom0 * (tmp4 + atom0 * m[1])
+            + atom3 * (tmp5 + tmp6 + tmp7 + atom3 * m[11])
+            + atom2 * (tmp8 + tmp9 + tmp10 + tmp11 + atom2 * m[8]),
+        [
+            tmp4 + 2.0 * atom0 * m[1] + atom3 * m[4] + atom2 * m[3] + 2.0 * tmp1 * m[0],
+            atom4 * m[7] + atom3 * m[6] + atom2 * m[5] + atom0 * m[2] + 8.0 * a2 * m[0],
+            3.0 * tmp12 + 6.0 * a1 * m[0],
+            tmp8 + tmp9 + tmp10 + tmp11 + 2.0 * atom2 * m[8],
+            tmp5 + tmp6 + tmp7 + 2.0 * atom3 * m[11] + atom2 * m[9] + 4.0 * c2 * tmp12
+                + 8.0 * a1 * c2 * m[0],
+        ],
+    )
+}
+///Kernel `linear`: the integral of `b1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*q12 + 1/2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn linear_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -2164,7 +2244,549 @@ pub fn prestressed_hessian(
 }
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_value_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    let tmp3 = a1 * a1;
+    let atom6 = 3.0 * tmp3 * tmp1 + 12.0 * a1 * tmp2;
+    let atom7 = -24.0 * tmp2 * c2 - 12.0 * a1 * c2 * tmp1;
+    let atom8 = 6.0 * a1 * tmp1 + 12.0 * tmp2;
+    let tmp4 = tmp2 * a2;
+    let atom9 = 12.0 * a1 * a2 * tmp1 + 8.0 * tmp4;
+    let tmp5 = tmp1 * tmp1;
+    let atom10 = 3.0 * a1 * tmp5 + 12.0 * tmp2 * tmp1;
+    let tmp6 = tmp3 * a1;
+    let atom11 = 4.0 * tmp6 * tmp1 + 24.0 * tmp3 * tmp2;
+    let atom12 = -96.0 * a1 * tmp2 * c2 - 24.0 * tmp3 * c2 * tmp1;
+    let atom13 = -96.0 * tmp2 * c2 - 48.0 * a1 * c2 * tmp1;
+    let atom14 = 96.0 * tmp2 * tmp0 + 48.0 * a1 * tmp0 * tmp1;
+    let atom15 = 12.0 * tmp3 * tmp1 + 48.0 * a1 * tmp2;
+    let atom16 = 12.0 * a1 * tmp1 + 24.0 * tmp2;
+    let atom17 = 24.0 * tmp3 * a2 * tmp1 + 32.0 * a1 * tmp4;
+    let atom18 = -96.0 * a1 * a2 * c2 * tmp1 - 64.0 * tmp4 * c2;
+    let atom19 = 48.0 * a1 * a2 * tmp1 + 32.0 * tmp4;
+    let tmp7 = tmp2 * tmp2;
+    let atom20 = 6.0 * tmp3 * tmp5 + 48.0 * a1 * tmp2 * tmp1 + 16.0 * tmp7;
+    let atom21 = -96.0 * tmp2 * c2 * tmp1 - 24.0 * a1 * c2 * tmp5;
+    let atom22 = 12.0 * a1 * tmp5 + 48.0 * tmp2 * tmp1;
+    let atom23 = 24.0 * a1 * a2 * tmp5 + 32.0 * tmp4 * tmp1;
+    let tmp8 = tmp5 * tmp1;
+    let atom24 = 4.0 * a1 * tmp8 + 24.0 * tmp2 * tmp5;
+    let tmp9 = tmp3 * tmp3;
+    let atom25 = 5.0 * tmp9 * tmp1 + 40.0 * tmp6 * tmp2;
+    let atom26 = -240.0 * tmp3 * tmp2 * c2 - 40.0 * tmp6 * c2 * tmp1;
+    let atom27 = -480.0 * a1 * tmp2 * c2 - 120.0 * tmp3 * c2 * tmp1;
+    let atom28 = -240.0 * tmp2 * c2 - 120.0 * a1 * c2 * tmp1;
+    let atom29 = 480.0 * a1 * tmp2 * tmp0 + 120.0 * tmp3 * tmp0 * tmp1;
+    let atom30 = 480.0 * tmp2 * tmp0 + 240.0 * a1 * tmp0 * tmp1;
+    let tmp10 = tmp0 * c2;
+    let atom31 = -320.0 * tmp2 * tmp10 - 160.0 * a1 * tmp10 * tmp1;
+    let atom32 = 20.0 * tmp6 * tmp1 + 120.0 * tmp3 * tmp2;
+    let atom33 = 30.0 * tmp3 * tmp1 + 120.0 * a1 * tmp2;
+    let atom34 = 20.0 * a1 * tmp1 + 40.0 * tmp2;
+    let atom35 = 40.0 * tmp6 * a2 * tmp1 + 80.0 * tmp3 * tmp4;
+    let atom36 = -240.0 * tmp3 * a2 * c2 * tmp1 - 320.0 * a1 * tmp4 * c2;
+    let atom37 = -480.0 * a1 * a2 * c2 * tmp1 - 320.0 * tmp4 * c2;
+    let atom38 = 480.0 * a1 * a2 * tmp0 * tmp1 + 320.0 * tmp4 * tmp0;
+    let atom39 = 120.0 * tmp3 * a2 * tmp1 + 160.0 * a1 * tmp4;
+    let atom40 = 120.0 * a1 * a2 * tmp1 + 80.0 * tmp4;
+    let atom41 = 10.0 * tmp6 * tmp5 + 120.0 * tmp3 * tmp2 * tmp1 + 80.0 * a1 * tmp7;
+    let atom42 = -480.0 * a1 * tmp2 * c2 * tmp1 - 60.0 * tmp3 * c2 * tmp5
+        - 160.0 * tmp7 * c2;
+    let atom43 = -480.0 * tmp2 * c2 * tmp1 - 120.0 * a1 * c2 * tmp5;
+    let atom44 = 480.0 * tmp2 * tmp0 * tmp1 + 120.0 * a1 * tmp0 * tmp5;
+    let atom45 = 30.0 * tmp3 * tmp5 + 240.0 * a1 * tmp2 * tmp1 + 80.0 * tmp7;
+    let atom46 = 30.0 * a1 * tmp5 + 120.0 * tmp2 * tmp1;
+    let tmp11 = tmp7 * a2;
+    let atom47 = 60.0 * tmp3 * a2 * tmp5 + 160.0 * a1 * tmp4 * tmp1 + 32.0 * tmp11;
+    let atom48 = -240.0 * a1 * a2 * c2 * tmp5 - 320.0 * tmp4 * c2 * tmp1;
+    let atom49 = 120.0 * a1 * a2 * tmp5 + 160.0 * tmp4 * tmp1;
+    let atom50 = 10.0 * tmp3 * tmp8 + 120.0 * a1 * tmp2 * tmp5 + 80.0 * tmp7 * tmp1;
+    let atom51 = -240.0 * tmp2 * c2 * tmp5 - 40.0 * a1 * c2 * tmp8;
+    let atom52 = 20.0 * a1 * tmp8 + 120.0 * tmp2 * tmp5;
+    let atom53 = 40.0 * a1 * a2 * tmp8 + 80.0 * tmp4 * tmp5;
+    let tmp12 = tmp5 * tmp5;
+    let atom54 = 5.0 * a1 * tmp12 + 40.0 * tmp2 * tmp8;
+    let tmp13 = atom2 * atom2;
+    m[0] + atom54 * m[54] + atom53 * m[53] + atom52 * m[52] + atom51 * m[51]
+        + atom50 * m[50] + atom49 * m[49] + atom48 * m[48] + atom47 * m[47]
+        + atom46 * m[46] + atom45 * m[45] + atom44 * m[44] + atom43 * m[43]
+        + atom42 * m[42] + atom41 * m[41] + atom40 * m[40] + atom39 * m[39]
+        + atom38 * m[38] + atom37 * m[37] + atom36 * m[36] + atom35 * m[35]
+        + atom34 * m[34] + atom33 * m[33] + atom32 * m[32] + atom31 * m[31]
+        + atom30 * m[30] + atom29 * m[29] + atom28 * m[28] + atom27 * m[27]
+        + atom26 * m[26] + atom25 * m[25] + atom24 * m[24] + atom23 * m[23]
+        + atom22 * m[22] + atom21 * m[21] + atom20 * m[20] + atom19 * m[19]
+        + atom18 * m[18] + atom17 * m[17] + atom16 * m[16] + atom15 * m[15]
+        + atom14 * m[14] + atom13 * m[13] + atom12 * m[12] + atom11 * m[11]
+        + atom10 * m[10] + atom9 * m[9] + atom8 * m[8] + atom7 * m[7] + atom6 * m[6]
+        + atom5 * m[5] + tmp13 * m[60] + atom1 * m[2]
+        + atom4
+            * (m[4] + atom1 * m[59]
+                + atom4
+                    * (m[63] + atom1 * m[71]
+                        + atom4
+                            * (m[75] + atom1 * m[86]
+                                + atom4 * (m[91] + atom1 * m[105] + atom4 * m[111]))))
+        + atom0
+            * (m[1] + atom1 * m[56]
+                + atom0
+                    * (m[55] + atom1 * m[65]
+                        + atom0
+                            * (m[64] + atom1 * m[77]
+                                + atom0 * (m[76] + atom1 * m[93] + atom0 * m[92]))))
+        + atom3
+            * (m[3] + atom1 * m[58]
+                + atom4
+                    * (m[62] + atom1 * m[70]
+                        + atom4
+                            * (m[74] + atom1 * m[85]
+                                + atom4 * (m[90] + atom1 * m[104] + atom4 * m[110])))
+                + atom0
+                    * (m[57] + atom1 * m[67]
+                        + atom0
+                            * (m[66] + atom1 * m[79]
+                                + atom0 * (m[78] + atom1 * m[95] + atom0 * m[94])))
+                + atom3
+                    * (m[61] + atom1 * m[69]
+                        + atom4
+                            * (m[73] + atom1 * m[84]
+                                + atom4 * (m[89] + atom1 * m[103] + atom4 * m[109]))
+                        + atom0
+                            * (m[68] + atom1 * m[81]
+                                + atom0 * (m[80] + atom1 * m[97] + atom0 * m[96]))
+                        + atom3
+                            * (m[72] + atom1 * m[83]
+                                + atom4 * (m[88] + atom1 * m[102] + atom4 * m[108])
+                                + atom0 * (m[82] + atom1 * m[99] + atom0 * m[98])
+                                + atom3
+                                    * (m[87] + atom4 * m[107] + atom1 * m[101] + atom0 * m[100]
+                                        + atom3 * m[106]))))
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a1;
+    let atom1 = a2;
+    let atom2 = b1;
+    let atom3 = c2;
+    let tmp0 = c2 * c2;
+    let tmp1 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = tmp1;
+    let tmp2 = a2 * a2;
+    let atom5 = 2.0 * a1 * tmp1 + 4.0 * tmp2;
+    let tmp3 = a1 * a1;
+    let atom6 = 3.0 * tmp3 * tmp1 + 12.0 * a1 * tmp2;
+    let atom7 = -24.0 * tmp2 * c2 - 12.0 * a1 * c2 * tmp1;
+    let tmp4 = 6.0 * a1 * tmp1 + 12.0 * tmp2;
+    let atom8 = tmp4;
+    let tmp5 = tmp2 * a2;
+    let atom9 = 12.0 * a1 * a2 * tmp1 + 8.0 * tmp5;
+    let tmp6 = tmp1 * tmp1;
+    let atom10 = 3.0 * a1 * tmp6 + 12.0 * tmp2 * tmp1;
+    let tmp7 = tmp3 * a1;
+    let atom11 = 4.0 * tmp7 * tmp1 + 24.0 * tmp3 * tmp2;
+    let atom12 = -96.0 * a1 * tmp2 * c2 - 24.0 * tmp3 * c2 * tmp1;
+    let tmp8 = -96.0 * tmp2 * c2 - 48.0 * a1 * c2 * tmp1;
+    let atom13 = tmp8;
+    let atom14 = 96.0 * tmp2 * tmp0 + 48.0 * a1 * tmp0 * tmp1;
+    let tmp9 = 12.0 * tmp3 * tmp1 + 48.0 * a1 * tmp2;
+    let atom15 = tmp9;
+    let tmp10 = 12.0 * a1 * tmp1 + 24.0 * tmp2;
+    let atom16 = tmp10;
+    let atom17 = 24.0 * tmp3 * a2 * tmp1 + 32.0 * a1 * tmp5;
+    let atom18 = -96.0 * a1 * a2 * c2 * tmp1 - 64.0 * tmp5 * c2;
+    let tmp11 = 48.0 * a1 * a2 * tmp1 + 32.0 * tmp5;
+    let atom19 = tmp11;
+    let tmp12 = tmp2 * tmp2;
+    let atom20 = 6.0 * tmp3 * tmp6 + 48.0 * a1 * tmp2 * tmp1 + 16.0 * tmp12;
+    let atom21 = -96.0 * tmp2 * c2 * tmp1 - 24.0 * a1 * c2 * tmp6;
+    let tmp13 = 12.0 * a1 * tmp6 + 48.0 * tmp2 * tmp1;
+    let atom22 = tmp13;
+    let atom23 = 24.0 * a1 * a2 * tmp6 + 32.0 * tmp5 * tmp1;
+    let tmp14 = tmp6 * tmp1;
+    let atom24 = 4.0 * a1 * tmp14 + 24.0 * tmp2 * tmp6;
+    let tmp15 = tmp3 * tmp3;
+    let atom25 = 5.0 * tmp15 * tmp1 + 40.0 * tmp7 * tmp2;
+    let atom26 = -240.0 * tmp3 * tmp2 * c2 - 40.0 * tmp7 * c2 * tmp1;
+    let tmp16 = -480.0 * a1 * tmp2 * c2 - 120.0 * tmp3 * c2 * tmp1;
+    let atom27 = tmp16;
+    let atom28 = -240.0 * tmp2 * c2 - 120.0 * a1 * c2 * tmp1;
+    let atom29 = 480.0 * a1 * tmp2 * tmp0 + 120.0 * tmp3 * tmp0 * tmp1;
+    let tmp17 = 480.0 * tmp2 * tmp0 + 240.0 * a1 * tmp0 * tmp1;
+    let atom30 = tmp17;
+    let tmp18 = tmp0 * c2;
+    let atom31 = -320.0 * tmp2 * tmp18 - 160.0 * a1 * tmp18 * tmp1;
+    let tmp19 = 20.0 * tmp7 * tmp1 + 120.0 * tmp3 * tmp2;
+    let atom32 = tmp19;
+    let atom33 = 30.0 * tmp3 * tmp1 + 120.0 * a1 * tmp2;
+    let atom34 = 20.0 * a1 * tmp1 + 40.0 * tmp2;
+    let atom35 = 40.0 * tmp7 * a2 * tmp1 + 80.0 * tmp3 * tmp5;
+    let atom36 = -240.0 * tmp3 * a2 * c2 * tmp1 - 320.0 * a1 * tmp5 * c2;
+    let tmp20 = -480.0 * a1 * a2 * c2 * tmp1 - 320.0 * tmp5 * c2;
+    let atom37 = tmp20;
+    let atom38 = 480.0 * a1 * a2 * tmp0 * tmp1 + 320.0 * tmp5 * tmp0;
+    let tmp21 = 120.0 * tmp3 * a2 * tmp1 + 160.0 * a1 * tmp5;
+    let atom39 = tmp21;
+    let atom40 = 120.0 * a1 * a2 * tmp1 + 80.0 * tmp5;
+    let atom41 = 10.0 * tmp7 * tmp6 + 120.0 * tmp3 * tmp2 * tmp1 + 80.0 * a1 * tmp12;
+    let atom42 = -480.0 * a1 * tmp2 * c2 * tmp1 - 60.0 * tmp3 * c2 * tmp6
+        - 160.0 * tmp12 * c2;
+    let tmp22 = -480.0 * tmp2 * c2 * tmp1 - 120.0 * a1 * c2 * tmp6;
+    let atom43 = tmp22;
+    let atom44 = 480.0 * tmp2 * tmp0 * tmp1 + 120.0 * a1 * tmp0 * tmp6;
+    let tmp23 = 30.0 * tmp3 * tmp6 + 240.0 * a1 * tmp2 * tmp1 + 80.0 * tmp12;
+    let atom45 = tmp23;
+    let atom46 = 30.0 * a1 * tmp6 + 120.0 * tmp2 * tmp1;
+    let tmp24 = tmp12 * a2;
+    let atom47 = 60.0 * tmp3 * a2 * tmp6 + 160.0 * a1 * tmp5 * tmp1 + 32.0 * tmp24;
+    let atom48 = -240.0 * a1 * a2 * c2 * tmp6 - 320.0 * tmp5 * c2 * tmp1;
+    let tmp25 = 120.0 * a1 * a2 * tmp6 + 160.0 * tmp5 * tmp1;
+    let atom49 = tmp25;
+    let atom50 = 10.0 * tmp3 * tmp14 + 120.0 * a1 * tmp2 * tmp6 + 80.0 * tmp12 * tmp1;
+    let atom51 = -240.0 * tmp2 * c2 * tmp6 - 40.0 * a1 * c2 * tmp14;
+    let tmp26 = 20.0 * a1 * tmp14 + 120.0 * tmp2 * tmp6;
+    let atom52 = tmp26;
+    let atom53 = 40.0 * a1 * a2 * tmp14 + 80.0 * tmp5 * tmp6;
+    let tmp27 = tmp6 * tmp6;
+    let atom54 = 5.0 * a1 * tmp27 + 40.0 * tmp2 * tmp14;
+    let tmp28 = atom2 * atom2;
+    let tmp29 = atom1 * m[59];
+    let tmp30 = atom1 * m[56];
+    let tmp31 = atom1 * m[58];
+    let tmp32 = atom1 * m[70];
+    let tmp33 = atom4
+        * (m[62] + tmp32
+            + atom4
+                * (m[74] + atom1 * m[85]
+                    + atom4 * (m[90] + atom1 * m[104] + atom4 * m[110])));
+    let tmp34 = atom1 * m[67];
+    let tmp35 = atom0
+        * (m[57] + tmp34
+            + atom0
+                * (m[66] + atom1 * m[79]
+                    + atom0 * (m[78] + atom1 * m[95] + atom0 * m[94])));
+    let tmp36 = atom1 * m[84];
+    let tmp37 = atom1 * m[81];
+    let tmp38 = atom1 * m[102];
+    let tmp39 = atom1 * m[99];
+    let tmp40 = 2.0 * m[80];
+    let tmp41 = 2.0 * atom1 * m[97];
+    let tmp42 = 2.0 * m[89];
+    let tmp43 = 2.0 * atom1 * m[103];
+    let tmp44 = m[4] + tmp29
+        + atom4
+            * (2.0 * m[63] + 2.0 * atom1 * m[71]
+                + atom4
+                    * (3.0 * m[75] + 3.0 * atom1 * m[86]
+                        + atom4
+                            * (4.0 * m[91] + 4.0 * atom1 * m[105]
+                                + 5.0 * atom4 * m[111])))
+        + atom3
+            * (m[62] + tmp32
+                + atom4
+                    * (2.0 * m[74] + 2.0 * atom1 * m[85]
+                        + atom4
+                            * (3.0 * m[90] + 3.0 * atom1 * m[104]
+                                + 4.0 * atom4 * m[110]))
+                + atom3
+                    * (m[73] + tmp36 + atom4 * (tmp42 + tmp43 + 3.0 * atom4 * m[109])
+                        + atom3
+                            * (m[88] + tmp38 + 2.0 * atom4 * m[108] + atom3 * m[107])));
+    let tmp45 = 192.0 * tmp2 * c2;
+    let tmp46 = 96.0 * a1 * c2 * tmp1;
+    let tmp47 = 960.0 * a1 * tmp2 * c2;
+    let tmp48 = 240.0 * tmp3 * c2 * tmp1;
+    let tmp49 = tmp0 * tmp0;
+    let tmp50 = 960.0 * a1 * a2 * c2 * tmp1;
+    let tmp51 = 640.0 * tmp5 * c2;
+    let tmp52 = 960.0 * tmp2 * c2 * tmp1;
+    let tmp53 = 240.0 * a1 * c2 * tmp6;
+    (
+        m[0] + atom54 * m[54] + atom53 * m[53] + atom52 * m[52] + atom51 * m[51]
+            + atom50 * m[50] + atom49 * m[49] + atom48 * m[48] + atom47 * m[47]
+            + atom46 * m[46] + atom45 * m[45] + atom44 * m[44] + atom43 * m[43]
+            + atom42 * m[42] + atom41 * m[41] + atom40 * m[40] + atom39 * m[39]
+            + atom38 * m[38] + atom37 * m[37] + atom36 * m[36] + atom35 * m[35]
+            + atom34 * m[34] + atom33 * m[33] + atom32 * m[32] + atom31 * m[31]
+            + atom30 * m[30] + atom29 * m[29] + atom28 * m[28] + atom27 * m[27]
+            + atom26 * m[26] + atom25 * m[25] + atom24 * m[24] + atom23 * m[23]
+            + atom22 * m[22] + atom21 * m[21] + atom20 * m[20] + atom19 * m[19]
+            + atom18 * m[18] + atom17 * m[17] + atom16 * m[16] + atom15 * m[15]
+            + atom14 * m[14] + atom13 * m[13] + atom12 * m[12] + atom11 * m[11]
+            + atom10 * m[10] + atom9 * m[9] + atom8 * m[8] + atom7 * m[7] + atom6 * m[6]
+            + atom5 * m[5] + tmp28 * m[60] + atom1 * m[2]
+            + atom4
+                * (m[4] + tmp29
+                    + atom4
+                        * (m[63] + atom1 * m[71]
+                            + atom4
+                                * (m[75] + atom1 * m[86]
+                                    + atom4 * (m[91] + atom1 * m[105] + atom4 * m[111]))))
+            + atom0
+                * (m[1] + tmp30
+                    + atom0
+                        * (m[55] + atom1 * m[65]
+                            + atom0
+                                * (m[64] + atom1 * m[77]
+                                    + atom0 * (m[76] + atom1 * m[93] + atom0 * m[92]))))
+            + atom3
+                * (m[3] + tmp31 + tmp33 + tmp35
+                    + atom3
+                        * (m[61] + atom1 * m[69]
+                            + atom4
+                                * (m[73] + tmp36
+                                    + atom4 * (m[89] + atom1 * m[103] + atom4 * m[109]))
+                            + atom0
+                                * (m[68] + tmp37
+                                    + atom0 * (m[80] + atom1 * m[97] + atom0 * m[96]))
+                            + atom3
+                                * (m[72] + atom1 * m[83]
+                                    + atom4 * (m[88] + tmp38 + atom4 * m[108])
+                                    + atom0 * (m[82] + tmp39 + atom0 * m[98])
+                                    + atom3
+                                        * (m[87] + atom4 * m[107] + atom1 * m[101] + atom0 * m[100]
+                                            + atom3 * m[106])))),
+        [
+            m[1] + tmp30
+                + atom3
+                    * (m[57] + tmp34
+                        + atom3
+                            * (m[68] + tmp37 + atom3 * (m[82] + tmp39 + atom3 * m[100])))
+                + atom0
+                    * (2.0 * m[55] + 2.0 * atom1 * m[65]
+                        + atom3
+                            * (2.0 * m[66] + 2.0 * atom1 * m[79]
+                                + atom3 * (tmp40 + tmp41 + 2.0 * atom3 * m[98]))
+                        + atom0
+                            * (3.0 * m[64] + 3.0 * atom1 * m[77]
+                                + atom3
+                                    * (3.0 * m[78] + 3.0 * atom1 * m[95] + 3.0 * atom3 * m[96])
+                                + atom0
+                                    * (4.0 * m[76] + 4.0 * atom1 * m[93] + 5.0 * atom0 * m[92]
+                                        + 4.0 * atom3 * m[94]))) + tmp4 * m[6] + tmp9 * m[11]
+                + tmp8 * m[12] + m[15] * (24.0 * a1 * tmp1 + 48.0 * tmp2) + tmp11 * m[17]
+                + tmp13 * m[20] + tmp19 * m[25] + tmp16 * m[26]
+                + m[27] * (-480.0 * tmp2 * c2 - 240.0 * a1 * c2 * tmp1) + tmp17 * m[29]
+                + m[32] * (60.0 * tmp3 * tmp1 + 240.0 * a1 * tmp2)
+                + m[33] * (60.0 * a1 * tmp1 + 120.0 * tmp2) + tmp21 * m[35]
+                + tmp20 * m[36] + m[39] * (240.0 * a1 * a2 * tmp1 + 160.0 * tmp5)
+                + tmp23 * m[41] + tmp22 * m[42]
+                + m[45] * (60.0 * a1 * tmp6 + 240.0 * tmp2 * tmp1) + tmp25 * m[47]
+                + tmp26 * m[50] + 2.0 * tmp1 * m[5] - 12.0 * c2 * tmp1 * m[7]
+                + 6.0 * tmp1 * m[8] + 12.0 * a2 * tmp1 * m[9] + 3.0 * tmp6 * m[10]
+                - 48.0 * c2 * tmp1 * m[13] + 48.0 * tmp0 * tmp1 * m[14]
+                + 12.0 * tmp1 * m[16] - 96.0 * a2 * c2 * tmp1 * m[18]
+                + 48.0 * a2 * tmp1 * m[19] - 24.0 * c2 * tmp6 * m[21]
+                + 12.0 * tmp6 * m[22] + 24.0 * a2 * tmp6 * m[23] + 4.0 * tmp14 * m[24]
+                - 120.0 * c2 * tmp1 * m[28] + 240.0 * tmp0 * tmp1 * m[30]
+                - 160.0 * tmp18 * tmp1 * m[31] + 20.0 * tmp1 * m[34]
+                - 480.0 * a2 * c2 * tmp1 * m[37] + 480.0 * a2 * tmp0 * tmp1 * m[38]
+                + 120.0 * a2 * tmp1 * m[40] - 120.0 * c2 * tmp6 * m[43]
+                + 120.0 * tmp0 * tmp6 * m[44] + 30.0 * tmp6 * m[46]
+                - 240.0 * a2 * c2 * tmp6 * m[48] + 120.0 * a2 * tmp6 * m[49]
+                - 40.0 * c2 * tmp14 * m[51] + 20.0 * tmp14 * m[52]
+                + 40.0 * a2 * tmp14 * m[53] + 5.0 * tmp27 * m[54],
+            m[2] + atom4 * (m[59] + atom4 * (m[71] + atom4 * (m[86] + atom4 * m[105])))
+                + atom0 * (m[56] + atom0 * (m[65] + atom0 * (m[77] + atom0 * m[93])))
+                + atom3
+                    * (m[58] + atom4 * (m[70] + atom4 * (m[85] + atom4 * m[104]))
+                        + atom0 * (m[67] + atom0 * (m[79] + atom0 * m[95]))
+                        + atom3
+                            * (m[69] + atom4 * (m[84] + atom4 * m[103])
+                                + atom0 * (m[81] + atom0 * m[97])
+                                + atom3
+                                    * (m[83] + atom4 * m[102] + atom0 * m[99]
+                                        + atom3 * m[101]))) + tmp10 * m[9]
+                + m[17] * (24.0 * tmp3 * tmp1 + 96.0 * a1 * tmp2)
+                + m[18] * (-192.0 * tmp2 * c2 - 96.0 * a1 * c2 * tmp1)
+                + m[19] * (48.0 * a1 * tmp1 + 96.0 * tmp2)
+                + m[20] * (96.0 * a1 * a2 * tmp1 + 64.0 * tmp5)
+                + m[23] * (24.0 * a1 * tmp6 + 96.0 * tmp2 * tmp1)
+                + m[35] * (40.0 * tmp7 * tmp1 + 240.0 * tmp3 * tmp2)
+                + m[36] * (-960.0 * a1 * tmp2 * c2 - 240.0 * tmp3 * c2 * tmp1)
+                + m[37] * (-960.0 * tmp2 * c2 - 480.0 * a1 * c2 * tmp1)
+                + m[38] * (960.0 * tmp2 * tmp0 + 480.0 * a1 * tmp0 * tmp1)
+                + m[39] * (120.0 * tmp3 * tmp1 + 480.0 * a1 * tmp2)
+                + m[40] * (120.0 * a1 * tmp1 + 240.0 * tmp2)
+                + m[41] * (240.0 * tmp3 * a2 * tmp1 + 320.0 * a1 * tmp5)
+                + m[42] * (-960.0 * a1 * a2 * c2 * tmp1 - 640.0 * tmp5 * c2)
+                + m[45] * (480.0 * a1 * a2 * tmp1 + 320.0 * tmp5)
+                + m[47] * (60.0 * tmp3 * tmp6 + 480.0 * a1 * tmp2 * tmp1 + 160.0 * tmp12)
+                + m[48] * (-960.0 * tmp2 * c2 * tmp1 - 240.0 * a1 * c2 * tmp6)
+                + m[49] * (120.0 * a1 * tmp6 + 480.0 * tmp2 * tmp1)
+                + m[50] * (240.0 * a1 * a2 * tmp6 + 320.0 * tmp5 * tmp1)
+                + m[53] * (40.0 * a1 * tmp14 + 240.0 * tmp2 * tmp6) + 8.0 * a2 * m[5]
+                + 24.0 * a1 * a2 * m[6] - 48.0 * a2 * c2 * m[7] + 24.0 * a2 * m[8]
+                + 24.0 * a2 * tmp1 * m[10] + 48.0 * tmp3 * a2 * m[11]
+                - 192.0 * a1 * a2 * c2 * m[12] - 192.0 * a2 * c2 * m[13]
+                + 192.0 * a2 * tmp0 * m[14] + 96.0 * a1 * a2 * m[15] + 48.0 * a2 * m[16]
+                - 192.0 * a2 * c2 * tmp1 * m[21] + 96.0 * a2 * tmp1 * m[22]
+                + 48.0 * a2 * tmp6 * m[24] + 80.0 * tmp7 * a2 * m[25]
+                - 480.0 * tmp3 * a2 * c2 * m[26] - 960.0 * a1 * a2 * c2 * m[27]
+                - 480.0 * a2 * c2 * m[28] + 960.0 * a1 * a2 * tmp0 * m[29]
+                + 960.0 * a2 * tmp0 * m[30] - 640.0 * a2 * tmp18 * m[31]
+                + 240.0 * tmp3 * a2 * m[32] + 240.0 * a1 * a2 * m[33] + 80.0 * a2 * m[34]
+                - 960.0 * a2 * c2 * tmp1 * m[43] + 960.0 * a2 * tmp0 * tmp1 * m[44]
+                + 240.0 * a2 * tmp1 * m[46] - 480.0 * a2 * c2 * tmp6 * m[51]
+                + 240.0 * a2 * tmp6 * m[52] + 80.0 * a2 * tmp14 * m[54],
+            3.0 * tmp44 + m[10] * (18.0 * a1 * tmp1 + 36.0 * tmp2)
+                + m[20] * (36.0 * tmp3 * tmp1 + 144.0 * a1 * tmp2)
+                + m[21] * (-288.0 * tmp2 * c2 - 144.0 * a1 * c2 * tmp1)
+                + m[22] * (72.0 * a1 * tmp1 + 144.0 * tmp2)
+                + m[23] * (144.0 * a1 * a2 * tmp1 + 96.0 * tmp5)
+                + m[24] * (36.0 * a1 * tmp6 + 144.0 * tmp2 * tmp1)
+                + m[41] * (60.0 * tmp7 * tmp1 + 360.0 * tmp3 * tmp2)
+                + m[42] * (-1440.0 * a1 * tmp2 * c2 - 360.0 * tmp3 * c2 * tmp1)
+                + m[43] * (-1440.0 * tmp2 * c2 - 720.0 * a1 * c2 * tmp1)
+                + m[44] * (1440.0 * tmp2 * tmp0 + 720.0 * a1 * tmp0 * tmp1)
+                + m[45] * (180.0 * tmp3 * tmp1 + 720.0 * a1 * tmp2)
+                + m[46] * (180.0 * a1 * tmp1 + 360.0 * tmp2)
+                + m[47] * (360.0 * tmp3 * a2 * tmp1 + 480.0 * a1 * tmp5)
+                + m[48] * (-1440.0 * a1 * a2 * c2 * tmp1 - 960.0 * tmp5 * c2)
+                + m[49] * (720.0 * a1 * a2 * tmp1 + 480.0 * tmp5)
+                + m[50] * (90.0 * tmp3 * tmp6 + 720.0 * a1 * tmp2 * tmp1 + 240.0 * tmp12)
+                + m[51] * (-1440.0 * tmp2 * c2 * tmp1 - 360.0 * a1 * c2 * tmp6)
+                + m[52] * (180.0 * a1 * tmp6 + 720.0 * tmp2 * tmp1)
+                + m[53] * (360.0 * a1 * a2 * tmp6 + 480.0 * tmp5 * tmp1)
+                + m[54] * (60.0 * a1 * tmp14 + 360.0 * tmp2 * tmp6) + 6.0 * a1 * m[5]
+                + 9.0 * tmp3 * m[6] - 36.0 * a1 * c2 * m[7] + 18.0 * a1 * m[8]
+                + 36.0 * a1 * a2 * m[9] + 12.0 * tmp7 * m[11] - 72.0 * tmp3 * c2 * m[12]
+                - 144.0 * a1 * c2 * m[13] + 144.0 * a1 * tmp0 * m[14]
+                + 36.0 * tmp3 * m[15] + 36.0 * a1 * m[16] + 72.0 * tmp3 * a2 * m[17]
+                - 288.0 * a1 * a2 * c2 * m[18] + 144.0 * a1 * a2 * m[19]
+                + 15.0 * tmp15 * m[25] - 120.0 * tmp7 * c2 * m[26]
+                - 360.0 * tmp3 * c2 * m[27] - 360.0 * a1 * c2 * m[28]
+                + 360.0 * tmp3 * tmp0 * m[29] + 720.0 * a1 * tmp0 * m[30]
+                - 480.0 * a1 * tmp18 * m[31] + 60.0 * tmp7 * m[32] + 90.0 * tmp3 * m[33]
+                + 60.0 * a1 * m[34] + 120.0 * tmp7 * a2 * m[35]
+                - 720.0 * tmp3 * a2 * c2 * m[36] - 1440.0 * a1 * a2 * c2 * m[37]
+                + 1440.0 * a1 * a2 * tmp0 * m[38] + 360.0 * tmp3 * a2 * m[39]
+                + 360.0 * a1 * a2 * m[40],
+            2.0 * atom2 * m[60],
+            m[3] + tmp31 + tmp33 + tmp35
+                + atom3
+                    * (2.0 * m[61] + 2.0 * atom1 * m[69]
+                        + atom4
+                            * (2.0 * m[73] + 2.0 * atom1 * m[84]
+                                + atom4 * (tmp42 + tmp43 + 2.0 * atom4 * m[109]))
+                        + atom0
+                            * (2.0 * m[68] + 2.0 * atom1 * m[81]
+                                + atom0 * (tmp40 + tmp41 + 2.0 * atom0 * m[96]))
+                        + atom3
+                            * (3.0 * m[72] + 3.0 * atom1 * m[83]
+                                + atom4
+                                    * (3.0 * m[88] + 3.0 * atom1 * m[102]
+                                        + 3.0 * atom4 * m[108])
+                                + atom0
+                                    * (3.0 * m[82] + 3.0 * atom1 * m[99] + 3.0 * atom0 * m[98])
+                                + atom3
+                                    * (4.0 * m[87] + 4.0 * atom4 * m[107] + 4.0 * atom1 * m[101]
+                                        + 4.0 * atom0 * m[100] + 5.0 * atom3 * m[106])))
+                + m[7] * (-12.0 * a1 * tmp1 - 24.0 * tmp2 - 48.0 * a1 * tmp0)
+                + m[10] * (48.0 * tmp2 * c2 + 24.0 * a1 * c2 * tmp1)
+                + m[12] * (-24.0 * tmp3 * tmp1 - 96.0 * a1 * tmp2 - 96.0 * tmp3 * tmp0)
+                + m[13] * (-48.0 * a1 * tmp1 - 96.0 * tmp2 - 192.0 * a1 * tmp0)
+                + m[14] * (tmp45 + tmp46 + 192.0 * a1 * tmp18)
+                + m[18] * (-96.0 * a1 * a2 * tmp1 - 64.0 * tmp5 - 384.0 * a1 * a2 * tmp0)
+                + m[20] * (192.0 * a1 * tmp2 * c2 + 48.0 * tmp3 * c2 * tmp1)
+                + m[21]
+                    * (-24.0 * a1 * tmp6 - 96.0 * tmp2 * tmp1 - 384.0 * tmp2 * tmp0
+                        - 192.0 * a1 * tmp0 * tmp1) + m[22] * (tmp45 + tmp46)
+                + m[23] * (192.0 * a1 * a2 * c2 * tmp1 + 128.0 * tmp5 * c2)
+                + m[24] * (192.0 * tmp2 * c2 * tmp1 + 48.0 * a1 * c2 * tmp6)
+                + m[26]
+                    * (-40.0 * tmp7 * tmp1 - 240.0 * tmp3 * tmp2 - 160.0 * tmp7 * tmp0)
+                + m[27]
+                    * (-120.0 * tmp3 * tmp1 - 480.0 * a1 * tmp2 - 480.0 * tmp3 * tmp0)
+                + m[28] * (-120.0 * a1 * tmp1 - 240.0 * tmp2 - 480.0 * a1 * tmp0)
+                + m[29] * (tmp47 + tmp48 + 480.0 * tmp3 * tmp18)
+                + m[30]
+                    * (960.0 * tmp2 * c2 + 480.0 * a1 * c2 * tmp1 + 960.0 * a1 * tmp18)
+                + m[31]
+                    * (-960.0 * tmp2 * tmp0 - 480.0 * a1 * tmp0 * tmp1
+                        - 640.0 * a1 * tmp49)
+                + m[36]
+                    * (-240.0 * tmp3 * a2 * tmp1 - 320.0 * a1 * tmp5
+                        - 960.0 * tmp3 * a2 * tmp0)
+                + m[37]
+                    * (-480.0 * a1 * a2 * tmp1 - 320.0 * tmp5 - 1920.0 * a1 * a2 * tmp0)
+                + m[38] * (tmp50 + tmp51 + 1920.0 * a1 * a2 * tmp18)
+                + m[41] * (480.0 * tmp3 * tmp2 * c2 + 80.0 * tmp7 * c2 * tmp1)
+                + m[42]
+                    * (-60.0 * tmp3 * tmp6 - 480.0 * a1 * tmp2 * tmp1 - 160.0 * tmp12
+                        - 1920.0 * a1 * tmp2 * tmp0 - 480.0 * tmp3 * tmp0 * tmp1)
+                + m[43]
+                    * (-120.0 * a1 * tmp6 - 480.0 * tmp2 * tmp1 - 1920.0 * tmp2 * tmp0
+                        - 960.0 * a1 * tmp0 * tmp1)
+                + m[44]
+                    * (tmp52 + tmp53 + 1920.0 * tmp2 * tmp18 + 960.0 * a1 * tmp18 * tmp1)
+                + m[45] * (tmp47 + tmp48)
+                + m[46] * (480.0 * tmp2 * c2 + 240.0 * a1 * c2 * tmp1)
+                + m[47] * (480.0 * tmp3 * a2 * c2 * tmp1 + 640.0 * a1 * tmp5 * c2)
+                + m[48]
+                    * (-240.0 * a1 * a2 * tmp6 - 320.0 * tmp5 * tmp1
+                        - 1920.0 * a1 * a2 * tmp0 * tmp1 - 1280.0 * tmp5 * tmp0)
+                + m[49] * (tmp50 + tmp51)
+                + m[50]
+                    * (960.0 * a1 * tmp2 * c2 * tmp1 + 120.0 * tmp3 * c2 * tmp6
+                        + 320.0 * tmp12 * c2)
+                + m[51]
+                    * (-40.0 * a1 * tmp14 - 240.0 * tmp2 * tmp6
+                        - 1920.0 * tmp2 * tmp0 * tmp1 - 480.0 * a1 * tmp0 * tmp6)
+                + m[52] * (tmp52 + tmp53)
+                + m[53] * (480.0 * a1 * a2 * c2 * tmp6 + 640.0 * tmp5 * c2 * tmp1)
+                + m[54] * (480.0 * tmp2 * c2 * tmp6 + 80.0 * a1 * c2 * tmp14)
+                + 4.0 * c2 * tmp44 + 8.0 * a1 * c2 * m[5] + 12.0 * tmp3 * c2 * m[6]
+                + 24.0 * a1 * c2 * m[8] + 48.0 * a1 * a2 * c2 * m[9]
+                + 16.0 * tmp7 * c2 * m[11] + 48.0 * tmp3 * c2 * m[15]
+                + 48.0 * a1 * c2 * m[16] + 96.0 * tmp3 * a2 * c2 * m[17]
+                + 192.0 * a1 * a2 * c2 * m[19] + 20.0 * tmp15 * c2 * m[25]
+                + 80.0 * tmp7 * c2 * m[32] + 120.0 * tmp3 * c2 * m[33]
+                + 80.0 * a1 * c2 * m[34] + 160.0 * tmp7 * a2 * c2 * m[35]
+                + 480.0 * tmp3 * a2 * c2 * m[39] + 480.0 * a1 * a2 * c2 * m[40],
+        ],
+    )
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*p1*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn prestressed_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -4507,7 +5129,65 @@ pub fn gas_hessian(k: &[f64; 5], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 5], [f64
 }
 ///Kernel `gas`: the integral of `(1 + a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_value_lanes<L: super::Lane>(k: &[L; 5], m: &[L; GAS_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a2;
+    let atom1 = c2;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = 1.0 + a1;
+    atom2 * (atom4 * m[3] + atom3 * m[2] + atom1 * m[1] + atom0 * m[0])
+}
+///Kernel `gas`: the integral of `(1 + a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let b1 = k[3];
+    let c2 = k[4];
+    let atom0 = a2;
+    let atom1 = c2;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let atom4 = 1.0 + a1;
+    let tmp1 = atom4 * m[3] + atom3 * m[2] + atom1 * m[1] + atom0 * m[0];
+    (
+        atom2 * tmp1,
+        [
+            atom2 * m[3],
+            atom2 * m[0],
+            3.0 * atom2 * m[2],
+            tmp1,
+            atom2 * m[1] + 4.0 * c2 * atom2 * m[2],
+        ],
+    )
+}
+///Kernel `gas`: the integral of `(1 + a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn gas_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -4640,6 +5320,68 @@ impl<L: super::Lane> MomentLanes<L> {
             gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
         }
     }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///The value on lanes, one element per lane, each lane bit for bit `energy_value`'s result for that element.
+#[inline(always)]
+pub fn energy_value_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let mut v = linear_value_lanes(k, &m.linear);
+    {
+        let tv = prestressed_value_lanes(k, &m.prestressed);
+        v += tv;
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let tv = gas_value_lanes(k, &m.gas);
+            v += c2 * tv;
+        }
+    }
+    v
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value and gradient on lanes, one element per lane, each lane bit for bit `energy_gradient`'s result for that element.
+#[inline(always)]
+pub fn energy_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g) = linear_gradient_lanes(k, &m.linear);
+    {
+        let (tv, tg) = prestressed_gradient_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+        g[4] += tg[4];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg) = gas_gradient_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+            g[4] += c2 * tg[4];
+        }
+    }
+    (v, g)
 }
 ///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
 ///
@@ -5616,6 +6358,12 @@ impl super::ModelCore for Quad {
         unscale(length)
     }
 }
+///Lane `l` holds `k[l]` (lanes past the end repeat its last entry); `None` for no unknowns.
+#[inline(always)]
+fn gather<L: super::Lane>(k: &[[f64; 5]]) -> Option<[L; 5]> {
+    let last = k.len().checked_sub(1)?;
+    Some(std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j])))
+}
 impl super::Energy for Quad {
     fn zero_moments() -> Moments {
         Moments::ZERO
@@ -5650,6 +6398,42 @@ impl super::Energy for Quad {
         MomentLanes::gather(m)
     }
     #[inline(always)]
+    fn energy_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [f64],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let v = std::hint::black_box(energy_value_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = v.lane(l);
+        }
+    }
+    #[inline(always)]
+    fn gradient_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 5])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
+        }
+    }
+    #[inline(always)]
     fn hessian_lanes<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
@@ -5659,10 +6443,9 @@ impl super::Energy for Quad {
     where
         f64: super::LaneScalar<L>,
     {
-        let Some(last) = k.len().checked_sub(1) else {
+        let Some(kl) = gather(k) else {
             return;
         };
-        let kl: [L; 5] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
         for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
             *o = (

@@ -284,7 +284,103 @@ pub fn linear_hessian(
 }
 ///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22 + 1/2*g0^2*ks*g13` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_value_lanes<L: super::Lane>(k: &[L; 5], m: &[L; LINEAR_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = atom4 * atom4;
+    let tmp5 = atom3 * atom3;
+    let tmp6 = atom2 * atom2;
+    atom5 * m[0] + tmp4 * m[10] + tmp5 * m[9] + tmp6 * m[8]
+        + atom0 * (atom4 * m[4] + atom3 * m[3] + atom0 * m[1])
+        + atom1
+            * (atom4 * m[7] + atom3 * m[6] + atom0 * m[2]
+                + atom2 * (atom4 * m[14] + atom3 * m[13] + atom0 * m[11])
+                + atom1 * (m[5] + atom2 * m[12]))
+}
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22 + 1/2*g0^2*ks*g13` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn linear_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; LINEAR_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = atom4 * atom4;
+    let tmp5 = atom3 * atom3;
+    let tmp6 = atom2 * atom2;
+    let tmp7 = atom4 * m[4];
+    let tmp8 = atom3 * m[3];
+    let tmp9 = atom4 * m[7];
+    let tmp10 = atom3 * m[6];
+    let tmp11 = atom0 * m[2];
+    let tmp12 = atom4 * m[14];
+    let tmp13 = atom3 * m[13];
+    let tmp14 = atom0 * m[11];
+    let tmp15 = atom0 * m[3];
+    let tmp16 = 2.0 * atom3 * m[9];
+    let tmp17 = atom1 * (m[6] + atom2 * m[13]);
+    let tmp18 = atom0 * m[4] + 2.0 * atom4 * m[10] + atom1 * (m[7] + atom2 * m[14]);
+    (
+        atom5 * m[0] + tmp4 * m[10] + tmp5 * m[9] + tmp6 * m[8]
+            + atom0 * (tmp7 + tmp8 + atom0 * m[1])
+            + atom1
+                * (tmp9 + tmp10 + tmp11 + atom2 * (tmp12 + tmp13 + tmp14)
+                    + atom1 * (m[5] + atom2 * m[12])),
+        [
+            tmp15 + tmp16 + tmp17 + 2.0 * tmp3 * m[0],
+            3.0 * tmp18 + 6.0 * tmp1 * m[0],
+            tmp7 + tmp8 + 2.0 * atom0 * m[1] + atom1 * (m[2] + atom2 * m[11]),
+            tmp9 + tmp10 + tmp11 + 2.0 * atom1 * m[5]
+                + atom2 * (tmp12 + tmp13 + tmp14 + 2.0 * atom1 * m[12])
+                + m[0] * (8.0 * c2 * tmp1 + 8.0 * c2 * tmp0) + 4.0 * c2 * tmp18,
+            atom1 * (tmp12 + tmp13 + tmp14 + atom1 * m[12]) + 2.0 * atom2 * m[8]
+                + g0 * (tmp15 + tmp16 + tmp17)
+                + m[0] * (8.0 * tmp2 * g0 + 2.0 * g0 * tmp3),
+        ],
+    )
+}
+///Kernel `linear`: the integral of `b1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*q12 + 1/2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)^2*q11 + 1/2*b1^2*q22 + 1/2*g0^2*ks*g13` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn linear_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -2840,7 +2936,682 @@ pub fn prestressed_hessian(
 }
 ///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*g0^2*ks*g13 + 1/2*p1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_value_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = tmp1 * tmp1;
+    let atom6 = 3.0 * tmp4 * tmp3 + 12.0 * tmp2 * tmp0 * tmp1;
+    let tmp5 = tmp2 * c2;
+    let atom7 = -24.0 * tmp5 * tmp0 - 12.0 * c2 * tmp1 * tmp3;
+    let atom8 = 6.0 * tmp1 * tmp3 + 12.0 * tmp2 * tmp0;
+    let tmp6 = tmp0 * g0;
+    let atom9 = 12.0 * c2 * g0 * tmp1 * tmp3 + 8.0 * tmp5 * tmp6;
+    let tmp7 = tmp3 * tmp3;
+    let atom10 = 3.0 * tmp1 * tmp7 + 12.0 * tmp2 * tmp0 * tmp3;
+    let tmp8 = tmp4 * tmp1;
+    let atom11 = 4.0 * tmp8 * tmp3 + 24.0 * tmp2 * tmp0 * tmp4;
+    let atom12 = -96.0 * tmp5 * tmp0 * tmp1 - 24.0 * c2 * tmp4 * tmp3;
+    let atom13 = -96.0 * tmp5 * tmp0 - 48.0 * c2 * tmp1 * tmp3;
+    let tmp9 = tmp2 * tmp2;
+    let atom14 = 96.0 * tmp9 * tmp0 + 48.0 * tmp2 * tmp1 * tmp3;
+    let atom15 = 12.0 * tmp4 * tmp3 + 48.0 * tmp2 * tmp0 * tmp1;
+    let atom16 = 12.0 * tmp1 * tmp3 + 24.0 * tmp2 * tmp0;
+    let atom17 = 24.0 * c2 * g0 * tmp4 * tmp3 + 32.0 * tmp5 * tmp6 * tmp1;
+    let atom18 = -96.0 * tmp2 * g0 * tmp1 * tmp3 - 64.0 * tmp9 * tmp6;
+    let atom19 = 48.0 * c2 * g0 * tmp1 * tmp3 + 32.0 * tmp5 * tmp6;
+    let tmp10 = tmp0 * tmp0;
+    let atom20 = 6.0 * tmp4 * tmp7 + 48.0 * tmp2 * tmp0 * tmp1 * tmp3
+        + 16.0 * tmp9 * tmp10;
+    let atom21 = -96.0 * tmp5 * tmp0 * tmp3 - 24.0 * c2 * tmp1 * tmp7;
+    let atom22 = 12.0 * tmp1 * tmp7 + 48.0 * tmp2 * tmp0 * tmp3;
+    let atom23 = 24.0 * c2 * g0 * tmp1 * tmp7 + 32.0 * tmp5 * tmp6 * tmp3;
+    let tmp11 = tmp7 * tmp3;
+    let atom24 = 4.0 * tmp1 * tmp11 + 24.0 * tmp2 * tmp0 * tmp7;
+    let tmp12 = tmp4 * tmp4;
+    let atom25 = 5.0 * tmp12 * tmp3 + 40.0 * tmp2 * tmp0 * tmp8;
+    let atom26 = -240.0 * tmp5 * tmp0 * tmp4 - 40.0 * c2 * tmp8 * tmp3;
+    let atom27 = -480.0 * tmp5 * tmp0 * tmp1 - 120.0 * c2 * tmp4 * tmp3;
+    let atom28 = -240.0 * tmp5 * tmp0 - 120.0 * c2 * tmp1 * tmp3;
+    let atom29 = 480.0 * tmp9 * tmp0 * tmp1 + 120.0 * tmp2 * tmp4 * tmp3;
+    let atom30 = 480.0 * tmp9 * tmp0 + 240.0 * tmp2 * tmp1 * tmp3;
+    let tmp13 = tmp9 * c2;
+    let atom31 = -320.0 * tmp13 * tmp0 - 160.0 * tmp5 * tmp1 * tmp3;
+    let atom32 = 20.0 * tmp8 * tmp3 + 120.0 * tmp2 * tmp0 * tmp4;
+    let atom33 = 30.0 * tmp4 * tmp3 + 120.0 * tmp2 * tmp0 * tmp1;
+    let atom34 = 20.0 * tmp1 * tmp3 + 40.0 * tmp2 * tmp0;
+    let atom35 = 40.0 * c2 * g0 * tmp8 * tmp3 + 80.0 * tmp5 * tmp6 * tmp4;
+    let atom36 = -240.0 * tmp2 * g0 * tmp4 * tmp3 - 320.0 * tmp9 * tmp6 * tmp1;
+    let atom37 = -480.0 * tmp2 * g0 * tmp1 * tmp3 - 320.0 * tmp9 * tmp6;
+    let atom38 = 480.0 * tmp5 * g0 * tmp1 * tmp3 + 320.0 * tmp13 * tmp6;
+    let atom39 = 120.0 * c2 * g0 * tmp4 * tmp3 + 160.0 * tmp5 * tmp6 * tmp1;
+    let atom40 = 120.0 * c2 * g0 * tmp1 * tmp3 + 80.0 * tmp5 * tmp6;
+    let atom41 = 10.0 * tmp8 * tmp7 + 120.0 * tmp2 * tmp0 * tmp4 * tmp3
+        + 80.0 * tmp9 * tmp10 * tmp1;
+    let atom42 = -480.0 * tmp5 * tmp0 * tmp1 * tmp3 - 60.0 * c2 * tmp4 * tmp7
+        - 160.0 * tmp13 * tmp10;
+    let atom43 = -480.0 * tmp5 * tmp0 * tmp3 - 120.0 * c2 * tmp1 * tmp7;
+    let atom44 = 480.0 * tmp9 * tmp0 * tmp3 + 120.0 * tmp2 * tmp1 * tmp7;
+    let atom45 = 30.0 * tmp4 * tmp7 + 240.0 * tmp2 * tmp0 * tmp1 * tmp3
+        + 80.0 * tmp9 * tmp10;
+    let atom46 = 30.0 * tmp1 * tmp7 + 120.0 * tmp2 * tmp0 * tmp3;
+    let tmp14 = tmp10 * g0;
+    let atom47 = 60.0 * c2 * g0 * tmp4 * tmp7 + 160.0 * tmp5 * tmp6 * tmp1 * tmp3
+        + 32.0 * tmp13 * tmp14;
+    let atom48 = -240.0 * tmp2 * g0 * tmp1 * tmp7 - 320.0 * tmp9 * tmp6 * tmp3;
+    let atom49 = 120.0 * c2 * g0 * tmp1 * tmp7 + 160.0 * tmp5 * tmp6 * tmp3;
+    let atom50 = 10.0 * tmp4 * tmp11 + 120.0 * tmp2 * tmp0 * tmp1 * tmp7
+        + 80.0 * tmp9 * tmp10 * tmp3;
+    let atom51 = -240.0 * tmp5 * tmp0 * tmp7 - 40.0 * c2 * tmp1 * tmp11;
+    let atom52 = 20.0 * tmp1 * tmp11 + 120.0 * tmp2 * tmp0 * tmp7;
+    let atom53 = 40.0 * c2 * g0 * tmp1 * tmp11 + 80.0 * tmp5 * tmp6 * tmp7;
+    let tmp15 = tmp7 * tmp7;
+    let atom54 = 5.0 * tmp1 * tmp15 + 40.0 * tmp2 * tmp0 * tmp11;
+    let tmp16 = atom2 * atom2;
+    let tmp17 = atom0 * atom0;
+    m[0] + atom54 * m[53] + atom53 * m[52] + atom52 * m[51] + atom51 * m[50]
+        + atom50 * m[49] + atom49 * m[48] + atom48 * m[47] + atom47 * m[46]
+        + atom46 * m[45] + atom45 * m[44] + atom44 * m[43] + atom43 * m[42]
+        + atom42 * m[41] + atom41 * m[40] + atom40 * m[39] + atom39 * m[38]
+        + atom38 * m[37] + atom37 * m[36] + atom36 * m[35] + atom35 * m[34]
+        + atom34 * m[33] + atom33 * m[32] + atom32 * m[31] + atom31 * m[30]
+        + atom30 * m[29] + atom29 * m[28] + atom28 * m[27] + atom27 * m[26]
+        + atom26 * m[25] + atom25 * m[24] + atom24 * m[23] + atom23 * m[22]
+        + atom22 * m[21] + atom21 * m[20] + atom20 * m[19] + atom19 * m[18]
+        + atom18 * m[17] + atom17 * m[16] + atom16 * m[15] + atom15 * m[14]
+        + atom14 * m[13] + atom13 * m[12] + atom12 * m[11] + atom11 * m[10]
+        + atom10 * m[9] + atom9 * m[8] + atom8 * m[7] + atom7 * m[6] + atom6 * m[5]
+        + atom5 * m[4] + tmp16 * m[59] + tmp17 * m[54]
+        + atom4
+            * (m[3]
+                + atom4 * (m[61] + atom4 * (m[71] + atom4 * (m[85] + atom4 * m[103]))))
+        + atom3
+            * (m[2]
+                + atom3 * (m[60] + atom3 * (m[70] + atom3 * (m[84] + atom3 * m[102]))))
+        + atom1
+            * (m[1]
+                + atom4 * (m[58] + atom4 * (m[69] + atom4 * (m[83] + atom4 * m[101])))
+                + atom3 * (m[57] + atom3 * (m[68] + atom3 * (m[82] + atom3 * m[100])))
+                + atom2
+                    * (m[56]
+                        + atom4
+                            * (m[67]
+                                + atom4 * (m[81] + atom4 * (m[99] + atom4 * m[112])))
+                        + atom3
+                            * (m[66]
+                                + atom3 * (m[80] + atom3 * (m[98] + atom3 * m[111]))))
+                + atom1
+                    * (m[55] + atom4 * (m[65] + atom4 * (m[79] + atom4 * m[97]))
+                        + atom3 * (m[64] + atom3 * (m[78] + atom3 * m[96]))
+                        + atom2
+                            * (m[63] + atom4 * (m[77] + atom4 * (m[95] + atom4 * m[110]))
+                                + atom3 * (m[76] + atom3 * (m[94] + atom3 * m[109])))
+                        + atom1
+                            * (m[62] + atom4 * (m[75] + atom4 * m[93])
+                                + atom3 * (m[74] + atom3 * m[92])
+                                + atom2
+                                    * (m[73] + atom4 * (m[91] + atom4 * m[108])
+                                        + atom3 * (m[90] + atom3 * m[107]))
+                                + atom1
+                                    * (m[72] + atom4 * m[89] + atom3 * m[88]
+                                        + atom2 * (m[87] + atom4 * m[106] + atom3 * m[105])
+                                        + atom1 * (m[86] + atom2 * m[104])))))
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*g0^2*ks*g13 + 1/2*p1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn prestressed_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; PRESTRESSED_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = b1;
+    let atom1 = c2;
+    let atom2 = g0;
+    let tmp0 = g0 * g0;
+    let tmp1 = a1 + 0.5 * tmp0;
+    let atom3 = tmp1;
+    let tmp2 = c2 * c2;
+    let tmp3 = 3.0 * a3 + 2.0 * tmp2;
+    let atom4 = tmp3;
+    let atom5 = 2.0 * tmp1 * tmp3 + 4.0 * tmp2 * tmp0;
+    let tmp4 = tmp1 * tmp1;
+    let atom6 = 3.0 * tmp4 * tmp3 + 12.0 * tmp2 * tmp0 * tmp1;
+    let tmp5 = tmp2 * c2;
+    let atom7 = -24.0 * tmp5 * tmp0 - 12.0 * c2 * tmp1 * tmp3;
+    let tmp6 = 6.0 * tmp1 * tmp3 + 12.0 * tmp2 * tmp0;
+    let atom8 = tmp6;
+    let tmp7 = tmp0 * g0;
+    let atom9 = 12.0 * c2 * g0 * tmp1 * tmp3 + 8.0 * tmp5 * tmp7;
+    let tmp8 = tmp3 * tmp3;
+    let atom10 = 3.0 * tmp1 * tmp8 + 12.0 * tmp2 * tmp0 * tmp3;
+    let tmp9 = tmp4 * tmp1;
+    let atom11 = 4.0 * tmp9 * tmp3 + 24.0 * tmp2 * tmp0 * tmp4;
+    let atom12 = -96.0 * tmp5 * tmp0 * tmp1 - 24.0 * c2 * tmp4 * tmp3;
+    let tmp10 = -96.0 * tmp5 * tmp0 - 48.0 * c2 * tmp1 * tmp3;
+    let atom13 = tmp10;
+    let tmp11 = tmp2 * tmp2;
+    let atom14 = 96.0 * tmp11 * tmp0 + 48.0 * tmp2 * tmp1 * tmp3;
+    let tmp12 = 12.0 * tmp4 * tmp3 + 48.0 * tmp2 * tmp0 * tmp1;
+    let atom15 = tmp12;
+    let atom16 = 12.0 * tmp1 * tmp3 + 24.0 * tmp2 * tmp0;
+    let atom17 = 24.0 * c2 * g0 * tmp4 * tmp3 + 32.0 * tmp5 * tmp7 * tmp1;
+    let atom18 = -96.0 * tmp2 * g0 * tmp1 * tmp3 - 64.0 * tmp11 * tmp7;
+    let tmp13 = 48.0 * c2 * g0 * tmp1 * tmp3 + 32.0 * tmp5 * tmp7;
+    let atom19 = tmp13;
+    let tmp14 = tmp0 * tmp0;
+    let atom20 = 6.0 * tmp4 * tmp8 + 48.0 * tmp2 * tmp0 * tmp1 * tmp3
+        + 16.0 * tmp11 * tmp14;
+    let atom21 = -96.0 * tmp5 * tmp0 * tmp3 - 24.0 * c2 * tmp1 * tmp8;
+    let tmp15 = 12.0 * tmp1 * tmp8 + 48.0 * tmp2 * tmp0 * tmp3;
+    let atom22 = tmp15;
+    let atom23 = 24.0 * c2 * g0 * tmp1 * tmp8 + 32.0 * tmp5 * tmp7 * tmp3;
+    let tmp16 = tmp8 * tmp3;
+    let atom24 = 4.0 * tmp1 * tmp16 + 24.0 * tmp2 * tmp0 * tmp8;
+    let tmp17 = tmp4 * tmp4;
+    let atom25 = 5.0 * tmp17 * tmp3 + 40.0 * tmp2 * tmp0 * tmp9;
+    let atom26 = -240.0 * tmp5 * tmp0 * tmp4 - 40.0 * c2 * tmp9 * tmp3;
+    let tmp18 = -480.0 * tmp5 * tmp0 * tmp1 - 120.0 * c2 * tmp4 * tmp3;
+    let atom27 = tmp18;
+    let atom28 = -240.0 * tmp5 * tmp0 - 120.0 * c2 * tmp1 * tmp3;
+    let atom29 = 480.0 * tmp11 * tmp0 * tmp1 + 120.0 * tmp2 * tmp4 * tmp3;
+    let tmp19 = 480.0 * tmp11 * tmp0 + 240.0 * tmp2 * tmp1 * tmp3;
+    let atom30 = tmp19;
+    let tmp20 = tmp11 * c2;
+    let atom31 = -320.0 * tmp20 * tmp0 - 160.0 * tmp5 * tmp1 * tmp3;
+    let tmp21 = 20.0 * tmp9 * tmp3 + 120.0 * tmp2 * tmp0 * tmp4;
+    let atom32 = tmp21;
+    let atom33 = 30.0 * tmp4 * tmp3 + 120.0 * tmp2 * tmp0 * tmp1;
+    let atom34 = 20.0 * tmp1 * tmp3 + 40.0 * tmp2 * tmp0;
+    let atom35 = 40.0 * c2 * g0 * tmp9 * tmp3 + 80.0 * tmp5 * tmp7 * tmp4;
+    let atom36 = -240.0 * tmp2 * g0 * tmp4 * tmp3 - 320.0 * tmp11 * tmp7 * tmp1;
+    let tmp22 = -480.0 * tmp2 * g0 * tmp1 * tmp3 - 320.0 * tmp11 * tmp7;
+    let atom37 = tmp22;
+    let atom38 = 480.0 * tmp5 * g0 * tmp1 * tmp3 + 320.0 * tmp20 * tmp7;
+    let tmp23 = 120.0 * c2 * g0 * tmp4 * tmp3 + 160.0 * tmp5 * tmp7 * tmp1;
+    let atom39 = tmp23;
+    let atom40 = 120.0 * c2 * g0 * tmp1 * tmp3 + 80.0 * tmp5 * tmp7;
+    let atom41 = 10.0 * tmp9 * tmp8 + 120.0 * tmp2 * tmp0 * tmp4 * tmp3
+        + 80.0 * tmp11 * tmp14 * tmp1;
+    let atom42 = -480.0 * tmp5 * tmp0 * tmp1 * tmp3 - 60.0 * c2 * tmp4 * tmp8
+        - 160.0 * tmp20 * tmp14;
+    let tmp24 = -480.0 * tmp5 * tmp0 * tmp3 - 120.0 * c2 * tmp1 * tmp8;
+    let atom43 = tmp24;
+    let atom44 = 480.0 * tmp11 * tmp0 * tmp3 + 120.0 * tmp2 * tmp1 * tmp8;
+    let tmp25 = 30.0 * tmp4 * tmp8 + 240.0 * tmp2 * tmp0 * tmp1 * tmp3
+        + 80.0 * tmp11 * tmp14;
+    let atom45 = tmp25;
+    let atom46 = 30.0 * tmp1 * tmp8 + 120.0 * tmp2 * tmp0 * tmp3;
+    let tmp26 = tmp14 * g0;
+    let atom47 = 60.0 * c2 * g0 * tmp4 * tmp8 + 160.0 * tmp5 * tmp7 * tmp1 * tmp3
+        + 32.0 * tmp20 * tmp26;
+    let atom48 = -240.0 * tmp2 * g0 * tmp1 * tmp8 - 320.0 * tmp11 * tmp7 * tmp3;
+    let tmp27 = 120.0 * c2 * g0 * tmp1 * tmp8 + 160.0 * tmp5 * tmp7 * tmp3;
+    let atom49 = tmp27;
+    let atom50 = 10.0 * tmp4 * tmp16 + 120.0 * tmp2 * tmp0 * tmp1 * tmp8
+        + 80.0 * tmp11 * tmp14 * tmp3;
+    let atom51 = -240.0 * tmp5 * tmp0 * tmp8 - 40.0 * c2 * tmp1 * tmp16;
+    let tmp28 = 20.0 * tmp1 * tmp16 + 120.0 * tmp2 * tmp0 * tmp8;
+    let atom52 = tmp28;
+    let atom53 = 40.0 * c2 * g0 * tmp1 * tmp16 + 80.0 * tmp5 * tmp7 * tmp8;
+    let tmp29 = tmp8 * tmp8;
+    let atom54 = 5.0 * tmp1 * tmp29 + 40.0 * tmp2 * tmp0 * tmp16;
+    let tmp30 = atom2 * atom2;
+    let tmp31 = atom0 * atom0;
+    let tmp32 = atom4 * (m[58] + atom4 * (m[69] + atom4 * (m[83] + atom4 * m[101])));
+    let tmp33 = atom3 * (m[57] + atom3 * (m[68] + atom3 * (m[82] + atom3 * m[100])));
+    let tmp34 = atom4 * (m[67] + atom4 * (m[81] + atom4 * (m[99] + atom4 * m[112])));
+    let tmp35 = atom3 * (m[66] + atom3 * (m[80] + atom3 * (m[98] + atom3 * m[111])));
+    let tmp36 = atom2 * (m[56] + tmp34 + tmp35);
+    let tmp37 = atom4 * (m[77] + atom4 * (m[95] + atom4 * m[110]));
+    let tmp38 = atom3 * (m[76] + atom3 * (m[94] + atom3 * m[109]));
+    let tmp39 = atom4 * (m[91] + atom4 * m[108]);
+    let tmp40 = atom3 * (m[90] + atom3 * m[107]);
+    let tmp41 = atom4 * m[106];
+    let tmp42 = atom3 * m[105];
+    let tmp43 = atom3
+        * (2.0 * m[60]
+            + atom3 * (3.0 * m[70] + atom3 * (4.0 * m[84] + 5.0 * atom3 * m[102])));
+    let tmp44 = 2.0 * m[78];
+    let tmp45 = atom1
+        * (m[57] + atom2 * m[66]
+            + atom3
+                * (2.0 * m[68] + 2.0 * atom2 * m[80]
+                    + atom3
+                        * (3.0 * m[82] + 3.0 * atom2 * m[98]
+                            + atom3 * (4.0 * m[100] + 4.0 * atom2 * m[111])))
+            + atom1
+                * (m[64] + atom2 * m[76]
+                    + atom3
+                        * (tmp44 + 2.0 * atom2 * m[94]
+                            + atom3 * (3.0 * m[96] + 3.0 * atom2 * m[109]))
+                    + atom1
+                        * (m[74] + 2.0 * atom3 * m[92]
+                            + atom2 * (m[90] + 2.0 * atom3 * m[107])
+                            + atom1 * (m[88] + atom2 * m[105]))));
+    let tmp46 = 2.0 * m[79];
+    let tmp47 = m[3]
+        + atom4
+            * (2.0 * m[61]
+                + atom4 * (3.0 * m[71] + atom4 * (4.0 * m[85] + 5.0 * atom4 * m[103])))
+        + atom1
+            * (m[58] + atom2 * m[67]
+                + atom4
+                    * (2.0 * m[69] + 2.0 * atom2 * m[81]
+                        + atom4
+                            * (3.0 * m[83] + 3.0 * atom2 * m[99]
+                                + atom4 * (4.0 * m[101] + 4.0 * atom2 * m[112])))
+                + atom1
+                    * (m[65] + atom2 * m[77]
+                        + atom4
+                            * (tmp46 + 2.0 * atom2 * m[95]
+                                + atom4 * (3.0 * m[97] + 3.0 * atom2 * m[110]))
+                        + atom1
+                            * (m[75] + 2.0 * atom4 * m[93]
+                                + atom2 * (m[91] + 2.0 * atom4 * m[108])
+                                + atom1 * (m[89] + atom2 * m[106]))));
+    let tmp48 = 96.0 * c2 * tmp1 * tmp3;
+    let tmp49 = 240.0 * c2 * tmp4 * tmp3;
+    let tmp50 = -(480.0 * tmp2 * tmp1 * tmp3);
+    let tmp51 = 240.0 * c2 * tmp1 * tmp8;
+    let tmp52 = 240.0 * tmp2 * g0 * tmp3;
+    let tmp53 = 480.0 * tmp5 * tmp0 * tmp3;
+    (
+        m[0] + atom54 * m[53] + atom53 * m[52] + atom52 * m[51] + atom51 * m[50]
+            + atom50 * m[49] + atom49 * m[48] + atom48 * m[47] + atom47 * m[46]
+            + atom46 * m[45] + atom45 * m[44] + atom44 * m[43] + atom43 * m[42]
+            + atom42 * m[41] + atom41 * m[40] + atom40 * m[39] + atom39 * m[38]
+            + atom38 * m[37] + atom37 * m[36] + atom36 * m[35] + atom35 * m[34]
+            + atom34 * m[33] + atom33 * m[32] + atom32 * m[31] + atom31 * m[30]
+            + atom30 * m[29] + atom29 * m[28] + atom28 * m[27] + atom27 * m[26]
+            + atom26 * m[25] + atom25 * m[24] + atom24 * m[23] + atom23 * m[22]
+            + atom22 * m[21] + atom21 * m[20] + atom20 * m[19] + atom19 * m[18]
+            + atom18 * m[17] + atom17 * m[16] + atom16 * m[15] + atom15 * m[14]
+            + atom14 * m[13] + atom13 * m[12] + atom12 * m[11] + atom11 * m[10]
+            + atom10 * m[9] + atom9 * m[8] + atom8 * m[7] + atom7 * m[6] + atom6 * m[5]
+            + atom5 * m[4] + tmp30 * m[59] + tmp31 * m[54]
+            + atom4
+                * (m[3]
+                    + atom4
+                        * (m[61] + atom4 * (m[71] + atom4 * (m[85] + atom4 * m[103]))))
+            + atom3
+                * (m[2]
+                    + atom3
+                        * (m[60] + atom3 * (m[70] + atom3 * (m[84] + atom3 * m[102]))))
+            + atom1
+                * (m[1] + tmp32 + tmp33 + tmp36
+                    + atom1
+                        * (m[55] + atom4 * (m[65] + atom4 * (m[79] + atom4 * m[97]))
+                            + atom3 * (m[64] + atom3 * (m[78] + atom3 * m[96]))
+                            + atom2 * (m[63] + tmp37 + tmp38)
+                            + atom1
+                                * (m[62] + atom4 * (m[75] + atom4 * m[93])
+                                    + atom3 * (m[74] + atom3 * m[92])
+                                    + atom2 * (m[73] + tmp39 + tmp40)
+                                    + atom1
+                                        * (m[72] + atom4 * m[89] + atom3 * m[88]
+                                            + atom2 * (m[87] + tmp41 + tmp42)
+                                            + atom1 * (m[86] + atom2 * m[104]))))),
+        [
+            m[2] + tmp43 + tmp45 + tmp6 * m[5] + tmp12 * m[10] + tmp10 * m[11]
+                + m[14] * (24.0 * tmp1 * tmp3 + 48.0 * tmp2 * tmp0) + tmp13 * m[16]
+                + tmp15 * m[19] + tmp21 * m[24] + tmp18 * m[25]
+                + m[26] * (-480.0 * tmp5 * tmp0 - 240.0 * c2 * tmp1 * tmp3)
+                + tmp19 * m[28]
+                + m[31] * (60.0 * tmp4 * tmp3 + 240.0 * tmp2 * tmp0 * tmp1)
+                + m[32] * (60.0 * tmp1 * tmp3 + 120.0 * tmp2 * tmp0) + tmp23 * m[34]
+                + tmp22 * m[35]
+                + m[38] * (240.0 * c2 * g0 * tmp1 * tmp3 + 160.0 * tmp5 * tmp7)
+                + tmp25 * m[40] + tmp24 * m[41]
+                + m[44] * (60.0 * tmp1 * tmp8 + 240.0 * tmp2 * tmp0 * tmp3)
+                + tmp27 * m[46] + tmp28 * m[49] + 2.0 * tmp3 * m[4]
+                - 12.0 * c2 * tmp3 * m[6] + 6.0 * tmp3 * m[7]
+                + 12.0 * c2 * g0 * tmp3 * m[8] + 3.0 * tmp8 * m[9]
+                - 48.0 * c2 * tmp3 * m[12] + 48.0 * tmp2 * tmp3 * m[13]
+                + 12.0 * tmp3 * m[15] - 96.0 * tmp2 * g0 * tmp3 * m[17]
+                + 48.0 * c2 * g0 * tmp3 * m[18] - 24.0 * c2 * tmp8 * m[20]
+                + 12.0 * tmp8 * m[21] + 24.0 * c2 * g0 * tmp8 * m[22]
+                + 4.0 * tmp16 * m[23] - 120.0 * c2 * tmp3 * m[27]
+                + 240.0 * tmp2 * tmp3 * m[29] - 160.0 * tmp5 * tmp3 * m[30]
+                + 20.0 * tmp3 * m[33] - 480.0 * tmp2 * g0 * tmp3 * m[36]
+                + 480.0 * tmp5 * g0 * tmp3 * m[37] + 120.0 * c2 * g0 * tmp3 * m[39]
+                - 120.0 * c2 * tmp8 * m[42] + 120.0 * tmp2 * tmp8 * m[43]
+                + 30.0 * tmp8 * m[45] - 240.0 * tmp2 * g0 * tmp8 * m[47]
+                + 120.0 * c2 * g0 * tmp8 * m[48] - 40.0 * c2 * tmp16 * m[50]
+                + 20.0 * tmp16 * m[51] + 40.0 * c2 * g0 * tmp16 * m[52]
+                + 5.0 * tmp29 * m[53],
+            3.0 * tmp47 + m[9] * (18.0 * tmp1 * tmp3 + 36.0 * tmp2 * tmp0)
+                + m[19] * (36.0 * tmp4 * tmp3 + 144.0 * tmp2 * tmp0 * tmp1)
+                + m[20] * (-288.0 * tmp5 * tmp0 - 144.0 * c2 * tmp1 * tmp3)
+                + m[21] * (72.0 * tmp1 * tmp3 + 144.0 * tmp2 * tmp0)
+                + m[22] * (144.0 * c2 * g0 * tmp1 * tmp3 + 96.0 * tmp5 * tmp7)
+                + m[23] * (36.0 * tmp1 * tmp8 + 144.0 * tmp2 * tmp0 * tmp3)
+                + m[40] * (60.0 * tmp9 * tmp3 + 360.0 * tmp2 * tmp0 * tmp4)
+                + m[41] * (-1440.0 * tmp5 * tmp0 * tmp1 - 360.0 * c2 * tmp4 * tmp3)
+                + m[42] * (-1440.0 * tmp5 * tmp0 - 720.0 * c2 * tmp1 * tmp3)
+                + m[43] * (1440.0 * tmp11 * tmp0 + 720.0 * tmp2 * tmp1 * tmp3)
+                + m[44] * (180.0 * tmp4 * tmp3 + 720.0 * tmp2 * tmp0 * tmp1)
+                + m[45] * (180.0 * tmp1 * tmp3 + 360.0 * tmp2 * tmp0)
+                + m[46] * (360.0 * c2 * g0 * tmp4 * tmp3 + 480.0 * tmp5 * tmp7 * tmp1)
+                + m[47] * (-1440.0 * tmp2 * g0 * tmp1 * tmp3 - 960.0 * tmp11 * tmp7)
+                + m[48] * (720.0 * c2 * g0 * tmp1 * tmp3 + 480.0 * tmp5 * tmp7)
+                + m[49]
+                    * (90.0 * tmp4 * tmp8 + 720.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        + 240.0 * tmp11 * tmp14)
+                + m[50] * (-1440.0 * tmp5 * tmp0 * tmp3 - 360.0 * c2 * tmp1 * tmp8)
+                + m[51] * (180.0 * tmp1 * tmp8 + 720.0 * tmp2 * tmp0 * tmp3)
+                + m[52] * (360.0 * c2 * g0 * tmp1 * tmp8 + 480.0 * tmp5 * tmp7 * tmp3)
+                + m[53] * (60.0 * tmp1 * tmp16 + 360.0 * tmp2 * tmp0 * tmp8)
+                + 6.0 * tmp1 * m[4] + 9.0 * tmp4 * m[5] - 36.0 * c2 * tmp1 * m[6]
+                + 18.0 * tmp1 * m[7] + 36.0 * c2 * g0 * tmp1 * m[8] + 12.0 * tmp9 * m[10]
+                - 72.0 * c2 * tmp4 * m[11] - 144.0 * c2 * tmp1 * m[12]
+                + 144.0 * tmp2 * tmp1 * m[13] + 36.0 * tmp4 * m[14] + 36.0 * tmp1 * m[15]
+                + 72.0 * c2 * g0 * tmp4 * m[16] - 288.0 * tmp2 * g0 * tmp1 * m[17]
+                + 144.0 * c2 * g0 * tmp1 * m[18] + 15.0 * tmp17 * m[24]
+                - 120.0 * c2 * tmp9 * m[25] - 360.0 * c2 * tmp4 * m[26]
+                - 360.0 * c2 * tmp1 * m[27] + 360.0 * tmp2 * tmp4 * m[28]
+                + 720.0 * tmp2 * tmp1 * m[29] - 480.0 * tmp5 * tmp1 * m[30]
+                + 60.0 * tmp9 * m[31] + 90.0 * tmp4 * m[32] + 60.0 * tmp1 * m[33]
+                + 120.0 * c2 * g0 * tmp9 * m[34] - 720.0 * tmp2 * g0 * tmp4 * m[35]
+                - 1440.0 * tmp2 * g0 * tmp1 * m[36] + 1440.0 * tmp5 * g0 * tmp1 * m[37]
+                + 360.0 * c2 * g0 * tmp4 * m[38] + 360.0 * c2 * g0 * tmp1 * m[39],
+            2.0 * atom0 * m[54],
+            m[1] + tmp32 + tmp33 + tmp36
+                + atom1
+                    * (2.0 * m[55]
+                        + atom4 * (2.0 * m[65] + atom4 * (tmp46 + 2.0 * atom4 * m[97]))
+                        + atom3 * (2.0 * m[64] + atom3 * (tmp44 + 2.0 * atom3 * m[96]))
+                        + atom2
+                            * (2.0 * m[63]
+                                + atom4
+                                    * (2.0 * m[77]
+                                        + atom4 * (2.0 * m[95] + 2.0 * atom4 * m[110]))
+                                + atom3
+                                    * (2.0 * m[76]
+                                        + atom3 * (2.0 * m[94] + 2.0 * atom3 * m[109])))
+                        + atom1
+                            * (3.0 * m[62] + atom4 * (3.0 * m[75] + 3.0 * atom4 * m[93])
+                                + atom3 * (3.0 * m[74] + 3.0 * atom3 * m[92])
+                                + atom2
+                                    * (3.0 * m[73]
+                                        + atom4 * (3.0 * m[91] + 3.0 * atom4 * m[108])
+                                        + atom3 * (3.0 * m[90] + 3.0 * atom3 * m[107]))
+                                + atom1
+                                    * (4.0 * m[72] + 4.0 * atom4 * m[89] + 4.0 * atom3 * m[88]
+                                        + atom2
+                                            * (4.0 * m[87] + 4.0 * atom4 * m[106]
+                                                + 4.0 * atom3 * m[105])
+                                        + atom1 * (5.0 * m[86] + 5.0 * atom2 * m[104]))))
+                + (8.0 * c2 * tmp1 + 8.0 * c2 * tmp0) * m[4]
+                + m[5] * (12.0 * c2 * tmp4 + 24.0 * c2 * tmp0 * tmp1)
+                + m[6] * (-12.0 * tmp1 * tmp3 - 72.0 * tmp2 * tmp0 - 48.0 * tmp2 * tmp1)
+                + m[7] * (24.0 * c2 * tmp1 + 24.0 * c2 * tmp0)
+                + m[8]
+                    * (48.0 * tmp2 * g0 * tmp1 + 12.0 * g0 * tmp1 * tmp3
+                        + 24.0 * tmp2 * tmp7)
+                + m[9]
+                    * (48.0 * tmp5 * tmp0 + 24.0 * c2 * tmp1 * tmp3
+                        + 24.0 * c2 * tmp0 * tmp3)
+                + m[10] * (16.0 * c2 * tmp9 + 48.0 * c2 * tmp0 * tmp4)
+                + m[11]
+                    * (-24.0 * tmp4 * tmp3 - 288.0 * tmp2 * tmp0 * tmp1
+                        - 96.0 * tmp2 * tmp4)
+                + m[12]
+                    * (-48.0 * tmp1 * tmp3 - 288.0 * tmp2 * tmp0 - 192.0 * tmp2 * tmp1)
+                + m[13] * (384.0 * tmp5 * tmp0 + tmp48 + 192.0 * tmp5 * tmp1)
+                + m[14] * (48.0 * c2 * tmp4 + 96.0 * c2 * tmp0 * tmp1)
+                + m[15] * (48.0 * c2 * tmp1 + 48.0 * c2 * tmp0)
+                + m[16]
+                    * (96.0 * tmp2 * g0 * tmp4 + 24.0 * g0 * tmp4 * tmp3
+                        + 96.0 * tmp2 * tmp7 * tmp1)
+                + m[17]
+                    * (-192.0 * c2 * g0 * tmp1 * tmp3 - 256.0 * tmp5 * tmp7
+                        - 384.0 * tmp5 * g0 * tmp1)
+                + m[18]
+                    * (192.0 * tmp2 * g0 * tmp1 + 48.0 * g0 * tmp1 * tmp3
+                        + 96.0 * tmp2 * tmp7)
+                + m[19]
+                    * (192.0 * tmp5 * tmp0 * tmp1 + 48.0 * c2 * tmp4 * tmp3
+                        + 96.0 * c2 * tmp0 * tmp1 * tmp3 + 64.0 * tmp5 * tmp14)
+                + m[20]
+                    * (-24.0 * tmp1 * tmp8 - 288.0 * tmp2 * tmp0 * tmp3
+                        - 384.0 * tmp11 * tmp0 - 192.0 * tmp2 * tmp1 * tmp3)
+                + m[21] * (192.0 * tmp5 * tmp0 + tmp48 + 96.0 * c2 * tmp0 * tmp3)
+                + m[22]
+                    * (192.0 * tmp2 * g0 * tmp1 * tmp3 + 128.0 * tmp11 * tmp7
+                        + 24.0 * g0 * tmp1 * tmp8 + 96.0 * tmp2 * tmp7 * tmp3)
+                + m[23]
+                    * (192.0 * tmp5 * tmp0 * tmp3 + 48.0 * c2 * tmp1 * tmp8
+                        + 48.0 * c2 * tmp0 * tmp8)
+                + m[24] * (20.0 * c2 * tmp17 + 80.0 * c2 * tmp0 * tmp9)
+                + m[25]
+                    * (-40.0 * tmp9 * tmp3 - 720.0 * tmp2 * tmp0 * tmp4
+                        - 160.0 * tmp2 * tmp9)
+                + m[26]
+                    * (-120.0 * tmp4 * tmp3 - 1440.0 * tmp2 * tmp0 * tmp1
+                        - 480.0 * tmp2 * tmp4)
+                + m[27]
+                    * (-120.0 * tmp1 * tmp3 - 720.0 * tmp2 * tmp0 - 480.0 * tmp2 * tmp1)
+                + m[28] * (1920.0 * tmp5 * tmp0 * tmp1 + tmp49 + 480.0 * tmp5 * tmp4)
+                + m[29]
+                    * (1920.0 * tmp5 * tmp0 + 480.0 * c2 * tmp1 * tmp3
+                        + 960.0 * tmp5 * tmp1)
+                + m[30] * (-1600.0 * tmp11 * tmp0 + tmp50 - 640.0 * tmp11 * tmp1)
+                + m[31] * (80.0 * c2 * tmp9 + 240.0 * c2 * tmp0 * tmp4)
+                + m[32] * (120.0 * c2 * tmp4 + 240.0 * c2 * tmp0 * tmp1)
+                + m[33] * (80.0 * c2 * tmp1 + 80.0 * c2 * tmp0)
+                + m[34]
+                    * (160.0 * tmp2 * g0 * tmp9 + 40.0 * g0 * tmp9 * tmp3
+                        + 240.0 * tmp2 * tmp7 * tmp4)
+                + m[35]
+                    * (-480.0 * c2 * g0 * tmp4 * tmp3 - 1280.0 * tmp5 * tmp7 * tmp1
+                        - 960.0 * tmp5 * g0 * tmp4)
+                + m[36]
+                    * (-960.0 * c2 * g0 * tmp1 * tmp3 - 1280.0 * tmp5 * tmp7
+                        - 1920.0 * tmp5 * g0 * tmp1)
+                + m[37]
+                    * (1440.0 * tmp2 * g0 * tmp1 * tmp3 + 1600.0 * tmp11 * tmp7
+                        + 1920.0 * tmp11 * g0 * tmp1)
+                + m[38]
+                    * (480.0 * tmp2 * g0 * tmp4 + 120.0 * g0 * tmp4 * tmp3
+                        + 480.0 * tmp2 * tmp7 * tmp1)
+                + m[39]
+                    * (480.0 * tmp2 * g0 * tmp1 + 120.0 * g0 * tmp1 * tmp3
+                        + 240.0 * tmp2 * tmp7)
+                + m[40]
+                    * (480.0 * tmp5 * tmp0 * tmp4 + 80.0 * c2 * tmp9 * tmp3
+                        + 240.0 * c2 * tmp0 * tmp4 * tmp3 + 320.0 * tmp5 * tmp14 * tmp1)
+                + m[41]
+                    * (-60.0 * tmp4 * tmp8 - 1440.0 * tmp2 * tmp0 * tmp1 * tmp3
+                        - 800.0 * tmp11 * tmp14 - 1920.0 * tmp11 * tmp0 * tmp1
+                        - 480.0 * tmp2 * tmp4 * tmp3)
+                + m[42]
+                    * (-120.0 * tmp1 * tmp8 - 1440.0 * tmp2 * tmp0 * tmp3
+                        - 1920.0 * tmp11 * tmp0 - 960.0 * tmp2 * tmp1 * tmp3)
+                + m[43]
+                    * (1920.0 * tmp5 * tmp0 * tmp3 + tmp51 + 1920.0 * tmp20 * tmp0
+                        + 960.0 * tmp5 * tmp1 * tmp3)
+                + m[44]
+                    * (960.0 * tmp5 * tmp0 * tmp1 + tmp49
+                        + 480.0 * c2 * tmp0 * tmp1 * tmp3 + 320.0 * tmp5 * tmp14)
+                + m[45]
+                    * (480.0 * tmp5 * tmp0 + 240.0 * c2 * tmp1 * tmp3
+                        + 240.0 * c2 * tmp0 * tmp3)
+                + m[46]
+                    * (480.0 * tmp2 * g0 * tmp4 * tmp3 + 640.0 * tmp11 * tmp7 * tmp1
+                        + 60.0 * g0 * tmp4 * tmp8 + 480.0 * tmp2 * tmp7 * tmp1 * tmp3
+                        + 160.0 * tmp11 * tmp26)
+                + m[47]
+                    * (-480.0 * c2 * g0 * tmp1 * tmp8 - 1280.0 * tmp5 * tmp7 * tmp3
+                        - 1920.0 * tmp5 * g0 * tmp1 * tmp3 - 1280.0 * tmp20 * tmp7)
+                + m[48]
+                    * (960.0 * tmp2 * g0 * tmp1 * tmp3 + 640.0 * tmp11 * tmp7
+                        + 120.0 * g0 * tmp1 * tmp8 + 480.0 * tmp2 * tmp7 * tmp3)
+                + m[49]
+                    * (960.0 * tmp5 * tmp0 * tmp1 * tmp3 + 120.0 * c2 * tmp4 * tmp8
+                        + 320.0 * tmp20 * tmp14 + 240.0 * c2 * tmp0 * tmp1 * tmp8
+                        + 320.0 * tmp5 * tmp14 * tmp3)
+                + m[50]
+                    * (-40.0 * tmp1 * tmp16 - 720.0 * tmp2 * tmp0 * tmp8
+                        - 1920.0 * tmp11 * tmp0 * tmp3 - 480.0 * tmp2 * tmp1 * tmp8)
+                + m[51] * (960.0 * tmp5 * tmp0 * tmp3 + tmp51 + 240.0 * c2 * tmp0 * tmp8)
+                + m[52]
+                    * (480.0 * tmp2 * g0 * tmp1 * tmp8 + 640.0 * tmp11 * tmp7 * tmp3
+                        + 40.0 * g0 * tmp1 * tmp16 + 240.0 * tmp2 * tmp7 * tmp8)
+                + m[53]
+                    * (480.0 * tmp5 * tmp0 * tmp8 + 80.0 * c2 * tmp1 * tmp16
+                        + 80.0 * c2 * tmp0 * tmp16) + 4.0 * c2 * tmp47,
+            atom1
+                * (m[56] + tmp34 + tmp35
+                    + atom1
+                        * (m[63] + tmp37 + tmp38
+                            + atom1
+                                * (m[73] + tmp39 + tmp40
+                                    + atom1 * (m[87] + tmp41 + tmp42 + atom1 * m[104]))))
+                + 2.0 * atom2 * m[59] + g0 * (m[2] + tmp43 + tmp45)
+                + (8.0 * tmp2 * g0 + 2.0 * g0 * tmp3) * m[4]
+                + m[5]
+                    * (24.0 * tmp2 * g0 * tmp1 + 6.0 * g0 * tmp1 * tmp3
+                        + 12.0 * tmp2 * tmp7)
+                + m[6] * (-12.0 * c2 * g0 * tmp3 - 48.0 * tmp5 * g0)
+                + m[7] * (24.0 * tmp2 * g0 + 6.0 * g0 * tmp3)
+                + m[8]
+                    * (24.0 * tmp5 * tmp0 + 12.0 * c2 * tmp1 * tmp3
+                        + 12.0 * c2 * tmp0 * tmp3)
+                + m[9] * (24.0 * tmp2 * g0 * tmp3 + 3.0 * g0 * tmp8)
+                + m[10]
+                    * (48.0 * tmp2 * g0 * tmp4 + 12.0 * g0 * tmp4 * tmp3
+                        + 48.0 * tmp2 * tmp7 * tmp1)
+                + m[11]
+                    * (-48.0 * c2 * g0 * tmp1 * tmp3 - 96.0 * tmp5 * tmp7
+                        - 192.0 * tmp5 * g0 * tmp1)
+                + m[12] * (-48.0 * c2 * g0 * tmp3 - 192.0 * tmp5 * g0)
+                + m[13] * (48.0 * tmp2 * g0 * tmp3 + 192.0 * tmp11 * g0)
+                + m[14]
+                    * (96.0 * tmp2 * g0 * tmp1 + 24.0 * g0 * tmp1 * tmp3
+                        + 48.0 * tmp2 * tmp7)
+                + m[15] * (48.0 * tmp2 * g0 + 12.0 * g0 * tmp3)
+                + m[16]
+                    * (96.0 * tmp5 * tmp0 * tmp1 + 24.0 * c2 * tmp4 * tmp3
+                        + 48.0 * c2 * tmp0 * tmp1 * tmp3 + 32.0 * tmp5 * tmp14)
+                + m[17]
+                    * (-96.0 * tmp2 * tmp0 * tmp3 - 192.0 * tmp11 * tmp0
+                        - 96.0 * tmp2 * tmp1 * tmp3)
+                + m[18]
+                    * (96.0 * tmp5 * tmp0 + 48.0 * c2 * tmp1 * tmp3
+                        + 48.0 * c2 * tmp0 * tmp3)
+                + m[19]
+                    * (96.0 * tmp2 * g0 * tmp1 * tmp3 + 64.0 * tmp11 * tmp7
+                        + 12.0 * g0 * tmp1 * tmp8 + 48.0 * tmp2 * tmp7 * tmp3)
+                + m[20] * (-24.0 * c2 * g0 * tmp8 - 192.0 * tmp5 * g0 * tmp3)
+                + m[21] * (96.0 * tmp2 * g0 * tmp3 + 12.0 * g0 * tmp8)
+                + m[22]
+                    * (96.0 * tmp5 * tmp0 * tmp3 + 24.0 * c2 * tmp1 * tmp8
+                        + 24.0 * c2 * tmp0 * tmp8)
+                + m[23] * (48.0 * tmp2 * g0 * tmp8 + 4.0 * g0 * tmp16)
+                + m[24]
+                    * (80.0 * tmp2 * g0 * tmp9 + 20.0 * g0 * tmp9 * tmp3
+                        + 120.0 * tmp2 * tmp7 * tmp4)
+                + m[25]
+                    * (-120.0 * c2 * g0 * tmp4 * tmp3 - 480.0 * tmp5 * tmp7 * tmp1
+                        - 480.0 * tmp5 * g0 * tmp4)
+                + m[26]
+                    * (-240.0 * c2 * g0 * tmp1 * tmp3 - 480.0 * tmp5 * tmp7
+                        - 960.0 * tmp5 * g0 * tmp1)
+                + m[27] * (-120.0 * c2 * g0 * tmp3 - 480.0 * tmp5 * g0)
+                + m[28]
+                    * (240.0 * tmp2 * g0 * tmp1 * tmp3 + 480.0 * tmp11 * tmp7
+                        + 960.0 * tmp11 * g0 * tmp1)
+                + m[29] * (tmp52 + 960.0 * tmp11 * g0)
+                + m[30] * (-160.0 * tmp5 * g0 * tmp3 - 640.0 * tmp20 * g0)
+                + m[31]
+                    * (240.0 * tmp2 * g0 * tmp4 + 60.0 * g0 * tmp4 * tmp3
+                        + 240.0 * tmp2 * tmp7 * tmp1)
+                + m[32]
+                    * (240.0 * tmp2 * g0 * tmp1 + 60.0 * g0 * tmp1 * tmp3
+                        + 120.0 * tmp2 * tmp7)
+                + m[33] * (80.0 * tmp2 * g0 + 20.0 * g0 * tmp3)
+                + m[34]
+                    * (240.0 * tmp5 * tmp0 * tmp4 + 40.0 * c2 * tmp9 * tmp3
+                        + 120.0 * c2 * tmp0 * tmp4 * tmp3 + 160.0 * tmp5 * tmp14 * tmp1)
+                + m[35]
+                    * (-480.0 * tmp2 * tmp0 * tmp1 * tmp3 - 320.0 * tmp11 * tmp14
+                        - 960.0 * tmp11 * tmp0 * tmp1 - 240.0 * tmp2 * tmp4 * tmp3)
+                + m[36] * (-480.0 * tmp2 * tmp0 * tmp3 - 960.0 * tmp11 * tmp0 + tmp50)
+                + m[37] * (tmp53 + 960.0 * tmp20 * tmp0 + 480.0 * tmp5 * tmp1 * tmp3)
+                + m[38]
+                    * (480.0 * tmp5 * tmp0 * tmp1 + 120.0 * c2 * tmp4 * tmp3
+                        + 240.0 * c2 * tmp0 * tmp1 * tmp3 + 160.0 * tmp5 * tmp14)
+                + m[39]
+                    * (240.0 * tmp5 * tmp0 + 120.0 * c2 * tmp1 * tmp3
+                        + 120.0 * c2 * tmp0 * tmp3)
+                + m[40]
+                    * (240.0 * tmp2 * g0 * tmp4 * tmp3 + 320.0 * tmp11 * tmp7 * tmp1
+                        + 30.0 * g0 * tmp4 * tmp8 + 240.0 * tmp2 * tmp7 * tmp1 * tmp3
+                        + 80.0 * tmp11 * tmp26)
+                + m[41]
+                    * (-120.0 * c2 * g0 * tmp1 * tmp8 - 480.0 * tmp5 * tmp7 * tmp3
+                        - 960.0 * tmp5 * g0 * tmp1 * tmp3 - 640.0 * tmp20 * tmp7)
+                + m[42] * (-120.0 * c2 * g0 * tmp8 - 960.0 * tmp5 * g0 * tmp3)
+                + m[43] * (120.0 * tmp2 * g0 * tmp8 + 960.0 * tmp11 * g0 * tmp3)
+                + m[44]
+                    * (480.0 * tmp2 * g0 * tmp1 * tmp3 + 320.0 * tmp11 * tmp7
+                        + 60.0 * g0 * tmp1 * tmp8 + 240.0 * tmp2 * tmp7 * tmp3)
+                + m[45] * (tmp52 + 30.0 * g0 * tmp8)
+                + m[46]
+                    * (480.0 * tmp5 * tmp0 * tmp1 * tmp3 + 60.0 * c2 * tmp4 * tmp8
+                        + 160.0 * tmp20 * tmp14 + 120.0 * c2 * tmp0 * tmp1 * tmp8
+                        + 160.0 * tmp5 * tmp14 * tmp3)
+                + m[47]
+                    * (-240.0 * tmp2 * tmp0 * tmp8 - 960.0 * tmp11 * tmp0 * tmp3
+                        - 240.0 * tmp2 * tmp1 * tmp8)
+                + m[48] * (tmp53 + 120.0 * c2 * tmp1 * tmp8 + 120.0 * c2 * tmp0 * tmp8)
+                + m[49]
+                    * (240.0 * tmp2 * g0 * tmp1 * tmp8 + 320.0 * tmp11 * tmp7 * tmp3
+                        + 20.0 * g0 * tmp1 * tmp16 + 120.0 * tmp2 * tmp7 * tmp8)
+                + m[50] * (-40.0 * c2 * g0 * tmp16 - 480.0 * tmp5 * g0 * tmp8)
+                + m[51] * (240.0 * tmp2 * g0 * tmp8 + 20.0 * g0 * tmp16)
+                + m[52]
+                    * (240.0 * tmp5 * tmp0 * tmp8 + 40.0 * c2 * tmp1 * tmp16
+                        + 40.0 * c2 * tmp0 * tmp16)
+                + m[53] * (80.0 * tmp2 * g0 * tmp16 + 5.0 * g0 * tmp29),
+        ],
+    )
+}
+///Kernel `prestressed`: the integral of `1/2*b1^2*q22 + 1/2*g0^2*ks*g13 + 1/2*p1*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^2 - 1/3*p2*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^3 + 1/4*p3*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^4 - 1/5*p4*(a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z + eps0)^5` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn prestressed_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -5857,7 +6628,68 @@ pub fn gas_hessian(k: &[f64; 5], m: &[f64; GAS_MOMENTS]) -> (f64, [f64; 5], [f64
 }
 ///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
 ///
-///The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+///The value kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_value_lanes<L: super::Lane>(k: &[L; 5], m: &[L; GAS_MOMENTS]) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = c2;
+    let atom1 = g0;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = g0 * g0;
+    let atom4 = 1.0 + a1 + 0.5 * tmp1;
+    atom2 * (atom4 * m[2] + atom3 * m[1] + atom0 * (m[0] + atom1 * m[3]))
+}
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The gradient kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
+#[inline(always)]
+pub fn gas_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &[L; GAS_MOMENTS],
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let b1 = k[2];
+    let c2 = k[3];
+    let g0 = k[4];
+    let atom0 = c2;
+    let atom1 = g0;
+    let atom2 = 1.0 + b1;
+    let tmp0 = c2 * c2;
+    let atom3 = 3.0 * a3 + 2.0 * tmp0;
+    let tmp1 = g0 * g0;
+    let atom4 = 1.0 + a1 + 0.5 * tmp1;
+    let tmp2 = m[0] + atom1 * m[3];
+    let tmp3 = atom4 * m[2] + atom3 * m[1] + atom0 * tmp2;
+    (
+        atom2 * tmp3,
+        [
+            atom2 * m[2],
+            3.0 * atom2 * m[1],
+            tmp3,
+            atom2 * tmp2 + 4.0 * c2 * atom2 * m[1],
+            atom2 * atom0 * m[3] + g0 * atom2 * m[2],
+        ],
+    )
+}
+///Kernel `gas`: the integral of `(1 + a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z)*(1 + b1)` over x in [x0, x1], y in [0, width], z in [z0, z1].
+///
+///The Hessian kernel.
+///On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).
 #[inline(always)]
 pub fn gas_hessian_lanes<L: super::Lane>(
     k: &[L; 5],
@@ -5994,6 +6826,68 @@ impl<L: super::Lane> MomentLanes<L> {
             gas: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].gas[j])),
         }
     }
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///The value on lanes, one element per lane, each lane bit for bit `energy_value`'s result for that element.
+#[inline(always)]
+pub fn energy_value_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> L
+where
+    f64: super::LaneScalar<L>,
+{
+    let mut v = linear_value_lanes(k, &m.linear);
+    {
+        let tv = prestressed_value_lanes(k, &m.prestressed);
+        v += tv;
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let tv = gas_value_lanes(k, &m.gas);
+            v += c2 * tv;
+        }
+    }
+    v
+}
+///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
+///
+///Value and gradient on lanes, one element per lane, each lane bit for bit `energy_gradient`'s result for that element.
+#[inline(always)]
+pub fn energy_gradient_lanes<L: super::Lane>(
+    k: &[L; 5],
+    m: &MomentLanes<L>,
+    s: &super::EnergyScalars,
+) -> (L, [L; 5])
+where
+    f64: super::LaneScalar<L>,
+{
+    let (mut v, mut g) = linear_gradient_lanes(k, &m.linear);
+    {
+        let (tv, tg) = prestressed_gradient_lanes(k, &m.prestressed);
+        v += tv;
+        g[0] += tg[0];
+        g[1] += tg[1];
+        g[2] += tg[2];
+        g[3] += tg[3];
+        g[4] += tg[4];
+    }
+    {
+        let c2: f64 = -(s.kp);
+        if c2 != 0.0 {
+            let (tv, tg) = gas_gradient_lanes(k, &m.gas);
+            v += c2 * tv;
+            g[0] += c2 * tg[0];
+            g[1] += c2 * tg[1];
+            g[2] += c2 * tg[2];
+            g[3] += c2 * tg[3];
+            g[4] += c2 * tg[4];
+        }
+    }
+    (v, g)
 }
 ///The element energy: (1) * linear + (1) * prestressed + (-kp) * gas.
 ///
@@ -7435,6 +8329,12 @@ impl super::ModelCore for Shear {
         unscale(length)
     }
 }
+///Lane `l` holds `k[l]` (lanes past the end repeat its last entry); `None` for no unknowns.
+#[inline(always)]
+fn gather<L: super::Lane>(k: &[[f64; 5]]) -> Option<[L; 5]> {
+    let last = k.len().checked_sub(1)?;
+    Some(std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j])))
+}
 impl super::Energy for Shear {
     fn zero_moments() -> Moments {
         Moments::ZERO
@@ -7469,6 +8369,42 @@ impl super::Energy for Shear {
         MomentLanes::gather(m)
     }
     #[inline(always)]
+    fn energy_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [f64],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let v = std::hint::black_box(energy_value_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = v.lane(l);
+        }
+    }
+    #[inline(always)]
+    fn gradient_lanes<L: super::Lane>(
+        m: &MomentLanes<L>,
+        k: &[[f64; 5]],
+        s: &super::EnergyScalars,
+        out: &mut [(f64, [f64; 5])],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let Some(kl) = gather(k) else {
+            return;
+        };
+        let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+            *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
+        }
+    }
+    #[inline(always)]
     fn hessian_lanes<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
@@ -7478,10 +8414,9 @@ impl super::Energy for Shear {
     where
         f64: super::LaneScalar<L>,
     {
-        let Some(last) = k.len().checked_sub(1) else {
+        let Some(kl) = gather(k) else {
             return;
         };
-        let kl: [L; 5] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
         for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
             *o = (

@@ -21,7 +21,7 @@ use fpc_newton::{
 };
 
 use crate::coefficients::Coefficients;
-use crate::element::ElementHessian;
+use crate::element::{self, ElementHessian};
 use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
 
 use super::load::Load;
@@ -44,7 +44,9 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     u: Vec<M::Coeffs>,
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
-    /// The element pass's potentials, gradients and Hessians.
+    /// The element pass's potentials, with gradients, with Hessians.
+    ev: Vec<f64>,
+    eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
     pub tip: [f64; 2],
     /// Evaluate the chain geometry even without a tip load (bordered solves
@@ -123,6 +125,8 @@ pub(crate) struct ChainParts<M: ElementModel> {
     u: Vec<M::Coeffs>,
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
+    ev: Vec<f64>,
+    eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
     matrix: Semiseparable,
     memo: StartMemo<M>,
@@ -140,6 +144,8 @@ impl<M: ElementModel> ChainParts<M> {
             u: vec![M::Coeffs::zero(); n],
             w: vec![M::Coeffs::zero(); n],
             blk: vec![M::Upper::zero(); n],
+            ev: vec![0.0; n],
+            eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
             matrix: Semiseparable::new(M::Coeffs::LEN, n),
             memo: StartMemo::empty(),
@@ -178,6 +184,8 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             u: p.u,
             w: p.w,
             blk: p.blk,
+            ev: p.ev,
+            eg: p.eg,
             eh: p.eh,
             tip: [0.0, 0.0],
             force_chain: false,
@@ -201,6 +209,8 @@ impl<'a, M: ElementModel> Chain<'a, M> {
             u: take(&mut self.u),
             w: take(&mut self.w),
             blk: take(&mut self.blk),
+            ev: take(&mut self.ev),
+            eg: take(&mut self.eg),
             eh: take(&mut self.eh),
             matrix: std::mem::replace(&mut self.matrix, Semiseparable::new(0, 0)),
             memo: std::mem::replace(&mut self.memo, StartMemo::empty()),
@@ -278,9 +288,12 @@ impl<M: ElementModel> Energy for Chain<'_, M> {
 
     fn energy(&mut self, y: &[f64]) -> f64 {
         self.unscale_into(y);
+        let core = self.finger;
+        core.lanes
+            .eval::<element::Value>(&core.elements, &self.k, &self.scalars, &mut self.ev);
         let mut v = 0.0;
-        for (e, k) in self.finger.elements.iter().zip(&self.k) {
-            v += e.energy(k, &self.scalars);
+        for vi in &self.ev {
+            v += vi;
         }
         if self.loaded() {
             let mut p = [0.0, 0.0];
@@ -303,8 +316,11 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
         let n = M::Coeffs::LEN;
         let loaded = self.loaded();
         let mut v = 0.0;
-        for (i, e) in self.finger.elements.iter().enumerate() {
-            let (vi, gi) = e.gradient(&self.k[i], &self.scalars);
+        let core = self.finger;
+        core.lanes
+            .eval::<element::Gradient>(&core.elements, &self.k, &self.scalars, &mut self.eg);
+        for (i, e) in core.elements.iter().enumerate() {
+            let (vi, gi) = self.eg[i];
             v += vi;
             g[n * i..n * i + n].copy_from_slice(gi.as_ref());
             if loaded {
@@ -388,8 +404,12 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             // pass 1: element energies (several elements per instruction)
             // and, for the chain, end kinematics
             let core = self.finger;
-            core.lanes
-                .hessians(&core.elements, &self.k, &self.scalars, &mut self.eh);
+            core.lanes.eval::<element::Hessian>(
+                &core.elements,
+                &self.k,
+                &self.scalars,
+                &mut self.eh,
+            );
             for (i, e) in core.elements.iter().enumerate() {
                 let (vi, gi, hi) = self.eh[i];
                 v += vi;

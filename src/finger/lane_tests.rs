@@ -1,9 +1,9 @@
-//! The element Hessians in lanes (src/lanes.rs, `ElementLanes` in
+//! The element potentials, gradients and Hessians in lanes (src/lanes.rs, `ElementLanes` in
 //! src/element.rs) against the scalar kernels, bit for bit, on the
 //! elements of real fingers.
 
 use super::FingerCore;
-use crate::element::{Element, ElementLanes};
+use crate::element::{self, Element, ElementLanes};
 use crate::lanes::Width;
 use crate::model::{ElementModel, EnergyScalars, Vector};
 use crate::{Actuator, ActuatorParams, Partition};
@@ -23,7 +23,7 @@ fn elements<M: ElementModel>(n: usize, plane_strain: bool) -> Vec<Element<M>> {
 }
 
 /// Every width this processor runs gives every element's potential,
-/// gradient and Hessian bit for bit as the scalar kernel does, at
+/// gradient and Hessian bit for bit as the scalar kernels do, at
 /// random unknowns and pressures, for every model, in plane stress and
 /// plane strain, with the last batch partly filled.
 fn lanes_are_the_scalar_kernels<M: ElementModel>() {
@@ -52,20 +52,23 @@ fn lanes_are_the_scalar_kernels<M: ElementModel>() {
             for width in Width::ALL.into_iter().filter(|w| w.is_supported()) {
                 let lanes = ElementLanes::new(&els, width);
                 prop_assert_eq!(lanes.width(), width);
-                let mut out = vec![zero; ne];
-                lanes.hessians(&els, &k, &s, &mut out);
+                let mut ev = vec![0.0; ne];
+                let mut eg = vec![(0.0, M::Coeffs::zero()); ne];
+                let mut eh = vec![zero; ne];
+                lanes.eval::<element::Value>(&els, &k, &s, &mut ev);
+                lanes.eval::<element::Gradient>(&els, &k, &s, &mut eg);
+                lanes.eval::<element::Hessian>(&els, &k, &s, &mut eh);
+                let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
                 for (i, (e, k)) in els.iter().zip(&k).enumerate() {
+                    let at = format!("{} element {i}", width.name());
+                    prop_assert_eq!(ev[i].to_bits(), e.energy(k, &s).to_bits(), "{}", at);
+                    let (v, g) = e.gradient(k, &s);
+                    prop_assert_eq!(eg[i].0.to_bits(), v.to_bits(), "{}", at);
+                    prop_assert_eq!(bits(eg[i].1.as_ref()), bits(g.as_ref()), "{}", at);
                     let (v, g, h) = e.hessian(k, &s);
-                    let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
-                    prop_assert_eq!(
-                        out[i].0.to_bits(),
-                        v.to_bits(),
-                        "{} element {}",
-                        width.name(),
-                        i
-                    );
-                    prop_assert_eq!(bits(out[i].1.as_ref()), bits(g.as_ref()));
-                    prop_assert_eq!(bits(out[i].2.as_ref()), bits(h.as_ref()));
+                    prop_assert_eq!(eh[i].0.to_bits(), v.to_bits(), "{}", at);
+                    prop_assert_eq!(bits(eh[i].1.as_ref()), bits(g.as_ref()), "{}", at);
+                    prop_assert_eq!(bits(eh[i].2.as_ref()), bits(h.as_ref()), "{}", at);
                 }
             }
             Ok(())

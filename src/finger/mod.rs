@@ -163,9 +163,9 @@ impl Finger {
         Ok(Finger::new(&act, &part, true))
     }
 
-    /// The same finger with its element Hessians evaluated `width`
-    /// elements at a time (or at the widest width below it this processor
-    /// runs; [`crate::lanes`]). A finger is built with the widest
+    /// The same finger with its element potentials, gradients and
+    /// Hessians evaluated `width` elements at a time (or at the widest
+    /// width below it this processor runs; [`crate::lanes`]). A finger is built with the widest
     /// ([`Width::detect`]); every width gives the same results bit for bit,
     /// so this is for comparing their speed.
     pub fn with_lane_width(&self, width: Width) -> Finger {
@@ -180,7 +180,7 @@ impl Finger {
         }
     }
 
-    /// The width the finger's element Hessians are evaluated at.
+    /// The width the finger's element pass is evaluated at.
     pub fn lane_width(&self) -> Width {
         with_core!(self, c => c.lanes.width())
     }

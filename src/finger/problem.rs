@@ -24,7 +24,7 @@ use crate::coefficients::Coefficients;
 pub(crate) struct FingerCore<M: ElementModel> {
     pub elements: Vec<Element<M>>,
     /// The elements' moments packed for the widest lanes this processor
-    /// runs (the chain's Hessians).
+    /// runs (the chain's element pass).
     pub lanes: ElementLanes<M>,
     /// For each element, the first element with identical blocks.
     pub distinct: Vec<usize>,

@@ -213,6 +213,13 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             }
         }
 
+        #[doc = "Lane `l` holds `k[l]` (lanes past the end repeat its last entry); `None` for no unknowns."]
+        #[inline(always)]
+        fn gather<L: super::Lane>(k: &[[f64; #nu]]) -> Option<[L; #nu]> {
+            let last = k.len().checked_sub(1)?;
+            Some(std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j])))
+        }
+
         impl super::Energy for #model {
             fn zero_moments() -> Moments {
                 Moments::ZERO
@@ -246,6 +253,42 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             }
 
             #[inline(always)]
+            fn energy_lanes<L: super::Lane>(
+                m: &MomentLanes<L>,
+                k: &[[f64; #nu]],
+                s: &super::EnergyScalars,
+                out: &mut [f64],
+            ) where
+                f64: super::LaneScalar<L>,
+            {
+                let Some(kl) = gather(k) else {
+                    return;
+                };
+                let v = std::hint::black_box(energy_value_lanes(&kl, m, s));
+                for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+                    *o = v.lane(l);
+                }
+            }
+
+            #[inline(always)]
+            fn gradient_lanes<L: super::Lane>(
+                m: &MomentLanes<L>,
+                k: &[[f64; #nu]],
+                s: &super::EnergyScalars,
+                out: &mut [(f64, [f64; #nu])],
+            ) where
+                f64: super::LaneScalar<L>,
+            {
+                let Some(kl) = gather(k) else {
+                    return;
+                };
+                let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+                for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
+                    *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
+                }
+            }
+
+            #[inline(always)]
             fn hessian_lanes<L: super::Lane>(
                 m: &MomentLanes<L>,
                 k: &[[f64; #nu]],
@@ -254,14 +297,14 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             ) where
                 f64: super::LaneScalar<L>,
             {
-                let Some(last) = k.len().checked_sub(1) else {
+                let Some(kl) = gather(k) else {
                     return;
                 };
-                let kl: [L; #nu] = std::array::from_fn(|j| L::from_fn(|l| k[l.min(last)][j]));
-                // the kernel's lanes kept whole up to here: read lane by lane
-                // at once, the compiler splits the kernel into one scalar
-                // chain per lane and the vector instructions are lost
-                // (measured: slower than the scalar kernels at eight lanes)
+                // the kernel's lanes kept whole up to here (here and above):
+                // read lane by lane at once, the compiler splits the kernel
+                // into one scalar chain per lane and the vector instructions
+                // are lost (measured: slower than the scalar kernels at
+                // eight lanes)
                 let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
                 for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
                     *o = (

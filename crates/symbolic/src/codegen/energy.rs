@@ -63,6 +63,8 @@ pub(super) fn energy_fns(
     let mut value = Vec::new();
     let mut grad = Vec::new();
     let mut hess = Vec::new();
+    let mut value_lanes = Vec::new();
+    let mut grad_lanes = Vec::new();
     let mut hess_lanes = Vec::new();
     // a first term with coefficient 1 initialises the sums (no adds to zero)
     let first_is_one = def
@@ -84,7 +86,11 @@ pub(super) fn energy_fns(
         let f_grad = ident(&format!("{name}_gradient"));
         let f_hess = ident(&format!("{name}_hessian"));
         let f_hess_lanes = ident(&format!("{name}_hessian_lanes"));
+        let f_value_lanes = ident(&format!("{name}_value_lanes"));
+        let f_grad_lanes = ident(&format!("{name}_gradient_lanes"));
         if i == 0 && first_is_one {
+            value_lanes.push(quote! { let mut v = #f_value_lanes(k, &m.#field); });
+            grad_lanes.push(quote! { let (mut v, mut g) = #f_grad_lanes(k, &m.#field); });
             value.push(quote! { let mut v = #f_value(k, &m.#field); });
             grad.push(quote! { let (mut v, mut g) = #f_grad(k, &m.#field); });
             hess.push(quote! { let (mut v, mut g, mut h) = #f_hess(k, &m.#field); });
@@ -113,6 +119,12 @@ pub(super) fn energy_fns(
                 quote! { h[#j] += #t; }
             })
             .collect();
+        let v_lanes_body = quote! { let tv = #f_value_lanes(k, &m.#field); v += #tv; };
+        let g_lanes_body = quote! {
+            let (tv, tg) = #f_grad_lanes(k, &m.#field);
+            v += #tv;
+            #(#gi)*
+        };
         let h_lanes_body = quote! {
             let (tv, tg, th) = #f_hess_lanes(k, &m.#field);
             v += #tv;
@@ -141,16 +153,26 @@ pub(super) fn energy_fns(
         value.push(guard(v_body));
         grad.push(guard(g_body));
         hess.push(guard(h_body));
+        value_lanes.push(guard(v_lanes_body));
+        grad_lanes.push(guard(g_lanes_body));
         hess_lanes.push(guard(h_lanes_body));
     }
-    let (init_v, init_g, init_h, init_h_lanes) = if first_is_one {
+    let (init_v, init_g, init_h, init_v_lanes) = if first_is_one {
         Default::default()
     } else {
         (
             quote! { let mut v = 0.0; },
             quote! { let mut v = 0.0; let mut g = [0.0; #nu]; },
             quote! { let mut v = 0.0; let mut g = [0.0; #nu]; let mut h = [0.0; #nh]; },
-            quote! { let mut v = L::splat(0.0); let mut g = [L::splat(0.0); #nu]; let mut h = [L::splat(0.0); #nh]; },
+            quote! { let mut v = L::splat(0.0); },
+        )
+    };
+    let (init_g_lanes, init_h_lanes) = if first_is_one {
+        Default::default()
+    } else {
+        (
+            quote! { #init_v_lanes let mut g = [L::splat(0.0); #nu]; },
+            quote! { #init_v_lanes let mut g = [L::splat(0.0); #nu]; let mut h = [L::splat(0.0); #nh]; },
         )
     };
     let combo: Vec<String> = def
@@ -244,6 +266,34 @@ pub(super) fn energy_fns(
                         #(#fields: std::array::from_fn(|j| L::from_fn(|l| m[l.min(last)].#fields[j])),)*
                     }
                 }
+            }
+
+            #[doc = #doc]
+            #[doc = ""]
+            #[doc = "The value on lanes, one element per lane, each lane bit for bit `energy_value`'s result for that element."]
+            #[inline(always)]
+            pub fn energy_value_lanes<L: #path::Lane>(k: &[L; #nu], m: &MomentLanes<L>, s: &#prefix EnergyScalars) -> L
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #used
+                #init_v_lanes
+                #(#value_lanes)*
+                v
+            }
+
+            #[doc = #doc]
+            #[doc = ""]
+            #[doc = "Value and gradient on lanes, one element per lane, each lane bit for bit `energy_gradient`'s result for that element."]
+            #[inline(always)]
+            pub fn energy_gradient_lanes<L: #path::Lane>(k: &[L; #nu], m: &MomentLanes<L>, s: &#prefix EnergyScalars) -> (L, [L; #nu])
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #used
+                #init_g_lanes
+                #(#grad_lanes)*
+                (v, g)
             }
 
             #[doc = #doc]

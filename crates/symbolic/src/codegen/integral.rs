@@ -428,18 +428,58 @@ pub(super) fn integral_kernel(
     let gg = &g_parts[1..];
     let _ = literal;
     let hess_lanes = lanes.map(|path| {
-        let fn_hess_lanes = ident(&format!("{name}_hessian_lanes"));
         // a constant output is an f64: splat it into the lanes
-        let lane_out = |(t, &e): (&TokenStream, &ExprId)| match arena_ro.as_num(e) {
-            Some(_) => quote! { L::splat(#t) },
-            None => t.clone(),
+        let lane_outs = |parts: &[TokenStream], exprs: &[ExprId]| -> Vec<TokenStream> {
+            parts
+                .iter()
+                .zip(exprs)
+                .map(|(t, &e)| match arena_ro.as_num(e) {
+                    Some(_) => quote! { L::splat(#t) },
+                    None => t.clone(),
+                })
+                .collect()
         };
-        let outs: Vec<TokenStream> = h_parts.iter().zip(&houts).map(lane_out).collect();
-        let (lv, lg, lh) = (&outs[0], &outs[1..=n], &outs[n + 1..]);
+        let doc = "On lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order).";
+        let fn_value_lanes = ident(&format!("{name}_value_lanes"));
+        let fn_grad_lanes = ident(&format!("{name}_gradient_lanes"));
+        let fn_hess_lanes = ident(&format!("{name}_hessian_lanes"));
+        let v = lane_outs(std::slice::from_ref(v_out), &[value_e]);
+        let lv0 = &v[0];
+        let g = lane_outs(&g_parts, &gouts);
+        let (gv, gg) = (&g[0], &g[1..]);
+        let h = lane_outs(&h_parts, &houts);
+        let (lv, lg, lh) = (&h[0], &h[1..=n], &h[n + 1..]);
         quote! {
             #[doc = #head_doc]
             #[doc = ""]
-            #[doc = "The Hessian kernel on lanes: each lane of `k` and `m` holds one element's unknowns and moments, and each lane of the result is bit for bit that element's scalar result (the same statements in the same order)."]
+            #[doc = "The value kernel."]
+            #[doc = #doc]
+            #[inline(always)]
+            pub fn #fn_value_lanes<L: #path::Lane>(k: &[L; #nu], m: &[L; #count_ident]) -> L
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #(#v_stmts)*
+                #lv0
+            }
+
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = "The gradient kernel."]
+            #[doc = #doc]
+            #[inline(always)]
+            pub fn #fn_grad_lanes<L: #path::Lane>(k: &[L; #nu], m: &[L; #count_ident]) -> (L, [L; #nu])
+            where
+                f64: #path::LaneScalar<L>,
+            {
+                #(#g_stmts)*
+                (#gv, [#(#gg),*])
+            }
+
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = "The Hessian kernel."]
+            #[doc = #doc]
             #[inline(always)]
             pub fn #fn_hess_lanes<L: #path::Lane>(k: &[L; #nu], m: &[L; #count_ident]) -> (L, [L; #nu], [L; #nh])
             where

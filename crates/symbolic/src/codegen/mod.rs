@@ -102,8 +102,9 @@ pub struct Options {
     /// emits them into the module itself.
     pub shared_params: Option<TokenStream>,
     /// A Rust path holding the traits `Lane` and `LaneScalar` (the fpc
-    /// crate's `lanes` module): with it, every integral kernel's Hessian
-    /// and the energy's are emitted a second time as `*_hessian_lanes`,
+    /// crate's `lanes` module): with it, every integral kernel's value,
+    /// gradient and Hessian and the energy's are emitted a second time as
+    /// `*_value_lanes`, `*_gradient_lanes` and `*_hessian_lanes`,
     /// generic over a lane type holding one number per element (the same
     /// statements in the same order, so each lane is bit for bit the scalar
     /// kernel's result), with a `MomentLanes` struct of moments side by
