@@ -144,10 +144,7 @@ impl<M: Energy> Element<M> {
     /// The element's potential for the load scalars `s`.
     #[inline]
     pub fn energy(&self, k: &M::Coeffs, s: &EnergyScalars) -> f64 {
-        if self.pin.is_empty() {
-            return M::energy(&self.moments, k, s);
-        }
-        self.finish_energy(k, M::energy(&self.moments, &self.held(k), s))
+        self.finish_energy(k, M::energy(&self.moments, &self.seen(k), s))
     }
 
     /// The element's potential at `k` from the model's at
@@ -163,10 +160,7 @@ impl<M: Energy> Element<M> {
     /// Potential and gradient.
     #[inline]
     pub fn gradient(&self, k: &M::Coeffs, s: &EnergyScalars) -> (f64, M::Coeffs) {
-        if self.pin.is_empty() {
-            return M::gradient(&self.moments, k, s);
-        }
-        self.finish_gradient(k, M::gradient(&self.moments, &self.held(k), s))
+        self.finish_gradient(k, M::gradient(&self.moments, &self.seen(k), s))
     }
 
     /// The element's potential and gradient at `k` from the model's at
@@ -185,10 +179,7 @@ impl<M: Energy> Element<M> {
     /// Potential, gradient and Hessian (upper triangle).
     #[inline]
     pub fn hessian(&self, k: &M::Coeffs, s: &EnergyScalars) -> (f64, M::Coeffs, M::Upper) {
-        if self.pin.is_empty() {
-            return M::hessian(&self.moments, k, s);
-        }
-        self.finish_hessian(k, M::hessian(&self.moments, &self.held(k), s))
+        self.finish_hessian(k, M::hessian(&self.moments, &self.seen(k), s))
     }
 
     /// The unknowns the model's energy sees: `k`, with the unknowns plane
@@ -327,8 +318,8 @@ pub(crate) trait Pass<M: Energy> {
         out: &mut [Self::Out],
     ) where
         f64: LaneScalar<L>;
-    /// The model's result for one element at `k` (the unknowns it sees).
-    fn model(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out;
+    /// One element's result, the scalar way.
+    fn element(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out;
     /// The element's result at `k` from the model's.
     fn finish(e: &Element<M>, k: &M::Coeffs, out: Self::Out) -> Self::Out;
 }
@@ -340,9 +331,9 @@ pub(crate) struct Gradient;
 /// The potentials, gradients and Hessians ([`Element::hessian`]).
 pub(crate) struct Hessian;
 
-/// `pass!(Pass, its output, lane method, scalar method, finishing method)`.
+/// `pass!(Pass, its output, lane method, element method, finishing method)`.
 macro_rules! pass {
-    ($pass:ident, $out:ty, $lanes:ident, $model:ident, $finish:ident) => {
+    ($pass:ident, $out:ty, $lanes:ident, $element:ident, $finish:ident) => {
         impl<M: Energy> Pass<M> for $pass {
             type Out = $out;
             #[inline(always)]
@@ -357,8 +348,8 @@ macro_rules! pass {
                 M::$lanes(m, k, s, out)
             }
             #[inline(always)]
-            fn model(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out {
-                M::$model(&e.moments, k, s)
+            fn element(e: &Element<M>, k: &M::Coeffs, s: &EnergyScalars) -> Self::Out {
+                e.$element(k, s)
             }
             #[inline(always)]
             fn finish(e: &Element<M>, k: &M::Coeffs, out: Self::Out) -> Self::Out {
@@ -413,16 +404,7 @@ impl<M: Energy> ElementLanes<M> {
                 })
                 .collect()
         }
-        let width = if width.is_supported() {
-            width
-        } else {
-            Width::ALL
-                .into_iter()
-                .rev()
-                .find(|w| w.lanes() <= width.lanes() && w.is_supported())
-                .unwrap_or(Width::One)
-        };
-        match width {
+        match width.or_narrower() {
             Width::One => ElementLanes::One,
             Width::Four => ElementLanes::Four(pack::<M, Lanes<4>>(elements), false),
             Width::FourAvx2 => ElementLanes::Four(pack::<M, Lanes<4>>(elements), true),
@@ -454,7 +436,7 @@ impl<M: Energy> ElementLanes<M> {
         match self {
             ElementLanes::One => {
                 for ((o, e), k) in out.iter_mut().zip(elements).zip(k) {
-                    *o = P::finish(e, k, P::model(e, &e.seen(k), s));
+                    *o = P::element(e, k, s);
                 }
             }
             #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]

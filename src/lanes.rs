@@ -18,7 +18,6 @@ use std::ops::{Add, AddAssign, Div, Mul, Neg, Sub};
 use std::sync::OnceLock;
 
 /// A number per lane: the type the generated `*_lanes` kernels compute on.
-/// `f64` is the one-lane case.
 pub trait Lane:
     Copy
     + std::fmt::Debug
@@ -56,22 +55,6 @@ pub trait LaneScalar<L>:
 impl<L> LaneScalar<L> for f64 where
     f64: Add<L, Output = L> + Sub<L, Output = L> + Mul<L, Output = L> + Div<L, Output = L>
 {
-}
-
-impl Lane for f64 {
-    const WIDTH: usize = 1;
-    #[inline(always)]
-    fn splat(x: f64) -> f64 {
-        x
-    }
-    #[inline(always)]
-    fn from_fn(mut f: impl FnMut(usize) -> f64) -> f64 {
-        f(0)
-    }
-    #[inline(always)]
-    fn lane(&self, _: usize) -> f64 {
-        *self
-    }
 }
 
 /// `W` numbers side by side, one per element.
@@ -162,13 +145,20 @@ impl Width {
     /// The widest this processor runs (checked once per process).
     pub fn detect() -> Width {
         static DETECTED: OnceLock<Width> = OnceLock::new();
-        *DETECTED.get_or_init(|| {
-            Width::ALL
-                .into_iter()
-                .rev()
-                .find(|w| w.is_supported())
-                .unwrap_or(Width::One)
-        })
+        *DETECTED.get_or_init(|| Width::EightAvx512.or_narrower())
+    }
+
+    /// This width when the processor runs it, else the widest it runs
+    /// with at most as many lanes.
+    pub fn or_narrower(self) -> Width {
+        if self.is_supported() {
+            return self;
+        }
+        Width::ALL
+            .into_iter()
+            .rev()
+            .find(|w| w.lanes() <= self.lanes() && w.is_supported())
+            .unwrap_or(Width::One)
     }
 
     /// True when this processor has the instructions of the width.
@@ -233,12 +223,21 @@ mod tests {
             assert_eq!((1.5 / a / 2.0 - 0.5).lane(i), 1.5 / x / 2.0 - 0.5);
         }
         assert_eq!(Lanes::<4>::splat(2.5), Lanes([2.5; 4]));
-        assert_eq!(<f64 as Lane>::from_fn(|i| i as f64 + 7.0), 7.0);
+        assert_eq!(
+            Lanes::<4>::from_fn(|i| i as f64 + 7.0),
+            Lanes([7.0, 8.0, 9.0, 10.0])
+        );
     }
 
     #[test]
     fn the_detected_width_is_supported_and_the_baseline_always_is() {
         assert!(Width::detect().is_supported());
+        assert_eq!(Width::EightAvx512.or_narrower(), Width::detect());
+        for w in Width::ALL {
+            let n = w.or_narrower();
+            assert!(n.is_supported() && n.lanes() <= w.lanes());
+            assert_eq!(n == w, w.is_supported());
+        }
         assert!(Width::One.is_supported() && Width::Four.is_supported());
         let lanes: Vec<usize> = Width::ALL.iter().map(|w| w.lanes()).collect();
         assert_eq!(lanes, [1, 4, 4, 8]);
