@@ -295,6 +295,65 @@ fn a_claim_bent_backwards_carries_its_note_and_a_strict_design_never_claims_one(
     }
 }
 
+/// Every sample's margin carries its solution's notes, not only the
+/// hardest sample's (which its scene reproduces): each cuboid width's lift
+/// margin says "bent backwards" exactly when the same grasp, written as a
+/// scene by hand and solved through the scene path, bends an element
+/// backwards; and so does its normal-force margin, from the same grasp.
+#[test]
+fn every_sample_s_margin_carries_its_grasp_s_notes() {
+    let text = r#"
+[[object]]
+kind = "cuboid"
+size_mm = [90.0, 110.0]
+lift_n = 0.3
+max_normal_n = 50.0
+[vary]
+eps0 = [0.1, 0.5]
+mounting_angle_deg = [60.0, 90.0]
+overlap_mm = [0.0, 40.0]
+"#;
+    let req = Requirements::parse(text).unwrap();
+    assert!(!req.strict);
+    // the paper's design, whose grasps bend the root element backwards a
+    // little (the test above)
+    let x = [0.2842, 74.31, 20.0];
+    let e = evaluate(&req, x);
+    let hardest = e.hardest_lift(0).unwrap().requirement.clone();
+    let (mut lifts, mut reversed, mut beside_hardest) = (0, 0, 0);
+    for m in e.margins.iter().filter(|m| m.requirement.ends_with("lift")) {
+        lifts += 1;
+        let d = m.at_mm.unwrap();
+        let SceneSolution::Gripper { grasp: Some(g), .. } = by_hand(x, d) else {
+            panic!("no grasp at d = {d}")
+        };
+        let rev = g.grasp.is_reversed();
+        let noted = |notes: &[String]| notes.iter().any(|n| n.contains("bent backwards"));
+        assert_eq!(rev, noted(&m.notes), "{m:?}");
+        reversed += usize::from(rev);
+        beside_hardest += usize::from(rev && m.requirement != hardest);
+        // the normal-force margin of the same width, from the same grasp
+        let gentle = m.requirement.replace(": lift", ": gentle");
+        let gm = e.margins.iter().find(|g| g.requirement == gentle).unwrap();
+        assert_eq!(gm.notes, m.notes, "{gm:?}");
+    }
+    assert!(lifts >= 3, "{lifts} lift margins");
+    assert!(
+        beside_hardest >= 1,
+        "{reversed} reversed grasps, none but the hardest: the test needs another"
+    );
+    // design.json lists them; a margin without notes has no key
+    let json = serde_json::to_value(&e).unwrap();
+    let listed = json["margins"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m.get("notes").is_some())
+        .count();
+    let with = e.margins.iter().filter(|m| !m.notes.is_empty()).count();
+    assert_eq!(listed, with);
+}
+
 /// A calibrated finger (a stiffer constraining layer, its own kappa and a
 /// covariance over eps0, kappa and cl.e), as `fpc calibrate` writes one.
 const CALIBRATED: &str = r#"

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use crate::actuator::Actuator;
 use crate::actuator::ActuatorParam;
+use crate::error::Warning;
 use crate::finger::{Finger, Load, SolveOptions};
 use crate::gripper::sphere::{nearest_turn, turn_within};
 use crate::gripper::{
@@ -62,6 +63,23 @@ pub struct Margin {
     /// verdict); an invalid grasp holds nothing.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub valid: Option<bool>,
+    /// The notes of the solution behind the margin that do not make it
+    /// invalid ([`Warning::is_validity`] false: an element bent backwards outside strict mode,
+    /// the actuator's notes), in words: every sample's, not only the
+    /// hardest one's, so that a claim is never read without them.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+}
+
+/// The findings of `warnings` that do not make an answer invalid
+/// ([`Warning::is_validity`]), in words: what a margin and a reproduced
+/// scene carry beside their verdict.
+pub(crate) fn notes(warnings: &[Warning]) -> Vec<String> {
+    warnings
+        .iter()
+        .filter(|w| !w.is_validity())
+        .map(|w| w.to_string())
+        .collect()
 }
 
 /// All margins of a design.
@@ -360,6 +378,7 @@ fn evaluate_inner(
                 value: None,
                 normal_n: None,
                 valid: None,
+                notes: Vec::new(),
             },
             |_| Some([Some(0.0); 3]),
         ),
@@ -433,6 +452,7 @@ fn cuboid_margins(
                     value: Some(d_max),
                     normal_n: None,
                     valid: None,
+                    notes: Vec::new(),
                 },
                 |act| {
                     let rows = g.geometry_sensitivities(act, &DESIGN_PARAMS).ok()?;
@@ -470,6 +490,7 @@ fn cuboid_margins(
                         value: Some(held),
                         normal_n: Some(gr.normal),
                         valid: Some(gr.is_valid()),
+                        notes: notes(&gr.warnings),
                     },
                     |act| {
                         if clamped {
@@ -485,7 +506,7 @@ fn cuboid_margins(
                 );
                 if let Some(fmax) = max_normal {
                     out.push(
-                        gentle_margin(name("gentle"), fmax, gr.normal, d, 0.0),
+                        gentle_margin(name("gentle"), fmax, gr.normal, (d, 0.0), &gr.warnings),
                         |act| {
                             let s = sens(act)?;
                             let r = &s.rows;
@@ -509,6 +530,7 @@ fn cuboid_margins(
                         value: None,
                         normal_n: None,
                         valid: None,
+                        notes: Vec::new(),
                     },
                     |_| Some([Some(0.0); 3]),
                 );
@@ -573,12 +595,19 @@ fn sphere_margins(
                         value: Some(best.lift),
                         normal_n: Some(best.normal),
                         valid: Some(true),
+                        notes: notes(&best.warnings),
                     },
                     |act| grads(act).map(|b| scaled(b.lift, 1.0 / lift)),
                 );
                 if let Some(fmax) = max_normal {
                     out.push(
-                        gentle_margin(name("gentle"), fmax, best.normal, r, best.beta.to_degrees()),
+                        gentle_margin(
+                            name("gentle"),
+                            fmax,
+                            best.normal,
+                            (r, best.beta.to_degrees()),
+                            &best.warnings,
+                        ),
                         |act| grads(act).map(|b| scaled(b.normal, -1.0 / fmax)),
                     );
                 }
@@ -593,6 +622,7 @@ fn sphere_margins(
                     value: None,
                     normal_n: None,
                     valid: None,
+                    notes: Vec::new(),
                 },
                 |_| Some([Some(0.0); 3]),
             ),
@@ -606,6 +636,7 @@ fn sphere_margins(
                     value: None,
                     normal_n: None,
                     valid: None,
+                    notes: Vec::new(),
                 },
                 |_| Some([Some(0.0); 3]),
             ),
@@ -762,8 +793,15 @@ impl<'a> Turn<'a> {
 }
 
 /// The margin of a normal force `normal` against its limit `fmax` (N), at
-/// size or radius `at_mm` and grasping angle `beta_deg`.
-fn gentle_margin(requirement: String, fmax: f64, normal: f64, at_mm: f64, beta_deg: f64) -> Margin {
+/// size or radius and grasping angle `(at_mm, beta_deg)`, of a grasp with
+/// findings `warnings`.
+fn gentle_margin(
+    requirement: String,
+    fmax: f64,
+    normal: f64,
+    (at_mm, beta_deg): (f64, f64),
+    warnings: &[Warning],
+) -> Margin {
     Margin {
         requirement,
         margin: (fmax - normal) / fmax,
@@ -773,6 +811,7 @@ fn gentle_margin(requirement: String, fmax: f64, normal: f64, at_mm: f64, beta_d
         value: Some(normal),
         normal_n: None,
         valid: None,
+        notes: notes(warnings),
     }
 }
 
@@ -808,6 +847,7 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, kappa: Option<f64>, out: &mu
                     value: Some(size),
                     normal_n: None,
                     valid: None,
+                    notes: notes(&sol.warnings),
                 },
                 |act| {
                     if clamped {
@@ -833,6 +873,7 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, kappa: Option<f64>, out: &mu
                 value: None,
                 normal_n: None,
                 valid: None,
+                notes: Vec::new(),
             },
             |_| Some([Some(0.0); 3]),
         ),

@@ -6,7 +6,7 @@
 
 use serde::Serialize;
 
-use super::evaluate::Evaluation;
+use super::evaluate::{notes, Evaluation};
 use super::requirements::Requirements;
 use crate::scene::{Scene, SceneSolution};
 
@@ -77,16 +77,7 @@ pub fn reproduce(best: &Evaluation, req: &Requirements) -> Vec<Reproduction> {
                 (Ok(_), None) => "no grasp in the scene".into(),
                 (Err(e), _) => format!("does not solve: {e}"),
             };
-            let notes = grasp
-                .map(|g| {
-                    g.grasp
-                        .warnings
-                        .iter()
-                        .filter(|w| !w.is_validity())
-                        .map(|w| w.to_string())
-                        .collect()
-                })
-                .unwrap_or_default();
+            let notes = grasp.map(|g| notes(&g.grasp.warnings)).unwrap_or_default();
             let (solved_lift_n, solved_normal_n) = match grasp {
                 Some(g) => (Some(g.grasp.lift), Some(g.grasp.normal)),
                 None => (None, None),

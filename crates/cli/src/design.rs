@@ -348,6 +348,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             s.gradient[2],
             m.detail
         )?;
+        for n in &m.notes {
+            writeln!(w, "           note  {n}")?;
+        }
     }
     for s in report.scenes {
         writeln!(

@@ -32,7 +32,9 @@ use crate::finger::scene_text;
 /// Returns a dict: ``feasible``, ``best`` (``design``: ``{"eps0",
 /// "mounting_angle_deg", "overlap_mm", "varied"}`` as in ``fpc design``'s
 /// design.json; ``margins`` per requirement with ``requirement``,
-/// ``margin`` (normalised; >= 0 is met), ``detail``..., and ``worst``),
+/// ``margin`` (normalised; >= 0 is met), ``detail``, ``notes`` (what the
+/// sample's solution carries without being voided by it; absent when
+/// none)..., and ``worst``),
 /// ``sensitivities`` (per requirement: ``requirement`` and ``gradient``,
 /// d margin / d variable as ``{"eps0", "mounting_angle_deg",
 /// "overlap_mm"}``, per unit of each), ``evaluations``, ``starts``,

@@ -487,7 +487,7 @@ function runDesign() {
     p.textContent = `${v.feasible ? "Feasible" : "Not feasible"}: eps0 = ${v.design.eps0.toFixed(4)}, mounting angle = ${v.design.mounting_angle_deg.toFixed(2)} deg, overlap = ${v.design.overlap_mm.toFixed(2)} mm; worst margin ${v.worst_margin.toFixed(3)}` + (v.failure ? ` (${v.failure})` : "");
     out.appendChild(p);
     const t = document.createElement("table");
-    t.innerHTML = "<thead><tr><th>requirement</th><th>margin</th></tr></thead>";
+    t.innerHTML = "<thead><tr><th>requirement</th><th>margin</th><th>notes</th></tr></thead>";
     const body = document.createElement("tbody");
     for (const m of v.margins) {
       const tr = document.createElement("tr");
@@ -496,7 +496,9 @@ function runDesign() {
       const val = document.createElement("td");
       val.textContent = typeof m.margin === "number" ? m.margin.toFixed(3) : "";
       if (typeof m.margin === "number" && m.margin < 0) val.className = "invalid";
-      tr.append(name, val);
+      const notes = document.createElement("td");
+      notes.textContent = (m.notes || []).join("; ");
+      tr.append(name, val, notes);
       body.appendChild(tr);
     }
     t.appendChild(body);

@@ -194,6 +194,32 @@ def run(url):
         got = float(res[0])
         assert abs(got - want) <= 1e-9 * max(1.0, abs(want)), (got, want)
         print(f"loaded scene: F = {got:.6f} N on the page, {want:.6f} N from fpc solve")
+
+        # a design's margins carry their grasps' notes, every sample's: at
+        # the paper's design the cuboid grasps bend the root element
+        # backwards (allowed outside strict mode), and the page lists the
+        # notes fpc design gives for each margin
+        design = ("[[object]]\nkind = \"cuboid\"\nsize_mm = [90.0, 110.0]\nlift_n = 0.3\n\n"
+                  "[vary]\neps0 = [0.2842, 0.2842]\nmounting_angle_deg = [74.31, 74.31]\n"
+                  "overlap_mm = [20.0, 20.0]\n")
+        box = driver.find_element(By.ID, "design-text")
+        box.clear()
+        box.send_keys(design)
+        driver.find_element(By.ID, "design-run").click()
+        rows = wait_for("the design's margins", lambda: driver.execute_script(
+            "return [...document.querySelectorAll('#design-result tbody tr')]"
+            ".map(r => [...r.cells].map(c => c.textContent))"))
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "req.toml")
+            with open(path, "w") as f:
+                f.write(design)
+            want = fpc_json("design", path, "--json", "--starts", "0", "--out", os.path.join(d, "out"))
+        want = {m["requirement"]: "; ".join(m.get("notes", [])) for m in want["margins"]}
+        got = {r[0]: r[2] for r in rows}
+        assert got == want, (got, want)
+        noted = [r for r, n in got.items() if "bent backwards" in n]
+        assert len(noted) >= 2, got
+        print(f"design: {len(noted)} of {len(got)} margins noted as bent backwards, as fpc design says")
     finally:
         driver.quit()
 
