@@ -8,7 +8,7 @@
 //! sample of each element, per kind; the closest approach for self
 //! contact).
 
-use std::f64::consts::PI;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::element::{self, Element};
 use crate::error::{StripDimension, Warning};
@@ -124,10 +124,10 @@ pub(crate) fn check<M: Kinematics>(
     let eps0 = laminate.eps0;
     let (slo, shi) = PRESTRESSED_STRAIN_RANGE;
     let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
-    // the tangent's angle range over the check points, and whether it is
+    // each element's root angle and the range of dz/dx over its check
+    // points, for the tangent's angle range, and whether that range is
     // known (every tangent points forwards in its element's frame)
-    let mut turn_lo = 0.0f64;
-    let mut turn_hi = 0.0f64;
+    let mut turns = Vec::with_capacity(elements.len());
     let mut turn_known = true;
     let mut stretch = Vec::with_capacity(elements.len());
     let mut theta = 0.0f64;
@@ -138,6 +138,7 @@ pub(crate) fn check<M: Kinematics>(
         let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
         let mut pre: Option<(f64, f64)> = None; // (distance outside, s)
         let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY); // dz/dx
+                                                                     // the largest |d(X, Z)/dx|, squared (the root taken once)
         let mut most_stretch = 0.0f64;
         for j in 0..=samples {
             let x = l * j as f64 / samples as f64;
@@ -152,7 +153,7 @@ pub(crate) fn check<M: Kinematics>(
             } else {
                 turn_known = false;
             }
-            most_stretch = most_stretch.max((dx * dx + dz * dz).sqrt());
+            most_stretch = most_stretch.max(dx * dx + dz * dz);
             let m = M::strain(&ki, x, 0.0);
             if m.abs() > mid.0 {
                 mid = (m.abs(), m);
@@ -195,19 +196,77 @@ pub(crate) fn check<M: Kinematics>(
         }
         // the tangent's angle is theta + atan(dz/dx) at each check point
         if rlo <= rhi {
-            turn_lo = turn_lo.min(theta + rlo.atan());
-            turn_hi = turn_hi.max(theta + rhi.atan());
+            turns.push([theta, rlo, rhi]);
         } else {
             turn_known = false;
         }
-        stretch.push(most_stretch);
+        // (the square root is monotone: the root of the largest square is
+        // the largest root, bit for bit)
+        stretch.push(most_stretch.sqrt());
         theta += e.end(&ki)[2];
     }
-    if !turn_known || turn_hi - turn_lo > contact_turning() - TURNING_ALLOWANCE {
+    if !turn_known || turns_beyond(&turns, contact_turning() - TURNING_ALLOWANCE) {
         out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
 }
+
+/// Whether the range of the tangent's angle, `theta + atan(r)` for each
+/// element's `[theta, r_lo, r_hi]` of `turns` together with the root's 0,
+/// exceeds `limit`, where cheap bounds on `atan` settle it (`x / (1 + x^2)
+/// <= atan x <= x` for `x >= 0`, and odd) with a margin far above
+/// rounding, so that the answer is the one the `atan` of every element
+/// gives; `None` where they do not.
+fn turns_bounded(turns: &[[f64; 3]], limit: f64) -> Option<bool> {
+    // (an infinite slope makes the quotient NaN, which max and min drop
+    // for the bound 0)
+    let below = |x: f64| {
+        if x >= 0.0 {
+            (x / (1.0 + x * x)).max(0.0)
+        } else {
+            x.max(-FRAC_PI_2)
+        }
+    };
+    let above = |x: f64| {
+        if x >= 0.0 {
+            x.min(FRAC_PI_2)
+        } else {
+            (x / (1.0 + x * x)).min(0.0)
+        }
+    };
+    // the range from per-element angles, each bounded
+    let range = |hi: &dyn Fn(f64) -> f64, lo: &dyn Fn(f64) -> f64| {
+        let (mut a, mut b) = (0.0f64, 0.0f64);
+        for &[theta, rlo, rhi] in turns {
+            a = a.min(theta + lo(rlo));
+            b = b.max(theta + hi(rhi));
+        }
+        b - a
+    };
+    if range(&above, &below) <= limit - TURN_BOUND_MARGIN {
+        Some(false)
+    } else if range(&below, &above) > limit + TURN_BOUND_MARGIN {
+        Some(true)
+    } else {
+        None
+    }
+}
+
+/// [`turns_bounded`] where the bounds decide, else every element's `atan`.
+fn turns_beyond(turns: &[[f64; 3]], limit: f64) -> bool {
+    turns_bounded(turns, limit).unwrap_or_else(|| {
+        let (mut lo, mut hi) = (0.0f64, 0.0f64);
+        for &[theta, rlo, rhi] in turns {
+            lo = lo.min(theta + rlo.atan());
+            hi = hi.max(theta + rhi.atan());
+        }
+        hi - lo > limit
+    })
+}
+
+/// How far (rad) the bounds of [`turns_beyond`] must clear the limit to
+/// decide without `atan`: far above the rounding of a sum of angles.
+const TURN_BOUND_MARGIN: f64 = 1e-9;
 
 /// The self-contact finding of state `k`: the closest approach of the
 /// sampled mid-plane to itself between parts at least
@@ -659,6 +718,82 @@ mod tests {
             segment_distance([0.0, 0.0], [1.0, 0.0], [0.5, 1.0], [3.0, 1.0]),
             1.0
         );
+    }
+
+    /// The turning decision from the bounds on `atan`, where they give
+    /// one, is the one the `atan` of every element gives, for limits just
+    /// below, at and just above the range, and for slopes from 0 to
+    /// infinite of both signs; and the bounds decide most cases a tenth of
+    /// a radian or more from the limit.
+    #[test]
+    fn the_turning_decision_is_the_exact_one() {
+        let direct = |turns: &[[f64; 3]]| {
+            let (mut lo, mut hi) = (0.0f64, 0.0f64);
+            for &[t, a, b] in turns {
+                lo = lo.min(t + a.atan());
+                hi = hi.max(t + b.atan());
+            }
+            hi - lo
+        };
+        let mut rng = fastrand::Rng::with_seed(17);
+        let slopes = [0.0, 1e-300, 1e-8, 0.3, 1.0, 7.0, 1e10, 1e200, f64::INFINITY];
+        // a case of small slopes (a finger within the slope limit) or of
+        // any slopes
+        let slope = |rng: &mut fastrand::Rng, small: bool| {
+            if small {
+                return (rng.f64() - 0.5) * 0.8;
+            }
+            let s = if rng.bool() {
+                slopes[rng.usize(..slopes.len())]
+            } else {
+                (rng.f64() * 3.0).powi(3)
+            };
+            if rng.bool() {
+                -s
+            } else {
+                s
+            }
+        };
+        let (mut decided, mut far) = (0, 0);
+        for _ in 0..3000 {
+            let n = rng.usize(1..30);
+            let small = rng.bool();
+            let mut theta = 0.0;
+            let turns: Vec<[f64; 3]> = (0..n)
+                .map(|_| {
+                    let (a, b) = (slope(&mut rng, small), slope(&mut rng, small));
+                    let t = [theta, a.min(b), a.max(b)];
+                    theta += (rng.f64() - 0.3) * 0.6;
+                    t
+                })
+                .collect();
+            let range = direct(&turns);
+            for limit in [
+                range - 0.3,
+                range - 1e-6,
+                range - 1e-12,
+                range,
+                range + 1e-12,
+                range + 1e-6,
+                range + 0.3,
+                1.587,
+            ] {
+                assert_eq!(
+                    turns_beyond(&turns, limit),
+                    range > limit,
+                    "{turns:?} {limit}"
+                );
+                let bounded = turns_bounded(&turns, limit);
+                if let Some(b) = bounded {
+                    assert_eq!(b, range > limit, "{turns:?} {limit}");
+                }
+                if small && (range - limit).abs() >= 0.1 {
+                    far += 1;
+                    decided += usize::from(bounded.is_some());
+                }
+            }
+        }
+        assert!(far >= 100 && decided * 10 >= far * 9, "{decided} of {far}");
     }
 
     #[test]
