@@ -138,8 +138,7 @@ pub(crate) fn check<M: Kinematics>(
         let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
         let mut pre: Option<(f64, f64)> = None; // (distance outside, s)
         let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY); // dz/dx
-                                                                     // the largest |d(X, Z)/dx|, squared (the root taken once)
-        let mut most_stretch = 0.0f64;
+        let mut most_stretch = 0.0f64; // the largest |d(X, Z)/dx|, squared
         for j in 0..=samples {
             let x = l * j as f64 / samples as f64;
             let [dx, dz] = M::tangent(&ki, x);
@@ -264,7 +263,7 @@ fn turns_beyond(turns: &[[f64; 3]], limit: f64) -> bool {
     })
 }
 
-/// How far (rad) the bounds of [`turns_beyond`] must clear the limit to
+/// How far (rad) the bounds of [`turns_bounded`] must clear the limit to
 /// decide without `atan`: far above the rounding of a sum of angles.
 const TURN_BOUND_MARGIN: f64 = 1e-9;
 
