@@ -236,10 +236,14 @@ def _interrupted(code, after_s=1.0, timeout=120):
     """Runs `code` in a fresh interpreter that gets SIGINT `after_s` into
     it. Prints "INTERRUPTED", the seconds from the signal to
     KeyboardInterrupt, and the CPU seconds the process spends in the next
-    second (about 1 or more while an abandoned computation still runs)."""
+    second (about 1 or more while an abandoned computation still runs).
+    The interpreter raises KeyboardInterrupt on SIGINT whatever it
+    inherited: a test run started in the background of a non-interactive
+    shell inherits SIGINT ignored, and Python then keeps it ignored."""
     script = textwrap.dedent(
         f"""
         import os, signal, threading, time
+        signal.signal(signal.SIGINT, signal.default_int_handler)
         import numpy as np
         import fpc
         t = {{}}
