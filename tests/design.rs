@@ -389,28 +389,34 @@ standard_errors = [0.01, 0.2, 20.0]
 covariance = [[1e-4, 1e-4, 0.05], [1e-4, 0.04, 0.5], [0.05, 0.5, 400.0]]
 "#;
 
-/// The same gripper and grasp written by hand as a scene: the check does
-/// not go through the design's scene writer.
-fn by_hand(x: [f64; 3], d_mm: f64) -> SceneSolution {
+/// The gripper of design `x` with the grasp section `grasp` (its keys,
+/// one per line), written by hand as a scene: the check does not go
+/// through the design's scene writer.
+fn gripper_by_hand(x: [f64; 3], grasp: &str) -> SceneSolution {
     let text = format!(
         "[actuator.cl]\ne = 400.0\n[actuator.pemc]\neps0 = {}\n[partition]\nelements = 8\n\
          [gripper]\nmounting_angle_deg = {}\noverlap_mm = {}\nfingers = 3\nmu = 0.6\n\
-         [gripper.grasp]\nkind = \"size\"\nd_mm = {d_mm}\nbeta_deg = 0.0\n",
+         [gripper.grasp]\n{grasp}",
         x[0], x[1], x[2]
     );
     Scene::from_toml(&text).unwrap().solve().unwrap()
 }
 
-/// A sphere grasp of the gripper of [`by_hand`]: radius `r_mm` at
-/// grasping angle `beta_deg`, lifting `lift_n` (friction at its limit).
+/// A size grasp of width `d_mm` at beta = 0, as the design's cuboid margins.
+fn by_hand(x: [f64; 3], d_mm: f64) -> SceneSolution {
+    gripper_by_hand(
+        x,
+        &format!("kind = \"size\"\nd_mm = {d_mm}\nbeta_deg = 0.0\n"),
+    )
+}
+
+/// A sphere grasp: radius `r_mm` at grasping angle `beta_deg`, lifting
+/// `lift_n` (friction at its limit), as the design's sphere margins.
 fn sphere_by_hand(x: [f64; 3], r_mm: f64, beta_deg: f64, lift_n: f64) -> SceneSolution {
-    let text = format!(
-        "[actuator.cl]\ne = 400.0\n[actuator.pemc]\neps0 = {}\n[partition]\nelements = 8\n\
-         [gripper]\nmounting_angle_deg = {}\noverlap_mm = {}\nfingers = 3\nmu = 0.6\n\
-         [gripper.grasp]\nkind = \"sphere\"\nr_mm = {r_mm}\nbeta_deg = {beta_deg}\nlift_n = {lift_n}\n",
-        x[0], x[1], x[2]
-    );
-    Scene::from_toml(&text).unwrap().solve().unwrap()
+    gripper_by_hand(
+        x,
+        &format!("kind = \"sphere\"\nr_mm = {r_mm}\nbeta_deg = {beta_deg}\nlift_n = {lift_n}\n"),
+    )
 }
 
 #[test]
