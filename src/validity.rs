@@ -233,34 +233,30 @@ fn turns_bounded(turns: &[[f64; 3]], limit: f64) -> Option<bool> {
             (x / (1.0 + x * x)).min(0.0)
         }
     };
-    // the range from per-element angles, each bounded
-    let range = |hi: &dyn Fn(f64) -> f64, lo: &dyn Fn(f64) -> f64| {
-        let (mut a, mut b) = (0.0f64, 0.0f64);
-        for &[theta, rlo, rhi] in turns {
-            a = a.min(theta + lo(rlo));
-            b = b.max(theta + hi(rhi));
-        }
-        b - a
-    };
-    if range(&above, &below) <= limit - TURN_BOUND_MARGIN {
+    if turn_range(turns, above, below) <= limit - TURN_BOUND_MARGIN {
         Some(false)
-    } else if range(&below, &above) > limit + TURN_BOUND_MARGIN {
+    } else if turn_range(turns, below, above) > limit + TURN_BOUND_MARGIN {
         Some(true)
     } else {
         None
     }
 }
 
+/// The range of the tangent's angle over `turns` and the root, with each
+/// element's `atan` at its largest slope taken as `hi` and at its smallest
+/// as `lo` (bounds, or `atan` itself).
+fn turn_range(turns: &[[f64; 3]], hi: impl Fn(f64) -> f64, lo: impl Fn(f64) -> f64) -> f64 {
+    let (mut a, mut b) = (0.0f64, 0.0f64);
+    for &[theta, rlo, rhi] in turns {
+        a = a.min(theta + lo(rlo));
+        b = b.max(theta + hi(rhi));
+    }
+    b - a
+}
+
 /// [`turns_bounded`] where the bounds decide, else every element's `atan`.
 fn turns_beyond(turns: &[[f64; 3]], limit: f64) -> bool {
-    turns_bounded(turns, limit).unwrap_or_else(|| {
-        let (mut lo, mut hi) = (0.0f64, 0.0f64);
-        for &[theta, rlo, rhi] in turns {
-            lo = lo.min(theta + rlo.atan());
-            hi = hi.max(theta + rhi.atan());
-        }
-        hi - lo > limit
-    })
+    turns_bounded(turns, limit).unwrap_or_else(|| turn_range(turns, f64::atan, f64::atan) > limit)
 }
 
 /// How far (rad) the bounds of [`turns_bounded`] must clear the limit to
