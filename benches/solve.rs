@@ -22,7 +22,9 @@
 //!   Newton problem in scaled unknowns (`Finger::problem`, buffers reused,
 //!   what the solver iterates on);
 //! - `solves`: whole solves at N = 8 (see the ids), all through a reused
-//!   `Solver` workspace;
+//!   `Solver` workspace; the tip-loaded cold ones start from the unloaded
+//!   equilibrium (`Solver::solve_from_rest`), the warm ones from a nearby
+//!   load's;
 //! - `sweep`: a 50-point force sweep, throughput in solves per second;
 //! - `scene_line`: a line of `fpc sweep` through the scene path (21
 //!   points of `scenes/tip_load.toml` over `load.fx`, of
@@ -219,12 +221,12 @@ fn lanes(c: &mut Criterion) {
         let mut solver = Solver::new(&finger);
         probe(
             &format!("lanes/tip_cold/{name}"),
-            solver.solve(&tl, Some(&unloaded.coefficients), &opts),
+            solver.solve_from_rest(&tl, &unloaded.coefficients, &opts),
         );
         g.bench_function(format!("tip_cold/{name}"), |bch| {
             bch.iter(|| {
                 solver
-                    .solve(black_box(&tl), Some(&unloaded.coefficients), &opts)
+                    .solve_from_rest(black_box(&tl), &unloaded.coefficients, &opts)
                     .unwrap()
             })
         });
@@ -303,12 +305,12 @@ fn solves(c: &mut Criterion) {
     let tl = tip_load();
     probe(
         "tip/cold",
-        solver.solve(&tl, Some(&unloaded.coefficients), &opts),
+        solver.solve_from_rest(&tl, &unloaded.coefficients, &opts),
     );
     g.bench_function("tip/cold", |bch| {
         bch.iter(|| {
             solver
-                .solve(black_box(&tl), Some(&unloaded.coefficients), &opts)
+                .solve_from_rest(black_box(&tl), &unloaded.coefficients, &opts)
                 .unwrap()
         })
     });
@@ -381,11 +383,11 @@ fn solves(c: &mut Criterion) {
         });
         probe(
             &format!("{name}/tip_cold"),
-            s.solve(&tl, Some(&u.coefficients), &opts),
+            s.solve_from_rest(&tl, &u.coefficients, &opts),
         );
         g.bench_function(format!("{name}/tip_cold"), |bch| {
             bch.iter(|| {
-                s.solve(black_box(&tl), Some(&u.coefficients), &opts)
+                s.solve_from_rest(black_box(&tl), &u.coefficients, &opts)
                     .unwrap()
             })
         });
@@ -396,12 +398,12 @@ fn solves(c: &mut Criterion) {
         let l = tl.with_pressure_kpa(kpa);
         probe(
             &format!("{name}/tip_cold"),
-            solver.solve(&l, Some(&unloaded.coefficients), &opts),
+            solver.solve_from_rest(&l, &unloaded.coefficients, &opts),
         );
         g.bench_function(format!("{name}/tip_cold"), |bch| {
             bch.iter(|| {
                 solver
-                    .solve(black_box(&l), Some(&unloaded.coefficients), &opts)
+                    .solve_from_rest(black_box(&l), &unloaded.coefficients, &opts)
                     .unwrap()
             })
         });
@@ -433,7 +435,7 @@ fn solves(c: &mut Criterion) {
         g.bench_function(format!("{name}/tip_cold"), |bch| {
             bch.iter(|| {
                 solver
-                    .solve(black_box(&tl), Some(&unloaded.coefficients), &o)
+                    .solve_from_rest(black_box(&tl), &unloaded.coefficients, &o)
                     .unwrap()
             })
         });
@@ -473,7 +475,7 @@ fn sweep(c: &mut Criterion) {
             .iter()
             .map(|l| {
                 solver
-                    .solve(l, Some(&unloaded.coefficients), &opts)
+                    .solve_from_rest(l, &unloaded.coefficients, &opts)
                     .unwrap()
                     .report
                     .iterations
@@ -501,7 +503,7 @@ fn sweep(c: &mut Criterion) {
             for l in &loads {
                 black_box(
                     solver
-                        .solve(black_box(l), Some(&unloaded.coefficients), &opts)
+                        .solve_from_rest(black_box(l), &unloaded.coefficients, &opts)
                         .unwrap(),
                 );
             }

@@ -380,6 +380,24 @@ impl Finger {
         Solver::new(self).solve(load, Some(guess), opts)
     }
 
+    /// Solves a scene from its rest state `rest`: the raw coefficients of
+    /// the equilibrium of the same finger and pressure without the tip
+    /// force, which a cold [`Finger::solve`] computes for itself. Newton
+    /// takes it the way a cold solve takes its own (in the straightened
+    /// unknowns of docs/model.md section 4.2), which under a tip load needs
+    /// fewer Hessians than [`Finger::solve_from`], made for guesses near
+    /// the answer (3 against 5 on the standard tip-loaded case). Any
+    /// coefficients of the right length are accepted: a start that is not
+    /// at rest may cost iterations, never accuracy.
+    pub fn solve_from_rest(
+        &self,
+        load: &Load,
+        rest: &Coefficients,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        Solver::new(self).solve_from_rest(load, rest, opts)
+    }
+
     /// Solves a scene for its state, tip and end angle only (no energy,
     /// stability, shape or validity findings): for intermediate results
     /// that are not handed to users.
@@ -487,6 +505,21 @@ impl<'a> Solver<'a> {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         with_solver!(self, s => s.solve(load, guess, opts))
+    }
+
+    /// Solves a scene from its rest state ([`Finger::solve_from_rest`]).
+    pub fn solve_from_rest(
+        &mut self,
+        load: &Load,
+        rest: &Coefficients,
+        opts: &SolveOptions,
+    ) -> Result<Solution, SolveError> {
+        with_solver!(self, s => {
+            s.from_rest = true;
+            let r = s.solve(load, Some(rest), opts);
+            s.from_rest = false;
+            r
+        })
     }
 
     /// Solves for the state, tip and end angle only ([`Finger::solve_tip`]).

@@ -79,6 +79,23 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     /// The guesses are close to the equilibrium (a nested refinement
     /// level's prolongated state): Newton's `trusted_start`.
     pub trusted_start: bool,
+    /// The guesses are the scene's rest state, its equilibrium without the
+    /// tip force ([`super::Solver::solve_from_rest`]).
+    pub from_rest: bool,
+}
+
+/// Where a coupled solve starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Start {
+    /// Its own unloaded equilibrium (a cold solve without a guess), whose
+    /// first Hessian the cold solves of a batch share.
+    Own,
+    /// The caller's rest state (an unloaded equilibrium): far from a
+    /// tip-loaded answer, like [`Start::Own`], so Newton works in the
+    /// straightened unknowns.
+    Rest,
+    /// The caller's guess, taken to be near the answer: the scaled unknowns.
+    Near,
 }
 
 pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOptions, InputError> {
@@ -209,6 +226,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             unloaded,
             final_energy: None,
             trusted_start: false,
+            from_rest: false,
         }
     }
 
@@ -403,12 +421,16 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         self.start.copy_from_slice(&self.y);
-        let warm = guess.is_some();
-        let mut r = self.load_from_start(load, warm, opts, start_failed, &mut base);
+        let start = match guess {
+            None => Start::Own,
+            Some(_) if self.from_rest => Start::Rest,
+            Some(_) => Start::Near,
+        };
+        let mut r = self.load_from_start(load, start, opts, start_failed, &mut base);
         if r.is_err() {
             if let Some(current) = shifted_instead(&mut self.newton) {
                 self.y.copy_from_slice(&self.start);
-                r = self.load_from_start(load, warm, opts, start_failed, &mut base);
+                r = self.load_from_start(load, start, opts, start_failed, &mut base);
                 let _ = self.newton.set_options(current);
             }
         }
@@ -448,7 +470,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     fn load_from_start(
         &mut self,
         load: &Load,
-        warm: bool,
+        start: Start,
         opts: &SolveOptions,
         start_failed: bool,
         base: &mut SolveReport,
@@ -456,13 +478,13 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         self.chain.set_load(load);
         // a cold solve's first Hessian is at its unloaded start, which the
         // cold solves of a batch share (`Chain::from_start`)
-        self.chain.from_start = !warm && !start_failed;
+        self.chain.from_start = start == Start::Own && !start_failed;
         let r = minimize_straight::<M, _>(
             &mut self.newton,
             &mut self.chain,
             chain_straight,
             &mut self.y,
-            warm,
+            start == Start::Near,
         );
         base.iterations += r.iterations;
         base.steps.coupled += r.iterations;

@@ -112,16 +112,6 @@ fn tip_converges_in_n_for_the_default_finger() {
 
 // ------------------------------------------------- Newton's steps at N = 1
 
-/// The largest entry of the potential's gradient at `k`, taken in raw
-/// unknowns (no change of variables) and scaled as Newton's unknowns are.
-fn scaled_residual(f: &Finger, load: &Load, k: &Coefficients) -> f64 {
-    let (_, g) = f.gradient(load, k).unwrap();
-    g.iter()
-        .zip(f.unknown_scales())
-        .map(|(g, s)| (g * s).abs())
-        .fold(0.0, f64::max)
-}
-
 /// One element curled far under random loads (issue 23's draw: eps0
 /// 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N per axis, seeded). Every
 /// solve converges (at most two of the forty stall just above the

@@ -99,6 +99,16 @@ fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
     (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
+/// The largest entry of the potential's gradient at `k`, taken in raw
+/// unknowns (no change of variables) and scaled as Newton's unknowns are.
+fn scaled_residual(f: &Finger, load: &Load, k: &Coefficients) -> f64 {
+    let (_, g) = f.gradient(load, k).unwrap();
+    g.iter()
+        .zip(f.unknown_scales())
+        .map(|(g, s)| (g * s).abs())
+        .fold(0.0, f64::max)
+}
+
 fn pressure(kpa: f64) -> Load {
     Load::unloaded().with_pressure_kpa(kpa)
 }

@@ -179,3 +179,67 @@ fn reused_solver_buffers_do_not_change_answers() {
         assert_eq!(fresh.report, s.report);
     }
 }
+
+/// A solve from the rest state (`Finger::solve_from_rest`) is the cold
+/// solve given its start. On random fingers and loads (issue 23's draw:
+/// eps0 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N per axis, N = 1 to 16,
+/// seeded) it converges wherever the cold solve does, in the cold solve's
+/// coupled steps (within one: the given start is the cold solve's own up
+/// to rounding), to an equilibrium of the ordinary unknowns (the
+/// potential's gradient in raw unknowns, without the change of variables,
+/// vanishes to the tolerance) at the cold solve's tip; and on the standard
+/// tip-loaded finger it factorises fewer Hessians than the same start
+/// taken as a guess near the answer (`Finger::solve_from`).
+#[test]
+fn a_rest_start_is_taken_as_the_cold_solve_takes_its_own() {
+    let opts = SolveOptions::default();
+    let mut rng = Lcg::new(41);
+    let mut solved = 0;
+    for case in 0..32 {
+        let n = [1, 4, 8, 16][case % 4];
+        let eps0 = rng.range(0.1, 0.5);
+        let kpa = rng.range(0.0, 350.0);
+        let load = pressure(kpa).with_tip_force(rng.range(-1.5, 1.5), rng.range(-1.5, 1.5));
+        let f = Finger::paper(eps0, n).unwrap();
+        let what = format!("case {case}: N = {n}, eps0 {eps0}, {load:?}");
+        let Ok(rest) = f.solve(&pressure(kpa), &opts) else {
+            continue;
+        };
+        let cold = f.solve(&load, &opts);
+        let from_rest = f.solve_from_rest(&load, &rest.coefficients, &opts);
+        let (cold, from_rest) = match (cold, from_rest) {
+            (Ok(c), Ok(r)) => (c, r),
+            (Err(_), Err(_)) => continue,
+            (c, r) => panic!("{what}: cold {:?}, from rest {:?}", c.err(), r.err()),
+        };
+        solved += 1;
+        let (a, b) = (cold.report.steps, from_rest.report.steps);
+        assert!(
+            a.coupled.abs_diff(b.coupled) <= 1 && a.continuation == b.continuation,
+            "{what}: cold {a}, from rest {b}"
+        );
+        let residual = scaled_residual(&f, &load, &from_rest.coefficients);
+        assert!(
+            residual <= 1e-9 * f.stiffness_scale(),
+            "{what}: scaled residual {residual:e} against stiffness {}",
+            f.stiffness_scale()
+        );
+        let apart = dist(cold.tip, from_rest.tip);
+        assert!(apart <= 1e-6, "{what}: tips {apart:e} mm apart");
+    }
+    assert!(solved >= 24, "only {solved} of 32 cases solved");
+    let f = Finger::paper(0.25, 8).unwrap();
+    let rest = f.solve(&Load::unloaded(), &opts).unwrap();
+    let load = Load::unloaded().with_tip_force(FX, FZ);
+    let from_rest = f.solve_from_rest(&load, &rest.coefficients, &opts).unwrap();
+    let near = f.solve_from(&load, &rest.coefficients, &opts).unwrap();
+    assert!(dist(from_rest.tip, near.tip) <= 1e-6);
+    // accepted steps that are not chord steps each factorise a Hessian
+    let factorised = |s: &Solution| s.report.steps.coupled - s.report.steps.chord;
+    assert!(
+        factorised(&from_rest) < factorised(&near),
+        "from rest {}, as a near guess {}",
+        from_rest.report.steps,
+        near.report.steps
+    );
+}

@@ -110,16 +110,34 @@ struct Case {
     tip: [f64; 2],
 }
 
+/// Where a timed solve starts.
+#[derive(Clone, Copy)]
+enum Start<'a> {
+    /// Nothing given: the solve computes its own start.
+    Scratch,
+    /// The scene's rest state ([`Solver::solve_from_rest`]): the cold
+    /// solve the peer also makes.
+    Rest(&'a Coefficients),
+    /// A guess near the answer.
+    Near(&'a Coefficients),
+}
+
 fn time_case(
     name: &'static str,
     finger: &Finger,
     load: &Load,
-    guess: Option<&Coefficients>,
+    start: Start<'_>,
     budget: Duration,
 ) -> anyhow::Result<Case> {
     let opts = tip_only();
     let mut solver = Solver::new(finger);
-    let (median_us, runs, last) = median_us(budget, || Ok(solver.solve(load, guess, &opts)?))?;
+    let (median_us, runs, last) = median_us(budget, || {
+        Ok(match start {
+            Start::Scratch => solver.solve(load, None, &opts)?,
+            Start::Rest(rest) => solver.solve_from_rest(load, rest, &opts)?,
+            Start::Near(guess) => solver.solve(load, Some(guess), &opts)?,
+        })
+    })?;
     Ok(case(name, median_us, runs, &last))
 }
 
@@ -146,26 +164,26 @@ fn standard_cases(budget: Duration) -> anyhow::Result<Vec<Case>> {
         &opts,
     )?;
     Ok(vec![
-        time_case("unloaded", &f25, &Load::unloaded(), None, budget)?,
+        time_case("unloaded", &f25, &Load::unloaded(), Start::Scratch, budget)?,
         time_case(
             "pressure",
             &f40,
             &Load::unloaded().with_pressure_kpa(386.0),
-            None,
+            Start::Scratch,
             budget,
         )?,
         time_case(
             "loaded_cold",
             &f25,
             &tip_load(),
-            Some(&unloaded.coefficients),
+            Start::Rest(&unloaded.coefficients),
             budget,
         )?,
         time_case(
             "loaded_warm",
             &f25,
             &tip_load(),
-            Some(&near.coefficients),
+            Start::Near(&near.coefficients),
             budget,
         )?,
     ])
@@ -205,8 +223,8 @@ fn scaling_ratio(budget: Duration, rows: &[ScalingRow]) -> anyhow::Result<Scalin
     let (mut sa, mut sb) = (Solver::new(&fa), Solver::new(&fb));
     let ratio = paired_ratio(
         budget,
-        || Ok(sa.solve(&tip_load(), Some(&ua.coefficients), &opts)?),
-        || Ok(sb.solve(&tip_load(), Some(&ub.coefficients), &opts)?),
+        || Ok(sa.solve_from_rest(&tip_load(), &ua.coefficients, &opts)?),
+        || Ok(sb.solve_from_rest(&tip_load(), &ub.coefficients, &opts)?),
     )?;
     Ok(ScalingRatio {
         from_elements: from,
@@ -227,7 +245,7 @@ fn scaling(budget: Duration) -> anyhow::Result<Vec<ScalingRow>> {
                 "scaling",
                 &f,
                 &tip_load(),
-                Some(&unloaded.coefficients),
+                Start::Rest(&unloaded.coefficients),
                 budget,
             )?;
             Ok(ScalingRow {
@@ -313,7 +331,7 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
     let mut n8_solver = Solver::new(&n8);
     let ratio_to_n8_cold = paired_ratio(
         budget,
-        || Ok(n8_solver.solve(&tip_load(), Some(&n8_unloaded.coefficients), &opts)?),
+        || Ok(n8_solver.solve_from_rest(&tip_load(), &n8_unloaded.coefficients, &opts)?),
         || Ok(refiner.solve_from(&tip_load(), &unloaded.coefficients, &opts)?),
     )?;
     let reference = reference(&act)?;
