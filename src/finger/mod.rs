@@ -370,7 +370,10 @@ impl Finger {
         Solver::new(self).solve(load, None, opts)
     }
 
-    /// Solves a scene from given coefficients.
+    /// Solves a scene from given coefficients, taken to be near the answer
+    /// (a nearby load's equilibrium). From the scene's rest state, its
+    /// equilibrium without the tip force, [`Finger::solve_from_rest`] is
+    /// faster.
     pub fn solve_from(
         &self,
         load: &Load,
@@ -497,7 +500,8 @@ impl<'a> Solver<'a> {
         }
     }
 
-    /// Solves a scene; `guess` are raw coefficients.
+    /// Solves a scene; `guess` are raw coefficients taken to be near the
+    /// answer (for the rest state, [`Solver::solve_from_rest`]).
     pub fn solve(
         &mut self,
         load: &Load,
