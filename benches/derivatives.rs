@@ -18,9 +18,9 @@
 //!   condenses the local unknowns like the solver;
 //! - **dual**: the same energy written once, generically over a
 //!   `num_dual::DualNum` type: element energies by tensor Gauss-Legendre
-//!   quadrature of the energy densities over the elements' blocks (rebuilt
-//!   from the actuator in `common/blocks.rs` and checked against the
-//!   finger's own elements; exact: linear density 3 x-points by 2 z-points,
+//!   quadrature of the energy densities over the elements' blocks (the
+//!   library's, `fpc::actuator::element_blocks`; exact: linear density 3
+//!   x-points by 2 z-points,
 //!   prestressed 6 by 3, gas volume 2 by 1), and the chain tip potential
 //!   with `atan2`/`sin_cos` in the dual type. Derivatives by
 //!   `num_dual::hessian` (`Dual2SVec64`): per element with 4 unknowns
@@ -44,15 +44,11 @@
 
 use std::time::{Duration, Instant};
 
-use fpc::model::ccm::Ccm;
+use fpc::actuator::{element_blocks, ElementBlocks};
 use fpc::{Actuator, Coefficients, Finger, Load, Partition, SolveOptions};
 use fpc_newton::{Dense, DenseHessian, Energy, Gradient, Hessian, Newton, NewtonOptions, Report};
 use nalgebra::SVector;
 use num_dual::{Dual2SVec64, DualNum, DualSVec64};
-
-#[path = "common/blocks.rs"]
-mod blocks;
-use blocks::Blocks;
 
 const N: usize = 8;
 const DIM: usize = 4 * N;
@@ -124,7 +120,7 @@ struct QuadElement {
 }
 
 impl QuadElement {
-    fn new(b: &Blocks) -> QuadElement {
+    fn new(b: &ElementBlocks) -> QuadElement {
         let l = b.length;
         let mut linear = Vec::new();
         for blk in &b.linear {
@@ -580,13 +576,7 @@ fn run() {
     let part = Partition::equal(act.geometry().lx, N).unwrap();
     let finger = Finger::new(&act, &part, true);
     let load = Load::unloaded().with_tip_force(FX, FZ);
-    let blocks = blocks::element_blocks(&act, &part, true);
-    blocks::check_against_finger::<Ccm>(
-        &blocks,
-        &finger,
-        &load.with_pressure_kpa(100.0),
-        &[-0.012, 2.0e-6, 0.004, -0.0035],
-    );
+    let blocks = element_blocks(&act, &part, true);
     let quad: Vec<QuadElement> = blocks.iter().map(QuadElement::new).collect();
     // the dual strategy's scaling is the solver's
     for (q, s) in quad.iter().zip(finger.unknown_scales().chunks_exact(4)) {

@@ -13,10 +13,10 @@
 //!   trait (the element with the channel and ribs, at a strained state):
 //!   each integral family alone (`family_hessian`), the end kinematics, and
 //!   the element potential that combines them (`hessian`, `gradient`,
-//!   `energy`); the element's moments are built from blocks rebuilt from
-//!   the actuator (`common/blocks.rs`, checked against the finger's own
-//!   elements), and `finger_element_hessian` times the same element
-//!   through the public `Finger::element_hessian` (trait object, vectors);
+//!   `energy`); the element's moments are folded from the library's
+//!   blocks (`fpc::actuator::element_blocks`, `common/blocks.rs`), and
+//!   `finger_element_hessian` times the same element through the public
+//!   `Finger::element_hessian` (trait object, vectors);
 //! - `assembly`: energy, gradient and structured Hessian of a
 //!   pressurised, tip-loaded finger for N = 4 ... 64 on the solver's own
 //!   Newton problem in scaled unknowns (`Finger::problem`, buffers reused,
@@ -96,8 +96,7 @@ fn kernels(c: &mut Criterion) {
     let k = STRAINED;
     let kp = 2.5 * 0.1; // 100 kPa
     let pressure = Load::unloaded().with_pressure_kpa(100.0);
-    let all = blocks::element_blocks(&act, &part, true);
-    blocks::check_against_finger::<Ccm>(&all, &finger, &pressure, &k);
+    let all = fpc::actuator::element_blocks(&act, &part, true);
     // the element with the most blocks (channel and ribs)
     let (idx, b) = all
         .iter()

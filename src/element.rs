@@ -16,7 +16,7 @@ use crate::model::{
 /// from the fluidic layer, a rib from the gas volume). Two elements with
 /// equal `ElementBlocks` (compared exactly) have the same energy function.
 #[derive(Debug, Clone, PartialEq)]
-pub(crate) struct ElementBlocks {
+pub struct ElementBlocks {
     /// Undeformed length L_i.
     pub length: f64,
     /// Plane strain: the model's unknowns across the width are held at

@@ -105,7 +105,11 @@ pub(super) fn clip(gx0: f64, gx1: f64, start: f64, len: f64) -> Option<(f64, f64
 /// constraining layer's material over z in [H/2, H/2 + height], after
 /// every other linear block (so an actuator without them gives the same
 /// blocks as before they existed).
-pub(crate) fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
+///
+/// The library builds every finger's elements from these; they are public
+/// for code that evaluates the laminate's integrals on its own (the
+/// benchmarks of independent derivative strategies, for one).
+pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<ElementBlocks> {
     let layers = act.linear_layers();
     let fluidic_q = act.fluidic_q();
     let (pz0, pz1) = act.pemc_z();

@@ -28,8 +28,9 @@ mod laminate;
 mod param;
 mod tangent;
 
+pub use crate::element::ElementBlocks;
 pub use crate::field::{ClRibKey, Elastic, Lamina, ShearLayer};
-pub(crate) use blocks::element_blocks;
+pub use blocks::element_blocks;
 pub use laminate::{
     Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Layer, Material, Orthotropic,
     PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE, MAX_CL_RIBS,
