@@ -16,8 +16,6 @@
 //! cargo bench --bench scaling -- --quick     # fewer repetitions
 //! ```
 
-use std::time::Instant;
-
 use fpc::finger::Solver;
 use fpc::{Finger, Load, SolveOptions};
 use fpc_newton::NewtonOptions;
@@ -25,28 +23,12 @@ use fpc_newton::NewtonOptions;
 #[path = "common/dense.rs"]
 mod dense;
 
+#[path = "common/median.rs"]
+mod median;
+use median::{median_s, reps};
+
 const FX: f64 = 0.939782;
 const FZ: f64 = 0.521707;
-
-/// Median seconds of `f` over `reps` runs (after one warm-up run).
-fn median_s(reps: usize, mut f: impl FnMut()) -> f64 {
-    f();
-    let mut t: Vec<f64> = (0..reps.max(1))
-        .map(|_| {
-            let s = Instant::now();
-            f();
-            s.elapsed().as_secs_f64()
-        })
-        .collect();
-    t.sort_by(f64::total_cmp);
-    t[t.len() / 2]
-}
-
-/// Repetitions for a solve of about `estimate_s` seconds.
-fn reps(quick: bool, estimate_s: f64) -> usize {
-    let budget = if quick { 0.05 } else { 0.5 };
-    ((budget / estimate_s.max(1e-9)) as usize).clamp(3, 2000)
-}
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
