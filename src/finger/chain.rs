@@ -358,14 +358,10 @@ impl<M: ElementModel> LinearSystem for Chain<'_, M> {
     fn diagonal_range(&self) -> (f64, f64) {
         self.matrix.diagonal_range()
     }
+    /// (A failure on a non-finite entry is already reported as
+    /// `FactorError::NonFinite` by the factorisation.)
     fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
-        let r = self.matrix.factor(tau, kind);
-        match r {
-            Err(FactorError::NotPositiveDefinite { .. }) if !self.matrix.is_finite() => {
-                Err(FactorError::NonFinite { block: 0 })
-            }
-            r => r,
-        }
+        self.matrix.factor(tau, kind)
     }
     fn solve(&mut self, b: &mut [f64]) {
         self.matrix.solve(b)

@@ -864,12 +864,7 @@ impl<M: ElementModel> LinearSystem for Single<'_, M> {
         self.matrix.diagonal_range()
     }
     fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
-        match self.matrix.factor(tau, kind) {
-            Err(FactorError::NotPositiveDefinite { .. }) if !self.matrix.is_finite() => {
-                Err(FactorError::NonFinite { block: 0 })
-            }
-            r => r,
-        }
+        self.matrix.factor(tau, kind)
     }
     fn solve(&mut self, b: &mut [f64]) {
         self.matrix.solve(b)
