@@ -71,6 +71,31 @@ pub struct Margin {
     pub notes: Vec<String>,
 }
 
+impl Margin {
+    /// A margin with no answer behind it (an unbuildable gripper, a grasp
+    /// or an opening that failed): `margin` and `detail` say why; no value,
+    /// no verdict, no notes.
+    fn failed(
+        requirement: String,
+        margin: f64,
+        detail: String,
+        at_mm: Option<f64>,
+        beta_deg: Option<f64>,
+    ) -> Margin {
+        Margin {
+            requirement,
+            margin,
+            detail,
+            at_mm,
+            beta_deg,
+            value: None,
+            normal_n: None,
+            valid: None,
+            notes: Vec::new(),
+        }
+    }
+}
+
 /// The findings of `warnings` that do not make an answer invalid
 /// ([`Warning::is_validity`]), in words: what a margin and a reproduced
 /// scene carry beside their verdict.
@@ -353,6 +378,12 @@ impl Collect<'_> {
         self.margins.push(m);
         self.grads.push(grad);
     }
+
+    /// A margin with no answer behind it ([`Margin::failed`]): its gradient
+    /// is zero, as a constant margin's.
+    fn failed(&mut self, m: Margin) {
+        self.push(m, |_| Some([Some(0.0); 3]));
+    }
 }
 
 fn evaluate_inner(
@@ -368,20 +399,13 @@ fn evaluate_inner(
         actuator: if gradients { act.as_ref() } else { None },
     };
     match gripper(req, x) {
-        Err(e) => c.push(
-            Margin {
-                requirement: "buildable".into(),
-                margin: UNBUILDABLE_MARGIN,
-                detail: e.to_string(),
-                at_mm: None,
-                beta_deg: None,
-                value: None,
-                normal_n: None,
-                valid: None,
-                notes: Vec::new(),
-            },
-            |_| Some([Some(0.0); 3]),
-        ),
+        Err(e) => c.failed(Margin::failed(
+            "buildable".into(),
+            UNBUILDABLE_MARGIN,
+            e.to_string(),
+            None,
+            None,
+        )),
         Ok(g) => {
             for (i, o) in req.objects.iter().enumerate() {
                 match o {
@@ -520,20 +544,13 @@ fn cuboid_margins(
                 warm = Some(gr);
             }
             Err(e) => {
-                out.push(
-                    Margin {
-                        requirement: name("lift"),
-                        margin: -1.0,
-                        detail: format!("no grasp: {e}"),
-                        at_mm: Some(d),
-                        beta_deg: Some(0.0),
-                        value: None,
-                        normal_n: None,
-                        valid: None,
-                        notes: Vec::new(),
-                    },
-                    |_| Some([Some(0.0); 3]),
-                );
+                out.failed(Margin::failed(
+                    name("lift"),
+                    -1.0,
+                    format!("no grasp: {e}"),
+                    Some(d),
+                    Some(0.0),
+                ));
                 warm = None;
             }
         }
@@ -612,34 +629,20 @@ fn sphere_margins(
                     );
                 }
             }
-            Ok(None) => out.push(
-                Margin {
-                    requirement: name("lift"),
-                    margin: -1.0,
-                    detail: "no valid grasp at any angle".into(),
-                    at_mm: Some(r),
-                    beta_deg: None,
-                    value: None,
-                    normal_n: None,
-                    valid: None,
-                    notes: Vec::new(),
-                },
-                |_| Some([Some(0.0); 3]),
-            ),
-            Err(e) => out.push(
-                Margin {
-                    requirement: name("lift"),
-                    margin: -1.0,
-                    detail: format!("no grasp: {e}"),
-                    at_mm: Some(r),
-                    beta_deg: None,
-                    value: None,
-                    normal_n: None,
-                    valid: None,
-                    notes: Vec::new(),
-                },
-                |_| Some([Some(0.0); 3]),
-            ),
+            Ok(None) => out.failed(Margin::failed(
+                name("lift"),
+                -1.0,
+                "no valid grasp at any angle".into(),
+                Some(r),
+                None,
+            )),
+            Err(e) => out.failed(Margin::failed(
+                name("lift"),
+                -1.0,
+                format!("no grasp: {e}"),
+                Some(r),
+                None,
+            )),
         }
     }
     radii.first().and_then(|&r| follower.seed_at(r))
@@ -863,19 +866,12 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, kappa: Option<f64>, out: &mu
                 },
             );
         }
-        Err(e) => out.push(
-            Margin {
-                requirement: "open".into(),
-                margin: -1.0,
-                detail: format!("no solution at {} kPa: {e}", open.pressure_kpa),
-                at_mm: None,
-                beta_deg: None,
-                value: None,
-                normal_n: None,
-                valid: None,
-                notes: Vec::new(),
-            },
-            |_| Some([Some(0.0); 3]),
-        ),
+        Err(e) => out.failed(Margin::failed(
+            "open".into(),
+            -1.0,
+            format!("no solution at {} kPa: {e}", open.pressure_kpa),
+            None,
+            None,
+        )),
     }
 }
