@@ -14,7 +14,7 @@
 //!   each integral family alone (`family_hessian`), the end kinematics, and
 //!   the element potential that combines them (`hessian`, `gradient`,
 //!   `energy`); the element's moments are folded from the library's
-//!   blocks (`fpc::actuator::element_blocks`, `common/blocks.rs`), and
+//!   blocks (`fpc::actuator::element_blocks`), and
 //!   `finger_element_hessian` times the same element through the public
 //!   `Finger::element_hessian` (trait object, vectors);
 //! - `assembly`: energy, gradient and structured Hessian of a
@@ -54,9 +54,6 @@ use fpc::model::{Energy as _, Kinematics as _, ModelCore as _};
 use fpc::scene::{Scene, SceneFile, SceneKey, SceneSolution};
 use fpc::{Actuator, Coefficients, Finger, Load, Partition, Solution, SolveOptions};
 use fpc_newton::{Energy, Gradient, Hessian};
-
-#[path = "common/blocks.rs"]
-mod blocks;
 
 /// The tip load of the paper's loaded validation case (N, finger frame).
 const FX: f64 = 0.939782;
@@ -103,7 +100,13 @@ fn kernels(c: &mut Criterion) {
         .enumerate()
         .max_by_key(|(_, b)| b.linear.len() + b.gas.len())
         .unwrap();
-    let m = blocks::moments::<Ccm>(b);
+    // its blocks folded into the model's moments
+    let mut m = Ccm::zero_moments();
+    b.linear.iter().for_each(|p| Ccm::add_linear(&mut m, p));
+    b.prestressed
+        .iter()
+        .for_each(|p| Ccm::add_prestressed(&mut m, p));
+    b.gas.iter().for_each(|p| Ccm::add_gas(&mut m, p));
     let len = b.length;
     let family = |name: &str| Ccm::FAMILIES.iter().position(|f| *f == name).unwrap();
     let (lin, pre, gas) = (family("linear"), family("prestressed"), family("gas"));

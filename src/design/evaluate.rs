@@ -71,31 +71,6 @@ pub struct Margin {
     pub notes: Vec<String>,
 }
 
-impl Margin {
-    /// A margin with no answer behind it (an unbuildable gripper, a grasp
-    /// or an opening that failed): `margin` and `detail` say why; no value,
-    /// no verdict, no notes.
-    fn failed(
-        requirement: String,
-        margin: f64,
-        detail: String,
-        at_mm: Option<f64>,
-        beta_deg: Option<f64>,
-    ) -> Margin {
-        Margin {
-            requirement,
-            margin,
-            detail,
-            at_mm,
-            beta_deg,
-            value: None,
-            normal_n: None,
-            valid: None,
-            notes: Vec::new(),
-        }
-    }
-}
-
 /// The findings of `warnings` that do not make an answer invalid
 /// ([`Warning::is_validity`]), in words: what a margin and a reproduced
 /// scene carry beside their verdict.
@@ -379,9 +354,28 @@ impl Collect<'_> {
         self.grads.push(grad);
     }
 
-    /// A margin with no answer behind it ([`Margin::failed`]): its gradient
-    /// is zero, as a constant margin's.
-    fn failed(&mut self, m: Margin) {
+    /// A margin with no answer behind it (an unbuildable gripper, a grasp
+    /// or an opening that failed): `margin` and `detail` say why; no value,
+    /// no verdict, no notes, and a zero gradient, as a constant margin's.
+    fn failed(
+        &mut self,
+        requirement: String,
+        margin: f64,
+        detail: String,
+        at_mm: Option<f64>,
+        beta_deg: Option<f64>,
+    ) {
+        let m = Margin {
+            requirement,
+            margin,
+            detail,
+            at_mm,
+            beta_deg,
+            value: None,
+            normal_n: None,
+            valid: None,
+            notes: Vec::new(),
+        };
         self.push(m, |_| Some([Some(0.0); 3]));
     }
 }
@@ -399,13 +393,13 @@ fn evaluate_inner(
         actuator: if gradients { act.as_ref() } else { None },
     };
     match gripper(req, x) {
-        Err(e) => c.failed(Margin::failed(
+        Err(e) => c.failed(
             "buildable".into(),
             UNBUILDABLE_MARGIN,
             e.to_string(),
             None,
             None,
-        )),
+        ),
         Ok(g) => {
             for (i, o) in req.objects.iter().enumerate() {
                 match o {
@@ -544,13 +538,13 @@ fn cuboid_margins(
                 warm = Some(gr);
             }
             Err(e) => {
-                out.failed(Margin::failed(
+                out.failed(
                     name("lift"),
                     -1.0,
                     format!("no grasp: {e}"),
                     Some(d),
                     Some(0.0),
-                ));
+                );
                 warm = None;
             }
         }
@@ -629,20 +623,14 @@ fn sphere_margins(
                     );
                 }
             }
-            Ok(None) => out.failed(Margin::failed(
+            Ok(None) => out.failed(
                 name("lift"),
                 -1.0,
                 "no valid grasp at any angle".into(),
                 Some(r),
                 None,
-            )),
-            Err(e) => out.failed(Margin::failed(
-                name("lift"),
-                -1.0,
-                format!("no grasp: {e}"),
-                Some(r),
-                None,
-            )),
+            ),
+            Err(e) => out.failed(name("lift"), -1.0, format!("no grasp: {e}"), Some(r), None),
         }
     }
     radii.first().and_then(|&r| follower.seed_at(r))
@@ -866,12 +854,12 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, kappa: Option<f64>, out: &mu
                 },
             );
         }
-        Err(e) => out.failed(Margin::failed(
+        Err(e) => out.failed(
             "open".into(),
             -1.0,
             format!("no solution at {} kPa: {e}", open.pressure_kpa),
             None,
             None,
-        )),
+        ),
     }
 }

@@ -65,7 +65,7 @@ use options::check_guess;
 
 pub(crate) use chain::Chain;
 pub(crate) use problem::FingerCore;
-use solver::{Pooled, SolverCore};
+use solver::{Guess, Pooled, SolverCore};
 
 /// A finger's shared core for model `M`.
 type Shared<M> = Arc<Pooled<M>>;
@@ -519,9 +519,9 @@ impl<'a> Solver<'a> {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         with_solver!(self, s => {
-            s.from_rest = true;
+            s.guess = Guess::Rest;
             let r = s.solve(load, Some(rest), opts);
-            s.from_rest = false;
+            s.guess = Guess::Near;
             r
         })
     }
@@ -539,7 +539,7 @@ impl<'a> Solver<'a> {
     /// Says that the guesses are close to the equilibrium (nested
     /// iteration).
     pub(crate) fn trust_start(&mut self, on: bool) {
-        with_solver!(self, s => s.trusted_start = on)
+        with_solver!(self, s => s.guess = if on { Guess::Trusted } else { Guess::Near })
     }
 
     /// Solves a [`TargetProblem`] from `guess` (raw coefficients, ideally a

@@ -76,26 +76,25 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     unloaded: Option<UnloadedStart>,
     /// Pi at the end of the last coupled Newton solve (taken by `finish`).
     final_energy: Option<f64>,
-    /// The guesses are close to the equilibrium (a nested refinement
-    /// level's prolongated state): Newton's `trusted_start`.
-    pub trusted_start: bool,
-    /// The guesses are the scene's rest state, its equilibrium without the
-    /// tip force ([`super::Solver::solve_from_rest`]).
-    pub from_rest: bool,
+    /// What the callers' guesses are.
+    pub guess: Guess,
 }
 
-/// Where a coupled solve starts.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Start {
-    /// Its own unloaded equilibrium (a cold solve without a guess), whose
-    /// first Hessian the cold solves of a batch share.
-    Own,
-    /// The caller's rest state (an unloaded equilibrium): far from a
-    /// tip-loaded answer, like [`Start::Own`], so Newton works in the
-    /// straightened unknowns.
-    Rest,
-    /// The caller's guess, taken to be near the answer: the scaled unknowns.
+/// What a caller's guess is, which decides how Newton takes it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub(crate) enum Guess {
+    /// Near the answer (a nearby load's equilibrium): Newton in the scaled
+    /// unknowns.
+    #[default]
     Near,
+    /// Close to the answer (a nested refinement level's prolongated
+    /// state): as `Near`, with Newton's `trusted_start`.
+    Trusted,
+    /// The scene's rest state, its equilibrium without the tip force
+    /// ([`super::Solver::solve_from_rest`]): far from a tip-loaded answer,
+    /// so taken as a cold solve takes its own start (the straightened
+    /// unknowns), but without the batch's kept first Hessian.
+    Rest,
 }
 
 pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOptions, InputError> {
@@ -225,8 +224,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             start,
             unloaded,
             final_energy: None,
-            trusted_start: false,
-            from_rest: false,
+            guess: Guess::Near,
         }
     }
 
@@ -293,7 +291,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             check_guess(g, f.len(), M::Coeffs::LEN)?;
         }
         let nopts = NewtonOptions {
-            trusted_start: self.trusted_start && guess.is_some(),
+            trusted_start: self.guess == Guess::Trusted && guess.is_some(),
             ..one_element(newton_options(opts.rtol * f.stiffness, opts)?, f.len() == 1)
         };
         // validated above: setting cannot fail
@@ -421,11 +419,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             }
         }
         self.start.copy_from_slice(&self.y);
-        let start = match guess {
-            None => Start::Own,
-            Some(_) if self.from_rest => Start::Rest,
-            Some(_) => Start::Near,
-        };
+        // the kind of the caller's guess, or None for the solve's own start
+        let start = guess.map(|_| self.guess);
         let mut r = self.load_from_start(load, start, opts, start_failed, &mut base);
         if r.is_err() {
             if let Some(current) = shifted_instead(&mut self.newton) {
@@ -470,7 +465,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     fn load_from_start(
         &mut self,
         load: &Load,
-        start: Start,
+        start: Option<Guess>,
         opts: &SolveOptions,
         start_failed: bool,
         base: &mut SolveReport,
@@ -478,13 +473,14 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         self.chain.set_load(load);
         // a cold solve's first Hessian is at its unloaded start, which the
         // cold solves of a batch share (`Chain::from_start`)
-        self.chain.from_start = start == Start::Own && !start_failed;
+        self.chain.from_start = start.is_none() && !start_failed;
+        let near = matches!(start, Some(Guess::Near | Guess::Trusted));
         let r = minimize_straight::<M, _>(
             &mut self.newton,
             &mut self.chain,
             chain_straight,
             &mut self.y,
-            start == Start::Near,
+            near,
         );
         base.iterations += r.iterations;
         base.steps.coupled += r.iterations;
