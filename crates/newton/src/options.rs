@@ -28,11 +28,30 @@ impl OptionsError {
     }
 }
 
-fn check_nonneg(name: &'static str, v: f64) -> Result<(), OptionsError> {
+// The checks hand back the value they accept, for the setters to store.
+
+fn check_nonneg(name: &'static str, v: f64) -> Result<f64, OptionsError> {
     if v.is_finite() && v >= 0.0 {
-        Ok(())
+        Ok(v)
     } else {
         Err(OptionsError::new(name, v, "must be finite and >= 0"))
+    }
+}
+
+fn check_positive(name: &'static str, v: f64) -> Result<f64, OptionsError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(OptionsError::new(name, v, "must be finite and > 0"))
+    }
+}
+
+/// A limit: positive, `+inf` for none.
+fn check_limit(name: &'static str, v: f64, rule: &'static str) -> Result<f64, OptionsError> {
+    if v.is_nan() || v <= 0.0 {
+        Err(OptionsError::new(name, v, rule))
+    } else {
+        Ok(v)
     }
 }
 
@@ -44,11 +63,10 @@ enum Max {
 }
 
 /// The step bounds of a continuation: `0 < min <= initial <= max`, all
-/// finite (`max` too unless it [`Max::MayBeInfinite`]).
-fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<(), OptionsError> {
-    if !(min.is_finite() && min > 0.0) {
-        return Err(OptionsError::new("min_step", min, "must be finite and > 0"));
-    }
+/// finite (`max` too unless it [`Max::MayBeInfinite`]); returns
+/// `[initial, min, max]`.
+fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<[f64; 3], OptionsError> {
+    check_positive("min_step", min)?;
     let (max_ok, max_rule_text) = match max_rule {
         Max::MayBeInfinite => (!max.is_nan() && max >= min, "must be >= min_step"),
         Max::Finite => (
@@ -66,21 +84,21 @@ fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<(), Op
         };
         return Err(OptionsError::new("initial_step", initial, rule));
     }
-    Ok(())
+    Ok([initial, min, max])
 }
 
 /// A continuation's step growth factor: finite and at least 1.
-fn check_grow(grow: f64) -> Result<(), OptionsError> {
+fn check_grow(grow: f64) -> Result<f64, OptionsError> {
     if grow.is_finite() && grow >= 1.0 {
-        Ok(())
+        Ok(grow)
     } else {
         Err(OptionsError::new("grow", grow, "must be finite and >= 1"))
     }
 }
 
-fn check_open_unit(name: &'static str, v: f64) -> Result<(), OptionsError> {
+fn check_open_unit(name: &'static str, v: f64) -> Result<f64, OptionsError> {
     if v > 0.0 && v < 1.0 {
-        Ok(())
+        Ok(v)
     } else {
         Err(OptionsError::new(
             name,
@@ -198,41 +216,36 @@ impl NewtonOptions {
         check_nonneg("ctol", self.ctol)?;
         check_open_unit("c1", self.c1)?;
         check_open_unit("min_step_fraction", self.min_step_fraction)?;
-        if self.max_step.is_nan() || self.max_step <= 0.0 {
-            return Err(OptionsError {
-                name: "max_step",
-                value: self.max_step,
-                rule: "must be positive (infinity for no cap)",
-            });
-        }
+        check_limit(
+            "max_step",
+            self.max_step,
+            "must be positive (infinity for no cap)",
+        )?;
         if !(self.chord_depth > 0.0 && self.chord_depth <= 1.0) {
-            return Err(OptionsError {
-                name: "chord_depth",
-                value: self.chord_depth,
-                rule: "must lie in (0, 1]",
-            });
+            return Err(OptionsError::new(
+                "chord_depth",
+                self.chord_depth,
+                "must lie in (0, 1]",
+            ));
         }
         Ok(())
     }
 
     /// Sets [`gtol`](Self::gtol) (finite, >= 0).
     pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("gtol", gtol)?;
-        self.gtol = gtol;
+        self.gtol = check_nonneg("gtol", gtol)?;
         Ok(self)
     }
 
     /// Sets [`xtol`](Self::xtol) (finite, >= 0).
     pub fn with_xtol(mut self, xtol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("xtol", xtol)?;
-        self.xtol = xtol;
+        self.xtol = check_nonneg("xtol", xtol)?;
         Ok(self)
     }
 
     /// Sets [`ctol`](Self::ctol) (finite, >= 0).
     pub fn with_ctol(mut self, ctol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("ctol", ctol)?;
-        self.ctol = ctol;
+        self.ctol = check_nonneg("ctol", ctol)?;
         Ok(self)
     }
 
@@ -244,15 +257,13 @@ impl NewtonOptions {
 
     /// Sets the Armijo constant [`c1`](Self::c1) (in (0, 1)).
     pub fn with_c1(mut self, c1: f64) -> Result<Self, OptionsError> {
-        check_open_unit("c1", c1)?;
-        self.c1 = c1;
+        self.c1 = check_open_unit("c1", c1)?;
         Ok(self)
     }
 
     /// Sets [`min_step_fraction`](Self::min_step_fraction) (in (0, 1)).
     pub fn with_min_step_fraction(mut self, f: f64) -> Result<Self, OptionsError> {
-        check_open_unit("min_step_fraction", f)?;
-        self.min_step_fraction = f;
+        self.min_step_fraction = check_open_unit("min_step_fraction", f)?;
         Ok(self)
     }
 }
@@ -316,24 +327,20 @@ impl ContinuationOptions {
 
     /// Sets the step bounds and the initial step (`0 < min <= initial <= max`).
     pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        check_steps(initial, min, max, Self::MAX_STEP)?;
-        self.initial_step = initial;
-        self.min_step = min;
-        self.max_step = max;
+        [self.initial_step, self.min_step, self.max_step] =
+            check_steps(initial, min, max, Self::MAX_STEP)?;
         Ok(self)
     }
 
     /// Sets [`grow`](Self::grow) (finite, >= 1).
     pub fn with_grow(mut self, grow: f64) -> Result<Self, OptionsError> {
-        check_grow(grow)?;
-        self.grow = grow;
+        self.grow = check_grow(grow)?;
         Ok(self)
     }
 
     /// Sets [`shrink`](Self::shrink) (in (0, 1)).
     pub fn with_shrink(mut self, shrink: f64) -> Result<Self, OptionsError> {
-        check_open_unit("shrink", shrink)?;
-        self.shrink = shrink;
+        self.shrink = check_open_unit("shrink", shrink)?;
         Ok(self)
     }
 
@@ -451,13 +458,7 @@ impl PalcOptions {
         )?;
         check_grow(self.grow)?;
         check_open_unit("shrink", self.shrink)?;
-        if !(self.theta.is_finite() && self.theta > 0.0) {
-            return Err(OptionsError::new(
-                "theta",
-                self.theta,
-                "must be finite and > 0",
-            ));
-        }
+        check_positive("theta", self.theta)?;
         check_nonneg("gtol", self.gtol)?;
         if self.max_corrector_iterations == 0 {
             return Err(OptionsError::new(
@@ -466,13 +467,11 @@ impl PalcOptions {
                 "must be >= 1",
             ));
         }
-        if self.max_correction.is_nan() || self.max_correction <= 0.0 {
-            return Err(OptionsError::new(
-                "max_correction",
-                self.max_correction,
-                "must be > 0 (infinity for no check)",
-            ));
-        }
+        check_limit(
+            "max_correction",
+            self.max_correction,
+            "must be > 0 (infinity for no check)",
+        )?;
         if !(self.min_tangent_cos >= -1.0 && self.min_tangent_cos <= 1.0) {
             return Err(OptionsError::new(
                 "min_tangent_cos",
@@ -480,52 +479,33 @@ impl PalcOptions {
                 "must lie in [-1, 1]",
             ));
         }
-        if !(self.event_tol.is_finite() && self.event_tol > 0.0) {
-            return Err(OptionsError::new(
-                "event_tol",
-                self.event_tol,
-                "must be finite and > 0",
-            ));
-        }
+        check_positive("event_tol", self.event_tol)?;
         check_nonneg("event_step", self.event_step)?;
         Ok(())
     }
 
     /// Sets the step bounds and the initial step (`0 < min <= initial <= max`, finite).
     pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        check_steps(initial, min, max, Self::MAX_STEP)?;
-        self.initial_step = initial;
-        self.min_step = min;
-        self.max_step = max;
+        [self.initial_step, self.min_step, self.max_step] =
+            check_steps(initial, min, max, Self::MAX_STEP)?;
         Ok(self)
     }
 
     /// Sets [`theta`](Self::theta) (finite, > 0).
     pub fn with_theta(mut self, theta: f64) -> Result<Self, OptionsError> {
-        if !(theta.is_finite() && theta > 0.0) {
-            return Err(OptionsError::new("theta", theta, "must be finite and > 0"));
-        }
-        self.theta = theta;
+        self.theta = check_positive("theta", theta)?;
         Ok(self)
     }
 
     /// Sets [`gtol`](Self::gtol) (finite, >= 0).
     pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
-        check_nonneg("gtol", gtol)?;
-        self.gtol = gtol;
+        self.gtol = check_nonneg("gtol", gtol)?;
         Ok(self)
     }
 
     /// Sets [`event_tol`](Self::event_tol) (finite, > 0).
     pub fn with_event_tol(mut self, tol: f64) -> Result<Self, OptionsError> {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(OptionsError::new(
-                "event_tol",
-                tol,
-                "must be finite and > 0",
-            ));
-        }
-        self.event_tol = tol;
+        self.event_tol = check_positive("event_tol", tol)?;
         Ok(self)
     }
 
