@@ -125,6 +125,14 @@ pub fn points<'py>(py: Python<'py>, pts: &[[f64; 2]]) -> PyResult<Bound<'py, PyA
     array2(py, pts.iter().flatten().copied().collect(), 2)
 }
 
+/// Coefficients as an `elements x unknowns` array.
+pub fn coefficients<'py>(
+    py: Python<'py>,
+    c: &fpc::Coefficients,
+) -> PyResult<Bound<'py, PyArray2<f64>>> {
+    array2(py, c.as_slice().to_vec(), c.per_element())
+}
+
 /// The warnings as a list of `{kind, message, element?, value?, limit?}`.
 pub fn warnings<'py>(py: Python<'py>, w: &[fpc::Warning]) -> PyResult<Bound<'py, PyAny>> {
     to_py(py, w)
@@ -143,14 +151,7 @@ pub fn solution_dict<'py>(py: Python<'py>, s: &fpc::Solution) -> PyResult<Bound<
     d.set_item("energy", s.energy)?;
     d.set_item("negative_eigenvalues", s.negative_eigenvalues)?;
     d.set_item("stable", s.stable)?;
-    d.set_item(
-        "coefficients",
-        array2(
-            py,
-            s.coefficients.as_slice().to_vec(),
-            s.coefficients.per_element(),
-        )?,
-    )?;
+    d.set_item("coefficients", coefficients(py, &s.coefficients)?)?;
     d.set_item("points", points(py, &s.points)?)?;
     d.set_item("element_lengths", array1(py, s.element_lengths.clone()))?;
     d.set_item("warnings", warnings(py, &s.warnings)?)?;

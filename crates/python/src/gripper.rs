@@ -10,7 +10,7 @@ use fpc::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
 use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions};
 
-use crate::convert::{array1, json_to_py, points, solution_dict, to_py};
+use crate::convert::{array1, points, solution_dict, to_py};
 use crate::errors::{
     cancellable, detached, from_input, from_solve, guarded, in_python_terms, input_error,
 };
@@ -491,9 +491,7 @@ impl Gripper {
     /// ``palm_mm``, ``overlap_mm``, ``d_min_mm``, ``d_max_mm``, ``r_max_mm``,
     /// ``tip_is_innermost``, ``rest_tip_gripper_mm``, ``warnings``.
     fn info<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let v = serde_json::to_value(GripperJson::of(&self.inner))
-            .map_err(|e| crate::errors::InternalError::new_err(format!("serialization: {e}")))?;
-        json_to_py(py, &v)
+        to_py(py, &GripperJson::of(&self.inner))
     }
 
     /// The unloaded finger at zero pressure (the reference state), as

@@ -7,7 +7,7 @@ use pyo3::types::PyDict;
 
 use fpc::scene::{SceneSolution, SolutionRecord};
 
-use crate::convert::{array1, array2, json_to_py, points};
+use crate::convert::{array1, coefficients, points, to_py};
 use crate::errors::{detached, from_solve};
 use crate::finger::read_scene;
 
@@ -53,19 +53,10 @@ pub fn solve_scene<'py>(
     // a calibrated scene's 1-sigma error bars, as fpc solve's solution.json has them
     let record =
         SolutionRecord::new(&stem, scene.file(), &solved).with_uncertainty(uncertainty.as_ref());
-    let value = serde_json::to_value(record)
-        .map_err(|e| crate::errors::InternalError::new_err(format!("serialization: {e}")))?;
-    let d = json_to_py(py, &value)?.cast_into::<PyDict>()?;
+    let d = to_py(py, &record)?.cast_into::<PyDict>()?;
     let s = solved.solution();
     d.set_item("tip_mm", array1(py, s.tip.to_vec()))?;
-    d.set_item(
-        "coefficients",
-        array2(
-            py,
-            s.coefficients.as_slice().to_vec(),
-            s.coefficients.per_element(),
-        )?,
-    )?;
+    d.set_item("coefficients", coefficients(py, &s.coefficients)?)?;
     d.set_item("points_mm", points(py, &s.points)?)?;
     d.set_item("element_lengths_mm", array1(py, s.element_lengths.clone()))?;
     if let SceneSolution::Gripper { gripper, .. } = &solved {
