@@ -244,13 +244,14 @@ fn solve_chunk(
             .collect();
     }
     let mut out = Vec::with_capacity(members.len());
-    // once cancelled, the remaining points are not solved
+    // each point's load, or its outcome when it has none: once
+    // cancelled, the remaining points are not solved
     let mut loads = members.iter().map(|&i| {
         let p = &points[i];
         let l = if cancel.load(Ordering::Relaxed) {
-            Err(None)
+            Err(Outcome::failed(3, "cancelled".into()))
         } else {
-            load(p.pressure_kpa, p.kappa, p.fx, p.fz).map_err(Some)
+            load(p.pressure_kpa, p.kappa, p.fx, p.fz).map_err(|e| Outcome::failed(1, e.to_string()))
         };
         (i, l)
     });
@@ -262,12 +263,8 @@ fn solve_chunk(
             for (i, l) in loads.by_ref() {
                 let l = match l {
                     Ok(l) => l,
-                    Err(Some(e)) => {
-                        out.push((i, Outcome::failed(1, e.to_string())));
-                        continue;
-                    }
-                    Err(None) => {
-                        out.push((i, Outcome::failed(3, "cancelled".into())));
+                    Err(failed) => {
+                        out.push((i, failed));
                         continue;
                     }
                 };
@@ -299,12 +296,8 @@ fn solve_chunk(
             for (i, l) in loads {
                 let l = match l {
                     Ok(l) => l,
-                    Err(Some(e)) => {
-                        out.push((i, Outcome::failed(1, e.to_string())));
-                        continue;
-                    }
-                    Err(None) => {
-                        out.push((i, Outcome::failed(3, "cancelled".into())));
+                    Err(failed) => {
+                        out.push((i, failed));
                         continue;
                     }
                 };
