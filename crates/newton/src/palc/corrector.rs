@@ -34,6 +34,18 @@ impl State {
             iterations: 0,
         }
     }
+
+    /// `<t, z - z_self>_theta`: how far `z` lies from this point along
+    /// its tangent `t`.
+    pub(super) fn along_tangent(&self, theta2: f64, z: &State) -> f64 {
+        self.tx
+            .iter()
+            .zip(&z.x)
+            .zip(&self.x)
+            .map(|((t, x), b)| t * (x - b))
+            .sum::<f64>()
+            + theta2 * self.tl * (z.lambda - self.lambda)
+    }
 }
 
 /// Evaluation buffers and elimination scratch.
@@ -192,17 +204,8 @@ pub(super) fn correct<P: Path + ?Sized>(
         }
         let dl = match row {
             Row::Arclength { base, ds } => {
-                let cl = ws.theta2 * base.tl;
-                let res = base
-                    .tx
-                    .iter()
-                    .zip(&out.x)
-                    .zip(&base.x)
-                    .map(|((t, x), b)| t * (x - b))
-                    .sum::<f64>()
-                    + cl * (out.lambda - base.lambda)
-                    - ds;
-                bordered_solve(p, ws, Some(&base.tx), cl, -res)
+                let res = base.along_tangent(ws.theta2, out) - ds;
+                bordered_solve(p, ws, Some(&base.tx), ws.theta2 * base.tl, -res)
             }
             Row::Lambda(value) => bordered_solve(p, ws, None, 1.0, value - out.lambda),
         };

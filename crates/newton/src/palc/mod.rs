@@ -530,14 +530,7 @@ impl Palc {
         let theta2 = self.ws.theta2;
         let (cur, next, trial) = (&self.cur, &self.next, &mut self.trial);
         // the step's length along the tangent at its start
-        let s1 = cur
-            .tx
-            .iter()
-            .zip(&next.x)
-            .zip(&cur.x)
-            .map(|((t, x1), x0)| t * (x1 - x0))
-            .sum::<f64>()
-            + theta2 * cur.tl * (next.lambda - cur.lambda);
+        let s1 = cur.along_tangent(theta2, next);
         let tol = o.event_tol;
         // best point so far: the endpoint nearer the event
         let (mut best_l, mut best_t) = (next.lambda, next.tl);
