@@ -35,25 +35,13 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     pub finger: &'a FingerCore<M>,
     scalars: EnergyScalars,
     f: [f64; 2],
-    k: Vec<M::Coeffs>,
-    end_g: Vec<[M::Coeffs; 3]>,
-    end_h: Vec<[M::Upper; 3]>,
-    /// (cos, sin) of each element frame's angle theta_i.
-    rot: Vec<[f64; 2]>,
-    q: Vec<[f64; 2]>,
-    u: Vec<M::Coeffs>,
-    w: Vec<M::Coeffs>,
-    blk: Vec<M::Upper>,
-    /// The element pass's potentials, with gradients, with Hessians.
-    ev: Vec<f64>,
-    eg: Vec<(f64, M::Coeffs)>,
-    eh: Vec<ElementHessian<M>>,
+    /// The buffers, the scaled Hessian of the last evaluation (and its
+    /// factorisation) and the start's memo.
+    b: ChainParts<M>,
     pub tip: [f64; 2],
     /// Evaluate the chain geometry even without a tip load (bordered solves
     /// need the tip and its gradient).
     pub force_chain: bool,
-    /// The scaled Hessian of the last evaluation, and its factorisation.
-    pub matrix: Semiseparable,
     /// Evaluate in Newton's own unknowns, the spec's `straighten`
     /// statements applied (src/finger/straighten.rs), instead of the
     /// scaled unknowns.
@@ -62,7 +50,6 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     /// evaluation takes the element pass from [`StartMemo`] when that was
     /// made at the same point, and keeps its own there otherwise.
     pub from_start: bool,
-    memo: StartMemo<M>,
 }
 
 /// The element pass (energies, gradients, Hessian blocks and end
@@ -117,23 +104,27 @@ impl<M: ElementModel> StartMemo<M> {
 /// A chain's buffers without its finger, kept between solvers
 /// ([`Chain::take_parts`], [`Chain::with_parts`]).
 pub(crate) struct ChainParts<M: ElementModel> {
+    /// Each element's raw unknowns.
     k: Vec<M::Coeffs>,
     end_g: Vec<[M::Coeffs; 3]>,
     end_h: Vec<[M::Upper; 3]>,
+    /// (cos, sin) of each element frame's angle theta_i.
     rot: Vec<[f64; 2]>,
     q: Vec<[f64; 2]>,
     u: Vec<M::Coeffs>,
     w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
+    /// The element pass's potentials, with gradients, with Hessians.
     ev: Vec<f64>,
     eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
+    /// The scaled Hessian of the last evaluation, and its factorisation.
     matrix: Semiseparable,
     memo: StartMemo<M>,
 }
 
 impl<M: ElementModel> ChainParts<M> {
-    /// Buffers for `n` elements.
+    /// Buffers for `n` elements (none allocated for 0).
     fn new(n: usize) -> ChainParts<M> {
         ChainParts {
             k: vec![M::Coeffs::zero(); n],
@@ -147,7 +138,7 @@ impl<M: ElementModel> ChainParts<M> {
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
-            matrix: Semiseparable::new(M::Coeffs::LEN, n),
+            matrix: Semiseparable::new(if n > 0 { M::Coeffs::LEN } else { 0 }, n),
             memo: StartMemo::empty(),
         }
     }
@@ -169,52 +160,24 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     /// not matter).
     pub fn with_parts(finger: &'a FingerCore<M>, parts: Option<ChainParts<M>>) -> Chain<'a, M> {
         let n = finger.len();
-        let p = parts
-            .filter(|p| p.len() == n)
-            .unwrap_or_else(|| ChainParts::new(n));
         Chain {
             finger,
             scalars: Load::unloaded().scalars(),
             f: [0.0, 0.0],
-            k: p.k,
-            end_g: p.end_g,
-            end_h: p.end_h,
-            rot: p.rot,
-            q: p.q,
-            u: p.u,
-            w: p.w,
-            blk: p.blk,
-            ev: p.ev,
-            eg: p.eg,
-            eh: p.eh,
+            b: parts
+                .filter(|p| p.len() == n)
+                .unwrap_or_else(|| ChainParts::new(n)),
             tip: [0.0, 0.0],
             force_chain: false,
-            matrix: p.matrix,
             straight: false,
             from_start: false,
-            memo: p.memo,
         }
     }
 
     /// Moves the buffers out, leaving empty ones (the chain is unusable
     /// afterwards).
     pub fn take_parts(&mut self) -> ChainParts<M> {
-        use std::mem::take;
-        ChainParts {
-            k: take(&mut self.k),
-            end_g: take(&mut self.end_g),
-            end_h: take(&mut self.end_h),
-            rot: take(&mut self.rot),
-            q: take(&mut self.q),
-            u: take(&mut self.u),
-            w: take(&mut self.w),
-            blk: take(&mut self.blk),
-            ev: take(&mut self.ev),
-            eg: take(&mut self.eg),
-            eh: take(&mut self.eh),
-            matrix: std::mem::replace(&mut self.matrix, Semiseparable::new(0, 0)),
-            memo: std::mem::replace(&mut self.memo, StartMemo::empty()),
-        }
+        std::mem::replace(&mut self.b, ChainParts::new(0))
     }
 
     /// Sets pressure and tip load.
@@ -233,12 +196,12 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     /// gradient/Hessian evaluation.
     pub fn tip_gradient_scaled(&self, w: [f64; 2], out: &mut [f64]) {
         let n = M::Coeffs::LEN;
-        for j in 0..self.k.len() {
-            let [c, s] = self.rot[j];
+        for j in 0..self.b.k.len() {
+            let [c, s] = self.b.rot[j];
             let wr = [c * w[0] + s * w[1], -s * w[0] + c * w[1]];
-            let qj = self.q[j];
+            let qj = self.b.q[j];
             let wjq = -w[0] * qj[1] + w[1] * qj[0];
-            let eg = &self.end_g[j];
+            let eg = &self.b.end_g[j];
             let sj = &self.finger.unscale[j];
             for a in 0..n {
                 out[n * j + a] = (wr[0] * eg[0][a] + wr[1] * eg[1][a] + wjq * eg[2][a]) * sj[a];
@@ -248,7 +211,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
 
     fn unscale_into(&mut self, y: &[f64]) {
         let n = M::Coeffs::LEN;
-        for (i, (k, s)) in self.k.iter_mut().zip(&self.finger.unscale).enumerate() {
+        for (i, (k, s)) in self.b.k.iter_mut().zip(&self.finger.unscale).enumerate() {
             let k = k.as_mut();
             k.copy_from_slice(&y[n * i..n * i + n]);
             if self.straight {
@@ -263,19 +226,19 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     /// Frames (as rotations, from the elements' end tangents) and the
     /// vectors from each element's end to the tip.
     fn chain_geometry(&mut self) {
-        let n = self.k.len();
+        let n = self.b.k.len();
         let (mut c, mut s) = (1.0, 0.0);
         let mut p = [0.0, 0.0];
         for i in 0..n {
-            self.rot[i] = [c, s];
-            let [xe, ze, ce, se] = self.finger.elements[i].frame(&self.k[i]);
+            self.b.rot[i] = [c, s];
+            let [xe, ze, ce, se] = self.finger.elements[i].frame(&self.b.k[i]);
             p[0] += c * xe - s * ze;
             p[1] += s * xe + c * ze;
-            self.q[i] = p; // p_i for now
+            self.b.q[i] = p; // p_i for now
             (c, s) = (c * ce - s * se, s * ce + c * se);
         }
         for i in 0..n {
-            self.q[i] = [p[0] - self.q[i][0], p[1] - self.q[i][1]];
+            self.b.q[i] = [p[0] - self.b.q[i][0], p[1] - self.b.q[i][1]];
         }
         self.tip = p;
     }
@@ -283,22 +246,22 @@ impl<'a, M: ElementModel> Chain<'a, M> {
 
 impl<M: ElementModel> Energy for Chain<'_, M> {
     fn dim(&self) -> usize {
-        M::Coeffs::LEN * self.k.len()
+        M::Coeffs::LEN * self.b.k.len()
     }
 
     fn energy(&mut self, y: &[f64]) -> f64 {
         self.unscale_into(y);
         let core = self.finger;
         core.lanes
-            .eval::<element::Value>(&core.elements, &self.k, &self.scalars, &mut self.ev);
+            .eval::<element::Value>(&core.elements, &self.b.k, &self.scalars, &mut self.b.ev);
         let mut v = 0.0;
-        for vi in &self.ev {
+        for vi in &self.b.ev {
             v += vi;
         }
         if self.loaded() {
             let mut p = [0.0, 0.0];
             let (mut c, mut s) = (1.0, 0.0);
-            for (e, k) in self.finger.elements.iter().zip(&self.k) {
+            for (e, k) in self.finger.elements.iter().zip(&self.b.k) {
                 let [xe, ze, ce, se] = e.frame(k);
                 p[0] += c * xe - s * ze;
                 p[1] += s * xe + c * ze;
@@ -317,26 +280,30 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
         let loaded = self.loaded();
         let mut v = 0.0;
         let core = self.finger;
-        core.lanes
-            .eval::<element::Gradient>(&core.elements, &self.k, &self.scalars, &mut self.eg);
+        core.lanes.eval::<element::Gradient>(
+            &core.elements,
+            &self.b.k,
+            &self.scalars,
+            &mut self.b.eg,
+        );
         for (i, e) in core.elements.iter().enumerate() {
-            let (vi, gi) = self.eg[i];
+            let (vi, gi) = self.b.eg[i];
             v += vi;
             g[n * i..n * i + n].copy_from_slice(gi.as_ref());
             if loaded {
-                self.end_g[i] = e.end_derivatives(&self.k[i]).0;
+                self.b.end_g[i] = e.end_derivatives(&self.b.k[i]).0;
             }
         }
         if loaded {
             self.chain_geometry();
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
-            for j in 0..self.k.len() {
-                let [c, s] = self.rot[j];
+            for j in 0..self.b.k.len() {
+                let [c, s] = self.b.rot[j];
                 let fr = [c * fx + s * fz, -s * fx + c * fz];
-                let qj = self.q[j];
+                let qj = self.b.q[j];
                 let fjq = -fx * qj[1] + fz * qj[0];
-                let eg = &self.end_g[j];
+                let eg = &self.b.end_g[j];
                 for a in 0..n {
                     g[n * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
                 }
@@ -356,18 +323,18 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
 
 impl<M: ElementModel> LinearSystem for Chain<'_, M> {
     fn diagonal_range(&self) -> (f64, f64) {
-        self.matrix.diagonal_range()
+        self.b.matrix.diagonal_range()
     }
     /// (A failure on a non-finite entry is already reported as
     /// `FactorError::NonFinite` by the factorisation.)
     fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
-        self.matrix.factor(tau, kind)
+        self.b.matrix.factor(tau, kind)
     }
     fn solve(&mut self, b: &mut [f64]) {
-        self.matrix.solve(b)
+        self.b.matrix.solve(b)
     }
     fn apply(&self, x: &[f64], out: &mut [f64]) {
-        self.matrix.apply(x, out)
+        self.b.matrix.apply(x, out)
     }
 }
 
@@ -377,7 +344,7 @@ impl<M: ElementModel> Chain<'_, M> {
     /// ([`Semiseparable::inertia`]); `None` where the symmetric
     /// factorisation fails (a singular pivot, say).
     pub(crate) fn inertia(&mut self) -> Option<Inertia> {
-        self.matrix.inertia(0.0).ok()
+        self.b.matrix.inertia(0.0).ok()
     }
 }
 
@@ -385,40 +352,40 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
     fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         self.unscale_into(y);
         let n = M::Coeffs::LEN;
-        let ne = self.k.len();
+        let ne = self.b.k.len();
         let loaded = self.loaded();
         let mut v = 0.0;
         let from_start = std::mem::take(&mut self.from_start) && loaded;
-        if from_start && self.memo.holds(y, self.straight, &self.scalars) {
-            let m = &self.memo;
+        if from_start && self.b.memo.holds(y, self.straight, &self.scalars) {
+            let m = &self.b.memo;
             v = m.v;
             g.copy_from_slice(&m.g);
-            self.blk.copy_from_slice(&m.blk);
-            self.end_g.copy_from_slice(&m.end_g);
-            self.end_h.copy_from_slice(&m.end_h);
+            self.b.blk.copy_from_slice(&m.blk);
+            self.b.end_g.copy_from_slice(&m.end_g);
+            self.b.end_h.copy_from_slice(&m.end_h);
         } else {
             // pass 1: element energies (several elements per instruction)
             // and, for the chain, end kinematics
             let core = self.finger;
             core.lanes.eval::<element::Hessian>(
                 &core.elements,
-                &self.k,
+                &self.b.k,
                 &self.scalars,
-                &mut self.eh,
+                &mut self.b.eh,
             );
             for (i, e) in core.elements.iter().enumerate() {
-                let (vi, gi, hi) = self.eh[i];
+                let (vi, gi, hi) = self.b.eh[i];
                 v += vi;
                 g[n * i..n * i + n].copy_from_slice(gi.as_ref());
-                self.blk[i] = hi;
+                self.b.blk[i] = hi;
                 if loaded {
-                    let (eg, eh) = e.end_derivatives(&self.k[i]);
-                    self.end_g[i] = eg;
-                    self.end_h[i] = eh;
+                    let (eg, eh) = e.end_derivatives(&self.b.k[i]);
+                    self.b.end_g[i] = eg;
+                    self.b.end_h[i] = eh;
                 }
             }
             if from_start {
-                let m = &mut self.memo;
+                let m = &mut self.b.memo;
                 m.y.clear();
                 m.y.extend_from_slice(y);
                 m.straight = self.straight;
@@ -426,9 +393,9 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 m.v = v;
                 m.g.clear();
                 m.g.extend_from_slice(g);
-                m.blk.clone_from(&self.blk);
-                m.end_g.clone_from(&self.end_g);
-                m.end_h.clone_from(&self.end_h);
+                m.blk.clone_from(&self.b.blk);
+                m.end_g.clone_from(&self.b.end_g);
+                m.end_h.clone_from(&self.b.end_h);
             }
         }
         if loaded {
@@ -436,14 +403,14 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
             for j in 0..ne {
-                let [cs, sn] = self.rot[j];
+                let [cs, sn] = self.b.rot[j];
                 let fr = [cs * fx + sn * fz, -sn * fx + cs * fz];
-                let qj = self.q[j];
+                let qj = self.b.q[j];
                 let fjq = -fx * qj[1] + fz * qj[0]; // F . J Q_j
                 let fq = fx * qj[0] + fz * qj[1]; // F . Q_j
-                let eg = self.end_g[j];
-                let eh = self.end_h[j];
-                let blk = &mut self.blk[j];
+                let eg = self.b.end_g[j];
+                let eh = self.b.end_h[j];
+                let blk = &mut self.b.blk[j];
                 for a in 0..n {
                     g[n * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
                     for b in a..n {
@@ -456,16 +423,16 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, J^T Fr = (Fr_z, -Fr_x)
                 let sj = self.finger.unscale[j];
                 for a in 0..n {
-                    self.u[j][a] = eg[2][a] * sj[a];
-                    self.w[j][a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
+                    self.b.u[j][a] = eg[2][a] * sj[a];
+                    self.b.w[j][a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
                 }
             }
         }
         // pass 2: the scaled blocks and coupling vectors
         for j in 0..ne {
             let sj = self.finger.unscale[j];
-            let blk = &self.blk[j];
-            let out = self.matrix.block_mut(j);
+            let blk = &self.b.blk[j];
+            let out = self.b.matrix.block_mut(j);
             for b in 0..n {
                 for a in 0..n {
                     out[a + n * b] = blk[upper_index(n, a, b)] * (sj[a] * sj[b]);
@@ -474,12 +441,12 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         }
         if loaded {
             for j in 0..ne {
-                let (u, w) = self.matrix.coupling_mut(j);
-                u.copy_from_slice(self.u[j].as_ref());
-                w.copy_from_slice(self.w[j].as_ref());
+                let (u, w) = self.b.matrix.coupling_mut(j);
+                u.copy_from_slice(self.b.u[j].as_ref());
+                w.copy_from_slice(self.b.w[j].as_ref());
             }
         } else {
-            self.matrix.clear_coupling();
+            self.b.matrix.clear_coupling();
         }
         for (i, s) in self.finger.unscale.iter().enumerate() {
             for a in 0..n {
@@ -487,9 +454,9 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             }
             if self.straight {
                 let (yi, gi) = (&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
-                straighten::block::<M>(yi, gi, self.matrix.block_mut(i));
+                straighten::block::<M>(yi, gi, self.b.matrix.block_mut(i));
                 if loaded {
-                    let (u, w) = self.matrix.coupling_mut(i);
+                    let (u, w) = self.b.matrix.coupling_mut(i);
                     straighten::pull_back::<M>(yi, u);
                     straighten::pull_back::<M>(yi, w);
                 }
@@ -533,7 +500,7 @@ pub(crate) fn hessian<M: ElementModel>(
     let mut g = vec![0.0; dim];
     let mut h = vec![0.0; dim * dim];
     let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g);
-    chain.matrix.dense(&mut h);
+    chain.b.matrix.dense(&mut h);
     let n = M::Coeffs::LEN;
     let s = |i: usize| core.unscale[i / n][i % n];
     for i in 0..dim {
