@@ -14,7 +14,7 @@ use crate::field::Field;
 use crate::model::{GasParams, LinearParams, PrestressedParams};
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
-use super::laminate::{Actuator, Rib};
+use super::laminate::{Actuator, PlaneStress, Rib};
 use crate::field::ShearLayer;
 
 /// Clipped blocks shorter than this fraction of the element are dropped.
@@ -123,84 +123,53 @@ pub fn element_blocks(act: &Actuator, part: &Partition, ribs: bool) -> Vec<Eleme
     let [cl_layer, ..] = layers;
     let top = act.geometry().h / 2.0;
 
+    // a linear box over x in [x0, x1], z in [z0, z1] of a material
+    let linear_box =
+        |(x0, x1): (f64, f64), (z0, z1): (f64, f64), width: f64, q: PlaneStress, g13| {
+            let PlaneStress { q11, q12, q22 } = q;
+            LinearParams {
+                x0,
+                x1,
+                z0,
+                z1,
+                width,
+                q11,
+                q12,
+                q22,
+                g13,
+                ks,
+            }
+        };
     part.lengths()
         .iter()
         .zip(part.starts())
         .map(|(&len, &start)| {
             let mut linear: Vec<LinearParams> = layers
                 .iter()
-                .map(|l| LinearParams {
-                    x0: 0.0,
-                    x1: len,
-                    z0: l.z0,
-                    z1: l.z1,
-                    width,
-                    q11: l.q.q11,
-                    q12: l.q.q12,
-                    q22: l.q.q22,
-                    g13: l.g13,
-                    ks,
-                })
+                .map(|l| linear_box((0.0, len), (l.z0, l.z1), width, l.q, l.g13))
                 .collect();
             let mut gas = Vec::new();
-            if let Some((x0, x1)) = clip(0.0, channel.cx, start, len) {
-                linear.push(LinearParams {
-                    x0,
-                    x1,
-                    z0: cz0,
-                    z1: cz1,
-                    width: -channel.cy,
-                    q11: fluidic_q.q11,
-                    q12: fluidic_q.q12,
-                    q22: fluidic_q.q22,
-                    g13: fluidic_g13,
-                    ks,
-                });
+            // the channel takes the fluidic material out over its width cy
+            // (a box of width -cy) and holds gas there; each rib in it puts
+            // the material back over its own width and displaces the gas
+            let channel_part = clip(0.0, channel.cx, start, len).map(|x| (x, -channel.cy));
+            let rib_parts = rib_list
+                .iter()
+                .filter_map(|rib| clip(rib.x0, rib.x1, start, len).map(|x| (x, rib.width)));
+            for ((x0, x1), w) in channel_part.into_iter().chain(rib_parts) {
+                linear.push(linear_box((x0, x1), (cz0, cz1), w, fluidic_q, fluidic_g13));
                 gas.push(GasParams {
                     x0,
                     x1,
                     z0: cz0,
                     z1: cz1,
-                    width: channel.cy,
+                    width: -w,
                 });
             }
-            for rib in rib_list {
-                if let Some((x0, x1)) = clip(rib.x0, rib.x1, start, len) {
-                    linear.push(LinearParams {
-                        x0,
-                        x1,
-                        z0: cz0,
-                        z1: cz1,
-                        width: rib.width,
-                        q11: fluidic_q.q11,
-                        q12: fluidic_q.q12,
-                        q22: fluidic_q.q22,
-                        g13: fluidic_g13,
-                        ks,
-                    });
-                    gas.push(GasParams {
-                        x0,
-                        x1,
-                        z0: cz0,
-                        z1: cz1,
-                        width: -rib.width,
-                    });
-                }
-            }
             for rib in act.cl_ribs() {
-                if let Some((x0, x1)) = clip(rib.x0, rib.x1, start, len) {
-                    linear.push(LinearParams {
-                        x0,
-                        x1,
-                        z0: top,
-                        z1: top + rib.height,
-                        width: rib.width,
-                        q11: cl_layer.q.q11,
-                        q12: cl_layer.q.q12,
-                        q22: cl_layer.q.q22,
-                        g13: cl_layer.g13,
-                        ks,
-                    });
+                if let Some(x) = clip(rib.x0, rib.x1, start, len) {
+                    let z = (top, top + rib.height);
+                    linear.push(linear_box(x, z, rib.width, cl_layer.q, cl_layer.g13));
                 }
             }
             let law = pemc.law;
