@@ -155,8 +155,9 @@ pub enum Warning {
     /// layer.
     Eps0OutsideFit { eps0: f64, lo: f64, hi: f64 },
     /// The prestressed law's tangent modulus psi''(eps0) is not positive:
-    /// the unloaded layer softens and equilibria may be unstable.
-    SofteningPrestressLaw { eps0: f64, tangent: f64 },
+    /// the unloaded layer softens and equilibria may be unstable. `tangent`
+    /// (MPa) is `None` where the law overflows (a huge `eps0`).
+    SofteningPrestressLaw { eps0: f64, tangent: Option<f64> },
     /// The gripper's mounting angle (rad) lies outside the design space
     /// [`lo`, `hi`] = [arccot mu, pi/2]: fingers pressed flat cannot hold
     /// the object by friction (docs/model.md section 5).
@@ -334,9 +335,19 @@ impl fmt::Display for Warning {
                 f,
                 "actuator.pemc.eps0 = {eps0}: outside [{lo}, {hi}], the range the prestressed law was fitted to"
             ),
-            Warning::SofteningPrestressLaw { eps0, tangent } => write!(
+            Warning::SofteningPrestressLaw {
+                eps0,
+                tangent: Some(tangent),
+            } => write!(
                 f,
                 "actuator.pemc.eps0 = {eps0}: the prestressed law's tangent modulus there is {tangent} MPa (not positive)"
+            ),
+            Warning::SofteningPrestressLaw {
+                eps0,
+                tangent: None,
+            } => write!(
+                f,
+                "actuator.pemc.eps0 = {eps0}: the prestressed law's tangent modulus there is not a finite number (the law overflows)"
             ),
             Warning::MountingAngleOutsideDesignSpace { angle, lo, hi } => write!(
                 f,

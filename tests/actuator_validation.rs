@@ -457,9 +457,30 @@ fn prestrain_warnings() {
         f.warnings(),
         [Warning::SofteningPrestressLaw {
             eps0: 0.25,
-            tangent: -4.0
+            tangent: Some(-4.0)
         }]
     );
+    // A prestrain so large that the paper's law overflows there: the
+    // warning says so in words, with no NaN in its value or its message.
+    let mut p = ActuatorParams::default();
+    p.pemc.eps0 = 1e308;
+    let a = Actuator::new(p).unwrap();
+    let f = Finger::new(&a, &Partition::equal(110.0, 1).unwrap(), true);
+    let w = f
+        .warnings()
+        .iter()
+        .find(|w| matches!(w, Warning::SofteningPrestressLaw { .. }))
+        .expect("the overflowing law is flagged");
+    assert_eq!(
+        w,
+        &Warning::SofteningPrestressLaw {
+            eps0: 1e308,
+            tangent: None
+        }
+    );
+    let msg = w.to_string();
+    assert!(msg.contains("not a finite number"), "{msg}");
+    assert!(!msg.contains("NaN"), "{msg}");
 }
 
 // ------------------------------------------------------------- partition

@@ -115,10 +115,10 @@ impl ModelVisitor for LawCheck<'_> {
     fn visit<M: ElementModel>(self) -> Self::Output {
         let pemc = self.0.pemc();
         let tangent = M::psi(pemc.eps0, &pemc.law)[2];
-        // NaN counts as not positive
+        // NaN (the law overflows) counts as not positive
         (tangent.is_nan() || tangent <= 0.0).then_some(Warning::SofteningPrestressLaw {
             eps0: pemc.eps0,
-            tangent,
+            tangent: tangent.is_finite().then_some(tangent),
         })
     }
 }

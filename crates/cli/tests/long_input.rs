@@ -57,6 +57,9 @@ fn a_309_digit_number_is_not_echoed_whole() {
         stderr.contains(": outside [0, 0.6]"),
         "the rule is kept: {stderr}"
     );
+    // the law overflows there: said in words, no NaN
+    assert!(stderr.contains("not a finite number"), "{stderr}");
+    assert!(!stderr.contains("NaN"), "{stderr}");
     // the same number where a count is expected: clap's usage error
     let out = fpc()
         .args(["finger", "--elements", &digits])
