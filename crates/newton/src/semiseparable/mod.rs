@@ -191,15 +191,6 @@ impl Semiseparable {
         (lo, hi)
     }
 
-    /// True when every entry is finite.
-    pub fn is_finite(&self) -> bool {
-        self.b
-            .iter()
-            .chain(&self.u)
-            .chain(&self.w)
-            .all(|v| v.is_finite())
-    }
-
     /// `out = H x` in linear time.
     pub fn apply(&self, x: &[f64], out: &mut [f64]) {
         let n = self.n;
