@@ -519,9 +519,10 @@ impl<'a> Solver<'a> {
         opts: &SolveOptions,
     ) -> Result<Solution, SolveError> {
         with_solver!(self, s => {
-            s.guess = Guess::Rest;
+            // this guess alone: the solver's own kind comes back after it
+            let kind = std::mem::replace(&mut s.guess, Guess::Rest);
             let r = s.solve(load, Some(rest), opts);
-            s.guess = Guess::Near;
+            s.guess = kind;
             r
         })
     }
@@ -598,5 +599,28 @@ impl<'a> Solver<'a> {
         visit: &mut dyn FnMut(&LoadPoint<'_>) -> bool,
     ) -> Result<LoadPath, SolveError> {
         with_solver!(self, s => s.follow_load(spec, guess, opts, visit))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rest start is for its own solve: a solver told that its guesses
+    /// are trusted (a refinement level's) is so again after it.
+    #[test]
+    fn a_rest_start_leaves_the_solvers_guess_kind_alone() {
+        let f = Finger::paper(0.25, 4).unwrap();
+        let opts = SolveOptions::default();
+        let rest = f.solve(&Load::unloaded(), &opts).unwrap();
+        let load = Load::unloaded().with_tip_force(0.5, 0.3);
+        let mut s = Solver::new(&f);
+        s.trust_start(true);
+        let solved = s.solve_from_rest(&load, &rest.coefficients, &opts).unwrap();
+        assert!(solved.report.reason.is_converged());
+        with_solver!(s, c => assert_eq!(c.guess, Guess::Trusted));
+        s.trust_start(false);
+        s.solve_from_rest(&load, &rest.coefficients, &opts).unwrap();
+        with_solver!(s, c => assert_eq!(c.guess, Guess::Near));
     }
 }
