@@ -77,11 +77,6 @@ impl Coefficients {
     pub fn as_mut_slice(&mut self) -> &mut [f64] {
         &mut self.values
     }
-
-    /// One `Vec` per element.
-    pub fn to_nested(&self) -> Vec<Vec<f64>> {
-        self.iter().map(<[f64]>::to_vec).collect()
-    }
 }
 
 impl serde::Serialize for Coefficients {

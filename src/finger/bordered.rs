@@ -35,28 +35,6 @@ impl TargetProblem {
         }
     }
 
-    /// The straight homotopy between two problems at `t` in [0, 1].
-    pub fn lerp(&self, to: &TargetProblem, t: f64) -> TargetProblem {
-        let m = |a: f64, b: f64| a + t * (b - a);
-        TargetProblem {
-            base: Load {
-                pressure: m(self.base.pressure, to.base.pressure),
-                kappa: m(self.base.kappa, to.base.kappa),
-                fx: m(self.base.fx, to.base.fx),
-                fz: m(self.base.fz, to.base.fz),
-            },
-            direction: [
-                m(self.direction[0], to.direction[0]),
-                m(self.direction[1], to.direction[1]),
-            ],
-            weights: [
-                m(self.weights[0], to.weights[0]),
-                m(self.weights[1], to.weights[1]),
-            ],
-            target: m(self.target, to.target),
-        }
-    }
-
     pub(crate) fn validate(&self) -> Result<(), InputError> {
         self.base.validate()?;
         finite(crate::Field::key("target.direction[0]"), self.direction[0])?;

@@ -30,10 +30,6 @@ mod sphere;
 mod sweep;
 mod viable;
 
-use crate::actuator::Actuator;
-use crate::gripper::ViableAngles;
-use crate::solve_error::SolveError;
-
 pub use bands::{not_propagated, BandColumn, NotPropagated, EXACT};
 pub use cuboid::{study3_cuboid_region, study3_cuboid_region_with, CuboidRegion, CUBOID_TEST};
 pub use curvature::{
@@ -65,43 +61,6 @@ pub use sphere::{
 };
 pub use viable::{study6_viable_angles, study6_viable_angles_with, AngleSd, ViableSd};
 
-// ------------------------------------------------------------ all
-
-/// The eight studies' results.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Studies {
-    /// Prestrain x mounting angle ([`study1_prestrain_angle`]).
-    pub study1: Vec<LiftCurve>,
-    /// Overlap ([`study2_overlap`]).
-    pub study2: Vec<LiftCurve>,
-    /// Cuboid grasping region ([`study3_cuboid_region`]).
-    pub study3: CuboidRegion,
-    /// Force control by pressure ([`study4_force_control`]).
-    pub study4: ForceControl,
-    /// Sphere grasping region ([`study5_sphere_region`]).
-    pub study5: SphereRegion,
-    /// Viable grasping angles ([`study6_viable_angles`]).
-    pub study6: ViableAngles,
-    /// Curvature versus pressure ([`study7_curvature`]).
-    pub study7: Vec<CurvatureCurve>,
-    /// Force at a fixed displacement ([`study8_force_at_displacement`]).
-    pub study8: Vec<DisplacementForceRow>,
-}
-
-/// Runs the eight studies.
-pub fn run_all(actuator: &Actuator, opts: &StudyOptions) -> Result<Studies, SolveError> {
-    Ok(Studies {
-        study1: study1_prestrain_angle(actuator, opts)?,
-        study2: study2_overlap(actuator, opts)?,
-        study3: study3_cuboid_region(actuator, opts)?,
-        study4: study4_force_control(actuator, opts)?,
-        study5: study5_sphere_region(actuator, opts)?,
-        study6: study6_viable_angles(actuator, opts)?,
-        study7: study7_curvature(actuator, opts)?,
-        study8: study8_force_at_displacement(actuator, opts)?,
-    })
-}
-
 // ------------------------------------------------------------ registry
 
 /// The paper's studies, in order.
@@ -119,6 +78,7 @@ pub const STUDIES: &[StudyInfo] = &[
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::actuator::Actuator;
 
     #[test]
     fn the_registry_is_numbered_in_order_with_unique_keys() {
