@@ -50,18 +50,32 @@ pub enum FactorError {
 }
 
 /// `max_i |v_i|` (0 for an empty slice; NaN entries propagate as NaN).
+///
+/// Branch-free, in four running maxima and one running NaN test, so that
+/// it vectorises (a loop that returns at the first NaN, or folds one
+/// maximum after the other, does not). The largest of numbers does not
+/// depend on the order they are compared in, so this is the value of the
+/// element-by-element loop, bit for bit.
 pub(crate) fn norm_inf(v: &[f64]) -> f64 {
-    let mut m = 0.0f64;
-    for &x in v {
-        let a = x.abs();
-        if a.is_nan() {
-            return f64::NAN;
-        }
-        if a > m {
-            m = a;
+    let mut m = [0.0f64; 4];
+    let mut nan = false;
+    let mut chunks = v.chunks_exact(4);
+    for c in &mut chunks {
+        for (mi, x) in m.iter_mut().zip(c) {
+            let a = x.abs();
+            nan |= a.is_nan();
+            *mi = if a > *mi { a } else { *mi };
         }
     }
-    m
+    for (mi, x) in m.iter_mut().zip(chunks.remainder()) {
+        let a = x.abs();
+        nan |= a.is_nan();
+        *mi = if a > *mi { a } else { *mi };
+    }
+    if nan {
+        return f64::NAN;
+    }
+    m.into_iter().fold(0.0, |a, b| if b > a { b } else { a })
 }
 
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -87,6 +101,21 @@ mod tests {
         assert_eq!(norm_inf(&[1.0, -3.0, 2.0]), 3.0);
         assert!(norm_inf(&[1.0, f64::NAN]).is_nan());
         assert!(norm_inf(&[f64::NAN, 1.0]).is_nan());
+        assert_eq!(norm_inf(&[]), 0.0);
+        assert_eq!(norm_inf(&[-0.0, 0.0]).to_bits(), 0.0f64.to_bits());
+        // every length and position of the largest entry and of a NaN
+        // (the four running maxima and the tail)
+        for n in 1..=11 {
+            for at in 0..n {
+                let mut v: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
+                v[at] = -5.0;
+                assert_eq!(norm_inf(&v), 5.0, "n {n}, at {at}");
+                v[at] = f64::NAN;
+                assert!(norm_inf(&v).is_nan(), "n {n}, NaN at {at}");
+                v[at] = f64::NEG_INFINITY;
+                assert_eq!(norm_inf(&v), f64::INFINITY, "n {n}, -inf at {at}");
+            }
+        }
         assert_eq!(dot(&[1.0, 2.0], &[3.0, -1.0]), 1.0);
         assert!(all_finite(&[1.0, 2.0]));
         assert!(!all_finite(&[1.0, f64::INFINITY]));
