@@ -86,11 +86,6 @@ impl Convergence {
             orders,
         }
     }
-
-    /// The order from the three finest levels (NaN with fewer).
-    pub fn finest_order(&self) -> f64 {
-        self.orders.last().copied().unwrap_or(f64::NAN)
-    }
 }
 
 /// `log2(coarse / fine)`, NaN when either change is not positive.
