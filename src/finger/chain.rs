@@ -138,7 +138,7 @@ impl<M: ElementModel> ChainParts<M> {
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
-            matrix: Semiseparable::new(if n > 0 { M::Coeffs::LEN } else { 0 }, n),
+            matrix: Semiseparable::new(M::Coeffs::LEN, n),
             memo: StartMemo::empty(),
         }
     }

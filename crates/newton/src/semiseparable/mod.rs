@@ -111,8 +111,11 @@ pub struct Semiseparable {
 }
 
 impl Semiseparable {
-    /// `blocks` blocks of size `n`, all zero.
+    /// `blocks` blocks of size `n`, all zero (nothing allocated for no
+    /// blocks).
     pub fn new(n: usize, blocks: usize) -> Semiseparable {
+        // the pivots' workspace, used block by block only
+        let scratch = if blocks > 0 { n * n + 4 * n } else { 0 };
         Semiseparable {
             n,
             blocks,
@@ -127,7 +130,7 @@ impl Semiseparable {
             q: vec![0.0; n * blocks],
             factored: false,
             coupled: false,
-            scratch: vec![0.0; n * n + 4 * n],
+            scratch: vec![0.0; scratch],
         }
     }
 

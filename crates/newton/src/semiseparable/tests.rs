@@ -303,3 +303,18 @@ fn inertia_counts_negative_eigenvalues() {
     let shift = 1.0 - lam.iter().fold(f64::INFINITY, |a, &l| a.min(l));
     assert!(m.factor(shift, PivotKind::Cholesky).is_ok());
 }
+
+/// A matrix of no blocks (a chain's buffers taken out) holds no storage
+/// at all, and still factorises and solves its empty system.
+#[test]
+fn no_blocks_allocate_nothing() {
+    let mut m = Semiseparable::new(4, 0);
+    for v in [&m.b, &m.u, &m.w, &m.f, &m.bw, &m.lambda, &m.q, &m.scratch] {
+        assert_eq!(v.capacity(), 0);
+    }
+    assert_eq!(m.sm.capacity(), 0);
+    assert_eq!(m.dim(), 0);
+    m.factor(0.0, PivotKind::Cholesky).unwrap();
+    m.solve(&mut []);
+    assert_eq!(m.inertia(0.0).unwrap().negative, 0);
+}
