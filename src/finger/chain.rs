@@ -118,6 +118,9 @@ pub(crate) struct ChainParts<M: ElementModel> {
     ev: Vec<f64>,
     eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
+    /// One scaled block, full (`LEN x LEN`, column-major), on its way
+    /// into `matrix`.
+    full: Vec<f64>,
     /// The scaled Hessian of the last evaluation, and its factorisation.
     matrix: Semiseparable,
     memo: StartMemo<M>,
@@ -138,6 +141,7 @@ impl<M: ElementModel> ChainParts<M> {
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
+            full: vec![0.0; if n > 0 { M::Coeffs::LEN.pow(2) } else { 0 }],
             matrix: Semiseparable::new(M::Coeffs::LEN, n),
             memo: StartMemo::empty(),
         }
@@ -428,39 +432,40 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 }
             }
         }
-        // pass 2: the scaled blocks and coupling vectors
-        for j in 0..ne {
-            let sj = self.finger.unscale[j];
-            let blk = &self.b.blk[j];
-            let out = self.b.matrix.block_mut(j);
-            for b in 0..n {
-                for a in 0..n {
-                    out[a + n * b] = blk[upper_index(n, a, b)] * (sj[a] * sj[b]);
-                }
-            }
-        }
-        if loaded {
-            for j in 0..ne {
-                let (u, w) = self.b.matrix.coupling_mut(j);
-                u.copy_from_slice(self.b.u[j].as_ref());
-                w.copy_from_slice(self.b.w[j].as_ref());
-            }
-        } else {
+        // pass 2: the scaled blocks and coupling vectors, each element's
+        // straightened where the unknowns are (block by block, so the
+        // order across elements does not matter)
+        if !loaded {
             self.b.matrix.clear_coupling();
         }
-        for (i, s) in self.finger.unscale.iter().enumerate() {
+        for j in 0..ne {
+            let s = self.finger.unscale[j];
+            let blk = &self.b.blk[j];
+            let full = &mut self.b.full;
+            for b in 0..n {
+                for a in 0..n {
+                    full[a + n * b] = blk[upper_index(n, a, b)] * (s[a] * s[b]);
+                }
+            }
+            let gj = &mut g[n * j..n * j + n];
             for a in 0..n {
-                g[n * i + a] *= s[a];
+                gj[a] *= s[a];
+            }
+            let yj = &y[n * j..n * j + n];
+            if self.straight {
+                straighten::block::<M>(yj, gj, full);
+            }
+            self.b.matrix.set_block(j, full);
+            if loaded {
+                let (mut u, mut w) = (self.b.u[j], self.b.w[j]);
+                if self.straight {
+                    straighten::pull_back::<M>(yj, u.as_mut());
+                    straighten::pull_back::<M>(yj, w.as_mut());
+                }
+                self.b.matrix.set_coupling(j, u.as_ref(), w.as_ref());
             }
             if self.straight {
-                let (yi, gi) = (&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
-                straighten::block::<M>(yi, gi, self.b.matrix.block_mut(i));
-                if loaded {
-                    let (u, w) = self.b.matrix.coupling_mut(i);
-                    straighten::pull_back::<M>(yi, u);
-                    straighten::pull_back::<M>(yi, w);
-                }
-                straighten::pull_back::<M>(yi, gi);
+                straighten::pull_back::<M>(yj, gj);
             }
         }
         v

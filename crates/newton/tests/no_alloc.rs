@@ -225,6 +225,10 @@ struct SemiChain {
     t: f64,
     sums: Vec<f64>,
     h: Semiseparable,
+    /// One block and its coupling vectors on their way into `h`.
+    blk: Vec<f64>,
+    u: Vec<f64>,
+    w: Vec<f64>,
 }
 
 impl SemiChain {
@@ -237,6 +241,9 @@ impl SemiChain {
             t: 0.0,
             sums: vec![0.0; blocks],
             h: Semiseparable::new(m, blocks),
+            blk: vec![0.0; m * m],
+            u: vec![0.0; m],
+            w: vec![0.0; m],
         }
     }
 
@@ -259,7 +266,7 @@ impl SemiChain {
         let m = self.m;
         for k in 0..self.blocks {
             let t = self.kappa * (self.blocks - k) as f64;
-            let b = self.h.block_mut(k);
+            let b = &mut self.blk;
             b.fill(t);
             for i in 0..m {
                 let xi = x[k * m + i];
@@ -271,9 +278,10 @@ impl SemiChain {
                     b[(i + 1) + i * m] -= 0.5;
                 }
             }
-            let (u, w) = self.h.coupling_mut(k);
-            u.fill(1.0);
-            w.fill(-t);
+            self.h.set_block(k, b);
+            self.u.fill(1.0);
+            self.w.fill(-t);
+            self.h.set_coupling(k, &self.u, &self.w);
         }
     }
 }

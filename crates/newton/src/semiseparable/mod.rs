@@ -52,8 +52,10 @@
 
 use crate::linear::{dot, FactorError, Inertia};
 
+mod lanes;
 mod pivot;
 
+use lanes::Store;
 use pivot::{certified_positive, cholesky, cholesky_solve, eigen_solve, jacobi};
 
 /// How the pivots are factorised.
@@ -83,54 +85,79 @@ pub const MODIFIED_FLOOR: f64 = 1e-6;
 
 /// A block-diagonal plus rank-one semiseparable symmetric matrix (module
 /// docs) with its factorisation.
+///
+/// The blocks are stored lane-major, eight blocks to a group (see
+/// [`Semiseparable::set_block`]), so that blocks of size 4 (the CCM's)
+/// factorise and solve eight at a time in vector registers; other sizes
+/// and the symmetric pivots go block by block.
 #[derive(Debug, Clone)]
 pub struct Semiseparable {
     n: usize,
     blocks: usize,
     /// `B_k`, column-major `n x n` each (the full symmetric block).
-    b: Vec<f64>,
-    u: Vec<f64>,
-    w: Vec<f64>,
+    b: Store,
+    u: Store,
+    w: Store,
     // factorisation
     kind: PivotKind,
     /// `L D L^T` factor of `B_k + tau I` (see [`cholesky`]) or the
     /// eigenvectors of the pivot `P_k`, per block.
-    f: Vec<f64>,
+    f: Store,
     /// Cholesky pivots: `(B_k + tau I)^-1 w_k` per block.
-    bw: Vec<f64>,
+    bw: Store,
     /// Cholesky pivots: `[beta_k, c_k, omega_k]` per block (module docs).
-    sm: Vec<[f64; 3]>,
+    sm: Store,
     /// Eigenvalues per block (symmetric pivots).
-    lambda: Vec<f64>,
-    q: Vec<f64>,
+    lambda: Store,
+    q: Store,
     factored: bool,
     /// False while every coupling vector is zero (block diagonal: the
     /// recurrences are skipped).
     coupled: bool,
+    /// One block's worth of contiguous workspace for the block-by-block
+    /// paths.
     scratch: Vec<f64>,
+    /// The lane solve's workspace: six lanes per group.
+    lane_work: Vec<lanes::Lane>,
 }
 
 impl Semiseparable {
     /// `blocks` blocks of size `n`, all zero (nothing allocated for no
     /// blocks).
     pub fn new(n: usize, blocks: usize) -> Semiseparable {
-        // the pivots' workspace, used block by block only
-        let scratch = if blocks > 0 { n * n + 4 * n } else { 0 };
+        let nn = n * n;
+        let scratch = if blocks > 0 { 2 * nn + 10 * n } else { 0 };
+        let mut b = Store::new(nn, blocks);
+        // the lanes past the last block hold the identity, which the lane
+        // factorisation passes through harmlessly
+        for k in blocks..blocks.next_multiple_of(lanes::LANES) {
+            for i in 0..n {
+                *b.at_mut(k, i * (n + 1)) = 1.0;
+            }
+        }
         Semiseparable {
             n,
             blocks,
-            b: vec![0.0; n * n * blocks],
-            u: vec![0.0; n * blocks],
-            w: vec![0.0; n * blocks],
+            b,
+            u: Store::new(n, blocks),
+            w: Store::new(n, blocks),
             kind: PivotKind::Cholesky,
-            f: vec![0.0; n * n * blocks],
-            bw: vec![0.0; n * blocks],
-            sm: vec![[0.0; 3]; blocks],
-            lambda: vec![0.0; n * blocks],
-            q: vec![0.0; n * blocks],
+            f: Store::new(nn, blocks),
+            bw: Store::new(n, blocks),
+            sm: Store::new(3, blocks),
+            lambda: Store::new(n, blocks),
+            q: Store::new(n, blocks),
             factored: false,
             coupled: false,
             scratch: vec![0.0; scratch],
+            lane_work: vec![
+                [0.0; lanes::LANES];
+                if n == 4 {
+                    6 * blocks.div_ceil(lanes::LANES)
+                } else {
+                    0
+                }
+            ],
         }
     }
 
@@ -149,24 +176,35 @@ impl Semiseparable {
         self.n * self.blocks
     }
 
-    /// Block `k`'s `B_k` (column-major, full), to fill in; invalidates the
-    /// factorisation.
-    pub fn block_mut(&mut self, k: usize) -> &mut [f64] {
+    /// Sets block `k`'s `B_k` from `b` (column-major `n x n`, full);
+    /// invalidates the factorisation.
+    pub fn set_block(&mut self, k: usize, b: &[f64]) {
+        assert!(k < self.blocks, "block {k} of {}", self.blocks);
         self.factored = false;
-        let nn = self.n * self.n;
-        &mut self.b[k * nn..(k + 1) * nn]
+        self.b.scatter(k, b);
     }
 
-    /// Block `k`'s coupling vectors `(u_k, w_k)`, to fill in; invalidates
-    /// the factorisation.
-    pub fn coupling_mut(&mut self, k: usize) -> (&mut [f64], &mut [f64]) {
+    /// Block `k`'s `B_k` into `out` (column-major `n x n`).
+    pub fn block(&self, k: usize, out: &mut [f64]) {
+        assert!(k < self.blocks, "block {k} of {}", self.blocks);
+        self.b.gather(k, out);
+    }
+
+    /// Sets block `k`'s coupling vectors `(u_k, w_k)`; invalidates the
+    /// factorisation.
+    pub fn set_coupling(&mut self, k: usize, u: &[f64], w: &[f64]) {
+        assert!(k < self.blocks, "block {k} of {}", self.blocks);
         self.factored = false;
         self.coupled = true;
-        let n = self.n;
-        (
-            &mut self.u[k * n..(k + 1) * n],
-            &mut self.w[k * n..(k + 1) * n],
-        )
+        self.u.scatter(k, u);
+        self.w.scatter(k, w);
+    }
+
+    /// Block `k`'s coupling vectors into `(u, w)`.
+    pub fn coupling(&self, k: usize, u: &mut [f64], w: &mut [f64]) {
+        assert!(k < self.blocks, "block {k} of {}", self.blocks);
+        self.u.gather(k, u);
+        self.w.gather(k, w);
     }
 
     /// Sets every coupling vector to zero (no coupling: block diagonal).
@@ -186,7 +224,7 @@ impl Semiseparable {
         let mut hi = 0.0f64;
         for k in 0..self.blocks {
             for i in 0..n {
-                let d = self.b[k * n * n + i * (n + 1)];
+                let d = self.b.at(k, i * (n + 1));
                 lo = lo.min(d);
                 hi = hi.max(d.abs());
             }
@@ -198,12 +236,14 @@ impl Semiseparable {
     pub fn apply(&self, x: &[f64], out: &mut [f64]) {
         let n = self.n;
         let nb = self.blocks;
+        let row = |k: usize, i: usize, start: f64| {
+            (0..n).fold(start, |v, j| v + self.b.at(k, i + n * j) * x[k * n + j])
+        };
+        let dot = |v: &Store, k: usize| (0..n).fold(-0.0, |s, i| s + v.at(k, i) * x[k * n + i]);
         if !self.coupled {
             for k in 0..nb {
-                let xk = &x[k * n..(k + 1) * n];
-                let bk = &self.b[k * n * n..(k + 1) * n * n];
                 for i in 0..n {
-                    out[k * n + i] = (0..n).map(|j| bk[i + n * j] * xk[j]).sum();
+                    out[k * n + i] = row(k, i, -0.0);
                 }
             }
             return;
@@ -211,26 +251,18 @@ impl Semiseparable {
         // sum_{j<k} u_j^T x_j, running forward
         let mut s = 0.0;
         for k in 0..nb {
-            let xk = &x[k * n..(k + 1) * n];
-            let bk = &self.b[k * n * n..(k + 1) * n * n];
-            let wk = &self.w[k * n..(k + 1) * n];
             for i in 0..n {
-                let mut v = 0.0;
-                for j in 0..n {
-                    v += bk[i + n * j] * xk[j];
-                }
-                out[k * n + i] = v - wk[i] * s;
+                out[k * n + i] = row(k, i, 0.0) - self.w.at(k, i) * s;
             }
-            s += dot(&self.u[k * n..(k + 1) * n], xk);
+            s += dot(&self.u, k);
         }
         // sum_{j>k} w_j^T x_j, running backward
         let mut t = 0.0;
         for k in (0..nb).rev() {
-            let uk = &self.u[k * n..(k + 1) * n];
             for i in 0..n {
-                out[k * n + i] -= uk[i] * t;
+                out[k * n + i] -= self.u.at(k, i) * t;
             }
-            t += dot(&self.w[k * n..(k + 1) * n], &x[k * n..(k + 1) * n]);
+            t += dot(&self.w, k);
         }
     }
 
@@ -243,13 +275,13 @@ impl Semiseparable {
         for k in 0..self.blocks {
             for c in 0..n {
                 for r in 0..n {
-                    h[(k * n + r) + dim * (k * n + c)] = self.b[k * n * n + r + n * c];
+                    h[(k * n + r) + dim * (k * n + c)] = self.b.at(k, r + n * c);
                 }
             }
             for j in 0..k {
                 for c in 0..n {
                     for r in 0..n {
-                        let v = -self.w[k * n + r] * self.u[j * n + c];
+                        let v = -self.w.at(k, r) * self.u.at(j, c);
                         h[(k * n + r) + dim * (j * n + c)] = v;
                         h[(j * n + c) + dim * (k * n + r)] = v;
                     }
@@ -307,12 +339,8 @@ impl Semiseparable {
         if !tau.is_finite() {
             return Some(0);
         }
-        let (n, nn) = (self.n, self.n * self.n);
         (0..self.blocks).find(|&m| {
-            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-            !(finite(&self.b[m * nn..(m + 1) * nn])
-                && finite(&self.u[m * n..(m + 1) * n])
-                && finite(&self.w[m * n..(m + 1) * n]))
+            !(self.b.block_finite(m) && self.u.block_finite(m) && self.w.block_finite(m))
         })
     }
 
@@ -325,7 +353,11 @@ impl Semiseparable {
         self.factored = false;
         self.kind = kind;
         if kind == PivotKind::Cholesky {
-            self.factor_cholesky::<N>(tau)?;
+            if self.n == 4 {
+                self.factor_cholesky4(tau)?;
+            } else {
+                self.factor_cholesky::<N>(tau)?;
+            }
             self.factored = true;
             return Ok(Inertia {
                 positive: self.dim(),
@@ -348,35 +380,40 @@ impl Semiseparable {
         count_only: bool,
     ) -> Result<Inertia, FactorError> {
         let n = if N > 0 { N } else { self.n };
-        let nn = n * n;
-        let mut gamma = 0.0;
+        let coupled = self.coupled;
         let mut inertia = Inertia::default();
+        if self.blocks == 0 {
+            return Ok(inertia); // (no workspace either)
+        }
+        let (p, rest) = self.scratch.split_at_mut(n * n);
+        let (lam, rest) = rest.split_at_mut(n);
+        let (um, rest) = rest.split_at_mut(n);
+        let (wm, rest) = rest.split_at_mut(n);
+        let (qm, rest) = rest.split_at_mut(n);
+        let (s, work) = rest.split_at_mut(n);
+        let mut gamma = 0.0;
         for m in 0..self.blocks {
-            let (um, wm) = (&self.u[m * n..(m + 1) * n], &self.w[m * n..(m + 1) * n]);
-            let p = &mut self.f[m * nn..(m + 1) * nn];
-            let bm = &self.b[m * nn..(m + 1) * nn];
+            self.b.gather(m, p);
+            self.u.gather(m, um);
+            self.w.gather(m, wm);
             for c in 0..n {
                 for r in 0..n {
-                    p[r + n * c] = bm[r + n * c] - gamma * wm[r] * wm[c];
+                    p[r + n * c] -= gamma * wm[r] * wm[c];
                 }
                 p[c + n * c] += tau;
             }
-            let coupled = self.coupled;
-            let qm = &mut self.q[m * n..(m + 1) * n];
             if coupled {
                 for i in 0..n {
                     qm[i] = um[i] + gamma * wm[i];
                 }
             }
-            let lam = &mut self.lambda[m * n..(m + 1) * n];
             // a certified pivot leaves its Cholesky factor at the front of
-            // the scratch; any other is counted from its eigenvalues
-            let certified = count_only && certified_positive::<N>(n, p, &mut self.scratch);
+            // the workspace; any other is counted from its eigenvalues
+            let certified = count_only && certified_positive::<N>(n, p, work);
             if certified {
                 inertia.positive += n;
             } else {
-                jacobi(n, p, lam, &mut self.scratch)
-                    .ok_or(FactorError::NoConvergence { block: m })?;
+                jacobi(n, p, lam, work).ok_or(FactorError::NoConvergence { block: m })?;
                 let scale = lam.iter().fold(0.0f64, |a, l| a.max(l.abs()));
                 if kind == PivotKind::Modified {
                     for l in lam.iter_mut() {
@@ -393,17 +430,18 @@ impl Semiseparable {
                         inertia.negative += 1;
                     }
                 }
+                self.f.scatter(m, p);
+                self.lambda.scatter(m, lam);
             }
             if coupled {
-                let (factor, rest) = self.scratch.split_at_mut(nn);
-                let (s, rest) = rest.split_at_mut(n);
                 s.copy_from_slice(qm);
                 if certified {
-                    cholesky_solve::<N>(n, factor, qm);
+                    cholesky_solve::<N>(n, &work[..n * n], qm);
                 } else {
-                    eigen_solve(n, p, lam, qm, rest);
+                    eigen_solve(n, p, lam, qm, work);
                 }
                 gamma += dot(s, qm);
+                self.q.scatter(m, qm);
             }
             if !gamma.is_finite() {
                 return Err(FactorError::NonFinite { block: m });
@@ -413,32 +451,36 @@ impl Semiseparable {
     }
 
     /// The Cholesky factorisation of `H + tau I` in the reordered form of
-    /// the module docs: block `m` fails with the index of its first
-    /// non-positive pivot when `B'_m` is not positive definite, and with
-    /// its last row when the chain's update makes `P_m` indefinite
+    /// the module docs, block by block: block `m` fails with the index of
+    /// its first non-positive pivot when `B'_m` is not positive definite,
+    /// and with its last row when the chain's update makes `P_m` indefinite
     /// (`d_m <= 0`).
     fn factor_cholesky<const N: usize>(&mut self, tau: f64) -> Result<(), FactorError> {
         let n = if N > 0 { N } else { self.n };
-        let nn = n * n;
         let coupled = self.coupled;
+        if self.blocks == 0 {
+            return Ok(()); // (no workspace either)
+        }
+        let (f, rest) = self.scratch.split_at_mut(n * n);
+        let (um, rest) = rest.split_at_mut(n);
+        let (wm, rest) = rest.split_at_mut(n);
+        let (a, rest) = rest.split_at_mut(n);
+        let b = &mut rest[..n];
         let mut gamma = 0.0;
         for m in 0..self.blocks {
-            let f = &mut self.f[m * nn..(m + 1) * nn];
-            f.copy_from_slice(&self.b[m * nn..(m + 1) * nn]);
+            self.b.gather(m, f);
             for c in 0..n {
                 f[c + n * c] += tau;
             }
             cholesky::<N>(n, f).map_err(|index| FactorError::NotPositiveDefinite {
                 index: m * n + index,
             })?;
+            self.f.scatter(m, f);
             if !coupled {
                 continue;
             }
-            let (um, wm) = (&self.u[m * n..(m + 1) * n], &self.w[m * n..(m + 1) * n]);
-            let (a, b) = (
-                &mut self.q[m * n..(m + 1) * n],
-                &mut self.bw[m * n..(m + 1) * n],
-            );
+            self.u.gather(m, um);
+            self.w.gather(m, wm);
             a.copy_from_slice(um);
             b.copy_from_slice(wm);
             cholesky_solve::<N>(n, f, a);
@@ -457,7 +499,9 @@ impl Semiseparable {
             for (ai, bi) in a.iter_mut().zip(b.iter()) {
                 *ai += kappa * bi;
             }
-            self.sm[m] = [beta, c, alpha + kappa * beta];
+            self.q.scatter(m, a);
+            self.bw.scatter(m, b);
+            self.sm.scatter(m, &[beta, c, alpha + kappa * beta]);
             gamma += uu + (kappa + gamma) * alpha + gamma * kappa * beta;
             if !gamma.is_finite() {
                 return Err(FactorError::NonFinite { block: m });
@@ -488,16 +532,15 @@ impl Semiseparable {
     /// [`Semiseparable::solve_sized`]).
     fn solve_pivot<const N: usize>(&mut self, k: usize, x: &mut [f64]) {
         let n = if N > 0 { N } else { self.n };
-        let fk = &self.f[k * n * n..(k + 1) * n * n];
+        let (fk, rest) = self.scratch.split_at_mut(n * n);
+        let (lam, work) = rest.split_at_mut(n);
+        self.f.gather(k, fk);
         match self.kind {
             PivotKind::Cholesky => cholesky_solve::<N>(n, fk, x),
-            PivotKind::Symmetric | PivotKind::Modified => eigen_solve(
-                n,
-                fk,
-                &self.lambda[k * n..(k + 1) * n],
-                x,
-                &mut self.scratch,
-            ),
+            PivotKind::Symmetric | PivotKind::Modified => {
+                self.lambda.gather(k, lam);
+                eigen_solve(n, fk, lam, x, work)
+            }
         }
     }
 
@@ -505,6 +548,10 @@ impl Semiseparable {
     fn solve_sized<const N: usize>(&mut self, b: &mut [f64]) {
         let n = if N > 0 { N } else { self.n };
         let nb = self.blocks;
+        if self.kind == PivotKind::Cholesky && n == 4 {
+            self.solve_cholesky4(b);
+            return;
+        }
         if !self.coupled {
             for k in 0..nb {
                 self.solve_pivot::<N>(k, &mut b[k * n..(k + 1) * n]);
@@ -518,61 +565,79 @@ impl Semiseparable {
         // forward sweep and pivot solves
         let mut sigma = 0.0;
         for k in 0..nb {
-            let wk = &self.w[k * n..(k + 1) * n];
             let zk = &mut b[k * n..(k + 1) * n];
-            for i in 0..n {
-                zk[i] += wk[i] * sigma;
+            let mut qz = -0.0;
+            for (i, zi) in zk.iter_mut().enumerate() {
+                *zi += self.w.at(k, i) * sigma;
             }
-            let qk = &self.q[k * n..(k + 1) * n];
-            sigma += dot(qk, zk);
+            for (i, zi) in zk.iter().enumerate() {
+                qz += self.q.at(k, i) * zi;
+            }
+            sigma += qz;
             self.solve_pivot::<N>(k, zk);
         }
         // backward sweep
         let mut rho = 0.0;
         for m in (0..nb).rev() {
-            let qm = &self.q[m * n..(m + 1) * n];
             let xm = &mut b[m * n..(m + 1) * n];
-            for i in 0..n {
-                xm[i] += qm[i] * rho;
+            let mut wx = -0.0;
+            for (i, xi) in xm.iter_mut().enumerate() {
+                *xi += self.q.at(m, i) * rho;
+                wx += self.w.at(m, i) * *xi;
             }
-            rho += dot(&self.w[m * n..(m + 1) * n], xm);
+            rho += wx;
         }
     }
-}
 
-impl Semiseparable {
-    /// [`Semiseparable::solve`] of a coupled Cholesky factorisation: the
-    /// sweeps of the module docs with `P_k^-1 = B'_k^-1 + c_k b_k b_k^T`, so
-    /// that each block's solve is independent of the running sums.
-    fn solve_cholesky<const N: usize>(&self, x: &mut [f64]) {
+    /// [`Semiseparable::solve`] of a coupled Cholesky factorisation, block
+    /// by block: the sweeps of the module docs with `P_k^-1 = B'_k^-1 + c_k
+    /// b_k b_k^T`, so that each block's solve is independent of the running
+    /// sums.
+    fn solve_cholesky<const N: usize>(&mut self, x: &mut [f64]) {
         let n = if N > 0 { N } else { self.n };
-        let nn = n * n;
+        if self.blocks == 0 {
+            return; // (no workspace either)
+        }
+        let (fk, rest) = self.scratch.split_at_mut(n * n);
+        let (qk, rest) = rest.split_at_mut(n);
+        let bk = &mut rest[..n];
         // forward: z_k = b_k + sigma_k w_k, y_k = P_k^-1 z_k,
         // sigma_{k+1} = sigma_k + q_k^T z_k = sigma_k (1 + omega_k) + q_k^T b_k
         let mut sigma = 0.0;
         for k in 0..self.blocks {
             let xk = &mut x[k * n..(k + 1) * n];
-            let (qk, bk) = (&self.q[k * n..(k + 1) * n], &self.bw[k * n..(k + 1) * n]);
-            let [beta, c, omega] = self.sm[k];
+            self.f.gather(k, fk);
+            self.q.gather(k, qk);
+            self.bw.gather(k, bk);
+            let (beta, c, omega) = (self.sm.at(k, 0), self.sm.at(k, 1), self.sm.at(k, 2));
             let (s1, s2) = (dot(bk, xk), dot(qk, xk));
-            cholesky_solve::<N>(n, &self.f[k * nn..(k + 1) * nn], xk);
+            cholesky_solve::<N>(n, fk, xk);
             let t = sigma + c * (s1 + sigma * beta);
-            for (xi, bi) in xk.iter_mut().zip(bk) {
+            for (xi, bi) in xk.iter_mut().zip(bk.iter()) {
                 *xi += t * bi;
             }
             sigma = sigma * (1.0 + omega) + s2;
         }
-        // backward: x_m = y_m + rho_m q_m,
-        // rho_{m-1} = rho_m + w_m^T x_m = rho_m (1 + omega_m) + w_m^T y_m
+        self.backward_sweep(x);
+    }
+
+    /// The coupled Cholesky solve's backward sweep: `x_m = y_m + rho_m
+    /// q_m`, `rho_{m-1} = rho_m + w_m^T x_m = rho_m (1 + omega_m) + w_m^T
+    /// y_m`.
+    fn backward_sweep(&self, x: &mut [f64]) {
+        let n = self.n;
         let mut rho = 0.0;
         for m in (0..self.blocks).rev() {
             let xm = &mut x[m * n..(m + 1) * n];
-            let (qm, wm) = (&self.q[m * n..(m + 1) * n], &self.w[m * n..(m + 1) * n]);
-            let wy = dot(wm, xm);
-            for (xi, qi) in xm.iter_mut().zip(qm) {
-                *xi += rho * qi;
+            // summed in the order of `linear::dot`
+            let mut wy = -0.0;
+            for (i, xi) in xm.iter().enumerate() {
+                wy += self.w.at(m, i) * xi;
             }
-            rho = rho * (1.0 + self.sm[m][2]) + wy;
+            for (i, xi) in xm.iter_mut().enumerate() {
+                *xi += rho * self.q.at(m, i);
+            }
+            rho = rho * (1.0 + self.sm.at(m, 2)) + wy;
         }
     }
 }

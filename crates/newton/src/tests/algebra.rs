@@ -122,12 +122,8 @@ impl Hessian for SemiRosenbrock {
         for k in 0..self.inner.n / 2 {
             let (u, v) = (x[2 * k], x[2 * k + 1]);
             let off = -400.0 * u;
-            self.h.block_mut(k).copy_from_slice(&[
-                1200.0 * u * u - 400.0 * v + 2.0,
-                off,
-                off,
-                200.0,
-            ]);
+            self.h
+                .set_block(k, &[1200.0 * u * u - 400.0 * v + 2.0, off, off, 200.0]);
         }
         self.h.clear_coupling();
         self.inner.gradient(x, g)

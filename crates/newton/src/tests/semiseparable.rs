@@ -280,9 +280,17 @@ fn newton_nonfinite_structured_hessian_is_reported() {
         fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
             let f = self.p.hessian(x, g);
             if self.coupling {
-                self.p.h.coupling_mut(0).1[0] = f64::NAN;
+                let n = self.p.h.block_size();
+                let (mut u, mut w) = (vec![0.0; n], vec![0.0; n]);
+                self.p.h.coupling(0, &mut u, &mut w);
+                w[0] = f64::NAN;
+                self.p.h.set_coupling(0, &u, &w);
             } else {
-                self.p.h.block_mut(2)[4] = f64::INFINITY;
+                let n = self.p.h.block_size();
+                let mut b = vec![0.0; n * n];
+                self.p.h.block(2, &mut b);
+                b[4] = f64::INFINITY;
+                self.p.h.set_block(2, &b);
             }
             f
         }
@@ -421,7 +429,7 @@ fn modified_pivots_of_one_block_flip_the_negative_eigenvalue() {
     let (l1, l2) = (mid + r, mid - r);
     assert!(l2 < 0.0);
     let mut hs = Semiseparable::new(2, 1);
-    hs.block_mut(0).copy_from_slice(&[a, b, b, c]);
+    hs.set_block(0, &[a, b, b, c]);
     hs.clear_coupling();
     hs.factor(0.0, PivotKind::Modified).unwrap();
     let mm = matrix_of_solves(&mut hs);

@@ -128,18 +128,20 @@ impl ChainModel {
         let n = self.n;
         for k in 0..self.blocks {
             let arm = &self.arm[k * n..(k + 1) * n];
-            let blk = h.block_mut(k);
+            // (on the stack: the allocation tests run this)
+            let (mut blk, mut w) = ([0.0; 64], [0.0; 8]);
+            assert!(n <= 8, "blocks of at most 8 here");
             for j in 0..n {
                 for i in 0..n {
                     blk[i + j * n] = self.a[k * n * n + i + j * n] + self.d2[k] * arm[i] * arm[j];
                 }
                 blk[j * (n + 1)] += 3.0 * self.c[k * n + j] * x[k * n + j].powi(2);
             }
-            let (u, w) = h.coupling_mut(k);
+            h.set_block(k, &blk[..n * n]);
             for i in 0..n {
-                u[i] = arm[i];
                 w[i] = -self.d2[k] * arm[i];
             }
+            h.set_coupling(k, arm, &w[..n]);
         }
     }
 

@@ -70,7 +70,7 @@ fn restricted_inertia_matches_the_reduced_hessian() {
         let dim = bn * nb;
         let mut s = Semiseparable::new(bn, nb);
         for k in 0..nb {
-            let blk = s.block_mut(k);
+            let mut blk = vec![0.0; bn * bn];
             for j in 0..bn {
                 for i in j..bn {
                     let v = 2.0 * rng.f64() - 1.0;
@@ -78,11 +78,13 @@ fn restricted_inertia_matches_the_reduced_hessian() {
                     blk[j + bn * i] = v;
                 }
             }
-            let (u, w) = s.coupling_mut(k);
+            s.set_block(k, &blk);
+            let (mut u, mut w) = (vec![0.0; bn], vec![0.0; bn]);
             for i in 0..bn {
                 u[i] = 2.0 * rng.f64() - 1.0;
                 w[i] = 0.5 * (2.0 * rng.f64() - 1.0);
             }
+            s.set_coupling(k, &u, &w);
         }
         let mut a = vec![0.0; dim * dim];
         s.dense(&mut a);
