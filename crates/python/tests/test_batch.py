@@ -152,13 +152,20 @@ def test_the_gil_is_released_while_solving():
     t.start()
     try:
         time.sleep(0.01)
-        start = time.perf_counter()
-        fpc.batch_solve(eps0=0.25, fx=np.linspace(0, 0.5, 4000), fz=0.2, threads=1)
-        end = time.perf_counter()
+        # a batch long enough to tell on a fast machine: double it until
+        # one call lasts 50 ms (the solves got faster than any fixed size)
+        points = 4000
+        while True:
+            start = time.perf_counter()
+            fpc.batch_solve(eps0=0.25, fx=np.linspace(0, 0.5, points), fz=0.2, threads=1)
+            end = time.perf_counter()
+            if end - start > 0.05 or points >= 256000:
+                break
+            points *= 2
     finally:
         stop.set()
         t.join()
-    assert end - start > 0.02, "the batch is long enough to tell"
+    assert end - start > 0.02, f"the batch of {points} points is long enough to tell"
     # a thread holding the GIL for the whole call would let no tick in
     inside = [s for s in stamps if start + 0.005 < s < end - 0.005]
     assert inside, f"no tick during {end - start:.3f} s of solving"
