@@ -65,16 +65,18 @@ impl Store {
     /// Block `k`'s entries into `out[..per]`.
     #[inline]
     pub(super) fn gather(&self, k: usize, out: &mut [f64]) {
-        for (e, o) in out[..self.per].iter_mut().enumerate() {
-            *o = self.at(k, e);
+        let l = k % LANES;
+        for (o, lane) in out[..self.per].iter_mut().zip(self.group(k / LANES)) {
+            *o = lane[l];
         }
     }
 
     /// `src[..per]` into block `k`'s entries.
     #[inline]
     pub(super) fn scatter(&mut self, k: usize, src: &[f64]) {
-        for (e, &v) in src[..self.per].iter().enumerate() {
-            *self.at_mut(k, e) = v;
+        let (l, per) = (k % LANES, self.per);
+        for (lane, &v) in self.group_mut(k / LANES).iter_mut().zip(&src[..per]) {
+            lane[l] = v;
         }
     }
 
