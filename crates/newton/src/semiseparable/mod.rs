@@ -178,6 +178,7 @@ impl Semiseparable {
 
     /// Sets block `k`'s `B_k` from `b` (column-major `n x n`, full);
     /// invalidates the factorisation.
+    #[inline]
     pub fn set_block(&mut self, k: usize, b: &[f64]) {
         assert!(k < self.blocks, "block {k} of {}", self.blocks);
         self.factored = false;
@@ -192,6 +193,7 @@ impl Semiseparable {
 
     /// Sets block `k`'s coupling vectors `(u_k, w_k)`; invalidates the
     /// factorisation.
+    #[inline]
     pub fn set_coupling(&mut self, k: usize, u: &[f64], w: &[f64]) {
         assert!(k < self.blocks, "block {k} of {}", self.blocks);
         self.factored = false;
