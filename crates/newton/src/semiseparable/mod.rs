@@ -152,7 +152,8 @@ impl Semiseparable {
             scratch: vec![0.0; scratch],
             lane_work: vec![
                 [0.0; lanes::LANES];
-                if n == 4 {
+                // (only where the solve runs in lanes: `in_lanes`)
+                if n == 4 && blocks > 1 {
                     6 * blocks.div_ceil(lanes::LANES)
                 } else {
                     0
@@ -346,6 +347,15 @@ impl Semiseparable {
         })
     }
 
+    /// Whether a Cholesky factorisation runs eight blocks at a time
+    /// (`lanes`): for blocks of size 4, and more than one of them. A single
+    /// block (the decoupled element solves) goes block by block, where the
+    /// lane pass would carry seven padding lanes and cost about twice as
+    /// much (docs/performance.md, "Lane-major storage of the blocks").
+    fn in_lanes(&self) -> bool {
+        self.n == 4 && self.blocks > 1
+    }
+
     /// [`Semiseparable::factor`] for blocks of size `N` (0: `self.n`).
     fn factor_sized<const N: usize>(
         &mut self,
@@ -355,7 +365,7 @@ impl Semiseparable {
         self.factored = false;
         self.kind = kind;
         if kind == PivotKind::Cholesky {
-            if self.n == 4 {
+            if self.in_lanes() {
                 self.factor_cholesky4(tau)?;
             } else {
                 self.factor_cholesky::<N>(tau)?;
@@ -550,7 +560,7 @@ impl Semiseparable {
     fn solve_sized<const N: usize>(&mut self, b: &mut [f64]) {
         let n = if N > 0 { N } else { self.n };
         let nb = self.blocks;
-        if self.kind == PivotKind::Cholesky && n == 4 {
+        if self.kind == PivotKind::Cholesky && self.in_lanes() {
             self.solve_cholesky4(b);
             return;
         }
