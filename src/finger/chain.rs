@@ -118,9 +118,6 @@ pub(crate) struct ChainParts<M: ElementModel> {
     ev: Vec<f64>,
     eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
-    /// One scaled block, full (`LEN x LEN`, column-major), on its way
-    /// into `matrix`.
-    full: Vec<f64>,
     /// The scaled Hessian of the last evaluation, and its factorisation.
     matrix: Semiseparable,
     memo: StartMemo<M>,
@@ -141,7 +138,6 @@ impl<M: ElementModel> ChainParts<M> {
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
-            full: vec![0.0; if n > 0 { M::Coeffs::LEN.pow(2) } else { 0 }],
             matrix: Semiseparable::new(M::Coeffs::LEN, n),
             memo: StartMemo::empty(),
         }
@@ -441,21 +437,22 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         for j in 0..ne {
             let s = self.finger.unscale[j];
             let blk = &self.b.blk[j];
-            let full = &mut self.b.full;
-            for b in 0..n {
-                for a in 0..n {
-                    full[a + n * b] = blk[upper_index(n, a, b)] * (s[a] * s[b]);
-                }
-            }
             let gj = &mut g[n * j..n * j + n];
             for a in 0..n {
                 gj[a] *= s[a];
             }
             let yj = &y[n * j..n * j + n];
-            if self.straight {
-                straighten::block::<M>(yj, gj, full);
-            }
-            self.b.matrix.set_block(j, full);
+            let straight = self.straight;
+            self.b.matrix.fill_block(j, |full| {
+                for b in 0..n {
+                    for a in 0..n {
+                        full[a + n * b] = blk[upper_index(n, a, b)] * (s[a] * s[b]);
+                    }
+                }
+                if straight {
+                    straighten::block::<M>(yj, gj, full);
+                }
+            });
             if loaded {
                 let (mut u, mut w) = (self.b.u[j], self.b.w[j]);
                 if self.straight {

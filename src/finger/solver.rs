@@ -339,7 +339,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
                 continue;
             }
             let local = local_workspace::<M>(&mut self.local, &self.newton);
-            let mut p = Single::<M>::new(f, i, load.scalars(), &mut local.matrix, &mut local.full);
+            let mut p = Single::<M>::new(f, i, load.scalars(), &mut local.matrix);
             let warm = guess.is_none() && i > 0;
             if warm {
                 // neighbouring elements strain and curve alike: start from
@@ -547,8 +547,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             let mut g = vec![0.0; n];
             let local = local_workspace::<M>(&mut self.local, &self.newton);
             for i in 0..f.len() {
-                let mut p =
-                    Single::<M>::new(f, i, load.scalars(), &mut local.matrix, &mut local.full);
+                let mut p = Single::<M>::new(f, i, load.scalars(), &mut local.matrix);
                 p.hessian(&self.y[n * i..n * i + n], &mut g);
                 // equal elements have equal Hessians
                 let count = f.distinct.iter().filter(|&&d| d == f.distinct[i]).count();
@@ -627,8 +626,6 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
 struct Local {
     newton: Newton,
     matrix: Semiseparable,
-    /// The element's scaled Hessian, full, on its way into `matrix`.
-    full: Vec<f64>,
 }
 
 /// The decoupled solves' workspace in `slot`, made on first use, with the
@@ -640,7 +637,6 @@ fn local_workspace<'s, M: ElementModel>(
     let local = slot.get_or_insert_with(|| Local {
         newton: Newton::new(M::Coeffs::LEN, NewtonOptions::default()),
         matrix: Semiseparable::new(M::Coeffs::LEN, 1),
-        full: vec![0.0; M::Coeffs::LEN.pow(2)],
     });
     // the options were validated for the coupled solver: this cannot fail
     let _ = local
@@ -785,8 +781,6 @@ struct Single<'a, M: ElementModel> {
     element: usize,
     scalars: EnergyScalars,
     matrix: &'a mut Semiseparable,
-    /// The Hessian block on its way into `matrix`.
-    full: &'a mut [f64],
     /// In Newton's own unknowns, as [`Chain::straight`].
     straight: bool,
 }
@@ -797,14 +791,12 @@ impl<'a, M: ElementModel> Single<'a, M> {
         element: usize,
         scalars: EnergyScalars,
         matrix: &'a mut Semiseparable,
-        full: &'a mut [f64],
     ) -> Single<'a, M> {
         Single {
             finger,
             element,
             scalars,
             matrix,
-            full,
             straight: false,
         }
     }
@@ -848,18 +840,21 @@ impl<M: ElementModel> Hessian for Single<'_, M> {
         let (v, gk, hk) = self.finger.elements[self.element].hessian(&self.raw(y), &self.scalars);
         let s = self.finger.unscale[self.element];
         let n = M::Coeffs::LEN;
-        let h = &mut *self.full;
-        for i in 0..n {
-            g[i] = gk[i] * s[i];
-            for j in 0..n {
-                h[i + n * j] = hk[upper_index(n, i, j)] * (s[i] * s[j]);
+        let straight = self.straight;
+        self.matrix.fill_block(0, |h| {
+            for i in 0..n {
+                g[i] = gk[i] * s[i];
+                for j in 0..n {
+                    h[i + n * j] = hk[upper_index(n, i, j)] * (s[i] * s[j]);
+                }
             }
-        }
-        if self.straight {
-            straighten::block::<M>(y, g, h);
+            if straight {
+                straighten::block::<M>(y, g, h);
+            }
+        });
+        if straight {
             straighten::pull_back::<M>(y, g);
         }
-        self.matrix.set_block(0, h);
         v
     }
 }

@@ -223,6 +223,14 @@ fn solve4(a: &[[Lane; 4]; 4], b: [Lane; 4]) -> [Lane; 4] {
     [x0, x1, x2, x3]
 }
 
+/// `x_i += s v_i` for a group's four-entry vectors, lane by lane.
+#[inline(always)]
+fn add_scaled(x: &mut [Lane], s: Lane, v: &[Lane]) {
+    for (xi, &vi) in x[..4].iter_mut().zip(&v[..4]) {
+        *xi = add(*xi, mul(s, vi));
+    }
+}
+
 /// Every lane's dot product, summed in the order of `linear::dot`.
 #[inline(always)]
 fn dot4(x: &[Lane; 4], y: &[Lane; 4]) -> Lane {
@@ -423,12 +431,8 @@ impl Semiseparable {
             }
             // x_k += t_k b_k; w_k^T x_k (in place of q_k^T x_k)
             for g in 0..groups {
-                let bw = vector_of(self.bw.group(g));
-                let t = sums[g * 2];
                 let xg = &mut xs[g * 4..g * 4 + 4];
-                for i in 0..4 {
-                    xg[i] = add(xg[i], mul(t, bw[i]));
-                }
+                add_scaled(xg, sums[g * 2], self.bw.group(g));
                 sums[g * 2 + 1] = dot4(&vector_of(self.w.group(g)), &vector_of(xg));
             }
             // backward: x_m += rho_m q_m,
@@ -443,12 +447,7 @@ impl Semiseparable {
                 }
             }
             for g in 0..groups {
-                let q = vector_of(self.q.group(g));
-                let r = sums[g * 2];
-                let xg = &mut xs[g * 4..g * 4 + 4];
-                for i in 0..4 {
-                    xg[i] = add(xg[i], mul(r, q[i]));
-                }
+                add_scaled(&mut xs[g * 4..g * 4 + 4], sums[g * 2], self.q.group(g));
             }
         }
         for g in 0..groups {

@@ -127,12 +127,15 @@ impl Semiseparable {
     pub fn new(n: usize, blocks: usize) -> Semiseparable {
         let nn = n * n;
         let scratch = if blocks > 0 { 2 * nn + 10 * n } else { 0 };
+        let in_lanes = Self::runs_in_lanes(n, blocks);
         let mut b = Store::new(nn, blocks);
         // the lanes past the last block hold the identity, which the lane
         // factorisation passes through harmlessly
-        for k in blocks..blocks.next_multiple_of(lanes::LANES) {
-            for i in 0..n {
-                *b.at_mut(k, i * (n + 1)) = 1.0;
+        if in_lanes {
+            for k in blocks..blocks.next_multiple_of(lanes::LANES) {
+                for i in 0..n {
+                    *b.at_mut(k, i * (n + 1)) = 1.0;
+                }
             }
         }
         Semiseparable {
@@ -152,8 +155,7 @@ impl Semiseparable {
             scratch: vec![0.0; scratch],
             lane_work: vec![
                 [0.0; lanes::LANES];
-                // (only where the solve runs in lanes: `in_lanes`)
-                if n == 4 && blocks > 1 {
+                if in_lanes {
                     6 * blocks.div_ceil(lanes::LANES)
                 } else {
                     0
@@ -184,6 +186,19 @@ impl Semiseparable {
         assert!(k < self.blocks, "block {k} of {}", self.blocks);
         self.factored = false;
         self.b.scatter(k, b);
+    }
+
+    /// Sets block `k`'s `B_k` to what `fill` writes into a workspace of
+    /// `n x n` entries (column-major, full; every entry is to be written,
+    /// the workspace holds leftovers), so that a caller assembling a
+    /// block needs no buffer of its own; invalidates the factorisation.
+    #[inline]
+    pub fn fill_block(&mut self, k: usize, fill: impl FnOnce(&mut [f64])) {
+        assert!(k < self.blocks, "block {k} of {}", self.blocks);
+        self.factored = false;
+        let block = &mut self.scratch[..self.n * self.n];
+        fill(block);
+        self.b.scatter(k, block);
     }
 
     /// Block `k`'s `B_k` into `out` (column-major `n x n`).
@@ -353,7 +368,13 @@ impl Semiseparable {
     /// lane pass would carry seven padding lanes and cost about twice as
     /// much (docs/performance.md, "Lane-major storage of the blocks").
     fn in_lanes(&self) -> bool {
-        self.n == 4 && self.blocks > 1
+        Self::runs_in_lanes(self.n, self.blocks)
+    }
+
+    /// [`Semiseparable::in_lanes`] of a matrix of `blocks` blocks of size
+    /// `n`.
+    fn runs_in_lanes(n: usize, blocks: usize) -> bool {
+        n == 4 && blocks > 1
     }
 
     /// [`Semiseparable::factor`] for blocks of size `N` (0: `self.n`).

@@ -393,3 +393,35 @@ fn lanes_match_the_block_by_block_factorisation() {
     }
     assert!((20..200).contains(&failures), "{failures} failures");
 }
+
+#[test]
+fn filling_a_block_sets_exactly_what_was_written() {
+    // the workspace holds leftovers of a factorisation; `fill_block` hands
+    // it over and stores what the caller wrote, and nothing else changes
+    for (n, nb) in [(4, 1), (4, 3), (4, 9), (3, 2), (5, 1)] {
+        let (mut m, _) = random(n, nb, 11, 2.0);
+        let _ = m.factor(0.0, PivotKind::Symmetric);
+        let before: Vec<Vec<f64>> = (0..nb)
+            .map(|k| {
+                let mut b = vec![0.0; n * n];
+                m.block(k, &mut b);
+                b
+            })
+            .collect();
+        let k = nb / 2;
+        let want: Vec<f64> = (0..n * n).map(|i| i as f64 * 0.25 - 1.0).collect();
+        m.fill_block(k, |b| {
+            assert_eq!(b.len(), n * n);
+            b.copy_from_slice(&want);
+        });
+        for (j, old) in before.iter().enumerate() {
+            let mut got = vec![0.0; n * n];
+            m.block(j, &mut got);
+            assert_eq!(
+                &got,
+                if j == k { &want } else { old },
+                "n = {n}, block {j} of {nb}"
+            );
+        }
+    }
+}
