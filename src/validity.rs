@@ -147,12 +147,12 @@ pub(crate) fn check<M: Kinematics>(
             }
             if dx > 0.0 {
                 let r = dz / dx;
-                rlo = rlo.min(r);
-                rhi = rhi.max(r);
+                rlo = lesser(rlo, r);
+                rhi = greater(rhi, r);
             } else {
                 turn_known = false;
             }
-            most_stretch = most_stretch.max(dx * dx + dz * dz);
+            most_stretch = greater(most_stretch, dx * dx + dz * dz);
             let m = M::strain(&ki, x, 0.0);
             if m.abs() > mid.0 {
                 mid = (m.abs(), m);
@@ -208,6 +208,29 @@ pub(crate) fn check<M: Kinematics>(
         out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
+}
+
+/// `b` where it is below `a`, else `a`: `f64::min` for an `a` that is not
+/// NaN (a NaN `b` is dropped), in one instruction where `min` spends
+/// several guarding against a NaN `a`.
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `b` where it is above `a`, else `a` (`f64::max` for an `a` that is not
+/// NaN; see [`lesser`]).
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
 }
 
 /// Whether the range of the tangent's angle, `theta + atan(r)` for each

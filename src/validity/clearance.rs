@@ -26,6 +26,7 @@
 //! Where one pair fails nothing is concluded and the search runs as
 //! before: its findings are the same either way.
 
+use super::{greater, lesser};
 use crate::element::{self, Element};
 use crate::model::Kinematics;
 
@@ -71,22 +72,33 @@ impl Bounds {
         hi: [f64::NEG_INFINITY; 2],
     };
 
-    /// The smallest box holding both.
+    /// The smallest box holding both (a NaN corner of `other` is dropped,
+    /// as `f64::min` and `max` drop it; `self`'s are never NaN).
+    #[inline]
     fn union(self, other: Bounds) -> Bounds {
         Bounds {
-            lo: [self.lo[0].min(other.lo[0]), self.lo[1].min(other.lo[1])],
-            hi: [self.hi[0].max(other.hi[0]), self.hi[1].max(other.hi[1])],
+            lo: [
+                lesser(self.lo[0], other.lo[0]),
+                lesser(self.lo[1], other.lo[1]),
+            ],
+            hi: [
+                greater(self.hi[0], other.hi[0]),
+                greater(self.hi[1], other.hi[1]),
+            ],
         }
     }
 
-    /// The squared distance between the two boxes (0 where they overlap).
+    /// The squared distance between the two boxes (0 where they overlap;
+    /// the boxes are finite).
+    #[inline]
     fn gap2(&self, other: &Bounds) -> f64 {
-        let gx = (other.lo[0] - self.hi[0])
-            .max(self.lo[0] - other.hi[0])
-            .max(0.0);
-        let gz = (other.lo[1] - self.hi[1])
-            .max(self.lo[1] - other.hi[1])
-            .max(0.0);
+        let gap = |d: usize| {
+            greater(
+                greater(other.lo[d] - self.hi[d], self.lo[d] - other.hi[d]),
+                0.0,
+            )
+        };
+        let (gx, gz) = (gap(0), gap(1));
         gx * gx + gz * gz
     }
 }
@@ -191,15 +203,16 @@ pub(super) fn pieces<M: Kinematics>(
     first: &[usize],
 ) -> Option<(Vec<Piece>, f64)> {
     let d = M::MIDPLANE_DEGREE;
+    let subpieces: usize = first.iter().map(|&m| piece_count(m)).sum();
     if d == 0
         || d > MAX_DEGREE
         || first.len() != elements.len()
         || frames.len() != elements.len()
-        || first.iter().map(|&m| piece_count(m)).sum::<usize>() > MAX_SUBPIECES
+        || subpieces > MAX_SUBPIECES
     {
         return None;
     }
-    let mut out: Vec<Piece> = Vec::new();
+    let mut out: Vec<Piece> = Vec::with_capacity(subpieces);
     let mut chord = 0.0f64;
     let mut poly = [[0.0; 2]; MAX_DEGREE + 1];
     for (i, (e, &(origin, [c, s]))) in elements.iter().zip(frames).enumerate() {
@@ -209,12 +222,14 @@ pub(super) fn pieces<M: Kinematics>(
         // the element times its step in x (the search's steps are at most
         // l / first[i])
         let whole = bernstein(&poly[..=d], 0.0, l);
+        // (the root of the largest square: the largest root, bit for bit)
         let speed = (0..d)
             .map(|j| {
                 let v = sub(whole[j + 1], whole[j]);
-                (v[0] * v[0] + v[1] * v[1]).sqrt()
+                v[0] * v[0] + v[1] * v[1]
             })
-            .fold(0.0f64, f64::max)
+            .fold(0.0f64, greater)
+            .sqrt()
             * d as f64
             / l;
         chord = chord.max(speed * l / first[i].max(1) as f64);
@@ -222,7 +237,12 @@ pub(super) fn pieces<M: Kinematics>(
         let m = piece_count(first[i]);
         for j in 0..m {
             let (x0, x1) = (l * j as f64 / m as f64, l * (j + 1) as f64 / m as f64);
-            let b = bernstein(&poly[..=d], x0, x1);
+            // (one piece: the element's own points, x0 = 0 and x1 = l exactly)
+            let b = if m == 1 {
+                whole
+            } else {
+                bernstein(&poly[..=d], x0, x1)
+            };
             let bounds = b[..=d].iter().fold(Bounds::EMPTY, |bounds, q| {
                 let g = to_finger(*q);
                 let at = [origin[0] + g[0], origin[1] + g[1]];
@@ -296,7 +316,7 @@ fn bernstein(a: &[[f64; 2]], x0: f64, x1: f64) -> [[f64; 2]; MAX_DEGREE + 1] {
     let mut b = [[0.0; 2]; MAX_DEGREE + 1];
     for (kk, bk) in b.iter_mut().enumerate().take(d + 1) {
         for (m, cm) in c.iter().enumerate().take(kk + 1) {
-            let f = BINOMIAL[kk][m] / BINOMIAL[d][m];
+            let f = TO_BERNSTEIN[d][kk][m];
             bk[0] += cm[0] * f;
             bk[1] += cm[1] * f;
         }
@@ -322,6 +342,26 @@ const BINOMIAL: [[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1] = {
             k += 1;
         }
         n += 1;
+    }
+    t
+};
+
+/// `TO_BERNSTEIN[d][k][m] = C(k, m) / C(d, m)` for `m <= k <= d <=
+/// MAX_DEGREE` (the same division [`bernstein`] would make, made once).
+const TO_BERNSTEIN: [[[f64; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1] = {
+    let mut t = [[[0.0; MAX_DEGREE + 1]; MAX_DEGREE + 1]; MAX_DEGREE + 1];
+    let mut d = 0;
+    while d <= MAX_DEGREE {
+        let mut k = 0;
+        while k <= d {
+            let mut m = 0;
+            while m <= k {
+                t[d][k][m] = BINOMIAL[k][m] / BINOMIAL[d][m];
+                m += 1;
+            }
+            k += 1;
+        }
+        d += 1;
     }
     t
 };
