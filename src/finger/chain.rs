@@ -111,8 +111,6 @@ pub(crate) struct ChainParts<M: ElementModel> {
     /// (cos, sin) of each element frame's angle theta_i.
     rot: Vec<[f64; 2]>,
     q: Vec<[f64; 2]>,
-    u: Vec<M::Coeffs>,
-    w: Vec<M::Coeffs>,
     blk: Vec<M::Upper>,
     /// The element pass's potentials, with gradients, with Hessians.
     ev: Vec<f64>,
@@ -132,8 +130,6 @@ impl<M: ElementModel> ChainParts<M> {
             end_h: vec![[M::Upper::zero(); 3]; n],
             rot: vec![[1.0, 0.0]; n],
             q: vec![[0.0; 2]; n],
-            u: vec![M::Coeffs::zero(); n],
-            w: vec![M::Coeffs::zero(); n],
             blk: vec![M::Upper::zero(); n],
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
@@ -402,7 +398,16 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             self.chain_geometry();
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
-            for j in 0..ne {
+        } else {
+            self.b.matrix.clear_coupling();
+        }
+        // each element's block and coupling vectors: the load's terms,
+        // then scaled and straightened where the unknowns are (element by
+        // element, so the order across elements does not matter)
+        for j in 0..ne {
+            let (mut u, mut w) = (M::Coeffs::zero(), M::Coeffs::zero());
+            if loaded {
+                let [fx, fz] = self.f;
                 let [cs, sn] = self.b.rot[j];
                 let fr = [cs * fx + sn * fz, -sn * fx + cs * fz];
                 let qj = self.b.q[j];
@@ -423,18 +428,10 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, J^T Fr = (Fr_z, -Fr_x)
                 let sj = self.finger.unscale[j];
                 for a in 0..n {
-                    self.b.u[j][a] = eg[2][a] * sj[a];
-                    self.b.w[j][a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
+                    u[a] = eg[2][a] * sj[a];
+                    w[a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
                 }
             }
-        }
-        // pass 2: the scaled blocks and coupling vectors, each element's
-        // straightened where the unknowns are (block by block, so the
-        // order across elements does not matter)
-        if !loaded {
-            self.b.matrix.clear_coupling();
-        }
-        for j in 0..ne {
             let s = self.finger.unscale[j];
             let blk = &self.b.blk[j];
             let gj = &mut g[n * j..n * j + n];
@@ -454,7 +451,6 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 }
             });
             if loaded {
-                let (mut u, mut w) = (self.b.u[j], self.b.w[j]);
                 if self.straight {
                     straighten::pull_back::<M>(yj, u.as_mut());
                     straighten::pull_back::<M>(yj, w.as_mut());
