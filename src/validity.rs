@@ -16,6 +16,8 @@ use crate::model::Kinematics;
 
 mod clearance;
 
+use clearance::{greater, lesser};
+
 /// What the checks read of a finger besides its elements: the laminate's
 /// cross-section.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -208,29 +210,6 @@ pub(crate) fn check<M: Kinematics>(
         out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
-}
-
-/// `b` where it is below `a`, else `a`: `f64::min` for an `a` that is not
-/// NaN (a NaN `b` is dropped), in one instruction where `min` spends
-/// several guarding against a NaN `a`.
-#[inline(always)]
-fn lesser(a: f64, b: f64) -> f64 {
-    if b < a {
-        b
-    } else {
-        a
-    }
-}
-
-/// `b` where it is above `a`, else `a` (`f64::max` for an `a` that is not
-/// NaN; see [`lesser`]).
-#[inline(always)]
-fn greater(a: f64, b: f64) -> f64 {
-    if b > a {
-        b
-    } else {
-        a
-    }
 }
 
 /// Whether the range of the tangent's angle, `theta + atan(r)` for each

@@ -26,7 +26,6 @@
 //! Where one pair fails nothing is concluded and the search runs as
 //! before: its findings are the same either way.
 
-use super::{greater, lesser};
 use crate::element::{self, Element};
 use crate::model::Kinematics;
 
@@ -322,6 +321,29 @@ fn bernstein(a: &[[f64; 2]], x0: f64, x1: f64) -> [[f64; 2]; MAX_DEGREE + 1] {
         }
     }
     b
+}
+
+/// `b` where it is below `a`, else `a`: `f64::min` for an `a` that is not
+/// NaN (a NaN `b` is dropped), in one instruction where `min` spends
+/// several guarding against a NaN `a`.
+#[inline(always)]
+pub(super) fn lesser(a: f64, b: f64) -> f64 {
+    if b < a {
+        b
+    } else {
+        a
+    }
+}
+
+/// `b` where it is above `a`, else `a` (`f64::max` for an `a` that is not
+/// NaN; see [`lesser`]).
+#[inline(always)]
+pub(super) fn greater(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
 }
 
 /// `a > b`, false where either is NaN: every test of the proof fails on a
