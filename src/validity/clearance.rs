@@ -442,6 +442,41 @@ mod tests {
     use super::*;
 
     #[test]
+    fn lesser_and_greater_are_min_and_max_for_an_accumulator() {
+        // every pair of these, the accumulator `a` never NaN; ties of
+        // zeros of both signs are left out (min and max may return either)
+        let values = [
+            -f64::INFINITY,
+            -3.5,
+            -1e-300,
+            0.0,
+            2.0,
+            7.25e10,
+            f64::INFINITY,
+        ];
+        for &a in &values {
+            for b in values.into_iter().chain([f64::NAN]) {
+                assert_eq!(lesser(a, b).to_bits(), a.min(b).to_bits(), "{a} {b}");
+                assert_eq!(greater(a, b).to_bits(), a.max(b).to_bits(), "{a} {b}");
+            }
+        }
+        // the only difference: a NaN accumulator stays NaN
+        assert!(lesser(f64::NAN, 1.0).is_nan() && f64::NAN.min(1.0) == 1.0);
+    }
+
+    #[test]
+    fn the_bernstein_table_is_the_division_it_replaces() {
+        for d in 0..=MAX_DEGREE {
+            for k in 0..=d {
+                for m in 0..=k {
+                    let divided = BINOMIAL[k][m] / BINOMIAL[d][m];
+                    assert_eq!(TO_BERNSTEIN[d][k][m].to_bits(), divided.to_bits());
+                }
+            }
+        }
+    }
+
+    #[test]
     fn bernstein_points_reproduce_the_polynomial() {
         // de Casteljau at t of the control points equals the polynomial at x
         let a = [[0.3, -1.0], [1.2, 0.5], [-0.7, 0.25], [0.05, -0.02]];
