@@ -404,7 +404,9 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         // each element's block and coupling vectors: the load's terms,
         // then scaled and straightened where the unknowns are (element by
         // element, so the order across elements does not matter)
+        let straight = self.straight;
         for j in 0..ne {
+            let s = self.finger.unscale[j];
             let (mut u, mut w) = (M::Coeffs::zero(), M::Coeffs::zero());
             if loaded {
                 let [fx, fz] = self.f;
@@ -426,38 +428,28 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 }
                 // scaled coupling vectors: u_j = grad eta_j, and
                 // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, J^T Fr = (Fr_z, -Fr_x)
-                let sj = self.finger.unscale[j];
                 for a in 0..n {
-                    u[a] = eg[2][a] * sj[a];
-                    w[a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * sj[a];
+                    u[a] = eg[2][a] * s[a];
+                    w[a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * s[a];
                 }
             }
-            let s = self.finger.unscale[j];
             let blk = &self.b.blk[j];
             let gj = &mut g[n * j..n * j + n];
             for a in 0..n {
                 gj[a] *= s[a];
             }
             let yj = &y[n * j..n * j + n];
-            let straight = self.straight;
             self.b.matrix.fill_block(j, |full| {
-                for b in 0..n {
-                    for a in 0..n {
-                        full[a + n * b] = blk[upper_index(n, a, b)] * (s[a] * s[b]);
-                    }
-                }
-                if straight {
-                    straighten::block::<M>(yj, gj, full);
-                }
+                straighten::newton_block::<M>(blk, &s, yj, gj, straight, full);
             });
             if loaded {
-                if self.straight {
+                if straight {
                     straighten::pull_back::<M>(yj, u.as_mut());
                     straighten::pull_back::<M>(yj, w.as_mut());
                 }
                 self.b.matrix.set_coupling(j, u.as_ref(), w.as_ref());
             }
-            if self.straight {
+            if straight {
                 straighten::pull_back::<M>(yj, gj);
             }
         }

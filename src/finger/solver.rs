@@ -10,7 +10,7 @@ use fpc_newton::{
 use crate::error::{InputError, Warning};
 
 use crate::circle_fit::fit_circle;
-use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
+use crate::model::{ElementModel, EnergyScalars, Vector};
 use crate::solve_error::SolveError;
 
 use std::sync::Mutex;
@@ -841,16 +841,11 @@ impl<M: ElementModel> Hessian for Single<'_, M> {
         let s = self.finger.unscale[self.element];
         let n = M::Coeffs::LEN;
         let straight = self.straight;
+        for i in 0..n {
+            g[i] = gk[i] * s[i];
+        }
         self.matrix.fill_block(0, |h| {
-            for i in 0..n {
-                g[i] = gk[i] * s[i];
-                for j in 0..n {
-                    h[i + n * j] = hk[upper_index(n, i, j)] * (s[i] * s[j]);
-                }
-            }
-            if straight {
-                straighten::block::<M>(y, g, h);
-            }
+            straighten::newton_block::<M>(&hk, &s, y, g, straight, h);
         });
         if straight {
             straighten::pull_back::<M>(y, g);

@@ -11,7 +11,7 @@
 //! Hessian keeps its form. No unknown is both a target and a source (the
 //! spec parser checks), so the statements apply one after another.
 
-use crate::model::{ModelCore, Vector};
+use crate::model::{upper_index, ModelCore, Vector};
 
 /// `x` to Newton's `y`, element by element (`values` holds whole
 /// elements).
@@ -65,6 +65,30 @@ pub(crate) fn block<M: ModelCore>(y: &[f64], g: &[f64], h: &mut [f64]) {
             h[s + n * b] += j * h[t + n * b];
         }
         h[s + n * s] += -2.0 * c * g[t];
+    }
+}
+
+/// One element's block as Newton sees it: `upper` (the Hessian in raw
+/// unknowns, upper triangle) scaled by `s` on both sides into `h` (full,
+/// column-major), then, where the unknowns are `straight`, carried to
+/// Newton's `y` by [`block`] (`g` the element's scaled gradient in `x`).
+#[inline(always)]
+pub(crate) fn newton_block<M: ModelCore>(
+    upper: &M::Upper,
+    s: &M::Coeffs,
+    y: &[f64],
+    g: &[f64],
+    straight: bool,
+    h: &mut [f64],
+) {
+    let n = M::Coeffs::LEN;
+    for b in 0..n {
+        for a in 0..n {
+            h[a + n * b] = upper[upper_index(n, a, b)] * (s[a] * s[b]);
+        }
+    }
+    if straight {
+        block::<M>(y, g, h);
     }
 }
 
