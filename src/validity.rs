@@ -136,37 +136,37 @@ pub(crate) fn check<M: Kinematics>(
     for (i, e) in elements.iter().enumerate() {
         let ki = element::coeffs::<M>(k, i);
         let l = e.length();
+        // one pass without branches on the findings: the extremes of what
+        // the checks compare; an element past a limit is scanned again for
+        // its warning's value (rare)
         let mut steep = false;
-        let mut mid: (f64, f64) = (0.0, 0.0); // (|strain|, strain)
-        let mut pre: Option<(f64, f64)> = None; // (distance outside, s)
         let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY); // dz/dx
         let mut most_stretch = 0.0f64; // the largest |d(X, Z)/dx|, squared
+        let mut most_mid = 0.0f64; // the largest |mid-plane strain|
+        let (mut slo_seen, mut shi_seen) = (f64::INFINITY, f64::NEG_INFINITY); // eps0 + strain
         for j in 0..=samples {
             let x = l * j as f64 / samples as f64;
             let [dx, dz] = M::tangent(&ki, x);
-            if j > 0 {
-                steep |= !(dx > 0.0 && dz.abs() <= limit_tan * dx);
-            }
-            if dx > 0.0 {
-                let r = dz / dx;
-                rlo = lesser(rlo, r);
-                rhi = greater(rhi, r);
-            } else {
-                turn_known = false;
-            }
+            steep |= j > 0 && !(dx > 0.0 && dz.abs() <= limit_tan * dx);
+            let forward = dx > 0.0;
+            turn_known &= forward;
+            let r = dz / dx;
+            rlo = if forward { lesser(rlo, r) } else { rlo };
+            rhi = if forward { greater(rhi, r) } else { rhi };
             most_stretch = greater(most_stretch, dx * dx + dz * dz);
-            let m = M::strain(&ki, x, 0.0);
-            if m.abs() > mid.0 {
-                mid = (m.abs(), m);
-            }
+            most_mid = greater(most_mid, M::strain(&ki, x, 0.0).abs());
             for z in [pz0, pz1] {
                 let s = eps0 + M::strain(&ki, x, z);
-                let by = (slo - s).max(s - shi);
-                if by > 0.0 && pre.is_none_or(|(b, _)| by > b) {
-                    pre = Some((by, s));
-                }
+                slo_seen = lesser(slo_seen, s);
+                shi_seen = greater(shi_seen, s);
             }
         }
+        // (NaN strains are dropped by both the extremes and the scan)
+        let (mid, pre) = if most_mid > MIDPLANE_STRAIN_LIMIT || slo_seen < slo || shi_seen > shi {
+            strain_extremes::<M>(&ki, l, samples, [pz0, pz1], eps0)
+        } else {
+            ((0.0, 0.0), None)
+        };
         if steep {
             // the angle, only for an element that breaks the limit
             let most = (1..=samples)
@@ -210,6 +210,37 @@ pub(crate) fn check<M: Kinematics>(
         out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
+}
+
+/// The mid-plane strain of the largest magnitude at element `ki`'s check
+/// points (magnitude, value; the first of equals) and the prestressed
+/// layer's strain (at heights `z`) farthest outside
+/// [`PRESTRESSED_STRAIN_RANGE`] (distance, value), if any.
+fn strain_extremes<M: Kinematics>(
+    ki: &M::Coeffs,
+    l: f64,
+    samples: usize,
+    z: [f64; 2],
+    eps0: f64,
+) -> ((f64, f64), Option<(f64, f64)>) {
+    let (slo, shi) = PRESTRESSED_STRAIN_RANGE;
+    let mut mid: (f64, f64) = (0.0, 0.0);
+    let mut pre: Option<(f64, f64)> = None;
+    for j in 0..=samples {
+        let x = l * j as f64 / samples as f64;
+        let m = M::strain(ki, x, 0.0);
+        if m.abs() > mid.0 {
+            mid = (m.abs(), m);
+        }
+        for z in z {
+            let s = eps0 + M::strain(ki, x, z);
+            let by = (slo - s).max(s - shi);
+            if by > 0.0 && pre.is_none_or(|(b, _)| by > b) {
+                pre = Some((by, s));
+            }
+        }
+    }
+    (mid, pre)
 }
 
 /// Whether the range of the tangent's angle, `theta + atan(r)` for each

@@ -136,6 +136,90 @@ fn a_strong_compression_breaks_the_strain_ranges() {
 /// The paper's laminate thickness H (mm).
 const H: f64 = 8.2;
 
+/// Random states, many of them past one strain limit or both: the
+/// mid-plane and prestressed findings are exactly the elements whose check
+/// points (x = l j / samples) break a limit, by the closed form, with the
+/// strain of the largest magnitude and the one farthest outside the range.
+#[test]
+fn the_strain_findings_are_the_extremes_at_the_check_points() {
+    let f = Finger::paper(0.25, 6).unwrap();
+    let (pz0, pz1) = Actuator::paper(0.25).unwrap().pemc_z();
+    let (lo, hi) = fpc::validity::PRESTRESSED_STRAIN_RANGE;
+    let lengths = f.element_lengths();
+    let mut rng = fastrand::Rng::with_seed(29);
+    let (mut mids, mut pres, mut clean) = (0, 0, 0);
+    for case in 0..400 {
+        let samples = [1, 4, 7][case % 3];
+        let mut values = Vec::new();
+        for &l in lengths {
+            // within the limits or past them
+            let s = if rng.bool() { 0.2 } else { 1.0 };
+            values.extend([
+                s * 0.5 * (rng.f64() - 0.5),
+                s * 0.3 * (rng.f64() - 0.5) / (l * l),
+                0.01 * (rng.f64() - 0.5),
+                s * (rng.f64() - 0.5) / l,
+            ]);
+        }
+        let k = fpc::Coefficients::new(4, values).unwrap();
+        let warnings = f.validity(&k, samples).unwrap();
+        for (i, &l) in lengths.iter().enumerate() {
+            let ki = k.element(i);
+            let xs = (0..=samples).map(|j| l * j as f64 / samples as f64);
+            let mid = xs
+                .clone()
+                .map(|x| ccm_strain(ki, x, 0.0))
+                .fold(0.0f64, |m, s| if s.abs() > m.abs() { s } else { m });
+            let (by, pre) = xs
+                .flat_map(|x| [pz0, pz1].map(|z| 0.25 + ccm_strain(ki, x, z)))
+                .map(|s| ((lo - s).max(s - hi), s))
+                .fold(
+                    (f64::NEG_INFINITY, 0.0),
+                    |m, v| if v.0 > m.0 { v } else { m },
+                );
+            let near = |a: f64, b: f64| (a - b).abs() <= 1e-12 * b.abs().max(1.0);
+            // (a state within rounding of a limit may go either way)
+            if near(mid.abs(), MIDPLANE_STRAIN_LIMIT) || near(by, 0.0) {
+                continue;
+            }
+            let found_mid = warnings.iter().find_map(|w| match *w {
+                Warning::MidplaneStrain {
+                    element, strain, ..
+                } if element == i => Some(strain),
+                _ => None,
+            });
+            let found_pre = warnings.iter().find_map(|w| match *w {
+                Warning::PrestressedStrain {
+                    element, strain, ..
+                } if element == i => Some(strain),
+                _ => None,
+            });
+            match found_mid {
+                Some(s) => {
+                    assert!(near(s, mid), "case {case} element {i}: {s} vs {mid}");
+                    mids += 1;
+                }
+                None => assert!(
+                    mid.abs() <= MIDPLANE_STRAIN_LIMIT,
+                    "case {case} element {i}"
+                ),
+            }
+            match found_pre {
+                Some(s) => {
+                    assert!(near(s, pre), "case {case} element {i}: {s} vs {pre}");
+                    pres += 1;
+                }
+                None => assert!(by <= 0.0, "case {case} element {i}: {by}"),
+            }
+            clean += usize::from(found_mid.is_none() && found_pre.is_none());
+        }
+    }
+    assert!(
+        mids > 100 && pres > 100 && clean > 100,
+        "{mids} {pres} {clean}"
+    );
+}
+
 /// True when the closed segments pq and rs intersect (written here,
 /// independently of the library's check).
 fn intersect(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
