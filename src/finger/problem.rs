@@ -148,11 +148,17 @@ impl<M: ElementModel> FingerCore<M> {
 
     /// Scaled unknowns of raw coefficients.
     pub fn scaled(&self, k: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; k.len()];
+        self.scale_into(k, &mut y);
+        y
+    }
+
+    /// [`FingerCore::scaled`] into `y` (of `k`'s length).
+    pub fn scale_into(&self, k: &[f64], y: &mut [f64]) {
         let n = M::Coeffs::LEN;
-        k.iter()
-            .enumerate()
-            .map(|(i, v)| v / self.unscale[i / n][i % n])
-            .collect()
+        for (i, (y, v)) in y.iter_mut().zip(k).enumerate() {
+            *y = v / self.unscale[i / n][i % n];
+        }
     }
 
     /// Raw coefficients of scaled unknowns.

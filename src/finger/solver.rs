@@ -308,7 +308,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
 
     pub fn load_guess(&mut self, guess: Option<&Coefficients>) {
         match guess {
-            Some(g) => self.y.copy_from_slice(&self.finger.scaled(g.as_slice())),
+            Some(g) => self.finger.scale_into(g.as_slice(), &mut self.y),
             None => self.y.fill(0.0),
         }
     }
