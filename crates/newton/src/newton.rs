@@ -30,6 +30,11 @@ const CHORD_STEPS_AHEAD: f64 = 2.0;
 /// [`NewtonOptions::chord_steps`]).
 const MODEL_FIT: f64 = 1e-2;
 
+/// The cubic step of a line search is tried only between these multiples
+/// of the accepted and the rejected step fractions (see
+/// [`Newton::cubic_step`]): close to either it would gain little.
+const CUBIC_MARGIN: (f64, f64) = (1.1, 0.9);
+
 /// At most this many chord steps follow one Hessian.
 const MAX_CHORD_STEPS: usize = 4;
 
@@ -112,8 +117,13 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// trial points, and accepts the first step fraction `alpha` with
 /// `f(x + alpha p) <= f(x) + c1 alpha g^T p` (Armijo), safeguarded
 /// quadratic interpolation (`alpha` shrinks by 0.1..0.5 per trial; by 0.25
-/// after a non-finite trial value). The Hessian is evaluated only at
-/// accepted points.
+/// after a non-finite trial value). A fraction found by backtracking is
+/// then checked once: the minimiser of the cubic through `f(x)`, `g^T p`
+/// and the last two trials' values is evaluated when it lies well between
+/// them, and taken if its energy is lower (one more energy evaluation; a
+/// tip load that turns the finger far makes the energy rise steeply past
+/// its minimum along the step, where the quadratic estimate falls short
+/// of it). The Hessian is evaluated only at accepted points.
 ///
 /// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
 /// quadratic phase, when the quadratic model predicts that the full step
@@ -438,6 +448,13 @@ impl Newton {
         rep
     }
 
+    /// `self.xt = x + alpha self.p`.
+    fn step_to(&mut self, x: &[f64], alpha: f64) {
+        for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
+            *xt = xi + alpha * pi;
+        }
+    }
+
     /// `self.xt = x + self.p`, the full step.
     fn full_step(&mut self, x: &[f64]) {
         for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
@@ -647,7 +664,7 @@ impl Newton {
         f_full: f64,
         rep: &mut Report,
     ) -> (f64, f64) {
-        let o = &self.opts;
+        let o = self.opts;
         let len = norm_inf(&self.p);
         let (mut best, mut f_best) = (1.0, f_full);
         for _ in 0..MAX_EXTENSIONS {
@@ -655,9 +672,7 @@ impl Newton {
             if alpha * len > self.cap {
                 break;
             }
-            for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
-                *xt = xi + alpha * pi;
-            }
+            self.step_to(x, alpha);
             let ft = p.energy(&self.xt);
             rep.energy_evals += 1;
             if !(ft < f_best && ft <= f + o.c1 * alpha * gtp) {
@@ -665,10 +680,50 @@ impl Newton {
             }
             (best, f_best) = (alpha, ft);
         }
-        for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
-            *xt = xi + best * pi;
-        }
+        self.step_to(x, best);
         (best, f_best)
+    }
+
+    /// `self.xt = x + alpha self.p`.
+    /// After backtracking from the rejected trial `(a0, f0)` to the
+    /// accepted `(a1, f1)` (value `f` and slope `gtp` at 0): the minimiser
+    /// of the cubic through these four values, evaluated when it lies well
+    /// inside `(a1, a0)`, and taken (in `self.xt`) if its value is lower.
+    /// The quadratic estimate that found `a1` ignores `f1`; under a load
+    /// that turns the finger far, the energy rises steeply past its
+    /// minimum and that estimate falls well short of it. `None` leaves
+    /// `self.xt` at `a1`.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(never)]
+    fn cubic_step<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &[f64],
+        f: f64,
+        gtp: f64,
+        (a0, f0): (f64, f64),
+        (a1, f1): (f64, f64),
+        rep: &mut Report,
+    ) -> Option<(f64, f64)> {
+        // phi(a) = c3 a^3 + c2 a^2 + gtp a + f through phi(a0) and phi(a1)
+        let (r0, r1) = (f0 - f - gtp * a0, f1 - f - gtp * a1);
+        let d = a0 * a0 * a1 * a1 * (a1 - a0);
+        let c3 = (a0 * a0 * r1 - a1 * a1 * r0) / d;
+        let c2 = (a1 * a1 * a1 * r0 - a0 * a0 * a0 * r1) / d;
+        let a = (-c2 + (c2 * c2 - 3.0 * c3 * gtp).sqrt()) / (3.0 * c3);
+        // (false for NaN: no real minimiser, or c3 = 0)
+        if !(a > CUBIC_MARGIN.0 * a1 && a < CUBIC_MARGIN.1 * a0) {
+            return None;
+        }
+        self.step_to(x, a);
+        let fa = p.energy(&self.xt);
+        rep.energy_evals += 1;
+        if fa < f1 {
+            Some((a, fa))
+        } else {
+            self.step_to(x, a1);
+            None
+        }
     }
 
     /// Backtracking Armijo search along `self.p`; leaves the accepted point
@@ -682,20 +737,23 @@ impl Newton {
         gnorm: f64,
         rep: &mut Report,
     ) -> Result<(f64, f64), Termination> {
-        let o = &self.opts;
+        let o = self.opts;
         let mut alpha = 1.0f64;
         let mut any_finite = false;
+        // the last finite trial that Armijo rejected
+        let mut rejected: Option<(f64, f64)> = None;
         loop {
-            for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
-                *xt = xi + alpha * pi;
-            }
+            self.step_to(x, alpha);
             let ft = p.energy(&self.xt);
             rep.energy_evals += 1;
             if ft.is_finite() {
                 any_finite = true;
                 if ft <= f + o.c1 * alpha * gtp {
-                    return Ok((alpha, ft));
+                    return Ok(rejected
+                        .and_then(|r| self.cubic_step(p, x, f, gtp, r, (alpha, ft), rep))
+                        .unwrap_or((alpha, ft)));
                 }
+                rejected = Some((alpha, ft));
                 let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
                 if (ft - f).abs() <= noise {
                     let fg = p.gradient(&self.xt, &mut self.gt);

@@ -562,3 +562,65 @@ fn step_growth_crosses_a_long_way_in_a_few_capped_steps() {
     let bound = 5.0 + ((far - 7.75) / 4.0).max(0.0).ceil() + 4.0;
     assert!((steps[1] as f64) <= bound, "{steps:?}, bound {bound}");
 }
+
+/// `x^4 / 4 - c x` in one unknown: the Newton step from a point of small
+/// curvature overshoots the minimum far, where the energy rises steeply.
+struct SteepQuartic {
+    c: f64,
+}
+
+impl Energy for SteepQuartic {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        0.25 * x[0].powi(4) - self.c * x[0]
+    }
+}
+impl Gradient for SteepQuartic {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        g[0] = x[0].powi(3) - self.c;
+        self.energy(x)
+    }
+}
+impl DenseHessian for SteepQuartic {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        h[0] = 3.0 * x[0] * x[0];
+        self.gradient(x, g)
+    }
+}
+
+/// A backtracked step lands near the minimum along its direction: the
+/// cubic through the rejected and the accepted trials places it, where
+/// the quadratic estimate alone (which ignores the accepted trial's value)
+/// stops short (half of the decrease or less on three of these starts).
+/// Checked against the best energy along the Newton step, found by brute
+/// force, on starts whose steps overshoot the minimum several times.
+#[test]
+fn a_backtracked_step_takes_most_of_the_decrease_along_its_direction() {
+    for (i, &(c, x0)) in [(1.0, 0.1), (1.0, 0.3), (8.0, 0.2), (0.2, 0.05), (1.0, -0.2)]
+        .iter()
+        .enumerate()
+    {
+        let mut q = SteepQuartic { c };
+        let opts = NewtonOptions {
+            max_iter: 1,
+            ..NewtonOptions::default()
+        };
+        let mut x = vec![x0];
+        let r = Newton::new(1, opts).minimize(&mut Dense::new(&mut q), &mut x);
+        assert_eq!((r.iterations, r.damped_steps), (1, 1), "start {i}: {r:?}");
+        // the Newton step from x0 and the best energy along it
+        let step = -(x0.powi(3) - c) / (3.0 * x0 * x0);
+        let f0 = q.energy(&[x0]);
+        let best = (0..=100_000)
+            .map(|k| q.energy(&[x0 + step * k as f64 / 100_000.0]))
+            .fold(f64::INFINITY, f64::min);
+        let taken = f0 - q.energy(&x);
+        assert!(
+            taken >= 0.8 * (f0 - best),
+            "start {i}: {taken} of {} ({r:?})",
+            f0 - best
+        );
+    }
+}
