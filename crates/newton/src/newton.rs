@@ -684,7 +684,6 @@ impl Newton {
         (best, f_best)
     }
 
-    /// `self.xt = x + alpha self.p`.
     /// After backtracking from the rejected trial `(a0, f0)` to the
     /// accepted `(a1, f1)` (value `f` and slope `gtp` at 0): the minimiser
     /// of the cubic through these four values, evaluated when it lies well
