@@ -10,7 +10,8 @@
 //! so the solvers never hold an `n x n` matrix.
 //!
 //! * [`Newton`] — Newton with a shifted Cholesky (descent even where the
-//!   Hessian is indefinite) and Armijo backtracking, on the problem's own
+//!   Hessian is indefinite) and Armijo backtracking (with one cubic step
+//!   towards the minimum along the direction), on the problem's own
 //!   linear algebra ([`Hessian`], [`LinearSystem`]).
 //! * [`BorderedNewton`] — an equilibrium plus one target equation with the
 //!   load as an extra unknown, by block elimination.
