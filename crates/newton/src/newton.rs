@@ -311,7 +311,7 @@ impl Newton {
             // if it cut the gradient enough (else the Hessian there).
             let chord = o.eager_full_steps && o.chord_steps;
             if chord && o.trusted_start && rep.iterations == 0 && plain {
-                self.full_step(x);
+                self.step_to(x, 1.0);
                 match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                     Landing::Next(next) => {
                         (f, gnorm, quadratic_prev) = next;
@@ -328,7 +328,7 @@ impl Newton {
             // after. When the quadratic model predicts convergence there,
             // the gradient alone decides (no Hessian for the last step).
             if o.eager_full_steps && plain && quadratic_prev.is_finite() {
-                self.full_step(x);
+                self.step_to(x, 1.0);
                 let predicted = gnorm * gnorm * gnorm / (quadratic_prev * quadratic_prev);
                 if predicted < 0.1 * o.gtol {
                     let ft = p.gradient(&self.xt, &mut self.gt);
@@ -448,17 +448,12 @@ impl Newton {
         rep
     }
 
-    /// `self.xt = x + alpha self.p`.
+    /// `self.xt = x + alpha self.p` (the full step for `alpha = 1`, bit
+    /// for bit: the product by 1 is exact).
+    #[inline]
     fn step_to(&mut self, x: &[f64], alpha: f64) {
         for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
             *xt = xi + alpha * pi;
-        }
-    }
-
-    /// `self.xt = x + self.p`, the full step.
-    fn full_step(&mut self, x: &[f64]) {
-        for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
-            *xt = xi + pi;
         }
     }
 
@@ -558,7 +553,7 @@ impl Newton {
                 let s = o.max_step / len;
                 self.p.iter_mut().for_each(|v| *v *= s);
             }
-            self.full_step(x);
+            self.step_to(x, 1.0);
             let ft = p.gradient(&self.xt, &mut self.gt);
             rep.gradient_evals += 1;
             let gt = norm_inf(&self.gt);
