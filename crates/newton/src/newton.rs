@@ -584,12 +584,16 @@ impl Newton {
         last_tau: f64,
         rep: &mut Report,
     ) -> Result<Direction, Termination> {
-        let (dmin, dmax) = problem.diagonal_range();
-        let scale = if dmax > 0.0 { dmax } else { 1.0 };
-        let beta = 1e-3 * scale;
         // First nonzero shift: enough to make the diagonal positive, and
-        // not far below the shift the previous iteration needed.
-        let first = (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau);
+        // not far below the shift the previous iteration needed (read only
+        // once the unshifted factorisation has failed: factorising leaves
+        // the matrix as it was, so the diagonal is the same then).
+        let first = |problem: &P| {
+            let (dmin, dmax) = problem.diagonal_range();
+            let scale = if dmax > 0.0 { dmax } else { 1.0 };
+            let beta = 1e-3 * scale;
+            (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau)
+        };
         let mut tau = 0.0;
         for _ in 0..MAX_SHIFT_TRIES {
             rep.factorizations += 1;
@@ -620,7 +624,11 @@ impl Newton {
                     _ => {}
                 }
             }
-            tau = if tau == 0.0 { first } else { 2.0 * tau };
+            tau = if tau == 0.0 {
+                first(problem)
+            } else {
+                2.0 * tau
+            };
         }
         Err(Termination::Singular)
     }

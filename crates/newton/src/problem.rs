@@ -31,7 +31,10 @@ pub trait Gradient: Energy {
 
 /// A symmetric matrix the problem holds, factorises and solves with.
 pub trait LinearSystem {
-    /// `(min_i H_ii, max_i |H_ii|)` of the matrix (for shift heuristics).
+    /// `(min_i H_ii, max_i |H_ii|)` of the matrix (for shift heuristics;
+    /// Newton asks only after an unshifted factorisation has failed, so
+    /// [`factor`](LinearSystem::factor) must leave the matrix as it was,
+    /// as a shift to try again with requires anyway).
     fn diagonal_range(&self) -> (f64, f64);
     /// Factorises `H + tau I`, returning its inertia. With
     /// [`PivotKind::Cholesky`] it fails unless `H + tau I` is positive
