@@ -5,7 +5,7 @@
 //! so they are accumulated once; each Newton iteration then costs one call
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
-use crate::lanes::{Lane, LaneScalar, Lanes, Width};
+use crate::lanes::{CacheLine, Lane, LaneScalar, Lanes, Width};
 use crate::model::{
     upper_index, Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore,
     PrestressedParams, Vector,
@@ -383,9 +383,9 @@ pub(crate) enum ElementLanes<M: Energy> {
     /// One element at a time.
     One,
     /// Four at a time; `true` with AVX2.
-    Four(Vec<M::MomentLanes<Lanes<4>>>, bool),
+    Four(Vec<CacheLine<M::MomentLanes<Lanes<4>>>>, bool),
     /// Eight at a time, with AVX-512.
-    Eight(Vec<M::MomentLanes<Lanes<8>>>),
+    Eight(Vec<CacheLine<M::MomentLanes<Lanes<8>>>>),
 }
 
 /// Up to this many elements per lane evaluation.
@@ -395,12 +395,12 @@ impl<M: Energy> ElementLanes<M> {
     /// The moments of `elements` packed for `width`, or for the widest
     /// width below it this processor runs.
     pub fn new(elements: &[Element<M>], width: Width) -> ElementLanes<M> {
-        fn pack<M: Energy, L: Lane>(elements: &[Element<M>]) -> Vec<M::MomentLanes<L>> {
+        fn pack<M: Energy, L: Lane>(elements: &[Element<M>]) -> Vec<CacheLine<M::MomentLanes<L>>> {
             elements
                 .chunks(L::WIDTH)
                 .map(|c| {
                     let m: Vec<&M::Moments> = c.iter().map(|e| &e.moments).collect();
-                    M::moment_lanes::<L>(&m)
+                    CacheLine(M::moment_lanes::<L>(&m))
                 })
                 .collect()
         }
@@ -457,7 +457,7 @@ impl<M: Energy> ElementLanes<M> {
 /// functions compiled for a width's instructions).
 #[inline(always)]
 fn eval_in<M: Energy, P: Pass<M>, L: Lane>(
-    packed: &[M::MomentLanes<L>],
+    packed: &[CacheLine<M::MomentLanes<L>>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,
@@ -475,7 +475,7 @@ fn eval_in<M: Energy, P: Pass<M>, L: Lane>(
         for ((sk, e), k) in seen.iter_mut().zip(e).zip(k) {
             *sk = e.seen(k);
         }
-        P::lanes::<L>(m, &seen[..k.len()], s, o);
+        P::lanes::<L>(&m.0, &seen[..k.len()], s, o);
         for ((o, e), k) in o.iter_mut().zip(e).zip(k) {
             *o = P::finish(e, k, *o);
         }
@@ -485,7 +485,7 @@ fn eval_in<M: Energy, P: Pass<M>, L: Lane>(
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx2,fma")]
 fn eval_avx2<M: Energy, P: Pass<M>>(
-    packed: &[M::MomentLanes<Lanes<4>>],
+    packed: &[CacheLine<M::MomentLanes<Lanes<4>>>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,
@@ -497,7 +497,7 @@ fn eval_avx2<M: Energy, P: Pass<M>>(
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx512f,avx2,fma")]
 fn eval_avx512<M: Energy, P: Pass<M>>(
-    packed: &[M::MomentLanes<Lanes<8>>],
+    packed: &[CacheLine<M::MomentLanes<Lanes<8>>>],
     elements: &[Element<M>],
     k: &[M::Coeffs],
     s: &EnergyScalars,

@@ -57,6 +57,13 @@ impl<L> LaneScalar<L> for f64 where
 {
 }
 
+/// A value on a 64-byte boundary, a cache line: the lanes in it are read
+/// with vector loads that never straddle two lines (the heap aligns to 16
+/// bytes only; measured in docs/performance.md, "Lanes on cache lines").
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+pub(crate) struct CacheLine<T>(pub T);
+
 /// `W` numbers side by side, one per element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(transparent)]

@@ -25,11 +25,17 @@ pub(super) const LANES: usize = 8;
 /// One number per block of a group.
 pub(super) type Lane = [f64; LANES];
 
+/// A [`Lane`] on a 64-byte boundary, so that a vector load of it never
+/// straddles two cache lines (the heap aligns to 16 bytes only).
+#[derive(Debug, Clone, Copy)]
+#[repr(C, align(64))]
+struct Aligned(Lane);
+
 /// Per-block quantities of `per` entries each, lane-major (module docs).
 #[derive(Debug, Clone)]
 pub(super) struct Store {
     per: usize,
-    data: Vec<Lane>,
+    data: Vec<Aligned>,
 }
 
 impl Store {
@@ -38,7 +44,7 @@ impl Store {
     pub(super) fn new(per: usize, blocks: usize) -> Store {
         Store {
             per,
-            data: vec![[0.0; LANES]; per * blocks.div_ceil(LANES)],
+            data: vec![Aligned([0.0; LANES]); per * blocks.div_ceil(LANES)],
         }
     }
 
@@ -52,14 +58,14 @@ impl Store {
     #[inline(always)]
     pub(super) fn at(&self, k: usize, e: usize) -> f64 {
         let (i, l) = self.slot(k, e);
-        self.data[i][l]
+        self.data[i].0[l]
     }
 
     /// Entry `e` of block `k`, to write.
     #[inline(always)]
     pub(super) fn at_mut(&mut self, k: usize, e: usize) -> &mut f64 {
         let (i, l) = self.slot(k, e);
-        &mut self.data[i][l]
+        &mut self.data[i].0[l]
     }
 
     /// Block `k`'s entries into `out[..per]`.
@@ -83,17 +89,29 @@ impl Store {
     /// Group `g`'s entries.
     #[inline(always)]
     pub(super) fn group(&self, g: usize) -> &[Lane] {
-        &self.data[g * self.per..(g + 1) * self.per]
+        let s = &self.data[g * self.per..(g + 1) * self.per];
+        // SAFETY: `Aligned` is `repr(C)` around one `Lane` and as large
+        // as it (64 bytes, a multiple of its alignment: no padding)
+        unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<Lane>(), s.len()) }
+    }
+
+    /// Every group's entries, group after group, to write.
+    #[inline(always)]
+    pub(super) fn all_mut(&mut self) -> &mut [Lane] {
+        let s = &mut self.data[..];
+        // SAFETY: as in `group`
+        unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast::<Lane>(), s.len()) }
     }
 
     /// Group `g`'s entries, to write.
     #[inline(always)]
     pub(super) fn group_mut(&mut self, g: usize) -> &mut [Lane] {
-        &mut self.data[g * self.per..(g + 1) * self.per]
+        let per = self.per;
+        &mut self.all_mut()[g * per..(g + 1) * per]
     }
 
     pub(super) fn fill(&mut self, v: f64) {
-        self.data.fill([v; LANES]);
+        self.data.fill(Aligned([v; LANES]));
     }
 
     /// Every entry of block `k` is finite.
@@ -402,7 +420,7 @@ impl Semiseparable {
     fn solve_cholesky4_in(&mut self, x: &mut [f64]) {
         let groups = self.blocks.div_ceil(LANES);
         // per group: x (4 lanes), then two scalars per block
-        let work = &mut self.lane_work[..groups * 6];
+        let work = &mut self.lane_work.all_mut()[..groups * 6];
         let (xs, sums) = work.split_at_mut(groups * 4);
         // the block solves y_k = B'_k^-1 x_k, with (coupled) b_k^T x_k and
         // q_k^T x_k

@@ -118,7 +118,7 @@ pub struct Semiseparable {
     /// paths.
     scratch: Vec<f64>,
     /// The lane solve's workspace: six lanes per group.
-    lane_work: Vec<lanes::Lane>,
+    lane_work: Store,
 }
 
 impl Semiseparable {
@@ -153,14 +153,7 @@ impl Semiseparable {
             factored: false,
             coupled: false,
             scratch: vec![0.0; scratch],
-            lane_work: vec![
-                [0.0; lanes::LANES];
-                if in_lanes {
-                    6 * blocks.div_ceil(lanes::LANES)
-                } else {
-                    0
-                }
-            ],
+            lane_work: Store::new(6, if in_lanes { blocks } else { 0 }),
         }
     }
 
