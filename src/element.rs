@@ -282,23 +282,50 @@ pub(crate) fn coeffs<M: ModelCore>(k: &[f64], i: usize) -> M::Coeffs {
 }
 
 /// Each element's frame at its root: its position and (cos, sin) of its
-/// angle, for the raw unknowns `k` of the chain of `elements` (chained by
-/// rotation, no trigonometric calls).
+/// angle, for the raw unknowns `k` of the chain of `elements` ([`walk`]).
 pub(crate) fn frames<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
 ) -> Vec<([f64; 2], [f64; 2])> {
     let mut out = Vec::with_capacity(elements.len());
+    walk(
+        elements,
+        |i| coeffs::<M>(k, i),
+        |_, root, rot, _| out.push((root, rot)),
+    );
+    out
+}
+
+/// The chain of `elements` from the clamp to the tip, element `i` at its
+/// unknowns `k(i)` (raw): calls `visit(i, root, rotation, end)` with the
+/// element's root point, its root frame's `[cos, sin]` and its end point
+/// (finger frame), and returns the tip. Chained by rotation, without
+/// trigonometric calls; the elements' own frames (a square root and a
+/// division each, independent of one another) are computed a batch ahead
+/// of the serial chaining, which then waits on none of them.
+#[inline(always)]
+pub(crate) fn walk<M: Kinematics>(
+    elements: &[Element<M>],
+    k: impl Fn(usize) -> M::Coeffs,
+    mut visit: impl FnMut(usize, [f64; 2], [f64; 2], [f64; 2]),
+) -> [f64; 2] {
+    const AHEAD: usize = 8;
     let mut p = [0.0, 0.0];
     let (mut c, mut s) = (1.0, 0.0);
-    for (i, e) in elements.iter().enumerate() {
-        out.push((p, [c, s]));
-        let [xe, ze, ce, se] = e.frame(&coeffs::<M>(k, i));
-        p[0] += c * xe - s * ze;
-        p[1] += s * xe + c * ze;
-        (c, s) = (c * ce - s * se, s * ce + c * se);
+    for (b, batch) in elements.chunks(AHEAD).enumerate() {
+        let mut f = [[0.0; 4]; AHEAD];
+        for (j, (fj, e)) in f.iter_mut().zip(batch).enumerate() {
+            *fj = e.frame(&k(b * AHEAD + j));
+        }
+        for (j, &[xe, ze, ce, se]) in f[..batch.len()].iter().enumerate() {
+            let root = p;
+            p[0] += c * xe - s * ze;
+            p[1] += s * xe + c * ze;
+            visit(b * AHEAD + j, root, [c, s], p);
+            (c, s) = (c * ce - s * se, s * ce + c * se);
+        }
     }
-    out
+    p
 }
 
 /// An element's potential, gradient and Hessian (upper triangle).

@@ -59,7 +59,7 @@ impl<L> LaneScalar<L> for f64 where
 
 /// A value on a 64-byte boundary, a cache line: the lanes in it are read
 /// with vector loads that never straddle two lines (the heap aligns to 16
-/// bytes only; measured in docs/performance.md, "Lanes on cache lines").
+/// bytes only; docs/performance.md, "Code and lanes on cache lines").
 #[derive(Debug, Clone, Copy)]
 #[repr(C, align(64))]
 pub(crate) struct CacheLine<T>(pub T);

@@ -222,19 +222,18 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     /// Frames (as rotations, from the elements' end tangents) and the
     /// vectors from each element's end to the tip.
     fn chain_geometry(&mut self) {
-        let n = self.b.k.len();
-        let (mut c, mut s) = (1.0, 0.0);
-        let mut p = [0.0, 0.0];
-        for i in 0..n {
-            self.b.rot[i] = [c, s];
-            let [xe, ze, ce, se] = self.finger.elements[i].frame(&self.b.k[i]);
-            p[0] += c * xe - s * ze;
-            p[1] += s * xe + c * ze;
-            self.b.q[i] = p; // p_i for now
-            (c, s) = (c * ce - s * se, s * ce + c * se);
-        }
-        for i in 0..n {
-            self.b.q[i] = [p[0] - self.b.q[i][0], p[1] - self.b.q[i][1]];
+        let b = &mut self.b;
+        let (k, rot, q) = (&b.k, &mut b.rot, &mut b.q);
+        let p = element::walk(
+            &self.finger.elements,
+            |i| k[i],
+            |i, _, r, end| {
+                rot[i] = r;
+                q[i] = end; // the end for now
+            },
+        );
+        for qi in q.iter_mut() {
+            *qi = [p[0] - qi[0], p[1] - qi[1]];
         }
         self.tip = p;
     }
@@ -255,14 +254,8 @@ impl<M: ElementModel> Energy for Chain<'_, M> {
             v += vi;
         }
         if self.loaded() {
-            let mut p = [0.0, 0.0];
-            let (mut c, mut s) = (1.0, 0.0);
-            for (e, k) in self.finger.elements.iter().zip(&self.b.k) {
-                let [xe, ze, ce, se] = e.frame(k);
-                p[0] += c * xe - s * ze;
-                p[1] += s * xe + c * ze;
-                (c, s) = (c * ce - s * se, s * ce + c * se);
-            }
+            let k = &self.b.k;
+            let p = element::walk(&self.finger.elements, |i| k[i], |_, _, _, _| {});
             v -= self.f[0] * p[0] + self.f[1] * p[1];
         }
         v

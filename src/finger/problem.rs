@@ -96,15 +96,11 @@ impl<M: ElementModel> FingerCore<M> {
     /// Tip position at raw coefficients, chaining element frames by
     /// rotation (no trigonometric calls).
     pub fn tip_position(&self, k: &[f64]) -> [f64; 2] {
-        let mut p = [0.0, 0.0];
-        let (mut c, mut s) = (1.0, 0.0);
-        for (i, e) in self.elements.iter().enumerate() {
-            let [xe, ze, ce, se] = e.frame(&Self::element_coeffs(k, i));
-            p[0] += c * xe - s * ze;
-            p[1] += s * xe + c * ze;
-            (c, s) = (c * ce - s * se, s * ce + c * se);
-        }
-        p
+        crate::element::walk(
+            &self.elements,
+            |i| Self::element_coeffs(k, i),
+            |_, _, _, _| {},
+        )
     }
 
     /// Total potential at raw coefficients.
