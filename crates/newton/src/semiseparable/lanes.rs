@@ -31,6 +31,9 @@ pub(super) type Lane = [f64; LANES];
 #[repr(C, align(64))]
 struct Aligned(Lane);
 
+// (the slices of `Store::group` rely on it: no padding after the lane)
+const _: () = assert!(std::mem::size_of::<Aligned>() == std::mem::size_of::<Lane>());
+
 /// Per-block quantities of `per` entries each, lane-major (module docs).
 #[derive(Debug, Clone)]
 pub(super) struct Store {

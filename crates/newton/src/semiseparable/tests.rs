@@ -323,6 +323,26 @@ fn no_blocks_allocate_nothing() {
     assert_eq!(m.inertia(0.0).unwrap().negative, 0);
 }
 
+/// Every lane of the stores starts a cache line (a 64-byte vector load of
+/// it never straddles two), for any number of blocks.
+#[test]
+fn lanes_sit_on_cache_lines() {
+    for blocks in [1, 7, 8, 9, 27, 54] {
+        let mut m = Semiseparable::new(4, blocks);
+        let groups = blocks.div_ceil(lanes::LANES);
+        for v in [&m.b, &m.u, &m.w, &m.f, &m.bw, &m.sm, &m.lambda, &m.q] {
+            for g in 0..groups {
+                for lane in v.group(g) {
+                    assert_eq!(lane.as_ptr() as usize % 64, 0, "{blocks} blocks");
+                }
+            }
+        }
+        for lane in m.lane_work.all_mut() {
+            assert_eq!(lane.as_ptr() as usize % 64, 0, "{blocks} blocks");
+        }
+    }
+}
+
 /// The lane factorisation of 4 x 4 blocks against the block-by-block one
 /// (the scalar kernels, one block at a time from contiguous copies): the
 /// same factor, chain scalars and solves bit for bit, and the same error
