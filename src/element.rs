@@ -300,30 +300,22 @@ pub(crate) fn frames<M: Kinematics>(
 /// unknowns `k(i)` (raw): calls `visit(i, root, rotation, end)` with the
 /// element's root point, its root frame's `[cos, sin]` and its end point
 /// (finger frame), and returns the tip. Chained by rotation, without
-/// trigonometric calls; the elements' own frames (a square root and a
-/// division each, independent of one another) are computed a batch ahead
-/// of the serial chaining, which then waits on none of them.
+/// trigonometric calls.
 #[inline(always)]
 pub(crate) fn walk<M: Kinematics>(
     elements: &[Element<M>],
     k: impl Fn(usize) -> M::Coeffs,
     mut visit: impl FnMut(usize, [f64; 2], [f64; 2], [f64; 2]),
 ) -> [f64; 2] {
-    const AHEAD: usize = 8;
     let mut p = [0.0, 0.0];
     let (mut c, mut s) = (1.0, 0.0);
-    for (b, batch) in elements.chunks(AHEAD).enumerate() {
-        let mut f = [[0.0; 4]; AHEAD];
-        for (j, (fj, e)) in f.iter_mut().zip(batch).enumerate() {
-            *fj = e.frame(&k(b * AHEAD + j));
-        }
-        for (j, &[xe, ze, ce, se]) in f[..batch.len()].iter().enumerate() {
-            let root = p;
-            p[0] += c * xe - s * ze;
-            p[1] += s * xe + c * ze;
-            visit(b * AHEAD + j, root, [c, s], p);
-            (c, s) = (c * ce - s * se, s * ce + c * se);
-        }
+    for (i, e) in elements.iter().enumerate() {
+        let [xe, ze, ce, se] = e.frame(&k(i));
+        let root = p;
+        p[0] += c * xe - s * ze;
+        p[1] += s * xe + c * ze;
+        visit(i, root, [c, s], p);
+        (c, s) = (c * ce - s * se, s * ce + c * se);
     }
     p
 }

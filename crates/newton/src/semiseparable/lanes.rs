@@ -92,18 +92,23 @@ impl Store {
     /// Group `g`'s entries.
     #[inline(always)]
     pub(super) fn group(&self, g: usize) -> &[Lane] {
-        let s = &self.data[g * self.per..(g + 1) * self.per];
+        &self.all()[g * self.per..(g + 1) * self.per]
+    }
+
+    /// Every group's entries, group after group.
+    #[inline(always)]
+    fn all(&self) -> &[Lane] {
         // SAFETY: `Aligned` is `repr(C)` around one `Lane` and as large
         // as it (64 bytes, a multiple of its alignment: no padding)
-        unsafe { std::slice::from_raw_parts(s.as_ptr().cast::<Lane>(), s.len()) }
+        unsafe { std::slice::from_raw_parts(self.data.as_ptr().cast::<Lane>(), self.data.len()) }
     }
 
     /// Every group's entries, group after group, to write.
     #[inline(always)]
     pub(super) fn all_mut(&mut self) -> &mut [Lane] {
-        let s = &mut self.data[..];
-        // SAFETY: as in `group`
-        unsafe { std::slice::from_raw_parts_mut(s.as_mut_ptr().cast::<Lane>(), s.len()) }
+        let (ptr, len) = (self.data.as_mut_ptr(), self.data.len());
+        // SAFETY: as in `all`
+        unsafe { std::slice::from_raw_parts_mut(ptr.cast::<Lane>(), len) }
     }
 
     /// Group `g`'s entries, to write.

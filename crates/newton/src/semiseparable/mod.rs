@@ -117,7 +117,8 @@ pub struct Semiseparable {
     /// One block's worth of contiguous workspace for the block-by-block
     /// paths.
     scratch: Vec<f64>,
-    /// The lane solve's workspace: six lanes per group.
+    /// The lane solve's workspace: six lanes per group, used as one flat
+    /// run of lanes (a `Store` for its cache-line alignment).
     lane_work: Store,
 }
 
