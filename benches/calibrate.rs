@@ -13,7 +13,7 @@
 
 use std::fmt::Write as _;
 use std::hint::black_box;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use fpc::calibrate::{calibrate, CalibrateOptions};
@@ -25,10 +25,13 @@ use fpc::{Actuator, Finger, Load, SolveOptions};
 /// 110 mm) at 0 to 100 kPa in steps of 20, noise-free from the ordinary
 /// solve (sd 0.3 mm), and study 8's forces at 4 pressures for two of
 /// them (sd 5 % + 0.005 N); the manifest starts eps0 0.02 off, e1 and
-/// p1 10 % off.
-fn issue_set() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-bench-calibrate-{}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("a temporary directory");
+/// p1 10 % off. Returns it loaded, its directory removed.
+fn issue_set() -> Manifest {
+    let dir = tempfile::Builder::new()
+        .prefix("fpc-bench-calibrate-")
+        .tempdir()
+        .expect("a temporary directory");
+    let d = dir.path();
     let base = Actuator::default().params().clone();
     let e1 = match &base.emc {
         fpc::actuator::Material::Orthotropic(m) => m.e1,
@@ -104,7 +107,7 @@ fn issue_set() -> PathBuf {
     }
     let path = d.join("manifest.toml");
     std::fs::write(&path, m).unwrap();
-    path
+    Manifest::load(&path).expect("the benchmark set loads")
 }
 
 /// The work of one fit, so a change of time can be told from one of work.
@@ -132,8 +135,7 @@ fn one_calibration(c: &mut Criterion) {
     g.bench_function("shipped set, eps0 x 3 + kappa", |b| {
         b.iter(|| calibrate(black_box(&manifest), black_box(&opts)).unwrap())
     });
-    let path = issue_set();
-    let manifest = Manifest::load(&path).expect("the benchmark set loads");
+    let manifest = issue_set();
     let opts = CalibrateOptions::new(&["eps0", "kappa", "emc.e1", "p1"]);
     let fit = calibrate(&manifest, &opts).expect("the benchmark set calibrates");
     report(&fit);
@@ -142,7 +144,6 @@ fn one_calibration(c: &mut Criterion) {
         |b| b.iter(|| calibrate(black_box(&manifest), black_box(&opts)).unwrap()),
     );
     g.finish();
-    let _ = std::fs::remove_dir_all(path.parent().expect("the set's directory"));
 }
 
 criterion_group!(benches, one_calibration);

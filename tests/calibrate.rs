@@ -18,12 +18,14 @@ use fpc::circle_fit::fit_circle;
 use fpc::measure::{Manifest, TestData};
 use fpc::studies::Axis;
 use fpc::{Actuator, Finger, Load, SolveOptions};
+use tempfile::TempDir;
 
-fn dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-calibrate-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh directory, removed when dropped.
+fn dir(tag: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-calibrate-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// The true finger: the paper's actuator with `eps0` and the regular
@@ -162,7 +164,7 @@ const SPECS: [Spec<'static>; 2] = [
 #[test]
 fn noise_free_data_give_back_the_truth() {
     let d = dir("truth");
-    let path = write_set(&d, &SPECS, 1.5, 0.03, 1.9);
+    let path = write_set(d.path(), &SPECS, 1.5, 0.03, 1.9);
     let m = Manifest::load(&path).unwrap();
     let fit = calibrate(&m, &CalibrateOptions::new(&["eps0", "kappa", "emc.e1"])).unwrap();
     let truth = |name: &str| match name {
@@ -233,7 +235,7 @@ fn two_moduli_acting_through_their_sum_are_not_identifiable() {
         force_kpa: &[],
         axis: Axis::X,
     }];
-    let path = write_set(&d, &specs, 1.5, 0.0, 1.5);
+    let path = write_set(d.path(), &specs, 1.5, 0.0, 1.5);
     let m = Manifest::load(&path).unwrap();
     let fit = calibrate(&m, &CalibrateOptions::new(&["eps0", "emc.e2", "pemc.e2"])).unwrap();
     let id = &fit.identifiability;
@@ -269,7 +271,7 @@ fn standard_errors_cover_the_truth_at_their_nominal_rate() {
         force_kpa: &[],
         axis: Axis::X,
     }];
-    let path = write_set(&d, &specs, 1.5, 0.0, 1.5);
+    let path = write_set(d.path(), &specs, 1.5, 0.0, 1.5);
     let base = Manifest::load(&path).unwrap();
     let truth = [0.25, 2.5];
     let opts = CalibrateOptions::new(&["eps0", "kappa"]);
@@ -313,7 +315,7 @@ fn standard_errors_cover_the_truth_at_their_nominal_rate() {
 #[test]
 fn bad_options_are_errors_naming_the_field() {
     let d = dir("bad");
-    let path = write_set(&d, &SPECS[1..], 1.5, 0.0, 1.5);
+    let path = write_set(d.path(), &SPECS[1..], 1.5, 0.0, 1.5);
     let m = Manifest::load(&path).unwrap();
     let field = |o: CalibrateOptions| match calibrate(&m, &o) {
         Err(fpc::SolveError::Input(e)) => (e.field().to_string(), e.to_string()),
@@ -371,7 +373,7 @@ fn a_camera_frame_is_fitted_with_the_model() {
     // origin at (-15, 40) mm; the manifest's frame starts off by 1 degree
     // and 1 mm
     let d = dir("camera");
-    let path = write_set(&d, &SPECS, 1.5, 0.03, 1.5);
+    let path = write_set(d.path(), &SPECS, 1.5, 0.03, 1.5);
     let mut m = Manifest::load(&path).unwrap();
     let truth = fpc::measure::CameraFrame {
         angle_deg: 4.0,
@@ -427,7 +429,7 @@ fn data_of_a_finger_without_ribs_report_their_misfit() {
     // times as precise the same fit reports the misfit, in its chi-square
     // per degree of freedom and in its held-out pressures.
     let d = dir("ribs");
-    let path = write_set_ribs(&d, &SPECS, 1.5, 0.0, 1.5, false);
+    let path = write_set_ribs(d.path(), &SPECS, 1.5, 0.0, 1.5, false);
     let mut m = Manifest::load(&path).unwrap();
     let opts = CalibrateOptions {
         cross_validate: true,
@@ -458,7 +460,7 @@ fn the_model_choice_picks_the_model_the_data_were_made_with() {
     // predicting the pressures it did not see to rounding, while the same
     // model with ribs misses them by several standard deviations.
     let d = dir("choice");
-    let path = write_set_ribs(&d, &SPECS, 1.5, 0.0, 1.5, false);
+    let path = write_set_ribs(d.path(), &SPECS, 1.5, 0.0, 1.5, false);
     let mut m = Manifest::load(&path).unwrap();
     more_precise(&mut m, 30.0);
     let choice =

@@ -21,12 +21,14 @@ use fpc::calibrate::{calibrate, choose_model, CalibrateOptions};
 use fpc::measure::Manifest;
 use fpc::studies::Axis;
 use fpc::{Actuator, ActuatorParams, Finger, ModelId, Partition};
+use tempfile::TempDir;
 
-fn dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-calibrate-shear-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh directory, removed when dropped.
+fn dir(tag: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-calibrate-shear-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// A standard normal variate (Box-Muller).
@@ -122,7 +124,7 @@ fn the_shear_correction_is_recovered_within_three_standard_errors() {
     let mut rng = fastrand::Rng::with_seed(25);
     // the fit starts from the default ks = 5/6 and eps0 0.02 off
     let path = write_manifest(
-        &d,
+        d.path(),
         &f,
         &data,
         "[shared.model]\nname = \"shear\"\n",
@@ -180,7 +182,7 @@ fn a_given_transverse_shear_modulus_is_recovered() {
         force_sd: 1e-4,
     };
     let path = write_manifest(
-        &d,
+        d.path(),
         &f,
         &data,
         "[shared.model]\nname = \"shear\"\n",
@@ -213,7 +215,7 @@ fn the_model_choice_ranks_plane_strain_first_for_plane_strain_data() {
         force_sd: 1e-4,
     };
     // the manifest says plane stress: the choice must find plane strain
-    let path = write_manifest(&d, &f, &data, "", 0.27, None);
+    let path = write_manifest(d.path(), &f, &data, "", 0.27, None);
     let m = Manifest::load(&path).unwrap();
     let choice = choose_model(&m, &CalibrateOptions::new(&["eps0", "kappa"])).unwrap();
     for c in &choice.candidates {

@@ -4,32 +4,34 @@
 //! data (examples/calibration/make_data.rs) at chi-square ~ 0 and a wrong
 //! prestrain far from it, and the validity verdict on every prediction.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use fpc::measure::{Comparison, Manifest, Prediction};
 use fpc::studies::{study7_curvature, study8_force_at_displacement, Axis};
 use fpc::{Finger, Load, SolveOptions, StudyOptions};
+use tempfile::TempDir;
 
 #[path = "../examples/calibration/make_data.rs"]
 mod synthetic;
 
-fn dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-compare-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh directory, removed when dropped.
+fn dir(tag: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-compare-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// A manifest of one specimen at `eps0` (with `own` added to its own
 /// tables) and one test of `kind` holding `csv`; compared.
 fn compare_one(tag: &str, eps0: f64, own: &str, kind: &str, test: &str, csv: &str) -> Comparison {
     let d = dir(tag);
-    std::fs::write(d.join("data.csv"), csv).unwrap();
+    std::fs::write(d.path().join("data.csv"), csv).unwrap();
     let m = format!(
         "[[specimen]]\nname = \"{tag}\"\n[specimen.own.actuator.pemc]\neps0 = {eps0}\n{own}\n[[specimen.test]]\nkind = \"{kind}\"\nfile = \"data.csv\"\n{test}"
     );
-    std::fs::write(d.join("m.toml"), m).unwrap();
-    let manifest = Manifest::load(&d.join("m.toml")).unwrap();
+    std::fs::write(d.path().join("m.toml"), m).unwrap();
+    let manifest = Manifest::load(&d.path().join("m.toml")).unwrap();
     fpc::compare(&manifest).unwrap()
 }
 
@@ -155,14 +157,14 @@ fn forces_are_study_8s() {
 fn synthetic_chi_square(tag: &str, shift: f64) -> Comparison {
     let d = dir(tag);
     synthetic::generate(
-        &d,
+        d.path(),
         synthetic::Options {
             noise: false,
             manifest_eps0_shift: shift,
         },
     )
     .unwrap();
-    fpc::compare(&Manifest::load(&d.join("manifest.toml")).unwrap()).unwrap()
+    fpc::compare(&Manifest::load(&d.path().join("manifest.toml")).unwrap()).unwrap()
 }
 
 #[test]
@@ -188,7 +190,7 @@ fn noise_free_data_fit_and_a_wrong_prestrain_does_not() {
     // is of the order of its points
     let again = dir("again");
     synthetic::generate(
-        &again,
+        again.path(),
         synthetic::Options {
             noise: true,
             manifest_eps0_shift: 0.0,
@@ -196,9 +198,9 @@ fn noise_free_data_fit_and_a_wrong_prestrain_does_not() {
     )
     .unwrap();
     let ours = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration");
-    for e in std::fs::read_dir(&again).unwrap() {
+    for e in std::fs::read_dir(again.path()).unwrap() {
         let name = e.unwrap().file_name();
-        let made = std::fs::read_to_string(again.join(&name)).unwrap();
+        let made = std::fs::read_to_string(again.path().join(&name)).unwrap();
         let shipped = std::fs::read_to_string(ours.join(&name)).unwrap();
         assert_eq!(
             made, shipped,

@@ -1,17 +1,18 @@
 //! Bad measurement input: every class is an error naming the file, the row
 //! and column, and the field; good input reads into typed rows.
 
-use std::path::PathBuf;
+use tempfile::TempDir;
 
 use super::*;
 
-/// A fresh directory holding `files` (name, text).
-fn dir_with(tag: &str, files: &[(&str, &str)]) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-measure-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
+/// A fresh directory holding `files` (name, text), removed when dropped.
+fn dir_with(tag: &str, files: &[(&str, &str)]) -> TempDir {
+    let d = tempfile::Builder::new()
+        .prefix(&format!("fpc-measure-{tag}-"))
+        .tempdir()
+        .unwrap();
     for (name, text) in files {
-        std::fs::write(d.join(name), text).unwrap();
+        std::fs::write(d.path().join(name), text).unwrap();
     }
     d
 }
@@ -25,8 +26,8 @@ fn one_test(kind: &str, extra: &str) -> String {
 
 fn load(tag: &str, manifest: &str, files: &[(&str, &str)]) -> Result<Manifest, MeasureError> {
     let d = dir_with(tag, files);
-    std::fs::write(d.join("m.toml"), manifest).unwrap();
-    Manifest::load(&d.join("m.toml"))
+    std::fs::write(d.path().join("m.toml"), manifest).unwrap();
+    Manifest::load(&d.path().join("m.toml"))
 }
 
 /// Reads a one-test manifest whose data must be rejected at (file, row,

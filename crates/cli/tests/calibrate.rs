@@ -5,17 +5,19 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use common::{fpc, rejected, shipped, text};
+use tempfile::TempDir;
 
-fn tmp(name: &str) -> PathBuf {
+fn tmp(name: &str) -> TempDir {
     common::tmp("calibrate", name)
 }
 
 #[test]
 fn the_synthetic_set_is_calibrated_into_json_and_scenes() {
-    let out = tmp("run");
+    let dir = tmp("run");
+    let out = dir.path();
     let o = out.display().to_string();
     let run = fpc(&["calibrate", &shipped(), "--fit", "eps0,kappa", "--out", &o]);
     let stdout = text(&run.stdout);
@@ -92,7 +94,8 @@ fn the_synthetic_set_is_calibrated_into_json_and_scenes() {
 #[test]
 fn bad_options_exit_2_naming_the_field() {
     let m = shipped();
-    let o = tmp("bad").display().to_string();
+    let bad = tmp("bad");
+    let o = bad.path().display().to_string();
     rejected(
         &["calibrate", &m, "--fit", "nonsense", "--out", &o],
         &["fit", "nonsense"],
@@ -120,7 +123,8 @@ fn bad_options_exit_2_naming_the_field() {
         &["no-such-manifest.toml"],
     );
     // a bad scene table: fpc solve names the calibration key
-    let d = tmp("scene");
+    let dir = tmp("scene");
+    let d = dir.path();
     let s = d.join("s.toml");
     std::fs::write(
         &s,
@@ -140,7 +144,8 @@ fn bad_options_exit_2_naming_the_field() {
 
 #[test]
 fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
-    let out = tmp("pipe");
+    let dir = tmp("pipe");
+    let out = dir.path();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
         .args([
             "calibrate",
@@ -166,7 +171,8 @@ fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
 fn choose_model_ranks_every_model_with_and_without_ribs_in_both_plane_states() {
     // one specimen's radii from the shipped set: a small fit, each
     // candidate cross-validated over its nine pressures
-    let out = tmp("choice");
+    let dir = tmp("choice");
+    let out = dir.path();
     let shipped_dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/calibration");
     std::fs::copy(
         shipped_dir.join("eps0-0.4_radius.csv"),

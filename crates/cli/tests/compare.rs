@@ -4,17 +4,17 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use common::{fails, fpc, shipped, text};
+use tempfile::TempDir;
 
-fn tmp(name: &str) -> PathBuf {
+fn tmp(name: &str) -> TempDir {
     common::tmp("compare", name)
 }
 
 #[test]
 fn the_synthetic_set_is_compared_into_csv_json_and_figures() {
-    let out = tmp("run");
+    let dir = tmp("run");
+    let out = dir.path();
     let o = out.display().to_string();
     let run = fpc(&["compare", &shipped(), "--out", &o, "--format", "svg,png"]);
     let stdout = text(&run.stdout);
@@ -59,7 +59,8 @@ fn the_synthetic_set_is_compared_into_csv_json_and_figures() {
 
 #[test]
 fn bad_measurements_exit_2_naming_file_row_column_and_field() {
-    let d = tmp("bad");
+    let dir = tmp("bad");
+    let d = dir.path();
     std::fs::write(
         d.join("m.toml"),
         "[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"radius\"\nfile = \"r.csv\"\n",

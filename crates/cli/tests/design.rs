@@ -1,8 +1,9 @@
 //! `fpc design`: the JSON keys, the files written, the scenes that
 //! reproduce the claimed grasps, and requirements errors with their line.
 
-use std::path::PathBuf;
 use std::process::Command;
+
+use tempfile::TempDir;
 
 fn fpc(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
@@ -11,16 +12,18 @@ fn fpc(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-design-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory, removed when dropped.
+fn tmp(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-design-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 #[test]
 fn a_design_run_writes_its_claim_and_reproducible_scenes() {
-    let dir = tmp("run");
+    let scratch = tmp("run");
+    let dir = scratch.path();
     let req = dir.join("req.toml");
     std::fs::write(
         &req,
@@ -89,7 +92,8 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
 
 #[test]
 fn bad_requirements_are_rejected_with_their_place() {
-    let dir = tmp("bad");
+    let scratch = tmp("bad");
+    let dir = scratch.path();
     let req = dir.join("req.toml");
     std::fs::write(
         &req,
@@ -118,7 +122,8 @@ fn bad_requirements_are_rejected_with_their_place() {
 
 #[test]
 fn design_takes_its_finger_from_a_scene_and_rejects_a_bad_one() {
-    let dir = tmp("scene");
+    let scratch = tmp("scene");
+    let dir = scratch.path();
     let req = dir.join("req.toml");
     std::fs::write(
         &req,

@@ -146,11 +146,12 @@ fn usage_errors_exit_2_on_one_line() {
 
 #[test]
 fn an_unreadable_scene_exits_2() {
-    let dir = std::env::temp_dir().join(format!("fpc-errors-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let missing = dir.join("missing.toml");
-    let out = dir.join("out");
+    let dir = tempfile::Builder::new()
+        .prefix("fpc-errors-")
+        .tempdir()
+        .unwrap();
+    let missing = dir.path().join("missing.toml");
+    let out = dir.path().join("out");
     let line = fails(
         &[
             "solve",
@@ -163,7 +164,6 @@ fn an_unreadable_scene_exits_2() {
     assert!(line.contains("cannot read"), "{line}");
     assert!(line.contains("missing.toml"), "{line}");
     assert!(!out.exists(), "nothing is written");
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
@@ -195,8 +195,12 @@ fn help_is_not_an_error() {
 
 #[test]
 fn bad_figure_sizes_exit_2_before_any_directory_is_made() {
-    let out = std::env::temp_dir().join(format!("fpc-errors-style-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
+    // a directory not yet made, inside one removed when dropped
+    let parent = tempfile::Builder::new()
+        .prefix("fpc-errors-style-")
+        .tempdir()
+        .unwrap();
+    let out = parent.path().join("out");
     let dir = out.to_str().unwrap();
     for (flag, v) in [
         ("--width-in", "0"),

@@ -152,9 +152,11 @@ fn a_finger_curled_onto_its_root_is_outside_the_model() {
 
 #[test]
 fn a_scene_too_thick_for_laminate_theory_says_so_once() {
-    let dir = std::env::temp_dir().join(format!("fpc-validity-{}-thick", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = tempfile::Builder::new()
+        .prefix("fpc-validity-thick-")
+        .tempdir()
+        .unwrap();
+    let dir = scratch.path();
     let scene = dir.join("thick.toml");
     std::fs::write(
         &scene,
@@ -192,7 +194,6 @@ fn a_scene_too_thick_for_laminate_theory_says_so_once() {
     assert_eq!(thick[0]["limit"], 0.1);
     assert!((thick[1]["value"].as_f64().unwrap() - 200.0 / 31.75).abs() < 1e-12);
     assert_eq!(thick[1]["limit"], 0.5);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -6,12 +6,13 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// A fresh scratch directory for test `name` of file `file`.
-pub fn tmp(file: &str, name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("fpc-cli-{file}-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh scratch directory for test `name` of file `file`, removed when
+/// dropped (a failed test's too).
+pub fn tmp(file: &str, name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-cli-{file}-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// The shipped synthetic measurement set's manifest.
@@ -22,12 +23,14 @@ pub fn shipped() -> String {
         .to_string()
 }
 
-/// A scratch directory for one test of this file, removed when dropped.
-pub struct TempDir(pub PathBuf);
+/// A scratch directory for one test of this file, removed when dropped:
+/// its path, and the [`tmp`] directory that removes it.
+pub struct TempDir(pub PathBuf, tempfile::TempDir);
 
 impl TempDir {
     pub fn new(name: &str) -> TempDir {
-        TempDir(tmp(env!("CARGO_CRATE_NAME"), name))
+        let d = tmp(env!("CARGO_CRATE_NAME"), name);
+        TempDir(d.path().to_path_buf(), d)
     }
 
     /// Writes `bytes` to `name` inside the directory.
@@ -35,12 +38,6 @@ impl TempDir {
         let p = self.0.join(name);
         std::fs::write(&p, bytes).unwrap();
         p
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
     }
 }
 
