@@ -116,8 +116,15 @@ pub(crate) struct ChainParts<M: ElementModel> {
     ev: Vec<f64>,
     eg: Vec<(f64, M::Coeffs)>,
     eh: Vec<ElementHessian<M>>,
-    /// The scaled Hessian of the last evaluation, and its factorisation.
-    matrix: Semiseparable,
+    /// Two scaled Hessians: `matrices[active]` holds the last
+    /// factorisation, which `solve` uses; a Hessian evaluation fills the
+    /// other one and marks it `staged`, and the next `factor` makes it the
+    /// active one ([`Hessian::stages_hessian`]: Newton may evaluate a
+    /// step's landing with its Hessian and still take chord steps with the
+    /// factorisation before it).
+    matrices: [Semiseparable; 2],
+    active: usize,
+    staged: bool,
     memo: StartMemo<M>,
 }
 
@@ -134,7 +141,9 @@ impl<M: ElementModel> ChainParts<M> {
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
             eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
-            matrix: Semiseparable::new(M::Coeffs::LEN, n),
+            matrices: [0; 2].map(|_| Semiseparable::new(M::Coeffs::LEN, n)),
+            active: 0,
+            staged: false,
             memo: StartMemo::empty(),
         }
     }
@@ -142,6 +151,18 @@ impl<M: ElementModel> ChainParts<M> {
     /// The number of elements they are for.
     pub fn len(&self) -> usize {
         self.k.len()
+    }
+
+    /// The Hessian of the last evaluation (staged or factorised).
+    fn latest(&self) -> &Semiseparable {
+        &self.matrices[self.active ^ usize::from(self.staged)]
+    }
+
+    /// The Hessian of the last evaluation, made the active matrix (the
+    /// factorisation before it is dropped).
+    fn promote(&mut self) -> &mut Semiseparable {
+        self.active ^= usize::from(std::mem::take(&mut self.staged));
+        &mut self.matrices[self.active]
     }
 }
 
@@ -312,18 +333,18 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
 
 impl<M: ElementModel> LinearSystem for Chain<'_, M> {
     fn diagonal_range(&self) -> (f64, f64) {
-        self.b.matrix.diagonal_range()
+        self.b.latest().diagonal_range()
     }
     /// (A failure on a non-finite entry is already reported as
     /// `FactorError::NonFinite` by the factorisation.)
     fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
-        self.b.matrix.factor(tau, kind)
+        self.b.promote().factor(tau, kind)
     }
     fn solve(&mut self, b: &mut [f64]) {
-        self.b.matrix.solve(b)
+        self.b.matrices[self.b.active].solve(b)
     }
     fn apply(&self, x: &[f64], out: &mut [f64]) {
-        self.b.matrix.apply(x, out)
+        self.b.latest().apply(x, out)
     }
 }
 
@@ -333,11 +354,15 @@ impl<M: ElementModel> Chain<'_, M> {
     /// ([`Semiseparable::inertia`]); `None` where the symmetric
     /// factorisation fails (a singular pivot, say).
     pub(crate) fn inertia(&mut self) -> Option<Inertia> {
-        self.b.matrix.inertia(0.0).ok()
+        self.b.promote().inertia(0.0).ok()
     }
 }
 
 impl<M: ElementModel> Hessian for Chain<'_, M> {
+    fn stages_hessian(&self) -> bool {
+        true
+    }
+
     fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         self.unscale_into(y);
         let n = M::Coeffs::LEN;
@@ -387,12 +412,15 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 m.end_h.clone_from(&self.b.end_h);
             }
         }
+        // (filled beside the factorised matrix)
+        let m = self.b.active ^ 1;
+        self.b.staged = true;
         if loaded {
             self.chain_geometry();
             let [fx, fz] = self.f;
             v -= fx * self.tip[0] + fz * self.tip[1];
         } else {
-            self.b.matrix.clear_coupling();
+            self.b.matrices[m].clear_coupling();
         }
         // each element's block and coupling vectors: the load's terms,
         // then scaled and straightened where the unknowns are (element by
@@ -432,7 +460,7 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 gj[a] *= s[a];
             }
             let yj = &y[n * j..n * j + n];
-            self.b.matrix.fill_block(j, |full| {
+            self.b.matrices[m].fill_block(j, |full| {
                 straighten::newton_block::<M>(blk, &s, yj, gj, straight, full);
             });
             if loaded {
@@ -440,7 +468,7 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                     straighten::pull_back::<M>(yj, u.as_mut());
                     straighten::pull_back::<M>(yj, w.as_mut());
                 }
-                self.b.matrix.set_coupling(j, u.as_ref(), w.as_ref());
+                self.b.matrices[m].set_coupling(j, u.as_ref(), w.as_ref());
             }
             if straight {
                 straighten::pull_back::<M>(yj, gj);
@@ -483,7 +511,7 @@ pub(crate) fn hessian<M: ElementModel>(
     let mut g = vec![0.0; dim];
     let mut h = vec![0.0; dim * dim];
     let v = fpc_newton::Hessian::hessian(&mut chain, &y, &mut g);
-    chain.b.matrix.dense(&mut h);
+    chain.b.latest().dense(&mut h);
     let n = M::Coeffs::LEN;
     let s = |i: usize| core.unscale[i / n][i % n];
     for i in 0..dim {

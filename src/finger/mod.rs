@@ -454,6 +454,9 @@ impl fpc_newton::Hessian for Problem<'_> {
     fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
         self.inner.hessian(x, g)
     }
+    fn stages_hessian(&self) -> bool {
+        self.inner.stages_hessian()
+    }
 }
 
 impl fpc_newton::LinearSystem for Problem<'_> {

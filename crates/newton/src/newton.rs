@@ -54,16 +54,21 @@ enum Direction {
     Modified,
 }
 
-/// What [`Newton::land_with_gradient`] made of a full step.
+/// What [`Newton::land_with_gradient`] or [`Newton::land_with_hessian`]
+/// made of a full step.
 enum Landing {
-    /// Not accepted: the iterate is unchanged.
-    Rejected,
+    /// Not accepted (the value where the step landed, which starts the
+    /// line search): the iterate is unchanged.
+    Rejected(f64),
     /// Accepted (and chord steps taken): value, gradient norm and the norm
     /// before the last step.
     Next((f64, f64, f64)),
     /// A non-finite Hessian where the chord steps stopped (the report says
     /// why).
     Failed,
+    /// Accepted by Armijo with its Hessian, for an ordinary Newton step
+    /// (value there; its gradient in `gt`); the iterate is unchanged.
+    Accepted(f64),
 }
 
 /// Steps expected from gradient norm `g` to `gtol` when each multiplies it
@@ -113,7 +118,8 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// `max_step`), while a step the line search shortens, or a step along a
 /// shifted or modified Hessian, resets it; a step shortened to the cap is
 /// not taken for the quadratic phase. Backtracking then starts at the
-/// full step, evaluates only [`Energy::energy`](crate::Energy::energy) at
+/// full step (with its value, where a landing below evaluated it already),
+/// evaluates only [`Energy::energy`](crate::Energy::energy) at
 /// trial points, and accepts the first step fraction `alpha` with
 /// `f(x + alpha p) <= f(x) + c1 alpha g^T p` (Armijo), safeguarded
 /// quadratic interpolation (`alpha` shrinks by 0.1..0.5 per trial; by 0.25
@@ -124,6 +130,19 @@ fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
 /// tip load that turns the finger far makes the energy rise steeply past
 /// its minimum along the step, where the quadratic estimate falls short
 /// of it). The Hessian is evaluated only at accepted points.
+///
+/// Staged Hessians ([`Hessian::stages_hessian`], with
+/// [`NewtonOptions::eager_full_steps`]): before the quadratic phase, the
+/// point an unshifted step lands on (a step not shortened to the cap) is
+/// evaluated with its Hessian at once. Accepted by Armijo, it is the next
+/// iterate with its Hessian at hand: one evaluation instead of an energy
+/// and then the Hessian. Where its decrease matched the quadratic model's
+/// to 1 %, chord steps (below) follow with the factorisation the step came
+/// from, which the problem keeps beside the new Hessian, and that Hessian
+/// serves if they take no step. Rejected, its value starts the line
+/// search. So the iterates are those of a problem that does not stage,
+/// wherever its energy, gradient and Hessian evaluations give the same
+/// value at a point; only the evaluations differ.
 ///
 /// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
 /// quadratic phase, when the quadratic model predicts that the full step
@@ -310,7 +329,10 @@ impl Newton {
             // is evaluated with its gradient, and chord steps follow at once
             // if it cut the gradient enough (else the Hessian there).
             let chord = o.eager_full_steps && o.chord_steps;
-            if chord && o.trusted_start && rep.iterations == 0 && plain {
+            // the value at the full step, where a landing evaluated it
+            let mut full = None;
+            let trusted = chord && o.trusted_start && rep.iterations == 0 && plain;
+            if trusted {
                 self.step_to(x, 1.0);
                 match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                     Landing::Next(next) => {
@@ -319,7 +341,33 @@ impl Newton {
                     }
                     Landing::Failed => break,
                     // the line search below starts from x
-                    Landing::Rejected => {}
+                    Landing::Rejected(ft) => full = Some(ft),
+                    Landing::Accepted(_) => {}
+                }
+            }
+            // Not yet in the quadratic phase, an unshifted step not shortened
+            // to the cap, on a problem that stages its Hessian beside the
+            // factorisation (Hessian::stages_hessian): the point the full
+            // step lands on is evaluated with its Hessian at once, instead
+            // of an energy first and the Hessian once it is accepted. The
+            // line search takes over where it is rejected.
+            let mut landed = None;
+            if !trusted
+                && o.eager_full_steps
+                && plain
+                && !quadratic_prev.is_finite()
+                && !self.capped
+                && p.stages_hessian()
+            {
+                self.step_to(x, 1.0);
+                match self.land_with_hessian(p, x, f, gtp, gnorm, &mut rep) {
+                    Landing::Next(next) => {
+                        (f, gnorm, quadratic_prev) = next;
+                        continue;
+                    }
+                    Landing::Failed => break,
+                    Landing::Rejected(ft) => full = Some(ft),
+                    Landing::Accepted(ft) => landed = Some(ft),
                 }
             }
             // In the quadratic phase the full step is almost always accepted:
@@ -359,7 +407,8 @@ impl Newton {
                         Landing::Failed => break,
                         // x, f and g are the current iterate's; the line
                         // search below starts from them
-                        Landing::Rejected => {}
+                        Landing::Rejected(ft) => full = Some(ft),
+                        Landing::Accepted(_) => {}
                     }
                 } else {
                     let ft = p.hessian(&self.xt, &mut self.g);
@@ -376,14 +425,18 @@ impl Newton {
                     // rejected: g and h now belong to the trial point; the
                     // line search below needs only f, gtp and gnorm, and
                     // the Hessian is re-evaluated where it lands
+                    full = Some(ft);
                 }
             }
-            let (mut alpha, mut ft) = match self.line_search(p, x, f, gtp, gnorm, &mut rep) {
-                Ok(found) => found,
-                Err(reason) => {
-                    rep.reason = reason;
-                    break;
-                }
+            let (mut alpha, mut ft) = match landed {
+                Some(ft) => (1.0, ft),
+                None => match self.line_search(p, x, (f, gtp, gnorm), full, &mut rep) {
+                    Ok(found) => found,
+                    Err(reason) => {
+                        rep.reason = reason;
+                        break;
+                    }
+                },
             };
             if o.step_growth {
                 if !plain && alpha == 1.0 {
@@ -405,7 +458,8 @@ impl Newton {
             // (the actual decrease over 1/2 g^T p): close to the minimum,
             // where chord steps may follow it
             let fit = (ft - f) / (0.5 * gtp);
-            if chord && alpha == 1.0 && plain && (fit - 1.0).abs() <= MODEL_FIT {
+            if landed.is_none() && chord && alpha == 1.0 && plain && (fit - 1.0).abs() <= MODEL_FIT
+            {
                 match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                     Landing::Next(next) => {
                         (f, gnorm, quadratic_prev) = next;
@@ -414,13 +468,18 @@ impl Newton {
                     Landing::Failed => break,
                     // (only if the gradient's value disagrees with the
                     // energy's): the Hessian at the accepted point below
-                    Landing::Rejected => {}
+                    Landing::Rejected(_) | Landing::Accepted(_) => {}
                 }
             }
             self.xprev.copy_from_slice(x);
             x.copy_from_slice(&self.xt);
-            let fnew = p.hessian(x, &mut self.g);
-            rep.hessian_evals += 1;
+            let fnew = if landed.is_some() {
+                self.g.copy_from_slice(&self.gt);
+                ft
+            } else {
+                rep.hessian_evals += 1;
+                p.hessian(x, &mut self.g)
+            };
             if !(fnew.is_finite() && all_finite(&self.g)) {
                 x.copy_from_slice(&self.xprev);
                 rep.reason = Termination::NonFinite;
@@ -473,13 +532,57 @@ impl Newton {
         let ft = p.gradient(&self.xt, &mut self.gt);
         rep.gradient_evals += 1;
         if !(ft.is_finite() && all_finite(&self.gt) && ft <= f + self.opts.c1 * gtp) {
-            return Landing::Rejected;
+            return Landing::Rejected(ft);
         }
+        self.take_landing(p, x, ft, gnorm, false, rep)
+    }
+
+    /// Evaluates the full step `self.xt` from `x` with its Hessian, staged
+    /// beside the factorisation at hand ([`Hessian::stages_hessian`]).
+    /// Rejected unless its value is finite and passes Armijo; where its
+    /// decrease matches the quadratic model's to [`MODEL_FIT`] (and chord
+    /// steps are on), it becomes the iterate as in
+    /// [`Newton::land_with_gradient`], with no Hessian to evaluate again if
+    /// no chord step follows; otherwise [`Landing::Accepted`] hands it to
+    /// the ordinary Newton step.
+    fn land_with_hessian<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &mut [f64],
+        f: f64,
+        gtp: f64,
+        gnorm: f64,
+        rep: &mut Report,
+    ) -> Landing {
+        let ft = p.hessian(&self.xt, &mut self.gt);
+        rep.hessian_evals += 1;
+        if !(ft.is_finite() && ft <= f + self.opts.c1 * gtp) {
+            return Landing::Rejected(ft);
+        }
+        let fit = (ft - f) / (0.5 * gtp);
+        if self.opts.chord_steps && (fit - 1.0).abs() <= MODEL_FIT && all_finite(&self.gt) {
+            return self.take_landing(p, x, ft, gnorm, true, rep);
+        }
+        Landing::Accepted(ft)
+    }
+
+    /// Makes the full step `self.xt` (value `ft`, gradient in `self.gt`) the
+    /// iterate and goes on as [`Newton::chord_then_hessian`] (`staged`: the
+    /// Hessian there is evaluated already).
+    fn take_landing<P: Hessian + ?Sized>(
+        &mut self,
+        p: &mut P,
+        x: &mut [f64],
+        ft: f64,
+        gnorm: f64,
+        staged: bool,
+        rep: &mut Report,
+    ) -> Landing {
         x.copy_from_slice(&self.xt);
         self.g.copy_from_slice(&self.gt);
         rep.iterations += 1;
         rep.step_norm = norm_inf(&self.p);
-        match self.chord_then_hessian(p, x, ft, gnorm, rep) {
+        match self.chord_then_hessian(p, x, ft, gnorm, staged, rep) {
             Some(next) => Landing::Next(next),
             None => Landing::Failed,
         }
@@ -488,7 +591,8 @@ impl Newton {
     /// After a step to `x` whose gradient alone was evaluated (in
     /// `self.g`; value `f`, the gradient norm before the step `prev`):
     /// chord steps while they pay ([`Newton::chord`]), then the Hessian at
-    /// the last accepted point unless they converged. Returns the value,
+    /// the last accepted point unless they converged (or took no step
+    /// from a point whose Hessian is `staged` already). Returns the value,
     /// gradient norm and the norm before the last step, or `None` (the
     /// report says `NonFinite`) when that Hessian is not finite.
     fn chord_then_hessian<P: Hessian + ?Sized>(
@@ -497,11 +601,13 @@ impl Newton {
         x: &mut [f64],
         f: f64,
         prev: f64,
+        staged: bool,
         rep: &mut Report,
     ) -> Option<(f64, f64, f64)> {
         let gnorm = norm_inf(&self.g);
+        let taken = rep.chord_steps;
         let (f, gnorm, prev) = self.chord(p, x, f, gnorm, prev, rep);
-        if gnorm <= self.opts.gtol {
+        if gnorm <= self.opts.gtol || (staged && rep.chord_steps == taken) {
             return Some((f, gnorm, prev));
         }
         let fh = p.hessian(x, &mut self.g);
@@ -728,15 +834,17 @@ impl Newton {
         }
     }
 
-    /// Backtracking Armijo search along `self.p`; leaves the accepted point
-    /// in `self.xt` and returns the step fraction and the value there.
+    /// Backtracking Armijo search along `self.p` from `x` (value `f`,
+    /// slope `gtp`, gradient norm `gnorm`), starting with the full step's
+    /// value `full` where a landing evaluated it already; leaves the
+    /// accepted point in `self.xt` and returns the step fraction and the
+    /// value there.
     fn line_search<P: Hessian + ?Sized>(
         &mut self,
         p: &mut P,
         x: &[f64],
-        f: f64,
-        gtp: f64,
-        gnorm: f64,
+        (f, gtp, gnorm): (f64, f64, f64),
+        mut full: Option<f64>,
         rep: &mut Report,
     ) -> Result<(f64, f64), Termination> {
         let o = self.opts;
@@ -746,8 +854,10 @@ impl Newton {
         let mut rejected: Option<(f64, f64)> = None;
         loop {
             self.step_to(x, alpha);
-            let ft = p.energy(&self.xt);
-            rep.energy_evals += 1;
+            let ft = full.take().unwrap_or_else(|| {
+                rep.energy_evals += 1;
+                p.energy(&self.xt)
+            });
             if ft.is_finite() {
                 any_finite = true;
                 if ft <= f + o.c1 * alpha * gtp {

@@ -136,7 +136,11 @@ pub struct NewtonOptions {
     /// predicts convergence there), falling back to the line search if it
     /// fails the Armijo test. Saves an energy evaluation per iteration and
     /// the final Hessian; the price is that a rejected trial point has had
-    /// its Hessian evaluated. Default true.
+    /// its Hessian evaluated. On a problem that stages its Hessians
+    /// ([`Hessian::stages_hessian`](crate::Hessian::stages_hessian)) the
+    /// same holds before the quadratic phase for every unshifted step not
+    /// shortened to [`max_step`](Self::max_step) (see [`Newton`](crate::Newton)).
+    /// Default true.
     pub eager_full_steps: bool,
     /// With [`eager_full_steps`](Self::eager_full_steps), in the quadratic
     /// phase: when the quadratic model predicts that the full step reduces

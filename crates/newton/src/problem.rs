@@ -71,6 +71,19 @@ pub trait Hessian: Gradient + LinearSystem {
     /// Writes the gradient into `g`, keeps the Hessian at `x`, and returns
     /// the value.
     fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64;
+    /// True when the problem keeps a new Hessian beside the last
+    /// factorisation until the next [`factor`](LinearSystem::factor):
+    /// after a `hessian` call, [`solve`](LinearSystem::solve) still solves
+    /// with the factorisation made before it, while
+    /// [`apply`](LinearSystem::apply) and
+    /// [`diagonal_range`](LinearSystem::diagonal_range) act on the new
+    /// Hessian. Newton then evaluates where a full step lands with its
+    /// Hessian at once (instead of an energy first and the Hessian once
+    /// the step is accepted) and can still take chord steps with the
+    /// factorisation the step came from. False unless the problem says so.
+    fn stages_hessian(&self) -> bool {
+        false
+    }
 }
 
 impl<P: Energy + ?Sized> Energy for &mut P {
@@ -106,5 +119,8 @@ impl<P: LinearSystem + ?Sized> LinearSystem for &mut P {
 impl<P: Hessian + ?Sized> Hessian for &mut P {
     fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
         (**self).hessian(x, g)
+    }
+    fn stages_hessian(&self) -> bool {
+        (**self).stages_hessian()
     }
 }

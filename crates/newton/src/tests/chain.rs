@@ -319,6 +319,72 @@ impl Bordered for SemiChain {
     }
 }
 
+/// [`SemiChain`] staging each new Hessian beside the last factorisation
+/// ([`Hessian::stages_hessian`]): two matrices, `h[active]` the factorised
+/// one.
+pub(super) struct StagedChain {
+    pub(super) m: ChainModel,
+    h: [Semiseparable; 2],
+    active: usize,
+    staged: bool,
+}
+
+impl StagedChain {
+    pub(super) fn new(m: ChainModel) -> Self {
+        let h = [0; 2].map(|_| Semiseparable::new(m.n, m.blocks));
+        StagedChain {
+            m,
+            h,
+            active: 0,
+            staged: false,
+        }
+    }
+
+    fn latest(&self) -> &Semiseparable {
+        &self.h[self.active ^ usize::from(self.staged)]
+    }
+}
+
+impl Energy for StagedChain {
+    fn dim(&self) -> usize {
+        self.m.size()
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        self.m.value(x)
+    }
+}
+impl Gradient for StagedChain {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        self.m.gradient(x, g)
+    }
+}
+impl Hessian for StagedChain {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        let f = self.m.gradient(x, g);
+        self.staged = true;
+        self.m.structured(x, &mut self.h[self.active ^ 1]);
+        f
+    }
+    fn stages_hessian(&self) -> bool {
+        true
+    }
+}
+impl LinearSystem for StagedChain {
+    fn diagonal_range(&self) -> (f64, f64) {
+        self.latest().diagonal_range()
+    }
+    fn factor(&mut self, tau: f64, kind: PivotKind) -> Result<Inertia, FactorError> {
+        self.active ^= usize::from(std::mem::take(&mut self.staged));
+        self.h[self.active].factor(tau, kind)
+    }
+    fn solve(&mut self, b: &mut [f64]) {
+        self.h[self.active].solve(b)
+    }
+    fn apply(&self, x: &[f64], out: &mut [f64]) {
+        self.latest().apply(x, out)
+    }
+}
+
 /// A bordered problem that remembers where the solver last factorised `H`
 /// (the point of the evaluation before the factorisation).
 pub(super) struct Recording<P> {

@@ -1,6 +1,6 @@
 //! Tests of the semiseparable algebra against the dense path.
 
-use super::chain::{ChainModel, Recording, SemiChain};
+use super::chain::{ChainModel, Recording, SemiChain, StagedChain};
 use super::*;
 
 /// The structured Hessian is the dense one: same entries, same products.
@@ -85,6 +85,67 @@ fn semiseparable_newton_iterates_match_dense() {
         );
         assert_eq!(m.negative_eigenvalues_at(&x), 0);
     }
+}
+
+/// A problem that stages its Hessians beside the factorisation takes the
+/// same iterates bit for bit as one that does not (the landing of a full
+/// step is evaluated with its Hessian, not with an energy first), with
+/// fewer evaluations in all; from starts near and far, so that landings
+/// are accepted, rejected and followed by chord steps.
+#[test]
+fn staged_hessians_keep_the_iterates_with_fewer_evaluations() {
+    let mut rng = Lcg::new(21);
+    let (mut fewer, mut chorded, mut rejected) = (0, 0, 0);
+    for case in 0..40 {
+        let (n, blocks) = [(4, 8), (3, 6), (5, 4), (2, 12)][case % 4];
+        let m = ChainModel::random(
+            n,
+            blocks,
+            -0.3 + 0.02 * case as f64,
+            1.0,
+            0.1,
+            0.5,
+            &mut rng,
+        );
+        let dim = m.size();
+        let amp = [0.02, 0.3, 1.5, 4.0][case / 10];
+        let start: Vec<f64> = (0..dim)
+            .map(|i| amp * (i as f64 * 0.7 + case as f64).sin())
+            .collect();
+        let opts = NewtonOptions {
+            gtol: 1e-11,
+            ..NewtonOptions::default()
+        };
+        let mut plain = Track::new(SemiChain::new(m.clone()));
+        let mut x = start.clone();
+        let r = Newton::new(dim, opts).minimize(&mut plain, &mut x);
+        let mut staged = StagedChain::new(m);
+        let mut xs = start.clone();
+        let rs = Newton::new(dim, opts).minimize(&mut staged, &mut xs);
+        assert!(r.converged(), "case {case}: {r}");
+        assert_eq!(rs.reason, r.reason, "case {case}");
+        assert_eq!(bits(&xs), bits(&x), "case {case}: {rs} against {r}");
+        assert_eq!(rs.energy.to_bits(), r.energy.to_bits(), "case {case}");
+        assert_eq!(
+            (rs.iterations, rs.chord_steps, rs.factorizations),
+            (r.iterations, r.chord_steps, r.factorizations),
+            "case {case}"
+        );
+        let evals = |r: &Report| r.energy_evals + r.gradient_evals + r.hessian_evals;
+        assert!(evals(&rs) <= evals(&r), "case {case}: {rs} against {r}");
+        fewer += usize::from(evals(&rs) < evals(&r));
+        chorded += usize::from(rs.gradient_evals < r.gradient_evals);
+        rejected += usize::from(rs.energy_evals > 0 && rs.hessian_evals > r.hessian_evals);
+    }
+    // every kind of landing happened
+    assert!(
+        fewer >= 10 && chorded > 0 && rejected > 0,
+        "{fewer} {chorded} {rejected}"
+    );
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
 }
 
 /// The bordered solve of a semiseparable-backed chain agrees with the
