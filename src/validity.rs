@@ -133,34 +133,26 @@ pub(crate) fn check<M: Kinematics>(
     let mut turn_known = true;
     let mut stretch = Vec::with_capacity(elements.len());
     let mut theta = 0.0f64;
+    let mut scanned = [Extremes::default(); SCAN_LANES];
     for (i, e) in elements.iter().enumerate() {
         let ki = element::coeffs::<M>(k, i);
         let l = e.length();
-        // one pass without branches on the findings: the extremes of what
-        // the checks compare; an element past a limit is scanned again for
-        // its warning's value (rare)
-        let mut steep = false;
-        let (mut rlo, mut rhi) = (f64::INFINITY, f64::NEG_INFINITY); // dz/dx
-        let mut most_stretch = 0.0f64; // the largest |d(X, Z)/dx|, squared
-        let mut most_mid = 0.0f64; // the largest |mid-plane strain|
-        let (mut slo_seen, mut shi_seen) = (f64::INFINITY, f64::NEG_INFINITY); // eps0 + strain
-        for j in 0..=samples {
-            let x = l * j as f64 / samples as f64;
-            let [dx, dz] = M::tangent(&ki, x);
-            steep |= j > 0 && !(dx > 0.0 && dz.abs() <= limit_tan * dx);
-            let forward = dx > 0.0;
-            turn_known &= forward;
-            let r = dz / dx;
-            rlo = if forward { lesser(rlo, r) } else { rlo };
-            rhi = if forward { greater(rhi, r) } else { rhi };
-            most_stretch = greater(most_stretch, dx * dx + dz * dz);
-            most_mid = greater(most_mid, M::strain(&ki, x, 0.0).abs());
-            for z in [pz0, pz1] {
-                let s = eps0 + M::strain(&ki, x, z);
-                slo_seen = lesser(slo_seen, s);
-                shi_seen = greater(shi_seen, s);
-            }
+        // one pass without branches on the findings, over SCAN_LANES
+        // elements at a time: the extremes of what the checks compare; an
+        // element past a limit is scanned again for its warning's value
+        // (rare)
+        if i % SCAN_LANES == 0 {
+            scanned = scan::<M>(elements, k, i, samples, [pz0, pz1], eps0, limit_tan);
         }
+        let Extremes {
+            steep,
+            forward,
+            r: (rlo, rhi),
+            stretch: most_stretch,
+            mid: most_mid,
+            pre: (slo_seen, shi_seen),
+        } = scanned[i % SCAN_LANES];
+        turn_known &= forward;
         // (NaN strains are dropped by both the extremes and the scan)
         let (mid, pre) = if most_mid > MIDPLANE_STRAIN_LIMIT || slo_seen < slo || shi_seen > shi {
             strain_extremes::<M>(&ki, l, samples, [pz0, pz1], eps0)
@@ -210,6 +202,135 @@ pub(crate) fn check<M: Kinematics>(
         out.extend(self_contact(elements, laminate.thickness, k, &stretch));
     }
     (out, theta)
+}
+
+/// Elements scanned side by side by [`scan`] (a vector register's worth of
+/// doubles and more: the loop over them vectorises).
+const SCAN_LANES: usize = 8;
+
+/// One element's extremes over its check points ([`check`]).
+#[derive(Debug, Clone, Copy)]
+struct Extremes {
+    /// A tangent past the slope limit (the root's excluded).
+    steep: bool,
+    /// Every tangent points forwards in the element's frame.
+    forward: bool,
+    /// The range of `dz/dx` over the forward tangents.
+    r: (f64, f64),
+    /// The largest `|d(X, Z)/dx|`, squared.
+    stretch: f64,
+    /// The largest `|mid-plane strain|`.
+    mid: f64,
+    /// The range of `eps0 +` the strain at the prestressed layer's faces.
+    pre: (f64, f64),
+}
+
+impl Default for Extremes {
+    fn default() -> Extremes {
+        Extremes {
+            steep: false,
+            forward: true,
+            r: (f64::INFINITY, f64::NEG_INFINITY),
+            stretch: 0.0,
+            mid: 0.0,
+            pre: (f64::INFINITY, f64::NEG_INFINITY),
+        }
+    }
+}
+
+/// The [`Extremes`] of elements `first..` (at most [`SCAN_LANES`] of
+/// them) over `samples + 1` check points each, the faces of the
+/// prestressed layer at heights `z`. Each element's numbers are its own
+/// scalar arithmetic, in the order of its check points, so they do not
+/// depend on which elements share the lanes (lanes past the last element
+/// repeat the first and are ignored).
+#[allow(clippy::too_many_arguments)]
+fn scan<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: usize,
+    samples: usize,
+    z: [f64; 2],
+    eps0: f64,
+    limit_tan: f64,
+) -> [Extremes; SCAN_LANES] {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    if std::arch::is_x86_feature_detected!("avx512f") {
+        // SAFETY: the processor has AVX-512 (checked above)
+        return unsafe { scan_avx512(elements, k, first, samples, z, eps0, limit_tan) };
+    }
+    scan_in(elements, k, first, samples, z, eps0, limit_tan)
+}
+
+/// [`scan`] compiled for AVX-512 (no fused multiply-adds: the same
+/// roundings as the scalar code).
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+#[target_feature(enable = "avx512f,avx2")]
+#[allow(clippy::too_many_arguments)]
+fn scan_avx512<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: usize,
+    samples: usize,
+    z: [f64; 2],
+    eps0: f64,
+    limit_tan: f64,
+) -> [Extremes; SCAN_LANES] {
+    scan_in(elements, k, first, samples, z, eps0, limit_tan)
+}
+
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn scan_in<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: usize,
+    samples: usize,
+    z: [f64; 2],
+    eps0: f64,
+    limit_tan: f64,
+) -> [Extremes; SCAN_LANES] {
+    let at = |l: usize| {
+        if first + l < elements.len() {
+            first + l
+        } else {
+            first
+        }
+    };
+    let ks: [M::Coeffs; SCAN_LANES] = std::array::from_fn(|l| element::coeffs::<M>(k, at(l)));
+    let ls: [f64; SCAN_LANES] = std::array::from_fn(|l| elements[at(l)].length());
+    let mut steep = [false; SCAN_LANES];
+    let mut forward = [true; SCAN_LANES];
+    let (mut rlo, mut rhi) = ([f64::INFINITY; SCAN_LANES], [f64::NEG_INFINITY; SCAN_LANES]);
+    let (mut stretch, mut mid) = ([0.0f64; SCAN_LANES], [0.0f64; SCAN_LANES]);
+    let (mut slo, mut shi) = ([f64::INFINITY; SCAN_LANES], [f64::NEG_INFINITY; SCAN_LANES]);
+    for j in 0..=samples {
+        for l in 0..SCAN_LANES {
+            let x = ls[l] * j as f64 / samples as f64;
+            let [dx, dz] = M::tangent(&ks[l], x);
+            steep[l] |= j > 0 && !(dx > 0.0 && dz.abs() <= limit_tan * dx);
+            let fw = dx > 0.0;
+            forward[l] &= fw;
+            let r = dz / dx;
+            rlo[l] = if fw { lesser(rlo[l], r) } else { rlo[l] };
+            rhi[l] = if fw { greater(rhi[l], r) } else { rhi[l] };
+            stretch[l] = greater(stretch[l], dx * dx + dz * dz);
+            mid[l] = greater(mid[l], M::strain(&ks[l], x, 0.0).abs());
+            for z in z {
+                let s = eps0 + M::strain(&ks[l], x, z);
+                slo[l] = lesser(slo[l], s);
+                shi[l] = greater(shi[l], s);
+            }
+        }
+    }
+    std::array::from_fn(|l| Extremes {
+        steep: steep[l],
+        forward: forward[l],
+        r: (rlo[l], rhi[l]),
+        stretch: stretch[l],
+        mid: mid[l],
+        pre: (slo[l], shi[l]),
+    })
 }
 
 /// The mid-plane strain of the largest magnitude at element `ki`'s check
@@ -585,6 +706,63 @@ fn segments_cross(p: [f64; 2], q: [f64; 2], r: [f64; 2], s: [f64; 2]) -> bool {
         || (d2 == 0.0 && on(r, s, q))
         || (d3 == 0.0 && on(p, q, r))
         || (d4 == 0.0 && on(p, q, s))
+}
+
+/// For tests above this module: whether the lane scan of state `k` at
+/// `samples` check points per element gives each element's extremes of a
+/// plain scalar loop over that element alone, bit for bit.
+#[cfg(test)]
+pub(crate) fn scan_matches_elements<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    samples: usize,
+    z: [f64; 2],
+    eps0: f64,
+) -> bool {
+    let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
+    let bits = |e: &Extremes| {
+        let f = [e.r.0, e.r.1, e.stretch, e.mid, e.pre.0, e.pre.1].map(f64::to_bits);
+        (e.steep, e.forward, f)
+    };
+    (0..elements.len()).step_by(SCAN_LANES).all(|first| {
+        let lanes = scan(elements, k, first, samples, z, eps0, limit_tan);
+        elements[first..]
+            .iter()
+            .zip(&lanes)
+            .enumerate()
+            .all(|(l, (e, got))| {
+                let ki = element::coeffs::<M>(k, first + l);
+                let xs = (0..=samples).map(|j| e.length() * j as f64 / samples as f64);
+                let t: Vec<[f64; 2]> = xs.clone().map(|x| M::tangent(&ki, x)).collect();
+                let ahead: Vec<f64> = t
+                    .iter()
+                    .filter(|t| t[0] > 0.0)
+                    .map(|t| t[1] / t[0])
+                    .collect();
+                let strains = |z: f64| xs.clone().map(move |x| M::strain(&ki, x, z));
+                let pre: Vec<f64> = z
+                    .iter()
+                    .flat_map(|&z| strains(z))
+                    .map(|s| eps0 + s)
+                    .collect();
+                let max = |v: &mut dyn Iterator<Item = f64>| v.fold(f64::NEG_INFINITY, f64::max);
+                let min = |v: &mut dyn Iterator<Item = f64>| v.fold(f64::INFINITY, f64::min);
+                let want = Extremes {
+                    steep: t[1..]
+                        .iter()
+                        .any(|t| !(t[0] > 0.0 && t[1].abs() <= limit_tan * t[0])),
+                    forward: ahead.len() == t.len(),
+                    r: (
+                        min(&mut ahead.iter().copied()),
+                        max(&mut ahead.iter().copied()),
+                    ),
+                    stretch: max(&mut t.iter().map(|t| t[0] * t[0] + t[1] * t[1])),
+                    mid: max(&mut strains(0.0).map(f64::abs)),
+                    pre: (min(&mut pre.iter().copied()), max(&mut pre.iter().copied())),
+                };
+                bits(got) == bits(&want)
+            })
+    })
 }
 
 /// For tests above this module (which solve fingers): whether the

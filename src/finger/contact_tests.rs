@@ -5,7 +5,7 @@
 use super::{CoreVisitor, Finger, FingerCore, Load, SolveOptions};
 use crate::element;
 use crate::model::ElementModel;
-use crate::validity::{contact_turning, proof_and_search, proof_pieces};
+use crate::validity::{contact_turning, proof_and_search, proof_pieces, scan_matches_elements};
 use crate::{Actuator, ActuatorParams, ModelId, Partition};
 
 /// Solved states of random fingers (three models, 1-128 elements,
@@ -176,4 +176,34 @@ fn the_clearance_proof_never_hides_a_finding() {
         "the proof settled {cleared_at_h} of {curled} curled states"
     );
     eprintln!("{checked} checked, {found_any} with contact, {at_edge} at the edge, {cleared_at_h} of {curled} curled settled");
+}
+
+/// The validity check scans up to eight elements side by side in vector
+/// lanes: every element's extremes are those of a scalar loop over it
+/// alone, bit for bit, on solved states of random fingers (1-128 elements,
+/// so full and partial groups of lanes) and on those states disturbed
+/// (tangents that turn backwards, strains past the limits), at 1-9 check
+/// points per element.
+#[test]
+fn the_lane_scan_is_each_element_s_own() {
+    struct Scan<'a>(&'a [f64], usize);
+    impl CoreVisitor for Scan<'_> {
+        type Output = bool;
+        fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> bool {
+            let lam = core.laminate();
+            let z = [lam.pemc_z.0, lam.pemc_z.1];
+            scan_matches_elements(&core.elements, self.0, self.1, z, lam.eps0)
+        }
+    }
+    let mut rng = fastrand::Rng::with_seed(19);
+    for (case, (finger, k, _, _)) in random_states(60).into_iter().enumerate() {
+        let shaken: Vec<f64> = k
+            .iter()
+            .map(|v| v * (1.0 + 4.0 * (rng.f64() - 0.5)))
+            .collect();
+        for state in [&k, &shaken] {
+            let samples = 1 + case % 9;
+            assert!(finger.visit_core(Scan(state, samples)), "case {case}");
+        }
+    }
 }
