@@ -202,6 +202,9 @@ pub struct Newton {
     cap: f64,
     /// Whether the last direction was shortened to `cap`.
     capped: bool,
+    /// `g^T p` and `||p||_inf` of the last direction ([`Newton::descent`]).
+    gtp: f64,
+    pnorm: f64,
 }
 
 impl core::fmt::Debug for Newton {
@@ -232,6 +235,8 @@ impl Newton {
             xprev: vec![0.0; n],
             cap: opts.max_step,
             capped: false,
+            gtp: 0.0,
+            pnorm: 0.0,
         }
     }
 
@@ -324,7 +329,7 @@ impl Newton {
             };
             rep.max_shift = rep.max_shift.max(tau);
             last_tau = tau;
-            let gtp = dot(&self.g, &self.p);
+            let gtp = self.gtp;
             // A start known to be close (trusted_start): the first full step
             // is evaluated with its gradient, and chord steps follow at once
             // if it cut the gradient enough (else the Hessian there).
@@ -389,7 +394,7 @@ impl Newton {
                         x.copy_from_slice(&self.xt);
                         self.g.copy_from_slice(&self.gt);
                         rep.iterations += 1;
-                        rep.step_norm = norm_inf(&self.p);
+                        rep.step_norm = self.pnorm;
                         rep.energy = ft;
                         rep.residual_norm = norm_inf(&self.g);
                         rep.reason = Termination::Converged;
@@ -416,7 +421,7 @@ impl Newton {
                     if ft.is_finite() && all_finite(&self.g) && ft <= f + o.c1 * gtp {
                         x.copy_from_slice(&self.xt);
                         rep.iterations += 1;
-                        rep.step_norm = norm_inf(&self.p);
+                        rep.step_norm = self.pnorm;
                         quadratic_prev = gnorm;
                         f = ft;
                         gnorm = norm_inf(&self.g);
@@ -488,7 +493,7 @@ impl Newton {
             rep.iterations += 1;
             rep.shifted_steps += usize::from(!plain);
             rep.damped_steps += usize::from(alpha < 1.0);
-            rep.step_norm = alpha * norm_inf(&self.p);
+            rep.step_norm = alpha * self.pnorm;
             // (a step shortened to the cap is not in the quadratic phase)
             quadratic_prev = if alpha == 1.0 && plain && !(o.step_growth && self.capped) {
                 gnorm
@@ -581,7 +586,7 @@ impl Newton {
         x.copy_from_slice(&self.xt);
         self.g.copy_from_slice(&self.gt);
         rep.iterations += 1;
-        rep.step_norm = norm_inf(&self.p);
+        rep.step_norm = self.pnorm;
         match self.chord_then_hessian(p, x, ft, gnorm, staged, rep) {
             Some(next) => Landing::Next(next),
             None => Landing::Failed,
@@ -655,7 +660,8 @@ impl Newton {
                 break;
             }
             let len = norm_inf(&self.p);
-            if len > o.max_step {
+            let shortened = len > o.max_step;
+            if shortened {
                 let s = o.max_step / len;
                 self.p.iter_mut().for_each(|v| *v *= s);
             }
@@ -672,7 +678,7 @@ impl Newton {
             self.g.copy_from_slice(&self.gt);
             rep.iterations += 1;
             rep.chord_steps += 1;
-            rep.step_norm = norm_inf(&self.p);
+            rep.step_norm = if shortened { norm_inf(&self.p) } else { len };
             (f, prev, gnorm) = (ft, gnorm, gt);
         }
         (f, gnorm, prev)
@@ -740,20 +746,24 @@ impl Newton {
     }
 
     /// `self.p = -H^-1 g` with the factorisation at hand, shortened to
-    /// `max_step`; whether it is finite and a direction of descent.
+    /// the cap, with its `g^T p` and norm; whether it is finite and a
+    /// direction of descent.
     fn descent<P: Hessian + ?Sized>(&mut self, problem: &mut P) -> bool {
         for (pi, gi) in self.p.iter_mut().zip(&self.g) {
             *pi = -gi;
         }
         problem.solve(&mut self.p);
-        if !(all_finite(&self.p) && dot(&self.g, &self.p) < 0.0) {
+        let gtp = dot(&self.g, &self.p);
+        if !(all_finite(&self.p) && gtp < 0.0) {
             return false;
         }
         let len = norm_inf(&self.p);
         self.capped = len > self.cap;
+        (self.gtp, self.pnorm) = (gtp, len);
         if self.capped {
             let s = self.cap / len;
             self.p.iter_mut().for_each(|v| *v *= s);
+            (self.gtp, self.pnorm) = (dot(&self.g, &self.p), norm_inf(&self.p));
         }
         true
     }
@@ -774,7 +784,7 @@ impl Newton {
         rep: &mut Report,
     ) -> (f64, f64) {
         let o = self.opts;
-        let len = norm_inf(&self.p);
+        let len = self.pnorm;
         let (mut best, mut f_best) = (1.0, f_full);
         for _ in 0..MAX_EXTENSIONS {
             let alpha = 2.0 * best;
