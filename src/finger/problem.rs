@@ -152,19 +152,20 @@ impl<M: ElementModel> FingerCore<M> {
     /// [`FingerCore::scaled`] into `y` (of `k`'s length).
     pub fn scale_into(&self, k: &[f64], y: &mut [f64]) {
         let n = M::Coeffs::LEN;
-        for (i, (y, v)) in y.iter_mut().zip(k).enumerate() {
-            *y = v / self.unscale[i / n][i % n];
+        for ((y, k), s) in y.chunks_mut(n).zip(k.chunks(n)).zip(&self.unscale) {
+            for ((y, v), s) in y.iter_mut().zip(k).zip(s.as_ref()) {
+                *y = v / s;
+            }
         }
     }
 
     /// Raw coefficients of scaled unknowns.
     pub fn raw(&self, y: &[f64]) -> Coefficients {
         let n = M::Coeffs::LEN;
-        let values = y
-            .iter()
-            .enumerate()
-            .map(|(i, v)| v * self.unscale[i / n][i % n])
-            .collect();
+        let mut values = Vec::with_capacity(y.len());
+        for (y, s) in y.chunks(n).zip(&self.unscale) {
+            values.extend(y.iter().zip(s.as_ref()).map(|(v, s)| v * s));
+        }
         Coefficients::from_parts(n, values)
     }
 }
