@@ -23,7 +23,7 @@ const CHORD_RATIO: f64 = 0.1;
 /// `gtol` (a chord step costs about half a Newton step here); the
 /// gradient-only landing of a predicted full step is tried when at most
 /// two more are expected beyond it (the prediction is pessimistic).
-const CHORD_STEPS_AHEAD: f64 = 2.0;
+const CHORD_STEPS_AHEAD: i32 = 2;
 
 /// A full line-search step starts chord steps when its actual decrease is
 /// within this fraction of the quadratic model's (see
@@ -71,16 +71,12 @@ enum Landing {
     Accepted(f64),
 }
 
-/// Steps expected from gradient norm `g` to `gtol` when each multiplies it
-/// by `r` (infinite unless `0 < r < 1`).
-fn steps_to(g: f64, r: f64, gtol: f64) -> f64 {
-    if g <= gtol {
-        0.0
-    } else if r > 0.0 && r < 1.0 {
-        (gtol / g).ln() / r.ln()
-    } else {
-        f64::INFINITY
-    }
+/// Whether at most `steps` steps that each multiply gradient norm `g` by
+/// `r` bring it to `gtol` (never unless `0 < r < 1`, where `g` is above
+/// `gtol`): `g r^steps <= gtol`, the count `ln(gtol / g) / ln(r)` without
+/// the logarithms.
+fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
+    g <= gtol || (r > 0.0 && r < 1.0 && g * r.powi(steps) <= gtol)
 }
 
 /// Newton minimiser and its reusable workspace.
@@ -402,7 +398,7 @@ impl Newton {
                     }
                 } else if o.chord_steps
                     && predicted <= CHORD_RATIO * gnorm
-                    && steps_to(predicted, predicted / gnorm, o.gtol) <= CHORD_STEPS_AHEAD + 2.0
+                    && reaches(predicted, predicted / gnorm, o.gtol, CHORD_STEPS_AHEAD + 2)
                 {
                     match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
                         Landing::Next(next) => {
@@ -646,7 +642,7 @@ impl Newton {
             let r = gnorm / prev;
             if gnorm <= depth
                 || r > CHORD_RATIO
-                || steps_to(gnorm, r, o.gtol) > CHORD_STEPS_AHEAD
+                || !reaches(gnorm, r, o.gtol, CHORD_STEPS_AHEAD)
                 || rep.iterations >= o.max_iter
             {
                 break;
