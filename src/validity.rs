@@ -134,6 +134,12 @@ pub(crate) fn check<M: Kinematics>(
     let mut stretch = Vec::with_capacity(elements.len());
     let mut theta = 0.0f64;
     let mut scanned = [Extremes::default(); SCAN_LANES];
+    let rules = ScanRules {
+        samples,
+        z: [pz0, pz1],
+        eps0,
+        limit_tan,
+    };
     for (i, e) in elements.iter().enumerate() {
         let ki = element::coeffs::<M>(k, i);
         let l = e.length();
@@ -142,7 +148,7 @@ pub(crate) fn check<M: Kinematics>(
         // element past a limit is scanned again for its warning's value
         // (rare)
         if i % SCAN_LANES == 0 {
-            scanned = scan::<M>(elements, k, i, samples, [pz0, pz1], eps0, limit_tan);
+            scanned = scan::<M>(elements, k, i, rules);
         }
         let Extremes {
             steep,
@@ -238,58 +244,62 @@ impl Default for Extremes {
     }
 }
 
-/// The [`Extremes`] of elements `first..` (at most [`SCAN_LANES`] of
-/// them) over `samples + 1` check points each, the faces of the
-/// prestressed layer at heights `z`. Each element's numbers are its own
-/// scalar arithmetic, in the order of its check points, so they do not
-/// depend on which elements share the lanes (lanes past the last element
-/// repeat the first and are ignored).
-#[allow(clippy::too_many_arguments)]
-fn scan<M: Kinematics>(
-    elements: &[Element<M>],
-    k: &[f64],
-    first: usize,
+/// What [`scan`] checks: `samples + 1` check points per element, the
+/// faces of the prestressed layer at heights `z` with prestrain `eps0`,
+/// and the slope limit's tangent.
+#[derive(Debug, Clone, Copy)]
+struct ScanRules {
     samples: usize,
     z: [f64; 2],
     eps0: f64,
     limit_tan: f64,
+}
+
+/// The [`Extremes`] of elements `first..` (at most [`SCAN_LANES`] of
+/// them) of state `k` under `rules`. Each element's numbers are its own
+/// scalar arithmetic, in the order of its check points, so they do not
+/// depend on which elements share the lanes (lanes past the last element
+/// repeat the first and are ignored).
+fn scan<M: Kinematics>(
+    elements: &[Element<M>],
+    k: &[f64],
+    first: usize,
+    rules: ScanRules,
 ) -> [Extremes; SCAN_LANES] {
     #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
     if std::arch::is_x86_feature_detected!("avx512f") {
         // SAFETY: the processor has AVX-512 (checked above)
-        return unsafe { scan_avx512(elements, k, first, samples, z, eps0, limit_tan) };
+        return unsafe { scan_avx512(elements, k, first, rules) };
     }
-    scan_in(elements, k, first, samples, z, eps0, limit_tan)
+    scan_in(elements, k, first, rules)
 }
 
 /// [`scan`] compiled for AVX-512 (no fused multiply-adds: the same
 /// roundings as the scalar code).
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx512f,avx2")]
-#[allow(clippy::too_many_arguments)]
 fn scan_avx512<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
     first: usize,
-    samples: usize,
-    z: [f64; 2],
-    eps0: f64,
-    limit_tan: f64,
+    rules: ScanRules,
 ) -> [Extremes; SCAN_LANES] {
-    scan_in(elements, k, first, samples, z, eps0, limit_tan)
+    scan_in(elements, k, first, rules)
 }
 
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
 fn scan_in<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
     first: usize,
-    samples: usize,
-    z: [f64; 2],
-    eps0: f64,
-    limit_tan: f64,
+    rules: ScanRules,
 ) -> [Extremes; SCAN_LANES] {
+    let ScanRules {
+        samples,
+        z,
+        eps0,
+        limit_tan,
+    } = rules;
     let at = |l: usize| {
         if first + l < elements.len() {
             first + l
@@ -720,12 +730,18 @@ pub(crate) fn scan_matches_elements<M: Kinematics>(
     eps0: f64,
 ) -> bool {
     let limit_tan = SLOPE_LIMIT_DEG.to_radians().tan();
+    let rules = ScanRules {
+        samples,
+        z,
+        eps0,
+        limit_tan,
+    };
     let bits = |e: &Extremes| {
         let f = [e.r.0, e.r.1, e.stretch, e.mid, e.pre.0, e.pre.1].map(f64::to_bits);
         (e.steep, e.forward, f)
     };
     (0..elements.len()).step_by(SCAN_LANES).all(|first| {
-        let lanes = scan(elements, k, first, samples, z, eps0, limit_tan);
+        let lanes = scan(elements, k, first, rules);
         elements[first..]
             .iter()
             .zip(&lanes)

@@ -54,8 +54,7 @@ enum Direction {
     Modified,
 }
 
-/// What [`Newton::land_with_gradient`] or [`Newton::land_with_hessian`]
-/// made of a full step.
+/// What [`Newton::land`] made of a full step.
 enum Landing {
     /// Not accepted (the value where the step landed, which starts the
     /// line search): the iterate is unchanged.
@@ -326,42 +325,29 @@ impl Newton {
             rep.max_shift = rep.max_shift.max(tau);
             last_tau = tau;
             let gtp = self.gtp;
+            let chord = o.eager_full_steps && o.chord_steps;
             // A start known to be close (trusted_start): the first full step
             // is evaluated with its gradient, and chord steps follow at once
             // if it cut the gradient enough (else the Hessian there).
-            let chord = o.eager_full_steps && o.chord_steps;
-            // the value at the full step, where a landing evaluated it
-            let mut full = None;
             let trusted = chord && o.trusted_start && rep.iterations == 0 && plain;
-            if trusted {
-                self.step_to(x, 1.0);
-                match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
-                    Landing::Next(next) => {
-                        (f, gnorm, quadratic_prev) = next;
-                        continue;
-                    }
-                    Landing::Failed => break,
-                    // the line search below starts from x
-                    Landing::Rejected(ft) => full = Some(ft),
-                    Landing::Accepted(_) => {}
-                }
-            }
-            // Not yet in the quadratic phase, an unshifted step not shortened
-            // to the cap, on a problem that stages its Hessian beside the
-            // factorisation (Hessian::stages_hessian): the point the full
-            // step lands on is evaluated with its Hessian at once, instead
-            // of an energy first and the Hessian once it is accepted. The
-            // line search takes over where it is rejected.
-            let mut landed = None;
-            if !trusted
+            // Otherwise, not yet in the quadratic phase, an unshifted step not
+            // shortened to the cap, on a problem that stages its Hessian
+            // beside the factorisation (Hessian::stages_hessian): the point
+            // the full step lands on is evaluated with its Hessian at once,
+            // instead of an energy first and the Hessian once it is accepted.
+            let staged = !trusted
                 && o.eager_full_steps
                 && plain
                 && !quadratic_prev.is_finite()
                 && !self.capped
-                && p.stages_hessian()
-            {
+                && p.stages_hessian();
+            // the value at the full step where a landing evaluated it (the
+            // line search below starts from x with it), and the full step
+            // accepted with its Hessian
+            let (mut full, mut landed) = (None, None);
+            if trusted || staged {
                 self.step_to(x, 1.0);
-                match self.land_with_hessian(p, x, f, gtp, gnorm, &mut rep) {
+                match self.land(p, x, (f, gtp, gnorm), staged, &mut rep) {
                     Landing::Next(next) => {
                         (f, gnorm, quadratic_prev) = next;
                         continue;
@@ -400,7 +386,7 @@ impl Newton {
                     && predicted <= CHORD_RATIO * gnorm
                     && reaches(predicted, predicted / gnorm, o.gtol, CHORD_STEPS_AHEAD + 2)
                 {
-                    match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
+                    match self.land(p, x, (f, gtp, gnorm), false, &mut rep) {
                         Landing::Next(next) => {
                             (f, gnorm, quadratic_prev) = next;
                             continue;
@@ -461,7 +447,7 @@ impl Newton {
             let fit = (ft - f) / (0.5 * gtp);
             if landed.is_none() && chord && alpha == 1.0 && plain && (fit - 1.0).abs() <= MODEL_FIT
             {
-                match self.land_with_gradient(p, x, f, gtp, gnorm, &mut rep) {
+                match self.land(p, x, (f, gtp, gnorm), false, &mut rep) {
                     Landing::Next(next) => {
                         (f, gnorm, quadratic_prev) = next;
                         continue;
@@ -517,73 +503,45 @@ impl Newton {
         }
     }
 
-    /// Evaluates only the gradient at the full step `self.xt` from `x`
-    /// (value `f`, `g^T p = gtp`, gradient norm `gnorm`); if it is finite
-    /// and passes Armijo it becomes the iterate and chord steps follow
-    /// ([`Newton::chord_then_hessian`]).
-    fn land_with_gradient<P: Hessian + ?Sized>(
+    /// Evaluates the full step `self.xt` from `x` (value `f`, `g^T p =
+    /// gtp`, gradient norm `gnorm`): with its gradient only, or with its
+    /// Hessian staged beside the factorisation at hand (`hessian`,
+    /// [`Hessian::stages_hessian`]). Rejected unless its value is finite
+    /// and passes Armijo (and, with the gradient only, its gradient is
+    /// finite). With the gradient only it becomes the iterate and chord
+    /// steps follow ([`Newton::chord_then_hessian`]); with the Hessian it
+    /// does so where its decrease matches the quadratic model's to
+    /// [`MODEL_FIT`] (and chord steps are on), with no Hessian to evaluate
+    /// again if no chord step follows, and otherwise
+    /// [`Landing::Accepted`] hands it to the ordinary Newton step.
+    fn land<P: Hessian + ?Sized>(
         &mut self,
         p: &mut P,
         x: &mut [f64],
-        f: f64,
-        gtp: f64,
-        gnorm: f64,
+        (f, gtp, gnorm): (f64, f64, f64),
+        hessian: bool,
         rep: &mut Report,
     ) -> Landing {
-        let ft = p.gradient(&self.xt, &mut self.gt);
-        rep.gradient_evals += 1;
-        if !(ft.is_finite() && all_finite(&self.gt) && ft <= f + self.opts.c1 * gtp) {
-            return Landing::Rejected(ft);
-        }
-        self.take_landing(p, x, ft, gnorm, false, rep)
-    }
-
-    /// Evaluates the full step `self.xt` from `x` with its Hessian, staged
-    /// beside the factorisation at hand ([`Hessian::stages_hessian`]).
-    /// Rejected unless its value is finite and passes Armijo; where its
-    /// decrease matches the quadratic model's to [`MODEL_FIT`] (and chord
-    /// steps are on), it becomes the iterate as in
-    /// [`Newton::land_with_gradient`], with no Hessian to evaluate again if
-    /// no chord step follows; otherwise [`Landing::Accepted`] hands it to
-    /// the ordinary Newton step.
-    fn land_with_hessian<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &mut [f64],
-        f: f64,
-        gtp: f64,
-        gnorm: f64,
-        rep: &mut Report,
-    ) -> Landing {
-        let ft = p.hessian(&self.xt, &mut self.gt);
-        rep.hessian_evals += 1;
-        if !(ft.is_finite() && ft <= f + self.opts.c1 * gtp) {
+        let ft = if hessian {
+            rep.hessian_evals += 1;
+            p.hessian(&self.xt, &mut self.gt)
+        } else {
+            rep.gradient_evals += 1;
+            p.gradient(&self.xt, &mut self.gt)
+        };
+        let finite = all_finite(&self.gt);
+        if !(ft.is_finite() && ft <= f + self.opts.c1 * gtp && (finite || hessian)) {
             return Landing::Rejected(ft);
         }
         let fit = (ft - f) / (0.5 * gtp);
-        if self.opts.chord_steps && (fit - 1.0).abs() <= MODEL_FIT && all_finite(&self.gt) {
-            return self.take_landing(p, x, ft, gnorm, true, rep);
+        if hessian && !(self.opts.chord_steps && (fit - 1.0).abs() <= MODEL_FIT && finite) {
+            return Landing::Accepted(ft);
         }
-        Landing::Accepted(ft)
-    }
-
-    /// Makes the full step `self.xt` (value `ft`, gradient in `self.gt`) the
-    /// iterate and goes on as [`Newton::chord_then_hessian`] (`staged`: the
-    /// Hessian there is evaluated already).
-    fn take_landing<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &mut [f64],
-        ft: f64,
-        gnorm: f64,
-        staged: bool,
-        rep: &mut Report,
-    ) -> Landing {
         x.copy_from_slice(&self.xt);
         self.g.copy_from_slice(&self.gt);
         rep.iterations += 1;
         rep.step_norm = self.pnorm;
-        match self.chord_then_hessian(p, x, ft, gnorm, staged, rep) {
+        match self.chord_then_hessian(p, x, ft, gnorm, hessian, rep) {
             Some(next) => Landing::Next(next),
             None => Landing::Failed,
         }
