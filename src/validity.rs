@@ -9,7 +9,7 @@
 //! contact).
 //!
 //! Here: the limits, the laminate's thickness check and the per-element
-//! check ([`check`]) with its bound on the tangent's turning. The scan of
+//! check (`check`) with its bound on the tangent's turning. The scan of
 //! the elements' check points runs in vector lanes (`scan`); the
 //! self-contact search (`contact`) runs only where the finger turns far
 //! enough, after the clearance proof (`clearance`).
