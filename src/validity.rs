@@ -118,23 +118,21 @@ pub(crate) fn check<M: Kinematics>(
     let mut turn_known = true;
     let mut stretch = Vec::with_capacity(elements.len());
     let mut theta = 0.0f64;
-    let mut scanned = [Extremes::default(); SCAN_LANES];
     let rules = ScanRules {
         samples,
         z: [pz0, pz1],
         eps0,
         limit_tan,
     };
-    for (i, e) in elements.iter().enumerate() {
+    // one pass without branches on the findings, over SCAN_LANES elements
+    // at a time: the extremes of what the checks compare; an element past
+    // a limit is scanned again for its warning's value (rare)
+    let scanned = (0..elements.len())
+        .step_by(SCAN_LANES)
+        .flat_map(|first| scan::<M>(elements, k, first, rules));
+    for ((i, e), extremes) in elements.iter().enumerate().zip(scanned) {
         let ki = element::coeffs::<M>(k, i);
         let l = e.length();
-        // one pass without branches on the findings, over SCAN_LANES
-        // elements at a time: the extremes of what the checks compare; an
-        // element past a limit is scanned again for its warning's value
-        // (rare)
-        if i % SCAN_LANES == 0 {
-            scanned = scan::<M>(elements, k, i, rules);
-        }
         let Extremes {
             steep,
             forward,
@@ -142,7 +140,7 @@ pub(crate) fn check<M: Kinematics>(
             stretch: most_stretch,
             mid: most_mid,
             pre: (slo_seen, shi_seen),
-        } = scanned[i % SCAN_LANES];
+        } = extremes;
         turn_known &= forward;
         // (NaN strains are dropped by both the extremes and the scan)
         let (mid, pre) = if most_mid > MIDPLANE_STRAIN_LIMIT || slo_seen < slo || shi_seen > shi {

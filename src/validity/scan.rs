@@ -26,19 +26,6 @@ pub(super) struct Extremes {
     pub(super) pre: (f64, f64),
 }
 
-impl Default for Extremes {
-    fn default() -> Extremes {
-        Extremes {
-            steep: false,
-            forward: true,
-            r: (f64::INFINITY, f64::NEG_INFINITY),
-            stretch: 0.0,
-            mid: 0.0,
-            pre: (f64::INFINITY, f64::NEG_INFINITY),
-        }
-    }
-}
-
 /// What [`scan`] checks: `samples + 1` check points per element, the
 /// faces of the prestressed layer at heights `z` with prestrain `eps0`,
 /// and the slope limit's tangent.
