@@ -222,52 +222,54 @@ mod tests {
     use super::*;
     use std::fs;
 
-    fn scratch(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("fpc-output-{name}-{}", std::process::id()));
-        let _ = fs::remove_dir_all(&dir);
-        fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh scratch directory, removed when dropped (a failed test's too).
+    fn scratch(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("fpc-output-{name}-"))
+            .tempdir()
+            .unwrap()
     }
 
     #[test]
     fn atomic_write_replaces() {
-        let dir = scratch("replace");
-        write_atomic(&dir, "a.txt", b"one").unwrap();
-        write_atomic(&dir, "a.txt", b"two").unwrap();
+        let tmp = scratch("replace");
+        let dir = tmp.path();
+        write_atomic(dir, "a.txt", b"one").unwrap();
+        write_atomic(dir, "a.txt", b"two").unwrap();
         assert_eq!(fs::read_to_string(dir.join("a.txt")).unwrap(), "two");
-        let leftovers = fs::read_dir(&dir).unwrap().count();
+        let leftovers = fs::read_dir(dir).unwrap().count();
         assert_eq!(leftovers, 1);
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_failed_write_leaves_no_temporary_file() {
-        let dir = scratch("failed");
+        let tmp = scratch("failed");
+        let dir = tmp.path();
         fs::create_dir(dir.join("a.txt")).unwrap(); // cannot be renamed over
-        let e = write_atomic(&dir, "a.txt", b"one").unwrap_err();
+        let e = write_atomic(dir, "a.txt", b"one").unwrap_err();
         assert!(format!("{e:#}").contains("cannot write"), "{e:#}");
-        let names: Vec<_> = fs::read_dir(&dir)
+        let names: Vec<_> = fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("a.txt")]);
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn a_file_is_not_an_output_directory() {
-        let dir = scratch("file");
+        let tmp = scratch("file");
+        let dir = tmp.path();
         let f = dir.join("x");
         fs::write(&f, "x").unwrap();
         let e = prepare_dir(&f).unwrap_err();
         assert!(e.downcast_ref::<InputError>().is_some());
         assert!(e.to_string().contains("not a directory"), "{e}");
-        fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
     fn only_old_temporary_files_are_stale() {
-        let dir = scratch("stale");
+        let tmp = scratch("stale");
+        let dir = tmp.path();
         let hour_ago = SystemTime::now() - Duration::from_secs(3600);
         for name in [".fpc-tmp-old", ".fpc-tmp-new", ".other-old", "old.csv"] {
             let f = fs::File::create(dir.join(name)).unwrap();
@@ -276,8 +278,8 @@ mod tests {
             }
         }
         fs::create_dir(dir.join(".fpc-tmp-dir")).unwrap();
-        remove_stale_temps(&dir, STALE_AFTER);
-        let mut names: Vec<String> = fs::read_dir(&dir)
+        remove_stale_temps(dir, STALE_AFTER);
+        let mut names: Vec<String> = fs::read_dir(dir)
             .unwrap()
             .map(|e| e.unwrap().file_name().into_string().unwrap())
             .collect();
@@ -286,6 +288,5 @@ mod tests {
             names,
             [".fpc-tmp-dir", ".fpc-tmp-new", ".other-old", "old.csv"]
         );
-        fs::remove_dir_all(&dir).unwrap();
     }
 }

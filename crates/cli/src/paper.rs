@@ -571,12 +571,12 @@ mod tests {
         format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2)
     }
 
-    fn scratch(name: &str) -> PathBuf {
-        let dir =
-            std::env::temp_dir().join(format!("fpc-paper-unit-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+    /// A fresh scratch directory, removed when dropped (a failed test's too).
+    fn scratch(name: &str) -> tempfile::TempDir {
+        tempfile::Builder::new()
+            .prefix(&format!("fpc-paper-unit-{name}-"))
+            .tempdir()
+            .unwrap()
     }
 
     fn read(dir: &Path, name: &str) -> String {
@@ -585,8 +585,14 @@ mod tests {
 
     #[test]
     fn a_failed_study_is_recorded_and_the_others_go_on() {
-        let dir = scratch("failed");
-        let mut out = Output::new(dir.clone(), StudyOptions::coarse(), true, "default".into());
+        let tmp = scratch("failed");
+        let dir = tmp.path();
+        let mut out = Output::new(
+            dir.to_path_buf(),
+            StudyOptions::coarse(),
+            true,
+            "default".into(),
+        );
         let err = SolveError::Input(InputError::NotFinite {
             field: fpc::Field::key("test.value"),
             value: f64::NAN,
@@ -633,17 +639,17 @@ mod tests {
         out.write_summary(0.0).unwrap();
         out.write_index().unwrap();
 
-        let svg = read(&dir, "study8.svg");
+        let svg = read(dir, "study8.svg");
         assert!(
             svg.contains("cannot draw the figure of study 8: boom"),
             "{svg}"
         );
-        let csv = read(&dir, "study3.csv");
+        let csv = read(dir, "study3.csv");
         assert!(csv.starts_with("d_mm,"), "{csv}");
         assert!(csv.contains(",failed,"), "{csv}");
-        let svg = read(&dir, "study3.svg");
+        let svg = read(dir, "study3.svg");
         assert!(svg.starts_with("<svg") && svg.contains("failed") && svg.contains("</svg>"));
-        let csv4 = read(&dir, "study4.csv");
+        let csv4 = read(dir, "study4.csv");
         let lines: Vec<&str> = csv4.lines().collect();
         assert_eq!(lines.len(), 3, "{csv4}");
         assert!(lines[0].ends_with(",reversed,valid,invalid,warnings,status,note"));
@@ -656,10 +662,10 @@ mod tests {
                 && lines[2].ends_with(",stopped,\"solve failed: test, \"\"quoted\"\"\""),
             "{csv4}"
         );
-        let svg4 = read(&dir, "study4.svg");
+        let svg4 = read(dir, "study4.svg");
         assert!(svg4.contains("partial &lt;&amp;&gt;"), "{svg4}");
 
-        let s: Value = serde_json::from_str(&read(&dir, "summary.json")).unwrap();
+        let s: Value = serde_json::from_str(&read(dir, "summary.json")).unwrap();
         assert_eq!(s["failures"][0]["study"], json!(3));
         assert!(s["failures"][0]["error"]
             .as_str()
@@ -675,7 +681,7 @@ mod tests {
         assert_eq!(s["strict"], json!(false));
         assert!(s["validity"].get("study3").is_none(), "failed: no counts");
         assert_eq!(s["validity"]["study4"]["strict_dropped"], json!(0));
-        let html = read(&dir, "index.html");
+        let html = read(dir, "index.html");
         assert!(html.contains("<img src=\"study3.svg\"") && html.contains("failed"));
         assert!(
             html.contains("<th>it&#39;s &quot;quoted&quot;</th>"),
@@ -683,7 +689,6 @@ mod tests {
         );
         assert_eq!(s["failures"][1]["study"], json!(8));
         assert_eq!(out.failed_studies(), vec![3, 8]);
-        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     /// Every figure of every study on coarse sweeps: each colour key gets

@@ -4,11 +4,14 @@
 //! one-page PDF that embeds the bundled font; a bad format is rejected
 //! before any work.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use fpc_cli::render::formats;
 use resvg::tiny_skia::Pixmap;
+use tempfile::TempDir;
 
 fn fpc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
@@ -20,12 +23,8 @@ fn repo(path: &str) -> PathBuf {
         .join(path)
 }
 
-/// A fresh directory under the target directory's scratch space.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-figures-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn tmp(name: &str) -> TempDir {
+    common::tmp("figures", name)
 }
 
 fn run_ok(cmd: &mut Command) -> Output {
@@ -120,7 +119,8 @@ fn laid_out(g: &resvg::usvg::Group) -> usize {
 
 #[test]
 fn every_figure_renders_to_a_png_that_is_not_blank_and_a_pdf() {
-    let base = scratch("all");
+    let scratch = tmp("all");
+    let base = scratch.path();
     let mut measured = Vec::new();
 
     // the paper's eight studies (coarse): png and pdf asked for, the svg
@@ -191,12 +191,13 @@ fn every_figure_renders_to_a_png_that_is_not_blank_and_a_pdf() {
             m.size.0, m.size.1, m.inked, m.title_ink
         );
     }
-    std::fs::remove_dir_all(&base).unwrap();
 }
 
 #[test]
 fn png_alone_writes_no_svg_outside_the_paper() {
-    let out = scratch("png-only");
+    let scratch = tmp("png-only");
+    // not there yet: the run makes it
+    let out = scratch.path().join("out");
     run_ok(
         fpc()
             .arg("solve")
@@ -207,7 +208,6 @@ fn png_alone_writes_no_svg_outside_the_paper() {
     assert!(out.join("shape.png").is_file());
     assert!(!out.join("shape.svg").exists());
     assert!(!out.join("shape.pdf").exists());
-    std::fs::remove_dir_all(&out).unwrap();
 }
 
 #[test]
@@ -217,7 +217,8 @@ fn an_unknown_format_is_rejected_before_any_work() {
         ("design", Some(repo("scenes/design/paper_sec5.toml"))),
         ("paper", None),
     ] {
-        let out = scratch(&format!("bad-{cmd}"));
+        let scratch = tmp(&format!("bad-{cmd}"));
+        let out = scratch.path().join("out");
         let mut c = fpc();
         c.arg(cmd);
         if let Some(file) = extra {

@@ -4,10 +4,13 @@
 //! panic, abort, die of a signal or hang. Seeded; each run is killed after
 //! a time limit, which fails the test.
 
+mod common;
+
 use std::io::Read as _;
-use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+
+use tempfile::TempDir;
 
 /// No single run may take longer (a debug build; the slowest legal run
 /// here, a refined finger, takes about a second).
@@ -28,12 +31,8 @@ const EXTREMES: [&str; 12] = [
     "0x10",
 ];
 
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-fuzz-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+fn tmp(name: &str) -> TempDir {
+    common::tmp("fuzz", name)
 }
 
 /// Runs `fpc args` to its end or the limit; the status and stderr.
@@ -90,7 +89,8 @@ fn strings(a: &[&str]) -> Vec<String> {
 
 #[test]
 fn every_numeric_flag_takes_extreme_values_cleanly() {
-    let dir = scratch("flags");
+    let scratch = tmp("flags");
+    let dir = scratch.path();
     let out = dir.join("out").to_string_lossy().into_owned();
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/default.toml");
     // a small design (one width, one variable): a legal --starts runs a
@@ -144,7 +144,6 @@ fn every_numeric_flag_takes_extreme_values_cleanly() {
             clean(&strings(&["sweep", scene, "--out", &out, "--vary", &spec]));
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A small seeded generator (no dependency for a test).
@@ -162,7 +161,8 @@ impl Lcg {
 
 #[test]
 fn every_numeric_scene_key_takes_extreme_values_cleanly() {
-    let dir = scratch("scenes");
+    let scratch = tmp("scenes");
+    let dir = scratch.path();
     let keys: [(&str, &str); 22] = [
         ("actuator.geometry", "lx"),
         ("actuator.geometry", "ly"),
@@ -228,5 +228,4 @@ fn every_numeric_scene_key_takes_extreme_values_cleanly() {
             ]);
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }

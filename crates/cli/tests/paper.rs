@@ -1,20 +1,19 @@
 //! `fpc paper`: runs the built binary and checks what it writes.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::process::Command;
 
 use serde_json::Value;
+use tempfile::TempDir;
 
 fn fpc() -> Command {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
 }
 
-/// A fresh directory under the target directory's scratch space.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-paper-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn tmp(name: &str) -> TempDir {
+    common::tmp("paper", name)
 }
 
 fn expected_files() -> Vec<String> {
@@ -118,7 +117,9 @@ fn all_finite(v: &Value, path: &str) {
 
 #[test]
 fn paper_writes_every_file() {
-    let dir = scratch("full");
+    let scratch = tmp("full");
+    // not there yet: the run makes it
+    let dir = scratch.path().join("out");
     let out = fpc().args(["paper", "--out"]).arg(&dir).output().unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "fpc paper failed: {stderr}");
@@ -503,14 +504,12 @@ fn paper_writes_every_file() {
     let caption = "Panel “Max lifting force, ε0 = 0.4”: axis clipped at";
     assert!(html.contains(caption), "index.html lacks the clip caption");
     assert!(html.contains(&largest), "index.html lacks {largest}");
-
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn paper_creates_nested_output_directory() {
-    let base = scratch("nested");
-    let dir = base.join("a").join("b");
+    let base = tmp("nested");
+    let dir = base.path().join("a").join("b");
     let out = fpc()
         .args(["paper", "--coarse", "--out"])
         .arg(&dir)
@@ -525,13 +524,12 @@ fn paper_creates_nested_output_directory() {
     let s: Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(s["options"]["coarse"], Value::Bool(true));
-    std::fs::remove_dir_all(&base).unwrap();
 }
 
 #[test]
 fn paper_rejects_a_file_as_output_directory() {
-    let base = scratch("file");
-    std::fs::create_dir_all(&base).unwrap();
+    let scratch = tmp("file");
+    let base = scratch.path();
     let file = base.join("not-a-dir");
     std::fs::write(&file, "keep me").unwrap();
     let out = fpc()
@@ -548,8 +546,7 @@ fn paper_rejects_a_file_as_output_directory() {
     );
     assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
     assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me");
-    assert_eq!(std::fs::read_dir(&base).unwrap().count(), 1);
-    std::fs::remove_dir_all(&base).unwrap();
+    assert_eq!(std::fs::read_dir(base).unwrap().count(), 1);
 }
 
 /// Every expected file of a run is there and complete: JSON that parses,
@@ -582,8 +579,8 @@ fn assert_complete(dir: &Path) {
 fn two_runs_into_one_directory_both_succeed() {
     use std::os::unix::fs::PermissionsExt as _;
     use std::time::{Duration, SystemTime};
-    let dir = scratch("concurrent");
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = tmp("concurrent");
+    let dir = scratch.path();
     // a temporary file of a run killed an hour ago, one of a live run, and
     // a file that is none of fpc's business
     let hour_ago = SystemTime::now() - Duration::from_secs(3600);
@@ -600,7 +597,7 @@ fn two_runs_into_one_directory_both_succeed() {
     let run = || {
         fpc()
             .args(["paper", "--coarse", "--out"])
-            .arg(&dir)
+            .arg(dir)
             .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::piped())
             .spawn()
@@ -614,9 +611,9 @@ fn two_runs_into_one_directory_both_succeed() {
         assert!(stderr.is_empty(), "{stderr}");
         assert!(String::from_utf8_lossy(&out.stdout).starts_with("fpc paper: 20 files in "));
     }
-    assert_complete(&dir);
+    assert_complete(dir);
 
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
+    let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .filter(|n| n.starts_with('.'))
@@ -633,14 +630,14 @@ fn two_runs_into_one_directory_both_succeed() {
     std::fs::File::create(&probe).unwrap();
     let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode(&dir.join("summary.json")), mode(&probe));
-    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// `--strict` drops the grasps that bend an element backwards: fewer rows,
 /// counted under `validity`, and none of the remaining rows reversed.
 #[test]
 fn strict_mode_drops_reversed_grasps() {
-    let base = scratch("strict");
+    let scratch = tmp("strict");
+    let base = scratch.path();
     let run = |name: &str, strict: bool| {
         let dir = base.join(name);
         let mut cmd = fpc();
@@ -697,7 +694,6 @@ fn strict_mode_drops_reversed_grasps() {
     }
     let html = std::fs::read_to_string(strict_dir.join("index.html")).unwrap();
     assert!(html.contains("strict mode"));
-    std::fs::remove_dir_all(&base).unwrap();
 }
 
 /// A calibrated scene's covariance (as `fpc calibrate` writes one: the
@@ -746,8 +742,8 @@ fn without_sd(csv: &str) -> String {
 
 #[test]
 fn paper_scene_bands_only_with_a_covariance() {
-    let base = scratch("bands");
-    std::fs::create_dir_all(&base).unwrap();
+    let scratch = tmp("bands");
+    let base = scratch.path();
     let with = base.join("calibrated.toml");
     let without = base.join("plain.toml");
     std::fs::write(&with, CALIBRATED).unwrap();
@@ -886,5 +882,4 @@ fn paper_scene_bands_only_with_a_covariance() {
     assert!(number(&ends[1], "upper end's sd") > 0.0);
     let point = &s["radius_vs_pressure"][0]["points"][0];
     assert!(number(&point["radius_mm_sd"], "radius_mm_sd") > 0.0);
-    std::fs::remove_dir_all(&base).unwrap();
 }

@@ -4,9 +4,13 @@
 //! quietly with status 0, as a Unix tool does. A stderr that cannot be
 //! written costs the messages, not the exit status.
 
+mod common;
+
 use std::fs::File;
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
+
+use tempfile::TempDir;
 
 fn bin() -> &'static str {
     env!("CARGO_BIN_EXE_fpc")
@@ -47,12 +51,8 @@ fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 
-/// A fresh directory under the target directory's scratch space.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-streams-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+fn tmp(name: &str) -> TempDir {
+    common::tmp("streams", name)
 }
 
 /// Exited by itself (not by a signal) with `code`, no panic on stderr.
@@ -120,7 +120,9 @@ fn finger_json_and_kernels_fail_with_status_1_on_a_broken_stdout() {
 fn compare_writes_its_files_and_stops_quietly_on_a_dead_pipe() {
     let manifest = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../examples/calibration/manifest.toml");
-    let d = scratch("compare");
+    let scratch = tmp("compare");
+    // not there yet: the run makes it
+    let d = scratch.path().join("out");
     let args = [
         "compare",
         manifest.to_str().unwrap(),
@@ -132,13 +134,15 @@ fn compare_writes_its_files_and_stops_quietly_on_a_dead_pipe() {
     assert!(d.join("compare.json").is_file());
     let out = with_stdout_closed(&args).output().unwrap();
     fails_writing("compare >&-", out, "it was closed");
-    std::fs::remove_dir_all(&d).unwrap();
 }
 
 #[test]
 fn paper_fails_with_status_1_on_a_broken_stdout() {
     // all at once (a coarse paper takes seconds in a debug build)
-    let dirs: Vec<PathBuf> = ["closed", "pipe", "full"].map(scratch).into();
+    let scratch = tmp("paper");
+    let dirs: Vec<PathBuf> = ["closed", "pipe", "full"]
+        .map(|name| scratch.path().join(name))
+        .into();
     let args = |d: &PathBuf| -> Vec<String> {
         ["paper", "--coarse", "--out", d.to_str().unwrap()]
             .map(String::from)
@@ -162,7 +166,6 @@ fn paper_fails_with_status_1_on_a_broken_stdout() {
     // the files were written before the summary line failed
     for d in &dirs {
         assert!(d.join("summary.json").is_file(), "{d:?}");
-        std::fs::remove_dir_all(d).unwrap();
     }
 }
 
@@ -171,7 +174,8 @@ fn a_reader_that_exits_at_once_never_causes_a_panic() {
     // `fpc ... | head -c1`: whether fpc is still writing when head exits
     // depends on timing; either way it ends with 0 and says nothing
     for args in ["finger --json", "kernels", "finger"] {
-        let err = scratch(&format!("head-{}", args.replace(' ', "-")));
+        let scratch = tmp(&format!("head-{}", args.replace(' ', "-")));
+        let err = scratch.path().join("stderr");
         let script =
             format!("\"$0\" {args} 2>\"$1\" | head -c1 >/dev/null; exit ${{PIPESTATUS[0]}}");
         let out = Command::new("bash")
@@ -182,7 +186,6 @@ fn a_reader_that_exits_at_once_never_causes_a_panic() {
             .output()
             .unwrap();
         let stderr = std::fs::read_to_string(&err).unwrap();
-        let _ = std::fs::remove_file(&err);
         assert!(!stderr.contains("panicked"), "{args}: {stderr}");
         assert_eq!(out.status.code(), Some(0), "{args}: {stderr}");
         assert!(stderr.is_empty(), "{args}: {stderr}");
