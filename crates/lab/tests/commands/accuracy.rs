@@ -3,19 +3,20 @@
 //! runs use the hidden `--quick` flag (the reduced list, 2 rounds of 3
 //! runs) and no time budget.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
 
 use serde_json::Value;
+use tempfile::TempDir;
 
 use super::{lab, ok, text};
 
-/// A fresh directory under the target directory's scratch space.
-fn scratch(name: &str) -> PathBuf {
-    let dir = Path::new(env!("CARGO_TARGET_TMPDIR"))
-        .join(format!("fpc-lab-accuracy-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+/// A fresh scratch directory, removed when dropped (a failed test's too).
+fn tmp(name: &str) -> TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("fpc-lab-accuracy-{name}-"))
+        .tempdir()
+        .unwrap()
 }
 
 /// The stdout of `fpc-lab accuracy --quick --budget-ms 0 --out DIR` and
@@ -32,7 +33,9 @@ const ROWS_PER_MODEL: usize = fpc_lab::QUICK_CONFIGURATIONS.len();
 
 #[test]
 fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
-    let dir = scratch("table");
+    let scratch = tmp("table");
+    // not there yet: the run makes it
+    let dir = scratch.path().join("out");
     let stdout = quick(&dir, &[]);
     for part in [
         "references: material partition, 27 -> 864 elements",
@@ -90,12 +93,13 @@ fn accuracy_writes_csv_json_and_svg_and_prints_the_front() {
     assert!(!svg.contains("NaN") && !svg.contains("inf"));
     assert!(svg.contains("Pareto front") && svg.contains("ccm material + Richardson"));
     assert!(svg.contains("10⁻²"), "power-of-ten tick labels");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn accuracy_json_prints_the_study() {
-    let dir = scratch("json");
+    let scratch = tmp("json");
+    // not there yet: the run makes it
+    let dir = scratch.path().join("out");
     // the figure as PNG and PDF only (the rendering itself: fpc-cli's
     // tests/figures.rs)
     let stdout = quick(&dir, &["--json", "--format", "png,pdf"]);
@@ -109,7 +113,6 @@ fn accuracy_json_prints_the_study() {
     let pdf = std::fs::read(dir.join("accuracy.pdf")).unwrap();
     assert!(pdf.starts_with(b"%PDF-"));
     assert!(!dir.join("accuracy.svg").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -122,8 +125,8 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
     assert!(text(&out.stderr).contains("'tiff'"));
 
     // a file is not an output directory: rejected before any work
-    let dir = scratch("file");
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = tmp("file");
+    let dir = scratch.path();
     let file = dir.join("x");
     std::fs::write(&file, "x").unwrap();
     let out = lab(&["accuracy", "--out", file.to_str().unwrap()]);
@@ -142,14 +145,15 @@ fn accuracy_rejects_bad_flags_and_a_broken_stdout_without_panicking() {
         .unwrap();
     assert_eq!(out.status.code(), Some(1), "{}", text(&out.stderr));
     assert!(!text(&out.stderr).contains("panicked"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Progress into a log (stderr not a terminal): whole lines, the first at
 /// once and then at most one every 5 s, no carriage-return redraws.
 #[test]
 fn accuracy_progress_in_a_log_is_a_few_whole_lines() {
-    let dir = scratch("progress");
+    let scratch = tmp("progress");
+    // not there yet: the run makes it
+    let dir = scratch.path().join("out");
     let started = std::time::Instant::now();
     let out = lab(&[
         "accuracy",
