@@ -320,10 +320,8 @@ pub(crate) fn walk<M: Kinematics>(
     p
 }
 
-/// An element's potential, gradient and Hessian (upper triangle).
-pub(crate) type ElementHessian<M> = (f64, <M as ModelCore>::Coeffs, <M as ModelCore>::Upper);
-
-/// What an element pass evaluates ([`Value`], [`Gradient`], [`Hessian`]):
+/// What an element pass evaluates ([`Value`], [`Gradient`]; the Hessians
+/// go by [`ElementLanes::hessian_groups`]):
 /// the scalar path, the lanes, and what the held unknowns of plane strain
 /// add to the model's result.
 pub(crate) trait Pass<M: Energy> {
@@ -347,8 +345,6 @@ pub(crate) trait Pass<M: Energy> {
 pub(crate) struct Value;
 /// The potentials and gradients ([`Element::gradient`]).
 pub(crate) struct Gradient;
-/// The potentials, gradients and Hessians ([`Element::hessian`]).
-pub(crate) struct Hessian;
 
 /// `pass!(Pass, its output, lane method, element method, finishing method)`.
 macro_rules! pass {
@@ -385,13 +381,6 @@ pass!(
     gradient_lanes,
     gradient,
     finish_gradient
-);
-pass!(
-    Hessian,
-    ElementHessian<M>,
-    hessian_lanes,
-    hessian,
-    finish_hessian
 );
 
 /// The elements' moments packed side by side for one [`Width`]: the
@@ -441,10 +430,9 @@ impl<M: Energy> ElementLanes<M> {
         }
     }
 
-    /// Pass `P` ([`Value`], [`Gradient`], [`Hessian`]) of every element of
+    /// Pass `P` ([`Value`], [`Gradient`]) of every element of
     /// `elements` (the ones packed) at `k[i]` into `out[i]`, bit for bit
-    /// the scalar [`Element::energy`], [`Element::gradient`] or
-    /// [`Element::hessian`].
+    /// the scalar [`Element::energy`] or [`Element::gradient`].
     pub fn eval<P: Pass<M>>(
         &self,
         elements: &[Element<M>],
@@ -523,4 +511,207 @@ fn eval_avx512<M: Energy, P: Pass<M>>(
     out: &mut [P::Out],
 ) {
     eval_in::<M, P, Lanes<8>>(packed, elements, k, s, out)
+}
+
+/// One number per element of a group of [`fpc_newton::GROUP`] elements:
+/// the lane type of the chain's Hessian assembly (the group the chain's
+/// matrix stores side by side).
+pub(crate) type Group = Lanes<{ fpc_newton::GROUP }>;
+
+/// The element Hessians of a finger in groups of [`Group`] lanes, element
+/// `GROUP j + l` in lane `l` of group `j`: its potential, its gradient
+/// (`LEN` lanes a group) and its Hessian's upper triangle (`LEN (LEN + 1)
+/// / 2` lanes a group). The lanes past the last element repeat it.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct HessianGroups {
+    pub v: Vec<Group>,
+    pub g: Vec<Group>,
+    pub h: Vec<Group>,
+}
+
+impl HessianGroups {
+    /// None.
+    pub fn empty() -> HessianGroups {
+        HessianGroups {
+            v: Vec::new(),
+            g: Vec::new(),
+            h: Vec::new(),
+        }
+    }
+
+    /// Room for `elements` elements of model `M`.
+    pub fn new<M: ModelCore>(elements: usize) -> HessianGroups {
+        let (n, groups) = (M::Coeffs::LEN, elements.div_ceil(fpc_newton::GROUP));
+        let zero = Group::splat(0.0);
+        HessianGroups {
+            v: vec![zero; groups],
+            g: vec![zero; groups * n],
+            h: vec![zero; groups * n * (n + 1) / 2],
+        }
+    }
+}
+
+impl<M: Energy> ElementLanes<M> {
+    /// The Hessian pass ([`Element::hessian`]) of every element in groups
+    /// ([`HessianGroups`]), bit for bit the scalar results, computed at
+    /// this packing's width.
+    pub fn hessian_groups(
+        &self,
+        elements: &[Element<M>],
+        k: &[M::Coeffs],
+        s: &EnergyScalars,
+        out: &mut HessianGroups,
+    ) {
+        match self {
+            ElementLanes::One => {
+                let (n, nh) = (M::Coeffs::LEN, M::Upper::LEN);
+                for (i, (e, k)) in elements.iter().zip(k).enumerate() {
+                    let (j, l) = (i / fpc_newton::GROUP, i % fpc_newton::GROUP);
+                    let (v, g, h) = e.hessian(k, s);
+                    out.v[j].0[l] = v;
+                    for (o, x) in out.g[j * n..].iter_mut().zip(g.as_ref()) {
+                        o.0[l] = *x;
+                    }
+                    for (o, x) in out.h[j * nh..].iter_mut().zip(h.as_ref()) {
+                        o.0[l] = *x;
+                    }
+                }
+                pad_groups::<M>(elements.len(), out);
+            }
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            // SAFETY: packed with AVX2 only where the processor has it
+            ElementLanes::Four(p, true) => unsafe { groups_avx2(p, elements, k, s, out) },
+            ElementLanes::Four(p, _) => groups_in::<M, Lanes<4>>(p, elements, k, s, out),
+            #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+            // SAFETY: packed for AVX-512 only where the processor has it
+            ElementLanes::Eight(p) => unsafe { groups_avx512(p, elements, k, s, out) },
+            #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+            ElementLanes::Eight(p) => groups_in::<M, Lanes<8>>(p, elements, k, s, out),
+        }
+    }
+}
+
+/// The lanes past the last element repeat it (the scalar path fills
+/// element by element).
+fn pad_groups<M: ModelCore>(elements: usize, out: &mut HessianGroups) {
+    let (n, nh, w) = (M::Coeffs::LEN, M::Upper::LEN, fpc_newton::GROUP);
+    let Some(last) = elements.checked_sub(1) else {
+        return;
+    };
+    let (j, from) = (last / w, last % w);
+    let fill = |x: &mut Group| {
+        for l in from + 1..w {
+            x.0[l] = x.0[from];
+        }
+    };
+    fill(&mut out.v[j]);
+    out.g[j * n..(j + 1) * n].iter_mut().for_each(fill);
+    out.h[j * nh..(j + 1) * nh].iter_mut().for_each(fill);
+}
+
+/// [`ElementLanes::hessian_groups`] `L::WIDTH` elements at a time (a
+/// divisor of the group), inlined into the functions compiled for a
+/// width's instructions.
+#[inline(always)]
+fn groups_in<M: Energy, L: Lane + AsRef<[f64]>>(
+    packed: &[CacheLine<M::MomentLanes<L>>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut HessianGroups,
+) where
+    f64: LaneScalar<L>,
+{
+    const { assert!(M::Coeffs::LEN <= MAX_LANE_UNKNOWNS) };
+    let (n, nh, w) = (M::Coeffs::LEN, M::Upper::LEN, L::WIDTH);
+    let per = fpc_newton::GROUP / w;
+    let zero = L::splat(0.0);
+    let (mut g, mut h) = ([zero; MAX_LANE_UNKNOWNS], [zero; MAX_LANE_UPPER]);
+    let mut seen = [M::Coeffs::zero(); MAX_LANES];
+    for (c, ((m, e), k)) in packed
+        .iter()
+        .zip(elements.chunks(w))
+        .zip(k.chunks(w))
+        .enumerate()
+    {
+        for ((sk, e), k) in seen.iter_mut().zip(e).zip(k) {
+            *sk = e.seen(k);
+        }
+        let (j, at) = (c / per, (c % per) * w);
+        let mut v = zero;
+        M::hessian_lane_major::<L>(
+            &m.0,
+            &seen[..k.len()],
+            s,
+            (&mut v, &mut g[..n], &mut h[..nh]),
+        );
+        let put = |o: &mut Group, x: &L| {
+            for (o, x) in o.0[at..at + w].iter_mut().zip(x.as_ref()) {
+                *o = *x;
+            }
+        };
+        put(&mut out.v[j], &v);
+        out.g[j * n..]
+            .iter_mut()
+            .zip(&g[..n])
+            .for_each(|(o, x)| put(o, x));
+        out.h[j * nh..]
+            .iter_mut()
+            .zip(&h[..nh])
+            .for_each(|(o, x)| put(o, x));
+        // the held unknowns of plane strain, element by element
+        for (l, (e, k)) in e.iter().zip(k).enumerate() {
+            if !e.pin.is_empty() {
+                pin_lane(e, k, at + l, j, out);
+            }
+        }
+    }
+    pad_groups::<M>(elements.len(), out);
+}
+
+/// [`Element::finish_hessian`] on element `e`'s lane `l` of group `j`.
+fn pin_lane<M: Energy>(e: &Element<M>, k: &M::Coeffs, l: usize, j: usize, out: &mut HessianGroups) {
+    let (n, nh) = (M::Coeffs::LEN, M::Upper::LEN);
+    let (g, h) = (
+        &mut out.g[j * n..(j + 1) * n],
+        &mut out.h[j * nh..(j + 1) * nh],
+    );
+    let model = (
+        out.v[j].0[l],
+        M::Coeffs::from_fn(|a| g[a].0[l]),
+        M::Upper::from_fn(|a| h[a].0[l]),
+    );
+    let (v, gk, hk) = e.finish_hessian(k, model);
+    out.v[j].0[l] = v;
+    g.iter_mut().zip(gk.as_ref()).for_each(|(o, x)| o.0[l] = *x);
+    h.iter_mut().zip(hk.as_ref()).for_each(|(o, x)| o.0[l] = *x);
+}
+
+/// Room for this many unknowns per element in the lane passes (the
+/// models of energy-spec/ have 4 and 5).
+const MAX_LANE_UNKNOWNS: usize = 8;
+const MAX_LANE_UPPER: usize = MAX_LANE_UNKNOWNS * (MAX_LANE_UNKNOWNS + 1) / 2;
+
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+#[target_feature(enable = "avx2,fma")]
+fn groups_avx2<M: Energy>(
+    packed: &[CacheLine<M::MomentLanes<Lanes<4>>>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut HessianGroups,
+) {
+    groups_in::<M, Lanes<4>>(packed, elements, k, s, out)
+}
+
+#[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+#[target_feature(enable = "avx512f,avx2,fma")]
+fn groups_avx512<M: Energy>(
+    packed: &[CacheLine<M::MomentLanes<Lanes<8>>>],
+    elements: &[Element<M>],
+    k: &[M::Coeffs],
+    s: &EnergyScalars,
+    out: &mut HessianGroups,
+) {
+    groups_in::<M, Lanes<8>>(packed, elements, k, s, out)
 }

@@ -43,6 +43,8 @@ pub trait Lane:
     fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
     /// Lane `i` (`i < WIDTH`).
     fn lane(&self, i: usize) -> f64;
+    /// The square root of every lane (correctly rounded, as `f64::sqrt`).
+    fn sqrt(self) -> Self;
 }
 
 /// `f64` on the left of a lane operation (`2.0 * x`): the generated
@@ -128,6 +130,47 @@ impl<const W: usize> Lane for Lanes<W> {
     #[inline(always)]
     fn lane(&self, i: usize) -> f64 {
         self.0[i]
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Lanes<W> {
+        Lanes(self.0.map(f64::sqrt))
+    }
+}
+
+impl<const W: usize> AsRef<[f64]> for Lanes<W> {
+    #[inline(always)]
+    fn as_ref(&self) -> &[f64] {
+        &self.0
+    }
+}
+
+impl<const W: usize> AsRef<[f64; W]> for Lanes<W> {
+    #[inline(always)]
+    fn as_ref(&self) -> &[f64; W] {
+        &self.0
+    }
+}
+
+/// One number is one lane: code written for a [`Lane`] runs on plain
+/// `f64` too, statement for statement the same arithmetic.
+impl Lane for f64 {
+    const WIDTH: usize = 1;
+    #[inline(always)]
+    fn splat(x: f64) -> f64 {
+        x
+    }
+    #[inline(always)]
+    fn from_fn(mut f: impl FnMut(usize) -> f64) -> f64 {
+        f(0)
+    }
+    #[inline(always)]
+    fn lane(&self, i: usize) -> f64 {
+        debug_assert_eq!(i, 0);
+        *self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
     }
 }
 
@@ -228,6 +271,7 @@ mod tests {
             assert_eq!(s.lane(i), x + y);
             assert_eq!((2.0 * a - b * 3.0 + 1.0).lane(i), 2.0 * x - y * 3.0 + 1.0);
             assert_eq!((1.5 / a / 2.0 - 0.5).lane(i), 1.5 / x / 2.0 - 0.5);
+            assert_eq!((a * a + 0.5).sqrt().lane(i), (x * x + 0.5).sqrt());
         }
         assert_eq!(Lanes::<4>::splat(2.5), Lanes([2.5; 4]));
         assert_eq!(

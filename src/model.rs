@@ -144,13 +144,15 @@ pub trait Energy: ModelCore {
         out: &mut [(f64, Self::Coeffs)],
     ) where
         f64: LaneScalar<L>;
-    /// [`Energy::hessian`] of up to `L::WIDTH` elements at once (as
-    /// [`Energy::energy_lanes`]).
-    fn hessian_lanes<L: Lane>(
+    /// [`Energy::hessian`] of up to `L::WIDTH` elements at once, left in
+    /// lanes: lane `l` of `out` (value, gradient and upper triangle, `LEN`
+    /// and `LEN (LEN + 1) / 2` entries) is element `l`'s, bit for bit the
+    /// scalar result (lanes past the end of `k` repeat its last element).
+    fn hessian_lane_major<L: Lane>(
         m: &Self::MomentLanes<L>,
         k: &[Self::Coeffs],
         s: &EnergyScalars,
-        out: &mut [(f64, Self::Coeffs, Self::Upper)],
+        out: (&mut L, &mut [L], &mut [L]),
     ) where
         f64: LaneScalar<L>;
     /// One integral family alone (`None` past the last family).
@@ -183,6 +185,13 @@ pub trait Kinematics: ModelCore {
     /// (the chain's Hessian needs no `atan2`).
     #[allow(clippy::type_complexity)]
     fn end_derivatives(k: &Self::Coeffs, length: f64) -> ([Self::Coeffs; 3], [Self::Upper; 3]);
+    /// [`Kinematics::end_derivatives`] of several elements at once, lane
+    /// `l` element `l`'s (unknowns `k`, `LEN` lanes, and length): the
+    /// gradients of `[Xe, Ze, eta]` one after the other into `g` (`3 LEN`
+    /// entries), their Hessians into `h`, bit for bit the scalar ones.
+    fn end_derivatives_lanes<L: Lane>(k: &[L], length: L, g: &mut [L], h: &mut [L])
+    where
+        f64: LaneScalar<L>;
     /// `[Xe, Ze, dx, dz]`.
     fn frame(k: &Self::Coeffs, length: f64) -> [f64; 4];
     /// The mid-plane point at local `x`, in the element's frame.

@@ -2801,6 +2801,84 @@ pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2`
 - `[2]` eta = `atan2(2*L*c2, 1 + a1 + 3*a3*L^2)`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn end_derivatives_lanes<T: super::Lane>(
+    k: &[T; 4],
+    L: T,
+) -> ([[T; 4]; 3], [[T; 10]; 3])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = c2 * c2;
+    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
+    (
+        [
+            [L, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+            [
+                -(2.0 * L * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
+                T::splat(0.0),
+                2.0 * L * tmp2 * tmp6,
+            ],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                4.0 * L * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
+                T::splat(0.0),
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
+                T::splat(0.0),
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
+                T::splat(0.0),
+                T::splat(0.0),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` eta = `atan2(2*L*c2, 1 + a1 + 3*a3*L^2)`*/
 pub fn end_value(k: &[f64; 4], L: f64) -> [f64; 3] {
     let a1 = k[0];
     let a3 = k[1];
@@ -2943,6 +3021,82 @@ pub fn end_hessian(k: &[f64; 4], L: f64) -> ([f64; 3], [[f64; 4]; 3], [[f64; 10]
 - `[1]` Ze = `L^2*c2`
 - `[2]` dx = `1 + a1 + 3*a3*L^2`
 - `[3]` dz = `2*L*c2`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn frame_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 4],
+    L: T,
+) -> ([[T; 4]; 4], [[T; 10]; 4])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    (
+        [
+            [L, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+            [T::splat(1.0), 3.0 * tmp0, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), 2.0 * L],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` dx = `1 + a1 + 3*a3*L^2`
+- `[3]` dz = `2*L*c2`*/
 pub fn frame_value(k: &[f64; 4], L: f64) -> [f64; 4] {
     let a1 = k[0];
     let a3 = k[1];
@@ -3031,6 +3185,54 @@ pub fn frame_hessian(k: &[f64; 4], L: f64) -> ([f64; 4], [[f64; 4]; 4], [[f64; 1
 /**Point kernel `midplane`. Outputs:
 - `[0]` X = `x + a1*x + a3*x^3`
 - `[1]` Z = `c2*x^2`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn midplane_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 4],
+    x: T,
+) -> ([[T; 4]; 2], [[T; 10]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = x * x;
+    let tmp1 = tmp0 * x;
+    (
+        [
+            [x, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `midplane`. Outputs:
+- `[0]` X = `x + a1*x + a3*x^3`
+- `[1]` Z = `c2*x^2`*/
 pub fn midplane_value(k: &[f64; 4], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a3 = k[1];
@@ -3094,6 +3296,53 @@ pub fn midplane_hessian(
 /**Point kernel `tangent`. Outputs:
 - `[0]` dx = `1 + a1 + 3*a3*x^2`
 - `[1]` dz = `2*c2*x`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn tangent_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 4],
+    x: T,
+) -> ([[T; 4]; 2], [[T; 10]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = x * x;
+    (
+        [
+            [T::splat(1.0), 3.0 * tmp0, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), 2.0 * x],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `tangent`. Outputs:
+- `[0]` dx = `1 + a1 + 3*a3*x^2`
+- `[1]` dz = `2*c2*x`*/
 pub fn tangent_value(k: &[f64; 4], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a3 = k[1];
@@ -3150,6 +3399,67 @@ pub fn tangent_hessian(
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `(2*c2*(1 + a1 + 3*a3*x^2) - 12*a3*c2*x^2)*sqrt(4*c2^2*x^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn curvature_derivatives_lanes<T: super::Lane>(
+    k: &[T; 4],
+    x: T,
+) -> ([[T; 4]; 1], [[T; 10]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let tmp0 = c2 * c2;
+    let tmp1 = x * x;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp1;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
+    let tmp5 = 1.0 / tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp6 * tmp5;
+    let tmp8 = 2.0 * c2 * tmp2 - 12.0 * a3 * c2 * tmp1;
+    let tmp9 = tmp6 * tmp6;
+    let tmp10 = tmp9 * tmp5;
+    let tmp11 = -12.0 * a3 * tmp1 + 2.0 * tmp2;
+    let tmp12 = tmp7 * tmp7;
+    let tmp13 = tmp12 * tmp5;
+    let tmp14 = tmp1 * tmp1;
+    (
+        [
+            [
+                2.0 * c2 * tmp7 - 3.0 * tmp2 * tmp8 * tmp10,
+                -6.0 * c2 * tmp1 * tmp7 - 9.0 * tmp1 * tmp2 * tmp8 * tmp10,
+                T::splat(0.0),
+                tmp7 * tmp11 - 12.0 * c2 * tmp1 * tmp8 * tmp10,
+            ],
+        ],
+        [
+            [
+                -12.0 * c2 * tmp2 * tmp10 - 3.0 * tmp8 * tmp10
+                    + 15.0 * tmp3 * tmp8 * tmp13,
+                -9.0 * tmp1 * tmp8 * tmp10 + 45.0 * tmp1 * tmp3 * tmp8 * tmp13,
+                T::splat(0.0),
+                2.0 * tmp7 - 24.0 * tmp0 * tmp1 * tmp10 - 3.0 * tmp2 * tmp10 * tmp11
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp8 * tmp13,
+                108.0 * c2 * tmp14 * tmp2 * tmp10 - 27.0 * tmp14 * tmp8 * tmp10
+                    + 135.0 * tmp14 * tmp3 * tmp8 * tmp13,
+                T::splat(0.0),
+                -6.0 * tmp1 * tmp7 + 72.0 * tmp0 * tmp14 * tmp10
+                    - 9.0 * tmp1 * tmp2 * tmp10 * tmp11
+                    + 180.0 * c2 * tmp14 * tmp2 * tmp8 * tmp13,
+                T::splat(0.0),
+                T::splat(0.0),
+                -12.0 * tmp1 * tmp8 * tmp10 - 24.0 * c2 * tmp1 * tmp10 * tmp11
+                    + 240.0 * tmp0 * tmp14 * tmp8 * tmp13,
+            ],
         ],
     )
 }
@@ -3307,6 +3617,39 @@ pub fn curvature_hessian(
                 0.0,
                 -12.0 * tmp0 * tmp2 * tmp10 - 24.0 * c2 * tmp0 * tmp10 * tmp11
                     + 240.0 * tmp3 * tmp14 * tmp2 * tmp13,
+            ],
+        ],
+    )
+}
+/**Point kernel `strain`. Outputs:
+- `[0]` eps_x = `a1 + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn strain_derivatives_lanes<T: super::Lane>(
+    k: &[T; 4],
+    x: T,
+    z: T,
+) -> ([[T; 4]; 1], [[T; 10]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let c2 = k[3];
+    let tmp0 = x * x;
+    (
+        [[T::splat(1.0), 3.0 * tmp0, T::splat(0.0), 4.0 * c2 * tmp0 - 2.0 * z]],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                4.0 * tmp0,
             ],
         ],
     )
@@ -3483,11 +3826,11 @@ impl super::Energy for Ccm {
         }
     }
     #[inline(always)]
-    fn hessian_lanes<L: super::Lane>(
+    fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 4]],
         s: &super::EnergyScalars,
-        out: &mut [(f64, [f64; 4], [f64; 10])],
+        out: (&mut L, &mut [L], &mut [L]),
     )
     where
         f64: super::LaneScalar<L>,
@@ -3496,13 +3839,9 @@ impl super::Energy for Ccm {
             return;
         };
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
-            *o = (
-                v.lane(l),
-                std::array::from_fn(|j| g[j].lane(l)),
-                std::array::from_fn(|j| h[j].lane(l)),
-            );
-        }
+        *out.0 = v;
+        out.1[..4].copy_from_slice(&g);
+        out.2[..10].copy_from_slice(&h);
     }
     fn family_hessian(
         m: &Moments,
@@ -3543,6 +3882,23 @@ impl super::Kinematics for Ccm {
     fn end_derivatives(k: &[f64; 4], length: f64) -> ([[f64; 4]; 3], [[f64; 10]; 3]) {
         let (g, h) = end_derivatives(k, length);
         ([g[0], g[1], g[2]], [h[0], h[1], h[2]])
+    }
+    #[inline(always)]
+    fn end_derivatives_lanes<L: super::Lane>(
+        k: &[L],
+        length: L,
+        g: &mut [L],
+        h: &mut [L],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let k: &[L; 4] = &std::array::from_fn(|j| k[j]);
+        let (dg, dh) = end_derivatives_lanes(k, length);
+        for (c, o) in [0, 1, 2].into_iter().enumerate() {
+            g[c * 4..(c + 1) * 4].copy_from_slice(&dg[o]);
+            h[c * 10..(c + 1) * 10].copy_from_slice(&dh[o]);
+        }
     }
     #[inline]
     fn frame(k: &[f64; 4], length: f64) -> [f64; 4] {

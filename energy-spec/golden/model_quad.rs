@@ -5626,6 +5626,101 @@ pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
 - `[0]` Xe = `L + a1*L + a2*L^2 + L^3*a3`
 - `[1]` Ze = `L^2*c2`
 - `[2]` eta = `atan2(2*L*c2, 1 + a1 + 2*a2*L + 3*L^2*a3)`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn end_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    L: T,
+) -> ([[T; 5]; 3], [[T; 15]; 3])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let c2 = k[4];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 2.0 * a2 * L + 3.0 * tmp0 * a3;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = c2 * c2;
+    let tmp5 = tmp3 + 4.0 * tmp0 * tmp4;
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp0 * tmp0;
+    let tmp9 = tmp8 * L;
+    (
+        [
+            [L, tmp0, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+            [
+                -(2.0 * L * c2 * tmp6),
+                -(4.0 * tmp0 * c2 * tmp6),
+                -(6.0 * tmp1 * c2 * tmp6),
+                T::splat(0.0),
+                2.0 * L * tmp2 * tmp6,
+            ],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                4.0 * L * c2 * tmp2 * tmp7,
+                8.0 * tmp0 * c2 * tmp2 * tmp7,
+                12.0 * tmp1 * c2 * tmp2 * tmp7,
+                T::splat(0.0),
+                -2.0 * L * tmp6 + 16.0 * tmp1 * tmp4 * tmp7,
+                16.0 * tmp1 * c2 * tmp2 * tmp7,
+                24.0 * tmp8 * c2 * tmp2 * tmp7,
+                T::splat(0.0),
+                -4.0 * tmp0 * tmp6 + 32.0 * tmp8 * tmp4 * tmp7,
+                36.0 * tmp9 * c2 * tmp2 * tmp7,
+                T::splat(0.0),
+                -6.0 * tmp1 * tmp6 + 48.0 * tmp9 * tmp4 * tmp7,
+                T::splat(0.0),
+                T::splat(0.0),
+                -(16.0 * tmp1 * c2 * tmp2 * tmp7),
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a2*L^2 + L^3*a3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` eta = `atan2(2*L*c2, 1 + a1 + 2*a2*L + 3*L^2*a3)`*/
 pub fn end_value(k: &[f64; 5], L: f64) -> [f64; 3] {
     let a1 = k[0];
     let a2 = k[1];
@@ -5789,6 +5884,103 @@ pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]
 - `[1]` Ze = `L^2*c2`
 - `[2]` dx = `1 + a1 + 2*a2*L + 3*L^2*a3`
 - `[3]` dz = `2*L*c2`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn frame_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 5],
+    L: T,
+) -> ([[T; 5]; 4], [[T; 15]; 4])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 2.0 * L;
+    (
+        [
+            [L, tmp0, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+            [T::splat(1.0), tmp2, 3.0 * tmp0, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp2],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a2*L^2 + L^3*a3`
+- `[1]` Ze = `L^2*c2`
+- `[2]` dx = `1 + a1 + 2*a2*L + 3*L^2*a3`
+- `[3]` dz = `2*L*c2`*/
 pub fn frame_value(k: &[f64; 5], L: f64) -> [f64; 4] {
     let a1 = k[0];
     let a2 = k[1];
@@ -5898,6 +6090,64 @@ pub fn frame_hessian(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4], [[f64; 1
 /**Point kernel `midplane`. Outputs:
 - `[0]` X = `x + a1*x + a2*x^2 + a3*x^3`
 - `[1]` Z = `c2*x^2`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn midplane_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 2], [[T; 15]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = x * x;
+    let tmp1 = tmp0 * x;
+    (
+        [
+            [x, tmp0, tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `midplane`. Outputs:
+- `[0]` X = `x + a1*x + a2*x^2 + a3*x^3`
+- `[1]` Z = `c2*x^2`*/
 pub fn midplane_value(k: &[f64; 5], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a2 = k[1];
@@ -5967,6 +6217,64 @@ pub fn midplane_hessian(
 /**Point kernel `tangent`. Outputs:
 - `[0]` dx = `1 + a1 + 2*a2*x + 3*a3*x^2`
 - `[1]` dz = `2*c2*x`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn tangent_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 2], [[T; 15]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = 2.0 * x;
+    let tmp1 = x * x;
+    (
+        [
+            [T::splat(1.0), tmp0, 3.0 * tmp1, T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `tangent`. Outputs:
+- `[0]` dx = `1 + a1 + 2*a2*x + 3*a3*x^2`
+- `[1]` dz = `2*c2*x`*/
 pub fn tangent_value(k: &[f64; 5], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a2 = k[1];
@@ -6029,6 +6337,80 @@ pub fn tangent_hessian(
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `(2*c2*(1 + a1 + 2*a2*x + 3*a3*x^2) - 2*c2*x*(2*a2 + 6*a3*x))*sqrt(4*c2^2*x^2 + (1 + a1 + 2*a2*x + 3*a3*x^2)^2)^(-3)`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn curvature_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 1], [[T; 15]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a2 = k[1];
+    let a3 = k[2];
+    let c2 = k[4];
+    let tmp0 = c2 * c2;
+    let tmp1 = x * x;
+    let tmp2 = 1.0 + a1 + 2.0 * a2 * x + 3.0 * a3 * tmp1;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = (4.0 * tmp0 * tmp1 + tmp3).sqrt();
+    let tmp5 = 1.0 / tmp4;
+    let tmp6 = tmp5 * tmp5;
+    let tmp7 = tmp6 * tmp5;
+    let tmp8 = 2.0 * a2 + 6.0 * a3 * x;
+    let tmp9 = 2.0 * c2 * tmp2 - 2.0 * c2 * x * tmp8;
+    let tmp10 = tmp6 * tmp6;
+    let tmp11 = tmp10 * tmp5;
+    let tmp12 = 2.0 * tmp2 - 2.0 * x * tmp8;
+    let tmp13 = tmp7 * tmp7;
+    let tmp14 = tmp13 * tmp5;
+    let tmp15 = -(12.0 * tmp1 * tmp9 * tmp11);
+    let tmp16 = tmp1 * x;
+    let tmp17 = tmp1 * tmp1;
+    (
+        [
+            [
+                2.0 * c2 * tmp7 - 3.0 * tmp2 * tmp9 * tmp11,
+                -(6.0 * x * tmp2 * tmp9 * tmp11),
+                -6.0 * c2 * tmp1 * tmp7 - 9.0 * tmp1 * tmp2 * tmp9 * tmp11,
+                T::splat(0.0),
+                tmp7 * tmp12 - 12.0 * c2 * tmp1 * tmp9 * tmp11,
+            ],
+        ],
+        [
+            [
+                -12.0 * c2 * tmp2 * tmp11 - 3.0 * tmp9 * tmp11
+                    + 15.0 * tmp3 * tmp9 * tmp14,
+                -12.0 * c2 * x * tmp2 * tmp11 - 6.0 * x * tmp9 * tmp11
+                    + 30.0 * x * tmp3 * tmp9 * tmp14,
+                -9.0 * tmp1 * tmp9 * tmp11 + 45.0 * tmp1 * tmp3 * tmp9 * tmp14,
+                T::splat(0.0),
+                2.0 * tmp7 - 24.0 * tmp0 * tmp1 * tmp11 - 3.0 * tmp2 * tmp11 * tmp12
+                    + 60.0 * c2 * tmp1 * tmp2 * tmp9 * tmp14,
+                tmp15 + 60.0 * tmp1 * tmp3 * tmp9 * tmp14,
+                -18.0 * tmp16 * tmp9 * tmp11 + 36.0 * c2 * tmp16 * tmp2 * tmp11
+                    + 90.0 * tmp16 * tmp3 * tmp9 * tmp14,
+                T::splat(0.0),
+                -6.0 * x * tmp2 * tmp11 * tmp12
+                    + 120.0 * c2 * tmp16 * tmp2 * tmp9 * tmp14,
+                108.0 * c2 * tmp17 * tmp2 * tmp11 - 27.0 * tmp17 * tmp9 * tmp11
+                    + 135.0 * tmp17 * tmp3 * tmp9 * tmp14,
+                T::splat(0.0),
+                -6.0 * tmp1 * tmp7 + 72.0 * tmp0 * tmp17 * tmp11
+                    - 9.0 * tmp1 * tmp2 * tmp11 * tmp12
+                    + 180.0 * c2 * tmp17 * tmp2 * tmp9 * tmp14,
+                T::splat(0.0),
+                T::splat(0.0),
+                tmp15 - 24.0 * c2 * tmp1 * tmp11 * tmp12
+                    + 240.0 * tmp0 * tmp17 * tmp9 * tmp14,
+            ],
         ],
     )
 }
@@ -6216,6 +6598,44 @@ pub fn curvature_hessian(
                 0.0,
                 tmp15 - 24.0 * c2 * tmp0 * tmp11 * tmp12
                     + 240.0 * tmp4 * tmp17 * tmp3 * tmp14,
+            ],
+        ],
+    )
+}
+/**Point kernel `strain`. Outputs:
+- `[0]` eps_x = `a1 + 2*a2*x + 3*a3*x^2 + 2*c2^2*x^2 - 2*c2*z`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn strain_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    x: T,
+    z: T,
+) -> ([[T; 5]; 1], [[T; 15]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let c2 = k[4];
+    let tmp0 = x * x;
+    (
+        [[T::splat(1.0), 2.0 * x, 3.0 * tmp0, T::splat(0.0), 4.0 * c2 * tmp0 - 2.0 * z]],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                4.0 * tmp0,
             ],
         ],
     )
@@ -6434,11 +6854,11 @@ impl super::Energy for Quad {
         }
     }
     #[inline(always)]
-    fn hessian_lanes<L: super::Lane>(
+    fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
         s: &super::EnergyScalars,
-        out: &mut [(f64, [f64; 5], [f64; 15])],
+        out: (&mut L, &mut [L], &mut [L]),
     )
     where
         f64: super::LaneScalar<L>,
@@ -6447,13 +6867,9 @@ impl super::Energy for Quad {
             return;
         };
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
-            *o = (
-                v.lane(l),
-                std::array::from_fn(|j| g[j].lane(l)),
-                std::array::from_fn(|j| h[j].lane(l)),
-            );
-        }
+        *out.0 = v;
+        out.1[..5].copy_from_slice(&g);
+        out.2[..15].copy_from_slice(&h);
     }
     fn family_hessian(
         m: &Moments,
@@ -6494,6 +6910,23 @@ impl super::Kinematics for Quad {
     fn end_derivatives(k: &[f64; 5], length: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) {
         let (g, h) = end_derivatives(k, length);
         ([g[0], g[1], g[2]], [h[0], h[1], h[2]])
+    }
+    #[inline(always)]
+    fn end_derivatives_lanes<L: super::Lane>(
+        k: &[L],
+        length: L,
+        g: &mut [L],
+        h: &mut [L],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let k: &[L; 5] = &std::array::from_fn(|j| k[j]);
+        let (dg, dh) = end_derivatives_lanes(k, length);
+        for (c, o) in [0, 1, 2].into_iter().enumerate() {
+            g[c * 5..(c + 1) * 5].copy_from_slice(&dg[o]);
+            h[c * 15..(c + 1) * 15].copy_from_slice(&dh[o]);
+        }
     }
     #[inline]
     fn frame(k: &[f64; 5], length: f64) -> [f64; 4] {

@@ -7132,6 +7132,155 @@ pub fn psi(s: f64, p: &super::PsiParams) -> [f64; 3] {
 - `[0]` Xe = `L + a1*L + a3*L^3`
 - `[1]` Ze = `L^2*c2 + L*g0`
 - `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn end_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    L: T,
+) -> ([[T; 5]; 3], [[T; 15]; 3])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = 2.0 * L * c2 + g0;
+    let tmp4 = tmp3 * tmp3;
+    let tmp5 = tmp2 * tmp2;
+    let tmp6 = tmp4 + tmp5;
+    let tmp7 = tmp6.sqrt();
+    let tmp8 = 1.0 / tmp7;
+    let tmp9 = g0 * g0;
+    let tmp10 = tmp7 * tmp7;
+    let tmp11 = tmp9 + tmp10;
+    let tmp12 = 1.0 / tmp11;
+    let tmp13 = 1.0 + a1;
+    let tmp14 = tmp13 * tmp13;
+    let tmp15 = tmp9 + tmp14;
+    let tmp16 = tmp15.sqrt();
+    let tmp17 = 1.0 / tmp16;
+    let tmp18 = tmp16 * tmp16;
+    let tmp19 = tmp9 + tmp18;
+    let tmp20 = 1.0 / tmp19;
+    let tmp21 = 1.0 / tmp15;
+    let tmp22 = 1.0 / tmp6;
+    let tmp23 = tmp7 - g0 * tmp3 * tmp8;
+    let tmp24 = tmp16 - tmp9 * tmp17;
+    let tmp25 = tmp8 * tmp8;
+    let tmp26 = tmp25 * tmp8;
+    let tmp27 = tmp12 * tmp12;
+    let tmp28 = tmp17 * tmp17;
+    let tmp29 = tmp28 * tmp17;
+    let tmp30 = tmp20 * tmp20;
+    let tmp31 = tmp21 * tmp21;
+    let tmp32 = tmp22 * tmp22;
+    let tmp33 = 2.0 * g0 + 2.0 * tmp3;
+    let tmp34 = tmp0 * tmp0;
+    let tmp35 = tmp9 * g0;
+    (
+        [
+            [L, tmp1, T::splat(0.0), T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0, L],
+            [
+                g0 * tmp2 * tmp8 * tmp12 - (g0 * tmp13 * tmp17 * tmp20 - g0 * tmp21)
+                    - tmp3 * tmp22,
+                3.0 * tmp0 * g0 * tmp2 * tmp8 * tmp12 - 3.0 * tmp0 * tmp3 * tmp22,
+                T::splat(0.0),
+                2.0 * L * g0 * tmp3 * tmp8 * tmp12 + 2.0 * L * tmp2 * tmp22,
+                tmp2 * tmp22 - tmp12 * tmp23 - (tmp13 * tmp21 - tmp20 * tmp24),
+            ],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                g0 * tmp8 * tmp12 - g0 * tmp5 * tmp26 * tmp12
+                    - 2.0 * g0 * tmp5 * tmp8 * tmp27
+                    - (g0 * tmp17 * tmp20 - g0 * tmp14 * tmp29 * tmp20
+                        - 2.0 * g0 * tmp14 * tmp17 * tmp30 + 2.0 * g0 * tmp13 * tmp31)
+                    + 2.0 * tmp3 * tmp2 * tmp32,
+                3.0 * tmp0 * g0 * tmp8 * tmp12 - 3.0 * tmp0 * g0 * tmp5 * tmp26 * tmp12
+                    - 6.0 * tmp0 * g0 * tmp5 * tmp8 * tmp27
+                    + 6.0 * tmp0 * tmp3 * tmp2 * tmp32,
+                T::splat(0.0),
+                -2.0 * L * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 4.0 * L * g0 * tmp3 * tmp2 * tmp8 * tmp27 - 2.0 * L * tmp22
+                    + 4.0 * L * tmp4 * tmp32,
+                -tmp22 + tmp2 * tmp8 * tmp12 - g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - g0 * tmp2 * tmp8 * tmp27 * tmp33
+                    - (-tmp21 + tmp13 * tmp17 * tmp20 - tmp9 * tmp13 * tmp29 * tmp20
+                        - 4.0 * tmp9 * tmp13 * tmp17 * tmp30 + 2.0 * tmp9 * tmp31)
+                    + 2.0 * tmp4 * tmp32,
+                9.0 * tmp34 * g0 * tmp8 * tmp12 - 9.0 * tmp34 * g0 * tmp5 * tmp26 * tmp12
+                    - 18.0 * tmp34 * g0 * tmp5 * tmp8 * tmp27
+                    + 18.0 * tmp34 * tmp3 * tmp2 * tmp32,
+                T::splat(0.0),
+                -6.0 * tmp1 * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 12.0 * tmp1 * g0 * tmp3 * tmp2 * tmp8 * tmp27 - 6.0 * tmp1 * tmp22
+                    + 12.0 * tmp1 * tmp4 * tmp32,
+                3.0 * tmp0 * tmp2 * tmp8 * tmp12
+                    - 3.0 * tmp0 * g0 * tmp3 * tmp2 * tmp26 * tmp12
+                    - 3.0 * tmp0 * g0 * tmp2 * tmp8 * tmp27 * tmp33 - 3.0 * tmp0 * tmp22
+                    + 6.0 * tmp0 * tmp4 * tmp32,
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                4.0 * tmp0 * g0 * tmp8 * tmp12 - 8.0 * tmp0 * tmp3 * tmp2 * tmp32
+                    - 4.0 * tmp0 * g0 * tmp4 * tmp26 * tmp12
+                    - 8.0 * tmp0 * g0 * tmp4 * tmp8 * tmp27,
+                2.0 * L * tmp3 * tmp8 * tmp12 + 2.0 * L * g0 * tmp8 * tmp12
+                    - 2.0 * L * g0 * tmp4 * tmp26 * tmp12
+                    - 2.0 * L * g0 * tmp3 * tmp8 * tmp27 * tmp33
+                    - 4.0 * L * tmp3 * tmp2 * tmp32,
+                -2.0 * tmp3 * tmp2 * tmp32 + tmp27 * tmp23 * tmp33
+                    - tmp12 * (g0 * tmp4 * tmp26 - g0 * tmp8)
+                    - (-2.0 * g0 * tmp13 * tmp31 + 4.0 * g0 * tmp30 * tmp24
+                        - tmp20 * (-g0 * tmp17 + tmp35 * tmp29)),
+            ],
+        ],
+    )
+}
+/**Point kernel `end`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2 + L*g0`
+- `[2]` eta = `atan2(2*L*c2 + g0, 1 + a1 + 3*a3*L^2) - atan2(g0, sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2)) - (atan2(g0, 1 + a1) - atan2(g0, sqrt(g0^2 + (1 + a1)^2)))`*/
 pub fn end_value(k: &[f64; 5], L: f64) -> [f64; 3] {
     let a1 = k[0];
     let a3 = k[1];
@@ -7428,6 +7577,199 @@ pub fn end_hessian(k: &[f64; 5], L: f64) -> ([f64; 3], [[f64; 5]; 3], [[f64; 15]
                     - tmp16 * (g0 * tmp4 * tmp26 - g0 * tmp13)
                     - (-2.0 * g0 * tmp8 * tmp31 + 4.0 * g0 * tmp30 * tmp24
                         - tmp20 * (-g0 * tmp17 + tmp35 * tmp29)),
+            ],
+        ],
+    )
+}
+/**Point kernel `frame`. Outputs:
+- `[0]` Xe = `L + a1*L + a3*L^3`
+- `[1]` Ze = `L^2*c2 + L*g0`
+- `[2]` dx = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0)) + (g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2))`
+- `[3]` dz = `(g0^2 + (1 + a1)*sqrt(g0^2 + (1 + a1)^2))*((2*L*c2 + g0)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) - g0*(1 + a1 + 3*a3*L^2)) - ((1 + a1 + 3*a3*L^2)*sqrt((2*L*c2 + g0)^2 + (1 + a1 + 3*a3*L^2)^2) + g0*(2*L*c2 + g0))*(g0*sqrt(g0^2 + (1 + a1)^2) - g0*(1 + a1))`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn frame_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    L: T,
+) -> ([[T; 5]; 4], [[T; 15]; 4])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = L * L;
+    let tmp1 = tmp0 * L;
+    let tmp2 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp3 = 2.0 * L * c2;
+    let tmp4 = tmp3 + g0;
+    let tmp5 = tmp4 * tmp4;
+    let tmp6 = tmp2 * tmp2;
+    let tmp7 = (tmp5 + tmp6).sqrt();
+    let tmp8 = tmp2 * tmp7 + g0 * tmp4;
+    let tmp9 = g0 * g0;
+    let tmp10 = 1.0 + a1;
+    let tmp11 = tmp10 * tmp10;
+    let tmp12 = (tmp9 + tmp11).sqrt();
+    let tmp13 = 1.0 / tmp12;
+    let tmp14 = tmp12 + tmp11 * tmp13;
+    let tmp15 = tmp9 + tmp10 * tmp12;
+    let tmp16 = 1.0 / tmp7;
+    let tmp17 = tmp7 + tmp6 * tmp16;
+    let tmp18 = tmp4 * tmp7 - g0 * tmp2;
+    let tmp19 = -(g0);
+    let tmp20 = g0 * tmp10 * tmp13;
+    let tmp21 = tmp19 + tmp20;
+    let tmp22 = g0 * tmp12 - g0 * tmp10;
+    let tmp23 = tmp4 * tmp2 * tmp16;
+    let tmp24 = tmp19 + tmp23;
+    let tmp25 = 3.0 * tmp0 * tmp7 + 3.0 * tmp0 * tmp6 * tmp16;
+    let tmp26 = 3.0 * tmp0 * tmp4 * tmp2 * tmp16 - 3.0 * tmp0 * g0;
+    let tmp27 = 2.0 * L * g0 + 2.0 * L * tmp4 * tmp2 * tmp16;
+    let tmp28 = 2.0 * L * tmp7 + 2.0 * L * tmp5 * tmp16;
+    let tmp29 = 2.0 * g0;
+    let tmp30 = tmp29 + tmp20;
+    let tmp31 = tmp3 + tmp29 + tmp23;
+    let tmp32 = -tmp10 + tmp12 + tmp9 * tmp13;
+    let tmp33 = -tmp2 + tmp7 + tmp5 * tmp16;
+    let tmp34 = tmp11 * tmp10;
+    let tmp35 = tmp13 * tmp13;
+    let tmp36 = tmp35 * tmp13;
+    let tmp37 = 3.0 * tmp10 * tmp13 - tmp34 * tmp36;
+    let tmp38 = tmp6 * tmp2;
+    let tmp39 = tmp16 * tmp16;
+    let tmp40 = tmp39 * tmp16;
+    let tmp41 = 3.0 * tmp2 * tmp16 - tmp38 * tmp40;
+    let tmp42 = g0 * tmp13 - g0 * tmp11 * tmp36;
+    let tmp43 = tmp18 * tmp42;
+    let tmp44 = tmp4 * tmp16 - tmp4 * tmp6 * tmp40;
+    let tmp45 = 9.0 * tmp0 * tmp2 * tmp16 - 3.0 * tmp0 * tmp38 * tmp40;
+    let tmp46 = 3.0 * tmp0 * tmp4 * tmp16 - 3.0 * tmp0 * tmp4 * tmp6 * tmp40;
+    let tmp47 = -2.0 * L * tmp4 * tmp6 * tmp40 + 2.0 * L * tmp4 * tmp16;
+    let tmp48 = 2.0 * L * tmp2 * tmp16;
+    let tmp49 = -(2.0 * L * tmp5 * tmp2 * tmp40);
+    let tmp50 = tmp48 + tmp49;
+    let tmp51 = tmp15 * tmp44;
+    let tmp52 = -1.0;
+    let tmp53 = tmp10 * tmp13;
+    let tmp54 = -(tmp9 * tmp10 * tmp36);
+    let tmp55 = tmp52 + tmp53 + tmp54;
+    let tmp56 = tmp2 * tmp16;
+    let tmp57 = -(tmp5 * tmp2 * tmp40);
+    let tmp58 = tmp52 + tmp56 + tmp57;
+    let tmp59 = tmp0 * tmp0;
+    let tmp60 = 27.0 * tmp59 * tmp2 * tmp16 - 9.0 * tmp59 * tmp38 * tmp40;
+    let tmp61 = 9.0 * tmp59 * tmp4 * tmp16 - 9.0 * tmp59 * tmp4 * tmp6 * tmp40;
+    let tmp62 = 6.0 * tmp1 * tmp4 * tmp16 - 6.0 * tmp1 * tmp4 * tmp6 * tmp40;
+    let tmp63 = 6.0 * tmp1 * tmp2 * tmp16 - 6.0 * tmp1 * tmp5 * tmp2 * tmp40;
+    let tmp64 = tmp15 * tmp46;
+    let tmp65 = -3.0 * tmp0 + 3.0 * tmp0 * tmp2 * tmp16
+        - 3.0 * tmp0 * tmp5 * tmp2 * tmp40;
+    let tmp66 = 4.0 * tmp0 * tmp2 * tmp16 - 4.0 * tmp0 * tmp5 * tmp2 * tmp40;
+    let tmp67 = tmp5 * tmp4;
+    let tmp68 = 12.0 * tmp0 * tmp4 * tmp16 - 4.0 * tmp0 * tmp67 * tmp40;
+    let tmp69 = 2.0 * L + tmp48 + tmp49;
+    let tmp70 = 6.0 * L * tmp4 * tmp16 - 2.0 * L * tmp67 * tmp40;
+    let tmp71 = 2.0 + tmp53 + tmp54;
+    let tmp72 = 2.0 + tmp56 + tmp57;
+    let tmp73 = tmp9 * g0;
+    let tmp74 = 3.0 * g0 * tmp13 - tmp73 * tmp36;
+    let tmp75 = 3.0 * tmp4 * tmp16 - tmp67 * tmp40;
+    (
+        [
+            [L, tmp1, T::splat(0.0), T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0, L],
+            [
+                tmp8 * tmp14 + tmp15 * tmp17 + tmp18 * tmp21 + tmp22 * tmp24,
+                tmp15 * tmp25 + tmp22 * tmp26,
+                T::splat(0.0),
+                tmp15 * tmp27 + tmp22 * tmp28,
+                tmp8 * tmp30 + tmp15 * tmp31 + tmp18 * tmp32 + tmp22 * tmp33,
+            ],
+            [
+                tmp18 * tmp14 + tmp15 * tmp24 - tmp22 * tmp17 - tmp8 * tmp21,
+                tmp15 * tmp26 - tmp22 * tmp25,
+                T::splat(0.0),
+                tmp15 * tmp28 - tmp22 * tmp27,
+                tmp18 * tmp30 + tmp15 * tmp33 - tmp22 * tmp31 - tmp8 * tmp32,
+            ],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                2.0 * tmp14 * tmp17 + tmp8 * tmp37 + tmp15 * tmp41 + 2.0 * tmp21 * tmp24
+                    + tmp43 + tmp22 * tmp44,
+                tmp14 * tmp25 + tmp15 * tmp45 + tmp21 * tmp26 + tmp22 * tmp46,
+                T::splat(0.0),
+                tmp14 * tmp27 + tmp15 * tmp47 + tmp21 * tmp28 + tmp22 * tmp50,
+                tmp14 * tmp31 + tmp8 * tmp42 + tmp17 * tmp30 + tmp51 + tmp21 * tmp33
+                    + tmp18 * tmp55 + tmp24 * tmp32 + tmp22 * tmp58,
+                tmp15 * tmp60 + tmp22 * tmp61,
+                T::splat(0.0),
+                tmp15 * tmp62 + tmp22 * tmp63,
+                tmp25 * tmp30 + tmp64 + tmp26 * tmp32 + tmp22 * tmp65,
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                tmp15 * tmp66 + tmp22 * tmp68,
+                tmp27 * tmp30 + tmp15 * tmp69 + tmp28 * tmp32 + tmp22 * tmp70,
+                2.0 * tmp30 * tmp31 + tmp8 * tmp71 + tmp15 * tmp72 + 2.0 * tmp32 * tmp33
+                    + tmp18 * tmp74 + tmp22 * tmp75,
+            ],
+            [
+                -tmp8 * tmp42 + tmp51 + 2.0 * tmp14 * tmp24 + tmp18 * tmp37
+                    - 2.0 * tmp17 * tmp21 - tmp22 * tmp41,
+                tmp64 + tmp14 * tmp26 - tmp22 * tmp45 - tmp21 * tmp25,
+                T::splat(0.0),
+                tmp14 * tmp28 + tmp15 * tmp50 - tmp22 * tmp47 - tmp21 * tmp27,
+                tmp43 - tmp22 * tmp44 + tmp14 * tmp33 + tmp24 * tmp30 + tmp15 * tmp58
+                    - tmp17 * tmp32 - tmp21 * tmp31 - tmp8 * tmp55,
+                tmp15 * tmp61 - tmp22 * tmp60,
+                T::splat(0.0),
+                tmp15 * tmp63 - tmp22 * tmp62,
+                -tmp22 * tmp46 + tmp26 * tmp30 + tmp15 * tmp65 - tmp25 * tmp32,
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                tmp15 * tmp68 - tmp22 * tmp66,
+                tmp28 * tmp30 + tmp15 * tmp70 - tmp27 * tmp32 - tmp22 * tmp69,
+                2.0 * tmp30 * tmp33 + tmp18 * tmp71 + tmp15 * tmp75 - 2.0 * tmp31 * tmp32
+                    - tmp22 * tmp72 - tmp8 * tmp74,
             ],
         ],
     )
@@ -7854,6 +8196,64 @@ pub fn frame_hessian(k: &[f64; 5], L: f64) -> ([f64; 4], [[f64; 5]; 4], [[f64; 1
 /**Point kernel `midplane`. Outputs:
 - `[0]` X = `x + a1*x + a3*x^3`
 - `[1]` Z = `c2*x^2 + g0*x`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn midplane_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 2], [[T; 15]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = x * x;
+    let tmp1 = tmp0 * x;
+    (
+        [
+            [x, tmp1, T::splat(0.0), T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), tmp0, x],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `midplane`. Outputs:
+- `[0]` X = `x + a1*x + a3*x^3`
+- `[1]` Z = `c2*x^2 + g0*x`*/
 pub fn midplane_value(k: &[f64; 5], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a3 = k[1];
@@ -7923,6 +8323,63 @@ pub fn midplane_hessian(
 /**Point kernel `tangent`. Outputs:
 - `[0]` dx = `1 + a1 + 3*a3*x^2`
 - `[1]` dz = `g0 + 2*c2*x`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn tangent_derivatives_lanes<T: super::Lane>(
+    _k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 2], [[T; 15]; 2])
+where
+    f64: super::LaneScalar<T>,
+{
+    let tmp0 = x * x;
+    (
+        [
+            [T::splat(1.0), 3.0 * tmp0, T::splat(0.0), T::splat(0.0), T::splat(0.0)],
+            [T::splat(0.0), T::splat(0.0), T::splat(0.0), 2.0 * x, T::splat(1.0)],
+        ],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+            ],
+        ],
+    )
+}
+/**Point kernel `tangent`. Outputs:
+- `[0]` dx = `1 + a1 + 3*a3*x^2`
+- `[1]` dz = `g0 + 2*c2*x`*/
 pub fn tangent_value(k: &[f64; 5], x: f64) -> [f64; 2] {
     let a1 = k[0];
     let a3 = k[1];
@@ -7982,6 +8439,82 @@ pub fn tangent_hessian(
         [
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        ],
+    )
+}
+/**Point kernel `curvature`. Outputs:
+- `[0]` kappa = `sqrt((g0 + 2*c2*x)^2 + (1 + a1 + 3*a3*x^2)^2)^(-3)*(2*c2*(1 + a1 + 3*a3*x^2) - 6*a3*x*(g0 + 2*c2*x))`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn curvature_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    x: T,
+) -> ([[T; 5]; 1], [[T; 15]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let a1 = k[0];
+    let a3 = k[1];
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = x * x;
+    let tmp1 = 1.0 + a1 + 3.0 * a3 * tmp0;
+    let tmp2 = g0 + 2.0 * c2 * x;
+    let tmp3 = tmp2 * tmp2;
+    let tmp4 = tmp1 * tmp1;
+    let tmp5 = (tmp3 + tmp4).sqrt();
+    let tmp6 = 1.0 / tmp5;
+    let tmp7 = tmp6 * tmp6;
+    let tmp8 = tmp7 * tmp7;
+    let tmp9 = tmp8 * tmp6;
+    let tmp10 = 2.0 * c2 * tmp1 - 6.0 * a3 * x * tmp2;
+    let tmp11 = tmp7 * tmp6;
+    let tmp12 = 6.0 * c2 * tmp0 - 6.0 * x * tmp2;
+    let tmp13 = -12.0 * a3 * tmp0 + 2.0 * tmp1;
+    let tmp14 = -(3.0 * tmp9 * tmp10);
+    let tmp15 = tmp11 * tmp11;
+    let tmp16 = tmp15 * tmp6;
+    let tmp17 = tmp0 * tmp0;
+    let tmp18 = tmp0 * x;
+    (
+        [
+            [
+                -3.0 * tmp1 * tmp9 * tmp10 + 2.0 * c2 * tmp11,
+                tmp11 * tmp12 - 9.0 * tmp0 * tmp1 * tmp9 * tmp10,
+                T::splat(0.0),
+                tmp11 * tmp13 - 6.0 * x * tmp2 * tmp9 * tmp10,
+                -3.0 * tmp2 * tmp9 * tmp10 - 6.0 * a3 * x * tmp11,
+            ],
+        ],
+        [
+            [
+                tmp14 + 15.0 * tmp4 * tmp16 * tmp10 - 12.0 * c2 * tmp1 * tmp9,
+                -9.0 * tmp0 * tmp9 * tmp10 + 45.0 * tmp0 * tmp4 * tmp16 * tmp10
+                    - 3.0 * tmp1 * tmp9 * tmp12 - 18.0 * c2 * tmp0 * tmp1 * tmp9,
+                T::splat(0.0),
+                2.0 * tmp11 + 30.0 * x * tmp2 * tmp1 * tmp16 * tmp10
+                    - 3.0 * tmp1 * tmp9 * tmp13 - 12.0 * c2 * x * tmp2 * tmp9,
+                15.0 * tmp2 * tmp1 * tmp16 * tmp10 + 18.0 * a3 * x * tmp1 * tmp9
+                    - 6.0 * c2 * tmp2 * tmp9,
+                -18.0 * tmp0 * tmp1 * tmp9 * tmp12 - 27.0 * tmp17 * tmp9 * tmp10
+                    + 135.0 * tmp17 * tmp4 * tmp16 * tmp10,
+                T::splat(0.0),
+                -6.0 * x * tmp2 * tmp9 * tmp12 - 6.0 * tmp0 * tmp11
+                    + 90.0 * tmp18 * tmp2 * tmp1 * tmp16 * tmp10
+                    - 9.0 * tmp0 * tmp1 * tmp9 * tmp13,
+                -3.0 * tmp2 * tmp9 * tmp12 - 6.0 * x * tmp11
+                    + 45.0 * tmp0 * tmp2 * tmp1 * tmp16 * tmp10
+                    + 54.0 * a3 * tmp18 * tmp1 * tmp9,
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                -12.0 * tmp0 * tmp9 * tmp10 - 12.0 * x * tmp2 * tmp9 * tmp13
+                    + 60.0 * tmp0 * tmp3 * tmp16 * tmp10,
+                -3.0 * tmp2 * tmp9 * tmp13 - 6.0 * x * tmp9 * tmp10
+                    + 30.0 * x * tmp3 * tmp16 * tmp10 + 36.0 * a3 * tmp0 * tmp2 * tmp9,
+                tmp14 + 15.0 * tmp3 * tmp16 * tmp10 + 36.0 * a3 * x * tmp2 * tmp9,
+            ],
         ],
     )
 }
@@ -8175,6 +8708,46 @@ pub fn curvature_hessian(
                 -3.0 * tmp0 * tmp11 * tmp13 - 6.0 * x * tmp11 * tmp9
                     + 30.0 * x * tmp1 * tmp16 * tmp9 + 36.0 * a3 * tmp2 * tmp0 * tmp11,
                 tmp14 + 15.0 * tmp1 * tmp16 * tmp9 + 36.0 * a3 * x * tmp0 * tmp11,
+            ],
+        ],
+    )
+}
+/**Point kernel `strain`. Outputs:
+- `[0]` eps_x = `a1 + 3*a3*x^2 + 1/2*(g0 + 2*c2*x)^2 - 2*c2*z`*/
+///
+///On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).
+#[inline(always)]
+pub fn strain_derivatives_lanes<T: super::Lane>(
+    k: &[T; 5],
+    x: T,
+    z: T,
+) -> ([[T; 5]; 1], [[T; 15]; 1])
+where
+    f64: super::LaneScalar<T>,
+{
+    let c2 = k[3];
+    let g0 = k[4];
+    let tmp0 = x * x;
+    let tmp1 = g0 + 2.0 * c2 * x;
+    (
+        [[T::splat(1.0), 3.0 * tmp0, T::splat(0.0), -2.0 * z + 2.0 * x * tmp1, tmp1]],
+        [
+            [
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                T::splat(0.0),
+                4.0 * tmp0,
+                2.0 * x,
+                T::splat(1.0),
             ],
         ],
     )
@@ -8405,11 +8978,11 @@ impl super::Energy for Shear {
         }
     }
     #[inline(always)]
-    fn hessian_lanes<L: super::Lane>(
+    fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
         s: &super::EnergyScalars,
-        out: &mut [(f64, [f64; 5], [f64; 15])],
+        out: (&mut L, &mut [L], &mut [L]),
     )
     where
         f64: super::LaneScalar<L>,
@@ -8418,13 +8991,9 @@ impl super::Energy for Shear {
             return;
         };
         let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-        for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
-            *o = (
-                v.lane(l),
-                std::array::from_fn(|j| g[j].lane(l)),
-                std::array::from_fn(|j| h[j].lane(l)),
-            );
-        }
+        *out.0 = v;
+        out.1[..5].copy_from_slice(&g);
+        out.2[..15].copy_from_slice(&h);
     }
     fn family_hessian(
         m: &Moments,
@@ -8465,6 +9034,23 @@ impl super::Kinematics for Shear {
     fn end_derivatives(k: &[f64; 5], length: f64) -> ([[f64; 5]; 3], [[f64; 15]; 3]) {
         let (g, h) = end_derivatives(k, length);
         ([g[0], g[1], g[2]], [h[0], h[1], h[2]])
+    }
+    #[inline(always)]
+    fn end_derivatives_lanes<L: super::Lane>(
+        k: &[L],
+        length: L,
+        g: &mut [L],
+        h: &mut [L],
+    )
+    where
+        f64: super::LaneScalar<L>,
+    {
+        let k: &[L; 5] = &std::array::from_fn(|j| k[j]);
+        let (dg, dh) = end_derivatives_lanes(k, length);
+        for (c, o) in [0, 1, 2].into_iter().enumerate() {
+            g[c * 5..(c + 1) * 5].copy_from_slice(&dg[o]);
+            h[c * 15..(c + 1) * 15].copy_from_slice(&dh[o]);
+        }
     }
     #[inline]
     fn frame(k: &[f64; 5], length: f64) -> [f64; 4] {

@@ -17,13 +17,14 @@
 //! the stability). No `4N x 4N` matrix exists on the solve path.
 
 use fpc_newton::{
-    Energy, FactorError, Gradient, Hessian, Inertia, LinearSystem, PivotKind, Semiseparable,
+    Energy, FactorError, Gradient, Hessian, Inertia, LinearSystem, PivotKind, Semiseparable, GROUP,
 };
 
 use crate::coefficients::Coefficients;
-use crate::element::{self, ElementHessian};
-use crate::model::{upper_index, ElementModel, EnergyScalars, Vector};
+use crate::element::{self, HessianGroups};
+use crate::model::{ElementModel, EnergyScalars, Vector};
 
+use super::assembly::{self, LoadTerms, Terms, Work};
 use super::load::Load;
 use super::problem::FingerCore;
 use super::straighten;
@@ -52,37 +53,30 @@ pub(crate) struct Chain<'a, M: ElementModel> {
     pub from_start: bool,
 }
 
-/// The element pass (energies, gradients, Hessian blocks and end
-/// kinematics) of the Hessian at a cold solve's start. Cold solves of a
-/// batch share their start (the unloaded equilibrium at the scene's
-/// pressure) and differ in the tip load alone, which this pass does not
-/// see; so the first Newton iteration of every cold solve after the first
-/// takes it instead of evaluating the element kernels again. It is the
-/// same arithmetic on the same numbers, so the solves stay bit for bit
-/// what they were.
-struct StartMemo<M: ElementModel> {
+/// The element pass (energies, gradients and Hessian blocks, in groups)
+/// of the Hessian at a cold solve's start. Cold solves of a batch share
+/// their start (the unloaded equilibrium at the scene's pressure) and
+/// differ in the tip load alone, which this pass does not see; so the
+/// first Newton iteration of every cold solve after the first takes it
+/// instead of evaluating the element kernels again. It is the same
+/// arithmetic on the same numbers, so the solves stay bit for bit what
+/// they were.
+struct StartMemo {
     /// The point (Newton's unknowns), empty while nothing is kept.
     y: Vec<f64>,
     straight: bool,
     scalars: EnergyScalars,
-    v: f64,
-    g: Vec<f64>,
-    blk: Vec<M::Upper>,
-    end_g: Vec<[M::Coeffs; 3]>,
-    end_h: Vec<[M::Upper; 3]>,
+    groups: HessianGroups,
 }
 
-impl<M: ElementModel> StartMemo<M> {
-    fn empty() -> StartMemo<M> {
+impl StartMemo {
+    /// Nothing kept.
+    fn empty() -> StartMemo {
         StartMemo {
             y: Vec::new(),
             straight: false,
             scalars: Load::unloaded().scalars(),
-            v: 0.0,
-            g: Vec::new(),
-            blk: Vec::new(),
-            end_g: Vec::new(),
-            end_h: Vec::new(),
+            groups: HessianGroups::empty(),
         }
     }
 
@@ -106,16 +100,17 @@ impl<M: ElementModel> StartMemo<M> {
 pub(crate) struct ChainParts<M: ElementModel> {
     /// Each element's raw unknowns.
     k: Vec<M::Coeffs>,
+    /// The gradients of each element's end point and slope (the gradient
+    /// pass's).
     end_g: Vec<[M::Coeffs; 3]>,
-    end_h: Vec<[M::Upper; 3]>,
     /// (cos, sin) of each element frame's angle theta_i.
     rot: Vec<[f64; 2]>,
     q: Vec<[f64; 2]>,
-    blk: Vec<M::Upper>,
-    /// The element pass's potentials, with gradients, with Hessians.
+    /// The element pass's potentials, with gradients, with Hessians (in
+    /// groups of elements).
     ev: Vec<f64>,
     eg: Vec<(f64, M::Coeffs)>,
-    eh: Vec<ElementHessian<M>>,
+    groups: HessianGroups,
     /// Two scaled Hessians: `matrices[active]` holds the last
     /// factorisation, which `solve` uses; a Hessian evaluation fills the
     /// other one and marks it `staged`, and the next `factor` makes it the
@@ -125,7 +120,9 @@ pub(crate) struct ChainParts<M: ElementModel> {
     matrices: [Semiseparable; 2],
     active: usize,
     staged: bool,
-    memo: StartMemo<M>,
+    memo: StartMemo,
+    /// The assembly's lanes.
+    work: Work,
 }
 
 impl<M: ElementModel> ChainParts<M> {
@@ -134,17 +131,16 @@ impl<M: ElementModel> ChainParts<M> {
         ChainParts {
             k: vec![M::Coeffs::zero(); n],
             end_g: vec![[M::Coeffs::zero(); 3]; n],
-            end_h: vec![[M::Upper::zero(); 3]; n],
             rot: vec![[1.0, 0.0]; n],
             q: vec![[0.0; 2]; n],
-            blk: vec![M::Upper::zero(); n],
             ev: vec![0.0; n],
             eg: vec![(0.0, M::Coeffs::zero()); n],
-            eh: vec![(0.0, M::Coeffs::zero(), M::Upper::zero()); n],
+            groups: HessianGroups::new::<M>(n),
             matrices: [0; 2].map(|_| Semiseparable::new(M::Coeffs::LEN, n)),
             active: 0,
             staged: false,
             memo: StartMemo::empty(),
+            work: Work::new(M::Coeffs::LEN),
         }
     }
 
@@ -213,12 +209,12 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     /// gradient/Hessian evaluation.
     pub fn tip_gradient_scaled(&self, w: [f64; 2], out: &mut [f64]) {
         let n = M::Coeffs::LEN;
-        for j in 0..self.b.k.len() {
+        for (j, e) in self.finger.elements.iter().enumerate() {
             let [c, s] = self.b.rot[j];
             let wr = [c * w[0] + s * w[1], -s * w[0] + c * w[1]];
             let qj = self.b.q[j];
             let wjq = -w[0] * qj[1] + w[1] * qj[0];
-            let eg = &self.b.end_g[j];
+            let eg = e.end_derivatives(&self.b.k[j]).0;
             let sj = &self.finger.unscale[j];
             for a in 0..n {
                 out[n * j + a] = (wr[0] * eg[0][a] + wr[1] * eg[1][a] + wjq * eg[2][a]) * sj[a];
@@ -324,7 +320,7 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
                 g[n * i + j] *= s[j];
             }
             if self.straight {
-                straighten::pull_back::<M>(&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
+                straighten::pull_back::<M, f64>(&y[n * i..n * i + n], &mut g[n * i..n * i + n]);
             }
         }
         v
@@ -365,52 +361,29 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
 
     fn hessian(&mut self, y: &[f64], g: &mut [f64]) -> f64 {
         self.unscale_into(y);
-        let n = M::Coeffs::LEN;
-        let ne = self.b.k.len();
         let loaded = self.loaded();
-        let mut v = 0.0;
+        let core = self.finger;
         let from_start = std::mem::take(&mut self.from_start) && loaded;
         if from_start && self.b.memo.holds(y, self.straight, &self.scalars) {
-            let m = &self.b.memo;
-            v = m.v;
-            g.copy_from_slice(&m.g);
-            self.b.blk.copy_from_slice(&m.blk);
-            self.b.end_g.copy_from_slice(&m.end_g);
-            self.b.end_h.copy_from_slice(&m.end_h);
+            self.b.groups.clone_from(&self.b.memo.groups);
         } else {
-            // pass 1: element energies (several elements per instruction)
-            // and, for the chain, end kinematics
-            let core = self.finger;
-            core.lanes.eval::<element::Hessian>(
-                &core.elements,
-                &self.b.k,
-                &self.scalars,
-                &mut self.b.eh,
-            );
-            for (i, e) in core.elements.iter().enumerate() {
-                let (vi, gi, hi) = self.b.eh[i];
-                v += vi;
-                g[n * i..n * i + n].copy_from_slice(gi.as_ref());
-                self.b.blk[i] = hi;
-                if loaded {
-                    let (eg, eh) = e.end_derivatives(&self.b.k[i]);
-                    self.b.end_g[i] = eg;
-                    self.b.end_h[i] = eh;
-                }
-            }
+            // the element energies, several elements per instruction
+            let b = &mut self.b;
+            core.lanes
+                .hessian_groups(&core.elements, &b.k, &self.scalars, &mut b.groups);
             if from_start {
-                let m = &mut self.b.memo;
+                let m = &mut b.memo;
                 m.y.clear();
                 m.y.extend_from_slice(y);
                 m.straight = self.straight;
                 m.scalars = self.scalars;
-                m.v = v;
-                m.g.clear();
-                m.g.extend_from_slice(g);
-                m.blk.clone_from(&self.b.blk);
-                m.end_g.clone_from(&self.b.end_g);
-                m.end_h.clone_from(&self.b.end_h);
+                m.groups.clone_from(&b.groups);
             }
+        }
+        // the potentials summed element by element
+        let mut v = 0.0;
+        for i in 0..core.len() {
+            v += self.b.groups.v[i / GROUP].0[i % GROUP];
         }
         // (filled beside the factorised matrix)
         let m = self.b.active ^ 1;
@@ -423,57 +396,24 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             self.b.matrices[m].clear_coupling();
         }
         // each element's block and coupling vectors: the load's terms,
-        // then scaled and straightened where the unknowns are (element by
-        // element, so the order across elements does not matter)
-        let straight = self.straight;
-        for j in 0..ne {
-            let s = self.finger.unscale[j];
-            let (mut u, mut w) = (M::Coeffs::zero(), M::Coeffs::zero());
-            if loaded {
-                let [fx, fz] = self.f;
-                let [cs, sn] = self.b.rot[j];
-                let fr = [cs * fx + sn * fz, -sn * fx + cs * fz];
-                let qj = self.b.q[j];
-                let fjq = -fx * qj[1] + fz * qj[0]; // F . J Q_j
-                let fq = fx * qj[0] + fz * qj[1]; // F . Q_j
-                let eg = self.b.end_g[j];
-                let eh = self.b.end_h[j];
-                let blk = &mut self.b.blk[j];
-                for a in 0..n {
-                    g[n * j + a] -= fr[0] * eg[0][a] + fr[1] * eg[1][a] + fjq * eg[2][a];
-                    for b in a..n {
-                        let ab = upper_index(n, a, b);
-                        blk[ab] -= fr[0] * eh[0][ab] + fr[1] * eh[1][ab] + fjq * eh[2][ab]
-                            - fq * eg[2][a] * eg[2][b];
-                    }
-                }
-                // scaled coupling vectors: u_j = grad eta_j, and
-                // w_j = (J^T Fr_j) . De_j - (F . Q_j) grad eta_j, J^T Fr = (Fr_z, -Fr_x)
-                for a in 0..n {
-                    u[a] = eg[2][a] * s[a];
-                    w[a] = (fr[1] * eg[0][a] - fr[0] * eg[1][a] - fq * eg[2][a]) * s[a];
-                }
-            }
-            let blk = &self.b.blk[j];
-            let gj = &mut g[n * j..n * j + n];
-            for a in 0..n {
-                gj[a] *= s[a];
-            }
-            let yj = &y[n * j..n * j + n];
-            self.b.matrices[m].fill_block(j, |full| {
-                straighten::newton_block::<M>(blk, &s, yj, gj, straight, full);
-            });
-            if loaded {
-                if straight {
-                    straighten::pull_back::<M>(yj, u.as_mut());
-                    straighten::pull_back::<M>(yj, w.as_mut());
-                }
-                self.b.matrices[m].set_coupling(j, u.as_ref(), w.as_ref());
-            }
-            if straight {
-                straighten::pull_back::<M>(yj, gj);
-            }
-        }
+        // then scaled and straightened where the unknowns are (a group of
+        // elements at a time, each lane an element's own arithmetic)
+        let b = &mut self.b;
+        let load = loaded.then(|| LoadTerms {
+            force: self.f,
+            rot: &b.rot,
+            q: &b.q,
+        });
+        let terms = Terms {
+            groups: &b.groups,
+            elements: &core.elements,
+            k: &b.k,
+            unscale: &core.unscale,
+            load,
+            straight: self.straight,
+        };
+        let width = core.lanes.width();
+        assembly::assemble(&terms, y, g, &mut b.matrices[m], width, &mut b.work);
         v
     }
 }

@@ -1,10 +1,10 @@
 //! The element potentials, gradients and Hessians in lanes (src/lanes.rs, `ElementLanes` in
-//! src/element.rs) against the scalar kernels, bit for bit, on the
-//! elements of real fingers.
+//! src/element.rs) and the end kinematics' derivatives in lanes against
+//! the scalar kernels, bit for bit, on the elements of real fingers.
 
 use super::FingerCore;
-use crate::element::{self, Element, ElementLanes};
-use crate::lanes::Width;
+use crate::element::{self, Element, ElementLanes, HessianGroups};
+use crate::lanes::{Lanes, Width};
 use crate::model::{ElementModel, EnergyScalars, Vector};
 use crate::{Actuator, ActuatorParams, Partition};
 use proptest::prelude::*;
@@ -25,7 +25,9 @@ fn elements<M: ElementModel>(n: usize, plane_strain: bool) -> Vec<Element<M>> {
 /// Every width this processor runs gives every element's potential,
 /// gradient and Hessian bit for bit as the scalar kernels do, at
 /// random unknowns and pressures, for every model, in plane stress and
-/// plane strain, with the last batch partly filled.
+/// plane strain, with the last batch partly filled (the Hessians in
+/// groups, whose lanes past the last element repeat it); and so do the
+/// end kinematics' derivatives on eight lanes and on one.
 fn lanes_are_the_scalar_kernels<M: ElementModel>() {
     let mut runner = TestRunner::new_with_rng(
         Config {
@@ -48,16 +50,20 @@ fn lanes_are_the_scalar_kernels<M: ElementModel>() {
                 .map(|i| M::Coeffs::from_fn(|j| raw[n * i + j]))
                 .collect();
             let s = EnergyScalars { kp };
-            let zero = (0.0, M::Coeffs::zero(), M::Upper::zero());
+            let (nh, w) = (M::Upper::LEN, fpc_newton::GROUP);
             for width in Width::ALL.into_iter().filter(|w| w.is_supported()) {
                 let lanes = ElementLanes::new(&els, width);
                 prop_assert_eq!(lanes.width(), width);
                 let mut ev = vec![0.0; ne];
                 let mut eg = vec![(0.0, M::Coeffs::zero()); ne];
-                let mut eh = vec![zero; ne];
+                // (filled with NaN: every lane must be written)
+                let mut hg = HessianGroups::new::<M>(ne);
+                for x in hg.v.iter_mut().chain(&mut hg.g).chain(&mut hg.h) {
+                    *x = Lanes([f64::NAN; 8]);
+                }
                 lanes.eval::<element::Value>(&els, &k, &s, &mut ev);
                 lanes.eval::<element::Gradient>(&els, &k, &s, &mut eg);
-                lanes.eval::<element::Hessian>(&els, &k, &s, &mut eh);
+                lanes.hessian_groups(&els, &k, &s, &mut hg);
                 let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
                 for (i, (e, k)) in els.iter().zip(&k).enumerate() {
                     let at = format!("{} element {i}", width.name());
@@ -66,9 +72,49 @@ fn lanes_are_the_scalar_kernels<M: ElementModel>() {
                     prop_assert_eq!(eg[i].0.to_bits(), v.to_bits(), "{}", at);
                     prop_assert_eq!(bits(eg[i].1.as_ref()), bits(g.as_ref()), "{}", at);
                     let (v, g, h) = e.hessian(k, &s);
-                    prop_assert_eq!(eh[i].0.to_bits(), v.to_bits(), "{}", at);
-                    prop_assert_eq!(bits(eh[i].1.as_ref()), bits(g.as_ref()), "{}", at);
-                    prop_assert_eq!(bits(eh[i].2.as_ref()), bits(h.as_ref()), "{}", at);
+                    // element i and, past the last element, the lanes
+                    // that repeat it
+                    let lanes = if i + 1 == ne {
+                        i % w..w
+                    } else {
+                        i % w..i % w + 1
+                    };
+                    let j = i / w;
+                    for l in lanes {
+                        let lane = |x: &[Lanes<8>]| x.iter().map(|x| x.0[l]).collect::<Vec<_>>();
+                        prop_assert_eq!(hg.v[j].0[l].to_bits(), v.to_bits(), "{}", at);
+                        let gl = lane(&hg.g[j * n..(j + 1) * n]);
+                        prop_assert_eq!(bits(&gl), bits(g.as_ref()), "{}", at);
+                        let hl = lane(&hg.h[j * nh..(j + 1) * nh]);
+                        prop_assert_eq!(bits(&hl), bits(h.as_ref()), "{}", at);
+                    }
+                }
+            }
+            // the end kinematics' derivatives, eight elements at a time
+            // (the last group's lanes repeating its last) and one by one
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            for c in (0..ne).step_by(8) {
+                let at = |l: usize| (c + l).min(ne - 1);
+                let kl: Vec<Lanes<8>> = (0..n)
+                    .map(|a| Lanes(std::array::from_fn(|l| k[at(l)][a])))
+                    .collect();
+                let length = Lanes(std::array::from_fn(|l| els[at(l)].length()));
+                let (mut g8, mut h8) =
+                    (vec![Lanes([0.0; 8]); 3 * n], vec![Lanes([0.0; 8]); 3 * nh]);
+                M::end_derivatives_lanes(&kl, length, &mut g8, &mut h8);
+                for l in 0..8 {
+                    let e = &els[at(l)];
+                    let (dg, dh) = e.end_derivatives(&k[at(l)]);
+                    let (mut g1, mut h1) = (vec![0.0; 3 * n], vec![0.0; 3 * nh]);
+                    M::end_derivatives_lanes(k[at(l)].as_ref(), e.length(), &mut g1, &mut h1);
+                    let want_g: Vec<u64> = dg.iter().flat_map(|d| bits(d.as_ref())).collect();
+                    let want_h: Vec<u64> = dh.iter().flat_map(|d| bits(d.as_ref())).collect();
+                    let lane8 =
+                        |x: &[Lanes<8>]| x.iter().map(|x| x.0[l].to_bits()).collect::<Vec<_>>();
+                    prop_assert_eq!(&lane8(&g8), &want_g, "element {}", at(l));
+                    prop_assert_eq!(&lane8(&h8), &want_h, "element {}", at(l));
+                    prop_assert_eq!(&bits(&g1), &want_g, "element {}", at(l));
+                    prop_assert_eq!(&bits(&h1), &want_h, "element {}", at(l));
                 }
             }
             Ok(())

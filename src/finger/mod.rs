@@ -25,6 +25,7 @@
 //! - `target.rs`: target solves and target paths;
 //! - this file: [`Finger`], the public face over every model.
 
+mod assembly;
 mod bordered;
 mod chain;
 #[cfg(test)]

@@ -829,7 +829,7 @@ impl<M: ElementModel> Gradient for Single<'_, M> {
             g[i] = gk[i] * s[i];
         }
         if self.straight {
-            straighten::pull_back::<M>(y, g);
+            straighten::pull_back::<M, f64>(y, g);
         }
         v
     }
@@ -845,10 +845,10 @@ impl<M: ElementModel> Hessian for Single<'_, M> {
             g[i] = gk[i] * s[i];
         }
         self.matrix.fill_block(0, |h| {
-            straighten::newton_block::<M>(&hk, &s, y, g, straight, h);
+            straighten::newton_block::<M, f64>(hk.as_ref(), s.as_ref(), y, g, straight, h);
         });
         if straight {
-            straighten::pull_back::<M>(y, g);
+            straighten::pull_back::<M, f64>(y, g);
         }
         v
     }

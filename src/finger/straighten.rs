@@ -11,6 +11,7 @@
 //! Hessian keeps its form. No unknown is both a target and a source (the
 //! spec parser checks), so the statements apply one after another.
 
+use crate::lanes::{Lane, LaneScalar};
 use crate::model::{upper_index, ModelCore, Vector};
 
 /// `x` to Newton's `y`, element by element (`values` holds whole
@@ -41,21 +42,36 @@ pub(crate) fn from_newton<M: ModelCore>(values: &mut [f64]) {
     }
 }
 
+/// `-2 c`, the factor of `J`'s entry (`f64` arithmetic where the lane
+/// code's bounds would make `-2.0 * c` ambiguous).
+#[inline(always)]
+fn minus_twice(c: f64) -> f64 {
+    -2.0 * c
+}
+
 /// `J^T v` for one element at Newton's `y` (a gradient or a coupling
-/// vector in `x`, in place).
-pub(crate) fn pull_back<M: ModelCore>(y: &[f64], v: &mut [f64]) {
+/// vector in `x`, in place); on [`Lane`]s, for several elements at once.
+#[inline(always)]
+pub(crate) fn pull_back<M: ModelCore, L: Lane>(y: &[L], v: &mut [L])
+where
+    f64: LaneScalar<L>,
+{
     for &(t, s, c) in M::STRAIGHTEN {
-        v[s] += -2.0 * c * y[s] * v[t];
+        v[s] += minus_twice(c) * y[s] * v[t];
     }
 }
 
 /// One element's scaled Hessian block (column-major, `LEN x LEN`) in `x`
 /// to `y`: `J^T H J` plus the curvature of `T` times the gradient `g`
 /// (the element's gradient in `x`, before [`pull_back`]).
-pub(crate) fn block<M: ModelCore>(y: &[f64], g: &[f64], h: &mut [f64]) {
+#[inline(always)]
+pub(crate) fn block<M: ModelCore, L: Lane>(y: &[L], g: &[L], h: &mut [L])
+where
+    f64: LaneScalar<L>,
+{
     let n = M::Coeffs::LEN;
     for &(t, s, c) in M::STRAIGHTEN {
-        let j = -2.0 * c * y[s];
+        let j = minus_twice(c) * y[s];
         // H J: column s gains j times column t
         for a in 0..n {
             h[a + n * s] += j * h[a + n * t];
@@ -64,7 +80,7 @@ pub(crate) fn block<M: ModelCore>(y: &[f64], g: &[f64], h: &mut [f64]) {
         for b in 0..n {
             h[s + n * b] += j * h[t + n * b];
         }
-        h[s + n * s] += -2.0 * c * g[t];
+        h[s + n * s] += minus_twice(c) * g[t];
     }
 }
 
@@ -73,14 +89,16 @@ pub(crate) fn block<M: ModelCore>(y: &[f64], g: &[f64], h: &mut [f64]) {
 /// column-major), then, where the unknowns are `straight`, carried to
 /// Newton's `y` by [`block`] (`g` the element's scaled gradient in `x`).
 #[inline(always)]
-pub(crate) fn newton_block<M: ModelCore>(
-    upper: &M::Upper,
-    s: &M::Coeffs,
-    y: &[f64],
-    g: &[f64],
+pub(crate) fn newton_block<M: ModelCore, L: Lane>(
+    upper: &[L],
+    s: &[L],
+    y: &[L],
+    g: &[L],
     straight: bool,
-    h: &mut [f64],
-) {
+    h: &mut [L],
+) where
+    f64: LaneScalar<L>,
+{
     let n = M::Coeffs::LEN;
     for b in 0..n {
         for a in 0..n {
@@ -88,7 +106,7 @@ pub(crate) fn newton_block<M: ModelCore>(
         }
     }
     if straight {
-        block::<M>(y, g, h);
+        block::<M, L>(y, g, h);
     }
 }
 
@@ -150,8 +168,8 @@ mod tests {
         // derivatives in x, by differences, carried to y ...
         let (gx, mut h) = differences(&f, &x);
         let mut gy = gx.clone();
-        block::<Ccm>(&y, &gx, &mut h);
-        pull_back::<Ccm>(&y, &mut gy);
+        block::<Ccm, f64>(&y, &gx, &mut h);
+        pull_back::<Ccm, f64>(&y, &mut gy);
         // ... equal the differences of f(T(y)) in y
         let (gy_ref, hy_ref) = differences(&in_y, &y);
         for i in 0..4 {

@@ -159,6 +159,7 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
     let (end_g, _) = role_call(spec, "end", "gradient");
     let (end_h, _) = role_call(spec, "end", "hessian");
     let (end_d, _) = role_call(spec, "end", "derivatives");
+    let (end_d_lanes, _) = role_call(spec, "end", "derivatives_lanes");
     let (frame_v, frame_o) = role_call(spec, "frame", "value");
     let (mid_v, mid_o) = role_call(spec, "midplane", "value");
     let mid_poly = ident(&c.midplane.function);
@@ -289,30 +290,26 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             }
 
             #[inline(always)]
-            fn hessian_lanes<L: super::Lane>(
+            fn hessian_lane_major<L: super::Lane>(
                 m: &MomentLanes<L>,
                 k: &[[f64; #nu]],
                 s: &super::EnergyScalars,
-                out: &mut [(f64, [f64; #nu], [f64; #nh])],
+                out: (&mut L, &mut [L], &mut [L]),
             ) where
                 f64: super::LaneScalar<L>,
             {
                 let Some(kl) = gather(k) else {
                     return;
                 };
-                // the kernel's lanes kept whole up to here (here and above):
-                // read lane by lane at once, the compiler splits the kernel
-                // into one scalar chain per lane and the vector instructions
-                // are lost (measured: slower than the scalar kernels at
-                // eight lanes)
+                // the kernel's lanes kept whole up to here: read lane by
+                // lane at once, the compiler splits the kernel into one
+                // scalar chain per lane and the vector instructions are
+                // lost (measured: slower than the scalar kernels at eight
+                // lanes)
                 let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-                for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
-                    *o = (
-                        v.lane(l),
-                        std::array::from_fn(|j| g[j].lane(l)),
-                        std::array::from_fn(|j| h[j].lane(l)),
-                    );
-                }
+                *out.0 = v;
+                out.1[..#nu].copy_from_slice(&g);
+                out.2[..#nh].copy_from_slice(&h);
             }
 
             fn family_hessian(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu], [f64; #nh])> {
@@ -350,6 +347,19 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
             fn end_derivatives(k: &[f64; #nu], length: f64) -> ([[f64; #nu]; 3], [[f64; #nh]; 3]) {
                 let (g, h) = #end_d;
                 ([#(g[#idx3]),*], [#(h[#idx3]),*])
+            }
+
+            #[inline(always)]
+            fn end_derivatives_lanes<L: super::Lane>(k: &[L], length: L, g: &mut [L], h: &mut [L])
+            where
+                f64: super::LaneScalar<L>,
+            {
+                let k: &[L; #nu] = &std::array::from_fn(|j| k[j]);
+                let (dg, dh) = #end_d_lanes;
+                for (c, o) in [#(#idx3),*].into_iter().enumerate() {
+                    g[c * #nu..(c + 1) * #nu].copy_from_slice(&dg[o]);
+                    h[c * #nh..(c + 1) * #nh].copy_from_slice(&dh[o]);
+                }
             }
 
             #[inline]

@@ -71,4 +71,4 @@ pub use palc::{
 };
 pub use problem::{Energy, Gradient, Hessian, LinearSystem};
 pub use report::{Report, Termination};
-pub use semiseparable::{PivotKind, Semiseparable, MODIFIED_FLOOR};
+pub use semiseparable::{PivotKind, Semiseparable, GROUP, MODIFIED_FLOOR};

@@ -79,6 +79,9 @@ pub enum PivotKind {
     Modified,
 }
 
+/// Blocks per group of the lane-major storage ([`Semiseparable::set_group`]).
+pub const GROUP: usize = lanes::LANES;
+
 /// Relative floor on the modified pivots' eigenvalues
 /// ([`PivotKind::Modified`]).
 pub const MODIFIED_FLOOR: f64 = 1e-6;
@@ -193,6 +196,45 @@ impl Semiseparable {
         let block = &mut self.scratch[..self.n * self.n];
         fill(block);
         self.b.scatter(k, block);
+    }
+
+    /// Sets the blocks of group `g`, blocks `GROUP g` to `GROUP g +
+    /// GROUP - 1`, from entries that hold one number per block (lane `l`
+    /// of an entry is block `GROUP g + l`'s, as the matrix stores them):
+    /// `block` their `n x n` entries (column-major, full) and, unless
+    /// `None`, `coupling` their vectors `u` and `w` (`n` entries each). The
+    /// lanes past the last block are not read. So an assembly that
+    /// computes several blocks at once stores them with no transposition.
+    /// Invalidates the factorisation.
+    #[inline(always)]
+    pub fn set_group<T: AsRef<[f64; GROUP]>>(
+        &mut self,
+        g: usize,
+        block: &[T],
+        coupling: Option<(&[T], &[T])>,
+    ) {
+        assert!(
+            g * GROUP < self.blocks,
+            "group {g} of {} blocks",
+            self.blocks
+        );
+        let (n, count) = (self.n, GROUP.min(self.blocks - g * GROUP));
+        assert!(
+            block.len() == n * n,
+            "a group's blocks need {} entries",
+            n * n
+        );
+        self.factored = false;
+        put(self.b.group_mut(g), block, count);
+        if let Some((u, w)) = coupling {
+            assert!(
+                u.len() == n && w.len() == n,
+                "coupling vectors of {n} entries"
+            );
+            self.coupled = true;
+            put(self.u.group_mut(g), u, count);
+            put(self.w.group_mut(g), w, count);
+        }
     }
 
     /// Block `k`'s `B_k` into `out` (column-major `n x n`).
@@ -665,6 +707,18 @@ impl Semiseparable {
                 *xi += rho * self.q.at(m, i);
             }
             rho = rho * (1.0 + self.sm.at(m, 2)) + wy;
+        }
+    }
+}
+
+/// The first `count` lanes of every entry of `src` into `dst`.
+#[inline(always)]
+fn put<T: AsRef<[f64; GROUP]>>(dst: &mut [lanes::Lane], src: &[T], count: usize) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        if count == GROUP {
+            *d = *s.as_ref();
+        } else {
+            d[..count].copy_from_slice(&s.as_ref()[..count]);
         }
     }
 }

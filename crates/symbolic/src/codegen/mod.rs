@@ -108,7 +108,8 @@ pub struct Options {
     /// generic over a lane type holding one number per element (the same
     /// statements in the same order, so each lane is bit for bit the scalar
     /// kernel's result), with a `MomentLanes` struct of moments side by
-    /// side. `None` emits none.
+    /// side, and every point kernel's derivatives as `*_derivatives_lanes`.
+    /// `None` emits none.
     pub lanes: Option<TokenStream>,
 }
 
@@ -308,7 +309,7 @@ pub fn generate_with(src: &str, options: &Options) -> Result<Generated, GenError
             line: def.line,
             source: e,
         };
-        let (tokens, rep) = point_kernel(&mut spec, def).map_err(wrap)?;
+        let (tokens, rep) = point_kernel(&mut spec, def, options.lanes.as_ref()).map_err(wrap)?;
         items.push(tokens);
         report.extend(rep);
     }

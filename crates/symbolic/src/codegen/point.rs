@@ -11,6 +11,7 @@ use crate::spec::{PointDef, Spec};
 pub(super) fn point_kernel(
     spec: &mut Spec,
     def: &PointDef,
+    lanes: Option<&TokenStream>,
 ) -> Result<(TokenStream, Vec<FunctionReport>), SymError> {
     let arena = &mut spec.arena;
     let unknowns = spec.unknowns.clone();
@@ -41,6 +42,7 @@ pub(super) fn point_kernel(
     let nu = Literal::usize_unsuffixed(n);
     let nh = Literal::usize_unsuffixed(n * (n + 1) / 2);
     let nout = Literal::usize_unsuffixed(no);
+    let nhu = n * (n + 1) / 2;
     let outs_doc: Vec<String> = def
         .outputs
         .iter()
@@ -142,6 +144,42 @@ pub(super) fn point_kernel(
             quote! { [#(#row),*] }
         })
         .collect();
+    // the derivatives on lanes (one element per lane): the same statements
+    // on the lane type, a constant output splatted into the lanes
+    let derivs_lanes = lanes.map(|path| {
+        let outs: Vec<TokenStream> = d_outs
+            .iter()
+            .zip(&derivs)
+            .map(|(t, &e)| match arena_ro.as_num(e) {
+                Some(_) => quote! { T::splat(#t) },
+                None => t.clone(),
+            })
+            .collect();
+        let lg = (0..no).map(|o| {
+            let row = &outs[o * n..(o + 1) * n];
+            quote! { [#(#row),*] }
+        });
+        let lh = (0..no).map(|o| {
+            let start = no * n + o * nhu;
+            let row = &outs[start..start + nhu];
+            quote! { [#(#row),*] }
+        });
+        let fn_lanes = ident(&format!("{name}_derivatives_lanes"));
+        let doc = "On lanes: each lane of `k` and the parameters holds one element's, and each lane of the result is bit for bit that element's `derivatives` result (the same statements in the same order).";
+        quote! {
+            #[doc = #head_doc]
+            #[doc = ""]
+            #[doc = #doc]
+            #[inline(always)]
+            pub fn #fn_lanes<T: #path::Lane>(#d_arg: &[T; #nu], #(#params: T),*) -> ([[T; #nu]; #nout], [[T; #nh]; #nout])
+            where
+                f64: #path::LaneScalar<T>,
+            {
+                #(#d_stmts)*
+                ([#(#lg),*], [#(#lh),*])
+            }
+        }
+    });
     let hv = &h_outs[..no];
     let hg: Vec<TokenStream> = (0..no)
         .map(|o| {
@@ -149,7 +187,6 @@ pub(super) fn point_kernel(
             quote! { [#(#row),*] }
         })
         .collect();
-    let nhu = n * (n + 1) / 2;
     let hh: Vec<TokenStream> = (0..no)
         .map(|o| {
             let start = no + no * n + o * nhu;
@@ -158,6 +195,8 @@ pub(super) fn point_kernel(
         })
         .collect();
     let tokens = quote! {
+        #derivs_lanes
+
         #[doc = #head_doc]
         pub fn #fn_value(k: &[f64; #nu], #(#params: f64),*) -> [f64; #nout] {
             #(#v_stmts)*
