@@ -622,11 +622,8 @@ fn groups_in<M: Energy, L: Lane + AsRef<[f64]>>(
 ) where
     f64: LaneScalar<L>,
 {
-    const { assert!(M::Coeffs::LEN <= MAX_LANE_UNKNOWNS) };
     let (n, nh, w) = (M::Coeffs::LEN, M::Upper::LEN, L::WIDTH);
     let per = fpc_newton::GROUP / w;
-    let zero = L::splat(0.0);
-    let (mut g, mut h) = ([zero; MAX_LANE_UNKNOWNS], [zero; MAX_LANE_UPPER]);
     let mut seen = [M::Coeffs::zero(); MAX_LANES];
     for (c, ((m, e), k)) in packed
         .iter()
@@ -638,13 +635,9 @@ fn groups_in<M: Energy, L: Lane + AsRef<[f64]>>(
             *sk = e.seen(k);
         }
         let (j, at) = (c / per, (c % per) * w);
-        let mut v = zero;
-        M::hessian_lane_major::<L>(
-            &m.0,
-            &seen[..k.len()],
-            s,
-            (&mut v, &mut g[..n], &mut h[..nh]),
-        );
+        let Some((v, g, h)) = M::hessian_lane_major::<L>(&m.0, &seen[..k.len()], s) else {
+            continue;
+        };
         let put = |o: &mut Group, x: &L| {
             for (o, x) in o.0[at..at + w].iter_mut().zip(x.as_ref()) {
                 *o = *x;
@@ -653,11 +646,11 @@ fn groups_in<M: Energy, L: Lane + AsRef<[f64]>>(
         put(&mut out.v[j], &v);
         out.g[j * n..]
             .iter_mut()
-            .zip(&g[..n])
+            .zip(g.as_ref())
             .for_each(|(o, x)| put(o, x));
         out.h[j * nh..]
             .iter_mut()
-            .zip(&h[..nh])
+            .zip(h.as_ref())
             .for_each(|(o, x)| put(o, x));
         // the held unknowns of plane strain, element by element
         for (l, (e, k)) in e.iter().zip(k).enumerate() {
@@ -686,11 +679,6 @@ fn pin_lane<M: Energy>(e: &Element<M>, k: &M::Coeffs, l: usize, j: usize, out: &
     g.iter_mut().zip(gk.as_ref()).for_each(|(o, x)| o.0[l] = *x);
     h.iter_mut().zip(hk.as_ref()).for_each(|(o, x)| o.0[l] = *x);
 }
-
-/// Room for this many unknowns per element in the lane passes (the
-/// models of energy-spec/ have 4 and 5).
-const MAX_LANE_UNKNOWNS: usize = 8;
-const MAX_LANE_UPPER: usize = MAX_LANE_UNKNOWNS * (MAX_LANE_UNKNOWNS + 1) / 2;
 
 #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
 #[target_feature(enable = "avx2,fma")]

@@ -144,16 +144,21 @@ pub trait Energy: ModelCore {
         out: &mut [(f64, Self::Coeffs)],
     ) where
         f64: LaneScalar<L>;
+    /// A gradient's entries on lanes (`[L; LEN]`).
+    type CoeffLanes<L: Lane>: AsRef<[L]>;
+    /// A Hessian's upper triangle on lanes.
+    type UpperLanes<L: Lane>: AsRef<[L]>;
     /// [`Energy::hessian`] of up to `L::WIDTH` elements at once, left in
-    /// lanes: lane `l` of `out` (value, gradient and upper triangle, `LEN`
-    /// and `LEN (LEN + 1) / 2` entries) is element `l`'s, bit for bit the
-    /// scalar result (lanes past the end of `k` repeat its last element).
+    /// lanes: lane `l` of the value, gradient and upper triangle is
+    /// element `l`'s, bit for bit the scalar result (lanes past the end of
+    /// `k` repeat its last element); `None` for no elements.
+    #[allow(clippy::type_complexity)]
     fn hessian_lane_major<L: Lane>(
         m: &Self::MomentLanes<L>,
         k: &[Self::Coeffs],
         s: &EnergyScalars,
-        out: (&mut L, &mut [L], &mut [L]),
-    ) where
+    ) -> Option<(L, Self::CoeffLanes<L>, Self::UpperLanes<L>)>
+    where
         f64: LaneScalar<L>;
     /// One integral family alone (`None` past the last family).
     fn family_hessian(

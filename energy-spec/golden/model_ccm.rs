@@ -3825,23 +3825,19 @@ impl super::Energy for Ccm {
             *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
         }
     }
+    type CoeffLanes<L: super::Lane> = [L; 4];
+    type UpperLanes<L: super::Lane> = [L; 10];
     #[inline(always)]
     fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 4]],
         s: &super::EnergyScalars,
-        out: (&mut L, &mut [L], &mut [L]),
-    )
+    ) -> Option<(L, [L; 4], [L; 10])>
     where
         f64: super::LaneScalar<L>,
     {
-        let Some(kl) = gather(k) else {
-            return;
-        };
-        let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-        *out.0 = v;
-        out.1[..4].copy_from_slice(&g);
-        out.2[..10].copy_from_slice(&h);
+        let kl = gather(k)?;
+        Some(std::hint::black_box(energy_hessian_lanes(&kl, m, s)))
     }
     fn family_hessian(
         m: &Moments,

@@ -6853,23 +6853,19 @@ impl super::Energy for Quad {
             *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
         }
     }
+    type CoeffLanes<L: super::Lane> = [L; 5];
+    type UpperLanes<L: super::Lane> = [L; 15];
     #[inline(always)]
     fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
         s: &super::EnergyScalars,
-        out: (&mut L, &mut [L], &mut [L]),
-    )
+    ) -> Option<(L, [L; 5], [L; 15])>
     where
         f64: super::LaneScalar<L>,
     {
-        let Some(kl) = gather(k) else {
-            return;
-        };
-        let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-        *out.0 = v;
-        out.1[..5].copy_from_slice(&g);
-        out.2[..15].copy_from_slice(&h);
+        let kl = gather(k)?;
+        Some(std::hint::black_box(energy_hessian_lanes(&kl, m, s)))
     }
     fn family_hessian(
         m: &Moments,

@@ -289,27 +289,25 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
                 }
             }
 
+            type CoeffLanes<L: super::Lane> = [L; #nu];
+            type UpperLanes<L: super::Lane> = [L; #nh];
+
             #[inline(always)]
             fn hessian_lane_major<L: super::Lane>(
                 m: &MomentLanes<L>,
                 k: &[[f64; #nu]],
                 s: &super::EnergyScalars,
-                out: (&mut L, &mut [L], &mut [L]),
-            ) where
+            ) -> Option<(L, [L; #nu], [L; #nh])>
+            where
                 f64: super::LaneScalar<L>,
             {
-                let Some(kl) = gather(k) else {
-                    return;
-                };
+                let kl = gather(k)?;
                 // the kernel's lanes kept whole up to here: read lane by
                 // lane at once, the compiler splits the kernel into one
                 // scalar chain per lane and the vector instructions are
                 // lost (measured: slower than the scalar kernels at eight
                 // lanes)
-                let (v, g, h) = std::hint::black_box(energy_hessian_lanes(&kl, m, s));
-                *out.0 = v;
-                out.1[..#nu].copy_from_slice(&g);
-                out.2[..#nh].copy_from_slice(&h);
+                Some(std::hint::black_box(energy_hessian_lanes(&kl, m, s)))
             }
 
             fn family_hessian(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu], [f64; #nh])> {
