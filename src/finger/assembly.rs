@@ -10,8 +10,9 @@
 //! computed in them (the generator's `end_derivatives_lanes`), and the
 //! blocks and coupling vectors go into fpc-newton's [`Semiseparable`],
 //! which stores the same groups side by side, with no transposition
-//! ([`Semiseparable::set_group`]). Only the state, the scales and the
-//! frames are read element by element, and the gradient written so.
+//! ([`Semiseparable::set_group`]). Only Newton's state, the elements'
+//! unknowns, lengths and scales and the frames are read element by
+//! element, and the gradient is written so.
 //!
 //! Each lane is statement for statement its element's arithmetic (nothing
 //! fused or reordered), so the matrix and the gradient are bit for bit
