@@ -518,6 +518,21 @@ fn eval_avx512<M: Energy, P: Pass<M>>(
 /// matrix stores side by side).
 pub(crate) type Group = Lanes<{ fpc_newton::GROUP }>;
 
+/// Per-element numbers in groups: entry `e` of `row(i)` for element `i =
+/// GROUP j + l` is lane `l` of `out[per j + e]` (`per` entries a group),
+/// the lanes past the last of `count` elements repeating it. For what does
+/// not change between evaluations (the scales, the lengths), packed once.
+pub(crate) fn pack<'v>(count: usize, per: usize, row: impl Fn(usize) -> &'v [f64]) -> Vec<Group> {
+    let w = fpc_newton::GROUP;
+    let mut out = Vec::with_capacity(count.div_ceil(w) * per);
+    for j in 0..count.div_ceil(w) {
+        for e in 0..per {
+            out.push(Group::from_fn(|l| row((w * j + l).min(count - 1))[e]));
+        }
+    }
+    out
+}
+
 /// The element Hessians of a finger in groups of [`Group`] lanes, element
 /// `GROUP j + l` in lane `l` of group `j`: its potential, its gradient
 /// (`LEN` lanes a group) and its Hessian's upper triangle (`LEN (LEN + 1)

@@ -10,9 +10,10 @@
 //! computed in them (the generator's `end_derivatives_lanes`), and the
 //! blocks and coupling vectors go into fpc-newton's [`Semiseparable`],
 //! which stores the same groups side by side, with no transposition
-//! ([`Semiseparable::set_group`]). Only Newton's state, the elements'
-//! unknowns, lengths and scales and the frames are read element by
-//! element, and the gradient is written so.
+//! ([`Semiseparable::set_group`]). The scales and lengths are packed in
+//! groups once per finger; only Newton's state, the elements' unknowns and
+//! the frames are read element by element, and the gradient is written
+//! so.
 //!
 //! Each lane is statement for statement its element's arithmetic (nothing
 //! fused or reordered), so the matrix and the gradient are bit for bit
@@ -22,7 +23,7 @@
 
 use fpc_newton::{Semiseparable, GROUP};
 
-use crate::element::{Element, Group, HessianGroups};
+use crate::element::{Group, HessianGroups};
 use crate::lanes::{Lane, Lanes, Width};
 use crate::model::{upper_index, ElementModel, Vector};
 
@@ -32,11 +33,12 @@ use super::straighten;
 pub(crate) struct Terms<'a, M: ElementModel> {
     /// The element pass.
     pub groups: &'a HessianGroups,
-    /// The elements and their raw unknowns.
-    pub elements: &'a [Element<M>],
+    /// The elements' raw unknowns.
     pub k: &'a [M::Coeffs],
-    /// The unknowns' scales (raw = scale times scaled).
-    pub unscale: &'a [M::Coeffs],
+    /// The unknowns' scales (raw = scale times scaled) and the elements'
+    /// lengths, in groups (`FingerCore::unscale_groups`, `length_groups`).
+    pub unscale: &'a [Group],
+    pub lengths: &'a [Group],
     /// The tip load's terms; `None` without a tip load (no coupling).
     pub load: Option<LoadTerms<'a>>,
     /// Newton's unknowns are straightened.
@@ -137,10 +139,10 @@ fn assemble_in<M: ElementModel>(
 ) {
     let n = M::Coeffs::LEN;
     let nh = M::Upper::LEN;
-    let count_all = terms.elements.len();
+    let count_all = terms.k.len();
     let straight = terms.straight;
-    let [s, yl, gl, kl, u, w, eg, blk, eh, full] =
-        work.split([n, n, n, n, n, n, 3 * n, nh, 3 * nh, n * n]);
+    let [yl, gl, kl, u, w, eg, blk, eh, full] =
+        work.split([n, n, n, n, n, 3 * n, nh, 3 * nh, n * n]);
     for group in 0..count_all.div_ceil(GROUP) {
         let first = group * GROUP;
         let count = GROUP.min(count_all - first);
@@ -150,14 +152,14 @@ fn assemble_in<M: ElementModel>(
         for (l, a) in at.iter_mut().enumerate() {
             *a = first + l.min(count - 1);
         }
-        gather(s, &at, |j| terms.unscale[j].as_ref());
+        let s = &terms.unscale[group * n..(group + 1) * n];
         gather(yl, &at, |j| &y[n * j..n * j + n]);
         copy(gl, &terms.groups.g[group * n..]);
         copy(blk, &terms.groups.h[group * nh..]);
         if let Some(load) = &terms.load {
             let [fx, fz] = load.force;
             gather(kl, &at, |j| terms.k[j].as_ref());
-            let length = Group::from_fn(|l| terms.elements[at[l]].length());
+            let length = terms.lengths[group];
             M::end_derivatives_lanes::<Group>(kl, length, eg, eh);
             let (eg0, eg1, eg2) = (&eg[..n], &eg[n..2 * n], &eg[2 * n..]);
             let (eh0, eh1, eh2) = (&eh[..nh], &eh[nh..2 * nh], &eh[2 * nh..]);
@@ -219,7 +221,7 @@ impl Work {
     /// Lanes for elements of `n` unknowns.
     pub fn new(n: usize) -> Work {
         let nh = n * (n + 1) / 2;
-        Work(vec![Group::splat(0.0); 9 * n + 4 * nh + n * n])
+        Work(vec![Group::splat(0.0); 8 * n + 4 * nh + n * n])
     }
 
     /// The lanes cut into runs of the lengths `lens` (in all at most the

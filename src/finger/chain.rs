@@ -404,11 +404,11 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             rot: &b.rot,
             q: &b.q,
         });
-        let terms = Terms {
+        let terms = Terms::<M> {
             groups: &b.groups,
-            elements: &core.elements,
             k: &b.k,
-            unscale: &core.unscale,
+            unscale: &core.unscale_groups,
+            lengths: &core.length_groups,
             load,
             straight: self.straight,
         };

@@ -8,8 +8,7 @@
 
 use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
-use crate::element::distinct_elements;
-use crate::element::{Element, ElementLanes};
+use crate::element::{self, distinct_elements, Element, ElementLanes, Group};
 use crate::error::Warning;
 use crate::lanes::Width;
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
@@ -31,6 +30,10 @@ pub(crate) struct FingerCore<M: ElementModel> {
     /// Raw value of one scaled unit, per element.
     pub unscale: Vec<M::Coeffs>,
     pub lengths: Vec<f64>,
+    /// `unscale` and `lengths` in groups of elements ([`element::pack`]),
+    /// as the chain's assembly reads them.
+    pub unscale_groups: Vec<Group>,
+    pub length_groups: Vec<Group>,
     /// The largest scaled Hessian diagonal of the unstrained finger (N mm).
     pub stiffness: f64,
     /// The prestressed layer's z range and prestrain (validity checks).
@@ -60,10 +63,15 @@ impl<M: ElementModel> FingerCore<M> {
                 stiffness = stiffness.max((h[upper_index(n, i, i)] * s[i] * s[i]).abs());
             }
         }
+        let count = elements.len();
+        let unscale_groups = element::pack(count, n, |i| unscale[i].as_ref());
+        let length_groups = element::pack(count, 1, |i| std::slice::from_ref(&lengths[i]));
         FingerCore {
             lanes: ElementLanes::new(&elements, Width::detect()),
             elements,
             distinct,
+            unscale_groups,
+            length_groups,
             unscale,
             lengths,
             stiffness: stiffness.max(f64::MIN_POSITIVE),
