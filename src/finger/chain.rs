@@ -367,7 +367,7 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         if from_start && self.b.memo.holds(y, self.straight, &self.scalars) {
             self.b.groups.clone_from(&self.b.memo.groups);
         } else {
-            // the element energies, several elements per instruction
+            // the element pass, several elements per instruction
             let b = &mut self.b;
             core.lanes
                 .hessian_groups(&core.elements, &b.k, &self.scalars, &mut b.groups);
