@@ -5,7 +5,7 @@
 //! so they are accumulated once; each Newton iteration then costs one call
 //! of the model's energy, whatever the number of laminae, ribs and voids.
 
-use crate::lanes::{CacheLine, Lane, LaneScalar, Lanes, Width};
+use crate::lanes::{CacheLine, Lane, LaneScalar, Lanes, OnLines, Width};
 use crate::model::{
     upper_index, Energy, EnergyScalars, GasParams, Kinematics, LinearParams, ModelCore,
     PrestressedParams, Vector,
@@ -522,46 +522,55 @@ pub(crate) type Group = Lanes<{ fpc_newton::GROUP }>;
 /// GROUP j + l` is lane `l` of `out[per j + e]` (`per` entries a group),
 /// the lanes past the last of `count` elements repeating it. For what does
 /// not change between evaluations (the scales, the lengths), packed once.
-pub(crate) fn pack<'v>(count: usize, per: usize, row: impl Fn(usize) -> &'v [f64]) -> Vec<Group> {
+pub(crate) fn pack<'v>(
+    count: usize,
+    per: usize,
+    row: impl Fn(usize) -> &'v [f64],
+) -> OnLines<Group> {
     let w = fpc_newton::GROUP;
-    let mut out = Vec::with_capacity(count.div_ceil(w) * per);
-    for j in 0..count.div_ceil(w) {
-        for e in 0..per {
-            out.push(Group::from_fn(|l| row((w * j + l).min(count - 1))[e]));
-        }
-    }
-    out
+    OnLines::from_values((0..count.div_ceil(w)).flat_map(|j| {
+        let row = &row;
+        (0..per).map(move |e| Group::from_fn(|l| row((w * j + l).min(count - 1))[e]))
+    }))
 }
 
 /// The element Hessians of a finger in groups of [`Group`] lanes, element
 /// `GROUP j + l` in lane `l` of group `j`: its potential, its gradient
 /// (`LEN` lanes a group) and its Hessian's upper triangle (`LEN (LEN + 1)
 /// / 2` lanes a group). The lanes past the last element repeat it.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Default, PartialEq)]
 pub(crate) struct HessianGroups {
-    pub v: Vec<Group>,
-    pub g: Vec<Group>,
-    pub h: Vec<Group>,
+    pub v: OnLines<Group>,
+    pub g: OnLines<Group>,
+    pub h: OnLines<Group>,
 }
 
-impl HessianGroups {
-    /// None.
-    pub fn empty() -> HessianGroups {
+impl Clone for HessianGroups {
+    fn clone(&self) -> HessianGroups {
         HessianGroups {
-            v: Vec::new(),
-            g: Vec::new(),
-            h: Vec::new(),
+            v: self.v.clone(),
+            g: self.g.clone(),
+            h: self.h.clone(),
         }
     }
 
+    /// Reuses `self`'s allocations (the start memo's copies).
+    fn clone_from(&mut self, source: &HessianGroups) {
+        self.v.clone_from(&source.v);
+        self.g.clone_from(&source.g);
+        self.h.clone_from(&source.h);
+    }
+}
+
+impl HessianGroups {
     /// Room for `elements` elements of model `M`.
     pub fn new<M: ModelCore>(elements: usize) -> HessianGroups {
         let (n, groups) = (M::Coeffs::LEN, elements.div_ceil(fpc_newton::GROUP));
         let zero = Group::splat(0.0);
         HessianGroups {
-            v: vec![zero; groups],
-            g: vec![zero; groups * n],
-            h: vec![zero; groups * n * (n + 1) / 2],
+            v: OnLines::from_elem(zero, groups),
+            g: OnLines::from_elem(zero, groups * n),
+            h: OnLines::from_elem(zero, groups * n * (n + 1) / 2),
         }
     }
 }

@@ -66,6 +66,71 @@ impl<L> LaneScalar<L> for f64 where
 #[repr(C, align(64))]
 pub(crate) struct CacheLine<T>(pub T);
 
+/// Values of one cache line each (lanes of eight numbers), every one on a
+/// 64-byte boundary: a `Vec` of them would sit where the heap put it, so
+/// three vector loads and stores in four would straddle two lines.
+#[derive(Debug)]
+pub(crate) struct OnLines<T>(Vec<CacheLine<T>>);
+
+impl<T> Default for OnLines<T> {
+    fn default() -> OnLines<T> {
+        OnLines(Vec::new())
+    }
+}
+
+impl<T: Copy> OnLines<T> {
+    /// A `T` fills its line exactly (the slices below rely on it).
+    const FITS: () = assert!(size_of::<CacheLine<T>>() == size_of::<T>());
+
+    /// `len` copies of `x`.
+    pub fn from_elem(x: T, len: usize) -> OnLines<T> {
+        let () = Self::FITS;
+        OnLines(vec![CacheLine(x); len])
+    }
+
+    /// The values of `values`, in order.
+    pub fn from_values(values: impl IntoIterator<Item = T>) -> OnLines<T> {
+        let () = Self::FITS;
+        OnLines(values.into_iter().map(CacheLine).collect())
+    }
+}
+
+impl<T: Copy> std::ops::Deref for OnLines<T> {
+    type Target = [T];
+    #[inline(always)]
+    fn deref(&self) -> &[T] {
+        // SAFETY: `CacheLine` is `repr(C)` around one `T` and, by `FITS`
+        // (checked where every `OnLines` is made), as large as it
+        unsafe { std::slice::from_raw_parts(self.0.as_ptr().cast::<T>(), self.0.len()) }
+    }
+}
+
+impl<T: Copy> std::ops::DerefMut for OnLines<T> {
+    #[inline(always)]
+    fn deref_mut(&mut self) -> &mut [T] {
+        let (ptr, len) = (self.0.as_mut_ptr(), self.0.len());
+        // SAFETY: as in `deref`
+        unsafe { std::slice::from_raw_parts_mut(ptr.cast::<T>(), len) }
+    }
+}
+
+impl<T: Copy> Clone for OnLines<T> {
+    fn clone(&self) -> OnLines<T> {
+        OnLines(self.0.clone())
+    }
+
+    /// Reuses `self`'s allocation where it is large enough.
+    fn clone_from(&mut self, source: &OnLines<T>) {
+        self.0.clone_from(&source.0);
+    }
+}
+
+impl<T: Copy + PartialEq> PartialEq for OnLines<T> {
+    fn eq(&self, other: &OnLines<T>) -> bool {
+        **self == **other
+    }
+}
+
 /// `W` numbers side by side, one per element.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(transparent)]
@@ -254,6 +319,25 @@ impl Width {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn lanes_on_lines_sit_on_cache_lines_and_keep_their_values() {
+        let values: Vec<Lanes<8>> = (0..37)
+            .map(|i| Lanes::from_fn(|l| (8 * i + l) as f64))
+            .collect();
+        let mut lines = OnLines::from_values(values.iter().copied());
+        let mut copy = OnLines::from_elem(Lanes::splat(-1.0), 3);
+        copy.clone_from(&lines);
+        for v in [&lines, &copy] {
+            assert_eq!(**v, values[..]);
+            for x in v.iter() {
+                assert_eq!(std::ptr::from_ref(x).addr() % 64, 0);
+            }
+        }
+        lines[5] = Lanes::splat(2.0);
+        assert_eq!(lines[5], Lanes::splat(2.0));
+        assert!(lines != copy);
+    }
 
     #[test]
     fn lane_operations_act_lane_by_lane() {

@@ -24,7 +24,7 @@
 use fpc_newton::{Semiseparable, GROUP};
 
 use crate::element::{Group, HessianGroups};
-use crate::lanes::{Lane, Lanes, Width};
+use crate::lanes::{Lane, Lanes, OnLines, Width};
 use crate::model::{upper_index, ElementModel, Vector};
 
 use super::straighten;
@@ -215,20 +215,23 @@ fn assemble_in<M: ElementModel>(
 /// The assembly's lanes, kept between evaluations (nothing to initialise
 /// per evaluation).
 #[derive(Debug, Clone)]
-pub(crate) struct Work(Vec<Group>);
+pub(crate) struct Work(OnLines<Group>);
 
 impl Work {
     /// Lanes for elements of `n` unknowns.
     pub fn new(n: usize) -> Work {
         let nh = n * (n + 1) / 2;
-        Work(vec![Group::splat(0.0); 8 * n + 4 * nh + n * n])
+        Work(OnLines::from_elem(
+            Group::splat(0.0),
+            8 * n + 4 * nh + n * n,
+        ))
     }
 
     /// The lanes cut into runs of the lengths `lens` (in all at most the
     /// lanes [`Work::new`] made).
     #[inline(always)]
     fn split<const K: usize>(&mut self, lens: [usize; K]) -> [&mut [Group]; K] {
-        let mut rest = &mut self.0[..];
+        let mut rest = &mut *self.0;
         lens.map(|len| {
             let (run, tail) = std::mem::take(&mut rest).split_at_mut(len);
             rest = tail;

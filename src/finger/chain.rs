@@ -76,7 +76,7 @@ impl StartMemo {
             y: Vec::new(),
             straight: false,
             scalars: Load::unloaded().scalars(),
-            groups: HessianGroups::empty(),
+            groups: HessianGroups::default(),
         }
     }
 

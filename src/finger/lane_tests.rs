@@ -58,7 +58,11 @@ fn lanes_are_the_scalar_kernels<M: ElementModel>() {
                 let mut eg = vec![(0.0, M::Coeffs::zero()); ne];
                 // (filled with NaN: every lane must be written)
                 let mut hg = HessianGroups::new::<M>(ne);
-                for x in hg.v.iter_mut().chain(&mut hg.g).chain(&mut hg.h) {
+                for x in
+                    hg.v.iter_mut()
+                        .chain(hg.g.iter_mut())
+                        .chain(hg.h.iter_mut())
+                {
                     *x = Lanes([f64::NAN; 8]);
                 }
                 lanes.eval::<element::Value>(&els, &k, &s, &mut ev);

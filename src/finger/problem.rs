@@ -10,7 +10,7 @@ use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
 use crate::element::{self, distinct_elements, Element, ElementLanes, Group};
 use crate::error::Warning;
-use crate::lanes::Width;
+use crate::lanes::{OnLines, Width};
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
 use crate::partition::Partition;
 
@@ -32,8 +32,8 @@ pub(crate) struct FingerCore<M: ElementModel> {
     pub lengths: Vec<f64>,
     /// `unscale` and `lengths` in groups of elements ([`element::pack`]),
     /// as the chain's assembly reads them.
-    pub unscale_groups: Vec<Group>,
-    pub length_groups: Vec<Group>,
+    pub unscale_groups: OnLines<Group>,
+    pub length_groups: OnLines<Group>,
     /// The largest scaled Hessian diagonal of the unstrained finger (N mm).
     pub stiffness: f64,
     /// The prestressed layer's z range and prestrain (validity checks).
