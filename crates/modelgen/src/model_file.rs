@@ -78,6 +78,8 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
     let options = Options {
         shared_params: Some(quote! { super }),
         lanes: Some(quote! { super }),
+        // the chain's assembly takes the end's derivatives in groups
+        lane_points: vec!["end".into()],
     };
     let mut generated = generate_with(&file.text, &options).map_err(|e| fail(e.to_string()))?;
     let midplane_kernel = &c.midplane.tokens;

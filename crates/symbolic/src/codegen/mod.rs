@@ -108,9 +108,14 @@ pub struct Options {
     /// generic over a lane type holding one number per element (the same
     /// statements in the same order, so each lane is bit for bit the scalar
     /// kernel's result), with a `MomentLanes` struct of moments side by
-    /// side, and every point kernel's derivatives as `*_derivatives_lanes`.
-    /// `None` emits none.
+    /// side, and the derivatives of the point kernels named in
+    /// [`lane_points`](Self::lane_points) as `*_derivatives_lanes`. `None`
+    /// emits none.
     pub lanes: Option<TokenStream>,
+    /// The point kernels whose derivatives are emitted on lanes too (with
+    /// [`lanes`](Self::lanes)): the ones a caller evaluates for several
+    /// elements at once.
+    pub lane_points: Vec<String>,
 }
 
 /// A named parameter struct of a generated function: integral kernels take
@@ -303,13 +308,19 @@ pub fn generate_with(src: &str, options: &Options) -> Result<Generated, GenError
         report.push(rep);
     }
     let points = spec.points.clone();
+    let lanes_for = |name: &String| {
+        options
+            .lanes
+            .as_ref()
+            .filter(|_| options.lane_points.contains(name))
+    };
     for def in &points {
         let wrap = |e: SymError| GenError::Algebra {
             kernel: def.name.clone(),
             line: def.line,
             source: e,
         };
-        let (tokens, rep) = point_kernel(&mut spec, def, options.lanes.as_ref()).map_err(wrap)?;
+        let (tokens, rep) = point_kernel(&mut spec, def, lanes_for(&def.name)).map_err(wrap)?;
         items.push(tokens);
         report.extend(rep);
     }
@@ -364,4 +375,42 @@ pub fn report_table(report: &[FunctionReport]) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn point_kernels_go_on_lanes_only_where_named() {
+        let src = "unknowns a, b;\n\
+                   let u = a*x + b*x^3;\n\
+                   point end(L) { X = at(x + u, x, L); }\n\
+                   point mid(x) { X = x + u; }\n";
+        let names = |options: &Options| {
+            let tokens = generate_with(src, options).unwrap().tokens;
+            let text = format_file(&tokens).unwrap();
+            ["end", "mid"].map(|p| text.contains(&format!("fn {p}_derivatives_lanes")))
+        };
+        let lanes = Some(quote! { super });
+        let none = Options::default();
+        assert_eq!(names(&none), [false, false]);
+        let all_off = Options {
+            lanes: lanes.clone(),
+            ..Options::default()
+        };
+        assert_eq!(names(&all_off), [false, false]);
+        let end = Options {
+            lanes: lanes.clone(),
+            lane_points: vec!["end".into()],
+            ..Options::default()
+        };
+        assert_eq!(names(&end), [true, false]);
+        // naming a point without `lanes` emits nothing on lanes
+        let no_path = Options {
+            lane_points: vec!["end".into(), "mid".into()],
+            ..Options::default()
+        };
+        assert_eq!(names(&no_path), [false, false]);
+    }
 }
