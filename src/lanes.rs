@@ -79,18 +79,17 @@ impl<T> Default for OnLines<T> {
 }
 
 impl<T: Copy> OnLines<T> {
-    /// A `T` fills its line exactly (the slices below rely on it).
+    /// A `T` fills its line exactly: the slices of `Deref` rely on it, and
+    /// for a type that does not, they fail to compile.
     const FITS: () = assert!(size_of::<CacheLine<T>>() == size_of::<T>());
 
     /// `len` copies of `x`.
     pub fn from_elem(x: T, len: usize) -> OnLines<T> {
-        let () = Self::FITS;
         OnLines(vec![CacheLine(x); len])
     }
 
     /// The values of `values`, in order.
     pub fn from_values(values: impl IntoIterator<Item = T>) -> OnLines<T> {
-        let () = Self::FITS;
         OnLines(values.into_iter().map(CacheLine).collect())
     }
 }
@@ -99,8 +98,9 @@ impl<T: Copy> std::ops::Deref for OnLines<T> {
     type Target = [T];
     #[inline(always)]
     fn deref(&self) -> &[T] {
+        let () = Self::FITS;
         // SAFETY: `CacheLine` is `repr(C)` around one `T` and, by `FITS`
-        // (checked where every `OnLines` is made), as large as it
+        // (checked when this is compiled), as large as it: no padding
         unsafe { std::slice::from_raw_parts(self.0.as_ptr().cast::<T>(), self.0.len()) }
     }
 }
@@ -108,6 +108,7 @@ impl<T: Copy> std::ops::Deref for OnLines<T> {
 impl<T: Copy> std::ops::DerefMut for OnLines<T> {
     #[inline(always)]
     fn deref_mut(&mut self) -> &mut [T] {
+        let () = Self::FITS;
         let (ptr, len) = (self.0.as_mut_ptr(), self.0.len());
         // SAFETY: as in `deref`
         unsafe { std::slice::from_raw_parts_mut(ptr.cast::<T>(), len) }
