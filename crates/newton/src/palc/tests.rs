@@ -8,6 +8,9 @@ use crate::problem::LinearSystem;
 use crate::semiseparable::PivotKind;
 use crate::testutil::Lcg;
 use crate::{Dense, DenseMatrix, DensePathProblem};
+#[path = "../../tests/common/reduced.rs"]
+mod reduced;
+use reduced::{null_basis, reduce};
 
 /// `E = x^4/4 - x^2/2 - lambda x`: `g = x^3 - x - lambda`.
 struct Snap;
@@ -201,41 +204,6 @@ fn restricted_inertia_small_cases() {
         assert_eq!(r.negative, neg);
         assert_eq!(r.positive + r.negative, n - 1);
     }
-}
-
-/// Orthonormal basis of `c`'s orthogonal complement (Householder),
-/// column-major `n x (n-1)`.
-fn null_basis(c: &[f64]) -> Vec<f64> {
-    let n = c.len();
-    let norm = dot(c, c).sqrt();
-    let mut v = c.to_vec();
-    v[0] += norm.copysign(c[0]);
-    let vv = dot(&v, &v);
-    let mut z = vec![0.0; n * (n - 1)];
-    for j in 1..n {
-        for i in 0..n {
-            let e = if i == j { 1.0 } else { 0.0 };
-            z[i + n * (j - 1)] = e - 2.0 * v[i] * v[j] / vv;
-        }
-    }
-    z
-}
-
-fn reduce(n: usize, a: &[f64], z: &[f64]) -> Vec<f64> {
-    let m = n - 1;
-    let mut red = vec![0.0; m * m];
-    for q in 0..m {
-        for pcol in 0..m {
-            let mut s = 0.0;
-            for i in 0..n {
-                for j in 0..n {
-                    s += z[i + n * pcol] * a[i + n * j] * z[j + n * q];
-                }
-            }
-            red[pcol + m * q] = s;
-        }
-    }
-    red
 }
 
 #[test]
