@@ -141,8 +141,7 @@ fn assemble_in<M: ElementModel>(
     let nh = M::Upper::LEN;
     let count_all = terms.k.len();
     let straight = terms.straight;
-    let [yl, gl, kl, u, w, eg, blk, eh, full] =
-        work.split([n, n, n, n, n, 3 * n, nh, 3 * nh, n * n]);
+    let [yl, gl, kl, u, w, eg, blk, eh, full] = work.split(Work::runs(n));
     for group in 0..count_all.div_ceil(GROUP) {
         let first = group * GROUP;
         let count = GROUP.min(count_all - first);
@@ -218,13 +217,20 @@ fn assemble_in<M: ElementModel>(
 pub(crate) struct Work(OnLines<Group>);
 
 impl Work {
+    /// The assembly's runs of lanes for elements of `n` unknowns: the
+    /// state, gradient, unknowns and the two coupling vectors (`n` each),
+    /// the end's gradients (`3 n`), the block's upper triangle, the end's
+    /// Hessians (three upper triangles) and the full block (`n^2`).
+    #[inline(always)]
+    fn runs(n: usize) -> [usize; 9] {
+        let nh = n * (n + 1) / 2;
+        [n, n, n, n, n, 3 * n, nh, 3 * nh, n * n]
+    }
+
     /// Lanes for elements of `n` unknowns.
     pub fn new(n: usize) -> Work {
-        let nh = n * (n + 1) / 2;
-        Work(OnLines::from_elem(
-            Group::splat(0.0),
-            8 * n + 4 * nh + n * n,
-        ))
+        let len = Work::runs(n).iter().sum();
+        Work(OnLines::from_elem(Group::splat(0.0), len))
     }
 
     /// The lanes cut into runs of the lengths `lens` (in all at most the

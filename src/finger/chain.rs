@@ -364,9 +364,8 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
         let loaded = self.loaded();
         let core = self.finger;
         let from_start = std::mem::take(&mut self.from_start) && loaded;
-        if from_start && self.b.memo.holds(y, self.straight, &self.scalars) {
-            self.b.groups.clone_from(&self.b.memo.groups);
-        } else {
+        let from_memo = from_start && self.b.memo.holds(y, self.straight, &self.scalars);
+        if !from_memo {
             // the element pass, several elements per instruction
             let b = &mut self.b;
             core.lanes
@@ -380,18 +379,11 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
                 m.groups.clone_from(&b.groups);
             }
         }
-        // the potentials summed element by element
-        let mut v = 0.0;
-        for i in 0..core.len() {
-            v += self.b.groups.v[i / GROUP].0[i % GROUP];
-        }
         // (filled beside the factorised matrix)
         let m = self.b.active ^ 1;
         self.b.staged = true;
         if loaded {
             self.chain_geometry();
-            let [fx, fz] = self.f;
-            v -= fx * self.tip[0] + fz * self.tip[1];
         } else {
             self.b.matrices[m].clear_coupling();
         }
@@ -405,13 +397,23 @@ impl<M: ElementModel> Hessian for Chain<'_, M> {
             q: &b.q,
         });
         let terms = Terms::<M> {
-            groups: &b.groups,
+            // (the memo's pass is read where it is kept)
+            groups: if from_memo { &b.memo.groups } else { &b.groups },
             k: &b.k,
             unscale: &core.unscale_groups,
             lengths: &core.length_groups,
             load,
             straight: self.straight,
         };
+        // the potentials summed element by element
+        let mut v = 0.0;
+        for i in 0..core.len() {
+            v += terms.groups.v[i / GROUP].0[i % GROUP];
+        }
+        if loaded {
+            let [fx, fz] = self.f;
+            v -= fx * self.tip[0] + fz * self.tip[1];
+        }
         let width = core.lanes.width();
         assembly::assemble(&terms, y, g, &mut b.matrices[m], width, &mut b.work);
         v
