@@ -89,7 +89,10 @@ class Refinement(TypedDict):
     configuration: str
     levels: list[int]
     level_iterations: list[int]
+    level_steps: list[Steps]
+    level_tips: FloatArray  # (levels, 2), mm, each level's tip
     extrapolated: bool
+    extrapolation: Optional[Literal["last_two", "last_three"]]
     tip: FloatArray
     end_angle: float
 

@@ -148,6 +148,17 @@ impl std::fmt::Display for StepCounts {
     }
 }
 
+impl std::ops::AddAssign for StepCounts {
+    fn add_assign(&mut self, o: StepCounts) {
+        self.element += o.element;
+        self.coupled += o.coupled;
+        self.continuation += o.continuation;
+        self.chord += o.chord;
+        self.shifted += o.shifted;
+        self.damped += o.damped;
+    }
+}
+
 impl StepCounts {
     /// Adds the globalisation counts of Newton report `r`.
     pub(crate) fn globalisation(&mut self, r: &fpc_newton::Report) {

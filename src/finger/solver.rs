@@ -51,6 +51,8 @@ pub(crate) struct TipSolve {
     pub end_angle: f64,
     /// Newton iterations.
     pub iterations: usize,
+    /// Where they went.
+    pub steps: StepCounts,
 }
 
 /// A reusable solver workspace for model `M`.
@@ -272,6 +274,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             tip,
             end_angle,
             iterations: report.iterations,
+            steps: report.steps,
         })
     }
 

@@ -37,7 +37,9 @@ use crate::partition::Partition;
 use crate::solve_error::SolveError;
 use refine::{Auto, Refiner, TipTolerance};
 pub use refine::{INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS};
-pub use refinement::{Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS};
+pub use refinement::{
+    Extrapolation, Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS,
+};
 pub use solved::Solved;
 
 /// Elements of the default plan ([`Plan::default`]).

@@ -384,11 +384,12 @@ fn solve_level(
     };
     let start = nested.as_ref().or(guess);
     let trusted = nested.is_some();
-    let level = |tip, end_angle, iterations| Level {
+    let level = |tip, end_angle, iterations, steps| Level {
         elements: finger.len(),
         tip,
         end_angle,
         iterations,
+        steps,
     };
     let (state, level) = if intermediate {
         // only the state and the tip: no Solution for a level nobody sees
@@ -397,7 +398,10 @@ fn solve_level(
             r => r,
         }?;
         run.last = None;
-        (t.coefficients, level(t.tip, t.end_angle, t.iterations))
+        (
+            t.coefficients,
+            level(t.tip, t.end_angle, t.iterations, t.steps),
+        )
     } else {
         let solve = |g: Option<&Coefficients>| match g {
             Some(g) if trusted => finger.solve_trusted(load, g, level_opts),
@@ -408,7 +412,12 @@ fn solve_level(
             Err(_) if trusted => solve(None),
             r => r,
         }?;
-        let done = level(sol.tip, sol.end_angle, sol.report.iterations);
+        let done = level(
+            sol.tip,
+            sol.end_angle,
+            sol.report.iterations,
+            sol.report.steps,
+        );
         let state = sol.coefficients.clone();
         run.last = Some(sol);
         (state, done)
@@ -608,7 +617,9 @@ impl Auto {
 
 #[cfg(test)]
 mod tests {
+    use super::super::refinement::Extrapolation;
     use super::*;
+    use crate::finger::StepCounts;
 
     /// A tip tolerance keeps the levels its solves build: a second load
     /// builds none, and solves as a fresh plan does.
@@ -648,6 +659,10 @@ mod tests {
             tip,
             end_angle,
             iterations: 1,
+            steps: StepCounts {
+                coupled: 1,
+                ..StepCounts::default()
+            },
         }
     }
 
@@ -704,6 +719,53 @@ mod tests {
         assert_eq!(fine, v[3].tip);
         let err = (fine[0] - 1.0).hypot(fine[1] + 1.0);
         assert!(e.unwrap() >= err);
+    }
+
+    /// A record says which extrapolation its tip came from: with two
+    /// levels `R2` of them, with more `T3` of the last three (the formulas
+    /// written out here, not `estimate`'s); it sums its levels' steps, and
+    /// serializes every level's tip, so a reader can redo the arithmetic.
+    #[test]
+    fn the_record_names_its_extrapolation_and_sums_its_levels() {
+        let v = levels([2.0, 0.3, -5.0, 0.7], 4);
+        let record = |n: usize, extrapolate: bool| {
+            let plan = Refinement {
+                levels: n,
+                ..plan(PartitionKind::Material, extrapolate)
+            };
+            let (tip, end_angle, estimated_tip_error_mm) = estimate(&plan, &v[..n]);
+            RefinementRecord {
+                tip,
+                end_angle,
+                estimated_tip_error_mm,
+                levels: v[..n].to_vec(),
+                plan,
+            }
+        };
+        let x = |k: usize| v[k].tip[0];
+        let two = record(2, true);
+        assert_eq!(two.extrapolation(), Some(Extrapolation::LastTwo));
+        assert!((two.tip[0] - (4.0 * x(1) - x(0)) / 3.0).abs() < 1e-14);
+        for n in [3, 4] {
+            let r = record(n, true);
+            assert_eq!(r.extrapolation(), Some(Extrapolation::LastThree));
+            let t3 = (8.0 * x(n - 1) - 6.0 * x(n - 2) + x(n - 3)) / 3.0;
+            assert!((r.tip[0] - t3).abs() < 1e-14, "{n} levels");
+        }
+        assert_eq!(record(3, false).extrapolation(), None);
+        assert_eq!(record(1, true).extrapolation(), None);
+        let four = record(4, true);
+        assert_eq!(four.iterations(), 4);
+        let steps = four.steps();
+        assert_eq!((steps.coupled, steps.element, steps.chord), (4, 0, 0));
+        let json = serde_json::to_value(&four).unwrap();
+        assert_eq!(json["extrapolation"], "last_three");
+        assert_eq!(json["levels"], serde_json::json!([27, 54, 108, 216]));
+        assert_eq!(json["level_tips_mm"][2][0], x(2));
+        assert_eq!(json["level_steps"][3]["coupled"], 1);
+        assert_eq!(json["tip_mm"][0], four.tip[0]);
+        let plain = serde_json::to_value(record(3, false)).unwrap();
+        assert!(plain["extrapolation"].is_null() && plain["extrapolated"] == false);
     }
 
     #[test]

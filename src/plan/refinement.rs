@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::actuator::Actuator;
 use crate::error::{require, InputError};
 use crate::field::{Field, RefinementKey};
+use crate::finger::StepCounts;
 use crate::model::ModelId;
 use crate::partition::Partition;
 
@@ -204,6 +205,29 @@ pub struct Level {
     pub end_angle: f64,
     /// Newton iterations of this level's solve.
     pub iterations: usize,
+    /// Where those iterations went.
+    pub steps: StepCounts,
+}
+
+/// How a refinement's best tip was extrapolated (the module docs of
+/// `refine.rs` give the formulas).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Extrapolation {
+    /// `R2`: the `h^2` term removed from the last two levels.
+    LastTwo,
+    /// `T3`: the `h` and `h^2` terms removed from the last three levels.
+    LastThree,
+}
+
+impl Extrapolation {
+    /// What was removed from which levels, in words.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Extrapolation::LastTwo => "h^2 term removed from the last two levels",
+            Extrapolation::LastThree => "h and h^2 terms removed from the last three levels",
+        }
+    }
 }
 
 /// The record of a refinement: its levels and the best tip estimate
@@ -229,5 +253,59 @@ impl RefinementRecord {
     /// True when the tip is extrapolated.
     pub fn is_extrapolated(&self) -> bool {
         self.plan.extrapolate && self.levels.len() >= 2
+    }
+
+    /// How the tip was extrapolated: from the last two levels with two,
+    /// from the last three with more; `None` when it was not.
+    pub fn extrapolation(&self) -> Option<Extrapolation> {
+        match self.levels.len() {
+            _ if !self.is_extrapolated() => None,
+            2 => Some(Extrapolation::LastTwo),
+            _ => Some(Extrapolation::LastThree),
+        }
+    }
+
+    /// Newton iterations over every level.
+    pub fn iterations(&self) -> usize {
+        self.levels.iter().map(|l| l.iterations).sum()
+    }
+
+    /// Where the iterations of every level went, summed.
+    pub fn steps(&self) -> StepCounts {
+        let mut all = StepCounts::default();
+        for l in &self.levels {
+            all += l.steps;
+        }
+        all
+    }
+}
+
+/// The keys of `fpc finger --json`'s and a finger scene's `refinement`.
+impl Serialize for RefinementRecord {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        #[derive(Serialize)]
+        struct Keys<'a> {
+            configuration: String,
+            levels: Vec<usize>,
+            level_iterations: Vec<usize>,
+            level_steps: Vec<StepCounts>,
+            level_tips_mm: Vec<[f64; 2]>,
+            extrapolated: bool,
+            extrapolation: Option<Extrapolation>,
+            tip_mm: &'a [f64; 2],
+            end_angle_rad: f64,
+        }
+        Keys {
+            configuration: self.plan.label(),
+            levels: self.levels.iter().map(|l| l.elements).collect(),
+            level_iterations: self.levels.iter().map(|l| l.iterations).collect(),
+            level_steps: self.levels.iter().map(|l| l.steps).collect(),
+            level_tips_mm: self.levels.iter().map(|l| l.tip).collect(),
+            extrapolated: self.is_extrapolated(),
+            extrapolation: self.extrapolation(),
+            tip_mm: &self.tip,
+            end_angle_rad: self.end_angle,
+        }
+        .serialize(s)
     }
 }

@@ -12,6 +12,7 @@ use crate::coefficients::Coefficients;
 use crate::error::Warning;
 use crate::finger::{Solution, SolveReport};
 use crate::gripper::{Gripper, Invalid, Verdict};
+use crate::plan::RefinementRecord;
 
 /// What `fpc solve` writes to `solution.json` (without its provenance) and
 /// `fpc.solve_scene` returns: the finger's equilibrium under the keys of
@@ -26,8 +27,14 @@ pub struct SolutionRecord<'a> {
     kind: &'static str,
     /// The number of elements used.
     elements: usize,
-    /// With `tip_tol_mm`: the estimated tip error (mm); null otherwise.
+    /// With `tip_tol_mm`: the estimated error (mm) of `refinement`'s tip
+    /// (the extrapolated one when extrapolated); null otherwise.
     tip_error_estimate_mm: Option<f64>,
+    /// With `tip_tol_mm`: the levels solved and the best tip, under the
+    /// keys of `fpc finger --json`'s `refinement`; the solution's keys
+    /// below are the finest level's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    refinement: Option<&'a RefinementRecord>,
     /// The finger's equilibrium: the grasp's, or the gripper's rest state.
     #[serde(flatten)]
     solution: SolutionKeys<'a>,
@@ -176,10 +183,16 @@ impl<'a> SolutionRecord<'a> {
         solved: &'a SceneSolution,
     ) -> SolutionRecord<'a> {
         let warnings = solved.warnings();
-        let (kind, tip_error_estimate_mm, gripper) = match solved {
-            SceneSolution::Finger(s) => ("finger", s.estimated_tip_error_mm(), None),
+        let (kind, tip_error_estimate_mm, refinement, gripper) = match solved {
+            SceneSolution::Finger(s) => (
+                "finger",
+                s.estimated_tip_error_mm(),
+                s.refinement.as_ref(),
+                None,
+            ),
             SceneSolution::Gripper { gripper, grasp } => (
                 if grasp.is_some() { "grasp" } else { "gripper" },
+                None,
                 None,
                 Some(GripperKeys {
                     gripper: GripperJson::of(gripper),
@@ -198,6 +211,7 @@ impl<'a> SolutionRecord<'a> {
             kind,
             elements: solved.elements(),
             tip_error_estimate_mm,
+            refinement,
             solution: SolutionKeys::of(solved.solution()),
             validity: is_valid(solved, &warnings),
             warning_messages: warnings.iter().map(warning_text).collect(),

@@ -229,7 +229,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
             model: model.name(),
             elements: sol.element_lengths.len(),
             tip_error_estimate_mm: solved.estimated_tip_error_mm(),
-            refinement: solved.refinement.as_ref().map(RefinementJson::of),
+            refinement: solved.refinement.as_ref(),
             solution: sol,
             provenance: crate::provenance::Provenance::now(),
         };
@@ -252,36 +252,11 @@ struct Json<'a> {
     /// With a refinement: its levels and best tip (extrapolated or the
     /// finest level's); the solution below is the finest level's.
     #[serde(skip_serializing_if = "Option::is_none")]
-    refinement: Option<RefinementJson>,
+    refinement: Option<&'a RefinementRecord>,
     #[serde(flatten)]
     solution: &'a Solution,
     /// The command, fpc's version and the git commit.
     provenance: crate::provenance::Provenance,
-}
-
-#[derive(serde::Serialize)]
-struct RefinementJson {
-    configuration: String,
-    /// Elements of each level, coarse to fine.
-    levels: Vec<usize>,
-    /// Newton iterations of each level's solve.
-    level_iterations: Vec<usize>,
-    extrapolated: bool,
-    tip_mm: [f64; 2],
-    end_angle_rad: f64,
-}
-
-impl RefinementJson {
-    fn of(r: &RefinementRecord) -> RefinementJson {
-        RefinementJson {
-            configuration: r.plan.label(),
-            levels: r.levels.iter().map(|l| l.elements).collect(),
-            level_iterations: r.levels.iter().map(|l| l.iterations).collect(),
-            extrapolated: r.is_extrapolated(),
-            tip_mm: r.tip,
-            end_angle_rad: r.end_angle,
-        }
-    }
 }
 
 fn summary(
@@ -320,25 +295,7 @@ fn summary(
         "tip            X = {:.4} mm, Z = {:.4} mm",
         sol.tip[0], sol.tip[1]
     )?;
-    if solved.is_extrapolated() {
-        writeln!(
-            out,
-            "tip (extrap.)  X = {:.4} mm, Z = {:.4} mm (Richardson, last two levels)",
-            solved.tip()[0],
-            solved.tip()[1]
-        )?;
-    }
-    if let Some(e) = solved.estimated_tip_error_mm() {
-        writeln!(
-            out,
-            "tip accuracy   estimated error {e:.2e} mm ({})",
-            if solved.is_extrapolated() {
-                "of the extrapolated tip"
-            } else {
-                "of the finest level's tip"
-            }
-        )?;
-    }
+    crate::solve::refinement_lines(out, solved)?;
     writeln!(
         out,
         "end angle      {:.5} rad ({:.2} deg)",
@@ -351,27 +308,6 @@ fn summary(
     }
     writeln!(out, "energy         {:.6} N mm", sol.energy)?;
     crate::solve::stability_line(out, sol)?;
-    // a refinement's finest level often starts converged (0 iterations):
-    // the work is the levels' together
-    let iterations = match &solved.refinement {
-        Some(r) if r.levels.len() > 1 => format!(
-            "{} iterations over {} levels ({} at the finest)",
-            r.levels.iter().map(|l| l.iterations).sum::<usize>(),
-            r.levels.len(),
-            sol.report.iterations
-        ),
-        _ => format!("{} iterations", sol.report.iterations),
-    };
-    writeln!(
-        out,
-        "solver         {iterations}, relative residual {:.2e}, {}",
-        sol.report.residual_norm,
-        if sol.report.coupled {
-            "coupled system"
-        } else {
-            "decoupled elements"
-        }
-    )?;
-    writeln!(out, "steps          {}", sol.report.steps)?;
+    crate::solve::solver_lines(out, sol, solved.refinement.as_ref())?;
     crate::solve::validity_line(out, sol)
 }

@@ -145,6 +145,13 @@ fn check_json(name: &str, json: &serde_json::Value) {
     for key in KEYS {
         assert!(json.get(key).is_some(), "{name}: no {key}");
     }
+    // a scene refined to a tip tolerance says how it got the tip its
+    // estimate is of
+    let refined = !json["tip_error_estimate_mm"].is_null();
+    assert_eq!(json.get("refinement").is_some(), refined, "{name}");
+    if refined {
+        common::check_refinement(&json["refinement"]);
+    }
     for key in GRIPPER_KEYS {
         assert_eq!(json.get(key).is_some(), kind != "finger", "{name}: {key}");
     }

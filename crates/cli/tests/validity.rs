@@ -2,18 +2,8 @@
 //! stderr, `warnings` and `element_lengths_mm` in the JSON, a validity line
 //! in the summary; `--elements auto` and `--model`; `fpc models`.
 
-use std::process::{Command, Output};
-
-fn fpc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+mod common;
+use common::{fpc, text};
 
 fn json(args: &[&str]) -> (serde_json::Value, String) {
     let out = fpc(args);
@@ -194,6 +184,38 @@ fn a_scene_too_thick_for_laminate_theory_says_so_once() {
     assert_eq!(thick[0]["limit"], 0.1);
     assert!((thick[1]["value"].as_f64().unwrap() - 200.0 / 31.75).abs() < 1e-12);
     assert_eq!(thick[1]["limit"], 0.5);
+}
+
+/// Four levels (27 to 216 elements) for 1e-3 mm: the summary names the
+/// extrapolation of the last three levels, and the JSON's refinement holds
+/// what redoes it (`common::check_refinement`).
+#[test]
+fn a_refined_solve_says_how_it_extrapolated() {
+    let args = ["finger", "--fx", "0.5", "--tip-tol-mm", "0.001"];
+    let (v, _) = json(&[&args[..], &["--json"]].concat());
+    let r = &v["refinement"];
+    assert_eq!(r["extrapolation"], "last_three", "{v}");
+    common::check_refinement(r);
+    let stdout = text(&fpc(&args).stdout);
+    assert!(
+        stdout.contains("(h and h^2 terms removed from the last three levels)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("(of the extrapolated tip)"), "{stdout}");
+    // the steps line adds up the levels (the finest level's final solve,
+    // from its own converged state, takes none)
+    let coupled: u64 = r["level_steps"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["coupled"].as_u64().unwrap())
+        .sum();
+    assert!(coupled > 0);
+    let steps = stdout.lines().find(|l| l.starts_with("steps")).unwrap();
+    assert!(
+        steps.contains(&format!(", {coupled} coupled,")) && steps.ends_with("(all levels)"),
+        "{steps}"
+    );
 }
 
 #[test]

@@ -16,7 +16,7 @@ use fpc::{
     SolveOptions, Solved,
 };
 
-use crate::convert::{array1, solution_dict, to_py};
+use crate::convert::{array1, points, solution_dict, to_py};
 use crate::errors::{detached, from_input, from_scene_read, from_solve, input_error};
 
 // ------------------------------------------------------------ arguments
@@ -580,6 +580,8 @@ impl Finger {
 /// A refinement as the dict of `fpc finger --json`'s `refinement`.
 fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
+    let steps: Vec<_> = r.levels.iter().map(|l| l.steps).collect();
+    let tips: Vec<[f64; 2]> = r.levels.iter().map(|l| l.tip).collect();
     d.set_item("configuration", r.plan.label())?;
     d.set_item(
         "levels",
@@ -589,7 +591,10 @@ fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound
         "level_iterations",
         r.levels.iter().map(|l| l.iterations).collect::<Vec<_>>(),
     )?;
+    d.set_item("level_steps", to_py(py, &steps)?)?;
+    d.set_item("level_tips", points(py, &tips)?)?;
     d.set_item("extrapolated", r.is_extrapolated())?;
+    d.set_item("extrapolation", to_py(py, &r.extrapolation())?)?;
     d.set_item("tip", array1(py, r.tip.to_vec()))?;
     d.set_item("end_angle", r.end_angle)?;
     Ok(d)

@@ -118,8 +118,8 @@ def test_finger_equals_fpc_finger_json(fpc_bin, flags, finger, load):
     if "refinement" in want:
         r, w = got["refinement"], want["refinement"]
         assert_same(
-            {**r, "tip_mm": r["tip"], "end_angle_rad": r["end_angle"]},
-            {**w, "tip": w["tip_mm"], "end_angle": w["end_angle_rad"]},
+            {**r, "tip_mm": r["tip"], "end_angle_rad": r["end_angle"], "level_tips_mm": r["level_tips"]},
+            {**w, "tip": w["tip_mm"], "end_angle": w["end_angle_rad"], "level_tips": w["level_tips_mm"]},
         )
     else:
         assert got["refinement"] is None

@@ -16,8 +16,8 @@ mod report;
 mod tests;
 
 use figure::shape_figure;
+pub(crate) use report::{refinement_lines, solver_lines, stability_line, validity_line};
 use report::{shape_csv, solution_file, summary, uncertainty_lines};
-pub(crate) use report::{stability_line, validity_line};
 
 /// Flags of `fpc solve`.
 #[derive(clap::Args, Debug)]

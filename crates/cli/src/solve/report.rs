@@ -1,8 +1,9 @@
 //! The text outputs of `fpc solve`: `solution.json`, `shape.csv` and the
 //! terminal summary.
 
+use fpc::plan::RefinementRecord;
 use fpc::scene::{degrees, SceneFile, SceneSolution, SolutionRecord, Uncertainty};
-use fpc::Solution;
+use fpc::{Solution, Solved};
 use serde::Serialize;
 
 // ------------------------------------------------------------ solution.json
@@ -133,12 +134,7 @@ pub(super) fn summary(
                 sol.tip[1],
                 sol.end_angle.to_degrees()
             )?;
-            if let Some(e) = solved.estimated_tip_error_mm() {
-                writeln!(
-                    out,
-                    "tip accuracy   estimated error {e:.2e} mm at N = {elements}"
-                )?;
-            }
+            refinement_lines(out, solved)?;
             match sol.radius {
                 Some(r) => writeln!(out, "radius (fit)   {r:.3} mm")?,
                 None if sol.points.is_empty() => {}
@@ -197,13 +193,74 @@ pub(super) fn summary(
             }
         }
     }
-    writeln!(
-        out,
-        "solver         {} iterations, relative residual {:.2e}",
-        sol.report.iterations, sol.report.residual_norm
-    )?;
-    writeln!(out, "steps          {}", sol.report.steps)?;
+    let refinement = match solved {
+        SceneSolution::Finger(s) => s.refinement.as_ref(),
+        SceneSolution::Gripper { .. } => None,
+    };
+    solver_lines(out, sol, refinement)
+}
+
+/// `tip (extrap.)` and `tip accuracy`: a refinement's extrapolated tip
+/// and how, and which tip its error estimate is of.
+pub(crate) fn refinement_lines(
+    out: &mut impl std::io::Write,
+    solved: &Solved,
+) -> std::io::Result<()> {
+    if let Some(how) = solved.refinement.as_ref().and_then(|r| r.extrapolation()) {
+        writeln!(
+            out,
+            "tip (extrap.)  X = {:.4} mm, Z = {:.4} mm ({})",
+            solved.tip()[0],
+            solved.tip()[1],
+            how.describe()
+        )?;
+    }
+    if let Some(e) = solved.estimated_tip_error_mm() {
+        let of = if solved.is_extrapolated() {
+            "the extrapolated tip".to_string()
+        } else {
+            format!("the finest level's tip, N = {}", solved.elements())
+        };
+        writeln!(out, "tip accuracy   estimated error {e:.2e} mm (of {of})")?;
+    }
     Ok(())
+}
+
+/// `solver` and `steps`: the iterations, residual and where the
+/// iterations went. With several refinement levels, the levels' together
+/// (the finest level's final solve, from its own converged state, often
+/// takes none) and the finest level's share.
+pub(crate) fn solver_lines(
+    out: &mut impl std::io::Write,
+    sol: &Solution,
+    refinement: Option<&RefinementRecord>,
+) -> std::io::Result<()> {
+    let system = if sol.report.coupled {
+        "coupled system"
+    } else {
+        "decoupled elements"
+    };
+    let residual = sol.report.residual_norm;
+    match refinement.filter(|r| r.levels.len() > 1) {
+        Some(r) => {
+            let finest = r.levels.last().map_or(0, |l| l.iterations);
+            writeln!(
+                out,
+                "solver         {} iterations over {} levels ({finest} at the finest), relative residual {residual:.2e}, {system}",
+                r.iterations(),
+                r.levels.len(),
+            )?;
+            writeln!(out, "steps          {} (all levels)", r.steps())
+        }
+        None => {
+            writeln!(
+                out,
+                "solver         {} iterations, relative residual {residual:.2e}, {system}",
+                sol.report.iterations
+            )?;
+            writeln!(out, "steps          {}", sol.report.steps)
+        }
+    }
 }
 
 /// The verdict's four parts in one line: the rules, the findings, the

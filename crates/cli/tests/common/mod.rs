@@ -91,3 +91,51 @@ pub fn rejected(args: &[&str], parts: &[&str]) {
         assert!(line.contains(p), "fpc {args:?}: {line} lacks {p:?}");
     }
 }
+
+/// A `refinement` object (of `fpc finger --json` or a scene's
+/// `solution.json`) checked against its own levels: one entry per level in
+/// every per-level list, each level's steps adding up to its iterations,
+/// and the best tip the one its `extrapolation` names, redone here from
+/// the levels' tips (`last_two`: `t_n + (t_n - t_n-1) / 3`; `last_three`:
+/// `(8 t_n - 6 t_n-1 + t_n-2) / 3`; none: the finest level's).
+pub fn check_refinement(r: &serde_json::Value) {
+    let list = |key: &str| r[key].as_array().unwrap_or_else(|| panic!("{key}: {r}"));
+    let levels = list("levels").len();
+    for key in ["level_iterations", "level_steps", "level_tips_mm"] {
+        assert_eq!(list(key).len(), levels, "{key}: {r}");
+    }
+    for (it, st) in list("level_iterations").iter().zip(list("level_steps")) {
+        let phases: u64 = ["element", "coupled", "continuation"]
+            .iter()
+            .map(|k| st[k].as_u64().unwrap())
+            .sum();
+        assert_eq!(it.as_u64(), Some(phases), "{r}");
+    }
+    let tips: Vec<[f64; 2]> = list("level_tips_mm")
+        .iter()
+        .map(|t| [t[0].as_f64().unwrap(), t[1].as_f64().unwrap()])
+        .collect();
+    let t = |back: usize| tips[levels - 1 - back];
+    let want: [f64; 2] = match r["extrapolation"].as_str() {
+        None => {
+            assert_eq!(r["extrapolated"], false, "{r}");
+            t(0)
+        }
+        Some("last_two") => {
+            assert_eq!(levels, 2, "{r}");
+            std::array::from_fn(|c| t(0)[c] + (t(0)[c] - t(1)[c]) / 3.0)
+        }
+        Some("last_three") => {
+            assert!(levels >= 3, "{r}");
+            std::array::from_fn(|c| (8.0 * t(0)[c] - 6.0 * t(1)[c] + t(2)[c]) / 3.0)
+        }
+        Some(other) => panic!("unknown extrapolation {other}"),
+    };
+    for (c, w) in want.iter().enumerate() {
+        let got = r["tip_mm"][c].as_f64().unwrap();
+        assert!(
+            (got - w).abs() <= 1e-9 * w.abs().max(1.0),
+            "{got} vs {w}: {r}"
+        );
+    }
+}

@@ -281,6 +281,7 @@ fn converged_levels(
             tip: sol.tip,
             end_angle: sol.end_angle,
             iterations: sol.report.iterations,
+            steps: sol.report.steps,
         });
         prev = Some(sol.coefficients);
     }
