@@ -363,10 +363,22 @@ impl FromStr for SceneKey {
             }
         });
         found.ok_or_else(|| {
+            // a key whose last step is the one written (`actuator.eps0`
+            // for `actuator.pemc.eps0`) before any other near spelling
+            let last = |k: &str| -> String {
+                let step = k.rsplit('.').next().unwrap_or(k);
+                step.split('[').next().unwrap_or(step).to_string()
+            };
+            let written = last(text);
             let nearest = all
                 .iter()
                 .map(|k| k.to_string())
-                .min_by_key(|k| edit_distance(k, text))
+                .min_by_key(|k| {
+                    (
+                        written.is_empty() || last(k) != written,
+                        edit_distance(k, text),
+                    )
+                })
                 .unwrap_or_default();
             InputError::Unrecognised {
                 field: Field::key("scene key"),
@@ -409,6 +421,11 @@ mod tests {
             ("load.fx[2]", "load.fx"),
             ("calibration.parameters[3]", "calibration.parameters[0]"),
             ("", "solve"),
+            // the last step as written, in another table
+            ("actuator.eps0", "actuator.pemc.eps0"),
+            ("eps0", "actuator.pemc.eps0"),
+            ("fx", "load.fx"),
+            ("grasp.d_mm", "gripper.grasp.d_mm"),
         ] {
             let e = text.parse::<SceneKey>().unwrap_err();
             assert!(
