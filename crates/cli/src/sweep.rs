@@ -136,10 +136,15 @@ struct Row {
     /// `ok`, `failed` (the solve did not converge) or `rejected` (the
     /// scene is invalid at this point).
     status: &'static str,
+    /// The tip and end angle; with a tip tolerance the refinement's best
+    /// (extrapolated) ones, which `tip_error_mm` is of.
     tip_x_mm: Option<f64>,
     tip_z_mm: Option<f64>,
     end_angle_deg: Option<f64>,
+    /// With a tip tolerance: the estimated error of the tip (mm).
+    tip_error_mm: Option<f64>,
     elements: Option<usize>,
+    /// Newton iterations; with a tip tolerance, over every level.
     iterations: Option<usize>,
     residual: Option<f64>,
     stable: Option<bool>,
@@ -162,6 +167,7 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
         tip_x_mm: None,
         tip_z_mm: None,
         end_angle_deg: None,
+        tip_error_mm: None,
         elements: None,
         iterations: None,
         residual: None,
@@ -181,11 +187,25 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
         }
         Ok(s) => {
             let sol = s.solution();
-            out.tip_x_mm = Some(sol.tip[0]);
-            out.tip_z_mm = Some(sol.tip[1]);
-            out.end_angle_deg = Some(sol.end_angle.to_degrees());
+            let (tip, end_angle, iterations) = match s {
+                SceneSolution::Finger(f) => (
+                    f.tip(),
+                    f.end_angle(),
+                    f.refinement
+                        .as_ref()
+                        .map_or(sol.report.iterations, |r| r.iterations()),
+                ),
+                SceneSolution::Gripper { .. } => (sol.tip, sol.end_angle, sol.report.iterations),
+            };
+            out.tip_x_mm = Some(tip[0]);
+            out.tip_z_mm = Some(tip[1]);
+            out.end_angle_deg = Some(end_angle.to_degrees());
+            out.tip_error_mm = match s {
+                SceneSolution::Finger(f) => f.estimated_tip_error_mm(),
+                SceneSolution::Gripper { .. } => None,
+            };
             out.elements = Some(s.elements());
-            out.iterations = Some(sol.report.iterations);
+            out.iterations = Some(iterations);
             out.residual = Some(sol.report.residual_norm);
             out.stable = sol.stable;
             let warnings = s.warnings();
@@ -280,6 +300,7 @@ fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
             "tip_x_mm",
             "tip_z_mm",
             "end_angle_deg",
+            "tip_error_mm",
             "elements",
             "iterations",
             "residual",
@@ -303,6 +324,7 @@ fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
         rec.push(num(r.tip_x_mm));
         rec.push(num(r.tip_z_mm));
         rec.push(num(r.end_angle_deg));
+        rec.push(text(r.tip_error_mm.map(|v| format!("{v:.3e}"))));
         rec.push(text(r.elements.map(|v| v.to_string())));
         rec.push(text(r.iterations.map(|v| v.to_string())));
         rec.push(text(r.residual.map(|v| format!("{v:.3e}"))));

@@ -101,6 +101,59 @@ fn a_grid_matches_single_solves_point_by_point() {
     assert_eq!(json["provenance"]["command"][1], "sweep");
 }
 
+/// A scene refined to a tip tolerance: each row's tip is the refinement's
+/// best (extrapolated) tip, the one its `tip_error_mm` is of, and its
+/// iterations are those of every level, as `fpc finger --json` at the same
+/// point reports them (there cold, in the sweep from the row before).
+#[test]
+fn a_tip_tolerance_row_gives_the_tip_its_estimate_is_of() {
+    let tmp = TempDir::new("tolerance");
+    let scene = tmp.file(
+        "tol.toml",
+        b"[partition]\ntip_tol_mm = 0.05\n[load]\npressure_kpa = 50.0\nfz = 0.2\n",
+    );
+    let out = tmp.0.join("out");
+    let o = sweep(&scene, &out, &["load.fx=0.3,0.5"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let h = header(&out);
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    for (i, r) in rows(&out).iter().enumerate() {
+        let single = fpc(&[
+            "finger",
+            "--pressure-kpa",
+            "50",
+            "--fx",
+            &r[0],
+            "--fz",
+            "0.2",
+            "--tip-tol-mm",
+            "0.05",
+            "--json",
+        ]);
+        assert!(single.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&single.stdout).unwrap();
+        let best = &v["refinement"]["tip_mm"];
+        for (k, name) in ["tip_x_mm", "tip_z_mm"].iter().enumerate() {
+            let got: f64 = r[col(name)].parse().unwrap();
+            assert!(
+                (got - best[k].as_f64().unwrap()).abs() <= 1e-6,
+                "{r:?}: {v}"
+            );
+        }
+        let estimate: f64 = r[col("tip_error_mm")].parse().unwrap();
+        let want = v["tip_error_estimate_mm"].as_f64().unwrap();
+        assert!((estimate / want - 1.0).abs() < 1e-3, "{estimate} vs {want}");
+        // the first row starts cold, as the single solve does
+        let iterations: u64 = r[col("iterations")].parse().unwrap();
+        let levels = v["refinement"]["level_iterations"].as_array().unwrap();
+        let total: u64 = levels.iter().map(|l| l.as_u64().unwrap()).sum();
+        assert!(
+            iterations > 0 && (i > 0 || iterations == total),
+            "{r:?}: {v}"
+        );
+    }
+}
+
 /// A scene with two explicit ribs, the first `width` mm wide.
 fn ribbed(width: &str) -> String {
     format!(
