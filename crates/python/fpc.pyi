@@ -113,7 +113,7 @@ class FingerSolution(TypedDict):
     report: Report
     elements: int
     model: str
-    tip_error_estimate: Optional[float]  # mm, with tip_tol_mm
+    tip_error_estimate: Optional[float]  # mm, with tip_tol_mm: of refinement["tip"]
     refinement: Optional[Refinement]
 
 class Finger:

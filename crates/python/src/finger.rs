@@ -657,7 +657,10 @@ impl Finger {
     /// - ``report``: ``{reason, iterations, residual_norm, evaluations,
     ///   coupled, continuation_steps}``;
     /// - ``elements``, ``model``;
-    /// - ``tip_error_estimate`` (mm) and ``refinement`` (with ``tip_tol_mm``).
+    /// - ``tip_error_estimate`` (mm) and ``refinement`` (with ``tip_tol_mm``):
+    ///   the estimate is of ``refinement["tip"]``, the extrapolated tip when
+    ///   ``refinement["extrapolation"]`` is set; ``tip`` and the keys above
+    ///   are the finest level's.
     ///
     /// Arguments left as None take the finger's defaults: 0 kPa, no tip
     /// force, kappa 2.5 (or a scene's). ``tip_tol_mm`` refines until the
