@@ -363,6 +363,7 @@ class BatchResult(TypedDict):
     kappa: FloatArray
     tip: FloatArray  # (M, 2), mm
     end_angle: FloatArray  # (M,), rad
+    tip_error: FloatArray  # (M,), mm: of tip with tip_tol_mm (then the extrapolated tip), else NaN
     status: npt.NDArray[np.int8]  # BATCH_STATUS[code]
     residual: FloatArray
     iterations: npt.NDArray[np.int64]

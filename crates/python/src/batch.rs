@@ -20,7 +20,7 @@ use rayon::prelude::*;
 use fpc::finger::Solver;
 use fpc::{
     Actuator, Coefficients, InputError, Load, ModelId, Plan, PlannedFinger, SolveError,
-    SolveOptions,
+    SolveOptions, Solved,
 };
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -68,6 +68,8 @@ pub struct Outcome {
     pub status: u8,
     pub tip: [f64; 2],
     pub end_angle: f64,
+    /// A tip tolerance's estimated error of `tip` (mm; NaN without one).
+    pub tip_error: f64,
     pub residual: f64,
     pub iterations: usize,
     pub valid: bool,
@@ -81,6 +83,7 @@ impl Outcome {
             status,
             tip: [f64::NAN; 2],
             end_angle: f64::NAN,
+            tip_error: f64::NAN,
             residual: f64::NAN,
             iterations: 0,
             valid: false,
@@ -95,6 +98,7 @@ impl Outcome {
                 status: 0,
                 tip: s.tip,
                 end_angle: s.end_angle,
+                tip_error: f64::NAN,
                 residual: s.report.residual_norm,
                 iterations: s.report.iterations,
                 valid: s.is_within_model(),
@@ -116,6 +120,22 @@ impl Outcome {
                 o
             }
         }
+    }
+
+    /// The outcome of a planned solve: with a refinement, its best tip
+    /// and end angle (extrapolated where the plan extrapolates), their
+    /// estimated error and the iterations of every level.
+    fn of_planned(r: Result<Solved, SolveError>) -> Outcome {
+        let Ok(s) = r else {
+            return Outcome::of(r.map(|s| s.solution));
+        };
+        let (tip, end_angle) = (s.tip(), s.end_angle());
+        let tip_error = s.estimated_tip_error_mm().unwrap_or(f64::NAN);
+        let levels = s.refinement.as_ref().map(|r| r.iterations());
+        let mut o = Outcome::of(Ok(s.solution));
+        (o.tip, o.end_angle, o.tip_error) = (tip, end_angle, tip_error);
+        o.iterations = levels.unwrap_or(o.iterations);
+        o
     }
 
     fn panicked(message: String) -> Outcome {
@@ -302,13 +322,13 @@ fn solve_chunk(
                     }
                 };
                 let r = guarded(|| match planned {
-                    Ok(f) => f.solve(&l, &cfg.options).map(|s| s.solution),
+                    Ok(f) => f.solve(&l, &cfg.options),
                     Err(e) => Err(e.clone().into()),
                 });
                 out.push((
                     i,
                     match r {
-                        Ok(r) => Outcome::of(r),
+                        Ok(r) => Outcome::of_planned(r),
                         Err(p) => Outcome::panicked(p),
                     },
                 ));
@@ -443,9 +463,13 @@ fn config(
 ///
 /// Returns: ``shape`` (tuple), the inputs flattened (``eps0``,
 /// ``pressure_kpa``, ``fx``, ``fz``, ``kappa``), ``tip`` (M x 2, mm),
-/// ``end_angle`` (rad), ``status`` (int8: 0 ok, 1 input_error,
+/// ``end_angle`` (rad), ``tip_error`` (mm: with ``tip_tol_mm`` the
+/// estimated error of ``tip``, which is then the refinement's best,
+/// extrapolated tip, as ``Finger.solve``'s ``refinement["tip"]``; NaN
+/// without), ``status`` (int8: 0 ok, 1 input_error,
 /// 2 not_converged, 3 internal_error; names in ``fpc.BATCH_STATUS``),
-/// ``residual`` (relative, also for not_converged), ``iterations``,
+/// ``residual`` (relative, also for not_converged), ``iterations`` (with
+/// ``tip_tol_mm``, over every level),
 /// ``valid`` (solved and within the model), ``elements`` and ``error``
 /// (list of messages, "" where solved). Failed points have NaN tips.
 ///
@@ -516,12 +540,14 @@ pub fn batch_solve<'py>(
     let m = outcomes.len();
     let mut tip = Vec::with_capacity(2 * m);
     let (mut end_angle, mut residual) = (Vec::with_capacity(m), Vec::with_capacity(m));
+    let mut tip_error = Vec::with_capacity(m);
     let (mut status, mut iterations) = (Vec::with_capacity(m), Vec::with_capacity(m));
     let (mut valid, mut elements) = (Vec::with_capacity(m), Vec::with_capacity(m));
     let mut errors = Vec::with_capacity(m);
     for o in outcomes {
         tip.extend(o.tip);
         end_angle.push(o.end_angle);
+        tip_error.push(o.tip_error);
         residual.push(o.residual);
         status.push(o.status as i8);
         iterations.push(o.iterations as i64);
@@ -531,6 +557,7 @@ pub fn batch_solve<'py>(
     }
     d.set_item("tip", array2(py, tip, 2)?)?;
     d.set_item("end_angle", array1(py, end_angle))?;
+    d.set_item("tip_error", array1(py, tip_error))?;
     d.set_item("status", PyArray1::from_vec(py, status))?;
     d.set_item("residual", array1(py, residual))?;
     d.set_item("iterations", PyArray1::from_vec(py, iterations))?;

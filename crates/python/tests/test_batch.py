@@ -102,11 +102,16 @@ def test_elements_auto_tip_tolerance_model_and_actuator():
         s = f.solve(pressure_kpa=p)
         np.testing.assert_array_equal(r["tip"][i], s["tip"])
         assert r["elements"][i] == s["elements"]
-    # a refinement re-solves its finest level when the shape or the
-    # eigenvalues are asked for: the batch's are not
+    # with a tip tolerance the batch gives the refinement's best tip, the
+    # one the tolerance is about, with its estimate and every level's
+    # iterations (and no re-solve of the finest level for the shape or the
+    # eigenvalues: the refinement is the same)
     r = fpc.batch_solve(fx=[0.1, 0.2], tip_tol_mm=0.5)
     s = fpc.Finger().solve(fx=0.2, tip_tol_mm=0.5, shape=False, stability=False)
-    np.testing.assert_array_equal(r["tip"][1], s["tip"])
+    np.testing.assert_array_equal(r["tip"][1], s["refinement"]["tip"])
+    assert r["tip_error"][1] == s["tip_error_estimate"] <= 0.5
+    assert r["iterations"][1] == sum(s["refinement"]["level_iterations"])
+    assert np.isnan(fpc.batch_solve(fx=0.2)["tip_error"][0])
     r = fpc.batch_solve(fx=0.2, model="quad", elements=6, lx=100.0, cx=95.0)
     s = fpc.Finger(model="quad", elements=6, lx=100.0, cx=95.0).solve(fx=0.2)
     np.testing.assert_array_equal(r["tip"][0], s["tip"])
