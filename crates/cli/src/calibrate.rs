@@ -15,6 +15,7 @@ use fpc::calibrate::{
     calibrate, calibrated_scenes, choose_model, CalibrateOptions, Calibration, ModelChoice,
 };
 use fpc::measure::Manifest;
+use fpc::SolveError;
 use serde::Serialize;
 
 /// Flags of `fpc calibrate`.
@@ -46,6 +47,21 @@ pub struct Args {
     /// Print calibration.json's object instead of the summary.
     #[arg(long)]
     json: bool,
+}
+
+/// A calibration's error in the terms of the command line: the options
+/// the library names `fit` and `max_iterations` are the flags `--fit` and
+/// `--max-iterations` here.
+fn in_flag_terms(e: SolveError) -> SolveError {
+    let SolveError::Input(i) = e else {
+        return e;
+    };
+    let flag = match i.field().to_string().as_str() {
+        "fit" => "--fit",
+        "max_iterations" => "--max-iterations",
+        _ => return SolveError::Input(i),
+    };
+    SolveError::Input(i.renamed(fpc::Field::key(flag), |v| v))
 }
 
 #[derive(Serialize)]
@@ -88,9 +104,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
     let (_, out) =
         crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
-    let fit = calibrate(&manifest, &options)?;
+    let fit = calibrate(&manifest, &options).map_err(in_flag_terms)?;
     let model_choice = if args.choose_model {
-        Some(choose_model(&manifest, &options)?)
+        Some(choose_model(&manifest, &options).map_err(in_flag_terms)?)
     } else {
         None
     };

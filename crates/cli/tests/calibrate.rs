@@ -92,17 +92,17 @@ fn the_synthetic_set_is_calibrated_into_json_and_scenes() {
 }
 
 #[test]
-fn bad_options_exit_2_naming_the_field() {
+fn bad_options_exit_2_naming_the_flag() {
     let m = shipped();
     let bad = tmp("bad");
     let o = bad.path().display().to_string();
     rejected(
         &["calibrate", &m, "--fit", "nonsense", "--out", &o],
-        &["fit", "nonsense"],
+        &["--fit = `nonsense`"],
     );
     rejected(
         &["calibrate", &m, "--fit", "eps0,eps0", "--out", &o],
-        &["fit", "twice"],
+        &["--fit", "twice"],
     );
     rejected(
         &[
@@ -115,7 +115,7 @@ fn bad_options_exit_2_naming_the_field() {
             "--out",
             &o,
         ],
-        &["max_iterations"],
+        &["--max-iterations = 0"],
     );
     rejected(&["calibrate", &m, "--out", &o], &["--fit"]);
     rejected(
