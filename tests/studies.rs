@@ -275,6 +275,54 @@ fn study_options_are_validated() {
         ..base
     })
     .contains("study.pressure_points"));
+    // every count has an upper bound too, checked before any solve
+    use fpc::studies::{
+        MAX_ANGLE_SAMPLES, MAX_PRESSURE_POINTS, MAX_STUDY_ELEMENTS, MAX_SWEEP_POINTS,
+    };
+    for (o, field) in [
+        (
+            StudyOptions {
+                elements: MAX_STUDY_ELEMENTS + 1,
+                ..base
+            },
+            "study.elements",
+        ),
+        (
+            StudyOptions {
+                sweep_points: MAX_SWEEP_POINTS + 1,
+                ..base
+            },
+            "study.sweep_points",
+        ),
+        (
+            StudyOptions {
+                angle_samples: MAX_ANGLE_SAMPLES + 1,
+                ..base
+            },
+            "study.angle_samples",
+        ),
+        (
+            StudyOptions {
+                pressure_points: MAX_PRESSURE_POINTS + 1,
+                ..base
+            },
+            "study.pressure_points",
+        ),
+    ] {
+        assert!(
+            o.validate().unwrap_err().to_string().contains(field),
+            "{field}"
+        );
+        assert!(bad(o).contains(field), "{field}");
+    }
+    let at_bounds = StudyOptions {
+        elements: MAX_STUDY_ELEMENTS,
+        sweep_points: MAX_SWEEP_POINTS,
+        angle_samples: MAX_ANGLE_SAMPLES,
+        pressure_points: MAX_PRESSURE_POINTS,
+        ..base
+    };
+    assert_eq!(at_bounds.validate(), Ok(()));
 }
 
 /// Study 5's summary numbers against an independent dense evaluation of

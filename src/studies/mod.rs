@@ -45,7 +45,8 @@ pub use force_control::{
 pub use info::StudyInfo;
 pub use lift::{lift_curve, LiftCurve, LiftPoint, LiftSd};
 pub use options::{
-    section5_gripper, StudyOptions, SweepStop, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
+    section5_gripper, StudyOptions, SweepStop, MAX_ANGLE_SAMPLES, MAX_PRESSURE_POINTS,
+    MAX_STUDY_ELEMENTS, MAX_SWEEP_POINTS, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
     STUDY8_PRESSURES_KPA,
 };
 pub use output::{

@@ -24,6 +24,15 @@ pub const PAPER_OVERLAPS: [f64; 3] = [0.0, 10.0, 20.0];
 /// Pressures of study 8 (kPa).
 pub const STUDY8_PRESSURES_KPA: [f64; 4] = [0.0, 27.6, 55.2, 82.7];
 
+/// The most elements per finger in a study (a partition's own bound).
+pub const MAX_STUDY_ELEMENTS: usize = 1_000;
+/// The most `sweep_points` of a study (a sweep of grasp solves per curve).
+pub const MAX_SWEEP_POINTS: usize = 2_000;
+/// The most `angle_samples` of a study (grasping angles per sphere size).
+pub const MAX_ANGLE_SAMPLES: usize = 200;
+/// The most `pressure_points` of a study (finger solves per prestrain).
+pub const MAX_PRESSURE_POINTS: usize = 10_000;
+
 /// Resolution and shared settings of the studies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StudyOptions {
@@ -69,21 +78,33 @@ impl StudyOptions {
         }
     }
 
-    /// Checks every field.
+    /// Checks every field, the counts against their bounds
+    /// ([`MAX_STUDY_ELEMENTS`], [`MAX_SWEEP_POINTS`], [`MAX_ANGLE_SAMPLES`],
+    /// [`MAX_PRESSURE_POINTS`]) before any work.
     pub fn validate(&self) -> Result<(), InputError> {
-        let at_least = |field: &'static str, v: usize, min: usize| {
+        let within = |field: &'static str, v: usize, min: usize, max: usize| {
             require(
-                v >= min,
+                (min..=max).contains(&v),
                 crate::Field::key(field),
                 v as f64,
-                format!("must be at least {min}"),
+                format!("must lie in [{min}, {max}]"),
             )
         };
-        at_least("study.elements", self.elements, 1)?;
+        within("study.elements", self.elements, 1, MAX_STUDY_ELEMENTS)?;
         positive(crate::Field::key("study.mu"), self.mu)?;
-        at_least("study.sweep_points", self.sweep_points, 2)?;
-        at_least("study.angle_samples", self.angle_samples, 4)?;
-        at_least("study.pressure_points", self.pressure_points, 2)?;
+        within("study.sweep_points", self.sweep_points, 2, MAX_SWEEP_POINTS)?;
+        within(
+            "study.angle_samples",
+            self.angle_samples,
+            4,
+            MAX_ANGLE_SAMPLES,
+        )?;
+        within(
+            "study.pressure_points",
+            self.pressure_points,
+            2,
+            MAX_PRESSURE_POINTS,
+        )?;
         Ok(())
     }
 

@@ -153,7 +153,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         elements: args.elements.or(scene_elements).unwrap_or(base.elements),
         ..base
     };
-    opts.validate()?;
+    // (the one study option a flag sets is named by it)
+    opts.validate().map_err(|e| {
+        if args.elements.is_some() && e.field() == "study.elements" {
+            e.renamed(fpc::Field::key("--elements"), |v| v)
+        } else {
+            e
+        }
+    })?;
     // every input checked: only now the output directory
     crate::output::prepare_dir(&args.out)?;
     for w in act.warnings() {

@@ -549,6 +549,30 @@ fn paper_rejects_a_file_as_output_directory() {
     assert_eq!(std::fs::read_dir(base).unwrap().count(), 1);
 }
 
+/// An element count beyond a study's bound is refused before any study
+/// runs, under the flag's name (it used to run all eight studies, each
+/// failing on `partition.n`), and nothing is written.
+#[test]
+fn paper_rejects_too_many_elements_before_any_work() {
+    let scratch = tmp("elements");
+    let out_dir = scratch.path().join("out");
+    for n in ["0", "100000"] {
+        let out = fpc()
+            .args(["paper", "--coarse", "--elements", n, "--out"])
+            .arg(&out_dir)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "an input error");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains(&format!("--elements = {n}: must lie in [1, 1000]")),
+            "{stderr}"
+        );
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(!out_dir.exists());
+    }
+}
+
 /// Every expected file of a run is there and complete: JSON that parses,
 /// CSV rows as wide as their header, SVG and HTML documents that close.
 fn assert_complete(dir: &Path) {

@@ -10,7 +10,7 @@ use fpc::studies::{StudyInfo, STUDIES};
 use fpc::StudyOptions;
 
 use crate::convert::{json_to_py, to_py};
-use crate::errors::{at_most, from_input, from_solve, input_error, interruptible};
+use crate::errors::{from_input, from_solve, input_error, interruptible};
 use crate::finger::actuator_from_kwargs;
 
 /// The study `study` names: its number (1 to 8) or its key.
@@ -84,15 +84,10 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
     np.call_method1("array", (PyList::new(py, items)?, "object"))
 }
 
-/// The most `sweep_points` of a study (a sweep of grasp solves per curve).
-pub const MAX_SWEEP_POINTS: usize = 2_000;
-/// The most `angle_samples` of a study (grasping angles per sphere size).
-pub const MAX_ANGLE_SAMPLES: usize = 200;
 /// The most `sweep_points` x `angle_samples` of a study that uses both
-/// (study 5: about a minute at the bound).
+/// (study 5: about a minute at the bound; each count alone is bounded by
+/// `StudyOptions::validate`).
 pub const MAX_SWEEP_BY_ANGLE: usize = 100_000;
-/// The most `pressure_points` of a study (finger solves per prestrain).
-pub const MAX_PRESSURE_POINTS: usize = 10_000;
 
 /// The options of `run_study` that only some studies use, and the studies
 /// (by number) that use each: any other study refuses them.
@@ -210,24 +205,6 @@ pub fn run_study<'py>(
     opts.pressure_points = pressure_points.unwrap_or(base.pressure_points);
     opts.strict = strict.unwrap_or(base.strict);
     opts.validate().map_err(|e| from_input(py, &e))?;
-    at_most(
-        py,
-        "study.sweep_points",
-        opts.sweep_points,
-        MAX_SWEEP_POINTS,
-    )?;
-    at_most(
-        py,
-        "study.angle_samples",
-        opts.angle_samples,
-        MAX_ANGLE_SAMPLES,
-    )?;
-    at_most(
-        py,
-        "study.pressure_points",
-        opts.pressure_points,
-        MAX_PRESSURE_POINTS,
-    )?;
     let uses = |name: &str| {
         STUDY_OPTIONS
             .iter()
