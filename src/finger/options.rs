@@ -18,12 +18,18 @@ pub enum Strategy {
 /// Largest number of mid-plane samples per element.
 pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
 
+/// Largest Newton iteration limit per solve ([`SolveOptions::max_iter`]):
+/// far above what a solve that converges takes (tens), and a bound on the
+/// time one that does not can spend.
+pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
+
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveOptions {
     /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
     pub rtol: f64,
-    /// Newton iteration limit per solve.
+    /// Newton iteration limit per solve (at most
+    /// [`MAX_NEWTON_ITERATIONS`]).
     pub max_iter: usize,
     /// Decoupled or coupled path.
     pub strategy: Strategy,
@@ -74,11 +80,11 @@ impl SolveOptions {
     pub(crate) fn validate(&self) -> Result<(), InputError> {
         positive(crate::Field::SolveRtol, self.rtol)?;
         positive(crate::Field::SolveMaxStep, self.max_step)?;
-        if self.max_iter == 0 {
+        if !(1..=MAX_NEWTON_ITERATIONS).contains(&self.max_iter) {
             return Err(InputError::OutOfRange {
                 field: crate::Field::SolveMaxIter,
-                value: 0.0,
-                rule: "must be at least 1".into(),
+                value: self.max_iter as f64,
+                rule: format!("must lie in [1, {MAX_NEWTON_ITERATIONS}]"),
             });
         }
         if self.shape && !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&self.samples_per_element) {

@@ -110,7 +110,16 @@ fn solve_options_are_checked() {
             SolveOptions { max_iter: 0, ..d },
             "solve.max_iter",
             0.0,
-            "must be at least 1",
+            "must lie in [1, 10000]",
+        ),
+        (
+            SolveOptions {
+                max_iter: fpc::finger::MAX_NEWTON_ITERATIONS + 1,
+                ..d
+            },
+            "solve.max_iter",
+            10_001.0,
+            "must lie in [1, 10000]",
         ),
         (
             SolveOptions {

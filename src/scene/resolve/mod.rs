@@ -257,20 +257,15 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
             continuation: s.continuation.unwrap_or(d.continuation),
             max_step: s.max_step.unwrap_or(d.max_step),
         };
-        positive(SolveKey::Rtol, o.rtol)?;
-        positive(SolveKey::MaxStep, o.max_step)?;
-        require(
-            o.max_iter >= 1,
-            SolveKey::MaxIter,
-            o.max_iter as f64,
-            "must be at least 1",
-        )?;
+        // the scene's samples are checked even where the shape is not
+        // sampled (stricter than the solver), then the solver's own checks
         require(
             (1..=MAX_SAMPLES_PER_ELEMENT).contains(&o.samples_per_element),
             SolveKey::SamplesPerElement,
             o.samples_per_element as f64,
             format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
         )?;
+        o.validate().map_err(scene_input)?;
         file.solve = SolveSection {
             rtol: Some(o.rtol),
             max_iter: Some(o.max_iter),

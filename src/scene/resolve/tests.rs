@@ -364,6 +364,7 @@ fn validation_errors_name_the_toml_path() {
         ("[load]\nfx = inf", "load.fx"),
         ("[solve]\nrtol = 0", "solve.rtol"),
         ("[solve]\nmax_iter = 0", "solve.max_iter"),
+        ("[solve]\nmax_iter = 100000000", "solve.max_iter"),
         ("[solve]\nsamples_per_element = 0", "solve.samples_per_element"),
         ("[solve]\nsamples_per_element = 4097", "solve.samples_per_element"),
         (
