@@ -65,8 +65,11 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
     let (key, values) = spec
         .split_once('=')
         .ok_or_else(|| format!("--vary {spec}: expected KEY=FROM:TO:COUNT or KEY=V1,V2,..."))?;
-    let key: SceneKey = key.parse().map_err(|e: fpc::InputError| {
-        format!("--vary {spec}: {}", e.renamed("--vary".to_string(), |v| v))
+    let key: SceneKey = key.parse().map_err(|e: fpc::InputError| match e {
+        fpc::InputError::Unrecognised { value, rule, .. } => {
+            format!("--vary {spec}: `{value}` is {rule}")
+        }
+        e => format!("--vary {spec}: {e}"),
     })?;
     let kind = key.value();
     if !kind.takes_number() {

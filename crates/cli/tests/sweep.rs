@@ -280,7 +280,7 @@ fn bad_flags_are_rejected() {
         ("load.fx=a", "is not a number"),
         (
             "load.fxx=1,2",
-            "--vary = `load.fxx`: not a key of a scene file (the nearest is `load.fx`)",
+            "--vary load.fxx=1,2: `load.fxx` is not a key of a scene file (the nearest is `load.fx`)",
         ),
         (
             "model.name=0:1:3",
