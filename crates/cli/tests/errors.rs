@@ -6,7 +6,7 @@
 //! and the rule (or the solver's reason).
 //!
 //! `fpc solve` on bad scene files is in tests/solve.rs, `fpc paper`'s
-//! output directory in tests/paper.rs.
+//! output directory in tests/paper/directory.rs.
 
 mod common;
 
