@@ -50,7 +50,9 @@
 
 use std::sync::{Arc, Mutex, PoisonError};
 
-use super::refinement::{Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS};
+use super::refinement::{
+    Extrapolation, Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS,
+};
 use super::solved::Solved;
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
@@ -121,19 +123,21 @@ fn estimate(plan: &Refinement, levels: &[Level]) -> ([f64; 2], f64, Option<f64>)
         (last, None)
     } else {
         let change = tip_dist(&v[n - 1], &v[n - 2]);
-        match (plan.partition, plan.extrapolate, n) {
+        match (plan.partition, Extrapolation::of(plan, n), n) {
             (PartitionKind::Equal, _, 2) => (last, None),
             (PartitionKind::Equal, _, _) => {
                 let before = tip_dist(&v[n - 2], &v[n - 3]);
                 (last, Some(3.0 * change.max(before / 2.0)))
             }
-            (PartitionKind::Material, true, 2) => (r2(&v), Some(change / 3.0)),
-            (PartitionKind::Material, true, _) => {
+            (PartitionKind::Material, Some(Extrapolation::LastTwo), _) => {
+                (r2(&v), Some(change / 3.0))
+            }
+            (PartitionKind::Material, Some(Extrapolation::LastThree), _) => {
                 let (t, est) = t3_estimate(&v);
                 (t, Some(est))
             }
-            (PartitionKind::Material, false, 2) => (last, Some(change / 2.0)),
-            (PartitionKind::Material, false, _) => {
+            (PartitionKind::Material, None, 2) => (last, Some(change / 2.0)),
+            (PartitionKind::Material, None, _) => {
                 let (t, est) = t3_estimate(&v);
                 (last, Some(tip_dist(&last, &t) + est))
             }
@@ -617,7 +621,6 @@ impl Auto {
 
 #[cfg(test)]
 mod tests {
-    use super::super::refinement::Extrapolation;
     use super::*;
     use crate::finger::StepCounts;
 

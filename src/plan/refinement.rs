@@ -221,6 +221,17 @@ pub enum Extrapolation {
 }
 
 impl Extrapolation {
+    /// The extrapolation of `plan` once `levels` levels are solved (the
+    /// one place that decides it): none unless the plan extrapolates and
+    /// two levels are there.
+    pub(crate) fn of(plan: &Refinement, levels: usize) -> Option<Extrapolation> {
+        match levels {
+            _ if !plan.extrapolate || levels < 2 => None,
+            2 => Some(Extrapolation::LastTwo),
+            _ => Some(Extrapolation::LastThree),
+        }
+    }
+
     /// What was removed from which levels, in words.
     pub fn describe(self) -> &'static str {
         match self {
@@ -252,17 +263,13 @@ pub struct RefinementRecord {
 impl RefinementRecord {
     /// True when the tip is extrapolated.
     pub fn is_extrapolated(&self) -> bool {
-        self.plan.extrapolate && self.levels.len() >= 2
+        self.extrapolation().is_some()
     }
 
     /// How the tip was extrapolated: from the last two levels with two,
     /// from the last three with more; `None` when it was not.
     pub fn extrapolation(&self) -> Option<Extrapolation> {
-        match self.levels.len() {
-            _ if !self.is_extrapolated() => None,
-            2 => Some(Extrapolation::LastTwo),
-            _ => Some(Extrapolation::LastThree),
-        }
+        Extrapolation::of(&self.plan, self.levels.len())
     }
 
     /// Newton iterations over every level.

@@ -70,6 +70,15 @@ impl Solved {
             .and_then(|r| r.estimated_tip_error_mm)
     }
 
+    /// Newton iterations: over every level of a refinement (whose finest
+    /// level's final solve, from its own converged state, often takes
+    /// none), else the solution's.
+    pub fn iterations(&self) -> usize {
+        self.refinement
+            .as_ref()
+            .map_or(self.solution.report.iterations, |r| r.iterations())
+    }
+
     /// True when [`Solved::tip`] is extrapolated.
     pub fn is_extrapolated(&self) -> bool {
         self.refinement

@@ -56,10 +56,12 @@ fn in_flag_terms(e: SolveError) -> SolveError {
     let SolveError::Input(i) = e else {
         return e;
     };
-    let flag = match i.field().to_string().as_str() {
-        "fit" => "--fit",
-        "max_iterations" => "--max-iterations",
-        _ => return SolveError::Input(i),
+    let flag = if i.field() == "fit" {
+        "--fit"
+    } else if i.field() == "max_iterations" {
+        "--max-iterations"
+    } else {
+        return SolveError::Input(i);
     };
     SolveError::Input(i.renamed(fpc::Field::key(flag), |v| v))
 }

@@ -190,23 +190,21 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
         }
         Ok(s) => {
             let sol = s.solution();
-            let (tip, end_angle, iterations) = match s {
+            let (tip, end_angle, tip_error, iterations) = match s {
                 SceneSolution::Finger(f) => (
                     f.tip(),
                     f.end_angle(),
-                    f.refinement
-                        .as_ref()
-                        .map_or(sol.report.iterations, |r| r.iterations()),
+                    f.estimated_tip_error_mm(),
+                    f.iterations(),
                 ),
-                SceneSolution::Gripper { .. } => (sol.tip, sol.end_angle, sol.report.iterations),
+                SceneSolution::Gripper { .. } => {
+                    (sol.tip, sol.end_angle, None, sol.report.iterations)
+                }
             };
             out.tip_x_mm = Some(tip[0]);
             out.tip_z_mm = Some(tip[1]);
             out.end_angle_deg = Some(end_angle.to_degrees());
-            out.tip_error_mm = match s {
-                SceneSolution::Finger(f) => f.estimated_tip_error_mm(),
-                SceneSolution::Gripper { .. } => None,
-            };
+            out.tip_error_mm = tip_error;
             out.elements = Some(s.elements());
             out.iterations = Some(iterations);
             out.residual = Some(sol.report.residual_norm);

@@ -129,12 +129,10 @@ impl Outcome {
         let Ok(s) = r else {
             return Outcome::of(r.map(|s| s.solution));
         };
-        let (tip, end_angle) = (s.tip(), s.end_angle());
+        let (tip, end_angle, iterations) = (s.tip(), s.end_angle(), s.iterations());
         let tip_error = s.estimated_tip_error_mm().unwrap_or(f64::NAN);
-        let levels = s.refinement.as_ref().map(|r| r.iterations());
         let mut o = Outcome::of(Ok(s.solution));
-        (o.tip, o.end_angle, o.tip_error) = (tip, end_angle, tip_error);
-        o.iterations = levels.unwrap_or(o.iterations);
+        (o.tip, o.end_angle, o.tip_error, o.iterations) = (tip, end_angle, tip_error, iterations);
         o
     }
 
