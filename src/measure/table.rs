@@ -262,15 +262,28 @@ pub(crate) fn read<R>(
         .position(|l| !l.trim().is_empty() && !l.starts_with('#'))
         .map_or(1, |i| i + 1);
     let known = columns(kind);
+    let names = || known.iter().map(|c| c.0).collect::<Vec<&str>>().join(", ");
+    if header.is_empty() {
+        return Err(MeasureError::at(
+            ctx.file,
+            header_line,
+            1,
+            "header",
+            format!(
+                "the file is empty: a {} test starts with a header of its columns ({})",
+                kind.name(),
+                names()
+            ),
+        ));
+    }
     let mut at: HashMap<&'static str, usize> = HashMap::new();
     for (i, name) in header.iter().enumerate() {
         let here = |reason: String| MeasureError::at(ctx.file, header_line, i + 1, name, reason);
         let Some(&(known_name, _)) = known.iter().find(|(n, _)| *n == name) else {
-            let list: Vec<&str> = known.iter().map(|c| c.0).collect();
             return Err(here(format!(
                 "unknown column for a {} test (its columns: {})",
                 kind.name(),
-                list.join(", ")
+                names()
             )));
         };
         if at.insert(known_name, i).is_some() {

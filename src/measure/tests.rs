@@ -111,6 +111,25 @@ fn unknown_and_repeated_columns_are_errors() {
     );
 }
 
+/// A file with no header (empty, or comments only) is refused with the
+/// columns it needs; a header without rows is a test with nothing measured
+/// yet (tests/measure.rs).
+#[test]
+fn a_file_without_a_header_is_an_error() {
+    for (tag, data) in [("empty", ""), ("comments", "# exported\n\n")] {
+        let e = rejected(
+            tag,
+            &one_test("radius", ""),
+            data,
+            ("data.csv", 1, 1, "header"),
+        );
+        assert!(
+            e.reason.contains("empty") && e.reason.contains("pressure_kpa, radius_mm, sd_mm"),
+            "{tag}: {e}"
+        );
+    }
+}
+
 #[test]
 fn nan_infinite_and_text_values_are_errors() {
     for (tag, v) in [

@@ -87,8 +87,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         } else {
             0.0
         },
-        counted(c.failed, "rows without a prediction"),
-        counted(c.outside_model, "rows predicted outside the model"),
+        counted(c.failed, rows(c.failed, "without a prediction")),
+        counted(
+            c.outside_model,
+            rows(c.outside_model, "predicted outside the model")
+        ),
     )?;
     let mut files = vec!["compare.csv".to_string(), "compare.json".to_string()];
     files.extend(report.figures);
@@ -96,8 +99,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `row what` for one row, `rows what` for any other count.
+fn rows(n: usize, what: &str) -> String {
+    format!("{} {what}", if n == 1 { "row" } else { "rows" })
+}
+
 /// `; N what` when N > 0.
-fn counted(n: usize, what: &str) -> String {
+fn counted(n: usize, what: impl std::fmt::Display) -> String {
     if n == 0 {
         String::new()
     } else {

@@ -99,3 +99,37 @@ fn bad_measurements_exit_2_naming_file_row_column_and_field() {
     let line = fails(&["compare", &m], 2);
     assert!(line.contains(&format!("{m}:2:8: manifest: ")), "{line}");
 }
+
+/// A row the model cannot predict (its solve fails) is counted, with the
+/// noun in the count's number, and the run still exits 0 with the other
+/// rows compared.
+#[test]
+fn rows_without_a_prediction_are_counted_in_words() {
+    let dir = tmp("failed");
+    let d = dir.path();
+    std::fs::write(
+        d.join("m.toml"),
+        "[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"radius\"\nfile = \"r.csv\"\n",
+    )
+    .unwrap();
+    let m = d.join("m.toml").display().to_string();
+    let o = d.join("out").display().to_string();
+    for (rows, count) in [
+        ("5000,50,1\n", "; 1 row without a prediction"),
+        ("5000,50,1\n6000,50,1\n", "; 2 rows without a prediction"),
+    ] {
+        std::fs::write(
+            d.join("r.csv"),
+            format!("pressure_kpa,radius_mm,sd_mm\n10,40,1\n{rows}"),
+        )
+        .unwrap();
+        let run = fpc(&["compare", &m, "--out", &o]);
+        assert_eq!(run.status.code(), Some(0), "{}", text(&run.stderr));
+        let stdout = text(&run.stdout);
+        let total = stdout.lines().find(|l| l.starts_with("total")).unwrap();
+        assert!(
+            total.contains("over 1 residuals") && total.ends_with(count),
+            "{total}"
+        );
+    }
+}
