@@ -154,6 +154,52 @@ fn forces_are_study_8s() {
     }
 }
 
+/// A specimen's scene may set the gas law's factor kappa (the one load
+/// key that belongs to the finger): markers are the tip of an ordinary
+/// solve at that kappa, not the default's, and the force is the one that,
+/// applied as a tip load at that kappa, moves the tip the test's 10 mm.
+#[test]
+fn a_specimens_kappa_is_its_scenes() {
+    let (eps0, p, kappa) = (0.4, 35.0, 3.2);
+    let finger = Finger::paper(eps0, 8).unwrap();
+    let opts = SolveOptions::default();
+    let at = |k: f64, fx: f64| {
+        let load = Load {
+            kappa: k,
+            ..Load::unloaded()
+        }
+        .with_pressure_kpa(p)
+        .with_tip_force(fx, 0.0);
+        finger.solve(&load, &opts).unwrap().tip
+    };
+    let (tip, default_tip) = (at(kappa, 0.0), at(2.5, 0.0));
+    assert!(
+        (tip[0] - default_tip[0]).abs() > 1e-2,
+        "{tip:?} {default_tip:?}"
+    );
+    let own = format!("[specimen.own.load]\nkappa = {kappa}\n");
+    let csv = format!("pressure_kpa,marker,s_mm,x_mm,z_mm\n{p},tip,110,0,0\n");
+    let c = compare_one("kappa", eps0, &own, "markers", "sd_mm = 0.5", &csv);
+    let r = &predictions(&c)[0].residuals;
+    assert!(
+        close(r[0].predicted.unwrap(), tip[0], 1e-9),
+        "{r:?} {tip:?}"
+    );
+    assert!(
+        close(r[1].predicted.unwrap(), tip[1], 1e-9),
+        "{r:?} {tip:?}"
+    );
+    let csv =
+        format!("pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n{p},X,10,1.0,0.2,4\n");
+    let c = compare_one("kappaf", eps0, &own, "force", "", &csv);
+    let f = predictions(&c)[0].residuals[0].predicted.unwrap();
+    let moved = at(kappa, f)[0] - tip[0];
+    assert!(
+        (moved - 10.0).abs() < 1e-6,
+        "{f} N moves the tip {moved} mm"
+    );
+}
+
 fn synthetic_chi_square(tag: &str, shift: f64) -> Comparison {
     let d = dir(tag);
     synthetic::generate(

@@ -8,7 +8,6 @@ use super::options::{inconsistent, CalibrateOptions, MAX_UNKNOWNS};
 use crate::actuator::ActuatorParam;
 use crate::error::InputError;
 use crate::field::{Elastic, Field};
-use crate::finger::Load;
 use crate::measure::Manifest;
 use crate::sensitivity::Param;
 
@@ -96,10 +95,10 @@ fn bounds(p: Param, start: f64) -> (f64, f64) {
     }
 }
 
-/// The value of `p` in a specimen's scene (`kappa`: the default load's,
-/// since a manifest sets no load).
+/// The value of `p` in a specimen's scene (`kappa`: its `load.kappa`, the
+/// only load key a manifest may set).
 fn value_in(p: Param, scene: &crate::scene::Scene) -> Option<f64> {
-    p.value(&scene.actuator, &Load::unloaded(), None)
+    p.value(&scene.actuator, &scene.load, None)
 }
 
 /// The camera frames' components: name, bounds.

@@ -86,7 +86,7 @@ fn specimen_at(
     theta: &[f64],
 ) -> Result<(Actuator, f64), SolveError> {
     let mut act = s.scene.actuator.clone();
-    let mut kappa = Load::unloaded().kappa;
+    let mut kappa = s.scene.load.kappa;
     for (u, &v) in unknowns.iter().zip(theta) {
         if !u.applies_to(&s.name) || !u.is_model() {
             continue;

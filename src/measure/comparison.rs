@@ -18,7 +18,7 @@ use crate::plan::{PlannedFinger, Solved};
 use crate::report::{Cell, Column, Figure, Panel, PlotAxis, Series, SeriesKind, Table};
 use crate::scene::warning_text;
 use crate::solve_error::SolveError;
-use crate::studies::{eps0_key, tip_force_for_displacement, warnings_cell, Axis};
+use crate::studies::{eps0_key, tip_force_for_displacement_with_kappa, warnings_cell, Axis};
 
 /// One measured quantity of a row against the model.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -167,6 +167,8 @@ const CURVE_POINTS: usize = 33;
 struct Model {
     planned: PlannedFinger,
     opts: SolveOptions,
+    /// The specimen's pressure factor (its scene's `load.kappa`).
+    kappa: f64,
     solved: HashMap<u64, Result<Solved, String>>,
 }
 
@@ -183,6 +185,7 @@ impl Model {
         Ok(Model {
             planned,
             opts,
+            kappa: s.scene.load.kappa,
             solved: HashMap::new(),
         })
     }
@@ -190,13 +193,14 @@ impl Model {
     /// The unloaded finger at `p` kPa.
     fn at(&mut self, p: f64) -> Result<&Solved, String> {
         let (planned, opts) = (&self.planned, &self.opts);
+        let load = Load {
+            kappa: self.kappa,
+            ..Load::unloaded()
+        }
+        .with_pressure_kpa(p);
         self.solved
             .entry(bits(p))
-            .or_insert_with(|| {
-                planned
-                    .solve(&Load::unloaded().with_pressure_kpa(p), opts)
-                    .map_err(|e| e.to_string())
-            })
+            .or_insert_with(|| planned.solve(&load, opts).map_err(|e| e.to_string()))
             .as_ref()
             .map_err(Clone::clone)
     }
@@ -235,7 +239,7 @@ impl Model {
             Some(f) => f.clone(),
             None => self.at(p)?.finger.clone(),
         };
-        tip_force_for_displacement(&finger, p, axis, d)
+        tip_force_for_displacement_with_kappa(&finger, p, self.kappa, axis, d)
             .map(|r| (r.force, r.solution.warnings))
             .map_err(|e| e.to_string())
     }

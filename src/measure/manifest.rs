@@ -301,15 +301,21 @@ impl Manifest {
                 Some(o) => src.err(o, field, reason),
                 None => src.err(&s.name, field, reason),
             };
-            for forbidden in ["load", "gripper"] {
-                if doc_tables.contains_key(forbidden) {
-                    return Err(at_own(
-                        forbidden,
-                        format!(
-                            "specimen {name:?}: a measured specimen is a finger whose tests set its loads; remove [{forbidden}] from its scene tables"
-                        ),
-                    ));
-                }
+            if doc_tables.contains_key("gripper") {
+                return Err(at_own(
+                    "gripper",
+                    format!(
+                        "specimen {name:?}: a measured specimen is a finger whose tests set its loads; remove [gripper] from its scene tables"
+                    ),
+                ));
+            }
+            if let Some(key) = test_load_key(&doc_tables) {
+                return Err(at_own(
+                    &key,
+                    format!(
+                        "specimen {name:?}: a measured specimen's tests set its pressure and tip forces; of [load] its scene tables may set only kappa (and zeros, as a calibrated scene writes them)"
+                    ),
+                ));
             }
             let scene_text = toml::to_string(&doc_tables)
                 .map_err(|e| at_own("own", format!("specimen {name:?}: {e}")))?;
@@ -340,6 +346,23 @@ impl Manifest {
             specimens,
         })
     }
+}
+
+/// The scene key of a specimen's `[load]` that its tests set instead (a
+/// pressure or tip force other than zero, any other key, or `load` itself
+/// when it is not a table); `kappa`, the gas law's factor, belongs to the
+/// finger and may be given.
+fn test_load_key(tables: &Table) -> Option<String> {
+    let Some(Value::Table(load)) = tables.get("load") else {
+        return tables.get("load").map(|_| "load".to_string());
+    };
+    let zero = |v: &Value| matches!(v, Value::Integer(0)) || v.as_float() == Some(0.0);
+    let set_by_tests = |k: &str, v: &Value| {
+        k != "kappa" && !(["pressure_kpa", "fx", "fz"].contains(&k) && zero(v))
+    };
+    load.iter()
+        .find(|(k, v)| set_by_tests(k, v))
+        .map(|(k, _)| format!("load.{k}"))
 }
 
 /// Reads one test's file, checking the keys that belong to its kind.

@@ -308,7 +308,29 @@ fn manifest_errors_name_their_line_and_key() {
         &[("data.csv", RADIUS)],
     )
     .unwrap_err();
-    assert_eq!(e.field, "load", "{e}");
+    assert_eq!(e.field, "load.pressure_kpa", "{e}");
+    // of [load], kappa belongs to the finger, and zeros (a calibrated
+    // scene's) set nothing; a tip force does
+    let m = load(
+        "kappa",
+        &format!(
+            "[shared.load]\nkappa = 3.0\npressure_kpa = 0.0\nfx = 0\n{}",
+            one_test("radius", "")
+        ),
+        &[("data.csv", RADIUS)],
+    )
+    .unwrap();
+    assert_eq!(m.specimens[0].scene.load.kappa, 3.0);
+    let e = load(
+        "fx",
+        &format!(
+            "[shared.load]\nkappa = 3.0\nfx = 0.1\n{}",
+            one_test("radius", "")
+        ),
+        &[("data.csv", RADIUS)],
+    )
+    .unwrap_err();
+    assert_eq!(e.field, "load.fx", "{e}");
     // a missing file is named
     let e = load("nofile", &one_test("radius", ""), &[]).unwrap_err();
     assert!(e.file.ends_with("data.csv") && e.at.is_none(), "{e}");

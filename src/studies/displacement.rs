@@ -51,16 +51,34 @@ pub struct DisplacementForce {
 }
 
 /// From the pressurised unloaded shape, the tip force along `axis` (finger
-/// frame) that moves the tip `displacement` mm along that axis.
+/// frame) that moves the tip `displacement` mm along that axis (the gas
+/// law's factor kappa at its default, as in the paper's study 8).
 pub fn tip_force_for_displacement(
     finger: &Finger,
     pressure_kpa: f64,
     axis: Axis,
     displacement: f64,
 ) -> Result<DisplacementForce, SolveError> {
+    let kappa = Load::unloaded().kappa;
+    tip_force_for_displacement_with_kappa(finger, pressure_kpa, kappa, axis, displacement)
+}
+
+/// [`tip_force_for_displacement`] with the pressure factor `kappa` of the
+/// finger's gas law (a measured specimen's, or a calibrated one).
+pub fn tip_force_for_displacement_with_kappa(
+    finger: &Finger,
+    pressure_kpa: f64,
+    kappa: f64,
+    axis: Axis,
+    displacement: f64,
+) -> Result<DisplacementForce, SolveError> {
     finite(Field::key("displacement.pressure_kpa"), pressure_kpa)?;
     finite(Field::key("displacement.distance"), displacement)?;
-    let base = Load::unloaded().with_pressure_kpa(pressure_kpa);
+    let base = Load {
+        kappa,
+        ..Load::unloaded()
+    }
+    .with_pressure_kpa(pressure_kpa);
     let opts = SolveOptions::default();
     let mut solver = Solver::new(finger);
     let start = solver.solve(&base, None, &opts)?;

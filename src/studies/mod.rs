@@ -37,7 +37,7 @@ pub use curvature::{
 };
 pub use displacement::{
     study8_force_at_displacement, study8_force_at_displacement_with, tip_force_for_displacement,
-    Axis, DisplacementForce, DisplacementForceRow,
+    tip_force_for_displacement_with_kappa, Axis, DisplacementForce, DisplacementForceRow,
 };
 pub use force_control::{
     study4_force_control, study4_force_control_with, ForceControl, ForceControlRow, ForceControlSd,
