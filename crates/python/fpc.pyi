@@ -318,7 +318,9 @@ def calibrate(
     calibrate`` finds them (docs/calibration.md): ``fit`` names them (a
     list, or ``"eps0,kappa"``; at most 16), ``max_iterations`` 1 to 1000.
     Returns the keys of calibration.json (``parameters``,
-    ``identifiability``, ``chi_square_per_dof``, ``residuals``, ...), plus
+    ``identifiability``, ``chi_square_per_dof``, ``residuals``,
+    ``reproduction``: the fit compared with the data again through
+    ``compare``'s path, ``reproduced`` or not, ...), plus
     ``values`` and ``standard_errors`` as arrays in the order of
     ``parameters``, ``covariance`` and ``correlation`` as square arrays
     (None when not determined), and ``scenes`` (``{name, toml}``: each

@@ -6,7 +6,8 @@ use super::driver::run;
 use super::identify::analyse;
 use super::options::{inconsistent, CalibrateOptions, MAX_HELD_OUT_PRESSURES};
 use super::params::unknowns;
-use super::record::{Calibration, FittedParameter};
+use super::record::{Calibration, FittedParameter, Reproduction};
+use super::reproduce::reproduce;
 use crate::measure::Manifest;
 use crate::solve_error::SolveError;
 
@@ -99,7 +100,7 @@ pub fn calibrate(
             })
             .collect()
     });
-    Ok(Calibration {
+    let mut fit = Calibration {
         manifest: manifest.file.clone(),
         parameters,
         covariance: cov.map(|c| {
@@ -122,5 +123,8 @@ pub fn calibrate(
         termination: min.termination,
         outside_model: min.extra.outside_model,
         cross_validation,
-    })
+        reproduction: Reproduction::not_run(),
+    };
+    fit.reproduction = reproduce(manifest, &unknowns, &fit);
+    Ok(fit)
 }

@@ -15,8 +15,10 @@
 //! gives the fitted values with standard errors, the correlation matrix,
 //! the singular values of the column-scaled Jacobian with an
 //! identifiability [`Verdict`] naming the worst determined combination
-//! (`identify.rs`), chi-square per degree of freedom, residuals, and the
-//! iterations and solves it took.
+//! (`identify.rs`), chi-square per degree of freedom, residuals, the
+//! iterations and solves it took, and its [`Reproduction`]: the calibrated
+//! scenes compared with the data again through [`crate::compare`]'s own
+//! path (`reproduce.rs`).
 //!
 //! ```no_run
 //! use fpc::calibrate::{calibrate, CalibrateOptions};
@@ -40,6 +42,7 @@ mod lm;
 mod options;
 mod params;
 mod record;
+mod reproduce;
 mod residuals;
 mod scene;
 
@@ -56,7 +59,7 @@ pub use options::{
     MAX_UNKNOWNS,
 };
 pub use params::Unknown;
-pub use record::{Calibration, FittedParameter};
+pub use record::{Calibration, FittedParameter, Reproduction, REPRODUCE_SD};
 pub use residuals::FitResidual;
 pub use scene::calibrated_scenes;
 

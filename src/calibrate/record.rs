@@ -80,4 +80,31 @@ pub struct Calibration {
     /// Solves at the fit whose finger is outside the model
     /// (docs/model.md section 8).
     pub outside_model: usize,
+    /// The calibrated scenes compared with the data again through the
+    /// ordinary path (`fpc compare`'s): the fit's residuals reproduced or
+    /// not.
+    pub reproduction: Reproduction,
+}
+
+/// How far (in standard deviations) a residual of the comparison may lie
+/// from the fit's: far above the solves' tolerances (a marker's position
+/// to about 1e-9 mm, a force's target solve to 1e-9 of the force), far
+/// below anything a reader of the residuals would see.
+pub const REPRODUCE_SD: f64 = 1e-6;
+
+/// The calibrated scenes compared with the data again.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Reproduction {
+    /// The comparison's chi-square (`None`: the comparison did not run).
+    pub chi_square: Option<f64>,
+    /// How many residuals it has.
+    pub points: usize,
+    /// The largest difference between a residual of the comparison and
+    /// the fit's (standard deviations).
+    pub largest_difference_sd: Option<f64>,
+    /// Every row of the fit predicted again, each residual within
+    /// [`REPRODUCE_SD`] of the fit's.
+    pub reproduced: bool,
+    /// What the comparison gave, in words.
+    pub detail: String,
 }

@@ -282,3 +282,43 @@ fn a_rib_a_specimen_lacks_is_named_as_such() {
         "{e}"
     );
 }
+
+/// The calibrated scenes and fitted cameras, compared with the data as
+/// `fpc compare` compares them (its own solves, none of the fit's), give
+/// the fit's residuals; and the check sees a claim that is off: a fitted
+/// kappa, prestrain or camera angle moved a little after the fit is
+/// no longer reproduced (each must reach the comparison).
+#[test]
+fn a_calibration_is_reproduced_and_a_claim_moved_after_it_is_not() {
+    use super::record::REPRODUCE_SD;
+    use super::reproduce::reproduce;
+    let m = small_manifest(3);
+    let opts = CalibrateOptions::new(&["eps0", "kappa", "camera"]);
+    let fit = super::calibrate(&m, &opts).unwrap();
+    let r = &fit.reproduction;
+    assert!(r.reproduced, "{}", r.detail);
+    assert!(r.largest_difference_sd.unwrap() <= REPRODUCE_SD);
+    assert_eq!(r.points, fit.points);
+    let chi = r.chi_square.unwrap();
+    assert!(
+        (chi - fit.chi_square).abs() <= 1e-9 * fit.chi_square,
+        "{chi} {}",
+        fit.chi_square
+    );
+    let u = unknowns(&m, &opts).unwrap();
+    for (name, by) in [
+        ("load.kappa", 1e-4),
+        ("actuator.pemc.eps0[eps0-0.4]", 1e-4),
+        ("camera.angle_deg[eps0-0.25, test 1]", 0.01),
+    ] {
+        let mut moved = fit.clone();
+        let p = moved
+            .parameters
+            .iter_mut()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("{name} is not fitted"));
+        p.value += by;
+        let again = reproduce(&m, &u, &moved);
+        assert!(!again.reproduced, "{name}: {}", again.detail);
+    }
+}

@@ -170,6 +170,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             .as_str()
             .unwrap_or("?")
     )?;
+    writeln!(
+        w,
+        "check        calibrated scenes compared again as fpc compare does: {} ({})",
+        if fit.reproduction.reproduced {
+            "the fit is reproduced"
+        } else {
+            "NOT reproduced"
+        },
+        fit.reproduction.detail
+    )?;
     if let Some(cv) = &fit.cross_validation {
         let failed = cv.held_out.iter().filter(|h| h.failure.is_some()).count();
         writeln!(

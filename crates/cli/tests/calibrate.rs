@@ -77,6 +77,54 @@ fn the_synthetic_set_is_calibrated_into_json_and_scenes() {
         ]);
         assert_eq!(r.status.code(), Some(0), "{}", text(&r.stderr));
     }
+    // the fit was checked through fpc compare's path, and says so
+    assert_eq!(
+        json["reproduction"]["reproduced"], true,
+        "{}",
+        json["reproduction"]
+    );
+    assert!(
+        stdout.contains("check        calibrated scenes compared again as fpc compare does: the fit is reproduced"),
+        "{stdout}"
+    );
+    // and a user can do the same: the shipped manifest with each
+    // specimen's calibrated scene in place of its own prestrain (the scene
+    // carries the fitted load.kappa), compared, gives the fit's chi-square
+    let shipped_dir = Path::new(&shipped()).parent().unwrap().to_path_buf();
+    let mut manifest = std::fs::read_to_string(shipped()).unwrap();
+    for (name, eps0) in [
+        ("eps0-0.15", "0.15"),
+        ("eps0-0.25", "0.25"),
+        ("eps0-0.4", "0.4"),
+    ] {
+        let own = format!("name = \"{name}\"\n[specimen.own.actuator.pemc]\neps0 = {eps0}\n");
+        assert!(manifest.contains(&own), "{manifest}");
+        manifest = manifest.replace(
+            &own,
+            &format!("name = \"{name}\"\nscene = \"{name}.toml\"\n"),
+        );
+    }
+    for f in std::fs::read_dir(&shipped_dir).unwrap() {
+        let f = f.unwrap().path();
+        if f.extension().is_some_and(|e| e == "csv") {
+            std::fs::copy(&f, out.join(f.file_name().unwrap())).unwrap();
+        }
+    }
+    std::fs::write(out.join("again.toml"), manifest).unwrap();
+    let c = fpc(&[
+        "compare",
+        &out.join("again.toml").display().to_string(),
+        "--out",
+        &out.join("again").display().to_string(),
+        "--json",
+    ]);
+    assert_eq!(c.status.code(), Some(0), "{}", text(&c.stderr));
+    let again: serde_json::Value = serde_json::from_slice(&c.stdout).unwrap();
+    let chi_again = again["chi_square"].as_f64().unwrap();
+    assert!(
+        (chi_again - chi).abs() <= 1e-9 * chi,
+        "{chi_again} vs {chi}"
+    );
     // --json prints the same object
     let j = fpc(&[
         "calibrate",

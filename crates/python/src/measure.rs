@@ -64,7 +64,9 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
 /// Returns a dict with the keys of ``calibration.json`` (``parameters``
 /// with ``name``, ``value``, ``standard_error``..., ``identifiability``
 /// with its ``verdict`` and ``message``, ``chi_square_per_dof``,
-/// ``residuals``, ``iterations``, ...), and ``values`` and
+/// ``residuals``, ``iterations``, ``reproduction``: the calibrated scenes
+/// compared with the data again through ``compare``'s path, with
+/// ``reproduced`` and ``detail``, ...), and ``values`` and
 /// ``standard_errors`` (NaN where not determined) as arrays in the order
 /// of ``parameters``, ``covariance`` and ``correlation`` as square arrays
 /// (None when the data do not determine the parameters), and ``scenes``:

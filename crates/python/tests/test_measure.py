@@ -111,6 +111,10 @@ def test_calibrate_recovers_the_synthetic_truth_and_matches_the_cli(fpc_bin, tmp
     np.testing.assert_allclose(np.sqrt(np.diag(cov)), c["standard_errors"], rtol=1e-12)
     np.testing.assert_allclose(np.diag(corr), 1.0, rtol=1e-12)
     assert c["identifiability"]["verdict"] == "identifiable"
+    # checked through fpc compare's path before it was reported
+    r = c["reproduction"]
+    assert r["reproduced"] is True and r["largest_difference_sd"] <= 1e-6, r
+    assert r["chi_square"] == pytest.approx(c["chi_square"], rel=1e-9)
     # the CLI's calibration.json: the same fit
     cli = cli_json(fpc_bin, "calibrate", MANIFEST, "--fit", "eps0,kappa", "--out", tmp_path, "--json")
     for k in ("scenes", "provenance"):
