@@ -139,12 +139,13 @@ impl Refinement {
             self.levels as f64,
             "must be at least 1".to_string(),
         )?;
-        require(
-            !self.extrapolate || (self.levels >= 2 && self.partition == PartitionKind::Material),
-            Field::Refinement(RefinementKey::Extrapolate),
-            1.0,
-            "needs at least two levels on a material partition (the extrapolation assumes its error expansion)".to_string(),
-        )?;
+        // (a switch: the message names it without a number)
+        if self.extrapolate && (self.levels < 2 || self.partition != PartitionKind::Material) {
+            return Err(InputError::Inconsistent {
+                field: Field::Refinement(RefinementKey::Extrapolate),
+                rule: "needs at least two levels on a material partition (the extrapolation assumes its error expansion)".to_string(),
+            });
+        }
         let finest = self.partition(actuator, ribs, self.levels - 1)?.len();
         require(
             finest <= MAX_REFINED_ELEMENTS,

@@ -14,7 +14,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> anyhow::Result<()> {
-    let model = fpc::ModelId::parse(fpc::Field::key("model"), &args.model)?;
+    let model = fpc::ModelId::parse(fpc::Field::key("--model"), &args.model)?;
     let (source, report) = model.generated();
     let mut out = crate::output::stdout();
     if !args.report {

@@ -92,7 +92,7 @@ struct Setup {
 fn setup(args: &Args) -> anyhow::Result<Setup> {
     let Some(path) = &args.scene else {
         let model = match &args.model {
-            Some(m) => ModelId::parse(fpc::Field::key("model"), m)?,
+            Some(m) => ModelId::parse(fpc::Field::key("--model"), m)?,
             None => ModelId::default(),
         };
         return Ok(Setup {
@@ -108,7 +108,7 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
     let scene = fpc::scene::Scene::from_toml(&text)
         .map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
     let model = match &args.model {
-        Some(m) => ModelId::parse(fpc::Field::key("model"), m)?,
+        Some(m) => ModelId::parse(fpc::Field::key("--model"), m)?,
         None => scene.model,
     };
     let elements = match &scene.partition {

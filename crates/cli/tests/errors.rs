@@ -92,6 +92,20 @@ fn a_bad_tip_tolerance_exits_2_naming_it() {
     );
 }
 
+/// A switch that cannot apply is named without a value (the user wrote
+/// no number).
+#[test]
+fn extrapolation_without_its_levels_exits_2_naming_the_switch() {
+    for extra in [&[][..], &["--levels", "2"], &["--partition", "material"]] {
+        let mut args = vec!["finger", "--extrapolate"];
+        args.extend_from_slice(extra);
+        rejected(
+            &args,
+            &["--extrapolate: needs at least two levels on a material partition"],
+        );
+    }
+}
+
 #[test]
 fn an_unreachable_tip_tolerance_exits_2() {
     // no partition of at most 1000 elements estimates 1e-12 mm; unloaded,

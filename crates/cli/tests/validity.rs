@@ -102,9 +102,18 @@ fn models_are_listed_and_chosen_by_name() {
     let (v, _) = json(&["finger", "--model", "quad", "--json"]);
     assert_eq!(v["model"], "quad");
     assert_eq!(v["coefficients"][0].as_array().unwrap().len(), 5);
-    let out = fpc(&["finger", "--model", "nope"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(text(&out.stderr).contains("not a model (models: ccm, quad, shear)"));
+    // a model that is not one names the flag, in every command that takes it
+    let dir = common::tmp("validity", "model");
+    let out = dir.path().join("out").display().to_string();
+    for cmd in [&["finger"][..], &["kernels"], &["paper", "--out", &out]] {
+        let out = fpc(&[cmd, &["--model", "nope"][..]].concat());
+        assert_eq!(out.status.code(), Some(2), "{cmd:?}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("--model = `nope`: not a model (models: ccm, quad, shear)"),
+            "{cmd:?}: {err}"
+        );
+    }
     // the shear-deformable element: five unknowns, the fifth its shear strain
     let (v, _) = json(&["finger", "--model", "shear", "--fx", "0.2", "--json"]);
     assert_eq!(v["model"], "shear");
