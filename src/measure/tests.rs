@@ -298,39 +298,18 @@ fn manifest_errors_name_their_line_and_key() {
     let e = load("eps0", &bad, &[("data.csv", RADIUS)]).unwrap_err();
     assert_eq!(e.field, "actuator.pemc.eps0", "{e}");
     assert_eq!(e.row(), Some(3), "{e}");
-    // a specimen's loads are its tests'
-    let e = load(
-        "load",
-        &format!(
-            "[shared.load]\npressure_kpa = 10\n{}",
-            one_test("radius", "")
-        ),
-        &[("data.csv", RADIUS)],
-    )
-    .unwrap_err();
+    // a specimen's loads are its tests'; of [load], kappa belongs to the
+    // finger, and zeros (a calibrated scene's) set nothing
+    let with_load = |tag: &str, table: &str| {
+        let manifest = format!("[shared.load]\n{table}{}", one_test("radius", ""));
+        load(tag, &manifest, &[("data.csv", RADIUS)])
+    };
+    let e = with_load("load", "pressure_kpa = 10\n").unwrap_err();
     assert_eq!(e.field, "load.pressure_kpa", "{e}");
-    // of [load], kappa belongs to the finger, and zeros (a calibrated
-    // scene's) set nothing; a tip force does
-    let m = load(
-        "kappa",
-        &format!(
-            "[shared.load]\nkappa = 3.0\npressure_kpa = 0.0\nfx = 0\n{}",
-            one_test("radius", "")
-        ),
-        &[("data.csv", RADIUS)],
-    )
-    .unwrap();
-    assert_eq!(m.specimens[0].scene.load.kappa, 3.0);
-    let e = load(
-        "fx",
-        &format!(
-            "[shared.load]\nkappa = 3.0\nfx = 0.1\n{}",
-            one_test("radius", "")
-        ),
-        &[("data.csv", RADIUS)],
-    )
-    .unwrap_err();
+    let e = with_load("fx", "kappa = 3.0\nfx = 0.1\n").unwrap_err();
     assert_eq!(e.field, "load.fx", "{e}");
+    let m = with_load("kappa", "kappa = 3.0\npressure_kpa = 0.0\nfx = 0\n").unwrap();
+    assert_eq!(m.specimens[0].scene.load.kappa, 3.0);
     // a missing file is named
     let e = load("nofile", &one_test("radius", ""), &[]).unwrap_err();
     assert!(e.file.ends_with("data.csv") && e.at.is_none(), "{e}");

@@ -4,6 +4,8 @@
 
 mod common;
 
+use std::path::Path;
+
 use common::{fails, fpc, shipped, text};
 use tempfile::TempDir;
 
@@ -57,16 +59,22 @@ fn the_synthetic_set_is_compared_into_csv_json_and_figures() {
     assert_eq!(printed["chi_square"], json["chi_square"]);
 }
 
-#[test]
-fn bad_measurements_exit_2_naming_file_row_column_and_field() {
-    let dir = tmp("bad");
-    let d = dir.path();
+/// A manifest `m.toml` in `d` of one specimen with one radius test,
+/// `r.csv` (written by the caller); its path.
+fn one_radius_test(d: &Path) -> String {
     std::fs::write(
         d.join("m.toml"),
         "[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"radius\"\nfile = \"r.csv\"\n",
     )
     .unwrap();
-    let m = d.join("m.toml").display().to_string();
+    d.join("m.toml").display().to_string()
+}
+
+#[test]
+fn bad_measurements_exit_2_naming_file_row_column_and_field() {
+    let dir = tmp("bad");
+    let d = dir.path();
+    let m = one_radius_test(d);
     let r = d.join("r.csv").display().to_string();
     for (csv, place) in [
         (
@@ -107,12 +115,7 @@ fn bad_measurements_exit_2_naming_file_row_column_and_field() {
 fn rows_without_a_prediction_are_counted_in_words() {
     let dir = tmp("failed");
     let d = dir.path();
-    std::fs::write(
-        d.join("m.toml"),
-        "[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"radius\"\nfile = \"r.csv\"\n",
-    )
-    .unwrap();
-    let m = d.join("m.toml").display().to_string();
+    let m = one_radius_test(d);
     let o = d.join("out").display().to_string();
     for (rows, count) in [
         ("5000,50,1\n", "; 1 row without a prediction"),
