@@ -180,6 +180,7 @@ fn a_specimens_kappa_is_its_scenes() {
     let own = format!("[specimen.own.load]\nkappa = {kappa}\n");
     let csv = format!("pressure_kpa,marker,s_mm,x_mm,z_mm\n{p},tip,110,0,0\n");
     let c = compare_one("kappa", eps0, &own, "markers", "sd_mm = 0.5", &csv);
+    assert_eq!(c.specimens[0].kappa, kappa);
     let r = &predictions(&c)[0].residuals;
     assert!(
         close(r[0].predicted.unwrap(), tip[0], 1e-9),

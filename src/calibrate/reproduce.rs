@@ -1,17 +1,18 @@
 //! A calibration's claim checked through the ordinary path: the calibrated
 //! scene of every specimen ([`calibrated_scenes`]) is read back as that
 //! specimen's scene, the fitted camera frames are put in their tests, and
-//! the data are compared with the model by [`crate::measure::compare`], as
-//! `fpc compare` does. Every row the fit predicted must be predicted again,
-//! each residual within [`REPRODUCE_SD`] standard deviations of the fit's,
-//! before the calibration is reported as reproduced.
+//! the data are compared with the model by [`crate::measure::compare`]'s
+//! path, as `fpc compare` does (its rows; not the curves of its figures).
+//! Every row the fit predicted must be predicted again, each residual
+//! within [`REPRODUCE_SD`] standard deviations of the fit's, before the
+//! calibration is reported as reproduced.
 
 use std::collections::HashMap;
 
 use super::params::Unknown;
 use super::record::{Calibration, Reproduction, REPRODUCE_SD};
 use super::scene::calibrated_scenes;
-use crate::measure::{compare, Manifest, TestData};
+use crate::measure::{compare_with, Manifest, TestData};
 use crate::scene::Scene;
 
 impl Reproduction {
@@ -70,7 +71,8 @@ pub(crate) fn reproduce(
             *[&mut c.angle_deg, &mut c.x_mm, &mut c.z_mm][k] = p.value;
         }
     }
-    let comparison = match compare(&again) {
+    // the rows only: the figures' curves are no part of the claim
+    let comparison = match compare_with(&again, false) {
         Ok(c) => c,
         Err(e) => return Reproduction::failed(format!("the comparison fails: {e}")),
     };

@@ -134,6 +134,8 @@ pub struct SpecimenComparison {
     pub name: String,
     /// Its prestrain.
     pub eps0: f64,
+    /// Its pressure factor (its scene's `load.kappa`, 2.5 unless given).
+    pub kappa: f64,
     /// Its tests.
     pub tests: Vec<TestComparison>,
     /// The chi-square of its tests.
@@ -296,7 +298,7 @@ fn range(ps: impl Iterator<Item = f64>) -> (f64, f64) {
     })
 }
 
-fn compare_test(model: &mut Model, test: &Test) -> TestComparison {
+fn compare_test(model: &mut Model, test: &Test, curves: bool) -> TestComparison {
     let mut model_curve = Vec::new();
     let mut force_curves = Vec::new();
     let (frame, predictions): (&str, Vec<Prediction>) = match &test.data {
@@ -331,10 +333,12 @@ fn compare_test(model: &mut Model, test: &Test) -> TestComparison {
                 })
                 .collect();
             let (lo, hi) = range(rows.iter().map(|r| r.pressure_kpa));
-            model_curve = grid(lo, hi, CURVE_POINTS)
-                .into_iter()
-                .filter_map(|p| model.radius(p).ok().map(|(r, _)| [p, r]))
-                .collect();
+            if curves {
+                model_curve = grid(lo, hi, CURVE_POINTS)
+                    .into_iter()
+                    .filter_map(|p| model.radius(p).ok().map(|(r, _)| [p, r]))
+                    .collect();
+            }
             ("finger", preds)
         }
         TestData::Force(rows) => {
@@ -353,7 +357,7 @@ fn compare_test(model: &mut Model, test: &Test) -> TestComparison {
                 })
                 .collect();
             let mut groups: Vec<(Axis, f64)> = Vec::new();
-            for r in rows {
+            for r in rows.iter().filter(|_| curves) {
                 if !groups.contains(&(r.axis, r.displacement_mm)) {
                     groups.push((r.axis, r.displacement_mm));
                 }
@@ -408,17 +412,24 @@ fn chi_square(preds: &[Prediction]) -> (f64, usize) {
 /// mid-plane) keeps its measured values and says why; only an actuator
 /// the model cannot be built for is an error.
 pub fn compare(manifest: &Manifest) -> Result<Comparison, SolveError> {
+    compare_with(manifest, true)
+}
+
+/// [`compare`], with the model's curves of the figures (`model_curve`,
+/// `force_curves`) or without them (empty; a check needs the rows only).
+pub(crate) fn compare_with(manifest: &Manifest, curves: bool) -> Result<Comparison, SolveError> {
     let mut specimens = Vec::new();
     for s in &manifest.specimens {
         let mut model = Model::new(s)?;
         let tests: Vec<TestComparison> = s
             .tests
             .iter()
-            .map(|t| compare_test(&mut model, t))
+            .map(|t| compare_test(&mut model, t, curves))
             .collect();
         specimens.push(SpecimenComparison {
             name: s.name.clone(),
             eps0: s.scene.actuator.eps0(),
+            kappa: s.scene.load.kappa,
             chi_square: tests.iter().map(|t| t.chi_square).sum(),
             points: tests.iter().map(|t| t.points).sum(),
             tests,

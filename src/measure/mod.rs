@@ -45,6 +45,7 @@ mod input;
 mod manifest;
 mod table;
 
+pub(crate) use comparison::compare_with;
 pub use comparison::{
     compare, figures, table, Comparison, ForceCurve, Prediction, Residual, SpecimenComparison,
     TestComparison, COMPARE_COLUMNS,
