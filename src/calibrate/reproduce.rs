@@ -91,8 +91,11 @@ pub(crate) fn reproduce(
             for p in &t.predictions {
                 for r in &p.residuals {
                     let key = (s.name.as_str(), t.file.as_str(), p.line, r.quantity);
+                    // (a difference that is not a number pairs with nothing)
                     match (fitted.remove(&key), r.residual_sd) {
-                        (Some(want), Some(got)) => largest = largest.max((got - want).abs()),
+                        (Some(want), Some(got)) if (got - want).is_finite() => {
+                            largest = largest.max((got - want).abs())
+                        }
                         _ => unmatched += 1,
                     }
                 }
