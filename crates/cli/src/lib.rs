@@ -1,8 +1,8 @@
 //! What the `fpc` binary and the lab's `fpc-lab` share: standard output
 //! that reports a failed write and atomic output files ([`output`]),
 //! bounded and escaped lines on stderr ([`report`]), the provenance of
-//! every JSON file ([`provenance`]), exit codes ([`status`]), the
-//! renderer of figures as SVG, PNG and PDF ([`render`]), and the entry
+//! every JSON file ([`provenance`]), exit codes ([`status`]), Ctrl-C in a
+//! long command ([`interrupt`]), the renderer of figures as SVG, PNG and PDF ([`render`]), and the entry
 //! point that ties them to a clap command line ([`main`]).
 //!
 //! Output goes through two doors: `output::stdout()` for results (a failed
@@ -13,6 +13,7 @@
 
 use std::io::Write as _;
 
+pub mod interrupt;
 pub mod output;
 pub mod provenance;
 pub mod render;
@@ -36,6 +37,8 @@ pub fn main<C: clap::Parser>(run: impl FnOnce(C) -> anyhow::Result<()>) -> ! {
     match &result {
         // the reader went away (`fpc ... | head`): stop quietly
         Err(e) if status::reader_gone(e) => {}
+        // stopped by Ctrl-C after writing what was done: not an error
+        Err(e) if status::is_interrupted(e) => report::note(&format!("{e:#}")),
         Err(e) => report::error(e),
         Ok(()) => {}
     }

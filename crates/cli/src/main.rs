@@ -5,7 +5,7 @@
 #![warn(clippy::print_stdout, clippy::print_stderr, clippy::dbg_macro)]
 
 use clap::{Parser, Subcommand};
-use fpc_cli::{output, provenance, render, report, status};
+use fpc_cli::{interrupt, output, provenance, render, report, status};
 
 mod calibrate;
 mod compare;

@@ -5,6 +5,7 @@
 //! | 0 | success (help and version included); also when the reader of standard output went away (`fpc kernels \| head`): the command stops quietly, as a Unix tool does |
 //! | 1 | a failed solve, a failed study, an I/O failure writing output (a file, stdout), anything else |
 //! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file or measurement file |
+//! | 130 | stopped by Ctrl-C after writing the work finished so far (`fpc sweep`; [`crate::interrupt`]), or at once by a second Ctrl-C |
 
 use std::fmt;
 
@@ -17,6 +18,8 @@ pub const SUCCESS: i32 = 0;
 pub const FAILURE: i32 = 1;
 /// The input was rejected.
 pub const REJECTED: i32 = 2;
+/// Stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
+pub const INTERRUPTED: i32 = 130;
 
 /// Input that the CLI itself rejects before the library sees it: a usage
 /// error, a scene file that cannot be read, is too large or is not TOML.
@@ -36,11 +39,35 @@ pub fn rejected(msg: impl Into<String>) -> anyhow::Error {
     Rejected(msg.into()).into()
 }
 
+/// A command stopped by Ctrl-C that wrote what it had finished; the
+/// message says what was written and what was not.
+#[derive(Debug)]
+pub struct Interrupted(String);
+
+impl fmt::Display for Interrupted {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Interrupted {}
+
+/// The end of a run stopped by Ctrl-C, with this message.
+pub fn interrupted(msg: impl Into<String>) -> anyhow::Error {
+    Interrupted(msg.into()).into()
+}
+
+/// Whether the run was stopped by Ctrl-C ([`interrupted`]).
+pub fn is_interrupted(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| c.is::<Interrupted>())
+}
+
 /// The exit status of a run that ended with `result`.
 pub fn exit_code(result: &anyhow::Result<()>) -> i32 {
     match result {
         Ok(()) => SUCCESS,
         Err(e) if reader_gone(e) => SUCCESS,
+        Err(e) if is_interrupted(e) => INTERRUPTED,
         Err(e) if is_rejected_input(e) => REJECTED,
         Err(_) => FAILURE,
     }
@@ -89,5 +116,7 @@ mod tests {
         let full = std::io::Error::new(std::io::ErrorKind::StorageFull, "full");
         assert_eq!(exit_code(&Err(anyhow::Error::new(full))), 1);
         assert_eq!(exit_code(&Err(anyhow::anyhow!("anything else"))), 1);
+        let stopped = Err::<(), _>(interrupted("stopped")).context("sweep");
+        assert_eq!(exit_code(&stopped), 130);
     }
 }

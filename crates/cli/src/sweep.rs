@@ -13,6 +13,9 @@
 //! validates a file, so a bad value is that point's `rejected` status, not
 //! the end of the sweep. A row has no shape and no radius of curvature, so
 //! a finger scene's shape is not sampled (`solve.shape` does not apply).
+//! Ctrl-C stops the sweep: the points done are written, the others are
+//! rows with status `stopped`, and the command ends with status 130
+//! ([`fpc_cli::interrupt`]).
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -136,8 +139,9 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
 struct Row {
     /// The varied keys' values, in axis order.
     values: Vec<f64>,
-    /// `ok`, `failed` (the solve did not converge) or `rejected` (the
-    /// scene is invalid at this point).
+    /// `ok`, `failed` (the solve did not converge), `rejected` (the
+    /// scene is invalid at this point) or `stopped` (not solved: Ctrl-C
+    /// came before its solve returned).
     status: &'static str,
     /// The tip and end angle; with a tip tolerance the refinement's best
     /// (extrapolated) ones, which `tip_error_mm` is of.
@@ -163,10 +167,11 @@ struct Row {
     message: String,
 }
 
-fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> Row {
-    let mut out = Row {
+/// A row with no answer yet: `status` and the values only.
+fn blank(values: Vec<f64>, status: &'static str) -> Row {
+    Row {
         values,
-        status: "ok",
+        status,
         tip_x_mm: None,
         tip_z_mm: None,
         end_angle_deg: None,
@@ -182,7 +187,22 @@ fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> R
         size_mm: None,
         warnings: String::new(),
         message: String::new(),
-    };
+    }
+}
+
+/// The status of a point that Ctrl-C left unsolved.
+const STOPPED: &str = "stopped";
+
+/// A point that Ctrl-C left unsolved.
+fn stopped(values: Vec<f64>) -> Row {
+    Row {
+        message: "not solved: the sweep was stopped (Ctrl-C)".to_string(),
+        ..blank(values, STOPPED)
+    }
+}
+
+fn row(values: Vec<f64>, r: &Result<SceneSolution, String>, rejected: bool) -> Row {
+    let mut out = blank(values, "ok");
     match r {
         Err(e) => {
             out.status = if rejected { "rejected" } else { "failed" };
@@ -249,6 +269,9 @@ fn scene_at(base: &toml::Table, axes: &[Axis], values: &[f64]) -> Result<Scene, 
 }
 
 /// Solves one line of the grid (the last axis), warm-starting along it.
+/// Under a set cancellation flag (Ctrl-C) the rest of the line is
+/// `stopped`, and so is a point whose solve returned after it was set: a
+/// solve cut short may have failed, or taken another way, because of it.
 fn solve_line(base: &toml::Table, axes: &[Axis], outer: &[f64], done: &AtomicUsize) -> Vec<Row> {
     let last = &axes[axes.len() - 1];
     let mut warm: Option<SceneSolution> = None;
@@ -257,9 +280,15 @@ fn solve_line(base: &toml::Table, axes: &[Axis], outer: &[f64], done: &AtomicUsi
         let mut values = outer.to_vec();
         values.push(v);
         let r = match scene_at(base, axes, &values) {
+            _ if fpc::cancel::is_cancelled() => stopped(values),
             Err(e) => row(values, &Err(e), true),
             Ok(scene) => {
                 let solved = scene.solve_warm(warm.as_ref());
+                if fpc::cancel::is_cancelled() {
+                    rows.push(stopped(values));
+                    done.fetch_add(1, Ordering::Relaxed);
+                    continue;
+                }
                 let rejected = matches!(solved, Err(SolveError::Input(_)));
                 let r = solved.map_err(|e| e.to_string());
                 let out = row(values, &r, rejected);
@@ -350,6 +379,8 @@ struct Report<'a> {
     ok: usize,
     failed: usize,
     rejected: usize,
+    /// Points Ctrl-C left unsolved (rows with status `stopped`).
+    stopped: usize,
     invalid: usize,
     provenance: crate::provenance::Provenance,
     rows: &'a [Row],
@@ -417,11 +448,18 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         .context("cannot start the worker threads")?;
     let done = AtomicUsize::new(0);
     let lines = outer_points(&axes);
+    let stop = crate::interrupt::arm("the points done are written, the others marked `stopped`");
     let rows: Vec<Row> = with_progress(total, &done, || {
         pool.install(|| {
             lines
                 .par_iter()
-                .map(|outer| solve_line(&base, &axes, outer, &done))
+                .map(|outer| {
+                    let line = || solve_line(&base, &axes, outer, &done);
+                    match &stop {
+                        Some(flag) => fpc::cancel::with_flag(flag.clone(), line),
+                        None => line(),
+                    }
+                })
                 .collect::<Vec<_>>()
         })
     })
@@ -445,6 +483,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ok: count("ok"),
         failed: count("failed"),
         rejected: count("rejected"),
+        stopped: count(STOPPED),
         invalid: rows.iter().filter(|r| r.valid == Some(false)).count(),
         provenance: crate::provenance::Provenance::now(),
         rows: &rows,
@@ -467,8 +506,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     )?;
     writeln!(
         stdout,
-        "outcome        {} ok ({} outside the model or invalid), {} failed, {} rejected",
-        report.ok, report.invalid, report.failed, report.rejected
+        "outcome        {} ok ({} outside the model or invalid), {} failed, {} rejected{}",
+        report.ok,
+        report.invalid,
+        report.failed,
+        report.rejected,
+        match report.stopped {
+            0 => String::new(),
+            n => format!(", {n} stopped (Ctrl-C)"),
+        }
     )?;
     writeln!(
         stdout,
@@ -476,6 +522,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         out.join("sweep.csv").display(),
         out.join("sweep.json").display()
     )?;
+    if report.stopped > 0 {
+        return Err(crate::status::interrupted(format!(
+            "stopped by Ctrl-C: {} of {total} points done; the other {} are rows with status `stopped`",
+            total - report.stopped,
+            report.stopped
+        )));
+    }
     Ok(())
 }
 
