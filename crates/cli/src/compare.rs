@@ -66,12 +66,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         for t in &s.tests {
             writeln!(
                 w,
-                "{:<12} {:<8} {:<40} chi2 {:>12.4} over {:>3} residuals{}{}",
+                "{:<12} {:<8} {:<40} chi2 {:>12.4} over {:>3} {}{}{}",
                 s.name,
                 t.kind.name(),
                 t.file,
                 t.chi_square,
                 t.points,
+                noun(t.points, "residual"),
                 counted(t.failed, "without a prediction"),
                 counted(t.outside_model, "outside the model"),
             )?;
@@ -79,9 +80,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     }
     writeln!(
         w,
-        "total        chi2 {:.4} over {} residuals (per residual {:.4}){}{}",
+        "total        chi2 {:.4} over {} {} (per residual {:.4}){}{}",
         c.chi_square,
         c.points,
+        noun(c.points, "residual"),
         if c.points > 0 {
             c.chi_square / c.points as f64
         } else {
@@ -101,7 +103,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 
 /// `row what` for one row, `rows what` for any other count.
 fn rows(n: usize, what: &str) -> String {
-    format!("{} {what}", if n == 1 { "row" } else { "rows" })
+    format!("{} {what}", noun(n, "row"))
+}
+
+/// `noun`, or its plural (with an `s`) unless `n` is 1.
+fn noun(n: usize, noun: &str) -> String {
+    if n == 1 {
+        noun.to_string()
+    } else {
+        format!("{noun}s")
+    }
 }
 
 /// `; N what` when N > 0.

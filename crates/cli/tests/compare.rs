@@ -109,7 +109,7 @@ fn bad_measurements_exit_2_naming_file_row_column_and_field() {
 }
 
 /// A row the model cannot predict (its solve fails) is counted, with the
-/// noun in the count's number, and the run still exits 0 with the other
+/// nouns in their counts' number, and the run still exits 0 with the other
 /// rows compared.
 #[test]
 fn rows_without_a_prediction_are_counted_in_words() {
@@ -117,9 +117,17 @@ fn rows_without_a_prediction_are_counted_in_words() {
     let d = dir.path();
     let m = one_radius_test(d);
     let o = d.join("out").display().to_string();
-    for (rows, count) in [
-        ("5000,50,1\n", "; 1 row without a prediction"),
-        ("5000,50,1\n6000,50,1\n", "; 2 rows without a prediction"),
+    for (rows, count, failed) in [
+        (
+            "5000,50,1\n",
+            "; 1 row without a prediction",
+            "; 1 without a prediction",
+        ),
+        (
+            "5000,50,1\n6000,50,1\n",
+            "; 2 rows without a prediction",
+            "; 2 without a prediction",
+        ),
     ] {
         std::fs::write(
             d.join("r.csv"),
@@ -131,8 +139,14 @@ fn rows_without_a_prediction_are_counted_in_words() {
         let stdout = text(&run.stdout);
         let total = stdout.lines().find(|l| l.starts_with("total")).unwrap();
         assert!(
-            total.contains("over 1 residuals") && total.ends_with(count),
+            total.contains("over 1 residual (") && total.ends_with(count),
             "{total}"
+        );
+        // the test's own line: one residual, and how many rows failed
+        let line = stdout.lines().find(|l| l.contains("r.csv")).unwrap();
+        assert!(
+            line.contains("over   1 residual;") && line.ends_with(failed),
+            "{line}"
         );
     }
 }
