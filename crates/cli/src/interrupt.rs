@@ -3,9 +3,10 @@
 //! ([`fpc::cancel::with_flag`]), so solves not yet started fail at once
 //! with `SolveError::Cancelled` and the command can write what it has
 //! finished and end with [`crate::status::Interrupted`] (status 130); a
-//! second Ctrl-C ends the process at once, writing nothing more. Where
-//! the handler cannot be installed, Ctrl-C keeps its default (the process
-//! ends) and a warning says so.
+//! second Ctrl-C ends the process at once, writing nothing more. A
+//! process that inherits SIGINT ignored (a background job, `nohup`) keeps
+//! it ignored; where the handler cannot be installed otherwise, Ctrl-C
+//! keeps its default (the process ends) and a warning says so.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
@@ -50,6 +51,9 @@ pub fn arm(keeps: &str) -> Option<Arc<AtomicBool>> {
         });
         match installed {
             Ok(()) => Some(flag),
+            // SIGINT is not at its default: ignored (a background job,
+            // nohup) or caught by someone else; left as it is
+            Err(ctrlc::Error::MultipleHandlers) => None,
             Err(e) => {
                 report::warning(&format!(
                     "cannot catch Ctrl-C ({e}): it will end the command without writing its results"

@@ -24,6 +24,7 @@ fn seeded_run_has_no_bugs_and_converges_inside_the_envelope() {
         calls += 1;
         assert_eq!(total, 240);
         assert_eq!(done, calls);
+        true
     });
     assert_eq!(report.cases_run(), 240, "the budget is not the limit");
     assert_eq!(calls, report.cases_run());
@@ -144,13 +145,25 @@ fn generator_is_deterministic_for_a_seed() {
         max_elements: 4,
         ..StressConfig::new(11, 5, Duration::from_secs(60))
     };
-    let report = stress_with(&config, |_, _| {});
+    let report = stress_with(&config, |_, _| true);
+    assert_eq!(report.cases_run(), 5);
+    assert!(!report.stopped_early());
     for c in &report.cases {
         let (inputs, rejected) = stress_inputs(11, c.index, 4);
         assert_eq!(c.inputs, inputs);
         assert_eq!(c.rejected_draws, rejected);
         // and a case alone is the case in its run
         assert_eq!(stress_case(11, c.index, 4).outcome, c.outcome);
+    }
+    // a caller that says stop (Ctrl-C) keeps the cases run, the last too
+    let stopped = stress_with(&config, |done, _| done < 2);
+    assert_eq!(stopped.cases_run(), 2);
+    assert!(stopped.stopped_early());
+    for (a, b) in stopped.cases.iter().zip(&report.cases) {
+        assert_eq!(
+            (a.index, &a.inputs, &a.outcome),
+            (b.index, &b.inputs, &b.outcome)
+        );
     }
 }
 

@@ -149,19 +149,23 @@ impl StressConfig {
     }
 }
 
-/// Runs `cases` stress cases from `seed` (every element count) until done
-/// or `budget` is spent; `progress(done, total)` is called after each case.
+/// Runs `cases` stress cases from `seed` (every element count) until done,
+/// `budget` is spent, or `progress(done, total)`, called after each case,
+/// returns false (Ctrl-C in `fpc-lab stress`).
 pub fn stress(
     seed: u64,
     cases: usize,
     budget: Duration,
-    progress: impl FnMut(usize, usize),
+    progress: impl FnMut(usize, usize) -> bool,
 ) -> StressReport {
     stress_with(&StressConfig::new(seed, cases, budget), progress)
 }
 
 /// [`stress`] with every setting.
-pub fn stress_with(config: &StressConfig, mut progress: impl FnMut(usize, usize)) -> StressReport {
+pub fn stress_with(
+    config: &StressConfig,
+    mut progress: impl FnMut(usize, usize) -> bool,
+) -> StressReport {
     let start = Instant::now();
     let mut out = Vec::with_capacity(config.cases);
     for index in 0..config.cases {
@@ -169,7 +173,9 @@ pub fn stress_with(config: &StressConfig, mut progress: impl FnMut(usize, usize)
             break;
         }
         out.push(run_case(config, index));
-        progress(index + 1, config.cases);
+        if !progress(index + 1, config.cases) {
+            break;
+        }
     }
     StressReport {
         config: *config,

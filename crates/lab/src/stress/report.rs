@@ -298,7 +298,8 @@ impl StressReport {
         self.cases.len()
     }
 
-    /// True when the budget stopped the run before every case ran.
+    /// True when the budget (or the caller) stopped the run before every
+    /// case ran.
     pub fn stopped_early(&self) -> bool {
         self.cases.len() < self.config.cases
     }

@@ -3,6 +3,7 @@
 //! outside the validity envelope (`fpc_lab::stress`).
 
 use std::io::Write;
+use std::sync::atomic::Ordering;
 use std::time::Duration;
 
 use fpc_lab::{StressCase, StressConfig, StressOutcome, StressReport, Tally};
@@ -125,11 +126,15 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     bar.enable_steady_tick(Duration::from_millis(120));
     // the bar is hidden when stderr is not a terminal: then one line per tenth
     let plain = !crate::report::is_terminal();
+    // Ctrl-C ends the run after the case under way, which is kept
+    let stop = fpc_cli::interrupt::arm("the cases run are reported");
+    let stopped = || stop.as_ref().is_some_and(|f| f.load(Ordering::Relaxed));
     let report = fpc_lab::stress_with(&config, |done, total| {
         bar.set_position(done as u64);
         if plain && (done * 10 / total.max(1) > (done - 1) * 10 / total.max(1)) {
             crate::report::plain(&format!("fpc-lab stress: {done}/{total} cases"));
         }
+        !stopped()
     });
     bar.finish_and_clear();
 
@@ -153,6 +158,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             report.cases_run(),
             args.seed
         );
+    }
+    if stopped() && report.stopped_early() {
+        return Err(fpc_cli::status::interrupted(format!(
+            "stopped by Ctrl-C after {} of {} cases (reported above)",
+            report.cases_run(),
+            args.cases
+        )));
     }
     Ok(())
 }
