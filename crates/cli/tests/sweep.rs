@@ -336,7 +336,19 @@ fn ctrl_c_writes_the_points_done() {
     );
     let out = tmp.0.join("out");
     let total = 20_000;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpc"))
+    let mut command = Command::new(env!("CARGO_BIN_EXE_fpc"));
+    // SIGINT at its default, as a terminal's shell runs a command: a CI
+    // shell may hand it down ignored, and fpc keeps an ignored SIGINT
+    // ignored
+    // SAFETY: `signal` is async-signal-safe, as `pre_exec` requires
+    unsafe {
+        use std::os::unix::process::CommandExt as _;
+        command.pre_exec(|| {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    let mut child = command
         .arg("sweep")
         .arg(&scene)
         .args(["--vary", &format!("load.fx=0:1:{total}"), "--threads", "1"])
