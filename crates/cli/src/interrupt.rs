@@ -1,9 +1,10 @@
-//! Ctrl-C in a long command. [`arm`] installs the process's handler: the
-//! first Ctrl-C sets a flag that the command's work runs under
-//! ([`fpc::cancel::with_flag`]), so solves not yet started fail at once
-//! with `SolveError::Cancelled` and the command can write what it has
-//! finished and end with [`crate::status::Interrupted`] (status 130); a
-//! second Ctrl-C ends the process at once, writing nothing more. A
+//! Ctrl-C in a long command. [`arm`] installs the process's handler, and
+//! the first Ctrl-C sets the flag it returns. The command runs its work
+//! under that flag ([`fpc::cancel::with_flag`]: solves not yet started
+//! fail at once with `SolveError::Cancelled`; `fpc sweep`) or reads it
+//! between pieces of work (`fpc-lab stress`), writes what it finished and
+//! ends with [`crate::status::interrupted`] (status 130). A second Ctrl-C
+//! ends the process at once, writing nothing more. A
 //! process that inherits SIGINT ignored (a background job, `nohup`) keeps
 //! it ignored; where the handler cannot be installed otherwise, Ctrl-C
 //! keeps its default (the process ends) and a warning says so.

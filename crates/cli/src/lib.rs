@@ -2,8 +2,9 @@
 //! that reports a failed write and atomic output files ([`output`]),
 //! bounded and escaped lines on stderr ([`report`]), the provenance of
 //! every JSON file ([`provenance`]), exit codes ([`status`]), Ctrl-C in a
-//! long command ([`interrupt`]), the renderer of figures as SVG, PNG and PDF ([`render`]), and the entry
-//! point that ties them to a clap command line ([`main`]).
+//! long command ([`interrupt`]), the renderer of figures as SVG, PNG and
+//! PDF ([`render`]), and the entry point that ties them to a clap command
+//! line ([`main`]).
 //!
 //! Output goes through two doors: `output::stdout()` for results (a failed
 //! write is an error, status 1) and `report` for every line on stderr.
