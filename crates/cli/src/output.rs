@@ -1,6 +1,6 @@
 //! Output: standard output and atomic file writes.
 
-use std::io::Write as _;
+use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::OnceLock;
@@ -108,10 +108,24 @@ pub const STALE_AFTER: Duration = Duration::from_secs(15 * 60);
 /// sees either the old file or the complete new one, never a half-written
 /// file. The temporary file is removed if anything fails.
 pub fn write_atomic(dir: &Path, name: &str, bytes: &[u8]) -> anyhow::Result<()> {
+    write_atomic_with(dir, name, |w| w.write_all(bytes).map_err(Into::into))
+}
+
+/// [`write_atomic`] of what `write` writes, streamed (buffered) into the
+/// temporary file, so that a large output (a sweep's million rows) is
+/// never held in memory whole. An error of `write` removes the temporary
+/// file and leaves the target as it was.
+pub fn write_atomic_with(
+    dir: &Path,
+    name: &str,
+    write: impl FnOnce(&mut dyn Write) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
     let target = dir.join(name);
-    let result = (|| -> std::io::Result<()> {
-        let mut tmp = temp_file(dir)?;
-        tmp.write_all(bytes)?;
+    let result = (|| -> anyhow::Result<()> {
+        let tmp = temp_file(dir)?;
+        let mut w = std::io::BufWriter::new(tmp);
+        write(&mut w)?;
+        let tmp = w.into_inner().map_err(|e| e.into_error())?;
         tmp.as_file().sync_all()?;
         tmp.persist(&target).map_err(|e| e.error)?;
         Ok(())
@@ -253,6 +267,32 @@ mod tests {
             .map(|e| e.unwrap().file_name())
             .collect();
         assert_eq!(names, vec![std::ffi::OsString::from("a.txt")]);
+    }
+
+    /// A writer that fails half-way leaves the old file whole and no
+    /// temporary file; one that succeeds is flushed through the buffer.
+    #[test]
+    fn a_streamed_write_is_atomic_too() {
+        let tmp = scratch("streamed");
+        let dir = tmp.path();
+        write_atomic(dir, "a.txt", b"old").unwrap();
+        let e = write_atomic_with(dir, "a.txt", |w| {
+            w.write_all(&[b'x'; 100_000])?;
+            anyhow::bail!("the rows ran out")
+        })
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("the rows ran out"), "{e:#}");
+        assert_eq!(fs::read_to_string(dir.join("a.txt")).unwrap(), "old");
+        assert_eq!(fs::read_dir(dir).unwrap().count(), 1);
+        write_atomic_with(dir, "a.txt", |w| {
+            for _ in 0..10_000 {
+                w.write_all(b"0123456789")?;
+            }
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(fs::read(dir.join("a.txt")).unwrap().len(), 100_000);
+        assert_eq!(fs::read_dir(dir).unwrap().count(), 1);
     }
 
     #[test]

@@ -321,8 +321,9 @@ fn outer_points(axes: &[Axis]) -> Vec<Vec<f64>> {
     points
 }
 
-fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
-    let mut w = csv::Writer::from_writer(Vec::new());
+/// sweep.csv into `out`.
+fn write_csv(out: &mut dyn std::io::Write, axes: &[Axis], rows: &[Row]) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_writer(out);
     let mut header: Vec<String> = axes.iter().map(|a| a.key.to_string()).collect();
     header.extend(
         [
@@ -368,7 +369,8 @@ fn csv_text(axes: &[Axis], rows: &[Row]) -> anyhow::Result<Vec<u8>> {
         rec.push(r.message.clone());
         w.write_record(&rec)?;
     }
-    Ok(w.into_inner().map_err(|e| e.into_error())?)
+    w.flush()?;
+    Ok(())
 }
 
 #[derive(Serialize)]
@@ -488,12 +490,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         provenance: crate::provenance::Provenance::now(),
         rows: &rows,
     };
-    crate::output::write_atomic(&out, "sweep.csv", &csv_text(&axes, &rows)?)?;
-    crate::output::write_atomic(
-        &out,
-        "sweep.json",
-        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
-    )?;
+    // streamed: a million rows are never one string in memory
+    crate::output::write_atomic_with(&out, "sweep.csv", |w| write_csv(w, &axes, &rows))?;
+    crate::output::write_atomic_with(&out, "sweep.json", |w| {
+        serde_json::to_writer_pretty(&mut *w, &report)?;
+        Ok(writeln!(w)?)
+    })?;
     let mut stdout = crate::output::stdout();
     writeln!(
         stdout,
