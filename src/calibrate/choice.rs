@@ -90,48 +90,58 @@ pub fn choose_model(
         .iter()
         .any(|s| !s.scene.actuator.ribs().is_empty());
     let rib_choices: &[bool] = if has_ribs { &[true, false] } else { &[true] };
+    // every candidate fitted at once (they are independent), then read
+    // in order, as a loop over them would
+    let combos: Vec<(bool, bool, ModelId)> = [false, true]
+        .into_iter()
+        .flat_map(|plane_strain| {
+            rib_choices.iter().flat_map(move |&ribs| {
+                ModelId::ALL
+                    .iter()
+                    .map(move |&model| (plane_strain, ribs, model))
+            })
+        })
+        .collect();
+    let fits = crate::cancel::par_map(&combos, |&(plane_strain, ribs, model)| {
+        variant(manifest, model, ribs, plane_strain).and_then(|m| calibrate(&m, &options))
+    });
     let mut names = Vec::new();
     let mut candidates = Vec::new();
-    for plane_strain in [false, true] {
-        for &ribs in rib_choices {
-            for &model in ModelId::ALL {
-                let fitted = variant(manifest, model, ribs, plane_strain)
-                    .and_then(|m| calibrate(&m, &options));
-                let as_given = ribs
-                    && manifest.specimens.iter().all(|s| {
-                        s.scene.model == model && s.scene.actuator.plane_strain() == plane_strain
-                    });
-                candidates.push(match fitted {
-                    Ok(c) => {
-                        names = c.parameters.iter().map(|p| p.name.clone()).collect();
-                        Candidate {
-                            model: model.name(),
-                            ribs,
-                            plane_strain,
-                            chi_square_per_dof: Some(c.chi_square_per_dof),
-                            held_out_rms_sd: c.cross_validation.as_ref().map(|cv| cv.rms_sd),
-                            values: c.parameters.iter().map(|p| p.value).collect(),
-                            verdict: Some(c.identifiability.verdict),
-                            outside_model: c.outside_model,
-                            failure: None,
-                        }
-                    }
-                    // bad options are the caller's, whatever the model
-                    Err(e @ SolveError::Input(_)) if as_given => return Err(e),
-                    Err(e) => Candidate {
-                        model: model.name(),
-                        ribs,
-                        plane_strain,
-                        chi_square_per_dof: None,
-                        held_out_rms_sd: None,
-                        values: Vec::new(),
-                        verdict: None,
-                        outside_model: 0,
-                        failure: Some(e.to_string()),
-                    },
-                });
+    for (&(plane_strain, ribs, model), fitted) in combos.iter().zip(fits) {
+        let as_given = ribs
+            && manifest
+                .specimens
+                .iter()
+                .all(|s| s.scene.model == model && s.scene.actuator.plane_strain() == plane_strain);
+        candidates.push(match fitted {
+            Ok(c) => {
+                names = c.parameters.iter().map(|p| p.name.clone()).collect();
+                Candidate {
+                    model: model.name(),
+                    ribs,
+                    plane_strain,
+                    chi_square_per_dof: Some(c.chi_square_per_dof),
+                    held_out_rms_sd: c.cross_validation.as_ref().map(|cv| cv.rms_sd),
+                    values: c.parameters.iter().map(|p| p.value).collect(),
+                    verdict: Some(c.identifiability.verdict),
+                    outside_model: c.outside_model,
+                    failure: None,
+                }
             }
-        }
+            // bad options are the caller's, whatever the model
+            Err(e @ SolveError::Input(_)) if as_given => return Err(e),
+            Err(e) => Candidate {
+                model: model.name(),
+                ribs,
+                plane_strain,
+                chi_square_per_dof: None,
+                held_out_rms_sd: None,
+                values: Vec::new(),
+                verdict: None,
+                outside_model: 0,
+                failure: Some(e.to_string()),
+            },
+        });
     }
     let best = candidates
         .iter()

@@ -82,49 +82,21 @@ pub(crate) fn pressures(manifest: &Manifest) -> Vec<f64> {
 }
 
 /// Leave-one-pressure-out over `manifest`, each refit started at `theta`.
-/// Returns the record and the solves it took (equilibria, targets).
+/// Returns the record and the solves it took (equilibria, targets). The
+/// refits are independent and run in parallel; the record is the one a
+/// loop over the pressures in order gives.
 pub(crate) fn cross_validate(
     manifest: &Manifest,
     unknowns: &[Unknown],
     theta: &[f64],
     max_iterations: usize,
 ) -> (CrossValidation, usize, usize) {
-    let (mut solves, mut targets) = (0, 0);
-    let mut held_out = Vec::new();
-    for p in pressures(manifest) {
-        let without = filtered(manifest, p, false);
-        let only = filtered(manifest, p, true);
-        let result = run(&without, unknowns, theta.to_vec(), max_iterations).and_then(|r| {
-            solves += r.solves;
-            targets += r.target_solves;
-            let values = r.min.theta;
-            let e = evaluate(&only, unknowns, &values)?;
-            solves += e.solves;
-            targets += e.target_solves;
-            Ok((values, e.rows))
-        });
-        held_out.push(match result {
-            Ok((values, rows)) => {
-                let chi: f64 = rows.iter().map(|r| r.residual_sd * r.residual_sd).sum();
-                HeldOut {
-                    pressure_kpa: p,
-                    points: rows.len(),
-                    chi_square: chi,
-                    rms_sd: (chi / rows.len().max(1) as f64).sqrt(),
-                    values,
-                    failure: None,
-                }
-            }
-            Err(e) => HeldOut {
-                pressure_kpa: p,
-                points: 0,
-                chi_square: 0.0,
-                rms_sd: 0.0,
-                values: Vec::new(),
-                failure: Some(e.to_string()),
-            },
-        });
-    }
+    let refits = crate::cancel::par_map(&pressures(manifest), |&p| {
+        held_out_at(manifest, unknowns, theta, max_iterations, p)
+    });
+    let solves = refits.iter().map(|r| r.1).sum();
+    let targets = refits.iter().map(|r| r.2).sum();
+    let held_out: Vec<HeldOut> = refits.into_iter().map(|r| r.0).collect();
     let chi_square: f64 = held_out.iter().map(|h| h.chi_square).sum();
     let points: usize = held_out.iter().map(|h| h.points).sum();
     (
@@ -137,4 +109,49 @@ pub(crate) fn cross_validate(
         solves,
         targets,
     )
+}
+
+/// [`cross_validate`]'s fit without the rows at pressure `p` and its
+/// prediction of them, with the solves it took (equilibria, targets).
+fn held_out_at(
+    manifest: &Manifest,
+    unknowns: &[Unknown],
+    theta: &[f64],
+    max_iterations: usize,
+    p: f64,
+) -> (HeldOut, usize, usize) {
+    let (mut solves, mut targets) = (0, 0);
+    let without = filtered(manifest, p, false);
+    let only = filtered(manifest, p, true);
+    let result = run(&without, unknowns, theta.to_vec(), max_iterations).and_then(|r| {
+        solves += r.solves;
+        targets += r.target_solves;
+        let values = r.min.theta;
+        let e = evaluate(&only, unknowns, &values)?;
+        solves += e.solves;
+        targets += e.target_solves;
+        Ok((values, e.rows))
+    });
+    let held = match result {
+        Ok((values, rows)) => {
+            let chi: f64 = rows.iter().map(|r| r.residual_sd * r.residual_sd).sum();
+            HeldOut {
+                pressure_kpa: p,
+                points: rows.len(),
+                chi_square: chi,
+                rms_sd: (chi / rows.len().max(1) as f64).sqrt(),
+                values,
+                failure: None,
+            }
+        }
+        Err(e) => HeldOut {
+            pressure_kpa: p,
+            points: 0,
+            chi_square: 0.0,
+            rms_sd: 0.0,
+            values: Vec::new(),
+            failure: Some(e.to_string()),
+        },
+    };
+    (held, solves, targets)
 }
