@@ -106,29 +106,25 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
     let (_, out) =
         crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
-    // the stage on a terminal (seconds each; --choose-model, tens), as
-    // `fpc paper` shows its progress: a log stays as quiet as before
-    let stage = |msg: &str| {
-        if crate::report::is_terminal() {
-            crate::report::progress(msg);
+    // the stage on a terminal (seconds each; --choose-model, tens)
+    let computed = (|| -> Result<_, SolveError> {
+        crate::report::progress_on_terminal(if args.cross_validate {
+            "fpc calibrate: fitting, then leaving out each pressure in turn"
+        } else {
+            "fpc calibrate: fitting"
+        });
+        let fit = calibrate(&manifest, &options).map_err(in_flag_terms)?;
+        if !args.choose_model {
+            return Ok((fit, None));
         }
-    };
-    stage(if args.cross_validate {
-        "fpc calibrate: fitting, then leaving out each pressure in turn"
-    } else {
-        "fpc calibrate: fitting"
-    });
-    let fit = calibrate(&manifest, &options).map_err(in_flag_terms);
-    let model_choice = match fit {
-        Ok(_) if args.choose_model => {
-            stage("fpc calibrate: fitting every element model, with and without ribs, in both plane states");
-            Some(choose_model(&manifest, &options).map_err(in_flag_terms))
-        }
-        _ => None,
-    };
+        crate::report::progress_on_terminal(
+            "fpc calibrate: fitting every element model, with and without ribs, in both plane states",
+        );
+        let choice = choose_model(&manifest, &options).map_err(in_flag_terms)?;
+        Ok((fit, Some(choice)))
+    })();
     crate::report::end_progress();
-    let fit = fit?;
-    let model_choice = model_choice.transpose()?;
+    let (fit, model_choice) = computed?;
     crate::output::prepare_dir(&out)?;
     let mut scenes = Vec::new();
     for (i, (_, text)) in calibrated_scenes(&manifest, &fit)?.into_iter().enumerate() {

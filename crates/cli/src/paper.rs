@@ -171,20 +171,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     out.formats = args.format.with_svg();
     out.covariance = covariance;
 
-    // progress on a terminal only
-    let terminal = crate::report::is_terminal();
     for (i, info) in STUDIES.iter().enumerate() {
-        if terminal {
-            let total = STUDIES.len();
-            crate::report::progress(&format!("fpc paper: {i}/{total} studies; {}", info.title));
-        }
+        let total = STUDIES.len();
+        crate::report::progress_on_terminal(&format!(
+            "fpc paper: {i}/{total} studies; {}",
+            info.title
+        ));
         let t = Instant::now();
         let result = info.output_with(&act, &opts, out.covariance.as_ref());
         out.finish(info, t.elapsed(), result)?;
     }
-    if terminal {
-        crate::report::end_progress();
-    }
+    crate::report::end_progress();
 
     let elapsed = started.elapsed().as_secs_f64();
     out.write_summary(elapsed)?;

@@ -155,6 +155,14 @@ pub fn progress(msg: &str) {
     }
 }
 
+/// [`progress`] on a terminal only, nothing elsewhere: for a command whose
+/// log should stay as quiet as before (`fpc paper`, `fpc calibrate`).
+pub fn progress_on_terminal(msg: &str) {
+    if is_terminal() {
+        progress(msg);
+    }
+}
+
 /// Ends a line of [`progress`] (on a terminal; elsewhere its lines are
 /// whole already).
 pub fn end_progress() {

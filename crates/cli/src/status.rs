@@ -21,41 +21,45 @@ pub const REJECTED: i32 = 2;
 /// Stopped by Ctrl-C (128 + SIGINT, as a shell reports it).
 pub const INTERRUPTED: i32 = 130;
 
-/// Input that the CLI itself rejects before the library sees it: a usage
-/// error, a scene file that cannot be read, is too large or is not TOML.
-#[derive(Debug)]
-pub struct Rejected(String);
+/// An error that is its message and whose type says how the run ended
+/// (its status), with the function that makes one.
+macro_rules! message_error {
+    ($(#[$doc:meta])* $name:ident, $(#[$fdoc:meta])* $make:ident) => {
+        $(#[$doc])*
+        #[derive(Debug)]
+        pub struct $name(String);
 
-impl fmt::Display for Rejected {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(&self.0)
+            }
+        }
+
+        impl std::error::Error for $name {}
+
+        $(#[$fdoc])*
+        pub fn $make(msg: impl Into<String>) -> anyhow::Error {
+            $name(msg.into()).into()
+        }
+    };
 }
 
-impl std::error::Error for Rejected {}
+message_error!(
+    /// Input that the CLI itself rejects before the library sees it: a
+    /// usage error, a scene file that cannot be read, is too large or is
+    /// not TOML.
+    Rejected,
+    /// An error that marks rejected input, with this message.
+    rejected
+);
 
-/// An error that marks rejected input, with this message.
-pub fn rejected(msg: impl Into<String>) -> anyhow::Error {
-    Rejected(msg.into()).into()
-}
-
-/// A command stopped by Ctrl-C that wrote what it had finished; the
-/// message says what was written and what was not.
-#[derive(Debug)]
-pub struct Interrupted(String);
-
-impl fmt::Display for Interrupted {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for Interrupted {}
-
-/// The end of a run stopped by Ctrl-C, with this message.
-pub fn interrupted(msg: impl Into<String>) -> anyhow::Error {
-    Interrupted(msg.into()).into()
-}
+message_error!(
+    /// A command stopped by Ctrl-C that wrote what it had finished; the
+    /// message says what was written and what was not.
+    Interrupted,
+    /// The end of a run stopped by Ctrl-C, with this message.
+    interrupted
+);
 
 /// Whether the run was stopped by Ctrl-C ([`interrupted`]).
 pub fn is_interrupted(e: &anyhow::Error) -> bool {

@@ -285,16 +285,15 @@ fn solve_line(base: &toml::Table, axes: &[Axis], outer: &[f64], done: &AtomicUsi
             Ok(scene) => {
                 let solved = scene.solve_warm(warm.as_ref());
                 if fpc::cancel::is_cancelled() {
-                    rows.push(stopped(values));
-                    done.fetch_add(1, Ordering::Relaxed);
-                    continue;
+                    stopped(values)
+                } else {
+                    let rejected = matches!(solved, Err(SolveError::Input(_)));
+                    let r = solved.map_err(|e| e.to_string());
+                    let out = row(values, &r, rejected);
+                    // a failed point starts the next one cold
+                    warm = r.ok();
+                    out
                 }
-                let rejected = matches!(solved, Err(SolveError::Input(_)));
-                let r = solved.map_err(|e| e.to_string());
-                let out = row(values, &r, rejected);
-                // a failed point starts the next one cold
-                warm = r.ok();
-                out
             }
         };
         rows.push(r);
