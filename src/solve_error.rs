@@ -6,6 +6,16 @@ use crate::coefficients::Coefficients;
 use crate::error::InputError;
 use crate::field::Field;
 
+/// A failed solve's last residual in a message: its value, or words
+/// where it is not a finite number (no message shows NaN or inf).
+fn residual_text(r: f64) -> String {
+    if r.is_finite() {
+        format!("relative residual {r:.3e}")
+    } else {
+        "the residual is not a finite number".into()
+    }
+}
+
 /// A scene that could not be solved: the input was rejected, or Newton
 /// (with continuation where enabled) did not reach the tolerance.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -15,8 +25,9 @@ pub enum SolveError {
     Input(#[from] InputError),
     /// The solver stopped without meeting the residual tolerance.
     #[error(
-        "solve failed{}: {reason} after {iterations} iterations (relative residual {relative_residual:.3e})",
-        element.map(|e| format!(" for element {e}")).unwrap_or_default()
+        "solve failed{}: {reason} after {iterations} iterations ({})",
+        element.map(|e| format!(" for element {e}")).unwrap_or_default(),
+        residual_text(*relative_residual)
     )]
     NotConverged {
         /// Why Newton stopped.

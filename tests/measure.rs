@@ -6,7 +6,7 @@
 
 use std::path::Path;
 
-use fpc::measure::{Comparison, Manifest, Prediction};
+use fpc::measure::{Comparison, Manifest, MeasureError, Prediction};
 use fpc::studies::{study7_curvature, study8_force_at_displacement, Axis};
 use fpc::{Finger, Load, SolveOptions, StudyOptions};
 use tempfile::TempDir;
@@ -325,4 +325,240 @@ fn a_test_without_rows_predicts_nothing_and_draws_nothing() {
     assert!(t.predictions.is_empty() && t.model_curve.is_empty());
     assert_eq!((c.points, c.chi_square), (0, 0.0));
     assert!(fpc::measure::figures(&c).is_empty());
+}
+
+/// `m.toml` of `manifest` and the files `files` in a fresh directory,
+/// loaded.
+fn load(tag: &str, manifest: &str, files: &[(&str, &str)]) -> Result<Manifest, MeasureError> {
+    let d = dir(tag);
+    for (name, text) in files {
+        std::fs::write(d.path().join(name), text).unwrap();
+    }
+    std::fs::write(d.path().join("m.toml"), manifest).unwrap();
+    Manifest::load(&d.path().join("m.toml"))
+}
+
+/// One specimen with one test of `kind` in `data.csv` (`extra`: more keys
+/// of the test, after line 6).
+fn one_test(kind: &str, extra: &str) -> String {
+    format!("[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"{kind}\"\nfile = \"data.csv\"\n{extra}")
+}
+
+/// The error of a one-test manifest whose data is `csv`, at `file`
+/// (`data.csv` or `m.toml`), row, column and field.
+fn refused(
+    kind: &str,
+    extra: &str,
+    csv: &str,
+    (file, row, col, field): (&str, usize, usize, &str),
+) {
+    let e = load(field, &one_test(kind, extra), &[("data.csv", csv)])
+        .expect_err(&format!("{csv:?} {extra:?} accepted"));
+    let place = format!("{file}:{row}:{col}: {field}: ");
+    assert!(e.to_string().contains(&place), "{place}: {e}");
+    assert_eq!(e.field, field, "{e}");
+}
+
+const RADIUS: &str = "pressure_kpa,radius_mm,sd_mm\n";
+const FORCE: &str = "pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n";
+const MARKERS: &str = "pressure_kpa,marker,s_mm,x_mm,z_mm,sd_mm\n";
+
+/// Measured values beyond physical limits (an sd of 1e308 made `fpc
+/// compare`'s figure spin forever; a tiny one a chi-square of inf) are
+/// refused where they are written; the limits themselves are accepted.
+#[test]
+fn measured_values_beyond_physical_limits_are_refused() {
+    for (row, col, field) in [
+        ("0,39.3776,1e308", 3, "sd_mm"),
+        ("0,39.3776,1e-200", 3, "sd_mm"),
+        ("0,39.3776,1e-320", 3, "sd_mm"),
+        ("0,39.3776,9e-7", 3, "sd_mm"),
+        ("0,1e308,1", 2, "radius_mm"),
+        ("0,100001,1", 2, "radius_mm"),
+        ("1e308,40,1", 1, "pressure_kpa"),
+        ("10001,40,1", 1, "pressure_kpa"),
+    ] {
+        let csv = format!("{RADIUS}25,41.8828,1.343\n{row}\n");
+        refused("radius", "", &csv, ("data.csv", 3, col, field));
+    }
+    for (row, col, field) in [
+        ("0,X,10,0.5,1e-320,3", 5, "sd_n"),
+        ("0,X,10,0.5,1001,3", 5, "sd_n"),
+        ("0,X,10,1e308,0.1,3", 4, "force_n"),
+        ("0,X,10,-1001,0.1,3", 4, "force_n"),
+        ("0,X,1e308,0.5,0.1,3", 3, "displacement_mm"),
+        ("0,X,10,0.5,0.1,1000001", 6, "repeats"),
+    ] {
+        refused(
+            "force",
+            "",
+            &format!("{FORCE}{row}\n"),
+            ("data.csv", 2, col, field),
+        );
+    }
+    for (row, col, field) in [
+        ("0,M1,50,1e308,2,0.3", 4, "x_mm"),
+        ("0,M1,50,1,-1e308,0.3", 5, "z_mm"),
+        ("0,M1,50,1,2,1e-9", 6, "sd_mm"),
+    ] {
+        refused(
+            "markers",
+            "",
+            &format!("{MARKERS}{row}\n"),
+            ("data.csv", 2, col, field),
+        );
+    }
+    // the manifest's keys of a markers test, at the test's line (6)
+    let head = "pressure_kpa,marker,s_mm,x_mm,z_mm\n0,M1,50,1,2\n";
+    for (extra, field) in [
+        ("sd_mm = 1e-300", "sd_mm"),
+        ("sd_mm = 1e6", "sd_mm"),
+        (
+            "sd_mm = 0.3\ncamera = { angle_deg = 0, x_mm = 1e308, z_mm = 0 }",
+            "camera.x_mm",
+        ),
+        (
+            "sd_mm = 0.3\ncamera = { angle_deg = 0, x_mm = 0, z_mm = -1e6 }",
+            "camera.z_mm",
+        ),
+        (
+            "sd_mm = 0.3\ncamera = { angle_deg = 1e308, x_mm = 0, z_mm = 0 }",
+            "camera.angle_deg",
+        ),
+        (
+            "sd_mm = 0.3\ncamera = { angle_deg = -361, x_mm = 0, z_mm = 0 }",
+            "camera.angle_deg",
+        ),
+    ] {
+        let e = load(field, &one_test("markers", extra), &[("data.csv", head)]).unwrap_err();
+        assert!(e.file.ends_with("m.toml"), "{e}");
+        assert_eq!(e.field, field, "{e}");
+        assert!(matches!(e.row(), Some(6 | 7)), "{e}");
+    }
+    // the limits: vacuum to 10 MPa, 100 m, 1 kN, sds from 1e-6 of the
+    // unit, a turn, a million repeats
+    let m = load(
+        "limits",
+        &format!(
+            "{}{}",
+            one_test("radius", ""),
+            "[[specimen.test]]\nkind = \"force\"\nfile = \"force.csv\"\n[[specimen.test]]\nkind = \"markers\"\nfile = \"markers.csv\"\nsd_mm = 1e-6\ncamera = { angle_deg = -360, x_mm = 1e5, z_mm = -1e5 }\n"
+        ),
+        &[
+            ("data.csv", &format!("{RADIUS}-101.325,1e5,1e-6\n1e4,1e-3,1e5\n")),
+            ("force.csv", &format!("{FORCE}1e4,Z,-1e5,-1e3,1e3,1000000\n0,X,1e5,1e3,1e-6,1\n")),
+            ("markers.csv", "pressure_kpa,marker,s_mm,x_mm,z_mm\n0,M1,50,-1e5,1e5\n"),
+        ],
+    )
+    .unwrap();
+    assert_eq!(m.specimens[0].tests.len(), 3);
+}
+
+/// At the limits every residual, chi-square and figure point is finite,
+/// and so is compare.json's chi-square.
+#[test]
+fn a_comparison_at_the_limits_is_finite() {
+    let c = compare_one(
+        "finite",
+        0.25,
+        "",
+        "radius",
+        "",
+        &format!("{RADIUS}0,1e5,1e-6\n25,1e-3,1e5\n"),
+    );
+    assert_eq!((c.points, c.failed), (2, 0));
+    for p in predictions(&c) {
+        let r = &p.residuals[0];
+        assert!(r.residual_sd.unwrap().is_finite(), "{r:?}");
+    }
+    assert!(
+        c.chi_square.is_finite() && c.chi_square > 1e20,
+        "{}",
+        c.chi_square
+    );
+    let json = serde_json::to_value(&c).unwrap();
+    assert!(json["chi_square"].is_f64(), "{}", json["chi_square"]);
+    for (_, fig) in fpc::measure::figures(&c) {
+        let fig = serde_json::to_value(&fig).unwrap();
+        let rows = fig["rows"].as_array().unwrap().iter();
+        let panels = rows.flat_map(|r| r.as_array().unwrap());
+        let points: Vec<&serde_json::Value> = panels
+            .flat_map(|p| p["series"].as_array().unwrap())
+            .flat_map(|s| s["points"].as_array().unwrap())
+            .flat_map(|p| p.as_array().unwrap())
+            .collect();
+        assert!(points.len() > 4, "{fig}");
+        assert!(
+            points.iter().all(|x| x.is_f64()),
+            "a point that is not finite: {fig}"
+        );
+    }
+}
+
+/// A scene value the library refuses is named by the key as the user
+/// wrote it, at its line: in the shared tables, in a specimen's own
+/// tables (the second specimen's too), in a scene file.
+#[test]
+fn a_bad_scene_value_is_named_where_it_is_written() {
+    let test = "[[specimen.test]]\nkind = \"radius\"\nfile = \"data.csv\"\n";
+    let files = [
+        ("data.csv", RADIUS),
+        (
+            "base.toml",
+            "[partition]\nelements = 4\n[actuator.pemc]\ne2 = -5\n",
+        ),
+    ];
+    for (tag, manifest, (file, row, field)) in [
+        (
+            "type",
+            format!("[shared.actuator.pemc]\ne2 = \"abc\"\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("m.toml", 2, "shared.actuator.pemc.e2"),
+        ),
+        (
+            "value",
+            format!("[shared]\n[shared.actuator.pemc]\n\ne2 = -1\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("m.toml", 4, "shared.actuator.pemc.e2"),
+        ),
+        (
+            "unknown",
+            format!("[shared.actuator.pemc]\ne3 = 1.0\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("m.toml", 2, "shared.actuator.pemc.e3"),
+        ),
+        (
+            "own",
+            format!(
+                "[[specimen]]\nname = \"a\"\n{test}[[specimen]]\nname = \"b\"\n[specimen.own.actuator.pemc]\neps0 = 0.3\ne2 = \"x\"\n{test}"
+            ),
+            ("m.toml", 10, "specimen.own.actuator.pemc.e2"),
+        ),
+        (
+            "file",
+            format!("[shared]\nscene = \"base.toml\"\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("base.toml", 4, "actuator.pemc.e2"),
+        ),
+    ] {
+        let e = load(tag, &manifest, &files).expect_err(tag);
+        assert!(e.file.ends_with(file), "{tag}: {e}");
+        assert_eq!((e.field.as_str(), e.row(), e.column()), (field, Some(row), Some(1)), "{tag}: {e}");
+    }
+}
+
+/// A specimen's scene file is used instead of the shared one: the shared
+/// file's keys do not override it (docs/measurements.md).
+#[test]
+fn a_specimens_scene_file_replaces_the_shared_one() {
+    let test = "[[specimen.test]]\nkind = \"radius\"\nfile = \"data.csv\"\n";
+    let m = load(
+        "scenes",
+        &format!("[shared]\nscene = \"shared.toml\"\n[[specimen]]\nname = \"a\"\n{test}[[specimen]]\nname = \"b\"\nscene = \"b.toml\"\n{test}"),
+        &[
+            ("data.csv", RADIUS),
+            ("shared.toml", "[partition]\nelements = 6\n"),
+            ("b.toml", "[partition]\nelements = 4\n"),
+        ],
+    )
+    .unwrap();
+    let elements = |i: usize| m.specimens[i].scene.file().partition.elements;
+    assert_eq!(elements(0), Some(fpc::scene::Elements::Count(6)));
+    assert_eq!(elements(1), Some(fpc::scene::Elements::Count(4)));
 }

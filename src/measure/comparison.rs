@@ -3,6 +3,11 @@
 //! and in standard deviations, the chi-square, the model's validity
 //! verdict on every prediction, and the figures of the paper's Fig. 16(b)
 //! and Fig. 18 (docs/measurements.md).
+//!
+//! Every number of a comparison is finite: the measurements are bounded
+//! when read, a model value beyond [`MAX_MODEL_VALUE`] in magnitude (or
+//! not finite) is no prediction, its row's `failure` saying so, and a
+//! failed solve's residual that is not a number is said in words.
 
 use std::collections::HashMap;
 
@@ -40,7 +45,12 @@ pub struct Residual {
 }
 
 impl Residual {
-    fn new(quantity: &'static str, unit: &'static str, measured: f64, sd: f64) -> Residual {
+    pub(super) fn new(
+        quantity: &'static str,
+        unit: &'static str,
+        measured: f64,
+        sd: f64,
+    ) -> Residual {
         Residual {
             quantity,
             unit,
@@ -164,6 +174,19 @@ pub struct Comparison {
 /// Points of a model curve.
 const CURVE_POINTS: usize = 33;
 
+/// Largest magnitude of a model value that is compared (mm or N). Beyond
+/// it the model's answer is no prediction (a row's `failure` says so; a
+/// curve leaves the point out): with the bounded measurements
+/// ([`super::input::MAX_LENGTH_MM`], [`super::input::MIN_SD`], ...) every
+/// residual in standard deviations, its square and the chi-square of the
+/// most rows a manifest may have stay finite.
+const MAX_MODEL_VALUE: f64 = 1e100;
+
+/// Whether a model value is compared ([`MAX_MODEL_VALUE`]).
+fn usable(v: f64) -> bool {
+    v.abs() <= MAX_MODEL_VALUE
+}
+
 /// The model's finger of one specimen, with its unloaded solves by
 /// pressure.
 struct Model {
@@ -248,12 +271,25 @@ impl Model {
 }
 
 /// A prediction from its measured quantities and the model's answer.
-fn predicted(
+pub(super) fn predicted(
     line: usize,
     pressure_kpa: f64,
     mut residuals: Vec<Residual>,
     answer: Result<(Vec<f64>, Vec<Warning>), String>,
 ) -> Prediction {
+    let answer = answer.and_then(|(values, w)| {
+        match values.iter().zip(&residuals).find(|(v, _)| !usable(**v)) {
+            Some((v, r)) if v.is_finite() => Err(format!(
+                "the model's {} is {v:e} {}, beyond {MAX_MODEL_VALUE:e} in magnitude: not compared",
+                r.quantity, r.unit
+            )),
+            Some((_, r)) => Err(format!(
+                "the model's {} is not a finite number: not compared",
+                r.quantity
+            )),
+            None => Ok((values, w)),
+        }
+    });
     let (warnings, failure) = match answer {
         Ok((values, w)) => {
             for (r, v) in residuals.iter_mut().zip(values) {
@@ -337,6 +373,7 @@ fn compare_test(model: &mut Model, test: &Test, curves: bool) -> TestComparison 
                 model_curve = grid(lo, hi, CURVE_POINTS)
                     .into_iter()
                     .filter_map(|p| model.radius(p).ok().map(|(r, _)| [p, r]))
+                    .filter(|q| usable(q[1]))
                     .collect();
             }
             ("finger", preds)
@@ -370,6 +407,7 @@ fn compare_test(model: &mut Model, test: &Test, curves: bool) -> TestComparison 
                 let points = grid(lo, hi, CURVE_POINTS / 2 + 1)
                     .into_iter()
                     .filter_map(|p| model.force(p, axis, d).ok().map(|(f, _)| [p, f]))
+                    .filter(|q| usable(q[1]))
                     .collect();
                 force_curves.push(ForceCurve {
                     axis: axis.name(),

@@ -49,6 +49,73 @@ pub const MAX_TESTS: usize = 16;
 /// Gauge pressure of absolute vacuum (kPa): no measured pressure is lower.
 pub const VACUUM_KPA: f64 = crate::finger::VACUUM_GAUGE_MPA * 1e3;
 
+// The physical bounds of measured values: generous for any soft finger,
+// they keep every sum and difference of the comparison (a residual, an
+// error bar `value ± sd`, a figure's range, the chi-square) finite.
+
+/// Highest measured pressure (kPa, gauge): 10 MPa, far beyond the burst
+/// pressure of an elastomer actuator.
+pub const MAX_PRESSURE_KPA: f64 = 1e4;
+/// Largest magnitude of a measured length (mm): a point's coordinate, a
+/// radius, a displacement, a camera offset and a standard deviation in
+/// mm; 100 m, the actuator's own bound on its dimensions
+/// ([`crate::actuator::MAX_DIMENSION_MM`]).
+pub const MAX_LENGTH_MM: f64 = crate::actuator::MAX_DIMENSION_MM;
+/// Largest magnitude of a measured force and of its standard deviation
+/// (N): ten times the largest grasp force the library follows
+/// ([`crate::gripper::MAX_GRASP_FORCE_N`]).
+pub const MAX_FORCE_N: f64 = 1e3;
+/// Smallest standard deviation, in its quantity's unit (mm or N): a
+/// nanometre, a micronewton. A smaller one is no measurement's, and
+/// divides a residual into an overflow.
+pub const MIN_SD: f64 = 1e-6;
+/// Largest magnitude of a camera frame's angle (degrees): one turn.
+pub const MAX_ANGLE_DEG: f64 = 360.0;
+/// Most repeats a force row may be the mean of.
+pub const MAX_REPEATS: u32 = 1_000_000;
+
+/// `x` as a message shows it: plain decimals for ordinary magnitudes,
+/// exponent notation for the others (`1e308`, not 309 digits).
+pub(crate) fn shown(x: f64) -> String {
+    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// Why a measured value `x` (written `text`, in `unit`) is refused: its
+/// magnitude beyond `max`; `None` when it is within.
+pub(crate) fn beyond(x: f64, text: &str, max: f64, unit: &str) -> Option<String> {
+    (x.abs() > max).then(|| {
+        format!(
+            "{text} {unit} is beyond the bound of a measured value, {} {unit} in magnitude",
+            shown(max)
+        )
+    })
+}
+
+/// Why a standard deviation `x` (written `text`, in `unit`) is refused:
+/// not positive, below [`MIN_SD`] or above `max`; `None` when it is a
+/// standard deviation.
+pub(crate) fn bad_sd(x: f64, text: &str, max: f64, unit: &str) -> Option<String> {
+    if x <= 0.0 {
+        Some(format!("{text} must be positive"))
+    } else if x < MIN_SD {
+        Some(format!(
+            "{text} {unit} is below {} {unit}, the smallest standard deviation of a measurement",
+            shown(MIN_SD)
+        ))
+    } else if x > max {
+        Some(format!(
+            "{text} {unit} is above {} {unit}, the largest standard deviation of a measurement",
+            shown(max)
+        ))
+    } else {
+        None
+    }
+}
+
 /// Bad measurement input: the file as the manifest names it (or the
 /// manifest itself), the place in it (row and column from 1; for a CSV
 /// file the row is the line, the header being row 1; `None` for what

@@ -1,14 +1,25 @@
 //! The manifest: specimens, their actuators as scene tables (shared and
 //! own), and their tests (CSV files).
+//!
+//! A specimen's scene document is its layers laid one over the other: its
+//! scene file (else the `[shared]` one), the inline `[shared]` tables, its
+//! `own` tables. A scene value the library rejects is an error at the
+//! layer that writes it, the topmost: the key as written in the manifest
+//! (`specimen.own.actuator.pemc.eps0`, `shared.actuator.pemc.e2`) or in
+//! the scene file (`actuator.pemc.e2`), at that key's line; a rule
+//! between keys, or a default, at the specimen's `own` table (else its
+//! name).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
+use toml::de::{DeTable, DeValue};
 use toml::{Spanned, Table, Value};
 
 use super::input::{
-    read_text, MeasureError, TestKind, MAX_DATA_BYTES, MAX_MANIFEST_BYTES, MAX_ROWS,
-    MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS, MAX_TOTAL_ROWS,
+    bad_sd, beyond, read_text, shown, MeasureError, TestKind, MAX_ANGLE_DEG, MAX_DATA_BYTES,
+    MAX_LENGTH_MM, MAX_MANIFEST_BYTES, MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS,
+    MAX_TOTAL_ROWS,
 };
 use super::table::{self, bits, Context, Record};
 use super::table::{ForceRow, MarkerRow, RadiusRow};
@@ -207,13 +218,189 @@ fn merge(into: &mut Table, from: &Table) {
     }
 }
 
-/// The tables of a scene file.
-fn scene_file(path: &Path, shown: &str) -> Result<Table, MeasureError> {
+/// A scene file: its name as shown, its text and its tables.
+struct SceneFileText {
+    shown: String,
+    text: String,
+    tables: Table,
+}
+
+/// Reads a scene file.
+fn scene_file(path: &Path, shown: &str) -> Result<SceneFileText, MeasureError> {
     let text = read_text(path, shown, MAX_SCENE_BYTES)?;
-    text.parse::<Table>().map_err(|e| {
+    let tables = text.parse::<Table>().map_err(|e| {
         let s = SceneError::from_toml(&text, &e);
         MeasureError::at(shown, s.line, s.col, "scene", s.message)
+    })?;
+    Ok(SceneFileText {
+        shown: shown.to_string(),
+        text,
+        tables,
     })
+}
+
+// ------------------------------------------------------------ scene keys
+
+/// One step of a dotted key path: a table's key or an array's index.
+#[derive(Debug, Clone, PartialEq)]
+enum Step {
+    Key(String),
+    Index(usize),
+}
+
+/// The steps of a scene key as the library names it
+/// (`actuator.pemc.eps0`, `partition.lengths[2]`).
+fn steps(key: &str) -> Vec<Step> {
+    let mut out = Vec::new();
+    for part in key.split('.') {
+        let mut pieces = part.split('[');
+        out.push(Step::Key(pieces.next().unwrap_or("").to_string()));
+        for index in pieces {
+            match index.trim_end_matches(']').parse() {
+                Ok(i) => out.push(Step::Index(i)),
+                Err(_) => out.push(Step::Key(index.to_string())),
+            }
+        }
+    }
+    out
+}
+
+/// A path of steps written as a dotted key.
+fn dotted(path: &[Step]) -> String {
+    let mut s = String::new();
+    for step in path {
+        match step {
+            Step::Key(k) if s.is_empty() => s.push_str(k),
+            Step::Key(k) => {
+                s.push('.');
+                s.push_str(k);
+            }
+            Step::Index(i) => s.push_str(&format!("[{i}]")),
+        }
+    }
+    s
+}
+
+/// The value at `path` in a table.
+fn value_at<'a>(t: &'a Table, path: &[Step]) -> Option<&'a Value> {
+    let (Step::Key(first), rest) = path.split_first()? else {
+        return None;
+    };
+    let mut v = t.get(first)?;
+    for step in rest {
+        v = match (step, v) {
+            (Step::Key(k), Value::Table(t)) => t.get(k)?,
+            (Step::Index(i), Value::Array(a)) => a.get(*i)?,
+            _ => return None,
+        };
+    }
+    Some(v)
+}
+
+/// Where `path` is written in a parsed document: the byte offset of its
+/// last key (of an array's entry, the entry).
+fn offset_of(doc: &DeTable, path: &[Step]) -> Option<usize> {
+    let (Step::Key(first), rest) = path.split_first()? else {
+        return None;
+    };
+    let (k, mut v) = doc.iter().find(|(k, _)| k.get_ref() == first)?;
+    let mut at = k.span().start;
+    for step in rest {
+        (at, v) = match (step, v.get_ref()) {
+            (Step::Key(key), DeValue::Table(t)) => {
+                let (k, v) = t.iter().find(|(k, _)| k.get_ref() == key)?;
+                (k.span().start, v)
+            }
+            (Step::Index(i), DeValue::Array(a)) => {
+                let v = a.get(*i)?;
+                (v.span().start, v)
+            }
+            _ => return None,
+        };
+    }
+    Some(at)
+}
+
+fn holds(span: std::ops::Range<usize>, offset: usize) -> bool {
+    span.contains(&offset)
+}
+
+/// The path of the key or value written at byte `offset` of a parsed
+/// document (the deepest one), appended to `path`.
+fn key_at(doc: &DeTable, offset: usize, path: &mut Vec<Step>) -> bool {
+    for (k, v) in doc.iter() {
+        path.push(Step::Key(k.get_ref().to_string()));
+        if inside(v, offset, path) || holds(k.span(), offset) {
+            return true;
+        }
+        path.pop();
+    }
+    false
+}
+
+fn inside(v: &Spanned<DeValue>, offset: usize, path: &mut Vec<Step>) -> bool {
+    match v.get_ref() {
+        DeValue::Table(t) => key_at(t, offset, path),
+        DeValue::Array(a) => a.iter().enumerate().any(|(i, e)| {
+            path.push(Step::Index(i));
+            let found = inside(e, offset, path) || holds(e.span(), offset);
+            if !found {
+                path.pop();
+            }
+            found
+        }),
+        _ => holds(v.span(), offset),
+    }
+}
+
+/// The byte offset of a line and column (both from 1, the column in
+/// characters) of `text`.
+fn byte_offset(text: &str, line: usize, col: usize) -> usize {
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(line.saturating_sub(1))
+        .map(str::len)
+        .sum();
+    let rest = &text[start.min(text.len())..];
+    start
+        + rest
+            .char_indices()
+            .nth(col.saturating_sub(1))
+            .map_or(rest.len(), |(i, _)| i)
+}
+
+/// One layer of a specimen's scene document and where its keys are
+/// written: a scene file, the manifest's `[shared]` tables or the
+/// specimen's `own` tables.
+struct Layer<'a> {
+    tables: &'a Table,
+    /// The file the keys are written in (as shown) and its text.
+    file: &'a str,
+    text: &'a str,
+    /// The path of the layer's tables in that file.
+    at: Vec<Step>,
+}
+
+/// An error at the scene key `key` of a specimen's document: at the line
+/// where the first layer that writes it (the specimen's own tables, the
+/// shared tables, the scene file) writes it, the field named as written
+/// there (`specimen.own.actuator.pemc.eps0`, `shared.actuator.pemc.e2`,
+/// a scene file's `actuator.pemc.e2`); `None` when no layer writes it (a
+/// default, or a rule between keys).
+fn at_key(layers: &[Layer], key: &[Step], reason: &str) -> Option<MeasureError> {
+    let layer = layers
+        .iter()
+        .find(|l| !key.is_empty() && value_at(l.tables, key).is_some())?;
+    let path: Vec<Step> = layer.at.iter().chain(key).cloned().collect();
+    let doc = DeTable::parse(layer.text).ok()?;
+    let (row, col) = line_col(layer.text, offset_of(doc.get_ref(), &path)?);
+    let field = match &layer.at[..] {
+        [Step::Key(s), Step::Index(_), own @ ..] => {
+            dotted(&[&[Step::Key(s.clone())], own, key].concat())
+        }
+        _ => dotted(&path),
+    };
+    Some(MeasureError::at(layer.file, row, col, field, reason))
 }
 
 impl Manifest {
@@ -251,24 +438,28 @@ impl Manifest {
             ));
         }
         // the shared tables: a scene file, then inline tables
-        let mut shared = Table::new();
+        let mut shared_file = None;
+        let mut inline = Table::new();
         if let Some(s) = &doc.shared {
-            let mut inline = s.get_ref().clone();
+            inline = s.get_ref().clone();
             match inline.remove("scene") {
                 None => {}
                 Some(Value::String(name)) => {
                     let (p, shown) = src.path(&name);
-                    shared = scene_file(&p, &shown)?;
+                    shared_file = Some(scene_file(&p, &shown)?);
                 }
                 Some(_) => return Err(src.err(s, "shared.scene", "must be a file name")),
             }
-            merge(&mut shared, &inline);
         }
+        let mut shared = shared_file
+            .as_ref()
+            .map_or_else(Table::new, |f| f.tables.clone());
+        merge(&mut shared, &inline);
         let mut shared_keys = Vec::new();
         leaves(&shared, "", &mut shared_keys);
         let mut specimens: Vec<Specimen> = Vec::new();
         let mut rows_left = MAX_TOTAL_ROWS;
-        for sp in &doc.specimen {
+        for (index, sp) in doc.specimen.iter().enumerate() {
             let s = sp.get_ref();
             let name = s.name.get_ref().trim().to_string();
             if name.is_empty() {
@@ -284,22 +475,58 @@ impl Manifest {
                     format!("more than {MAX_TESTS} tests, the limit of a specimen"),
                 ));
             }
-            let mut doc_tables = match &s.scene {
+            // the layers: its scene file (else the shared one), the
+            // inline shared tables, its own tables
+            let own_file = match &s.scene {
                 Some(f) => {
                     let (p, shown) = src.path(f.get_ref());
-                    scene_file(&p, &shown)?
+                    Some(scene_file(&p, &shown)?)
                 }
-                None => Table::new(),
+                None => None,
             };
-            merge(&mut doc_tables, &shared);
+            let base = own_file.as_ref().or(shared_file.as_ref());
+            let own_tables = s
+                .own
+                .as_ref()
+                .map_or_else(Table::new, |o| o.get_ref().clone());
+            let mut doc_tables = base.map_or_else(Table::new, |f| f.tables.clone());
+            merge(&mut doc_tables, &inline);
+            merge(&mut doc_tables, &own_tables);
             let mut own = Vec::new();
-            if let Some(o) = &s.own {
-                merge(&mut doc_tables, o.get_ref());
-                leaves(o.get_ref(), "", &mut own);
+            leaves(&own_tables, "", &mut own);
+            let mut layers = vec![
+                Layer {
+                    tables: &own_tables,
+                    file,
+                    text,
+                    at: vec![
+                        Step::Key("specimen".into()),
+                        Step::Index(index),
+                        Step::Key("own".into()),
+                    ],
+                },
+                Layer {
+                    tables: &inline,
+                    file,
+                    text,
+                    at: vec![Step::Key("shared".into())],
+                },
+            ];
+            if let Some(f) = base {
+                layers.push(Layer {
+                    tables: &f.tables,
+                    file: &f.shown,
+                    text: &f.text,
+                    at: Vec::new(),
+                });
             }
-            let at_own = |field: &str, reason: String| match &s.own {
-                Some(o) => src.err(o, field, reason),
-                None => src.err(&s.name, field, reason),
+            // an error at a scene key: where a layer writes it, else at the
+            // specimen's own table (or its name)
+            let at_own = |field: &str, reason: String| {
+                at_key(&layers, &steps(field), &reason).unwrap_or_else(|| match &s.own {
+                    Some(o) => src.err(o, field, reason),
+                    None => src.err(&s.name, field, reason),
+                })
             };
             if doc_tables.contains_key("gripper") {
                 return Err(at_own(
@@ -320,8 +547,17 @@ impl Manifest {
             let scene_text = toml::to_string(&doc_tables)
                 .map_err(|e| at_own("own", format!("specimen {name:?}: {e}")))?;
             let scene = Scene::from_toml(&scene_text).map_err(|e| match e {
-                SceneReadError::Syntax(s) => {
-                    at_own("own", format!("specimen {name:?}: {}", s.message))
+                SceneReadError::Syntax(e) => {
+                    // the key of the generated document the error is at
+                    let mut key = Vec::new();
+                    let offset = byte_offset(&scene_text, e.line, e.col);
+                    let found = DeTable::parse(&scene_text)
+                        .is_ok_and(|d| key_at(d.get_ref(), offset, &mut key));
+                    let reason = format!("specimen {name:?}: {}", e.message);
+                    match found.then(|| at_key(&layers, &key, &reason)).flatten() {
+                        Some(located) => located,
+                        None => at_own("own", reason),
+                    }
                 }
                 SceneReadError::Input(i) => {
                     at_own(&i.field().to_string(), format!("specimen {name:?}: {i}"))
@@ -394,19 +630,25 @@ fn read_test(
     }
     if let Some(sd) = &d.sd_mm {
         let x = *sd.get_ref();
-        if !(x.is_finite() && x > 0.0) {
+        if !x.is_finite() {
             return Err(src.err(sd, "sd_mm", format!("{x} must be a positive number")));
+        }
+        if let Some(why) = bad_sd(x, &shown(x), MAX_LENGTH_MM, "mm") {
+            return Err(src.err(sd, "sd_mm", why));
         }
     }
     if let Some(c) = &d.camera {
         let f = c.get_ref();
-        for (key, x) in [
-            ("camera.angle_deg", f.angle_deg),
-            ("camera.x_mm", f.x_mm),
-            ("camera.z_mm", f.z_mm),
+        for (key, x, max, unit) in [
+            ("camera.angle_deg", f.angle_deg, MAX_ANGLE_DEG, "degrees"),
+            ("camera.x_mm", f.x_mm, MAX_LENGTH_MM, "mm"),
+            ("camera.z_mm", f.z_mm, MAX_LENGTH_MM, "mm"),
         ] {
             if !x.is_finite() {
                 return Err(src.err(c, key, format!("{x} is not a finite number")));
+            }
+            if let Some(why) = beyond(x, &shown(x), max, unit) {
+                return Err(src.err(c, key, why));
             }
         }
     }

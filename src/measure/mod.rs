@@ -19,9 +19,22 @@
 //! input is a [`MeasureError`] naming the file, the row and column (both
 //! from 1) and the field. Sizes are bounded before reading further
 //! ([`MAX_MANIFEST_BYTES`], [`MAX_DATA_BYTES`], [`MAX_ROWS`],
-//! [`MAX_TOTAL_ROWS`], [`MAX_SPECIMENS`], [`MAX_TESTS`]). [`compare`] then predicts every
-//! measured value, with its residual in units and in standard deviations,
-//! the chi-square, and the model's validity verdict on every prediction.
+//! [`MAX_TOTAL_ROWS`], [`MAX_SPECIMENS`], [`MAX_TESTS`]), and so is every
+//! measured value, within physical limits generous for any soft finger:
+//! pressures from vacuum to [`MAX_PRESSURE_KPA`], lengths (coordinates,
+//! radii, displacements, camera offsets) within [`MAX_LENGTH_MM`], forces
+//! within [`MAX_FORCE_N`], a camera angle within [`MAX_ANGLE_DEG`],
+//! standard deviations from [`MIN_SD`] of their unit to the bound of
+//! their quantity, at most [`MAX_REPEATS`] repeats. A bad scene value is
+//! named by the key as written where it is written: in the manifest
+//! (`shared.actuator.pemc.e2`, `specimen.own.actuator.pemc.eps0`, at that
+//! key's line) or in a scene file (its key, at its line).
+//!
+//! [`compare`] then predicts every measured value, with its residual in
+//! units and in standard deviations, the chi-square, and the model's
+//! validity verdict on every prediction. A model value that is not finite
+//! or beyond 1e100 in magnitude is no prediction (the row's `failure` says
+//! so), so every residual and chi-square is a finite number.
 //!
 //! The types keep what a calibrator needs: which scene keys are a
 //! specimen's own parameters ([`Specimen::own`]) and which are shared
@@ -51,8 +64,9 @@ pub use comparison::{
     TestComparison, COMPARE_COLUMNS,
 };
 pub use input::{
-    MeasureError, TestKind, MAX_DATA_BYTES, MAX_MANIFEST_BYTES, MAX_ROWS, MAX_SCENE_BYTES,
-    MAX_SPECIMENS, MAX_TESTS, MAX_TOTAL_ROWS, VACUUM_KPA,
+    MeasureError, TestKind, MAX_ANGLE_DEG, MAX_DATA_BYTES, MAX_FORCE_N, MAX_LENGTH_MM,
+    MAX_MANIFEST_BYTES, MAX_PRESSURE_KPA, MAX_REPEATS, MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS,
+    MAX_TESTS, MAX_TOTAL_ROWS, MIN_SD, VACUUM_KPA,
 };
 pub use manifest::{CameraFrame, Manifest, Specimen, Test, TestData};
 pub use table::{ForceRow, MarkerRow, RadiusRow};

@@ -1,13 +1,18 @@
 //! The CSV files of the tests: a header of known column names (the unit
 //! in each name), one record per data row; `#` starts a comment line.
 //! Every value is checked where it is read, and a bad one is an error
-//! naming its file, line, column and column name.
+//! naming its file, line, column and column name. Measured values are
+//! bounded (the bounds of [`super::input`]): pressures, lengths, forces,
+//! standard deviations, repeats.
 
 use std::collections::HashMap;
 
 use serde::Serialize;
 
-use super::input::{MeasureError, TestKind, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA};
+use super::input::{
+    bad_sd, beyond, shown, MeasureError, TestKind, MAX_FORCE_N, MAX_LENGTH_MM, MAX_PRESSURE_KPA,
+    MAX_REPEATS, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA,
+};
 use crate::studies::Axis;
 
 /// One marker at one pressure.
@@ -150,15 +155,40 @@ impl Record<'_> {
                 format!("{p} kPa is below absolute vacuum ({VACUUM_KPA} kPa gauge)"),
             ));
         }
+        if p > MAX_PRESSURE_KPA {
+            return Err(self.err(
+                "pressure_kpa",
+                format!(
+                    "{} kPa is above {} kPa, the highest measured pressure",
+                    shown(p),
+                    shown(MAX_PRESSURE_KPA)
+                ),
+            ));
+        }
         Ok(p)
     }
 
-    fn positive(&self, name: &str) -> Result<f64, MeasureError> {
+    /// A number within `max` in magnitude (`unit` in the message).
+    fn bounded(&self, name: &str, max: f64, unit: &str) -> Result<f64, MeasureError> {
         let x = self.number(name)?;
-        if x <= 0.0 {
-            return Err(self.err(name, format!("{x} must be positive")));
+        match beyond(x, &shown(x), max, unit) {
+            Some(why) => Err(self.err(name, why)),
+            None => Ok(x),
         }
-        Ok(x)
+    }
+
+    /// A length (mm) within [`MAX_LENGTH_MM`] in magnitude.
+    fn length(&self, name: &str) -> Result<f64, MeasureError> {
+        self.bounded(name, MAX_LENGTH_MM, "mm")
+    }
+
+    /// A standard deviation from [`super::input::MIN_SD`] to `max`.
+    fn sd(&self, name: &str, max: f64, unit: &str) -> Result<f64, MeasureError> {
+        let x = self.number(name)?;
+        match bad_sd(x, &shown(x), max, unit) {
+            Some(why) => Err(self.err(name, why)),
+            None => Ok(x),
+        }
     }
 
     pub(crate) fn marker(&self) -> Result<MarkerRow, MeasureError> {
@@ -175,7 +205,7 @@ impl Record<'_> {
                 format!("{s_mm} mm is beyond the finger, whose mid-plane runs from 0 to {lx} mm"),
             ));
         }
-        let point_mm = [self.number("x_mm")?, self.number("z_mm")?];
+        let point_mm = [self.length("x_mm")?, self.length("z_mm")?];
         let sd_mm = match (self.text("sd_mm"), self.ctx.default_sd_mm) {
             (None, Some(sd)) => sd,
             (None, None) => {
@@ -184,7 +214,7 @@ impl Record<'_> {
                     "no standard deviation: give the column sd_mm or the test's sd_mm key",
                 ))
             }
-            (Some(_), _) => self.positive("sd_mm")?,
+            (Some(_), _) => self.sd("sd_mm", MAX_LENGTH_MM, "mm")?,
         };
         Ok(MarkerRow {
             line: self.line,
@@ -197,11 +227,16 @@ impl Record<'_> {
     }
 
     pub(crate) fn radius(&self) -> Result<RadiusRow, MeasureError> {
+        let pressure_kpa = self.pressure()?;
+        let radius_mm = self.length("radius_mm")?;
+        if radius_mm <= 0.0 {
+            return Err(self.err("radius_mm", format!("{radius_mm} must be positive")));
+        }
         Ok(RadiusRow {
             line: self.line,
-            pressure_kpa: self.pressure()?,
-            radius_mm: self.positive("radius_mm")?,
-            sd_mm: self.positive("sd_mm")?,
+            pressure_kpa,
+            radius_mm,
+            sd_mm: self.sd("sd_mm", MAX_LENGTH_MM, "mm")?,
         })
     }
 
@@ -217,18 +252,23 @@ impl Record<'_> {
                 ))
             }
         };
-        let displacement_mm = self.number("displacement_mm")?;
+        let displacement_mm = self.length("displacement_mm")?;
         if displacement_mm == 0.0 {
             return Err(self.err("displacement_mm", "must not be 0"));
         }
-        let force_n = self.number("force_n")?;
-        let sd_n = self.positive("sd_n")?;
+        let force_n = self.bounded("force_n", MAX_FORCE_N, "N")?;
+        let sd_n = self.sd("sd_n", MAX_FORCE_N, "N")?;
         let t = self.text("repeats").unwrap_or("");
         let repeats = t
             .parse::<u32>()
             .ok()
-            .filter(|&r| r >= 1)
-            .ok_or_else(|| self.err("repeats", format!("{t:?} is not a whole number >= 1")))?;
+            .filter(|r| (1..=MAX_REPEATS).contains(r))
+            .ok_or_else(|| {
+                self.err(
+                    "repeats",
+                    format!("{t:?} is not a whole number from 1 to {MAX_REPEATS}"),
+                )
+            })?;
         Ok(ForceRow {
             line: self.line,
             pressure_kpa,

@@ -296,8 +296,8 @@ fn manifest_errors_name_their_line_and_key() {
     // a value the model rejects names the scene key
     let bad = one_test("radius", "").replace("eps0 = 0.25", "eps0 = nan");
     let e = load("eps0", &bad, &[("data.csv", RADIUS)]).unwrap_err();
-    assert_eq!(e.field, "actuator.pemc.eps0", "{e}");
-    assert_eq!(e.row(), Some(3), "{e}");
+    assert_eq!(e.field, "specimen.own.actuator.pemc.eps0", "{e}");
+    assert_eq!(e.at, Some((4, 1)), "{e}");
     // a specimen's loads are its tests'; of [load], kappa belongs to the
     // finger, and zeros (a calibrated scene's) set nothing
     let with_load = |tag: &str, table: &str| {
@@ -305,9 +305,11 @@ fn manifest_errors_name_their_line_and_key() {
         load(tag, &manifest, &[("data.csv", RADIUS)])
     };
     let e = with_load("load", "pressure_kpa = 10\n").unwrap_err();
-    assert_eq!(e.field, "load.pressure_kpa", "{e}");
+    assert_eq!(e.field, "shared.load.pressure_kpa", "{e}");
+    assert_eq!(e.row(), Some(2), "{e}");
     let e = with_load("fx", "kappa = 3.0\nfx = 0.1\n").unwrap_err();
-    assert_eq!(e.field, "load.fx", "{e}");
+    assert_eq!(e.field, "shared.load.fx", "{e}");
+    assert_eq!(e.row(), Some(3), "{e}");
     let m = with_load("kappa", "kappa = 3.0\npressure_kpa = 0.0\nfx = 0\n").unwrap();
     assert_eq!(m.specimens[0].scene.load.kappa, 3.0);
     // a missing file is named
@@ -387,4 +389,53 @@ fn sizes_are_bounded_before_reading_further() {
         ("specimen", Some(2 * MAX_SPECIMENS + 1)),
         "{e}"
     );
+}
+
+/// A model value that no residual can be formed from (not finite, or so
+/// large that its square in standard deviations would overflow) is no
+/// prediction: the row says why and holds no residual.
+#[test]
+fn a_model_value_beyond_the_bound_is_no_prediction() {
+    for (value, words) in [
+        (1e200, "beyond"),
+        (f64::INFINITY, "not a finite number"),
+        (f64::NAN, "not a finite number"),
+    ] {
+        let res = vec![comparison::Residual::new("radius_mm", "mm", 40.0, 1e-6)];
+        let p = comparison::predicted(2, 0.0, res, Ok((vec![value], Vec::new())));
+        let why = p.failure.as_deref().unwrap_or_default();
+        assert!(
+            why.contains("radius_mm") && why.contains(words),
+            "{value}: {why}"
+        );
+        assert!(!why.contains("inf") && !why.contains("NaN"), "{why}");
+        assert!(!p.valid);
+        assert_eq!(p.residuals[0].predicted, None);
+        assert_eq!(p.residuals[0].residual_sd, None);
+    }
+    // the largest value still compared gives a finite square
+    let res = vec![comparison::Residual::new("radius_mm", "mm", 40.0, 1e-6)];
+    let p = comparison::predicted(2, 0.0, res, Ok((vec![-1e100], Vec::new())));
+    let z = p.residuals[0].residual_sd.unwrap();
+    assert!((z * z * (2 * MAX_TOTAL_ROWS) as f64).is_finite(), "{z}");
+}
+
+/// A failed solve whose residual is not a number says so in words: no
+/// record holds `inf` or `NaN`.
+#[test]
+fn a_failure_with_a_residual_that_is_not_a_number_says_so_in_words() {
+    for r in [f64::INFINITY, f64::NAN] {
+        let e = crate::SolveError::NotConverged {
+            reason: fpc_newton::Termination::MaxIterations,
+            iterations: 0,
+            relative_residual: r,
+            element: Some(0),
+            last: crate::coefficients::Coefficients::zeros(1, 4),
+        };
+        // (SolveError's own message, which every record and line shows)
+        let text = e.to_string();
+        assert!(text.starts_with("solve failed for element 0"), "{text}");
+        assert!(text.contains("not a finite number"), "{text}");
+        assert!(!text.contains("inf") && !text.contains("NaN"), "{text}");
+    }
 }

@@ -4,6 +4,11 @@
 //! quantity), `compare.json` (every prediction with its residuals and the
 //! model's validity verdict) and the figures `compare_radius` and
 //! `compare_force` (`--format`).
+//!
+//! A run in which rows were measured but the model predicted none (every
+//! solve failed) writes its files, whose `note`s and `failure`s say why
+//! for each row, and then fails (status 1) with one line naming the first
+//! row and its reason: a summary of no residuals would read as success.
 
 use std::io::Write as _;
 use std::path::PathBuf;
@@ -57,6 +62,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     };
     let json = serde_json::to_string_pretty(&report)? + "\n";
     crate::output::write_atomic(&out, "compare.json", json.as_bytes())?;
+    if let Some(why) = nothing_predicted(&c) {
+        anyhow::bail!(
+            "{why}; every row's reason is in {}",
+            out.join("compare.csv").display()
+        );
+    }
     let mut w = crate::output::stdout();
     if args.json {
         writeln!(w, "{}", serde_json::to_string(&report)?)?;
@@ -99,6 +110,28 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     files.extend(report.figures);
     writeln!(w, "wrote        {}: {}", out.display(), files.join(", "))?;
     Ok(())
+}
+
+/// Why a comparison that has rows but not one prediction failed (the
+/// first row's file, line and reason); `None` when any row was predicted
+/// or there was no row to predict.
+fn nothing_predicted(c: &Comparison) -> Option<String> {
+    let mut rows = c
+        .specimens
+        .iter()
+        .flat_map(|s| &s.tests)
+        .flat_map(|t| t.predictions.iter().map(move |p| (&t.file, p)));
+    let (file, first) = rows.clone().next()?;
+    if rows.any(|(_, p)| p.failure.is_none()) {
+        return None;
+    }
+    Some(format!(
+        "the model predicted none of the {} measured {}: {file}:{}: {}",
+        c.failed,
+        noun(c.failed, "row"),
+        first.line,
+        first.failure.as_deref().unwrap_or("no prediction")
+    ))
 }
 
 /// `row what` for one row, `rows what` for any other count.

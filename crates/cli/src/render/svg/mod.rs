@@ -203,11 +203,17 @@ fn finite(points: &[[f64; 2]]) -> Vec<(f64, f64)> {
 
 /// A data range with 5 % margins (a unit range around a single value,
 /// `0..1` without data).
+/// The largest magnitude an axis reaches: data beyond it are drawn at the
+/// edge. Its span (twice it) and the padding stay finite, which the tick
+/// placement needs (an infinite span never ended).
+const AXIS_LIMIT: f64 = 1e300;
+
 fn padded(v: &[f64]) -> (f64, f64) {
     let (lo, hi) = v
         .iter()
         .filter(|x| x.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+        .map(|x| x.clamp(-AXIS_LIMIT, AXIS_LIMIT))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
             (lo.min(x), hi.max(x))
         });
     if !lo.is_finite() {

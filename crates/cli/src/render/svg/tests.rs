@@ -51,6 +51,34 @@ fn a_log_log_panel_skips_values_that_are_not_positive() {
     assert!(s.contains("10⁻²") && s.contains("10¹"), "{s}");
 }
 
+/// Values near f64's largest (an error bar of 1e308 mm from a measured
+/// standard deviation): the axis span overflowed to inf and the tick
+/// placement never ended. Drawn now, at the axis limit, in finite numbers.
+#[test]
+fn values_near_the_largest_float_draw_on_finite_axes() {
+    let (lo, hi) = padded(&[39.0, 1e308, -1e308, f64::INFINITY]);
+    assert!(lo.is_finite() && hi.is_finite() && (hi - lo).is_finite());
+    assert!(lo < -1e299 && hi > 1e299, "{lo:e} {hi:e}");
+    let mut p = Panel::new("t", PlotAxis::new("x", "kPa"), PlotAxis::new("y", "mm"));
+    p.series.push(
+        Series::new(
+            "a",
+            SeriesKind::LinePoints,
+            vec![[0.0, 39.0], [25.0, 1e308], [50.0, -1e308]],
+        )
+        .label("a"),
+    );
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(svg(&Figure::row("huge", [600, 400], vec![p])));
+    });
+    let s = rx
+        .recv_timeout(std::time::Duration::from_secs(30))
+        .expect("drawing values near f64::MAX hung")
+        .unwrap();
+    assert!(!s.contains("NaN") && !s.contains("inf"), "{s}");
+}
+
 #[test]
 fn print_sizing_sets_inches_and_the_printed_font_size() {
     let mut p = Panel::new("t", PlotAxis::new("x", "mm"), PlotAxis::new("y", "N"));
