@@ -12,13 +12,13 @@ use crate::field::Field;
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum InputError {
     /// The value is NaN or infinite.
-    #[error("{field} = {value}: must be finite")]
+    #[error("{field} = {}: must be finite", Num(*.value))]
     NotFinite { field: Field, value: f64 },
     /// The value must be strictly positive.
-    #[error("{field} = {value}: must be positive")]
+    #[error("{field} = {}: must be positive", Num(*.value))]
     NotPositive { field: Field, value: f64 },
     /// The value lies outside its admissible range; `rule` states the range.
-    #[error("{field} = {value}: {rule}")]
+    #[error("{field} = {}: {rule}", Num(*.value))]
     OutOfRange {
         field: Field,
         value: f64,
@@ -35,6 +35,23 @@ pub enum InputError {
         value: String,
         rule: String,
     },
+}
+
+/// A value as a message shows it: as Rust writes it, except that a
+/// magnitude of 1e16 and more, or below 1e-9, is written with an exponent
+/// (`1e308`, not 309 digits).
+pub(crate) struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let v = self.0;
+        let a = v.abs();
+        if v.is_finite() && a != 0.0 && !(1e-9..1e16).contains(&a) {
+            write!(f, "{v:e}")
+        } else {
+            write!(f, "{v}")
+        }
+    }
 }
 
 impl InputError {

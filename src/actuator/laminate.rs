@@ -22,6 +22,30 @@ pub const MAX_GENERATED_RIBS: usize = 10_000;
 /// ([`ActuatorParams::cl_ribs`]).
 pub const MAX_CL_RIBS: usize = 10_000;
 
+/// The range of every modulus (MPa: Young's and shear moduli, and the
+/// prestressed law's constants in magnitude): from 1 Pa, far below the
+/// softest elastomer, to 10 TPa, beyond diamond's 1.2 TPa. Outside it the
+/// solver's stiffness scale under- or overflows.
+pub const MODULUS_RANGE_MPA: (f64, f64) = (1e-6, 1e7);
+
+/// The range of the prestrain `eps0`: above -1 (a strain of -1 shrinks the
+/// layer to nothing) and at most 10 (no elastomer stretches to eleven
+/// times its length). Inside it, values outside [`EPS0_FIT_RANGE`] are
+/// accepted with a warning.
+pub const EPS0_RANGE: (f64, f64) = (-1.0, 10.0);
+
+/// Fails unless `value` is a modulus in [`MODULUS_RANGE_MPA`].
+fn modulus(field: Field, value: f64) -> Result<(), InputError> {
+    positive(field.clone(), value)?;
+    let (lo, hi) = MODULUS_RANGE_MPA;
+    require(
+        (lo..=hi).contains(&value),
+        field,
+        value,
+        format!("must lie in [{lo:e}, {hi:e}] MPa (1 Pa to 10 TPa)"),
+    )
+}
+
 /// Plane-stress reduced stiffnesses (MPa) of a lamina, with X = 1, Y = 2.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlaneStress {
@@ -52,7 +76,7 @@ impl Isotropic {
     }
 
     fn validate(&self, l: Lamina) -> Result<(), InputError> {
-        positive(Field::Material(l, Elastic::E), self.e)?;
+        modulus(Field::Material(l, Elastic::E), self.e)?;
         let field = Field::Material(l, Elastic::Nu);
         finite(field.clone(), self.nu)?;
         require(
@@ -92,8 +116,8 @@ impl Orthotropic {
     }
 
     fn validate(&self, l: Lamina) -> Result<(), InputError> {
-        positive(Field::Material(l, Elastic::E1), self.e1)?;
-        positive(Field::Material(l, Elastic::E2), self.e2)?;
+        modulus(Field::Material(l, Elastic::E1), self.e1)?;
+        modulus(Field::Material(l, Elastic::E2), self.e2)?;
         let field = Field::Material(l, Elastic::Nu12);
         finite(field.clone(), self.nu12)?;
         let d = 1.0 - self.nu12 * self.nu21();
@@ -182,11 +206,17 @@ impl PsiParams {
     }
 
     fn validate(&self) -> Result<(), InputError> {
+        let hi = MODULUS_RANGE_MPA.1;
         for (&k, pk) in PemcKey::ALL[2..].iter().zip(self.to_array()) {
             finite(Field::Pemc(k), pk)?;
+            require(
+                pk.abs() <= hi,
+                Field::Pemc(k),
+                pk,
+                format!("must lie in [-{hi:e}, {hi:e}] MPa"),
+            )?;
         }
-        positive(Field::Pemc(PemcKey::P1), self.p1)?;
-        Ok(())
+        modulus(Field::Pemc(PemcKey::P1), self.p1)
     }
 }
 
@@ -529,9 +559,16 @@ impl Actuator {
         params.fluidic.validate(Lamina::Fluidic)?;
 
         let pemc = &params.pemc;
-        positive(Field::Pemc(PemcKey::E2), pemc.e2)?;
+        modulus(Field::Pemc(PemcKey::E2), pemc.e2)?;
         pemc.law.validate()?;
         finite(Field::Pemc(PemcKey::Eps0), pemc.eps0)?;
+        let (lo, hi) = EPS0_RANGE;
+        require(
+            pemc.eps0 > lo && pemc.eps0 <= hi,
+            Field::Pemc(PemcKey::Eps0),
+            pemc.eps0,
+            format!("must lie in ({lo}, {hi}] (a strain of {lo} shrinks the layer to nothing; no elastomer stretches past {hi})"),
+        )?;
 
         let shear = &params.shear;
         positive(
@@ -540,7 +577,7 @@ impl Actuator {
         )?;
         for (&layer, g) in ShearLayer::ALL.iter().zip(shear.g13) {
             if let Some(g) = g {
-                positive(Field::ShearModulus(layer), g)?;
+                modulus(Field::ShearModulus(layer), g)?;
             }
         }
 

@@ -33,8 +33,8 @@ pub use crate::field::{ClRibKey, Elastic, Lamina, ShearLayer};
 pub use blocks::element_blocks;
 pub use laminate::{
     Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Layer, Material, Orthotropic,
-    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE, MAX_CL_RIBS,
-    MAX_DIMENSION_MM, MAX_GENERATED_RIBS,
+    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE, EPS0_RANGE,
+    MAX_CL_RIBS, MAX_DIMENSION_MM, MAX_GENERATED_RIBS, MODULUS_RANGE_MPA,
 };
 pub use param::ActuatorParam;
 pub(crate) use tangent::{element_block_tangent_into, ActuatorTangent};

@@ -57,7 +57,7 @@ pub use curve::{Affine2, PolyCurve};
 pub use fpc_newton::PathTermination;
 pub use load::{Load, VACUUM_GAUGE_MPA};
 pub use options::{
-    Solution, SolveOptions, SolveReport, StepCounts, Strategy, MAX_NEWTON_ITERATIONS,
+    Solution, SolveOptions, SolveReport, StepCounts, Strategy, MAX_NEWTON_ITERATIONS, MAX_RTOL,
     MAX_SAMPLES_PER_ELEMENT,
 };
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};

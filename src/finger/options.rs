@@ -23,10 +23,16 @@ pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
 /// time one that does not can spend.
 pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
 
+/// Largest relative residual a solve may be asked for
+/// ([`SolveOptions::rtol`]): a looser one is no equilibrium, and a huge one
+/// overflows the absolute tolerance.
+pub const MAX_RTOL: f64 = 1e-2;
+
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveOptions {
-    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale.
+    /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale
+    /// (at most [`MAX_RTOL`]).
     pub rtol: f64,
     /// Newton iteration limit per solve (at most
     /// [`MAX_NEWTON_ITERATIONS`]).
@@ -79,6 +85,12 @@ impl SolveOptions {
 
     pub(crate) fn validate(&self) -> Result<(), InputError> {
         positive(crate::Field::SolveRtol, self.rtol)?;
+        crate::error::require(
+            self.rtol <= MAX_RTOL,
+            crate::Field::SolveRtol,
+            self.rtol,
+            format!("must be at most {MAX_RTOL:e} (a looser residual is no equilibrium)"),
+        )?;
         positive(crate::Field::SolveMaxStep, self.max_step)?;
         if !(1..=MAX_NEWTON_ITERATIONS).contains(&self.max_iter) {
             return Err(InputError::OutOfRange {

@@ -5,7 +5,7 @@ use std::any::Any;
 use std::f64::consts::PI;
 use std::sync::Arc;
 
-use crate::actuator::Actuator;
+use crate::actuator::{Actuator, MAX_DIMENSION_MM};
 use crate::error::{finite, positive, require, InputError, Warning};
 use crate::finger::{Finger, Load, Solution, SolveOptions, TargetProblem};
 use crate::partition::Partition;
@@ -260,6 +260,12 @@ impl Gripper {
             PalmSpec::Overlap(g) => {
                 finite(crate::Field::GripperOverlap, g)?;
                 require(
+                    g >= -MAX_DIMENSION_MM,
+                    crate::Field::GripperOverlap,
+                    g,
+                    format!("must be at least -{MAX_DIMENSION_MM} mm (below it the palm is over 200 m across and the grasp's scales overflow)"),
+                )?;
+                require(
                     g <= l0,
                     crate::Field::GripperOverlap,
                     g,
@@ -274,6 +280,12 @@ impl Gripper {
                     crate::Field::GripperPalm,
                     l,
                     "must not be negative".into(),
+                )?;
+                require(
+                    l <= MAX_DIMENSION_MM,
+                    crate::Field::GripperPalm,
+                    l,
+                    format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the grasp's scales overflow)"),
                 )?;
                 (l, l0 - 0.5 * l)
             }

@@ -36,8 +36,103 @@ impl SceneError {
         if e.span().is_none() {
             message.push_str(" (position unknown)");
         }
+        // a wrong type or a key written twice: the key, as the user wrote
+        // it, before the parser's words (which name only the type)
+        if let Some(key) = e.span().and_then(|span| key_at(text, span.start)) {
+            if !message.contains(&key) {
+                message = format!("{key}: {message}");
+            }
+        }
         SceneError { line, col, message }
     }
+}
+
+/// The dotted path of the key the text at byte `offset` belongs to, read
+/// from the lines up to it: the last table header (array tables indexed
+/// from 0, as `specimen[1].test[0]`) and the key on the offset's line, or
+/// the header itself when the offset is on one. `None` where that line
+/// has no plain `key =` (a continuation line of an array, a quoted key):
+/// the message then keeps the line and column alone.
+pub(crate) fn key_at(text: &str, offset: usize) -> Option<String> {
+    let mut o = offset.min(text.len());
+    while !text.is_char_boundary(o) {
+        o -= 1;
+    }
+    let start = text[..o].rfind('\n').map_or(0, |i| i + 1);
+    let end = text[o..].find('\n').map_or(text.len(), |i| o + i);
+    // array tables seen so far, with their counts (a new parent entry
+    // restarts its children's)
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    let mut table = String::new();
+    let read = |line: &str, counts: &mut Vec<(String, usize)>| -> Option<String> {
+        let (path, array) = header(line)?;
+        if array {
+            counts.retain(|(p, _)| !p.starts_with(&format!("{path}.")));
+            match counts.iter_mut().find(|(p, _)| *p == path) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((path.clone(), 1)),
+            }
+        }
+        Some(indexed(&path, counts))
+    };
+    for l in text[..start].lines() {
+        if let Some(t) = read(l, &mut counts) {
+            table = t;
+        }
+    }
+    let line = &text[start..end];
+    if let Some(t) = read(line, &mut counts) {
+        return Some(t);
+    }
+    let (key, _) = line.split_once('=')?;
+    let key = dotted(key)?;
+    Some(if table.is_empty() {
+        key
+    } else {
+        format!("{table}.{key}")
+    })
+}
+
+/// A table header's dotted path and whether it is an array table
+/// (`[[...]]`); `None` for any other line.
+fn header(line: &str) -> Option<(String, bool)> {
+    let l = line.trim();
+    let (inner, array) = match l.strip_prefix("[[") {
+        Some(r) => (r.split_once("]]")?.0, true),
+        None => (l.strip_prefix('[')?.split_once(']')?.0, false),
+    };
+    Some((dotted(inner)?, array))
+}
+
+/// A bare dotted key (`a.b_c`), spaces around the dots dropped; `None`
+/// for anything else (quoted keys, numbers first, values).
+fn dotted(key: &str) -> Option<String> {
+    let parts: Vec<&str> = key.split('.').map(str::trim).collect();
+    let bare = |p: &&str| {
+        p.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
+            && p.chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    };
+    parts.iter().all(bare).then(|| parts.join("."))
+}
+
+/// `path` with the index of every array table along it (`specimen.test`
+/// to `specimen[0].test[2]`).
+fn indexed(path: &str, counts: &[(String, usize)]) -> String {
+    let mut out = String::new();
+    let mut prefix = String::new();
+    for part in path.split('.') {
+        if !prefix.is_empty() {
+            prefix.push('.');
+            out.push('.');
+        }
+        prefix.push_str(part);
+        out.push_str(part);
+        if let Some((_, n)) = counts.iter().find(|(p, _)| *p == prefix) {
+            out.push_str(&format!("[{}]", n - 1));
+        }
+    }
+    out
 }
 
 /// Line and column (both from 1; the column in characters) of a byte
@@ -711,6 +806,45 @@ mod tests {
                 "{e}"
             );
         }
+    }
+
+    /// A value of the wrong type, or a key written twice: the parser
+    /// names only the type or "duplicate key"; the message names the key.
+    #[test]
+    fn a_wrong_type_or_a_second_key_names_the_key() {
+        for (text, key, (line, says)) in [
+            ("[load]\nfx = \"0.5\"\n", "load.fx", (2, "invalid type")),
+            (
+                "[actuator.geometry]\nlx = 100\nlx = 90\n",
+                "actuator.geometry.lx",
+                (3, "duplicate key"),
+            ),
+            ("[actuator.ribs]\nkind = 0\n", "actuator.ribs.kind", (2, "")),
+            ("[solve]\nmax_iter = -3\n", "solve.max_iter", (2, "")),
+        ] {
+            let e = syntax_err(text);
+            assert_eq!(e.line, line, "{e}");
+            assert!(e.message.starts_with(&format!("{key}: ")), "{text:?}: {e}");
+            assert!(e.message.contains(says), "{e}");
+        }
+    }
+
+    #[test]
+    fn the_key_at_an_offset_is_read_from_the_headers_above_it() {
+        let text = "top = 1\n[[specimen]]\nname = 'a'\n[[specimen.test]]\nkind = 1\n\
+                    [[specimen]]\n[specimen.own]\n  e2 . x = 3\n[[specimen.test]]\nfile = 2\n\
+                    list = [\n  1,\n]\n";
+        let at = |needle: &str| key_at(text, text.find(needle).unwrap());
+        assert_eq!(at("top").as_deref(), Some("top"));
+        assert_eq!(at("name").as_deref(), Some("specimen[0].name"));
+        assert_eq!(at("kind").as_deref(), Some("specimen[0].test[0].kind"));
+        assert_eq!(at("e2").as_deref(), Some("specimen[1].own.e2.x"));
+        assert_eq!(at("file").as_deref(), Some("specimen[1].test[0].file"));
+        assert_eq!(at("[specimen.own]").as_deref(), Some("specimen[1].own"));
+        // a continuation line of an array: no key of its own
+        assert_eq!(at("  1,"), None);
+        // a quoted key is not guessed at
+        assert_eq!(key_at("[a]\n\"b c\" = 1\n", 5), None);
     }
 
     #[test]

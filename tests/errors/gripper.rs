@@ -81,6 +81,20 @@ fn gripper_designs_are_checked() {
         -1.0,
         "must not be negative",
     );
+    // finite but past any gripper: the grasp's sizes would overflow
+    for (geometry, field, shown) in [
+        (PalmSpec::Palm(1e308), "gripper.palm", "1e308"),
+        (PalmSpec::Overlap(-1e308), "gripper.overlap", "-1e308"),
+    ] {
+        let e = gripper_input(&f, GripperParams { geometry, ..d });
+        assert_eq!(e.field(), field, "{e}");
+        // (the value written short, not in 309 digits)
+        assert!(
+            e.to_string()
+                .starts_with(&format!("{field} = {shown}: must be")),
+            "{e}"
+        );
+    }
 }
 
 #[test]

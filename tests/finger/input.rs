@@ -99,6 +99,14 @@ fn bad_input_is_rejected_with_the_field_named() {
     let mut bad = opts;
     bad.rtol = 0.0;
     assert_eq!(input_field(f.solve(&Load::unloaded(), &bad)), "solve.rtol");
+    // a huge tolerance is no equilibrium (and overflowed the absolute one,
+    // which an error named as an internal option): the key, by name
+    for rtol in [0.1, 1e308] {
+        bad.rtol = rtol;
+        assert_eq!(input_field(f.solve(&Load::unloaded(), &bad)), "solve.rtol");
+    }
+    bad.rtol = fpc::finger::MAX_RTOL;
+    assert!(f.solve(&Load::unloaded(), &bad).is_ok());
     bad = opts;
     bad.max_iter = 0;
     assert_eq!(

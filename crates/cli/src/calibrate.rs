@@ -30,7 +30,11 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', required = true)]
     fit: Vec<String>,
     /// Most Levenberg-Marquardt iterations.
-    #[arg(long, default_value_t = fpc::calibrate::DEFAULT_ITERATIONS)]
+    #[arg(
+        long,
+        default_value_t = fpc::calibrate::DEFAULT_ITERATIONS,
+        allow_hyphen_values = true
+    )]
     max_iterations: usize,
     /// Also fit again without each pressure in turn and predict it
     /// (leave-one-pressure-out prediction errors; one refit per pressure).

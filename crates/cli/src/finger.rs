@@ -231,6 +231,7 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
             tip_error_estimate_mm: solved.estimated_tip_error_mm(),
             refinement: solved.refinement.as_ref(),
             solution: sol,
+            validity: solved.is_valid(),
             provenance: crate::provenance::Provenance::now(),
         };
         writeln!(out, "{}", serde_json::to_string(&v)?)?;
@@ -255,6 +256,9 @@ struct Json<'a> {
     refinement: Option<&'a RefinementRecord>,
     #[serde(flatten)]
     solution: &'a Solution,
+    /// The one verdict, as `fpc solve`'s: no finding puts the answer
+    /// outside the model.
+    validity: bool,
     /// The command, fpc's version and the git commit.
     provenance: crate::provenance::Provenance,
 }

@@ -9,7 +9,7 @@ use std::net::{IpAddr, Ipv4Addr, SocketAddr};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// The port to listen on (0: any free port).
-    #[arg(long, default_value_t = 8722)]
+    #[arg(long, default_value_t = 8722, allow_hyphen_values = true)]
     port: u16,
     /// The address to listen on. Anything but a loopback address lets
     /// other machines run solves on this one.

@@ -46,7 +46,7 @@ pub struct Args {
     #[arg(long)]
     out: Option<PathBuf>,
     /// Worker threads, 1 to 1024 (default: every core).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     threads: Option<usize>,
 }
 
@@ -111,12 +111,17 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
                 "--vary {key}: one point cannot span {from} to {to}"
             ));
         }
+        // (a span past f64's range, 1e308 to -1e308, is weighted instead
+        // of stepped: the same ends, no overflow)
+        let span = to - from;
         (0..count)
             .map(|i| {
-                if count == 1 {
-                    from
+                let (i, last) = (i as f64, count.max(2) as f64 - 1.0);
+                if span.is_finite() {
+                    from + span * i / last
                 } else {
-                    from + (to - from) * i as f64 / (count - 1) as f64
+                    let t = i / last;
+                    from * (1.0 - t) + to * t
                 }
             })
             .collect()
@@ -601,6 +606,13 @@ mod tests {
             vec![-1.0, -2.0, -3.0]
         );
         assert_eq!(parse_axis("load.fz=7:7:1").unwrap().values, vec![7.0]);
+        // ends whose difference overflows: the same ends, finite between
+        assert_eq!(
+            parse_axis("load.pressure_kpa=1e308:-1e308:3")
+                .unwrap()
+                .values,
+            vec![1e308, 0.0, -1e308]
+        );
         assert_eq!(
             parse_axis("partition.lengths[3]=1,2")
                 .unwrap()

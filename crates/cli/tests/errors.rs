@@ -38,6 +38,49 @@ fn a_bad_element_count_exits_2_naming_the_flag() {
 }
 
 #[test]
+fn a_negative_count_is_the_flags_value_and_named() {
+    // a separate value starting with `-` is the flag's (README), on every
+    // command's counts, not an unexpected argument
+    let repo = |p: &str| format!("{}/../../{p}", env!("CARGO_MANIFEST_DIR"));
+    let (design, scene) = (
+        repo("scenes/design/paper_sec5.toml"),
+        repo("scenes/default.toml"),
+    );
+    let manifest = common::shipped();
+    for (args, flag) in [
+        (
+            vec!["design", design.as_str(), "--starts", "-1"],
+            "--starts",
+        ),
+        (
+            vec![
+                "sweep",
+                scene.as_str(),
+                "--vary",
+                "load.fx=0:1:2",
+                "--threads",
+                "-1",
+            ],
+            "--threads",
+        ),
+        (
+            vec![
+                "calibrate",
+                manifest.as_str(),
+                "--fit",
+                "eps0",
+                "--max-iterations",
+                "-1",
+            ],
+            "--max-iterations",
+        ),
+        (vec!["serve", "--port", "-1"], "--port"),
+    ] {
+        rejected(&args, &[flag, "'-1'"]);
+    }
+}
+
+#[test]
 fn bad_loads_exit_2_naming_the_flag() {
     rejected(
         &["finger", "--pressure-kpa", "inf"],
@@ -116,7 +159,7 @@ fn an_unreachable_tip_tolerance_exits_2() {
         rejected(
             &args,
             &[
-                "--tip-tol-mm = 0.000000000001: not reached with up to 1000 elements",
+                "--tip-tol-mm = 1e-12: not reached with up to 1000 elements",
                 "estimated tip error there",
             ],
         );

@@ -43,6 +43,7 @@ fn a_finger_outside_the_model_says_so_in_text_json_and_stderr() {
         assert!(w["value"].is_number() && w["limit"].is_number(), "{w}");
     }
     assert_eq!(v["element_lengths_mm"], serde_json::json!([110.0]));
+    assert_eq!(v["validity"], false, "the one verdict in the JSON too");
 
     // the paper's eps0 = 0.4 finger in two elements turns each > 100 degrees
     let (v, stderr) = json(&["finger", "--eps0", "0.4", "--elements", "2", "--json"]);
@@ -54,6 +55,7 @@ fn a_finger_outside_the_model_says_so_in_text_json_and_stderr() {
 fn the_default_finger_raises_nothing_and_auto_fixes_the_coarse_one() {
     let (v, stderr) = json(&["finger", "--json"]);
     assert!(kinds(&v).is_empty() && stderr.is_empty(), "{stderr}");
+    assert_eq!(v["validity"], true);
     assert_eq!(v["elements"], 8);
     assert_eq!(v["model"], "ccm");
     let (v, stderr) = json(&["finger", "--eps0", "0.4", "--elements", "auto", "--json"]);
