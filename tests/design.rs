@@ -223,6 +223,96 @@ fn design_work_is_bounded_before_it_starts() {
     }
 }
 
+/// Requirements with every size, force and friction at a bound of its
+/// range, large or small: every margin, every value behind one, and
+/// every sensitivity of the design found is finite, and the design found
+/// can be built.
+#[test]
+fn requirements_at_their_bounds_keep_every_margin_finite() {
+    use fpc::design::{Evaluation, FORCE_RANGE_N, LENGTH_RANGE_MM, MU_RANGE};
+    let [short, long] = LENGTH_RANGE_MM;
+    let [light, heavy] = FORCE_RANGE_N;
+    let objects = format!(
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [100.0, {long:e}]\nlift_n = {light:e}\nmax_normal_n = {light:e}\n\
+         [[object]]\nkind = \"cuboid\"\nsize_mm = [{short:e}, {short:e}]\nlift_n = {heavy:e}\nmax_normal_n = {heavy:e}\n\
+         [[object]]\nkind = \"sphere\"\nradius_mm = [{short:e}, {long:e}]\nlift_n = {light:e}\nmax_normal_n = {light:e}\n\
+         [open]\nsize_mm = {short:e}\npressure_kpa = 1000.0\n"
+    );
+    let finite = |e: &Evaluation| {
+        assert!(e.worst.is_finite(), "{e:?}");
+        for m in &e.margins {
+            let numbers = [Some(m.margin), m.at_mm, m.beta_deg, m.value, m.normal_n];
+            assert!(numbers.into_iter().flatten().all(f64::is_finite), "{m:?}");
+        }
+    };
+    let settings = DesignOptions {
+        random_starts: 0,
+        ascents: 1,
+        max_iterations: 3,
+        ..DesignOptions::default()
+    };
+    // the default friction, and either end of its range (the angles
+    // within each one's design space, [arccot mu, 90] degrees)
+    for (mu, angles) in [
+        (0.6, [60.0, 90.0]),
+        (MU_RANGE[0], [89.95, 90.0]),
+        (MU_RANGE[1], [10.0, 90.0]),
+    ] {
+        let text = format!(
+            "elements = 4\nmu = {mu:e}\n{objects}[vary]\neps0 = [0.1, 0.5]\nmounting_angle_deg = {angles:?}\n"
+        );
+        let req = Requirements::parse(&text).unwrap();
+        for x in [0.1, 0.3, 0.5] {
+            finite(&evaluate(&req, [x, angles[1], 20.0]));
+        }
+        let d = optimize(&req, &settings).unwrap();
+        finite(&d.best);
+        for s in &d.sensitivities {
+            assert!(s.gradient.iter().all(|v| v.is_finite()), "mu {mu}: {s:?}");
+        }
+        // a normal force of a micronewton is missed by a factor of a
+        // million and more, yet the design reported can be built: its
+        // margins all rank above an unbuildable gripper's
+        assert!(
+            d.best.margins.iter().all(
+                |m| m.requirement != "buildable" && m.margin > fpc::design::UNBUILDABLE_MARGIN
+            ),
+            "mu {mu}: {:#?}",
+            d.best.margins
+        );
+        if mu != 0.6 {
+            continue;
+        }
+        // a lift of a micronewton, far exceeded by the paper's design,
+        // says so by a finite margin
+        let paper = evaluate(&req, [0.25, 60.0, 20.0]);
+        let lift = paper
+            .margins
+            .iter()
+            .find(|m| m.requirement == "object[0] cuboid d = 100.0 mm: lift")
+            .unwrap_or_else(|| panic!("{:#?}", paper.margins));
+        assert!(lift.margin > 1e3, "{lift:?}");
+    }
+}
+
+/// Requirements built in code, not read from a file, are checked by the
+/// search before any work, as a file's are on reading.
+#[test]
+fn requirements_built_in_code_are_checked_before_the_search() {
+    let mut req = Requirements::parse(CUBOID).unwrap();
+    if let fpc::design::ObjectRequirement::Cuboid { lift_n, .. } = &mut req.objects[0] {
+        *lift_n = 1e-320;
+    }
+    let e = optimize(&req, &DesignOptions::default()).unwrap_err();
+    assert_eq!(e.field(), "object[0].lift_n", "{e}");
+    let e = grid_search(&req, 3).unwrap_err();
+    assert_eq!(e.field(), "object[0].lift_n", "{e}");
+    let mut req = Requirements::parse(CUBOID).unwrap();
+    req.objects = vec![req.objects[0].clone(); fpc::design::MAX_OBJECTS + 1];
+    let e = optimize(&req, &DesignOptions::default()).unwrap_err();
+    assert_eq!(e.field(), "object", "{e}");
+}
+
 #[test]
 fn an_infeasible_request_names_what_fails() {
     let text = std::fs::read_to_string(concat!(

@@ -33,9 +33,29 @@ const SPHERE_ANGLE_SAMPLES: usize = 8;
 /// The margin of a requirement a design cannot even be built for (the
 /// overlap beyond the finger's reach, an angle outside (0, 180), fingers
 /// that do not fit around the palm): below -1, the margin of a grasp
-/// that holds nothing, so that a gripper that can be built always ranks
-/// above one that cannot, and a least-violating design is one to build.
+/// that holds nothing, and below every margin of a gripper that can be
+/// built ([`beyond_minus_one`]), so that a gripper that can be built
+/// always ranks above one that cannot, and a least-violating design is
+/// one to build.
 pub const UNBUILDABLE_MARGIN: f64 = -2.0;
+
+/// A margin of a gripper that can be built, and the factor its gradient
+/// takes: as it is at -1 and above; below, a requirement missed by more
+/// than itself (a normal force three times its limit, a lift against the
+/// weight, a required opening wider than the gripper's closed gap), it is
+/// compressed into (-2, -1) as `-2 + 1 / (-m)`: monotone, with value and
+/// slope continuous at -1, so the search ranks the designs as before, but
+/// never at or below [`UNBUILDABLE_MARGIN`] (a margin normalised by a
+/// small limit can be far below -2; the requirements' bounds keep it
+/// above -1e10, far from the -1e15 where the compression would round to
+/// -2).
+fn beyond_minus_one(m: f64) -> (f64, f64) {
+    if m >= -1.0 || m.is_nan() {
+        return (m, 1.0);
+    }
+    let r = 1.0 / -m;
+    (-2.0 + r, r * r)
+}
 
 /// One requirement's margin at a design.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -348,10 +368,14 @@ struct Collect<'a> {
 }
 
 impl Collect<'_> {
-    fn push(&mut self, m: Margin, g: impl FnOnce(&Actuator) -> Option<MarginGradient>) {
+    /// A margin with its gradient, compressed below -1
+    /// ([`beyond_minus_one`]).
+    fn push(&mut self, mut m: Margin, g: impl FnOnce(&Actuator) -> Option<MarginGradient>) {
+        let slope;
+        (m.margin, slope) = beyond_minus_one(m.margin);
         let grad = self.actuator.and_then(g).unwrap_or([None; 3]);
         self.margins.push(m);
-        self.grads.push(grad);
+        self.grads.push(scaled(grad, slope));
     }
 
     /// A margin with no answer behind it (an unbuildable gripper, a grasp
@@ -376,7 +400,10 @@ impl Collect<'_> {
             valid: None,
             notes: Vec::new(),
         };
-        self.push(m, |_| Some([Some(0.0); 3]));
+        // as given, not compressed: -1 (nothing held) or UNBUILDABLE_MARGIN
+        let grad = self.actuator.map_or([None; 3], |_| [Some(0.0); 3]);
+        self.margins.push(m);
+        self.grads.push(grad);
     }
 }
 
@@ -861,5 +888,38 @@ fn open_margin(g: &Gripper, open: &OpenRequirement, kappa: Option<f64>, out: &mu
             None,
             None,
         ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{beyond_minus_one, UNBUILDABLE_MARGIN};
+
+    #[test]
+    fn margins_below_minus_one_stay_above_an_unbuildable_gripper_s() {
+        // unchanged at -1 and above
+        for m in [-1.0, -0.5, 0.0, 3.0] {
+            assert_eq!(beyond_minus_one(m), (m, 1.0));
+        }
+        // a normal force three times its limit: -2 before, -1.5 now
+        assert_eq!(beyond_minus_one(-2.0), (-1.5, 0.25));
+        // value and slope continuous at -1
+        let (v, slope) = beyond_minus_one(-1.0 - 1e-9);
+        assert!((v + 1.0 + 1e-9).abs() < 1e-15 && (slope - 1.0).abs() < 1e-8);
+        // monotone, and above the unbuildable margin down to a margin
+        // normalised by the smallest force against a large one
+        let mut last = -1.0;
+        for k in 1..=10 {
+            let (v, slope) = beyond_minus_one(-(10f64.powi(k)));
+            assert!(v < last && v > UNBUILDABLE_MARGIN, "{k}: {v}");
+            assert!(slope > 0.0 && slope.is_finite());
+            last = v;
+        }
+        // nothing infinite comes out, and NaN is not hidden
+        assert_eq!(
+            beyond_minus_one(f64::NEG_INFINITY),
+            (UNBUILDABLE_MARGIN, 0.0)
+        );
+        assert!(beyond_minus_one(f64::NAN).0.is_nan());
     }
 }

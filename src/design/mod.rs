@@ -17,6 +17,24 @@
 //! - opening: the unloaded finger at `pressure_kpa` gives a grasp size of
 //!   at least `size_mm`: `(d(P) - size) / size`.
 //!
+//! A grasp that cannot be solved or holds nothing scores -1, a gripper
+//! that cannot be built [`UNBUILDABLE_MARGIN`], -2. A margin above that
+//! is as written down to -1; below -1 (a requirement missed by more than
+//! itself: a normal force three times its limit, a lift against the
+//! weight) it is compressed into (-2, -1) as `-2 + 1 / (-m)`, monotone
+//! and with its slope continuous at -1, so that a gripper that can be
+//! built always ranks above one that cannot however small the limit a
+//! margin is normalised by; the margin's `detail` and `value` keep the
+//! quantity itself.
+//!
+//! Every size, force and opening a margin is normalised by is bounded
+//! below and above when the requirements are read
+//! ([`LENGTH_RANGE_MM`], [`FORCE_RANGE_N`], [`MU_RANGE`], and at most
+//! [`MAX_OBJECTS`] objects; the requirements module docs list every
+//! bound), so every margin and every sensitivity is finite; [`optimize`]
+//! and [`grid_search`] check the requirements again before any work, for
+//! a caller that built them without [`Requirements::parse`].
+//!
 //! The design with the largest worst-case margin is found by a multistart
 //! trust-region ascent of the worst margin ([`optimize`]); [`grid_search`]
 //! is the brute-force check. Every grasp a
@@ -41,5 +59,5 @@ pub use optimize::{
 pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
     DesignBase, ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary,
-    DEFAULT_DESIGN, VARIABLES,
+    DEFAULT_DESIGN, FORCE_RANGE_N, LENGTH_RANGE_MM, MAX_OBJECTS, MU_RANGE, VARIABLES,
 };

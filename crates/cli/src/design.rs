@@ -12,8 +12,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::design::{
-    evaluate, gripper, optimize, DesignBase, DesignOptions, Evaluation, ObjectRequirement,
-    Requirements, VARIABLES,
+    evaluate, gripper, optimize, DesignBase, DesignOptions, Designed, Evaluation,
+    ObjectRequirement, Requirements, RequirementsError, VARIABLES,
 };
 use fpc::scene::{Scene, SceneSolution};
 use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
@@ -32,8 +32,10 @@ pub struct Args {
     #[arg(long)]
     json: bool,
     /// Random starts of the optimiser besides the centre and the corners
-    /// (at most 10000).
-    #[arg(long, default_value_t = 2)]
+    /// (at most 10000; each costs one evaluation of every requirement,
+    /// about 3 ms of one core per sphere on the paper's finger: 10000 on
+    /// paper_sec5.toml take about 30 s of one core).
+    #[arg(long, default_value_t = 2, allow_hyphen_values = true)]
     starts: usize,
     /// Design from the finger of a scene file (a calibrated scene from
     /// `fpc calibrate`, say): its element model, actuator, load.kappa (for
@@ -191,7 +193,15 @@ fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) 
                 m.requirement.starts_with(&format!("object[{i}] "))
                     && m.requirement.ends_with("lift")
             })
-            .filter_map(|m| Some([m.at_mm?, need * (1.0 + m.margin)]))
+            // the lift from its margin; below -1, where the margin is
+            // compressed (`fpc::design` module docs), the lift itself
+            .filter_map(|m| {
+                let lift = match m.value {
+                    Some(v) if m.margin < -1.0 => v,
+                    _ => need * (1.0 + m.margin),
+                };
+                Some([m.at_mm?, lift])
+            })
             .collect();
         let color = format!("object{i}");
         let (lo, hi) = pts
@@ -227,8 +237,8 @@ fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) 
 pub fn run(args: &Args) -> anyhow::Result<()> {
     let shown = args.requirements.display().to_string();
     let text = crate::solve::read_scene(&args.requirements, &shown)?;
-    let mut req =
-        Requirements::parse(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))?;
+    let mut req = Requirements::parse(&text)
+        .map_err(|e| crate::status::rejected(located(&shown, &text, &e)))?;
     if let Some(path) = &args.scene {
         let scene = crate::solve::load_scene(path)?;
         req = req.with_base(DesignBase::from_scene(
@@ -258,6 +268,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     crate::report::progress("fpc design: optimising");
     let d = optimize(&req, &opts)?;
     crate::report::end_progress();
+    // the requirements' bounds keep every number finite; were one not, no
+    // NaN or inf is written in its place
+    if let Some(what) = not_finite(&d) {
+        anyhow::bail!("{what} is not finite: nothing written");
+    }
     // the claim, evaluated once more from scratch
     let again = evaluate(&req, d.best.design);
     anyhow::ensure!(
@@ -381,6 +396,43 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A requirements error as one line: `FILE:LINE:COL: message`, the
+/// position of a syntax error or of the value a value error names (as
+/// `fpc solve` names a scene's key), `FILE: message` where the file does
+/// not write that key.
+fn located(shown: &str, text: &str, e: &RequirementsError) -> String {
+    let message = match e {
+        RequirementsError::Syntax(s) => s.message.clone(),
+        RequirementsError::Input(i) => i.to_string(),
+    };
+    match e.position(text) {
+        Some((line, col)) => format!("{shown}:{line}:{col}: {message}"),
+        None => format!("{shown}: {message}"),
+    }
+}
+
+/// The first number of the design's report that is not finite, named;
+/// `None` when all are.
+fn not_finite(d: &Designed) -> Option<String> {
+    let bad = |v: f64| !v.is_finite();
+    if d.best.design.iter().any(|&v| bad(v)) {
+        return Some("the design".into());
+    }
+    if bad(d.best.worst) {
+        return Some("the worst margin".into());
+    }
+    for m in &d.best.margins {
+        let numbers = [Some(m.margin), m.at_mm, m.beta_deg, m.value, m.normal_n];
+        if numbers.into_iter().flatten().any(bad) {
+            return Some(format!("the margin of {}", m.requirement));
+        }
+    }
+    d.sensitivities
+        .iter()
+        .find(|s| s.gradient.iter().any(|&v| bad(v)))
+        .map(|s| format!("the sensitivity of {}", s.requirement))
+}
+
 /// A margin with its sign, never `-0.0000`: a margin too small for four
 /// decimals keeps its magnitude in scientific notation (a margin of
 /// -3e-6 is an unmet requirement, and says so), zero is `+0.0000`.
@@ -396,7 +448,51 @@ fn signed(x: f64) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::signed;
+    use super::{not_finite, signed};
+    use fpc::design::{Designed, Evaluation, Margin, MarginSensitivity};
+
+    /// A design with one margin `margin` and one sensitivity `gradient`.
+    fn designed(margin: f64, gradient: [f64; 3]) -> Designed {
+        let m = Margin {
+            requirement: "object[0] cuboid d = 60.0 mm: lift".into(),
+            margin,
+            detail: String::new(),
+            at_mm: Some(60.0),
+            beta_deg: Some(0.0),
+            value: Some(0.4),
+            normal_n: Some(1.0),
+            valid: Some(true),
+            notes: Vec::new(),
+        };
+        Designed {
+            feasible: true,
+            best: Evaluation {
+                design: [0.25, 60.0, 20.0],
+                margins: vec![m.clone()],
+                worst: margin,
+            },
+            sensitivities: vec![MarginSensitivity {
+                requirement: m.requirement,
+                gradient,
+            }],
+            evaluations: 1,
+            starts: 1,
+            reproductions: Vec::new(),
+            failure: None,
+        }
+    }
+
+    #[test]
+    fn a_report_with_a_number_that_is_not_finite_is_not_written() {
+        assert_eq!(not_finite(&designed(0.2, [0.1, -0.2, 0.0])), None);
+        let worst = not_finite(&designed(f64::INFINITY, [0.0; 3])).unwrap();
+        assert!(worst.contains("worst margin"), "{worst}");
+        let mut d = designed(0.2, [0.0; 3]);
+        d.best.margins[0].margin = f64::NAN;
+        assert!(not_finite(&d).unwrap().contains("margin of object[0]"));
+        let s = not_finite(&designed(0.2, [f64::NAN; 3])).unwrap();
+        assert!(s.contains("sensitivity of object[0]"), "{s}");
+    }
 
     #[test]
     fn margins_never_print_as_negative_zero() {

@@ -117,7 +117,106 @@ fn bad_requirements_are_rejected_with_their_place() {
         dir.join("o").to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("object[0].lift_n"));
+    let err = String::from_utf8_lossy(&o.stderr);
+    // the line and column of the value, as a syntax error has them
+    assert!(err.contains(":4:10: object[0].lift_n = -1: "), "{err}");
+}
+
+/// The one line of a rejected run (exit 2), with nothing written.
+fn rejected(req: &std::path::Path, out: &std::path::Path) -> String {
+    let o = fpc(&[
+        "design",
+        req.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    assert!(o.stdout.is_empty(), "{o:?}");
+    assert!(!out.exists(), "{}", out.display());
+    let err = String::from_utf8(o.stderr).unwrap();
+    assert_eq!(err.lines().count(), 1, "{err}");
+    err
+}
+
+/// Line and column (from 1) of the first `what` in `text`, found by hand.
+fn position_of(text: &str, what: &str) -> (usize, usize) {
+    let at = text.find(what).unwrap();
+    let line = text[..at].matches('\n').count() + 1;
+    let col = at - text[..at].rfind('\n').map_or(0, |i| i + 1) + 1;
+    (line, col)
+}
+
+/// The audit's example files, changed as it did: a width of 1e308, a lift
+/// of 1e-320. Each is refused with the key, its line and column, and the
+/// bound, in the form of a scene's value error (`FILE:LINE:COL: key =
+/// value: rule`); no NaN or inf is written.
+#[test]
+fn out_of_range_requirements_are_refused_at_their_line() {
+    let scratch = tmp("range");
+    let dir = scratch.path();
+    let root = env!("CARGO_MANIFEST_DIR");
+    for (file, from, to, value, key) in [
+        (
+            "infeasible.toml",
+            "size_mm = [140.0, 150.0]",
+            "size_mm = [140.0, 1e308]",
+            "1e308",
+            "object[0].size_mm[1] = 1e308",
+        ),
+        (
+            "fragile_fruit.toml",
+            "lift_n = 0.35",
+            "lift_n = 1e-320",
+            "1e-320",
+            "object[0].lift_n = 1e-320",
+        ),
+    ] {
+        let text = std::fs::read_to_string(format!("{root}/../../scenes/design/{file}")).unwrap();
+        assert!(text.contains(from), "{file}");
+        let changed = text.replacen(from, to, 1);
+        let req = dir.join(file);
+        std::fs::write(&req, &changed).unwrap();
+        let err = rejected(&req, &dir.join("out"));
+        let (line, col) = position_of(&changed, value);
+        assert!(
+            err.contains(&format!("{file}:{line}:{col}: {key}: must lie in [")),
+            "{err}"
+        );
+        assert!(!err.contains("NaN") && !err.contains("inf "), "{err}");
+    }
+}
+
+/// A value error names the key with a space after the position, as a
+/// scene's does; too many objects are refused at once, at the first table
+/// past the bound.
+#[test]
+fn value_errors_read_as_scene_errors_and_objects_are_bounded() {
+    let scratch = tmp("value");
+    let dir = scratch.path();
+    let req = dir.join("req.toml");
+    let object = "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n";
+    let vary = "[vary]\nmounting_angle_deg = [60.0, 80.0]\n";
+    std::fs::write(&req, format!("fingers = 0\n{object}{vary}")).unwrap();
+    let err = rejected(&req, &dir.join("out"));
+    assert!(
+        err.contains("req.toml:1:11: fingers = 0: must lie in [2, 12]"),
+        "{err}"
+    );
+    // no key to point at: the file, then the message
+    std::fs::write(&req, vary).unwrap();
+    let err = rejected(&req, &dir.join("out"));
+    assert!(err.contains("req.toml: object = 0: "), "{err}");
+    // 2000 objects: refused before any work (the run took over a minute)
+    let text = format!("{}{vary}", object.repeat(2000));
+    std::fs::write(&req, &text).unwrap();
+    let started = std::time::Instant::now();
+    let err = rejected(&req, &dir.join("out"));
+    assert!(started.elapsed().as_secs() < 10, "{:?}", started.elapsed());
+    // four lines per table: the 33rd starts at line 129
+    assert!(
+        err.contains("req.toml:129:1: object = 2000: at most 32 [[object]] tables"),
+        "{err}"
+    );
 }
 
 #[test]
