@@ -12,7 +12,7 @@ fn residual_text(r: f64) -> String {
     if r.is_finite() {
         format!("relative residual {r:.3e}")
     } else {
-        "the residual is not a finite number".into()
+        "relative residual not a finite number".into()
     }
 }
 
