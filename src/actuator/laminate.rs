@@ -22,10 +22,11 @@ pub const MAX_GENERATED_RIBS: usize = 10_000;
 /// ([`ActuatorParams::cl_ribs`]).
 pub const MAX_CL_RIBS: usize = 10_000;
 
-/// The range of every modulus (MPa: Young's and shear moduli, and the
-/// prestressed law's constants in magnitude): from 1 Pa, far below the
-/// softest elastomer, to 10 TPa, beyond diamond's 1.2 TPa. Outside it the
-/// solver's stiffness scale under- or overflows.
+/// The range of every modulus (MPa: Young's moduli and the prestressed
+/// law's constants in magnitude; a transverse shear modulus has the
+/// ceiling only): from 1 Pa, far below the softest elastomer, to 10 TPa,
+/// beyond diamond's 1.2 TPa. Outside it the solver's stiffness scale
+/// under- or overflows.
 pub const MODULUS_RANGE_MPA: (f64, f64) = (1e-6, 1e7);
 
 /// The range of the prestrain `eps0`: above -1 (a strain of -1 shrinks the
@@ -577,7 +578,17 @@ impl Actuator {
         )?;
         for (&layer, g) in ShearLayer::ALL.iter().zip(shear.g13) {
             if let Some(g) = g {
-                modulus(Field::ShearModulus(layer), g)?;
+                // (no floor: a face nearly free in shear is the sandwich
+                // beam's limit, tests/shear.rs; the ceiling as for any
+                // modulus)
+                positive(Field::ShearModulus(layer), g)?;
+                let hi = MODULUS_RANGE_MPA.1;
+                require(
+                    g <= hi,
+                    Field::ShearModulus(layer),
+                    g,
+                    format!("must be at most {hi:e} MPa (10 TPa)"),
+                )?;
             }
         }
 
