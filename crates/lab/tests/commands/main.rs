@@ -84,7 +84,7 @@ fn counts_and_budgets_are_bounded_before_any_work() {
     for (args, part) in [
         (
             &["stress", "--cases", "18446744073709551615"][..],
-            "--cases = 18446744073709552000: must lie in [1, 1000000]",
+            "--cases = 1.8446744073709552e19: must lie in [1, 1000000]",
         ),
         (
             &["stress", "--cases", "1000000000", "--budget-s", "1"][..],
