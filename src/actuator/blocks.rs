@@ -14,7 +14,8 @@ use crate::field::Field;
 use crate::model::{GasParams, LinearParams, PrestressedParams};
 use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
-use super::laminate::{Actuator, PlaneStress, Rib};
+use super::laminate::{Actuator, Rib};
+use super::material::PlaneStress;
 use crate::field::ShearLayer;
 
 /// Clipped blocks shorter than this fraction of the element are dropped.

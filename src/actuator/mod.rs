@@ -25,6 +25,7 @@
 
 mod blocks;
 mod laminate;
+mod material;
 mod param;
 mod tangent;
 
@@ -32,9 +33,12 @@ pub use crate::element::ElementBlocks;
 pub use crate::field::{ClRibKey, Elastic, Lamina, ShearLayer};
 pub use blocks::element_blocks;
 pub use laminate::{
-    Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Layer, Material, Orthotropic,
-    PlaneStress, Prestressed, PsiLaw, Rib, RibLayout, TransverseShear, EPS0_FIT_RANGE, EPS0_RANGE,
-    MAX_CL_RIBS, MAX_DIMENSION_MM, MAX_GENERATED_RIBS, MODULUS_RANGE_MPA,
+    Actuator, ActuatorParams, Channel, ClRib, Geometry, Layer, Rib, RibLayout, EPS0_FIT_RANGE,
+    EPS0_RANGE, MAX_CL_RIBS, MAX_DIMENSION_MM, MAX_GENERATED_RIBS,
+};
+pub use material::{
+    Isotropic, Material, Orthotropic, PlaneStress, Prestressed, PsiLaw, TransverseShear,
+    MODULUS_RANGE_MPA,
 };
 pub use param::ActuatorParam;
 pub(crate) use tangent::{element_block_tangent_into, ActuatorTangent};

@@ -9,7 +9,8 @@ use crate::field::{
     ShearLayer,
 };
 
-use super::laminate::{Actuator, ActuatorParams, Material, RibLayout};
+use super::laminate::{Actuator, ActuatorParams, RibLayout};
+use super::material::Material;
 
 impl Elastic {
     /// The constant's value in `material`, if it has it.

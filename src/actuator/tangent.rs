@@ -8,7 +8,8 @@ use crate::model::{GasParams, LinearParams, PrestressedParams, PsiParams};
 use crate::partition::Partition;
 
 use super::blocks::clip;
-use super::laminate::{Actuator, Material, PlaneStress, Rib, RibLayout};
+use super::laminate::{Actuator, Rib, RibLayout};
+use super::material::{Material, PlaneStress};
 use super::param::ActuatorParam;
 use crate::field::{Elastic, Lamina, ShearLayer};
 

@@ -5,21 +5,17 @@
 use serde::Serialize;
 
 use crate::actuator::Actuator;
-use crate::actuator::ActuatorParam;
 use crate::error::Warning;
-use crate::finger::{Finger, Load, SolveOptions};
-use crate::gripper::sphere::{nearest_turn, turn_within};
-use crate::gripper::{
-    EnvelopeSeed, Gripper, GripperParams, Object, PalmSpec, SphereEnvelope, SphereLift,
-};
-use crate::partition::Partition;
+use crate::finger::{Load, SolveOptions};
+use crate::gripper::{EnvelopeSeed, Gripper, Object, SphereEnvelope};
 use crate::scene::{
     CalibrationSection, Elements, GraspKind as SceneGrasp, GraspSection, GripperSection, SceneFile,
 };
-use crate::sensitivity::{GraspKind, GripperParam};
-use crate::solve_error::SolveError;
+use crate::sensitivity::GraspKind;
 
+use super::best_grasp::{BestGradient, Turn};
 use super::requirements::{ObjectRequirement, OpenRequirement, Requirements};
+use super::variables::{actuator, design_gradient, gripper, MarginGradient, DESIGN_PARAMS};
 
 /// Widths sampled per cuboid requirement.
 pub const CUBOID_SAMPLES: usize = 5;
@@ -34,7 +30,7 @@ const SPHERE_ANGLE_SAMPLES: usize = 8;
 /// overlap beyond the finger's reach, an angle outside (0, 180), fingers
 /// that do not fit around the palm): below -1, the margin of a grasp
 /// that holds nothing, and below every margin of a gripper that can be
-/// built ([`beyond_minus_one`]), so that a gripper that can be built
+/// built (see `beyond_minus_one`), so that a gripper that can be built
 /// always ranks above one that cannot, and a least-violating design is
 /// one to build.
 pub const UNBUILDABLE_MARGIN: f64 = -2.0;
@@ -238,32 +234,6 @@ fn for_gripper(mut c: CalibrationSection) -> Option<CalibrationSection> {
     Some(c)
 }
 
-/// The actuator of a design with prestrain `eps0`: the base scene's, else
-/// the paper's.
-fn actuator(req: &Requirements, eps0: f64) -> Result<Actuator, crate::InputError> {
-    match &req.base {
-        Some(b) => b.actuator.with_eps0(eps0),
-        None => Actuator::paper(eps0),
-    }
-}
-
-/// The gripper of a design.
-pub fn gripper(req: &Requirements, x: [f64; 3]) -> Result<Gripper, SolveError> {
-    let act = actuator(req, x[0])?;
-    let part = Partition::equal(act.geometry().lx, req.elements)?;
-    let model = req.base.as_ref().map(|b| b.model).unwrap_or_default();
-    Gripper::new(
-        Finger::with_model(model, &act, &part, true),
-        GripperParams {
-            mounting_angle: x[1].to_radians(),
-            geometry: PalmSpec::Overlap(x[2]),
-            fingers: req.fingers,
-            mu: req.mu,
-            strict: req.strict,
-        },
-    )
-}
-
 /// The sample points `[a, b]` split into `n` (both ends; one point if equal).
 fn samples(range: [f64; 2], n: usize) -> Vec<f64> {
     if range[0] == range[1] || n < 2 {
@@ -324,39 +294,12 @@ pub(crate) fn evaluate_seeded(
     evaluate_inner(req, x, gradients, Some(seeds))
 }
 
-/// d margin / d (eps0, mounting angle in degrees, overlap in mm) of one
-/// margin, from the exact sensitivities of the gripper's outputs
-/// (`Gripper::geometry_sensitivities`, `grasp_sensitivities`,
-/// `size_sensitivities`, `max_sphere_lift_sensitivities`); `None` where
-/// they do not cover the margin (the caller falls back to central
-/// differences for that variable).
-pub(crate) type MarginGradient = [Option<f64>; 3];
-
 /// [`evaluate`] with every margin's [`MarginGradient`], in the same order.
 pub(crate) fn evaluate_with_gradients(
     req: &Requirements,
     x: [f64; 3],
 ) -> (Evaluation, Vec<MarginGradient>) {
     evaluate_inner(req, x, true, None)
-}
-
-/// The design variables as gripper parameters.
-const DESIGN_PARAMS: [GripperParam; 3] = [
-    GripperParam::Actuator(ActuatorParam::Eps0),
-    GripperParam::MountingAngle,
-    GripperParam::Overlap,
-];
-
-/// A gradient over [`DESIGN_PARAMS`] (per rad of the angle) as one over the
-/// design variables (per degree), scaled by `factor`.
-fn design_gradient(rows: [f64; 3], factor: f64) -> MarginGradient {
-    let per = [1.0, std::f64::consts::PI / 180.0, 1.0];
-    let mut g = [None; 3];
-    for i in 0..3 {
-        let v = rows[i] * per[i] * factor;
-        g[i] = v.is_finite().then_some(v);
-    }
-    g
 }
 
 /// What the margin functions collect: the margins, and, when asked for,
@@ -666,148 +609,6 @@ fn sphere_margins(
 /// A gradient over the design variables, each component scaled by `factor`.
 fn scaled(g: MarginGradient, factor: f64) -> MarginGradient {
     g.map(|v| v.map(|v| v * factor).filter(|v| v.is_finite()))
-}
-
-/// Central-difference steps of the design variables (eps0, degrees, mm)
-/// for the rate of the turn of closing from rest ([`Turn::rate`]).
-const TURN_STEPS: [f64; 3] = [1e-4, 1e-2, 1e-2];
-
-/// d lift / d x and d normal force / d x (design units) of a sphere's best
-/// grasp.
-#[derive(Debug, Clone, Copy)]
-struct BestGradient {
-    lift: MarginGradient,
-    normal: MarginGradient,
-}
-
-impl BestGradient {
-    /// The gradients of the best grasp `best` of gripper `g`, built from
-    /// `design` with actuator `act`:
-    ///
-    /// - where the best angle is the turn of closing from rest (the edge of
-    ///   the angles the path from rest reaches, [`Gripper::closing_turn`]),
-    ///   the grasp's sensitivities at that fixed angle plus its rate in the
-    ///   angle times the turn's rate in the design (`turn`, shared by the
-    ///   radii of one evaluation);
-    /// - elsewhere [`Gripper::max_sphere_lift_sensitivities`] (an interior
-    ///   optimum or a contact boundary).
-    ///
-    /// `None` where neither covers the optimum (the optimiser then falls
-    /// back to central differences of whole evaluations).
-    fn at(g: &Gripper, act: &Actuator, best: &SphereLift, turn: &Turn<'_>) -> Option<BestGradient> {
-        // one row per design parameter, in DESIGN_PARAMS order
-        let of = |rows: &[(f64, f64)]| {
-            let [a, b, c] = [rows.first()?, rows.get(1)?, rows.get(2)?];
-            Some(BestGradient {
-                lift: design_gradient([a.0, b.0, c.0], 1.0),
-                normal: design_gradient([a.1, b.1, c.1], 1.0),
-            })
-        };
-        if turn.within(best.beta).is_none() {
-            let s = g
-                .max_sphere_lift_sensitivities(act, 0.0, best, &DESIGN_PARAMS)
-                .ok()?;
-            let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
-            return of(&rows);
-        }
-        // at fixed angle, with the angle's own row last
-        let sg = g
-            .sphere_grasp_at_friction_limit(0.0, best.radius, best.beta, None)
-            .ok()?;
-        let near = |a: f64, b: f64| (a - b).abs() <= 1e-6 * (a.abs().max(b.abs()) + 1e-9);
-        if !near(sg.grasp.lift, best.lift) {
-            return None;
-        }
-        let mut params = DESIGN_PARAMS.to_vec();
-        params.push(GripperParam::Beta);
-        let kind = GraspKind::SphereAtFrictionLimit {
-            radius: best.radius,
-        };
-        let s = g.grasp_sensitivities(act, &sg.grasp, kind, &params).ok()?;
-        let rows: Vec<(f64, f64)> = s.rows.iter().map(|w| (w.lift, w.normal)).collect();
-        let fixed = of(&rows)?;
-        let (lift_b, normal_b) = *rows.get(3)?;
-        let db = turn.rate();
-        let along = |fixed: MarginGradient, rate: f64| {
-            let mut out = [None; 3];
-            for i in 0..3 {
-                out[i] = match (fixed[i], db[i]) {
-                    (Some(f), Some(d)) => Some(f + rate * d).filter(|v| v.is_finite()),
-                    _ => None,
-                };
-            }
-            out
-        };
-        Some(BestGradient {
-            lift: along(fixed.lift, lift_b),
-            normal: along(fixed.normal, normal_b),
-        })
-    }
-}
-
-/// The turn of closing from rest at zero pressure of the gripper `g` of
-/// design `x` ([`Gripper::closing_turn`]), and its rate in the design,
-/// each computed once, when first asked.
-struct Turn<'a> {
-    g: &'a Gripper,
-    req: &'a Requirements,
-    x: [f64; 3],
-    zero: std::cell::OnceCell<Option<f64>>,
-    rate: std::cell::OnceCell<[Option<f64>; 3]>,
-}
-
-impl<'a> Turn<'a> {
-    fn new(g: &'a Gripper, (req, x): (&'a Requirements, [f64; 3])) -> Turn<'a> {
-        Turn {
-            g,
-            req,
-            x,
-            zero: std::cell::OnceCell::new(),
-            rate: std::cell::OnceCell::new(),
-        }
-    }
-
-    fn zero(&self) -> Option<f64> {
-        *self.zero.get_or_init(|| self.g.closing_turn(0.0))
-    }
-
-    /// The turn within reach of `beta` ([`turn_within`]), if any.
-    fn within(&self, beta: f64) -> Option<f64> {
-        turn_within(self.zero()?, beta)
-    }
-
-    /// d b / d x (rad per design unit) for each varied design variable:
-    /// Richardson-extrapolated central differences of the turn of the
-    /// grippers built at `x` +- [`TURN_STEPS`] (no grasp is solved, only
-    /// their rest states and tangents). `None` for a fixed variable and
-    /// where a gripper cannot be built.
-    fn rate(&self) -> [Option<f64>; 3] {
-        *self.rate.get_or_init(|| {
-            let (req, x) = (self.req, self.x);
-            let bounds = req.bounds();
-            let mut out = [None; 3];
-            let Some(zero) = self.zero() else {
-                return out;
-            };
-            for (i, &h) in TURN_STEPS.iter().enumerate() {
-                if bounds[i][1] <= bounds[i][0] {
-                    continue;
-                }
-                let at = |t: f64| {
-                    let mut y = x;
-                    y[i] += t;
-                    let turn = gripper(req, y).ok()?.closing_turn(0.0)?;
-                    Some(nearest_turn(turn, zero))
-                };
-                let diff = |t: f64| Some((at(t)? - at(-t)?) / (2.0 * t));
-                out[i] = (|| {
-                    let (d1, d2) = (diff(h)?, diff(0.5 * h)?);
-                    Some((4.0 * d2 - d1) / 3.0).filter(|v| v.is_finite())
-                })();
-            }
-            out
-        })
-    }
 }
 
 /// The margin of a normal force `normal` against its limit `fmax` (N), at

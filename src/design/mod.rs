@@ -42,16 +42,21 @@
 //! [`Designed::scenes`] writes one scene file per object that `fpc solve`
 //! runs to reproduce it.
 
+mod best_grasp;
 mod evaluate;
+mod limits;
 mod minimax;
 mod optimize;
 mod reproduce;
 mod requirements;
+mod variables;
 
 pub use evaluate::{
-    evaluate, gripper, Evaluation, Margin, CUBOID_SAMPLES, SPHERE_SAMPLES, UNBUILDABLE_MARGIN,
+    evaluate, Evaluation, Margin, CUBOID_SAMPLES, SPHERE_SAMPLES, UNBUILDABLE_MARGIN,
 };
+pub use variables::gripper;
 
+pub use limits::{FORCE_RANGE_N, LENGTH_RANGE_MM, MAX_OBJECTS, MU_RANGE};
 pub use optimize::{
     grid_search, optimize, DesignOptions, Designed, GridResult, MarginSensitivity, MAX_ASCENTS,
     MAX_ASCENT_ITERATIONS, MAX_GRID_POINTS, MAX_RANDOM_STARTS,
@@ -59,5 +64,5 @@ pub use optimize::{
 pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
     DesignBase, ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary,
-    DEFAULT_DESIGN, FORCE_RANGE_N, LENGTH_RANGE_MM, MAX_OBJECTS, MU_RANGE, VARIABLES,
+    DEFAULT_DESIGN, VARIABLES,
 };

@@ -44,11 +44,10 @@ use serde::Serialize;
 use crate::error::{positive, require, InputError};
 use crate::field::Field;
 
-use super::evaluate::{
-    evaluate, evaluate_seeded, evaluate_with_gradients, Evaluation, MarginGradient, Seeds,
-};
+use super::evaluate::{evaluate, evaluate_seeded, evaluate_with_gradients, Evaluation, Seeds};
 use super::reproduce::{reproduce, Reproduction};
 use super::requirements::Requirements;
+use super::variables::MarginGradient;
 
 /// Settings of [`optimize`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -681,7 +680,7 @@ mounting_angle_deg = [60.0, 90.0]
         .unwrap();
         let x = [0.284, 74.3, 20.0];
         // the optimum lies at the turn, at every radius
-        let g = super::super::evaluate::gripper(&req, x).unwrap();
+        let g = super::super::variables::gripper(&req, x).unwrap();
         for r in [45.0, 50.0, 55.0] {
             let best = g.max_sphere_lift(0.0, r, 8).unwrap().unwrap();
             let zero = g.closing_turn(0.0).unwrap();

@@ -63,6 +63,7 @@ mod record;
 mod resolve;
 mod schema;
 mod solve;
+mod syntax;
 mod uncertainty;
 
 #[cfg(test)]
@@ -82,10 +83,11 @@ pub use resolve::{
     DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
-    line_col, ActuatorSection, CalibrationSection, ChannelSection, ClRibEntry, ClRibsSection,
-    Elements, GeometrySection, GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind,
+    ActuatorSection, CalibrationSection, ChannelSection, ClRibEntry, ClRibsSection, Elements,
+    GeometrySection, GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind,
     MaterialSection, ModelSection, PartitionSection, PemcSection, RibEntry, RibKind, RibsSection,
-    SceneError, SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
+    SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
 };
 pub use solve::{GraspOutcome, SceneSolution};
+pub use syntax::{line_col, locate, SceneError};
 pub use uncertainty::{GraspUncertainty, Uncertainty};

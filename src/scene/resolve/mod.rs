@@ -19,6 +19,7 @@ use super::fields::{
     SceneKey, SolveKey,
 };
 use super::schema::*;
+use super::syntax::SceneError;
 use crate::sensitivity::Covariance;
 
 use actuator::resolve_actuator;
