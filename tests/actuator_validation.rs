@@ -30,6 +30,17 @@ fn names(e: &InputError, field: &str, value: &str) {
     assert!(!msg.contains('\n'), "{msg}");
 }
 
+/// An edit of the default parameters, the field its error names and the
+/// value as written.
+type Rejection = (fn(&mut ActuatorParams), &'static str, &'static str);
+
+/// Every edit is rejected with an error naming its field and value.
+fn all_rejected(cases: &[Rejection]) {
+    for &(edit, field, value) in cases {
+        names(&rejected(edit), field, value);
+    }
+}
+
 // ---------------------------------------------------------------- defaults
 
 #[test]
@@ -159,41 +170,19 @@ fn geometry_rules() {
     let e = rejected(|p| p.geometry.lx = f64::NAN);
     names(&e, "actuator.geometry.lx", "NaN");
     assert!(matches!(e, InputError::NotFinite { .. }));
-    names(
-        &rejected(|p| p.geometry.lx = -110.0),
-        "actuator.geometry.lx",
-        "-110",
-    );
-    names(
-        &rejected(|p| p.geometry.ly = 0.0),
-        "actuator.geometry.ly",
-        "0",
-    );
-    names(
-        &rejected(|p| p.geometry.lc = -1.0),
-        "actuator.geometry.lc",
-        "-1",
-    );
-    names(
-        &rejected(|p| p.geometry.lc = f64::INFINITY),
-        "actuator.geometry.lc",
-        "inf",
-    );
-    names(
-        &rejected(|p| p.geometry.h = 0.0),
-        "actuator.geometry.h",
-        "0",
-    );
-    names(
-        &rejected(|p| p.geometry.h2 = -1.0),
-        "actuator.geometry.h2",
-        "-1",
-    );
-    names(
-        &rejected(|p| p.geometry.h3 = 0.0),
-        "actuator.geometry.h3",
-        "0",
-    );
+    all_rejected(&[
+        (|p| p.geometry.lx = -110.0, "actuator.geometry.lx", "-110"),
+        (|p| p.geometry.ly = 0.0, "actuator.geometry.ly", "0"),
+        (|p| p.geometry.lc = -1.0, "actuator.geometry.lc", "-1"),
+        (
+            |p| p.geometry.lc = f64::INFINITY,
+            "actuator.geometry.lc",
+            "inf",
+        ),
+        (|p| p.geometry.h = 0.0, "actuator.geometry.h", "0"),
+        (|p| p.geometry.h2 = -1.0, "actuator.geometry.h2", "-1"),
+        (|p| p.geometry.h3 = 0.0, "actuator.geometry.h3", "0"),
+    ]);
 }
 
 #[test]
@@ -428,21 +417,15 @@ fn prestressed_rules() {
 /// law constant past 10 TPa in magnitude, a prestrain at -1 or past 10.
 #[test]
 fn moduli_and_prestrain_are_bounded() {
-    names(
-        &rejected(|p| p.pemc.e2 = 1e308),
-        "actuator.pemc.e2",
-        "1e308",
-    );
-    names(
-        &rejected(|p| p.pemc.law.p2 = -2e7),
-        "actuator.pemc.law.p2",
-        "-20000000",
-    );
-    names(
-        &rejected(|p| p.pemc.law.p1 = 1e-320),
-        "actuator.pemc.law.p1",
-        "1e-320",
-    );
+    all_rejected(&[
+        (|p| p.pemc.e2 = 1e308, "actuator.pemc.e2", "1e308"),
+        (
+            |p| p.pemc.law.p2 = -2e7,
+            "actuator.pemc.law.p2",
+            "-20000000",
+        ),
+        (|p| p.pemc.law.p1 = 1e-320, "actuator.pemc.law.p1", "1e-320"),
+    ]);
     let tiny = rejected(|p| {
         p.cl = Orthotropic {
             e1: 1e-320,
@@ -454,21 +437,15 @@ fn moduli_and_prestrain_are_bounded() {
     // the modulus, not the Poisson ratio its nu21 overflows
     names(&tiny, "actuator.cl.e1", "1e-320");
     assert!(tiny.to_string().contains("MPa"), "{tiny}");
-    names(
-        &rejected(|p| p.fluidic = Isotropic { e: 2e7, nu: 0.3 }.into()),
-        "actuator.fluidic.e",
-        "20000000",
-    );
-    names(
-        &rejected(|p| p.pemc.eps0 = -1.0),
-        "actuator.pemc.eps0",
-        "-1",
-    );
-    names(
-        &rejected(|p| p.pemc.eps0 = 1e6),
-        "actuator.pemc.eps0",
-        "1000000",
-    );
+    all_rejected(&[
+        (
+            |p| p.fluidic = Isotropic { e: 2e7, nu: 0.3 }.into(),
+            "actuator.fluidic.e",
+            "20000000",
+        ),
+        (|p| p.pemc.eps0 = -1.0, "actuator.pemc.eps0", "-1"),
+        (|p| p.pemc.eps0 = 1e6, "actuator.pemc.eps0", "1000000"),
+    ]);
     // the ends inside are accepted
     for edit in [
         |p: &mut ActuatorParams| p.pemc.e2 = 1e7,

@@ -7,6 +7,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::error::Num;
+
 /// The kind of a test (its CSV columns: docs/measurements.md).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -74,42 +76,35 @@ pub const MAX_ANGLE_DEG: f64 = 360.0;
 /// Most repeats a force row may be the mean of.
 pub const MAX_REPEATS: u32 = 1_000_000;
 
-/// `x` as a message shows it: plain decimals for ordinary magnitudes,
-/// exponent notation for the others (`1e308`, not 309 digits).
-pub(crate) fn shown(x: f64) -> String {
-    if x != 0.0 && !(1e-4..1e6).contains(&x.abs()) {
-        format!("{x:e}")
-    } else {
-        format!("{x}")
-    }
-}
-
-/// Why a measured value `x` (written `text`, in `unit`) is refused: its
-/// magnitude beyond `max`; `None` when it is within.
-pub(crate) fn beyond(x: f64, text: &str, max: f64, unit: &str) -> Option<String> {
+/// Why a measured value `x` (in `unit`) is refused: its magnitude beyond
+/// `max`; `None` when it is within.
+pub(crate) fn beyond(x: f64, max: f64, unit: &str) -> Option<String> {
     (x.abs() > max).then(|| {
         format!(
-            "{text} {unit} is beyond the bound of a measured value, {} {unit} in magnitude",
-            shown(max)
+            "{} {unit} is beyond the bound of a measured value, {} {unit} in magnitude",
+            Num(x),
+            Num(max)
         )
     })
 }
 
-/// Why a standard deviation `x` (written `text`, in `unit`) is refused:
+/// Why a standard deviation `x` (in `unit`) is refused:
 /// not positive, below [`MIN_SD`] or above `max`; `None` when it is a
 /// standard deviation.
-pub(crate) fn bad_sd(x: f64, text: &str, max: f64, unit: &str) -> Option<String> {
+pub(crate) fn bad_sd(x: f64, max: f64, unit: &str) -> Option<String> {
     if x <= 0.0 {
-        Some(format!("{text} must be positive"))
+        Some(format!("{} must be positive", Num(x)))
     } else if x < MIN_SD {
         Some(format!(
-            "{text} {unit} is below {} {unit}, the smallest standard deviation of a measurement",
-            shown(MIN_SD)
+            "{} {unit} is below {} {unit}, the smallest standard deviation of a measurement",
+            Num(x),
+            Num(MIN_SD)
         ))
     } else if x > max {
         Some(format!(
-            "{text} {unit} is above {} {unit}, the largest standard deviation of a measurement",
-            shown(max)
+            "{} {unit} is above {} {unit}, the largest standard deviation of a measurement",
+            Num(x),
+            Num(max)
         ))
     } else {
         None

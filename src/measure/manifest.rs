@@ -6,24 +6,23 @@
 //! `own` tables. A scene value the library rejects is an error at the
 //! layer that writes it, the topmost: the key as written in the manifest
 //! (`specimen.own.actuator.pemc.eps0`, `shared.actuator.pemc.e2`) or in
-//! the scene file (`actuator.pemc.e2`), at that key's line; a rule
+//! the scene file (`actuator.pemc.e2`), at the line and column of its value; a rule
 //! between keys, or a default, at the specimen's `own` table (else its
 //! name).
 
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
-use toml::de::{DeTable, DeValue};
 use toml::{Spanned, Table, Value};
 
 use super::input::{
-    bad_sd, beyond, read_text, shown, MeasureError, TestKind, MAX_ANGLE_DEG, MAX_DATA_BYTES,
+    bad_sd, beyond, read_text, MeasureError, TestKind, MAX_ANGLE_DEG, MAX_DATA_BYTES,
     MAX_LENGTH_MM, MAX_MANIFEST_BYTES, MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS, MAX_TESTS,
     MAX_TOTAL_ROWS,
 };
 use super::table::{self, bits, Context, Record};
 use super::table::{ForceRow, MarkerRow, RadiusRow};
-use crate::scene::{line_col, Scene, SceneError, SceneReadError};
+use crate::scene::{key_at, line_col, locate, Scene, SceneError, SceneReadError};
 
 /// `finger = R(angle) camera + offset`, `R` the rotation by `angle`
 /// (from X towards Z). Known values for a comparison; a calibrator may fit
@@ -241,118 +240,6 @@ fn scene_file(path: &Path, shown: &str) -> Result<SceneFileText, MeasureError> {
 
 // ------------------------------------------------------------ scene keys
 
-/// One step of a dotted key path: a table's key or an array's index.
-#[derive(Debug, Clone, PartialEq)]
-enum Step {
-    Key(String),
-    Index(usize),
-}
-
-/// The steps of a scene key as the library names it
-/// (`actuator.pemc.eps0`, `partition.lengths[2]`).
-fn steps(key: &str) -> Vec<Step> {
-    let mut out = Vec::new();
-    for part in key.split('.') {
-        let mut pieces = part.split('[');
-        out.push(Step::Key(pieces.next().unwrap_or("").to_string()));
-        for index in pieces {
-            match index.trim_end_matches(']').parse() {
-                Ok(i) => out.push(Step::Index(i)),
-                Err(_) => out.push(Step::Key(index.to_string())),
-            }
-        }
-    }
-    out
-}
-
-/// A path of steps written as a dotted key.
-fn dotted(path: &[Step]) -> String {
-    let mut s = String::new();
-    for step in path {
-        match step {
-            Step::Key(k) if s.is_empty() => s.push_str(k),
-            Step::Key(k) => {
-                s.push('.');
-                s.push_str(k);
-            }
-            Step::Index(i) => s.push_str(&format!("[{i}]")),
-        }
-    }
-    s
-}
-
-/// The value at `path` in a table.
-fn value_at<'a>(t: &'a Table, path: &[Step]) -> Option<&'a Value> {
-    let (Step::Key(first), rest) = path.split_first()? else {
-        return None;
-    };
-    let mut v = t.get(first)?;
-    for step in rest {
-        v = match (step, v) {
-            (Step::Key(k), Value::Table(t)) => t.get(k)?,
-            (Step::Index(i), Value::Array(a)) => a.get(*i)?,
-            _ => return None,
-        };
-    }
-    Some(v)
-}
-
-/// Where `path` is written in a parsed document: the byte offset of its
-/// last key (of an array's entry, the entry).
-fn offset_of(doc: &DeTable, path: &[Step]) -> Option<usize> {
-    let (Step::Key(first), rest) = path.split_first()? else {
-        return None;
-    };
-    let (k, mut v) = doc.iter().find(|(k, _)| k.get_ref() == first)?;
-    let mut at = k.span().start;
-    for step in rest {
-        (at, v) = match (step, v.get_ref()) {
-            (Step::Key(key), DeValue::Table(t)) => {
-                let (k, v) = t.iter().find(|(k, _)| k.get_ref() == key)?;
-                (k.span().start, v)
-            }
-            (Step::Index(i), DeValue::Array(a)) => {
-                let v = a.get(*i)?;
-                (v.span().start, v)
-            }
-            _ => return None,
-        };
-    }
-    Some(at)
-}
-
-fn holds(span: std::ops::Range<usize>, offset: usize) -> bool {
-    span.contains(&offset)
-}
-
-/// The path of the key or value written at byte `offset` of a parsed
-/// document (the deepest one), appended to `path`.
-fn key_at(doc: &DeTable, offset: usize, path: &mut Vec<Step>) -> bool {
-    for (k, v) in doc.iter() {
-        path.push(Step::Key(k.get_ref().to_string()));
-        if inside(v, offset, path) || holds(k.span(), offset) {
-            return true;
-        }
-        path.pop();
-    }
-    false
-}
-
-fn inside(v: &Spanned<DeValue>, offset: usize, path: &mut Vec<Step>) -> bool {
-    match v.get_ref() {
-        DeValue::Table(t) => key_at(t, offset, path),
-        DeValue::Array(a) => a.iter().enumerate().any(|(i, e)| {
-            path.push(Step::Index(i));
-            let found = inside(e, offset, path) || holds(e.span(), offset);
-            if !found {
-                path.pop();
-            }
-            found
-        }),
-        _ => holds(v.span(), offset),
-    }
-}
-
 /// The byte offset of a line and column (both from 1, the column in
 /// characters) of `text`.
 fn byte_offset(text: &str, line: usize, col: usize) -> usize {
@@ -373,34 +260,47 @@ fn byte_offset(text: &str, line: usize, col: usize) -> usize {
 /// written: a scene file, the manifest's `[shared]` tables or the
 /// specimen's `own` tables.
 struct Layer<'a> {
-    tables: &'a Table,
     /// The file the keys are written in (as shown) and its text.
     file: &'a str,
     text: &'a str,
-    /// The path of the layer's tables in that file.
-    at: Vec<Step>,
+    /// The dotted path of the layer's tables in that file
+    /// (`specimen[2].own`, `shared`; empty for a scene file).
+    at: String,
+    /// The prefix an error names the layer's keys with
+    /// (`specimen.own`, `shared`; empty for a scene file).
+    named: &'static str,
 }
 
-/// An error at the scene key `key` of a specimen's document: at the line
-/// where the first layer that writes it (the specimen's own tables, the
-/// shared tables, the scene file) writes it, the field named as written
-/// there (`specimen.own.actuator.pemc.eps0`, `shared.actuator.pemc.e2`,
-/// a scene file's `actuator.pemc.e2`); `None` when no layer writes it (a
-/// default, or a rule between keys).
-fn at_key(layers: &[Layer], key: &[Step], reason: &str) -> Option<MeasureError> {
-    let layer = layers
-        .iter()
-        .find(|l| !key.is_empty() && value_at(l.tables, key).is_some())?;
-    let path: Vec<Step> = layer.at.iter().chain(key).cloned().collect();
-    let doc = DeTable::parse(layer.text).ok()?;
-    let (row, col) = line_col(layer.text, offset_of(doc.get_ref(), &path)?);
-    let field = match &layer.at[..] {
-        [Step::Key(s), Step::Index(_), own @ ..] => {
-            dotted(&[&[Step::Key(s.clone())], own, key].concat())
-        }
-        _ => dotted(&path),
-    };
-    Some(MeasureError::at(layer.file, row, col, field, reason))
+/// `prefix.key`, or `key` alone under an empty prefix.
+fn under(prefix: &str, key: &str) -> String {
+    if prefix.is_empty() {
+        key.to_string()
+    } else {
+        format!("{prefix}.{key}")
+    }
+}
+
+/// An error at the scene key `key` (`actuator.pemc.eps0`,
+/// `partition.lengths[2]`) of a specimen's document: at the value the
+/// first layer that writes it (the specimen's own tables, the shared
+/// tables, the scene file) writes, the field named as written there
+/// (`specimen.own.actuator.pemc.eps0`, `shared.actuator.pemc.e2`, a scene
+/// file's `actuator.pemc.e2`); `None` when no layer writes it (a default,
+/// or a rule between keys).
+fn at_key(layers: &[Layer], key: &str, reason: &str) -> Option<MeasureError> {
+    if key.is_empty() {
+        return None;
+    }
+    layers.iter().find_map(|l| {
+        let (row, col) = locate(l.text, &under(&l.at, key))?;
+        Some(MeasureError::at(
+            l.file,
+            row,
+            col,
+            under(l.named, key),
+            reason,
+        ))
+    })
 }
 
 impl Manifest {
@@ -496,34 +396,30 @@ impl Manifest {
             leaves(&own_tables, "", &mut own);
             let mut layers = vec![
                 Layer {
-                    tables: &own_tables,
                     file,
                     text,
-                    at: vec![
-                        Step::Key("specimen".into()),
-                        Step::Index(index),
-                        Step::Key("own".into()),
-                    ],
+                    at: format!("specimen[{index}].own"),
+                    named: "specimen.own",
                 },
                 Layer {
-                    tables: &inline,
                     file,
                     text,
-                    at: vec![Step::Key("shared".into())],
+                    at: "shared".into(),
+                    named: "shared",
                 },
             ];
             if let Some(f) = base {
                 layers.push(Layer {
-                    tables: &f.tables,
                     file: &f.shown,
                     text: &f.text,
-                    at: Vec::new(),
+                    at: String::new(),
+                    named: "",
                 });
             }
             // an error at a scene key: where a layer writes it, else at the
             // specimen's own table (or its name)
             let at_own = |field: &str, reason: String| {
-                at_key(&layers, &steps(field), &reason).unwrap_or_else(|| match &s.own {
+                at_key(&layers, field, &reason).unwrap_or_else(|| match &s.own {
                     Some(o) => src.err(o, field, reason),
                     None => src.err(&s.name, field, reason),
                 })
@@ -549,12 +445,9 @@ impl Manifest {
             let scene = Scene::from_toml(&scene_text).map_err(|e| match e {
                 SceneReadError::Syntax(e) => {
                     // the key of the generated document the error is at
-                    let mut key = Vec::new();
                     let offset = byte_offset(&scene_text, e.line, e.col);
-                    let found = DeTable::parse(&scene_text)
-                        .is_ok_and(|d| key_at(d.get_ref(), offset, &mut key));
                     let reason = format!("specimen {name:?}: {}", e.message);
-                    match found.then(|| at_key(&layers, &key, &reason)).flatten() {
+                    match key_at(&scene_text, offset).and_then(|k| at_key(&layers, &k, &reason)) {
                         Some(located) => located,
                         None => at_own("own", reason),
                     }
@@ -633,7 +526,7 @@ fn read_test(
         if !x.is_finite() {
             return Err(src.err(sd, "sd_mm", format!("{x} must be a positive number")));
         }
-        if let Some(why) = bad_sd(x, &shown(x), MAX_LENGTH_MM, "mm") {
+        if let Some(why) = bad_sd(x, MAX_LENGTH_MM, "mm") {
             return Err(src.err(sd, "sd_mm", why));
         }
     }
@@ -647,7 +540,7 @@ fn read_test(
             if !x.is_finite() {
                 return Err(src.err(c, key, format!("{x} is not a finite number")));
             }
-            if let Some(why) = beyond(x, &shown(x), max, unit) {
+            if let Some(why) = beyond(x, max, unit) {
                 return Err(src.err(c, key, why));
             }
         }

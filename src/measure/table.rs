@@ -10,9 +10,10 @@ use std::collections::HashMap;
 use serde::Serialize;
 
 use super::input::{
-    bad_sd, beyond, shown, MeasureError, TestKind, MAX_FORCE_N, MAX_LENGTH_MM, MAX_PRESSURE_KPA,
+    bad_sd, beyond, MeasureError, TestKind, MAX_FORCE_N, MAX_LENGTH_MM, MAX_PRESSURE_KPA,
     MAX_REPEATS, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA,
 };
+use crate::error::Num;
 use crate::studies::Axis;
 
 /// One marker at one pressure.
@@ -160,8 +161,8 @@ impl Record<'_> {
                 "pressure_kpa",
                 format!(
                     "{} kPa is above {} kPa, the highest measured pressure",
-                    shown(p),
-                    shown(MAX_PRESSURE_KPA)
+                    Num(p),
+                    Num(MAX_PRESSURE_KPA)
                 ),
             ));
         }
@@ -171,7 +172,7 @@ impl Record<'_> {
     /// A number within `max` in magnitude (`unit` in the message).
     fn bounded(&self, name: &str, max: f64, unit: &str) -> Result<f64, MeasureError> {
         let x = self.number(name)?;
-        match beyond(x, &shown(x), max, unit) {
+        match beyond(x, max, unit) {
             Some(why) => Err(self.err(name, why)),
             None => Ok(x),
         }
@@ -185,7 +186,7 @@ impl Record<'_> {
     /// A standard deviation from [`super::input::MIN_SD`] to `max`.
     fn sd(&self, name: &str, max: f64, unit: &str) -> Result<f64, MeasureError> {
         let x = self.number(name)?;
-        match bad_sd(x, &shown(x), max, unit) {
+        match bad_sd(x, max, unit) {
             Some(why) => Err(self.err(name, why)),
             None => Ok(x),
         }

@@ -293,11 +293,11 @@ fn manifest_errors_name_their_line_and_key() {
     )
     .unwrap_err();
     assert_eq!(e.field, "camera", "{e}");
-    // a value the model rejects names the scene key
+    // a value the model rejects names the scene key, at its value
     let bad = one_test("radius", "").replace("eps0 = 0.25", "eps0 = nan");
     let e = load("eps0", &bad, &[("data.csv", RADIUS)]).unwrap_err();
     assert_eq!(e.field, "specimen.own.actuator.pemc.eps0", "{e}");
-    assert_eq!(e.at, Some((4, 1)), "{e}");
+    assert_eq!(e.at, Some((4, 8)), "{e}");
     // a specimen's loads are its tests'; of [load], kappa belongs to the
     // finger, and zeros (a calibrated scene's) set nothing
     let with_load = |tag: &str, table: &str| {

@@ -89,5 +89,6 @@ pub use schema::{
     SceneFile, SceneStrategy, SolveSection, MAX_CALIBRATION_KEYS,
 };
 pub use solve::{GraspOutcome, SceneSolution};
+pub(crate) use syntax::key_at;
 pub use syntax::{line_col, locate, SceneError};
 pub use uncertainty::{GraspUncertainty, Uncertainty};

@@ -7,29 +7,14 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::process::Output;
+use std::time::Duration;
 
-use common::{fails, text};
+use common::{fails, fpc_within, text};
 
 /// `fpc args`, killed and failed when it runs longer than a minute.
 fn fpc_within_a_minute(args: &[&str]) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = Instant::now();
-    while child.try_wait().unwrap().is_none() {
-        if start.elapsed() > Duration::from_secs(60) {
-            child.kill().unwrap();
-            child.wait().unwrap();
-            panic!("fpc {args:?} still running after a minute");
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-    child.wait_with_output().unwrap()
+    fpc_within(args, Duration::from_secs(60))
 }
 
 /// `m.toml` of one specimen with one radius test, `r.csv` holding `csv`,
@@ -92,7 +77,7 @@ fn a_bad_shared_value_is_named_at_its_key() {
         &["compare", &m, "--out", &d.join("out").display().to_string()],
         2,
     );
-    let place = format!("{m}:2:1: shared.actuator.pemc.e2: ");
+    let place = format!("{m}:2:6: shared.actuator.pemc.e2: ");
     assert!(line.contains(&place), "{line} lacks {place}");
 }
 

@@ -3,8 +3,11 @@
 //! stderr). Each test file that uses it says `mod common;`.
 #![allow(dead_code)] // each test file uses its part
 
+use std::ffi::OsStr;
+use std::io::Read;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
 
 /// A fresh scratch directory for test `name` of file `file`, removed when
 /// dropped (a failed test's too).
@@ -46,6 +49,44 @@ pub fn fpc(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+/// `fpc args` with stdout and stderr captured, killed and failed when it
+/// runs longer than `limit` (the outputs are drained while it runs, so a
+/// long output cannot stall it).
+pub fn fpc_within<S: AsRef<OsStr> + std::fmt::Debug>(args: &[S], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    fn drain(mut r: impl Read + Send + 'static) -> std::thread::JoinHandle<Vec<u8>> {
+        std::thread::spawn(move || {
+            let mut v = Vec::new();
+            let _ = r.read_to_end(&mut v);
+            v
+        })
+    }
+    let stdout = drain(child.stdout.take().unwrap());
+    let stderr = drain(child.stderr.take().unwrap());
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("fpc {args:?} still running after {limit:?}");
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    Output {
+        status,
+        stdout: stdout.join().unwrap(),
+        stderr: stderr.join().unwrap(),
+    }
 }
 
 /// `fpc solve SCENE --out OUT`.

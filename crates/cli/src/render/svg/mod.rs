@@ -201,13 +201,13 @@ fn finite(points: &[[f64; 2]]) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// A data range with 5 % margins (a unit range around a single value,
-/// `0..1` without data).
 /// The largest magnitude an axis reaches: data beyond it are drawn at the
 /// edge. Its span (twice it) and the padding stay finite, which the tick
 /// placement needs (an infinite span never ended).
 const AXIS_LIMIT: f64 = 1e300;
 
+/// A data range with 5 % margins (a unit range around a single value,
+/// `0..1` without data), within [`AXIS_LIMIT`].
 fn padded(v: &[f64]) -> (f64, f64) {
     let (lo, hi) = v
         .iter()
