@@ -265,7 +265,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ))
     })?;
     crate::output::prepare_dir(&out)?;
-    crate::report::progress("fpc design: optimising");
+    crate::report::progress_on_terminal("fpc design: optimising");
     let d = optimize(&req, &opts)?;
     crate::report::end_progress();
     // the requirements' bounds keep every number finite; were one not, no

@@ -156,7 +156,7 @@ pub fn progress(msg: &str) {
 }
 
 /// [`progress`] on a terminal only, nothing elsewhere: for a command whose
-/// log should stay as quiet as before (`fpc paper`, `fpc calibrate`).
+/// log should stay as quiet as before (`fpc paper`, `fpc design`, `fpc calibrate`).
 pub fn progress_on_terminal(msg: &str) {
     if is_terminal() {
         progress(msg);

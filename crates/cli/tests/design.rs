@@ -41,6 +41,12 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
         "0",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // progress on a terminal only: a log of a successful run stays empty
+    assert!(
+        o.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     for key in [
         "feasible",

@@ -51,7 +51,8 @@ use crate::finger::scene_text;
 /// is ``FileNotFoundError``), else as TOML text. Raises ``fpc.SceneError``
 /// (with ``line`` and ``col``) for a syntax error or an unknown key, and
 /// ``fpc.InputError`` naming the field of a rejected value (``starts``
-/// beyond 10000: ``design.random_starts``). Ctrl-C returns at once with
+/// beyond 10000: ``design.random_starts``), with ``line`` and ``col``
+/// where the requirements write that value. Ctrl-C returns at once with
 /// ``KeyboardInterrupt`` (the search finishes on its own thread and is
 /// dropped).
 #[pyfunction]
@@ -64,9 +65,18 @@ pub fn design<'py>(
     scene: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let (text, shown) = scene_text(requirements)?;
-    let mut req = Requirements::parse(&text).map_err(|e| match e {
-        RequirementsError::Input(i) => from_input(py, &i),
-        RequirementsError::Syntax(s) => from_syntax(py, &s, &shown),
+    let mut req = Requirements::parse(&text).map_err(|e| match &e {
+        RequirementsError::Input(i) => {
+            // where the file writes the value, as a syntax error has it
+            let err = from_input(py, i);
+            if let Some((line, col)) = e.position(&text) {
+                let v = err.value(py);
+                let _ = v.setattr("line", line);
+                let _ = v.setattr("col", col);
+            }
+            err
+        }
+        RequirementsError::Syntax(s) => from_syntax(py, s, &shown),
     })?;
     if let Some(obj) = scene {
         let (text, shown) = scene_text(obj)?;

@@ -59,6 +59,10 @@ def test_bad_requirements_raise_the_documented_errors(tmp_path):
     with pytest.raises(fpc.InputError) as e:
         fpc.design(p)
     assert "lift_n" in e.value.field
+    # located where the file writes the value
+    lines = p.read_text().splitlines()
+    at = next(i for i, l in enumerate(lines) if "lift_n = -1.0" in l)
+    assert (e.value.line, e.value.col) == (at + 1, lines[at].index("-1.0") + 1)
     # bounded before any work: 10**8 starts would run for days
     with pytest.raises(fpc.InputError) as e:
         fpc.design(CUBOID, starts=10**8)

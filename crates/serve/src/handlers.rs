@@ -338,9 +338,17 @@ pub fn load_path(req: LoadPathRequest) -> Result<Value, ApiError> {
 /// `design.json` (without the provenance).
 pub fn design(req: DesignRequest) -> Result<Value, ApiError> {
     let starts = count("starts", req.starts, 0, MAX_DESIGN_STARTS)?;
-    let mut r = Requirements::parse(&req.toml).map_err(|e| match e {
+    let mut r = Requirements::parse(&req.toml).map_err(|e| match &e {
         RequirementsError::Syntax(s) => ApiError::bad("toml", s.to_string()),
-        RequirementsError::Input(i) => i.into(),
+        // the message starts with where the text writes the value, as a
+        // syntax error's does
+        RequirementsError::Input(i) => {
+            let mut err = ApiError::from(i.clone());
+            if let Some((line, col)) = e.position(&req.toml) {
+                err.message = format!("{line}:{col}: {}", err.message);
+            }
+            err
+        }
     })?;
     if let Some(text) = &req.scene {
         let file = SceneFile::parse(text).map_err(|e| ApiError::bad("scene", e.to_string()))?;

@@ -295,6 +295,14 @@ async fn bad_input_is_400_naming_the_field() {
     assert_error(&post(addr, "/api/design", starts).await, 400, "starts");
     let req = json!({ "toml": "fingers = 3\nbogus = 1\n" });
     assert_error(&post(addr, "/api/design", req).await, 400, "toml");
+    // a value error is located where the text writes the value
+    let req = json!({ "toml": "fingers = 3\n[[object]]\nkind = \"cuboid\"\nsize_mm = [70.0, 100.0]\nlift_n = -1.0\n[vary]\neps0 = [0.1, 0.45]\n" });
+    let got = post(addr, "/api/design", req).await;
+    assert_error(&got, 400, "object[0].lift_n");
+    assert!(
+        got.1["message"].as_str().unwrap().starts_with("5:10: "),
+        "{got:?}"
+    );
     // not an API
     assert_error(&post(addr, "/api/nothing", json!({})).await, 404, "path");
 }

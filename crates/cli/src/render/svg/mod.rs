@@ -192,12 +192,15 @@ pub fn svg_styled(fig: &Figure, style: &Style) -> anyhow::Result<String> {
     Ok(buf)
 }
 
-/// The finite points of a series.
+/// The finite points of a series, each coordinate within
+/// [`AXIS_LIMIT`] (a point beyond it is drawn at the axis' edge: plotters
+/// maps points to integer pixels, which overflow far past the axis).
 fn finite(points: &[[f64; 2]]) -> Vec<(f64, f64)> {
+    let edge = |v: f64| v.clamp(-AXIS_LIMIT, AXIS_LIMIT);
     points
         .iter()
         .filter(|p| p[0].is_finite() && p[1].is_finite())
-        .map(|p| (p[0], p[1]))
+        .map(|p| (edge(p[0]), edge(p[1])))
         .collect()
 }
 

@@ -53,8 +53,8 @@ fn a_log_log_panel_skips_values_that_are_not_positive() {
 
 /// Values near f64's largest (an error bar of 1e308 mm from a measured
 /// standard deviation): the axis span overflowed to inf and the tick
-/// placement never ended. The axis now stops at its limit, and values up
-/// to it are drawn in finite numbers.
+/// placement never ended. The axis now stops at its limit, and values
+/// beyond it are drawn at its edge, in finite numbers.
 #[test]
 fn values_near_the_largest_float_draw_on_finite_axes() {
     let (lo, hi) = padded(&[39.0, 1e308, -1e308, f64::INFINITY]);
@@ -65,9 +65,8 @@ fn values_near_the_largest_float_draw_on_finite_axes() {
         Series::new(
             "a",
             SeriesKind::LinePoints,
-            // (inside the axis limit: plotters maps a point past its axis
-            // to pixels in integers, which overflow far outside)
-            vec![[0.0, 39.0], [25.0, 1e299], [50.0, -1e299]],
+            // (values past the axis limit are drawn at its edge)
+            vec![[0.0, 39.0], [25.0, 1e308], [50.0, -1e308], [1e308, 0.0]],
         )
         .label("a"),
     );
