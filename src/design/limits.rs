@@ -20,19 +20,20 @@
 //! - at most [`MAX_OBJECTS`] `[[object]]` tables: each one's margins are
 //!   solved at every design the search tries, so the run time grows with
 //!   their number (module docs of [`crate::design`]);
-//! - `fingers` within [2, 12], `elements` within [1, 256].
+//! - `fingers` within [2, 12] ([`MAX_FINGERS`]), `elements` within [1, 256].
 //!
 //! A scene's `[gripper]` takes a single finger (`gripper.fingers = 1`: its
 //! shape at rest, or a finger pressed on an object by something else), but
 //! a requirement is a grasp: the object is held between fingers facing
 //! each other, the model solving one of them and mirroring it (docs/model.md
 //! Sec. 5.2), so a gripper that must hold something has at least two. The
-//! upper bound, 12, is a generous count: the Sec. 5 palm holds 3 to 6
-//! fingers of the paper's width, and twelve need a palm of at least 3.9
-//! finger widths (docs/model.md Sec. 5.4).
+//! upper bound is a scene's, 12, a generous count: the Sec. 5 palm holds 3
+//! to 6 fingers of the paper's width, and twelve need a palm of at least
+//! 3.9 finger widths (docs/model.md Sec. 5.4).
 
 use crate::error::{finite, positive, require, InputError};
 use crate::field::Field;
+use crate::gripper::MAX_FINGERS;
 use crate::scene::locate;
 
 use super::requirements::{ObjectRequirement, Requirements, RequirementsError, DEFAULT_DESIGN};
@@ -74,10 +75,10 @@ impl Requirements {
     /// Checks every value.
     pub fn validate(&self) -> Result<(), InputError> {
         require(
-            (2..=12).contains(&self.fingers),
+            (2..=MAX_FINGERS).contains(&self.fingers),
             Field::key("fingers"),
             self.fingers as f64,
-            "must lie in [2, 12]: an object is held between fingers facing each other".into(),
+            format!("must lie in [2, {MAX_FINGERS}]: an object is held between fingers facing each other"),
         )?;
         within(Field::key("mu"), self.mu, MU_RANGE, "")?;
         require(

@@ -37,6 +37,7 @@ pub(crate) use closing::for_target;
 pub(crate) use setup::Object;
 pub use setup::{
     Grasp, Gripper, GripperParams, PalmSpec, CONTACT_TOL_MM, GRIPPER_SAMPLES_PER_ELEMENT,
+    MAX_FINGERS,
 };
 
 pub(crate) use envelope::EnvelopeSeed;

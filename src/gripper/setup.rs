@@ -18,6 +18,11 @@ use super::rules::{self, Invalid, Verdict};
 /// largest inward reach over all of them) and for grasp shapes.
 pub const GRIPPER_SAMPLES_PER_ELEMENT: usize = 32;
 
+/// Most fingers a gripper may have: twelve already need a palm of about
+/// 3.9 finger widths (docs/model.md Sec. 5.4); one finger is solved and
+/// mirrored, so the count costs no work, and the bound keeps it a count.
+pub const MAX_FINGERS: usize = 12;
+
 /// Curvature samples per element for the reversal check.
 pub(super) const CURVATURE_SAMPLES: usize = 4;
 
@@ -51,8 +56,8 @@ pub struct GripperParams {
     pub mounting_angle: f64,
     /// Palm diameter or overlap.
     pub geometry: PalmSpec,
-    /// Number of fingers (informational: the fingers are synchronised,
-    /// one is analysed).
+    /// Number of fingers, 1 to [`MAX_FINGERS`] (informational: the fingers
+    /// are synchronised, one is analysed).
     pub fingers: usize,
     /// Friction coefficient between object and finger tip.
     pub mu: f64,
@@ -227,10 +232,10 @@ impl Gripper {
         )?;
         positive(crate::Field::GripperMu, params.mu)?;
         require(
-            params.fingers >= 1,
+            (1..=MAX_FINGERS).contains(&params.fingers),
             crate::Field::GripperFingers,
             params.fingers as f64,
-            "must be at least 1".into(),
+            format!("must lie in [1, {MAX_FINGERS}]"),
         )?;
         if finger.is_empty() {
             return Err(InputError::Inconsistent {

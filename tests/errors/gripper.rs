@@ -29,7 +29,7 @@ fn gripper_designs_are_checked() {
         &gripper_input(&f, GripperParams { fingers: 0, ..d }),
         "gripper.fingers",
         0.0,
-        "must be at least 1",
+        "must lie in [1, 12]",
     );
     for a in [f64::NAN, f64::NEG_INFINITY] {
         names(
@@ -205,11 +205,16 @@ fn a_gripper_s_fingers_must_fit_its_palm() {
     for n in [1, 2, 3, 4, 6] {
         Gripper::paper(0.25, 8, params(n)).unwrap_or_else(|e| panic!("{n}: {e}"));
     }
-    for n in [7, 100] {
+    for (n, says) in [
+        (7, "do not fit around the palm"),
+        (12, "do not fit around the palm"),
+        (13, "must lie in [1, 12]"),
+        (100, "must lie in [1, 12]"),
+    ] {
         match Gripper::paper(0.25, 8, params(n)) {
             Err(SolveError::Input(e)) => {
                 assert_eq!(e.field(), "gripper.fingers", "{n}: {e}");
-                assert!(e.to_string().contains("do not fit around the palm"), "{e}");
+                assert!(e.to_string().contains(says), "{n}: {e}");
             }
             other => panic!("{n}: {other:?}"),
         }
@@ -223,6 +228,13 @@ fn a_gripper_s_fingers_must_fit_its_palm() {
         ..GripperParams::default()
     };
     Gripper::new(g.finger().clone(), wide).unwrap();
+    // twelve, the most, on a palm wide enough for them
+    let twelve = GripperParams {
+        fingers: 12,
+        geometry: PalmSpec::Palm(31.75 / (std::f64::consts::PI / 12.0).sin() + 1e-6),
+        ..GripperParams::default()
+    };
+    Gripper::new(g.finger().clone(), twelve).unwrap();
     let narrow = GripperParams {
         geometry: PalmSpec::Palm(need - 1e-6),
         ..wide

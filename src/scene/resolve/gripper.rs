@@ -3,7 +3,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use crate::error::InputError;
-use crate::gripper::{GripperParams, PalmSpec};
+use crate::gripper::{GripperParams, PalmSpec, MAX_FINGERS};
 use crate::scene::fields::{finite, forbid, inconsistent, positive, require, GraspKey, GripperKey};
 use crate::scene::schema::*;
 
@@ -96,10 +96,10 @@ pub(super) fn resolve_gripper(
     let strict = g.strict.unwrap_or(false);
     let fingers = g.fingers.unwrap_or(d.fingers);
     require(
-        fingers >= 1,
+        (1..=MAX_FINGERS).contains(&fingers),
         GripperKey::Fingers,
         fingers as f64,
-        "must be at least 1",
+        format!("must lie in [1, {MAX_FINGERS}]"),
     )?;
     let mut echo = GripperSection {
         mounting_angle_deg: Some(angle_deg),
