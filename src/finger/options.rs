@@ -53,10 +53,15 @@ pub struct SolveOptions {
     /// equilibrium is found to start a loaded solve from, Newton from the
     /// straight finger.
     pub continuation: bool,
-    /// Largest Newton step in the scaled unknowns (dimensionless strains).
+    /// Newton's step cap in the scaled unknowns (dimensionless strains).
     /// The prestressed law's quintic makes the energy unbounded below at
     /// large stretch, so an uncapped step from a poor guess can leave the
     /// physical basin for good; 0.25 never limits a step near equilibrium.
+    /// The cap acts as a trust region's radius: a step on a positive
+    /// definite Hessian cut to it and taken whole doubles it (up to 16
+    /// times `max_step`), a damped or shifted step resets it; a chain
+    /// whose cap grew and failed is solved again with the cap held at
+    /// `max_step` (docs/stress.md, "A chain's growing cap").
     pub max_step: f64,
 }
 

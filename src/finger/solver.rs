@@ -465,6 +465,12 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
 
     /// Newton on the loaded chain from `self.y` (the start), and load
     /// continuation from the start where that fails; counts go to `base`.
+    ///
+    /// A chain of several elements grows its step cap
+    /// ([`one_element`]); where that attempt fails, everything after it
+    /// (Newton again from the start if the cap grew, then the
+    /// continuation) keeps the fixed cap, so a solve that converged with it
+    /// still does.
     fn load_from_start(
         &mut self,
         load: &Load,
@@ -473,6 +479,40 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         start_failed: bool,
         base: &mut SolveReport,
     ) -> Result<(), SolveError> {
+        let mut r = self.direct(load, start, start_failed, base);
+        if r.reason.is_converged() {
+            return Ok(());
+        }
+        let current = *self.newton.options();
+        let grown_chain = current.step_growth && !current.modified_pivots;
+        if grown_chain {
+            // the same validated options with flags off: cannot fail
+            let _ = self.newton.set_options(fixed_cap(current));
+            if r.grown_steps > 0 {
+                self.y.copy_from_slice(&self.start);
+                r = self.direct(load, start, start_failed, base);
+            }
+        }
+        let out = if r.reason.is_converged() {
+            Ok(())
+        } else {
+            self.continue_load(load, opts, start_failed, &r, base)
+        };
+        if grown_chain {
+            let _ = self.newton.set_options(current);
+        }
+        out
+    }
+
+    /// Newton on the loaded chain from `self.y`; counts go to `base`, and
+    /// a converged solve's energy to `final_energy`.
+    fn direct(
+        &mut self,
+        load: &Load,
+        start: Option<Guess>,
+        start_failed: bool,
+        base: &mut SolveReport,
+    ) -> Report {
         self.chain.set_load(load);
         // a cold solve's first Hessian is at its unloaded start, which the
         // cold solves of a batch share (`Chain::from_start`)
@@ -492,10 +532,22 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         base.residual_norm = r.residual_norm;
         if r.reason.is_converged() {
             self.final_energy = Some(r.energy);
-            return Ok(());
         }
+        r
+    }
+
+    /// Load continuation from the start, `F(t) = t F`, after the direct
+    /// solve `r` failed (where the options allow it).
+    fn continue_load(
+        &mut self,
+        load: &Load,
+        opts: &SolveOptions,
+        start_failed: bool,
+        r: &Report,
+        base: &mut SolveReport,
+    ) -> Result<(), SolveError> {
         if !opts.continuation || !load.has_tip_load() || start_failed {
-            return Err(self.not_converged(&r, None));
+            return Err(self.not_converged(r, None));
         }
         // load continuation from the start point: F(t) = t F
         self.y.copy_from_slice(&self.start);
@@ -702,16 +754,30 @@ fn solve_element<M: ElementModel>(
     r
 }
 
-/// `opts` for a solve of one element (`single`): where its Hessian is
-/// indefinite the negative curvature is flipped, and steps grow where the
-/// model holds them back (fpc-newton's `modified_pivots` and
-/// `step_growth`). Along a chain either can carry the finger into another
-/// basin (docs/stress.md "Where the iterations go"), so a chain keeps the
-/// shifted Hessian and the fixed step cap.
+/// `opts` for a solve of one element (`single`) or a chain: the step cap
+/// grows as a trust region's radius (fpc-newton's `step_growth`) in both;
+/// for one element, where its Hessian is indefinite the negative curvature
+/// is flipped and steps along it grow (`modified_pivots`,
+/// `extend_modified`). Along a chain a flipped pivot is a Schur
+/// complement's and can carry the finger into another basin
+/// (docs/stress.md "Where the iterations go"), so a chain keeps the
+/// shifted Hessian.
 fn one_element(opts: NewtonOptions, single: bool) -> NewtonOptions {
     NewtonOptions {
         modified_pivots: single,
-        step_growth: single,
+        extend_modified: single,
+        step_growth: true,
+        ..opts
+    }
+}
+
+/// `opts` along shifted Hessians with the fixed step cap: the path a
+/// failed solve with growing or flipped steps takes again.
+fn fixed_cap(opts: NewtonOptions) -> NewtonOptions {
+    NewtonOptions {
+        modified_pivots: false,
+        extend_modified: false,
+        step_growth: false,
         ..opts
     }
 }
@@ -726,8 +792,8 @@ fn shifted_instead(newton: &mut Newton) -> Option<NewtonOptions> {
     if !current.modified_pivots {
         return None;
     }
-    // the same validated options with two flags off: cannot fail
-    let _ = newton.set_options(one_element(current, false));
+    // the same validated options with flags off: cannot fail
+    let _ = newton.set_options(fixed_cap(current));
     Some(current)
 }
 

@@ -132,6 +132,44 @@ fn inside_the_envelope_every_case_converges_without_findings() {
     assert_eq!(run, 60, "enough cases inside the envelope");
 }
 
+/// Two chains far outside the envelope (docs/stress.md, "Where the
+/// iterations go"), each checked by the harness's own residual and dense
+/// stability count, not by the solver's report:
+/// - seed 2 case 152 (`quad`, N = 2, 1.5 `F_ref`): with the fixed step cap
+///   its coupled solve took 55 steps, each cut to the cap; a cap that grows
+///   as a trust region's radius takes it in 9;
+/// - seed 20261206 case 2758 (`ccm`, N = 16, 17 `F_ref`): with a growing cap
+///   Newton stalls (60 steps, no convergence); the solve is taken again
+///   from the start with the fixed cap, which converges in 26 more.
+#[test]
+fn a_chain_grows_its_step_cap_and_falls_back_on_the_fixed_one() {
+    let checked = |seed: u64, index: usize| {
+        let c = stress_case(seed, index, 256);
+        assert_eq!(
+            c.outcome,
+            StressOutcome::Converged,
+            "{seed}/{index}: {}",
+            c.outcome
+        );
+        assert!(
+            c.residual.is_some_and(|r| r <= RESIDUAL_LIMIT),
+            "{:?}",
+            c.residual
+        );
+        assert_eq!(c.negative_eigenvalues, Some(0));
+        assert_eq!(c.dense_negative.map(|d| d.0), Some(0));
+        c.steps.expect("a returned solution has its counts")
+    };
+    let grown = checked(2, 152);
+    assert!(grown.coupled <= 12, "{grown:?}");
+    let again = checked(20261206, 2758);
+    assert_eq!(again.continuation, 0, "{again:?}");
+    assert!(
+        again.coupled > 60,
+        "the first attempt used its 60 steps: {again:?}"
+    );
+}
+
 #[test]
 fn generator_is_deterministic_for_a_seed() {
     for index in 0..50 {

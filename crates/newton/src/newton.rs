@@ -104,11 +104,11 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// definite is first factorised with [`PivotKind::Modified`] (its negative
 /// curvature turned positive, its positive curvature kept), and the shifts
 /// follow only if the problem cannot do that. With
-/// [`NewtonOptions::step_growth`], a step along a shifted or modified
+/// [`NewtonOptions::extend_modified`], a step along a shifted or modified
 /// Hessian whose full length passes the line search is doubled (at most
 /// twelve times, within the step cap) while the energy keeps falling and
-/// Armijo holds; and the cap [`NewtonOptions::max_step`] acts as a trust
-/// region's radius: a Newton step (positive definite Hessian) shortened to
+/// Armijo holds. With [`NewtonOptions::step_growth`], the cap
+/// [`NewtonOptions::max_step`] acts as a trust region's radius: a Newton step (positive definite Hessian) shortened to
 /// it and taken whole doubles it for the next step (up to 16 times
 /// `max_step`), while a step the line search shortens, or a step along a
 /// shifted or modified Hessian, resets it; a step shortened to the cap is
@@ -425,10 +425,10 @@ impl Newton {
                     }
                 },
             };
+            if o.extend_modified && !plain && alpha == 1.0 {
+                (alpha, ft) = self.extend(p, x, f, gtp, ft, &mut rep);
+            }
             if o.step_growth {
-                if !plain && alpha == 1.0 {
-                    (alpha, ft) = self.extend(p, x, f, gtp, ft, &mut rep);
-                }
                 // a trust region's radius: a capped Newton step (positive
                 // definite Hessian) taken whole lets the next one be twice
                 // as long, a shortened one resets it, and so does a step
@@ -438,7 +438,9 @@ impl Newton {
                 if alpha < 1.0 {
                     self.cap = o.max_step;
                 } else if self.capped && plain {
-                    self.cap = (2.0 * self.cap).min(MAX_CAP_GROWTH * o.max_step);
+                    let grown = (2.0 * self.cap).min(MAX_CAP_GROWTH * o.max_step);
+                    rep.grown_steps += usize::from(grown > self.cap);
+                    self.cap = grown;
                 }
             }
             // a full Newton step that the quadratic model predicted to 1 %

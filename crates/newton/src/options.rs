@@ -179,17 +179,22 @@ pub struct NewtonOptions {
     /// chain of blocks a flipped pivot is a Schur complement's, and its
     /// step can carry the whole chain into another basin. Default false.
     pub modified_pivots: bool,
-    /// Let steps grow where the model in force is too timid: a step along
-    /// a modified (shifted or modified-pivot) Hessian whose full length is
-    /// accepted is doubled while the energy keeps falling and Armijo holds
-    /// (within `max_step`); and, with a finite [`max_step`](Self::max_step),
-    /// a Newton step on a positive definite Hessian shortened to the cap
-    /// and taken whole doubles the cap for the next step (up to 16 times
-    /// `max_step`), as a trust region's radius, while a step the line
-    /// search shortens, or one along a modified Hessian, resets it. Like
-    /// `modified_pivots`, it can change which minimum a start far from
-    /// every minimum ends in. Default false.
+    /// Let the step cap act as a trust region's radius: with a finite
+    /// [`max_step`](Self::max_step), a Newton step on a positive definite
+    /// Hessian shortened to the cap and taken whole doubles the cap for the
+    /// next step (up to 16 times `max_step`; [`Report::grown_steps`](crate::Report::grown_steps)
+    /// counts the doublings), while a step the line search shortens, or
+    /// one along a modified Hessian, resets it. Like `modified_pivots`, it
+    /// can change which minimum a start far from every minimum ends in.
+    /// Default false.
     pub step_growth: bool,
+    /// Let a step along a modified (shifted or modified-pivot) Hessian
+    /// grow: where its full length is accepted it is doubled while the
+    /// energy keeps falling and Armijo holds (within the step cap). Along
+    /// negative curvature the quadratic model has no minimum, so the shift
+    /// keeps such a step short of where the energy stops falling. Default
+    /// false.
+    pub extend_modified: bool,
 }
 
 impl Default for NewtonOptions {
@@ -208,6 +213,7 @@ impl Default for NewtonOptions {
             chord_depth: 1.0,
             modified_pivots: false,
             step_growth: false,
+            extend_modified: false,
         }
     }
 }

@@ -76,6 +76,10 @@ pub struct Report {
     pub shifted_steps: usize,
     /// Accepted steps the line search shortened (step fraction below 1).
     pub damped_steps: usize,
+    /// Times the step cap was doubled
+    /// ([`NewtonOptions::step_growth`](crate::NewtonOptions::step_growth)):
+    /// 0 means every step was held to `max_step`, as without the option.
+    pub grown_steps: usize,
     /// Calls to [`Energy::energy`](crate::Energy::energy).
     pub energy_evals: usize,
     /// Calls to [`Gradient::gradient`](crate::Gradient::gradient).
@@ -112,6 +116,7 @@ impl Report {
             chord_steps: 0,
             shifted_steps: 0,
             damped_steps: 0,
+            grown_steps: 0,
             energy_evals: 0,
             gradient_evals: 0,
             hessian_evals: 0,

@@ -514,6 +514,7 @@ fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
             eager_full_steps: false,
             modified_pivots: modified,
             step_growth: modified,
+            extend_modified: modified,
             ..NewtonOptions::default()
         };
         let mut x = start.clone();
@@ -554,6 +555,8 @@ fn step_growth_crosses_a_long_way_in_a_few_capped_steps() {
         let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut q), &mut x);
         assert!(r.converged(), "{r}");
         assert!(max_abs_diff(&x, &want) <= 1e-9 * far);
+        // the cap doubles four times (0.25 to 4) and no more
+        assert_eq!(r.grown_steps, if growth { 4 } else { 0 }, "{r:?}");
         steps[k] = r.iterations;
     }
     assert!(steps[0] as f64 >= far / 0.25, "{steps:?}");
