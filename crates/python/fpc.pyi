@@ -243,7 +243,9 @@ class Gripper:
         ``inputs``, ``normal_force_n``, ``friction_n``, ``lift_n``,
         ``size_mm``, ``tip_gap_mm``, ``height_mm``, ``tip_gripper`` (n x 2),
         ``valid``, ``reversed``, ``ok``, ``error``. At most 100000 points;
-        complex inputs are a ``TypeError``; Ctrl-C stops it."""
+        complex inputs are a ``TypeError``; Ctrl-C stops it and raises
+        ``KeyboardInterrupt`` whose ``partial`` is this dict for the points
+        solved so far (the rest not ``ok``)."""
     def info(self) -> dict[str, Any]:
         """``solution.json``'s ``gripper``: design and geometry."""
     def rest(self) -> FingerSolution:

@@ -246,6 +246,20 @@ pub fn cancellable<T: Send>(
     py: Python<'_>,
     f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
 ) -> PyResult<T> {
+    match cancellable_partial(py, f)? {
+        (t, None) => Ok(t),
+        (_, Some(e)) => Err(e),
+    }
+}
+
+/// [`cancellable`], keeping what `f` returns after a Ctrl-C: `(result,
+/// None)` when it ran to the end, `(partial result, Some(exception))` when
+/// a signal handler raised and `f` then stopped. A panic is
+/// `fpc.InternalError`.
+pub fn cancellable_partial<T: Send>(
+    py: Python<'_>,
+    f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
+) -> PyResult<(T, Option<PyErr>)> {
     use std::sync::atomic::{AtomicBool, Ordering};
     let cancel = AtomicBool::new(false);
     let (tx, rx) = std::sync::mpsc::channel();
@@ -254,13 +268,22 @@ pub fn cancellable<T: Send>(
         s.spawn(move || {
             let _ = tx.send(guarded(|| f(cancel)));
         });
-        wait_polling(py, rx, |py, rx| {
+        let mut stopped = None;
+        let got = wait_polling(py, rx, |py, rx| {
             cancel.store(true, Ordering::Relaxed);
             // the scope joins the worker, which stops at its next check
-            py.detach(move || {
-                let _ = rx.recv();
-            });
-        })
+            stopped = py.detach(move || rx.recv().ok());
+        });
+        match (got, stopped) {
+            (Ok(t), _) => Ok((t, None)),
+            (Err(e), Some(Ok(t))) => Ok((t, Some(e))),
+            (Err(e), Some(Err(m))) => {
+                let bug = InternalError::new_err(format!("internal error (a bug): {m}"));
+                bug.set_cause(py, Some(e));
+                Err(bug)
+            }
+            (Err(e), None) => Err(e),
+        }
     })
 }
 

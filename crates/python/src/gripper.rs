@@ -12,7 +12,7 @@ use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions};
 
 use crate::convert::{array1, points, solution_dict, to_py};
 use crate::errors::{
-    cancellable, detached, from_input, from_solve, guarded, in_python_terms, input_error,
+    cancellable_partial, detached, from_input, from_solve, guarded, in_python_terms, input_error,
 };
 use crate::finger::{read_scene, Finger};
 use fpc::scene::{GraspJson, GripperJson};
@@ -80,6 +80,9 @@ fn grasp_dict<'py>(
 /// The most points of one `Gripper.sweep` (the broadcast size), checked
 /// before the inputs are flattened.
 pub const MAX_SWEEP_POINTS: usize = 100_000;
+
+/// The error of a sweep's point that a Ctrl-C left unsolved.
+const SWEEP_STOPPED: &str = "stopped by Ctrl-C before this point";
 
 /// `beta_deg`: finite, in [-90, 90] degrees (open: (-90, 90) for a sphere).
 fn check_beta_deg(beta_deg: f64, open: bool) -> Result<(), fpc::InputError> {
@@ -348,7 +351,9 @@ impl Gripper {
     /// ``ok`` (solved) and ``error`` (list of messages, "" when solved).
     /// At most 100000 points (``fpc.InputError`` for ``points`` beyond);
     /// complex inputs are a ``TypeError``; Ctrl-C stops the sweep between
-    /// points and raises ``KeyboardInterrupt``.
+    /// points and raises ``KeyboardInterrupt`` whose ``partial`` attribute
+    /// is the same dict with the points solved so far (the others have
+    /// ``ok`` False and the error "stopped by Ctrl-C before this point").
     #[pyo3(signature = (kind, **params))]
     fn sweep<'py>(
         &self,
@@ -424,24 +429,27 @@ impl Gripper {
             })
             .collect();
         let g = &self.inner;
-        let results: Vec<Result<fpc::scene::GraspOutcome, String>> = cancellable(py, |cancel| {
-            let mut warm: Option<Grasp> = None;
-            specs
-                .iter()
-                .map_while(|&spec| {
-                    if cancel.load(std::sync::atomic::Ordering::Relaxed) {
-                        return None;
-                    }
-                    let r = guarded(|| solve_py(g, spec, warm.as_ref()))
-                        .map_err(|m| format!("internal error (a bug): {m}"))
-                        .and_then(|r| r.map_err(|e| e.to_string()));
-                    if let Ok(o) = &r {
-                        warm = Some(o.grasp.clone());
-                    }
-                    Some(r)
-                })
-                .collect()
-        })?;
+        let (mut results, stopped): (Vec<Result<fpc::scene::GraspOutcome, String>>, _) =
+            cancellable_partial(py, |cancel| {
+                let mut warm: Option<Grasp> = None;
+                specs
+                    .iter()
+                    .map_while(|&spec| {
+                        if cancel.load(std::sync::atomic::Ordering::Relaxed) {
+                            return None;
+                        }
+                        let r = guarded(|| solve_py(g, spec, warm.as_ref()))
+                            .map_err(|m| format!("internal error (a bug): {m}"))
+                            .and_then(|r| r.map_err(|e| e.to_string()));
+                        if let Ok(o) = &r {
+                            warm = Some(o.grasp.clone());
+                        }
+                        Some(r)
+                    })
+                    .collect()
+            })?;
+        // the points after a Ctrl-C: not solved, and said so
+        results.resize_with(n, || Err(SWEEP_STOPPED.to_string()));
         let d = PyDict::new(py);
         let inputs = PyDict::new(py);
         for (name, col) in names.iter().zip(&cols) {
@@ -482,7 +490,13 @@ impl Gripper {
             .map(|r| r.as_ref().err().cloned().unwrap_or_default())
             .collect();
         d.set_item("error", errors)?;
-        Ok(d)
+        match stopped {
+            None => Ok(d),
+            Some(e) => {
+                e.value(py).setattr("partial", d)?;
+                Err(e)
+            }
+        }
     }
 
     /// The design and the geometry its rest state fixes, as

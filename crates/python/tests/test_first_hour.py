@@ -287,6 +287,49 @@ def test_ctrl_c_stops_a_study():
     assert float(out.split()[2]) < 0.5, out
 
 
+def test_ctrl_c_keeps_the_points_a_sweep_solved():
+    # 100000 warm-started cuboid grasps take minutes: the signal lands in
+    # the middle. The exception's `partial` is the sweep's dict; a solved
+    # point is checked again by a single grasp through the ordinary path.
+    code = """
+    g = fpc.Gripper()
+    try:
+        g.sweep("cuboid", d_mm=np.linspace(60.0, 120.0, 100_000), friction_n=0.3)
+        print("FINISHED")
+    except KeyboardInterrupt as e:
+        p = e.partial
+        ok, err = p["ok"], p["error"]
+        stopped = [m == "stopped by Ctrl-C before this point" for m in err]
+        first = stopped.index(True)
+        last = first - 1
+        one = g.grasp_cuboid(d_mm=float(p["inputs"]["d_mm"][last]), friction_n=0.3)
+        print("PARTIAL", len(ok), first, int(ok[:first].sum()), all(stopped[first:]),
+              int(ok[first:].sum()), bool(np.isnan(p["normal_force_n"][first:]).all()),
+              abs(p["normal_force_n"][last] - one["normal_force_n"]))
+    """
+    script = textwrap.dedent(
+        f"""
+        import os, signal, threading
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        import numpy as np
+        import fpc
+        threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+        """
+    ) + textwrap.dedent(code)
+    p = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stderr
+    words = p.stdout.split()
+    assert words[0] == "PARTIAL", p.stdout
+    n, first, solved = int(words[1]), int(words[2]), int(words[3])
+    assert n == 100_000, p.stdout
+    # some points solved (every one of them), not all
+    assert 0 < first < n and solved == first, p.stdout
+    assert words[4] == "True" and words[5] == "0" and words[6] == "True", p.stdout
+    assert float(words[7]) < 1e-7, p.stdout
+
+
 # a design that takes about 13 s on the CI machine (the sphere's envelope at
 # every evaluation), so the interrupt after 1 s always lands inside it
 HEAVY_DESIGN = """
