@@ -288,8 +288,8 @@ def test_ctrl_c_stops_a_study():
 
 
 def test_ctrl_c_keeps_the_points_a_sweep_solved():
-    # 100000 warm-started cuboid grasps take minutes: the signal lands in
-    # the middle. The exception's `partial` is the sweep's dict; a solved
+    # 100000 warm-started cuboid grasps take about 4.5 s here (22 000 in
+    # the first second): the signal, after 1 s, lands in the middle. The exception's `partial` is the sweep's dict; a solved
     # point is checked again by a single grasp through the ordinary path.
     code = """
     g = fpc.Gripper()
