@@ -14,7 +14,7 @@ import numpy.typing as npt
 __version__: str
 
 #: Names of the `status` codes of `batch_solve`, by code:
-#: ("ok", "input_error", "not_converged", "internal_error").
+#: ("ok", "input_error", "not_converged", "internal_error", "stopped").
 BATCH_STATUS: Sequence[str]
 #: Prestrains of the paper's samples (0.4, 0.25, 0.15).
 PAPER_EPS0: Sequence[float]
@@ -394,7 +394,9 @@ def batch_solve(
     broadcast inputs; equal to a loop of `Finger.solve` unless
     ``warm_start``. At most 1000000 points and 1024 threads (``InputError``
     beyond); complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is the
-    ``eps0`` argument), are a ``TypeError``; Ctrl-C stops it."""
+    ``eps0`` argument), are a ``TypeError``; Ctrl-C stops it and raises
+    ``KeyboardInterrupt`` whose ``partial`` is this dict for the points
+    solved so far (the rest have status 4, ``stopped``)."""
 
 def _batch_reference(
     eps0: float,

@@ -26,7 +26,7 @@ use fpc::{
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::convert::{array1, array2, real_array};
-use crate::errors::{at_most, cancellable, from_input, guarded, input_error};
+use crate::errors::{at_most, cancellable_partial, from_input, guarded, input_error};
 
 /// The most points of one `batch_solve` (the broadcast size), checked
 /// before the inputs are flattened.
@@ -36,8 +36,19 @@ pub const MAX_THREADS: usize = 1024;
 use crate::finger::{actuator_from_kwargs, elements_arg, load, model, ElementsArg};
 
 /// `status` codes of a batch point, by index: 0 ok, 1 input_error,
-/// 2 not_converged, 3 internal_error.
-pub const STATUS_NAMES: [&str; 4] = ["ok", "input_error", "not_converged", "internal_error"];
+/// 2 not_converged, 3 internal_error, 4 stopped (not solved: Ctrl-C came
+/// first; seen only in a `KeyboardInterrupt`'s `partial`).
+pub const STATUS_NAMES: [&str; 5] = [
+    "ok",
+    "input_error",
+    "not_converged",
+    "internal_error",
+    "stopped",
+];
+
+/// The error of a point that a Ctrl-C left unsolved (a batch's or a
+/// sweep's).
+pub const STOPPED: &str = "stopped by Ctrl-C before this point";
 
 /// One point of a batch.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -267,7 +278,7 @@ fn solve_chunk(
     let mut loads = members.iter().map(|&i| {
         let p = &points[i];
         let l = if cancel.load(Ordering::Relaxed) {
-            Err(Outcome::failed(3, "cancelled".into()))
+            Err(Outcome::failed(4, STOPPED.into()))
         } else {
             load(p.pressure_kpa, p.kappa, p.fx, p.fz).map_err(|e| Outcome::failed(1, e.to_string()))
         };
@@ -475,7 +486,9 @@ fn config(
 /// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``.
 /// Complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is ``eps0``),
 /// are a ``TypeError``. Ctrl-C stops the batch within one
-/// solve per thread and raises ``KeyboardInterrupt``.
+/// solve per thread and raises ``KeyboardInterrupt`` whose ``partial``
+/// attribute is the same dict for the points solved so far (the others
+/// have status 4, ``stopped``).
 #[pyfunction]
 #[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model="ccm", ribs=true, tip_tol_mm=None, warm_start=false, threads=None, **actuator))]
 #[allow(clippy::too_many_arguments)]
@@ -524,8 +537,9 @@ pub fn batch_solve<'py>(
             kappa: cols[4][i],
         })
         .collect();
-    let outcomes = cancellable(py, |cancel| run(&points, &cfg, threads, cancel))?
-        .map_err(crate::errors::InternalError::new_err)?;
+    let (outcomes, stopped) =
+        cancellable_partial(py, |cancel| run(&points, &cfg, threads, cancel))?;
+    let outcomes = outcomes.map_err(crate::errors::InternalError::new_err)?;
 
     let d = PyDict::new(py);
     d.set_item("shape", PyTuple::new(py, &dims)?)?;
@@ -562,7 +576,7 @@ pub fn batch_solve<'py>(
     d.set_item("valid", PyArray1::from_vec(py, valid))?;
     d.set_item("elements", PyArray1::from_vec(py, elements))?;
     d.set_item("error", PyList::new(py, errors)?)?;
-    Ok(d)
+    crate::errors::kept_on_interrupt(py, d, stopped)
 }
 
 /// For benchmarks only: the batch of the paper's finger at ``eps0`` (N

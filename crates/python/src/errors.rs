@@ -287,6 +287,23 @@ pub fn cancellable_partial<T: Send>(
     })
 }
 
+/// `d`, the result of a long call, or the exception of the Ctrl-C that
+/// stopped it (`stopped`), which then carries `d` as its `partial`
+/// attribute: what was done is not lost.
+pub fn kept_on_interrupt<'py, T: IntoPyObject<'py>>(
+    py: Python<'py>,
+    d: T,
+    stopped: Option<PyErr>,
+) -> PyResult<T> {
+    match stopped {
+        None => Ok(d),
+        Some(e) => {
+            e.value(py).setattr("partial", d)?;
+            Err(e)
+        }
+    }
+}
+
 /// Waits for a worker's result on `rx`, re-taking the GIL every
 /// [`SIGNAL_POLL`] to run Python's signal handlers. When one raises
 /// (Ctrl-C), `interrupted` runs with the receiver (to stop or abandon the

@@ -81,9 +81,6 @@ fn grasp_dict<'py>(
 /// before the inputs are flattened.
 pub const MAX_SWEEP_POINTS: usize = 100_000;
 
-/// The error of a sweep's point that a Ctrl-C left unsolved.
-const SWEEP_STOPPED: &str = "stopped by Ctrl-C before this point";
-
 /// `beta_deg`: finite, in [-90, 90] degrees (open: (-90, 90) for a sphere).
 fn check_beta_deg(beta_deg: f64, open: bool) -> Result<(), fpc::InputError> {
     let field = fpc::Field::key("beta_deg");
@@ -449,7 +446,7 @@ impl Gripper {
                     .collect()
             })?;
         // the points after a Ctrl-C: not solved, and said so
-        results.resize_with(n, || Err(SWEEP_STOPPED.to_string()));
+        results.resize_with(n, || Err(crate::batch::STOPPED.to_string()));
         let d = PyDict::new(py);
         let inputs = PyDict::new(py);
         for (name, col) in names.iter().zip(&cols) {
@@ -490,13 +487,7 @@ impl Gripper {
             .map(|r| r.as_ref().err().cloned().unwrap_or_default())
             .collect();
         d.set_item("error", errors)?;
-        match stopped {
-            None => Ok(d),
-            Some(e) => {
-                e.value(py).setattr("partial", d)?;
-                Err(e)
-            }
-        }
+        crate::errors::kept_on_interrupt(py, d, stopped)
     }
 
     /// The design and the geometry its rest state fixes, as

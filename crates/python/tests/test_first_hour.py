@@ -269,12 +269,61 @@ def _interrupted(code, after_s=1.0, timeout=120):
     return p.stdout
 
 
+def _partial(code):
+    """Runs `code` (which catches KeyboardInterrupt and prints what it
+    kept) in a fresh interpreter that gets SIGINT 1 s into it; returns
+    its output."""
+    script = textwrap.dedent(
+        """
+        import os, signal, threading
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        import numpy as np
+        import fpc
+        threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+        """
+    ) + textwrap.dedent(code)
+    p = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stderr
+    return p.stdout
+
+
 def test_ctrl_c_stops_a_batch():
     out = _interrupted(
         "fpc.batch_solve(pressure_kpa=np.linspace(0, 300, 1_000_000), tip_tol_mm=1e-3)"
     )
     assert out.startswith("INTERRUPTED"), out
     assert float(out.split()[1]) < 5, out
+
+
+def test_ctrl_c_keeps_the_points_a_batch_solved():
+    code = """
+    p = np.linspace(0.0, 300.0, 1_000_000)
+    try:
+        fpc.batch_solve(pressure_kpa=p, tip_tol_mm=1e-3)
+        print("FINISHED")
+    except KeyboardInterrupt as e:
+        b = e.partial
+        st = b["status"]
+        done = np.flatnonzero(st == 0)
+        left = np.flatnonzero(st == 4)
+        i = int(done[len(done) // 2])
+        one = fpc.batch_solve(pressure_kpa=[p[i]], tip_tol_mm=1e-3)
+        print("PARTIAL", len(st), len(done), len(left), len(done) + len(left),
+              bool(np.isnan(b["tip"][left]).all()),
+              all(b["error"][k] == "stopped by Ctrl-C before this point" for k in left[:100]),
+              float(np.abs(b["tip"][i] - one["tip"][0]).max()), fpc.BATCH_STATUS[4])
+    """
+    out = _partial(code)
+    words = out.split()
+    assert words[0] == "PARTIAL", out
+    n, done, left, both = (int(w) for w in words[1:5])
+    assert n == 1_000_000 and both == n and done > 0 and left > 0, out
+    assert words[5] == "True" and words[6] == "True", out
+    # the kept point is the answer a batch of that point alone gives
+    assert float(words[7]) == 0.0, out
+    assert words[8] == "stopped", out
 
 
 def test_ctrl_c_stops_a_study():
@@ -307,27 +356,15 @@ def test_ctrl_c_keeps_the_points_a_sweep_solved():
               int(ok[first:].sum()), bool(np.isnan(p["normal_force_n"][first:]).all()),
               abs(p["normal_force_n"][last] - one["normal_force_n"]))
     """
-    script = textwrap.dedent(
-        f"""
-        import os, signal, threading
-        signal.signal(signal.SIGINT, signal.default_int_handler)
-        import numpy as np
-        import fpc
-        threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
-        """
-    ) + textwrap.dedent(code)
-    p = subprocess.run(
-        [sys.executable, "-c", script], capture_output=True, text=True, timeout=300
-    )
-    assert p.returncode == 0, p.stderr
-    words = p.stdout.split()
-    assert words[0] == "PARTIAL", p.stdout
+    out = _partial(code)
+    words = out.split()
+    assert words[0] == "PARTIAL", out
     n, first, solved = int(words[1]), int(words[2]), int(words[3])
-    assert n == 100_000, p.stdout
+    assert n == 100_000, out
     # some points solved (every one of them), not all
-    assert 0 < first < n and solved == first, p.stdout
-    assert words[4] == "True" and words[5] == "0" and words[6] == "True", p.stdout
-    assert float(words[7]) < 1e-7, p.stdout
+    assert 0 < first < n and solved == first, out
+    assert words[4] == "True" and words[5] == "0" and words[6] == "True", out
+    assert float(words[7]) < 1e-7, out
 
 
 # a design that takes about 13 s on the CI machine (the sphere's envelope at
