@@ -295,7 +295,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
         let nopts = NewtonOptions {
             trusted_start: self.guess == Guess::Trusted && guess.is_some(),
-            ..one_element(newton_options(opts.rtol * f.stiffness, opts)?, f.len() == 1)
+            ..newton_flags(newton_options(opts.rtol * f.stiffness, opts)?, f.len() == 1)
         };
         // validated above: setting cannot fail
         let _ = self.newton.set_options(nopts);
@@ -467,7 +467,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     /// continuation from the start where that fails; counts go to `base`.
     ///
     /// A chain of several elements grows its step cap
-    /// ([`one_element`]); where that attempt fails, everything after it
+    /// ([`newton_flags`]); where that attempt fails, everything after it
     /// (Newton again from the start if the cap grew, then the
     /// continuation) keeps the fixed cap, so a solve that converged with it
     /// still does.
@@ -696,7 +696,7 @@ fn local_workspace<'s, M: ElementModel>(
     // the options were validated for the coupled solver: this cannot fail
     let _ = local
         .newton
-        .set_options(one_element(*coupled.options(), true));
+        .set_options(newton_flags(*coupled.options(), true));
     local
 }
 
@@ -762,7 +762,7 @@ fn solve_element<M: ElementModel>(
 /// complement's and can carry the finger into another basin
 /// (docs/stress.md "Where the iterations go"), so a chain keeps the
 /// shifted Hessian.
-fn one_element(opts: NewtonOptions, single: bool) -> NewtonOptions {
+fn newton_flags(opts: NewtonOptions, single: bool) -> NewtonOptions {
     NewtonOptions {
         modified_pivots: single,
         extend_modified: single,

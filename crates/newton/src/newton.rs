@@ -108,8 +108,9 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// Hessian whose full length passes the line search is doubled (at most
 /// twelve times, within the step cap) while the energy keeps falling and
 /// Armijo holds. With [`NewtonOptions::step_growth`], the cap
-/// [`NewtonOptions::max_step`] acts as a trust region's radius: a Newton step (positive definite Hessian) shortened to
-/// it and taken whole doubles it for the next step (up to 16 times
+/// [`NewtonOptions::max_step`] acts as a trust region's radius: a Newton
+/// step (positive definite Hessian) shortened to it and taken whole
+/// doubles it for the next step (up to 16 times
 /// `max_step`), while a step the line search shortens, or a step along a
 /// shifted or modified Hessian, resets it; a step shortened to the cap is
 /// not taken for the quadratic phase. Backtracking then starts at the
