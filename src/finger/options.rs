@@ -140,7 +140,7 @@ pub struct SolveReport {
 /// A solve's Newton iterations by where they were spent, and how its
 /// globalisation acted on them. `element + coupled + continuation` is
 /// [`SolveReport::iterations`]; `chord`, `shifted` and `damped` count
-/// among all of them.
+/// among all of them, and `grown` the step cap's doublings.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct StepCounts {
     /// Element-by-element solves: the unloaded start of a coupled solve
@@ -159,14 +159,23 @@ pub struct StepCounts {
     pub shifted: usize,
     /// Accepted steps the line search shortened.
     pub damped: usize,
+    /// Times the step cap doubled: a Newton step cut to the cap and taken
+    /// whole lets the next one be twice as long ([`SolveOptions::max_step`]).
+    pub grown: usize,
 }
 
 impl std::fmt::Display for StepCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} element, {} coupled, {} in continuation; {} chord, {} shifted, {} damped",
-            self.element, self.coupled, self.continuation, self.chord, self.shifted, self.damped
+            "{} element, {} coupled, {} in continuation; {} chord, {} shifted, {} damped, {} grown",
+            self.element,
+            self.coupled,
+            self.continuation,
+            self.chord,
+            self.shifted,
+            self.damped,
+            self.grown
         )
     }
 }
@@ -179,6 +188,7 @@ impl std::ops::AddAssign for StepCounts {
         self.chord += o.chord;
         self.shifted += o.shifted;
         self.damped += o.damped;
+        self.grown += o.grown;
     }
 }
 
@@ -188,6 +198,7 @@ impl StepCounts {
         self.chord += r.chord_steps;
         self.shifted += r.shifted_steps;
         self.damped += r.damped_steps;
+        self.grown += r.grown_steps;
     }
 }
 

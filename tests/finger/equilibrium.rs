@@ -319,7 +319,7 @@ fn step_counts_add_up_to_the_iterations() {
         if s.continuation > 0 {
             assert!(r.continuation_steps > 0, "case {case}: {s}");
         }
-        for k in [s.chord, s.shifted, s.damped] {
+        for k in [s.chord, s.shifted, s.damped, s.grown] {
             assert!(k <= r.iterations, "case {case}: {s}");
         }
         coupled += usize::from(r.coupled && s.coupled > 0);

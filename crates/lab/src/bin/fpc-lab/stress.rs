@@ -374,6 +374,7 @@ fn step_distributions(r: &StressReport) -> Vec<(&'static str, Option<fpc_lab::Qu
         ("chord steps", r.step_quantiles(|s| s.chord)),
         ("shifted steps", r.step_quantiles(|s| s.shifted)),
         ("damped steps", r.step_quantiles(|s| s.damped)),
+        ("grown steps", r.step_quantiles(|s| s.grown)),
     ]
 }
 
