@@ -337,13 +337,15 @@ def test_ctrl_c_stops_a_study():
 
 
 def test_ctrl_c_keeps_the_points_a_sweep_solved():
-    # 100000 warm-started cuboid grasps take about 4.5 s here (22 000 in
-    # the first second): the signal, after 1 s, lands in the middle. The exception's `partial` is the sweep's dict; a solved
+    # 100000 cuboid grasps at alternating pressures (each point a new load
+    # family, so each starts from rest) take about 13 s here (about 10 000
+    # in the first second): the signal, after 1 s, lands early in them. The exception's `partial` is the sweep's dict; a solved
     # point is checked again by a single grasp through the ordinary path.
     code = """
     g = fpc.Gripper()
     try:
-        g.sweep("cuboid", d_mm=np.linspace(60.0, 120.0, 100_000), friction_n=0.3)
+        g.sweep("cuboid", d_mm=np.linspace(60.0, 120.0, 100_000), friction_n=0.3,
+                pressure_kpa=np.tile([0.0, 20.0], 50_000))
         print("FINISHED")
     except KeyboardInterrupt as e:
         p = e.partial
@@ -351,7 +353,8 @@ def test_ctrl_c_keeps_the_points_a_sweep_solved():
         stopped = [m == "stopped by Ctrl-C before this point" for m in err]
         first = stopped.index(True)
         last = first - 1
-        one = g.grasp_cuboid(d_mm=float(p["inputs"]["d_mm"][last]), friction_n=0.3)
+        one = g.grasp_cuboid(d_mm=float(p["inputs"]["d_mm"][last]), friction_n=0.3,
+                             pressure_kpa=float(p["inputs"]["pressure_kpa"][last]))
         print("PARTIAL", len(ok), first, int(ok[:first].sum()), all(stopped[first:]),
               int(ok[first:].sum()), bool(np.isnan(p["normal_force_n"][first:]).all()),
               abs(p["normal_force_n"][last] - one["normal_force_n"]))
