@@ -18,9 +18,14 @@
 //!   exact chain derivatives of the tip load and the condensation of the
 //!   element-local unknowns;
 //! - `bordered.rs`: the chain with one unknown load fixed by one target;
+//! - `newton_policy.rs`: how Newton is run on a finger: its options, the
+//!   flags of a one-element or a chain solve, the fixed-cap path a failed
+//!   solve takes again, Newton in straightened unknowns;
+//! - `element_solve.rs`: one element solved alone (decoupled scenes), with
+//!   its retries and pressure continuation;
+//! - `pool.rs`: the spare workspace a finger keeps for its next solver;
 //! - `solver.rs`: decoupled and coupled solves, continuation fallbacks,
-//!   stability and the validity checks of a solution, and the spare
-//!   workspace a finger keeps for its next solver;
+//!   stability and the validity checks of a solution;
 //! - `path.rs`: load paths by pseudo-arclength continuation;
 //! - `target.rs`: target solves and target paths;
 //! - this file: [`Finger`], the public face over every model.
@@ -31,11 +36,14 @@ mod chain;
 #[cfg(test)]
 mod contact_tests;
 mod curve;
+mod element_solve;
 #[cfg(test)]
 mod lane_tests;
 mod load;
+mod newton_policy;
 mod options;
 mod path;
+mod pool;
 mod problem;
 mod solver;
 mod straighten;
@@ -66,8 +74,9 @@ pub use target::{TargetFold, Traced};
 use options::check_guess;
 
 pub(crate) use chain::Chain;
+use pool::Pooled;
 pub(crate) use problem::FingerCore;
-use solver::{Guess, Pooled, SolverCore};
+use solver::{Guess, SolverCore};
 
 /// A finger's shared core for model `M`.
 type Shared<M> = Arc<Pooled<M>>;

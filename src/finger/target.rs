@@ -11,9 +11,10 @@ use crate::model::{ElementModel, Vector};
 use crate::solve_error::SolveError;
 
 use super::bordered::{BorderedChain, TargetProblem};
+use super::newton_policy::newton_options;
 use super::options::{check_guess, Solution, SolveOptions, SolveReport, StepCounts};
 use super::path::LoadPathSpec;
-use super::solver::{newton_options, SolverCore};
+use super::solver::SolverCore;
 use crate::coefficients::Coefficients;
 
 /// Where a target path turns back before its target: the target cannot be
