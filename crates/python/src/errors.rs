@@ -239,23 +239,11 @@ pub fn interruptible<T: Send + 'static>(
 
 /// Runs `f(cancel)` on a scoped worker thread with the GIL released,
 /// re-taking the GIL every 50 ms to run Python's signal handlers; when one
-/// raises (Ctrl-C), sets `cancel`, waits for `f` to notice it and return,
-/// and returns the exception. `f` should look at `cancel` between small
-/// pieces of work. A panic is `fpc.InternalError`.
-pub fn cancellable<T: Send>(
-    py: Python<'_>,
-    f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
-) -> PyResult<T> {
-    match cancellable_partial(py, f)? {
-        (t, None) => Ok(t),
-        (_, Some(e)) => Err(e),
-    }
-}
-
-/// [`cancellable`], keeping what `f` returns after a Ctrl-C: `(result,
-/// None)` when it ran to the end, `(partial result, Some(exception))` when
-/// a signal handler raised and `f` then stopped. A panic is
-/// `fpc.InternalError`.
+/// raises (Ctrl-C), sets `cancel` and waits for `f` to notice it and
+/// return. `f` should look at `cancel` between small pieces of work.
+/// Returns `(result, None)` when `f` ran to the end, `(partial result,
+/// Some(exception))` when a signal handler raised and `f` then stopped. A
+/// panic is `fpc.InternalError`.
 pub fn cancellable_partial<T: Send>(
     py: Python<'_>,
     f: impl FnOnce(&std::sync::atomic::AtomicBool) -> T + Send,
