@@ -116,11 +116,20 @@ pub(crate) fn positive(field: Field, value: f64) -> Result<f64, InputError> {
 }
 
 /// Fails with [`InputError::OutOfRange`] unless `ok`.
-pub(crate) fn require(ok: bool, field: Field, value: f64, rule: String) -> Result<(), InputError> {
+pub(crate) fn require(
+    ok: bool,
+    field: Field,
+    value: f64,
+    rule: impl FnOnce() -> String,
+) -> Result<(), InputError> {
     if ok {
         Ok(())
     } else {
-        Err(InputError::OutOfRange { field, value, rule })
+        Err(InputError::OutOfRange {
+            field,
+            value,
+            rule: rule(),
+        })
     }
 }
 

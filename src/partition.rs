@@ -29,9 +29,11 @@ impl Partition {
             n >= 1 && n as f64 <= max,
             Field::PartitionN,
             n as f64,
-            format!(
-                "must lie in [1, {max}] (each element at least {MIN_ELEMENT_FRACTION} lx long)"
-            ),
+            || {
+                format!(
+                    "must lie in [1, {max}] (each element at least {MIN_ELEMENT_FRACTION} lx long)"
+                )
+            },
         )?;
         Ok(Partition::from_lengths(vec![lx / n as f64; n]))
     }
@@ -50,12 +52,9 @@ impl Partition {
         let min = MIN_ELEMENT_FRACTION * lx;
         for (i, &l) in lengths.iter().enumerate() {
             positive(Field::PartitionLength(i), l)?;
-            require(
-                l >= min,
-                Field::PartitionLength(i),
-                l,
-                format!("must be at least {MIN_ELEMENT_FRACTION} lx = {min}"),
-            )?;
+            require(l >= min, Field::PartitionLength(i), l, || {
+                format!("must be at least {MIN_ELEMENT_FRACTION} lx = {min}")
+            })?;
         }
         let sum: f64 = lengths.iter().sum();
         finite(Field::PartitionLengthsSum, sum)?;

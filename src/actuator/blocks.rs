@@ -79,7 +79,7 @@ impl Partition {
             lengths.len() <= max,
             Field::PartitionMaxLength,
             max_length,
-            format!("gives {} elements, more than {max}", lengths.len()),
+            || format!("gives {} elements, more than {max}", lengths.len()),
         )?;
         Partition::custom(lengths, lx)
     }

@@ -226,81 +226,54 @@ impl Actuator {
         ] {
             let field = Field::Geometry(key);
             positive(field.clone(), v)?;
-            require(
-                v <= MAX_DIMENSION_MM,
-                field,
-                v,
-                format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the solver's scales overflow; no FPC actuator is 100 m long)"),
-            )?;
+            require(v <= MAX_DIMENSION_MM, field, v, || {
+                format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the solver's scales overflow; no FPC actuator is 100 m long)")
+            })?;
         }
         finite(Field::Geometry(GeometryKey::Lc), g.lc)?;
-        require(
-            g.lc >= 0.0,
-            Field::Geometry(GeometryKey::Lc),
-            g.lc,
-            "must not be negative".into(),
-        )?;
+        require(g.lc >= 0.0, Field::Geometry(GeometryKey::Lc), g.lc, || {
+            "must not be negative".into()
+        })?;
         positive(Field::Geometry(GeometryKey::H1), g.h1)?;
         positive(Field::Geometry(GeometryKey::H2), g.h2)?;
         positive(Field::Geometry(GeometryKey::H3), g.h3)?;
         let half = g.h / 2.0;
-        require(
-            g.h1 < half,
-            Field::Geometry(GeometryKey::H1),
-            g.h1,
-            format!("must be below H/2 = {half} (the constraining layer [h1, H/2] needs a positive thickness)"),
-        )?;
-        require(
-            g.h2 < g.h1,
-            Field::Geometry(GeometryKey::H2),
-            g.h2,
+        require(g.h1 < half, Field::Geometry(GeometryKey::H1), g.h1, || {
+            format!("must be below H/2 = {half} (the constraining layer [h1, H/2] needs a positive thickness)")
+        })?;
+        require(g.h2 < g.h1, Field::Geometry(GeometryKey::H2), g.h2, || {
             format!(
                 "must be below h1 = {} (the regular EMC [h2, h1] needs a positive thickness)",
                 g.h1
-            ),
-        )?;
-        require(
-            g.h3 < half,
-            Field::Geometry(GeometryKey::H3),
-            g.h3,
-            format!("must be below H/2 = {half} (the prestressed EMC [-H/2, -h3] needs a positive thickness)"),
-        )?;
+            )
+        })?;
+        require(g.h3 < half, Field::Geometry(GeometryKey::H3), g.h3, || {
+            format!("must be below H/2 = {half} (the prestressed EMC [-H/2, -h3] needs a positive thickness)")
+        })?;
 
         let c = &params.channel;
         positive(Field::Channel(ChannelKey::Cx), c.cx)?;
-        require(
-            c.cx <= g.lx,
-            Field::Channel(ChannelKey::Cx),
-            c.cx,
-            format!("must not exceed the length lx = {}", g.lx),
-        )?;
+        require(c.cx <= g.lx, Field::Channel(ChannelKey::Cx), c.cx, || {
+            format!("must not exceed the length lx = {}", g.lx)
+        })?;
         positive(Field::Channel(ChannelKey::Cy), c.cy)?;
-        require(
-            c.cy < g.ly,
-            Field::Channel(ChannelKey::Cy),
-            c.cy,
-            format!("must be below the width ly = {}", g.ly),
-        )?;
+        require(c.cy < g.ly, Field::Channel(ChannelKey::Cy), c.cy, || {
+            format!("must be below the width ly = {}", g.ly)
+        })?;
         positive(Field::Channel(ChannelKey::H3a), c.h3a)?;
-        require(
-            c.h3a < g.h2,
-            Field::Channel(ChannelKey::H3a),
-            c.h3a,
+        require(c.h3a < g.h2, Field::Channel(ChannelKey::H3a), c.h3a, || {
             format!(
                 "must be below h2 = {} (the channel lies inside the fluidic layer)",
                 g.h2
-            ),
-        )?;
+            )
+        })?;
         positive(Field::Channel(ChannelKey::H3b), c.h3b)?;
-        require(
-            c.h3b < g.h3,
-            Field::Channel(ChannelKey::H3b),
-            c.h3b,
+        require(c.h3b < g.h3, Field::Channel(ChannelKey::H3b), c.h3b, || {
             format!(
                 "must be below h3 = {} (the channel lies inside the fluidic layer)",
                 g.h3
-            ),
-        )?;
+            )
+        })?;
 
         let ribs = resolve_ribs(&params.ribs, c)?;
         check_rib_overlap(&ribs, c.cy, Field::Ribs, "channel width cy")?;
@@ -319,7 +292,9 @@ impl Actuator {
             pemc.eps0 > lo && pemc.eps0 <= hi,
             Field::Pemc(PemcKey::Eps0),
             pemc.eps0,
-            format!("must lie in ({lo}, {hi}] (a strain of {lo} shrinks the layer to nothing; no elastomer stretches past {hi})"),
+            || {
+                format!("must lie in ({lo}, {hi}] (a strain of {lo} shrinks the layer to nothing; no elastomer stretches past {hi})")
+            },
         )?;
 
         let shear = &params.shear;
@@ -334,12 +309,9 @@ impl Actuator {
                 // modulus)
                 positive(Field::ShearModulus(layer), g)?;
                 let hi = MODULUS_RANGE_MPA.1;
-                require(
-                    g <= hi,
-                    Field::ShearModulus(layer),
-                    g,
-                    format!("must be at most {hi:e} MPa (10 TPa)"),
-                )?;
+                require(g <= hi, Field::ShearModulus(layer), g, || {
+                    format!("must be at most {hi:e} MPa (10 TPa)")
+                })?;
             }
         }
 
@@ -500,35 +472,23 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
             for (k, r) in ribs.iter().enumerate() {
                 let f = |key| Field::Rib(k, key);
                 finite(f(RibKey::X0), r.x0)?;
-                require(
-                    r.x0 >= 0.0,
-                    f(RibKey::X0),
-                    r.x0,
-                    "must not be negative".into(),
-                )?;
+                require(r.x0 >= 0.0, f(RibKey::X0), r.x0, || {
+                    "must not be negative".into()
+                })?;
                 finite(f(RibKey::X1), r.x1)?;
-                require(
-                    r.x1 > r.x0,
-                    f(RibKey::X1),
-                    r.x1,
-                    format!("must exceed x0 = {}", r.x0),
-                )?;
-                require(
-                    r.x1 <= c.cx,
-                    f(RibKey::X1),
-                    r.x1,
+                require(r.x1 > r.x0, f(RibKey::X1), r.x1, || {
+                    format!("must exceed x0 = {}", r.x0)
+                })?;
+                require(r.x1 <= c.cx, f(RibKey::X1), r.x1, || {
                     format!(
                         "must not exceed the channel's end cx = {} (ribs lie inside the channel)",
                         c.cx
-                    ),
-                )?;
+                    )
+                })?;
                 positive(f(RibKey::Width), r.width)?;
-                require(
-                    r.width <= c.cy,
-                    f(RibKey::Width),
-                    r.width,
-                    format!("must not exceed the channel width cy = {}", c.cy),
-                )?;
+                require(r.width <= c.cy, f(RibKey::Width), r.width, || {
+                    format!("must not exceed the channel width cy = {}", c.cy)
+                })?;
             }
             Ok(ribs.clone())
         }
@@ -540,18 +500,17 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
                 t + 2.0 * w2 <= c.cy,
                 Field::PaperRib(PaperRibKey::W2),
                 w2,
-                format!(
-                    "t + 2 w2 = {} must not exceed the channel width cy = {}",
-                    t + 2.0 * w2,
-                    c.cy
-                ),
+                || {
+                    format!(
+                        "t + 2 w2 = {} must not exceed the channel width cy = {}",
+                        t + 2.0 * w2,
+                        c.cy
+                    )
+                },
             )?;
-            require(
-                w1 >= t,
-                Field::PaperRib(PaperRibKey::W1),
-                w1,
-                format!("must be at least t = {t} (transverse ribs must not overlap)"),
-            )?;
+            require(w1 >= t, Field::PaperRib(PaperRibKey::W1), w1, || {
+                format!("must be at least t = {t} (transverse ribs must not overlap)")
+            })?;
             // Tolerance so that a rib meant to touch the channel's end is
             // kept despite rounding in k * w1.
             let end = c.cx + 1e-12 * c.cx;
@@ -560,7 +519,7 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
                 count <= MAX_GENERATED_RIBS as f64,
                 Field::PaperRib(PaperRibKey::W1),
                 w1,
-                format!("gives {count} transverse ribs, more than {MAX_GENERATED_RIBS}"),
+                || format!("gives {count} transverse ribs, more than {MAX_GENERATED_RIBS}"),
             )?;
             let mut ribs = vec![Rib {
                 x0: 0.0,
@@ -593,43 +552,31 @@ fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), InputError> {
         ribs.len() <= MAX_CL_RIBS,
         Field::ClRibs,
         ribs.len() as f64,
-        format!("lists {} ribs, more than {MAX_CL_RIBS}", ribs.len()),
+        || format!("lists {} ribs, more than {MAX_CL_RIBS}", ribs.len()),
     )?;
     for (k, r) in ribs.iter().enumerate() {
         let f = |key| Field::ClRib(k, key);
         finite(f(ClRibKey::X0), r.x0)?;
-        require(
-            r.x0 >= 0.0,
-            f(ClRibKey::X0),
-            r.x0,
-            "must not be negative".into(),
-        )?;
+        require(r.x0 >= 0.0, f(ClRibKey::X0), r.x0, || {
+            "must not be negative".into()
+        })?;
         finite(f(ClRibKey::X1), r.x1)?;
-        require(
-            r.x1 > r.x0,
-            f(ClRibKey::X1),
-            r.x1,
-            format!("must exceed x0 = {}", r.x0),
-        )?;
-        require(
-            r.x1 <= g.lx,
-            f(ClRibKey::X1),
-            r.x1,
-            format!("must not exceed the length lx = {}", g.lx),
-        )?;
+        require(r.x1 > r.x0, f(ClRibKey::X1), r.x1, || {
+            format!("must exceed x0 = {}", r.x0)
+        })?;
+        require(r.x1 <= g.lx, f(ClRibKey::X1), r.x1, || {
+            format!("must not exceed the length lx = {}", g.lx)
+        })?;
         positive(f(ClRibKey::Width), r.width)?;
-        require(
-            r.width <= g.ly,
-            f(ClRibKey::Width),
-            r.width,
-            format!("must not exceed the width ly = {}", g.ly),
-        )?;
+        require(r.width <= g.ly, f(ClRibKey::Width), r.width, || {
+            format!("must not exceed the width ly = {}", g.ly)
+        })?;
         positive(f(ClRibKey::Height), r.height)?;
         require(
             r.height <= MAX_DIMENSION_MM,
             f(ClRibKey::Height),
             r.height,
-            format!("must be at most {MAX_DIMENSION_MM} mm"),
+            || format!("must be at most {MAX_DIMENSION_MM} mm"),
         )?;
     }
     let boxes: Vec<Rib> = ribs

@@ -17,12 +17,9 @@ pub const MODULUS_RANGE_MPA: (f64, f64) = (1e-6, 1e7);
 pub(super) fn modulus(field: Field, value: f64) -> Result<(), InputError> {
     positive(field.clone(), value)?;
     let (lo, hi) = MODULUS_RANGE_MPA;
-    require(
-        (lo..=hi).contains(&value),
-        field,
-        value,
-        format!("must lie in [{lo:e}, {hi:e}] MPa (1 Pa to 10 TPa)"),
-    )
+    require((lo..=hi).contains(&value), field, value, || {
+        format!("must lie in [{lo:e}, {hi:e}] MPa (1 Pa to 10 TPa)")
+    })
 }
 
 /// Plane-stress reduced stiffnesses (MPa) of a lamina, with X = 1, Y = 2.
@@ -58,12 +55,9 @@ impl Isotropic {
         modulus(Field::Material(l, Elastic::E), self.e)?;
         let field = Field::Material(l, Elastic::Nu);
         finite(field.clone(), self.nu)?;
-        require(
-            (0.0..0.5).contains(&self.nu),
-            field,
-            self.nu,
-            "must lie in [0, 0.5)".into(),
-        )
+        require((0.0..0.5).contains(&self.nu), field, self.nu, || {
+            "must lie in [0, 0.5)".into()
+        })
     }
 }
 
@@ -100,15 +94,12 @@ impl Orthotropic {
         let field = Field::Material(l, Elastic::Nu12);
         finite(field.clone(), self.nu12)?;
         let d = 1.0 - self.nu12 * self.nu21();
-        require(
-            d > 0.0,
-            field,
-            self.nu12,
+        require(d > 0.0, field, self.nu12, || {
             format!(
                 "1 - nu12 nu21 = {d} must be positive (nu21 = nu12 E2/E1 = {})",
                 self.nu21()
-            ),
-        )
+            )
+        })
     }
 }
 
@@ -188,12 +179,9 @@ impl PsiParams {
         let hi = MODULUS_RANGE_MPA.1;
         for (&k, pk) in PemcKey::ALL[2..].iter().zip(self.to_array()) {
             finite(Field::Pemc(k), pk)?;
-            require(
-                pk.abs() <= hi,
-                Field::Pemc(k),
-                pk,
-                format!("must lie in [-{hi:e}, {hi:e}] MPa"),
-            )?;
+            require(pk.abs() <= hi, Field::Pemc(k), pk, || {
+                format!("must lie in [-{hi:e}, {hi:e}] MPa")
+            })?;
         }
         modulus(Field::Pemc(PemcKey::P1), self.p1)
     }

@@ -63,12 +63,9 @@ pub const MU_RANGE: [f64; 2] = [1e-3, 10.0];
 /// after the range in the message).
 fn within(field: Field, value: f64, [lo, hi]: [f64; 2], unit: &str) -> Result<(), InputError> {
     positive(field.clone(), value)?;
-    require(
-        (lo..=hi).contains(&value),
-        field,
-        value,
-        format!("must lie in [{lo}, {hi}]{unit}"),
-    )
+    require((lo..=hi).contains(&value), field, value, || {
+        format!("must lie in [{lo}, {hi}]{unit}")
+    })
 }
 
 impl Requirements {
@@ -78,28 +75,32 @@ impl Requirements {
             (2..=MAX_FINGERS).contains(&self.fingers),
             Field::key("fingers"),
             self.fingers as f64,
-            format!("must lie in [2, {MAX_FINGERS}]: an object is held between fingers facing each other"),
+            || {
+                format!("must lie in [2, {MAX_FINGERS}]: an object is held between fingers facing each other")
+            },
         )?;
         within(Field::key("mu"), self.mu, MU_RANGE, "")?;
         require(
             (1..=256).contains(&self.elements),
             Field::key("elements"),
             self.elements as f64,
-            "must lie in [1, 256]".into(),
+            || "must lie in [1, 256]".into(),
         )?;
         require(
             !self.objects.is_empty() || self.open.is_some(),
             Field::key("object"),
             0.0,
-            "at least one [[object]] (or an [open] requirement) is needed".into(),
+            || "at least one [[object]] (or an [open] requirement) is needed".into(),
         )?;
         require(
             self.objects.len() <= MAX_OBJECTS,
             Field::key("object"),
             self.objects.len() as f64,
-            format!(
+            || {
+                format!(
                 "at most {MAX_OBJECTS} [[object]] tables (each one's margins are solved at every design the search tries)"
-            ),
+            )
+            },
         )?;
         for (i, o) in self.objects.iter().enumerate() {
             let field = |k: &str| Field::from(format!("object[{i}].{k}"));
@@ -123,12 +124,9 @@ impl Requirements {
                     " mm",
                 )?;
             }
-            require(
-                range[0] <= range[1],
-                field(range_key),
-                range[1],
-                "must be [smallest, largest]".into(),
-            )?;
+            require(range[0] <= range[1], field(range_key), range[1], || {
+                "must be [smallest, largest]".into()
+            })?;
             within(field("lift_n"), *lift, FORCE_RANGE_N, " N")?;
             if let Some(m) = max_normal {
                 within(field("max_normal_n"), *m, FORCE_RANGE_N, " N")?;
@@ -146,24 +144,21 @@ impl Requirements {
                 (0.0..=1000.0).contains(&o.pressure_kpa),
                 Field::key("open.pressure_kpa"),
                 o.pressure_kpa,
-                "must lie in [0, 1000] kPa".into(),
+                || "must lie in [0, 1000] kPa".into(),
             )?;
         }
         let bound = |key: &str, b: Option<[f64; 2]>, lo: f64, hi: f64| -> Result<(), InputError> {
             if let Some([a, z]) = b {
                 finite(format!("vary.{key}[0]").into(), a)?;
                 finite(format!("vary.{key}[1]").into(), z)?;
-                require(
-                    a <= z,
-                    format!("vary.{key}").into(),
-                    z,
-                    "must be [low, high]".into(),
-                )?;
+                require(a <= z, format!("vary.{key}").into(), z, || {
+                    "must be [low, high]".into()
+                })?;
                 require(
                     a >= lo && z <= hi,
                     format!("vary.{key}").into(),
                     if a < lo { a } else { z },
-                    format!("must lie within [{lo}, {hi}]"),
+                    || format!("must lie within [{lo}, {hi}]"),
                 )?;
             }
             Ok(())
@@ -191,9 +186,11 @@ impl Requirements {
                 given[1] >= lo && given[0] <= hi,
                 Field::key(field),
                 value,
-                format!(
+                || {
+                    format!(
                     "leaves no mounting angle in the design space [{lo:.3}, {hi}] deg (arccot mu to 90 deg); set vary.allow_outside_design_space = true to search outside it"
-                ),
+                )
+                },
             )?;
         }
         require(
@@ -202,7 +199,7 @@ impl Requirements {
                 || self.vary.overlap_mm.is_some(),
             Field::key("vary"),
             0.0,
-            "must give at least one design variable".into(),
+            || "must give at least one design variable".into(),
         )?;
         Ok(())
     }

@@ -88,12 +88,9 @@ impl DesignOptions {
     /// Checks every field against its bound, before any work.
     pub fn validate(&self) -> Result<(), InputError> {
         let at_most = |field: &'static str, v: usize, max: usize| {
-            require(
-                v <= max,
-                Field::key(field),
-                v as f64,
-                format!("must be at most {max}"),
-            )
+            require(v <= max, Field::key(field), v as f64, || {
+                format!("must be at most {max}")
+            })
         };
         at_most(
             "design.random_starts",
@@ -111,7 +108,7 @@ impl DesignOptions {
             self.step <= 0.5,
             Field::key("design.step"),
             self.step,
-            "must be at most 0.5 (a fraction of each variable's range)".into(),
+            || "must be at most 0.5 (a fraction of each variable's range)".into(),
         )?;
         positive(Field::key("design.sharpness"), self.sharpness)?;
         Ok(())

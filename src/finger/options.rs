@@ -94,7 +94,7 @@ impl SolveOptions {
             self.rtol <= MAX_RTOL,
             crate::Field::SolveRtol,
             self.rtol,
-            format!("must be at most {MAX_RTOL:e} (a looser residual is no equilibrium)"),
+            || format!("must be at most {MAX_RTOL:e} (a looser residual is no equilibrium)"),
         )?;
         positive(crate::Field::SolveMaxStep, self.max_step)?;
         if !(1..=MAX_NEWTON_ITERATIONS).contains(&self.max_iter) {

@@ -175,7 +175,7 @@ impl Gripper {
             rules::flat_rule(d, d_max).is_none(),
             Field::GraspSize,
             d,
-            format!("exceeds d_max = {d_max:.3} mm: the fingers would be pressed past flat"),
+            || format!("exceeds d_max = {d_max:.3} mm: the fingers would be pressed past flat"),
         )
     }
 
@@ -539,12 +539,9 @@ impl Gripper {
 
 pub(crate) fn check_beta(beta: f64) -> Result<(), InputError> {
     finite(Field::GraspBeta, beta)?;
-    require(
-        beta.abs() <= FRAC_PI_2,
-        Field::GraspBeta,
-        beta,
-        "must lie in [-pi/2, pi/2]".into(),
-    )
+    require(beta.abs() <= FRAC_PI_2, Field::GraspBeta, beta, || {
+        "must lie in [-pi/2, pi/2]".into()
+    })
 }
 
 /// A failed grasp solve in the target's terms: input errors stay as they

@@ -227,15 +227,17 @@ impl Gripper {
             a > 0.0 && a < PI,
             crate::Field::GripperMountingAngle,
             a,
-            "must lie in (0, pi) rad, i.e. (0, 180) degrees: the finger points away from the palm"
-                .into(),
+            || {
+                "must lie in (0, pi) rad, i.e. (0, 180) degrees: the finger points away from the palm"
+                .into()
+            },
         )?;
         positive(crate::Field::GripperMu, params.mu)?;
         require(
             (1..=MAX_FINGERS).contains(&params.fingers),
             crate::Field::GripperFingers,
             params.fingers as f64,
-            format!("must lie in [1, {MAX_FINGERS}]"),
+            || format!("must lie in [1, {MAX_FINGERS}]"),
         )?;
         if finger.is_empty() {
             return Err(InputError::Inconsistent {
@@ -268,30 +270,23 @@ impl Gripper {
                     g >= -MAX_DIMENSION_MM,
                     crate::Field::GripperOverlap,
                     g,
-                    format!("must be at least -{MAX_DIMENSION_MM} mm (below it the palm is over 200 m across and the grasp's scales overflow)"),
+                    || {
+                        format!("must be at least -{MAX_DIMENSION_MM} mm (below it the palm is over 200 m across and the grasp's scales overflow)")
+                    },
                 )?;
-                require(
-                    g <= l0,
-                    crate::Field::GripperOverlap,
-                    g,
-                    format!("must not exceed the finger's inward reach l0 = {l0:.6} mm (the palm diameter 2 (l0 - g) would be negative)"),
-                )?;
+                require(g <= l0, crate::Field::GripperOverlap, g, || {
+                    format!("must not exceed the finger's inward reach l0 = {l0:.6} mm (the palm diameter 2 (l0 - g) would be negative)")
+                })?;
                 (2.0 * (l0 - g), g)
             }
             PalmSpec::Palm(l) => {
                 finite(crate::Field::GripperPalm, l)?;
-                require(
-                    l >= 0.0,
-                    crate::Field::GripperPalm,
-                    l,
-                    "must not be negative".into(),
-                )?;
-                require(
-                    l <= MAX_DIMENSION_MM,
-                    crate::Field::GripperPalm,
-                    l,
-                    format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the grasp's scales overflow)"),
-                )?;
+                require(l >= 0.0, crate::Field::GripperPalm, l, || {
+                    "must not be negative".into()
+                })?;
+                require(l <= MAX_DIMENSION_MM, crate::Field::GripperPalm, l, || {
+                    format!("must be at most {MAX_DIMENSION_MM} mm (beyond it the grasp's scales overflow)")
+                })?;
                 (l, l0 - 0.5 * l)
             }
         };
@@ -304,10 +299,12 @@ impl Gripper {
                 chord >= width,
                 crate::Field::GripperFingers,
                 n as f64,
-                format!(
+                || {
+                    format!(
                     "do not fit around the palm: {n} fingers {width:.2} mm wide need a palm of at least {:.2} mm (neighbouring roots {chord:.2} mm apart on a palm of {palm:.2} mm)",
                     width / (PI / n as f64).sin()
-                ),
+                )
+                },
             )?;
         }
         let mut warnings = finger.warnings().to_vec();

@@ -587,23 +587,17 @@ impl Gripper {
     pub(crate) fn check_sphere(&self, r: f64, beta: f64) -> Result<(), InputError> {
         positive(Field::SphereRadius, r)?;
         check_beta(beta)?;
-        require(
-            beta.abs() < FRAC_PI_2,
-            Field::SphereBeta,
-            beta,
-            "must lie in (-pi/2, pi/2)".into(),
-        )?;
+        require(beta.abs() < FRAC_PI_2, Field::SphereBeta, beta, || {
+            "must lie in (-pi/2, pi/2)".into()
+        })?;
         let xg = r * beta.cos();
         let reach = 0.5 * self.d_max();
-        require(
-            xg <= reach * (1.0 + 1e-12),
-            Field::SphereRadius,
-            r,
+        require(xg <= reach * (1.0 + 1e-12), Field::SphereRadius, r, || {
             format!(
                 "touched at {:.3} degrees puts the tip at Xg = {xg:.3} mm, beyond the flat fingers' reach d_max / 2 = {reach:.3} mm",
                 beta.to_degrees()
-            ),
-        )
+            )
+        })
     }
 }
 
@@ -611,10 +605,7 @@ impl Gripper {
 fn check_scan(pressure_kpa: f64, r: f64, samples: usize) -> Result<(), InputError> {
     positive(Field::SphereRadius, r)?;
     finite(Field::GraspPressureKpa, pressure_kpa)?;
-    require(
-        samples >= 4,
-        Field::SphereSamples,
-        samples as f64,
-        "must be at least 4".into(),
-    )
+    require(samples >= 4, Field::SphereSamples, samples as f64, || {
+        "must be at least 4".into()
+    })
 }

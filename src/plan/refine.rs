@@ -479,7 +479,9 @@ impl TipTolerance {
                     (1..=most).contains(&start),
                     Field::PartitionN,
                     start as f64,
-                    format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})"),
+                    || {
+                        format!("must lie in [1, {most}] to refine to a tip tolerance (N doubles up to {MAX_REFINED_ELEMENTS})")
+                    },
                 )?;
                 Refinement {
                     model,

@@ -131,13 +131,13 @@ impl Refinement {
             self.start >= 1,
             Field::Refinement(RefinementKey::Start),
             self.start as f64,
-            "must be at least 1".to_string(),
+            || "must be at least 1".to_string(),
         )?;
         require(
             self.levels >= 1,
             Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
-            "must be at least 1".to_string(),
+            || "must be at least 1".to_string(),
         )?;
         // (a switch: the message names it without a number)
         if self.extrapolate && (self.levels < 2 || self.partition != PartitionKind::Material) {
@@ -151,9 +151,11 @@ impl Refinement {
             finest <= MAX_REFINED_ELEMENTS,
             Field::Refinement(RefinementKey::Levels),
             self.levels as f64,
-            format!(
-                "gives {finest} elements at the finest level, more than {MAX_REFINED_ELEMENTS}"
-            ),
+            || {
+                format!(
+                    "gives {finest} elements at the finest level, more than {MAX_REFINED_ELEMENTS}"
+                )
+            },
         )
     }
 

@@ -87,7 +87,7 @@ impl StudyOptions {
                 (min..=max).contains(&v),
                 crate::Field::key(field),
                 v as f64,
-                format!("must lie in [{min}, {max}]"),
+                || format!("must lie in [{min}, {max}]"),
             )
         };
         within("study.elements", self.elements, 1, MAX_STUDY_ELEMENTS)?;
