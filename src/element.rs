@@ -659,23 +659,25 @@ fn groups_in<M: Energy, L: Lane + AsRef<[f64]>>(
             *sk = e.seen(k);
         }
         let (j, at) = (c / per, (c % per) * w);
-        let Some((v, g, h)) = M::hessian_lane_major::<L>(&m.0, &seen[..k.len()], s) else {
-            continue;
-        };
         let put = |o: &mut Group, x: &L| {
             for (o, x) in o.0[at..at + w].iter_mut().zip(x.as_ref()) {
                 *o = *x;
             }
         };
-        put(&mut out.v[j], &v);
-        out.g[j * n..]
-            .iter_mut()
-            .zip(g.as_ref())
-            .for_each(|(o, x)| put(o, x));
-        out.h[j * nh..]
-            .iter_mut()
-            .zip(h.as_ref())
-            .for_each(|(o, x)| put(o, x));
+        let taken = M::hessian_lane_major::<L>(&m.0, &seen[..k.len()], s, |v, g, h| {
+            put(&mut out.v[j], v);
+            out.g[j * n..]
+                .iter_mut()
+                .zip(g)
+                .for_each(|(o, x)| put(o, x));
+            out.h[j * nh..]
+                .iter_mut()
+                .zip(h)
+                .for_each(|(o, x)| put(o, x));
+        });
+        if !taken {
+            continue;
+        }
         // the held unknowns of plane strain, element by element
         for (l, (e, k)) in e.iter().zip(k).enumerate() {
             if !e.pin.is_empty() {

@@ -144,20 +144,17 @@ pub trait Energy: ModelCore {
         out: &mut [(f64, Self::Coeffs)],
     ) where
         f64: LaneScalar<L>;
-    /// A gradient's entries on lanes (`[L; LEN]`).
-    type CoeffLanes<L: Lane>: AsRef<[L]>;
-    /// A Hessian's upper triangle on lanes.
-    type UpperLanes<L: Lane>: AsRef<[L]>;
     /// [`Energy::hessian`] of up to `L::WIDTH` elements at once, left in
-    /// lanes: lane `l` of the value, gradient and upper triangle is
-    /// element `l`'s, bit for bit the scalar result (lanes past the end of
-    /// `k` repeat its last element); `None` for no elements.
-    #[allow(clippy::type_complexity)]
+    /// lanes and handed to `put` as the value, the gradient's `LEN` entries
+    /// and the upper triangle's: lane `l` of each is element `l`'s, bit for
+    /// bit the scalar result (lanes past the end of `k` repeat its last
+    /// element). False, without calling `put`, for no elements.
     fn hessian_lane_major<L: Lane>(
         m: &Self::MomentLanes<L>,
         k: &[Self::Coeffs],
         s: &EnergyScalars,
-    ) -> Option<(L, Self::CoeffLanes<L>, Self::UpperLanes<L>)>
+        put: impl FnOnce(&L, &[L], &[L]),
+    ) -> bool
     where
         f64: LaneScalar<L>;
     /// One integral family alone (`None` past the last family).

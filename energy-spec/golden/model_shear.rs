@@ -8548,24 +8548,29 @@ impl super::Energy for Shear {
         let Some(kl) = gather(k) else {
             return;
         };
-        let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+        let r = energy_gradient_lanes(&kl, m, s);
+        let (v, g) = std::hint::black_box(&r);
         for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
             *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
         }
     }
-    type CoeffLanes<L: super::Lane> = [L; 5];
-    type UpperLanes<L: super::Lane> = [L; 15];
     #[inline(always)]
     fn hessian_lane_major<L: super::Lane>(
         m: &MomentLanes<L>,
         k: &[[f64; 5]],
         s: &super::EnergyScalars,
-    ) -> Option<(L, [L; 5], [L; 15])>
+        put: impl FnOnce(&L, &[L], &[L]),
+    ) -> bool
     where
         f64: super::LaneScalar<L>,
     {
-        let kl = gather(k)?;
-        Some(std::hint::black_box(energy_hessian_lanes(&kl, m, s)))
+        let Some(kl) = gather(k) else {
+            return false;
+        };
+        let r = energy_hessian_lanes(&kl, m, s);
+        let (v, g, h) = std::hint::black_box(&r);
+        put(v, g, h);
+        true
     }
     fn family_hessian(
         m: &Moments,

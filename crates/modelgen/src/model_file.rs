@@ -285,31 +285,35 @@ pub(crate) fn model_file(file: &SpecFile, c: &Checked) -> Result<(String, String
                 let Some(kl) = gather(k) else {
                     return;
                 };
-                let (v, g) = std::hint::black_box(energy_gradient_lanes(&kl, m, s));
+                let r = energy_gradient_lanes(&kl, m, s);
+                let (v, g) = std::hint::black_box(&r);
                 for (l, o) in out.iter_mut().enumerate().take(L::WIDTH) {
                     *o = (v.lane(l), std::array::from_fn(|j| g[j].lane(l)));
                 }
             }
-
-            type CoeffLanes<L: super::Lane> = [L; #nu];
-            type UpperLanes<L: super::Lane> = [L; #nh];
 
             #[inline(always)]
             fn hessian_lane_major<L: super::Lane>(
                 m: &MomentLanes<L>,
                 k: &[[f64; #nu]],
                 s: &super::EnergyScalars,
-            ) -> Option<(L, [L; #nu], [L; #nh])>
+                put: impl FnOnce(&L, &[L], &[L]),
+            ) -> bool
             where
                 f64: super::LaneScalar<L>,
             {
-                let kl = gather(k)?;
-                // the kernel's lanes kept whole up to here: read lane by
-                // lane at once, the compiler splits the kernel into one
-                // scalar chain per lane and the vector instructions are
-                // lost (measured: slower than the scalar kernels at eight
-                // lanes)
-                Some(std::hint::black_box(energy_hessian_lanes(&kl, m, s)))
+                let Some(kl) = gather(k) else {
+                    return false;
+                };
+                let r = energy_hessian_lanes(&kl, m, s);
+                // the kernel's lanes kept whole: read lane by lane at once,
+                // the compiler splits the kernel into one scalar chain per
+                // lane and the vector instructions are lost (measured:
+                // slower than the scalar kernels at eight lanes); an opaque
+                // reference, not an opaque copy, so the result is not moved
+                let (v, g, h) = std::hint::black_box(&r);
+                put(v, g, h);
+                true
             }
 
             fn family_hessian(m: &Moments, family: usize, k: &[f64; #nu]) -> Option<(f64, [f64; #nu], [f64; #nh])> {
