@@ -265,9 +265,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         ))
     })?;
     crate::output::prepare_dir(&out)?;
+    // a design is reported only once found and checked: stopped before,
+    // nothing is written
+    let stop = crate::interrupt::arm("nothing is written unless the design was found already");
     crate::report::progress_on_terminal("fpc design: optimising");
-    let d = optimize(&req, &opts)?;
+    let d = match &stop {
+        Some(flag) => fpc::cancel::with_flag(flag.clone(), || optimize(&req, &opts)),
+        None => optimize(&req, &opts),
+    };
     crate::report::end_progress();
+    if stop.is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst)) {
+        return Err(crate::status::interrupted(
+            "stopped by Ctrl-C before the design was found; nothing written",
+        ));
+    }
+    let d = d?;
     // the requirements' bounds keep every number finite; were one not, no
     // NaN or inf is written in its place
     if let Some(what) = not_finite(&d) {

@@ -1,7 +1,7 @@
 //! Ctrl-C in a long command. [`arm`] installs the process's handler, and
 //! the first Ctrl-C sets the flag it returns. The command runs its work
 //! under that flag ([`fpc::cancel::with_flag`]: solves not yet started
-//! fail at once with `SolveError::Cancelled`; `fpc sweep`) or reads it
+//! fail at once with `SolveError::Cancelled`; `fpc sweep`, `fpc design`) or reads it
 //! between pieces of work (`fpc-lab stress`), writes what it finished and
 //! ends with [`crate::status::interrupted`] (status 130). A second Ctrl-C
 //! ends the process at once, writing nothing more. A
@@ -47,7 +47,7 @@ pub fn arm(keeps: &str) -> Option<Arc<AtomicBool>> {
             first = Some(Instant::now());
             report::end_progress();
             report::note(&format!(
-                "Ctrl-C: stopping; {keeps} (Ctrl-C again quits at once, without them)"
+                "Ctrl-C: stopping; {keeps} (Ctrl-C again quits at once, writing nothing more)"
             ));
         });
         match installed {

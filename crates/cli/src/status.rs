@@ -5,7 +5,7 @@
 //! | 0 | success (help and version included); also when the reader of standard output went away (`fpc kernels \| head`): the command stops quietly, as a Unix tool does |
 //! | 1 | a failed solve, a failed study, an I/O failure writing output (a file, stdout), anything else |
 //! | 2 | rejected input: a bad flag or value, an unreadable, oversized, malformed or invalid scene file or measurement file |
-//! | 130 | stopped by Ctrl-C after writing the work finished so far (`fpc sweep`, `fpc-lab stress`; [`crate::interrupt`]), or at once by a second Ctrl-C |
+//! | 130 | stopped by Ctrl-C after writing the work finished so far (`fpc sweep`, `fpc-lab stress`; [`crate::interrupt`]), or having written nothing (`fpc design`, stopped before its design is found), or at once by a second Ctrl-C |
 
 use std::fmt;
 

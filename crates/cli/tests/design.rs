@@ -3,6 +3,8 @@
 
 use std::process::Command;
 
+mod common;
+
 use tempfile::TempDir;
 
 fn fpc(args: &[&str]) -> std::process::Output {
@@ -270,4 +272,70 @@ fn design_takes_its_finger_from_a_scene_and_rejects_a_bad_one() {
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("finger.toml:2"), "{err}");
+}
+
+/// Ctrl-C (one SIGINT) during a long design: nothing is written (a design
+/// is reported only once found and checked), a note says so, the status
+/// is 130, and the command ends soon after (the solves not yet started
+/// fail at once).
+#[cfg(unix)]
+#[test]
+fn ctrl_c_stops_a_design_and_writes_nothing() {
+    use std::io::Read as _;
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let scratch = tmp("ctrl_c");
+    let out = scratch.path().join("out");
+    let req = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/design/paper_sec5.toml"
+    );
+    let mut command = common::fpc_as_in_a_terminal();
+    // 10 000 random starts: far longer than the wait below, even in a
+    // release build (each start is one evaluation of every margin)
+    let mut child = command
+        .args(["design", req, "--starts", "10000", "--out"])
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // the output directory is made just before Ctrl-C is armed
+    let t = Instant::now();
+    while !out.is_dir() {
+        assert!(t.elapsed() < Duration::from_secs(60), "no output directory");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    common::ctrl_c(&child);
+    let stopped = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        if stopped.elapsed() > Duration::from_secs(120) {
+            let _ = child.kill();
+            panic!("fpc design went on for 2 minutes after Ctrl-C");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut stderr = String::new();
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut stderr)
+        .unwrap();
+    assert_eq!(status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("fpc: Ctrl-C: stopping; nothing is written"),
+        "{stderr}"
+    );
+    assert!(
+        stderr.contains("stopped by Ctrl-C before the design was found; nothing written"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("error"), "{stderr}");
+    let written: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
+    assert!(written.is_empty(), "{written:?}");
 }

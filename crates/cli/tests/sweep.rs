@@ -325,7 +325,7 @@ fn bad_flags_are_rejected() {
 #[test]
 fn ctrl_c_writes_the_points_done() {
     use std::io::{BufRead as _, BufReader, Read as _};
-    use std::process::{Command, Stdio};
+    use std::process::Stdio;
     let tmp = TempDir::new("ctrl_c");
     // about 0.3 ms a point in a release build (6 s in all), far more in
     // a debug one: the first progress line (after 0.5 s) comes long before
@@ -336,18 +336,7 @@ fn ctrl_c_writes_the_points_done() {
     );
     let out = tmp.0.join("out");
     let total = 20_000;
-    let mut command = Command::new(env!("CARGO_BIN_EXE_fpc"));
-    // SIGINT at its default, as a terminal's shell runs a command: a CI
-    // shell may hand it down ignored, and fpc keeps an ignored SIGINT
-    // ignored
-    // SAFETY: `signal` is async-signal-safe, as `pre_exec` requires
-    unsafe {
-        use std::os::unix::process::CommandExt as _;
-        command.pre_exec(|| {
-            libc::signal(libc::SIGINT, libc::SIG_DFL);
-            Ok(())
-        });
-    }
+    let mut command = common::fpc_as_in_a_terminal();
     let mut child = command
         .arg("sweep")
         .arg(&scene)
@@ -364,11 +353,7 @@ fn ctrl_c_writes_the_points_done() {
     while !seen.contains("fpc sweep: ") {
         assert!(err.read_line(&mut seen).unwrap() > 0, "no progress: {seen}");
     }
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(kill.success());
+    common::ctrl_c(&child);
     err.read_to_string(&mut seen).unwrap();
     let status = child.wait().unwrap();
     let mut stdout = String::new();

@@ -44,6 +44,33 @@ impl TempDir {
     }
 }
 
+/// The `fpc` binary with SIGINT at its default, as a terminal's shell
+/// runs a command, so that a test's SIGINT is a user's Ctrl-C (a CI shell
+/// may hand SIGINT down ignored, and fpc keeps an ignored SIGINT ignored).
+#[cfg(unix)]
+pub fn fpc_as_in_a_terminal() -> Command {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_fpc"));
+    // SAFETY: `signal` is async-signal-safe, as `pre_exec` requires
+    unsafe {
+        use std::os::unix::process::CommandExt as _;
+        command.pre_exec(|| {
+            libc::signal(libc::SIGINT, libc::SIG_DFL);
+            Ok(())
+        });
+    }
+    command
+}
+
+/// Presses Ctrl-C once for process `child`: one SIGINT.
+#[cfg(unix)]
+pub fn ctrl_c(child: &std::process::Child) {
+    let kill = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+}
+
 pub fn fpc(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_fpc"))
         .args(args)
