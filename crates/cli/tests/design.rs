@@ -1,25 +1,14 @@
 //! `fpc design`: the JSON keys, the files written, the scenes that
 //! reproduce the claimed grasps, and requirements errors with their line.
 
-use std::process::Command;
+use common::fpc;
+use tempfile::TempDir;
 
 mod common;
 
-use tempfile::TempDir;
-
-fn fpc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_fpc"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
 /// A fresh scratch directory, removed when dropped.
 fn tmp(name: &str) -> TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("fpc-design-{name}-"))
-        .tempdir()
-        .unwrap()
+    common::tmp("design", name)
 }
 
 #[test]
