@@ -343,7 +343,10 @@ fn a_fixed_tip_load_is_applied_along_its_own_path_from_rest() {
     // 5 kN of friction: the finger under that load alone folds before the
     // object is touched. The fold load the library names is where an
     // independent ramp of the load (10 N steps, each warm-started from the
-    // one before, stability judged) first fails.
+    // one before, stability judged) first fails: no stable equilibrium, or
+    // a jump to another branch (a step that moves the coefficients five
+    // times as far as the step before; on the branch the moves grow
+    // smoothly, by 14 % per step just below the fold).
     let friction = 5000.0;
     let detail = match g.force_control(0.0, 100.0, friction, None) {
         Err(SolveError::NotOnPath { detail, .. }) => detail,
@@ -365,7 +368,7 @@ fn a_fixed_tip_load_is_applied_along_its_own_path_from_rest() {
     let mut k = g.reference().coefficients.clone();
     let step = 10.0;
     let mut last_good = 0.0;
-    let mut last_move: f64 = 0.0;
+    let mut last_move = f64::INFINITY;
     for i in 1..=(friction / step) as usize {
         let f = step * i as f64;
         let load = Load::unloaded().with_tip_force(f * dir[0], f * dir[1]);
@@ -379,10 +382,10 @@ fn a_fixed_tip_load_is_applied_along_its_own_path_from_rest() {
                 .zip(k.as_slice())
                 .map(|(a, b)| a - b),
         );
-        if sol.stable != Some(true) || (i > 3 && moved > 20.0 * last_move) {
+        if sol.stable != Some(true) || moved > 5.0 * last_move {
             break;
         }
-        last_move = last_move.max(moved);
+        last_move = moved;
         k = sol.coefficients;
         last_good = f;
     }

@@ -140,7 +140,8 @@ pub struct SolveReport {
 /// A solve's Newton iterations by where they were spent, and how its
 /// globalisation acted on them. `element + coupled + continuation` is
 /// [`SolveReport::iterations`]; `chord`, `shifted` and `damped` count
-/// among all of them, and `grown` the step cap's doublings.
+/// among all of them, `grown` the step cap's doublings and `extended` the
+/// doublings of shifted steps.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct StepCounts {
     /// Element-by-element solves: the unloaded start of a coupled solve
@@ -162,20 +163,25 @@ pub struct StepCounts {
     /// Times the step cap doubled: a Newton step cut to the cap and taken
     /// whole lets the next one be twice as long ([`SolveOptions::max_step`]).
     pub grown: usize,
+    /// Times a shifted step taken whole was doubled while the energy kept
+    /// falling (along negative curvature the shift keeps a step short of
+    /// where the energy stops falling).
+    pub extended: usize,
 }
 
 impl std::fmt::Display for StepCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} element, {} coupled, {} in continuation; {} chord, {} shifted, {} damped, {} grown",
+            "{} element, {} coupled, {} in continuation; {} chord, {} shifted, {} damped, {} grown, {} extended",
             self.element,
             self.coupled,
             self.continuation,
             self.chord,
             self.shifted,
             self.damped,
-            self.grown
+            self.grown,
+            self.extended
         )
     }
 }
@@ -189,6 +195,7 @@ impl std::ops::AddAssign for StepCounts {
         self.shifted += o.shifted;
         self.damped += o.damped;
         self.grown += o.grown;
+        self.extended += o.extended;
     }
 }
 
@@ -199,6 +206,7 @@ impl StepCounts {
         self.shifted += r.shifted_steps;
         self.damped += r.damped_steps;
         self.grown += r.grown_steps;
+        self.extended += r.extended_steps;
     }
 }
 

@@ -365,11 +365,12 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     /// Newton on the loaded chain from `self.y` (the start), and load
     /// continuation from the start where that fails; counts go to `base`.
     ///
-    /// A chain of several elements grows its step cap
-    /// ([`newton_flags`]); where that attempt fails, everything after it
-    /// (Newton again from the start if the cap grew, then the
-    /// continuation) keeps the fixed cap, so a solve that converged with it
-    /// still does.
+    /// A chain of several elements grows its step cap and doubles its
+    /// shifted steps ([`newton_flags`]); where that attempt fails,
+    /// everything after it (Newton again from the start if the cap grew or
+    /// a step was doubled, then the continuation) keeps the fixed cap and
+    /// the shifted steps as the shift gives them, so a solve that converged
+    /// that way still does.
     fn load_from_start(
         &mut self,
         load: &Load,
@@ -387,7 +388,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         if grown_chain {
             // the same validated options with flags off: cannot fail
             let _ = self.newton.set_options(fixed_cap(current));
-            if r.grown_steps > 0 {
+            if r.grown_steps > 0 || r.extended_steps > 0 {
                 self.y.copy_from_slice(&self.start);
                 r = self.direct(load, start, start_failed, base);
             }

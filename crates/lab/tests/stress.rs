@@ -132,6 +132,27 @@ fn inside_the_envelope_every_case_converges_without_findings() {
     assert_eq!(run, 60, "enough cases inside the envelope");
 }
 
+/// Case `index` of `seed`, which must converge and pass the harness's own
+/// residual and dense stability count (not the solver's report); its
+/// step counts.
+fn checked(seed: u64, index: usize) -> fpc::finger::StepCounts {
+    let c = stress_case(seed, index, 256);
+    assert_eq!(
+        c.outcome,
+        StressOutcome::Converged,
+        "{seed}/{index}: {}",
+        c.outcome
+    );
+    assert!(
+        c.residual.is_some_and(|r| r <= RESIDUAL_LIMIT),
+        "{seed}/{index}: {:?}",
+        c.residual
+    );
+    assert_eq!(c.negative_eigenvalues, Some(0), "{seed}/{index}");
+    assert_eq!(c.dense_negative.map(|d| d.0), Some(0), "{seed}/{index}");
+    c.steps.expect("a returned solution has its counts")
+}
+
 /// Two chains far outside the envelope (docs/stress.md, "Where the
 /// iterations go"), each checked by the harness's own residual and dense
 /// stability count, not by the solver's report:
@@ -139,27 +160,11 @@ fn inside_the_envelope_every_case_converges_without_findings() {
 ///   its coupled solve took 55 steps, each cut to the cap; a cap that grows
 ///   as a trust region's radius takes it in 9;
 /// - seed 20261206 case 2758 (`ccm`, N = 16, 17 `F_ref`): with a growing cap
-///   Newton stalls (60 steps, no convergence); the solve is taken again
-///   from the start with the fixed cap, which converges in 26 more.
+///   (and shifted steps doubled) Newton stalls (60 steps, no convergence);
+///   the solve is taken again from the start with the fixed cap and the
+///   shifted steps as the shift gives them, which converges in 26 more.
 #[test]
 fn a_chain_grows_its_step_cap_and_falls_back_on_the_fixed_one() {
-    let checked = |seed: u64, index: usize| {
-        let c = stress_case(seed, index, 256);
-        assert_eq!(
-            c.outcome,
-            StressOutcome::Converged,
-            "{seed}/{index}: {}",
-            c.outcome
-        );
-        assert!(
-            c.residual.is_some_and(|r| r <= RESIDUAL_LIMIT),
-            "{:?}",
-            c.residual
-        );
-        assert_eq!(c.negative_eigenvalues, Some(0));
-        assert_eq!(c.dense_negative.map(|d| d.0), Some(0));
-        c.steps.expect("a returned solution has its counts")
-    };
     let grown = checked(2, 152);
     assert!(grown.coupled <= 12 && grown.grown > 0, "{grown:?}");
     let again = checked(20261206, 2758);
@@ -169,6 +174,25 @@ fn a_chain_grows_its_step_cap_and_falls_back_on_the_fixed_one() {
         again.coupled > 60,
         "the first attempt used its 60 steps: {again:?}"
     );
+}
+
+/// Two chains whose Hessian stays indefinite for many steps, far outside
+/// the envelope (docs/stress.md, "Shifted steps doubled along a chain"),
+/// checked by the harness's residual and dense stability count:
+/// - seed 4 case 210 (`shear`, N = 3, 2.1 `F_ref`): along shifted steps
+///   as the shift gives them, Newton from the start stalled twice (120
+///   steps) and load continuation took 40 more; doubling a shifted step
+///   while the energy keeps falling takes it directly, in 8;
+/// - seed 20261206 case 1841 (`shear`, N = 2, 9.5 `F_ref`): 55 steps, 46
+///   of them shifted, before; 26 with the doubling.
+#[test]
+fn a_chain_doubles_its_shifted_steps() {
+    for (seed, index, most) in [(4, 210, 10), (20261206, 1841, 30)] {
+        let s = checked(seed, index);
+        assert!(s.extended > 0 && s.shifted > 0, "{seed}/{index}: {s:?}");
+        assert_eq!(s.continuation, 0, "{seed}/{index}: {s:?}");
+        assert!(s.coupled <= most, "{seed}/{index}: {s:?}");
+    }
 }
 
 #[test]

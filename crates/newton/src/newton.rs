@@ -755,6 +755,7 @@ impl Newton {
                 break;
             }
             (best, f_best) = (alpha, ft);
+            rep.extended_steps += 1;
         }
         self.step_to(x, best);
         (best, f_best)

@@ -192,8 +192,10 @@ pub struct NewtonOptions {
     /// grow: where its full length is accepted it is doubled while the
     /// energy keeps falling and Armijo holds (within the step cap). Along
     /// negative curvature the quadratic model has no minimum, so the shift
-    /// keeps such a step short of where the energy stops falling. Default
-    /// false.
+    /// keeps such a step short of where the energy stops falling
+    /// ([`Report::extended_steps`](crate::Report::extended_steps) counts
+    /// the doublings). Like `step_growth`, it can change which minimum a
+    /// start far from every minimum ends in. Default false.
     pub extend_modified: bool,
 }
 

@@ -80,6 +80,10 @@ pub struct Report {
     /// ([`NewtonOptions::step_growth`](crate::NewtonOptions::step_growth)):
     /// 0 means every step was held to `max_step`, as without the option.
     pub grown_steps: usize,
+    /// Times a step along a modified Hessian was doubled
+    /// ([`NewtonOptions::extend_modified`](crate::NewtonOptions::extend_modified)):
+    /// 0 means every such step kept the length its shift gave it.
+    pub extended_steps: usize,
     /// Calls to [`Energy::energy`](crate::Energy::energy).
     pub energy_evals: usize,
     /// Calls to [`Gradient::gradient`](crate::Gradient::gradient).
@@ -117,6 +121,7 @@ impl Report {
             shifted_steps: 0,
             damped_steps: 0,
             grown_steps: 0,
+            extended_steps: 0,
             energy_evals: 0,
             gradient_evals: 0,
             hessian_evals: 0,

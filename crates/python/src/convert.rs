@@ -164,7 +164,7 @@ pub fn solution_dict<'py>(py: Python<'py>, s: &fpc::Solution) -> PyResult<Bound<
 /// A solve report as a dict (`reason`, `iterations`, `residual_norm`,
 /// `evaluations`, `coupled`, `continuation_steps`, and `steps`: the
 /// iterations by phase, `element`, `coupled`, `continuation`, and the
-/// globalisation's `chord`, `shifted`, `damped`, `grown`).
+/// globalisation's `chord`, `shifted`, `damped`, `grown`, `extended`).
 pub fn report_dict<'py>(
     py: Python<'py>,
     r: &fpc::finger::SolveReport,

@@ -531,6 +531,48 @@ fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
     assert!(steps[1] <= steps[0], "{steps:?}");
 }
 
+/// Shifted steps (no modified pivots) from the indefinite start of the
+/// tilted wells, with and without `extend_modified`: the same minimiser,
+/// the energy falling at every accepted step, doublings counted only with
+/// the option, and no more steps with it.
+#[test]
+fn extended_shifted_steps_reach_the_wells_minimum_in_fewer_steps() {
+    let n = 12;
+    let start: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
+    let root = {
+        let mut t = 1.2f64;
+        for _ in 0..50 {
+            t -= (t * t * t - t - 0.5) / (3.0 * t * t - 1.0);
+        }
+        t
+    };
+    let mut steps = [0; 2];
+    for (k, extend) in [false, true].into_iter().enumerate() {
+        let mut p = DoubleWell {
+            n,
+            kappa: 0.1,
+            tilt: 0.5,
+            accepted: vec![],
+        };
+        let opts = NewtonOptions {
+            eager_full_steps: false,
+            extend_modified: extend,
+            ..NewtonOptions::default()
+        };
+        let mut x = start.clone();
+        let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut p), &mut x);
+        assert!(r.converged(), "{r}");
+        assert!(r.shifted_steps > 0 && r.max_shift > 0.0, "{r:?}");
+        assert_eq!(r.extended_steps > 0, extend, "{r:?}");
+        assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
+        for w in p.accepted.windows(2) {
+            assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
+        }
+        steps[k] = r.iterations;
+    }
+    assert!(steps[1] < steps[0], "{steps:?}");
+}
+
 /// A minimum far beyond the step cap: capped steps taken whole double the
 /// cap, so Newton gets there in a few steps where a fixed cap needs one
 /// per cap length; both end at the minimiser `A^-1 b` (faer's LU).

@@ -375,6 +375,7 @@ fn step_distributions(r: &StressReport) -> Vec<(&'static str, Option<fpc_lab::Qu
         ("shifted steps", r.step_quantiles(|s| s.shifted)),
         ("damped steps", r.step_quantiles(|s| s.damped)),
         ("grown steps", r.step_quantiles(|s| s.grown)),
+        ("extended steps", r.step_quantiles(|s| s.extended)),
     ]
 }
 
