@@ -33,7 +33,7 @@ pub(crate) fn local_workspace<'s, M: ElementModel>(
     // the options were validated for the coupled solver: this cannot fail
     let _ = local
         .newton
-        .set_options(newton_flags(*coupled.options(), true));
+        .set_options(newton_flags(*coupled.options(), true, true));
     local
 }
 

@@ -557,6 +557,13 @@ impl<'a> Solver<'a> {
         with_solver!(self, s => s.guess = if on { Guess::Trusted } else { Guess::Near })
     }
 
+    /// Takes a chain's shifted steps as the shift gives them, without
+    /// doubling them (the path of a solve before they were doubled; see
+    /// `plan::Auto`).
+    pub(crate) fn keep_shifted_steps(&mut self) {
+        with_solver!(self, s => s.double_shifted = false)
+    }
+
     /// Solves a [`TargetProblem`] from `guess` (raw coefficients, ideally a
     /// nearby equilibrium) and a starting `lambda`; returns the equilibrium
     /// and the `lambda` that meets the target. `ctol_mm` bounds the target

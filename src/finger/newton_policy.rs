@@ -29,15 +29,20 @@ pub(crate) fn newton_options(gtol: f64, opts: &SolveOptions) -> Result<NewtonOpt
 /// `opts` for a solve of one element (`single`) or a chain: the step cap
 /// grows as a trust region's radius (fpc-newton's `step_growth`), and a
 /// step along an indefinite Hessian taken whole is doubled while the
-/// energy keeps falling (`extend_modified`), in both; for one element the
-/// negative curvature is flipped (`modified_pivots`). Along a chain a
-/// flipped pivot is a Schur complement's and can carry the finger into
-/// another basin (docs/stress.md "Where the iterations go"), so a chain
-/// keeps the shifted Hessian.
-pub(crate) fn newton_flags(opts: NewtonOptions, single: bool) -> NewtonOptions {
+/// energy keeps falling (`extend_modified`; for a chain only with
+/// `double_shifted`, the solver's default); for one element the negative
+/// curvature is flipped (`modified_pivots`). Along a chain a flipped pivot
+/// is a Schur complement's and can carry the finger into another basin
+/// (docs/stress.md "Where the iterations go"), so a chain keeps the
+/// shifted Hessian.
+pub(crate) fn newton_flags(
+    opts: NewtonOptions,
+    single: bool,
+    double_shifted: bool,
+) -> NewtonOptions {
     NewtonOptions {
         modified_pivots: single,
-        extend_modified: true,
+        extend_modified: single || double_shifted,
         step_growth: true,
         ..opts
     }

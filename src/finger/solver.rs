@@ -79,6 +79,9 @@ pub(crate) struct SolverCore<'a, M: ElementModel> {
     final_energy: Option<f64>,
     /// What the callers' guesses are.
     pub guess: Guess,
+    /// Whether a chain doubles its shifted steps ([`newton_flags`]); off
+    /// only to take a failed refinement again as before (`plan::Auto`).
+    pub double_shifted: bool,
 }
 
 /// What a caller's guess is, which decides how Newton takes it.
@@ -126,6 +129,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
             unloaded,
             final_energy: None,
             guess: Guess::Near,
+            double_shifted: true,
         }
     }
 
@@ -194,7 +198,11 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         }
         let nopts = NewtonOptions {
             trusted_start: self.guess == Guess::Trusted && guess.is_some(),
-            ..newton_flags(newton_options(opts.rtol * f.stiffness, opts)?, f.len() == 1)
+            ..newton_flags(
+                newton_options(opts.rtol * f.stiffness, opts)?,
+                f.len() == 1,
+                self.double_shifted,
+            )
         };
         // validated above: setting cannot fail
         let _ = self.newton.set_options(nopts);

@@ -58,7 +58,7 @@ use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
 use crate::error::{positive, require, InputError, Warning};
 use crate::field::Field;
-use crate::finger::{Finger, Load, Solution, SolveOptions};
+use crate::finger::{Finger, Load, Solution, SolveOptions, Solver};
 use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
@@ -577,11 +577,39 @@ impl Auto {
     /// element is split in two and the finger solved again from the
     /// previous state. Stops with the remaining findings on the solution
     /// when [`MAX_AUTO_ELEMENTS`] would be exceeded.
+    ///
+    /// Where a split partition fails, the whole refinement is taken again
+    /// with a chain's shifted steps as the shift gives them (not doubled):
+    /// doubled steps can end a level on another equilibrium, whose splits
+    /// then ask for a partition that neither way solves, where the
+    /// path before them converged (docs/stress.md, "Shifted steps doubled
+    /// along a chain").
     pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        match self.refine(load, opts, true) {
+            Err((_, true)) => self.refine(load, opts, false).map_err(|(e, _)| e),
+            r => r.map_err(|(e, _)| e),
+        }
+    }
+
+    /// [`Auto::solve`] with a chain's shifted steps doubled or not; an
+    /// error says whether it came after a split.
+    fn refine(
+        &self,
+        load: &Load,
+        opts: &SolveOptions,
+        double_shifted: bool,
+    ) -> Result<Solved, (SolveError, bool)> {
+        let solve = |finger: &Finger, guess: Option<&Coefficients>| {
+            let mut solver = Solver::new(finger);
+            if !double_shifted {
+                solver.keep_shifted_steps();
+            }
+            solver.solve(load, guess, opts)
+        };
         let (model, actuator, ribs) = (self.model, &self.actuator, self.ribs);
         let mut partition = self.partition.clone();
         let mut finger = self.finger.clone();
-        let mut solution = finger.solve(load, opts)?;
+        let mut solution = solve(&finger, None).map_err(|e| (e, false))?;
         let mut refinements = 0;
         loop {
             let mut split = vec![false; partition.len()];
@@ -611,10 +639,10 @@ impl Auto {
             }
             partition = partition.split(&split);
             finger = Finger::with_model(model, actuator, &partition, ribs);
-            let guess = Coefficients::new(per, guess)?;
-            solution = match finger.solve_from(load, &guess, opts) {
+            let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), true))?;
+            solution = match solve(&finger, Some(&guess)) {
                 Ok(s) => s,
-                Err(_) => finger.solve(load, opts)?,
+                Err(_) => solve(&finger, None).map_err(|e| (e, true))?,
             };
             refinements += 1;
         }
