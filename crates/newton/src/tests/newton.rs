@@ -487,14 +487,13 @@ fn deeper_chord_steps_end_deeper_at_no_extra_hessian() {
     }
 }
 
-/// Modified pivots from the indefinite start of the tilted wells: the same
-/// minimiser (the cubic's root), energy falling at every accepted step,
-/// with directions from the modified factorisation (no shift at all), in
-/// no more steps than the shifted path.
-#[test]
-fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
+/// Newton with `opts` (eager full steps off) from the indefinite start of
+/// the tilted wells, n = 12: it must converge to the minimiser (the
+/// cubic's root), with the energy falling at every accepted step, along
+/// some modified-Hessian steps; its report.
+fn solve_tilted_wells(opts: NewtonOptions) -> Report {
     let n = 12;
-    let start: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
+    let mut x: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
     let root = {
         let mut t = 1.2f64;
         for _ in 0..50 {
@@ -502,75 +501,65 @@ fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
         }
         t
     };
-    let mut steps = [0; 2];
-    for (k, modified) in [false, true].into_iter().enumerate() {
-        let mut p = DoubleWell {
-            n,
-            kappa: 0.1,
-            tilt: 0.5,
-            accepted: vec![],
-        };
-        let opts = NewtonOptions {
-            eager_full_steps: false,
-            modified_pivots: modified,
-            step_growth: modified,
-            extend_modified: modified,
-            ..NewtonOptions::default()
-        };
-        let mut x = start.clone();
-        let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut p), &mut x);
-        assert!(r.converged(), "{r}");
-        assert!(r.shifted_steps > 0, "{r:?}");
-        assert_eq!(r.max_shift == 0.0, modified, "{r:?}");
-        assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
-        for w in p.accepted.windows(2) {
-            assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
-        }
-        steps[k] = r.iterations;
+    let mut p = DoubleWell {
+        n,
+        kappa: 0.1,
+        tilt: 0.5,
+        accepted: vec![],
+    };
+    let opts = NewtonOptions {
+        eager_full_steps: false,
+        ..opts
+    };
+    let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut p), &mut x);
+    assert!(r.converged(), "{r}");
+    assert!(r.shifted_steps > 0, "{r:?}");
+    assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
+    for w in p.accepted.windows(2) {
+        assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
     }
-    assert!(steps[1] <= steps[0], "{steps:?}");
+    r
 }
 
-/// Shifted steps (no modified pivots) from the indefinite start of the
-/// tilted wells, with and without `extend_modified`: the same minimiser,
-/// the energy falling at every accepted step, doublings counted only with
-/// the option, and no more steps with it.
+/// Modified pivots on the tilted wells: directions from the modified
+/// factorisation (no shift at all), in no more steps than the shifted
+/// path.
+#[test]
+fn modified_pivots_reach_the_wells_minimum_without_a_shift() {
+    let shifted = solve_tilted_wells(NewtonOptions::default());
+    assert!(shifted.max_shift > 0.0, "{shifted:?}");
+    let modified = solve_tilted_wells(NewtonOptions {
+        modified_pivots: true,
+        step_growth: true,
+        extend_modified: true,
+        ..NewtonOptions::default()
+    });
+    assert_eq!(modified.max_shift, 0.0, "{modified:?}");
+    assert!(
+        modified.iterations <= shifted.iterations,
+        "{modified} / {shifted}"
+    );
+}
+
+/// Shifted steps (no modified pivots) on the tilted wells, with and
+/// without `extend_modified`: doublings counted only with the option, and
+/// fewer steps with it.
 #[test]
 fn extended_shifted_steps_reach_the_wells_minimum_in_fewer_steps() {
-    let n = 12;
-    let start: Vec<f64> = (0..n).map(|i| 0.1 * ((i as f64) * 0.7).sin()).collect();
-    let root = {
-        let mut t = 1.2f64;
-        for _ in 0..50 {
-            t -= (t * t * t - t - 0.5) / (3.0 * t * t - 1.0);
-        }
-        t
-    };
-    let mut steps = [0; 2];
-    for (k, extend) in [false, true].into_iter().enumerate() {
-        let mut p = DoubleWell {
-            n,
-            kappa: 0.1,
-            tilt: 0.5,
-            accepted: vec![],
-        };
-        let opts = NewtonOptions {
-            eager_full_steps: false,
-            extend_modified: extend,
-            ..NewtonOptions::default()
-        };
-        let mut x = start.clone();
-        let r = Newton::new(n, opts).minimize(&mut Dense::new(&mut p), &mut x);
-        assert!(r.converged(), "{r}");
-        assert!(r.shifted_steps > 0 && r.max_shift > 0.0, "{r:?}");
-        assert_eq!(r.extended_steps > 0, extend, "{r:?}");
-        assert!(max_abs_diff(&x, &vec![root; n]) < 1e-9);
-        for w in p.accepted.windows(2) {
-            assert!(w[1] <= w[0], "energy increased: {} -> {}", w[0], w[1]);
-        }
-        steps[k] = r.iterations;
+    let plain = solve_tilted_wells(NewtonOptions::default());
+    let extended = solve_tilted_wells(NewtonOptions {
+        extend_modified: true,
+        ..NewtonOptions::default()
+    });
+    for r in [&plain, &extended] {
+        assert!(r.max_shift > 0.0, "{r:?}");
     }
-    assert!(steps[1] < steps[0], "{steps:?}");
+    assert_eq!(plain.extended_steps, 0, "{plain:?}");
+    assert!(extended.extended_steps > 0, "{extended:?}");
+    assert!(
+        extended.iterations < plain.iterations,
+        "{extended} / {plain}"
+    );
 }
 
 /// A minimum far beyond the step cap: capped steps taken whole double the
