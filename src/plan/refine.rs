@@ -586,13 +586,16 @@ impl Auto {
     /// along a chain").
     pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
         match self.refine(load, opts, true) {
-            Err((_, true)) => self.refine(load, opts, false).map_err(|(e, _)| e),
+            // (a Ctrl-C is not taken again)
+            Err((e, true)) if !matches!(e, SolveError::Cancelled) => {
+                self.refine(load, opts, false).map_err(|(e, _)| e)
+            }
             r => r.map_err(|(e, _)| e),
         }
     }
 
     /// [`Auto::solve`] with a chain's shifted steps doubled or not; an
-    /// error says whether it came after a split.
+    /// error says whether it was a solve of a split partition.
     fn refine(
         &self,
         load: &Load,
@@ -639,7 +642,7 @@ impl Auto {
             }
             partition = partition.split(&split);
             finger = Finger::with_model(model, actuator, &partition, ribs);
-            let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), true))?;
+            let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), false))?;
             solution = match solve(&finger, Some(&guess)) {
                 Ok(s) => s,
                 Err(_) => solve(&finger, None).map_err(|e| (e, true))?,
