@@ -206,6 +206,28 @@ fn an_automatic_partition_that_fails_is_refined_again_as_before() {
     checked(10, 806);
 }
 
+/// Issue 23's bounds on the globalisation, kept: over the converged
+/// coupled solves of 1000 cases of seed 1 (every element count and the
+/// automatic partition), the coupled Newton steps (from the start and in
+/// load continuation) have a median of at most 8 and a 99th percentile of
+/// at most 30. At this writing they are 3 and 14 (docs/stress.md has the
+/// distribution over 21 seeds, where one seed's p99 reaches 31).
+#[test]
+fn coupled_solves_keep_issue_23s_step_bounds() {
+    let report = stress_with(
+        &StressConfig::new(1, 1000, Duration::from_secs(3600)),
+        |_, _| true,
+    );
+    assert_eq!(report.cases_run(), 1000, "the budget is not the limit");
+    assert_eq!(report.bugs(), 0);
+    let q = report
+        .step_quantiles(|s| s.coupled + s.continuation)
+        .expect("converged coupled solves");
+    assert!(q.n >= 500, "{q:?}");
+    assert!(q.median <= 8, "{q:?}");
+    assert!(q.p99 <= 30, "{q:?}");
+}
+
 #[test]
 fn generator_is_deterministic_for_a_seed() {
     for index in 0..50 {
