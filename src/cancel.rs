@@ -77,11 +77,47 @@ pub fn is_cancelled() -> bool {
 
 /// Fails with [`SolveError::Cancelled`] once this thread's flag is set.
 pub(crate) fn check() -> Result<(), SolveError> {
-    if is_cancelled() {
+    if is_cancelled() || counted_check() {
         Err(SolveError::Cancelled)
     } else {
         Ok(())
     }
+}
+
+#[cfg(test)]
+thread_local! {
+    /// Tests: the checks made on this thread under [`cancelled_from`], and
+    /// the count from which they fail.
+    static COUNTED: std::cell::Cell<Option<(usize, usize)>> = const { std::cell::Cell::new(None) };
+}
+
+/// Counts a check under [`cancelled_from`]; true where it fails.
+#[cfg(test)]
+fn counted_check() -> bool {
+    COUNTED.with(|c| {
+        c.get().is_some_and(|(made, from)| {
+            c.set(Some((made + 1, from)));
+            made + 1 >= from
+        })
+    })
+}
+
+#[cfg(not(test))]
+#[inline(always)]
+fn counted_check() -> bool {
+    false
+}
+
+/// Tests: runs `f` as if Ctrl-C came just before its `from`-th solve (its
+/// `from`-th check and every later one fail), and returns its result
+/// with the number of checks it made: a Ctrl-C at a chosen point, which
+/// a flag set from another thread cannot place.
+#[cfg(test)]
+pub(crate) fn cancelled_from<T>(from: usize, f: impl FnOnce() -> T) -> (T, usize) {
+    COUNTED.with(|c| c.set(Some((0, from))));
+    let out = f();
+    let made = COUNTED.with(|c| c.take()).map_or(0, |(made, _)| made);
+    (out, made)
 }
 
 #[cfg(test)]

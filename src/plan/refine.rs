@@ -657,6 +657,31 @@ mod tests {
     use super::*;
     use crate::finger::StepCounts;
 
+    /// A Ctrl-C during a split partition's solve ends the automatic
+    /// partition: it is not refined again from the start (the retry is for
+    /// a split partition that failed to solve).
+    #[test]
+    fn a_cancelled_split_is_not_refined_again() {
+        // 300 mm long, no ribs, eps0 = 0.4: the 37.5 mm pieces turn beyond
+        // the slope limit, so the unloaded finger is split
+        let long = "[actuator.geometry]\nlx = 300\n[actuator.channel]\ncx = 295\n[actuator.ribs]\nkind = \"none\"\n[actuator.pemc]\neps0 = 0.4\n";
+        let actuator = crate::Scene::from_toml(long).unwrap().actuator;
+        let auto = Auto::new(ModelId::default(), &actuator, false).unwrap();
+        let (load, opts) = (Load::unloaded(), SolveOptions::default());
+        let (solved, checks) =
+            crate::cancel::cancelled_from(usize::MAX, || auto.solve(&load, &opts));
+        let splits = solved.unwrap().splits;
+        assert!(splits > 0);
+        // one solve (one check) per partition
+        assert_eq!(checks, splits + 1);
+        // cancelled at the first split partition: its solve from the
+        // parent's state and the cold one after it fail, and nothing more
+        // is solved
+        let (solved, checks) = crate::cancel::cancelled_from(2, || auto.solve(&load, &opts));
+        assert_eq!(solved.err(), Some(SolveError::Cancelled));
+        assert_eq!(checks, 3);
+    }
+
     /// A tip tolerance keeps the levels its solves build: a second load
     /// builds none, and solves as a fresh plan does.
     #[test]
