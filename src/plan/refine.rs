@@ -664,8 +664,21 @@ mod tests {
     fn a_cancelled_split_is_not_refined_again() {
         // 300 mm long, no ribs, eps0 = 0.4: the 37.5 mm pieces turn beyond
         // the slope limit, so the unloaded finger is split
-        let long = "[actuator.geometry]\nlx = 300\n[actuator.channel]\ncx = 295\n[actuator.ribs]\nkind = \"none\"\n[actuator.pemc]\neps0 = 0.4\n";
-        let actuator = crate::Scene::from_toml(long).unwrap().actuator;
+        use crate::actuator::{ActuatorParams, Channel, Geometry, RibLayout};
+        let mut params = ActuatorParams {
+            geometry: Geometry {
+                lx: 300.0,
+                ..Geometry::default()
+            },
+            channel: Channel {
+                cx: 295.0,
+                ..Channel::default()
+            },
+            ribs: RibLayout::None,
+            ..ActuatorParams::default()
+        };
+        params.pemc.eps0 = 0.4;
+        let actuator = Actuator::new(params).unwrap();
         let auto = Auto::new(ModelId::default(), &actuator, false).unwrap();
         let (load, opts) = (Load::unloaded(), SolveOptions::default());
         let (solved, checks) =
