@@ -207,3 +207,43 @@ fn the_lane_scan_is_each_element_s_own() {
         }
     }
 }
+
+/// The end angle a solution reports (from the validity check after a
+/// solve, and from `element::tip_and_end_angle` after a tip-only level: one
+/// `atan2` of the chained rotation, on the branch of the approximate
+/// turns) is the sum of the elements' end slopes within rounding, on
+/// random solved fingers of all three models, some curled past half a
+/// turn; and the tip both report is the chain walk's, bit for bit.
+#[test]
+fn the_end_angle_is_the_sum_of_the_element_slopes() {
+    struct Angles<'a>(&'a [f64]);
+    impl CoreVisitor for Angles<'_> {
+        type Output = [f64; 3];
+        fn visit<M: ElementModel>(self, core: &FingerCore<M>) -> [f64; 3] {
+            let (els, k) = (&core.elements, self.0);
+            let sum = (0..els.len())
+                .map(|i| els[i].end(&element::coeffs::<M>(k, i))[2])
+                .sum();
+            let (_, tip, checked) = crate::validity::check(els, &core.laminate(), k, 4);
+            let (walked_tip, walked) = element::tip_and_end_angle(els, k);
+            // the tip, bit for bit that of the chain's walk
+            let at = element::walk(els, |i| element::coeffs::<M>(k, i), |_, _, _, _| {});
+            assert_eq!(tip.map(f64::to_bits), at.map(f64::to_bits));
+            assert_eq!(walked_tip.map(f64::to_bits), at.map(f64::to_bits));
+            [sum, walked, checked]
+        }
+    }
+    let mut past_half = 0;
+    for (case, (finger, k, _, _)) in random_states(120).iter().enumerate() {
+        let [sum, walked, checked] = finger.visit_core(Angles(k));
+        for got in [walked, checked] {
+            let off = (got - sum).abs();
+            assert!(
+                off <= 1e-13 * sum.abs().max(1.0),
+                "case {case}: {got} vs {sum}"
+            );
+        }
+        past_half += usize::from(sum.abs() > std::f64::consts::PI);
+    }
+    assert!(past_half >= 5, "{past_half}");
+}

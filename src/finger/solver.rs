@@ -159,10 +159,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let f = self.finger;
         let coefficients = self.coefficients();
         let k = coefficients.as_slice();
-        let tip = f.tip_position(k);
-        let end_angle: f64 = (0..f.len())
-            .map(|i| f.elements[i].end(&FingerCore::<M>::element_coeffs(k, i))[2])
-            .sum();
+        let (tip, end_angle) = crate::element::tip_and_end_angle(&f.elements, k);
         if !(tip.iter().all(|v| v.is_finite()) && end_angle.is_finite()) {
             return Err(SolveError::NotConverged {
                 reason: Termination::NonFinite,
@@ -536,8 +533,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     ) -> Result<Solution, SolveError> {
         let f = self.finger;
         let k = self.coefficients();
-        let tip = f.tip_position(k.as_slice());
-        let (found, end_angle) =
+        let (found, tip, end_angle) =
             crate::validity::check(&f.elements, &f.laminate(), k.as_slice(), VALIDITY_SAMPLES);
         // a coupled Newton solve already knows Pi at its final point
         let energy = self

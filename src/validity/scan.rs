@@ -2,7 +2,7 @@
 //! elements side by side in vector lanes ([`scan`]).
 
 use super::clearance::{greater, lesser};
-use crate::element::{self, Element};
+use crate::element::{self, approx_atan2, Element};
 use crate::model::Kinematics;
 
 /// Elements scanned side by side by [`scan`] (a vector register's worth of
@@ -24,6 +24,10 @@ pub(super) struct Extremes {
     pub(super) mid: f64,
     /// The range of `eps0 +` the strain at the prestressed layer's faces.
     pub(super) pre: (f64, f64),
+    /// The element's end frame ([`Element::frame`]) and the approximate
+    /// angle of its end tangent ([`approx_atan2`]).
+    pub(super) frame: [f64; 4],
+    pub(super) turn: f64,
 }
 
 /// What [`scan`] checks: `samples + 1` check points per element, the
@@ -115,7 +119,20 @@ fn scan_in<M: Kinematics>(
             }
         }
     }
+    // the end frames, then their turns over plain lane arrays (so that
+    // the polynomial runs in vector lanes)
+    let frame: [[f64; 4]; SCAN_LANES] = std::array::from_fn(|l| elements[at(l)].frame(&ks[l]));
+    let (c, s): ([f64; SCAN_LANES], [f64; SCAN_LANES]) = (
+        std::array::from_fn(|l| frame[l][2]),
+        std::array::from_fn(|l| frame[l][3]),
+    );
+    let mut turn = [0.0; SCAN_LANES];
+    for l in 0..SCAN_LANES {
+        turn[l] = approx_atan2(s[l], c[l]);
+    }
     std::array::from_fn(|l| Extremes {
+        frame: frame[l],
+        turn: turn[l],
         steep: steep[l],
         forward: forward[l],
         r: (rlo[l], rhi[l]),
