@@ -16,7 +16,8 @@
 
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use crate::element::{self, approx_slack, Element, Walk};
+use crate::element::walk::{approx_slack, Walk};
+use crate::element::{self, Element};
 use crate::error::{StripDimension, Warning};
 use crate::model::Kinematics;
 
@@ -92,7 +93,7 @@ pub(crate) fn thickness(h: f64, lx: f64, ly: f64) -> Vec<Warning> {
 /// element at `samples` points (`x = L/samples .. L`, and the root), with
 /// the tip and the end tangent's angle (rad, the sum of the elements'
 /// turns, from one `atan2`: [`Walk::end_angle`]), which the check walks
-/// to anyway: the tip the same bits as [`element::walk`]'s.
+/// to anyway: the tip the same bits as [`element::walk::walk`]'s.
 ///
 /// Cheap on purpose (it runs after every solve): the slope test compares
 /// the tangent's components (an angle is computed only for an element that
@@ -368,7 +369,7 @@ pub(crate) fn scan_matches_elements<M: Kinematics>(
                     frame: e.frame(&ki),
                     turn: {
                         let [_, _, c, s] = e.frame(&ki);
-                        element::approx_atan2(s, c)
+                        element::walk::approx_atan2(s, c)
                     },
                 };
                 bits(got) == bits(&want)

@@ -23,7 +23,7 @@
 
 use fpc_newton::{Semiseparable, GROUP};
 
-use crate::element::{Group, HessianGroups};
+use crate::element::packed::{Group, HessianGroups};
 use crate::lanes::{Lane, Lanes, OnLines, Width};
 use crate::model::{upper_index, ElementModel, Vector};
 

@@ -21,7 +21,8 @@ use fpc_newton::{
 };
 
 use crate::coefficients::Coefficients;
-use crate::element::{self, HessianGroups};
+use crate::element;
+use crate::element::packed::HessianGroups;
 use crate::model::{ElementModel, EnergyScalars, Vector};
 
 use super::assembly::{self, LoadTerms, Terms, Work};
@@ -241,7 +242,7 @@ impl<'a, M: ElementModel> Chain<'a, M> {
     fn chain_geometry(&mut self) {
         let b = &mut self.b;
         let (k, rot, q) = (&b.k, &mut b.rot, &mut b.q);
-        let p = element::walk(
+        let p = element::walk::walk(
             &self.finger.elements,
             |i| k[i],
             |i, _, r, end| {
@@ -264,15 +265,19 @@ impl<M: ElementModel> Energy for Chain<'_, M> {
     fn energy(&mut self, y: &[f64]) -> f64 {
         self.unscale_into(y);
         let core = self.finger;
-        core.lanes
-            .eval::<element::Value>(&core.elements, &self.b.k, &self.scalars, &mut self.b.ev);
+        core.lanes.eval::<element::packed::Value>(
+            &core.elements,
+            &self.b.k,
+            &self.scalars,
+            &mut self.b.ev,
+        );
         let mut v = 0.0;
         for vi in &self.b.ev {
             v += vi;
         }
         if self.loaded() {
             let k = &self.b.k;
-            let p = element::walk(&self.finger.elements, |i| k[i], |_, _, _, _| {});
+            let p = element::walk::walk(&self.finger.elements, |i| k[i], |_, _, _, _| {});
             v -= self.f[0] * p[0] + self.f[1] * p[1];
         }
         v
@@ -286,7 +291,7 @@ impl<M: ElementModel> Gradient for Chain<'_, M> {
         let loaded = self.loaded();
         let mut v = 0.0;
         let core = self.finger;
-        core.lanes.eval::<element::Gradient>(
+        core.lanes.eval::<element::packed::Gradient>(
             &core.elements,
             &self.b.k,
             &self.scalars,

@@ -58,7 +58,7 @@ fn the_clearance_bounds_hold_the_sampled_midplane() {
                 "segment {longest} > bound {chord}"
             );
             let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
-            let frames = element::frames(els, k);
+            let frames = element::walk::frames(els, k);
             let mut next = 0;
             // the pieces follow one another along the whole finger
             let mut at = (0, 0.0);
@@ -209,7 +209,7 @@ fn the_lane_scan_is_each_element_s_own() {
 }
 
 /// The end angle a solution reports (from the validity check after a
-/// solve, and from `element::tip_and_end_angle` after a tip-only level: one
+/// solve, and from `element::walk::tip_and_end_angle` after a tip-only level: one
 /// `atan2` of the chained rotation, on the branch of the approximate
 /// turns) is the sum of the elements' end slopes within rounding, on
 /// random solved fingers of all three models, some curled past half a
@@ -225,9 +225,9 @@ fn the_end_angle_is_the_sum_of_the_element_slopes() {
                 .map(|i| els[i].end(&element::coeffs::<M>(k, i))[2])
                 .sum();
             let (_, tip, checked) = crate::validity::check(els, &core.laminate(), k, 4);
-            let (walked_tip, walked) = element::tip_and_end_angle(els, k);
+            let (walked_tip, walked) = element::walk::tip_and_end_angle(els, k);
             // the tip, bit for bit that of the chain's walk
-            let at = element::walk(els, |i| element::coeffs::<M>(k, i), |_, _, _, _| {});
+            let at = element::walk::walk(els, |i| element::coeffs::<M>(k, i), |_, _, _, _| {});
             assert_eq!(tip.map(f64::to_bits), at.map(f64::to_bits));
             assert_eq!(walked_tip.map(f64::to_bits), at.map(f64::to_bits));
             [sum, walked, checked]

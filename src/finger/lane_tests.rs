@@ -3,7 +3,8 @@
 //! the scalar kernels, bit for bit, on the elements of real fingers.
 
 use super::FingerCore;
-use crate::element::{self, Element, ElementLanes, HessianGroups};
+use crate::element::packed::{ElementLanes, HessianGroups};
+use crate::element::{self, Element};
 use crate::lanes::{Lanes, Width};
 use crate::model::{ElementModel, EnergyScalars, Vector};
 use crate::{Actuator, ActuatorParams, Partition};
@@ -65,8 +66,8 @@ fn lanes_are_the_scalar_kernels<M: ElementModel>() {
                 {
                     *x = Lanes([f64::NAN; 8]);
                 }
-                lanes.eval::<element::Value>(&els, &k, &s, &mut ev);
-                lanes.eval::<element::Gradient>(&els, &k, &s, &mut eg);
+                lanes.eval::<element::packed::Value>(&els, &k, &s, &mut ev);
+                lanes.eval::<element::packed::Gradient>(&els, &k, &s, &mut eg);
                 lanes.hessian_groups(&els, &k, &s, &mut hg);
                 let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
                 for (i, (e, k)) in els.iter().zip(&k).enumerate() {

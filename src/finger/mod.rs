@@ -53,7 +53,7 @@ use std::sync::Arc;
 
 use crate::actuator::Actuator;
 use crate::coefficients::Coefficients;
-use crate::element::ElementLanes;
+use crate::element::packed::ElementLanes;
 use crate::error::{InputError, Warning};
 use crate::lanes::Width;
 use crate::model::{ElementModel, ModelId, ModelVisitor};

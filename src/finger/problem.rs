@@ -8,7 +8,8 @@
 
 use crate::actuator::element_blocks;
 use crate::actuator::Actuator;
-use crate::element::{self, distinct_elements, Element, ElementLanes, Group};
+use crate::element::packed::{ElementLanes, Group};
+use crate::element::{self, distinct_elements, Element};
 use crate::error::Warning;
 use crate::lanes::{OnLines, Width};
 use crate::model::{upper_index, ElementModel, ModelId, Vector};
@@ -30,7 +31,7 @@ pub(crate) struct FingerCore<M: ElementModel> {
     /// Raw value of one scaled unit, per element.
     pub unscale: Vec<M::Coeffs>,
     pub lengths: Vec<f64>,
-    /// `unscale` and `lengths` in groups of elements ([`element::pack`]),
+    /// `unscale` and `lengths` in groups of elements ([`element::packed::pack`]),
     /// as the chain's assembly reads them.
     pub unscale_groups: OnLines<Group>,
     pub length_groups: OnLines<Group>,
@@ -64,8 +65,8 @@ impl<M: ElementModel> FingerCore<M> {
             }
         }
         let count = elements.len();
-        let unscale_groups = element::pack(count, n, |i| unscale[i].as_ref());
-        let length_groups = element::pack(count, 1, |i| std::slice::from_ref(&lengths[i]));
+        let unscale_groups = element::packed::pack(count, n, |i| unscale[i].as_ref());
+        let length_groups = element::packed::pack(count, 1, |i| std::slice::from_ref(&lengths[i]));
         FingerCore {
             lanes: ElementLanes::new(&elements, Width::detect()),
             elements,
@@ -104,7 +105,7 @@ impl<M: ElementModel> FingerCore<M> {
     /// Tip position at raw coefficients, chaining element frames by
     /// rotation (no trigonometric calls).
     pub fn tip_position(&self, k: &[f64]) -> [f64; 2] {
-        crate::element::walk(
+        crate::element::walk::walk(
             &self.elements,
             |i| Self::element_coeffs(k, i),
             |_, _, _, _| {},
@@ -130,7 +131,7 @@ impl<M: ElementModel> FingerCore<M> {
     /// Element `i`'s frame at the root: its position and (cos, sin) of
     /// its angle, for every element, from raw coefficients.
     pub fn frames(&self, k: &[f64]) -> Vec<([f64; 2], [f64; 2])> {
-        crate::element::frames(&self.elements, k)
+        crate::element::walk::frames(&self.elements, k)
     }
 
     /// Mid-plane samples from the root (included) to the tip.

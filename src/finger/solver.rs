@@ -159,7 +159,7 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
         let f = self.finger;
         let coefficients = self.coefficients();
         let k = coefficients.as_slice();
-        let (tip, end_angle) = crate::element::tip_and_end_angle(&f.elements, k);
+        let (tip, end_angle) = crate::element::walk::tip_and_end_angle(&f.elements, k);
         if !(tip.iter().all(|v| v.is_finite()) && end_angle.is_finite()) {
             return Err(SolveError::NotConverged {
                 reason: Termination::NonFinite,

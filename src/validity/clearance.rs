@@ -135,7 +135,7 @@ impl Piece {
 }
 
 /// True when the self-contact search over the mid-plane of state `k` (raw
-/// coefficients; `frames` its elements' root frames, [`element::frames`]),
+/// coefficients; `frames` its elements' root frames, [`element::walk::frames`]),
 /// sampled `first[i]` or more times in element `i`, cannot find two
 /// segments at least `pi h / 2` apart along it and closer than `h`;
 /// `turning` is the tangent turning under which no such pair exists

@@ -49,7 +49,7 @@ pub(super) fn self_contact<M: Kinematics>(
     stretch: &[f64],
 ) -> Option<Warning> {
     let (first, spacing) = sample_counts(elements, stretch, CONTACT_SPACING * h);
-    let frames = element::frames(elements, k);
+    let frames = element::walk::frames(elements, k);
     if clearance::clear(elements, k, &frames, &first, h, contact_turning()) {
         return None;
     }
@@ -124,7 +124,7 @@ fn sample_counts<M: Kinematics>(
 /// Mid-plane samples from the root, `first[i]` in element `i` or, where a
 /// chord comes out longer than `spacing`, twice or four times as many
 /// (within the sample budget), and the index of each element's last
-/// sample; `frames` are the elements' root frames ([`element::frames`]).
+/// sample; `frames` are the elements' root frames ([`element::walk::frames`]).
 fn contact_samples<M: Kinematics>(
     elements: &[Element<M>],
     k: &[f64],
@@ -340,7 +340,7 @@ pub(crate) fn proof_and_search<M: Kinematics>(
     h: f64,
 ) -> (bool, Option<f64>) {
     let (first, spacing) = sample_counts(elements, stretch, CONTACT_SPACING * h);
-    let frames = element::frames(elements, k);
+    let frames = element::walk::frames(elements, k);
     let cleared = clearance::clear(elements, k, &frames, &first, h, contact_turning());
     let found = match search(elements, h, k, &frames, &first, spacing) {
         Some(Warning::SelfContact { distance, .. }) => Some(distance),
@@ -373,7 +373,7 @@ pub(crate) fn proof_pieces<M: Kinematics>(
 )> {
     let stretch = vec![1.0; elements.len()];
     let (first, spacing) = sample_counts(elements, &stretch, CONTACT_SPACING * h);
-    let frames = element::frames(elements, k);
+    let frames = element::walk::frames(elements, k);
     let (pieces, chord) = clearance::pieces(elements, k, &frames, &first)?;
     let (pts, _) = contact_samples(elements, k, &frames, &first, spacing);
     let longest = pts.windows(2).map(|w| dist(w[0], w[1])).fold(0.0, f64::max);

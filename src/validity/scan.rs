@@ -2,7 +2,8 @@
 //! elements side by side in vector lanes ([`scan`]).
 
 use super::clearance::{greater, lesser};
-use crate::element::{self, approx_atan2, Element};
+use crate::element::walk::approx_atan2;
+use crate::element::{self, Element};
 use crate::model::Kinematics;
 
 /// Elements scanned side by side by [`scan`] (a vector register's worth of
