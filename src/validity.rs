@@ -339,6 +339,7 @@ pub(crate) fn scan_matches_elements<M: Kinematics>(
             .enumerate()
             .all(|(l, (e, got))| {
                 let ki = element::coeffs::<M>(k, first + l);
+                let frame = e.frame(&ki);
                 let xs = (0..=samples).map(|j| e.length() * j as f64 / samples as f64);
                 let t: Vec<[f64; 2]> = xs.clone().map(|x| M::tangent(&ki, x)).collect();
                 let ahead: Vec<f64> = t
@@ -366,11 +367,8 @@ pub(crate) fn scan_matches_elements<M: Kinematics>(
                     stretch: max(&mut t.iter().map(|t| t[0] * t[0] + t[1] * t[1])),
                     mid: max(&mut strains(0.0).map(f64::abs)),
                     pre: (min(&mut pre.iter().copied()), max(&mut pre.iter().copied())),
-                    frame: e.frame(&ki),
-                    turn: {
-                        let [_, _, c, s] = e.frame(&ki);
-                        element::walk::approx_atan2(s, c)
-                    },
+                    frame,
+                    turn: element::walk::approx_atan2(frame[3], frame[2]),
                 };
                 bits(got) == bits(&want)
             })
