@@ -243,3 +243,50 @@ fn a_rest_start_is_taken_as_the_cold_solve_takes_its_own() {
         near.report.steps
     );
 }
+
+/// A looser tolerance costs no more steps from the rest state. The
+/// straightened cold solve's chord steps go on to 1 % of the tolerance;
+/// after a landing whose Hessian is at hand they start only where two
+/// more at the last rate reach that depth. Before that rule the tip-loaded
+/// finger on the material partition (27 elements) took six coupled steps
+/// at a relative residual of 1e-9, the tolerance of a refinement's first
+/// level, four of them chord steps at a rate of about 1e-2, against four
+/// at 1e-11; N = 8 took five at 1e-8 against four.
+#[test]
+fn a_looser_tolerance_takes_no_more_steps_from_rest() {
+    let act = Actuator::paper(0.25).unwrap();
+    let material = Partition::material(&act, true, act.geometry().lx / 8.0).unwrap();
+    assert_eq!(material.len(), 27);
+    let load = Load::unloaded().with_tip_force(FX, FZ);
+    for f in [
+        Finger::new(&act, &material, true),
+        Finger::paper(0.25, 8).unwrap(),
+    ] {
+        let opts = |rtol: f64| SolveOptions {
+            rtol,
+            ..SolveOptions::default().tip_only()
+        };
+        let rest = f.solve(&Load::unloaded(), &opts(1e-11)).unwrap();
+        let steps = |rtol: f64| {
+            let s = f
+                .solve_from_rest(&load, &rest.coefficients, &opts(rtol))
+                .unwrap();
+            assert!(
+                s.report.residual_norm <= rtol,
+                "N = {}: {}",
+                f.len(),
+                s.report.steps
+            );
+            s.report.steps
+        };
+        let tight = steps(1e-11);
+        for rtol in [1e-8, 1e-9, 1e-10] {
+            let loose = steps(rtol);
+            assert!(
+                loose.coupled <= tight.coupled && loose.chord <= tight.chord,
+                "N = {}, rtol {rtol:e}: {loose} against {tight} at 1e-11",
+                f.len()
+            );
+        }
+    }
+}

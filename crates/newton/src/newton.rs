@@ -138,7 +138,10 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// serves if they take no step. Rejected, its value starts the line
 /// search. So the iterates are those of a problem that does not stage,
 /// wherever its energy, gradient and Hessian evaluations give the same
-/// value at a point; only the evaluations differ.
+/// value at a point; only the evaluations differ. (With a
+/// [`NewtonOptions::chord_depth`] below 1 the first chord step after a
+/// staged landing has one more condition, below, which a problem that
+/// does not stage is not held to.)
 ///
 /// Chord steps ([`NewtonOptions::chord_steps`], on by default): in the
 /// quadratic phase, when the quadratic model predicts that the full step
@@ -153,7 +156,12 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// four in all), and the Hessian is evaluated at the last accepted point
 /// only if they stop short of convergence; with
 /// [`NewtonOptions::chord_depth`] below 1 they go on, while each still
-/// cuts the gradient tenfold, until it is that fraction of `gtol`. A chord step is accepted by
+/// cuts the gradient tenfold, until it is that fraction of `gtol`. After
+/// a landing whose Hessian is staged, the first chord step also needs two
+/// more steps at the last cut's rate to reach that depth, not only `gtol`
+/// (else the Newton step with the staged Hessian is taken: it costs a
+/// factorisation, where slow chord steps to the depth cost more; with a
+/// depth of 1 nothing changes). A chord step is accepted by
 /// Armijo or by the round-off rule below, and only if it reduces the
 /// gradient norm.
 ///
@@ -568,7 +576,7 @@ impl Newton {
     ) -> Option<(f64, f64, f64)> {
         let gnorm = norm_inf(&self.g);
         let taken = rep.chord_steps;
-        let (f, gnorm, prev) = self.chord(p, x, f, gnorm, prev, rep);
+        let (f, gnorm, prev) = self.chord(p, x, (f, gnorm, prev), staged, rep);
         if gnorm <= self.opts.gtol || (staged && rep.chord_steps == taken) {
             return Some((f, gnorm, prev));
         }
@@ -583,27 +591,37 @@ impl Newton {
         Some((fh, norm_inf(&self.g), prev))
     }
 
-    /// Chord steps from `x` (gradient `self.g`, norm `gnorm`, the norm
-    /// before the last step `prev`) with the last factorisation, while each
+    /// Chord steps from `x` (value `f`, gradient `self.g` of norm `gnorm`,
+    /// the norm before the last step `prev`) with the last factorisation, while each
     /// cuts the gradient norm by [`CHORD_RATIO`] (type-level docs). Leaves
     /// the last accepted point in `x` and `self.g`; returns its value,
     /// gradient norm and the norm before it.
+    ///
+    /// Where `x`'s Hessian is `staged` already, the first chord step is
+    /// taken only if the rate of the last cut reaches the depth the chord
+    /// steps go on to ([`NewtonOptions::chord_depth`] times `gtol`) within
+    /// [`CHORD_STEPS_AHEAD`] steps, not merely `gtol`: the Newton step with
+    /// that Hessian costs a factorisation more than a chord step, and
+    /// slow chord steps to the depth cost more than that (fpc's cold
+    /// 27-element finger solve at a relative residual of 1e-9 took four
+    /// chord steps at a rate of about 1e-2 where at 1e-11 it took the
+    /// Newton step and one chord step, and ended less accurate).
     fn chord<P: Hessian + ?Sized>(
         &mut self,
         p: &mut P,
         x: &mut [f64],
-        mut f: f64,
-        mut gnorm: f64,
-        mut prev: f64,
+        (mut f, mut gnorm, mut prev): (f64, f64, f64),
+        staged: bool,
         rep: &mut Report,
     ) -> (f64, f64, f64) {
         let o = self.opts;
         let depth = o.chord_depth * o.gtol;
-        for _ in 0..MAX_CHORD_STEPS {
+        for k in 0..MAX_CHORD_STEPS {
             let r = gnorm / prev;
+            let target = if staged && k == 0 { depth } else { o.gtol };
             if gnorm <= depth
                 || r > CHORD_RATIO
-                || !reaches(gnorm, r, o.gtol, CHORD_STEPS_AHEAD)
+                || !reaches(gnorm, r, target, CHORD_STEPS_AHEAD)
                 || rep.iterations >= o.max_iter
             {
                 break;

@@ -280,6 +280,12 @@ struct ToTolerance {
     /// Its time over the N = 8 `loaded_cold` solve's, the two timed
     /// alternately ([`paired_ratio`]).
     ratio_to_n8_cold: f64,
+    /// The coarsest level alone (its elements, from its rest state, to the
+    /// relative residual an intermediate level is solved to) over the
+    /// N = 8 `loaded_cold` solve, timed alternately: the floor of any
+    /// configuration that estimates its error from this level and a finer
+    /// one (docs/performance.md, "Where things stand").
+    coarsest_level_ratio_to_n8_cold: f64,
 }
 
 /// The N -> infinity reference of the standard tip-loaded case: the
@@ -334,6 +340,18 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
         || Ok(n8_solver.solve_from_rest(&tip_load(), &n8_unloaded.coefficients, &opts)?),
         || Ok(refiner.solve_from(&tip_load(), &unloaded.coefficients, &opts)?),
     )?;
+    // the floor: the first level alone, as the refinement solves it
+    let coarse_opts = SolveOptions {
+        rtol: opts.rtol.max(fpc::plan::INTERMEDIATE_RTOL),
+        ..opts
+    };
+    let coarsest = &refiner.fingers()[0];
+    let mut coarse_solver = Solver::new(coarsest);
+    let coarsest_level_ratio_to_n8_cold = paired_ratio(
+        budget,
+        || Ok(n8_solver.solve_from_rest(&tip_load(), &n8_unloaded.coefficients, &opts)?),
+        || Ok(coarse_solver.solve_from_rest(&tip_load(), &unloaded.coefficients, &coarse_opts)?),
+    )?;
     let reference = reference(&act)?;
     let (tip, reference_tip) = (r.tip(), reference.tip());
     let error_mm = (tip[0] - reference_tip[0]).hypot(tip[1] - reference_tip[1]);
@@ -355,6 +373,7 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
         reference_tip_mm: reference_tip,
         reference_uncertainty_mm: reference.estimated_tip_error_mm(),
         ratio_to_n8_cold,
+        coarsest_level_ratio_to_n8_cold,
     })
 }
 
@@ -578,6 +597,12 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         to.reference_tip_mm[1],
         to.reference_uncertainty_mm.unwrap_or(f64::NAN),
         to.estimated_error_mm.unwrap_or(f64::NAN)
+    )?;
+    writeln!(
+        out,
+        "  its first level alone ({} elements): {:.2} x the N = 8 cold solve (timed alternately with it)",
+        to.levels.first().copied().unwrap_or(0),
+        to.coarsest_level_ratio_to_n8_cold
     )?;
     if let Some(p) = &peer {
         writeln!(
