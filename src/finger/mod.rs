@@ -270,7 +270,8 @@ impl Finger {
         Ok(with_core!(self, c => c.energy(load, k)))
     }
 
-    /// Tip position and end angle at raw coefficients.
+    /// Tip position and end angle at raw coefficients, as a solution
+    /// reports them (the chain walked once, one `atan2` for the angle).
     pub fn tip(&self, k: &Coefficients) -> Result<([f64; 2], f64), InputError> {
         self.check(k)?;
         Ok(with_core!(self, c => c.tip(k)))

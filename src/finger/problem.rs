@@ -213,10 +213,7 @@ impl<M: ElementModel> FingerCore<M> {
     }
 
     pub fn tip(&self, k: &Coefficients) -> ([f64; 2], f64) {
-        let angle = (0..self.len())
-            .map(|i| self.elements[i].end(&Self::element_coeffs(k.as_slice(), i))[2])
-            .sum();
-        (self.tip_position(k.as_slice()), angle)
+        element::walk::tip_and_end_angle(&self.elements, k.as_slice())
     }
 
     pub fn shape(&self, k: &Coefficients, per_element: usize) -> Vec<[f64; 2]> {
