@@ -4,7 +4,7 @@
 //! the refined plans keep the values the separate entry points gave
 //! before the front door replaced them (recorded from that code).
 
-use fpc::plan::{PartitionKind, MAX_AUTO_ELEMENTS};
+use fpc::plan::{PartitionKind, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS};
 use fpc::{
     Actuator, Coefficients, Finger, Load, ModelId, Partition, Plan, PlannedFinger, SolveOptions,
     Solved, Warning,
@@ -150,7 +150,7 @@ fn auto_here(act: &Actuator, load: &Load, opts: &SolveOptions) -> (fpc::Solution
             })
             .collect();
         let extra = split.iter().filter(|&&s| s).count();
-        if extra == 0 || part.len() + extra > MAX_AUTO_ELEMENTS {
+        if extra == 0 || part.len() + extra > MAX_AUTO_ELEMENTS || splits == MAX_AUTO_SPLITS {
             return (sol, part.len(), splits);
         }
         let per = sol.coefficients.per_element();

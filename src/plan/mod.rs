@@ -36,7 +36,7 @@ use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
 use refine::{Auto, Refiner, TipTolerance};
-pub use refine::{INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS};
+pub use refine::{INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS};
 pub use refinement::{
     Extrapolation, Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS,
 };
@@ -56,7 +56,9 @@ pub enum Plan {
     /// ([`Partition::material`], pieces at most `lx / 8`), then every
     /// element that turns beyond the CCM's small-slope limit at the solved
     /// state split in two and the finger solved again, up to
-    /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements.
+    /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements and
+    /// [`crate::plan::MAX_AUTO_SPLITS`] rounds of splits (a finger still
+    /// beyond the limit then carries its `element_slope` findings).
     Auto,
     /// Refined until the estimated tip error is at most `tip_tol_mm`:
     /// equal elements doubled from `start` (in [1,

@@ -540,6 +540,14 @@ impl TipTolerance {
 /// Largest number of elements the automatic partition uses.
 pub const MAX_AUTO_ELEMENTS: usize = 1000;
 
+/// Most rounds of splits the automatic partition takes. Where each round
+/// splits only an element or two, the finger ends beyond the slope limit
+/// either way; the bound keeps such a solve at tens of milliseconds where
+/// a climb to [`MAX_AUTO_ELEMENTS`] one element at a time took up to
+/// 77 s (docs/stress.md, "Shifts on badly scaled chains"). The stress
+/// set's converged automatic partitions took at most 42 rounds before.
+pub const MAX_AUTO_SPLITS: usize = 64;
+
 /// The automatic partition's start, built: the implementation of
 /// [`crate::Plan::Auto`].
 #[derive(Debug, Clone)]
@@ -576,7 +584,8 @@ impl Auto {
     /// turns beyond the CCM's small-slope limit at the solved state, that
     /// element is split in two and the finger solved again from the
     /// previous state. Stops with the remaining findings on the solution
-    /// when [`MAX_AUTO_ELEMENTS`] would be exceeded.
+    /// when [`MAX_AUTO_ELEMENTS`] would be exceeded or after
+    /// [`MAX_AUTO_SPLITS`] rounds of splits.
     ///
     /// Where a split partition fails, the whole refinement is taken again
     /// with a chain's shifted steps as the shift gives them (not doubled):
@@ -622,7 +631,10 @@ impl Auto {
                 }
             }
             let extra = split.iter().filter(|&&s| s).count();
-            if extra == 0 || partition.len() + extra > MAX_AUTO_ELEMENTS {
+            if extra == 0
+                || partition.len() + extra > MAX_AUTO_ELEMENTS
+                || refinements == MAX_AUTO_SPLITS
+            {
                 return Ok(Solved {
                     solution,
                     finger,

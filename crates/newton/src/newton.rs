@@ -8,8 +8,17 @@ use crate::semiseparable::PivotKind;
 
 /// Number of shifted factorisations tried before giving up with
 /// [`Termination::Singular`]. Shifts double per try from at least
-/// `1e-3 * scale`, so 64 tries reach beyond `1e16 * scale`.
+/// `1e-12 * scale` ([`SHIFT_FLOOR`]), so 64 tries reach beyond
+/// `9e6 * scale`.
 const MAX_SHIFT_TRIES: usize = 64;
+
+/// The first shift of an indefinite Hessian, relative to its largest
+/// diagonal entry, where the step cap does not lower it (type-level docs).
+const SHIFT_BASE: f64 = 1e-3;
+
+/// The least first shift, relative to the largest diagonal entry: far
+/// above the rounding of the diagonal.
+const SHIFT_FLOOR: f64 = 1e-12;
 
 /// Energy differences below `ROUNDOFF_FACTOR * eps * |f|` are treated as
 /// round-off (see [`Newton::minimize`]).
@@ -92,13 +101,21 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// At the current iterate the full Hessian `H` is evaluated. The direction
 /// solves `(H + tau I) p = -g` with a Cholesky factorisation; `tau = 0` is
 /// tried first, and on failure (not positive definite, or `p` not a descent
-/// direction) `tau` starts at `1e-3 * s - min(0, min_i H_ii)` (with `s =
-/// max_i |H_ii|`, or 1 if that is 0), or at half the previous
-/// iteration's shift if that is larger, and is doubled until the
+/// direction) `tau` starts at `b - min(0, min_i H_ii)`, or at half the
+/// previous iteration's shift if that is larger, and is doubled until the
 /// factorisation succeeds (the problem's [`LinearSystem::factor`](crate::LinearSystem::factor)
 /// with Cholesky pivots). Thus indefinite Hessians still give descent
 /// directions, and near a non-degenerate minimum pure Newton steps (and
-/// quadratic convergence) are recovered.
+/// quadratic convergence) are recovered. The base shift is `b = 1e-3 s`
+/// (with `s = max_i |H_ii|`, or 1 if that is 0), lowered under a finite
+/// step cap to `|g|_inf / cap` (not below `1e-12 s`): a shift of
+/// `1e-3 s` on a Hessian whose diagonal spans many orders of magnitude
+/// makes steps `|g| / tau` far shorter than the cap along its soft
+/// directions, and Newton crawls there (fpc's thick stacks under large tip
+/// loads stalled just above the tolerance for 60 iterations, taking steps
+/// of 3e-8 where the cap was 0.25); from the lower shift the doubling
+/// finds about the least shift that factorises, whose step the cap and
+/// the line search keep in hand.
 ///
 /// With [`NewtonOptions::modified_pivots`], a Hessian that is not positive
 /// definite is first factorised with [`PivotKind::Modified`] (its negative
@@ -674,11 +691,18 @@ impl Newton {
         // First nonzero shift: enough to make the diagonal positive, and
         // not far below the shift the previous iteration needed (read only
         // once the unshifted factorisation has failed: factorising leaves
-        // the matrix as it was, so the diagonal is the same then).
-        let first = |problem: &P| {
+        // the matrix as it was, so the diagonal is the same then). Under a
+        // finite cap, no larger than a shift whose gradient step is about
+        // the cap long (type-level docs).
+        let first = |problem: &P, g: &[f64], cap: f64| {
             let (dmin, dmax) = problem.diagonal_range();
             let scale = if dmax > 0.0 { dmax } else { 1.0 };
-            let beta = 1e-3 * scale;
+            let reach = if cap.is_finite() {
+                norm_inf(g) / cap
+            } else {
+                f64::INFINITY
+            };
+            let beta = (SHIFT_BASE * scale).min(reach.max(SHIFT_FLOOR * scale));
             (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau)
         };
         let mut tau = 0.0;
@@ -712,7 +736,7 @@ impl Newton {
                 }
             }
             tau = if tau == 0.0 {
-                first(problem)
+                first(problem, &self.g, self.cap)
             } else {
                 2.0 * tau
             };

@@ -658,3 +658,59 @@ fn a_backtracked_step_takes_most_of_the_decrease_along_its_direction() {
         );
     }
 }
+
+/// `s x^2 / 2 + y^4 / 4 - y^2 / 2`: a stiff unknown beside a soft double
+/// well (minima at x = 0, y = +-1), so that the Hessian's diagonal spans
+/// `s` to about 1 and is indefinite near y = 0.
+struct StiffBesideWell {
+    s: f64,
+}
+
+impl Energy for StiffBesideWell {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn energy(&mut self, x: &[f64]) -> f64 {
+        0.5 * self.s * x[0] * x[0] + 0.25 * x[1].powi(4) - 0.5 * x[1] * x[1]
+    }
+}
+impl Gradient for StiffBesideWell {
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> f64 {
+        g[0] = self.s * x[0];
+        g[1] = x[1].powi(3) - x[1];
+        self.energy(x)
+    }
+}
+impl DenseHessian for StiffBesideWell {
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> f64 {
+        h.copy_from_slice(&[self.s, 0.0, 0.0, 3.0 * x[1] * x[1] - 1.0]);
+        self.gradient(x, g)
+    }
+}
+
+/// A shift of 1e-3 of the largest diagonal entry (1e5 here) makes the soft
+/// unknown's steps about 1e-7 long from y = 0.01, and Newton used up its
+/// 100 iterations there. Under a step cap the first shift is at most the
+/// gradient over the cap, so the doubling stops near the least shift that
+/// factorises, and Newton leaves the top of the well for the minimum
+/// (x, y) = (0, 1) in a few steps, each shorter than the cap. Without a
+/// cap the shifts are the unchanged ones.
+#[test]
+fn shifts_under_a_cap_do_not_crawl_on_a_badly_scaled_hessian() {
+    let mut p = StiffBesideWell { s: 1e8 };
+    let opts = NewtonOptions {
+        max_step: 1.0,
+        ..NewtonOptions::default()
+    };
+    let mut x = vec![0.0, 0.01];
+    let r = Newton::new(2, opts).minimize(&mut Dense::new(&mut p), &mut x);
+    assert!(r.converged(), "{r:?}");
+    assert!(r.max_shift > 0.0 && r.max_shift < 10.0, "{r:?}");
+    assert!(r.iterations <= 15, "{r:?}");
+    assert!(x[0].abs() < 1e-12 && (x[1] - 1.0).abs() < 1e-9, "{x:?}");
+    // without a cap the first shift is 1e-3 of the diagonal's largest
+    // entry, as before
+    let mut x = vec![0.0, 0.01];
+    let r = Newton::new(2, NewtonOptions::default()).minimize(&mut Dense::new(&mut p), &mut x);
+    assert!(r.max_shift >= 1e5, "{r:?}");
+}
