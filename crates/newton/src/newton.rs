@@ -688,23 +688,6 @@ impl Newton {
         last_tau: f64,
         rep: &mut Report,
     ) -> Result<Direction, Termination> {
-        // First nonzero shift: enough to make the diagonal positive, and
-        // not far below the shift the previous iteration needed (read only
-        // once the unshifted factorisation has failed: factorising leaves
-        // the matrix as it was, so the diagonal is the same then). Under a
-        // finite cap, no larger than a shift whose gradient step is about
-        // the cap long (type-level docs).
-        let first = |problem: &P, g: &[f64], cap: f64| {
-            let (dmin, dmax) = problem.diagonal_range();
-            let scale = if dmax > 0.0 { dmax } else { 1.0 };
-            let reach = if cap.is_finite() {
-                norm_inf(g) / cap
-            } else {
-                f64::INFINITY
-            };
-            let beta = (SHIFT_BASE * scale).min(reach.max(SHIFT_FLOOR * scale));
-            (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau)
-        };
         let mut tau = 0.0;
         for _ in 0..MAX_SHIFT_TRIES {
             rep.factorizations += 1;
@@ -736,12 +719,33 @@ impl Newton {
                 }
             }
             tau = if tau == 0.0 {
-                first(problem, &self.g, self.cap)
+                self.first_shift(problem, last_tau)
             } else {
                 2.0 * tau
             };
         }
         Err(Termination::Singular)
+    }
+
+    /// The first nonzero shift: enough to make the diagonal positive, and
+    /// not far below the shift the previous iteration needed (`last_tau`;
+    /// read only once the unshifted factorisation has failed: factorising
+    /// leaves the matrix as it was, so the diagonal is the same then).
+    /// Under a finite cap, no larger than a shift whose gradient step is
+    /// about the cap long (type-level docs). Off the path of a Hessian
+    /// that factorises, hence cold.
+    #[cold]
+    #[inline(never)]
+    fn first_shift<P: Hessian + ?Sized>(&self, problem: &P, last_tau: f64) -> f64 {
+        let (dmin, dmax) = problem.diagonal_range();
+        let scale = if dmax > 0.0 { dmax } else { 1.0 };
+        let reach = if self.cap.is_finite() {
+            norm_inf(&self.g) / self.cap
+        } else {
+            f64::INFINITY
+        };
+        let beta = (SHIFT_BASE * scale).min(reach.max(SHIFT_FLOOR * scale));
+        (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau)
     }
 
     /// `self.p = -H^-1 g` with the factorisation at hand, shortened to
