@@ -1,24 +1,13 @@
 //! Newton's method with a shifted Cholesky and Armijo backtracking.
 
-use crate::linear::{all_finite, dot, norm_inf, FactorError};
+use crate::linear::{all_finite, norm_inf};
 use crate::options::{NewtonOptions, OptionsError};
 use crate::problem::Hessian;
 use crate::report::{Report, Termination};
-use crate::semiseparable::PivotKind;
 
-/// Number of shifted factorisations tried before giving up with
-/// [`Termination::Singular`]. Shifts double per try from at least
-/// `1e-12 * scale` ([`SHIFT_FLOOR`]), so 64 tries reach beyond
-/// `9e6 * scale`.
-const MAX_SHIFT_TRIES: usize = 64;
-
-/// The first shift of an indefinite Hessian, relative to its largest
-/// diagonal entry, where the step cap does not lower it (type-level docs).
-const SHIFT_BASE: f64 = 1e-3;
-
-/// The least first shift, relative to the largest diagonal entry: far
-/// above the rounding of the diagonal.
-const SHIFT_FLOOR: f64 = 1e-12;
+mod chord;
+mod line_search;
+mod shift;
 
 /// Energy differences below `ROUNDOFF_FACTOR * eps * |f|` are treated as
 /// round-off (see [`Newton::minimize`]).
@@ -39,18 +28,6 @@ const CHORD_STEPS_AHEAD: i32 = 2;
 /// [`NewtonOptions::chord_steps`]).
 const MODEL_FIT: f64 = 1e-2;
 
-/// The cubic step of a line search is tried only between these multiples
-/// of the accepted and the rejected step fractions (see
-/// [`Newton::cubic_step`]): close to either it would gain little.
-const CUBIC_MARGIN: (f64, f64) = (1.1, 0.9);
-
-/// At most this many chord steps follow one Hessian.
-const MAX_CHORD_STEPS: usize = 4;
-
-/// A shifted step is doubled at most this many times (see
-/// [`Newton::extend`]).
-const MAX_EXTENSIONS: usize = 12;
-
 /// The step cap grows at most to this multiple of
 /// [`NewtonOptions::max_step`] (see [`Newton::minimize`]).
 const MAX_CAP_GROWTH: f64 = 16.0;
@@ -59,7 +36,7 @@ const MAX_CAP_GROWTH: f64 = 16.0;
 enum Direction {
     /// Shifted by `tau` (0: the Hessian as it is).
     Shifted(f64),
-    /// By modified pivots ([`PivotKind::Modified`]).
+    /// By modified pivots ([`PivotKind::Modified`](crate::PivotKind::Modified)).
     Modified,
 }
 
@@ -118,7 +95,7 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// the line search keep in hand.
 ///
 /// With [`NewtonOptions::modified_pivots`], a Hessian that is not positive
-/// definite is first factorised with [`PivotKind::Modified`] (its negative
+/// definite is first factorised with [`PivotKind::Modified`](crate::PivotKind::Modified) (its negative
 /// curvature turned positive, its positive curvature kept), and the shifts
 /// follow only if the problem cannot do that. With
 /// [`NewtonOptions::extend_modified`], a step along a shifted or modified
@@ -202,7 +179,7 @@ fn reaches(g: f64, r: f64, gtol: f64, steps: i32) -> bool {
 /// `NonFinite` (x unchanged); from [`Hessian::hessian`] at an accepted
 /// point → `NonFinite` with `x` restored to the previous iterate;
 /// non-finite trial energies are backtracked from. A factorisation that
-/// reports a non-finite Hessian entry ([`FactorError::NonFinite`]) →
+/// reports a non-finite Hessian entry ([`FactorError::NonFinite`](crate::FactorError::NonFinite)) →
 /// `NonFinite` with `x` at the current iterate (finite energy and
 /// gradient).
 ///
@@ -528,390 +505,6 @@ impl Newton {
     fn step_to(&mut self, x: &[f64], alpha: f64) {
         for ((xt, xi), pi) in self.xt.iter_mut().zip(x).zip(&self.p) {
             *xt = xi + alpha * pi;
-        }
-    }
-
-    /// Evaluates the full step `self.xt` from `x` (value `f`, `g^T p =
-    /// gtp`, gradient norm `gnorm`): with its gradient only, or with its
-    /// Hessian staged beside the factorisation at hand (`hessian`,
-    /// [`Hessian::stages_hessian`]). Rejected unless its value is finite
-    /// and passes Armijo (and, with the gradient only, its gradient is
-    /// finite). With the gradient only it becomes the iterate and chord
-    /// steps follow ([`Newton::chord_then_hessian`]); with the Hessian it
-    /// does so where its decrease matches the quadratic model's to
-    /// [`MODEL_FIT`] (and chord steps are on), with no Hessian to evaluate
-    /// again if no chord step follows, and otherwise
-    /// [`Landing::Accepted`] hands it to the ordinary Newton step.
-    fn land<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &mut [f64],
-        (f, gtp, gnorm): (f64, f64, f64),
-        hessian: bool,
-        rep: &mut Report,
-    ) -> Landing {
-        let ft = if hessian {
-            rep.hessian_evals += 1;
-            p.hessian(&self.xt, &mut self.gt)
-        } else {
-            rep.gradient_evals += 1;
-            p.gradient(&self.xt, &mut self.gt)
-        };
-        let finite = all_finite(&self.gt);
-        if !(ft.is_finite() && ft <= f + self.opts.c1 * gtp && (finite || hessian)) {
-            return Landing::Rejected(ft);
-        }
-        let fit = (ft - f) / (0.5 * gtp);
-        if hessian && !(self.opts.chord_steps && (fit - 1.0).abs() <= MODEL_FIT && finite) {
-            return Landing::Accepted(ft);
-        }
-        x.copy_from_slice(&self.xt);
-        self.g.copy_from_slice(&self.gt);
-        rep.iterations += 1;
-        rep.step_norm = self.pnorm;
-        match self.chord_then_hessian(p, x, ft, gnorm, hessian, rep) {
-            Some(next) => Landing::Next(next),
-            None => Landing::Failed,
-        }
-    }
-
-    /// After a step to `x` whose gradient alone was evaluated (in
-    /// `self.g`; value `f`, the gradient norm before the step `prev`):
-    /// chord steps while they pay ([`Newton::chord`]), then the Hessian at
-    /// the last accepted point unless they converged (or took no step
-    /// from a point whose Hessian is `staged` already). Returns the value,
-    /// gradient norm and the norm before the last step, or `None` (the
-    /// report says `NonFinite`) when that Hessian is not finite.
-    fn chord_then_hessian<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &mut [f64],
-        f: f64,
-        prev: f64,
-        staged: bool,
-        rep: &mut Report,
-    ) -> Option<(f64, f64, f64)> {
-        let gnorm = norm_inf(&self.g);
-        let taken = rep.chord_steps;
-        let (f, gnorm, prev) = self.chord(p, x, (f, gnorm, prev), staged, rep);
-        if gnorm <= self.opts.gtol || (staged && rep.chord_steps == taken) {
-            return Some((f, gnorm, prev));
-        }
-        let fh = p.hessian(x, &mut self.g);
-        rep.hessian_evals += 1;
-        if !(fh.is_finite() && all_finite(&self.g)) {
-            rep.energy = f;
-            rep.residual_norm = gnorm;
-            rep.reason = Termination::NonFinite;
-            return None;
-        }
-        Some((fh, norm_inf(&self.g), prev))
-    }
-
-    /// Chord steps from `x` (value `f`, gradient `self.g` of norm `gnorm`,
-    /// the norm before the last step `prev`) with the last factorisation, while each
-    /// cuts the gradient norm by [`CHORD_RATIO`] (type-level docs). Leaves
-    /// the last accepted point in `x` and `self.g`; returns its value,
-    /// gradient norm and the norm before it.
-    ///
-    /// Where `x`'s Hessian is `staged` already, the first chord step is
-    /// taken only if the rate of the last cut reaches the depth the chord
-    /// steps go on to ([`NewtonOptions::chord_depth`] times `gtol`) within
-    /// [`CHORD_STEPS_AHEAD`] steps, not merely `gtol`: the Newton step with
-    /// that Hessian costs a factorisation more than a chord step, and
-    /// slow chord steps to the depth cost more than that (fpc's cold
-    /// 27-element finger solve at a relative residual of 1e-9 took four
-    /// chord steps at a rate of about 1e-2 where at 1e-11 it took the
-    /// Newton step and one chord step, and ended less accurate).
-    fn chord<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &mut [f64],
-        (mut f, mut gnorm, mut prev): (f64, f64, f64),
-        staged: bool,
-        rep: &mut Report,
-    ) -> (f64, f64, f64) {
-        let o = self.opts;
-        let depth = o.chord_depth * o.gtol;
-        for k in 0..MAX_CHORD_STEPS {
-            let r = gnorm / prev;
-            let target = if staged && k == 0 { depth } else { o.gtol };
-            if gnorm <= depth
-                || r > CHORD_RATIO
-                || !reaches(gnorm, r, target, CHORD_STEPS_AHEAD)
-                || rep.iterations >= o.max_iter
-            {
-                break;
-            }
-            for (pi, gi) in self.p.iter_mut().zip(&self.g) {
-                *pi = -gi;
-            }
-            p.solve(&mut self.p);
-            let gtp = dot(&self.g, &self.p);
-            if !(all_finite(&self.p) && gtp < 0.0) {
-                break;
-            }
-            let len = norm_inf(&self.p);
-            let shortened = len > o.max_step;
-            if shortened {
-                let s = o.max_step / len;
-                self.p.iter_mut().for_each(|v| *v *= s);
-            }
-            self.step_to(x, 1.0);
-            let ft = p.gradient(&self.xt, &mut self.gt);
-            rep.gradient_evals += 1;
-            let gt = norm_inf(&self.gt);
-            let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
-            let decrease = ft <= f + o.c1 * gtp || (ft - f).abs() <= noise;
-            if !(ft.is_finite() && all_finite(&self.gt) && decrease && gt < gnorm) {
-                break;
-            }
-            x.copy_from_slice(&self.xt);
-            self.g.copy_from_slice(&self.gt);
-            rep.iterations += 1;
-            rep.chord_steps += 1;
-            rep.step_norm = if shortened { norm_inf(&self.p) } else { len };
-            (f, prev, gnorm) = (ft, gnorm, gt);
-        }
-        (f, gnorm, prev)
-    }
-
-    /// Computes the (shifted) Newton direction into `self.p`; returns the
-    /// shift used, `Err(NonFinite)` if the Hessian holds a non-finite entry
-    /// (checked only once the unshifted factorisation has failed, so the
-    /// common positive definite case pays nothing), or `Err(Singular)` if no
-    /// shift produced a usable factorisation. `last_tau` (the previous
-    /// iteration's shift) seeds the escalation.
-    fn direction<P: Hessian + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        last_tau: f64,
-        rep: &mut Report,
-    ) -> Result<Direction, Termination> {
-        let mut tau = 0.0;
-        for _ in 0..MAX_SHIFT_TRIES {
-            rep.factorizations += 1;
-            match problem.factor(tau, PivotKind::Cholesky) {
-                Ok(_) => {
-                    if tau > 0.0 {
-                        // along negative curvature the cap starts again
-                        self.cap = self.opts.max_step;
-                    }
-                    if self.descent(problem) {
-                        return Ok(Direction::Shifted(tau));
-                    }
-                }
-                Err(FactorError::NonFinite { .. }) => return Err(Termination::NonFinite),
-                Err(_) => {}
-            }
-            if tau == 0.0 && self.opts.modified_pivots {
-                // not positive definite: the modified factorisation, where
-                // the problem offers it (a problem that does not may treat
-                // it as symmetric pivots: its inertia then has negatives)
-                rep.factorizations += 1;
-                self.cap = self.opts.max_step;
-                match problem.factor(0.0, PivotKind::Modified) {
-                    Ok(inertia) if inertia.negative == 0 && self.descent(problem) => {
-                        return Ok(Direction::Modified);
-                    }
-                    Err(FactorError::NonFinite { .. }) => return Err(Termination::NonFinite),
-                    _ => {}
-                }
-            }
-            tau = if tau == 0.0 {
-                self.first_shift(problem, last_tau)
-            } else {
-                2.0 * tau
-            };
-        }
-        Err(Termination::Singular)
-    }
-
-    /// The first nonzero shift: enough to make the diagonal positive, and
-    /// not far below the shift the previous iteration needed (`last_tau`;
-    /// read only once the unshifted factorisation has failed: factorising
-    /// leaves the matrix as it was, so the diagonal is the same then).
-    /// Under a finite cap, no larger than a shift whose gradient step is
-    /// about the cap long (type-level docs). Off the path of a Hessian
-    /// that factorises, hence cold.
-    #[cold]
-    #[inline(never)]
-    fn first_shift<P: Hessian + ?Sized>(&self, problem: &P, last_tau: f64) -> f64 {
-        let (dmin, dmax) = problem.diagonal_range();
-        let scale = if dmax > 0.0 { dmax } else { 1.0 };
-        let reach = if self.cap.is_finite() {
-            norm_inf(&self.g) / self.cap
-        } else {
-            f64::INFINITY
-        };
-        let beta = (SHIFT_BASE * scale).min(reach.max(SHIFT_FLOOR * scale));
-        (if dmin > 0.0 { beta } else { beta - dmin }).max(0.5 * last_tau)
-    }
-
-    /// `self.p = -H^-1 g` with the factorisation at hand, shortened to
-    /// the cap, with its `g^T p` and norm; whether it is finite and a
-    /// direction of descent.
-    fn descent<P: Hessian + ?Sized>(&mut self, problem: &mut P) -> bool {
-        for (pi, gi) in self.p.iter_mut().zip(&self.g) {
-            *pi = -gi;
-        }
-        problem.solve(&mut self.p);
-        let gtp = dot(&self.g, &self.p);
-        if !(all_finite(&self.p) && gtp < 0.0) {
-            return false;
-        }
-        let len = norm_inf(&self.p);
-        self.capped = len > self.cap;
-        (self.gtp, self.pnorm) = (gtp, len);
-        if self.capped {
-            let s = self.cap / len;
-            self.p.iter_mut().for_each(|v| *v *= s);
-            (self.gtp, self.pnorm) = (dot(&self.g, &self.p), norm_inf(&self.p));
-        }
-        true
-    }
-
-    /// A shifted step whose full length was accepted: the shift keeps it
-    /// short of where the energy stops falling (along a direction of
-    /// negative curvature the quadratic model has no minimum), so the step
-    /// is doubled while the energy keeps falling, Armijo holds and its
-    /// length stays within `max_step`. Leaves the accepted point in
-    /// `self.xt` and returns its fraction and value.
-    fn extend<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &[f64],
-        f: f64,
-        gtp: f64,
-        f_full: f64,
-        rep: &mut Report,
-    ) -> (f64, f64) {
-        let o = self.opts;
-        let len = self.pnorm;
-        let (mut best, mut f_best) = (1.0, f_full);
-        for _ in 0..MAX_EXTENSIONS {
-            let alpha = 2.0 * best;
-            if alpha * len > self.cap {
-                break;
-            }
-            self.step_to(x, alpha);
-            let ft = p.energy(&self.xt);
-            rep.energy_evals += 1;
-            if !(ft < f_best && ft <= f + o.c1 * alpha * gtp) {
-                break;
-            }
-            (best, f_best) = (alpha, ft);
-            rep.extended_steps += 1;
-        }
-        self.step_to(x, best);
-        (best, f_best)
-    }
-
-    /// After backtracking from the rejected trial `(a0, f0)` to the
-    /// accepted `(a1, f1)` (value `f` and slope `gtp` at 0): the minimiser
-    /// of the cubic through these four values, evaluated when it lies well
-    /// inside `(a1, a0)`, and taken (in `self.xt`) if its value is lower.
-    /// The quadratic estimate that found `a1` ignores `f1`; under a load
-    /// that turns the finger far, the energy rises steeply past its
-    /// minimum and that estimate falls well short of it. `None` leaves
-    /// `self.xt` at `a1`.
-    #[allow(clippy::too_many_arguments)]
-    #[inline(never)]
-    fn cubic_step<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &[f64],
-        f: f64,
-        gtp: f64,
-        (a0, f0): (f64, f64),
-        (a1, f1): (f64, f64),
-        rep: &mut Report,
-    ) -> Option<(f64, f64)> {
-        // phi(a) = c3 a^3 + c2 a^2 + gtp a + f through phi(a0) and phi(a1)
-        let (r0, r1) = (f0 - f - gtp * a0, f1 - f - gtp * a1);
-        let d = a0 * a0 * a1 * a1 * (a1 - a0);
-        let c3 = (a0 * a0 * r1 - a1 * a1 * r0) / d;
-        let c2 = (a1 * a1 * a1 * r0 - a0 * a0 * a0 * r1) / d;
-        let a = (-c2 + (c2 * c2 - 3.0 * c3 * gtp).sqrt()) / (3.0 * c3);
-        // (false for NaN: no real minimiser, or c3 = 0)
-        if !(a > CUBIC_MARGIN.0 * a1 && a < CUBIC_MARGIN.1 * a0) {
-            return None;
-        }
-        self.step_to(x, a);
-        let fa = p.energy(&self.xt);
-        rep.energy_evals += 1;
-        if fa < f1 {
-            Some((a, fa))
-        } else {
-            self.step_to(x, a1);
-            None
-        }
-    }
-
-    /// Backtracking Armijo search along `self.p` from `x` (value `f`,
-    /// slope `gtp`, gradient norm `gnorm`), starting with the full step's
-    /// value `full` where a landing evaluated it already; leaves the
-    /// accepted point in `self.xt` and returns the step fraction and the
-    /// value there.
-    fn line_search<P: Hessian + ?Sized>(
-        &mut self,
-        p: &mut P,
-        x: &[f64],
-        (f, gtp, gnorm): (f64, f64, f64),
-        mut full: Option<f64>,
-        rep: &mut Report,
-    ) -> Result<(f64, f64), Termination> {
-        let o = self.opts;
-        let mut alpha = 1.0f64;
-        let mut any_finite = false;
-        // the last finite trial that Armijo rejected
-        let mut rejected: Option<(f64, f64)> = None;
-        loop {
-            self.step_to(x, alpha);
-            let ft = full.take().unwrap_or_else(|| {
-                rep.energy_evals += 1;
-                p.energy(&self.xt)
-            });
-            if ft.is_finite() {
-                any_finite = true;
-                if ft <= f + o.c1 * alpha * gtp {
-                    return Ok(rejected
-                        .and_then(|r| self.cubic_step(p, x, f, gtp, r, (alpha, ft), rep))
-                        .unwrap_or((alpha, ft)));
-                }
-                rejected = Some((alpha, ft));
-                let noise = ROUNDOFF_FACTOR * f64::EPSILON * f.abs().max(ft.abs());
-                if (ft - f).abs() <= noise {
-                    let fg = p.gradient(&self.xt, &mut self.gt);
-                    rep.gradient_evals += 1;
-                    if fg.is_finite() && all_finite(&self.gt) && norm_inf(&self.gt) <= 0.5 * gnorm {
-                        return Ok((alpha, ft));
-                    }
-                }
-                // Minimiser of the quadratic through f, f'(0) = gtp, f(alpha) = ft.
-                let denom = 2.0 * (ft - f - gtp * alpha);
-                let aq = if denom > 0.0 {
-                    -gtp * alpha * alpha / denom
-                } else {
-                    0.5 * alpha
-                };
-                // a non-finite quadratic estimate would make the clamp NaN
-                // and the loop endless: halve instead
-                alpha = if aq.is_finite() {
-                    aq.clamp(0.1 * alpha, 0.5 * alpha)
-                } else {
-                    0.5 * alpha
-                };
-            } else {
-                alpha *= 0.25;
-            }
-            if alpha.is_nan() || alpha < o.min_step_fraction {
-                return Err(if any_finite {
-                    Termination::LineSearchFailed
-                } else {
-                    Termination::NonFinite
-                });
-            }
         }
     }
 }
