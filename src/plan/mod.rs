@@ -35,8 +35,11 @@ use crate::finger::{Finger, Load, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
+pub use refine::{
+    intermediate_options, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
+    MAX_AUTO_SPLITS,
+};
 use refine::{Auto, Refiner, TipTolerance};
-pub use refine::{INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS};
 pub use refinement::{
     Extrapolation, Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS,
 };

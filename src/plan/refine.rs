@@ -175,11 +175,12 @@ pub const INTERMEDIATE_RTOL: f64 = 1e-9;
 /// [`INTERMEDIATE_RTOL`].
 pub const INTERMEDIATE_ELEMENTS: usize = 27;
 
-/// The options of an intermediate level of `elements` elements: only the
-/// tip is needed, to [`INTERMEDIATE_RTOL`] scaled by
-/// `INTERMEDIATE_ELEMENTS / elements` (at most 1), or the caller's looser
-/// tolerance.
-fn coarse_options(opts: &SolveOptions, elements: usize) -> SolveOptions {
+/// The options a refinement solves an intermediate level of `elements`
+/// elements with: only the tip is needed, to [`INTERMEDIATE_RTOL`] scaled
+/// by `INTERMEDIATE_ELEMENTS / elements` (at most 1), or the caller's
+/// looser tolerance (`fpc-lab timing` times the first level alone with
+/// them).
+pub fn intermediate_options(opts: &SolveOptions, elements: usize) -> SolveOptions {
     let scale = (INTERMEDIATE_ELEMENTS as f64 / elements.max(1) as f64).min(1.0);
     SolveOptions {
         rtol: opts.rtol.max(INTERMEDIATE_RTOL * scale),
@@ -265,7 +266,7 @@ impl Refiner {
             let level_opts = if last {
                 *opts
             } else {
-                coarse_options(opts, finger.len())
+                intermediate_options(opts, finger.len())
             };
             solve_level(finger, &mut run, load, guess, &level_opts, !last)?;
         }
@@ -294,7 +295,7 @@ impl Refiner {
             let intermediate = level < first_estimate;
             let finger = self.finger(level)?;
             let level_opts = if intermediate {
-                coarse_options(opts, finger.len())
+                intermediate_options(opts, finger.len())
             } else {
                 tip_options(opts)
             };

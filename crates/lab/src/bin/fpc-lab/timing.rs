@@ -341,11 +341,8 @@ fn to_tolerance(budget: Duration) -> anyhow::Result<ToTolerance> {
         || Ok(refiner.solve_from(&tip_load(), &unloaded.coefficients, &opts)?),
     )?;
     // the floor: the first level alone, as the refinement solves it
-    let coarse_opts = SolveOptions {
-        rtol: opts.rtol.max(fpc::plan::INTERMEDIATE_RTOL),
-        ..opts
-    };
     let coarsest = &refiner.fingers()[0];
+    let coarse_opts = fpc::plan::intermediate_options(&opts, coarsest.len());
     let mut coarse_solver = Solver::new(coarsest);
     let coarsest_level_ratio_to_n8_cold = paired_ratio(
         budget,
