@@ -114,12 +114,14 @@ fn tip_converges_in_n_for_the_default_finger() {
 
 /// One element curled far under random loads (issue 23's draw: eps0
 /// 0.1-0.5, 0-350 kPa, tip loads up to 1.5 N per axis, seeded). Every
-/// solve converges but at most two of the forty, which end in a typed
-/// `NotConverged` (case 37, eps0 0.15 at 307 kPa: with shifts of 1e-3 of
+/// solve converges but at most one of the forty, which ends in a typed
+/// `NotConverged` below the energy of the point it used to creep towards
+/// (case 37, eps0 0.15 at 307 kPa: with shifts of 1e-3 of
 /// the Hessian's largest diagonal entry it crept for 60 steps towards a
 /// point of energy -4037.7 and stopped 3e-3 from the tolerance; with the
-/// lower shifts of docs/model.md section 4.6 its steps leave that point
-/// and the energy falls past -1e5, so it was no minimum), Newton in its straightened unknowns (docs/model.md
+/// lower shifts of docs/model.md section 4.6 its attempts leave that
+/// point, the energy falling past -1e5, and the last iterate returned is
+/// at -4487.5, so that point was no minimum), Newton in its straightened unknowns (docs/model.md
 /// section 4.6) takes a median of at most 8 coupled steps (24 in the
 /// ordinary scaled unknowns, docs/stress.md), and every answer is an
 /// equilibrium of the ordinary unknowns: the potential's gradient, taken
@@ -142,15 +144,21 @@ fn far_curled_elements_converge_in_a_few_straightened_steps() {
         let s = match f.solve(&load, &SolveOptions::default().tip_only()) {
             Ok(s) => s,
             Err(e) => {
-                // a solve that ends unconverged, with its residual, is
-                // counted; any other error fails
+                // a solve that ends unconverged is counted only where its
+                // last iterate lies well below the energy (-4037.7 N mm)
+                // of the point the old shifts crept towards: that point is
+                // no minimum; any other error fails
                 let SolveError::NotConverged {
-                    relative_residual, ..
+                    relative_residual,
+                    ref last,
+                    ..
                 } = e
                 else {
                     panic!("case {case}, eps0 {eps0}, {load:?}: {e}");
                 };
                 assert!(relative_residual.is_finite(), "case {case}: {e}");
+                let energy = f.energy(&load, last).unwrap();
+                assert!(energy < -4100.0, "case {case}: {e}, energy {energy}");
                 unconverged += 1;
                 continue;
             }
@@ -166,7 +174,7 @@ fn far_curled_elements_converge_in_a_few_straightened_steps() {
     steps.sort_unstable();
     let median = steps[steps.len() / 2];
     eprintln!("N = 1, 40 random loaded fingers, {unconverged} unconverged: coupled Newton steps {steps:?}");
-    assert!(unconverged <= 2, "{unconverged} unconverged");
+    assert!(unconverged <= 1, "{unconverged} unconverged");
     assert!(median <= 8, "median {median}: {steps:?}");
 }
 
