@@ -36,8 +36,8 @@ use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
 pub use refine::{
-    intermediate_options, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL, MAX_AUTO_ELEMENTS,
-    MAX_AUTO_SPLITS,
+    intermediate_options, FOLD_TURN_RATIO, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
+    MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS,
 };
 use refine::{Auto, Refiner, TipTolerance};
 pub use refinement::{
@@ -60,8 +60,9 @@ pub enum Plan {
     /// element that turns beyond the CCM's small-slope limit at the solved
     /// state split in two and the finger solved again, up to
     /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements and
-    /// [`crate::plan::MAX_AUTO_SPLITS`] rounds of splits (a finger still
-    /// beyond the limit then carries its `element_slope` findings).
+    /// [`crate::plan::MAX_AUTO_SPLITS`] rounds of splits, or until a split
+    /// meets a fold ([`crate::plan::FOLD_TURN_RATIO`]); a finger still
+    /// beyond the limit then carries its `element_slope` findings.
     Auto,
     /// Refined until the estimated tip error is at most `tip_tol_mm`:
     /// equal elements doubled from `start` (in [1,

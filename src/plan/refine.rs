@@ -541,13 +541,61 @@ impl TipTolerance {
 /// Largest number of elements the automatic partition uses.
 pub const MAX_AUTO_ELEMENTS: usize = 1000;
 
-/// Most rounds of splits the automatic partition takes. Where each round
-/// splits only an element or two, the finger ends beyond the slope limit
-/// either way; the bound keeps such a solve at tens of milliseconds where
-/// a climb to [`MAX_AUTO_ELEMENTS`] one element at a time took up to
-/// 77 s (docs/stress.md, "Shifts on badly scaled chains"). The stress
-/// set's converged automatic partitions took at most 42 rounds before.
+/// Most rounds of splits the automatic partition takes. Before the fold
+/// rule ([`FOLD_TURN_RATIO`]), a finger that split one element or two per
+/// round climbed towards [`MAX_AUTO_ELEMENTS`] for up to 77 s and ended
+/// beyond the slope limit either way (docs/stress.md, "Shifts on badly
+/// scaled chains"); since, the stress set's automatic partitions take at
+/// most 9 rounds, and this bound is the backstop.
 pub const MAX_AUTO_SPLITS: usize = 64;
+
+/// A split after which one half still turns at least this fraction of its
+/// parent's turn beyond the slope limit has met a fold: the turn gathers
+/// in one element however short it is, and the automatic partition stops
+/// there. Halving a smooth bend leaves each half about half the turn; in
+/// the stress set a half kept 0.9 or more of its parent's turn only on
+/// fingers already beyond the strain limits, which no partition clears
+/// (docs/stress.md, "Folds end the automatic partition").
+pub const FOLD_TURN_RATIO: f64 = 0.9;
+
+/// Each element's turn beyond the slope limit at a solution (degrees, 0
+/// for an element within it).
+fn slope_turns(solution: &Solution, elements: usize) -> Vec<f64> {
+    let mut turns = vec![0.0; elements];
+    for w in &solution.warnings {
+        if let Warning::ElementSlope {
+            element, degrees, ..
+        } = w
+        {
+            turns[*element] = *degrees;
+        }
+    }
+    turns
+}
+
+/// Where the halves of the elements turning beyond the limit land once
+/// they are split: each first half's index in the split partition, with
+/// its parent's turn (degrees).
+fn split_halves(turns: &[f64]) -> Vec<(usize, f64)> {
+    let mut halves = Vec::new();
+    let mut at = 0;
+    for &t in turns {
+        if t > 0.0 {
+            halves.push((at, t));
+            at += 1;
+        }
+        at += 1;
+    }
+    halves
+}
+
+/// Whether a split of the last round met a fold: `halves` holds the
+/// index of each split element's first half and the parent's turn.
+fn folded(halves: &[(usize, f64)], turns: &[f64]) -> bool {
+    halves
+        .iter()
+        .any(|&(i, parent)| turns[i].max(turns[i + 1]) >= FOLD_TURN_RATIO * parent)
+}
 
 /// The automatic partition's start, built: the implementation of
 /// [`crate::Plan::Auto`].
@@ -585,7 +633,8 @@ impl Auto {
     /// turns beyond the CCM's small-slope limit at the solved state, that
     /// element is split in two and the finger solved again from the
     /// previous state. Stops with the remaining findings on the solution
-    /// when [`MAX_AUTO_ELEMENTS`] would be exceeded or after
+    /// at a fold (a half that kept [`FOLD_TURN_RATIO`] of its parent's
+    /// turn), when [`MAX_AUTO_ELEMENTS`] would be exceeded, or after
     /// [`MAX_AUTO_SPLITS`] rounds of splits.
     ///
     /// Where a split partition fails, the whole refinement is taken again
@@ -624,15 +673,14 @@ impl Auto {
         let mut finger = self.finger.clone();
         let mut solution = solve(&finger, None).map_err(|e| (e, false))?;
         let mut refinements = 0;
+        // the last round's splits: each first half's index, its parent's turn
+        let mut halves: Vec<(usize, f64)> = Vec::new();
         loop {
-            let mut split = vec![false; partition.len()];
-            for w in &solution.warnings {
-                if let Warning::ElementSlope { element, .. } = w {
-                    split[*element] = true;
-                }
-            }
+            let turns = slope_turns(&solution, partition.len());
+            let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
             let extra = split.iter().filter(|&&s| s).count();
             if extra == 0
+                || folded(&halves, &turns)
                 || partition.len() + extra > MAX_AUTO_ELEMENTS
                 || refinements == MAX_AUTO_SPLITS
             {
@@ -653,6 +701,7 @@ impl Auto {
                     guess.extend_from_slice(k);
                 }
             }
+            halves = split_halves(&turns);
             partition = partition.split(&split);
             finger = Finger::with_model(model, actuator, &partition, ribs);
             let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), false))?;
@@ -669,6 +718,33 @@ impl Auto {
 mod tests {
     use super::*;
     use crate::finger::StepCounts;
+
+    /// Halves are found where [`Partition::split`] puts them, and a fold is
+    /// a half that keeps [`FOLD_TURN_RATIO`] of its parent's turn.
+    #[test]
+    fn halves_follow_the_split_and_a_kept_turn_is_a_fold() {
+        let turns = [0.0, 50.0, 0.0, 0.0, 80.0];
+        let halves = split_halves(&turns);
+        assert_eq!(halves, [(1, 50.0), (5, 80.0)]);
+        let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
+        let partition = Partition::custom(vec![1.0, 2.0, 3.0, 4.0, 5.0], 15.0)
+            .unwrap()
+            .split(&split);
+        for &(i, _) in &halves {
+            assert_eq!(partition.lengths()[i], partition.lengths()[i + 1]);
+        }
+        assert_eq!(partition.lengths()[5], 2.5);
+        // halving a smooth bend: each half about half the turn
+        let mut after = [0.0; 7];
+        after[5] = 46.0;
+        assert!(!folded(&halves, &after));
+        // one half keeps 90 % of the 80 degrees
+        after[6] = 72.0;
+        assert!(folded(&halves, &after));
+        after[6] = 0.0;
+        after[1] = 45.1;
+        assert!(folded(&halves, &after));
+    }
 
     /// A Ctrl-C during a split partition's solve ends the automatic
     /// partition: it is not refined again from the start (the retry is for
