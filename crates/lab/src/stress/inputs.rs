@@ -16,7 +16,7 @@ use super::envelope;
 ///   jitter: that moves the neutral axis and the prestress moment in ways
 ///   the thickness alone does not capture);
 /// - `eps0 <= 0.5` and `P <= 400 kPa` (the strain limits);
-/// - the curl estimate `|eps0 - P / 1000 kPa| lx / H <= 7` (self contact
+/// - the curl estimate `|eps0 - P / 1000 kPa| lx / H <= 6.5` (self contact
 ///   of the curled, or reversed, finger; it bounds the thickness from
 ///   below for a given prestrain and pressure);
 /// - the load strain `|F| lx H / D <= 0.15 eps0`, with `D = F_ref lx^2`

@@ -90,6 +90,7 @@ fn json_reports_the_envelope_and_the_stable_keys() {
         count(&v, "beyond_validity")
     );
     assert!(v["envelope"]["max_curl"].is_number());
+    assert!(v["envelope"]["max_thickness_over_lx"].is_number());
     // per partition class (fixed N or auto) and per model
     let by_n = v["by_elements"].as_object().unwrap();
     let legal: u64 = by_n.values().map(|t| count(t, "legal")).sum();

@@ -280,13 +280,15 @@ fn tally_json(t: &Tally) -> Value {
 fn envelope_json() -> Value {
     use fpc_lab::stress::envelope::*;
     json!({
-        "definition": "auto partition or longest element <= max_element_fraction lx; no per-lamina jitter; eps0 <= max_eps0; P <= max_pressure_kpa; |eps0 - P / pressure_per_prestrain_kpa| lx / H <= max_curl; relative_load H / lx <= max_load_strain_over_eps0 eps0",
+        "definition": "auto partition or longest element <= max_element_fraction lx; no per-lamina jitter; eps0 <= max_eps0; P <= max_pressure_kpa; |eps0 - P / pressure_per_prestrain_kpa| lx / H <= max_curl; relative_load H / lx <= max_load_strain_over_eps0 eps0; H <= max_thickness_over_lx lx and H <= max_thickness_over_ly ly (the plate theory's limits)",
         "max_eps0": MAX_EPS0,
         "max_pressure_kpa": MAX_PRESSURE_KPA,
         "pressure_per_prestrain_kpa": PRESSURE_PER_PRESTRAIN_KPA,
         "max_curl": MAX_CURL,
         "max_load_strain_over_eps0": MAX_LOAD_STRAIN_OVER_EPS0,
         "max_element_fraction": MAX_ELEMENT_FRACTION,
+        "max_thickness_over_lx": fpc::validity::THICKNESS_TO_LENGTH_LIMIT,
+        "max_thickness_over_ly": fpc::validity::THICKNESS_TO_WIDTH_LIMIT,
         "lamina_jitter": false,
     })
 }
