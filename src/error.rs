@@ -202,6 +202,17 @@ pub enum Warning {
         clears_with: Option<usize>,
         tried: usize,
     },
+    /// The automatic partition stopped at a fold: after its last split,
+    /// half `element` of an element that turned `parent` degrees still
+    /// turns `degrees`, at least `limit` of its parent's turn. The turn
+    /// gathers in one element however short it is, so more elements do
+    /// not clear its `element_slope` finding. A note.
+    PartitionFold {
+        element: usize,
+        degrees: f64,
+        parent: f64,
+        limit: f64,
+    },
     /// An element's mid-plane turns further than the CCM's small-slope
     /// limit from the element's root tangent (`degrees`, limit `limit`).
     ElementSlope {
@@ -258,7 +269,8 @@ impl Warning {
     /// the model's validity; `curvature_reversal` for the paper's grasp
     /// assumption, a rule only in strict mode; `eps0_outside_fit`,
     /// `softening_prestress_law`, `mounting_angle_outside_design_space`,
-    /// `palm_gap_at_rest` for notes on the input).
+    /// `palm_gap_at_rest` for notes on the input; `partition_advice` and
+    /// `partition_fold` for notes on the partition).
     pub fn kind(&self) -> &'static str {
         match self {
             Warning::Eps0OutsideFit { .. } => "eps0_outside_fit",
@@ -268,6 +280,7 @@ impl Warning {
             }
             Warning::PalmGapAtRest { .. } => "palm_gap_at_rest",
             Warning::PartitionAdvice { .. } => "partition_advice",
+            Warning::PartitionFold { .. } => "partition_fold",
             Warning::ElementSlope { .. } => "element_slope",
             Warning::MidplaneStrain { .. } | Warning::PrestressedStrain { .. } => "strain_range",
             Warning::SelfContact { .. } => "self_contact",
@@ -297,6 +310,7 @@ impl Warning {
     pub fn element(&self) -> Option<usize> {
         match self {
             Warning::ElementSlope { element, .. }
+            | Warning::PartitionFold { element, .. }
             | Warning::MidplaneStrain { element, .. }
             | Warning::PrestressedStrain { element, .. }
             | Warning::SelfContact { element, .. }
@@ -314,6 +328,9 @@ impl Warning {
             Warning::MountingAngleOutsideDesignSpace { angle, .. } => Some(angle),
             Warning::PalmGapAtRest { palm, .. } => Some(palm),
             Warning::PartitionAdvice { elements, .. } => Some(elements as f64),
+            Warning::PartitionFold {
+                degrees, parent, ..
+            } => Some(degrees / parent),
             Warning::ElementSlope { degrees, .. } => Some(degrees),
             Warning::MidplaneStrain { strain, .. } | Warning::PrestressedStrain { strain, .. } => {
                 Some(strain)
@@ -339,7 +356,9 @@ impl Warning {
             Warning::PartitionAdvice {
                 clears_with, tried, ..
             } => Some(clears_with.unwrap_or(tried) as f64),
-            Warning::ElementSlope { limit, .. } => Some(limit),
+            Warning::ElementSlope { limit, .. } | Warning::PartitionFold { limit, .. } => {
+                Some(limit)
+            }
             Warning::MidplaneStrain { strain, limit, .. } => {
                 Some(if strain < 0.0 { -limit } else { limit })
             }
@@ -406,6 +425,15 @@ impl fmt::Display for Warning {
             } => write!(
                 f,
                 "element {element} turns {degrees:.1} degrees, beyond the CCM's small-slope limit of {limit} degrees per element: use more elements (--elements auto)"
+            ),
+            Warning::PartitionFold {
+                element,
+                degrees,
+                parent,
+                ..
+            } => write!(
+                f,
+                "the automatic partition stopped at a fold: an element that turned {parent:.1} degrees was split in two, and its half, element {element}, turns {degrees:.1}; the turn gathers in one element however short it is, and more elements do not clear its slope finding"
             ),
             Warning::MidplaneStrain {
                 element,

@@ -589,12 +589,29 @@ fn split_halves(turns: &[f64]) -> Vec<(usize, f64)> {
     halves
 }
 
-/// Whether a split of the last round met a fold: `halves` holds the
-/// index of each split element's first half and the parent's turn.
-fn folded(halves: &[(usize, f64)], turns: &[f64]) -> bool {
-    halves
-        .iter()
-        .any(|&(i, parent)| turns[i].max(turns[i + 1]) >= FOLD_TURN_RATIO * parent)
+/// The fold a split of the last round met, if any: `halves` holds the
+/// index of each split element's first half and the parent's turn. Of
+/// several, the half that kept the largest share of its parent's turn.
+fn fold(halves: &[(usize, f64)], turns: &[f64]) -> Option<Warning> {
+    let mut found: Option<(f64, Warning)> = None;
+    for &(i, parent) in halves {
+        let (element, degrees) = if turns[i + 1] > turns[i] {
+            (i + 1, turns[i + 1])
+        } else {
+            (i, turns[i])
+        };
+        let share = degrees / parent;
+        if share >= FOLD_TURN_RATIO && found.as_ref().is_none_or(|(s, _)| share > *s) {
+            let w = Warning::PartitionFold {
+                element,
+                degrees,
+                parent,
+                limit: FOLD_TURN_RATIO,
+            };
+            found = Some((share, w));
+        }
+    }
+    found.map(|(_, w)| w)
 }
 
 /// The automatic partition's start, built: the implementation of
@@ -634,7 +651,8 @@ impl Auto {
     /// element is split in two and the finger solved again from the
     /// previous state. Stops with the remaining findings on the solution
     /// at a fold (a half that kept [`FOLD_TURN_RATIO`] of its parent's
-    /// turn), when [`MAX_AUTO_ELEMENTS`] would be exceeded, or after
+    /// turn; the solution then carries the note
+    /// [`Warning::PartitionFold`]), when [`MAX_AUTO_ELEMENTS`] would be exceeded, or after
     /// [`MAX_AUTO_SPLITS`] rounds of splits.
     ///
     /// Where a split partition fails, the whole refinement is taken again
@@ -679,11 +697,13 @@ impl Auto {
             let turns = slope_turns(&solution, partition.len());
             let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
             let extra = split.iter().filter(|&&s| s).count();
+            let fold = fold(&halves, &turns);
             if extra == 0
-                || folded(&halves, &turns)
+                || fold.is_some()
                 || partition.len() + extra > MAX_AUTO_ELEMENTS
                 || refinements == MAX_AUTO_SPLITS
             {
+                solution.warnings.extend(fold);
                 return Ok(Solved {
                     solution,
                     finger,
@@ -737,13 +757,22 @@ mod tests {
         // halving a smooth bend: each half about half the turn
         let mut after = [0.0; 7];
         after[5] = 46.0;
-        assert!(!folded(&halves, &after));
-        // one half keeps 90 % of the 80 degrees
+        assert_eq!(fold(&halves, &after), None);
+        // the second half keeps 90 % of the 80 degrees
         after[6] = 72.0;
-        assert!(folded(&halves, &after));
+        let note = |element, degrees, parent| Warning::PartitionFold {
+            element,
+            degrees,
+            parent,
+            limit: FOLD_TURN_RATIO,
+        };
+        assert_eq!(fold(&halves, &after), Some(note(6, 72.0, 80.0)));
+        // of two folds, the one that kept more of its parent's turn
+        after[1] = 49.0;
+        assert_eq!(fold(&halves, &after), Some(note(1, 49.0, 50.0)));
         after[6] = 0.0;
         after[1] = 45.1;
-        assert!(folded(&halves, &after));
+        assert_eq!(fold(&halves, &after), Some(note(1, 45.1, 50.0)));
     }
 
     /// A Ctrl-C during a split partition's solve ends the automatic

@@ -217,11 +217,10 @@ fn solve_finger(args: &Args) -> anyhow::Result<()> {
         .build()?
         .solve(&load, &opts)?;
     let sol = &solved.solution;
-    // the solution's own findings (the input's were printed above)
+    // the solution's own findings and notes (the input's were printed
+    // above), a fold of the automatic partition among them
     crate::report::warnings(
-        sol.warnings
-            .iter()
-            .filter(|w| w.is_validity() && !input.contains(w)),
+        sol.warnings.iter().filter(|w| !input.contains(w)),
         |w| w.to_string(),
         "the --json output",
     );

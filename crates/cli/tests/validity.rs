@@ -152,6 +152,36 @@ fn a_finger_curled_onto_its_root_is_outside_the_model() {
 }
 
 #[test]
+fn an_automatic_partition_that_stops_at_a_fold_says_so() {
+    // 20 N each way crushes the default finger: its root element folds,
+    // and each split leaves one half with nearly all of the turn
+    let args = ["finger", "--elements", "auto", "--fx", "-20", "--fz", "-20"];
+    let out = fpc(&args);
+    assert!(out.status.success());
+    let (stdout, stderr) = (text(&out.stdout), text(&out.stderr));
+    assert!(stdout.contains("OUTSIDE the model's limits"), "{stdout}");
+    let fold: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.starts_with("fpc: warning: the automatic partition stopped at a fold"))
+        .collect();
+    assert_eq!(fold.len(), 1, "{stderr}");
+    let (v, _) = json(&[&args[..], &["--json"]].concat());
+    let warnings = v["warnings"].as_array().unwrap();
+    let note = warnings
+        .iter()
+        .find(|w| w["kind"] == "partition_fold")
+        .expect("the note");
+    let slope = warnings
+        .iter()
+        .find(|w| w["kind"] == "element_slope")
+        .expect("the folded element's slope finding");
+    assert_eq!(note["element"], slope["element"], "{note} {slope}");
+    let share = note["value"].as_f64().unwrap();
+    assert!(share >= 0.9 && note["limit"] == 0.9, "{note}");
+    assert_eq!(v["validity"], false);
+}
+
+#[test]
 fn a_scene_too_thick_for_laminate_theory_says_so_once() {
     let scratch = tempfile::Builder::new()
         .prefix("fpc-validity-thick-")

@@ -272,6 +272,26 @@ fn an_automatic_partition_stops_at_a_fold() {
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .unwrap();
     assert!(turn > 60.0, "{turns:?}");
+    // the note names the folded element and the share of its parent's turn
+    let notes: Vec<_> = auto
+        .solution
+        .warnings
+        .iter()
+        .filter_map(|w| match *w {
+            fpc::Warning::PartitionFold {
+                element,
+                degrees,
+                parent,
+                limit,
+            } => Some((element, degrees, parent, limit)),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(notes.len(), 1, "{:?}", auto.solution.warnings);
+    let (element, degrees, parent, limit) = notes[0];
+    assert_eq!((element, degrees), (e, turn));
+    assert!(degrees >= limit * parent && parent > 45.0, "{notes:?}");
+    assert!(!auto.is_valid());
     let mut lengths = Vec::new();
     let mut guess = Vec::new();
     for (i, (&l, k)) in auto
