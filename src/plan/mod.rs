@@ -23,6 +23,7 @@
 //! [`RefinementRecord`]); [`Finger::solve`] stays the low-level solve on one
 //! partition.
 
+mod auto;
 pub(crate) mod refine;
 mod refinement;
 mod solved;
@@ -35,11 +36,10 @@ use crate::finger::{Finger, Load, SolveOptions};
 use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
-pub use refine::{
-    intermediate_options, FOLD_TURN_RATIO, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL,
-    MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS,
-};
-use refine::{Auto, Refiner, TipTolerance};
+use auto::Auto;
+pub use auto::{FOLD_TURN_RATIO, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS};
+pub use refine::{intermediate_options, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL};
+use refine::{Refiner, TipTolerance};
 pub use refinement::{
     Extrapolation, Level, PartitionKind, Refinement, RefinementRecord, MAX_REFINED_ELEMENTS,
 };

@@ -1,0 +1,290 @@
+//! The automatic partition ([`crate::Plan::Auto`]): element boundaries on
+//! the material changes, then every element that turns beyond the CCM's
+//! small-slope limit at the solved state split in two and the finger
+//! solved again from the previous state, until no element is beyond the
+//! limit, a split meets a fold, or a bound is reached (docs/model.md
+//! section 8, docs/stress.md "Folds end the automatic partition").
+
+use super::solved::Solved;
+use crate::actuator::Actuator;
+use crate::coefficients::Coefficients;
+use crate::error::{InputError, Warning};
+use crate::finger::{Finger, Load, Solution, SolveOptions, Solver};
+use crate::model::ModelId;
+use crate::partition::Partition;
+use crate::solve_error::SolveError;
+
+/// Largest number of elements the automatic partition uses.
+pub const MAX_AUTO_ELEMENTS: usize = 1000;
+
+/// Most rounds of splits the automatic partition takes. Before the fold
+/// rule ([`FOLD_TURN_RATIO`]), a finger that split one element or two per
+/// round climbed towards [`MAX_AUTO_ELEMENTS`] for up to 77 s and ended
+/// beyond the slope limit either way (docs/stress.md, "Shifts on badly
+/// scaled chains"); since, the stress set's automatic partitions take at
+/// most 9 rounds, and this bound is the backstop.
+pub const MAX_AUTO_SPLITS: usize = 64;
+
+/// A split after which one half still turns at least this fraction of its
+/// parent's turn beyond the slope limit has met a fold: the turn gathers
+/// in one element however short it is, and the automatic partition stops
+/// there. Halving a smooth bend leaves each half about half the turn; in
+/// the stress set a half kept 0.9 or more of its parent's turn only on
+/// fingers already beyond the strain limits, which no partition clears
+/// (docs/stress.md, "Folds end the automatic partition").
+pub const FOLD_TURN_RATIO: f64 = 0.9;
+
+/// Each element's turn beyond the slope limit at a solution (degrees, 0
+/// for an element within it).
+fn slope_turns(solution: &Solution, elements: usize) -> Vec<f64> {
+    let mut turns = vec![0.0; elements];
+    for w in &solution.warnings {
+        if let Warning::ElementSlope {
+            element, degrees, ..
+        } = w
+        {
+            turns[*element] = *degrees;
+        }
+    }
+    turns
+}
+
+/// Where the halves of the elements turning beyond the limit land once
+/// they are split: each first half's index in the split partition, with
+/// its parent's turn (degrees).
+fn split_halves(turns: &[f64]) -> Vec<(usize, f64)> {
+    let mut halves = Vec::new();
+    let mut at = 0;
+    for &t in turns {
+        if t > 0.0 {
+            halves.push((at, t));
+            at += 1;
+        }
+        at += 1;
+    }
+    halves
+}
+
+/// The fold a split of the last round met, if any: `halves` holds the
+/// index of each split element's first half and the parent's turn. Of
+/// several, the half that kept the largest share of its parent's turn.
+fn fold(halves: &[(usize, f64)], turns: &[f64]) -> Option<Warning> {
+    let mut found: Option<(f64, Warning)> = None;
+    for &(i, parent) in halves {
+        let (element, degrees) = if turns[i + 1] > turns[i] {
+            (i + 1, turns[i + 1])
+        } else {
+            (i, turns[i])
+        };
+        let share = degrees / parent;
+        if share >= FOLD_TURN_RATIO && found.as_ref().is_none_or(|(s, _)| share > *s) {
+            let w = Warning::PartitionFold {
+                element,
+                degrees,
+                parent,
+                limit: FOLD_TURN_RATIO,
+            };
+            found = Some((share, w));
+        }
+    }
+    found.map(|(_, w)| w)
+}
+
+/// The automatic partition's start, built: the implementation of
+/// [`crate::Plan::Auto`].
+#[derive(Debug, Clone)]
+pub(crate) struct Auto {
+    model: ModelId,
+    actuator: Actuator,
+    ribs: bool,
+    partition: Partition,
+    finger: Finger,
+}
+
+impl Auto {
+    /// Element boundaries on the material changes
+    /// ([`Partition::material`], pieces at most `Lx / 8`).
+    pub(crate) fn new(model: ModelId, actuator: &Actuator, ribs: bool) -> Result<Auto, InputError> {
+        let lx = actuator.geometry().lx;
+        let partition = Partition::material(actuator, ribs, lx / 8.0)?;
+        let finger = Finger::with_model(model, actuator, &partition, ribs);
+        Ok(Auto {
+            model,
+            actuator: actuator.clone(),
+            ribs,
+            partition,
+            finger,
+        })
+    }
+
+    /// The finger of the starting partition.
+    pub(crate) fn finger(&self) -> &Finger {
+        &self.finger
+    }
+
+    /// Solves `load` on the starting partition, then, while an element
+    /// turns beyond the CCM's small-slope limit at the solved state, that
+    /// element is split in two and the finger solved again from the
+    /// previous state. Stops with the remaining findings on the solution
+    /// at a fold (a half that kept [`FOLD_TURN_RATIO`] of its parent's
+    /// turn; the solution then carries the note
+    /// [`Warning::PartitionFold`]), when [`MAX_AUTO_ELEMENTS`] would be exceeded, or after
+    /// [`MAX_AUTO_SPLITS`] rounds of splits.
+    ///
+    /// Where a split partition fails, the whole refinement is taken again
+    /// with a chain's shifted steps as the shift gives them (not doubled):
+    /// doubled steps can end a level on another equilibrium, whose splits
+    /// then ask for a partition that neither way solves, where the
+    /// path before them converged (docs/stress.md, "Shifted steps doubled
+    /// along a chain").
+    pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        match self.refine(load, opts, true) {
+            // (a Ctrl-C is not taken again)
+            Err((e, true)) if !matches!(e, SolveError::Cancelled) => {
+                self.refine(load, opts, false).map_err(|(e, _)| e)
+            }
+            r => r.map_err(|(e, _)| e),
+        }
+    }
+
+    /// [`Auto::solve`] with a chain's shifted steps doubled or not; an
+    /// error says whether it was a solve of a split partition.
+    fn refine(
+        &self,
+        load: &Load,
+        opts: &SolveOptions,
+        double_shifted: bool,
+    ) -> Result<Solved, (SolveError, bool)> {
+        let solve = |finger: &Finger, guess: Option<&Coefficients>| {
+            let mut solver = Solver::new(finger);
+            if !double_shifted {
+                solver.keep_shifted_steps();
+            }
+            solver.solve(load, guess, opts)
+        };
+        let (model, actuator, ribs) = (self.model, &self.actuator, self.ribs);
+        let mut partition = self.partition.clone();
+        let mut finger = self.finger.clone();
+        let mut solution = solve(&finger, None).map_err(|e| (e, false))?;
+        let mut refinements = 0;
+        // the last round's splits: each first half's index, its parent's turn
+        let mut halves: Vec<(usize, f64)> = Vec::new();
+        loop {
+            let turns = slope_turns(&solution, partition.len());
+            let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
+            let extra = split.iter().filter(|&&s| s).count();
+            let fold = fold(&halves, &turns);
+            if extra == 0
+                || fold.is_some()
+                || partition.len() + extra > MAX_AUTO_ELEMENTS
+                || refinements == MAX_AUTO_SPLITS
+            {
+                solution.warnings.extend(fold);
+                return Ok(Solved {
+                    solution,
+                    finger,
+                    refinement: None,
+                    splits: refinements,
+                    planned: None,
+                });
+            }
+            // each half starts from its parent's raw coefficients
+            let per = solution.coefficients.per_element();
+            let mut guess = Vec::with_capacity((partition.len() + extra) * per);
+            for (i, k) in solution.coefficients.iter().enumerate() {
+                guess.extend_from_slice(k);
+                if split[i] {
+                    guess.extend_from_slice(k);
+                }
+            }
+            halves = split_halves(&turns);
+            partition = partition.split(&split);
+            finger = Finger::with_model(model, actuator, &partition, ribs);
+            let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), false))?;
+            solution = match solve(&finger, Some(&guess)) {
+                Ok(s) => s,
+                Err(_) => solve(&finger, None).map_err(|e| (e, true))?,
+            };
+            refinements += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Halves are found where [`Partition::split`] puts them, and a fold is
+    /// a half that keeps [`FOLD_TURN_RATIO`] of its parent's turn.
+    #[test]
+    fn halves_follow_the_split_and_a_kept_turn_is_a_fold() {
+        let turns = [0.0, 50.0, 0.0, 0.0, 80.0];
+        let halves = split_halves(&turns);
+        assert_eq!(halves, [(1, 50.0), (5, 80.0)]);
+        let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
+        let partition = Partition::custom(vec![1.0, 2.0, 3.0, 4.0, 5.0], 15.0)
+            .unwrap()
+            .split(&split);
+        for &(i, _) in &halves {
+            assert_eq!(partition.lengths()[i], partition.lengths()[i + 1]);
+        }
+        assert_eq!(partition.lengths()[5], 2.5);
+        // halving a smooth bend: each half about half the turn
+        let mut after = [0.0; 7];
+        after[5] = 46.0;
+        assert_eq!(fold(&halves, &after), None);
+        // the second half keeps 90 % of the 80 degrees
+        after[6] = 72.0;
+        let note = |element, degrees, parent| Warning::PartitionFold {
+            element,
+            degrees,
+            parent,
+            limit: FOLD_TURN_RATIO,
+        };
+        assert_eq!(fold(&halves, &after), Some(note(6, 72.0, 80.0)));
+        // of two folds, the one that kept more of its parent's turn
+        after[1] = 49.0;
+        assert_eq!(fold(&halves, &after), Some(note(1, 49.0, 50.0)));
+        after[6] = 0.0;
+        after[1] = 45.1;
+        assert_eq!(fold(&halves, &after), Some(note(1, 45.1, 50.0)));
+    }
+
+    /// A Ctrl-C during a split partition's solve ends the automatic
+    /// partition: it is not refined again from the start (the retry is for
+    /// a split partition that failed to solve).
+    #[test]
+    fn a_cancelled_split_is_not_refined_again() {
+        // 300 mm long, no ribs, eps0 = 0.4: the 37.5 mm pieces turn beyond
+        // the slope limit, so the unloaded finger is split
+        use crate::actuator::{ActuatorParams, Channel, Geometry, RibLayout};
+        let mut params = ActuatorParams {
+            geometry: Geometry {
+                lx: 300.0,
+                ..Geometry::default()
+            },
+            channel: Channel {
+                cx: 295.0,
+                ..Channel::default()
+            },
+            ribs: RibLayout::None,
+            ..ActuatorParams::default()
+        };
+        params.pemc.eps0 = 0.4;
+        let actuator = Actuator::new(params).unwrap();
+        let auto = Auto::new(ModelId::default(), &actuator, false).unwrap();
+        let (load, opts) = (Load::unloaded(), SolveOptions::default());
+        let (solved, checks) =
+            crate::cancel::cancelled_from(usize::MAX, || auto.solve(&load, &opts));
+        let splits = solved.unwrap().splits;
+        assert!(splits > 0);
+        // one solve (one check) per partition
+        assert_eq!(checks, splits + 1);
+        // cancelled at the first split partition: its solve from the
+        // parent's state and the cold one after it fail, and nothing more
+        // is solved
+        let (solved, checks) = crate::cancel::cancelled_from(2, || auto.solve(&load, &opts));
+        assert_eq!(solved.err(), Some(SolveError::Cancelled));
+        assert_eq!(checks, 3);
+    }
+}
