@@ -73,6 +73,21 @@ impl Coefficients {
         &self.values
     }
 
+    /// A start for [`crate::Partition::split`] with the same `split`: each
+    /// half of a split element starts from its parent's raw coefficients
+    /// (exact for the first half, whose local frame is the parent's).
+    pub(crate) fn split(&self, split: &[bool]) -> Coefficients {
+        let halves = split.iter().filter(|&&s| s).count();
+        let mut values = Vec::with_capacity(self.values.len() + halves * self.per_element);
+        for (i, e) in self.iter().enumerate() {
+            values.extend_from_slice(e);
+            if split.get(i).copied().unwrap_or(false) {
+                values.extend_from_slice(e);
+            }
+        }
+        Coefficients::from_parts(self.per_element, values)
+    }
+
     /// Every value, element by element, to change in place.
     pub fn as_mut_slice(&mut self) -> &mut [f64] {
         &mut self.values
@@ -88,5 +103,23 @@ impl serde::Serialize for Coefficients {
             seq.serialize_element(e)?;
         }
         seq.end()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A split element's coefficients appear twice, where
+    /// `Partition::split` puts its halves; the others once.
+    #[test]
+    fn a_split_repeats_each_split_element_in_place() {
+        let k = Coefficients::new(2, vec![1.0, 2.0, 3.0, 4.0, 5.0, 6.0]).unwrap();
+        let s = k.split(&[false, true, false]);
+        assert_eq!(s.elements(), 4);
+        assert_eq!(s.as_slice(), [1.0, 2.0, 3.0, 4.0, 3.0, 4.0, 5.0, 6.0]);
+        let all = k.split(&[true; 3]);
+        assert_eq!(all.as_slice()[..4], [1.0, 2.0, 1.0, 2.0]);
+        assert_eq!(all.elements(), 6);
     }
 }

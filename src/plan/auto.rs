@@ -188,19 +188,10 @@ impl Auto {
                     planned: None,
                 });
             }
-            // each half starts from its parent's raw coefficients
-            let per = solution.coefficients.per_element();
-            let mut guess = Vec::with_capacity((partition.len() + extra) * per);
-            for (i, k) in solution.coefficients.iter().enumerate() {
-                guess.extend_from_slice(k);
-                if split[i] {
-                    guess.extend_from_slice(k);
-                }
-            }
+            let guess = solution.coefficients.split(&split);
             halves = split_halves(&turns);
             partition = partition.split(&split);
             finger = Finger::with_model(model, actuator, &partition, ribs);
-            let guess = Coefficients::new(per, guess).map_err(|e| (e.into(), false))?;
             solution = match solve(&finger, Some(&guess)) {
                 Ok(s) => s,
                 Err(_) => solve(&finger, None).map_err(|e| (e, true))?,

@@ -145,19 +145,6 @@ fn estimate(plan: &Refinement, levels: &[Level]) -> ([f64; 2], f64, Option<f64>)
     ([best[0], best[1]], best[2], est)
 }
 
-/// A guess for the partition with every element halved: each half starts
-/// from its parent's raw coefficients (exact for the first half, whose
-/// local frame is the parent's).
-fn halved_guess(k: &Coefficients) -> Result<Coefficients, InputError> {
-    let per = k.per_element();
-    let mut values = Vec::with_capacity(2 * k.as_slice().len());
-    for e in k.iter() {
-        values.extend_from_slice(e);
-        values.extend_from_slice(e);
-    }
-    Coefficients::new(per, values)
-}
-
 /// Relative residual an intermediate level of [`INTERMEDIATE_ELEMENTS`]
 /// elements is solved to (at least; finer levels proportionally tighter).
 /// The same relative residual leaves a larger tip error on a finer
@@ -383,7 +370,9 @@ fn solve_level(
     // nested iteration from the previous level (a failed warm start
     // falls back to a cold one), else from `guess`
     let nested = match &run.state {
-        Some(prev) if prev.elements() * 2 == finger.len() => Some(halved_guess(prev)?),
+        Some(prev) if prev.elements() * 2 == finger.len() => {
+            Some(prev.split(&vec![true; prev.elements()]))
+        }
         _ => None,
     };
     let start = nested.as_ref().or(guess);
