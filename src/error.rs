@@ -213,6 +213,16 @@ pub enum Warning {
         parent: f64,
         limit: f64,
     },
+    /// The automatic partition stopped because a split partition of
+    /// `elements` elements did not solve (`reason`, from its parent's state
+    /// and from rest): the answer is the last partition that solved, of
+    /// `kept` elements, with the `element_slope` findings that asked for
+    /// the split. A note.
+    PartitionSplitFailed {
+        elements: usize,
+        kept: usize,
+        reason: String,
+    },
     /// An element's mid-plane turns further than the CCM's small-slope
     /// limit from the element's root tangent (`degrees`, limit `limit`).
     ElementSlope {
@@ -269,8 +279,9 @@ impl Warning {
     /// the model's validity; `curvature_reversal` for the paper's grasp
     /// assumption, a rule only in strict mode; `eps0_outside_fit`,
     /// `softening_prestress_law`, `mounting_angle_outside_design_space`,
-    /// `palm_gap_at_rest` for notes on the input; `partition_advice` and
-    /// `partition_fold` for notes on the partition).
+    /// `palm_gap_at_rest` for notes on the input; `partition_advice`,
+    /// `partition_fold` and `partition_split_failed` for notes on the
+    /// partition).
     pub fn kind(&self) -> &'static str {
         match self {
             Warning::Eps0OutsideFit { .. } => "eps0_outside_fit",
@@ -281,6 +292,7 @@ impl Warning {
             Warning::PalmGapAtRest { .. } => "palm_gap_at_rest",
             Warning::PartitionAdvice { .. } => "partition_advice",
             Warning::PartitionFold { .. } => "partition_fold",
+            Warning::PartitionSplitFailed { .. } => "partition_split_failed",
             Warning::ElementSlope { .. } => "element_slope",
             Warning::MidplaneStrain { .. } | Warning::PrestressedStrain { .. } => "strain_range",
             Warning::SelfContact { .. } => "self_contact",
@@ -331,6 +343,7 @@ impl Warning {
             Warning::PartitionFold {
                 degrees, parent, ..
             } => Some(degrees / parent),
+            Warning::PartitionSplitFailed { elements, .. } => Some(elements as f64),
             Warning::ElementSlope { degrees, .. } => Some(degrees),
             Warning::MidplaneStrain { strain, .. } | Warning::PrestressedStrain { strain, .. } => {
                 Some(strain)
@@ -359,6 +372,7 @@ impl Warning {
             Warning::ElementSlope { limit, .. } | Warning::PartitionFold { limit, .. } => {
                 Some(limit)
             }
+            Warning::PartitionSplitFailed { kept, .. } => Some(kept as f64),
             Warning::MidplaneStrain { strain, limit, .. } => {
                 Some(if strain < 0.0 { -limit } else { limit })
             }
@@ -434,6 +448,14 @@ impl fmt::Display for Warning {
             } => write!(
                 f,
                 "the automatic partition stopped at a fold: an element that turned {parent:.1} degrees was split in two, and its half, element {element}, turns {degrees:.1}; the turn gathers in one element however short it is, and more elements do not clear its slope finding"
+            ),
+            Warning::PartitionSplitFailed {
+                elements,
+                kept,
+                reason,
+            } => write!(
+                f,
+                "the automatic partition stopped at {kept} elements, the last partition that solved: their split into {elements} did not ({reason})"
             ),
             Warning::MidplaneStrain {
                 element,

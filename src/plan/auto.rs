@@ -2,8 +2,9 @@
 //! the material changes, then every element that turns beyond the CCM's
 //! small-slope limit at the solved state split in two and the finger
 //! solved again from the previous state, until no element is beyond the
-//! limit, a split meets a fold, or a bound is reached (docs/model.md
-//! section 8, docs/stress.md "Folds end the automatic partition").
+//! limit, a split meets a fold or does not solve, or a bound is reached
+//! (docs/model.md section 8, docs/stress.md "Folds end the automatic
+//! partition" and "A split that does not solve").
 
 use super::solved::Solved;
 use crate::actuator::Actuator;
@@ -136,14 +137,24 @@ impl Auto {
     /// doubled steps can end a level on another equilibrium, whose splits
     /// then ask for a partition that neither way solves, where the
     /// path before them converged (docs/stress.md, "Shifted steps doubled
-    /// along a chain").
+    /// along a chain"). Where a split partition does not converge that way
+    /// either, the answer is the last partition that solved, with its
+    /// findings and the note [`Warning::PartitionSplitFailed`]
+    /// (docs/stress.md, "A split that does not solve"); a failure of the
+    /// starting partition, or a cancelled solve, is an error.
     pub(crate) fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
         match self.refine(load, opts, true) {
             // (a Ctrl-C is not taken again)
-            Err((e, true)) if !matches!(e, SolveError::Cancelled) => {
-                self.refine(load, opts, false).map_err(|(e, _)| e)
+            Err(Stop::Split(e, first)) if !matches!(e, SolveError::Cancelled) => {
+                match self.refine(load, opts, false) {
+                    Ok(solved) => Ok(solved),
+                    Err(Stop::Split(SolveError::NotConverged { .. }, second)) => Ok(*second),
+                    Err(Stop::Start(SolveError::NotConverged { .. })) => Ok(*first),
+                    Err(Stop::Start(e) | Stop::Split(e, _)) => Err(e),
+                }
             }
-            r => r.map_err(|(e, _)| e),
+            Ok(solved) => Ok(solved),
+            Err(Stop::Start(e) | Stop::Split(e, _)) => Err(e),
         }
     }
 
@@ -154,7 +165,7 @@ impl Auto {
         load: &Load,
         opts: &SolveOptions,
         double_shifted: bool,
-    ) -> Result<Solved, (SolveError, bool)> {
+    ) -> Result<Solved, Stop> {
         let solve = |finger: &Finger, guess: Option<&Coefficients>| {
             let mut solver = Solver::new(finger);
             if !double_shifted {
@@ -165,7 +176,7 @@ impl Auto {
         let (model, actuator, ribs) = (self.model, &self.actuator, self.ribs);
         let mut partition = self.partition.clone();
         let mut finger = self.finger.clone();
-        let mut solution = solve(&finger, None).map_err(|e| (e, false))?;
+        let mut solution = solve(&finger, None).map_err(Stop::Start)?;
         let mut refinements = 0;
         // the last round's splits: each first half's index, its parent's turn
         let mut halves: Vec<(usize, f64)> = Vec::new();
@@ -174,30 +185,57 @@ impl Auto {
             let split: Vec<bool> = turns.iter().map(|&t| t > 0.0).collect();
             let extra = split.iter().filter(|&&s| s).count();
             let fold = fold(&halves, &turns);
-            if extra == 0
+            let stop = extra == 0
                 || fold.is_some()
                 || partition.len() + extra > MAX_AUTO_ELEMENTS
-                || refinements == MAX_AUTO_SPLITS
-            {
+                || refinements == MAX_AUTO_SPLITS;
+            if stop {
                 solution.warnings.extend(fold);
-                return Ok(Solved {
-                    solution,
-                    finger,
-                    refinement: None,
-                    splits: refinements,
-                    planned: None,
-                });
+                return Ok(solved(solution, finger, refinements));
             }
             let guess = solution.coefficients.split(&split);
             halves = split_halves(&turns);
-            partition = partition.split(&split);
-            finger = Finger::with_model(model, actuator, &partition, ribs);
-            solution = match solve(&finger, Some(&guess)) {
+            let next = partition.split(&split);
+            let next_finger = Finger::with_model(model, actuator, &next, ribs);
+            let next_solution = match solve(&next_finger, Some(&guess)) {
                 Ok(s) => s,
-                Err(_) => solve(&finger, None).map_err(|e| (e, true))?,
+                Err(_) => match solve(&next_finger, None) {
+                    Ok(s) => s,
+                    Err(e) => {
+                        // the last partition that solved, with a note
+                        solution.warnings.push(Warning::PartitionSplitFailed {
+                            elements: next.len(),
+                            kept: partition.len(),
+                            reason: e.to_string(),
+                        });
+                        let last = solved(solution, finger, refinements);
+                        return Err(Stop::Split(e, Box::new(last)));
+                    }
+                },
             };
+            (partition, finger, solution) = (next, next_finger, next_solution);
             refinements += 1;
         }
+    }
+}
+
+/// Why [`Auto::refine`] stopped without an answer.
+enum Stop {
+    /// The starting partition did not solve.
+    Start(SolveError),
+    /// A split partition did not solve: the error, and the last partition
+    /// that solved, with the note [`Warning::PartitionSplitFailed`].
+    Split(SolveError, Box<Solved>),
+}
+
+/// The automatic partition's answer on `finger` after `splits` rounds.
+fn solved(solution: Solution, finger: Finger, splits: usize) -> Solved {
+    Solved {
+        solution,
+        finger,
+        refinement: None,
+        splits,
+        planned: None,
     }
 }
 

@@ -61,8 +61,10 @@ pub enum Plan {
     /// state split in two and the finger solved again, up to
     /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements and
     /// [`crate::plan::MAX_AUTO_SPLITS`] rounds of splits, or until a split
-    /// meets a fold ([`crate::plan::FOLD_TURN_RATIO`]); a finger still
-    /// beyond the limit then carries its `element_slope` findings.
+    /// meets a fold ([`crate::plan::FOLD_TURN_RATIO`]) or does not solve
+    /// (the answer is then the last partition that solved, with the note
+    /// [`crate::Warning::PartitionSplitFailed`]); a finger still beyond
+    /// the limit then carries its `element_slope` findings.
     Auto,
     /// Refined until the estimated tip error is at most `tip_tol_mm`:
     /// equal elements doubled from `start` (in [1,

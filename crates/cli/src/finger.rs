@@ -55,8 +55,8 @@ pub struct Args {
     /// Number of elements N, or `auto`: boundaries on the material
     /// changes, refined until every element is within the slope limit
     /// (at most 1000 elements and 64 rounds of splits, and no further
-    /// once a split meets a fold, with a note saying so; then the
-    /// findings stay on the answer)
+    /// once a split meets a fold or does not solve, with a note saying
+    /// so; then the findings stay on the answer)
     /// (with --tip-tol-mm: material partitions with extrapolation).
     /// With `--partition material`, N sets the longest piece to lx / N.
     /// [default: 8]

@@ -437,8 +437,9 @@ pub fn read_scene(obj: &Bound<'_, PyAny>) -> PyResult<(fpc::Scene, String)> {
 /// - ``elements``: a number of equal elements (default 8), or ``"auto"``
 ///   (boundaries on the material changes, split until every element is
 ///   within the slope limit, at most 1000 elements and 64 rounds of
-///   splits, and no further once a split meets a fold, which the answer's
-///   note ``partition_fold`` reports; chosen at each solve's load);
+///   splits, and no further once a split meets a fold or does not solve,
+///   which the answer's note ``partition_fold`` or
+///   ``partition_split_failed`` reports; chosen at each solve's load);
 /// - ``model``: the element model (``fpc.models()`` lists them);
 /// - ``ribs``: model the ribs inside the channel;
 /// - ``**actuator``: the scene file's ``[actuator.*]`` keys: ``lx``, ``ly``,
