@@ -37,7 +37,7 @@ use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::solve_error::SolveError;
 use auto::Auto;
-pub use auto::{FOLD_TURN_RATIO, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS};
+pub use auto::{FOLD_TURN_RATIO, MAX_AUTO_ELEMENTS, MAX_AUTO_SPLITS, START_HALVINGS};
 pub use refine::{intermediate_options, INTERMEDIATE_ELEMENTS, INTERMEDIATE_RTOL};
 use refine::{Refiner, TipTolerance};
 pub use refinement::{
@@ -56,7 +56,9 @@ pub enum Plan {
     /// One solve on `n` equal elements ([`Partition::equal`]).
     Equal(usize),
     /// The automatic partition: boundaries on the material changes
-    /// ([`Partition::material`], pieces at most `lx / 8`), then every
+    /// ([`Partition::material`], pieces at most `lx / 8`; every piece
+    /// halved, up to [`crate::plan::START_HALVINGS`] times, while that
+    /// start does not solve from rest), then every
     /// element that turns beyond the CCM's small-slope limit at the solved
     /// state split in two and the finger solved again, up to
     /// [`crate::plan::MAX_AUTO_ELEMENTS`] elements and

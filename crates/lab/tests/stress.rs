@@ -399,6 +399,44 @@ fn an_automatic_partition_whose_split_does_not_solve_keeps_the_last_that_did() {
     );
 }
 
+/// Seed 6 case 13 (`quad`, automatic partition, no ribs, 12 `F_ref`): the
+/// automatic partition's start, 9 material pieces, does not solve from
+/// rest, and the automatic partition failed there. Its start is now
+/// halved while it does not solve (`fpc::plan::START_HALVINGS`), and the
+/// 18 elements solve, beyond the strain limits, converged by the
+/// harness's own checks (docs/stress.md, "A start that does not solve").
+/// Checked apart from the rule on the fixed-partition path: the 9 pieces
+/// do not solve from rest, and the answer's 18 elements are those pieces
+/// halved, which from rest reach the same tip.
+#[test]
+fn an_automatic_partition_whose_start_does_not_solve_halves_it() {
+    checked(6, 13);
+    let opts = fpc::SolveOptions::default();
+    let (inputs, act, load, auto) = auto_solved(6, 13, &opts);
+    assert_eq!(auto.splits, 1);
+    assert!(!auto.is_valid());
+    let lx = act.geometry().lx;
+    let start = fpc::Partition::material(&act, inputs.ribs, lx / 8.0).unwrap();
+    assert_eq!(start.len(), 9);
+    let start_finger = fpc::Finger::with_model(inputs.model, &act, &start, inputs.ribs);
+    assert!(start_finger.solve(&load, &opts).is_err());
+    let halved: Vec<f64> = start.lengths().iter().flat_map(|&l| [l / 2.0; 2]).collect();
+    let got = auto.finger.element_lengths();
+    assert_eq!(got.len(), 18);
+    for (a, b) in got.iter().zip(&halved) {
+        assert!((a - b).abs() < 1e-12, "{got:?} against {halved:?}");
+    }
+    let same = cut(&inputs, &act, &auto, |_| 1)
+        .0
+        .solve(&load, &opts)
+        .unwrap();
+    let (a, b) = (auto.solution.tip, same.tip);
+    assert!(
+        (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-8,
+        "{a:?} against {b:?}"
+    );
+}
+
 /// Issue 23's bounds on the globalisation, kept: over the converged
 /// coupled solves of 1000 cases of seed 1 (every element count and the
 /// automatic partition), the coupled Newton steps (from the start and in
