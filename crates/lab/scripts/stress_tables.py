@@ -195,6 +195,13 @@ def main(paths):
     for r in reports:
         rejected.update(r["rejected_draws_by_field"])
     print("rejected draws:", sum(r["rejected_draws"] for r in reports), dict(rejected))
+    autos = [c for c in legal if part(c) == "auto"]
+    ends = Counter("failed" if c["outcome"] == "failed" else
+                   "stopped at a fold" if "partition_fold" in c["notes"] else
+                   "kept the last partition after a failed split" if "partition_split_failed" in c["notes"] else
+                   "beyond the slope limit" if "element_slope" in c["findings"] else
+                   "within the slope limit" for c in autos)
+    print("automatic partitions end:", dict(ends.most_common()))
     missed = Counter(f for c in cases for f in c["missed_findings"])
     print("findings missed at 32 samples:", sum(1 for c in cases if c["missed_findings"]), dict(missed))
     worst = max(reports, key=lambda r: r["largest_residual"])

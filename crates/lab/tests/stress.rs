@@ -297,6 +297,7 @@ fn an_automatic_partition_stops_at_a_fold() {
     assert!((1..=3).contains(&splits), "{splits}");
     assert!(c.findings.contains(&"element_slope"), "{:?}", c.findings);
     assert!(c.findings.contains(&"midplane_strain"), "{:?}", c.findings);
+    assert_eq!(c.notes, ["partition_fold"]);
 
     let opts = fpc::SolveOptions {
         shape: false,
@@ -360,6 +361,7 @@ fn an_automatic_partition_whose_split_does_not_solve_keeps_the_last_that_did() {
     let c = stress_case(17, 1803, 256);
     assert_eq!(c.refinements, Some(0));
     assert!(c.findings.contains(&"element_slope"), "{:?}", c.findings);
+    assert_eq!(c.notes, ["partition_split_failed"]);
 
     let opts = fpc::SolveOptions::default();
     let (inputs, act, load, auto) = auto_solved(17, 1803, &opts);

@@ -19,6 +19,7 @@ pub(super) struct Checked {
     pub(super) min_eig: Option<f64>,
     pub(super) conditioning: Option<f64>,
     pub(super) findings: Vec<&'static str>,
+    pub(super) notes: Vec<&'static str>,
     pub(super) missed: Vec<&'static str>,
     pub(super) wrong: Option<String>,
 }
@@ -32,16 +33,18 @@ impl Checked {
             min_eig: None,
             conditioning: None,
             findings: Vec::new(),
+            notes: Vec::new(),
             missed: Vec::new(),
             wrong: Some(what),
         }
     }
 }
 
-/// The distinct finding names of a list of warnings, in order.
-fn finding_names(ws: &[Warning]) -> Vec<&'static str> {
+/// The distinct names of a list of warnings, in order: of its validity
+/// findings, or (`validity` false) of its notes.
+fn names(ws: &[Warning], validity: bool) -> Vec<&'static str> {
     let mut out: Vec<&'static str> = Vec::new();
-    for w in ws.iter().filter(|w| w.is_validity()) {
+    for w in ws.iter().filter(|w| w.is_validity() == validity) {
         let n = finding_name(w);
         if !out.contains(&n) {
             out.push(n);
@@ -130,11 +133,11 @@ pub(super) fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
             sol.tip, tip
         ));
     }
-    let findings = finding_names(&sol.warnings);
+    let findings = names(&sol.warnings, true);
     let missed = finger
         .validity(k, FINE_VALIDITY_SAMPLES)
         .map(|w| {
-            finding_names(&w)
+            names(&w, true)
                 .into_iter()
                 .filter(|n| !findings.contains(n))
                 .collect()
@@ -159,6 +162,7 @@ pub(super) fn check(finger: &Finger, load: &Load, sol: &Solution) -> Checked {
         min_eig,
         conditioning,
         findings,
+        notes: names(&sol.warnings, false),
         missed,
         wrong: (!wrong.is_empty()).then(|| wrong.join("; ")),
     }

@@ -264,6 +264,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
         conditioning: None,
         max_rotation: None,
         findings: Vec::new(),
+        notes: Vec::new(),
         missed_findings: Vec::new(),
         seconds: 0.0,
     };
@@ -336,6 +337,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
             c.conditioning = m.conditioning;
             c.max_rotation = Some(m.max_rotation).filter(|r| r.is_finite());
             c.findings = m.findings;
+            c.notes = m.notes;
             c.missed_findings = m.missed;
             if let Some(what) = m.wrong {
                 c.outcome = StressOutcome::SilentlyWrong { what };

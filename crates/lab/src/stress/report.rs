@@ -169,6 +169,10 @@ pub struct StressCase {
     /// The distinct validity findings of a returned solution
     /// ([`finding_name`]), in order.
     pub findings: Vec<&'static str>,
+    /// The distinct notes of a returned solution (the kinds of its
+    /// warnings that are not validity findings, such as the automatic
+    /// partition's `partition_fold` and `partition_split_failed`), in order.
+    pub notes: Vec<&'static str>,
     /// Findings that a re-check at [`FINE_VALIDITY_SAMPLES`](super::FINE_VALIDITY_SAMPLES) per element
     /// adds to the solution's (a measurement, not a failure).
     pub missed_findings: Vec<&'static str>,

@@ -258,6 +258,7 @@ fn case_json(c: &StressCase) -> Value {
         "conditioning": opt(c.conditioning),
         "max_rotation_rad": opt(c.max_rotation),
         "findings": c.findings,
+        "notes": c.notes,
         "missed_findings": c.missed_findings,
         "seconds": num(c.seconds),
     })
