@@ -20,8 +20,9 @@ pub struct Solved {
     /// The refinement's levels and best tip, for a tip tolerance and
     /// nested levels; `None` for a single partition.
     pub refinement: Option<RefinementRecord>,
-    /// How many times the automatic partition split elements after a
-    /// solve (0 for the other plans).
+    /// How many rounds of splits the automatic partition took: splits of
+    /// the elements beyond the slope limit after a solve, and halvings of
+    /// a start that did not solve (0 for the other plans).
     pub splits: usize,
     /// The [`PlannedFinger`](crate::PlannedFinger) solved, when a scene
     /// keeps it: a nearby scene on the same finger (a sweep over loads)

@@ -143,7 +143,8 @@ pub struct StressCase {
     pub outcome: StressOutcome,
     /// Elements of the solution (the automatic partition's choice).
     pub solved_elements: Option<usize>,
-    /// Times the automatic partition split elements after a solve.
+    /// Rounds of splits the automatic partition took (`Solved::splits`:
+    /// halvings of a start that did not solve included).
     pub refinements: Option<usize>,
     /// Newton iterations (returned solutions and reported failures).
     pub iterations: Option<usize>,
