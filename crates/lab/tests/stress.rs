@@ -276,6 +276,23 @@ fn cut(
     (finger, fpc::Coefficients::new(per, guess).unwrap())
 }
 
+/// The answer's partition, rebuilt from its lengths and solved from rest
+/// on the fixed-partition path, reaches the answer's tip.
+fn same_from_rest(
+    inputs: &fpc_lab::StressInputs,
+    act: &fpc::Actuator,
+    load: &fpc::Load,
+    auto: &fpc::Solved,
+    opts: &fpc::SolveOptions,
+) {
+    let same = cut(inputs, act, auto, |_| 1).0.solve(load, opts).unwrap();
+    let (a, b) = (auto.solution.tip, same.tip);
+    assert!(
+        (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-8,
+        "{a:?} against {b:?}"
+    );
+}
+
 /// Seed 1 case 1522 (`quad`, automatic partition, 28 `F_ref`, an axial
 /// load strain of 2.7): the finger folds. Each split of the folded element
 /// left one half with the whole turn, and the automatic partition climbed
@@ -390,15 +407,7 @@ fn an_automatic_partition_whose_split_does_not_solve_keeps_the_last_that_did() {
     assert!(finer.solve_from(&load, &guess, &opts).is_err());
     assert!(finer.solve(&load, &opts).is_err());
 
-    let same = cut(&inputs, &act, &auto, |_| 1)
-        .0
-        .solve(&load, &opts)
-        .unwrap();
-    let (a, b) = (auto.solution.tip, same.tip);
-    assert!(
-        (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-8,
-        "{a:?} against {b:?}"
-    );
+    same_from_rest(&inputs, &act, &load, &auto, &opts);
 }
 
 /// Seed 6 case 13 (`quad`, automatic partition, no ribs, 12 `F_ref`): the
@@ -428,15 +437,7 @@ fn an_automatic_partition_whose_start_does_not_solve_halves_it() {
     for (a, b) in got.iter().zip(&halved) {
         assert!((a - b).abs() < 1e-12, "{got:?} against {halved:?}");
     }
-    let same = cut(&inputs, &act, &auto, |_| 1)
-        .0
-        .solve(&load, &opts)
-        .unwrap();
-    let (a, b) = (auto.solution.tip, same.tip);
-    assert!(
-        (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-8,
-        "{a:?} against {b:?}"
-    );
+    same_from_rest(&inputs, &act, &load, &auto, &opts);
 }
 
 /// Issue 23's bounds on the globalisation, kept: over the converged
