@@ -133,9 +133,9 @@ fn inside_the_envelope_every_case_converges_without_findings() {
 }
 
 /// Case `index` of `seed`, which must converge and pass the harness's own
-/// residual and dense stability count (not the solver's report); its
-/// step counts.
-fn checked(seed: u64, index: usize) -> fpc::finger::StepCounts {
+/// residual and dense stability count (not the solver's report): the
+/// case, and its step counts.
+fn checked(seed: u64, index: usize) -> (fpc_lab::StressCase, fpc::finger::StepCounts) {
     let c = stress_case(seed, index, 256);
     assert_eq!(
         c.outcome,
@@ -150,7 +150,20 @@ fn checked(seed: u64, index: usize) -> fpc::finger::StepCounts {
     );
     assert_eq!(c.negative_eigenvalues, Some(0), "{seed}/{index}");
     assert_eq!(c.dense_negative.map(|d| d.0), Some(0), "{seed}/{index}");
-    c.steps.expect("a returned solution has its counts")
+    let steps = c.steps.expect("a returned solution has its counts");
+    (c, steps)
+}
+
+/// Case `index` of `seed`, an automatic partition that [`checked`] passes
+/// with a coupled solve, ends beyond the slope limit with the single note
+/// `note`.
+fn auto_ending_with(seed: u64, index: usize, note: &str) -> fpc_lab::StressCase {
+    let (c, steps) = checked(seed, index);
+    assert!(steps.coupled > 0, "{steps:?}");
+    assert!(c.refinements.is_some(), "an automatic partition");
+    assert!(c.findings.contains(&"element_slope"), "{:?}", c.findings);
+    assert_eq!(c.notes, [note]);
+    c
 }
 
 /// Two chains far outside the envelope (docs/stress.md, "Where the
@@ -168,9 +181,9 @@ fn checked(seed: u64, index: usize) -> fpc::finger::StepCounts {
 ///   converges on its first attempt since, in 48 steps).
 #[test]
 fn a_chain_grows_its_step_cap_and_falls_back_on_the_fixed_one() {
-    let grown = checked(2, 152);
+    let (_, grown) = checked(2, 152);
     assert!(grown.coupled <= 12 && grown.grown > 0, "{grown:?}");
-    let again = checked(14, 565);
+    let (_, again) = checked(14, 565);
     assert!(again.grown > 0, "the first attempt grew its cap: {again:?}");
     assert_eq!(again.continuation, 0, "{again:?}");
     assert!(
@@ -193,7 +206,7 @@ fn a_chain_grows_its_step_cap_and_falls_back_on_the_fixed_one() {
 #[test]
 fn a_chain_doubles_its_shifted_steps() {
     for (seed, index, most, doubled) in [(4, 210, 10, true), (20261206, 1841, 20, false)] {
-        let s = checked(seed, index);
+        let (_, s) = checked(seed, index);
         assert!(s.shifted > 0, "{seed}/{index}: {s:?}");
         assert_eq!(s.extended > 0, doubled, "{seed}/{index}: {s:?}");
         assert_eq!(s.continuation, 0, "{seed}/{index}: {s:?}");
@@ -307,14 +320,10 @@ fn same_from_rest(
 /// which no partition clears.
 #[test]
 fn an_automatic_partition_stops_at_a_fold() {
-    let steps = checked(1, 1522);
-    assert!(steps.coupled > 0, "{steps:?}");
-    let c = stress_case(1, 1522, 256);
+    let c = auto_ending_with(1, 1522, "partition_fold");
     let splits = c.refinements.expect("an automatic partition");
     assert!((1..=3).contains(&splits), "{splits}");
-    assert!(c.findings.contains(&"element_slope"), "{:?}", c.findings);
     assert!(c.findings.contains(&"midplane_strain"), "{:?}", c.findings);
-    assert_eq!(c.notes, ["partition_fold"]);
 
     let opts = fpc::SolveOptions {
         shape: false,
@@ -361,10 +370,10 @@ fn an_automatic_partition_stops_at_a_fold() {
 }
 
 /// Seed 17 case 1803 (`quad`, automatic partition, no ribs, an axial
-/// push of 217 N, 22 `F_ref`): the starting partition of 9 elements solves,
-/// beyond the slope and strain limits, and its split (the one element
-/// beyond the slope limit halved) solves neither from that state nor from rest, along either
-/// path of shifted steps. The automatic partition failed there; it now
+/// push of 217 N, 22 `F_ref`): the starting partition of 9 elements
+/// solves, beyond the slope and strain limits, and its split (the one
+/// element beyond the slope limit halved) solves neither from that state
+/// nor from rest, along either path of shifted steps. The automatic partition failed there; it now
 /// returns the 9-element answer with its findings and the note
 /// `partition_split_failed`, converged by the harness's own checks. The
 /// note is checked apart from the rule: the split partition, built here
@@ -373,12 +382,8 @@ fn an_automatic_partition_stops_at_a_fold() {
 /// fixed one from rest is the same equilibrium.
 #[test]
 fn an_automatic_partition_whose_split_does_not_solve_keeps_the_last_that_did() {
-    let steps = checked(17, 1803);
-    assert!(steps.coupled > 0, "{steps:?}");
-    let c = stress_case(17, 1803, 256);
+    let c = auto_ending_with(17, 1803, "partition_split_failed");
     assert_eq!(c.refinements, Some(0));
-    assert!(c.findings.contains(&"element_slope"), "{:?}", c.findings);
-    assert_eq!(c.notes, ["partition_split_failed"]);
 
     let opts = fpc::SolveOptions::default();
     let (inputs, act, load, auto) = auto_solved(17, 1803, &opts);
