@@ -97,9 +97,4 @@ impl Solved {
     pub fn is_valid(&self) -> bool {
         self.solution.is_within_model()
     }
-
-    /// The solution.
-    pub fn into_solution(self) -> Solution {
-        self.solution
-    }
 }

@@ -1,7 +1,7 @@
 //! Solver options with validation.
 //!
-//! Every options struct has public fields, a [`Default`], a `validate` method
-//! and validating `with_*` setters. Solvers never panic on bad option
+//! Every options struct has public fields, a [`Default`] and a `validate`
+//! method. Solvers never panic on bad option
 //! values: constructing a solver with invalid options (e.g. fields assigned
 //! directly to NaN) makes every solve return
 //! [`Termination::InvalidInput`](crate::Termination::InvalidInput) without
@@ -28,30 +28,28 @@ impl OptionsError {
     }
 }
 
-// The checks hand back the value they accept, for the setters to store.
-
-fn check_nonneg(name: &'static str, v: f64) -> Result<f64, OptionsError> {
+fn check_nonneg(name: &'static str, v: f64) -> Result<(), OptionsError> {
     if v.is_finite() && v >= 0.0 {
-        Ok(v)
+        Ok(())
     } else {
         Err(OptionsError::new(name, v, "must be finite and >= 0"))
     }
 }
 
-fn check_positive(name: &'static str, v: f64) -> Result<f64, OptionsError> {
+fn check_positive(name: &'static str, v: f64) -> Result<(), OptionsError> {
     if v.is_finite() && v > 0.0 {
-        Ok(v)
+        Ok(())
     } else {
         Err(OptionsError::new(name, v, "must be finite and > 0"))
     }
 }
 
 /// A limit: positive, `+inf` for none.
-fn check_limit(name: &'static str, v: f64, rule: &'static str) -> Result<f64, OptionsError> {
+fn check_limit(name: &'static str, v: f64, rule: &'static str) -> Result<(), OptionsError> {
     if v.is_nan() || v <= 0.0 {
         Err(OptionsError::new(name, v, rule))
     } else {
-        Ok(v)
+        Ok(())
     }
 }
 
@@ -63,9 +61,8 @@ enum Max {
 }
 
 /// The step bounds of a continuation: `0 < min <= initial <= max`, all
-/// finite (`max` too unless it [`Max::MayBeInfinite`]); returns
-/// `[initial, min, max]`.
-fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<[f64; 3], OptionsError> {
+/// finite (`max` too unless it [`Max::MayBeInfinite`]).
+fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<(), OptionsError> {
     check_positive("min_step", min)?;
     let (max_ok, max_rule_text) = match max_rule {
         Max::MayBeInfinite => (!max.is_nan() && max >= min, "must be >= min_step"),
@@ -84,21 +81,21 @@ fn check_steps(initial: f64, min: f64, max: f64, max_rule: Max) -> Result<[f64; 
         };
         return Err(OptionsError::new("initial_step", initial, rule));
     }
-    Ok([initial, min, max])
+    Ok(())
 }
 
 /// A continuation's step growth factor: finite and at least 1.
-fn check_grow(grow: f64) -> Result<f64, OptionsError> {
+fn check_grow(grow: f64) -> Result<(), OptionsError> {
     if grow.is_finite() && grow >= 1.0 {
-        Ok(grow)
+        Ok(())
     } else {
         Err(OptionsError::new("grow", grow, "must be finite and >= 1"))
     }
 }
 
-fn check_open_unit(name: &'static str, v: f64) -> Result<f64, OptionsError> {
+fn check_open_unit(name: &'static str, v: f64) -> Result<(), OptionsError> {
     if v > 0.0 && v < 1.0 {
-        Ok(v)
+        Ok(())
     } else {
         Err(OptionsError::new(
             name,
@@ -242,42 +239,6 @@ impl NewtonOptions {
         }
         Ok(())
     }
-
-    /// Sets [`gtol`](Self::gtol) (finite, >= 0).
-    pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
-        self.gtol = check_nonneg("gtol", gtol)?;
-        Ok(self)
-    }
-
-    /// Sets [`xtol`](Self::xtol) (finite, >= 0).
-    pub fn with_xtol(mut self, xtol: f64) -> Result<Self, OptionsError> {
-        self.xtol = check_nonneg("xtol", xtol)?;
-        Ok(self)
-    }
-
-    /// Sets [`ctol`](Self::ctol) (finite, >= 0).
-    pub fn with_ctol(mut self, ctol: f64) -> Result<Self, OptionsError> {
-        self.ctol = check_nonneg("ctol", ctol)?;
-        Ok(self)
-    }
-
-    /// Sets [`max_iter`](Self::max_iter) (any value; 0 only evaluates the start).
-    pub fn with_max_iter(mut self, max_iter: usize) -> Self {
-        self.max_iter = max_iter;
-        self
-    }
-
-    /// Sets the Armijo constant [`c1`](Self::c1) (in (0, 1)).
-    pub fn with_c1(mut self, c1: f64) -> Result<Self, OptionsError> {
-        self.c1 = check_open_unit("c1", c1)?;
-        Ok(self)
-    }
-
-    /// Sets [`min_step_fraction`](Self::min_step_fraction) (in (0, 1)).
-    pub fn with_min_step_fraction(mut self, f: f64) -> Result<Self, OptionsError> {
-        self.min_step_fraction = check_open_unit("min_step_fraction", f)?;
-        Ok(self)
-    }
 }
 
 /// Options of the [`continuation`](crate::continuation()) driver.
@@ -335,43 +296,6 @@ impl ContinuationOptions {
         check_grow(self.grow)?;
         check_open_unit("shrink", self.shrink)?;
         Ok(())
-    }
-
-    /// Sets the step bounds and the initial step (`0 < min <= initial <= max`).
-    pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        [self.initial_step, self.min_step, self.max_step] =
-            check_steps(initial, min, max, Self::MAX_STEP)?;
-        Ok(self)
-    }
-
-    /// Sets [`grow`](Self::grow) (finite, >= 1).
-    pub fn with_grow(mut self, grow: f64) -> Result<Self, OptionsError> {
-        self.grow = check_grow(grow)?;
-        Ok(self)
-    }
-
-    /// Sets [`shrink`](Self::shrink) (in (0, 1)).
-    pub fn with_shrink(mut self, shrink: f64) -> Result<Self, OptionsError> {
-        self.shrink = check_open_unit("shrink", shrink)?;
-        Ok(self)
-    }
-
-    /// Sets [`max_steps`](Self::max_steps).
-    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
-        self.max_steps = max_steps;
-        self
-    }
-
-    /// Sets [`easy_iterations`](Self::easy_iterations).
-    pub fn with_easy_iterations(mut self, k: usize) -> Self {
-        self.easy_iterations = k;
-        self
-    }
-
-    /// Enables or disables the secant [`predictor`](Self::predictor).
-    pub fn with_predictor(mut self, on: bool) -> Self {
-        self.predictor = on;
-        self
     }
 }
 
@@ -495,43 +419,6 @@ impl PalcOptions {
         check_nonneg("event_step", self.event_step)?;
         Ok(())
     }
-
-    /// Sets the step bounds and the initial step (`0 < min <= initial <= max`, finite).
-    pub fn with_steps(mut self, initial: f64, min: f64, max: f64) -> Result<Self, OptionsError> {
-        [self.initial_step, self.min_step, self.max_step] =
-            check_steps(initial, min, max, Self::MAX_STEP)?;
-        Ok(self)
-    }
-
-    /// Sets [`theta`](Self::theta) (finite, > 0).
-    pub fn with_theta(mut self, theta: f64) -> Result<Self, OptionsError> {
-        self.theta = check_positive("theta", theta)?;
-        Ok(self)
-    }
-
-    /// Sets [`gtol`](Self::gtol) (finite, >= 0).
-    pub fn with_gtol(mut self, gtol: f64) -> Result<Self, OptionsError> {
-        self.gtol = check_nonneg("gtol", gtol)?;
-        Ok(self)
-    }
-
-    /// Sets [`event_tol`](Self::event_tol) (finite, > 0).
-    pub fn with_event_tol(mut self, tol: f64) -> Result<Self, OptionsError> {
-        self.event_tol = check_positive("event_tol", tol)?;
-        Ok(self)
-    }
-
-    /// Sets [`max_steps`](Self::max_steps).
-    pub fn with_max_steps(mut self, max_steps: usize) -> Self {
-        self.max_steps = max_steps;
-        self
-    }
-
-    /// Enables or disables [`detect_events`](Self::detect_events).
-    pub fn with_events(mut self, on: bool) -> Self {
-        self.detect_events = on;
-        self
-    }
 }
 
 #[cfg(test)]
@@ -547,28 +434,59 @@ mod tests {
 
     #[test]
     fn nan_and_out_of_range_are_rejected_with_names() {
-        let e = NewtonOptions::default().with_gtol(f64::NAN).unwrap_err();
+        let newton = |o: NewtonOptions| o.validate().unwrap_err().name;
+        let d = NewtonOptions::default();
+        let e = NewtonOptions {
+            gtol: f64::NAN,
+            ..d
+        }
+        .validate()
+        .unwrap_err();
         assert_eq!(e.name, "gtol");
         assert!(e.to_string().contains("gtol"));
-        assert!(NewtonOptions::default().with_xtol(-1.0).is_err());
-        assert!(NewtonOptions::default().with_ctol(f64::INFINITY).is_err());
+        assert_eq!(newton(NewtonOptions { xtol: -1.0, ..d }), "xtol");
         assert_eq!(
-            NewtonOptions::default().with_c1(1.0).unwrap_err().name,
-            "c1"
+            newton(NewtonOptions {
+                ctol: f64::INFINITY,
+                ..d
+            }),
+            "ctol"
         );
-        assert!(NewtonOptions::default()
-            .with_min_step_fraction(0.0)
-            .is_err());
-        let e = ContinuationOptions::default()
-            .with_steps(f64::NAN, 1e-6, 1.0)
-            .unwrap_err();
-        assert_eq!(e.name, "initial_step");
-        assert!(ContinuationOptions::default().with_grow(0.5).is_err());
-        assert!(ContinuationOptions::default().with_shrink(1.0).is_err());
-        let o = NewtonOptions {
-            gtol: f64::NAN,
-            ..Default::default()
-        };
-        assert_eq!(o.validate().unwrap_err().name, "gtol");
+        assert_eq!(newton(NewtonOptions { c1: 1.0, ..d }), "c1");
+        assert_eq!(
+            newton(NewtonOptions {
+                min_step_fraction: 0.0,
+                ..d
+            }),
+            "min_step_fraction"
+        );
+        let continuation = |o: ContinuationOptions| o.validate().unwrap_err().name;
+        let d = ContinuationOptions::default();
+        let initial_step = f64::NAN;
+        assert_eq!(
+            continuation(ContinuationOptions { initial_step, ..d }),
+            "initial_step"
+        );
+        assert_eq!(continuation(ContinuationOptions { grow: 0.5, ..d }), "grow");
+        assert_eq!(
+            continuation(ContinuationOptions { shrink: 1.0, ..d }),
+            "shrink"
+        );
+        let d = PalcOptions::default();
+        let palc = |o: PalcOptions| o.validate().unwrap_err().name;
+        assert_eq!(
+            palc(PalcOptions {
+                initial_step: 1.0,
+                ..d
+            }),
+            "initial_step"
+        );
+        assert_eq!(
+            palc(PalcOptions {
+                event_tol: 0.0,
+                ..d
+            }),
+            "event_tol"
+        );
     }
 }

@@ -143,16 +143,6 @@ pub enum PathTermination {
     InvalidInput,
 }
 
-impl PathTermination {
-    /// True for the normal ends: `ReachedTarget`, `Stopped`, `MaxSteps`.
-    pub fn is_normal(self) -> bool {
-        matches!(
-            self,
-            PathTermination::ReachedTarget | PathTermination::Stopped | PathTermination::MaxSteps
-        )
-    }
-}
-
 impl fmt::Display for PathTermination {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(match self {

@@ -61,7 +61,10 @@ impl DenseHessian for CoshChain {
 #[test]
 fn continuation_succeeds_where_cold_start_fails() {
     let n = 4;
-    let opts = NewtonOptions::default().with_max_iter(8);
+    let opts = NewtonOptions {
+        max_iter: 8,
+        ..Default::default()
+    };
     let mut newton = Newton::new(n, opts);
     let mut p = Dense::new(CoshChain {
         n,
@@ -76,9 +79,12 @@ fn continuation_succeeds_where_cold_start_fails() {
     assert_eq!(cold.reason, Termination::MaxIterations);
 
     // Continuation with a deliberately too-large first step.
-    let copts = ContinuationOptions::default()
-        .with_steps(12.0, 1e-3, 20.0)
-        .unwrap();
+    let copts = ContinuationOptions {
+        initial_step: 12.0,
+        min_step: 1e-3,
+        max_step: 20.0,
+        ..Default::default()
+    };
     let mut x = vec![0.0; n];
     let rep = continuation(0.0, 20.0, &mut x, &copts, |t, x| {
         p.problem.t = t;
@@ -95,7 +101,10 @@ fn continuation_succeeds_where_cold_start_fails() {
     assert!(rep.newton_iterations > 0);
 
     // Back down (reverse direction), without predictor.
-    let copts = copts.with_predictor(false);
+    let copts = ContinuationOptions {
+        predictor: false,
+        ..copts
+    };
     let rep = continuation(20.0, 0.0, &mut x, &copts, |t, x| {
         p.problem.t = t;
         newton.minimize(&mut p, x)
@@ -107,16 +116,25 @@ fn continuation_succeeds_where_cold_start_fails() {
 #[test]
 fn continuation_stops_incomplete_and_restores_state() {
     let n = 2;
-    let mut newton = Newton::new(n, NewtonOptions::default().with_max_iter(8));
+    let mut newton = Newton::new(
+        n,
+        NewtonOptions {
+            max_iter: 8,
+            ..Default::default()
+        },
+    );
     let mut p = Dense::new(CoshChain {
         n,
         t: 0.0,
         kappa: 0.0,
     });
     // Beyond t = 5 the "solver" refuses: the driver must stop at <= 5.
-    let copts = ContinuationOptions::default()
-        .with_steps(1.0, 0.01, 2.0)
-        .unwrap();
+    let copts = ContinuationOptions {
+        initial_step: 1.0,
+        min_step: 0.01,
+        max_step: 2.0,
+        ..Default::default()
+    };
     let mut x = vec![0.0; n];
     let mut calls = 0;
     let rep = continuation(0.0, 10.0, &mut x, &copts, |t, x| {
@@ -144,7 +162,11 @@ fn continuation_stops_incomplete_and_restores_state() {
 
     // max_steps bounds the attempts.
     let mut x = vec![0.0; n];
-    let rep = continuation(0.0, 10.0, &mut x, &copts.with_max_steps(3), |t, x| {
+    let three = ContinuationOptions {
+        max_steps: 3,
+        ..copts
+    };
+    let rep = continuation(0.0, 10.0, &mut x, &three, |t, x| {
         p.problem.t = t;
         newton.minimize(&mut p, x)
     });

@@ -359,7 +359,13 @@ fn newton_nonfinite_hessian_is_reported() {
 
 #[test]
 fn newton_max_iterations() {
-    let mut newton = Newton::new(2, NewtonOptions::default().with_max_iter(3));
+    let mut newton = Newton::new(
+        2,
+        NewtonOptions {
+            max_iter: 3,
+            ..Default::default()
+        },
+    );
     let mut x = rosenbrock_start(2);
     let f0 = Rosenbrock { n: 2 }.energy(&x);
     let r = newton.minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
@@ -369,7 +375,13 @@ fn newton_max_iterations() {
     assert!(r.energy < f0);
     assert_eq!(Rosenbrock { n: 2 }.energy(&x), r.energy);
     // max_iter = 0 only evaluates the start.
-    let mut newton = Newton::new(2, NewtonOptions::default().with_max_iter(0));
+    let mut newton = Newton::new(
+        2,
+        NewtonOptions {
+            max_iter: 0,
+            ..Default::default()
+        },
+    );
     let r = newton.minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
     assert_eq!(
         (r.reason, r.iterations, r.hessian_evals),
@@ -380,11 +392,11 @@ fn newton_max_iterations() {
 #[test]
 fn newton_step_tolerance() {
     // gtol = 0 cannot be met in floating point: the solve stalls on xtol.
-    let opts = NewtonOptions::default()
-        .with_gtol(0.0)
-        .unwrap()
-        .with_xtol(1e-6)
-        .unwrap();
+    let opts = NewtonOptions {
+        gtol: 0.0,
+        xtol: 1e-6,
+        ..Default::default()
+    };
     let mut x = rosenbrock_start(2);
     let r = Newton::new(2, opts).minimize(&mut Dense::new(Rosenbrock { n: 2 }), &mut x);
     assert!(

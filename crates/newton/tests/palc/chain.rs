@@ -280,7 +280,12 @@ fn semiseparable_chain_passes_a_fold_like_the_dense_path() {
     for (n, blocks, seed) in [(3, 8, 1), (2, 10, 2), (1, 16, 3), (5, 3, 4)] {
         let m = chain(n, blocks, seed);
         let dim = m.size();
-        let opts = PalcOptions::default().with_steps(0.02, 1e-8, 0.2).unwrap();
+        let opts = PalcOptions {
+            initial_step: 0.02,
+            min_step: 1e-8,
+            max_step: 0.2,
+            ..Default::default()
+        };
         // (0, 0) is an equilibrium on the unstable part (H indefinite);
         // decreasing load: s_N grows, the load falls to a fold, then rises
         let x0 = vec![0.0; dim];

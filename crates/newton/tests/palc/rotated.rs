@@ -130,7 +130,12 @@ impl DensePathProblem for Rotated {
 fn rotated_snap_through_folds_and_inertia_match_dense_eigenvalues() {
     for (n, seed) in [(6, 1), (12, 2), (30, 3)] {
         let mut p = Dense::path(Rotated::new(n, seed));
-        let opts = PalcOptions::default().with_steps(0.05, 1e-8, 0.2).unwrap();
+        let opts = PalcOptions {
+            initial_step: 0.05,
+            min_step: 1e-8,
+            max_step: 0.2,
+            ..Default::default()
+        };
         let mut palc = Palc::new(n, opts).unwrap();
         // start: y = the equilibrium at lambda = -1 (y_0 = X_START)
         let (l0, x0) = p.problem.fold(X_START);

@@ -57,7 +57,10 @@ pub(super) const X_START: f64 = -1.324_717_957_244_746;
 #[test]
 fn snap_through_passes_both_folds_and_the_unstable_middle() {
     for theta in [1.0, 0.3, 3.0] {
-        let opts = PalcOptions::default().with_theta(theta).unwrap();
+        let opts = PalcOptions {
+            theta,
+            ..Default::default()
+        };
         let mut palc = Palc::new(1, opts).unwrap();
         let mut p = Dense::path(Snap::new());
         let b = palc.branch(
@@ -171,9 +174,12 @@ fn snap_through_backwards_and_natural_end() {
 #[test]
 fn target_is_landed_on_exactly_whatever_the_steps() {
     for (initial, max, target) in [(0.05, 0.5, 0.9), (0.01, 0.01, 0.25), (0.3, 0.3, -0.37)] {
-        let opts = PalcOptions::default()
-            .with_steps(initial, 1e-8, max)
-            .unwrap();
+        let opts = PalcOptions {
+            initial_step: initial,
+            min_step: 1e-8,
+            max_step: max,
+            ..Default::default()
+        };
         let mut palc = Palc::new(1, opts).unwrap();
         let mut p = Dense::path(Snap::new());
         let b = palc.branch(
@@ -222,7 +228,14 @@ fn target_is_landed_on_exactly_whatever_the_steps() {
 
 #[test]
 fn step_limit_non_finite_and_failed_starts_are_reported() {
-    let mut palc = Palc::new(1, PalcOptions::default().with_max_steps(3)).unwrap();
+    let mut palc = Palc::new(
+        1,
+        PalcOptions {
+            max_steps: 3,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let mut p = Dense::path(Snap::new());
     let b = palc.branch(
         &mut p,
@@ -339,7 +352,14 @@ fn a_branch_point_is_reported_as_a_possible_bifurcation() {
     assert_eq!(b.folds().count(), 0);
 
     // without event detection: nothing reported, the same points
-    let mut palc = Palc::new(2, PalcOptions::default().with_events(false)).unwrap();
+    let mut palc = Palc::new(
+        2,
+        PalcOptions {
+            detect_events: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     let b2 = palc.branch(
         &mut p,
         &[0.0, -0.1],
