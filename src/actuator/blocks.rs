@@ -79,7 +79,13 @@ impl Partition {
             lengths.len() <= max,
             Field::PartitionMaxLength,
             max_length,
-            || format!("gives {} elements, more than {max}", lengths.len()),
+            || {
+                format!(
+                    "gives {} elements (pieces of at most {max_length} mm between the \
+                     material boundaries), more than {max}",
+                    lengths.len()
+                )
+            },
         )?;
         Partition::custom(lengths, lx)
     }

@@ -182,7 +182,14 @@ impl Refinement {
                 Partition::equal(lx, n)
             }
             PartitionKind::Material => {
-                let mut p = Partition::material(actuator, ribs, lx / self.start as f64)?;
+                // in the caller's terms: the start, not the piece length
+                // it sets
+                let mut p =
+                    Partition::material(actuator, ribs, lx / self.start as f64).map_err(|e| {
+                        e.renamed(Field::Refinement(RefinementKey::Start), |_| {
+                            self.start as f64
+                        })
+                    })?;
                 for _ in 0..level {
                     if 2 * p.len() > MAX_REFINED_ELEMENTS {
                         return Err(too_fine());

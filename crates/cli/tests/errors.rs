@@ -35,6 +35,12 @@ fn a_bad_element_count_exits_2_naming_the_flag() {
     }
     // not a count at all: clap's message, in the same form
     rejected(&["finger", "--elements", "-1"], &["--elements", "'-1'"]);
+    // a count within the bound whose material partition is not: the
+    // count is named, not the piece length it sets (110 mm / 1000)
+    rejected(
+        &["finger", "--partition", "material", "--elements", "1000"],
+        &["--elements = 1000: gives 1017 elements (pieces of at most 0.11 mm"],
+    );
 }
 
 #[test]
