@@ -32,7 +32,9 @@ pub const MAX_CL_RIBS: usize = 10_000;
 pub const EPS0_RANGE: (f64, f64) = (-1.0, 10.0);
 
 /// Dimensions of the strip (mm); z values are measured from the mid-plane.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A scene's `[actuator.geometry]`: a key not given is the default's.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Geometry {
     /// Modelled length, root (clamp exit) to tip.
     pub lx: f64,
@@ -64,8 +66,10 @@ impl Default for Geometry {
     }
 }
 
-/// The channel: X_ref in [0, cx], z in [-h3b, h3a], width cy (mm).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// The channel: X_ref in [0, cx], z in [-h3b, h3a], width cy (mm). A
+/// scene's `[actuator.channel]`: a key not given is the default's.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct Channel {
     pub cx: f64,
     pub cy: f64,

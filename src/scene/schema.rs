@@ -1,9 +1,13 @@
 //! The file format: the serde structs of a scene document, every key
 //! optional, unknown keys rejected (the syntax errors of parsing:
-//! `syntax.rs`).
+//! `syntax.rs`). Where a section is plain numbers with defaults, it is the
+//! library's own struct (`[actuator.geometry]` is
+//! [`Geometry`](crate::actuator::Geometry)); elsewhere an absent key is
+//! `None`, since whether it was given decides what the others mean.
 
 use super::fields::{SceneKey, ValueKind};
 use super::syntax::SceneError;
+use crate::actuator::{Channel, Geometry};
 use crate::error::InputError;
 use crate::field::Field;
 use serde::{Deserialize, Serialize};
@@ -11,7 +15,8 @@ use serde::{Deserialize, Serialize};
 // ------------------------------------------------------------ the document
 
 /// A scene document as written: every key optional (absent keys take the
-/// paper's defaults in [`SceneFile::resolve`]), unknown keys rejected.
+/// paper's defaults, while reading or in [`SceneFile::resolve`]), unknown
+/// keys rejected.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct SceneFile {
@@ -74,8 +79,10 @@ pub struct ModelSection {
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ActuatorSection {
-    pub geometry: GeometrySection,
-    pub channel: ChannelSection,
+    /// `[actuator.geometry]`, mm; a key not given is the default's.
+    pub geometry: Geometry,
+    /// `[actuator.channel]`, mm; a key not given is the default's.
+    pub channel: Channel,
     pub ribs: RibsSection,
     /// Constraining layer (default isotropic, E = 305 MPa, nu = 0.43).
     pub cl: MaterialSection,
@@ -120,40 +127,6 @@ pub struct ClRibEntry {
     pub x1: f64,
     pub width: f64,
     pub height: f64,
-}
-
-/// `[actuator.geometry]`, mm.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct GeometrySection {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lx: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub ly: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lc: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h1: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h2: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h3: Option<f64>,
-}
-
-/// `[actuator.channel]`, mm.
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
-pub struct ChannelSection {
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub cx: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub cy: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h3a: Option<f64>,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub h3b: Option<f64>,
 }
 
 /// How the ribs are given.

@@ -2,8 +2,8 @@
 //! materials.
 
 use crate::actuator::{
-    Actuator, ActuatorParams, Channel, ClRib, Geometry, Isotropic, Material, Orthotropic,
-    Prestressed, PsiLaw, Rib, RibLayout, TransverseShear,
+    Actuator, ActuatorParams, ClRib, Isotropic, Material, Orthotropic, Prestressed, PsiLaw, Rib,
+    RibLayout, TransverseShear,
 };
 use crate::error::InputError;
 use crate::scene::fields::{
@@ -16,38 +16,8 @@ pub(super) fn resolve_actuator(
     echo: &mut ActuatorSection,
 ) -> Result<Actuator, InputError> {
     let d = ActuatorParams::default();
-    let g = &a.geometry;
-    let geometry = Geometry {
-        lx: g.lx.unwrap_or(d.geometry.lx),
-        ly: g.ly.unwrap_or(d.geometry.ly),
-        lc: g.lc.unwrap_or(d.geometry.lc),
-        h: g.h.unwrap_or(d.geometry.h),
-        h1: g.h1.unwrap_or(d.geometry.h1),
-        h2: g.h2.unwrap_or(d.geometry.h2),
-        h3: g.h3.unwrap_or(d.geometry.h3),
-    };
-    echo.geometry = GeometrySection {
-        lx: Some(geometry.lx),
-        ly: Some(geometry.ly),
-        lc: Some(geometry.lc),
-        h: Some(geometry.h),
-        h1: Some(geometry.h1),
-        h2: Some(geometry.h2),
-        h3: Some(geometry.h3),
-    };
-    let c = &a.channel;
-    let channel = Channel {
-        cx: c.cx.unwrap_or(d.channel.cx),
-        cy: c.cy.unwrap_or(d.channel.cy),
-        h3a: c.h3a.unwrap_or(d.channel.h3a),
-        h3b: c.h3b.unwrap_or(d.channel.h3b),
-    };
-    echo.channel = ChannelSection {
-        cx: Some(channel.cx),
-        cy: Some(channel.cy),
-        h3a: Some(channel.h3a),
-        h3b: Some(channel.h3b),
-    };
+    let (geometry, channel) = (a.geometry, a.channel);
+    (echo.geometry, echo.channel) = (geometry, channel);
     let (ribs, ribs_echo) = resolve_ribs(&a.ribs, &d.ribs)?;
     echo.ribs = ribs_echo;
     let (cl, e) = resolve_material(&a.cl, d.cl, Lamina::Cl)?;

@@ -50,7 +50,7 @@ fn echo_spells_out_every_default_and_resolves_to_the_same_scene() {
         assert_eq!(&back, s.file(), "{name}");
     }
     let echo = Scene::from_toml("").unwrap().file().clone();
-    assert_eq!(echo.actuator.geometry.h1, Some(3.7));
+    assert_eq!(echo.actuator.geometry.h1, 3.7);
     assert_eq!(echo.actuator.emc.kind, Some(MaterialKind::Orthotropic));
     assert_eq!(echo.actuator.pemc.p4, Some(0.698));
     assert_eq!(echo.partition.elements, Some(Elements::Count(8)));
