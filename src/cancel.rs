@@ -12,6 +12,8 @@
 //! does not see it, except through `par_map`, which runs independent
 //! pieces of a computation on rayon's threads under the caller's flag, and
 //! `current` and `under`, which hand a flag to a thread of one's own.
+//! [`panic_text`] says what a panic on such a thread said, for the
+//! front ends that catch one and report it.
 
 use std::cell::RefCell;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -30,6 +32,17 @@ impl Drop for Restore {
     fn drop(&mut self) {
         let previous = self.0.take();
         FLAG.with(|f| *f.borrow_mut() = previous);
+    }
+}
+
+/// What a caught panic said: its `&str` or `String` payload.
+pub fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "a panic without a message".to_string()
     }
 }
 
@@ -159,5 +172,22 @@ mod tests {
         assert!(seen.iter().all(|c| *c));
         // the pool's threads keep no flag afterwards
         assert!(par_map(&items, |_| is_cancelled()).iter().all(|c| !c));
+    }
+
+    #[test]
+    fn a_panic_says_what_it_said() {
+        let text = |f: fn()| {
+            let hook = std::panic::take_hook();
+            std::panic::set_hook(Box::new(|_| {}));
+            let p = std::panic::catch_unwind(f).unwrap_err();
+            std::panic::set_hook(hook);
+            panic_text(&*p)
+        };
+        assert_eq!(text(|| panic!("a literal")), "a literal");
+        assert_eq!(text(|| panic!("formatted {}", 7)), "formatted 7");
+        assert_eq!(
+            text(|| std::panic::panic_any(7_u8)),
+            "a panic without a message"
+        );
     }
 }

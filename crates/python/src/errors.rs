@@ -186,20 +186,9 @@ pub fn from_measure(py: Python<'_>, e: &fpc::measure::MeasureError) -> PyErr {
     err
 }
 
-/// The text of a caught panic's payload.
-pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "a panic without a message".to_string()
-    }
-}
-
 /// Runs `f`, turning a panic into `Err(message)`.
 pub fn guarded<T>(f: impl FnOnce() -> T) -> Result<T, String> {
-    catch_unwind(AssertUnwindSafe(f)).map_err(|p| panic_message(&*p))
+    catch_unwind(AssertUnwindSafe(f)).map_err(|p| fpc::cancel::panic_text(&*p))
 }
 
 /// Runs `f` with the GIL released, a panic turned into `fpc.InternalError`.

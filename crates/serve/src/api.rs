@@ -17,9 +17,10 @@ use serde_json::Value;
 use tokio::sync::Semaphore;
 use tower_http::catch_panic::CatchPanicLayer;
 
-use crate::errors::{panic_response, panic_text, ApiError};
+use crate::errors::{panic_response, ApiError};
 use crate::limits::{read_json, MAX_BODY_BYTES, WORK_SECONDS};
 use crate::{assets, handlers};
+use fpc::cancel::panic_text;
 
 /// What the handlers share: how many computations may run at once, and
 /// for how long each may run.

@@ -132,23 +132,12 @@ impl From<fpc::scene::SceneReadError> for ApiError {
     }
 }
 
-/// What a panic said, as text (its `&str` or `String` payload).
-pub fn panic_text(payload: &(dyn Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "a panic without a message".to_string()
-    }
-}
-
 /// The answer to a panic in a handler (tower-http's `CatchPanicLayer`):
 /// 500 with the panic's message; the server goes on.
 pub fn panic_response(payload: Box<dyn Any + Send + 'static>) -> Response {
     ApiError::internal(format!(
         "internal error (a bug, please report it): {}",
-        panic_text(payload.as_ref())
+        fpc::cancel::panic_text(payload.as_ref())
     ))
     .into_response()
 }

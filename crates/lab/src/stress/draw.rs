@@ -7,7 +7,7 @@ use fpc::actuator::{Channel, Geometry};
 use fpc::{Actuator, InputError, ModelId};
 
 use super::inputs::{force_scale, StressInputs};
-use super::{panic_message, AUTO_FRACTION, ELEMENT_WEIGHTS, MAX_DRAWS, STRESS_ELEMENT_COUNTS};
+use super::{AUTO_FRACTION, ELEMENT_WEIGHTS, MAX_DRAWS, STRESS_ELEMENT_COUNTS};
 
 /// Relative thicknesses of the default stack: CL, regular EMC, fluidic
 /// layer, prestressed EMC (mm).
@@ -37,7 +37,7 @@ pub(super) fn draw_case(
         }));
         match validated {
             Err(p) => {
-                let m = format!("while validating: {}", panic_message(p));
+                let m = format!("while validating: {}", fpc::cancel::panic_text(&*p));
                 return (inputs, rejected, Err(NoFinger::Panicked(m)));
             }
             Ok(Ok((act, scale))) => {

@@ -202,16 +202,6 @@ pub fn stress_inputs(seed: u64, index: usize, max_elements: usize) -> (StressInp
     (inputs, rejected.len())
 }
 
-fn panic_message(p: Box<dyn std::any::Any + Send>) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "(non-string panic payload)".to_string()
-    }
-}
-
 /// The options of every solve: the defaults without shape sampling
 /// (stability on, so `negative_eigenvalues` is counted).
 fn solve_options() -> SolveOptions {
@@ -292,7 +282,7 @@ fn run_case(config: &StressConfig, index: usize) -> StressCase {
     match result {
         Err(p) => {
             c.outcome = StressOutcome::Panicked {
-                message: panic_message(p),
+                message: fpc::cancel::panic_text(&*p),
             };
         }
         Ok(Err(SolveError::NotConverged {
