@@ -66,9 +66,10 @@ pub use fpc_newton::PathTermination;
 pub use load::{Load, VACUUM_GAUGE_MPA};
 pub use options::{
     Solution, SolveOptions, SolveReport, StepCounts, Strategy, MAX_NEWTON_ITERATIONS, MAX_RTOL,
-    MAX_SAMPLES_PER_ELEMENT,
+    MAX_SAMPLES_PER_ELEMENT, MAX_SHAPE_POINTS,
 };
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
+pub use solver::VALIDITY_SAMPLES;
 pub use target::{TargetFold, Traced};
 
 use options::check_guess;
@@ -278,14 +279,19 @@ impl Finger {
     }
 
     /// Mid-plane samples from the root (included) to the tip, `per_element`
-    /// per element.
+    /// per element (at most [`MAX_SAMPLES_PER_ELEMENT`], and
+    /// [`MAX_SHAPE_POINTS`] in all).
     pub fn shape(&self, k: &Coefficients, per_element: usize) -> Result<Vec<[f64; 2]>, InputError> {
         self.check(k)?;
-        if !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&per_element) {
+        let points = per_element.saturating_mul(self.len());
+        if !(1..=MAX_SAMPLES_PER_ELEMENT).contains(&per_element) || points > MAX_SHAPE_POINTS {
             return Err(InputError::OutOfRange {
                 field: crate::Field::SamplesPerElement,
                 value: per_element as f64,
-                rule: format!("must lie in [1, {MAX_SAMPLES_PER_ELEMENT}]"),
+                rule: format!(
+                    "must lie in [1, {MAX_SAMPLES_PER_ELEMENT}], and at most {MAX_SHAPE_POINTS} samples in all ({} elements)",
+                    self.len()
+                ),
             });
         }
         Ok(with_core!(self, c => c.shape(k, per_element)))

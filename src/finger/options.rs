@@ -18,6 +18,11 @@ pub enum Strategy {
 /// Largest number of mid-plane samples per element.
 pub const MAX_SAMPLES_PER_ELEMENT: usize = 4096;
 
+/// Largest number of mid-plane samples of one solution (elements times
+/// [`SolveOptions::samples_per_element`]): each limit alone allows 4
+/// million points (about 160 MB as JSON); 65 536 draw any figure.
+pub const MAX_SHAPE_POINTS: usize = 65_536;
+
 /// Largest Newton iteration limit per solve ([`SolveOptions::max_iter`]):
 /// far above what a solve that converges takes (tens), and a bound on the
 /// time one that does not can spend.
@@ -45,7 +50,8 @@ pub struct SolveOptions {
     /// for tip-only output, then `Solution::negative_eigenvalues` is `None`).
     pub stability: bool,
     /// Mid-plane samples per element when `shape` is on (at most
-    /// [`MAX_SAMPLES_PER_ELEMENT`]).
+    /// [`MAX_SAMPLES_PER_ELEMENT`], and at most [`MAX_SHAPE_POINTS`] times
+    /// the number of elements).
     pub samples_per_element: usize,
     /// Fall back to continuation when Newton fails from the guess: load
     /// continuation for tip loads; per element, pressure continuation from
@@ -114,6 +120,23 @@ impl SolveOptions {
             });
         }
         Ok(())
+    }
+
+    /// [`SolveOptions::validate`], and the shape's samples on `elements`
+    /// elements at most [`MAX_SHAPE_POINTS`].
+    pub(crate) fn validate_on(&self, elements: usize) -> Result<(), InputError> {
+        self.validate()?;
+        let points = elements.saturating_mul(self.samples_per_element);
+        crate::error::require(
+            !self.shape || points <= MAX_SHAPE_POINTS,
+            crate::Field::SolveSamplesPerElement,
+            self.samples_per_element as f64,
+            || {
+                format!(
+                    "with {elements} elements gives {points} mid-plane samples, more than {MAX_SHAPE_POINTS}"
+                )
+            },
+        )
     }
 }
 

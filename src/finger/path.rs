@@ -158,7 +158,8 @@ impl<M: ElementModel> PathObserver for Observer<'_, '_, M> {
             restricted_negative: p.restricted.map(|i| i.negative),
             lambda_slope: p.tangent_lambda,
         };
-        if (self.visit)(&point) {
+        // a cancelled path stops at its next point ([`crate::cancel`])
+        if (self.visit)(&point) && !crate::cancel::is_cancelled() {
             Control::Continue
         } else {
             Control::Stop
@@ -184,7 +185,8 @@ impl<M: ElementModel> PathObserver for Observer<'_, '_, M> {
 impl<M: ElementModel> SolverCore<'_, M> {
     /// Follows the equilibria of a load family ([`LoadPathSpec`]) from
     /// `guess`; `visit` sees every accepted point and ends the path by
-    /// returning `false`.
+    /// returning `false`. A cancelled path ([`crate::cancel`]) stops at
+    /// its next point with [`SolveError::Cancelled`].
     pub fn follow_load(
         &mut self,
         spec: &LoadPathSpec,
@@ -204,7 +206,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
         let (lambda0, increasing, lambda_end, lambda_scale) =
             (*lambda0, *increasing, *lambda_end, *lambda_scale);
         problem.base.validate()?;
-        opts.validate()?;
+        opts.validate_on(self.finger.len())?;
         finite(crate::Field::key("path.lambda0"), lambda0)?;
         finite(crate::Field::key("path.lambda_scale"), lambda_scale)?;
         if let Some(e) = lambda_end {
@@ -248,6 +250,7 @@ impl<M: ElementModel> SolverCore<'_, M> {
             Some((y, l)) => (y.to_vec(), l),
             None => (start, lambda0),
         };
+        crate::cancel::check()?;
         observer.unscale(&y);
         let last = Coefficients::new(M::Coeffs::LEN, observer.raw.clone())?;
         Ok(LoadPath {

@@ -21,9 +21,11 @@ use super::pool::{Pooled, Spare, UnloadedStart, WorkspacePool};
 use super::problem::FingerCore;
 use crate::coefficients::Coefficients;
 
-/// Validity checks per element (the ends of 4 equal sub-intervals; the
-/// paper's element is monotone in x, so its extremes are at the ends).
-pub(crate) const VALIDITY_SAMPLES: usize = 4;
+/// Validity checks per element of every solution (the ends of 4 equal
+/// sub-intervals; the paper's element is monotone in x, so its extremes
+/// are at the ends): [`Finger::validity`](super::Finger::validity) at this
+/// count gives a solution's findings.
+pub const VALIDITY_SAMPLES: usize = 4;
 
 /// Hands the buffers to the next solver of the finger.
 impl<M: ElementModel> Drop for SolverCore<'_, M> {
@@ -188,8 +190,8 @@ impl<'a, M: ElementModel> SolverCore<'a, M> {
     ) -> Result<(SolveReport, bool), SolveError> {
         crate::cancel::check()?;
         load.validate()?;
-        opts.validate()?;
         let f = self.finger;
+        opts.validate_on(f.len())?;
         if let Some(g) = guess {
             check_guess(g, f.len(), M::Coeffs::LEN)?;
         }

@@ -273,8 +273,17 @@ impl PlannedFinger {
         }
     }
 
+    /// `opts` checked before any solve, on the finest finger built (every
+    /// level of nested levels; the finer fingers of an automatic partition
+    /// or a tip tolerance are checked as they are built).
+    fn check_options(&self, opts: &SolveOptions) -> Result<(), InputError> {
+        let most = self.fingers().iter().map(Finger::len).max().unwrap_or(1);
+        opts.validate_on(most)
+    }
+
     /// Solves `load` as the plan says.
     pub fn solve(&self, load: &Load, opts: &SolveOptions) -> Result<Solved, SolveError> {
+        self.check_options(opts)?;
         match &self.built {
             Built::Fixed(f) => Ok(Solved::single(f.solve(load, opts)?, f)),
             Built::Auto(a) => a.solve(load, opts),
@@ -293,6 +302,7 @@ impl PlannedFinger {
         guess: &Coefficients,
         opts: &SolveOptions,
     ) -> Result<Solved, SolveError> {
+        self.check_options(opts)?;
         match &self.built {
             Built::Fixed(f) => Ok(Solved::single(f.solve_from(load, guess, opts)?, f)),
             Built::Levels(r) => r.solve(load, Some(guess), opts),

@@ -48,7 +48,9 @@
 //! rest may still find elements beyond the limit). The number of elements
 //! used is [`SceneSolution::elements`]. `partition.lengths` holds at most
 //! 1000 entries (1 / [`crate::partition::MIN_ELEMENT_FRACTION`]) and
-//! `solve.samples_per_element` is at most [`crate::finger::MAX_SAMPLES_PER_ELEMENT`].
+//! `solve.samples_per_element` is at most [`crate::finger::MAX_SAMPLES_PER_ELEMENT`],
+//! and at most [`crate::finger::MAX_SHAPE_POINTS`] samples in all (times the
+//! elements).
 //!
 //! Reading is two steps: [`SceneFile::parse`] checks the TOML and its keys
 //! and types ([`SceneError`] with line and column), [`SceneFile::resolve`]

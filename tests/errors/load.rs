@@ -164,6 +164,41 @@ fn solve_options_are_checked() {
             names(&input(f.solve(&load, &opts)), field, value, rule);
         }
     }
+    // the samples in all are bounded too: 1000 elements at 66 each is
+    // 66 000 points, past 65 536 (at 65 each, 65 000, within), on a fixed
+    // finger and on nested levels alike
+    let fine = Finger::paper(0.25, 1000).unwrap();
+    let over = SolveOptions {
+        samples_per_element: 66,
+        ..d
+    };
+    names(
+        &input(fine.solve(&Load::unloaded(), &over)),
+        "solve.samples_per_element",
+        66.0,
+        "with 1000 elements gives 66000 mid-plane samples, more than 65536",
+    );
+    let within = SolveOptions {
+        samples_per_element: 65,
+        ..d
+    };
+    let s = fine.solve(&Load::unloaded(), &within).unwrap();
+    assert_eq!(s.points.len(), 65 * 1000 + 1);
+    let levels = fpc::PlannedFinger::builder(&fpc::Actuator::paper(0.25).unwrap())
+        .plan(fpc::Plan::Levels {
+            partition: fpc::plan::PartitionKind::Equal,
+            start: 250,
+            levels: 3,
+            extrapolate: false,
+        })
+        .build()
+        .unwrap();
+    names(
+        &input(levels.solve(&Load::unloaded(), &over).map(|s| s.solution)),
+        "solve.samples_per_element",
+        66.0,
+        "with 1000 elements gives 66000 mid-plane samples, more than 65536",
+    );
     // without shape sampling no samples are needed
     let tip_only = SolveOptions {
         samples_per_element: 0,
