@@ -8,7 +8,8 @@ use std::time::Duration;
 
 use axum::body::Body;
 use axum::extract::{DefaultBodyLimit, State};
-use axum::http::Uri;
+use axum::http::{HeaderMap, Method, Uri};
+use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
 use axum::{Json, Router};
@@ -18,34 +19,59 @@ use tokio::sync::Semaphore;
 use tower_http::catch_panic::CatchPanicLayer;
 
 use crate::errors::{panic_response, ApiError};
-use crate::limits::{read_json, MAX_BODY_BYTES, WORK_SECONDS};
+use crate::limits::{read_json, BODY_SECONDS, MAX_BODY_BYTES, WORK_SECONDS};
 use crate::{assets, handlers};
 use fpc::cancel::panic_text;
 
 /// What the handlers share: how many computations may run at once, and
-/// for how long each may run.
+/// for how long each may run (and wait for its turn).
+///
+/// Two queues: the quick answers the page asks for while a slider moves
+/// (a finger, a grasp) and the slow ones (curves, envelopes, load paths,
+/// designs), so that slow requests, however many, never hold up a quick
+/// one.
 #[derive(Debug, Clone)]
 pub struct AppState {
-    permits: Arc<Semaphore>,
+    quick: Arc<Semaphore>,
+    slow: Arc<Semaphore>,
     work: Duration,
+    body: Duration,
+}
+
+/// Which queue a computation waits in ([`AppState`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Queue {
+    /// A finger or a grasp: milliseconds.
+    Quick,
+    /// Curves, envelopes, load paths and designs: up to seconds.
+    Slow,
 }
 
 impl AppState {
-    /// `workers` computations at once (at least one; the others wait their
-    /// turn), each stopped after `work`.
+    /// `workers` computations at once in each queue (at least one; the
+    /// others wait their turn, at most `work`), each stopped after `work`;
+    /// request bodies must arrive within [`BODY_SECONDS`].
     pub fn new(workers: usize, work: Duration) -> AppState {
         AppState {
-            permits: Arc::new(Semaphore::new(workers.max(1))),
+            quick: Arc::new(Semaphore::new(workers.max(1))),
+            slow: Arc::new(Semaphore::new(workers.max(1))),
             work,
+            body: Duration::from_secs(BODY_SECONDS),
         }
+    }
+
+    /// The same with `body` for a request body to arrive.
+    pub fn with_body_time(mut self, body: Duration) -> AppState {
+        self.body = body;
+        self
     }
 }
 
 impl Default for AppState {
-    /// Twice the machine's threads at once, [`WORK_SECONDS`] each.
+    /// The machine's threads at once in each queue, [`WORK_SECONDS`] each.
     fn default() -> AppState {
         let threads = std::thread::available_parallelism().map_or(2, |n| n.get());
-        AppState::new(2 * threads, Duration::from_secs(WORK_SECONDS))
+        AppState::new(threads, Duration::from_secs(WORK_SECONDS))
     }
 }
 
@@ -53,6 +79,45 @@ impl Default for AppState {
 /// [`AppState`].
 pub fn app() -> Router {
     with_layers(routes(), AppState::default())
+}
+
+/// [`app`] as served on `addr`: on a loopback address, a request must name
+/// a loopback host (`localhost`, `127.0.0.1`, `[::1]`, any port) in its
+/// `Host` header, else 403. A web page of another site whose name an
+/// attacker points at 127.0.0.1 (DNS rebinding) names its own host, so it
+/// cannot reach the API.
+pub fn app_on(addr: std::net::SocketAddr) -> Router {
+    if addr.ip().is_loopback() {
+        app().layer(axum::middleware::from_fn(loopback_host_only))
+    } else {
+        app()
+    }
+}
+
+async fn loopback_host_only(request: axum::extract::Request, next: Next) -> Response {
+    let host = request
+        .headers()
+        .get(axum::http::header::HOST)
+        .and_then(|h| h.to_str().ok())
+        .unwrap_or("");
+    if is_loopback_host(host) {
+        next.run(request).await
+    } else {
+        ApiError::forbidden_host(host).into_response()
+    }
+}
+
+/// Whether a `Host` header names this machine: `localhost`, an IPv4
+/// loopback address or `[::1]`, with or without a port.
+pub fn is_loopback_host(host: &str) -> bool {
+    let name = match host.strip_prefix('[') {
+        Some(rest) => rest.split(']').next().unwrap_or(""),
+        None => host.rsplit_once(':').map_or(host, |(name, _)| name),
+    };
+    name.eq_ignore_ascii_case("localhost")
+        || name
+            .parse::<std::net::IpAddr>()
+            .is_ok_and(|ip| ip.is_loopback())
 }
 
 /// The routes of the page and the API, before the layers and the state.
@@ -67,6 +132,7 @@ pub fn routes() -> Router<AppState> {
         .route("/api/envelope", post(envelope))
         .route("/api/load-path", post(load_path))
         .route("/api/design", post(design))
+        .method_not_allowed_fallback(wrong_method)
         .fallback(not_found)
 }
 
@@ -83,6 +149,10 @@ async fn not_found(uri: Uri) -> Response {
     ApiError::not_found(uri.path()).into_response()
 }
 
+async fn wrong_method(method: Method, uri: Uri) -> Response {
+    ApiError::method_not_allowed(method.as_str(), uri.path()).into_response()
+}
+
 /// Sets the flag when dropped: the request ended (answered, timed out, or
 /// its client went away), so the computation it started stops.
 struct CancelOnDrop(Arc<AtomicBool>);
@@ -93,21 +163,26 @@ impl Drop for CancelOnDrop {
     }
 }
 
-/// Runs `work` on the blocking pool once a permit is free, under a
-/// cancellation flag ([`fpc::cancel::with_flag`]) that is set when the
-/// request ends early (its client disconnects: the handler's future is
-/// dropped) or its time runs out (503). A panic in `work` is a 500 with
-/// its message; the server goes on.
+/// Runs `work` on the blocking pool once a permit of `queue` is free
+/// (503 after waiting the state's work time), under a cancellation flag
+/// ([`fpc::cancel::with_flag`]) that is set when the request ends early
+/// (its client disconnects: the handler's future is dropped) or its time
+/// runs out (503). A panic in `work` is a 500 with its message; the
+/// server goes on.
 pub async fn blocking<T: Send + 'static>(
     state: &AppState,
+    queue: Queue,
     work: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    let permit = state
-        .permits
-        .clone()
-        .acquire_owned()
-        .await
-        .map_err(|_| ApiError::internal("the server is shutting down"))?;
+    let permits = match queue {
+        Queue::Quick => &state.quick,
+        Queue::Slow => &state.slow,
+    };
+    let permit = match tokio::time::timeout(state.work, permits.clone().acquire_owned()).await {
+        Err(_) => return Err(ApiError::busy(state.work.as_secs())),
+        Ok(Err(_)) => return Err(ApiError::internal("the server is shutting down")),
+        Ok(Ok(permit)) => permit,
+    };
     let flag = Arc::new(AtomicBool::new(false));
     let _stop = CancelOnDrop(flag.clone());
     let task = tokio::task::spawn_blocking(move || {
@@ -126,36 +201,63 @@ pub async fn blocking<T: Send + 'static>(
     }
 }
 
-/// Parses the body as `R` and answers `compute(R)` from the blocking pool.
+/// Parses the body as `R` and answers `compute(R)` from the blocking pool,
+/// in `queue`.
 async fn answer<R: DeserializeOwned + Send + 'static>(
     state: &AppState,
+    queue: Queue,
+    headers: &HeaderMap,
     body: Body,
     compute: fn(R) -> Result<Value, ApiError>,
 ) -> Result<Json<Value>, ApiError> {
-    let req: R = read_json(body).await?;
-    blocking(state, move || compute(req)).await.map(Json)
+    let req: R = read_json(headers, body, state.body).await?;
+    blocking(state, queue, move || compute(req)).await.map(Json)
 }
 
-async fn finger(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::finger).await
+async fn finger(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Quick, &headers, body, handlers::finger).await
 }
 
-async fn grasp(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::grasp).await
+async fn grasp(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Quick, &headers, body, handlers::grasp).await
 }
 
-async fn lift_curve(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::lift).await
+async fn lift_curve(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Slow, &headers, body, handlers::lift).await
 }
 
-async fn envelope(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::envelope).await
+async fn envelope(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Slow, &headers, body, handlers::envelope).await
 }
 
-async fn load_path(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::load_path).await
+async fn load_path(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Slow, &headers, body, handlers::load_path).await
 }
 
-async fn design(State(s): State<AppState>, body: Body) -> Result<Json<Value>, ApiError> {
-    answer(&s, body, handlers::design).await
+async fn design(
+    State(s): State<AppState>,
+    headers: HeaderMap,
+    body: Body,
+) -> Result<Json<Value>, ApiError> {
+    answer(&s, Queue::Slow, &headers, body, handlers::design).await
 }

@@ -1,7 +1,10 @@
 //! The API's errors: one JSON shape, `{"field", "message"}`, with the
-//! status saying whose fault it is (400 the input, 413 the body's size,
-//! 422 a solve that failed on valid input, 503 work stopped at its time
-//! limit, 500 a fault of the server, never caused by input alone).
+//! status saying whose fault it is (400 the input, 403 a request for
+//! another host, 405 the method, 408 a body that did not arrive in time,
+//! 413 the body's size, 415 a body not sent as JSON, 422 a solve that
+//! failed on valid input, 503 work stopped at its time limit or a request
+//! that waited too long for its turn, 500 a fault of the server, never
+//! caused by input alone).
 
 use std::any::Any;
 
@@ -55,6 +58,58 @@ impl ApiError {
             status: StatusCode::SERVICE_UNAVAILABLE,
             field: "server".into(),
             message: format!("the computation took longer than {seconds} s and was stopped"),
+        }
+    }
+
+    /// 415: the body is not declared as JSON.
+    pub fn unsupported_type(given: &str) -> ApiError {
+        let given = if given.is_empty() { "none" } else { given };
+        ApiError {
+            status: StatusCode::UNSUPPORTED_MEDIA_TYPE,
+            field: "content-type".into(),
+            message: format!(
+                "the API reads JSON: send the header `Content-Type: application/json` (given: {given})"
+            ),
+        }
+    }
+
+    /// 408: the client took longer than the limit to send the body.
+    pub fn body_timed_out(seconds: u64) -> ApiError {
+        ApiError {
+            status: StatusCode::REQUEST_TIMEOUT,
+            field: "body".into(),
+            message: format!("the request body did not arrive within {seconds} s"),
+        }
+    }
+
+    /// 503: the request waited longer than the limit for its turn.
+    pub fn busy(seconds: u64) -> ApiError {
+        ApiError {
+            status: StatusCode::SERVICE_UNAVAILABLE,
+            field: "server".into(),
+            message: format!(
+                "the server is busy: the request waited {seconds} s for its turn; try again"
+            ),
+        }
+    }
+
+    /// 403: a request naming another host than this machine's.
+    pub fn forbidden_host(host: &str) -> ApiError {
+        ApiError {
+            status: StatusCode::FORBIDDEN,
+            field: "host".into(),
+            message: format!(
+                "the server listens on a loopback address and answers requests for localhost only (Host: {host})"
+            ),
+        }
+    }
+
+    /// 405: the path exists, the method does not.
+    pub fn method_not_allowed(method: &str, path: &str) -> ApiError {
+        ApiError {
+            status: StatusCode::METHOD_NOT_ALLOWED,
+            field: "method".into(),
+            message: format!("{path} does not take {method} (the API takes POST, the page GET)"),
         }
     }
 

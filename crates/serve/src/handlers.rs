@@ -5,10 +5,11 @@
 use fpc::design::{
     optimize, DesignBase, DesignOptions, Requirements, RequirementsError, VARIABLES,
 };
-use fpc::finger::{Finger, LoadPathSpec, Solver, TargetProblem};
+use fpc::finger::{Finger, LoadPathSpec, Solver, TargetProblem, VALIDITY_SAMPLES};
 use fpc::gripper::{Gripper, SphereEnvelope};
 use fpc::scene::{PartitionPlan, SceneFile, SceneSolution, SolutionRecord};
 use fpc::studies::lift_curve;
+use fpc::{Coefficients, Warning};
 use serde::Deserialize;
 use serde_json::{json, Value};
 
@@ -268,7 +269,9 @@ pub fn envelope(req: EnvelopeRequest) -> Result<Value, ApiError> {
 /// `POST /api/load-path`: the finger of the scene at its load, a tip force
 /// along `direction` added and raised from 0 to `max_force_n` by
 /// pseudo-arclength continuation, through folds (where the finger snaps
-/// under load control), which are located and reported.
+/// under load control), which are located and reported. Every point
+/// carries its validity (`valid`, `warnings`: what a solve at that load
+/// reports), and the path is `valid` when every point is.
 pub fn load_path(req: LoadPathRequest) -> Result<Value, ApiError> {
     let max_points = count("max_points", req.max_points, 10, MAX_PATH_POINTS)?;
     let [dx, dz] = req.direction;
@@ -316,17 +319,32 @@ pub fn load_path(req: LoadPathRequest) -> Result<Value, ApiError> {
         events: true,
     };
     let mut points = Vec::new();
+    let mut refused = None;
+    let per = finger.unknowns_per_element();
     let path = Solver::new(&finger).follow_load(&spec, &start.coefficients, &opts, &mut |p| {
-        points.push(json!({
-            "force_n": p.lambda,
-            "tip_mm": p.tip,
-            "stable": p.negative_eigenvalues == 0,
-        }));
-        points.len() < max_points
+        // the findings a solve at this load reports: the same verdict
+        let findings = Coefficients::new(per, p.coefficients.to_vec())
+            .and_then(|k| finger.validity(&k, VALIDITY_SAMPLES));
+        match findings {
+            Ok(warnings) => points.push(json!({
+                "force_n": p.lambda,
+                "tip_mm": p.tip,
+                "stable": p.negative_eigenvalues == 0,
+                "valid": !warnings.iter().any(Warning::is_validity),
+                "warnings": warnings,
+            })),
+            Err(e) => refused = Some(e),
+        }
+        refused.is_none() && points.len() < max_points
     })?;
+    if let Some(e) = refused {
+        return Err(e.into());
+    }
+    let valid = points.iter().all(|p| p["valid"] == true);
     Ok(json!({
         "direction": direction,
         "max_force_n": max_force,
+        "valid": valid,
         "points": points,
         "folds": path.folds,
         "termination": format!("{:?}", path.termination),

@@ -1,8 +1,14 @@
-//! What a request may ask for, checked before any work: the body's size,
-//! the sizes of sweeps, how many solves run at once and for how long.
+//! What a request may ask for, checked before any work: the body's size
+//! and type, how long its client may take to send it, the sizes of
+//! sweeps, how many solves run at once and for how long.
 
-use axum::body::Body;
-use serde::de::DeserializeOwned;
+use std::time::Duration;
+
+use axum::body::{Body, HttpBody};
+use axum::http::{header, HeaderMap};
+use http_body_util::{BodyExt, LengthLimitError, Limited};
+use serde::de::{DeserializeOwned, Deserializer, Error as _, MapAccess, SeqAccess, Visitor};
+use serde_json::Value;
 
 use crate::errors::ApiError;
 
@@ -24,16 +30,58 @@ pub const MAX_PATH_FORCE_N: f64 = 100.0;
 /// The most random starts of a design.
 pub const MAX_DESIGN_STARTS: usize = 16;
 
-/// Seconds a request's computation may run before it is stopped (503).
+/// Seconds a request's computation may run before it is stopped (503);
+/// also the longest a request waits for its turn.
 pub const WORK_SECONDS: u64 = 60;
+/// Seconds a client may take to send a request's headers (from the
+/// connection's start, or from the end of its last answer); then the
+/// connection is closed.
+pub const HEADER_SECONDS: u64 = 10;
+/// Seconds a client may take to send a request's body once its headers
+/// are in (408).
+pub const BODY_SECONDS: u64 = 10;
+/// Seconds the open connections get to end after Ctrl-C.
+pub const SHUTDOWN_SECONDS: u64 = 5;
 
-/// Reads the body (at most [`MAX_BODY_BYTES`]) and parses it as JSON into
-/// `T`: a syntax error is 400 on `body`; an unknown key, a wrong type or
-/// a number out of range is 400 naming the key's path.
-pub async fn read_json<T: DeserializeOwned>(body: Body) -> Result<T, ApiError> {
-    let bytes = axum::body::to_bytes(body, MAX_BODY_BYTES)
-        .await
-        .map_err(|_| ApiError::too_large(MAX_BODY_BYTES))?;
+/// Reads the body and parses it as JSON into `T`. Refused: a content type
+/// other than `application/json` (415: a web page of another site cannot
+/// send that type without the server's consent, so it cannot start
+/// computations here); a body longer than [`MAX_BODY_BYTES`] (413, at once
+/// when its declared length says so); one not in within `time` (408) or
+/// malformed on the wire (400). Then a syntax error, a repeated key or a
+/// body that is not an object is 400 on `body`; an unknown or missing
+/// key, a wrong type or a number out of range is 400 naming the key's
+/// path.
+pub async fn read_json<T: DeserializeOwned>(
+    headers: &HeaderMap,
+    body: Body,
+    time: Duration,
+) -> Result<T, ApiError> {
+    let kind = headers
+        .get(header::CONTENT_TYPE)
+        .and_then(|v| v.to_str().ok())
+        .unwrap_or("");
+    let essence = kind.split(';').next().unwrap_or("").trim();
+    if !essence.eq_ignore_ascii_case("application/json") {
+        return Err(ApiError::unsupported_type(kind));
+    }
+    if body.size_hint().lower() > MAX_BODY_BYTES as u64 {
+        return Err(ApiError::too_large(MAX_BODY_BYTES));
+    }
+    let read = tokio::time::timeout(time, Limited::new(body, MAX_BODY_BYTES).collect()).await;
+    let bytes = match read {
+        Err(_) => return Err(ApiError::body_timed_out(time.as_secs())),
+        Ok(Err(e)) if e.is::<LengthLimitError>() => {
+            return Err(ApiError::too_large(MAX_BODY_BYTES))
+        }
+        Ok(Err(e)) => {
+            return Err(ApiError::bad(
+                "body",
+                format!("the request body could not be read: {e}"),
+            ))
+        }
+        Ok(Ok(collected)) => collected.to_bytes(),
+    };
     parse_json(&bytes)
 }
 
@@ -46,13 +94,19 @@ pub const MAX_MAGNITUDE: f64 = 1e9;
 /// Parses `bytes` as JSON into `T` (see [`read_json`]); any number beyond
 /// [`MAX_MAGNITUDE`] is refused naming its path.
 pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiError> {
-    let value: serde_json::Value = serde_json::from_slice(bytes)
+    let Strict(value) = serde_json::from_slice(bytes)
         .map_err(|e| ApiError::bad("body", format!("the request is not valid JSON: {e}")))?;
+    if !value.is_object() {
+        return Err(ApiError::bad(
+            "body",
+            "the request must be a JSON object of named keys",
+        ));
+    }
     check_magnitudes(&value, &mut String::new())?;
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let message = e.into_inner().to_string();
-        let field = match unknown_field(&message) {
+        let field = match named_field(&message) {
             Some(key) if path == "." => key.to_string(),
             Some(key) if !path.ends_with(key) => format!("{path}.{key}"),
             _ if path == "." => "body".to_string(),
@@ -65,7 +119,6 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiError> {
 /// Refuses a number beyond [`MAX_MAGNITUDE`] anywhere in `v` (`path`: where
 /// `v` is, as `a.b[2]`).
 fn check_magnitudes(v: &serde_json::Value, path: &mut String) -> Result<(), ApiError> {
-    use serde_json::Value;
     match v {
         Value::Number(n) => match n.as_f64() {
             Some(x) if x.abs() <= MAX_MAGNITUDE => Ok(()),
@@ -106,10 +159,69 @@ fn check_magnitudes(v: &serde_json::Value, path: &mut String) -> Result<(), ApiE
     }
 }
 
-/// The key serde names in "unknown field `key`, expected ...".
-fn unknown_field(message: &str) -> Option<&str> {
-    let rest = message.strip_prefix("unknown field `")?;
+/// The key serde names in "unknown field `key`, expected ..." or
+/// "missing field `key`".
+fn named_field(message: &str) -> Option<&str> {
+    let rest = message
+        .strip_prefix("unknown field `")
+        .or_else(|| message.strip_prefix("missing field `"))?;
     rest.split('`').next()
+}
+
+/// A JSON value read with every object's keys checked for repeats
+/// (`serde_json::Value` keeps the last of two, silently).
+struct Strict(Value);
+
+impl<'de> serde::Deserialize<'de> for Strict {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Strict, D::Error> {
+        d.deserialize_any(StrictVisitor).map(Strict)
+    }
+}
+
+struct StrictVisitor;
+
+impl<'de> Visitor<'de> for StrictVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+        Ok(v.into())
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+        Ok(v.into())
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+        Ok(v.into())
+    }
+    fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+        Ok(Value::String(v.to_owned()))
+    }
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::new();
+        while let Some(Strict(v)) = seq.next_element()? {
+            items.push(v);
+        }
+        Ok(Value::Array(items))
+    }
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        let mut object = serde_json::Map::new();
+        while let Some(key) = map.next_key::<String>()? {
+            if object.contains_key(&key) {
+                return Err(A::Error::custom(format!("the key `{key}` is given twice")));
+            }
+            let Strict(v) = map.next_value()?;
+            object.insert(key, v);
+        }
+        Ok(Value::Object(object))
+    }
 }
 
 /// `value` of the request key `field` within `lo..=hi`, else 400.

@@ -10,7 +10,7 @@ use std::time::Duration;
 use axum::routing::post as route_post;
 use fpc::scene::SceneSolution;
 use fpc::{Actuator, Load, Plan, PlannedFinger, Scene, SolveOptions};
-use fpc_serve::api::{blocking, routes, with_layers, AppState};
+use fpc_serve::api::{blocking, routes, with_layers, AppState, Queue};
 use fpc_serve::ApiError;
 use serde_json::{json, Value};
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -41,7 +41,7 @@ fn app_with_panics(state: AppState) -> axum::Router {
             "/test/panic-blocking",
             route_post(
                 |axum::extract::State(s): axum::extract::State<AppState>| async move {
-                    blocking(&s, || -> Result<Value, ApiError> {
+                    blocking(&s, Queue::Quick, || -> Result<Value, ApiError> {
                         if std::hint::black_box(true) {
                             panic!("boom on the blocking pool");
                         }
@@ -377,8 +377,7 @@ async fn clients_that_leave_mid_request() {
     // a body cut off half way
     {
         let mut s = TcpStream::connect(addr).await.unwrap();
-        let head =
-            "POST /api/finger HTTP/1.1\r\nHost: test\r\nContent-Length: 1000\r\n\r\n{\"scene\":";
+        let head = "POST /api/finger HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: 1000\r\n\r\n{\"scene\":";
         s.write_all(head.as_bytes()).await.unwrap();
     }
     // a long computation whose client goes away after it started
@@ -386,7 +385,7 @@ async fn clients_that_leave_mid_request() {
         let mut s = TcpStream::connect(addr).await.unwrap();
         let body = json!({ "scene": { "gripper": {} }, "radii": 200, "samples": 200 }).to_string();
         let head = format!(
-            "POST /api/envelope HTTP/1.1\r\nHost: test\r\nContent-Length: {}\r\n\r\n{body}",
+            "POST /api/envelope HTTP/1.1\r\nHost: test\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
             body.len()
         );
         s.write_all(head.as_bytes()).await.unwrap();
@@ -594,6 +593,38 @@ async fn load_path_ends_at_the_library_s_tip_load() {
         (got[0] - want[0]).abs() < 1e-6 && (got[1] - want[1]).abs() < 1e-6,
         "{got:?} vs {want:?}"
     );
+    // every point carries the verdict a solve at its load gives: the
+    // first (no force) and the last compared with the library's own,
+    // solved directly; the path is valid when every point is
+    let direct_valid = |force: f64| {
+        let s = PlannedFinger::builder(&act)
+            .plan(Plan::Equal(8))
+            .build()
+            .unwrap()
+            .solve(
+                &Load::unloaded().with_tip_force(0.0, force),
+                &SolveOptions::default(),
+            )
+            .unwrap()
+            .solution;
+        !s.warnings.iter().any(fpc::Warning::is_validity)
+    };
+    for max in [3.0, 100.0] {
+        let body = json!({ "scene": finger_body(0.25)["scene"], "direction": [0.0, 1.0], "max_force_n": max });
+        let (status, v) = post(addr, "/api/load-path", body).await;
+        assert_eq!(status, 200, "{v}");
+        let points = v["points"].as_array().unwrap();
+        let (first, last) = (&points[0], points.last().unwrap());
+        assert_eq!(first["valid"], true, "{first}");
+        assert_eq!(first["warnings"], json!([]), "{first}");
+        let want = direct_valid(last["force_n"].as_f64().unwrap());
+        assert_eq!(last["valid"], want, "{last}");
+        assert_eq!(last["warnings"] == json!([]), want, "{last}");
+        let all = points.iter().all(|p| p["valid"] == true);
+        assert_eq!(v["valid"], all, "{v}");
+    }
+    // 100 N is far past the model's limits
+    assert!(!direct_valid(100.0));
     // bounds, before any work
     let zero = json!({ "scene": {}, "direction": [0.0, 0.0], "max_force_n": 1.0 });
     assert_error(&post(addr, "/api/load-path", zero).await, 400, "direction");
