@@ -74,6 +74,7 @@ pub mod measure;
 pub mod model;
 pub mod partition;
 pub mod plan;
+mod progress;
 pub mod report;
 pub mod scene;
 pub mod sensitivity;

@@ -36,8 +36,9 @@
 //! a caller that built them without [`Requirements::parse`].
 //!
 //! The design with the largest worst-case margin is found by a multistart
-//! trust-region ascent of the worst margin ([`optimize`]); [`grid_search`]
-//! is the brute-force check. Every grasp a
+//! trust-region ascent of the worst margin ([`optimize`]; with
+//! [`optimize_with_progress`], the caller sees how far it has got:
+//! [`DesignProgress`]); [`grid_search`] is the brute-force check. Every grasp a
 //! design claims is a forward solve through the ordinary gripper path, and
 //! [`Designed::scenes`] writes one scene file per object that `fpc solve`
 //! runs to reproduce it.
@@ -47,6 +48,7 @@ mod evaluate;
 mod limits;
 mod minimax;
 mod optimize;
+mod progress;
 mod reproduce;
 mod requirements;
 mod variables;
@@ -58,9 +60,10 @@ pub use variables::gripper;
 
 pub use limits::{FORCE_RANGE_N, LENGTH_RANGE_MM, MAX_OBJECTS, MU_RANGE};
 pub use optimize::{
-    grid_search, optimize, DesignOptions, Designed, GridResult, MarginSensitivity, MAX_ASCENTS,
-    MAX_ASCENT_ITERATIONS, MAX_GRID_POINTS, MAX_RANDOM_STARTS,
+    grid_search, optimize, optimize_with_progress, DesignOptions, Designed, GridResult,
+    MarginSensitivity, MAX_ASCENTS, MAX_ASCENT_ITERATIONS, MAX_GRID_POINTS, MAX_RANDOM_STARTS,
 };
+pub use progress::{DesignProgress, DesignStage};
 pub use reproduce::{reproduce, Reproduction, REPRODUCE_RTOL};
 pub use requirements::{
     DesignBase, ObjectRequirement, OpenRequirement, Requirements, RequirementsError, Vary,

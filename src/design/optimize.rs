@@ -45,6 +45,7 @@ use crate::error::{positive, require, InputError};
 use crate::field::Field;
 
 use super::evaluate::{evaluate, evaluate_seeded, evaluate_with_gradients, Evaluation, Seeds};
+use super::progress::{DesignProgress, DesignStage, Tracker};
 use super::reproduce::{reproduce, Reproduction};
 use super::requirements::Requirements;
 use super::variables::MarginGradient;
@@ -219,6 +220,8 @@ fn smooth_min(e: &Evaluation, k: f64) -> f64 {
 struct Counter<'a> {
     req: &'a Requirements,
     evaluations: usize,
+    /// Where each evaluation is reported, if anywhere.
+    progress: Option<&'a Tracker<'a>>,
     /// The spheres' optima of the last evaluation along the current
     /// ascent, where the next trial's start
     /// ([`super::evaluate::evaluate_seeded`]).
@@ -226,31 +229,40 @@ struct Counter<'a> {
 }
 
 impl<'a> Counter<'a> {
-    fn new(req: &'a Requirements) -> Counter<'a> {
+    fn new(req: &'a Requirements, progress: Option<&'a Tracker<'a>>) -> Counter<'a> {
         Counter {
             req,
             evaluations: 0,
+            progress,
             seeds: Seeds::default(),
+        }
+    }
+
+    /// Counts one evaluation (and reports it).
+    fn count(&mut self) {
+        self.evaluations += 1;
+        if let Some(t) = self.progress {
+            t.evaluated();
         }
     }
 
     /// The evaluation at `u`, searched afresh.
     fn eval(&mut self, u: &[f64]) -> Evaluation {
-        self.evaluations += 1;
+        self.count();
         evaluate(self.req, design_of(self.req, u))
     }
 
     /// The evaluation at `u` along an ascent: each sphere's envelope
     /// started from the last evaluation's optimum.
     fn eval_near(&mut self, u: &[f64]) -> Evaluation {
-        self.evaluations += 1;
+        self.count();
         evaluate_seeded(self.req, design_of(self.req, u), false, &mut self.seeds).0
     }
 
     /// The evaluation at `u` along an ascent with every margin's exact
     /// gradient.
     fn eval_with_gradients(&mut self, u: &[f64]) -> (Evaluation, Vec<MarginGradient>) {
-        self.evaluations += 1;
+        self.count();
         evaluate_seeded(self.req, design_of(self.req, u), true, &mut self.seeds)
     }
 }
@@ -359,6 +371,9 @@ fn ascend(c: &mut Counter<'_>, u0: &[f64], opts: &DesignOptions) -> (Vec<f64>, E
         let rho = (et.worst - e.worst) / predicted;
         let reach = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if rho >= 0.01 {
+            if let Some(t) = c.progress {
+                t.update(|p| p.offer(et.worst));
+            }
             (u, e, grads, lin) = (trial, et, gt, None);
             if rho >= 0.75 && reach >= 0.99 * radius {
                 radius = (2.0 * radius).min(MAX_RADIUS);
@@ -392,30 +407,59 @@ fn starts(dim: usize, opts: &DesignOptions) -> Vec<Vec<f64>> {
 /// settings and the requirements (which a caller may have built without
 /// [`Requirements::parse`]) are checked before any work.
 pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, InputError> {
+    optimize_with_progress(req, opts, &|_| {})
+}
+
+/// [`optimize`], handing `observer` a [`DesignProgress`] at every start
+/// screened, design evaluated, step an ascent takes, ascent finished and
+/// change of stage (none before the settings and the requirements are
+/// checked). The observer is called from the search's threads, one call
+/// at a time, and its counts never fall from one call to the next; it
+/// should return quickly (store the event, say), as the search waits for
+/// it.
+pub fn optimize_with_progress(
+    req: &Requirements,
+    opts: &DesignOptions,
+    observer: &(dyn Fn(&DesignProgress) + Sync),
+) -> Result<Designed, InputError> {
     opts.validate()?;
     req.validate()?;
     let act = active(req);
     let dim = act.len();
-    let mut c = Counter::new(req);
     let mut best: Option<(Vec<f64>, Evaluation)> = None;
     let list = starts(dim, opts);
+    let ascended = opts.ascents.max(1).min(list.len());
+    let tracker = Tracker::new(observer, DesignProgress::new(list.len(), ascended));
+    let mut c = Counter::new(req, Some(&tracker));
+    tracker.stage(DesignStage::Screening);
     // screen every start by one evaluation; ascend from the best few. The
     // evaluations of the screening are independent, and so are the
     // ascents (each starts its seeds afresh): on every core, in order
     let scores = crate::cancel::par_map(&list, |u0| {
-        smooth_min(&evaluate(req, design_of(req, u0)), opts.sharpness)
+        let e = evaluate(req, design_of(req, u0));
+        tracker.update(|p| {
+            p.starts_done += 1;
+            p.evaluations += 1;
+            p.offer(e.worst);
+        });
+        smooth_min(&e, opts.sharpness)
     });
     c.evaluations += list.len();
     let mut screened: Vec<(&Vec<f64>, f64)> = list.iter().zip(scores).collect();
     screened.sort_by(|a, b| b.1.total_cmp(&a.1));
     let chosen: Vec<&Vec<f64>> = screened
         .into_iter()
-        .take(opts.ascents.max(1))
+        .take(ascended)
         .map(|(u0, _)| u0)
         .collect();
+    tracker.stage(DesignStage::Ascending);
     let ascents = crate::cancel::par_map(&chosen, |u0| {
-        let mut own = Counter::new(req);
+        let mut own = Counter::new(req, Some(&tracker));
         let (u, e) = ascend(&mut own, u0, opts);
+        tracker.update(|p| {
+            p.ascents_done += 1;
+            p.offer(e.worst);
+        });
         (u, e, own.evaluations)
     });
     for (u, e, evaluations) in ascents {
@@ -429,7 +473,8 @@ pub fn optimize(req: &Requirements, opts: &DesignOptions) -> Result<Designed, In
     // trials followed their spheres' optima from the trial before), with
     // the sensitivities of every margin: exact where the gripper-output
     // sensitivities cover them, central differences for the rest
-    c.evaluations += 1;
+    tracker.stage(DesignStage::Checking);
+    c.count();
     let (e, exact) = evaluate_with_gradients(req, e.design);
     let gradients = margin_gradients(&mut c, &u, (&e, &exact), opts.step, false);
     let sens: Vec<MarginSensitivity> = e
@@ -490,7 +535,7 @@ pub fn grid_search(req: &Requirements, per_axis: usize) -> Result<GridResult, In
             ),
         });
     };
-    let mut c = Counter::new(req);
+    let mut c = Counter::new(req, None);
     let mut best: Option<Evaluation> = None;
     for idx in 0..total {
         let mut r = idx;
@@ -529,6 +574,88 @@ impl Designed {
 mod tests {
     use super::super::evaluate::{evaluate, evaluate_seeded, evaluate_with_gradients, Seeds};
     use super::super::Requirements;
+
+    /// The observer of a search sees it begin at zero, every count rise
+    /// by steps and never fall, each stage come after the one before,
+    /// and the search end where the result says: every start screened,
+    /// every ascent finished, the evaluations the result reports, and the
+    /// best worst margin it saw at least the result's (the best ascent's
+    /// end, seen there). Observing changes nothing in the result.
+    #[test]
+    fn progress_counts_rise_to_the_results_own() {
+        use super::super::{DesignProgress, DesignStage};
+        use super::{optimize, optimize_with_progress, DesignOptions};
+        let req = Requirements::parse(
+            r#"
+elements = 4
+[[object]]
+kind = "cuboid"
+size_mm = [60.0, 80.0]
+lift_n = 0.5
+max_normal_n = 5.0
+[vary]
+eps0 = [0.1, 0.4]
+mounting_angle_deg = [60.0, 90.0]
+"#,
+        )
+        .unwrap();
+        let opts = DesignOptions {
+            random_starts: 5,
+            ascents: 2,
+            ..DesignOptions::default()
+        };
+        let seen = std::sync::Mutex::new(Vec::<DesignProgress>::new());
+        let d = optimize_with_progress(&req, &opts, &|p| seen.lock().unwrap().push(*p)).unwrap();
+        let seen = seen.into_inner().unwrap();
+        // the centre, 4 corners and the 5 random starts
+        let starts = 10;
+        assert_eq!(d.starts, starts);
+        let stage = |p: &DesignProgress| match p.stage {
+            DesignStage::Screening => 0,
+            DesignStage::Ascending => 1,
+            DesignStage::Checking => 2,
+        };
+        let first = seen.first().expect("no progress event");
+        assert_eq!(
+            (
+                first.stage,
+                first.starts_done,
+                first.ascents_done,
+                first.evaluations
+            ),
+            (DesignStage::Screening, 0, 0, 0)
+        );
+        assert!(first.best_worst_margin.is_none());
+        for w in seen.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            assert_eq!((a.starts, a.ascents), (starts, 2));
+            assert_eq!((b.starts, b.ascents), (starts, 2));
+            assert!(stage(b) >= stage(a), "{a:?} then {b:?}");
+            assert!(b.starts_done >= a.starts_done && b.starts_done <= a.starts_done + 1);
+            assert!(b.ascents_done >= a.ascents_done && b.ascents_done <= a.ascents_done + 1);
+            assert!(b.evaluations >= a.evaluations && b.evaluations <= a.evaluations + 1);
+            match (a.best_worst_margin, b.best_worst_margin) {
+                (Some(x), Some(y)) => assert!(y >= x, "{a:?} then {b:?}"),
+                (Some(_), None) => panic!("the best margin went away: {a:?} then {b:?}"),
+                _ => {}
+            }
+        }
+        // the screening finished before any ascent began
+        for p in &seen {
+            if p.stage != DesignStage::Screening {
+                assert_eq!(p.starts_done, starts, "{p:?}");
+            }
+        }
+        let last = seen.last().unwrap();
+        assert_eq!(last.stage, DesignStage::Checking);
+        assert_eq!((last.starts_done, last.ascents_done), (starts, 2));
+        assert_eq!(last.evaluations, d.evaluations);
+        // more events than evaluations: the stages and the ascents' ends too
+        assert!(seen.len() > d.evaluations, "{} events", seen.len());
+        let best = last.best_worst_margin.expect("no finite margin seen");
+        assert!(best >= d.best.worst - 1e-9, "{best} vs {}", d.best.worst);
+        assert_eq!(optimize(&req, &opts).unwrap(), d);
+    }
 
     /// Along a line of nearby designs, as an ascent's trials go, each
     /// sphere envelope started from the last design's optimum
