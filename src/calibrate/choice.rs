@@ -10,6 +10,7 @@ use serde::Serialize;
 use super::fit::calibrate;
 use super::identify::Verdict;
 use super::options::CalibrateOptions;
+use super::progress::{CalibrateProgress, CalibrateStage, Tracker};
 use crate::actuator::{Actuator, RibLayout};
 use crate::measure::Manifest;
 use crate::model::ModelId;
@@ -81,6 +82,18 @@ pub fn choose_model(
     manifest: &Manifest,
     options: &CalibrateOptions,
 ) -> Result<ModelChoice, SolveError> {
+    choose_model_with_progress(manifest, options, &|_| {})
+}
+
+/// [`choose_model`], handing `observer` a [`CalibrateProgress`] (stage
+/// [`CalibrateStage::ChoosingModel`]) as it begins and as each candidate's
+/// fit ends, as [`calibrate_with_progress`](super::calibrate_with_progress)
+/// does: one call at a time, no count falling.
+pub fn choose_model_with_progress(
+    manifest: &Manifest,
+    options: &CalibrateOptions,
+    observer: &(dyn Fn(&CalibrateProgress) + Sync),
+) -> Result<ModelChoice, SolveError> {
     let options = CalibrateOptions {
         cross_validate: true,
         ..options.clone()
@@ -102,8 +115,18 @@ pub fn choose_model(
             })
         })
         .collect();
+    let tracker = Tracker::new(observer, {
+        let mut p = CalibrateProgress::new(options.max_iterations, manifest.specimens.len());
+        p.stage = CalibrateStage::ChoosingModel;
+        p.candidates = combos.len();
+        p
+    });
+    tracker.update(|_| {});
     let fits = crate::cancel::par_map(&combos, |&(plane_strain, ribs, model)| {
-        variant(manifest, model, ribs, plane_strain).and_then(|m| calibrate(&m, &options))
+        let fit =
+            variant(manifest, model, ribs, plane_strain).and_then(|m| calibrate(&m, &options));
+        tracker.update(|p| p.candidates_done += 1);
+        fit
     });
     let mut names = Vec::new();
     let mut candidates = Vec::new();

@@ -9,6 +9,7 @@ use serde::Serialize;
 
 use super::driver::run;
 use super::params::Unknown;
+use super::progress::Tracker;
 use super::residuals::evaluate;
 use crate::measure::{Manifest, TestData};
 
@@ -84,15 +85,21 @@ pub(crate) fn pressures(manifest: &Manifest) -> Vec<f64> {
 /// Leave-one-pressure-out over `manifest`, each refit started at `theta`.
 /// Returns the record and the solves it took (equilibria, targets). The
 /// refits are independent and run in parallel; the record is the one a
-/// loop over the pressures in order gives.
+/// loop over the pressures in order gives. Each refit finished is
+/// reported to `progress`, where there is one.
 pub(crate) fn cross_validate(
     manifest: &Manifest,
     unknowns: &[Unknown],
     theta: &[f64],
     max_iterations: usize,
+    progress: Option<&Tracker<'_>>,
 ) -> (CrossValidation, usize, usize) {
     let refits = crate::cancel::par_map(&pressures(manifest), |&p| {
-        held_out_at(manifest, unknowns, theta, max_iterations, p)
+        let refit = held_out_at(manifest, unknowns, theta, max_iterations, p);
+        if let Some(t) = progress {
+            t.update(|p| p.refits_done += 1);
+        }
+        refit
     });
     let solves = refits.iter().map(|r| r.1).sum();
     let targets = refits.iter().map(|r| r.2).sum();

@@ -6,7 +6,8 @@ use nalgebra::{DMatrix, DVector};
 use super::lm::{minimise, Minimum, Point};
 use super::options::inconsistent;
 use super::params::Unknown;
-use super::residuals::{evaluate, Evaluation};
+use super::progress::Tracker;
+use super::residuals::{evaluate_observed, Evaluation};
 use crate::measure::Manifest;
 use crate::solve_error::SolveError;
 
@@ -28,6 +29,23 @@ pub(crate) fn run(
     theta0: Vec<f64>,
     max_iterations: usize,
 ) -> Result<Run, SolveError> {
+    run_observed(manifest, unknowns, theta0, max_iterations, None)
+}
+
+/// [`run`], reporting its iterations, evaluations and specimens solved
+/// to `progress` where there is one.
+pub(crate) fn run_observed(
+    manifest: &Manifest,
+    unknowns: &[Unknown],
+    theta0: Vec<f64>,
+    max_iterations: usize,
+    progress: Option<&Tracker<'_>>,
+) -> Result<Run, SolveError> {
+    let solved = || {
+        if let Some(t) = progress {
+            t.update(|p| p.specimens_solved += 1);
+        }
+    };
     let n = unknowns.len();
     let lower: Vec<f64> = unknowns.iter().map(|u| u.lower).collect();
     let upper: Vec<f64> = unknowns.iter().map(|u| u.upper).collect();
@@ -41,7 +59,11 @@ pub(crate) fn run(
         max_iterations,
         STEP_TOLERANCE,
         |theta| {
-            let e = evaluate(manifest, unknowns, theta)?;
+            let e = evaluate_observed(manifest, unknowns, theta, &solved);
+            if let Some(t) = progress {
+                t.update(|p| p.evaluations += 1);
+            }
+            let e = e?;
             solves += e.solves;
             target_solves += e.target_solves;
             let bad = e
@@ -60,6 +82,14 @@ pub(crate) fn run(
             let p = point(&e, n);
             start_chi_square.get_or_insert(p.r.norm_squared());
             Ok((p, e))
+        },
+        |iterations, chi_square| {
+            if let Some(t) = progress {
+                t.update(|p| {
+                    p.iterations = iterations;
+                    p.chi_square = Some(chi_square);
+                });
+            }
         },
     )?;
     Ok(Run {

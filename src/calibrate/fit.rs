@@ -2,10 +2,11 @@
 //! exact Jacobian, then the errors and the identifiability at the fit.
 
 use super::crossval::{cross_validate, pressures};
-use super::driver::run;
+use super::driver::run_observed;
 use super::identify::analyse;
 use super::options::{inconsistent, CalibrateOptions, MAX_HELD_OUT_PRESSURES};
 use super::params::unknowns;
+use super::progress::{CalibrateProgress, CalibrateStage, Tracker};
 use super::record::{Calibration, FittedParameter, Reproduction};
 use super::reproduce::reproduce;
 use crate::measure::Manifest;
@@ -21,6 +22,21 @@ use crate::solve_error::SolveError;
 pub fn calibrate(
     manifest: &Manifest,
     options: &CalibrateOptions,
+) -> Result<Calibration, SolveError> {
+    calibrate_with_progress(manifest, options, &|_| {})
+}
+
+/// [`calibrate`], handing `observer` a [`CalibrateProgress`] at every
+/// change of stage, iteration, evaluation, specimen solved and
+/// cross-validation refit finished (none before the options and the
+/// manifest's parameters are checked). The observer is called from the
+/// calibration's threads, one call at a time, and its counts never fall
+/// from one call to the next; it should return quickly (store the event,
+/// say), as the calibration waits for it.
+pub fn calibrate_with_progress(
+    manifest: &Manifest,
+    options: &CalibrateOptions,
+    observer: &(dyn Fn(&CalibrateProgress) + Sync),
 ) -> Result<Calibration, SolveError> {
     options.validate()?;
     let unknowns = unknowns(manifest, options)?;
@@ -55,16 +71,38 @@ pub fn calibrate(
         }
     }
     let theta0: Vec<f64> = unknowns.iter().map(|u| u.start).collect();
-    let run = run(manifest, &unknowns, theta0, options.max_iterations)?;
+    let tracker = Tracker::new(
+        observer,
+        CalibrateProgress::new(options.max_iterations, manifest.specimens.len()),
+    );
+    tracker.update(|_| {});
+    let run = run_observed(
+        manifest,
+        &unknowns,
+        theta0,
+        options.max_iterations,
+        Some(&tracker),
+    )?;
     let (min, solves, target_solves, start_chi_square) = (
         run.min,
         run.solves,
         run.target_solves,
         Some(run.start_chi_square),
     );
-    let cross_validation = options
-        .cross_validate
-        .then(|| cross_validate(manifest, &unknowns, &min.theta, options.max_iterations).0);
+    let cross_validation = options.cross_validate.then(|| {
+        tracker.update(|p| {
+            p.stage = CalibrateStage::CrossValidating;
+            p.refits = pressures(manifest).len();
+        });
+        cross_validate(
+            manifest,
+            &unknowns,
+            &min.theta,
+            options.max_iterations,
+            Some(&tracker),
+        )
+        .0
+    });
     let names: Vec<String> = unknowns.iter().map(|u| u.label()).collect();
     let (identifiability, cov) = analyse(&min.point.j, &names);
     let chi_square = min.point.r.norm_squared();
@@ -125,6 +163,7 @@ pub fn calibrate(
         cross_validation,
         reproduction: Reproduction::not_run(),
     };
+    tracker.update(|p| p.stage = CalibrateStage::Checking);
     fit.reproduction = reproduce(manifest, &unknowns, &fit);
     Ok(fit)
 }

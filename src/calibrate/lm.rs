@@ -59,6 +59,9 @@ fn cost(r: &DVector<f64>) -> f64 {
 /// Minimises over the box `[lower, upper]` from `theta0` (inside it).
 /// `eval` returns the point and anything the caller keeps with it; an
 /// error at the start is returned, at a trial point it rejects the step.
+/// `observe` is told the iterations done and the chi-square `|r|^2` at
+/// the current point after the start's evaluation, after every iteration
+/// and at the end.
 pub(crate) fn minimise<T, E>(
     theta0: Vec<f64>,
     lower: &[f64],
@@ -66,6 +69,7 @@ pub(crate) fn minimise<T, E>(
     max_iterations: usize,
     xtol: f64,
     mut eval: impl FnMut(&[f64]) -> Result<(Point, T), E>,
+    mut observe: impl FnMut(usize, f64),
 ) -> Result<Minimum<T>, E> {
     let n = theta0.len();
     let (mut point, mut extra) = eval(&theta0)?;
@@ -76,6 +80,7 @@ pub(crate) fn minimise<T, E>(
     let mut nu = 2.0;
     let mut iterations = 0;
     let termination = loop {
+        observe(iterations, point.r.norm_squared());
         let c = cost(&point.r);
         if c <= 1e-300 {
             break Termination::ZeroResidual;
@@ -166,6 +171,8 @@ pub(crate) fn minimise<T, E>(
             break Termination::NoDescent;
         }
     };
+    // the iterations of a last step too small or refused
+    observe(iterations, point.r.norm_squared());
     Ok(Minimum {
         theta,
         point,

@@ -18,7 +18,10 @@
 //! (`identify.rs`), chi-square per degree of freedom, residuals, the
 //! iterations and solves it took, and its [`Reproduction`]: the calibrated
 //! scenes compared with the data again through [`crate::compare`]'s own
-//! path (`reproduce.rs`).
+//! path (`reproduce.rs`). [`calibrate_with_progress`] and
+//! [`choose_model_with_progress`] tell an observer how far they have got
+//! ([`CalibrateProgress`]: iterations, evaluations, the current
+//! chi-square).
 //!
 //! ```no_run
 //! use fpc::calibrate::{calibrate, CalibrateOptions};
@@ -41,15 +44,16 @@ mod identify;
 mod lm;
 mod options;
 mod params;
+mod progress;
 mod record;
 mod reproduce;
 mod residuals;
 mod scene;
 
-pub use choice::{choose_model, Candidate, ModelChoice};
+pub use choice::{choose_model, choose_model_with_progress, Candidate, ModelChoice};
 pub use crossval::{CrossValidation, HeldOut};
 pub use driver::STEP_TOLERANCE;
-pub use fit::calibrate;
+pub use fit::{calibrate, calibrate_with_progress};
 pub use identify::{
     Component, Identifiability, Verdict, POORLY_DETERMINED_RATIO, UNIDENTIFIABLE_RATIO,
 };
@@ -59,6 +63,7 @@ pub use options::{
     MAX_UNKNOWNS,
 };
 pub use params::Unknown;
+pub use progress::{CalibrateProgress, CalibrateStage};
 pub use record::{Calibration, FittedParameter, Reproduction, REPRODUCE_SD};
 pub use residuals::FitResidual;
 pub use scene::calibrated_scenes;

@@ -390,9 +390,22 @@ pub(crate) fn evaluate(
     unknowns: &[Unknown],
     theta: &[f64],
 ) -> Result<Evaluation, SolveError> {
+    evaluate_observed(manifest, unknowns, theta, &|| {})
+}
+
+/// [`evaluate`], calling `solved` as each specimen is done (whether or
+/// not it failed), on the thread that solved it.
+pub(crate) fn evaluate_observed(
+    manifest: &crate::measure::Manifest,
+    unknowns: &[Unknown],
+    theta: &[f64],
+    solved: &(dyn Fn() + Sync),
+) -> Result<Evaluation, SolveError> {
     let parts = crate::cancel::par_map(&manifest.specimens, |s| {
         let mut e = Evaluation::default();
-        evaluate_specimen(s, unknowns, theta, &mut e).map(|()| e)
+        let done = evaluate_specimen(s, unknowns, theta, &mut e).map(|()| e);
+        solved();
+        done
     });
     let mut out = Evaluation::default();
     for part in parts {

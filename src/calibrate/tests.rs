@@ -210,7 +210,16 @@ fn minimiser_fits_an_exponential_and_respects_bounds() {
         });
         Ok((Point { r, j }, ()))
     };
-    let m = minimise(vec![1.0, 0.5], &[0.0, 0.0], &[10.0, 10.0], 100, 1e-12, eval).unwrap();
+    let m = minimise(
+        vec![1.0, 0.5],
+        &[0.0, 0.0],
+        &[10.0, 10.0],
+        100,
+        1e-12,
+        eval,
+        |_, _| {},
+    )
+    .unwrap();
     assert!(
         (m.theta[0] - 2.0).abs() < 1e-10 && (m.theta[1] - 1.3).abs() < 1e-10,
         "{:?}",
@@ -218,7 +227,16 @@ fn minimiser_fits_an_exponential_and_respects_bounds() {
     );
     assert_ne!(m.termination, Termination::MaxIterations);
     // an upper bound below the truth: the fit stops on it
-    let b = minimise(vec![1.0, 0.5], &[0.0, 0.0], &[10.0, 1.0], 100, 1e-12, eval).unwrap();
+    let b = minimise(
+        vec![1.0, 0.5],
+        &[0.0, 0.0],
+        &[10.0, 1.0],
+        100,
+        1e-12,
+        eval,
+        |_, _| {},
+    )
+    .unwrap();
     assert_eq!(b.theta[1], 1.0);
 }
 
@@ -237,28 +255,36 @@ fn exact_jacobians_take_at_least_five_times_fewer_solves_than_differences() {
     let lower: Vec<f64> = u.iter().map(|x| x.lower).collect();
     let upper: Vec<f64> = u.iter().map(|x| x.upper).collect();
     let mut fd_solves = 0;
-    let fd = minimise(theta0, &lower, &upper, 100, STEP_TOLERANCE, |th| {
-        let e = evaluate(&m, &u, th)?;
-        fd_solves += e.solves + e.target_solves;
-        let rows = e.rows.len();
-        let r = DVector::from_iterator(rows, e.rows.iter().map(|x| x.residual_sd));
-        let mut j = DMatrix::<f64>::zeros(rows, n);
-        for k in 0..n {
-            let h = 1e-6 * th[k].abs().max(1e-3);
-            let mut side = |t: f64| -> Result<Vec<f64>, crate::SolveError> {
-                let mut x = th.to_vec();
-                x[k] += t;
-                let e = evaluate(&m, &u, &x)?;
-                fd_solves += e.solves + e.target_solves;
-                Ok(e.rows.iter().map(|x| x.residual_sd).collect())
-            };
-            let (p, q) = (side(h)?, side(-h)?);
-            for i in 0..rows {
-                j[(i, k)] = (p[i] - q[i]) / (2.0 * h);
+    let fd = minimise(
+        theta0,
+        &lower,
+        &upper,
+        100,
+        STEP_TOLERANCE,
+        |th| {
+            let e = evaluate(&m, &u, th)?;
+            fd_solves += e.solves + e.target_solves;
+            let rows = e.rows.len();
+            let r = DVector::from_iterator(rows, e.rows.iter().map(|x| x.residual_sd));
+            let mut j = DMatrix::<f64>::zeros(rows, n);
+            for k in 0..n {
+                let h = 1e-6 * th[k].abs().max(1e-3);
+                let mut side = |t: f64| -> Result<Vec<f64>, crate::SolveError> {
+                    let mut x = th.to_vec();
+                    x[k] += t;
+                    let e = evaluate(&m, &u, &x)?;
+                    fd_solves += e.solves + e.target_solves;
+                    Ok(e.rows.iter().map(|x| x.residual_sd).collect())
+                };
+                let (p, q) = (side(h)?, side(-h)?);
+                for i in 0..rows {
+                    j[(i, k)] = (p[i] - q[i]) / (2.0 * h);
+                }
             }
-        }
-        Ok::<_, crate::SolveError>((Point { r, j }, ()))
-    })
+            Ok::<_, crate::SolveError>((Point { r, j }, ()))
+        },
+        |_, _| {},
+    )
     .unwrap();
     let (c_exact, c_fd) = (exact.min.point.r.norm_squared(), fd.point.r.norm_squared());
     assert!(
@@ -321,4 +347,77 @@ fn a_calibration_is_reproduced_and_a_claim_moved_after_it_is_not() {
         let again = reproduce(&m, &u, &moved);
         assert!(!again.reproduced, "{name}: {}", again.detail);
     }
+}
+
+/// The observer of a calibration sees it begin at zero and every count
+/// rise by steps, never falling (the chi-square never rising), the
+/// stages in order, and the calibration end where its record says: the
+/// iterations and evaluations it reports, each evaluation having solved
+/// every specimen, the chi-square at the fit, every pressure refitted.
+/// Observing changes nothing in the result.
+#[test]
+fn progress_counts_rise_to_the_calibrations_own() {
+    use super::{calibrate, calibrate_with_progress, CalibrateProgress, CalibrateStage};
+    let m = small_manifest(3);
+    let opts = CalibrateOptions {
+        cross_validate: true,
+        ..CalibrateOptions::new(&["eps0", "kappa"])
+    };
+    let seen = std::sync::Mutex::new(Vec::<CalibrateProgress>::new());
+    let fit = calibrate_with_progress(&m, &opts, &|p| seen.lock().unwrap().push(*p)).unwrap();
+    let seen = seen.into_inner().unwrap();
+    let stage = |p: &CalibrateProgress| match p.stage {
+        CalibrateStage::Fitting => 0,
+        CalibrateStage::CrossValidating => 1,
+        CalibrateStage::Checking => 2,
+        CalibrateStage::ChoosingModel => 3,
+    };
+    let specimens = m.specimens.len();
+    let first = seen.first().expect("no progress event");
+    assert_eq!(
+        (
+            first.stage,
+            first.iterations,
+            first.evaluations,
+            first.specimens_solved
+        ),
+        (CalibrateStage::Fitting, 0, 0, 0)
+    );
+    assert_eq!(first.chi_square, None);
+    for w in seen.windows(2) {
+        let (a, b) = (&w[0], &w[1]);
+        assert_eq!((b.specimens, b.max_iterations), (specimens, 100));
+        assert!(
+            (0..=2).contains(&stage(b)) && stage(b) >= stage(a),
+            "{a:?} then {b:?}"
+        );
+        assert!(b.iterations >= a.iterations && b.iterations <= a.iterations + 1);
+        assert!(b.evaluations >= a.evaluations && b.evaluations <= a.evaluations + 1);
+        assert!(b.specimens_solved >= a.specimens_solved);
+        assert!(b.specimens_solved <= a.specimens_solved + 1);
+        assert!(b.refits_done >= a.refits_done && b.refits >= a.refits);
+        assert!(b.specimens_of_this_evaluation() <= specimens);
+        if let (Some(x), Some(y)) = (a.chi_square, b.chi_square) {
+            assert!(y <= x, "{a:?} then {b:?}");
+        }
+        // an evaluation is counted once every specimen is solved
+        assert!(b.specimens_solved >= b.evaluations * specimens, "{b:?}");
+    }
+    let last = seen.last().unwrap();
+    assert_eq!(last.stage, CalibrateStage::Checking);
+    assert_eq!(
+        (last.iterations, last.evaluations),
+        (fit.iterations, fit.evaluations)
+    );
+    assert_eq!(last.specimens_solved, fit.evaluations * specimens);
+    let chi = last.chi_square.unwrap();
+    assert!(
+        (chi - fit.chi_square).abs() <= 1e-12 * fit.chi_square,
+        "{chi} {}",
+        fit.chi_square
+    );
+    let refits = fit.cross_validation.as_ref().unwrap().held_out.len();
+    assert!(refits > 1);
+    assert_eq!((last.refits_done, last.refits), (refits, refits));
+    assert_eq!(calibrate(&m, &opts).unwrap(), fit);
 }
