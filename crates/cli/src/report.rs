@@ -128,21 +128,25 @@ pub fn plain(msg: &str) {
 const PLAIN_PROGRESS_EVERY_S: u64 = 5;
 
 /// When the last progress line was written where stderr is not a
-/// terminal, and whether one was drawn on a terminal since the last
-/// [`end_progress`].
-static PROGRESS: std::sync::Mutex<(Option<std::time::Instant>, bool)> =
-    std::sync::Mutex::new((None, false));
+/// terminal, and the characters of the line drawn on a terminal since the
+/// last [`end_progress`] (0: none).
+static PROGRESS: std::sync::Mutex<(Option<std::time::Instant>, usize)> =
+    std::sync::Mutex::new((None, 0));
 
 /// Progress of a long run. On a terminal a line that redraws itself
-/// (carriage return, then the text, bounded like any line, no newline;
-/// [`end_progress`] ends it). Elsewhere (a log, a pipe) a whole line, the
-/// first at once and then at most one every [`PLAIN_PROGRESS_EVERY_S`]
-/// seconds, so a log is not flooded with redraws.
+/// (carriage return, then the text, bounded like any line, and blanks
+/// over what a longer line before it left; no newline: [`end_progress`]
+/// ends it). Elsewhere (a log, a pipe) a whole line, the first at once
+/// and then at most one every [`PLAIN_PROGRESS_EVERY_S`] seconds, so a
+/// log is not flooded with redraws.
 pub fn progress(msg: &str) {
     let mut state = PROGRESS.lock().unwrap_or_else(|e| e.into_inner());
     if is_terminal() {
-        state.1 = true;
-        write_stderr(format!("\r{}", bounded("", msg)).as_bytes());
+        let text = bounded("", msg);
+        let drawn = text.chars().count();
+        let blanks = " ".repeat(state.1.saturating_sub(drawn));
+        state.1 = drawn.max(1);
+        write_stderr(format!("\r{text}{blanks}").as_bytes());
         return;
     }
     let now = std::time::Instant::now();
@@ -155,8 +159,46 @@ pub fn progress(msg: &str) {
     }
 }
 
+/// How long a run works before [`with_progress`] says anything: a run
+/// that ends sooner writes no progress (and a quick successful run, an
+/// empty stderr).
+pub const QUIET_FOR: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// How often [`with_progress`] redraws its line (a log gets at most one
+/// line every [`PLAIN_PROGRESS_EVERY_S`] seconds of them).
+const REDRAW_EVERY: std::time::Duration = std::time::Duration::from_millis(200);
+
+/// Runs `work`, writing `status()` with [`progress`] every
+/// [`REDRAW_EVERY`] once it has worked for [`QUIET_FOR`], and ends the
+/// line ([`end_progress`]) if one was drawn. `status` is called on a
+/// thread of its own, so it reads what `work` shares with it (atomics,
+/// a mutex). The reporter stops as soon as `work` returns, and also when
+/// it unwinds: a panicking worker must not leave the reporter waiting.
+pub fn with_progress<T>(status: impl Fn() -> String + Sync, work: impl FnOnce() -> T) -> T {
+    let (finished, wait) = std::sync::mpsc::channel::<()>();
+    let status = &status;
+    let out = std::thread::scope(|s| {
+        s.spawn(move || {
+            let started = std::time::Instant::now();
+            // the work's end drops `finished`: the wait ends at once
+            while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                wait.recv_timeout(REDRAW_EVERY)
+            {
+                if started.elapsed() >= QUIET_FOR {
+                    progress(&status());
+                }
+            }
+        });
+        // dropped when `work` returns or unwinds
+        let _finished = finished;
+        work()
+    });
+    end_progress();
+    out
+}
+
 /// [`progress`] on a terminal only, nothing elsewhere: for a command whose
-/// log should stay as quiet as before (`fpc paper`, `fpc design`, `fpc calibrate`).
+/// log should stay as quiet as before (`fpc paper`).
 pub fn progress_on_terminal(msg: &str) {
     if is_terminal() {
         progress(msg);
@@ -167,7 +209,7 @@ pub fn progress_on_terminal(msg: &str) {
 /// whole already).
 pub fn end_progress() {
     let mut state = PROGRESS.lock().unwrap_or_else(|e| e.into_inner());
-    if std::mem::take(&mut state.1) {
+    if std::mem::take(&mut state.1) > 0 {
         write_stderr(b"\n");
     }
     state.0 = None;
@@ -263,6 +305,32 @@ fn shorten_line(line: String) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A panic in the work ends the progress reporter and comes back to
+    /// the caller: the reporter must not wait for work that will never
+    /// finish (before its guard, `fpc sweep` hung so). Work that ends
+    /// within [`QUIET_FOR`] is never asked for its status.
+    #[test]
+    fn the_progress_reporter_ends_with_its_work_even_a_panicking_one() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let r = std::panic::catch_unwind(|| {
+                with_progress(String::new, || -> usize { panic!("a worker fails") })
+            });
+            let _ = tx.send(r.is_err());
+        });
+        let unwound = rx
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .expect("with_progress hung after its work panicked");
+        assert!(unwound);
+        let asked = std::sync::atomic::AtomicBool::new(false);
+        let status = || {
+            asked.store(true, std::sync::atomic::Ordering::Relaxed);
+            String::new()
+        };
+        assert_eq!(with_progress(status, || 7), 7);
+        assert!(!asked.load(std::sync::atomic::Ordering::Relaxed));
+    }
 
     fn len(s: &str) -> usize {
         s.chars().count()

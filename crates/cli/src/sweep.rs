@@ -455,7 +455,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let done = AtomicUsize::new(0);
     let lines = outer_points(&axes);
     let stop = crate::interrupt::arm("the points done are written, the others marked `stopped`");
-    let rows: Vec<Row> = with_progress(total, &done, || {
+    let status = || {
+        let d = done.load(Ordering::Relaxed);
+        format!("fpc sweep: {d}/{total} points")
+    };
+    let rows: Vec<Row> = crate::report::with_progress(status, || {
         pool.install(|| {
             lines
                 .par_iter()
@@ -472,9 +476,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     .into_iter()
     .flatten()
     .collect();
-    if total > 0 {
-        crate::report::end_progress();
-    }
     let count = |s: &str| rows.iter().filter(|r| r.status == s).count();
     let report = Report {
         scene: shown.clone(),
@@ -538,61 +539,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Runs `work`, reporting `done` out of `total` points on stderr every
-/// 200 ms once it has taken half a second. The reporter stops when `work`
-/// returns and also when it unwinds: a panicking worker must not leave
-/// the reporter waiting for points that will never be done.
-fn with_progress<T>(total: usize, done: &AtomicUsize, work: impl FnOnce() -> T) -> T {
-    /// Marks every point done when dropped, on return or unwind.
-    struct Finish<'a>(&'a AtomicUsize, usize);
-    impl Drop for Finish<'_> {
-        fn drop(&mut self) {
-            self.0.store(self.1, Ordering::Relaxed);
-        }
-    }
-    std::thread::scope(|s| {
-        s.spawn(|| {
-            let started = std::time::Instant::now();
-            loop {
-                let d = done.load(Ordering::Relaxed);
-                if d >= total {
-                    break;
-                }
-                if started.elapsed().as_millis() > 500 {
-                    crate::report::progress(&format!("fpc sweep: {d}/{total} points"));
-                }
-                std::thread::sleep(std::time::Duration::from_millis(200));
-            }
-        });
-        let _finish = Finish(done, total);
-        work()
-    })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A panic in the work ends the progress reporter and comes back to
-    /// the caller; before the guard, the reporter waited for points that
-    /// would never be done and the sweep hung.
-    #[test]
-    fn a_panicking_worker_does_not_hang_the_progress_reporter() {
-        let (tx, rx) = std::sync::mpsc::channel();
-        std::thread::spawn(move || {
-            let done = AtomicUsize::new(0);
-            let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                with_progress(10, &done, || -> usize { panic!("a worker fails") })
-            }));
-            let _ = tx.send(r.is_err());
-        });
-        let unwound = rx
-            .recv_timeout(std::time::Duration::from_secs(20))
-            .expect("with_progress hung after its work panicked");
-        assert!(unwound);
-        let done = AtomicUsize::new(0);
-        assert_eq!(with_progress(3, &done, || 7), 7);
-    }
 
     #[test]
     fn axes_parse_ranges_and_lists() {
