@@ -12,7 +12,8 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::calibrate::{
-    calibrate, calibrated_scenes, choose_model, CalibrateOptions, Calibration, ModelChoice,
+    calibrate_with_progress, calibrated_scenes, choose_model_with_progress, CalibrateOptions,
+    CalibrateProgress, CalibrateStage, Calibration, ModelChoice,
 };
 use fpc::measure::Manifest;
 use fpc::SolveError;
@@ -83,6 +84,36 @@ struct Report<'a> {
     provenance: crate::provenance::Provenance,
 }
 
+/// The progress line of a calibration whose last event is `p`.
+fn status(p: Option<&CalibrateProgress>) -> String {
+    let Some(p) = p else {
+        return "fpc calibrate: starting".into();
+    };
+    match p.stage {
+        CalibrateStage::Fitting => format!(
+            "fpc calibrate: fitting: iteration {}/{}, {} evaluations done (the next: {}/{} specimens solved), chi2 {}",
+            p.iterations,
+            p.max_iterations,
+            p.evaluations,
+            p.specimens_of_this_evaluation(),
+            p.specimens,
+            p.chi_square
+                .map_or("not known yet".into(), |c| format!("{c:.6e}"))
+        ),
+        CalibrateStage::CrossValidating => format!(
+            "fpc calibrate: fitted in {} iterations; leaving out each pressure in turn: {}/{} refits done",
+            p.iterations, p.refits_done, p.refits
+        ),
+        CalibrateStage::Checking => {
+            "fpc calibrate: comparing the calibrated scenes with the data again".into()
+        }
+        CalibrateStage::ChoosingModel => format!(
+            "fpc calibrate: fitting every element model, with and without ribs, in both plane states: {}/{} done",
+            p.candidates_done, p.candidates
+        ),
+    }
+}
+
 /// A file name from a specimen's name: letters, digits, `.`, `-`, `_`
 /// kept, anything else `_`.
 fn file_name(name: &str) -> String {
@@ -110,25 +141,29 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         Manifest::load(&args.manifest).map_err(|e| crate::status::rejected(e.to_string()))?;
     let (_, out) =
         crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
-    // the stage on a terminal (seconds each; --choose-model, tens)
-    let computed = (|| -> Result<_, SolveError> {
-        crate::report::progress_on_terminal(if args.cross_validate {
-            "fpc calibrate: fitting, then leaving out each pressure in turn"
-        } else {
-            "fpc calibrate: fitting"
-        });
-        let fit = calibrate(&manifest, &options).map_err(in_flag_terms)?;
+    // the last event of the fit (then of the model choice), shown once
+    // the work has taken a while
+    let latest = std::sync::Mutex::new(None::<CalibrateProgress>);
+    let last = || {
+        *latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    };
+    let observe = |p: &CalibrateProgress| {
+        *latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(*p);
+    };
+    let compute = || -> Result<_, SolveError> {
+        let fit = calibrate_with_progress(&manifest, &options, &observe).map_err(in_flag_terms)?;
         if !args.choose_model {
             return Ok((fit, None));
         }
-        crate::report::progress_on_terminal(
-            "fpc calibrate: fitting every element model, with and without ribs, in both plane states",
-        );
-        let choice = choose_model(&manifest, &options).map_err(in_flag_terms)?;
+        let choice =
+            choose_model_with_progress(&manifest, &options, &observe).map_err(in_flag_terms)?;
         Ok((fit, Some(choice)))
-    })();
-    crate::report::end_progress();
-    let (fit, model_choice) = computed?;
+    };
+    let (fit, model_choice) = crate::report::with_progress(|| status(last().as_ref()), compute)?;
     crate::output::prepare_dir(&out)?;
     let mut scenes = Vec::new();
     for (i, (_, text)) in calibrated_scenes(&manifest, &fit)?.into_iter().enumerate() {

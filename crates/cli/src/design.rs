@@ -12,8 +12,9 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::design::{
-    evaluate, gripper, optimize, DesignBase, DesignOptions, Designed, Evaluation,
-    ObjectRequirement, Requirements, RequirementsError, VARIABLES,
+    evaluate, gripper, optimize_with_progress, DesignBase, DesignOptions, DesignProgress,
+    DesignStage, Designed, Evaluation, ObjectRequirement, Requirements, RequirementsError,
+    VARIABLES,
 };
 use fpc::scene::{Scene, SceneSolution};
 use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
@@ -268,12 +269,26 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     // a design is reported only once found and checked: stopped before,
     // nothing is written
     let stop = crate::interrupt::arm("nothing is written unless the design was found already");
-    crate::report::progress_on_terminal("fpc design: optimising");
-    let d = match &stop {
-        Some(flag) => fpc::cancel::with_flag(flag.clone(), || optimize(&req, &opts)),
-        None => optimize(&req, &opts),
+    // the search's last event, shown once it has taken a while
+    let latest = std::sync::Mutex::new(None::<DesignProgress>);
+    let last = || {
+        *latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
     };
-    crate::report::end_progress();
+    let observe = |p: &DesignProgress| {
+        *latest
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(*p);
+    };
+    let search = || optimize_with_progress(&req, &opts, &observe);
+    let d = crate::report::with_progress(
+        || status(last().as_ref()),
+        || match &stop {
+            Some(flag) => fpc::cancel::with_flag(flag.clone(), search),
+            None => search(),
+        },
+    );
     if stop.is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst)) {
         return Err(crate::status::interrupted(
             "stopped by Ctrl-C before the design was found; nothing written",
@@ -406,6 +421,29 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         figures.join(", ")
     )?;
     Ok(())
+}
+
+/// The progress line of a search whose last event is `p`: the stage
+/// with its counts, the evaluations so far and the best worst margin.
+fn status(p: Option<&DesignProgress>) -> String {
+    let Some(p) = p else {
+        return "fpc design: starting".into();
+    };
+    let stage = match p.stage {
+        DesignStage::Screening => format!("screening starts {}/{}", p.starts_done, p.starts),
+        DesignStage::Ascending => format!(
+            "{} starts screened, ascents {}/{}",
+            p.starts, p.ascents_done, p.ascents
+        ),
+        DesignStage::Checking => "checking the best design".into(),
+    };
+    let best = p
+        .best_worst_margin
+        .map_or("none yet".into(), |m| format!("{m:+.4}"));
+    format!(
+        "fpc design: {stage}; {} evaluations; best worst margin {best}",
+        p.evaluations
+    )
 }
 
 /// A requirements error as one line: `FILE:LINE:COL: message`, the

@@ -211,6 +211,7 @@ fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
     drop(child.stdout.take());
     let done = child.wait_with_output().unwrap();
     assert_eq!(done.status.code(), Some(0), "{}", text(&done.stderr));
+    // nor is there progress: the fit ends within its first 2 s
     assert!(done.stderr.is_empty(), "{}", text(&done.stderr));
     assert!(out.join("calibration.json").is_file());
 }
@@ -267,4 +268,79 @@ fn choose_model_ranks_every_model_with_and_without_ribs_in_both_plane_states() {
     let again = own["values"][0].as_f64().unwrap();
     assert!((plain - again).abs() <= 1e-9 * plain, "{plain} vs {again}");
     assert!((plain - 0.4).abs() < 0.02, "{plain}");
+}
+
+/// A fit longer than 2 s says how far it has got on stderr also when
+/// stderr is a log: whole lines with the iteration, the evaluations, the
+/// specimens solved of the evaluation under way and the chi-square. The
+/// data: 32 specimens, each with its own eps0 and 300 force rows at
+/// distinct pressures (every row a solve and a target solve per
+/// evaluation), several seconds of work even in a release build.
+#[test]
+fn a_long_fit_writes_its_progress_into_a_log() {
+    use std::io::BufRead as _;
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let dir = tmp("progress");
+    let rows: String = (0..300)
+        .map(|i| format!("{},Z,10,0.3,0.02,5\n", 0.5 * f64::from(i)))
+        .collect();
+    std::fs::write(
+        dir.path().join("f.csv"),
+        format!("pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n{rows}"),
+    )
+    .unwrap();
+    let manifest: String = (0..32)
+        .map(|i| {
+            format!(
+                "[[specimen]]\nname = \"s{i}\"\n[specimen.own.actuator.pemc]\neps0 = {}\n[[specimen.test]]\nkind = \"force\"\nfile = \"f.csv\"\n",
+                0.2 + 0.001 * f64::from(i)
+            )
+        })
+        .collect();
+    let path = dir.path().join("manifest.toml");
+    std::fs::write(&path, manifest).unwrap();
+    let started = Instant::now();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .arg("calibrate")
+        .arg(&path)
+        .args(["--fit", "eps0", "--out"])
+        .arg(dir.path().join("out"))
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let stderr = child.stderr.take().unwrap();
+    let first = std::io::BufReader::new(stderr).lines().next();
+    let waited = started.elapsed();
+    let _ = child.kill();
+    let _ = child.wait();
+    let first = match first {
+        Some(Ok(line)) => line,
+        other => panic!("no progress line: {other:?}"),
+    };
+    assert!(waited >= Duration::from_secs(2), "{waited:?}: {first}");
+    let rest = first
+        .strip_prefix("fpc calibrate: fitting: iteration ")
+        .unwrap_or_else(|| panic!("{first}"));
+    let (iteration, rest) = rest
+        .split_once("/100, ")
+        .unwrap_or_else(|| panic!("{first}"));
+    let (evaluations, rest) = rest
+        .split_once(" evaluations done (the next: ")
+        .unwrap_or_else(|| panic!("{first}"));
+    let (solved, chi2) = rest
+        .split_once("/32 specimens solved), chi2 ")
+        .unwrap_or_else(|| panic!("{first}"));
+    let count = |s: &str| s.parse::<usize>().unwrap_or_else(|_| panic!("{first}"));
+    assert!(count(iteration) <= count(evaluations), "{first}");
+    assert!(count(solved) <= 32, "{first}");
+    // the chi-square is known only once the start is evaluated
+    if count(evaluations) == 0 {
+        assert_eq!(chi2, "not known yet", "{first}");
+    }
+    assert!(
+        chi2 == "not known yet" || chi2.parse::<f64>().is_ok_and(|c| c.is_finite() && c >= 0.0),
+        "{first}"
+    );
 }

@@ -32,7 +32,8 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
         "0",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    // progress on a terminal only: a log of a successful run stays empty
+    // a run that ends within the first 2 s writes no progress: a log of
+    // a successful quick run stays empty
     assert!(
         o.stderr.is_empty(),
         "{}",
@@ -327,4 +328,72 @@ fn ctrl_c_stops_a_design_and_writes_nothing() {
     assert!(!stderr.contains("error"), "{stderr}");
     let written: Vec<_> = std::fs::read_dir(&out).unwrap().collect();
     assert!(written.is_empty(), "{written:?}");
+}
+
+/// A search longer than 2 s says how far it has got on stderr also when
+/// stderr is a log (not a terminal): whole lines with the starts screened
+/// of all, the evaluations and the best worst margin so far; Ctrl-C
+/// still stops it with status 130.
+#[cfg(unix)]
+#[test]
+fn a_long_design_writes_its_progress_into_a_log_and_still_stops_at_ctrl_c() {
+    use std::io::BufRead as _;
+    use std::process::Stdio;
+    use std::time::{Duration, Instant};
+    let scratch = tmp("progress");
+    let out = scratch.path().join("out");
+    let req = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenes/design/paper_sec5.toml"
+    );
+    let started = Instant::now();
+    let mut child = common::fpc_as_in_a_terminal()
+        .args(["design", req, "--starts", "10000", "--out"])
+        .arg(&out)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (tx, rx) = std::sync::mpsc::channel();
+    let stderr = child.stderr.take().unwrap();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr).lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let first = rx.recv_timeout(Duration::from_secs(120));
+    let waited = started.elapsed();
+    let Ok(first) = first else {
+        let _ = child.kill();
+        panic!("no progress line in 2 minutes: {first:?}");
+    };
+    common::ctrl_c(&child);
+    let status = child.wait().unwrap();
+    let rest: Vec<String> = rx.iter().collect();
+    // nothing in the first 2 s
+    assert!(waited >= Duration::from_secs(2), "{waited:?}: {first}");
+    // the centre, 4 corners and 10 000 random starts
+    let (done, rest_of_line) = first
+        .strip_prefix("fpc design: screening starts ")
+        .and_then(|t| t.split_once("/10005; "))
+        .unwrap_or_else(|| panic!("{first}"));
+    let done: usize = done.parse().unwrap_or_else(|_| panic!("{first}"));
+    assert!(done <= 10005, "{first}");
+    let (evaluations, best) = rest_of_line
+        .split_once(" evaluations; best worst margin ")
+        .unwrap_or_else(|| panic!("{first}"));
+    assert_eq!(evaluations.parse::<usize>().ok(), Some(done), "{first}");
+    assert!(
+        best == "none yet" || best.parse::<f64>().is_ok_and(f64::is_finite),
+        "{first}"
+    );
+    assert_eq!(status.code(), Some(130), "{first}\n{rest:?}");
+    assert!(
+        rest.iter()
+            .any(|l| l.contains("stopped by Ctrl-C before the design was found")),
+        "{rest:?}"
+    );
 }
