@@ -35,7 +35,8 @@ pub struct Args {
     /// Random starts of the optimiser besides the centre and the corners
     /// (at most 10000; each costs one evaluation of every requirement,
     /// about 3 ms of one core per sphere on the paper's finger: 10000 on
-    /// paper_sec5.toml take about 30 s of one core).
+    /// paper_sec5.toml take about 30 s of one core; a search that takes
+    /// more than 2 s shows its progress on stderr).
     #[arg(long, default_value_t = 2, allow_hyphen_values = true)]
     starts: usize,
     /// Design from the finger of a scene file (a calibrated scene from
