@@ -159,17 +159,32 @@ pub fn progress(msg: &str) {
     }
 }
 
-/// How long a run works before [`with_progress`] says anything: a run
-/// that ends sooner writes no progress (and a quick successful run, an
-/// empty stderr).
+/// How long a run works before [`with_progress`] says anything, unless
+/// [`QUIET_FOR_VARIABLE`] says otherwise: a run that ends sooner writes no
+/// progress (and a quick successful run, an empty stderr).
 pub const QUIET_FOR: std::time::Duration = std::time::Duration::from_secs(2);
+
+/// The environment variable that sets the quiet time in seconds (a
+/// number, zero or more; anything else leaves [`QUIET_FOR`]): `0` shows
+/// progress at once, a large value keeps a log free of it.
+pub const QUIET_FOR_VARIABLE: &str = "FPC_PROGRESS_AFTER_S";
+
+/// The quiet time: [`QUIET_FOR_VARIABLE`]'s, else [`QUIET_FOR`].
+fn quiet_for() -> std::time::Duration {
+    std::env::var(QUIET_FOR_VARIABLE)
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .and_then(|s| std::time::Duration::try_from_secs_f64(s).ok())
+        .unwrap_or(QUIET_FOR)
+}
 
 /// How often [`with_progress`] redraws its line (a log gets at most one
 /// line every [`PLAIN_PROGRESS_EVERY_S`] seconds of them).
 const REDRAW_EVERY: std::time::Duration = std::time::Duration::from_millis(200);
 
 /// Runs `work`, writing `status()` with [`progress`] every
-/// [`REDRAW_EVERY`] once it has worked for [`QUIET_FOR`], and ends the
+/// [`REDRAW_EVERY`] once it has worked for the quiet time ([`QUIET_FOR`],
+/// or [`QUIET_FOR_VARIABLE`]'s), and ends the
 /// line ([`end_progress`]) if one was drawn. `status` is called on a
 /// thread of its own, so it reads what `work` shares with it (atomics,
 /// a mutex). The reporter stops as soon as `work` returns, and also when
@@ -180,11 +195,12 @@ pub fn with_progress<T>(status: impl Fn() -> String + Sync, work: impl FnOnce() 
     let out = std::thread::scope(|s| {
         s.spawn(move || {
             let started = std::time::Instant::now();
+            let quiet = quiet_for();
             // the work's end drops `finished`: the wait ends at once
             while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
                 wait.recv_timeout(REDRAW_EVERY)
             {
-                if started.elapsed() >= QUIET_FOR {
+                if started.elapsed() >= quiet {
                     progress(&status());
                 }
             }

@@ -195,6 +195,7 @@ fn a_reader_gone_ends_it_quietly_after_the_files_are_written() {
     let dir = tmp("pipe");
     let out = dir.path();
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
+        .env(common::QUIET, common::NEVER)
         .args([
             "calibrate",
             &shipped(),

@@ -411,3 +411,39 @@ fn ctrl_c_writes_the_points_done() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(rows(&again), written[..done]);
 }
+
+/// `FPC_PROGRESS_AFTER_S` sets the quiet time: at 0 a run of a second or
+/// more writes its counts into a log at once; at the tests' usual large
+/// value the same run writes nothing (README, "Progress").
+#[test]
+fn the_quiet_time_is_the_variable_s() {
+    let tmp = TempDir::new("quiet");
+    // 1000 points on 400 elements: about 0.3 s in a release build, far
+    // longer in a debug one, over the first redraw (0.2 s) in either
+    let scene = tmp.file(
+        "long.toml",
+        b"[actuator.pemc]\neps0 = 0.3\n[partition]\nelements = 400\n",
+    );
+    let run = |quiet: &str, out: &str| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_fpc"))
+            .env(common::QUIET, quiet)
+            .arg("sweep")
+            .arg(&scene)
+            .args(["--vary", "load.fx=0:1:1000", "--threads", "1", "--out"])
+            .arg(tmp.0.join(out))
+            .output()
+            .unwrap()
+    };
+    let at_once = run("0", "a");
+    assert!(at_once.status.success());
+    let log = String::from_utf8_lossy(&at_once.stderr);
+    assert!(log.starts_with("fpc sweep: "), "{log}");
+    assert!(log.contains("/1000 points"), "{log}");
+    let quiet = run(common::NEVER, "b");
+    assert!(quiet.status.success());
+    assert!(
+        quiet.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&quiet.stderr)
+    );
+}
