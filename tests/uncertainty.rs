@@ -238,6 +238,53 @@ fn bad_covariances_are_errors_naming_the_field() {
 }
 
 #[test]
+fn standard_errors_and_variances_out_of_bounds_are_errors_naming_the_field() {
+    let eps = "parameters = [\"actuator.pemc.eps0\"]\n";
+    for (table, field) in [
+        // a standard error is a root: never negative nor infinite
+        (
+            "standard_errors = [-0.1]\ncovariance = [[0.01]]",
+            "calibration.standard_errors",
+        ),
+        ("standard_errors = [-0.1]", "calibration.standard_errors"),
+        ("standard_errors = [inf]", "calibration.standard_errors"),
+        // sqrt(1e-8) = 1e-4, not 5: the two say different things
+        (
+            "standard_errors = [5.0]\ncovariance = [[1e-8]]",
+            "calibration.standard_errors",
+        ),
+        (
+            "standard_errors = [0.1001]\ncovariance = [[0.01]]",
+            "calibration.standard_errors",
+        ),
+        // no key of a scene reaches 1e7 in its unit, nor its sd
+        ("covariance = [[1e308]]", "calibration.covariance"),
+        ("covariance = [[1.1e14]]", "calibration.covariance"),
+        ("standard_errors = [2e7]", "calibration.standard_errors"),
+    ] {
+        assert_eq!(rejected(&format!("{eps}{table}"), false), field, "{table}");
+    }
+    // beside a zero variance no covariance is semi-definite
+    assert_eq!(
+        rejected(
+            "parameters = [\"actuator.pemc.eps0\", \"load.kappa\"]\ncovariance = [[0.0, 1e-3], [1e-3, 0.0]]",
+            false
+        ),
+        "calibration.covariance"
+    );
+    // agreeing to round-off, and at the bound, they are read
+    let head = FINGER.split("[calibration]").next().unwrap();
+    for table in [
+        "standard_errors = [0.1]\ncovariance = [[0.010000000000000002]]",
+        "standard_errors = [0.0]\ncovariance = [[0.0]]",
+        "covariance = [[1e14]]",
+    ] {
+        let text = format!("{head}[calibration]\n{eps}{table}\n");
+        assert!(Scene::from_toml(&text).is_ok(), "{table}");
+    }
+}
+
+#[test]
 fn a_rest_shape_the_chaining_does_not_cover_solves_without_error_bars() {
     // eps0 = 0.4 curls the rest shape past its tip: l0's sensitivity is
     // not covered, so the grasp stands and says why it has no bars

@@ -81,6 +81,18 @@ pub(super) fn covariance_of(
                     format!("must be symmetric (rows {} and {} differ)", j + 1, i + 1),
                 ));
             }
+            // the correlation scaling below cannot see a covariance beside
+            // a zero variance, which semi-definiteness forbids
+            if (m[i][i] == 0.0 || m[j][j] == 0.0) && m[i][j] != 0.0 {
+                return Err(rejected(
+                    "calibration.covariance",
+                    format!(
+                        "must be positive semi-definite (rows {} and {} covary beside a zero variance)",
+                        j + 1,
+                        i + 1
+                    ),
+                ));
+            }
         }
     }
     if n > 0 && scale > 0.0 {

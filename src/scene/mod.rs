@@ -88,7 +88,7 @@ pub use schema::{
     ActuatorSection, CalibrationSection, ClRibEntry, ClRibsSection, Elements, GraspKind,
     GraspSection, GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection,
     PartitionSection, PemcSection, RibEntry, RibKind, RibsSection, SceneFile, SceneStrategy,
-    SolveSection, MAX_CALIBRATION_KEYS,
+    SolveSection, CALIBRATION_SD_TOLERANCE, MAX_CALIBRATION_KEYS, MAX_CALIBRATION_SD,
 };
 pub use solve::{GraspOutcome, SceneSolution};
 pub(crate) use syntax::key_at;

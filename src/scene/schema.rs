@@ -65,6 +65,17 @@ pub struct CalibrationSection {
 /// Most keys of a `[calibration]` table.
 pub const MAX_CALIBRATION_KEYS: usize = 64;
 
+/// Largest standard error (or square root of a variance) a
+/// `[calibration]` table may give, in its key's unit: the largest value
+/// any scene key admits (a modulus of 1e7 MPa). A larger one is no
+/// measurement's, and its square, propagated, overflows the error bars.
+pub const MAX_CALIBRATION_SD: f64 = 1e7;
+
+/// Relative tolerance between a `[calibration]` table's standard errors
+/// and the square roots of its covariance's diagonal: both are written
+/// from one fit, so they agree to round-off.
+pub const CALIBRATION_SD_TOLERANCE: f64 = 1e-6;
+
 /// `[model]`: the element model the finger is built from.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]

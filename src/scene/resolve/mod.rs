@@ -317,7 +317,10 @@ fn calibration_key(k: &'static str) -> Field {
 }
 
 /// A `[calibration]` table: at most [`MAX_CALIBRATION_KEYS`] keys, finite
-/// numbers, standard errors and a square covariance matching the keys.
+/// numbers, standard errors and a square covariance matching the keys;
+/// standard errors not negative, no standard error or variance's square
+/// root above [`MAX_CALIBRATION_SD`], and with both, each standard error
+/// the square root of its variance (within [`CALIBRATION_SD_TOLERANCE`]).
 fn check_calibration(c: &CalibrationSection) -> Result<(), InputError> {
     let n = c.parameters.len();
     if n > MAX_CALIBRATION_KEYS {
@@ -335,7 +338,13 @@ fn check_calibration(c: &CalibrationSection) -> Result<(), InputError> {
             });
         }
         for &v in se {
-            crate::error::finite(Field::key("calibration.standard_errors"), v)?;
+            let field = Field::key("calibration.standard_errors");
+            crate::error::finite(field.clone(), v)?;
+            crate::error::require((0.0..=MAX_CALIBRATION_SD).contains(&v), field, v, || {
+                format!(
+                    "a standard error must lie in [0, {MAX_CALIBRATION_SD:e}] (in its key's unit)"
+                )
+            })?;
         }
     }
     if let Some(cov) = &c.covariance {
@@ -345,8 +354,30 @@ fn check_calibration(c: &CalibrationSection) -> Result<(), InputError> {
                 rule: format!("must be {n} rows of {n} values, one per parameter"),
             });
         }
+        let max = MAX_CALIBRATION_SD * MAX_CALIBRATION_SD;
         for &v in cov.iter().flatten() {
-            crate::error::finite(Field::key("calibration.covariance"), v)?;
+            let field = Field::key("calibration.covariance");
+            crate::error::finite(field.clone(), v)?;
+            crate::error::require(v.abs() <= max, field, v, || {
+                format!(
+                    "an entry must be at most {max:e} in magnitude (a standard deviation of at most {MAX_CALIBRATION_SD:e} in its key's unit)"
+                )
+            })?;
+        }
+        if let Some(se) = &c.standard_errors {
+            // (a negative variance is refused with the covariance's checks)
+            for (i, &s) in se.iter().enumerate().filter(|&(i, _)| cov[i][i] >= 0.0) {
+                let root = cov[i][i].sqrt();
+                if (s - root).abs() > CALIBRATION_SD_TOLERANCE * s.max(root) {
+                    return Err(InputError::Inconsistent {
+                        field: Field::key("calibration.standard_errors"),
+                        rule: format!(
+                            "{s} disagrees with the square root of the covariance's diagonal, {root} (entry {}; they must agree within {CALIBRATION_SD_TOLERANCE:e} relative)",
+                            i + 1
+                        ),
+                    });
+                }
+            }
         }
     }
     if let Some(v) = c.chi_square_per_dof {
