@@ -312,6 +312,25 @@ fn a_row_the_model_cannot_predict_keeps_its_data_and_says_why() {
 }
 
 #[test]
+fn a_displacement_not_reached_names_the_csv_column() {
+    // no finger 110 mm long is pushed 100 m: the row fails, and its
+    // failure names the column the user wrote, not the study's key
+    let c = compare_one(
+        "far",
+        0.25,
+        "",
+        "force",
+        "",
+        "pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n0,Z,1e5,1,0.1,1\n",
+    );
+    let p = &predictions(&c)[0];
+    let failure = p.failure.as_deref().expect("the row fails");
+    assert!(failure.contains("displacement_mm = 100000: "), "{failure}");
+    assert!(!failure.contains("displacement.distance"), "{failure}");
+    assert_eq!(c.failed, 1);
+}
+
+#[test]
 fn a_test_without_rows_predicts_nothing_and_draws_nothing() {
     let c = compare_one(
         "empty",

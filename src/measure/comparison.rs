@@ -18,6 +18,7 @@ use super::manifest::{Manifest, Specimen, Test, TestData};
 use super::table::bits;
 use crate::circle_fit::fit_circle;
 use crate::error::Warning;
+use crate::field::Field;
 use crate::finger::{Load, SolveOptions};
 use crate::plan::{PlannedFinger, Solved};
 use crate::report::{Cell, Column, Figure, Panel, PlotAxis, Series, SeriesKind, Table};
@@ -264,9 +265,15 @@ impl Model {
             Some(f) => f.clone(),
             None => self.at(p)?.finger.clone(),
         };
+        // the study's names for the row's values are the CSV's columns here
+        let column = |f: &Field| match f.to_string().as_str() {
+            "displacement.distance" => Some(Field::key("displacement_mm")),
+            "displacement.pressure_kpa" => Some(Field::key("pressure_kpa")),
+            _ => None,
+        };
         tip_force_for_displacement_with_kappa(&finger, p, self.kappa, axis, d)
             .map(|r| (r.force, r.solution.warnings))
-            .map_err(|e| e.to_string())
+            .map_err(|e| e.renamed(column, |_, v| v).to_string())
     }
 }
 
