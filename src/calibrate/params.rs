@@ -91,6 +91,8 @@ fn bounds(p: Param, start: f64) -> (f64, f64) {
             (f64::NEG_INFINITY, f64::INFINITY)
         }
         Param::Actuator(ActuatorParam::Elastic(_, Elastic::Nu | Elastic::Nu12)) => (-0.99, 0.499),
+        // (a scene's own bound, which a fitted value must keep)
+        Param::Kappa => (positive.0, crate::finger::MAX_KAPPA),
         _ => positive,
     }
 }

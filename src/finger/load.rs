@@ -8,7 +8,8 @@ use crate::model::EnergyScalars;
 pub struct Load {
     /// Channel pressure (MPa; 1 kPa = 0.001 MPa).
     pub pressure: f64,
-    /// Pressure factor `kappa = 1/(gamma - 1)` (2.5 by default; 1 is plain `P dV` work).
+    /// Pressure factor `kappa = 1/(gamma - 1)` (2.5 by default; 1 is plain
+    /// `P dV` work; at most [`MAX_KAPPA`]).
     pub kappa: f64,
     /// Tip force along the finger's X axis (N).
     pub fx: f64,
@@ -26,6 +27,11 @@ impl Default for Load {
         }
     }
 }
+
+/// Largest pressure factor ([`Load::kappa`]): kappa = 1/(gamma - 1) for a
+/// gas whose ratio of specific heats gamma is at least 1.01 (air's 1.4
+/// gives the default 2.5).
+pub const MAX_KAPPA: f64 = 100.0;
 
 /// Absolute vacuum relative to the atmosphere (MPa): a channel pressure
 /// (gauge) below it is not physical.
@@ -55,7 +61,7 @@ impl Load {
         self.fx != 0.0 || self.fz != 0.0
     }
 
-    /// Checks that every value is finite, kappa positive and the pressure
+    /// Checks that every value is finite, kappa in (0, [`MAX_KAPPA`]] and the pressure
     /// (gauge) not below absolute vacuum.
     pub fn validate(&self) -> Result<(), InputError> {
         finite(crate::Field::LoadPressure, self.pressure)?;
@@ -70,6 +76,16 @@ impl Load {
             });
         }
         positive(crate::Field::LoadKappa, self.kappa)?;
+        crate::error::require(
+            self.kappa <= MAX_KAPPA,
+            crate::Field::LoadKappa,
+            self.kappa,
+            || {
+                format!(
+                    "must be at most {MAX_KAPPA} (kappa = 1/(gamma - 1) for a ratio of specific heats gamma of at least 1.01)"
+                )
+            },
+        )?;
         finite(crate::Field::LoadFx, self.fx)?;
         finite(crate::Field::LoadFz, self.fz)?;
         Ok(())

@@ -63,10 +63,10 @@ use crate::solve_error::SolveError;
 pub use bordered::TargetProblem;
 pub use curve::{Affine2, PolyCurve};
 pub use fpc_newton::PathTermination;
-pub use load::{Load, VACUUM_GAUGE_MPA};
+pub use load::{Load, MAX_KAPPA, VACUUM_GAUGE_MPA};
 pub use options::{
     Solution, SolveOptions, SolveReport, StepCounts, Strategy, MAX_NEWTON_ITERATIONS, MAX_RTOL,
-    MAX_SAMPLES_PER_ELEMENT, MAX_SHAPE_POINTS,
+    MAX_SAMPLES_PER_ELEMENT, MAX_SHAPE_POINTS, MIN_RTOL,
 };
 pub use path::{Fold, LoadPath, LoadPathSpec, LoadPoint};
 pub use solver::VALIDITY_SAMPLES;

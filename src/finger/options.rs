@@ -33,11 +33,16 @@ pub const MAX_NEWTON_ITERATIONS: usize = 10_000;
 /// overflows the absolute tolerance.
 pub const MAX_RTOL: f64 = 1e-2;
 
+/// Smallest relative residual a solve may be asked for
+/// ([`SolveOptions::rtol`]): about half a double's epsilon (2.2e-16), below
+/// which the residual is rounding and a solve can only stall.
+pub const MIN_RTOL: f64 = 1e-16;
+
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolveOptions {
     /// Relative residual: `||grad Pi||_inf` over the finger's stiffness scale
-    /// (at most [`MAX_RTOL`]).
+    /// (in [`MIN_RTOL`, `MAX_RTOL`]).
     pub rtol: f64,
     /// Newton iteration limit per solve (at most
     /// [`MAX_NEWTON_ITERATIONS`]).
@@ -101,6 +106,14 @@ impl SolveOptions {
             crate::Field::SolveRtol,
             self.rtol,
             || format!("must be at most {MAX_RTOL:e} (a looser residual is no equilibrium)"),
+        )?;
+        crate::error::require(
+            self.rtol >= MIN_RTOL,
+            crate::Field::SolveRtol,
+            self.rtol,
+            || {
+                format!("must be at least {MIN_RTOL:e} (a tighter residual is below double precision's rounding)")
+            },
         )?;
         positive(crate::Field::SolveMaxStep, self.max_step)?;
         if !(1..=MAX_NEWTON_ITERATIONS).contains(&self.max_iter) {

@@ -57,6 +57,19 @@ fn loads_must_be_finite_and_kappa_positive() {
             f64::INFINITY,
             "must be finite",
         ),
+        // a gas's gamma above 1.01: kappa = 1/(gamma - 1) at most 100
+        (
+            Load { kappa: 1e300, ..d },
+            "load.kappa",
+            1e300,
+            "must be at most 100",
+        ),
+        (
+            Load { kappa: 100.5, ..d },
+            "load.kappa",
+            100.5,
+            "must be at most 100",
+        ),
         (tip(f64::NAN, 0.0), "load.fx", f64::NAN, "must be finite"),
         (
             tip(0.5, f64::INFINITY),
@@ -78,6 +91,7 @@ fn loads_must_be_finite_and_kappa_positive() {
     // suction and large finite loads are input the model accepts
     assert!(Load::unloaded().with_pressure_kpa(-10.0).validate().is_ok());
     assert!(tip(-1e6, 1e6).validate().is_ok());
+    assert!(Load { kappa: 100.0, ..d }.validate().is_ok());
 }
 
 #[test]
@@ -96,6 +110,12 @@ fn solve_options_are_checked() {
             "solve.rtol",
             -1e-9,
             "must be positive",
+        ),
+        (
+            SolveOptions { rtol: 1e-300, ..d },
+            "solve.rtol",
+            1e-300,
+            "must be at least 1e-16",
         ),
         (
             SolveOptions {

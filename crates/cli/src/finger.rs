@@ -84,7 +84,8 @@ pub struct Args {
     /// Leave out the ribs inside the channel.
     #[arg(long = "no-ribs")]
     no_ribs: bool,
-    /// Pressure factor kappa = 1/(gamma - 1).
+    /// Pressure factor kappa = 1/(gamma - 1), in (0, 100] (a gas's gamma of
+    /// at least 1.01).
     #[arg(long, default_value_t = 2.5, allow_hyphen_values = true)]
     kappa: f64,
     /// Refine until the estimated tip error is at most this many

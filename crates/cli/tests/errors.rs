@@ -108,6 +108,14 @@ fn bad_loads_exit_2_naming_the_flag() {
             &[&format!("--kappa = {k}: must be positive")],
         );
     }
+    // kappa = 1/(gamma - 1) of a gas: at most 100 (1e300 failed as a
+    // singular linear system)
+    for k in ["1e300", "100.5"] {
+        rejected(
+            &["finger", "--kappa", k, "--pressure-kpa", "50"],
+            &[&format!("--kappa = {k}: must be at most 100")],
+        );
+    }
     rejected(&["finger", "--fx", "nan"], &["--fx = NaN: must be finite"]);
     rejected(
         &["finger", "--fz=-inf", "--json"],
