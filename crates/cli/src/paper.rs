@@ -62,12 +62,12 @@ pub struct Args {
     /// Elements per finger (default: the scene's count, else 8).
     #[arg(long, allow_hyphen_values = true)]
     elements: Option<usize>,
-    /// Printed width of the figures in inches (the SVG's width and height
-    /// become inches; default: their pixel size).
+    /// Printed width of the figures in inches, 0.5 to 1000 (the SVG's
+    /// width and height become inches; default: their pixel size).
     #[arg(long, value_name = "INCHES", allow_hyphen_values = true)]
     width_in: Option<f64>,
-    /// Printed size of the figures' tick labels in points, at --width-in
-    /// (every other text scales with it; default: as drawn).
+    /// Printed size of the figures' tick labels in points, 1 to 100, at
+    /// --width-in (every other text scales with it; default: as drawn).
     #[arg(long, value_name = "POINTS", allow_hyphen_values = true)]
     font_pt: Option<f64>,
     // the SVG of every figure is written whatever is asked: index.html

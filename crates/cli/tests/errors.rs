@@ -273,18 +273,22 @@ fn bad_figure_sizes_exit_2_before_any_directory_is_made() {
         .unwrap();
     let out = parent.path().join("out");
     let dir = out.to_str().unwrap();
-    for (flag, v) in [
-        ("--width-in", "0"),
-        ("--width-in", "nan"),
-        ("--width-in", "1e300"),
-        ("--font-pt", "-1"),
+    // a width from half an inch to 1000 in, tick labels from 1 pt to 100
+    // pt (1e-300 pt was written as font-size 0)
+    for (flag, v, shown, rule) in [
+        ("--width-in", "0", "0", "must lie in [0.5, 1000]"),
+        ("--width-in", "nan", "NaN", "must lie in [0.5, 1000]"),
+        ("--width-in", "1e300", "1e300", "must lie in [0.5, 1000]"),
+        ("--width-in", "1e-300", "1e-300", "must lie in [0.5, 1000]"),
+        ("--width-in", "0.4", "0.4", "must lie in [0.5, 1000]"),
+        ("--font-pt", "-1", "-1", "must lie in [1, 100]"),
+        ("--font-pt", "1e-300", "1e-300", "must lie in [1, 100]"),
+        ("--font-pt", "0.5", "0.5", "must lie in [1, 100]"),
+        ("--font-pt", "101", "101", "must lie in [1, 100]"),
     ] {
         rejected(
             &["paper", "--coarse", "--out", dir, flag, v],
-            &[
-                &format!("{flag} = "),
-                "must be a positive number of at most 1000",
-            ],
+            &[&format!("{flag} = {shown}: {rule}")],
         );
         assert!(!out.exists(), "{flag} {v}: {out:?} was made");
     }

@@ -114,15 +114,32 @@ pub struct Style {
 /// 1/1.24 of it.
 const LABEL_FONT: f64 = 13.0;
 
+/// The printed width a figure may be given, in inches: from a column's
+/// sliver to a poster's; the SVG writes it to 3 decimals.
+pub const WIDTH_IN_RANGE: (f64, f64) = (0.5, 1000.0);
+
+/// The printed tick-label size, in points: from the smallest that prints
+/// legibly to labels an inch and a half high; a smaller size wrote
+/// font-size 0.
+pub const FONT_PT_RANGE: (f64, f64) = (1.0, 100.0);
+
 impl Style {
-    /// Checks the options (positive and finite): rejected input otherwise.
+    /// Checks the options (finite, within [`WIDTH_IN_RANGE`] and
+    /// [`FONT_PT_RANGE`]): rejected input otherwise.
     pub fn validate(&self) -> anyhow::Result<()> {
-        for (name, v) in [("--width-in", self.width_in), ("--font-pt", self.font_pt)] {
+        for (name, v, (lo, hi)) in [
+            ("--width-in", self.width_in, WIDTH_IN_RANGE),
+            ("--font-pt", self.font_pt, FONT_PT_RANGE),
+        ] {
             if let Some(v) = v {
-                if !(v.is_finite() && v > 0.0 && v <= 1000.0) {
-                    return Err(crate::status::rejected(format!(
-                        "{name} = {v}: must be a positive number of at most 1000"
-                    )));
+                if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                    // (the library's error writes 1e-300 with an exponent)
+                    return Err(fpc::InputError::OutOfRange {
+                        field: fpc::Field::key(name),
+                        value: v,
+                        rule: format!("must lie in [{lo}, {hi}]"),
+                    }
+                    .into());
                 }
             }
         }
