@@ -279,6 +279,19 @@ impl Requirements {
     /// keys and types (with line and column), then the values (naming the
     /// field).
     pub fn parse(text: &str) -> Result<Requirements, RequirementsError> {
+        // a missing [vary] table is named here: the parser's error spans
+        // the whole document and would name its first key instead
+        let table: toml::Table = toml::from_str(text)
+            .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
+        if !table.contains_key("vary") {
+            // where the table would be added: after the last line
+            let (line, col) = crate::scene::line_col(text, text.len());
+            return Err(RequirementsError::Syntax(SceneError {
+                line,
+                col,
+                message: "vary: missing table [vary], the design variables and their bounds (required, with at least one variable)".into(),
+            }));
+        }
         let r: Requirements = toml::from_str(text)
             .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
         r.validate().map_err(RequirementsError::Input)?;
@@ -416,6 +429,25 @@ mounting_angle_deg = [60.0, 90.0]
         assert_eq!(r.objects.len(), 1);
         assert_eq!(r.bounds()[2], [20.0, 20.0]);
         assert_eq!(r.bounds()[1], [60.0, 90.0]);
+    }
+
+    #[test]
+    fn a_missing_vary_table_is_named_at_the_end_of_the_file() {
+        // it named the file's first key (`fingers`, or `object[0]`)
+        let without = PAPER.split("[vary]").next().unwrap();
+        for text in [
+            without.to_string(),
+            without.replace("fingers = 3\n", "fingers = 1\n"),
+            without.replace("fingers = 3\nmu = 0.6\n", ""),
+        ] {
+            let e = Requirements::parse(&text).unwrap_err();
+            let RequirementsError::Syntax(s) = e else {
+                panic!("{e:?}")
+            };
+            assert!(s.message.starts_with("vary: missing table [vary]"), "{s}");
+            // the line after the last (the text ends in a newline)
+            assert_eq!((s.line, s.col), (text.lines().count() + 1, 1), "{s}");
+        }
     }
 
     #[test]

@@ -24,7 +24,8 @@ use serde::Serialize;
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// The requirements file (TOML; scenes/design/ has examples, the README
-    /// documents every key).
+    /// documents every key): `[vary]` is required, `elements` lies in
+    /// [1, 256].
     requirements: PathBuf,
     /// Output directory (default `<stem>-design`).
     #[arg(long)]

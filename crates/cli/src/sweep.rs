@@ -32,8 +32,9 @@ use serde::Serialize;
 pub struct Args {
     /// The scene file (TOML; `fpc solve` documents the keys).
     scene: PathBuf,
-    /// A scene key and its values: `KEY=FROM:TO:COUNT` or `KEY=V1,V2,...`
-    /// (repeat for more axes; the last varies fastest).
+    /// A scene key and its values: `KEY=FROM:TO:COUNT` or `KEY=V1,V2,...`,
+    /// at most 100000 values (repeat for more axes, at most 1000000 points
+    /// in all; the last varies fastest).
     #[arg(
         long = "vary",
         value_name = "KEY=SPEC",

@@ -397,3 +397,15 @@ fn a_long_design_writes_its_progress_into_a_log_and_still_stops_at_ctrl_c() {
         "{rest:?}"
     );
 }
+
+#[test]
+fn help_states_vary_is_required_and_the_element_range() {
+    let out = fpc(&["design", "--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(help.contains("`[vary]` is required"), "{help}");
+    assert!(help.contains("`elements` lies in [1, 256]"), "{help}");
+}

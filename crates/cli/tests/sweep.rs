@@ -447,3 +447,16 @@ fn the_quiet_time_is_the_variable_s() {
         String::from_utf8_lossy(&quiet.stderr)
     );
 }
+
+#[test]
+fn help_states_the_grid_limits() {
+    // the caps parse_axis and the grid check enforce, said where the flag is
+    let out = fpc(&["sweep", "--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout)
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(help.contains("at most 100000 values"), "{help}");
+    assert!(help.contains("at most 1000000 points"), "{help}");
+}
