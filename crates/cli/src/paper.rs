@@ -46,7 +46,8 @@ pub struct Args {
     coarse: bool,
     /// Run the studies on the actuator (and element model) of a scene file
     /// instead of the paper's default actuator; its load, solve and
-    /// gripper tables are not used (the studies set their own). A scene
+    /// gripper tables are not used (the studies set their own), nor a
+    /// partition other than `elements = N` (a note says so). A scene
     /// with a [calibration] covariance (a calibrated scene) adds 1-sigma
     /// bands to all eight studies (study 5: its envelope) by first-order propagation through exact
     /// sensitivities: a `<column>_sd` column per banded column of their
@@ -85,6 +86,9 @@ struct Setup {
     elements: Option<usize>,
     source: String,
     covariance: Option<Covariance>,
+    /// The scene's partition when the studies cannot take it (only equal
+    /// elements are taken, by their count), as its table says it.
+    partition_unused: Option<String>,
 }
 
 /// The actuator, model and element count the studies run on, and a
@@ -101,6 +105,7 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
             elements: None,
             source: "the default (docs/model.md section 3)".into(),
             covariance: None,
+            partition_unused: None,
         });
     };
     let shown = path.display().to_string();
@@ -119,12 +124,21 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
         }
         _ => None,
     };
+    let partition_unused = match &scene.partition {
+        _ if elements.is_some() => None,
+        fpc::scene::PartitionPlan::Fixed(_) => Some("lengths of unequal elements".to_string()),
+        fpc::scene::PartitionPlan::TipTolerance { tip_tol_mm, .. } => {
+            Some(format!("tip_tol_mm = {tip_tol_mm}"))
+        }
+        fpc::scene::PartitionPlan::Auto => Some("elements = \"auto\"".to_string()),
+    };
     Ok(Setup {
         actuator: scene.actuator.clone(),
         model,
         elements,
         source: format!("the scene {shown}'s"),
         covariance: scene.covariance().cloned(),
+        partition_unused,
     })
 }
 
@@ -146,6 +160,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         elements: scene_elements,
         source,
         covariance,
+        partition_unused,
     } = setup(args)?;
     let opts = StudyOptions {
         strict: args.strict,
@@ -170,6 +185,13 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     out.style = style;
     out.formats = args.format.with_svg();
     out.covariance = covariance;
+    if let Some(partition) = partition_unused {
+        out.notes.push(format!(
+            "the scene's [partition] ({partition}) is not used: the studies run on {} equal elements ({}); its load, solve and gripper tables are not used either",
+            opts.elements,
+            if args.elements.is_some() { "--elements" } else { "the default; --elements sets the count" }
+        ));
+    }
 
     for (i, info) in STUDIES.iter().enumerate() {
         let total = STUDIES.len();
@@ -197,6 +219,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         out.stops.len(),
         elapsed
     )?;
+    for n in &out.notes {
+        writeln!(crate::output::stdout(), "note           {n}")?;
+    }
     if !out.failed.is_empty() {
         let more = match out.failed.len() {
             1 => String::new(),
@@ -266,6 +291,9 @@ struct Output {
     sections: Vec<Section>,
     /// The scene's `[calibration]` covariance: the studies' bands.
     covariance: Option<Covariance>,
+    /// What the run does not take from its scene, as `fpc design --scene`
+    /// says it: `notes` of summary.json, a `note` line each on stdout.
+    notes: Vec<String>,
 }
 
 impl Output {
@@ -284,6 +312,7 @@ impl Output {
             stops: Vec::new(),
             ends: Vec::new(),
             warnings: Vec::new(),
+            notes: Vec::new(),
             sections: Vec::new(),
             covariance: None,
         }
@@ -454,6 +483,7 @@ impl Output {
             .collect();
         s.insert("folds".into(), Value::Array(folds));
         s.insert("warnings".into(), json!(self.warnings));
+        s.insert("notes".into(), json!(self.notes));
         s.insert(
             "studies".into(),
             Value::Array(

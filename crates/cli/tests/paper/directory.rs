@@ -131,3 +131,42 @@ fn two_runs_into_one_directory_both_succeed() {
     let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
     assert_eq!(mode(&dir.join("summary.json")), mode(&probe));
 }
+
+#[test]
+fn a_scene_partition_the_studies_cannot_take_is_noted() {
+    // tip_tol_mm refines a finger; the studies run on equal elements, so
+    // the run says it does not use it (it ran 8 without a word)
+    let base = tmp("partition-note");
+    let dir = base.path().join("out");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/tip_load.toml");
+    let out = fpc()
+        .args(["paper", "--coarse", "--scene", scene, "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let note = stdout
+        .lines()
+        .find(|l| l.starts_with("note "))
+        .unwrap_or_else(|| panic!("no note: {stdout}"));
+    assert!(
+        note.contains("[partition] (tip_tol_mm = 0.05) is not used"),
+        "{note}"
+    );
+    assert!(note.contains("8 equal elements"), "{note}");
+    let text = std::fs::read_to_string(dir.join("summary.json")).unwrap();
+    let s: Value = serde_json::from_str(&text).unwrap();
+    let notes = s["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    assert_eq!(
+        notes[0].as_str().unwrap(),
+        note.trim_start_matches("note").trim()
+    );
+    assert_eq!(s["options"]["elements"], 8);
+}
