@@ -314,19 +314,22 @@ pub fn equal_partition(py: Python<'_>, lx: f64, n: usize) -> PyResult<Partition>
     Partition::equal(lx, n).map_err(|e| from_input(py, &e))
 }
 
-/// The load of a solve from Python's arguments, checked in their terms
-/// (`pressure_kpa`, `kappa`, `fx`, `fz`).
-pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, InputError> {
-    let finite = |field: &'static str, value: f64| {
-        if value.is_finite() {
-            Ok(value)
-        } else {
-            Err(InputError::NotFinite {
-                field: fpc::Field::key(field),
-                value,
-            })
-        }
-    };
+/// `value` unless it is not finite: the error names `field`.
+fn finite(field: &'static str, value: f64) -> Result<f64, InputError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(InputError::NotFinite {
+            field: fpc::Field::key(field),
+            value,
+        })
+    }
+}
+
+/// The argument `pressure_kpa` (gauge, kPa): finite and not below
+/// absolute vacuum, the error naming `pressure_kpa` in kPa (every solve
+/// of a finger or a grasp checks it so before the library sees the load).
+pub fn check_pressure_kpa(pressure_kpa: f64) -> Result<(), InputError> {
     finite("pressure_kpa", pressure_kpa)?;
     let vacuum_kpa = fpc::finger::VACUUM_GAUGE_MPA * 1e3;
     if pressure_kpa < vacuum_kpa {
@@ -336,6 +339,13 @@ pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, Inp
             rule: format!("is below absolute vacuum ({vacuum_kpa} kPa gauge)"),
         });
     }
+    Ok(())
+}
+
+/// The load of a solve from Python's arguments, checked in their terms
+/// (`pressure_kpa`, `kappa`, `fx`, `fz`).
+pub fn load(pressure_kpa: f64, kappa: f64, fx: f64, fz: f64) -> Result<Load, InputError> {
+    check_pressure_kpa(pressure_kpa)?;
     finite("kappa", kappa)?;
     if kappa <= 0.0 {
         return Err(InputError::NotPositive {

@@ -14,7 +14,7 @@ use crate::convert::{array1, points, solution_dict, to_py};
 use crate::errors::{
     cancellable_partial, detached, from_input, from_solve, guarded, in_python_terms, input_error,
 };
-use crate::finger::{read_scene, Finger};
+use crate::finger::{check_pressure_kpa, read_scene, Finger};
 use fpc::scene::{GraspJson, GripperJson};
 
 /// A gripper: identical, synchronised fingers on a palm (one finger is
@@ -117,9 +117,23 @@ fn solve_py(
     warm: Option<&Grasp>,
 ) -> Result<fpc::scene::GraspOutcome, SolveError> {
     match spec {
-        GraspSpec::Size { beta_deg, .. } => check_beta_deg(beta_deg, false)?,
-        GraspSpec::Sphere { beta_deg, .. } => check_beta_deg(beta_deg, true)?,
-        GraspSpec::Cuboid { .. } => {}
+        GraspSpec::Size {
+            beta_deg,
+            pressure_kpa,
+            ..
+        } => {
+            check_pressure_kpa(pressure_kpa)?;
+            check_beta_deg(beta_deg, false)?
+        }
+        GraspSpec::Sphere {
+            beta_deg,
+            pressure_kpa,
+            ..
+        } => {
+            check_pressure_kpa(pressure_kpa)?;
+            check_beta_deg(beta_deg, true)?
+        }
+        GraspSpec::Cuboid { pressure_kpa, .. } => check_pressure_kpa(pressure_kpa)?,
     }
     solve_spec(g, spec, warm).map_err(in_python_terms)
 }
