@@ -25,7 +25,7 @@ use fpc::{
 
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::convert::{array1, array2, real_array};
+use crate::convert::{arg_or, array1, array2, opt_arg, real_array};
 use crate::errors::{at_most, cancellable_partial, from_input, guarded, input_error};
 
 /// The most points of one `batch_solve` (the broadcast size), checked
@@ -490,7 +490,10 @@ fn config(
 /// attribute is the same dict for the points solved so far (the others
 /// have status 4, ``stopped``).
 #[pyfunction]
-#[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model="ccm", ribs=true, tip_tol_mm=None, warm_start=false, threads=None, **actuator))]
+#[pyo3(signature = (eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model=None, ribs=None, tip_tol_mm=None, warm_start=None, threads=None, **actuator))]
+#[pyo3(
+    text_signature = "(eps0=None, pressure_kpa=None, fx=None, fz=None, kappa=None, *, elements=None, model='ccm', ribs=True, tip_tol_mm=None, warm_start=False, threads=None, **actuator)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn batch_solve<'py>(
     py: Python<'py>,
@@ -500,13 +503,18 @@ pub fn batch_solve<'py>(
     fz: Option<&Bound<'py, PyAny>>,
     kappa: Option<&Bound<'py, PyAny>>,
     elements: Option<&Bound<'py, PyAny>>,
-    model: &str,
-    ribs: bool,
-    tip_tol_mm: Option<f64>,
-    warm_start: bool,
-    threads: Option<usize>,
+    model: Option<&Bound<'py, PyAny>>,
+    ribs: Option<&Bound<'py, PyAny>>,
+    tip_tol_mm: Option<&Bound<'py, PyAny>>,
+    warm_start: Option<&Bound<'py, PyAny>>,
+    threads: Option<&Bound<'py, PyAny>>,
     actuator: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let model: String = arg_or("model", model, "ccm".to_string())?;
+    let ribs: bool = arg_or("ribs", ribs, true)?;
+    let tip_tol_mm: Option<f64> = opt_arg("tip_tol_mm", tip_tol_mm)?;
+    let warm_start: bool = arg_or("warm_start", warm_start, false)?;
+    let threads: Option<usize> = opt_arg("threads", threads)?;
     if threads == Some(0) {
         return Err(input_error(
             py,
@@ -517,7 +525,7 @@ pub fn batch_solve<'py>(
     if let Some(t) = threads {
         at_most(py, "threads", t, MAX_THREADS)?;
     }
-    let cfg = config(py, elements, model, ribs, tip_tol_mm, warm_start, actuator)?;
+    let cfg = config(py, elements, &model, ribs, tip_tol_mm, warm_start, actuator)?;
     let (dims, cols) = broadcast(
         py,
         &[

@@ -217,3 +217,46 @@ pub fn scene_list<'py>(
     }
     Ok(list)
 }
+
+/// The argument `name` converted to `T`. A failed conversion keeps its
+/// Python type (`TypeError` for a wrong type, `OverflowError` for an int
+/// that does not fit) and its message names the argument as the caller
+/// wrote it: `argument 'eps0': must be real number, not str`. (pyo3 only
+/// attaches the name as a note, which `str(e)` does not show.)
+pub fn arg<'py, T>(name: &str, obj: &Bound<'py, PyAny>) -> PyResult<T>
+where
+    T: pyo3::conversion::FromPyObjectOwned<'py>,
+{
+    obj.extract::<T>()
+        .map_err(|e| named(obj.py(), name, e.into()))
+}
+
+/// An optional argument: absent or None is None, anything else as [`arg`].
+pub fn opt_arg<'py, T>(name: &str, obj: Option<&Bound<'py, PyAny>>) -> PyResult<Option<T>>
+where
+    T: pyo3::conversion::FromPyObjectOwned<'py>,
+{
+    match obj {
+        Some(o) if !o.is_none() => arg(name, o).map(Some),
+        _ => Ok(None),
+    }
+}
+
+/// An argument with a default: absent or None is `default`.
+pub fn arg_or<'py, T>(name: &str, obj: Option<&Bound<'py, PyAny>>, default: T) -> PyResult<T>
+where
+    T: pyo3::conversion::FromPyObjectOwned<'py>,
+{
+    Ok(opt_arg(name, obj)?.unwrap_or(default))
+}
+
+/// `e` (a conversion error) as the same exception type, its message
+/// prefixed with the argument's name.
+pub fn named(py: Python<'_>, name: &str, e: PyErr) -> PyErr {
+    let err = PyErr::from_type(
+        e.get_type(py),
+        format!("argument '{name}': {}", e.value(py)),
+    );
+    err.set_cause(py, e.cause(py));
+    err
+}

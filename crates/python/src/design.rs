@@ -56,14 +56,17 @@ use crate::finger::scene_text;
 /// ``KeyboardInterrupt`` (the search finishes on its own thread and is
 /// dropped).
 #[pyfunction]
-#[pyo3(signature = (requirements, starts=2, seed=1, scene=None))]
+#[pyo3(signature = (requirements, starts=None, seed=None, scene=None))]
+#[pyo3(text_signature = "(requirements, starts=2, seed=1, scene=None)")]
 pub fn design<'py>(
     py: Python<'py>,
     requirements: &Bound<'py, PyAny>,
-    starts: usize,
-    seed: u64,
+    starts: Option<&Bound<'py, PyAny>>,
+    seed: Option<&Bound<'py, PyAny>>,
     scene: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let starts: usize = crate::convert::arg_or("starts", starts, 2)?;
+    let seed: u64 = crate::convert::arg_or("seed", seed, 1)?;
     let (text, shown) = scene_text(requirements)?;
     let mut req = Requirements::parse(&text).map_err(|e| match &e {
         RequirementsError::Input(i) => {

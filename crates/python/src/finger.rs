@@ -16,7 +16,7 @@ use fpc::{
     SolveOptions, Solved,
 };
 
-use crate::convert::{array1, points, solution_dict, to_py};
+use crate::convert::{arg, arg_or, array1, opt_arg, points, solution_dict, to_py};
 use crate::errors::{detached, from_input, from_scene_read, from_solve, input_error};
 
 // ------------------------------------------------------------ arguments
@@ -296,15 +296,14 @@ pub fn elements_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<ElementsArg> {
             "elements must be a whole number or \"auto\"",
         ));
     }
-    match obj.extract::<i64>() {
-        Ok(n) if n >= 1 => Ok(ElementsArg::Count(n as usize)),
-        Ok(n) => Err(input_error(
+    // a non-integer is a TypeError, an int too large for a count an
+    // OverflowError, both naming elements
+    match arg::<i64>("elements", obj)? {
+        n if n >= 1 => Ok(ElementsArg::Count(n as usize)),
+        n => Err(input_error(
             py,
             "elements",
             format!("elements = {n}: must be at least 1"),
-        )),
-        Err(_) => Err(PyTypeError::new_err(
-            "elements must be a whole number or \"auto\"",
         )),
     }
 }
@@ -616,16 +615,19 @@ fn refinement_dict<'py>(py: Python<'py>, r: &RefinementRecord) -> PyResult<Bound
 #[pymethods]
 impl Finger {
     #[new]
-    #[pyo3(signature = (eps0=None, elements=None, model="ccm", ribs=true, **actuator))]
+    #[pyo3(signature = (eps0=None, elements=None, model=None, ribs=None, **actuator))]
+    #[pyo3(text_signature = "(eps0=None, elements=None, model='ccm', ribs=True, **actuator)")]
     fn new(
         py: Python<'_>,
-        eps0: Option<f64>,
+        eps0: Option<&Bound<'_, PyAny>>,
         elements: Option<&Bound<'_, PyAny>>,
-        model: &str,
-        ribs: bool,
+        model: Option<&Bound<'_, PyAny>>,
+        ribs: Option<&Bound<'_, PyAny>>,
         actuator: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Finger> {
-        let model = self::model(py, model)?;
+        let eps0: Option<f64> = opt_arg("eps0", eps0)?;
+        let model = self::model(py, &arg_or("model", model, "ccm".to_string())?)?;
+        let ribs = arg_or("ribs", ribs, true)?;
         let elements = elements_arg(elements)?;
         // 0.25 unless given, as eps0= or as pemc={"eps0": ...} (not both)
         let in_pemc = match actuator.map(|a| a.get_item("pemc")).transpose()?.flatten() {
@@ -686,15 +688,22 @@ impl Finger {
     fn solve<'py>(
         &self,
         py: Python<'py>,
-        pressure_kpa: Option<f64>,
-        fx: Option<f64>,
-        fz: Option<f64>,
-        kappa: Option<f64>,
-        tip_tol_mm: Option<f64>,
-        shape: Option<bool>,
-        stability: Option<bool>,
+        pressure_kpa: Option<&Bound<'py, PyAny>>,
+        fx: Option<&Bound<'py, PyAny>>,
+        fz: Option<&Bound<'py, PyAny>>,
+        kappa: Option<&Bound<'py, PyAny>>,
+        tip_tol_mm: Option<&Bound<'py, PyAny>>,
+        shape: Option<&Bound<'py, PyAny>>,
+        stability: Option<&Bound<'py, PyAny>>,
         guess: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let pressure_kpa: Option<f64> = opt_arg("pressure_kpa", pressure_kpa)?;
+        let fx: Option<f64> = opt_arg("fx", fx)?;
+        let fz: Option<f64> = opt_arg("fz", fz)?;
+        let kappa: Option<f64> = opt_arg("kappa", kappa)?;
+        let tip_tol_mm: Option<f64> = opt_arg("tip_tol_mm", tip_tol_mm)?;
+        let shape: Option<bool> = opt_arg("shape", shape)?;
+        let stability: Option<bool> = opt_arg("stability", stability)?;
         let load = load(
             pressure_kpa.unwrap_or(self.load.pressure * 1e3),
             kappa.unwrap_or(self.load.kappa),
@@ -818,7 +827,19 @@ impl Finger {
         let arr = np
             .call_method1("atleast_2d", (arr,))?
             .call_method1("copy", ("C",))?;
-        let arr: PyReadonlyArray2<'_, f64> = arr.extract()?;
+        let ndim: usize = arr.getattr("ndim")?.extract()?;
+        if ndim != 2 {
+            return Err(input_error(
+                py,
+                "guess",
+                format!(
+                    "guess: has {ndim} dimensions, expected 2 ({} x {}: elements x unknowns)",
+                    finger.len(),
+                    finger.unknowns_per_element()
+                ),
+            ));
+        }
+        let arr: PyReadonlyArray2<'_, f64> = arg("guess", &arr)?;
         let view = arr.as_array();
         let (rows, cols) = (view.shape()[0], view.shape()[1]);
         let per = finger.unknowns_per_element();

@@ -10,7 +10,7 @@ use fpc::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
 use fpc::{Grasp, GripperParams, Load, SolveError, SolveOptions};
 
-use crate::convert::{array1, points, solution_dict, to_py};
+use crate::convert::{arg, arg_or, array1, opt_arg, points, solution_dict, to_py};
 use crate::errors::{
     cancellable_partial, detached, from_input, from_solve, guarded, in_python_terms, input_error,
 };
@@ -172,19 +172,30 @@ impl Gripper {
 #[pymethods]
 impl Gripper {
     #[new]
-    #[pyo3(signature = (finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=true))]
+    #[pyo3(signature = (finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=None))]
+    #[pyo3(
+        text_signature = "(finger=None, *, mounting_angle_deg=None, overlap_mm=None, palm_mm=None, fingers=None, mu=None, strict=None, stability=True)"
+    )]
     #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
-        finger: Option<PyRef<'_, Finger>>,
-        mounting_angle_deg: Option<f64>,
-        overlap_mm: Option<f64>,
-        palm_mm: Option<f64>,
-        fingers: Option<usize>,
-        mu: Option<f64>,
-        strict: Option<bool>,
-        stability: bool,
+        finger: Option<&Bound<'_, PyAny>>,
+        mounting_angle_deg: Option<&Bound<'_, PyAny>>,
+        overlap_mm: Option<&Bound<'_, PyAny>>,
+        palm_mm: Option<&Bound<'_, PyAny>>,
+        fingers: Option<&Bound<'_, PyAny>>,
+        mu: Option<&Bound<'_, PyAny>>,
+        strict: Option<&Bound<'_, PyAny>>,
+        stability: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Gripper> {
+        let finger: Option<PyRef<'_, Finger>> = opt_arg("finger", finger)?;
+        let mounting_angle_deg: Option<f64> = opt_arg("mounting_angle_deg", mounting_angle_deg)?;
+        let overlap_mm: Option<f64> = opt_arg("overlap_mm", overlap_mm)?;
+        let palm_mm: Option<f64> = opt_arg("palm_mm", palm_mm)?;
+        let fingers: Option<usize> = opt_arg("fingers", fingers)?;
+        let mu: Option<f64> = opt_arg("mu", mu)?;
+        let strict: Option<bool> = opt_arg("strict", strict)?;
+        let stability: bool = arg_or("stability", stability, true)?;
         for (field, v) in [
             ("gripper.mounting_angle_deg", mounting_angle_deg),
             ("gripper.overlap_mm", overlap_mm),
@@ -279,20 +290,21 @@ impl Gripper {
     /// (a) The normal force F that gives grasping size ``d_mm`` at grasping
     /// angle ``beta_deg`` with full friction f = mu F, at a channel pressure.
     /// Returns the grasp dict (see :meth:`grasp_cuboid`).
-    #[pyo3(signature = (d_mm, beta_deg=0.0, pressure_kpa=0.0))]
+    #[pyo3(signature = (d_mm, beta_deg=None, pressure_kpa=None))]
+    #[pyo3(text_signature = "($self, d_mm, beta_deg=0.0, pressure_kpa=0.0)")]
     fn grasp_size<'py>(
         &self,
         py: Python<'py>,
-        d_mm: f64,
-        beta_deg: f64,
-        pressure_kpa: f64,
+        d_mm: &Bound<'py, PyAny>,
+        beta_deg: Option<&Bound<'py, PyAny>>,
+        pressure_kpa: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.solve_one(
             py,
             GraspSpec::Size {
-                pressure_kpa,
-                d_mm,
-                beta_deg,
+                pressure_kpa: arg_or("pressure_kpa", pressure_kpa, 0.0)?,
+                d_mm: arg("d_mm", d_mm)?,
+                beta_deg: arg_or("beta_deg", beta_deg, 0.0)?,
             },
         )
     }
@@ -308,20 +320,21 @@ impl Gripper {
     /// ``sphere_center_gripper_mm``), and ``solution`` (the finger's
     /// equilibrium as ``Finger.solve`` returns it), ``points_gripper``
     /// (n x 2, gripper frame, mm), ``warnings`` and ``reversed``.
-    #[pyo3(signature = (d_mm=100.0, friction_n=0.3, pressure_kpa=0.0))]
+    #[pyo3(signature = (d_mm=None, friction_n=None, pressure_kpa=None))]
+    #[pyo3(text_signature = "($self, d_mm=100.0, friction_n=0.3, pressure_kpa=0.0)")]
     fn grasp_cuboid<'py>(
         &self,
         py: Python<'py>,
-        d_mm: f64,
-        friction_n: f64,
-        pressure_kpa: f64,
+        d_mm: Option<&Bound<'py, PyAny>>,
+        friction_n: Option<&Bound<'py, PyAny>>,
+        pressure_kpa: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.solve_one(
             py,
             GraspSpec::Cuboid {
-                pressure_kpa,
-                d_mm,
-                friction_n,
+                pressure_kpa: arg_or("pressure_kpa", pressure_kpa, 0.0)?,
+                d_mm: arg_or("d_mm", d_mm, 100.0)?,
+                friction_n: arg_or("friction_n", friction_n, 0.3)?,
             },
         )
     }
@@ -329,22 +342,23 @@ impl Gripper {
     /// (c) A sphere of radius ``r_mm`` held with lifting force ``lift_n``
     /// per finger at grasping angle ``beta_deg``; F and f are solved for.
     /// Returns the grasp dict (see :meth:`grasp_cuboid`).
-    #[pyo3(signature = (r_mm=50.0, lift_n=0.5, beta_deg=20.0, pressure_kpa=0.0))]
+    #[pyo3(signature = (r_mm=None, lift_n=None, beta_deg=None, pressure_kpa=None))]
+    #[pyo3(text_signature = "($self, r_mm=50.0, lift_n=0.5, beta_deg=20.0, pressure_kpa=0.0)")]
     fn grasp_sphere<'py>(
         &self,
         py: Python<'py>,
-        r_mm: f64,
-        lift_n: f64,
-        beta_deg: f64,
-        pressure_kpa: f64,
+        r_mm: Option<&Bound<'py, PyAny>>,
+        lift_n: Option<&Bound<'py, PyAny>>,
+        beta_deg: Option<&Bound<'py, PyAny>>,
+        pressure_kpa: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyDict>> {
         self.solve_one(
             py,
             GraspSpec::Sphere {
-                pressure_kpa,
-                r_mm,
-                lift_n,
-                beta_deg,
+                pressure_kpa: arg_or("pressure_kpa", pressure_kpa, 0.0)?,
+                r_mm: arg_or("r_mm", r_mm, 50.0)?,
+                lift_n: arg_or("lift_n", lift_n, 0.5)?,
+                beta_deg: arg_or("beta_deg", beta_deg, 20.0)?,
             },
         )
     }
@@ -369,9 +383,11 @@ impl Gripper {
     fn sweep<'py>(
         &self,
         py: Python<'py>,
-        kind: &str,
+        kind: &Bound<'py, PyAny>,
         params: Option<&Bound<'py, PyDict>>,
     ) -> PyResult<Bound<'py, PyDict>> {
+        let kind: String = arg("kind", kind)?;
+        let kind = kind.as_str();
         let (names, defaults): (&[&str], &[f64]) = match kind {
             "size" => (&["d_mm", "beta_deg", "pressure_kpa"], &[100.0, 0.0, 0.0]),
             "cuboid" => (&["d_mm", "friction_n", "pressure_kpa"], &[100.0, 0.3, 0.0]),

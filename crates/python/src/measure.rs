@@ -76,15 +76,22 @@ pub fn compare<'py>(py: Python<'py>, manifest: &Bound<'py, PyAny>) -> PyResult<B
 /// measurement input, ``fpc.InputError`` naming ``fit``,
 /// ``max_iterations`` or a parameter; Ctrl-C interrupts.
 #[pyfunction]
-#[pyo3(signature = (manifest, fit, *, max_iterations=100, cross_validate=false, choose_model=false))]
+#[pyo3(signature = (manifest, fit, *, max_iterations=None, cross_validate=None, choose_model=None))]
+#[pyo3(
+    text_signature = "(manifest, fit, *, max_iterations=100, cross_validate=False, choose_model=False)"
+)]
 pub fn calibrate<'py>(
     py: Python<'py>,
     manifest: &Bound<'py, PyAny>,
     fit: &Bound<'py, PyAny>,
-    max_iterations: usize,
-    cross_validate: bool,
-    choose_model: bool,
+    max_iterations: Option<&Bound<'py, PyAny>>,
+    cross_validate: Option<&Bound<'py, PyAny>>,
+    choose_model: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    use crate::convert::arg_or;
+    let max_iterations: usize = arg_or("max_iterations", max_iterations, 100)?;
+    let cross_validate: bool = arg_or("cross_validate", cross_validate, false)?;
+    let choose_model: bool = arg_or("choose_model", choose_model, false)?;
     let names: Vec<String> = match fit.extract::<String>() {
         Ok(s) => s.split(',').map(|n| n.trim().to_string()).collect(),
         Err(_) => fit.extract().map_err(|_| {

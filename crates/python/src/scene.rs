@@ -34,8 +34,9 @@ use crate::finger::read_scene;
 pub fn solve_scene<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyAny>,
-    name: Option<String>,
+    name: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let name: Option<String> = crate::convert::opt_arg("name", name)?;
     let (scene, shown) = read_scene(scene)?;
     let stem = name.unwrap_or_else(|| {
         std::path::Path::new(&shown)

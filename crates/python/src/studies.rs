@@ -9,7 +9,7 @@ use fpc::studies::{Cell, Table};
 use fpc::studies::{StudyInfo, STUDIES};
 use fpc::StudyOptions;
 
-use crate::convert::{json_to_py, to_py};
+use crate::convert::{arg_or, json_to_py, opt_arg, to_py};
 use crate::errors::{from_input, from_solve, input_error, interruptible};
 use crate::finger::actuator_from_kwargs;
 
@@ -166,20 +166,30 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// ``elements`` as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
 /// interrupted study finishes on its own thread and is dropped).
 #[pyfunction]
-#[pyo3(signature = (study, *, elements=None, mu=None, sweep_points=None, angle_samples=None, pressure_points=None, strict=None, coarse=false, **actuator))]
+#[pyo3(signature = (study, *, elements=None, mu=None, sweep_points=None, angle_samples=None, pressure_points=None, strict=None, coarse=None, **actuator))]
+#[pyo3(
+    text_signature = "(study, *, elements=None, mu=None, sweep_points=None, angle_samples=None, pressure_points=None, strict=None, coarse=False, **actuator)"
+)]
 #[allow(clippy::too_many_arguments)]
 pub fn run_study<'py>(
     py: Python<'py>,
     study: &Bound<'py, PyAny>,
-    elements: Option<usize>,
-    mu: Option<f64>,
-    sweep_points: Option<usize>,
-    angle_samples: Option<usize>,
-    pressure_points: Option<usize>,
-    strict: Option<bool>,
-    coarse: bool,
+    elements: Option<&Bound<'py, PyAny>>,
+    mu: Option<&Bound<'py, PyAny>>,
+    sweep_points: Option<&Bound<'py, PyAny>>,
+    angle_samples: Option<&Bound<'py, PyAny>>,
+    pressure_points: Option<&Bound<'py, PyAny>>,
+    strict: Option<&Bound<'py, PyAny>>,
+    coarse: Option<&Bound<'py, PyAny>>,
     actuator: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let elements: Option<usize> = opt_arg("elements", elements)?;
+    let mu: Option<f64> = opt_arg("mu", mu)?;
+    let sweep_points: Option<usize> = opt_arg("sweep_points", sweep_points)?;
+    let angle_samples: Option<usize> = opt_arg("angle_samples", angle_samples)?;
+    let pressure_points: Option<usize> = opt_arg("pressure_points", pressure_points)?;
+    let strict: Option<bool> = opt_arg("strict", strict)?;
+    let coarse: bool = arg_or("coarse", coarse, false)?;
     let info = find(py, study)?;
     check_used(
         info,

@@ -2,7 +2,7 @@
 keyword as written, in its own unit, whatever the call (a single solve, a
 grasp, a sweep, a batch, a study)."""
 
-
+import numpy as np
 import pytest
 
 import fpc
@@ -39,3 +39,63 @@ def test_a_sweep_reports_the_pressure_in_kpa(gripper):
     s = gripper.sweep("cuboid", pressure_kpa=[-500])
     assert not s["ok"][0]
     assert s["error"][0].startswith("pressure_kpa = -500"), s["error"][0]
+
+
+def conversion_error(call, kind, name):
+    """`call` raises `kind` (and not a subclass swap) whose message names
+    the argument `name` as the caller wrote it."""
+    with pytest.raises(kind) as e:
+        call()
+    assert type(e.value) is kind, type(e.value)
+    assert f"argument '{name}'" in str(e.value), str(e.value)
+    return e.value
+
+
+def test_a_wrong_type_names_the_argument(gripper):
+    f = fpc.Finger(elements=4)
+    c = f.solve(pressure_kpa=20)["coefficients"]
+    cases = [
+        (lambda: fpc.Finger(eps0="0.3"), "eps0"),
+        (lambda: fpc.Finger(ribs=1), "ribs"),
+        (lambda: fpc.Finger(model=1), "model"),
+        (lambda: f.solve(pressure_kpa=np.array([5.0, 6.0])), "pressure_kpa"),
+        (lambda: f.solve(shape=1), "shape"),
+        (lambda: f.solve(kappa="x"), "kappa"),
+        (lambda: gripper.grasp_size("x"), "d_mm"),
+        (lambda: gripper.grasp_cuboid(friction_n=[0.3]), "friction_n"),
+        (lambda: gripper.grasp_sphere(lift_n="x"), "lift_n"),
+        (lambda: gripper.sweep(3), "kind"),
+        (lambda: fpc.Gripper(mu="x"), "mu"),
+        (lambda: fpc.Gripper("x"), "finger"),
+        (lambda: fpc.Gripper(stability="yes"), "stability"),
+        (lambda: fpc.batch_solve(threads="x"), "threads"),
+        (lambda: fpc.batch_solve(warm_start=1), "warm_start"),
+        (lambda: fpc.run_study(1, mu="x"), "mu"),
+        (lambda: fpc.run_study(1, coarse="x"), "coarse"),
+        (lambda: fpc.solve_scene("", name=3), "name"),
+    ]
+    for call, name in cases:
+        conversion_error(call, TypeError, name)
+    # a coefficient array of the wrong dimensionality is refused by name
+    named_input_error(lambda: f.solve(guess=c[None]), "guess", "guess: has 3 dimensions")
+
+
+def test_an_int_that_does_not_fit_names_the_argument():
+    f = fpc.Finger()
+    conversion_error(lambda: f.solve(fx=10**400), OverflowError, "fx")
+    conversion_error(lambda: fpc.Gripper(fingers=-1), OverflowError, "fingers")
+    conversion_error(lambda: fpc.batch_solve(threads=-1), OverflowError, "threads")
+    conversion_error(lambda: fpc.run_study(1, sweep_points=-1), OverflowError, "sweep_points")
+    # as the README says: an int that does not fit a count is an OverflowError
+    conversion_error(lambda: fpc.Finger(elements=10**30), OverflowError, "elements")
+
+
+def test_the_documented_defaults_stay_visible_and_none_takes_them(gripper):
+    import inspect
+
+    assert "model='ccm', ribs=True" in str(inspect.signature(fpc.Finger))
+    assert "pressure_kpa=0.0" in str(inspect.signature(fpc.Gripper.grasp_cuboid))
+    assert "warm_start=False" in str(inspect.signature(fpc.batch_solve))
+    a = gripper.grasp_cuboid(d_mm=None)
+    b = gripper.grasp_cuboid()
+    assert a["normal_force_n"] == b["normal_force_n"]
