@@ -349,10 +349,15 @@ fn solve_chunk(
 
 // ------------------------------------------------------------ Python
 
-/// The inputs broadcast against each other (numpy rules), flattened.
-fn broadcast<'py>(
+/// The inputs `(name, value, default)` broadcast against each other
+/// (numpy rules), flattened, at most `max_points` of them (checked before
+/// any copy): the shape and the columns. A value that is not an array of
+/// real numbers, or shapes that do not broadcast, is `fpc.InputError`
+/// naming the argument; a complex value a `TypeError`.
+pub fn broadcast<'py>(
     py: Python<'py>,
     inputs: &[(&str, Option<&Bound<'py, PyAny>>, f64)],
+    max_points: usize,
 ) -> PyResult<(Vec<usize>, Vec<Vec<f64>>)> {
     let np = py.import("numpy")?;
     let mut arrays = Vec::new();
@@ -383,7 +388,7 @@ fn broadcast<'py>(
     // the size before any copy: the broadcast arrays are views
     let first = b.get_item(0)?;
     let size: usize = first.getattr("size")?.extract()?;
-    at_most(py, "points", size, MAX_BATCH_POINTS)?;
+    at_most(py, "points", size, max_points)?;
     let mut shape: Vec<usize> = Vec::new();
     let mut cols = Vec::new();
     for a in b.try_iter()? {
@@ -535,6 +540,7 @@ pub fn batch_solve<'py>(
             ("fz", fz, 0.0),
             ("kappa", kappa, 2.5),
         ],
+        MAX_BATCH_POINTS,
     )?;
     let points: Vec<Point> = (0..cols[0].len())
         .map(|i| Point {

@@ -2,9 +2,9 @@
 //! grasp solves (size, cuboid, sphere), one at a time or as warm-started
 //! sweeps.
 
-use numpy::{PyArray1, PyReadonlyArray1};
+use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use fpc::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use fpc::scene::{GraspSpec, GripperSection, PartitionPlan, SceneFile};
@@ -375,7 +375,9 @@ impl Gripper {
     /// ``height_mm``, ``tip_gripper`` (n x 2), ``valid``, ``reversed``,
     /// ``ok`` (solved) and ``error`` (list of messages, "" when solved).
     /// At most 100000 points (``fpc.InputError`` for ``points`` beyond);
-    /// complex inputs are a ``TypeError``; Ctrl-C stops the sweep between
+    /// an input that is not an array of numbers, or shapes that do not
+    /// broadcast, is ``fpc.InputError`` naming the argument (as for
+    /// ``batch_solve``); complex inputs are a ``TypeError``; Ctrl-C stops the sweep between
     /// points and raises ``KeyboardInterrupt`` whose ``partial`` attribute
     /// is the same dict with the points solved so far (the others have
     /// ``ok`` False and the error "stopped by Ctrl-C before this point").
@@ -414,26 +416,18 @@ impl Gripper {
                 }
             }
         }
-        let np = py.import("numpy")?;
-        let mut arrays = Vec::new();
-        for (name, default) in names.iter().zip(defaults) {
-            let v = match params.map(|p| p.get_item(name)).transpose()?.flatten() {
-                Some(v) if !v.is_none() => v,
-                _ => default.into_pyobject(py)?.into_any(),
-            };
-            arrays.push(crate::convert::real_array(py, name, &v)?);
+        let mut given = Vec::new();
+        for name in names {
+            given.push(params.map(|p| p.get_item(name)).transpose()?.flatten());
         }
-        let b = np.call_method1("broadcast_arrays", PyList::new(py, &arrays)?.to_tuple())?;
-        // the size before any copy: the broadcast arrays are views
-        let size: usize = b.get_item(0)?.getattr("size")?.extract()?;
-        crate::errors::at_most(py, "points", size, MAX_SWEEP_POINTS)?;
-        let mut cols: Vec<Vec<f64>> = Vec::new();
-        for a in b.try_iter()? {
-            // a fresh C-ordered copy: aligned, whatever the input
-            let flat = a?.call_method1("flatten", ("C",))?;
-            let flat: PyReadonlyArray1<'_, f64> = flat.extract()?;
-            cols.push(flat.as_slice()?.to_vec());
-        }
+        let inputs: Vec<(&str, Option<&Bound<'py, PyAny>>, f64)> = names
+            .iter()
+            .zip(&given)
+            .zip(defaults)
+            .map(|((name, v), default)| (*name, v.as_ref(), *default))
+            .collect();
+        // batch_solve's conversion: the same errors for the same mistakes
+        let (_, cols) = crate::batch::broadcast(py, &inputs, MAX_SWEEP_POINTS)?;
         let n = cols.first().map_or(0, Vec::len);
         let specs: Vec<GraspSpec> = (0..n)
             .map(|i| match kind {

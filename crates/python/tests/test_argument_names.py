@@ -99,3 +99,20 @@ def test_the_documented_defaults_stay_visible_and_none_takes_them(gripper):
     a = gripper.grasp_cuboid(d_mm=None)
     b = gripper.grasp_cuboid()
     assert a["normal_force_n"] == b["normal_force_n"]
+
+
+def test_a_sweep_converts_its_inputs_as_batch_solve_does(gripper):
+    err = named_input_error(
+        lambda: gripper.sweep("size", d_mm="abc"), "d_mm", "d_mm: not an array of numbers"
+    )
+    with pytest.raises(fpc.InputError) as batch:
+        fpc.batch_solve(pressure_kpa="abc")
+    assert str(batch.value).startswith("pressure_kpa: not an array of numbers")
+    assert "d_mm" in str(err)
+    named_input_error(
+        lambda: gripper.sweep("cuboid", d_mm=[90.0, 100.0], friction_n=[0.1, 0.2, 0.3]),
+        "d_mm",
+        "d_mm, friction_n, pressure_kpa: shapes do not broadcast",
+    )
+    with pytest.raises(TypeError, match="complex"):
+        gripper.sweep("size", d_mm=[1j])
