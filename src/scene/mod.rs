@@ -75,8 +75,8 @@ mod testing;
 
 pub use crate::sensitivity::Covariance;
 pub use fields::{
-    degrees, scene_input, scene_solve, warning_text, GraspKey, GripperKey, LoadKey, ModelKey,
-    PartitionKey, SceneKey, SolveKey, ValueKind,
+    degrees, edit_distance, scene_input, scene_solve, warning_text, GraspKey, GripperKey, LoadKey,
+    ModelKey, PartitionKey, SceneKey, SolveKey, ValueKind,
 };
 pub use record::{GraspJson, GripperJson, SolutionRecord};
 pub use resolve::{

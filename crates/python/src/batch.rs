@@ -431,7 +431,23 @@ fn config(
         actuator,
         "every point's prestrain is batch_solve's eps0 argument",
     )?;
-    let actuator = actuator_from_kwargs(py, None, actuator)?;
+    let caller = crate::finger::Caller {
+        name: "batch_solve",
+        keywords: &[
+            "eps0",
+            "pressure_kpa",
+            "fx",
+            "fz",
+            "kappa",
+            "elements",
+            "model",
+            "ribs",
+            "tip_tol_mm",
+            "warm_start",
+            "threads",
+        ],
+    };
+    let actuator = actuator_from_kwargs(py, caller, None, actuator)?;
     let (count, start) = match elements {
         ElementsArg::Default => (Some(crate::finger::DEFAULT_ELEMENTS), None),
         ElementsArg::Count(n) => {

@@ -43,13 +43,43 @@ const SECTION_KEYS: [(&str, &str); 9] = [
     ("cl_ribs", "cl_ribs"),
 ];
 
-/// The actuator keyword arguments the constructors accept, for messages.
-pub fn actuator_keywords() -> String {
+/// The actuator keyword arguments the constructors accept.
+fn actuator_keyword_list() -> Vec<&'static str> {
     let mut k: Vec<&str> = GEOMETRY_KEYS.to_vec();
     k.extend(CHANNEL_KEYS);
     k.extend(LAMINATE_KEYS);
     k.extend(SECTION_KEYS.iter().map(|s| s.0));
-    k.join(", ")
+    k
+}
+
+/// `TypeError` for the unknown keyword `k` given to `function`, whose own
+/// keyword arguments are `own`: names the nearest keyword (of either
+/// kind) and lists both kinds.
+fn unexpected_keyword(k: &str, function: &str, own: &[&str]) -> PyErr {
+    let actuator = actuator_keyword_list();
+    let nearest = own
+        .iter()
+        .chain(&actuator)
+        .map(|n| (fpc::scene::edit_distance(n, k), n))
+        .min()
+        // near enough to be a slip of the keyboard
+        .filter(|&(d, _)| d <= (k.chars().count() / 3).max(2))
+        .map(|(_, n)| format!("did you mean '{n}'? "))
+        .unwrap_or_default();
+    PyTypeError::new_err(format!(
+        "{function}() got an unexpected keyword argument '{k}' ({nearest}{function}'s \
+         keywords: {}; actuator keywords: {})",
+        own.join(", "),
+        actuator.join(", ")
+    ))
+}
+
+/// The function a set of actuator keyword arguments was given to: its
+/// name and its own keyword arguments, for the message on an unknown one.
+#[derive(Debug, Clone, Copy)]
+pub struct Caller {
+    pub name: &'static str,
+    pub keywords: &'static [&'static str],
 }
 
 /// A Python value of plain data as JSON, non-finite numbers rejected by
@@ -100,6 +130,7 @@ fn value_at(obj: &Bound<'_, PyAny>, path: &str) -> PyResult<Value> {
 /// `pemc={"eps0": ...}`) is a `TypeError` naming both.
 pub fn actuator_section(
     py: Python<'_>,
+    caller: Caller,
     eps0: Option<f64>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<ActuatorSection> {
@@ -172,10 +203,7 @@ pub fn actuator_section(
                     put(section, &key, x, source)?;
                 }
             } else {
-                return Err(PyTypeError::new_err(format!(
-                    "unexpected keyword argument '{k}' (actuator keywords: {})",
-                    actuator_keywords()
-                )));
+                return Err(unexpected_keyword(&k, caller.name, caller.keywords));
             }
         }
     }
@@ -237,11 +265,12 @@ pub fn refuse_pemc_eps0(kwargs: Option<&Bound<'_, PyDict>>, why: &str) -> PyResu
 /// scene's keys: `actuator.geometry.h1`, `actuator.pemc.eps0`, ...).
 pub fn actuator_from_kwargs(
     py: Python<'_>,
+    caller: Caller,
     eps0: Option<f64>,
     kwargs: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Actuator> {
     let file = SceneFile {
-        actuator: actuator_section(py, eps0, kwargs)?,
+        actuator: actuator_section(py, caller, eps0, kwargs)?,
         ..SceneFile::default()
     };
     file.resolve()
@@ -637,7 +666,11 @@ impl Finger {
             None => false,
         };
         let eps0 = eps0.or((!in_pemc).then_some(DEFAULT_EPS0));
-        let act = actuator_from_kwargs(py, eps0, actuator)?;
+        let caller = Caller {
+            name: "Finger",
+            keywords: &["eps0", "elements", "model", "ribs"],
+        };
+        let act = actuator_from_kwargs(py, caller, eps0, actuator)?;
         Finger::build(py, model, act, ribs, elements)
     }
 

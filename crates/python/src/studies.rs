@@ -233,7 +233,20 @@ pub fn run_study<'py>(
         ));
     }
     crate::finger::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
-    let act = actuator_from_kwargs(py, None, actuator)?;
+    let caller = crate::finger::Caller {
+        name: "run_study",
+        keywords: &[
+            "study",
+            "elements",
+            "mu",
+            "sweep_points",
+            "angle_samples",
+            "pressure_points",
+            "strict",
+            "coarse",
+        ],
+    };
+    let act = actuator_from_kwargs(py, caller, None, actuator)?;
     let out =
         interruptible(py, move || info.output(&act, &opts))?.map_err(|e| from_solve(py, &e))?;
 

@@ -116,3 +116,21 @@ def test_a_sweep_converts_its_inputs_as_batch_solve_does(gripper):
     )
     with pytest.raises(TypeError, match="complex"):
         gripper.sweep("size", d_mm=[1j])
+
+
+def test_a_mistyped_keyword_lists_the_functions_own_options_and_the_nearest():
+    with pytest.raises(TypeError) as e:
+        fpc.run_study(7, sweep_point=3)
+    m = str(e.value)
+    assert "unexpected keyword argument 'sweep_point'" in m, m
+    assert "did you mean 'sweep_points'?" in m, m
+    assert "pressure_points" in m and "h1" in m, m
+    with pytest.raises(TypeError) as e:
+        fpc.batch_solve(warmstart=True)
+    m = str(e.value)
+    assert "did you mean 'warm_start'?" in m and "threads" in m, m
+    # nothing near: no guess, but still every keyword
+    with pytest.raises(TypeError) as e:
+        fpc.Finger(zzzzzzzzzz=1)
+    m = str(e.value)
+    assert "did you mean" not in m and "elements" in m and "rib_layout" in m, m

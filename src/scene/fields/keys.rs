@@ -324,8 +324,9 @@ fn shape_of(text: &str) -> Option<(String, Vec<usize>)> {
 }
 
 /// The edit distance of two short names (insertions, deletions and
-/// substitutions of one character).
-fn edit_distance(a: &str, b: &str) -> usize {
+/// substitutions of one character): how the front ends find the name
+/// nearest to a mistyped one.
+pub fn edit_distance(a: &str, b: &str) -> usize {
     let b: Vec<char> = b.chars().collect();
     let mut row: Vec<usize> = (0..=b.len()).collect();
     for (i, ca) in a.chars().enumerate() {

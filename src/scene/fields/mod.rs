@@ -14,7 +14,8 @@ use crate::solve_error::SolveError;
 
 mod keys;
 pub use keys::{
-    GraspKey, GripperKey, LoadKey, ModelKey, PartitionKey, SceneKey, SolveKey, ValueKind,
+    edit_distance, GraspKey, GripperKey, LoadKey, ModelKey, PartitionKey, SceneKey, SolveKey,
+    ValueKind,
 };
 
 // ------------------------------------------------------------ checks in scene keys
