@@ -5,7 +5,7 @@ use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use fpc::studies::{Cell, Table};
+use fpc::studies::{Cell, Table, INVALID, NOTE, STATUS, WARNINGS};
 use fpc::studies::{StudyInfo, STUDIES};
 use fpc::StudyOptions;
 
@@ -41,12 +41,27 @@ fn find(py: Python<'_>, study: &Bound<'_, PyAny>) -> PyResult<&'static StudyInfo
 }
 
 /// A table column as a numpy array: numbers (empty cells NaN) as float64,
-/// flags as bool, text (empty cells "") as a str array; columns mixing
+/// flags as bool, text (empty cells "") as a str array, the studies' text
+/// columns (`status`, `note`, `invalid`, `warnings`) always; columns mixing
 /// kinds (or flags with empty cells) as an object array (empty cells None).
 fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAny>> {
     let cells: Vec<&Cell> = t.rows.iter().map(|r| &r[j]).collect();
     let all = |f: fn(&Cell) -> bool| cells.iter().all(|c| f(c));
     let np = py.import("numpy")?;
+    // the studies' text columns are text whatever their cells (all empty
+    // when every point is ok): the dtype must not depend on the content
+    let text_column = [STATUS, NOTE, INVALID, WARNINGS].contains(&t.columns[j]);
+    let any_text = cells.iter().any(|c| matches!(c, Cell::Text(_)));
+    if (text_column || any_text) && all(|c| matches!(c, Cell::Text(_) | Cell::Empty)) {
+        let v: Vec<&str> = cells
+            .iter()
+            .map(|c| match c {
+                Cell::Text(s) => s.as_str(),
+                _ => "",
+            })
+            .collect();
+        return np.call_method1("array", (PyList::new(py, v)?, "str"));
+    }
     if all(|c| matches!(c, Cell::Num(_) | Cell::Empty)) {
         let v: Vec<f64> = cells
             .iter()
@@ -63,16 +78,6 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
             .map(|c| matches!(c, Cell::Bool(true)))
             .collect();
         return Ok(PyArray1::from_vec(py, v).into_any());
-    }
-    if all(|c| matches!(c, Cell::Text(_) | Cell::Empty)) {
-        let v: Vec<&str> = cells
-            .iter()
-            .map(|c| match c {
-                Cell::Text(s) => s.as_str(),
-                _ => "",
-            })
-            .collect();
-        return np.call_method1("array", (PyList::new(py, v)?, "str"));
     }
     let items = cells
         .iter()

@@ -42,3 +42,17 @@ def test_study7_curvature_rises_with_pressure_for_every_prestrain():
         rows = t["eps0"] == e
         order = np.argsort(t["pressure_kpa"][rows])
         assert len(order) == 5
+
+
+@pytest.mark.parametrize("study", [4, 7])
+def test_text_columns_are_str_arrays_whatever_their_content(study):
+    # study 4 at mu 0.6 and study 7 have every row ok: their text columns
+    # are all empty, and must still be str arrays of "" (not NaN floats)
+    out = fpc.run_study(study, coarse=True)
+    seen = 0
+    for name, table in out["tables"].items():
+        for c in ("status", "note", "invalid", "warnings"):
+            if c in table:
+                seen += 1
+                assert table[c].dtype.kind == "U", (name, c, table[c].dtype)
+    assert seen >= 3
