@@ -354,7 +354,8 @@ def run_study(
     ``strict_dropped``. An option the study does not use (or
     ``pemc={"eps0": ...}``: each study sets its prestrain) is a
     ``TypeError``; bounds (``InputError`` beyond): ``sweep_points`` <= 2000,
-    ``angle_samples`` <= 200 (study 5: their product <= 100000),
+    ``angle_samples`` <= 200 (study 5: their product times ``elements``
+    <= 800000, i.e. 100000 grasps of 8 elements),
     ``pressure_points`` <= 10000. Ctrl-C
     interrupts."""
 

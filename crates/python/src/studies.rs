@@ -89,10 +89,12 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
     np.call_method1("array", (PyList::new(py, items)?, "object"))
 }
 
-/// The most `sweep_points` x `angle_samples` of a study that uses both
-/// (study 5: about a minute at the bound; each count alone is bounded by
-/// `StudyOptions::validate`).
-pub const MAX_SWEEP_BY_ANGLE: usize = 100_000;
+/// The most `sweep_points` x `angle_samples` x `elements` of a study
+/// that uses both counts (study 5): 100000 grasps of the default 8
+/// elements, about a minute; a finer finger allows fewer grasps, as each
+/// solve's work grows with its elements. (Each count alone is bounded by
+/// `StudyOptions::validate`.)
+pub const MAX_SWEEP_BY_ANGLE_BY_ELEMENTS: usize = 800_000;
 
 /// The options of `run_study` that only some studies use, and the studies
 /// (by number) that use each: any other study refuses them.
@@ -167,7 +169,8 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// study sets the prestrain it needs). The work is bounded before it starts
 /// (``fpc.InputError`` beyond): ``sweep_points`` <= 2000,
 /// ``angle_samples`` <= 200, and for study 5 ``sweep_points *
-/// angle_samples`` <= 100000 (about a minute), ``pressure_points`` <= 10000,
+/// angle_samples * elements`` <= 800000 (100000 grasps of 8 elements,
+/// about a minute), ``pressure_points`` <= 10000,
 /// ``elements`` as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
 /// interrupted study finishes on its own thread and is dropped).
 #[pyfunction]
@@ -225,15 +228,19 @@ pub fn run_study<'py>(
             .iter()
             .any(|o| o.0 == name && o.1.contains(&info.number))
     };
-    let product = opts.sweep_points.saturating_mul(opts.angle_samples);
-    if uses("sweep_points") && uses("angle_samples") && product > MAX_SWEEP_BY_ANGLE {
+    let product = opts
+        .sweep_points
+        .saturating_mul(opts.angle_samples)
+        .saturating_mul(opts.elements);
+    if uses("sweep_points") && uses("angle_samples") && product > MAX_SWEEP_BY_ANGLE_BY_ELEMENTS {
         return Err(input_error(
             py,
             "study.sweep_points",
             format!(
-                "study.sweep_points x study.angle_samples = {} x {} = {product}: must be at \
-                 most {MAX_SWEEP_BY_ANGLE} (a bound on the work of one call)",
-                opts.sweep_points, opts.angle_samples
+                "study.sweep_points x study.angle_samples x study.elements = {} x {} x {} = \
+                 {product}: must be at most {MAX_SWEEP_BY_ANGLE_BY_ELEMENTS} (a bound on the \
+                 work of one call)",
+                opts.sweep_points, opts.angle_samples, opts.elements
             ),
         ));
     }

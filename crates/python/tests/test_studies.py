@@ -56,3 +56,26 @@ def test_text_columns_are_str_arrays_whatever_their_content(study):
                 seen += 1
                 assert table[c].dtype.kind == "U", (name, c, table[c].dtype)
     assert seen >= 3
+
+
+def test_study5s_work_bound_counts_the_elements():
+    # 2000 x 50 grasps are within the bound at 8 elements; at 1000
+    # elements they would run for minutes, so they are refused at once (a
+    # subprocess: before the bound counted elements this call did not
+    # return within the limit)
+    import subprocess
+    import sys
+
+    code = (
+        "import fpc\n"
+        "try:\n"
+        "    fpc.run_study(5, sweep_points=2000, angle_samples=50, elements=1000)\n"
+        "except fpc.InputError as e:\n"
+        "    print(e.field, str(e))\n"
+    )
+    p = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, timeout=120
+    )
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.startswith("study.sweep_points "), p.stdout
+    assert "x study.elements = 2000 x 50 x 1000" in p.stdout, p.stdout
