@@ -2,7 +2,7 @@
 //! against values computed here by hand. (The integration blocks are
 //! crate-private; their checks live in `src/actuator/blocks.rs`'s test module.)
 
-use fpc::actuator::{Isotropic, Material, Orthotropic, Rib, RibLayout};
+use fpc::actuator::{Isotropic, Material, Orthotropic, Rib, RibLayout, MAX_LISTED_RIBS};
 use fpc::model::ccm::Ccm;
 use fpc::model::Energy;
 use fpc::model::PsiParams;
@@ -277,6 +277,15 @@ fn explicit_rib_rules() {
         "actuator.ribs[0].x0",
         "NaN",
     );
+    // a listed layout is bounded as a generated one is, by its length
+    // before any rib is looked at
+    let many = vec![rib(1.0, 2.0, 1.0); MAX_LISTED_RIBS + 1];
+    let e = rejected(explicit(many));
+    names(&e, "actuator.ribs", "10001");
+    assert!(e.to_string().contains("more than 10000"), "{e}");
+    let mut p = ActuatorParams::default();
+    p.ribs = RibLayout::Explicit(vec![rib(1.0, 2.0, 1.0); MAX_LISTED_RIBS]);
+    assert!(Actuator::new(p).is_ok());
 }
 
 #[test]

@@ -21,6 +21,10 @@ pub const EPS0_FIT_RANGE: (f64, f64) = (0.0, 0.6);
 /// (guards against a tiny pitch allocating without bound).
 pub const MAX_GENERATED_RIBS: usize = 10_000;
 
+/// Upper bound on the number of ribs a [`RibLayout::Explicit`] may list
+/// (as many as a paper layout may generate), checked before the ribs are.
+pub const MAX_LISTED_RIBS: usize = MAX_GENERATED_RIBS;
+
 /// Upper bound on the number of ribs on the constraining layer
 /// ([`ActuatorParams::cl_ribs`]).
 pub const MAX_CL_RIBS: usize = 10_000;
@@ -473,6 +477,12 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
     match layout {
         RibLayout::None => Ok(Vec::new()),
         RibLayout::Explicit(ribs) => {
+            require(
+                ribs.len() <= MAX_LISTED_RIBS,
+                Field::Ribs,
+                ribs.len() as f64,
+                || format!("lists {} ribs, more than {MAX_LISTED_RIBS}", ribs.len()),
+            )?;
             for (k, r) in ribs.iter().enumerate() {
                 let f = |key| Field::Rib(k, key);
                 finite(f(RibKey::X0), r.x0)?;

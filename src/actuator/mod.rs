@@ -34,7 +34,7 @@ pub use crate::field::{ClRibKey, Elastic, Lamina, ShearLayer};
 pub use blocks::element_blocks;
 pub use laminate::{
     Actuator, ActuatorParams, Channel, ClRib, Geometry, Layer, Rib, RibLayout, EPS0_FIT_RANGE,
-    EPS0_RANGE, MAX_CL_RIBS, MAX_DIMENSION_MM, MAX_GENERATED_RIBS,
+    EPS0_RANGE, MAX_CL_RIBS, MAX_DIMENSION_MM, MAX_GENERATED_RIBS, MAX_LISTED_RIBS,
 };
 pub use material::{
     Isotropic, Material, Orthotropic, PlaneStress, Prestressed, PsiLaw, TransverseShear,

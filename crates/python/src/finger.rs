@@ -181,6 +181,7 @@ pub fn actuator_section(
                 )?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
                 let path = format!("actuator.{section}");
+                check_rib_count(section, &v)?;
                 let value = value_at(&v, &path)?;
                 // the ribs on the constraining layer may be given as their
                 // list alone: `cl_ribs=[{"x0": ..., ...}, ...]`
@@ -236,6 +237,40 @@ pub fn actuator_section(
         }
     }
     Ok(out)
+}
+
+/// The library's bound on a rib list (`[actuator.ribs] list` or
+/// `[actuator.cl_ribs] list`) checked on the Python list's length, before
+/// any of it is converted: the same error the library gives, without a
+/// copy of an unbounded list first. `section` is the scene section the
+/// keyword fills; `v` the keyword's value (a dict, or `cl_ribs`'s list).
+fn check_rib_count(section: &str, v: &Bound<'_, PyAny>) -> PyResult<()> {
+    let (field, max) = match section {
+        "ribs" => (fpc::Field::Ribs, fpc::actuator::MAX_LISTED_RIBS),
+        "cl_ribs" => (fpc::Field::ClRibs, fpc::actuator::MAX_CL_RIBS),
+        _ => return Ok(()),
+    };
+    let list = match v.cast::<PyDict>() {
+        Ok(d) => match d.get_item("list")? {
+            Some(l) => l,
+            None => return Ok(()),
+        },
+        Err(_) => v.clone(),
+    };
+    let is_list = list.is_instance_of::<pyo3::types::PyList>()
+        || list.is_instance_of::<pyo3::types::PyTuple>();
+    let n = if is_list { list.len()? } else { 0 };
+    if n > max {
+        return Err(from_input(
+            v.py(),
+            &InputError::OutOfRange {
+                field,
+                value: n as f64,
+                rule: format!("lists {n} ribs, more than {max}"),
+            },
+        ));
+    }
+    Ok(())
 }
 
 /// True when the keyword arguments hold `pemc={"eps0": ...}`.

@@ -134,3 +134,25 @@ def test_a_mistyped_keyword_lists_the_functions_own_options_and_the_nearest():
         fpc.Finger(zzzzzzzzzz=1)
     m = str(e.value)
     assert "did you mean" not in m and "elements" in m and "rib_layout" in m, m
+
+
+def test_rib_lists_are_bounded_by_their_length_before_conversion():
+    rib = {"x0": 1.0, "x1": 2.0, "width": 1.0}
+    named_input_error(
+        lambda: fpc.Finger(rib_layout={"kind": "list", "list": [rib] * 10001}),
+        "actuator.ribs",
+        "actuator.ribs = 10001: lists 10001 ribs, more than 10000",
+    )
+    cl = {"x0": 1.0, "x1": 2.0, "width": 0.001, "height": 0.1}
+    named_input_error(
+        lambda: fpc.Finger(cl_ribs=[cl] * 10001), "actuator.cl_ribs", "actuator.cl_ribs = 10001"
+    )
+    # the length is checked before any entry is converted: entries that
+    # would not convert are never looked at
+    for kw in (
+        {"cl_ribs": [object()] * 300_000},
+        {"cl_ribs": {"list": [object()] * 300_000}},
+        {"rib_layout": {"kind": "list", "list": [object()] * 300_000}},
+    ):
+        with pytest.raises(fpc.InputError, match="lists 300000 ribs"):
+            fpc.Finger(**kw)
