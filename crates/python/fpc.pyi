@@ -75,6 +75,8 @@ class Steps(TypedDict):
     chord: int
     shifted: int
     damped: int
+    grown: int
+    extended: int
 
 class Report(TypedDict):
     reason: str
@@ -179,6 +181,18 @@ class Finger:
     @property
     def warnings(self) -> list[WarningDict]: ...
 
+class Verdict(TypedDict):
+    """A grasp's verdict, in parts: ``rules`` (the first of the paper's
+    rules broken, ``{kind, message}``, or None), ``findings`` (the finger's
+    validity findings), ``stability`` (``{kind: stable | unstable | unknown
+    | not_judged, ...}``) and ``path`` (``{from, steps}``: how the
+    equilibrium was reached from rest)."""
+
+    rules: Optional[dict[str, Any]]
+    findings: list[WarningDict]
+    stability: dict[str, Any]
+    path: dict[str, Any]
+
 class Grasp(TypedDict, total=False):
     """What the grasp methods of `Gripper` return: the keys of
     ``solution.json``'s ``grasp`` and the finger's equilibrium."""
@@ -197,6 +211,7 @@ class Grasp(TypedDict, total=False):
     tip_load_finger_n: list[float]
     valid: bool
     invalid: Optional[dict[str, str]]
+    verdict: Verdict
     sphere_radius_mm: float
     sphere_center_gripper_mm: list[float]
     solution: FingerSolution
