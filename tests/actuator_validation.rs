@@ -284,8 +284,14 @@ fn explicit_rib_rules() {
     names(&e, "actuator.ribs", "10001");
     assert!(e.to_string().contains("more than 10000"), "{e}");
     let mut p = ActuatorParams::default();
-    p.ribs = RibLayout::Explicit(vec![rib(1.0, 2.0, 1.0); MAX_LISTED_RIBS]);
-    assert!(Actuator::new(p).is_ok());
+    // as many as the bound, side by side along the channel
+    let ribs = (0..MAX_LISTED_RIBS)
+        .map(|k| rib(k as f64 * 0.01, k as f64 * 0.01 + 0.005, 1.0))
+        .collect();
+    p.ribs = RibLayout::Explicit(ribs);
+    if let Err(e) = Actuator::new(p) {
+        panic!("{e}");
+    }
 }
 
 #[test]
