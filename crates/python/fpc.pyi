@@ -182,12 +182,15 @@ class Finger:
     def warnings(self) -> list[WarningDict]: ...
 
 class Verdict(TypedDict):
-    """A grasp's verdict, in parts: ``rules`` (the first of the paper's
-    rules broken, ``{kind, message}``, or None), ``findings`` (the finger's
-    validity findings), ``stability`` (``{kind: stable | unstable | unknown
-    | not_judged, ...}``) and ``path`` (``{from, steps}``: how the
-    equilibrium was reached from rest)."""
+    """A grasp's verdict: ``valid`` and ``invalid`` (the first reason, or
+    None) as the grasp has them, and the parts: ``rules`` (the first of
+    the paper's rules broken, ``{kind, message}``, or None), ``findings``
+    (the finger's validity findings), ``stability`` (``{kind: stable |
+    unstable | unknown | not_judged, ...}``) and ``path`` (``{from,
+    steps}``: how the equilibrium was reached from rest)."""
 
+    valid: bool
+    invalid: Optional[dict[str, Any]]
     rules: Optional[dict[str, Any]]
     findings: list[WarningDict]
     stability: dict[str, Any]
