@@ -11,7 +11,7 @@ use axum::extract::{DefaultBodyLimit, State};
 use axum::http::{HeaderMap, Method, Uri};
 use axum::middleware::Next;
 use axum::response::{IntoResponse, Response};
-use axum::routing::{get, post};
+use axum::routing::{get, post, MethodRouter};
 use axum::{Json, Router};
 use serde::de::DeserializeOwned;
 use serde_json::Value;
@@ -126,12 +126,12 @@ pub fn routes() -> Router<AppState> {
         .route("/", get(assets::index))
         .route("/app.js", get(assets::script))
         .route("/style.css", get(assets::style))
-        .route("/api/finger", post(finger))
-        .route("/api/grasp", post(grasp))
-        .route("/api/lift-curve", post(lift_curve))
-        .route("/api/envelope", post(envelope))
-        .route("/api/load-path", post(load_path))
-        .route("/api/design", post(design))
+        .route("/api/finger", endpoint(Queue::Quick, handlers::finger))
+        .route("/api/grasp", endpoint(Queue::Quick, handlers::grasp))
+        .route("/api/lift-curve", endpoint(Queue::Slow, handlers::lift))
+        .route("/api/envelope", endpoint(Queue::Slow, handlers::envelope))
+        .route("/api/load-path", endpoint(Queue::Slow, handlers::load_path))
+        .route("/api/design", endpoint(Queue::Slow, handlers::design))
         .method_not_allowed_fallback(wrong_method)
         .fallback(not_found)
 }
@@ -201,63 +201,18 @@ pub async fn blocking<T: Send + 'static>(
     }
 }
 
-/// Parses the body as `R` and answers `compute(R)` from the blocking pool,
-/// in `queue`.
-async fn answer<R: DeserializeOwned + Send + 'static>(
-    state: &AppState,
+/// An API route: the body parsed as `R` and answered with `compute(R)`
+/// from the blocking pool, in `queue`.
+fn endpoint<R: DeserializeOwned + Send + 'static>(
     queue: Queue,
-    headers: &HeaderMap,
-    body: Body,
     compute: fn(R) -> Result<Value, ApiError>,
-) -> Result<Json<Value>, ApiError> {
-    let req: R = read_json(headers, body, state.body).await?;
-    blocking(state, queue, move || compute(req)).await.map(Json)
-}
-
-async fn finger(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Quick, &headers, body, handlers::finger).await
-}
-
-async fn grasp(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Quick, &headers, body, handlers::grasp).await
-}
-
-async fn lift_curve(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Slow, &headers, body, handlers::lift).await
-}
-
-async fn envelope(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Slow, &headers, body, handlers::envelope).await
-}
-
-async fn load_path(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Slow, &headers, body, handlers::load_path).await
-}
-
-async fn design(
-    State(s): State<AppState>,
-    headers: HeaderMap,
-    body: Body,
-) -> Result<Json<Value>, ApiError> {
-    answer(&s, Queue::Slow, &headers, body, handlers::design).await
+) -> MethodRouter<AppState> {
+    post(
+        move |State(state): State<AppState>, headers: HeaderMap, body: Body| async move {
+            let req: R = read_json(&headers, body, state.body).await?;
+            blocking(&state, queue, move || compute(req))
+                .await
+                .map(Json)
+        },
+    )
 }
