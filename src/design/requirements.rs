@@ -279,21 +279,20 @@ impl Requirements {
     /// keys and types (with line and column), then the values (naming the
     /// field).
     pub fn parse(text: &str) -> Result<Requirements, RequirementsError> {
-        // a missing [vary] table is named here: the parser's error spans
-        // the whole document and would name its first key instead
-        let table: toml::Table = toml::from_str(text)
-            .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
-        if !table.contains_key("vary") {
-            // where the table would be added: after the last line
-            let (line, col) = crate::scene::line_col(text, text.len());
-            return Err(RequirementsError::Syntax(SceneError {
-                line,
-                col,
-                message: "vary: missing table [vary], the design variables and their bounds (required, with at least one variable)".into(),
-            }));
-        }
-        let r: Requirements = toml::from_str(text)
-            .map_err(|e| RequirementsError::Syntax(SceneError::from_toml(text, &e)))?;
+        let r: Requirements = toml::from_str(text).map_err(|e| {
+            // a missing [vary] table is named here: the parser's error
+            // spans the whole document and would name its first key; the
+            // position is where the table would be added, after the end
+            if e.message().trim() == "missing field `vary`" {
+                let (line, col) = crate::scene::line_col(text, text.len());
+                return RequirementsError::Syntax(SceneError {
+                    line,
+                    col,
+                    message: "vary: missing table [vary], the design variables and their bounds (required, with at least one variable)".into(),
+                });
+            }
+            RequirementsError::Syntax(SceneError::from_toml(text, &e))
+        })?;
         r.validate().map_err(RequirementsError::Input)?;
         Ok(r)
     }
