@@ -244,7 +244,10 @@ pub fn lift(req: LiftRequest) -> Result<Value, ApiError> {
 /// `POST /api/envelope`: study 5's sphere envelope for the scene's
 /// gripper, the largest lifting force per finger that holds a sphere
 /// validly against its radius (the best grasping angle at each radius,
-/// zero pressure), on `radii` radii up to `r_max`.
+/// zero pressure), on `radii` radii up to `r_max`, with the gripper's
+/// own warnings, as the lift curve has them, and the verdict and findings
+/// of its finger at rest (outside the model there, no radius can be held
+/// validly).
 pub fn envelope(req: EnvelopeRequest) -> Result<Value, ApiError> {
     let radii = count("radii", req.radii, 2, MAX_ENVELOPE_RADII)?;
     let samples = count("samples", req.samples, 4, MAX_ENVELOPE_SAMPLES)?;
@@ -263,6 +266,9 @@ pub fn envelope(req: EnvelopeRequest) -> Result<Value, ApiError> {
         "mu": g.mu(),
         "points": rows,
         "counts": follower.counts(),
+        "warnings": g.warnings(),
+        "rest_valid": !g.reference().warnings.iter().any(Warning::is_validity),
+        "rest_warnings": g.reference().warnings,
     }))
 }
 

@@ -177,6 +177,45 @@ async fn a_calibrated_scene_answers_with_its_error_bars() {
     assert!(v.get("uncertainty").is_none(), "{v}");
 }
 
+/// A gripper whose finger is outside the model at rest (eps0 = 0.6, past
+/// the prestrain limit) says so in its envelope, with the library's own
+/// findings for that finger; the paper's gripper at rest is valid.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn an_envelope_says_when_its_finger_is_outside_the_model_at_rest() {
+    let addr = start(fpc_serve::app()).await;
+    for (text, valid) in [
+        (
+            "[actuator.pemc]\neps0 = 0.6\n[gripper]\noverlap_mm = 5.0\n",
+            false,
+        ),
+        ("[actuator.pemc]\neps0 = 0.25\n[gripper]\n", true),
+    ] {
+        let (status, v) = post(addr, "/api/envelope", json!({ "toml": text, "radii": 4 })).await;
+        assert_eq!(status, 200, "{v}");
+        let Ok(SceneSolution::Gripper { gripper, .. }) = Scene::from_toml(text).unwrap().solve()
+        else {
+            panic!("a gripper scene")
+        };
+        let rest = &gripper.reference().warnings;
+        assert_eq!(
+            !rest.iter().any(fpc::Warning::is_validity),
+            valid,
+            "{rest:?}"
+        );
+        assert_eq!(v["rest_valid"], valid, "{v}");
+        // the same findings (kind and element; their values to JSON's digits)
+        let kinds = |w: &Value| {
+            w.as_array()
+                .unwrap()
+                .iter()
+                .map(|f| (f["kind"].to_string(), f["element"].to_string()))
+                .collect::<Vec<_>>()
+        };
+        let want = serde_json::to_value(rest).unwrap();
+        assert_eq!(kinds(&v["rest_warnings"]), kinds(&want), "{v}");
+    }
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn grasp_is_the_scene_s() {
     let addr = start(fpc_serve::app()).await;
