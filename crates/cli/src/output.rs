@@ -26,9 +26,26 @@ pub fn stdout() -> Stdout {
 pub struct Stdout(std::io::StdoutLock<'static>);
 
 impl std::io::Write for Stdout {
+    /// Writes `buf` with its control characters other than newline and
+    /// tab escaped (`\u{1b}`): a summary echoes names from the user's
+    /// files and paths, which must not drive the terminal. (JSON output
+    /// escapes them already; nothing `fpc` writes on stdout needs them.)
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
         usable()?;
-        self.0.write(buf).map_err(cannot_write)
+        let control = |b: &u8| (*b < 0x20 && !matches!(*b, b'\n' | b'\t')) || *b == 0x7f;
+        if !buf.iter().any(control) {
+            return self.0.write(buf).map_err(cannot_write);
+        }
+        let mut escaped = Vec::with_capacity(buf.len() + 16);
+        for b in buf {
+            if control(b) {
+                escaped.extend_from_slice(format!("\\u{{{b:x}}}").as_bytes());
+            } else {
+                escaped.push(*b);
+            }
+        }
+        self.0.write_all(&escaped).map_err(cannot_write)?;
+        Ok(buf.len())
     }
 
     fn flush(&mut self) -> std::io::Result<()> {

@@ -142,3 +142,26 @@ fn control_characters_are_escaped() {
     // (the library joins the lines of its message with "; ")
     assert!(stderr.contains("forged\\u{1b}[2J`"), "{stderr}");
 }
+
+/// A scene file's name is echoed on stdout by `fpc solve`'s summary:
+/// escaped there too, so a name cannot drive the terminal.
+#[cfg(unix)]
+#[test]
+fn a_file_name_s_controls_are_escaped_on_stdout() {
+    let tmp = TempDir::new("name");
+    let path = tmp.0.join("a\u{1b}[2Jb.toml");
+    std::fs::write(&path, "[actuator.pemc]\neps0 = 0.3\n").unwrap();
+    let out = fpc()
+        .arg("solve")
+        .arg(&path)
+        .arg("--out")
+        .arg(tmp.0.join("out"))
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    assert!(stdout.contains("a\\u{1b}[2Jb"), "{stdout}");
+    for line in stdout.lines() {
+        assert!(!line.chars().any(|c| c.is_control()), "{line:?}");
+    }
+}
