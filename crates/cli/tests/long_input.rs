@@ -4,7 +4,7 @@
 //! control character.
 
 mod common;
-use common::{text, TempDir};
+use common::{solve_into, text, TempDir};
 use std::process::{Command, Output};
 
 /// The bound of src/report.rs, in characters, newline excluded.
@@ -130,13 +130,7 @@ fn control_characters_are_escaped() {
     let tmp = TempDir::new("controls");
     let path = tmp.0.join("controls.toml");
     std::fs::write(&path, "[load]\n\"a\\nfpc: error: forged\\u001b[2J\" = 1\n").unwrap();
-    let out = fpc()
-        .arg("solve")
-        .arg(&path)
-        .arg("--out")
-        .arg(tmp.0.join("out"))
-        .output()
-        .unwrap();
+    let out = solve_into(&path, &tmp.0.join("out"));
     let stderr = bounded(&out, 2, "\u{1b}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     // (the library joins the lines of its message with "; ")
@@ -151,13 +145,7 @@ fn a_file_name_s_controls_are_escaped_on_stdout() {
     let tmp = TempDir::new("name");
     let path = tmp.0.join("a\u{1b}[2Jb.toml");
     std::fs::write(&path, "[actuator.pemc]\neps0 = 0.3\n").unwrap();
-    let out = fpc()
-        .arg("solve")
-        .arg(&path)
-        .arg("--out")
-        .arg(tmp.0.join("out"))
-        .output()
-        .unwrap();
+    let out = solve_into(&path, &tmp.0.join("out"));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(stdout.contains("a\\u{1b}[2Jb"), "{stdout}");
