@@ -33,7 +33,8 @@ use crate::errors::{at_most, cancellable_partial, from_input, guarded, input_err
 pub const MAX_BATCH_POINTS: usize = 1_000_000;
 /// The most `threads` of one `batch_solve`.
 pub const MAX_THREADS: usize = 1024;
-use crate::finger::{actuator_from_kwargs, elements_arg, load, model, ElementsArg};
+use crate::actuator_args::actuator_from_kwargs;
+use crate::finger::{elements_arg, load, model, ElementsArg};
 
 /// `status` codes of a batch point, by index: 0 ok, 1 input_error,
 /// 2 not_converged, 3 internal_error, 4 stopped (not solved: Ctrl-C came
@@ -427,11 +428,11 @@ fn config(
             ));
         }
     }
-    crate::finger::refuse_pemc_eps0(
+    crate::actuator_args::refuse_pemc_eps0(
         actuator,
         "every point's prestrain is batch_solve's eps0 argument",
     )?;
-    let caller = crate::finger::Caller {
+    let caller = crate::actuator_args::Caller {
         name: "batch_solve",
         keywords: &[
             "eps0",

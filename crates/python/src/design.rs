@@ -11,7 +11,7 @@ use fpc::scene::Scene;
 
 use crate::convert::{scene_list, to_py};
 use crate::errors::{from_input, from_scene_read, from_syntax, interruptible};
-use crate::finger::scene_text;
+use crate::scene_input::scene_text;
 
 /// The design that meets every requirement with the largest worst-case
 /// margin, or the least-violating one.

@@ -14,7 +14,8 @@ use crate::convert::{arg, arg_or, array1, opt_arg, points, solution_dict, to_py}
 use crate::errors::{
     cancellable_partial, detached, from_input, from_solve, guarded, in_python_terms, input_error,
 };
-use crate::finger::{check_pressure_kpa, read_scene, Finger};
+use crate::finger::{check_pressure_kpa, Finger};
+use crate::scene_input::read_scene;
 use fpc::scene::{GraspJson, GripperJson};
 
 /// A gripper: identical, synchronised fingers on a palm (one finger is

@@ -4,7 +4,9 @@
 //! it; this crate converts arguments, results (dicts of numpy arrays) and
 //! errors, releases the GIL while solving, and runs batches in parallel.
 //!
-//! - [`finger`]: `fpc.Finger`, the actuator keyword arguments, scenes;
+//! - [`actuator_args`]: the keyword arguments that describe an actuator;
+//! - [`finger`]: `fpc.Finger` and its own arguments (model, elements, load);
+//! - [`scene_input`]: scene arguments (TOML text or a path) and file errors;
 //! - [`scene`]: `fpc.solve_scene` (the dict of `fpc solve`'s solution.json);
 //! - [`gripper`]: `fpc.Gripper` and its grasp solves and sweeps;
 //! - [`studies`]: `fpc.run_study`, `fpc.studies`;
@@ -14,6 +16,7 @@
 
 use pyo3::prelude::*;
 
+pub mod actuator_args;
 pub mod batch;
 pub mod convert;
 pub mod design;
@@ -22,6 +25,7 @@ pub mod finger;
 pub mod gripper;
 pub mod measure;
 pub mod scene;
+pub mod scene_input;
 pub mod studies;
 
 /// Fluidic prestressed composite fingers and soft grippers: the chained

@@ -13,7 +13,7 @@ use fpc::measure::{Comparison, Manifest};
 
 use crate::convert::{array1, array2, scene_list, to_py};
 use crate::errors::{from_measure, from_solve, interruptible};
-use crate::finger::io_error;
+use crate::scene_input::io_error;
 
 /// The model against the measurements of a manifest (``str`` or
 /// ``os.PathLike``; its CSV files are found relative to it), as ``fpc

@@ -9,7 +9,7 @@ use fpc::scene::{SceneSolution, SolutionRecord};
 
 use crate::convert::{array1, coefficients, points, to_py};
 use crate::errors::{detached, from_solve};
-use crate::finger::read_scene;
+use crate::scene_input::read_scene;
 
 /// Solves a scene as ``fpc solve`` does and returns the contents of its
 /// ``solution.json`` as a dict, with the arrays as numpy arrays: ``tip_mm``,

@@ -9,9 +9,9 @@ use fpc::studies::{Cell, Table, INVALID, NOTE, STATUS, WARNINGS};
 use fpc::studies::{StudyInfo, STUDIES};
 use fpc::StudyOptions;
 
+use crate::actuator_args::actuator_from_kwargs;
 use crate::convert::{arg_or, json_to_py, opt_arg, to_py};
 use crate::errors::{from_input, from_solve, input_error, interruptible};
-use crate::finger::actuator_from_kwargs;
 
 /// The study `study` names: its number (1 to 8) or its key.
 fn find(py: Python<'_>, study: &Bound<'_, PyAny>) -> PyResult<&'static StudyInfo> {
@@ -244,8 +244,8 @@ pub fn run_study<'py>(
             ),
         ));
     }
-    crate::finger::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
-    let caller = crate::finger::Caller {
+    crate::actuator_args::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
+    let caller = crate::actuator_args::Caller {
         name: "run_study",
         keywords: &[
             "study",
