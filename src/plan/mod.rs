@@ -273,12 +273,19 @@ impl PlannedFinger {
         }
     }
 
-    /// `opts` checked before any solve, on the finest finger built (every
-    /// level of nested levels; the finer fingers of an automatic partition
-    /// or a tip tolerance are checked as they are built).
+    /// `opts` checked on the finest level of nested levels before the
+    /// coarser ones are solved. Every other plan's first solve checks them
+    /// itself before any work (and the finer fingers of an automatic
+    /// partition or a tip tolerance as they are built), so a fixed
+    /// partition's solve is not checked twice.
     fn check_options(&self, opts: &SolveOptions) -> Result<(), InputError> {
-        let most = self.fingers().iter().map(Finger::len).max().unwrap_or(1);
-        opts.validate_on(most)
+        match &self.built {
+            Built::Levels(r) => {
+                let finest = r.fingers().iter().map(Finger::len).max().unwrap_or(1);
+                opts.validate_on(finest)
+            }
+            Built::Fixed(_) | Built::Auto(_) | Built::TipTolerance(_) => Ok(()),
+        }
     }
 
     /// Solves `load` as the plan says.
