@@ -143,17 +143,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         crate::output::stem_and_dir(&args.manifest, args.out.as_deref(), "manifest", "calibrate");
     // the last event of the fit (then of the model choice), shown once
     // the work has taken a while
-    let latest = std::sync::Mutex::new(None::<CalibrateProgress>);
-    let last = || {
-        *latest
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    };
-    let observe = |p: &CalibrateProgress| {
-        *latest
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(*p);
-    };
+    let latest = crate::report::Latest::<CalibrateProgress>::default();
+    let observe = |p: &CalibrateProgress| latest.set(p);
     let compute = || -> Result<_, SolveError> {
         let fit = calibrate_with_progress(&manifest, &options, &observe).map_err(in_flag_terms)?;
         if !args.choose_model {
@@ -163,7 +154,8 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             choose_model_with_progress(&manifest, &options, &observe).map_err(in_flag_terms)?;
         Ok((fit, Some(choice)))
     };
-    let (fit, model_choice) = crate::report::with_progress(|| status(last().as_ref()), compute)?;
+    let (fit, model_choice) =
+        crate::report::with_progress(|| status(latest.get().as_ref()), compute)?;
     crate::output::prepare_dir(&out)?;
     let mut scenes = Vec::new();
     for (i, (_, text)) in calibrated_scenes(&manifest, &fit)?.into_iter().enumerate() {

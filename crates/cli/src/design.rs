@@ -272,20 +272,11 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     // nothing is written
     let stop = crate::interrupt::arm("nothing is written unless the design was found already");
     // the search's last event, shown once it has taken a while
-    let latest = std::sync::Mutex::new(None::<DesignProgress>);
-    let last = || {
-        *latest
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner)
-    };
-    let observe = |p: &DesignProgress| {
-        *latest
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(*p);
-    };
+    let latest = crate::report::Latest::<DesignProgress>::default();
+    let observe = |p: &DesignProgress| latest.set(p);
     let search = || optimize_with_progress(&req, &opts, &observe);
     let d = crate::report::with_progress(
-        || status(last().as_ref()),
+        || status(latest.get().as_ref()),
         || match &stop {
             Some(flag) => fpc::cancel::with_flag(flag.clone(), search),
             None => search(),

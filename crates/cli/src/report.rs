@@ -178,6 +178,36 @@ fn quiet_for() -> std::time::Duration {
         .unwrap_or(QUIET_FOR)
 }
 
+/// The last progress event a long computation reported, kept for
+/// [`with_progress`]'s status line (set from the work's threads, read
+/// from the reporter's).
+pub struct Latest<P>(std::sync::Mutex<Option<P>>);
+
+impl<P> Default for Latest<P> {
+    /// No event yet.
+    fn default() -> Latest<P> {
+        Latest(std::sync::Mutex::new(None))
+    }
+}
+
+impl<P: Copy> Latest<P> {
+    /// Keeps `p` as the last event.
+    pub fn set(&self, p: &P) {
+        *self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(*p);
+    }
+
+    /// The last event, if any.
+    pub fn get(&self) -> Option<P> {
+        *self
+            .0
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
+
 /// How often [`with_progress`] redraws its line (a log gets at most one
 /// line every [`PLAIN_PROGRESS_EVERY_S`] seconds of them).
 const REDRAW_EVERY: std::time::Duration = std::time::Duration::from_millis(200);
