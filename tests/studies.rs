@@ -325,6 +325,45 @@ fn study_options_are_validated() {
     assert_eq!(at_bounds.validate(), Ok(()));
 }
 
+/// Study 5 runs `sweep_points x angle_samples` grasps of `elements`
+/// elements: their product is bounded before any solve, the same bound
+/// for every front end. Refused at once (this test would run for hours
+/// if the study started), and accepted at the bound.
+#[test]
+fn study5s_work_is_bounded_before_it_starts() {
+    use fpc::studies::MAX_SPHERE_WORK;
+    let over = StudyOptions {
+        sweep_points: 2000,
+        angle_samples: 50,
+        elements: 1000,
+        ..StudyOptions::coarse()
+    };
+    assert_eq!(over.validate(), Ok(()), "each count alone is allowed");
+    let e = study5_sphere_region(&paper(), &over)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("study.sweep_points"), "{e}");
+    assert!(e.contains("2000 x 50 x 1000 = 100000000"), "{e}");
+    assert!(e.contains(&MAX_SPHERE_WORK.to_string()), "{e}");
+    let info = fpc::studies::STUDIES
+        .iter()
+        .find(|s| s.number == 5)
+        .unwrap();
+    assert!(info.output(&paper(), &over).is_err());
+    // at the bound (and the defaults below it) the check passes
+    let at = StudyOptions {
+        sweep_points: 1000,
+        angle_samples: 100,
+        elements: 8,
+        ..StudyOptions::coarse()
+    };
+    assert_eq!(1000 * 100 * 8, MAX_SPHERE_WORK);
+    assert_eq!(at.validate_sphere(), Ok(()));
+    assert_eq!(StudyOptions::default().validate_sphere(), Ok(()));
+    let just_over = StudyOptions { elements: 9, ..at };
+    assert!(just_over.validate_sphere().is_err());
+}
+
 /// Study 5's summary numbers against an independent dense evaluation of
 /// the same optima (issue 23), on the paper's options: at the envelope's
 /// first, middle and last radii and at the peak's radius, the best angle

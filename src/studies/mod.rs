@@ -46,8 +46,8 @@ pub use info::StudyInfo;
 pub use lift::{lift_curve, LiftCurve, LiftPoint, LiftSd};
 pub use options::{
     section5_gripper, StudyOptions, SweepStop, MAX_ANGLE_SAMPLES, MAX_PRESSURE_POINTS,
-    MAX_STUDY_ELEMENTS, MAX_SWEEP_POINTS, PAPER_ANGLES, PAPER_EPS0, PAPER_OVERLAPS,
-    STUDY8_PRESSURES_KPA,
+    MAX_SPHERE_WORK, MAX_STUDY_ELEMENTS, MAX_SWEEP_POINTS, PAPER_ANGLES, PAPER_EPS0,
+    PAPER_OVERLAPS, STUDY8_PRESSURES_KPA,
 };
 pub use output::{
     angle_key, angle_name, eps0_key, overlap_key, validity_kinds, warnings_cell, Band, Cell, Clip,

@@ -32,6 +32,12 @@ pub const MAX_SWEEP_POINTS: usize = 2_000;
 pub const MAX_ANGLE_SAMPLES: usize = 200;
 /// The most `pressure_points` of a study (finger solves per prestrain).
 pub const MAX_PRESSURE_POINTS: usize = 10_000;
+/// The most `sweep_points x angle_samples x elements` of study 5 (a
+/// sweep of grasps at every grasping angle): 100 000 grasps of the
+/// default 8 elements, about a minute; a finer finger allows fewer grasps,
+/// as each solve's work grows with its elements. Each count alone is
+/// bounded by [`StudyOptions::validate`].
+pub const MAX_SPHERE_WORK: usize = 800_000;
 
 /// Resolution and shared settings of the studies.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,7 +86,8 @@ impl StudyOptions {
 
     /// Checks every field, the counts against their bounds
     /// ([`MAX_STUDY_ELEMENTS`], [`MAX_SWEEP_POINTS`], [`MAX_ANGLE_SAMPLES`],
-    /// [`MAX_PRESSURE_POINTS`]) before any work.
+    /// [`MAX_PRESSURE_POINTS`]) before any work. Study 5 also bounds the
+    /// product of its counts ([`StudyOptions::validate_sphere`]).
     pub fn validate(&self) -> Result<(), InputError> {
         let within = |field: &'static str, v: usize, min: usize, max: usize| {
             require(
@@ -106,6 +113,29 @@ impl StudyOptions {
             MAX_PRESSURE_POINTS,
         )?;
         Ok(())
+    }
+
+    /// [`StudyOptions::validate`], and the work of study 5 (`sweep_points
+    /// x angle_samples x elements`) against [`MAX_SPHERE_WORK`], named
+    /// `study.sweep_points`.
+    pub fn validate_sphere(&self) -> Result<(), InputError> {
+        self.validate()?;
+        let work = self
+            .sweep_points
+            .saturating_mul(self.angle_samples)
+            .saturating_mul(self.elements);
+        require(
+            work <= MAX_SPHERE_WORK,
+            crate::Field::key("study.sweep_points"),
+            self.sweep_points as f64,
+            || {
+                format!(
+                    "study.sweep_points x study.angle_samples x study.elements = {} x {} x {} = \
+                     {work}: must be at most {MAX_SPHERE_WORK} (a bound on study 5's work)",
+                    self.sweep_points, self.angle_samples, self.elements
+                )
+            },
+        )
     }
 
     pub(crate) fn finger(&self, actuator: &Actuator, eps0: f64) -> Result<Finger, InputError> {

@@ -108,6 +108,7 @@ pub fn study5_sphere_region_with(
     opts: &StudyOptions,
     covariance: Option<&Covariance>,
 ) -> Result<SphereRegion, SolveError> {
+    opts.validate_sphere()?;
     let g = section5_gripper(actuator, opts)?;
     let [lo, hi] = grasping_angle_range(g.mu());
     let n = opts.sweep_points;

@@ -89,13 +89,6 @@ fn column<'py>(py: Python<'py>, t: &Table, j: usize) -> PyResult<Bound<'py, PyAn
     np.call_method1("array", (PyList::new(py, items)?, "object"))
 }
 
-/// The most `sweep_points` x `angle_samples` x `elements` of a study
-/// that uses both counts (study 5): 100000 grasps of the default 8
-/// elements, about a minute; a finer finger allows fewer grasps, as each
-/// solve's work grows with its elements. (Each count alone is bounded by
-/// `StudyOptions::validate`.)
-pub const MAX_SWEEP_BY_ANGLE_BY_ELEMENTS: usize = 800_000;
-
 /// The options of `run_study` that only some studies use, and the studies
 /// (by number) that use each: any other study refuses them.
 const STUDY_OPTIONS: [(&str, &[usize]); 5] = [
@@ -170,7 +163,7 @@ pub fn studies(py: Python<'_>) -> PyResult<Vec<Bound<'_, PyDict>>> {
 /// (``fpc.InputError`` beyond): ``sweep_points`` <= 2000,
 /// ``angle_samples`` <= 200, and for study 5 ``sweep_points *
 /// angle_samples * elements`` <= 800000 (100000 grasps of 8 elements,
-/// about a minute), ``pressure_points`` <= 10000,
+/// about a minute; ``fpc::studies::MAX_SPHERE_WORK``), ``pressure_points`` <= 10000,
 /// ``elements`` as for a finger. Ctrl-C returns at once with ``KeyboardInterrupt`` (the
 /// interrupted study finishes on its own thread and is dropped).
 #[pyfunction]
@@ -223,27 +216,6 @@ pub fn run_study<'py>(
     opts.pressure_points = pressure_points.unwrap_or(base.pressure_points);
     opts.strict = strict.unwrap_or(base.strict);
     opts.validate().map_err(|e| from_input(py, &e))?;
-    let uses = |name: &str| {
-        STUDY_OPTIONS
-            .iter()
-            .any(|o| o.0 == name && o.1.contains(&info.number))
-    };
-    let product = opts
-        .sweep_points
-        .saturating_mul(opts.angle_samples)
-        .saturating_mul(opts.elements);
-    if uses("sweep_points") && uses("angle_samples") && product > MAX_SWEEP_BY_ANGLE_BY_ELEMENTS {
-        return Err(input_error(
-            py,
-            "study.sweep_points",
-            format!(
-                "study.sweep_points x study.angle_samples x study.elements = {} x {} x {} = \
-                 {product}: must be at most {MAX_SWEEP_BY_ANGLE_BY_ELEMENTS} (a bound on the \
-                 work of one call)",
-                opts.sweep_points, opts.angle_samples, opts.elements
-            ),
-        ));
-    }
     crate::actuator_args::refuse_pemc_eps0(actuator, "each study sets the prestrain it needs")?;
     let caller = crate::actuator_args::Caller {
         name: "run_study",
