@@ -334,6 +334,18 @@ fn an_infeasible_request_names_what_fails() {
     let w = d.best.worst_margin().unwrap();
     assert!(w.margin < 0.0);
     assert!(w.requirement.starts_with("object[0] cuboid"), "{w:?}");
+    // its scene claims no lift, and says which requirement kept it from one
+    let checks = fpc::design::reproduce(&d.best, &req);
+    assert_eq!(checks.len(), 1);
+    let c = &checks[0];
+    assert_eq!(c.claimed_lift_n, None);
+    assert!(c.reproduced && !c.valid, "{c:?}");
+    assert!(c.requirement.starts_with("object[0] cuboid d = "), "{c:?}");
+    assert!(c.requirement.ends_with(": fits"), "{c:?}");
+    assert_eq!(
+        Some(&c.requirement),
+        d.best.hardest(0).map(|m| &m.requirement)
+    );
 }
 
 #[test]

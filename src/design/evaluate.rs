@@ -126,10 +126,19 @@ impl Evaluation {
     /// Object `i`'s smallest lift margin: the hardest sample, whose grasp
     /// its scene file reproduces ([`Evaluation::scenes`]).
     pub fn hardest_lift(&self, i: usize) -> Option<&Margin> {
+        self.hardest_where(i, |m| m.requirement.ends_with("lift"))
+    }
+
+    /// The smallest margin of any kind of object `i` (fits, lift, gentle).
+    pub fn hardest(&self, i: usize) -> Option<&Margin> {
+        self.hardest_where(i, |_| true)
+    }
+
+    fn hardest_where(&self, i: usize, keep: impl Fn(&Margin) -> bool) -> Option<&Margin> {
         let prefix = format!("object[{i}] ");
         self.margins
             .iter()
-            .filter(|m| m.requirement.starts_with(&prefix) && m.requirement.ends_with("lift"))
+            .filter(|m| m.requirement.starts_with(&prefix) && keep(m))
             .min_by(|a, b| a.margin.total_cmp(&b.margin))
     }
 

@@ -21,7 +21,9 @@ pub struct Reproduction {
     /// The scene file's text.
     #[serde(skip)]
     pub text: String,
-    /// The margin it reproduces: the object's hardest lift margin.
+    /// The margin it reproduces: the object's hardest lift margin; when
+    /// no lift was claimed, the object's hardest margin of any kind (what
+    /// kept it from a claim, `object[0] cuboid d = 150.0 mm: fits`).
     pub requirement: String,
     /// The claimed lifting force (N); `None` when no valid grasp was claimed.
     pub claimed_lift_n: Option<f64>,
@@ -57,7 +59,11 @@ pub fn reproduce(best: &Evaluation, req: &Requirements) -> Vec<Reproduction> {
         .enumerate()
         .map(|(i, (file, text))| {
             let claim = best.hardest_lift(i);
-            let requirement = claim.map(|m| m.requirement.clone()).unwrap_or_default();
+            // no lift claimed: the object's hardest margin says why
+            let requirement = claim
+                .or_else(|| best.hardest(i))
+                .map(|m| m.requirement.clone())
+                .unwrap_or_default();
             let claimed_lift_n = claim.and_then(|m| m.value);
             let claimed_normal_n = claim.and_then(|m| m.normal_n);
             let claimed_valid = claim.and_then(|m| m.valid);

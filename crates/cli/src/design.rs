@@ -392,10 +392,10 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             w,
             "scene          {}: {} ({})",
             out.join(&s.file).display(),
-            if s.reproduced {
-                "fpc solve reproduces the claim"
-            } else {
-                "NOT reproduced"
+            match (s.reproduced, s.claimed_lift_n) {
+                (true, Some(_)) => "fpc solve reproduces the claim".to_string(),
+                (true, None) => format!("fpc solve confirms no valid grasp: {}", s.requirement),
+                (false, _) => "NOT reproduced".to_string(),
             },
             s.detail
         )?;

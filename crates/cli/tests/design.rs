@@ -88,6 +88,37 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
     assert!(svg.starts_with("<svg") && !svg.contains("NaN"));
 }
 
+/// A request no design meets: its text names the requirement that kept
+/// each object from a claimed grasp, and says what the scene confirms.
+#[test]
+fn an_infeasible_design_says_why_its_scene_claims_no_grasp() {
+    let scratch = tmp("infeasible");
+    let dir = scratch.path();
+    let req = dir.join("req.toml");
+    std::fs::write(
+        &req,
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [150.0, 150.0]\nlift_n = 5.0\n[vary]\neps0 = [0.1, 0.5]\nmounting_angle_deg = [60.0, 90.0]\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let o = fpc(&[
+        "design",
+        req.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--starts",
+        "0",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("NO design meets every requirement"), "{text}");
+    let scene = text.lines().find(|l| l.starts_with("scene ")).unwrap();
+    assert!(
+        scene.contains("fpc solve confirms no valid grasp: object[0] cuboid d = 150.0 mm: fits"),
+        "{scene}"
+    );
+}
+
 #[test]
 fn bad_requirements_are_rejected_with_their_place() {
     let scratch = tmp("bad");
