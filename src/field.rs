@@ -127,9 +127,9 @@ macro_rules! field {
             Geometry(GeometryKey),
             Channel(ChannelKey),
             PaperRib(PaperRibKey),
-            /// `actuator.ribs[i].<key>`: an explicit rib.
+            /// `actuator.ribs.list[i].<key>`: an explicit rib (the scene key).
             Rib(usize, RibKey),
-            /// `actuator.cl_ribs[i].<key>`: a rib on the constraining layer.
+            /// `actuator.cl_ribs.list[i].<key>`: a rib on the constraining layer.
             ClRib(usize, ClRibKey),
             Material(Lamina, Elastic),
             /// `actuator.pemc.eps0`, `e2`, `actuator.pemc.law.p1..p4`.
@@ -220,8 +220,8 @@ impl fmt::Display for Field {
             Field::Geometry(k) => write!(f, "actuator.geometry.{k}"),
             Field::Channel(k) => write!(f, "actuator.channel.{k}"),
             Field::PaperRib(k) => write!(f, "actuator.ribs.{k}"),
-            Field::Rib(i, k) => write!(f, "actuator.ribs[{i}].{k}"),
-            Field::ClRib(i, k) => write!(f, "actuator.cl_ribs[{i}].{k}"),
+            Field::Rib(i, k) => write!(f, "actuator.ribs.list[{i}].{k}"),
+            Field::ClRib(i, k) => write!(f, "actuator.cl_ribs.list[{i}].{k}"),
             Field::Material(l, k) => write!(f, "actuator.{l}.{k}"),
             Field::Pemc(k @ (PemcKey::Eps0 | PemcKey::E2)) => write!(f, "actuator.pemc.{k}"),
             Field::Pemc(k) => write!(f, "actuator.pemc.law.{k}"),

@@ -251,30 +251,30 @@ fn explicit_rib_rules() {
     let ok = rib(10.0, 20.0, 5.0);
     names(
         &rejected(explicit(vec![ok, rib(-1.0, 2.0, 1.0)])),
-        "actuator.ribs[1].x0",
+        "actuator.ribs.list[1].x0",
         "-1",
     );
     names(
         &rejected(explicit(vec![rib(5.0, 5.0, 1.0)])),
-        "actuator.ribs[0].x1",
+        "actuator.ribs.list[0].x1",
         "5",
     );
     let e = rejected(explicit(vec![rib(100.0, 106.0, 1.0)]));
-    names(&e, "actuator.ribs[0].x1", "106");
+    names(&e, "actuator.ribs.list[0].x1", "106");
     assert!(e.to_string().contains("cx = 105"));
     names(
         &rejected(explicit(vec![rib(1.0, 2.0, 0.0)])),
-        "actuator.ribs[0].width",
+        "actuator.ribs.list[0].width",
         "0",
     );
     names(
         &rejected(explicit(vec![rib(1.0, 2.0, 27.0)])),
-        "actuator.ribs[0].width",
+        "actuator.ribs.list[0].width",
         "27",
     );
     names(
         &rejected(explicit(vec![rib(f64::NAN, 2.0, 1.0)])),
-        "actuator.ribs[0].x0",
+        "actuator.ribs.list[0].x0",
         "NaN",
     );
     // a listed layout is bounded as a generated one is, by its length

@@ -398,21 +398,27 @@ fn library_error(r: ClRib) -> String {
 #[test]
 fn bad_ribs_are_typed_errors_naming_the_key() {
     let cases = [
-        (rib(10.0, 12.0, 5.0, -0.1), "actuator.cl_ribs[1].height"),
-        (rib(10.0, 12.0, 5.0, 0.0), "actuator.cl_ribs[1].height"),
+        (
+            rib(10.0, 12.0, 5.0, -0.1),
+            "actuator.cl_ribs.list[1].height",
+        ),
+        (rib(10.0, 12.0, 5.0, 0.0), "actuator.cl_ribs.list[1].height"),
         (
             rib(10.0, 12.0, 5.0, f64::INFINITY),
-            "actuator.cl_ribs[1].height",
+            "actuator.cl_ribs.list[1].height",
         ),
-        (rib(10.0, 12.0, 5.0, 2e5), "actuator.cl_ribs[1].height"),
-        (rib(12.0, 12.0, 5.0, 1.0), "actuator.cl_ribs[1].x1"),
-        (rib(12.0, 10.0, 5.0, 1.0), "actuator.cl_ribs[1].x1"),
-        (rib(-1.0, 10.0, 5.0, 1.0), "actuator.cl_ribs[1].x0"),
-        (rib(f64::NAN, 10.0, 5.0, 1.0), "actuator.cl_ribs[1].x0"),
-        (rib(100.0, 111.0, 5.0, 1.0), "actuator.cl_ribs[1].x1"),
-        (rib(10.0, 12.0, 32.0, 1.0), "actuator.cl_ribs[1].width"),
-        (rib(10.0, 12.0, 0.0, 1.0), "actuator.cl_ribs[1].width"),
-        (rib(10.0, 12.0, f64::NAN, 1.0), "actuator.cl_ribs[1].width"),
+        (rib(10.0, 12.0, 5.0, 2e5), "actuator.cl_ribs.list[1].height"),
+        (rib(12.0, 12.0, 5.0, 1.0), "actuator.cl_ribs.list[1].x1"),
+        (rib(12.0, 10.0, 5.0, 1.0), "actuator.cl_ribs.list[1].x1"),
+        (rib(-1.0, 10.0, 5.0, 1.0), "actuator.cl_ribs.list[1].x0"),
+        (rib(f64::NAN, 10.0, 5.0, 1.0), "actuator.cl_ribs.list[1].x0"),
+        (rib(100.0, 111.0, 5.0, 1.0), "actuator.cl_ribs.list[1].x1"),
+        (rib(10.0, 12.0, 32.0, 1.0), "actuator.cl_ribs.list[1].width"),
+        (rib(10.0, 12.0, 0.0, 1.0), "actuator.cl_ribs.list[1].width"),
+        (
+            rib(10.0, 12.0, f64::NAN, 1.0),
+            "actuator.cl_ribs.list[1].width",
+        ),
         // beside the first one, wider than the strip together
         (rib(61.0, 63.0, 31.0, 1.0), "actuator.cl_ribs"),
     ];
@@ -424,7 +430,7 @@ fn bad_ribs_are_typed_errors_naming_the_key() {
     assert_eq!(*e.field(), Field::ClRibs);
     assert_eq!(
         Field::ClRib(2, ClRibKey::Height).to_string(),
-        "actuator.cl_ribs[2].height"
+        "actuator.cl_ribs.list[2].height"
     );
 }
 
