@@ -36,7 +36,8 @@ pub const MAX_CL_RIBS: usize = 10_000;
 pub const EPS0_RANGE: (f64, f64) = (-1.0, 10.0);
 
 /// Dimensions of the strip (mm); z values are measured from the mid-plane.
-/// A scene's `[actuator.geometry]`: a key not given is the default's.
+/// A scene's `[actuator.geometry]` holds its keys
+/// ([`GeometrySection`](crate::scene::GeometrySection)).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Geometry {
@@ -71,7 +72,8 @@ impl Default for Geometry {
 }
 
 /// The channel: X_ref in [0, cx], z in [-h3b, h3a], width cy (mm). A
-/// scene's `[actuator.channel]`: a key not given is the default's.
+/// scene's `[actuator.channel]` holds its keys
+/// ([`ChannelSection`](crate::scene::ChannelSection)).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Channel {
@@ -221,11 +223,51 @@ impl Default for Actuator {
 /// The largest length, width or thickness of an actuator (mm).
 pub const MAX_DIMENSION_MM: f64 = 1e5;
 
+/// Why [`Actuator::new`] refused its input: the error, and the fields the
+/// failed rule compares its field with, with their values (none for a
+/// rule on one field). A front end that knows which fields its user gave
+/// names the one given ([`crate::scene`]: a rule between a key the scene
+/// wrote and a default names the key written).
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Refusal {
+    pub error: InputError,
+    pub against: Vec<(Field, f64)>,
+}
+
+impl From<InputError> for Refusal {
+    fn from(error: InputError) -> Refusal {
+        Refusal {
+            error,
+            against: Vec::new(),
+        }
+    }
+}
+
+/// A rule's result with the fields it compared against.
+trait Against {
+    fn against<const N: usize>(self, fields: [(Field, f64); N]) -> Result<(), Refusal>;
+}
+
+impl Against for Result<(), InputError> {
+    fn against<const N: usize>(self, fields: [(Field, f64); N]) -> Result<(), Refusal> {
+        self.map_err(|error| Refusal {
+            error,
+            against: fields.into(),
+        })
+    }
+}
+
 impl Actuator {
     /// Validates `params`. Non-fatal findings (a prestrain outside the
     /// fitted range, a laminate too thick for laminate theory, ...) do not
     /// fail; they are kept and returned by [`Actuator::warnings`].
     pub fn new(params: ActuatorParams) -> Result<Actuator, InputError> {
+        Actuator::checked(params).map_err(|r| r.error)
+    }
+
+    /// [`Actuator::new`], saying which fields a failed rule between
+    /// fields compared.
+    pub(crate) fn checked(params: ActuatorParams) -> Result<Actuator, Refusal> {
         let g = &params.geometry;
         for (key, v) in [
             (GeometryKey::Lx, g.lx),
@@ -246,45 +288,54 @@ impl Actuator {
         positive(Field::Geometry(GeometryKey::H2), g.h2)?;
         positive(Field::Geometry(GeometryKey::H3), g.h3)?;
         let half = g.h / 2.0;
+        let h = [(Field::Geometry(GeometryKey::H), g.h)];
         require(g.h1 < half, Field::Geometry(GeometryKey::H1), g.h1, || {
             format!("must be below H/2 = {half} (the constraining layer [h1, H/2] needs a positive thickness)")
-        })?;
+        })
+        .against(h.clone())?;
         require(g.h2 < g.h1, Field::Geometry(GeometryKey::H2), g.h2, || {
             format!(
                 "must be below h1 = {} (the regular EMC [h2, h1] needs a positive thickness)",
                 g.h1
             )
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::H1), g.h1)])?;
         require(g.h3 < half, Field::Geometry(GeometryKey::H3), g.h3, || {
             format!("must be below H/2 = {half} (the prestressed EMC [-H/2, -h3] needs a positive thickness)")
-        })?;
+        })
+        .against(h)?;
 
         let c = &params.channel;
         positive(Field::Channel(ChannelKey::Cx), c.cx)?;
         require(c.cx <= g.lx, Field::Channel(ChannelKey::Cx), c.cx, || {
             format!("must not exceed the length lx = {}", g.lx)
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::Lx), g.lx)])?;
         positive(Field::Channel(ChannelKey::Cy), c.cy)?;
         require(c.cy < g.ly, Field::Channel(ChannelKey::Cy), c.cy, || {
             format!("must be below the width ly = {}", g.ly)
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::Ly), g.ly)])?;
         positive(Field::Channel(ChannelKey::H3a), c.h3a)?;
         require(c.h3a < g.h2, Field::Channel(ChannelKey::H3a), c.h3a, || {
             format!(
                 "must be below h2 = {} (the channel lies inside the fluidic layer)",
                 g.h2
             )
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::H2), g.h2)])?;
         positive(Field::Channel(ChannelKey::H3b), c.h3b)?;
         require(c.h3b < g.h3, Field::Channel(ChannelKey::H3b), c.h3b, || {
             format!(
                 "must be below h3 = {} (the channel lies inside the fluidic layer)",
                 g.h3
             )
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::H3), g.h3)])?;
 
         let ribs = resolve_ribs(&params.ribs, c)?;
-        check_rib_overlap(&ribs, c.cy, Field::Ribs, "channel width cy")?;
+        check_rib_overlap(&ribs, c.cy, Field::Ribs, "channel width cy")
+            .against([(Field::Channel(ChannelKey::Cy), c.cy)])?;
         check_cl_ribs(&params.cl_ribs, g)?;
 
         params.cl.validate(Lamina::Cl)?;
@@ -473,7 +524,7 @@ impl Actuator {
 }
 
 /// Checks the layout and lists its ribs in X_ref.
-fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError> {
+fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, Refusal> {
     match layout {
         RibLayout::None => Ok(Vec::new()),
         RibLayout::Explicit(ribs) => {
@@ -492,17 +543,20 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
                 finite(f(RibKey::X1), r.x1)?;
                 require(r.x1 > r.x0, f(RibKey::X1), r.x1, || {
                     format!("must exceed x0 = {}", r.x0)
-                })?;
+                })
+                .against([(f(RibKey::X0), r.x0)])?;
                 require(r.x1 <= c.cx, f(RibKey::X1), r.x1, || {
                     format!(
                         "must not exceed the channel's end cx = {} (ribs lie inside the channel)",
                         c.cx
                     )
-                })?;
+                })
+                .against([(Field::Channel(ChannelKey::Cx), c.cx)])?;
                 positive(f(RibKey::Width), r.width)?;
                 require(r.width <= c.cy, f(RibKey::Width), r.width, || {
                     format!("must not exceed the channel width cy = {}", c.cy)
-                })?;
+                })
+                .against([(Field::Channel(ChannelKey::Cy), c.cy)])?;
             }
             Ok(ribs.clone())
         }
@@ -521,10 +575,15 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
                         c.cy
                     )
                 },
-            )?;
+            )
+            .against([
+                (Field::PaperRib(PaperRibKey::T), t),
+                (Field::Channel(ChannelKey::Cy), c.cy),
+            ])?;
             require(w1 >= t, Field::PaperRib(PaperRibKey::W1), w1, || {
                 format!("must be at least t = {t} (transverse ribs must not overlap)")
-            })?;
+            })
+            .against([(Field::PaperRib(PaperRibKey::T), t)])?;
             // Tolerance so that a rib meant to touch the channel's end is
             // kept despite rounding in k * w1.
             let end = c.cx + 1e-12 * c.cx;
@@ -534,7 +593,11 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
                 Field::PaperRib(PaperRibKey::W1),
                 w1,
                 || format!("gives {count} transverse ribs, more than {MAX_GENERATED_RIBS}"),
-            )?;
+            )
+            .against([
+                (Field::Channel(ChannelKey::Cx), c.cx),
+                (Field::PaperRib(PaperRibKey::T), t),
+            ])?;
             let mut ribs = vec![Rib {
                 x0: 0.0,
                 x1: c.cx,
@@ -561,7 +624,7 @@ fn resolve_ribs(layout: &RibLayout, c: &Channel) -> Result<Vec<Rib>, InputError>
 /// Checks the ribs on the constraining layer: finite, inside the length,
 /// no wider than the strip, a positive height, at most [`MAX_CL_RIBS`] of
 /// them, and side by side no wider than the strip at any X.
-fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), InputError> {
+fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), Refusal> {
     require(
         ribs.len() <= MAX_CL_RIBS,
         Field::ClRibs,
@@ -577,14 +640,17 @@ fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), InputError> {
         finite(f(ClRibKey::X1), r.x1)?;
         require(r.x1 > r.x0, f(ClRibKey::X1), r.x1, || {
             format!("must exceed x0 = {}", r.x0)
-        })?;
+        })
+        .against([(f(ClRibKey::X0), r.x0)])?;
         require(r.x1 <= g.lx, f(ClRibKey::X1), r.x1, || {
             format!("must not exceed the length lx = {}", g.lx)
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::Lx), g.lx)])?;
         positive(f(ClRibKey::Width), r.width)?;
         require(r.width <= g.ly, f(ClRibKey::Width), r.width, || {
             format!("must not exceed the width ly = {}", g.ly)
-        })?;
+        })
+        .against([(Field::Geometry(GeometryKey::Ly), g.ly)])?;
         positive(f(ClRibKey::Height), r.height)?;
         require(
             r.height <= MAX_DIMENSION_MM,
@@ -602,6 +668,7 @@ fn check_cl_ribs(ribs: &[ClRib], g: &Geometry) -> Result<(), InputError> {
         })
         .collect();
     check_rib_overlap(&boxes, g.ly, Field::ClRibs, "width ly")
+        .against([(Field::Geometry(GeometryKey::Ly), g.ly)])
 }
 
 /// The ribs' summed width at any X must fit in `limit` (the channel's

@@ -85,10 +85,11 @@ pub use resolve::{
     DEFAULT_SPHERE_BETA_DEG, DEFAULT_SPHERE_LIFT_N, DEFAULT_SPHERE_RADIUS_MM,
 };
 pub use schema::{
-    ActuatorSection, CalibrationSection, ClRibEntry, ClRibsSection, Elements, GraspKind,
-    GraspSection, GripperSection, LoadSection, MaterialKind, MaterialSection, ModelSection,
-    PartitionSection, PemcSection, RibEntry, RibKind, RibsSection, SceneFile, SceneStrategy,
-    SolveSection, CALIBRATION_SD_TOLERANCE, MAX_CALIBRATION_KEYS, MAX_CALIBRATION_SD,
+    ActuatorSection, CalibrationSection, ChannelSection, ClRibEntry, ClRibsSection, Elements,
+    GeometrySection, GraspKind, GraspSection, GripperSection, LoadSection, MaterialKind,
+    MaterialSection, ModelSection, PartitionSection, PemcSection, RibEntry, RibKind, RibsSection,
+    SceneFile, SceneStrategy, SolveSection, CALIBRATION_SD_TOLERANCE, MAX_CALIBRATION_KEYS,
+    MAX_CALIBRATION_SD,
 };
 pub use solve::{GraspOutcome, SceneSolution};
 pub(crate) use syntax::key_at;

@@ -1,9 +1,8 @@
 //! The file format: the serde structs of a scene document, every key
 //! optional, unknown keys rejected (the syntax errors of parsing:
-//! `syntax.rs`). Where a section is plain numbers with defaults, it is the
-//! library's own struct (`[actuator.geometry]` is
-//! [`Geometry`](crate::actuator::Geometry)); elsewhere an absent key is
-//! `None`, since whether it was given decides what the others mean.
+//! `syntax.rs`). An absent key is `None` everywhere: whether it was given
+//! decides what the others mean, and which key an error names (a rule
+//! between two keys names the one the scene wrote).
 
 use super::fields::{SceneKey, ValueKind};
 use super::syntax::SceneError;
@@ -91,9 +90,9 @@ pub struct ModelSection {
 #[serde(default, deny_unknown_fields)]
 pub struct ActuatorSection {
     /// `[actuator.geometry]`, mm; a key not given is the default's.
-    pub geometry: Geometry,
+    pub geometry: GeometrySection,
     /// `[actuator.channel]`, mm; a key not given is the default's.
-    pub channel: Channel,
+    pub channel: ChannelSection,
     pub ribs: RibsSection,
     /// Constraining layer (default isotropic, E = 305 MPa, nu = 0.43).
     pub cl: MaterialSection,
@@ -109,6 +108,98 @@ pub struct ActuatorSection {
     /// Ribs on the constraining layer (none by default).
     #[serde(skip_serializing_if = "ClRibsSection::is_empty")]
     pub cl_ribs: ClRibsSection,
+}
+
+/// `[actuator.geometry]` (mm): the keys of [`Geometry`], each optional
+/// (a key not given is [`Geometry::default`]'s).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct GeometrySection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lx: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ly: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lc: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h1: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h2: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3: Option<f64>,
+}
+
+impl GeometrySection {
+    /// The geometry: the keys given, the default's elsewhere.
+    pub fn resolve(&self) -> Geometry {
+        let d = Geometry::default();
+        Geometry {
+            lx: self.lx.unwrap_or(d.lx),
+            ly: self.ly.unwrap_or(d.ly),
+            lc: self.lc.unwrap_or(d.lc),
+            h: self.h.unwrap_or(d.h),
+            h1: self.h1.unwrap_or(d.h1),
+            h2: self.h2.unwrap_or(d.h2),
+            h3: self.h3.unwrap_or(d.h3),
+        }
+    }
+}
+
+impl From<Geometry> for GeometrySection {
+    /// Every key given.
+    fn from(g: Geometry) -> GeometrySection {
+        GeometrySection {
+            lx: Some(g.lx),
+            ly: Some(g.ly),
+            lc: Some(g.lc),
+            h: Some(g.h),
+            h1: Some(g.h1),
+            h2: Some(g.h2),
+            h3: Some(g.h3),
+        }
+    }
+}
+
+/// `[actuator.channel]` (mm): the keys of [`Channel`], each optional (a
+/// key not given is [`Channel::default`]'s).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct ChannelSection {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cx: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cy: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3a: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub h3b: Option<f64>,
+}
+
+impl ChannelSection {
+    /// The channel: the keys given, the default's elsewhere.
+    pub fn resolve(&self) -> Channel {
+        let d = Channel::default();
+        Channel {
+            cx: self.cx.unwrap_or(d.cx),
+            cy: self.cy.unwrap_or(d.cy),
+            h3a: self.h3a.unwrap_or(d.h3a),
+            h3b: self.h3b.unwrap_or(d.h3b),
+        }
+    }
+}
+
+impl From<Channel> for ChannelSection {
+    /// Every key given.
+    fn from(c: Channel) -> ChannelSection {
+        ChannelSection {
+            cx: Some(c.cx),
+            cy: Some(c.cy),
+            h3a: Some(c.h3a),
+            h3b: Some(c.h3b),
+        }
+    }
 }
 
 /// `[actuator.cl_ribs]`: ribs of the constraining layer's material on its

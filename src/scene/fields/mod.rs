@@ -143,6 +143,67 @@ pub fn scene_input(e: InputError) -> InputError {
     }
 }
 
+/// Whether the scene document `doc` (a [`SceneFile`](crate::scene::SceneFile)
+/// as written, as a TOML table: absent keys are not in it) gives `key`.
+pub(crate) fn written_in(doc: &toml::Table, key: SceneKey) -> bool {
+    let mut table = doc;
+    let steps = key.steps();
+    for (i, (name, index)) in steps.iter().enumerate() {
+        let Some(mut value) = table.get(name) else {
+            return false;
+        };
+        if let Some(k) = index {
+            match value.as_array().and_then(|list| list.get(*k)) {
+                Some(entry) => value = entry,
+                None => return false,
+            }
+        }
+        if i + 1 == steps.len() {
+            return true;
+        }
+        match value.as_table() {
+            Some(t) => table = t,
+            None => return false,
+        }
+    }
+    false
+}
+
+/// A failed rule between keys in the terms of what the scene wrote. The
+/// library's `error` names one field; `against` are the fields its rule
+/// compares it with, with their values. When the scene does not write the
+/// named key (it holds its default) but writes one of `against`, the
+/// error names the first such key, with its value, and says which
+/// default it conflicts with (`actuator.geometry.lx = 50: conflicts with
+/// the default of a key the scene does not set (actuator.channel.cx =
+/// 105: must not exceed the length lx = 50)`). Otherwise (a rule on one
+/// key, the named key written, or no key of the rule written) it is
+/// [`scene_input`]'s. Every rule between keys of the scene is named here.
+pub(crate) fn name_written(
+    error: InputError,
+    against: &[(Field, f64)],
+    written: impl Fn(SceneKey) -> bool,
+) -> InputError {
+    let named = scene_key(error.field());
+    let error = scene_input(error);
+    match named {
+        Some(k) if !written(k) => {}
+        _ => return error,
+    }
+    let given = against
+        .iter()
+        .filter_map(|(f, v)| Some((scene_key(f)?, scene_value(f, *v))))
+        .find(|&(k, _)| written(k));
+    match given {
+        Some((key, value)) => InputError::OutOfRange {
+            field: key.to_string().into(),
+            value,
+            rule: format!("conflicts with the default of a key the scene does not set ({error})"),
+        },
+        None => error,
+    }
+}
+
 /// A library solve error in the scene's terms: input errors as in
 /// [`scene_input`], and the target of a target not reached. Front ends
 /// whose own names follow the scene keys (the CLI's flags) start from it.

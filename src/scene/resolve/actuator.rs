@@ -7,17 +7,20 @@ use crate::actuator::{
 };
 use crate::error::InputError;
 use crate::scene::fields::{
-    forbid, inconsistent, scene_input, Elastic, Lamina, PaperRibKey, SceneKey,
+    forbid, inconsistent, name_written, Elastic, Lamina, PaperRibKey, SceneKey,
 };
 use crate::scene::schema::*;
 
+/// The actuator of `a`, its keys written out in `echo`. `written`: whether
+/// the scene gives a key (a rule between keys names the one given).
 pub(super) fn resolve_actuator(
     a: &ActuatorSection,
     echo: &mut ActuatorSection,
+    written: impl Fn(SceneKey) -> bool,
 ) -> Result<Actuator, InputError> {
     let d = ActuatorParams::default();
-    let (geometry, channel) = (a.geometry, a.channel);
-    (echo.geometry, echo.channel) = (geometry, channel);
+    let (geometry, channel) = (a.geometry.resolve(), a.channel.resolve());
+    (echo.geometry, echo.channel) = (geometry.into(), channel.into());
     let (ribs, ribs_echo) = resolve_ribs(&a.ribs, &d.ribs)?;
     echo.ribs = ribs_echo;
     let (cl, e) = resolve_material(&a.cl, d.cl, Lamina::Cl)?;
@@ -69,7 +72,7 @@ pub(super) fn resolve_actuator(
             height: e.height,
         })
         .collect();
-    Actuator::new(ActuatorParams {
+    Actuator::checked(ActuatorParams {
         geometry,
         channel,
         ribs,
@@ -81,7 +84,7 @@ pub(super) fn resolve_actuator(
         plane_strain: a.laminate.plane_strain.unwrap_or(d.plane_strain),
         cl_ribs,
     })
-    .map_err(scene_input)
+    .map_err(|r| name_written(r.error, &r.against, written))
 }
 
 fn resolve_ribs(

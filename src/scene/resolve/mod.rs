@@ -15,8 +15,8 @@ use crate::partition::{Partition, MIN_ELEMENT_FRACTION};
 
 use super::covariance::covariance_of;
 use super::fields::{
-    finite, forbid, inconsistent, positive, require, scene_input, LoadKey, ModelKey, PartitionKey,
-    SceneKey, SolveKey,
+    finite, forbid, inconsistent, positive, require, scene_input, written_in, LoadKey, ModelKey,
+    PartitionKey, SceneKey, SolveKey,
 };
 use super::schema::*;
 use super::syntax::SceneError;
@@ -68,6 +68,8 @@ pub struct Scene {
     /// The `[calibration]` covariance, checked (`Scene::covariance`).
     pub(super) covariance: Option<Covariance>,
     file: SceneFile,
+    /// The document as written (absent keys are not in it).
+    given: toml::Table,
 }
 
 impl Scene {
@@ -88,6 +90,11 @@ impl Scene {
     /// [`SceneSolution::warnings`](crate::SceneSolution::warnings)).
     pub fn warnings(&self) -> &[Warning] {
         self.actuator.warnings()
+    }
+
+    /// Whether the scene as written gives `key` (not its default).
+    pub(crate) fn written(&self, key: SceneKey) -> bool {
+        written_in(&self.given, key)
     }
 }
 
@@ -120,9 +127,13 @@ impl SceneFile {
 
 fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let mut file = SceneFile::default();
+    // the keys written: absent keys are not serialized (a document that
+    // does not serialize, which parsing never gives, names the library's
+    // keys as they are)
+    let given = toml::Table::try_from(f).unwrap_or_default();
     let model = resolve_model(&f.model)?;
     file.model.name = Some(model.name().to_string());
-    let actuator = resolve_actuator(&f.actuator, &mut file.actuator)?;
+    let actuator = resolve_actuator(&f.actuator, &mut file.actuator, |k| written_in(&given, k))?;
     let lx = actuator.geometry().lx;
     let gripper_scene = f.gripper.is_some();
 
@@ -308,6 +319,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         gripper,
         covariance,
         file,
+        given,
     })
 }
 

@@ -50,7 +50,7 @@ fn echo_spells_out_every_default_and_resolves_to_the_same_scene() {
         assert_eq!(&back, s.file(), "{name}");
     }
     let echo = Scene::from_toml("").unwrap().file().clone();
-    assert_eq!(echo.actuator.geometry.h1, 3.7);
+    assert_eq!(echo.actuator.geometry.h1, Some(3.7));
     assert_eq!(echo.actuator.emc.kind, Some(MaterialKind::Orthotropic));
     assert_eq!(echo.actuator.pemc.p4, Some(0.698));
     assert_eq!(echo.partition.elements, Some(Elements::Count(8)));
@@ -308,6 +308,90 @@ fn library_errors_give_the_value_in_the_keys_unit() {
             .starts_with("load.pressure_kpa = -200: is below absolute vacuum"),
         "{e}"
     );
+}
+
+/// A rule between two keys names the key the scene writes, with its value,
+/// and quotes the default it conflicts with; with both keys written, the
+/// rule's own key, as the library names it.
+#[test]
+fn a_rule_between_keys_names_the_key_written() {
+    let default = "conflicts with the default of a key the scene does not set";
+    let cases: &[(&str, &str, &str)] = &[
+        (
+            "[actuator.geometry]\nlx = 50",
+            "actuator.geometry.lx = 50",
+            "(actuator.channel.cx = 105: must not exceed the length lx = 50)",
+        ),
+        (
+            "[actuator.geometry]\nly = 20",
+            "actuator.geometry.ly = 20",
+            "(actuator.channel.cy = 26: must be below the width ly = 20)",
+        ),
+        (
+            "[actuator.geometry]\nh = 6",
+            "actuator.geometry.h = 6",
+            "(actuator.geometry.h1 = 3.7: must be below H/2 = 3",
+        ),
+        (
+            "[actuator.geometry]\nh1 = 1.5",
+            "actuator.geometry.h1 = 1.5",
+            "(actuator.geometry.h2 = 1.8: must be below h1 = 1.5",
+        ),
+        (
+            "[actuator.geometry]\nh2 = 0.5",
+            "actuator.geometry.h2 = 0.5",
+            "(actuator.channel.h3a = 0.8: must be below h2 = 0.5",
+        ),
+        (
+            "[actuator.geometry]\nh3 = 1",
+            "actuator.geometry.h3 = 1",
+            "(actuator.channel.h3b = 1.2: must be below h3 = 1",
+        ),
+        (
+            "[actuator.channel]\ncy = 10",
+            "actuator.channel.cy = 10",
+            "(actuator.ribs.w2 = 6: t + 2 w2 = 14 must not exceed the channel width cy = 10)",
+        ),
+        (
+            "[actuator.ribs]\nt = 10",
+            "actuator.ribs.t = 10",
+            "(actuator.ribs.w1 = 8: must be at least t = 10",
+        ),
+        (
+            "[actuator.geometry]\nlx = 100000\n[actuator.channel]\ncx = 100000",
+            "actuator.channel.cx = 100000",
+            "(actuator.ribs.w1 = 8: gives 12499 transverse ribs, more than 10000)",
+        ),
+    ];
+    for &(text, written, quoted) in cases {
+        let e = input_err(text);
+        let key = written.split(" = ").next().unwrap();
+        assert_eq!(e.field(), key, "{text:?}: {e}");
+        let message = e.to_string();
+        assert!(
+            message.starts_with(&format!("{written}: {default} {quoted}")),
+            "{text:?}: {message}"
+        );
+    }
+    // both keys written: the rule's own key, as before
+    for (text, message) in [
+        (
+            "[actuator.geometry]\nlx = 50\n[actuator.channel]\ncx = 60",
+            "actuator.channel.cx = 60: must not exceed the length lx = 50",
+        ),
+        (
+            "[actuator.geometry]\nh = 6\nh1 = 3.5",
+            "actuator.geometry.h1 = 3.5: must be below H/2 = 3 ",
+        ),
+    ] {
+        let e = input_err(text).to_string();
+        assert!(e.starts_with(message), "{text:?}: {e}");
+    }
+    // the same rule reached through a parsed table (a sweep's point) or
+    // the library's own fields (a scene echoed in full) names the same key
+    let doc: toml::Table = toml::from_str("[actuator.geometry]\nlx = 50\n").unwrap();
+    let e = SceneFile::from_table(&doc).unwrap().resolve().unwrap_err();
+    assert_eq!(e.field(), "actuator.geometry.lx", "{e}");
 }
 
 #[test]
