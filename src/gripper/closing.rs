@@ -521,19 +521,43 @@ impl Gripper {
     ) -> Result<Grasp, SolveError> {
         self.check_size(d)?;
         finite(Field::GraspFriction, friction)?;
-        self.solve_scene(
-            &GraspLoad {
-                pressure_kpa,
-                beta: 0.0,
-                base: [0.0, friction],
-                direction: [1.0, 0.0],
-                tip_xg: self.tip_xg_for_size(d),
-                target: (Field::GraspFriction, friction),
-                object: Object::Face,
-                shape: true,
-            },
-            warm,
-        )
+        let scene = GraspLoad {
+            pressure_kpa,
+            beta: 0.0,
+            base: [0.0, friction],
+            direction: [1.0, 0.0],
+            tip_xg: self.tip_xg_for_size(d),
+            target: (Field::GraspFriction, friction),
+            object: Object::Face,
+            shape: true,
+        };
+        // a path that does not reach a cuboid narrower than the fingers
+        // stand apart is no fault of the friction it carries
+        self.solve_scene(&scene, warm).map_err(|e| match e {
+            SolveError::NotOnPath { .. } | SolveError::TargetNotReached { .. } => {
+                self.out_of_reach(&scene, d).map_or(e, SolveError::Input)
+            }
+            e => e,
+        })
+    }
+
+    /// An object of size `d` narrower than the fingers stand apart at the
+    /// start of `scene`'s grasp (its pressure and fixed load, before any
+    /// normal force): it does not reach the fingers, which only a pull
+    /// would close on it. `None` when it reaches them (or the start is not
+    /// known).
+    fn out_of_reach(&self, scene: &GraspLoad, d: f64) -> Option<InputError> {
+        let problem = self.problem(scene);
+        let start = self.rest_state(&problem.base, &scene.target).ok()?;
+        let (tip, _) = self.finger.tip(&start).ok()?;
+        let opening = self.size_of(tip);
+        (d < opening).then(|| InputError::OutOfRange {
+            field: Field::GraspSize,
+            value: d,
+            rule: format!(
+                "the cuboid does not reach the fingers: at the grasp's pressure, before any normal force, they stand {opening:.4} mm apart"
+            ),
+        })
     }
 }
 

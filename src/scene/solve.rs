@@ -7,17 +7,18 @@ use std::any::Any;
 use std::sync::Arc;
 
 use crate::actuator::Actuator;
-use crate::error::Warning;
+use crate::error::{InputError, Warning};
+use crate::field::Field;
 use crate::finger::{Finger, Load, Solution, SolveOptions};
-use crate::gripper::GripperParams;
 use crate::gripper::GRIPPER_SAMPLES_PER_ELEMENT;
 use crate::gripper::{Grasp, Gripper, Invalid, SphereContact};
+use crate::gripper::{GripperParams, PalmSpec};
 use crate::model::ModelId;
 use crate::partition::Partition;
 use crate::plan::{FingerBuilder, Plan, PlannedFinger, Solved};
 use crate::solve_error::SolveError;
 
-use super::fields::{inconsistent, scene_solve, PartitionKey};
+use super::fields::{inconsistent, name_written, scene_solve, GraspKey, PartitionKey, SceneKey};
 use super::resolve::Scene;
 use super::resolve::{GraspSpec, GripperScene, PartitionPlan};
 
@@ -134,7 +135,9 @@ impl Scene {
         let grasp = match g.grasp {
             None => None,
             Some(spec) => {
-                let mut outcome = spec.solve(&gripper, warm_grasp)?;
+                let mut outcome = spec
+                    .solve(&gripper, warm_grasp)
+                    .map_err(|e| self.cuboid_error(e, g))?;
                 if let PartitionPlan::Fixed(part) = &self.partition {
                     if slope_finding(&outcome.grasp.warnings) {
                         let advice = partition_advice(part, spec, |p| {
@@ -148,6 +151,36 @@ impl Scene {
             }
         };
         Ok(SceneSolution::Gripper { gripper, grasp })
+    }
+
+    /// An error on a cuboid's size (wider than the fingers pressed flat,
+    /// narrower than they stand apart) in the terms of what the scene
+    /// wrote: a rule between the size and the gripper's palm and mounting
+    /// angle, named as every such rule is ([`name_written`]); with none of
+    /// them written, the grasp as a whole, in words.
+    fn cuboid_error(&self, e: SolveError, g: &GripperScene) -> SolveError {
+        let SolveError::Input(error) = e else {
+            return e;
+        };
+        if !matches!(g.grasp, Some(GraspSpec::Cuboid { .. }))
+            || !matches!(error.field(), Field::GraspSize)
+        {
+            return SolveError::Input(error);
+        }
+        let palm = match g.params.geometry {
+            PalmSpec::Overlap(o) => (Field::GripperOverlap, o),
+            PalmSpec::Palm(l) => (Field::GripperPalm, l),
+        };
+        let against = [palm, (Field::GripperMountingAngle, g.params.mounting_angle)];
+        let size = SceneKey::Grasp(GraspKey::DMm);
+        let named = name_written(error, &against, |k| self.written(k));
+        if named.field() != &Field::from(size.to_string()) || self.written(size) {
+            return SolveError::Input(named);
+        }
+        SolveError::Input(InputError::Inconsistent {
+            field: Field::key("gripper.grasp"),
+            rule: format!("the cuboid, of the default size, does not fit this gripper ({named})"),
+        })
     }
 
     /// Builds the gripper of a gripper scene: its finger (on the fixed
@@ -712,6 +745,33 @@ mod tests {
             };
             assert_eq!(gripper.finger().model().name(), name);
         }
+    }
+
+    /// A cuboid narrower than the fingers stand apart is not reached: the
+    /// error names the key the scene wrote that puts it there (the
+    /// overlap, or the size), never the friction it would carry.
+    #[test]
+    fn a_cuboid_out_of_reach_names_the_key_written() {
+        let err = |text: &str| match Scene::from_toml(text).unwrap().solve() {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{text}: solved"),
+        };
+        let e = err("[gripper]\noverlap_mm = -300\n[gripper.grasp]\nkind = \"cuboid\"\n");
+        assert!(
+            e.starts_with("gripper.overlap_mm = -300: conflicts with the default of a key the scene does not set (gripper.grasp.d_mm = 100: the cuboid does not reach the fingers: at the grasp's pressure, before any normal force, they stand "),
+            "{e}"
+        );
+        assert!(!e.contains("friction_n"), "{e}");
+        let e = err("[gripper]\noverlap_mm = -300\n[gripper.grasp]\nd_mm = 50\nfriction_n = 0.3\n");
+        assert!(
+            e.starts_with("gripper.grasp.d_mm = 50: the cuboid does not reach the fingers"),
+            "{e}"
+        );
+        let e = err("[gripper]\npalm_mm = 700\n[gripper.grasp]\n");
+        assert!(
+            e.starts_with("gripper.palm_mm = 700: conflicts with the default"),
+            "{e}"
+        );
     }
 
     #[test]
