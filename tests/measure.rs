@@ -563,6 +563,35 @@ fn a_bad_scene_value_is_named_where_it_is_written() {
     }
 }
 
+/// An error in a key of the `[shared]` section is at that key: a rule
+/// between a shared key and a default (the default is not written
+/// anywhere, so the error names the shared key), and a `scene` that is no
+/// file name; not at the specimen's table.
+#[test]
+fn an_error_in_a_shared_key_is_at_that_key() {
+    let test = "[[specimen.test]]\nkind = \"radius\"\nfile = \"data.csv\"\n";
+    let files = [("data.csv", RADIUS)];
+    for (tag, manifest, (field, row, col)) in [
+        (
+            "rule",
+            format!("[shared.actuator.geometry]\nlx = 50.0\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("shared.actuator.geometry.lx", 2, 6),
+        ),
+        (
+            "scene",
+            format!("[shared]\nscene = 3\n[[specimen]]\nname = \"a\"\n{test}"),
+            ("shared.scene", 2, 9),
+        ),
+    ] {
+        let e = load(tag, &manifest, &files).expect_err(tag);
+        assert_eq!(
+            (e.field.as_str(), e.row(), e.column()),
+            (field, Some(row), Some(col)),
+            "{tag}: {e}"
+        );
+    }
+}
+
 /// A specimen's scene file is used instead of the shared one: the shared
 /// file's keys do not override it (docs/measurements.md).
 #[test]

@@ -348,7 +348,16 @@ impl Manifest {
                     let (p, shown) = src.path(&name);
                     shared_file = Some(scene_file(&p, &shown)?);
                 }
-                Some(_) => return Err(src.err(s, "shared.scene", "must be a file name")),
+                // at the key, not at the [shared] table
+                Some(_) => {
+                    let reason = "must be a file name";
+                    return Err(match locate(text, "shared.scene") {
+                        Some((row, col)) => {
+                            MeasureError::at(file, row, col, "shared.scene", reason)
+                        }
+                        None => src.err(s, "shared.scene", reason),
+                    });
+                }
             }
         }
         let mut shared = shared_file
