@@ -2,11 +2,13 @@
 //!
 //! Every error names the offending field by its path in the input (for
 //! example `actuator.geometry.h1` or `partition.lengths[2]`), the value
-//! where there is one, and the rule it breaks, on one line.
+//! where there is one (written by [`Num`]: `1e308`, not 309 digits), and
+//! the rule it breaks, on one line.
 
 use std::fmt;
 
 use crate::field::Field;
+use crate::num::Num;
 
 /// A rejected input: one field, its value where it has one, and the rule.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -35,23 +37,6 @@ pub enum InputError {
         value: String,
         rule: String,
     },
-}
-
-/// A value as a message shows it: as Rust writes it, except that a
-/// magnitude of 1e16 and more, or below 1e-9, is written with an exponent
-/// (`1e308`, not 309 digits).
-pub(crate) struct Num(pub f64);
-
-impl fmt::Display for Num {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let v = self.0;
-        let a = v.abs();
-        if v.is_finite() && a != 0.0 && !(1e-9..1e16).contains(&a) {
-            write!(f, "{v:e}")
-        } else {
-            write!(f, "{v}")
-        }
-    }
 }
 
 impl InputError {

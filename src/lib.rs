@@ -72,6 +72,7 @@ pub mod gripper;
 pub mod lanes;
 pub mod measure;
 pub mod model;
+pub mod num;
 pub mod partition;
 pub mod plan;
 mod progress;

@@ -9,6 +9,7 @@
 //! paper's assumption too: it is always flagged, and invalid in strict mode.
 
 use crate::error::Warning;
+use crate::num::Num;
 
 /// Curvatures (1/mm) smaller than this count as straight when checking for
 /// a reversal (a radius beyond 10 m).
@@ -103,9 +104,12 @@ impl std::fmt::Display for Invalid {
             &Invalid::NegativeNormal { normal } => {
                 write!(f, "the object would pull on the finger (F = {normal:.4} N)")
             }
+            // mu F at any mu the scene allows: `1e-300`, not `0.0000`
             &Invalid::FrictionCone { friction, limit } => write!(
                 f,
-                "the friction needed, {friction:.4} N, lies outside [0, mu F] = [0, {limit:.4}] N"
+                "the friction needed, {:.4} N, lies outside [0, mu F] = [0, {:.4}] N",
+                Num(friction),
+                Num(limit)
             ),
             &Invalid::SecondContact {
                 element,

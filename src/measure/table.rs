@@ -13,7 +13,7 @@ use super::input::{
     bad_sd, beyond, MeasureError, TestKind, MAX_FORCE_N, MAX_LENGTH_MM, MAX_PRESSURE_KPA,
     MAX_REPEATS, MAX_ROWS, MAX_TOTAL_ROWS, VACUUM_KPA,
 };
-use crate::error::Num;
+use crate::num::Num;
 use crate::studies::Axis;
 
 /// One marker at one pressure.
