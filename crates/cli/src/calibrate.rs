@@ -16,6 +16,7 @@ use fpc::calibrate::{
     CalibrateProgress, CalibrateStage, Calibration, ModelChoice,
 };
 use fpc::measure::Manifest;
+use fpc::num::Num;
 use fpc::SolveError;
 use serde::Serialize;
 
@@ -190,17 +191,21 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             w,
             "{:<40} {:>14.8} {:>14} {:>14} {:>14.8}{}",
             p.name,
-            p.value,
+            Num(p.value),
             sd(p.standard_error),
             sd(p.scaled_standard_error),
-            p.start,
+            Num(p.start),
             if p.at_bound { "  (at a bound)" } else { "" }
         )?;
     }
     writeln!(
         w,
         "chi2         {:.4} over {} residuals, {} degrees of freedom (per dof {:.4}; at the start {:.4})",
-        fit.chi_square, fit.points, fit.dof, fit.chi_square_per_dof, fit.start_chi_square
+        Num(fit.chi_square),
+        fit.points,
+        fit.dof,
+        Num(fit.chi_square_per_dof),
+        Num(fit.start_chi_square)
     )?;
     writeln!(w, "identify     {}", fit.identifiability.message)?;
     writeln!(
@@ -230,9 +235,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             w,
             "held out     each of {} pressures left out and predicted: rms {:.4} sd over {} residuals (chi2 {:.4}){}",
             cv.held_out.len(),
-            cv.rms_sd,
+            Num(cv.rms_sd),
             cv.points,
-            cv.chi_square,
+            Num(cv.chi_square),
             if failed > 0 {
                 format!("; {failed} refits failed")
             } else {
@@ -252,7 +257,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
             w,
             "models       each element model with the ribs and without, in plane stress and plane strain, ranked by held-out error:"
         )?;
-        let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.4}"));
+        let num = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{:.4}", Num(v)));
         for (i, c) in choice.candidates.iter().enumerate() {
             writeln!(
                 w,

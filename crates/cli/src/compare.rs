@@ -14,6 +14,7 @@ use std::io::Write as _;
 use std::path::PathBuf;
 
 use fpc::measure::{figures, table, Comparison, Manifest};
+use fpc::num::Num;
 use serde::Serialize;
 
 /// Flags of `fpc compare`.
@@ -81,7 +82,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
                 s.name,
                 t.kind.name(),
                 t.file,
-                t.chi_square,
+                Num(t.chi_square),
                 t.points,
                 noun(t.points, "residual"),
                 counted(t.failed, "without a prediction"),
@@ -92,14 +93,14 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     writeln!(
         w,
         "total        chi2 {:.4} over {} {} (per residual {:.4}){}{}",
-        c.chi_square,
+        Num(c.chi_square),
         c.points,
         noun(c.points, "residual"),
-        if c.points > 0 {
+        Num(if c.points > 0 {
             c.chi_square / c.points as f64
         } else {
             0.0
-        },
+        }),
         counted(c.failed, rows(c.failed, "without a prediction")),
         counted(
             c.outside_model,

@@ -16,6 +16,7 @@ use fpc::design::{
     DesignStage, Designed, Evaluation, ObjectRequirement, Requirements, RequirementsError,
     VARIABLES,
 };
+use fpc::num::Num;
 use fpc::scene::{Scene, SceneSolution};
 use fpc::studies::{Corner, Figure, Panel, PlotAxis, Series, SeriesKind};
 use serde::Serialize;
@@ -230,7 +231,9 @@ fn figure(req: &Requirements, e: &Evaluation, solved: &[Option<SceneSolution>]) 
     Figure {
         title: format!(
             "fpc design: eps0 = {:.3}, mounting angle = {:.1} deg, overlap = {:.1} mm",
-            e.design[0], e.design[1], e.design[2]
+            Num(e.design[0]),
+            Num(e.design[1]),
+            Num(e.design[2])
         ),
         size: [1200, 520],
         rows: vec![vec![shape, lift]],
@@ -352,9 +355,9 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         } else {
             "NO design meets every requirement; the least-violating one"
         },
-        d.best.design[0],
-        d.best.design[1],
-        d.best.design[2]
+        Num(d.best.design[0]),
+        Num(d.best.design[1]),
+        Num(d.best.design[2])
     )?;
     for n in &report.notes {
         writeln!(w, "note           {n}")?;

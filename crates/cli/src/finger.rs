@@ -3,6 +3,7 @@
 use std::io::Write;
 
 use fpc::field::{PemcKey, RefinementKey};
+use fpc::num::Num;
 use fpc::plan::{PartitionKind, RefinementRecord};
 use fpc::{
     Actuator, Field, InputError, Load, ModelId, Plan, PlannedFinger, Solution, SolveError,
@@ -277,7 +278,7 @@ fn summary(
     writeln!(
         out,
         "finger: eps0 = {}, model {model}, N = {}{}, ribs {}, P = {} kPa, tip force ({}, {}) N",
-        args.eps0,
+        Num(args.eps0),
         elements,
         if args.elements == Some(Elements::Auto) && args.tip_tol_mm.is_none() {
             " (auto)"
@@ -285,9 +286,9 @@ fn summary(
             ""
         },
         if args.no_ribs { "off" } else { "on" },
-        args.pressure_kpa,
-        args.fx,
-        args.fz
+        Num(args.pressure_kpa),
+        Num(args.fx),
+        Num(args.fz)
     )?;
     if let Some(r) = &solved.refinement {
         let levels: Vec<usize> = r.levels.iter().map(|l| l.elements).collect();
@@ -300,20 +301,21 @@ fn summary(
     writeln!(
         out,
         "tip            X = {:.4} mm, Z = {:.4} mm",
-        sol.tip[0], sol.tip[1]
+        Num(sol.tip[0]),
+        Num(sol.tip[1])
     )?;
     crate::solve::refinement_lines(out, solved)?;
     writeln!(
         out,
         "end angle      {:.5} rad ({:.2} deg)",
-        sol.end_angle,
-        sol.end_angle.to_degrees()
+        Num(sol.end_angle),
+        Num(sol.end_angle.to_degrees())
     )?;
     match sol.radius {
-        Some(r) => writeln!(out, "radius (fit)   {r:.3} mm")?,
+        Some(r) => writeln!(out, "radius (fit)   {:.3} mm", Num(r))?,
         None => writeln!(out, "radius (fit)   none: the finger is straight")?,
     }
-    writeln!(out, "energy         {:.6} N mm", sol.energy)?;
+    writeln!(out, "energy         {:.6} N mm", Num(sol.energy))?;
     crate::solve::stability_line(out, sol)?;
     crate::solve::solver_lines(out, sol, solved.refinement.as_ref())?;
     crate::solve::validity_line(out, sol)

@@ -128,7 +128,7 @@ fn setup(args: &Args) -> anyhow::Result<Setup> {
         _ if elements.is_some() => None,
         fpc::scene::PartitionPlan::Fixed(_) => Some("lengths of unequal elements".to_string()),
         fpc::scene::PartitionPlan::TipTolerance { tip_tol_mm, .. } => {
-            Some(format!("tip_tol_mm = {tip_tol_mm}"))
+            Some(format!("tip_tol_mm = {}", fpc::num::Num(*tip_tol_mm)))
         }
         fpc::scene::PartitionPlan::Auto => Some("elements = \"auto\"".to_string()),
     };

@@ -22,6 +22,7 @@ use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::Context as _;
+use fpc::num::Num;
 use fpc::scene::{warning_text, Scene, SceneKey, SceneSolution};
 use fpc::SolveError;
 use rayon::prelude::*;
@@ -109,7 +110,9 @@ fn parse_axis(spec: &str) -> Result<Axis, String> {
         }
         if count == 1 && from != to {
             return Err(format!(
-                "--vary {key}: one point cannot span {from} to {to}"
+                "--vary {key}: one point cannot span {} to {}",
+                Num(from),
+                Num(to)
             ));
         }
         // (a span past f64's range, 1e308 to -1e308, is weighted instead
@@ -352,10 +355,12 @@ fn write_csv(out: &mut dyn std::io::Write, axes: &[Axis], rows: &[Row]) -> anyho
         .map(String::from),
     );
     w.write_record(&header)?;
-    let num = |v: Option<f64>| v.map(|x| format!("{x:.10}")).unwrap_or_default();
+    // values exactly (`0.5`, `1e-300`); results to 10 decimals, or 10
+    // digits after an exponent's point where the decimals show none
+    let num = |v: Option<f64>| v.map(|x| format!("{:.10}", Num(x))).unwrap_or_default();
     let text = |v: Option<String>| v.unwrap_or_default();
     for r in rows {
-        let mut rec: Vec<String> = r.values.iter().map(|v| format!("{v}")).collect();
+        let mut rec: Vec<String> = r.values.iter().map(|&v| Num(v).to_string()).collect();
         rec.push(r.status.to_string());
         rec.push(num(r.tip_x_mm));
         rec.push(num(r.tip_z_mm));

@@ -25,7 +25,7 @@ pub fn html(out: &Output) -> String {
                 out.source,
                 out.opts.model.name(),
                 out.opts.elements,
-                out.opts.mu,
+                fpc::num::Num(out.opts.mu),
                 mode(out.coarse, ", coarse sweeps (preview)"),
                 mode(
                     out.opts.strict,

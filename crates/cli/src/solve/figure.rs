@@ -2,6 +2,7 @@
 //! the report model (one equal-aspect panel in mm, its legend entries and a
 //! caption), drawn by the one SVG writer.
 
+use fpc::num::Num;
 use fpc::report::{Figure, Panel, PlotAxis, RefLine, Series, SeriesKind};
 use fpc::scene::{warning_text, GraspOutcome, GraspSpec, SceneSolution};
 use fpc::{Gripper, Solution, Warning};
@@ -326,10 +327,11 @@ fn findings(warnings: &[Warning]) -> Vec<String> {
     lines
 }
 
-/// A number with `decimals` decimals; `n/a` when not finite.
+/// A number with `decimals` decimals, or an exponent at a magnitude they
+/// do not show ([`Num`]); `n/a` when not finite.
 pub(super) fn num(x: f64, decimals: usize) -> String {
     if x.is_finite() {
-        format!("{x:.decimals$}")
+        format!("{:.decimals$}", Num(x))
     } else {
         "n/a".into()
     }

@@ -1,6 +1,7 @@
 //! The text outputs of `fpc solve`: `solution.json`, `shape.csv` and the
 //! terminal summary.
 
+use fpc::num::Num;
 use fpc::plan::RefinementRecord;
 use fpc::scene::{degrees, SceneFile, SceneSolution, SolutionRecord, Uncertainty};
 use fpc::{Solution, Solved};
@@ -75,13 +76,13 @@ pub(super) fn uncertainty_lines(
         writeln!(
             out,
             "tip +- 1 sd    X +- {:.4} mm, Z +- {:.4} mm, end angle +- {:.2} deg",
-            t[0],
-            t[1],
-            a.to_degrees()
+            Num(t[0]),
+            Num(t[1]),
+            Num(a.to_degrees())
         )?;
     }
     if let Some(r) = u.radius_mm {
-        writeln!(out, "radius +- 1 sd +- {r:.3} mm (circle fit)")?;
+        writeln!(out, "radius +- 1 sd +- {:.3} mm (circle fit)", Num(r))?;
     }
     if let Some(why) = &u.radius_unavailable {
         writeln!(out, "radius bar     not available: {why}")?;
@@ -90,18 +91,22 @@ pub(super) fn uncertainty_lines(
         writeln!(out, "error bars     not available: {why}")?;
     }
     if let Some(d) = u.d_max_mm {
-        writeln!(out, "d_max +- 1 sd  +- {d:.3} mm")?;
+        writeln!(out, "d_max +- 1 sd  +- {:.3} mm", Num(d))?;
     }
     if let Some(g) = &u.grasp {
         writeln!(
             out,
             "forces +- 1 sd F +- {:.4} N, f +- {:.4} N, f_v +- {:.4} N",
-            g.normal_force_n, g.friction_n, g.lift_n
+            Num(g.normal_force_n),
+            Num(g.friction_n),
+            Num(g.lift_n)
         )?;
         writeln!(
             out,
             "geom. +- 1 sd  d +- {:.3} mm, tip gap +- {:.3} mm, h +- {:.3} mm",
-            g.size_mm, g.tip_gap_mm, g.height_mm
+            Num(g.size_mm),
+            Num(g.tip_gap_mm),
+            Num(g.height_mm)
         )?;
     }
     Ok(())
@@ -122,21 +127,22 @@ pub(super) fn summary(
             let l = &file.load;
             writeln!(
                 out,
-                "scene          {stem}: finger, eps0 = {eps0}, N = {elements}, P = {} kPa, tip force ({}, {}) N",
-                l.pressure_kpa.unwrap_or(0.0),
-                l.fx.unwrap_or(0.0),
-                l.fz.unwrap_or(0.0)
+                "scene          {stem}: finger, eps0 = {}, N = {elements}, P = {} kPa, tip force ({}, {}) N",
+                Num(eps0),
+                Num(l.pressure_kpa.unwrap_or(0.0)),
+                Num(l.fx.unwrap_or(0.0)),
+                Num(l.fz.unwrap_or(0.0))
             )?;
             writeln!(
                 out,
                 "tip            X = {:.4} mm, Z = {:.4} mm, end angle {:.2} deg",
-                sol.tip[0],
-                sol.tip[1],
-                sol.end_angle.to_degrees()
+                Num(sol.tip[0]),
+                Num(sol.tip[1]),
+                Num(sol.end_angle.to_degrees())
             )?;
             refinement_lines(out, solved)?;
             match sol.radius {
-                Some(r) => writeln!(out, "radius (fit)   {r:.3} mm")?,
+                Some(r) => writeln!(out, "radius (fit)   {:.3} mm", Num(r))?,
                 None if sol.points.is_empty() => {}
                 None => writeln!(out, "radius (fit)   none: the finger is straight")?,
             }
@@ -146,18 +152,19 @@ pub(super) fn summary(
         SceneSolution::Gripper { gripper, grasp } => {
             writeln!(
                 out,
-                "scene          {stem}: gripper, eps0 = {eps0}, N = {}, a = {} deg, mu = {}",
+                "scene          {stem}: gripper, eps0 = {}, N = {}, a = {} deg, mu = {}",
+                Num(eps0),
                 solved.elements(),
-                degrees(gripper.mounting_angle()),
-                gripper.mu()
+                Num(degrees(gripper.mounting_angle())),
+                Num(gripper.mu())
             )?;
             writeln!(
                 out,
                 "gripper        l0 = {:.3} mm, palm l = {:.3} mm, overlap g = {:.3} mm, d_max = {:.3} mm",
-                gripper.l0(),
-                gripper.palm(),
-                gripper.overlap(),
-                gripper.d_max()
+                Num(gripper.l0()),
+                Num(gripper.palm()),
+                Num(gripper.overlap()),
+                Num(gripper.d_max())
             )?;
             if let Some(o) = grasp {
                 let g = &o.grasp;
@@ -165,24 +172,30 @@ pub(super) fn summary(
                     out,
                     "grasp          {} at {} kPa, b = {:.2} deg",
                     o.spec.name(),
-                    g.pressure_kpa,
-                    g.beta.to_degrees()
+                    Num(g.pressure_kpa),
+                    Num(g.beta.to_degrees())
                 )?;
                 writeln!(
                     out,
                     "forces         F = {:.4} N, f = {:.4} N, f_v = {:.4} N (per finger)",
-                    g.normal, g.friction, g.lift
+                    Num(g.normal),
+                    Num(g.friction),
+                    Num(g.lift)
                 )?;
                 writeln!(
                     out,
                     "geometry       d = {:.3} mm, tip gap = {:.3} mm, h = {:.3} mm",
-                    g.size, g.tip_gap, g.height
+                    Num(g.size),
+                    Num(g.tip_gap),
+                    Num(g.height)
                 )?;
                 if let Some(s) = &o.sphere {
                     writeln!(
                         out,
                         "sphere         r = {:.3} mm, centre ({:.3}, {:.3}) mm",
-                        s.radius, s.center[0], s.center[1]
+                        Num(s.radius),
+                        Num(s.center[0]),
+                        Num(s.center[1])
                     )?;
                 }
                 match &o.invalid() {
@@ -210,8 +223,8 @@ pub(crate) fn refinement_lines(
         writeln!(
             out,
             "tip (extrap.)  X = {:.4} mm, Z = {:.4} mm ({})",
-            solved.tip()[0],
-            solved.tip()[1],
+            Num(solved.tip()[0]),
+            Num(solved.tip()[1]),
             how.describe()
         )?;
     }
