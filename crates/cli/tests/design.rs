@@ -11,27 +11,37 @@ fn tmp(name: &str) -> TempDir {
     common::tmp("design", name)
 }
 
-#[test]
-fn a_design_run_writes_its_claim_and_reproducible_scenes() {
-    let scratch = tmp("run");
+/// `fpc design` on the requirements `text` (written into `scratch`) with
+/// one start and `extra` flags, into `<scratch>/out`; it must succeed.
+fn design(scratch: &TempDir, text: &str, extra: &[&str]) -> std::process::Output {
     let dir = scratch.path();
     let req = dir.join("req.toml");
-    std::fs::write(
-        &req,
-        "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n[vary]\nmounting_angle_deg = [60.0, 80.0]\n",
-    )
-    .unwrap();
+    std::fs::write(&req, text).unwrap();
     let out = dir.join("out");
-    let o = fpc(&[
+    let mut args = vec![
         "design",
         req.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
-        "--json",
         "--starts",
         "0",
-    ]);
+    ];
+    args.extend_from_slice(extra);
+    let o = fpc(&args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    o
+}
+
+#[test]
+fn a_design_run_writes_its_claim_and_reproducible_scenes() {
+    let scratch = tmp("run");
+    let o = design(
+        &scratch,
+        "[[object]]\nkind = \"cuboid\"\nsize_mm = [80.0, 100.0]\nlift_n = 0.3\n[vary]\nmounting_angle_deg = [60.0, 80.0]\n",
+        &["--json"],
+    );
+    let dir = scratch.path();
+    let out = dir.join("out");
     // a run that ends within the first 2 s writes no progress: a log of
     // a successful quick run stays empty
     assert!(
@@ -93,23 +103,11 @@ fn a_design_run_writes_its_claim_and_reproducible_scenes() {
 #[test]
 fn an_infeasible_design_says_why_its_scene_claims_no_grasp() {
     let scratch = tmp("infeasible");
-    let dir = scratch.path();
-    let req = dir.join("req.toml");
-    std::fs::write(
-        &req,
+    let o = design(
+        &scratch,
         "[[object]]\nkind = \"cuboid\"\nsize_mm = [150.0, 150.0]\nlift_n = 5.0\n[vary]\neps0 = [0.1, 0.5]\nmounting_angle_deg = [60.0, 90.0]\n",
-    )
-    .unwrap();
-    let out = dir.join("out");
-    let o = fpc(&[
-        "design",
-        req.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-        "--starts",
-        "0",
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        &[],
+    );
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("NO design meets every requirement"), "{text}");
     let scene = text.lines().find(|l| l.starts_with("scene ")).unwrap();
