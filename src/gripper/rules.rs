@@ -90,21 +90,25 @@ impl std::fmt::Display for Invalid {
                 // negative sizes in the words; the numbers keep their sign
                 // in the data)
                 let size = if size < 0.0 {
-                    format!("the grasp points overlap by {:.3} mm", -size)
+                    format!("the grasp points overlap by {:.3} mm", Num(-size))
                 } else {
-                    format!("grasp size {size:.3} mm")
+                    format!("grasp size {:.3} mm", Num(size))
                 };
                 let gap = if tip_gap < 0.0 {
-                    format!("the tips overlap by {:.3} mm", -tip_gap)
+                    format!("the tips overlap by {:.3} mm", Num(-tip_gap))
                 } else {
-                    format!("tip gap {tip_gap:.3} mm")
+                    format!("tip gap {:.3} mm", Num(tip_gap))
                 };
                 write!(f, "the fingers are not open ({size}, {gap})")
             }
             &Invalid::NegativeNormal { normal } => {
-                write!(f, "the object would pull on the finger (F = {normal:.4} N)")
+                write!(
+                    f,
+                    "the object would pull on the finger (F = {:.4} N)",
+                    Num(normal)
+                )
             }
-            // mu F at any mu the scene allows: `1e-300`, not `0.0000`
+            // a value near zero keeps a digit: `1e-300`, not `0.0000`
             &Invalid::FrictionCone { friction, limit } => write!(
                 f,
                 "the friction needed, {:.4} N, lies outside [0, mu F] = [0, {:.4}] N",
@@ -126,7 +130,7 @@ impl std::fmt::Display for Invalid {
             &Invalid::TipEntry { angle } => write!(
                 f,
                 "the finger reaches its tip from inside the object (its tangent there points {:.4} degrees into it): the object rests on the finger's face, not on its tip",
-                angle.to_degrees()
+                Num(angle.to_degrees())
             ),
             Invalid::ContactUnknown => write!(
                 f,
@@ -339,6 +343,13 @@ mod tests {
             text,
             "the fingers are not open (grasp size 0.000 mm, tip gap 3.000 mm)"
         );
+        // a value near zero keeps its digit (not `0.000`, `-0.0000`)
+        let text = open_rule(-2e-7, 3.0).unwrap().to_string();
+        assert!(text.contains("overlap by 2e-7 mm"), "{text}");
+        let text = Invalid::NegativeNormal { normal: -3e-9 }.to_string();
+        assert!(text.contains("(F = -3e-9 N)"), "{text}");
+        let text = Invalid::TipEntry { angle: 1e-8 }.to_string();
+        assert!(text.contains("points 5.7296e-7 degrees"), "{text}");
     }
 
     #[test]
