@@ -18,7 +18,9 @@ use crate::partition::Partition;
 use crate::plan::{FingerBuilder, Plan, PlannedFinger, Solved};
 use crate::solve_error::SolveError;
 
-use super::fields::{inconsistent, name_written, scene_solve, GraspKey, PartitionKey, SceneKey};
+use super::fields::{
+    inconsistent, name_written, say_default, scene_solve, GraspKey, PartitionKey, SceneKey,
+};
 use super::resolve::Scene;
 use super::resolve::{GraspSpec, GripperScene, PartitionPlan};
 
@@ -39,8 +41,7 @@ impl Scene {
     /// Solves the finger, or builds the gripper and solves its grasp.
     /// Input errors name the scene's keys.
     pub fn solve(&self) -> Result<SceneSolution, SolveError> {
-        // every error in here comes from the library, in its terms
-        self.solve_inner(None).map_err(scene_solve)
+        self.solve_warm(None)
     }
 
     /// [`Scene::solve`] started from the solution of a nearby scene (the
@@ -54,7 +55,9 @@ impl Scene {
     /// (only the grasp differs) on `warm`'s gripper. Anything else solves
     /// as [`Scene::solve`] does.
     pub fn solve_warm(&self, warm: Option<&SceneSolution>) -> Result<SceneSolution, SolveError> {
-        self.solve_inner(warm).map_err(scene_solve)
+        // every error in here comes from the library, in its terms
+        self.solve_inner(warm)
+            .map_err(|e| scene_solve(say_default(e, |k| self.written(k))))
     }
 
     /// The scene's finger on a given partition (ribs modelled).
@@ -772,6 +775,33 @@ mod tests {
             e.starts_with("gripper.palm_mm = 700: conflicts with the default"),
             "{e}"
         );
+    }
+
+    /// A default that fails because of a key the scene wrote (a shorter
+    /// finger, and the default overlap exceeds its reach) is said to be a
+    /// default; the same key written is named plainly.
+    #[test]
+    fn a_failing_default_is_said_to_be_one() {
+        let short = "[actuator.geometry]\nlx = 60\n[actuator.channel]\ncx = 55\n[gripper]\n";
+        let err = |text: &str| match Scene::from_toml(text).unwrap().solve() {
+            Err(e) => e.to_string(),
+            Ok(_) => panic!("{text}: solved"),
+        };
+        let e = err(short);
+        assert!(
+            e.starts_with("gripper.overlap_mm = 20: must not exceed"),
+            "{e}"
+        );
+        assert!(
+            e.ends_with("; gripper.overlap_mm holds its default (the scene does not set it)"),
+            "{e}"
+        );
+        let e = err(&format!("{short}overlap_mm = 20\n"));
+        assert!(
+            e.starts_with("gripper.overlap_mm = 20: must not exceed"),
+            "{e}"
+        );
+        assert!(!e.contains("default"), "{e}");
     }
 
     #[test]

@@ -204,6 +204,33 @@ pub(crate) fn name_written(
     }
 }
 
+/// An input error of a solve that names a key the scene does not write:
+/// the key holds its default, and something the scene does write made
+/// that default fail (a shorter finger, and the default overlap exceeds
+/// its reach). The rule says so, so the user is not sent to look for a
+/// key they never wrote. Any other error is returned as it is.
+pub(crate) fn say_default(error: SolveError, written: impl Fn(SceneKey) -> bool) -> SolveError {
+    let SolveError::Input(e) = error else {
+        return error;
+    };
+    let Some(key) = scene_key(e.field()).filter(|&k| !written(k)) else {
+        return SolveError::Input(e);
+    };
+    let note = format!("; {key} holds its default (the scene does not set it)");
+    SolveError::Input(match e {
+        InputError::OutOfRange { field, value, rule } => InputError::OutOfRange {
+            field,
+            value,
+            rule: rule + &note,
+        },
+        InputError::Inconsistent { field, rule } => InputError::Inconsistent {
+            field,
+            rule: rule + &note,
+        },
+        e => e,
+    })
+}
+
 /// A library solve error in the scene's terms: input errors as in
 /// [`scene_input`], and the target of a target not reached. Front ends
 /// whose own names follow the scene keys (the CLI's flags) start from it.
