@@ -12,6 +12,7 @@ use crate::field::Field;
 use crate::finger::{
     Load, LoadPathSpec, PolyCurve, Solution, SolveOptions, Solver, TargetProblem, Traced,
 };
+use crate::num::Num;
 use crate::solve_error::SolveError;
 
 use super::contact;
@@ -377,11 +378,14 @@ impl Gripper {
         let detail = match (lost, path.termination) {
             (None, PathTermination::ReachedTarget) => return Ok(path.last.0),
             (Some((load, what)), _) => format!(
-                "the finger under the grasp's fixed tip load of {size:.4} N {what} at {load:.4} N, before any normal force"
+                "the finger under the grasp's fixed tip load of {:.4} N {what} at {:.4} N, before any normal force",
+                Num(size),
+                Num(load)
             ),
             (None, t) => format!(
-                "the finger under the grasp's fixed tip load of {size:.4} N could not be followed past {:.4} N ({t:?})",
-                path.last.1
+                "the finger under the grasp's fixed tip load of {:.4} N could not be followed past {:.4} N ({t:?})",
+                Num(size),
+                Num(path.last.1)
             ),
         };
         Err(SolveError::NotOnPath {
@@ -445,8 +449,8 @@ impl Gripper {
                     value: target.1,
                     detail: format!(
                         "closing the gripper on the object from rest, {what} at grasp size {:.4} mm with a tip load of {:.4} N{after}",
-                        self.size_of(end.tip),
-                        force.fx.hypot(force.fz)
+                        Num(self.size_of(end.tip)),
+                        Num(force.fx.hypot(force.fz))
                     ),
                 })
             }
@@ -458,8 +462,8 @@ impl Gripper {
                     reached,
                     detail: format!(
                         "at grasp size {:.4} mm the tip load had grown to {:.4} N",
-                        self.size_of(last.tip),
-                        force.fx.hypot(force.fz)
+                        Num(self.size_of(last.tip)),
+                        Num(force.fx.hypot(force.fz))
                     ),
                 })
             }

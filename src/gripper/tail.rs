@@ -11,6 +11,7 @@ use serde::Serialize;
 
 use crate::coefficients::Coefficients;
 use crate::finger::{LoadPathSpec, SolveOptions, Solver, Traced};
+use crate::num::Num;
 use crate::solve_error::SolveError;
 use fpc_newton::PathTermination;
 
@@ -79,7 +80,9 @@ impl std::fmt::Display for SweepEnd {
         match self {
             SweepEnd::ForceBound { force_n, size_mm } => write!(
                 f,
-                "the normal force grows without bound: beyond F = {force_n:.4} N (limit {MAX_GRASP_FORCE_N} N) the grasp size is {size_mm:.4} mm"
+                "the normal force grows without bound: beyond F = {:.4} N (limit {MAX_GRASP_FORCE_N} N) the grasp size is {:.4} mm",
+                Num(*force_n),
+                Num(*size_mm)
             ),
             SweepEnd::Validity {
                 force_n,
@@ -87,17 +90,22 @@ impl std::fmt::Display for SweepEnd {
                 finding,
             } => write!(
                 f,
-                "the finger leaves the model at F = {force_n:.4} N, grasp size {size_mm:.4} mm: {finding}"
+                "the finger leaves the model at F = {:.4} N, grasp size {:.4} mm: {finding}",
+                Num(*force_n),
+                Num(*size_mm)
             ),
             SweepEnd::Fold {
                 force_n, size_mm, ..
             } => write!(
                 f,
-                "the finger snaps through at F = {force_n:.4} N (grasp size {size_mm:.4} mm)"
+                "the finger snaps through at F = {:.4} N (grasp size {:.4} mm)",
+                Num(*force_n),
+                Num(*size_mm)
             ),
             SweepEnd::Path { size_mm, detail } => write!(
                 f,
-                "grasp size {size_mm:.4} mm is not reached on the path from rest: {detail}"
+                "grasp size {:.4} mm is not reached on the path from rest: {detail}",
+                Num(*size_mm)
             ),
             SweepEnd::Numerical {
                 force_n,
@@ -105,7 +113,9 @@ impl std::fmt::Display for SweepEnd {
                 reason,
             } => write!(
                 f,
-                "the load path could not be continued past F = {force_n:.4} N, grasp size {size_mm:.4} mm ({reason})"
+                "the load path could not be continued past F = {:.4} N, grasp size {:.4} mm ({reason})",
+                Num(*force_n),
+                Num(*size_mm)
             ),
         }
     }
@@ -196,7 +206,8 @@ impl Gripper {
                     size_mm: at.1,
                     detail: format!(
                         "the grasp size turns back at {:.4} mm (F = {:.4} N)",
-                        at.1, at.0
+                        Num(at.1),
+                        Num(at.0)
                     ),
                 });
                 return false;
@@ -205,8 +216,9 @@ impl Gripper {
                 end = Some(SweepEnd::Path {
                     size_mm: size,
                     detail: format!(
-                        "the finger held by the object loses its stability at {size:.4} mm (F = {:.4} N): past it the finger snaps off the path",
-                        p.lambda
+                        "the finger held by the object loses its stability at {:.4} mm (F = {:.4} N): past it the finger snaps off the path",
+                        Num(size),
+                        Num(p.lambda)
                     ),
                 });
                 return false;
@@ -344,5 +356,33 @@ mod kind_tests {
         ] {
             assert_eq!(serde_json::to_value(&e).unwrap()["kind"], e.kind());
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sweep end's force near zero keeps a digit (`2e-6`, not `0.0000`);
+    /// ordinary values read as fixed decimals.
+    #[test]
+    fn a_sweep_end_near_zero_keeps_its_digit() {
+        let text = SweepEnd::Numerical {
+            force_n: 2e-6,
+            size_mm: 100.0,
+            reason: "stalled".into(),
+        }
+        .to_string();
+        assert_eq!(
+            text,
+            "the load path could not be continued past F = 2e-6 N, grasp size 100.0000 mm (stalled)"
+        );
+        let text = SweepEnd::ForceBound {
+            force_n: 34.91234567,
+            size_mm: 1e-7,
+        }
+        .to_string();
+        assert!(text.contains("beyond F = 34.9123 N"), "{text}");
+        assert!(text.ends_with("the grasp size is 1e-7 mm"), "{text}");
     }
 }
