@@ -761,7 +761,7 @@ mod tests {
         };
         let e = err("[gripper]\noverlap_mm = -300\n[gripper.grasp]\nkind = \"cuboid\"\n");
         assert!(
-            e.starts_with("gripper.overlap_mm = -300: conflicts with the default of a key the scene does not set (gripper.grasp.d_mm = 100: the cuboid does not reach the fingers: at the grasp's pressure, before any normal force, they stand "),
+            e.starts_with("gripper.overlap_mm = -300: conflicts with the default of a key not given (gripper.grasp.d_mm = 100: the cuboid does not reach the fingers: at the grasp's pressure, before any normal force, they stand "),
             "{e}"
         );
         assert!(!e.contains("friction_n"), "{e}");
@@ -793,7 +793,7 @@ mod tests {
             "{e}"
         );
         assert!(
-            e.ends_with("; gripper.overlap_mm holds its default (the scene does not set it)"),
+            e.ends_with("; gripper.overlap_mm holds its default (it is not given)"),
             "{e}"
         );
         let e = err(&format!("{short}overlap_mm = 20\n"));

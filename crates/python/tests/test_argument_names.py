@@ -156,3 +156,20 @@ def test_rib_lists_are_bounded_by_their_length_before_conversion():
     ):
         with pytest.raises(fpc.InputError, match="lists 300000 ribs"):
             fpc.Finger(**kw)
+
+
+def test_a_rule_between_two_keys_names_the_one_given():
+    # lx given, cx left at its default (105 mm): the error is on lx, and
+    # quotes the default it conflicts with
+    with pytest.raises(fpc.InputError) as e:
+        fpc.Finger(lx=50)
+    assert e.value.field == "actuator.geometry.lx"
+    assert str(e.value).startswith(
+        "actuator.geometry.lx = 50: conflicts with the default of a key not given "
+        "(actuator.channel.cx = 105: "
+    ), str(e.value)
+    # both given: the rule's own key, as before
+    with pytest.raises(fpc.InputError) as e:
+        fpc.Finger(lx=50, cx=60)
+    assert e.value.field == "actuator.channel.cx"
+    assert "default" not in str(e.value)

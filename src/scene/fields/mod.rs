@@ -198,7 +198,7 @@ pub(crate) fn name_written(
         Some((key, value)) => InputError::OutOfRange {
             field: key.to_string().into(),
             value,
-            rule: format!("conflicts with the default of a key the scene does not set ({error})"),
+            rule: format!("conflicts with the default of a key not given ({error})"),
         },
         None => error,
     }
@@ -216,7 +216,7 @@ pub(crate) fn say_default(error: SolveError, written: impl Fn(SceneKey) -> bool)
     let Some(key) = scene_key(e.field()).filter(|&k| !written(k)) else {
         return SolveError::Input(e);
     };
-    let note = format!("; {key} holds its default (the scene does not set it)");
+    let note = format!("; {key} holds its default (it is not given)");
     SolveError::Input(match e {
         InputError::OutOfRange { field, value, rule } => InputError::OutOfRange {
             field,

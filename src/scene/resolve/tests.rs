@@ -315,7 +315,7 @@ fn library_errors_give_the_value_in_the_keys_unit() {
 /// rule's own key, as the library names it.
 #[test]
 fn a_rule_between_keys_names_the_key_written() {
-    let default = "conflicts with the default of a key the scene does not set";
+    let default = "conflicts with the default of a key not given";
     let cases: &[(&str, &str, &str)] = &[
         (
             "[actuator.geometry]\nlx = 50",
