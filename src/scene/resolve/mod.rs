@@ -68,8 +68,9 @@ pub struct Scene {
     /// The `[calibration]` covariance, checked (`Scene::covariance`).
     pub(super) covariance: Option<Covariance>,
     file: SceneFile,
-    /// The document as written (absent keys are not in it).
-    given: toml::Table,
+    /// The document as written (absent keys are `None`), read only to
+    /// word an error.
+    given: SceneFile,
 }
 
 impl Scene {
@@ -94,7 +95,7 @@ impl Scene {
 
     /// Whether the scene as written gives `key` (not its default).
     pub(crate) fn written(&self, key: SceneKey) -> bool {
-        written_in(&self.given, key)
+        written(&self.given, key)
     }
 }
 
@@ -125,15 +126,19 @@ impl SceneFile {
     }
 }
 
+/// Whether the document `f` gives `key`. Absent keys are not serialized,
+/// so the document is serialized here, on an error's way only, not on
+/// every resolve (a sweep resolves a scene per point). A document that does
+/// not serialize, which parsing never gives, counts as giving nothing.
+fn written(f: &SceneFile, key: SceneKey) -> bool {
+    written_in(&toml::Table::try_from(f).unwrap_or_default(), key)
+}
+
 fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
     let mut file = SceneFile::default();
-    // the keys written: absent keys are not serialized (a document that
-    // does not serialize, which parsing never gives, names the library's
-    // keys as they are)
-    let given = toml::Table::try_from(f).unwrap_or_default();
     let model = resolve_model(&f.model)?;
     file.model.name = Some(model.name().to_string());
-    let actuator = resolve_actuator(&f.actuator, &mut file.actuator, |k| written_in(&given, k))?;
+    let actuator = resolve_actuator(&f.actuator, &mut file.actuator, |k| written(f, k))?;
     let lx = actuator.geometry().lx;
     let gripper_scene = f.gripper.is_some();
 
@@ -319,7 +324,7 @@ fn resolve(f: &SceneFile) -> Result<Scene, InputError> {
         gripper,
         covariance,
         file,
-        given,
+        given: f.clone(),
     })
 }
 
