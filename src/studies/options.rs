@@ -115,11 +115,10 @@ impl StudyOptions {
         Ok(())
     }
 
-    /// [`StudyOptions::validate`], and the work of study 5 (`sweep_points
-    /// x angle_samples x elements`) against [`MAX_SPHERE_WORK`], named
-    /// `study.sweep_points`.
+    /// The work of study 5 (`sweep_points x angle_samples x elements`)
+    /// against [`MAX_SPHERE_WORK`], named `study.sweep_points`; each
+    /// count's own bounds are [`StudyOptions::validate`]'s.
     pub fn validate_sphere(&self) -> Result<(), InputError> {
-        self.validate()?;
         let work = self
             .sweep_points
             .saturating_mul(self.angle_samples)

@@ -108,8 +108,9 @@ pub fn study5_sphere_region_with(
     opts: &StudyOptions,
     covariance: Option<&Covariance>,
 ) -> Result<SphereRegion, SolveError> {
-    opts.validate_sphere()?;
+    // each count checked, then their product, before the sweeps
     let g = section5_gripper(actuator, opts)?;
+    opts.validate_sphere()?;
     let [lo, hi] = grasping_angle_range(g.mu());
     let n = opts.sweep_points;
     // the angles' sweeps are independent: on every core, gathered in order
