@@ -150,27 +150,14 @@ pub fn actuator_section(
             if v.is_none() {
                 continue;
             }
-            if GEOMETRY_KEYS.contains(&k.as_str()) {
-                put(
-                    "geometry",
-                    &k,
-                    value_at(&v, &format!("actuator.geometry.{k}"))?,
-                    format!("{k}="),
-                )?;
-            } else if CHANNEL_KEYS.contains(&k.as_str()) {
-                put(
-                    "channel",
-                    &k,
-                    value_at(&v, &format!("actuator.channel.{k}"))?,
-                    format!("{k}="),
-                )?;
-            } else if LAMINATE_KEYS.contains(&k.as_str()) {
-                put(
-                    "laminate",
-                    &k,
-                    value_at(&v, &format!("actuator.laminate.{k}"))?,
-                    format!("{k}="),
-                )?;
+            let flat: [(&[&str], &str); 3] = [
+                (&GEOMETRY_KEYS, "geometry"),
+                (&CHANNEL_KEYS, "channel"),
+                (&LAMINATE_KEYS, "laminate"),
+            ];
+            if let Some(&(_, section)) = flat.iter().find(|f| f.0.contains(&k.as_str())) {
+                let path = format!("actuator.{section}.{k}");
+                put(section, &k, value_at(&v, &path)?, format!("{k}="))?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {
                 let path = format!("actuator.{section}");
                 check_rib_count(section, &v)?;
