@@ -5,6 +5,7 @@
 use crate::coefficients::Coefficients;
 use crate::error::InputError;
 use crate::field::Field;
+use crate::num::Num;
 
 /// A failed solve's last residual in a message: its value, or words
 /// where it is not a finite number (no message shows NaN or inf).
@@ -45,7 +46,7 @@ pub enum SolveError {
     /// (closing a gripper on an object, or pushing a tip): the equilibrium
     /// there belongs to another branch, which that path does not reach;
     /// `detail` says where the path turns back.
-    #[error("{target} = {value}: not reached on the path from rest: {detail}")]
+    #[error("{target} = {}: not reached on the path from rest: {detail}", Num(*.value))]
     NotOnPath {
         /// The target's field path.
         target: Field,
@@ -57,7 +58,8 @@ pub enum SolveError {
     /// A target solve (a grasp size, a force, a displacement) did not
     /// reach its target: the path from the reference state stopped short.
     #[error(
-        "{target} = {value}: not reached; the path from the unloaded finger stopped at {percent:.0} % of the way ({detail})",
+        "{target} = {}: not reached; the path from the unloaded finger stopped at {percent:.0} % of the way ({detail})",
+        Num(*value),
         percent = 100.0 * reached
     )]
     TargetNotReached {

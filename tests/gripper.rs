@@ -813,3 +813,17 @@ fn the_followed_envelope_holds_the_edge_of_the_path_from_rest() {
         );
     }
 }
+
+#[test]
+fn extreme_values_in_grasp_errors_are_compact() {
+    // a value far out of range is named as written, not in hundreds of digits
+    let g = section5();
+    let huge = g.sphere_grasp(0.0, 1e300, 0.5, 0.35, None).unwrap_err();
+    let text = huge.to_string();
+    assert_eq!(field_of(huge), "sphere.radius");
+    assert!(text.contains("Xg = 9.3") && text.len() < 200, "{text}");
+    let friction = g.force_control(0.0, 100.0, 1e300, None).unwrap_err();
+    let text = friction.to_string();
+    assert!(text.starts_with("grasp.friction = 1e300:"), "{text}");
+    assert!(text.len() < 400, "{text}");
+}

@@ -14,6 +14,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::error::{finite, positive, require, InputError};
 use crate::field::Field;
+use crate::num::Num;
 
 use crate::finger::{Solution, Solver};
 use crate::solve_error::SolveError;
@@ -594,8 +595,9 @@ impl Gripper {
         let reach = 0.5 * self.d_max();
         require(xg <= reach * (1.0 + 1e-12), Field::SphereRadius, r, || {
             format!(
-                "touched at {:.3} degrees puts the tip at Xg = {xg:.3} mm, beyond the flat fingers' reach d_max / 2 = {reach:.3} mm",
-                beta.to_degrees()
+                "touched at {:.3} degrees puts the tip at Xg = {:.3} mm, beyond the flat fingers' reach d_max / 2 = {reach:.3} mm",
+                beta.to_degrees(),
+                Num(xg)
             )
         })
     }
