@@ -372,6 +372,71 @@ impl Warning {
     }
 }
 
+/// Findings of one kind beyond this many are summed up by their worst
+/// ([`Warning::by_kind`]): a finger past its limits has one finding per
+/// element and kind.
+pub const WARNINGS_PER_KIND: usize = 2;
+
+/// The findings of one kind among a solution's warnings
+/// ([`Warning::by_kind`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct KindSummary<'a> {
+    /// The kind ([`Warning::kind`]).
+    pub kind: &'static str,
+    /// How many findings of the kind there are.
+    pub count: usize,
+    /// Every one of them when they are at most [`WARNINGS_PER_KIND`], else
+    /// only the worst ([`Warning::excess`]).
+    pub kept: Vec<&'a Warning>,
+}
+
+impl Warning {
+    /// How far the value lies past its limit (0 without either): what
+    /// makes one finding of a kind worse than another.
+    pub fn excess(&self) -> f64 {
+        match (self.value(), self.limit()) {
+            (Some(v), Some(l)) => (v - l).abs(),
+            _ => 0.0,
+        }
+    }
+
+    /// `all` by kind, in the order the kinds first appear: how many of
+    /// each, and every one where they are few, else the worst (the first
+    /// of equals). What the CLI writes on stderr and the server answers
+    /// for each point of a load path.
+    pub fn by_kind<'a>(all: impl IntoIterator<Item = &'a Warning>) -> Vec<KindSummary<'a>> {
+        let mut out: Vec<(KindSummary<'a>, Vec<&'a Warning>)> = Vec::new();
+        for w in all {
+            match out.iter_mut().find(|(s, _)| s.kind == w.kind()) {
+                Some((_, of_kind)) => of_kind.push(w),
+                None => out.push((
+                    KindSummary {
+                        kind: w.kind(),
+                        count: 0,
+                        kept: Vec::new(),
+                    },
+                    vec![w],
+                )),
+            }
+        }
+        out.into_iter()
+            .map(|(mut s, of_kind)| {
+                s.count = of_kind.len();
+                s.kept = if of_kind.len() <= WARNINGS_PER_KIND {
+                    of_kind
+                } else {
+                    of_kind
+                        .into_iter()
+                        .reduce(|a, b| if b.excess() > a.excess() { b } else { a })
+                        .into_iter()
+                        .collect()
+                };
+                s
+            })
+            .collect()
+    }
+}
+
 impl fmt::Display for Warning {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

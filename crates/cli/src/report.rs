@@ -59,13 +59,14 @@ pub fn warning(msg: &str) {
 }
 
 /// Findings of one kind beyond this many are summed up in one line.
-pub const WARNINGS_PER_KIND: usize = 2;
+pub use fpc::WARNINGS_PER_KIND;
 
 /// The warnings, `fpc: warning: ` each, summarised: of a kind with more
 /// than [`WARNINGS_PER_KIND`] findings (one per element, say) only the
 /// worst (furthest past its limit) is written, with how many more there
-/// are; `where_all` says where every one is (the JSON output). `text`
-/// words each warning (the scene's keys, or the library's names).
+/// are ([`fpc::Warning::by_kind`]); `where_all` says where every one is
+/// (the JSON output). `text` words each warning (the scene's keys, or the
+/// library's names).
 pub fn warnings<'a>(
     all: impl IntoIterator<Item = &'a fpc::Warning>,
     text: impl Fn(&fpc::Warning) -> String,
@@ -81,35 +82,20 @@ fn warning_lines<'a>(
     text: impl Fn(&fpc::Warning) -> String,
     where_all: &str,
 ) -> Vec<String> {
-    let all: Vec<&fpc::Warning> = all.into_iter().collect();
-    let mut kinds: Vec<&str> = Vec::new();
-    for w in &all {
-        if !kinds.contains(&w.kind()) {
-            kinds.push(w.kind());
-        }
-    }
-    let excess = |w: &fpc::Warning| match (w.value(), w.limit()) {
-        (Some(v), Some(l)) => (v - l).abs(),
-        _ => 0.0,
-    };
     let mut lines = Vec::new();
-    for kind in kinds {
-        let of_kind: Vec<&fpc::Warning> =
-            all.iter().copied().filter(|w| w.kind() == kind).collect();
-        if of_kind.len() <= WARNINGS_PER_KIND {
-            lines.extend(of_kind.iter().map(|w| text(w)));
-            continue;
+    for s in fpc::Warning::by_kind(all) {
+        if s.count <= WARNINGS_PER_KIND {
+            lines.extend(s.kept.iter().map(|w| text(w)));
+        } else {
+            for worst in s.kept {
+                lines.push(format!(
+                    "{} (the worst of {} {} findings; every one in {where_all})",
+                    text(worst),
+                    s.count,
+                    s.kind
+                ));
+            }
         }
-        let worst = of_kind
-            .iter()
-            .copied()
-            .reduce(|a, b| if excess(b) > excess(a) { b } else { a })
-            .unwrap_or(of_kind[0]);
-        lines.push(format!(
-            "{} (the worst of {} {kind} findings; every one in {where_all})",
-            text(worst),
-            of_kind.len()
-        ));
     }
     lines
 }
