@@ -15,8 +15,8 @@ use serde_json::{json, Value};
 
 use crate::errors::ApiError;
 use crate::limits::{
-    count, MAX_DESIGN_STARTS, MAX_ENVELOPE_RADII, MAX_ENVELOPE_SAMPLES, MAX_LIFT_POINTS,
-    MAX_PATH_FORCE_N, MAX_PATH_POINTS,
+    count, scene_toml, MAX_DESIGN_STARTS, MAX_ENVELOPE_RADII, MAX_ENVELOPE_SAMPLES,
+    MAX_LIFT_POINTS, MAX_PATH_FORCE_N, MAX_PATH_POINTS,
 };
 
 /// The name a scene sent to the API has in its record (`scene_name`).
@@ -129,7 +129,7 @@ fn default_starts() -> usize {
 fn scene_file(scene: Option<SceneFile>, toml: Option<String>) -> Result<SceneFile, ApiError> {
     match (scene, toml) {
         (Some(s), None) => Ok(s),
-        (None, Some(t)) => SceneFile::parse(&t).map_err(|e| ApiError::bad("toml", e.to_string())),
+        (None, Some(t)) => scene_toml("toml", &t),
         (Some(_), Some(_)) => Err(ApiError::bad(
             "scene",
             "give the scene as JSON (`scene`) or as TOML text (`toml`), not both",
@@ -375,7 +375,7 @@ pub fn design(req: DesignRequest) -> Result<Value, ApiError> {
         }
     })?;
     if let Some(text) = &req.scene {
-        let file = SceneFile::parse(text).map_err(|e| ApiError::bad("scene", e.to_string()))?;
+        let file = scene_toml("scene", text)?;
         let base = file.resolve()?;
         r = r.with_base(DesignBase::from_scene(&base, "the request's scene"));
     }

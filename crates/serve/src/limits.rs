@@ -102,7 +102,7 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiError> {
             "the request must be a JSON object of named keys",
         ));
     }
-    check_magnitudes(&value, &mut String::new())?;
+    check_magnitudes(&value, &mut String::new(), json_node)?;
     serde_path_to_error::deserialize(value).map_err(|e| {
         let path = e.path().to_string();
         let message = e.into_inner().to_string();
@@ -116,47 +116,89 @@ pub fn parse_json<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiError> {
     })
 }
 
-/// Refuses a number beyond [`MAX_MAGNITUDE`] anywhere in `v` (`path`: where
-/// `v` is, as `a.b[2]`).
-fn check_magnitudes(v: &serde_json::Value, path: &mut String) -> Result<(), ApiError> {
+/// What [`check_magnitudes`] sees of a value of a parsed document (JSON
+/// or TOML).
+enum Node<'a, T> {
+    Number(f64),
+    List(Vec<&'a T>),
+    Table(Vec<(&'a str, &'a T)>),
+    Other,
+}
+
+fn json_node(v: &Value) -> Node<'_, Value> {
     match v {
-        Value::Number(n) => match n.as_f64() {
-            Some(x) if x.abs() <= MAX_MAGNITUDE => Ok(()),
-            _ => {
-                let field = if path.is_empty() {
-                    "body"
-                } else {
-                    path.as_str()
-                };
-                Err(ApiError::bad(
-                    field,
-                    format!("{field} = {n}: too large in magnitude (at most {MAX_MAGNITUDE:e} in any unit of the model)"),
-                ))
-            }
-        },
-        Value::Array(items) => {
-            for (i, item) in items.iter().enumerate() {
-                let len = path.len();
-                path.push_str(&format!("[{i}]"));
-                check_magnitudes(item, path)?;
-                path.truncate(len);
-            }
-            Ok(())
-        }
-        Value::Object(map) => {
-            for (k, item) in map {
-                let len = path.len();
-                if !path.is_empty() {
-                    path.push('.');
-                }
-                path.push_str(k);
-                check_magnitudes(item, path)?;
-                path.truncate(len);
-            }
-            Ok(())
-        }
-        _ => Ok(()),
+        // (a JSON number is always an f64 here; none is refused unread)
+        Value::Number(n) => Node::Number(n.as_f64().unwrap_or(f64::INFINITY)),
+        Value::Array(items) => Node::List(items.iter().collect()),
+        Value::Object(map) => Node::Table(map.iter().map(|(k, v)| (k.as_str(), v)).collect()),
+        _ => Node::Other,
     }
+}
+
+fn toml_node(v: &toml::Value) -> Node<'_, toml::Value> {
+    match v {
+        // (an integer beyond 2^53 rounds, far past the limit either way)
+        toml::Value::Integer(i) => Node::Number(*i as f64),
+        toml::Value::Float(x) => Node::Number(*x),
+        toml::Value::Array(items) => Node::List(items.iter().collect()),
+        toml::Value::Table(map) => Node::Table(map.iter().map(|(k, v)| (k.as_str(), v)).collect()),
+        _ => Node::Other,
+    }
+}
+
+/// Refuses a number beyond [`MAX_MAGNITUDE`] (infinite included; NaN is
+/// the library's to refuse) anywhere in `v`, naming its key's path (`path`:
+/// where `v` is, as `a.b[2]`); `node` reads a value of the document.
+fn check_magnitudes<'a, T>(
+    v: &'a T,
+    path: &mut String,
+    node: fn(&'a T) -> Node<'a, T>,
+) -> Result<(), ApiError> {
+    let inner = |suffix: &dyn std::fmt::Display, item: &'a T, path: &mut String| {
+        let len = path.len();
+        path.push_str(&suffix.to_string());
+        let checked = check_magnitudes(item, path, node);
+        path.truncate(len);
+        checked
+    };
+    match node(v) {
+        Node::Number(x) if x.abs() > MAX_MAGNITUDE => {
+            let field = if path.is_empty() {
+                "body"
+            } else {
+                path.as_str()
+            };
+            Err(ApiError::bad(
+                field,
+                format!("{field} = {x:e}: too large in magnitude (at most {MAX_MAGNITUDE:e} in any unit of the model)"),
+            ))
+        }
+        Node::List(items) => items
+            .into_iter()
+            .enumerate()
+            .try_for_each(|(i, item)| inner(&format_args!("[{i}]"), item, path)),
+        Node::Table(entries) => entries.into_iter().try_for_each(|(k, item)| {
+            let dot = if path.is_empty() { "" } else { "." };
+            inner(&format_args!("{dot}{k}"), item, path)
+        }),
+        Node::Number(_) | Node::Other => Ok(()),
+    }
+}
+
+/// The scene file in the TOML text `text` of the request key `field`
+/// (`toml`, or `scene` for a design's scene): a syntax error or an
+/// unknown key is 400 on `field`, and so is a number beyond
+/// [`MAX_MAGNITUDE`], the rule a scene given as JSON keeps, its message
+/// naming the scene key (`load.fx = 1e308: too large ...`).
+pub fn scene_toml(field: &str, text: &str) -> Result<fpc::scene::SceneFile, ApiError> {
+    let file =
+        fpc::scene::SceneFile::parse(text).map_err(|e| ApiError::bad(field, e.to_string()))?;
+    let table: toml::Table = text
+        .parse()
+        .map_err(|e: toml::de::Error| ApiError::bad(field, e.to_string()))?;
+    check_magnitudes(&toml::Value::Table(table), &mut String::new(), toml_node)
+        .map_err(|e| ApiError::bad(field, e.message))?;
+    Ok(file)
 }
 
 /// The key serde names in "unknown field `key`, expected ..." or

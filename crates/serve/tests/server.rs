@@ -285,6 +285,22 @@ async fn bad_input_is_400_naming_the_field() {
         400,
         "scene.actuator.pemc.eps0",
     );
+    // the same rule in a scene's TOML text, named as its other errors are
+    // (`toml`, the key in the message), also in a list and as an integer
+    for (text, key) in [
+        ("[load]\nfx = 1e308\n", "load.fx = 1e308"),
+        ("[load]\nfx = -inf\n", "load.fx = -inf"),
+        (
+            "[partition]\nlengths = [10.0, 20000000000]\n",
+            "partition.lengths[1] = 2e10",
+        ),
+    ] {
+        let got = post(addr, "/api/finger", json!({ "toml": text })).await;
+        assert_error(&got, 400, "toml");
+        let message = got.1["message"].as_str().unwrap();
+        assert!(message.starts_with(key), "{got:?}");
+        assert!(message.contains("too large in magnitude"), "{got:?}");
+    }
     let neg = json!({ "scene": { "load": { "pressure_kpa": -1e300 } } });
     assert_error(
         &post(addr, "/api/finger", neg).await,
@@ -524,6 +540,17 @@ async fn design_margins_are_the_library_s() {
         want.worst
     );
     assert_eq!(v["feasible"], want.feasible(), "{v}");
+    // the design's scene, TOML text, keeps the rule on magnitudes
+    let big = json!({ "toml": text, "starts": 0, "scene": "[actuator.pemc]\neps0 = 1e300\n" });
+    let got = post(addr, "/api/design", big).await;
+    assert_error(&got, 400, "scene");
+    assert!(
+        got.1["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("actuator.pemc.eps0 = 1e300"),
+        "{got:?}"
+    );
     assert_eq!(
         v["margins"].as_array().unwrap().len(),
         want.margins.len(),
