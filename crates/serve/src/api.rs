@@ -14,7 +14,7 @@ use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post, MethodRouter};
 use axum::{Json, Router};
 use serde::de::DeserializeOwned;
-use serde_json::Value;
+use serde::Serialize;
 use tokio::sync::Semaphore;
 use tower_http::catch_panic::CatchPanicLayer;
 
@@ -202,10 +202,10 @@ pub async fn blocking<T: Send + 'static>(
 }
 
 /// An API route: the body parsed as `R` and answered with `compute(R)`
-/// from the blocking pool, in `queue`.
-fn endpoint<R: DeserializeOwned + Send + 'static>(
+/// from the blocking pool, in `queue`, written as JSON.
+fn endpoint<R: DeserializeOwned + Send + 'static, T: Serialize + Send + 'static>(
     queue: Queue,
-    compute: fn(R) -> Result<Value, ApiError>,
+    compute: fn(R) -> Result<T, ApiError>,
 ) -> MethodRouter<AppState> {
     post(
         move |State(state): State<AppState>, headers: HeaderMap, body: Body| async move {

@@ -628,6 +628,52 @@ async fn envelope_points_are_fresh_searches() {
     assert!(compared >= 2, "{v}");
 }
 
+/// A load path's points carry their findings as `fpc` writes them on
+/// stderr: each kind's count (`warnings_by_kind`) and every finding of a
+/// kind with few, else only the worst. Kept whole (one per element and
+/// kind at every point), 5000 points of 1000 elements took most of a
+/// gigabyte; summed up, an answer's size is bounded per point.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_load_path_s_findings_are_summed_up_by_kind() {
+    let addr = start(fpc_serve::app()).await;
+    let body = json!({
+        "scene": { "partition": { "elements": 200 } },
+        "direction": [0.0, 1.0],
+        "max_force_n": 100.0,
+        "max_points": 200
+    });
+    let (status, v) = post(addr, "/api/load-path", body).await;
+    assert_eq!(status, 200, "{v}");
+    let points = v["points"].as_array().unwrap();
+    let mut many = 0;
+    for p in points {
+        let warnings = p["warnings"].as_array().unwrap();
+        let counts = p["warnings_by_kind"].as_object().unwrap();
+        let mut listed = 0;
+        for (kind, count) in counts {
+            let count = count.as_u64().unwrap() as usize;
+            let kept = warnings.iter().filter(|w| w["kind"] == kind.as_str());
+            let want = if count > fpc::WARNINGS_PER_KIND {
+                1
+            } else {
+                count
+            };
+            assert_eq!(kept.count(), want, "{kind} in {p}");
+            many += usize::from(count > fpc::WARNINGS_PER_KIND);
+            listed += want;
+        }
+        assert_eq!(warnings.len(), listed, "{p}");
+    }
+    // (else the path never left the model, and this tests nothing)
+    assert!(many > 0, "{v}");
+    let bytes = v.to_string().len();
+    assert!(
+        bytes < 3000 * points.len(),
+        "{bytes} bytes for {} points",
+        points.len()
+    );
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn load_path_ends_at_the_library_s_tip_load() {
     let addr = start(fpc_serve::app()).await;
