@@ -33,8 +33,8 @@ fn request(addr: &str, head: &str, body: &str) -> String {
     answer
 }
 
-#[test]
-fn serves_the_page_and_the_library_s_finger() {
+/// `fpc serve` on a free loopback port, and the address it says.
+fn start() -> (Server, String) {
     let mut child = fpc()
         .args(["serve", "--port", "0"])
         .stdout(Stdio::piped())
@@ -42,7 +42,7 @@ fn serves_the_page_and_the_library_s_finger() {
         .spawn()
         .unwrap();
     let stdout = child.stdout.take().unwrap();
-    let _server = Server(child);
+    let server = Server(child);
     let mut line = String::new();
     BufReader::new(stdout).read_line(&mut line).unwrap();
     let addr = line
@@ -52,6 +52,12 @@ fn serves_the_page_and_the_library_s_finger() {
         .unwrap_or_else(|| panic!("no address in {line:?}"))
         .to_string();
     assert!(addr.starts_with("127.0.0.1:"), "{line}");
+    (server, addr)
+}
+
+#[test]
+fn serves_the_page_and_the_library_s_finger() {
+    let (_server, addr) = start();
 
     let page = request(&addr, "GET /", "");
     assert!(page.starts_with("HTTP/1.1 200"), "{page:.200}");
@@ -77,6 +83,31 @@ fn serves_the_page_and_the_library_s_finger() {
         );
         assert!((g - w).abs() <= 1e-12 * w.abs().max(1.0), "{g} vs {w}");
     }
+}
+
+/// Ctrl-C while a load path far longer than the grace runs: the open
+/// connections get 5 s (docs/serve.md), then the computation is stopped,
+/// its client answered 503, and the server exits, within a second more.
+#[cfg(unix)]
+#[test]
+fn ctrl_c_answers_a_running_computation_and_exits() {
+    let (mut server, addr) = start();
+    let slow = r#"{"scene": {"partition": {"elements": 1000}}, "direction": [0, 1], "max_force_n": 100, "max_points": 5000}"#;
+    let client = std::thread::spawn(move || request(&addr, "POST /api/load-path", slow));
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let pid = server.0.id().to_string();
+    let t = std::time::Instant::now();
+    let sent = Command::new("kill").args(["-INT", &pid]).status().unwrap();
+    assert!(sent.success());
+    let answer = client.join().unwrap();
+    let answered = t.elapsed();
+    assert!(answer.starts_with("HTTP/1.1 503"), "{answer:.300}");
+    assert!(answer.contains("shutting down"), "{answer:.300}");
+    let status = server.0.wait().unwrap();
+    let exited = t.elapsed();
+    assert!(status.success(), "{status}");
+    assert!(answered.as_secs_f64() > 4.5, "{answered:?}");
+    assert!(exited.as_secs_f64() < 6.5, "{exited:?}");
 }
 
 #[test]

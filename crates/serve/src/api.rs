@@ -15,7 +15,7 @@ use axum::routing::{get, post, MethodRouter};
 use axum::{Json, Router};
 use serde::de::DeserializeOwned;
 use serde::Serialize;
-use tokio::sync::Semaphore;
+use tokio::sync::{watch, Semaphore};
 use tower_http::catch_panic::CatchPanicLayer;
 
 use crate::errors::{panic_response, ApiError};
@@ -36,6 +36,8 @@ pub struct AppState {
     slow: Arc<Semaphore>,
     work: Duration,
     body: Duration,
+    /// Set once by [`AppState::stop`].
+    stopping: Arc<watch::Sender<bool>>,
 }
 
 /// Which queue a computation waits in ([`AppState`]).
@@ -57,7 +59,24 @@ impl AppState {
             slow: Arc::new(Semaphore::new(workers.max(1))),
             work,
             body: Duration::from_secs(BODY_SECONDS),
+            stopping: Arc::new(watch::Sender::new(false)),
         }
+    }
+
+    /// Stops every computation of this state, running or waiting for its
+    /// turn, and of every request still to come: each request is answered
+    /// at once (503, [`ApiError::shutting_down`]) and its computation's
+    /// flag set, so that it stops at its next check. The server's last
+    /// step after Ctrl-C ([`crate::run`]).
+    pub fn stop(&self) {
+        self.stopping.send_replace(true);
+    }
+
+    /// Completes once [`AppState::stop`] has been called.
+    async fn stopped(&self) {
+        let mut rx = self.stopping.subscribe();
+        // (an error: the sender is gone, which the state itself holds)
+        let _ = rx.wait_for(|stopping| *stopping).await;
     }
 
     /// The same with `body` for a request body to arrive.
@@ -87,10 +106,17 @@ pub fn app() -> Router {
 /// attacker points at 127.0.0.1 (DNS rebinding) names its own host, so it
 /// cannot reach the API.
 pub fn app_on(addr: std::net::SocketAddr) -> Router {
+    app_on_with(addr, AppState::default())
+}
+
+/// [`app_on`] with `state`, which the caller keeps to stop the
+/// computations ([`AppState::stop`]).
+pub fn app_on_with(addr: std::net::SocketAddr, state: AppState) -> Router {
+    let app = with_layers(routes(), state);
     if addr.ip().is_loopback() {
-        app().layer(axum::middleware::from_fn(loopback_host_only))
+        app.layer(axum::middleware::from_fn(loopback_host_only))
     } else {
-        app()
+        app
     }
 }
 
@@ -166,9 +192,9 @@ impl Drop for CancelOnDrop {
 /// Runs `work` on the blocking pool once a permit of `queue` is free
 /// (503 after waiting the state's work time), under a cancellation flag
 /// ([`fpc::cancel::with_flag`]) that is set when the request ends early
-/// (its client disconnects: the handler's future is dropped) or its time
-/// runs out (503). A panic in `work` is a 500 with its message; the
-/// server goes on.
+/// (its client disconnects: the handler's future is dropped), its time
+/// runs out (503) or the state is stopped ([`AppState::stop`], 503). A
+/// panic in `work` is a 500 with its message; the server goes on.
 pub async fn blocking<T: Send + 'static>(
     state: &AppState,
     queue: Queue,
@@ -178,9 +204,13 @@ pub async fn blocking<T: Send + 'static>(
         Queue::Quick => &state.quick,
         Queue::Slow => &state.slow,
     };
-    let permit = match tokio::time::timeout(state.work, permits.clone().acquire_owned()).await {
+    let turn = tokio::select! {
+        turn = tokio::time::timeout(state.work, permits.clone().acquire_owned()) => turn,
+        () = state.stopped() => return Err(ApiError::shutting_down()),
+    };
+    let permit = match turn {
         Err(_) => return Err(ApiError::busy(state.work.as_secs())),
-        Ok(Err(_)) => return Err(ApiError::internal("the server is shutting down")),
+        Ok(Err(_)) => return Err(ApiError::shutting_down()),
         Ok(Ok(permit)) => permit,
     };
     let flag = Arc::new(AtomicBool::new(false));
@@ -190,7 +220,12 @@ pub async fn blocking<T: Send + 'static>(
         let _permit = permit;
         fpc::cancel::with_flag(flag, work)
     });
-    match tokio::time::timeout(state.work, task).await {
+    let done = tokio::select! {
+        done = tokio::time::timeout(state.work, task) => done,
+        // (dropping `_stop` sets the flag)
+        () = state.stopped() => return Err(ApiError::shutting_down()),
+    };
+    match done {
         Err(_) => Err(ApiError::timed_out(state.work.as_secs())),
         Ok(Ok(answer)) => answer,
         Ok(Err(e)) if e.is_panic() => Err(ApiError::internal(format!(

@@ -93,6 +93,16 @@ impl ApiError {
         }
     }
 
+    /// 503: the server is shutting down (Ctrl-C) and stopped the
+    /// computation, running or waiting for its turn.
+    pub fn shutting_down() -> ApiError {
+        ApiError {
+            status: StatusCode::SERVICE_UNAVAILABLE,
+            field: "server".into(),
+            message: "the server is shutting down: the computation was stopped".into(),
+        }
+    }
+
     /// 403: a request naming another host than this machine's.
     pub fn forbidden_host(host: &str) -> ApiError {
         ApiError {

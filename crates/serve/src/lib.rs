@@ -30,7 +30,7 @@ use tokio::sync::watch;
 pub use api::{app, AppState};
 pub use errors::ApiError;
 
-use limits::{HEADER_SECONDS, SHUTDOWN_SECONDS};
+use limits::{HEADER_SECONDS, SHUTDOWN_SECONDS, STOP_SECONDS};
 
 /// Serves `app` on `listener` until `shutdown` completes: HTTP/1.1, a
 /// connection closed when its client takes longer than `header_time` to
@@ -95,7 +95,10 @@ pub async fn serve_on(
 /// when `addr`'s is 0), and serves [`api::app_on`] until Ctrl-C, with
 /// [`HEADER_SECONDS`] for a request's headers. After Ctrl-C the open
 /// connections get [`SHUTDOWN_SECONDS`] to end; then the computations
-/// still running are stopped. Builds its own runtime.
+/// still running (or waiting for their turn) are stopped, their requests
+/// answered 503 ([`AppState::stop`]), and the function returns once those
+/// answers are written, at most [`STOP_SECONDS`] later. Builds its own
+/// runtime.
 pub fn run(addr: SocketAddr, ready: impl FnOnce(SocketAddr)) -> std::io::Result<()> {
     let rt = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
@@ -103,28 +106,32 @@ pub fn run(addr: SocketAddr, ready: impl FnOnce(SocketAddr)) -> std::io::Result<
     let served = rt.block_on(async move {
         let listener = tokio::net::TcpListener::bind(addr).await?;
         ready(listener.local_addr()?);
+        let state = AppState::default();
         let (signal_tx, signal_rx) = tokio::sync::oneshot::channel::<()>();
         let server = serve_on(
             listener,
-            api::app_on(addr),
+            api::app_on_with(addr, state.clone()),
             Duration::from_secs(HEADER_SECONDS),
             async move {
                 let _ = tokio::signal::ctrl_c().await;
                 let _ = signal_tx.send(());
             },
         );
+        let mut server = std::pin::pin!(server);
         let grace = async move {
             let _ = signal_rx.await;
             tokio::time::sleep(Duration::from_secs(SHUTDOWN_SECONDS)).await;
         };
         tokio::select! {
-            served = server => served,
-            () = grace => Ok(()),
+            served = server.as_mut() => return served,
+            () = grace => {}
         }
+        state.stop();
+        let answered = tokio::time::timeout(Duration::from_secs(STOP_SECONDS), server).await;
+        answered.unwrap_or(Ok(()))
     });
-    // the connections' tasks are dropped with the runtime, which sets the
-    // cancellation flags of their computations; those stop at their next
-    // check
-    rt.shutdown_timeout(Duration::from_secs(SHUTDOWN_SECONDS));
+    // a stopped computation's thread ends at its next check (its flag is
+    // set): not waited for
+    rt.shutdown_background();
     served
 }

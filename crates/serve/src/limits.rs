@@ -42,6 +42,9 @@ pub const HEADER_SECONDS: u64 = 10;
 pub const BODY_SECONDS: u64 = 10;
 /// Seconds the open connections get to end after Ctrl-C.
 pub const SHUTDOWN_SECONDS: u64 = 5;
+/// Seconds, after [`SHUTDOWN_SECONDS`], for the answers of the
+/// computations then stopped (503) to be written before the server exits.
+pub const STOP_SECONDS: u64 = 1;
 
 /// Reads the body and parses it as JSON into `T`. Refused: a content type
 /// other than `application/json` (415: a web page of another site cannot

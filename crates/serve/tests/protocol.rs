@@ -233,6 +233,37 @@ async fn a_request_waits_for_its_turn_a_bounded_time() {
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn a_stopped_state_answers_every_computation_at_once() {
+    // the server's last step after Ctrl-C: a computation running and one
+    // waiting for its turn, each allowed 60 s, are answered (503) as soon
+    // as the state is stopped, and so is a request that comes later
+    let state = AppState::new(1, 60 * SECOND);
+    let addr = start(state.clone(), 10 * SECOND).await;
+    let slow = || {
+        tokio::spawn(async move {
+            exchange(
+                addr,
+                &request("/api/load-path", JSON, &slow_body()),
+                60 * SECOND,
+            )
+            .await
+        })
+    };
+    let running = slow();
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let waiting = slow();
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let t = Instant::now();
+    state.stop();
+    assert_error(&running.await.unwrap(), 503, "server");
+    assert_error(&waiting.await.unwrap(), 503, "server");
+    assert!(t.elapsed() < 5 * SECOND, "{:?}", t.elapsed());
+    let quick = json!({ "scene": { "partition": { "elements": 8 } } }).to_string();
+    let later = exchange(addr, &request("/api/finger", JSON, &quick), 30 * SECOND).await;
+    assert_error(&later, 503, "server");
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn on_loopback_only_requests_for_this_machine_are_answered() {
     let listener = TcpListener::bind("127.0.0.1:0").await.unwrap();
     let addr = listener.local_addr().unwrap();
