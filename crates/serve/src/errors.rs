@@ -1,10 +1,11 @@
 //! The API's errors: one JSON shape, `{"field", "message"}`, with the
 //! status saying whose fault it is (400 the input, 403 a request for
-//! another host, 405 the method, 408 a body that did not arrive in time,
-//! 413 the body's size, 415 a body not sent as JSON, 422 a solve that
-//! failed on valid input, 503 work stopped at its time limit or a request
-//! that waited too long for its turn, 500 a fault of the server, never
-//! caused by input alone).
+//! another host, 404 a path the server does not know, 405 the method,
+//! 408 a body that did not arrive in time, 413 the body's size, 415 a
+//! body not sent as JSON, 422 a solve that failed on valid input, 503
+//! work stopped at its time limit, at a shutdown, or a request that
+//! waited too long for its turn, 500 a fault of the server, never caused
+//! by input alone).
 
 use std::any::Any;
 

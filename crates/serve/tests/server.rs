@@ -358,8 +358,10 @@ async fn bad_input_is_400_naming_the_field() {
         got.1["message"].as_str().unwrap().starts_with("5:10: "),
         "{got:?}"
     );
-    // not an API
-    assert_error(&post(addr, "/api/nothing", json!({})).await, 404, "path");
+    // not a page or an API (docs/serve.md's examples)
+    for path in ["/nope", "/api/nothing", "/api/"] {
+        assert_error(&post(addr, path, json!({})).await, 404, "path");
+    }
 }
 
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
