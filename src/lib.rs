@@ -85,7 +85,7 @@ pub mod validity;
 
 pub use actuator::{Actuator, ActuatorParams};
 pub use coefficients::Coefficients;
-pub use error::{InputError, KindSummary, Warning, WARNINGS_PER_KIND};
+pub use error::{InputError, Warning};
 pub use field::Field;
 pub use finger::{Finger, Load, Solution, SolveOptions};
 pub use fpc_newton::Termination;

@@ -59,7 +59,7 @@ pub fn warning(msg: &str) {
 }
 
 /// Findings of one kind beyond this many are summed up in one line.
-pub use fpc::WARNINGS_PER_KIND;
+pub use fpc::error::WARNINGS_PER_KIND;
 
 /// The warnings, `fpc: warning: ` each, summarised: of a kind with more
 /// than [`WARNINGS_PER_KIND`] findings (one per element, say) only the

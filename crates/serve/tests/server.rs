@@ -655,13 +655,13 @@ async fn a_load_path_s_findings_are_summed_up_by_kind() {
         for (kind, count) in counts {
             let count = count.as_u64().unwrap() as usize;
             let kept = warnings.iter().filter(|w| w["kind"] == kind.as_str());
-            let want = if count > fpc::WARNINGS_PER_KIND {
+            let want = if count > fpc::error::WARNINGS_PER_KIND {
                 1
             } else {
                 count
             };
             assert_eq!(kept.count(), want, "{kind} in {p}");
-            many += usize::from(count > fpc::WARNINGS_PER_KIND);
+            many += usize::from(count > fpc::error::WARNINGS_PER_KIND);
             listed += want;
         }
         assert_eq!(warnings.len(), listed, "{p}");
