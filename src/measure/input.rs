@@ -2,7 +2,6 @@
 //! the error naming a file, row, column and field, bounded reading of a
 //! text file, and the kinds of test.
 
-use std::io::Read as _;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
@@ -34,8 +33,9 @@ impl TestKind {
 
 /// Largest manifest file (bytes): 1 MiB.
 pub const MAX_MANIFEST_BYTES: u64 = 1 << 20;
-/// Largest scene file a manifest names (bytes): 4 MiB, as `fpc solve`.
-pub const MAX_SCENE_BYTES: u64 = 4 << 20;
+/// Largest scene file a manifest names (bytes): 4 MiB, the library's
+/// bound on every scene file.
+pub use crate::scene::MAX_SCENE_BYTES;
 /// Largest CSV file of a test (bytes): 16 MiB.
 pub const MAX_DATA_BYTES: u64 = 16 << 20;
 /// Most data rows of one CSV file (the header and comment lines not
@@ -164,32 +164,18 @@ impl MeasureError {
     }
 }
 
-/// Reads at most `limit` bytes of `path` as UTF-8 text: a larger file, one
-/// that cannot be read or is not UTF-8 is an error naming `shown` (the
-/// file as the user wrote it).
+/// Reads at most `limit` bytes of `path` as UTF-8 text (the library's
+/// bounded reader, [`crate::scene::read_text`]): a larger file, one that
+/// cannot be read or is not UTF-8 is an error naming `shown` (the file as
+/// the user wrote it).
 pub(crate) fn read_text(path: &Path, shown: &str, limit: u64) -> Result<String, MeasureError> {
-    let whole = |field: &str, reason: String| MeasureError {
+    crate::scene::read_text(path, limit, "this file").map_err(|e| MeasureError {
         file: shown.to_string(),
         at: None,
-        field: field.to_string(),
-        reason,
-    };
-    let file = std::fs::File::open(path).map_err(|e| whole("file", format!("cannot read: {e}")))?;
-    let mut bytes = Vec::new();
-    file.take(limit + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| whole("file", format!("cannot read: {e}")))?;
-    if bytes.len() as u64 > limit {
-        return Err(whole(
-            "file",
-            format!("larger than {limit} bytes, the limit for this file"),
-        ));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        whole(
-            "file",
-            format!("not UTF-8 text (invalid byte at offset {at})"),
-        )
+        field: "file".to_string(),
+        reason: match e {
+            crate::scene::TextFileError::Io(e) => format!("cannot read: {e}"),
+            e => e.to_string(),
+        },
     })
 }

@@ -66,6 +66,7 @@ mod resolve;
 mod schema;
 mod solve;
 mod syntax;
+mod text;
 mod uncertainty;
 
 #[cfg(test)]
@@ -94,4 +95,5 @@ pub use schema::{
 pub use solve::{GraspOutcome, SceneSolution};
 pub(crate) use syntax::key_at;
 pub use syntax::{line_col, locate, SceneError};
+pub use text::{read_scene_text, read_text, TextFileError, MAX_SCENE_BYTES};
 pub use uncertainty::{GraspUncertainty, Uncertainty};

@@ -1,5 +1,5 @@
 //! `fpc solve` reads its scene file through a bounded reader: at most
-//! 4 MiB (src/solve.rs, `MAX_SCENE_BYTES`). A file it cannot read (missing,
+//! 4 MiB (the library's `fpc::scene::MAX_SCENE_BYTES`). A file it cannot read (missing,
 //! a directory, not UTF-8, not permitted, too large) is rejected input:
 //! status 2, one `fpc: error:` line naming the path, nothing written.
 

@@ -3,8 +3,7 @@
 //! `shape.svg` (or the `--format`s asked for) into the output directory
 //! (default `./<stem>-out/`).
 
-use std::fs;
-use std::io::{Read as _, Write as _};
+use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
@@ -92,15 +91,6 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
 
 use crate::output::write_atomic;
 
-/// The largest scene file `fpc solve` reads: 4 MiB. The example scenes are
-/// a few hundred bytes; the limit keeps a wrong path (a disk image, a
-/// device, an endless pipe) from being read into memory whole.
-pub const MAX_SCENE_BYTES: u64 = 4 * 1024 * 1024;
-
-/// The text of the scene file at `path` (`shown` in messages), read
-/// through a bounded reader. Missing, unreadable, a directory, larger than
-/// [`MAX_SCENE_BYTES`] or not UTF-8: rejected input, one line naming the
-/// path.
 /// The scene file at `path`, read ([`read_scene`]) and resolved: a
 /// syntax or value error is rejected input naming `path:line:col` or the
 /// key.
@@ -110,21 +100,12 @@ pub(crate) fn load_scene(path: &Path) -> anyhow::Result<fpc::scene::Scene> {
     fpc::scene::Scene::from_toml(&text).map_err(|e| crate::status::rejected(format!("{shown}:{e}")))
 }
 
+/// The text of the scene (or requirements) file at `path` (`shown` in
+/// messages), read through the library's bounded reader
+/// ([`fpc::scene::read_scene_text`]). Missing, unreadable, a directory,
+/// larger than [`fpc::scene::MAX_SCENE_BYTES`] (4 MiB) or not UTF-8:
+/// rejected input, one line naming the path.
 pub(crate) fn read_scene(path: &Path, shown: &str) -> anyhow::Result<String> {
-    let cannot = |why: String| crate::status::rejected(format!("cannot read {shown}: {why}"));
-    let file = fs::File::open(path).map_err(|e| cannot(e.to_string()))?;
-    let mut bytes = Vec::new();
-    file.take(MAX_SCENE_BYTES + 1)
-        .read_to_end(&mut bytes)
-        .map_err(|e| cannot(e.to_string()))?;
-    if bytes.len() as u64 > MAX_SCENE_BYTES {
-        return Err(cannot(format!(
-            "larger than {} MiB ({MAX_SCENE_BYTES} bytes), the limit for a scene file",
-            MAX_SCENE_BYTES >> 20
-        )));
-    }
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        cannot(format!("not UTF-8 text (invalid byte at offset {at})"))
-    })
+    fpc::scene::read_scene_text(path)
+        .map_err(|e| crate::status::rejected(format!("cannot read {shown}: {e}")))
 }
