@@ -1,9 +1,11 @@
 //! `fpc.batch_solve`: many finger solves in parallel (rayon), the GIL
 //! released, results as arrays.
 //!
-//! The points are grouped by prestrain (one finger built per distinct
-//! `eps0`), each group split into chunks, and each chunk solved on one
-//! thread with one reused [`fpc::finger::Solver`] workspace. By default every
+//! The points are ordered by prestrain and split into chunks, each
+//! solved on one thread: prestrain after prestrain, each with its finger,
+//! built for its points and dropped after them (so memory goes with the
+//! threads, not with the number of distinct `eps0`), and one reused
+//! [`fpc::finger::Solver`] workspace. By default every
 //! point is solved cold, exactly as `Finger.solve` solves it (the batch
 //! equals a loop of single solves bit for bit, whatever the number of
 //! threads); `warm_start` sorts each group by load and starts each solve
@@ -172,80 +174,76 @@ pub fn run(
     }
 }
 
-/// One distinct prestrain: its finger (or why it has none).
-struct Group {
-    eps0: f64,
-    actuator: Result<Actuator, String>,
-    /// The prestrain's finger and plan (a build error of the automatic
-    /// partition or a tip tolerance is each point's, after its load's).
-    finger: Option<Result<PlannedFinger, InputError>>,
-    members: Vec<usize>,
+/// The points' indices by prestrain (bitwise, `total_cmp`), increasing;
+/// within a prestrain by index, or with `warm_start` by load (pressure,
+/// fx, fz, kappa, then index) so that a chunk starts each solve from a
+/// neighbouring point.
+fn by_prestrain(points: &[Point], warm_start: bool) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..points.len()).collect();
+    order.par_sort_by(|&a, &b| {
+        let (p, q) = (&points[a], &points[b]);
+        let by_load = || {
+            p.pressure_kpa
+                .total_cmp(&q.pressure_kpa)
+                .then(p.fx.total_cmp(&q.fx))
+                .then(p.fz.total_cmp(&q.fz))
+                .then(p.kappa.total_cmp(&q.kappa))
+        };
+        let order = p.eps0.total_cmp(&q.eps0);
+        let order = if warm_start {
+            order.then_with(by_load)
+        } else {
+            order
+        };
+        order.then(a.cmp(&b))
+    });
+    order
+}
+
+/// The finger of the prestrain `eps0` and its plan; a build error of the
+/// automatic partition or a tip tolerance is each point's (after its
+/// load's). `Err`: why the prestrain has no finger (the actuator refuses
+/// it, a fixed partition does not build, or a panic), every point's
+/// error.
+fn build(cfg: &Config, eps0: f64) -> Result<Result<PlannedFinger, InputError>, String> {
+    let built = guarded(|| -> Result<Result<PlannedFinger, InputError>, String> {
+        let act = cfg.actuator.with_eps0(eps0).map_err(|e| e.to_string())?;
+        let finger = PlannedFinger::builder(&act)
+            .model(cfg.model)
+            .ribs(cfg.ribs)
+            .plan(cfg.plan.clone())
+            .build()
+            .map_err(crate::errors::input_in_python_terms);
+        // a fixed partition that does not build fails the prestrain
+        match (&cfg.plan, finger) {
+            (Plan::Equal(_), Err(e)) => Err(e.to_string()),
+            (_, f) => Ok(f),
+        }
+    });
+    built.unwrap_or_else(|p| Err(format!("internal error (a bug): {p}")))
 }
 
 fn run_in_pool(points: &[Point], cfg: &Config, cancel: &AtomicBool) -> Vec<Outcome> {
-    // distinct prestrains, in order of first appearance
-    let mut order: Vec<usize> = (0..points.len()).collect();
-    order.sort_by(|&a, &b| points[a].eps0.total_cmp(&points[b].eps0).then(a.cmp(&b)));
-    let mut groups: Vec<Group> = Vec::new();
-    for i in order {
-        match groups.last_mut() {
-            Some(g) if g.eps0.total_cmp(&points[i].eps0).is_eq() => g.members.push(i),
-            _ => groups.push(Group {
-                eps0: points[i].eps0,
-                actuator: Err(String::new()),
-                finger: None,
-                members: vec![i],
-            }),
-        }
-    }
-    // one finger per prestrain, built in parallel
-    groups.par_iter_mut().for_each(|g| {
-        type Built = Result<PlannedFinger, InputError>;
-        let built = guarded(|| -> Result<(Actuator, Option<Built>), String> {
-            let act = cfg.actuator.with_eps0(g.eps0).map_err(|e| e.to_string())?;
-            let finger = PlannedFinger::builder(&act)
-                .model(cfg.model)
-                .ribs(cfg.ribs)
-                .plan(cfg.plan.clone())
-                .build()
-                .map_err(crate::errors::input_in_python_terms);
-            // a fixed partition that does not build fails the prestrain
-            let finger = match (&cfg.plan, finger) {
-                (Plan::Equal(_), Err(e)) => return Err(e.to_string()),
-                (_, f) => f,
-            };
-            Ok((act, Some(finger)))
-        });
-        match built {
-            Ok(Ok((act, finger))) => {
-                g.actuator = Ok(act);
-                g.finger = finger;
-            }
-            Ok(Err(e)) => g.actuator = Err(e),
-            Err(p) => g.actuator = Err(format!("internal error (a bug): {p}")),
-        }
-        if cfg.warm_start {
-            g.members.sort_by(|&a, &b| {
-                let (p, q) = (&points[a], &points[b]);
-                p.pressure_kpa
-                    .total_cmp(&q.pressure_kpa)
-                    .then(p.fx.total_cmp(&q.fx))
-                    .then(p.fz.total_cmp(&q.fz))
-                    .then(p.kappa.total_cmp(&q.kappa))
-            });
-        }
-    });
+    let order = by_prestrain(points, cfg.warm_start);
     // chunks of about 1/8 of a thread's share: balanced, and long enough
     // for a warm start to pay
     let threads = rayon::current_num_threads().max(1);
     let chunk = points.len().div_ceil(8 * threads).max(1);
-    let tasks: Vec<(&Group, &[usize])> = groups
-        .iter()
-        .flat_map(|g| g.members.chunks(chunk).map(move |c| (g, c)))
-        .collect();
-    let solved: Vec<Vec<(usize, Outcome)>> = tasks
-        .par_iter()
-        .map(|&(g, members)| solve_chunk(points, cfg, g, members, cancel))
+    // each chunk solves its prestrains one after the other, building each
+    // one's finger and dropping it after its points: the fingers alive at
+    // once are one per thread, however many distinct prestrains (a finger
+    // is tens of kilobytes; a million of them would not fit in memory)
+    let solved: Vec<Vec<(usize, Outcome)>> = order
+        .par_chunks(chunk)
+        .map(|c| {
+            let mut out = Vec::with_capacity(c.len());
+            let same = |&a: &usize, &b: &usize| points[a].eps0.total_cmp(&points[b].eps0).is_eq();
+            for members in c.chunk_by(same) {
+                let eps0 = points[members[0]].eps0;
+                solve_prestrain(points, cfg, eps0, members, cancel, &mut out);
+            }
+            out
+        })
         .collect();
     let mut out = vec![Outcome::failed(3, String::new()); points.len()];
     for (i, o) in solved.into_iter().flatten() {
@@ -254,26 +252,33 @@ fn run_in_pool(points: &[Point], cfg: &Config, cancel: &AtomicBool) -> Vec<Outco
     out
 }
 
-/// The points of one chunk, in order, on one thread.
-fn solve_chunk(
+/// The points `members` of one prestrain (of one chunk), in order, on
+/// one thread, their outcomes pushed on `out`: the prestrain's finger is
+/// built for them and dropped after them.
+fn solve_prestrain(
     points: &[Point],
     cfg: &Config,
-    g: &Group,
+    eps0: f64,
     members: &[usize],
     cancel: &AtomicBool,
-) -> Vec<(usize, Outcome)> {
-    if let Err(e) = &g.actuator {
-        let status = if e.starts_with("internal error") {
-            3
-        } else {
-            1
-        };
-        return members
-            .iter()
-            .map(|&i| (i, Outcome::failed(status, e.clone())))
-            .collect();
-    }
-    let mut out = Vec::with_capacity(members.len());
+    out: &mut Vec<(usize, Outcome)>,
+) {
+    let planned = match build(cfg, eps0) {
+        Ok(planned) => planned,
+        Err(e) => {
+            let status = if e.starts_with("internal error") {
+                3
+            } else {
+                1
+            };
+            out.extend(
+                members
+                    .iter()
+                    .map(|&i| (i, Outcome::failed(status, e.clone()))),
+            );
+            return;
+        }
+    };
     // each point's load, or its outcome when it has none: once
     // cancelled, the remaining points are not solved
     let mut loads = members.iter().map(|&i| {
@@ -285,7 +290,6 @@ fn solve_chunk(
         };
         (i, l)
     });
-    let planned = g.finger.as_ref().expect("built with the actuator");
     match planned.as_ref().ok().and_then(PlannedFinger::fixed) {
         Some(finger) => {
             let mut solver = Solver::new(finger);
@@ -331,7 +335,7 @@ fn solve_chunk(
                         continue;
                     }
                 };
-                let r = guarded(|| match planned {
+                let r = guarded(|| match &planned {
                     Ok(f) => f.solve(&l, &cfg.options),
                     Err(e) => Err(e.clone().into()),
                 });
@@ -345,7 +349,6 @@ fn solve_chunk(
             }
         }
     }
-    out
 }
 
 // ------------------------------------------------------------ Python
@@ -505,9 +508,11 @@ fn config(
 /// (list of messages, "" where solved). Failed points have NaN tips.
 ///
 /// Bounds, checked before any work: at most 1000000 points (the broadcast
-/// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``.
-/// Complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is ``eps0``),
-/// are a ``TypeError``. Ctrl-C stops the batch within one
+/// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``;
+/// memory grows with the points and the threads, not with the number of
+/// distinct prestrains. Complex inputs, and
+/// ``pemc={"eps0": ...}`` (the prestrain is ``eps0``), are a
+/// ``TypeError``. Ctrl-C stops the batch within one
 /// solve per thread and raises ``KeyboardInterrupt`` whose ``partial``
 /// attribute is the same dict for the points solved so far (the others
 /// have status 4, ``stopped``).

@@ -1,6 +1,9 @@
 """`fpc.batch_solve`: broadcasting, the results of a loop of single solves
 exactly, failures per point, warm starts, threads, and the GIL released."""
 
+import os
+import subprocess
+import sys
 import threading
 import time
 
@@ -49,6 +52,40 @@ def test_a_batch_equals_a_loop_of_single_solves_exactly():
     assert (r["iterations"] > 0).all() and (r["residual"] <= 1e-10).all()
     assert (r["elements"] == 8).all()
     assert r["error"] == [""] * 15
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_many_prestrains_equal_single_solves_exactly(threads):
+    # 24 distinct prestrains (each chunk builds its own finger), and one
+    # prestrain of many points whose chunks each build it again
+    eps0 = np.concatenate([np.linspace(0.1, 0.4, 24), np.full(40, 0.3)])
+    fx = np.resize(np.linspace(-0.3, 0.5, 7), eps0.size)
+    r = fpc.batch_solve(eps0=eps0, pressure_kpa=15.0, fx=fx, fz=0.1, threads=threads)
+    tips, status, errors = loop(eps0, np.full(eps0.size, 15.0), fx, np.full(eps0.size, 0.1))
+    assert (status == 0).all(), errors
+    np.testing.assert_array_equal(r["tip"], tips)  # bit for bit
+    np.testing.assert_array_equal(r["status"], status)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="RLIMIT_AS")
+def test_many_distinct_prestrains_fit_in_memory():
+    # 250000 distinct prestrains, each point's load refused before any
+    # solve: were a finger (tens of kB) kept per prestrain, as once, this
+    # would need 5 GB or more; under an address-space limit of 3 GB the
+    # batch must finish, one finger per chunk alive at a time (the
+    # documented bound, a million, then fits too)
+    code = """
+import resource
+resource.setrlimit(resource.RLIMIT_AS, (3 << 30, 3 << 30))
+import numpy as np, fpc
+r = fpc.batch_solve(eps0=np.linspace(0.1, 0.4, 250_000), kappa=-1.0, threads=2)
+assert (r["status"] == 1).all()
+assert r["error"][0].startswith("kappa = -1: must be positive"), r["error"][0]
+"""
+    # one BLAS thread: its buffers are not counted against the limit
+    env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+    assert run.returncode == 0, run.stderr[-2000:]
 
 
 @pytest.mark.parametrize("threads", [1, 2, 3])
