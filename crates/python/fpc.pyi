@@ -148,7 +148,8 @@ class Finger:
     def from_scene(scene: Scene) -> "Finger":
         """The finger of a scene (TOML text or a path: an ``os.PathLike``, or
         a one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
-        file is ``FileNotFoundError``); the scene's load, tip tolerance and
+        file is ``FileNotFoundError``, a file over 4 MiB or a directory an
+        ``OSError`` naming it); the scene's load, tip tolerance and
         solver settings become the defaults of `solve`."""
     def solve(
         self,
@@ -312,7 +313,8 @@ def design(
     finger (model, actuator, load.kappa, [calibration]; its eps0 unless
     varied), as ``fpc design --scene``. ``starts`` <= 10000. Raises
     ``SceneError`` or ``InputError`` for bad requirements or scene,
-    ``FileNotFoundError`` for a missing path; Ctrl-C interrupts."""
+    ``FileNotFoundError`` for a missing path (``OSError`` for a file over
+    4 MiB or a directory); Ctrl-C interrupts."""
 
 def compare(manifest: Union[str, PathLike[str]]) -> dict[str, Any]:
     """The model against the measurements of a manifest (docs/measurements.md),

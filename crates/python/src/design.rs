@@ -48,7 +48,8 @@ use crate::scene_input::scene_text;
 ///
 /// ``requirements`` is read as a path when it is an ``os.PathLike`` or a
 /// one-line ``str`` ending in ``.toml`` or containing ``/`` (a missing file
-/// is ``FileNotFoundError``), else as TOML text. Raises ``fpc.SceneError``
+/// is ``FileNotFoundError``, one over 4 MiB or a directory an
+/// ``OSError`` naming it), else as TOML text. Raises ``fpc.SceneError``
 /// (with ``line`` and ``col``) for a syntax error or an unknown key, and
 /// ``fpc.InputError`` naming the field of a rejected value (``starts``
 /// beyond 10000: ``design.random_starts``), with ``line`` and ``col``

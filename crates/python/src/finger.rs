@@ -348,7 +348,8 @@ impl Finger {
 
     /// The finger of a scene file: TOML text, or a path to a ``.toml`` file
     /// (an ``os.PathLike``, or a one-line ``str`` that ends in ``.toml`` or
-    /// contains ``/``; a missing file is ``FileNotFoundError``).
+    /// contains ``/``; a missing file is ``FileNotFoundError``, one over
+    /// 4 MiB or a directory an ``OSError`` naming it).
     /// The scene's model, actuator and partition make the finger; its load,
     /// ``partition.tip_tol_mm`` and ``[solve]`` settings become the defaults
     /// of :meth:`solve` (so ``Finger.from_scene(s).solve()`` solves the

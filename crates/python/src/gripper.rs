@@ -252,7 +252,8 @@ impl Gripper {
     /// The gripper of a scene file with a ``[gripper]`` section (TOML text
     /// or a path, as for ``Finger.from_scene``: an ``os.PathLike`` or a
     /// one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
-    /// file is ``FileNotFoundError``). Its ``[gripper.grasp]``, if any, is
+    /// file is ``FileNotFoundError``, one over 4 MiB or a directory an
+    /// ``OSError``). Its ``[gripper.grasp]``, if any, is
     /// solved by :meth:`solve`.
     #[staticmethod]
     fn from_scene(py: Python<'_>, scene: &Bound<'_, PyAny>) -> PyResult<Gripper> {

@@ -168,11 +168,8 @@ fn read_manifest(py: Python<'_>, manifest: &Bound<'_, PyAny>) -> PyResult<Manife
             ))
         })?;
     if let Err(e) = std::fs::metadata(&path) {
-        return Err(io_error(
-            &e,
-            format!("cannot read the manifest {path}: {e}"),
-            &path,
-        ));
+        let message = format!("cannot read the manifest {path}: {e}");
+        return Err(io_error(py, &e.into(), message, &path));
     }
     Manifest::load(Path::new(&path)).map_err(|e| from_measure(py, &e))
 }

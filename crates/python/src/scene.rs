@@ -24,7 +24,8 @@ use crate::scene_input::read_scene;
 ///
 /// ``scene``: TOML text or a path to a scene file (an ``os.PathLike``, or
 /// a one-line ``str`` ending in ``.toml`` or containing ``/``; a missing
-/// file is ``FileNotFoundError``). ``name``: the
+/// file is ``FileNotFoundError``, one over 4 MiB or a directory an
+/// ``OSError``). ``name``: the
 /// ``scene_name`` (default: the file's stem, ``"scene"`` for text).
 /// Raises ``fpc.SceneError`` for a syntax error or unknown key,
 /// ``fpc.InputError`` naming the scene key of a rejected value, and

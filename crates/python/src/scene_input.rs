@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use pyo3::exceptions::PyTypeError;
+use fpc::scene::TextFileError;
+use pyo3::exceptions::{PyOSError, PyTypeError};
 use pyo3::prelude::*;
 
 use crate::errors::from_scene_read;
@@ -25,7 +26,10 @@ pub fn looks_like_path(s: &str) -> bool {
 /// A scene argument: TOML text, or a path to a scene file (any
 /// `os.PathLike`, or a `str` that [`looks_like_path`]). Returns the text
 /// and the path shown in messages (empty for text). A path that does not
-/// exist is `FileNotFoundError` naming it (never parsed as TOML).
+/// exist is `FileNotFoundError` naming it (never parsed as TOML); a file
+/// that cannot be read (a directory, larger than the library's
+/// [`fpc::scene::MAX_SCENE_BYTES`], not UTF-8) an `OSError` naming it in
+/// `.filename` and its message.
 pub fn scene_text(obj: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
     let py = obj.py();
     let os = py.import("os")?;
@@ -51,25 +55,36 @@ pub fn scene_text(obj: &Bound<'_, PyAny>) -> PyResult<(String, String)> {
     };
     match path {
         Some(p) => {
-            let text = std::fs::read_to_string(&p)
-                .map_err(|e| io_error(&e, format!("cannot read the scene file {p}: {e}"), &p))?;
+            let text = fpc::scene::read_scene_text(Path::new(&p)).map_err(|e| {
+                io_error(py, &e, format!("cannot read the scene file {p}: {e}"), &p)
+            })?;
             Ok((text, p))
         }
         None => Ok((obj.extract()?, String::new())),
     }
 }
 
-/// An I/O error on the file `path` as Python's own: `FileNotFoundError`
-/// and `PermissionError` (with errno and the file name), else `OSError`.
-pub fn io_error(e: &std::io::Error, message: String, path: &str) -> PyErr {
-    match e.kind() {
-        std::io::ErrorKind::NotFound => {
-            pyo3::exceptions::PyFileNotFoundError::new_err((2, message, path.to_string()))
-        }
-        std::io::ErrorKind::PermissionDenied => {
-            pyo3::exceptions::PyPermissionError::new_err((13, message, path.to_string()))
-        }
-        _ => pyo3::exceptions::PyOSError::new_err(message),
+/// An error reading the file `path` as Python's own
+/// `OSError(errno, message, path)`, which picks the subclass of the errno
+/// (`FileNotFoundError`, `PermissionError`, `IsADirectoryError`, ...) and
+/// sets `.errno` and `.filename`. The errno is the I/O error's; a file
+/// too large is `EFBIG`, one not UTF-8 `EILSEQ` (plain `OSError`s), and an
+/// I/O error without one `EIO`.
+pub fn io_error(py: Python<'_>, e: &TextFileError, message: String, path: &str) -> PyErr {
+    let named =
+        |name: &str| -> Option<i32> { py.import("errno").ok()?.getattr(name).ok()?.extract().ok() };
+    let errno = match e {
+        TextFileError::Io(io) => io.raw_os_error().or(match io.kind() {
+            std::io::ErrorKind::NotFound => named("ENOENT"),
+            std::io::ErrorKind::PermissionDenied => named("EACCES"),
+            _ => None,
+        }),
+        TextFileError::TooLarge { .. } => named("EFBIG"),
+        TextFileError::NotUtf8 { .. } => named("EILSEQ"),
+    };
+    match errno.or_else(|| named("EIO")) {
+        Some(n) => PyOSError::new_err((n, message, path.to_string())),
+        None => PyOSError::new_err(message),
     }
 }
 

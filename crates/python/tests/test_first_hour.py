@@ -31,7 +31,8 @@ eps0 = [0.1, 0.45]
 # ------------------------------------------------ 1. paths that do not exist
 
 
-@pytest.mark.parametrize(
+# every call that reads a scene or requirements file
+scene_calls = pytest.mark.parametrize(
     "call",
     [
         fpc.Finger.from_scene,
@@ -41,6 +42,9 @@ eps0 = [0.1, 0.45]
     ],
     ids=["Finger.from_scene", "solve_scene", "Gripper.from_scene", "design"],
 )
+
+
+@scene_calls
 @pytest.mark.parametrize(
     "missing", ["pressurised.toml", "no/such/dir/scene", "scenes/nope.TOML"]
 )
@@ -70,6 +74,45 @@ def test_existing_paths_and_one_line_text_still_work(tmp_path):
     p = tmp_path / "scene"
     p.write_text(scene)
     assert fpc.Finger.from_scene(str(p)).eps0 == 0.4
+
+
+@scene_calls
+def test_a_file_beyond_the_scene_limit_is_refused_naming_it_and_the_limit(call, tmp_path):
+    # one byte over 4 MiB, as `fpc solve` refuses it
+    big = tmp_path / "big.toml"
+    big.write_text("#" * (4 * 1024 * 1024) + "\n")
+    with pytest.raises(OSError) as e:
+        call(big)
+    assert type(e.value) is OSError, type(e.value)
+    assert e.value.filename == str(big)
+    assert str(big) in str(e.value)
+    assert "larger than 4 MiB (4194304 bytes), the limit for a scene file" in str(e.value)
+    # a device that never ends is refused the same way, not read whole
+    for device in ["/dev/zero", "/dev/urandom"]:
+        if os.path.exists(device):
+            with pytest.raises(OSError, match="larger than 4 MiB") as e:
+                call(device)
+            assert e.value.filename == device
+
+
+def test_a_file_at_the_scene_limit_is_read(tmp_path):
+    p = tmp_path / "at_limit.toml"
+    p.write_text("actuator.pemc.eps0 = 0.3\n" + "#" * (4 * 1024 * 1024 - 26) + "\n")
+    assert p.stat().st_size == 4 * 1024 * 1024
+    assert fpc.Finger.from_scene(p).eps0 == 0.3
+
+
+@scene_calls
+def test_a_directory_or_bad_text_is_an_os_error_naming_the_path(call, tmp_path):
+    with pytest.raises(IsADirectoryError) as e:
+        call(tmp_path)
+    assert e.value.filename == str(tmp_path)
+    assert str(tmp_path) in str(e.value)
+    bad = tmp_path / "bad.toml"
+    bad.write_bytes(b"a = 1\n\xff")
+    with pytest.raises(OSError, match="not UTF-8 text") as e:
+        call(bad)
+    assert e.value.filename == str(bad)
 
 
 # ------------------------------------------------ 2. named results
