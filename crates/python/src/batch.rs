@@ -107,7 +107,9 @@ impl Outcome {
     }
 
     fn of(r: Result<fpc::Solution, SolveError>) -> Outcome {
-        match r {
+        // the message names the argument the caller wrote (`kappa`, not
+        // the library's `load.kappa`), as `Finger.solve`'s does
+        match r.map_err(crate::errors::in_python_terms) {
             Ok(s) => Outcome {
                 status: 0,
                 tip: s.tip,

@@ -126,7 +126,9 @@ pub fn from_solve(py: Python<'_>, e: &fpc::SolveError) -> PyErr {
 fn argument(field: &Field) -> Option<&'static str> {
     Some(match field {
         Field::PartitionN | Field::Refinement(RefinementKey::Start) => "elements",
+        Field::LoadKappa => "kappa",
         Field::GripperOverlap => "gripper.overlap_mm",
+        Field::GripperPalm => "gripper.palm_mm",
         Field::GraspSize => "d_mm",
         Field::GraspFriction => "friction_n",
         Field::GraspPressureKpa => "pressure_kpa",

@@ -35,6 +35,29 @@ def test_a_grasp_pressure_below_vacuum_names_pressure_kpa_in_kpa(gripper, kind):
     assert str(err) == str(single.value)
 
 
+def test_a_library_bound_names_the_keyword_as_written():
+    f = fpc.Finger()
+    # kappa's lower bound is checked here, its upper bound by the library:
+    # both name the keyword
+    named_input_error(lambda: f.solve(kappa=0), "kappa", "kappa = 0: must be positive")
+    named_input_error(lambda: f.solve(kappa=101), "kappa", "kappa = 101: must be at most 100")
+    named_input_error(lambda: f.solve(kappa=1e300), "kappa", "kappa = 1e300")
+    r = fpc.batch_solve(kappa=[0, 101, 1e300])
+    assert list(r["status"]) == [1, 1, 1]
+    for error, start in zip(r["error"], ["kappa = 0:", "kappa = 101:", "kappa = 1e300:"]):
+        assert error.startswith(start), error
+    # a Gripper's keywords are named as its other ones are (and as a scene
+    # writes them): gripper.<keyword>
+    for palm, shown in [(1e300, "1e300"), (-5.0, "-5")]:
+        named_input_error(
+            lambda: fpc.Gripper(palm_mm=palm), "gripper.palm_mm", f"gripper.palm_mm = {shown}"
+        )
+    # a scene keeps its keys
+    with pytest.raises(fpc.InputError) as e:
+        fpc.solve_scene("[load]\nkappa = 101\n")
+    assert e.value.field == "load.kappa", str(e.value)
+
+
 def test_a_sweep_reports_the_pressure_in_kpa(gripper):
     s = gripper.sweep("cuboid", pressure_kpa=[-500])
     assert not s["ok"][0]
