@@ -262,7 +262,7 @@ class Gripper:
         ``inputs``, ``normal_force_n``, ``friction_n``, ``lift_n``,
         ``size_mm``, ``tip_gap_mm``, ``height_mm``, ``tip_gripper`` (n x 2),
         ``valid``, ``reversed``, ``ok``, ``error``. At most 100000 points;
-        complex inputs are a ``TypeError``; Ctrl-C stops it and raises
+        strings and complex inputs are a ``TypeError``; Ctrl-C stops it and raises
         ``KeyboardInterrupt`` whose ``partial`` is this dict for the points
         solved so far (the rest not ``ok``)."""
     def info(self) -> dict[str, Any]:
@@ -414,7 +414,7 @@ def batch_solve(
     """Many finger solves in parallel (rayon, the GIL released) over the
     broadcast inputs; equal to a loop of `Finger.solve` unless
     ``warm_start``. At most 1000000 points and 1024 threads (``InputError``
-    beyond); complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is the
+    beyond); strings and complex inputs, and ``pemc={"eps0": ...}`` (the prestrain is the
     ``eps0`` argument), are a ``TypeError``; Ctrl-C stops it and raises
     ``KeyboardInterrupt`` whose ``partial`` is this dict for the points
     solved so far (the rest have status 4, ``stopped``)."""

@@ -11,6 +11,7 @@ use serde_json::{Map, Value};
 use fpc::scene::{ActuatorSection, SceneFile};
 use fpc::{Actuator, InputError};
 
+use crate::convert::arg;
 use crate::errors::{from_input, input_error};
 
 /// The geometry keys accepted as keyword arguments on their own.
@@ -156,6 +157,13 @@ pub fn actuator_section(
                 (&LAMINATE_KEYS, "laminate"),
             ];
             if let Some(&(_, section)) = flat.iter().find(|f| f.0.contains(&k.as_str())) {
+                // a keyword of one value: a wrong type is a TypeError naming
+                // it, as for any scalar argument
+                if k == "plane_strain" {
+                    arg::<bool>(&k, &v)?;
+                } else {
+                    arg::<f64>(&k, &v)?;
+                }
                 let path = format!("actuator.{section}.{k}");
                 put(section, &k, value_at(&v, &path)?, format!("{k}="))?;
             } else if let Some(&(_, section)) = SECTION_KEYS.iter().find(|s| s.0 == k) {

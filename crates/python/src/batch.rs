@@ -357,9 +357,10 @@ fn solve_prestrain(
 
 /// The inputs `(name, value, default)` broadcast against each other
 /// (numpy rules), flattened, at most `max_points` of them (checked before
-/// any copy): the shape and the columns. A value that is not an array of
-/// real numbers, or shapes that do not broadcast, is `fpc.InputError`
-/// naming the argument; a complex value a `TypeError`.
+/// any copy): the shape and the columns. Each value is converted by
+/// [`real_array`] (a wrong type, such as a string or a complex value, is a
+/// `TypeError` naming the argument); shapes that do not broadcast are
+/// `fpc.InputError` naming the first argument.
 pub fn broadcast<'py>(
     py: Python<'py>,
     inputs: &[(&str, Option<&Bound<'py, PyAny>>, f64)],
@@ -372,14 +373,7 @@ pub fn broadcast<'py>(
             Some(v) if !v.is_none() => (*v).clone(),
             _ => default.into_pyobject(py)?.into_any(),
         };
-        let a = real_array(py, name, &v).map_err(|e| {
-            if e.is_instance_of::<pyo3::exceptions::PyTypeError>(py) {
-                e
-            } else {
-                input_error(py, name, format!("{name}: not an array of numbers ({e})"))
-            }
-        })?;
-        arrays.push(a);
+        arrays.push(real_array(py, name, &v)?);
     }
     let b = np
         .call_method1("broadcast_arrays", PyTuple::new(py, &arrays)?)
@@ -512,7 +506,7 @@ fn config(
 /// Bounds, checked before any work: at most 1000000 points (the broadcast
 /// size; ``fpc.InputError`` for ``points`` beyond) and 1024 ``threads``;
 /// memory grows with the points and the threads, not with the number of
-/// distinct prestrains. Complex inputs, and
+/// distinct prestrains. Strings and complex inputs, and
 /// ``pemc={"eps0": ...}`` (the prestrain is ``eps0``), are a
 /// ``TypeError``. Ctrl-C stops the batch within one
 /// solve per thread and raises ``KeyboardInterrupt`` whose ``partial``

@@ -180,26 +180,51 @@ pub fn report_dict<'py>(
     Ok(d)
 }
 
-/// `v` as a float64 numpy array for the argument `name`; a complex input
-/// (Python complex, complex numpy dtype, or a list holding one) is a
-/// `TypeError` rather than losing its imaginary part.
+/// `v` as a float64 numpy array for the argument `name`: the one
+/// conversion of every array argument (`batch_solve`'s inputs,
+/// `Gripper.sweep`'s, `guess`). Numbers (bool, int, float, and objects
+/// that convert to float) are converted; anything else is a `TypeError`
+/// naming the argument, as for a scalar argument: strings are not parsed
+/// (`eps0="0.3"`), and complex values (Python complex, complex numpy
+/// dtype, or a list holding one) are refused rather than losing their
+/// imaginary part. A value numpy cannot make an array of (a ragged list)
+/// is `fpc.InputError` naming the argument.
 pub fn real_array<'py>(
     py: Python<'py>,
     name: &str,
     v: &Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let np = py.import("numpy")?;
-    let complex = v.is_instance_of::<pyo3::types::PyComplex>()
-        || np
-            .call_method1("iscomplexobj", (v,))
-            .and_then(|c| c.is_truthy())
-            .unwrap_or(false);
-    if complex {
-        return Err(PyTypeError::new_err(format!(
+    let a = np.call_method1("asarray", (v,)).map_err(|e| {
+        if e.is_instance_of::<PyTypeError>(py) {
+            named(py, name, e)
+        } else {
+            crate::errors::input_error(py, name, format!("{name}: not an array of numbers ({e})"))
+        }
+    })?;
+    let dtype = a.getattr("dtype")?;
+    let kind: String = dtype.getattr("kind")?.extract()?;
+    match kind.as_str() {
+        "b" | "i" | "u" | "f" => np.call_method1("asarray", (a, "float64")),
+        "c" => Err(PyTypeError::new_err(format!(
             "{name}: complex values are not accepted (real numbers only)"
-        )));
+        ))),
+        // Python objects (ints beyond int64, None, Decimal, ...): as float
+        // does them, or a wrong type
+        "O" => a.call_method1("astype", ("float64",)).map_err(|e| {
+            PyTypeError::new_err(format!("argument '{name}': must be real numbers ({e})"))
+        }),
+        other => {
+            let what = match other {
+                "U" => "str".to_string(),
+                "S" => "bytes".to_string(),
+                _ => dtype.str()?.to_string(),
+            };
+            Err(PyTypeError::new_err(format!(
+                "argument '{name}': must be real numbers, not {what}"
+            )))
+        }
     }
-    np.call_method1("asarray", (v, "float64"))
 }
 
 /// Scene files as a list of `{"name", "toml"}` dicts (a design's or a

@@ -377,9 +377,10 @@ impl Gripper {
     /// ``height_mm``, ``tip_gripper`` (n x 2), ``valid``, ``reversed``,
     /// ``ok`` (solved) and ``error`` (list of messages, "" when solved).
     /// At most 100000 points (``fpc.InputError`` for ``points`` beyond);
-    /// an input that is not an array of numbers, or shapes that do not
-    /// broadcast, is ``fpc.InputError`` naming the argument (as for
-    /// ``batch_solve``); complex inputs are a ``TypeError``; Ctrl-C stops the sweep between
+    /// an input of strings or complex numbers is a ``TypeError`` naming
+    /// the argument, one numpy cannot make an array of (a ragged list), or
+    /// shapes that do not broadcast, ``fpc.InputError`` naming it (as for
+    /// ``batch_solve``); Ctrl-C stops the sweep between
     /// points and raises ``KeyboardInterrupt`` whose ``partial`` attribute
     /// is the same dict with the points solved so far (the others have
     /// ``ok`` False and the error "stopped by Ctrl-C before this point").

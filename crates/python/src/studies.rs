@@ -10,7 +10,7 @@ use fpc::studies::{StudyInfo, STUDIES};
 use fpc::StudyOptions;
 
 use crate::actuator_args::actuator_from_kwargs;
-use crate::convert::{arg_or, json_to_py, opt_arg, to_py};
+use crate::convert::{arg, arg_or, json_to_py, opt_arg, to_py};
 use crate::errors::{from_input, from_solve, input_error, interruptible};
 
 /// The study `study` names: its number (1 to 8) or its key.
@@ -22,14 +22,19 @@ fn find(py: Python<'_>, study: &Bound<'_, PyAny>) -> PyResult<&'static StudyInfo
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let found = if let Ok(n) = study.extract::<i64>() {
-        STUDIES.iter().find(|s| s.number as i64 == n)
-    } else if let Ok(k) = study.extract::<String>() {
+    // a number or a key; any other type (a float, a bool) is a TypeError
+    // naming the argument, as for any other argument
+    let found = if let Ok(k) = study.extract::<String>() {
         STUDIES
             .iter()
             .find(|s| s.key == k || s.stem() == k || s.number.to_string() == k)
+    } else if study.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(pyo3::exceptions::PyTypeError::new_err(
+            "argument 'study': must be a study's number (int) or key (str), not bool",
+        ));
     } else {
-        None
+        let n: i64 = arg("study", study)?;
+        STUDIES.iter().find(|s| s.number as i64 == n)
     };
     found.ok_or_else(|| {
         input_error(

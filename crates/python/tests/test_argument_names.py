@@ -96,6 +96,21 @@ def test_a_wrong_type_names_the_argument(gripper):
         (lambda: fpc.run_study(1, mu="x"), "mu"),
         (lambda: fpc.run_study(1, coarse="x"), "coarse"),
         (lambda: fpc.solve_scene("", name=3), "name"),
+        # strings are not numbers, in an array argument either
+        (lambda: f.solve(guess="abc"), "guess"),
+        (lambda: gripper.sweep("size", d_mm="100"), "d_mm"),
+        (lambda: gripper.sweep("size", d_mm=["a"]), "d_mm"),
+        (lambda: gripper.sweep("cuboid", friction_n=[{}]), "friction_n"),
+        (lambda: fpc.batch_solve(eps0="0.3"), "eps0"),
+        (lambda: fpc.batch_solve(pressure_kpa=[b"1"]), "pressure_kpa"),
+        (lambda: fpc.run_study(7.0), "study"),
+        (lambda: fpc.run_study(True), "study"),
+        # an actuator keyword of one value is an argument like any other
+        (lambda: fpc.Finger(plane_strain="yes"), "plane_strain"),
+        (lambda: fpc.Finger(plane_strain=1), "plane_strain"),
+        (lambda: fpc.Finger(shear_correction="x"), "shear_correction"),
+        (lambda: fpc.Finger(lx="100"), "lx"),
+        (lambda: fpc.batch_solve(h1="9"), "h1"),
     ]
     for call, name in cases:
         conversion_error(call, TypeError, name)
@@ -125,13 +140,28 @@ def test_the_documented_defaults_stay_visible_and_none_takes_them(gripper):
 
 
 def test_a_sweep_converts_its_inputs_as_batch_solve_does(gripper):
-    err = named_input_error(
-        lambda: gripper.sweep("size", d_mm="abc"), "d_mm", "d_mm: not an array of numbers"
+    # a string is a wrong type, never parsed as a number
+    sweep = conversion_error(lambda: gripper.sweep("size", d_mm="100"), TypeError, "d_mm")
+    batch = conversion_error(
+        lambda: fpc.batch_solve(pressure_kpa="100"), TypeError, "pressure_kpa"
     )
-    with pytest.raises(fpc.InputError) as batch:
-        fpc.batch_solve(pressure_kpa="abc")
-    assert str(batch.value).startswith("pressure_kpa: not an array of numbers")
-    assert "d_mm" in str(err)
+    assert str(sweep).replace("d_mm", "pressure_kpa") == str(batch)
+    # a list numpy cannot make an array of is a value error naming it
+    ragged = [[90.0], [90.0, 100.0]]
+    named_input_error(
+        lambda: gripper.sweep("size", d_mm=ragged), "d_mm", "d_mm: not an array of numbers"
+    )
+    named_input_error(lambda: fpc.batch_solve(fx=ragged), "fx", "fx: not an array of numbers")
+    named_input_error(
+        lambda: fpc.Finger().solve(guess=ragged), "guess", "guess: not an array of numbers"
+    )
+    # numbers of any numeric type are numbers
+    ints = {"pressure_kpa": np.array([20, 10], dtype=np.int16), "kappa": np.uint8([2, 3])}
+    a = fpc.batch_solve(eps0=[0.35, 0.1], fz=[False, True], **ints)
+    floats = {"pressure_kpa": [20.0, 10.0], "kappa": [2.0, 3.0]}
+    b = fpc.batch_solve(eps0=[0.35, 0.1], fz=[0.0, 1.0], **floats)
+    assert (a["status"] == 0).all(), a["error"]
+    np.testing.assert_array_equal(a["tip"], b["tip"])
     named_input_error(
         lambda: gripper.sweep("cuboid", d_mm=[90.0, 100.0], friction_n=[0.1, 0.2, 0.3]),
         "d_mm",
