@@ -65,17 +65,17 @@ pub fn read_scene_text(path: &Path) -> Result<String, TextFileError> {
 mod tests {
     use super::*;
 
-    fn temp(name: &str, bytes: &[u8]) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("fpc-text-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let p = dir.join(name);
+    /// A file holding `bytes` in a directory of its own, removed with it.
+    fn temp(name: &str, bytes: &[u8]) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join(name);
         std::fs::write(&p, bytes).unwrap();
-        p
+        (dir, p)
     }
 
     #[test]
     fn a_file_at_the_limit_is_read_and_one_byte_more_is_refused() {
-        let at = temp("at.toml", &[b'#'; 16]);
+        let (_dir, at) = temp("at.toml", &[b'#'; 16]);
         assert_eq!(read_text(&at, 16, "a test file").unwrap().len(), 16);
         let e = read_text(&at, 15, "a test file").unwrap_err();
         assert_eq!(
@@ -105,7 +105,7 @@ mod tests {
 
     #[test]
     fn a_directory_a_missing_file_and_bad_utf8_are_errors() {
-        let bad = temp("bad.toml", b"a = 1\n\xff");
+        let (_dir, bad) = temp("bad.toml", b"a = 1\n\xff");
         let e = read_scene_text(&bad).unwrap_err();
         assert_eq!(e.to_string(), "not UTF-8 text (invalid byte at offset 6)");
         let dir = bad.parent().unwrap();
