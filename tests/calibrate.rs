@@ -371,7 +371,13 @@ fn bad_options_are_errors_naming_the_field() {
 fn a_camera_frame_is_fitted_with_the_model() {
     // specimen a's markers seen by a camera turned by 4 degrees with its
     // origin at (-15, 40) mm; the manifest's frame starts off by 1 degree
-    // and 1 mm
+    // and 1 mm, the angle also written a turn away (-357 degrees is 3)
+    for start in [3.0, -357.0] {
+        camera_fit_from(start);
+    }
+}
+
+fn camera_fit_from(start_angle_deg: f64) {
     let d = dir("camera");
     let path = write_set(d.path(), &SPECS, 1.5, 0.03, 1.5);
     let mut m = Manifest::load(&path).unwrap();
@@ -386,7 +392,7 @@ fn a_camera_frame_is_fitted_with_the_model() {
                 r.point_mm = truth.to_camera(r.point_mm);
             }
             *camera = Some(fpc::measure::CameraFrame {
-                angle_deg: 3.0,
+                angle_deg: start_angle_deg,
                 x_mm: -14.0,
                 z_mm: 41.0,
             });
@@ -489,4 +495,32 @@ fn the_model_choice_picks_the_model_the_data_were_made_with() {
         .find(|c| c.model == "ccm" && c.ribs && !c.plane_strain)
         .unwrap();
     assert!(with_ribs.held_out_rms_sd.unwrap() > 3.0, "{with_ribs:?}");
+}
+
+#[test]
+fn too_many_unknowns_are_refused_with_their_real_count() {
+    // 22 markers tests with a camera frame: 66 camera unknowns, over the 64
+    let d = dir("unknowns");
+    let path = write_set(d.path(), &SPECS, 1.5, 0.03, 1.5);
+    let mut m = Manifest::load(&path).unwrap();
+    let mut markers = m.specimens[0]
+        .tests
+        .iter()
+        .find(|t| matches!(t.data, TestData::Markers { .. }))
+        .unwrap()
+        .clone();
+    if let TestData::Markers { camera, .. } = &mut markers.data {
+        *camera = Some(fpc::measure::CameraFrame {
+            angle_deg: 0.0,
+            x_mm: 0.0,
+            z_mm: 0.0,
+        });
+    }
+    m.specimens[0].tests = vec![markers; 22];
+    let e = calibrate(&m, &CalibrateOptions::new(&["camera"])).unwrap_err();
+    let text = e.to_string();
+    assert!(
+        text.starts_with("fit = 66: more than 64 unknowns"),
+        "{text}"
+    );
 }

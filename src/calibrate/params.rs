@@ -105,10 +105,20 @@ fn value_in(p: Param, scene: &crate::scene::Scene) -> Option<f64> {
 
 /// The camera frames' components: name, bounds.
 const CAMERA: [(&str, f64, f64); 3] = [
-    ("camera.angle_deg", -180.0, 180.0),
+    ("camera.angle_deg", f64::NEG_INFINITY, f64::INFINITY),
     ("camera.x_mm", f64::NEG_INFINITY, f64::INFINITY),
     ("camera.z_mm", f64::NEG_INFINITY, f64::INFINITY),
 ];
+
+/// An angle in degrees taken into (-180, 180].
+fn wrap_degrees(a: f64) -> f64 {
+    let w = a.rem_euclid(360.0);
+    if w > 180.0 {
+        w - 360.0
+    } else {
+        w
+    }
+}
 
 /// Three unknowns for every markers test with a camera frame.
 fn camera_unknowns(manifest: &Manifest, out: &mut Vec<Unknown>) -> Result<(), InputError> {
@@ -122,14 +132,16 @@ fn camera_unknowns(manifest: &Manifest, out: &mut Vec<Unknown>) -> Result<(), In
                 continue;
             };
             for (k, (key, lower, upper)) in CAMERA.into_iter().enumerate() {
-                if out.len() >= MAX_UNKNOWNS {
-                    return Err(InputError::OutOfRange {
-                        field: Field::key("fit"),
-                        value: (out.len() + 1) as f64,
-                        rule: format!("more than {MAX_UNKNOWNS} unknowns, the limit"),
-                    });
-                }
                 let start = [c.angle_deg, c.x_mm, c.z_mm][k];
+                // an angle is fitted within half a turn either side of its
+                // start, taken into (-180, 180] (the manifest admits a
+                // whole turn either way: -356 and 4 degrees are one frame)
+                let (start, lower, upper) = if k == 0 {
+                    let a = wrap_degrees(start);
+                    (a, a - 180.0, a + 180.0)
+                } else {
+                    (start, lower, upper)
+                };
                 out.push(Unknown {
                     key: key.to_string(),
                     specimen: Some(s.name.clone()),
@@ -176,15 +188,6 @@ pub(crate) fn unknowns(
         let key = p.name();
         let own = manifest.specimens.iter().any(|s| s.own.contains(&key));
         let push = |out: &mut Vec<Unknown>, specimen: Option<String>, start: f64| {
-            if out.len() >= MAX_UNKNOWNS {
-                return Err(InputError::OutOfRange {
-                    field: Field::key("fit"),
-                    value: (out.len() + 1) as f64,
-                    rule: format!(
-                        "more than {MAX_UNKNOWNS} unknowns (a specimen's own parameter counts once per specimen), the limit"
-                    ),
-                });
-            }
             let (lower, upper) = bounds(p, start);
             out.push(Unknown {
                 key: key.clone(),
@@ -195,7 +198,6 @@ pub(crate) fn unknowns(
                 lower,
                 upper,
             });
-            Ok(())
         };
         let missing = |s: &str| {
             inconsistent(
@@ -216,7 +218,7 @@ pub(crate) fn unknowns(
         if own {
             for s in &manifest.specimens {
                 let v = value_in(p, &s.scene).ok_or_else(|| missing(&s.name))?;
-                push(&mut out, Some(s.name.clone()), v)?;
+                push(&mut out, Some(s.name.clone()), v);
             }
         } else {
             let mut first: Option<f64> = None;
@@ -236,8 +238,19 @@ pub(crate) fn unknowns(
                     Some(_) => {}
                 }
             }
-            push(&mut out, None, first.unwrap_or_default())?;
+            push(&mut out, None, first.unwrap_or_default());
         }
+    }
+    // counted whole first (the manifest's own bounds keep the list short),
+    // so the message gives the real number
+    if out.len() > MAX_UNKNOWNS {
+        return Err(InputError::OutOfRange {
+            field: Field::key("fit"),
+            value: out.len() as f64,
+            rule: format!(
+                "more than {MAX_UNKNOWNS} unknowns, the limit (a specimen's own parameter counts once per specimen, a camera frame three times)"
+            ),
+        });
     }
     Ok(out)
 }
