@@ -11,7 +11,7 @@ use super::driver::run;
 use super::params::Unknown;
 use super::progress::Tracker;
 use super::residuals::evaluate;
-use crate::measure::{Manifest, TestData};
+use crate::measure::{total, Manifest, TestData};
 
 /// The rows at one pressure, predicted by the fit without them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -104,7 +104,7 @@ pub(crate) fn cross_validate(
     let solves = refits.iter().map(|r| r.1).sum();
     let targets = refits.iter().map(|r| r.2).sum();
     let held_out: Vec<HeldOut> = refits.into_iter().map(|r| r.0).collect();
-    let chi_square: f64 = held_out.iter().map(|h| h.chi_square).sum();
+    let chi_square = total(held_out.iter().map(|h| h.chi_square));
     let points: usize = held_out.iter().map(|h| h.points).sum();
     (
         CrossValidation {
@@ -141,7 +141,7 @@ fn held_out_at(
     });
     let held = match result {
         Ok((values, rows)) => {
-            let chi: f64 = rows.iter().map(|r| r.residual_sd * r.residual_sd).sum();
+            let chi = total(rows.iter().map(|r| r.residual_sd * r.residual_sd));
             HeldOut {
                 pressure_kpa: p,
                 points: rows.len(),

@@ -443,6 +443,12 @@ fn compare_test(model: &mut Model, test: &Test, curves: bool) -> TestComparison 
     }
 }
 
+/// The sum of `values`, 0 (not -0, as `Sum` gives) for none: what a
+/// report writes for a specimen without tests.
+pub(crate) fn total(values: impl Iterator<Item = f64>) -> f64 {
+    values.fold(0.0, |a, b| a + b)
+}
+
 fn chi_square(preds: &[Prediction]) -> (f64, usize) {
     let z = preds
         .iter()
@@ -475,7 +481,7 @@ pub(crate) fn compare_with(manifest: &Manifest, curves: bool) -> Result<Comparis
             name: s.name.clone(),
             eps0: s.scene.actuator.eps0(),
             kappa: s.scene.load.kappa,
-            chi_square: tests.iter().map(|t| t.chi_square).sum(),
+            chi_square: total(tests.iter().map(|t| t.chi_square)),
             points: tests.iter().map(|t| t.points).sum(),
             tests,
         });
@@ -483,7 +489,7 @@ pub(crate) fn compare_with(manifest: &Manifest, curves: bool) -> Result<Comparis
     let tests = || specimens.iter().flat_map(|s| &s.tests);
     Ok(Comparison {
         manifest: manifest.file.clone(),
-        chi_square: specimens.iter().map(|s| s.chi_square).sum(),
+        chi_square: total(specimens.iter().map(|s| s.chi_square)),
         points: specimens.iter().map(|s| s.points).sum(),
         failed: tests().map(|t| t.failed).sum(),
         outside_model: tests().map(|t| t.outside_model).sum(),
@@ -666,4 +672,27 @@ pub fn figures(c: &Comparison) -> Vec<(&'static str, Figure)> {
         ));
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_specimen_without_tests_has_a_chi_square_of_plus_zero() {
+        // `Sum` of no f64 is -0.0, which the reports wrote as "-0.0"
+        assert!(total(std::iter::empty()).is_sign_positive());
+        let m = Manifest::parse(
+            "[[specimen]]\nname = \"a\"\n",
+            "m.toml",
+            std::path::Path::new("."),
+        )
+        .unwrap();
+        let c = compare(&m).unwrap();
+        assert_eq!(c.specimens.len(), 1);
+        assert!(c.specimens[0].chi_square.is_sign_positive());
+        assert!(c.chi_square.is_sign_positive());
+        let json = serde_json::to_string(&c).unwrap();
+        assert!(!json.contains("-0.0"), "{json}");
+    }
 }

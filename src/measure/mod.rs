@@ -58,11 +58,11 @@ mod input;
 mod manifest;
 mod table;
 
-pub(crate) use comparison::compare_with;
 pub use comparison::{
     compare, figures, table, Comparison, ForceCurve, Prediction, Residual, SpecimenComparison,
     TestComparison, COMPARE_COLUMNS,
 };
+pub(crate) use comparison::{compare_with, total};
 pub use input::{
     MeasureError, TestKind, MAX_ANGLE_DEG, MAX_DATA_BYTES, MAX_FORCE_N, MAX_LENGTH_MM,
     MAX_MANIFEST_BYTES, MAX_PRESSURE_KPA, MAX_REPEATS, MAX_ROWS, MAX_SCENE_BYTES, MAX_SPECIMENS,
