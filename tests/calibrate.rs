@@ -524,3 +524,31 @@ fn too_many_unknowns_are_refused_with_their_real_count() {
         "{text}"
     );
 }
+
+#[test]
+fn a_row_the_model_cannot_solve_is_named_by_its_file_and_line() {
+    // the shipped example with one radius row far past any finger appended
+    let d = dir("unsolvable");
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/calibration");
+    for entry in std::fs::read_dir(&shipped).unwrap() {
+        let p = entry.unwrap().path();
+        std::fs::copy(&p, d.path().join(p.file_name().unwrap())).unwrap();
+    }
+    let csv = d.path().join("eps0-0.25_radius.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.ends_with('\n'));
+    let lines = text.lines().count();
+    std::fs::write(&csv, format!("{text}5000,50,1\n")).unwrap();
+    let m = Manifest::load(&d.path().join("manifest.toml")).unwrap();
+    let e = calibrate(&m, &CalibrateOptions::new(&["eps0", "kappa"])).unwrap_err();
+    let text = e.to_string();
+    let at = format!(
+        "eps0-0.25_radius.csv:{}: the model does not solve at 5000 kPa",
+        lines + 1
+    );
+    assert!(matches!(e, fpc::SolveError::Input(_)), "{e:?}");
+    assert!(
+        text.starts_with("pressure_kpa: ") && text.contains(&at),
+        "{text}"
+    );
+}

@@ -15,8 +15,9 @@ use crate::solve_error::SolveError;
 /// Fits `options.fit` to every test of `manifest` by weighted least
 /// squares (docs/calibration.md). Bad options or a parameter the manifest
 /// cannot fit are [`SolveError::Input`] naming the field (`fit`,
-/// `max_iterations`, `partition`); a model that cannot be solved at the
-/// start is the solve's error. Nothing panics on user input, and no NaN
+/// `max_iterations`, `partition`); a data row at whose pressure the
+/// model does not solve at the start is an input error on `pressure_kpa`
+/// naming the row's file and line (leave the row out to calibrate). Nothing panics on user input, and no NaN
 /// comes out: a residual or Jacobian entry that is not finite stops the
 /// fit with an error.
 pub fn calibrate(

@@ -25,6 +25,7 @@ use crate::coefficients::Coefficients;
 use crate::field::Field;
 use crate::finger::{Finger, Load, Solution, SolveOptions, Solver, TargetProblem, Traced};
 use crate::measure::{Specimen, TestData};
+use crate::num::Num;
 use crate::plan::PlannedFinger;
 use crate::sensitivity::Param;
 use crate::sensitivity::{points_and_tangents, shape_sites, site_at, Site};
@@ -144,9 +145,13 @@ fn evaluate_specimen(
     let per = s.scene.options.samples_per_element;
     let lengths = finger.element_lengths().to_vec();
     let mut cache: HashMap<u64, AtPressure> = HashMap::new();
+    // `file` and `line`: the first row at this pressure, which a failed
+    // solve names
     let at = |cache: &mut HashMap<u64, AtPressure>,
               p: f64,
-              out: &mut Evaluation|
+              out: &mut Evaluation,
+              file: &str,
+              line: usize|
      -> Result<(), SolveError> {
         if cache.contains_key(&bits(p)) {
             return Ok(());
@@ -155,7 +160,9 @@ fn evaluate_specimen(
             kappa,
             ..Load::unloaded().with_pressure_kpa(p)
         };
-        let solution = finger.solve(&load, &opts)?;
+        let solution = finger
+            .solve(&load, &opts)
+            .map_err(|e| unsolved_row(e, file, line, p))?;
         out.solves += 1;
         if solution
             .warnings
@@ -219,7 +226,7 @@ fn evaluate_specimen(
                     }
                 }
                 for r in rows {
-                    at(&mut cache, r.pressure_kpa, out)?;
+                    at(&mut cache, r.pressure_kpa, out, &test.file, r.line)?;
                     let a = &cache[&bits(r.pressure_kpa)];
                     let site = site_at(&lengths, r.s_mm);
                     let (q, dq) = points_and_tangents(
@@ -274,7 +281,7 @@ fn evaluate_specimen(
             }
             TestData::Radius(rows) => {
                 for r in rows {
-                    at(&mut cache, r.pressure_kpa, out)?;
+                    at(&mut cache, r.pressure_kpa, out, &test.file, r.line)?;
                     let a = &cache[&bits(r.pressure_kpa)];
                     let sites: Vec<Option<Site>> = shape_sites(&lengths, per);
                     let (pts, dpts) =
@@ -304,7 +311,7 @@ fn evaluate_specimen(
             }
             TestData::Force(rows) => {
                 for r in rows {
-                    at(&mut cache, r.pressure_kpa, out)?;
+                    at(&mut cache, r.pressure_kpa, out, &test.file, r.line)?;
                     let a = &cache[&bits(r.pressure_kpa)];
                     let u = unit(r.axis);
                     let s0 = u[0] * a.solution.tip[0] + u[1] * a.solution.tip[1];
@@ -391,6 +398,24 @@ pub(crate) fn evaluate(
     theta: &[f64],
 ) -> Result<Evaluation, SolveError> {
     evaluate_observed(manifest, unknowns, theta, &|| {})
+}
+
+/// A row at whose pressure the model does not solve, named by its file
+/// and line (a rejected input or a cancelled run stays as it is). In the
+/// fit's trial steps this is a rejected step; at the start, nothing can
+/// be fitted until the row is left out.
+fn unsolved_row(e: SolveError, file: &str, line: usize, p: f64) -> SolveError {
+    match e {
+        SolveError::Input(_) | SolveError::Cancelled => e,
+        e => super::options::inconsistent(
+            "pressure_kpa",
+            format!(
+                "{file}:{line}: the model does not solve at {} kPa with these parameters ({e}); leave the row out to calibrate (`fpc compare` lists every row the model cannot predict)",
+                Num(p)
+            ),
+        )
+        .into(),
+    }
 }
 
 /// [`evaluate`], calling `solved` as each specimen is done (whether or
