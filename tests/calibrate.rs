@@ -552,3 +552,32 @@ fn a_row_the_model_cannot_solve_is_named_by_its_file_and_line() {
         "{text}"
     );
 }
+
+#[test]
+fn a_refit_left_without_enough_data_is_a_failure_not_the_full_fit() {
+    // one specimen's markers at one pressure only: leaving that pressure
+    // out leaves nothing to fit eps0 to
+    let d = dir("one-pressure");
+    let path = write_set(d.path(), &SPECS, 1.5, 0.0, 1.5);
+    let mut m = Manifest::load(&path).unwrap();
+    m.specimens.truncate(1);
+    m.specimens[0]
+        .tests
+        .retain(|t| matches!(t.data, TestData::Markers { .. }));
+    for t in &mut m.specimens[0].tests {
+        if let TestData::Markers { rows, .. } = &mut t.data {
+            rows.retain(|r| r.pressure_kpa == 0.0);
+        }
+    }
+    let opts = CalibrateOptions {
+        cross_validate: true,
+        ..CalibrateOptions::new(&["eps0"])
+    };
+    let fit = calibrate(&m, &opts).unwrap();
+    let cv = fit.cross_validation.unwrap();
+    assert_eq!(cv.held_out.len(), 1, "{cv:#?}");
+    let h = &cv.held_out[0];
+    let why = h.failure.as_deref().unwrap_or_default();
+    assert!(why.contains("the data without 0 kPa has 0"), "{h:?}");
+    assert!(h.values.is_empty() && h.points == 0, "{h:?}");
+}

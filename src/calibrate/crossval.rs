@@ -8,10 +8,12 @@
 use serde::Serialize;
 
 use super::driver::run;
-use super::params::Unknown;
+use super::params::{enough_values, Unknown};
 use super::progress::Tracker;
 use super::residuals::evaluate;
 use crate::measure::{total, Manifest, TestData};
+use crate::num::Num;
+use crate::solve_error::SolveError;
 
 /// The rows at one pressure, predicted by the fit without them.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -130,7 +132,16 @@ fn held_out_at(
     let (mut solves, mut targets) = (0, 0);
     let without = filtered(manifest, p, false);
     let only = filtered(manifest, p, true);
-    let result = run(&without, unknowns, theta.to_vec(), max_iterations).and_then(|r| {
+    // leaving out the only pressures that carry enough data leaves
+    // nothing to fit: a failure, not the full fit presented as a refit
+    let result = enough_values(
+        &without,
+        unknowns.len(),
+        &format!("the data without {} kPa", Num(p)),
+    )
+    .map_err(SolveError::from)
+    .and_then(|()| run(&without, unknowns, theta.to_vec(), max_iterations))
+    .and_then(|r| {
         solves += r.solves;
         targets += r.target_solves;
         let values = r.min.theta;

@@ -4,8 +4,8 @@
 use super::crossval::{cross_validate, pressures};
 use super::driver::run_observed;
 use super::identify::analyse;
-use super::options::{inconsistent, CalibrateOptions, MAX_HELD_OUT_PRESSURES};
-use super::params::unknowns;
+use super::options::{CalibrateOptions, MAX_HELD_OUT_PRESSURES};
+use super::params::{enough_values, unknowns};
 use super::progress::{CalibrateProgress, CalibrateStage, Tracker};
 use super::record::{Calibration, FittedParameter, Reproduction};
 use super::reproduce::reproduce;
@@ -42,22 +42,7 @@ pub fn calibrate_with_progress(
     options.validate()?;
     let unknowns = unknowns(manifest, options)?;
     let n = unknowns.len();
-    let points: usize = manifest
-        .specimens
-        .iter()
-        .flat_map(|s| &s.tests)
-        .map(|t| match &t.data {
-            crate::measure::TestData::Markers { rows, .. } => 2 * rows.len(),
-            d => d.len(),
-        })
-        .sum();
-    if points <= n {
-        return Err(inconsistent(
-            "fit",
-            format!("{n} unknowns need more than {n} measured values; the manifest has {points}"),
-        )
-        .into());
-    }
+    enough_values(manifest, n, "the manifest")?;
     if options.cross_validate {
         let held = pressures(manifest).len();
         if held > MAX_HELD_OUT_PRESSURES {

@@ -110,6 +110,28 @@ const CAMERA: [(&str, f64, f64); 3] = [
     ("camera.z_mm", f64::NEG_INFINITY, f64::INFINITY),
 ];
 
+/// Refuses a fit of `n` unknowns to `manifest` unless it has more
+/// measured values than that (a marker row gives two); `what` names the
+/// data in the message ("the manifest").
+pub(crate) fn enough_values(manifest: &Manifest, n: usize, what: &str) -> Result<(), InputError> {
+    let points: usize = manifest
+        .specimens
+        .iter()
+        .flat_map(|s| &s.tests)
+        .map(|t| match &t.data {
+            crate::measure::TestData::Markers { rows, .. } => 2 * rows.len(),
+            d => d.len(),
+        })
+        .sum();
+    if points <= n {
+        return Err(inconsistent(
+            "fit",
+            format!("{n} unknowns need more than {n} measured values; {what} has {points}"),
+        ));
+    }
+    Ok(())
+}
+
 /// An angle in degrees taken into (-180, 180].
 fn wrap_degrees(a: f64) -> f64 {
     let w = a.rem_euclid(360.0);
