@@ -594,12 +594,16 @@ fn data(test: &TestComparison, keep: impl Fn(&Prediction) -> bool) -> Vec<(f64, 
         .collect()
 }
 
+/// The names of every figure [`figures`] may draw.
+pub const FIGURE_STEMS: [&str; 2] = ["compare_radius", "compare_force"];
+
 /// The figures: `compare_radius` (radius of curvature against pressure,
 /// the data with error bars of one standard deviation and the model's
 /// curve, as the paper's Fig. 16(b)) and `compare_force` (the tip force
 /// against pressure, error bars of one standard deviation of the mean,
 /// as Fig. 18), each when the manifest has such tests.
 pub fn figures(c: &Comparison) -> Vec<(&'static str, Figure)> {
+    let [radius_stem, force_stem] = FIGURE_STEMS;
     let mut radius = Panel::new(
         "Radius of curvature against pressure (bars: ±1 sd)",
         PlotAxis::new("pressure P", "kPa"),
@@ -653,7 +657,7 @@ pub fn figures(c: &Comparison) -> Vec<(&'static str, Figure)> {
     let mut out = Vec::new();
     if !radius.series.is_empty() {
         out.push((
-            "compare_radius",
+            radius_stem,
             Figure::row(
                 "fpc compare: radius of curvature against pressure (as the paper's Fig. 16(b))",
                 [1000, 600],
@@ -663,7 +667,7 @@ pub fn figures(c: &Comparison) -> Vec<(&'static str, Figure)> {
     }
     if !force.series.is_empty() {
         out.push((
-            "compare_force",
+            force_stem,
             Figure::row(
                 "fpc compare: tip force against pressure (as the paper's Fig. 18)",
                 [1000, 600],

@@ -60,7 +60,7 @@ mod table;
 
 pub use comparison::{
     compare, figures, table, Comparison, ForceCurve, Prediction, Residual, SpecimenComparison,
-    TestComparison, COMPARE_COLUMNS,
+    TestComparison, COMPARE_COLUMNS, FIGURE_STEMS,
 };
 pub(crate) use comparison::{compare_with, total};
 pub use input::{

@@ -13,7 +13,7 @@
 use std::io::Write as _;
 use std::path::PathBuf;
 
-use fpc::measure::{figures, table, Comparison, Manifest};
+use fpc::measure::{figures, table, Comparison, Manifest, FIGURE_STEMS};
 use fpc::num::Num;
 use serde::Serialize;
 
@@ -52,9 +52,16 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let c = fpc::compare(&manifest)?;
     crate::output::write_atomic(&out, "compare.csv", &crate::render::csv::csv(&table(&c))?)?;
     let mut written = Vec::new();
-    for (stem, fig) in figures(&c) {
-        let svg = crate::paper::render::svg(&fig)?;
+    let drawn = figures(&c);
+    for (stem, fig) in &drawn {
+        let svg = crate::paper::render::svg(fig)?;
         written.extend(args.format.write(&out, stem, &svg)?);
+    }
+    // an earlier run's figure of a kind of test this manifest lacks
+    for stem in FIGURE_STEMS {
+        if !drawn.iter().any(|(s, _)| *s == stem) {
+            crate::render::formats::remove_figure(&out, stem, &[])?;
+        }
     }
     let report = Report {
         comparison: &c,

@@ -29,7 +29,7 @@ use serde_json::{json, Map, Value};
 
 use crate::output::write_atomic;
 use crate::render::csv;
-use crate::render::formats::FormatArgs;
+use crate::render::formats::{remove_figure, FormatArgs};
 
 /// Flags of `fpc paper`.
 #[derive(clap::Args, Debug)]
@@ -334,10 +334,12 @@ impl Output {
         Ok(())
     }
 
-    /// Writes one figure from its SVG in every format asked for.
+    /// Writes one figure from its SVG in every format asked for, and
+    /// removes an earlier run's files of it in the others.
     fn write_figure(&mut self, stem: &str, svg: &str) -> anyhow::Result<()> {
         let files = self.formats.render(stem, svg)?;
-        self.write_files(files)
+        self.write_files(files)?;
+        remove_figure(&self.dir, stem, &self.formats.list())
     }
 
     /// Writes a study's figure; a figure that cannot be drawn or rendered
@@ -346,7 +348,10 @@ impl Output {
         let stem = info.stem();
         let files = svg.and_then(|text| Ok(self.formats.render(&stem, &text)?));
         match files {
-            Ok(files) => self.write_files(files),
+            Ok(files) => {
+                self.write_files(files)?;
+                remove_figure(&self.dir, &stem, &self.formats.list())
+            }
             Err(e) => {
                 let n = info.number;
                 let e = e.context(format!("cannot draw the figure of study {n}"));

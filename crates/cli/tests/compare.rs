@@ -57,6 +57,22 @@ fn the_synthetic_set_is_compared_into_csv_json_and_figures() {
     let j = fpc(&["compare", &shipped(), "--out", &o, "--json"]);
     let printed: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
     assert_eq!(printed["chi_square"], json["chi_square"]);
+    // that run asked for SVG only: the first run's PNGs are gone
+    assert!(!out.join("compare_radius.png").exists());
+    assert!(!out.join("compare_force.png").exists());
+    // a manifest without force tests, into the same directory: no force
+    // figure of the earlier run is left beside its own
+    let radius = tmp("radius-only");
+    let m = one_radius_test(radius.path());
+    std::fs::write(
+        radius.path().join("r.csv"),
+        "pressure_kpa,radius_mm,sd_mm\n0,68,1\n",
+    )
+    .unwrap();
+    let again = fpc(&["compare", &m, "--out", &o]);
+    assert_eq!(again.status.code(), Some(0), "{}", text(&again.stderr));
+    assert!(out.join("compare_radius.svg").is_file());
+    assert!(!out.join("compare_force.svg").exists());
 }
 
 /// A manifest `m.toml` in `d` of one specimen with one radius test,

@@ -208,6 +208,17 @@ fn png_alone_writes_no_svg_outside_the_paper() {
     assert!(out.join("shape.png").is_file());
     assert!(!out.join("shape.svg").exists());
     assert!(!out.join("shape.pdf").exists());
+    // again into the same directory as SVG: the PNG of the run before is
+    // not left beside it (a figure there is always this run's)
+    run_ok(
+        fpc()
+            .arg("solve")
+            .arg(repo("scenes/tip_load.toml"))
+            .arg("--out")
+            .arg(&out),
+    );
+    assert!(out.join("shape.svg").is_file());
+    assert!(!out.join("shape.png").exists());
 }
 
 #[test]

@@ -51,6 +51,25 @@ impl Format {
     }
 }
 
+/// Removes the files `stem.<ext>` of `dir` in every format but `keep`'s
+/// (none there is no error): an earlier run's figure that this run does
+/// not draw, or draws in other formats.
+pub fn remove_figure(dir: &Path, stem: &str, keep: &[Format]) -> anyhow::Result<()> {
+    for f in [Format::Svg, Format::Png, Format::Pdf] {
+        if keep.contains(&f) {
+            continue;
+        }
+        let path = dir.join(format!("{stem}.{}", f.extension()));
+        match std::fs::remove_file(&path) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                anyhow::bail!("cannot remove the stale figure {}: {e}", path.display())
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// The `--format` flag, flattened into every command that writes figures.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FormatArgs {
@@ -107,13 +126,15 @@ impl FormatArgs {
 
     /// Renders `svg` in every format asked for and writes each file as
     /// `stem.<ext>` in `dir` (atomically, [`crate::output::write_atomic`]).
-    /// Every file is rendered before any is written. Returns the names
-    /// written.
+    /// Every file is rendered before any is written; then the formats not
+    /// asked for are removed ([`remove_figure`]), so that no figure of an
+    /// earlier run stands beside this one's. Returns the names written.
     pub fn write(&self, dir: &Path, stem: &str, svg: &str) -> anyhow::Result<Vec<String>> {
         let files = self.render(stem, svg)?;
         for (name, bytes) in &files {
             crate::output::write_atomic(dir, name, bytes)?;
         }
+        remove_figure(dir, stem, &self.list())?;
         Ok(files.into_iter().map(|(n, _)| n).collect())
     }
 

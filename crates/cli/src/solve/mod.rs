@@ -71,6 +71,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
         write_atomic(&out, &name, &bytes)?;
         written.push(name);
     }
+    crate::render::formats::remove_figure(&out, "shape", &args.format.list())?;
 
     let mut stdout = crate::output::stdout();
     summary(&mut stdout, &stem, scene.file(), &solved)?;
