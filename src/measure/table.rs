@@ -110,7 +110,8 @@ pub(crate) struct Context<'a> {
     pub length_mm: f64,
     pub default_sd_mm: Option<f64>,
     /// Rows this file may still have: [`MAX_ROWS`], or less when the
-    /// manifest's other files have used up most of its total.
+    /// manifest's other files have used up most of its total (the
+    /// [`MAX_TOTAL_ROWS`] less theirs).
     pub max_rows: usize,
 }
 
@@ -290,24 +291,25 @@ pub(crate) fn read<R>(
     parse: impl Fn(&Record) -> Result<R, MeasureError>,
     key: impl Fn(&R) -> (String, &'static str),
 ) -> Result<Vec<R>, MeasureError> {
+    let bytes = lone_cr_as_lf(text);
+    let mut lines = Lines::new(&bytes);
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .comment(Some(b'#'))
         .flexible(true)
-        .from_reader(text.as_bytes());
-    let header = rdr.headers().map_err(|e| csv_error(ctx.file, &e))?.clone();
-    // the header's line, after leading comments and blank lines (the
-    // reader's own position of the header does not count them)
-    let header_line = text
-        .lines()
-        .position(|l| !l.trim().is_empty() && !l.starts_with('#'))
-        .map_or(1, |i| i + 1);
+        .from_reader(bytes.as_slice());
+    let header = rdr
+        .headers()
+        .map_err(|e| csv_error(ctx.file, &e, &mut lines))?
+        .clone();
+    let header_line = lines.of(header.position());
     let known = columns(kind);
     let names = || known.iter().map(|c| c.0).collect::<Vec<&str>>().join(", ");
     if header.is_empty() {
+        // (a file of comments and blank lines only: its first line)
         return Err(MeasureError::at(
             ctx.file,
-            header_line,
+            1,
             1,
             "header",
             format!(
@@ -343,19 +345,15 @@ pub(crate) fn read<R>(
     let mut rows = Vec::new();
     let mut seen: HashMap<String, usize> = HashMap::new();
     for record in rdr.records() {
-        let fields = record.map_err(|e| csv_error(ctx.file, &e))?;
-        let line = fields.position().map_or(0, |p| p.line() as usize);
+        let fields = record.map_err(|e| csv_error(ctx.file, &e, &mut lines))?;
+        let line = lines.of(fields.position());
         if rows.len() == ctx.max_rows {
             return Err(MeasureError::at(
                 ctx.file,
                 line,
                 1,
                 "rows",
-                format!(
-                    "more than {} data rows, the limit for this file ({MAX_ROWS} per file, {} in all the files of a manifest)",
-                    ctx.max_rows,
-                    MAX_TOTAL_ROWS
-                ),
+                too_many_rows(ctx.max_rows),
             ));
         }
         if fields.len() != header.len() {
@@ -395,8 +393,93 @@ pub(crate) fn bits(x: f64) -> u64 {
     (x + 0.0).to_bits()
 }
 
-fn csv_error(file: &str, e: &csv::Error) -> MeasureError {
-    let line = e.position().map_or(1, |p| p.line() as usize);
+/// Why a file's row after its first `max_rows` is refused: the limit of
+/// one file ([`MAX_ROWS`]), or, when the manifest's files before it have
+/// used more than `MAX_TOTAL_ROWS - MAX_ROWS` of their total
+/// ([`Context::max_rows`] is then what they left), the manifest's.
+fn too_many_rows(max_rows: usize) -> String {
+    if max_rows >= MAX_ROWS {
+        format!(
+            "more than {MAX_ROWS} data rows, the limit of one file ({MAX_TOTAL_ROWS} in all the files of a manifest)"
+        )
+    } else {
+        format!(
+            "more than {max_rows} data rows: the manifest's limit is {MAX_TOTAL_ROWS} data rows in all its files, and its files before this one have {}",
+            MAX_TOTAL_ROWS - max_rows
+        )
+    }
+}
+
+/// The text as the reader reads it: each lone CR (an old Mac line end)
+/// made a LF, as the reader ends a comment line at a LF only (it would
+/// read the rest of the file into the comment); of the same length, so
+/// that a byte position is the text's.
+fn lone_cr_as_lf(text: &str) -> Vec<u8> {
+    let b = text.as_bytes();
+    b.iter()
+        .enumerate()
+        .map(|(i, &c)| match c {
+            b'\r' if b.get(i + 1) != Some(&b'\n') => b'\n',
+            c => c,
+        })
+        .collect()
+}
+
+/// The physical line (from 1) of each record of a text read by
+/// [`lone_cr_as_lf`], every line ending (LF, CRLF, lone CR) counted once.
+///
+/// The reader's position of a record is where it stopped after the one
+/// before: before the LF of a CRLF and the blank and comment lines it skips
+/// to the record, which its own line count does not include. The record's
+/// line is counted here from the byte: past what the reader skips, the LFs
+/// before it. Records come in order, so the count goes on from the last.
+struct Lines<'a> {
+    text: &'a [u8],
+    /// A byte of the text and its line.
+    at: usize,
+    line: usize,
+}
+
+impl<'a> Lines<'a> {
+    fn new(text: &'a [u8]) -> Self {
+        Lines {
+            text,
+            at: 0,
+            line: 1,
+        }
+    }
+
+    /// The line of the record at the reader's position `pos` (line 1 when
+    /// there is none).
+    fn of(&mut self, pos: Option<&csv::Position>) -> usize {
+        let Some(pos) = pos else { return 1 };
+        let t = self.text;
+        let mut i = usize::try_from(pos.byte()).map_or(t.len(), |b| b.min(t.len()));
+        // what the reader skips before a record: line ends (and so blank
+        // lines), and comment lines through their LF
+        while let Some(&c) = t.get(i) {
+            match c {
+                b'\r' | b'\n' => i += 1,
+                b'#' => {
+                    i = t[i..]
+                        .iter()
+                        .position(|&c| c == b'\n')
+                        .map_or(t.len(), |n| i + n + 1)
+                }
+                _ => break,
+            }
+        }
+        if i < self.at {
+            (self.at, self.line) = (0, 1);
+        }
+        self.line += t[self.at..i].iter().filter(|&&c| c == b'\n').count();
+        self.at = i;
+        self.line
+    }
+}
+
+fn csv_error(file: &str, e: &csv::Error, lines: &mut Lines) -> MeasureError {
+    let line = lines.of(e.position());
     let reason = match e.kind() {
         csv::ErrorKind::Utf8 { .. } => "not UTF-8 text".to_string(),
         _ => e.to_string(),

@@ -246,6 +246,78 @@ fn duplicate_rows_are_errors_naming_the_first() {
     .unwrap();
 }
 
+/// The radius rows of a one-test manifest whose data file is `data`.
+fn radius_rows(tag: &str, data: &str) -> Vec<RadiusRow> {
+    let m = load(tag, &one_test("radius", ""), &[("data.csv", data)]).expect(tag);
+    let TestData::Radius(rows) = &m.specimens[0].tests[0].data else {
+        panic!("{tag}: a radius test")
+    };
+    rows.clone()
+}
+
+/// A row's line is its physical line in the file, whatever the line
+/// endings (LF, CRLF as Excel writes, a lone CR) and the blank and comment
+/// lines before it: in the rows read, in an error's place and in the row a
+/// duplicate names.
+#[test]
+fn a_row_is_its_physical_line_whatever_the_line_endings_and_comments() {
+    for (tag, eol) in [("lf", "\n"), ("crlf", "\r\n"), ("cr", "\r")] {
+        let file = |rows: &[&str]| {
+            let mut t = format!("# exported{eol}{eol}pressure_kpa,radius_mm,sd_mm{eol}");
+            for r in rows {
+                t.push_str(r);
+                t.push_str(eol);
+            }
+            t
+        };
+        // header on line 3; rows on lines 4, 7 and 9 (blank and comment
+        // lines between them, a comment after the last)
+        let good = file(&["0,68,1", "", "# a note", "5,60,1", "", "10,50,1", "# end"]);
+        let read = radius_rows(&format!("{tag}-good"), &good);
+        let lines: Vec<usize> = read.iter().map(|r| r.line).collect();
+        assert_eq!(lines, [4, 7, 9], "{tag}");
+        // an error at its line
+        rejected(
+            &format!("{tag}-text"),
+            &one_test("radius", ""),
+            &file(&["0,68,1", "", "# a note", "", "5,abc,1"]),
+            ("data.csv", 8, 2, "radius_mm"),
+        );
+        // a duplicate at its line, naming the line of the first
+        let e = rejected(
+            &format!("{tag}-dup"),
+            &one_test("radius", ""),
+            &file(&["0,68,1", "# a note", "5,60,1", "", "0,70,1"]),
+            ("data.csv", 8, 1, "pressure_kpa"),
+        );
+        assert!(e.reason.contains("duplicates row 4 "), "{tag}: {e}");
+        // a row of too few fields, and a header after blank lines
+        rejected(
+            &format!("{tag}-fields"),
+            &one_test("radius", ""),
+            &file(&["0,68,1", "", "5,60"]),
+            ("data.csv", 6, 3, "sd_mm"),
+        );
+        rejected(
+            &format!("{tag}-header"),
+            &one_test("radius", ""),
+            &format!("{eol}# a{eol}{eol}pressure_kpa,sd_mm{eol}"),
+            ("data.csv", 4, 3, "radius_mm"),
+        );
+    }
+    // the audit's CRLF file: the bad row is line 3
+    rejected(
+        "crlf-audit",
+        &one_test("radius", ""),
+        "pressure_kpa,radius_mm,sd_mm\r\n0,68,1\r\n5,abc,1\r\n",
+        ("data.csv", 3, 2, "radius_mm"),
+    );
+    // line endings mixed in one file, each counted once
+    let mixed = "pressure_kpa,radius_mm,sd_mm\r\n0,68,1\r5,60,1\n\r\n10,50,1\r";
+    let lines: Vec<usize> = radius_rows("mixed", mixed).iter().map(|r| r.line).collect();
+    assert_eq!(lines, [2, 3, 5]);
+}
+
 #[test]
 fn bad_force_fields_are_errors() {
     let head = "pressure_kpa,axis,displacement_mm,force_n,sd_n,repeats\n";
@@ -387,6 +459,58 @@ fn sizes_are_bounded_before_reading_further() {
     assert_eq!(
         (e.field.as_str(), e.row()),
         ("specimen", Some(2 * MAX_SPECIMENS + 1)),
+        "{e}"
+    );
+}
+
+/// Past the manifest's total of rows, the error says it is the
+/// manifest's limit, with its numbers, not the file's.
+#[test]
+fn the_manifests_row_limit_is_named_as_the_manifests() {
+    let per_file = MAX_TOTAL_ROWS / 4 - MAX_ROWS / 10; // 9000 of 10000
+    let mut rows = String::from(RADIUS);
+    for i in 0..per_file {
+        rows.push_str(&format!("{i},50,1\n"));
+    }
+    let mut manifest =
+        String::from("[[specimen]]\nname = \"a\"\n[specimen.own.actuator.pemc]\neps0 = 0.25\n");
+    let mut files = Vec::new();
+    for k in 0..5 {
+        manifest.push_str(&format!(
+            "[[specimen.test]]\nkind = \"radius\"\nfile = \"d{k}.csv\"\n"
+        ));
+        files.push((format!("d{k}.csv"), rows.clone()));
+    }
+    let files: Vec<(&str, &str)> = files
+        .iter()
+        .map(|(n, t)| (n.as_str(), t.as_str()))
+        .collect();
+    let e = load("total", &manifest, &files).unwrap_err();
+    let left = MAX_TOTAL_ROWS - 4 * per_file;
+    assert!(e.file.ends_with("d4.csv"), "{e}");
+    assert_eq!(
+        (e.field.as_str(), e.at),
+        ("rows", Some((left + 2, 1))),
+        "{e}"
+    );
+    assert_eq!(
+        e.reason,
+        format!(
+            "more than {left} data rows: the manifest's limit is {MAX_TOTAL_ROWS} data rows in all its files, and its files before this one have {}",
+            4 * per_file
+        ),
+        "{e}"
+    );
+    // one file past its own limit says so
+    let mut rows = String::from(RADIUS);
+    for i in 0..=MAX_ROWS {
+        rows.push_str(&format!("{i},50,1\n"));
+    }
+    let e = load("file", &one_test("radius", ""), &[("data.csv", &rows)]).unwrap_err();
+    assert!(
+        e.reason.starts_with(&format!(
+            "more than {MAX_ROWS} data rows, the limit of one file"
+        )),
         "{e}"
     );
 }
