@@ -581,3 +581,33 @@ fn a_refit_left_without_enough_data_is_a_failure_not_the_full_fit() {
     assert!(why.contains("the data without 0 kPa has 0"), "{h:?}");
     assert!(h.values.is_empty() && h.points == 0, "{h:?}");
 }
+
+#[test]
+fn a_fit_far_from_its_data_is_reproduced_to_a_fraction_of_its_residuals() {
+    // radii of a nearly straight finger, 1 mm standard deviations: the
+    // model stays far from them (residuals of about 1e5 sd), and the two
+    // paths' radii of a nearly straight mid-plane agree to about 1e-8 of
+    // themselves, not to 1e-6 sd
+    let d = dir("far");
+    std::fs::write(
+        d.path().join("m.toml"),
+        "[[specimen]]\nname = \"a\"\n[[specimen.test]]\nkind = \"radius\"\nfile = \"r.csv\"\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.path().join("r.csv"),
+        "pressure_kpa,radius_mm,sd_mm\n0,100000,1\n10,99999,1\n20,99998,1\n",
+    )
+    .unwrap();
+    let m = Manifest::load(&d.path().join("m.toml")).unwrap();
+    let fit = calibrate(&m, &CalibrateOptions::new(&["eps0"])).unwrap();
+    let r = &fit.reproduction;
+    assert!(fit.chi_square > 1e8, "{}", fit.chi_square);
+    assert!(r.reproduced, "{r:?}");
+    let claimed = fit.chi_square;
+    let again = r.chi_square.unwrap();
+    assert!(
+        (again - claimed).abs() <= 1e-9 * claimed,
+        "{again} vs {claimed}"
+    );
+}

@@ -64,7 +64,7 @@ pub use options::{
 };
 pub use params::Unknown;
 pub use progress::{CalibrateProgress, CalibrateStage};
-pub use record::{Calibration, FittedParameter, Reproduction, REPRODUCE_SD};
+pub use record::{Calibration, FittedParameter, Reproduction, REPRODUCE_RELATIVE, REPRODUCE_SD};
 pub use residuals::FitResidual;
 pub use scene::calibrated_scenes;
 

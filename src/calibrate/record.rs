@@ -92,6 +92,13 @@ pub struct Calibration {
 /// below anything a reader of the residuals would see.
 pub const REPRODUCE_SD: f64 = 1e-6;
 
+/// What [`REPRODUCE_SD`] allows more, relative to the predicted value:
+/// two paths that compute a prediction differently agree to a fraction
+/// of it, not to a fixed part of a standard deviation many times smaller
+/// (the radius of a nearly straight finger, 1e5 mm with a 1 mm standard
+/// deviation, agrees to about 1e-8 of itself, 1e-3 sd).
+pub const REPRODUCE_RELATIVE: f64 = 1e-7;
+
 /// The calibrated scenes compared with the data again.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Reproduction {
@@ -103,7 +110,8 @@ pub struct Reproduction {
     /// the fit's (standard deviations).
     pub largest_difference_sd: Option<f64>,
     /// Every row of the fit predicted again, each residual within
-    /// [`REPRODUCE_SD`] of the fit's.
+    /// [`REPRODUCE_SD`] of the fit's, give or take [`REPRODUCE_RELATIVE`]
+    /// of the predicted value.
     pub reproduced: bool,
     /// What the comparison gave, in words.
     pub detail: String,

@@ -4,13 +4,15 @@
 //! the data are compared with the model by [`crate::measure::compare`]'s
 //! path, as `fpc compare` does (its rows; not the curves of its figures).
 //! Every row the fit predicted must be predicted again, each residual
-//! within [`REPRODUCE_SD`] standard deviations of the fit's, before the
-//! calibration is reported as reproduced.
+//! within [`REPRODUCE_SD`] standard deviations of the fit's, give or
+//! take [`REPRODUCE_RELATIVE`] of the predicted value (for a prediction
+//! many standard deviations large), before the calibration is reported
+//! as reproduced.
 
 use std::collections::HashMap;
 
 use super::params::Unknown;
-use super::record::{Calibration, Reproduction, REPRODUCE_SD};
+use super::record::{Calibration, Reproduction, REPRODUCE_RELATIVE, REPRODUCE_SD};
 use super::scene::calibrated_scenes;
 use crate::measure::{compare_with, Manifest, TestData};
 use crate::scene::Scene;
@@ -76,15 +78,16 @@ pub(crate) fn reproduce(
         Ok(c) => c,
         Err(e) => return Reproduction::failed(format!("the comparison fails: {e}")),
     };
-    let mut fitted: HashMap<(&str, &str, usize, &str), f64> = fit
+    let mut fitted: HashMap<(&str, &str, usize, &str), (f64, f64)> = fit
         .residuals
         .iter()
         .map(|r| {
             let key = (r.specimen.as_str(), r.file.as_str(), r.line, r.quantity);
-            (key, r.residual_sd)
+            (key, (r.residual_sd, r.predicted / r.sd))
         })
         .collect();
     let mut largest = 0.0f64;
+    let mut worst = 0.0f64;
     let mut unmatched = 0;
     for s in &comparison.specimens {
         for t in &s.tests {
@@ -93,8 +96,12 @@ pub(crate) fn reproduce(
                     let key = (s.name.as_str(), t.file.as_str(), p.line, r.quantity);
                     // (a difference that is not a number pairs with nothing)
                     match (fitted.remove(&key), r.residual_sd) {
-                        (Some(want), Some(got)) if (got - want).is_finite() => {
-                            largest = largest.max((got - want).abs())
+                        (Some((want, scale)), Some(got)) if (got - want).is_finite() => {
+                            let d = (got - want).abs();
+                            largest = largest.max(d);
+                            // in units of what is allowed: 1 is the limit
+                            let allowed = REPRODUCE_SD + REPRODUCE_RELATIVE * scale.abs();
+                            worst = worst.max(d / allowed);
                         }
                         _ => unmatched += 1,
                     }
@@ -103,7 +110,7 @@ pub(crate) fn reproduce(
         }
     }
     unmatched += fitted.len();
-    let reproduced = unmatched == 0 && largest <= REPRODUCE_SD;
+    let reproduced = unmatched == 0 && worst <= 1.0;
     let detail = if unmatched > 0 {
         format!(
             "{unmatched} residuals of the fit and of the comparison do not pair up (a row predicted by one and not the other)"

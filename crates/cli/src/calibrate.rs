@@ -178,7 +178,7 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut w = crate::output::stdout();
     if args.json {
         writeln!(w, "{}", serde_json::to_string(&report)?)?;
-        return Ok(());
+        return checked(&fit.reproduction);
     }
     let sd = |v: Option<f64>| v.map_or("undetermined".to_string(), |s| format!("{s:.6e}"));
     writeln!(
@@ -286,5 +286,17 @@ pub fn run(args: &Args) -> anyhow::Result<()> {
     let mut files = vec!["calibration.json".to_string()];
     files.extend(report.scenes.iter().cloned());
     writeln!(w, "wrote        {}: {}", out.display(), files.join(", "))?;
-    Ok(())
+    checked(&fit.reproduction)
+}
+
+/// A fit that its check through `fpc compare`'s path does not reproduce
+/// fails the run (status 1), after everything is written for inspection.
+fn checked(r: &fpc::calibrate::Reproduction) -> anyhow::Result<()> {
+    if r.reproduced {
+        return Ok(());
+    }
+    anyhow::bail!(
+        "the fit is not reproduced by fpc compare's path ({}); calibration.json and the scenes are written for inspection",
+        r.detail
+    )
 }
