@@ -300,3 +300,33 @@ fn checked(r: &fpc::calibrate::Reproduction) -> anyhow::Result<()> {
         r.detail
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::checked;
+    use fpc::calibrate::Reproduction;
+
+    /// A fit its check does not reproduce fails the run with status 1,
+    /// saying why; a reproduced one passes.
+    #[test]
+    fn a_fit_not_reproduced_fails_the_run() {
+        let mut r = Reproduction {
+            chi_square: Some(3.0),
+            points: 3,
+            largest_difference_sd: Some(0.5),
+            reproduced: false,
+            detail: "residuals up to 5.000e-1 sd from the fit's".into(),
+        };
+        let e = checked(&r);
+        assert_eq!(crate::status::exit_code(&e), 1);
+        let text = e.unwrap_err().to_string();
+        assert!(
+            text.contains("not reproduced") && text.contains("5.000e-1 sd"),
+            "{text}"
+        );
+        r.reproduced = true;
+        let ok = checked(&r);
+        assert!(ok.is_ok());
+        assert_eq!(crate::status::exit_code(&ok), 0);
+    }
+}
